@@ -1,0 +1,51 @@
+"""Errors raised on bad input. Every message names what is wrong and where."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+
+class MeshError(ValueError):
+    """A mesh that cannot be processed as given.
+
+    Attributes name the offending elements so callers (and the CLI) can report them:
+    ``path`` (the file, if any), ``vertices``, ``edges`` and ``faces`` (ids, possibly
+    truncated lists).
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        path: str | None = None,
+        vertices: Sequence[int] = (),
+        edges: Sequence[tuple[int, int]] = (),
+        faces: Sequence[int] = (),
+    ) -> None:
+        self.path = path
+        self.vertices = list(vertices)
+        self.edges = list(edges)
+        self.faces = list(faces)
+        self.message = message
+        super().__init__(self._text())
+
+    def _text(self) -> str:
+        return f"{self.path}: {self.message}" if self.path else self.message
+
+    def with_path(self, path: str) -> MeshError:
+        """The same error, naming the file it came from."""
+        err = MeshError(self.message, path=str(path), vertices=self.vertices,
+                        edges=self.edges, faces=self.faces)
+        return err
+
+
+class FillError(RuntimeError):
+    """A hole could not be filled by the requested method (the caller may fall back)."""
+
+
+def preview(ids: Sequence, limit: int = 10) -> str:
+    """Short text for a list of ids: the first ``limit`` and how many more."""
+    ids = list(ids)
+    head = ", ".join(str(i) for i in ids[:limit])
+    more = f" and {len(ids) - limit} more" if len(ids) > limit else ""
+    return f"{head}{more}"
