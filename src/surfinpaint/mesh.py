@@ -56,7 +56,11 @@ def unique_edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     half = np.stack([faces[:, [1, 2]], faces[:, [2, 0]], faces[:, [0, 1]]], axis=1)
     half = half.reshape(-1, 2)
     key = np.sort(half, axis=1)
-    edges, inverse, count = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    # 1-D keys sort the same as the (small, large) rows and are ~20x faster than axis=0
+    base = np.int64(key.max() + 1) if len(key) else np.int64(1)
+    flat = key[:, 0] * base + key[:, 1]
+    uniq, inverse, count = np.unique(flat, return_inverse=True, return_counts=True)
+    edges = np.column_stack([uniq // base, uniq % base])
     return edges, inverse.reshape(-1, 3), count
 
 

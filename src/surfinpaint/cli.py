@@ -1,0 +1,276 @@
+"""Command-line interface: ``surfinpaint holes|fill|represent|rebuild|demo ...``.
+
+Exit codes: 0 success (including "nothing to fill"), 1 bad input or failure, 2 usage error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import sys
+import warnings
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+from surfinpaint import __version__
+from surfinpaint.errors import MeshError
+
+EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
+
+
+class _UsageError(Exception):
+    pass
+
+
+def _console():
+    from rich.console import Console
+
+    return Console(stderr=True, highlight=False)
+
+
+def _parse_hole_list(text: str | None) -> list[int] | None:
+    if text is None:
+        return None
+    try:
+        return [int(t) for t in text.split(",") if t.strip()]
+    except ValueError as exc:
+        raise _UsageError(f"--holes takes comma-separated hole indices, got {text!r}") from exc
+
+
+@contextlib.contextmanager
+def _progress(enabled: bool) -> Iterator:
+    """A rich progress bar on stderr, or a no-op callback."""
+    if not enabled:
+        yield None
+        return
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(),
+                  TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+                  console=_console(), transient=False) as bar:
+        task = bar.add_task("filling", total=None)
+
+        def update(done: int, total: int, message: str) -> None:
+            bar.update(task, completed=done, total=total, description=message)
+
+        yield update
+
+
+def _print_warnings(caught: list[warnings.WarningMessage]) -> None:
+    console = _console()
+    seen = set()
+    for w in caught:
+        text = str(w.message)
+        if text not in seen:
+            seen.add(text)
+            console.print(f"[yellow]warning:[/yellow] {text}")
+
+
+def _holes_table(vertices, faces, title: str) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    from surfinpaint.holes import find_holes
+
+    found = find_holes(vertices, faces)
+    table = Table(title=title)
+    for name in ("hole", "edges", "perimeter", "diameter", "component", "kind"):
+        table.add_column(name, justify="right" if name != "kind" else "left")
+    for i, h in enumerate(found):
+        table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
+                      str(h.component), "outer border" if h.is_border else "hole")
+    Console().print(table)
+    if not found:
+        Console().print("The mesh is closed: no holes.")
+
+
+def cmd_holes(args: argparse.Namespace) -> int:
+    from surfinpaint.io import read_mesh
+
+    vertices, faces = read_mesh(args.mesh)
+    _holes_table(vertices, faces, f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces")
+    return EXIT_OK
+
+
+def cmd_fill(args: argparse.Namespace) -> int:
+    from surfinpaint.io import read_mesh, write_mesh
+    from surfinpaint.pipeline import fill_holes
+
+    console = _console()
+    holes = _parse_hole_list(args.holes)
+    vertices, faces = read_mesh(args.mesh)
+    options = {}
+    if args.inpaint:
+        options["inpaint"] = args.inpaint
+    if args.reconstruct:
+        options["reconstruct"] = args.reconstruct
+    with _progress(not args.quiet) as progress:
+        result = fill_holes(vertices, faces, holes=holes, method=args.method,
+                            include_border=args.all, max_hole_edges=args.max_hole_edges,
+                            progress=progress, **options)
+    if not result.reports:
+        console.print(f"{args.mesh}: nothing to fill (no holes"
+                      f"{'' if args.all else ' apart from the outer border'}); "
+                      f"wrote the mesh unchanged to {args.output}")
+    write_mesh(args.output, result.vertices, result.faces)
+    for r in result.reports:
+        if r.skipped:
+            console.print(f"hole {r.index}: skipped ({r.skipped})")
+        else:
+            extra = f", [yellow]fell back: {r.fallback}[/yellow]" if r.fallback else ""
+            console.print(f"hole {r.index}: {r.n_edges} edges -> {r.new_vertices} vertices, "
+                          f"{r.new_faces} faces, {r.method}, {r.seconds:.2f} s{extra}")
+    if args.png:
+        from surfinpaint.figures import before_after
+
+        before_after(vertices, faces, result, args.png)
+        console.print(f"wrote {args.png}")
+    console.print(f"wrote {args.output}")
+    return EXIT_OK
+
+
+def cmd_represent(args: argparse.Namespace) -> int:
+    from surfinpaint.io import read_mesh
+    from surfinpaint.representation import plot_representation, represent
+
+    vertices, faces = read_mesh(args.mesh)
+    rep = represent(vertices, faces, resolution=args.resolution, map=args.map)
+    rep.save(args.output)
+    if args.png:
+        plot_representation(rep, args.png)
+    _console().print(f"wrote {args.output}" + (f" and {args.png}" if args.png else ""))
+    return EXIT_OK
+
+
+def cmd_rebuild(args: argparse.Namespace) -> int:
+    from surfinpaint.io import write_mesh
+    from surfinpaint.representation import LambdaH, rebuild
+
+    try:
+        rep = LambdaH.load(args.representation)
+    except (OSError, KeyError, ValueError) as exc:
+        raise MeshError(f"not a λ-H representation file ({exc})",
+                        path=str(args.representation)) from exc
+    vertices, faces = rebuild(rep, method=args.method)
+    write_mesh(args.output, vertices, faces)
+    _console().print(f"wrote {args.output}")
+    return EXIT_OK
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    from surfinpaint.data import default_demo_path
+    from surfinpaint.io import read_mesh, write_mesh
+    from surfinpaint.pipeline import fill_holes
+
+    console = _console()
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    source = default_demo_path()
+    vertices, faces = read_mesh(source)
+    console.print(f"demo mesh: {source} ({len(vertices)} vertices, {len(faces)} faces)")
+    _holes_table(vertices, faces, "holes of the demo mesh")
+    with _progress(True) as progress:
+        result = fill_holes(vertices, faces, method=args.method, progress=progress)
+    filled = out / "filled.ply"
+    write_mesh(filled, result.vertices, result.faces)
+    from surfinpaint.figures import before_after
+
+    picture = out / "before_after.png"
+    before_after(vertices, faces, result, picture)
+    for r in result.reports:
+        console.print(f"hole {r.index}: {r.n_edges} edges, {r.new_vertices} new vertices, "
+                      f"{r.method}, {r.seconds:.2f} s" + (f" (fell back: {r.fallback})"
+                                                        if r.fallback else ""))
+    console.print(f"wrote {filled} and {picture}")
+    return EXIT_OK
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from surfinpaint.pipeline import METHODS
+
+    parser = argparse.ArgumentParser(
+        prog="surfinpaint",
+        description="Fill holes in triangle meshes by conformal surface inpainting.",
+    )
+    parser.add_argument("--version", action="version", version=f"surfinpaint {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("holes", help="list the holes (boundary loops) of a mesh",
+                       description="Print a table of the boundary loops of MESH.")
+    p.add_argument("mesh", help="input mesh (PLY, OBJ, STL, OFF, GIFTI, FreeSurfer)")
+    p.set_defaults(func=cmd_holes)
+
+    p = sub.add_parser("fill", help="fill holes and write the filled mesh",
+                       description="Fill the holes of MESH and write OUT: the original "
+                       "vertices unchanged and in order, then the new ones.")
+    p.add_argument("mesh", help="input mesh")
+    p.add_argument("-o", "--output", required=True, help="output mesh (format by extension)")
+    p.add_argument("--method", choices=METHODS, default="conformal",
+                   help="conformal (default) or the conventional fill 'fair'")
+    p.add_argument("--holes", help="comma-separated hole indices from `surfinpaint holes`")
+    p.add_argument("--max-hole-edges", type=int, metavar="N",
+                   help="skip holes with more than N boundary edges")
+    p.add_argument("--all", action="store_true",
+                   help="also fill loops that look like the surface's outer border")
+    p.add_argument("--inpaint", help="inpainting model for λ and H (conformal method)")
+    p.add_argument("--reconstruct", choices=("gauss-codazzi", "laplacian"),
+                   help="reconstruction from (λ, H) (conformal method)")
+    p.add_argument("--png", help="also write a before/after picture")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    p.set_defaults(func=cmd_fill)
+
+    p = sub.add_parser("represent", help="λ-H representation of a disk-like mesh",
+                       description="Conformally map a disk-topology MESH to the plane and "
+                       "store its conformal factor λ and mean curvature H on a grid.")
+    p.add_argument("mesh", help="input mesh (a topological disk)")
+    p.add_argument("-o", "--output", required=True, help="output .npz")
+    p.add_argument("--resolution", type=int, default=256, help="grid nodes along the long side")
+    p.add_argument("--map", choices=("rectangular", "lscm"), default="rectangular",
+                   help="conformal map: rectangular (the paper's) or free-boundary LSCM")
+    p.add_argument("--png", help="also write λ and H as images")
+    p.set_defaults(func=cmd_represent)
+
+    p = sub.add_parser("rebuild", help="rebuild a mesh from a λ-H representation",
+                       description="Rebuild the surface from the (λ, H) stored in a .npz "
+                       "written by `surfinpaint represent`.")
+    p.add_argument("representation", help="a .npz from `surfinpaint represent`")
+    p.add_argument("-o", "--output", required=True, help="output mesh")
+    p.add_argument("--method", choices=("gauss-codazzi", "laplacian"), default="gauss-codazzi")
+    p.set_defaults(func=cmd_rebuild)
+
+    p = sub.add_parser("demo", help="fill the bundled default mesh and draw before/after",
+                       description="Fill the holes of the bundled snowman and write the "
+                       "filled mesh and a before/after picture.")
+    p.add_argument("-o", "--output", default="demo-out", help="output folder")
+    p.add_argument("--method", choices=METHODS, default="conformal")
+    p.set_defaults(func=cmd_demo)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    console = _console()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            code = args.func(args)
+        except _UsageError as exc:
+            parser.print_usage(sys.stderr)
+            console.print(f"surfinpaint: error: {exc}")
+            code = EXIT_USAGE
+        except MeshError as exc:
+            console.print(f"[red]error:[/red] {exc}")
+            code = EXIT_FAILURE
+        except NotImplementedError as exc:
+            console.print(f"[red]error:[/red] {exc}")
+            code = EXIT_FAILURE
+        except (OSError, ValueError, RuntimeError) as exc:
+            console.print(f"[red]error:[/red] {type(exc).__name__}: {exc}")
+            code = EXIT_FAILURE
+    _print_warnings(caught)
+    return code
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

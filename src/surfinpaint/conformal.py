@@ -1,0 +1,316 @@
+"""Conformal surface inpainting of one hole (Lui, Wen, Gu; method.md §6).
+
+Per hole: an initial fill S0 (the baseline's triangulation and refinement, faired by
+default); a disk patch of S0 plus ``patch_rings`` rings of the surface around it; its
+conformal map to the plane; a regular grid; robust estimates of λ and H on the known part;
+inpainting of λ and H over the hole; reconstruction of the positions from the inpainted
+(λ, H) with the known surface as boundary condition; S0's interior vertices moved onto the
+reconstruction. The original vertices never move.
+
+With ``select=True`` (default) the method checks itself without any ground truth: it hides
+the innermost known rings around the hole, fills that larger hole both conformally and by
+fairing, and keeps the conformal fill only when it predicts the hidden surface better
+(method.md §8, "an honest safety net").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from surfinpaint.errors import FillError
+from surfinpaint.mesh import (
+    boundary_loops,
+    face_areas,
+    face_normals,
+    k_ring,
+    unique_edges,
+)
+
+__all__ = ["conformal_fill", "hole_patch", "inpaint_patch"]
+
+
+def _is_disk(faces: np.ndarray) -> bool:
+    _, _, count = unique_edges(faces)
+    if (count > 2).any():
+        return False
+    n_vertices = len(np.unique(faces))
+    if n_vertices - len(count) + len(faces) != 1:
+        return False
+    try:
+        return len(boundary_loops(faces)) == 1
+    except ValueError:
+        return False
+
+
+def hole_patch(
+    faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray, rings: int
+) -> tuple[np.ndarray, int]:
+    """The disk patch around a filled hole: ``fill_faces`` plus up to ``rings`` face rings of
+    ``faces`` around ``loop``.
+
+    The rings shrink until the patch is a topological disk (a ring that reaches another hole
+    or the mesh border would break that).
+
+    Returns
+    -------
+    patch_faces : (p, 3) int array
+        The fill's faces first, then the ring faces.
+    rings : int
+        The number of rings actually used.
+
+    Raises
+    ------
+    FillError
+        When not even one ring gives a disk.
+    """
+    n = int(max(faces.max(), fill_faces.max())) + 1
+    for k in range(rings, 0, -1):
+        near = k_ring(faces, loop, k - 1, n)
+        ring_faces = faces[near[faces].any(axis=1)]
+        patch = np.concatenate([fill_faces, ring_faces])
+        if _is_disk(patch):
+            return patch, k
+    raise FillError("no disk-shaped patch around the hole: its neighbourhood is not a disk")
+
+
+def _dilate(mask: np.ndarray, steps: int) -> np.ndarray:
+    from scipy.ndimage import binary_dilation
+
+    if steps <= 0:
+        return mask.copy()
+    return binary_dilation(mask, structure=np.ones((3, 3), bool), iterations=steps)
+
+
+def inpaint_patch(
+    vertices: np.ndarray,
+    patch_faces: np.ndarray,
+    n_fill_faces: int,
+    moving: np.ndarray,
+    *,
+    spacing: float = 0.5,
+    fit_radius: int = 2,
+    dilate: int = 1,
+    inpaint: str = "biharmonic",
+    fidelity: float | None = None,
+    reconstruct: str = "laplacian",
+    max_nodes: int = 250_000,
+) -> tuple[np.ndarray, dict]:
+    """One λ-H inpainting pass over a disk patch.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+        Positions of all vertices the patch refers to.
+    patch_faces : (p, 3) int array
+        Disk patch; its first ``n_fill_faces`` faces are the fill (the hole).
+    moving : (k,) int array
+        Vertex ids to move (the fill's interior vertices).
+    spacing : float
+        Grid spacing as a fraction of the mean parameter-space edge length of the patch.
+    fit_radius : int
+        Window half-width (nodes) of the robust λ, H fits.
+    dilate : int
+        Nodes by which the hole region is grown before inpainting (the crease between the
+        fill and the surface pollutes the nodes next to it).
+    inpaint, fidelity :
+        Inpainting model and optional soft data weight (see :func:`surfinpaint.inpaint`).
+    reconstruct : {"laplacian", "gauss-codazzi"}
+        Reconstruction from (λ, H) (see :func:`surfinpaint.reconstruct`).
+
+    Returns
+    -------
+    positions : (k, 3) float array
+        New positions of ``moving``.
+    details : dict
+        Grid shape, spacing and the (λ, H) grids for pictures and diagnostics.
+
+    Raises
+    ------
+    FillError
+        When the map folds, the grid is too large, or the result is not finite.
+    """
+    from surfinpaint.estimation import robust_lambda_h
+    from surfinpaint.grid import grid_over, interpolate, resample
+    from surfinpaint.inpainting import inpaint as inpaint_grid
+    from surfinpaint.parameterization import flipped_faces, lscm
+    from surfinpaint.reconstruction import reconstruct as reconstruct_grid
+
+    ids, local = np.unique(patch_faces, return_inverse=True)
+    local = local.reshape(-1, 3)
+    points = vertices[ids]
+    uv = lscm(points, local)
+    flipped = flipped_faces(local, uv)
+    if len(flipped):
+        raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped faces)")
+    edges, _, _ = unique_edges(local)
+    mean_uv_edge = float(np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1).mean())
+    h = spacing * mean_uv_edge
+    grid = grid_over(uv, h=h, margin=2 * h)
+    if grid.shape[0] * grid.shape[1] > max_nodes:
+        raise FillError(f"grid of {grid.shape} nodes is larger than max_nodes={max_nodes}")
+    phi, inside, face_index = resample(uv, local, points, grid)
+    hole = inside & (face_index < n_fill_faces)
+    known = inside & ~hole
+    lam0, H0 = robust_lambda_h(phi, h, valid=known, radius=fit_radius)
+    region = _dilate(hole, dilate) & inside
+    have = np.isfinite(lam0) & np.isfinite(H0)
+    domain = inside & (have | region)
+    lam = inpaint_grid(lam0, region, domain=domain, method=inpaint, h=h, fidelity=fidelity)
+    H = inpaint_grid(H0, region, domain=domain, method=inpaint, h=h, fidelity=fidelity)
+    lam = np.where(domain, lam, np.nan)
+    H = np.where(domain, H, np.nan)
+    phi_known = np.where(domain[..., None], phi, np.nan)
+    rebuilt = reconstruct_grid(lam, H, phi_known, domain & ~region, h, method=reconstruct,
+                               domain=domain)
+    where = np.searchsorted(ids, moving)
+    positions = interpolate(rebuilt, grid, uv[where], order=3)
+    if not np.isfinite(positions).all():
+        raise FillError("the reconstruction is not finite at some fill vertices")
+    return positions, {
+        "grid_shape": grid.shape, "h": h, "lam0": lam0, "H0": H0, "lam": lam, "H": H,
+        "hole": hole, "region": region, "domain": domain,
+    }
+
+
+def _check_patch(vertices: np.ndarray, fill_faces: np.ndarray, before_normals: np.ndarray):
+    """Reject fills with non-finite positions, degenerate triangles, or triangles whose normal
+    turned against the initial fill's (a fold)."""
+    if not np.isfinite(vertices[np.unique(fill_faces)]).all():
+        raise FillError("the filled patch has non-finite coordinates")
+    area = face_areas(vertices, fill_faces)
+    if (area <= 1e-12 * max(float(np.median(area)), 1e-300)).any():
+        raise FillError("the filled patch has degenerate triangles")
+    after = face_normals(vertices, fill_faces)
+    flipped = np.einsum("ij,ij->i", after, before_normals) < 0
+    if flipped.any():
+        raise FillError(f"{int(flipped.sum())} fill triangles flipped during the rebuild")
+
+
+def _conformal_only(vertices, faces, loop, *, start, patch_rings, iterations, options):
+    from surfinpaint.baseline import conventional_fill
+
+    n = len(vertices)
+    new_v, new_f = conventional_fill(vertices, faces, loop, refine=True,
+                                     fair=(start == "fair"))
+    new_v = np.asarray(new_v, dtype=float)
+    new_f = np.asarray(new_f, dtype=np.int64)
+    if len(new_v) == 0:
+        return new_v, new_f, {"rings": 0, "note": "no interior vertices to move"}
+    patch, rings = hole_patch(faces, loop, new_f, patch_rings)
+    moving = np.arange(n, n + len(new_v))
+    all_v = np.concatenate([vertices, new_v])
+    start_normals = face_normals(all_v, new_f)
+    info: dict = {"rings": rings}
+    for _ in range(iterations):
+        positions, info_pass = inpaint_patch(all_v, patch, len(new_f), moving, **options)
+        all_v[moving] = positions
+        info.update(info_pass)
+    _check_patch(all_v, new_f, start_normals)
+    return all_v[n:], new_f, info
+
+
+def _hidden_ring_score(vertices, faces, loop, hide, fill):
+    """How well ``fill`` predicts the ``hide`` rings of known surface around the hole.
+
+    Removes the faces within ``hide`` rings of the loop, fills the larger hole with ``fill``
+    and returns the mean distance from the hidden faces (area-sampled) to the fill.
+    """
+    from surfinpaint.metrics import point_mesh_distance, sample_surface
+
+    n = len(vertices)
+    near = k_ring(faces, loop, hide - 1, n)
+    hidden = near[faces].any(axis=1)
+    kept = faces[~hidden]
+    loops = boundary_loops(kept)
+    # the enlarged hole: the loop that runs through the hidden region's border
+    border = k_ring(faces, loop, hide, n) & ~near
+    candidates = [l for l in loops if border[l].mean() > 0.5]
+    if len(candidates) != 1:
+        raise FillError("the hidden rings do not leave one simple hole")
+    new_v, new_f, _ = fill(vertices, kept, candidates[0])
+    all_v = np.concatenate([vertices, new_v])
+    samples = sample_surface(vertices, faces[hidden], 2000, seed=0)
+    return float(point_mesh_distance(samples, all_v, new_f).mean())
+
+
+def conformal_fill(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    *,
+    start: str = "fair",
+    patch_rings: int = 6,
+    iterations: int = 1,
+    select: bool = True,
+    hide_rings: int = 2,
+    **options,
+) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Fill one hole by conformal λ-H inpainting.
+
+    Parameters
+    ----------
+    vertices, faces : arrays
+        The mesh (often a local neighbourhood cut by :func:`surfinpaint.fill_holes`).
+    loop : (k,) int array
+        The hole's boundary loop, oriented as :func:`surfinpaint.mesh.boundary_loops` gives.
+    start : {"fair", "initial"}
+        Initial fill S0: faired (default) or only triangulated and refined.
+    patch_rings : int
+        Rings of the known surface in the patch (shrunk where the patch would not be a disk).
+    iterations : int
+        Outer iterations: re-parameterize the new patch and inpaint again.
+    select : bool
+        Keep the conformal fill only when it predicts hidden known rings better than the
+        faired fill does (otherwise report a fallback to the faired fill).
+    hide_rings : int
+        Rings hidden for that check.
+    **options
+        Passed to :func:`inpaint_patch` (``spacing``, ``fit_radius``, ``dilate``,
+        ``inpaint``, ``fidelity``, ``reconstruct``).
+
+    Returns
+    -------
+    new_vertices : (m, 3) float array
+    new_faces : (p, 3) int array
+        Over the old ids and ``len(vertices) + j`` for the new ones.
+    details : dict
+        Diagnostics; ``details["fallback"]`` is set when the faired fill was kept.
+
+    Raises
+    ------
+    FillError
+        When a step fails (the caller falls back to the conventional fill).
+    """
+    from surfinpaint.baseline import conventional_fill
+
+    if start not in ("fair", "initial"):
+        raise ValueError(f"start must be 'fair' or 'initial', got {start!r}")
+    options = {k: v for k, v in options.items() if v is not None}
+    new_v, new_f, info = _conformal_only(vertices, faces, loop, start=start,
+                                         patch_rings=patch_rings, iterations=iterations,
+                                         options=options)
+    if not select:
+        return new_v, new_f, info
+
+    def conformal(v, f, l):
+        return _conformal_only(v, f, l, start=start, patch_rings=patch_rings,
+                               iterations=iterations, options=options)
+
+    def faired(v, f, l):
+        fv, ff = conventional_fill(v, f, l, refine=True, fair=True)
+        return fv, ff, {}
+
+    try:
+        score_conformal = _hidden_ring_score(vertices, faces, loop, hide_rings, conformal)
+        score_fair = _hidden_ring_score(vertices, faces, loop, hide_rings, faired)
+    except (FillError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
+        info["selection"] = f"not checked ({exc})"
+        return new_v, new_f, info
+    info["score_conformal"] = score_conformal
+    info["score_fair"] = score_fair
+    if score_conformal <= score_fair:
+        return new_v, new_f, info
+    fv, ff = conventional_fill(vertices, faces, loop, refine=True, fair=True)
+    info["fallback"] = (f"the faired fill predicts the hidden rings better "
+                        f"({score_fair:.3g} < {score_conformal:.3g})")
+    return np.asarray(fv, float), np.asarray(ff, np.int64), info

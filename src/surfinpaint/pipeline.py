@@ -1,0 +1,260 @@
+"""Hole filling, top to bottom: choose the holes, cut a local neighbourhood around each, fill
+it with the requested method (falling back to the conventional fill when the conformal one
+fails), and append the new vertices and faces after the original ones.
+
+Original vertices are never moved or reordered; original faces are kept in their order and
+the new faces follow them.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from surfinpaint.errors import FillError, MeshError
+from surfinpaint.holes import select_holes
+
+__all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
+
+METHODS = ("conformal", "fair", "triangulate", "initial")
+
+ProgressCallback = Callable[[int, int, str], None]
+
+
+@dataclass
+class HoleReport:
+    """What happened to one hole."""
+
+    index: int
+    loop: np.ndarray
+    n_edges: int
+    requested: str
+    method: str
+    new_vertices: int = 0
+    new_faces: int = 0
+    seconds: float = 0.0
+    fallback: str | None = None
+    skipped: str | None = None
+    details: dict = field(default_factory=dict)
+
+
+@dataclass
+class FillResult:
+    """A filled mesh: the original vertices first, unchanged, then the new ones."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    reports: list[HoleReport]
+    n_original_vertices: int
+    n_original_faces: int
+
+    @property
+    def new_faces(self) -> np.ndarray:
+        """The faces added by the fill (all holes)."""
+        return self.faces[self.n_original_faces :]
+
+
+def _vertex_face_csr(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
+    rows = faces.ravel()
+    cols = np.repeat(np.arange(len(faces)), 3)
+    return sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)),
+                         shape=(n_vertices, len(faces)))
+
+
+def _faces_of(vertex_faces: sp.csr_matrix, vertex_ids: np.ndarray) -> np.ndarray:
+    starts = vertex_faces.indptr[vertex_ids]
+    stops = vertex_faces.indptr[vertex_ids + 1]
+    counts = stops - starts
+    if counts.sum() == 0:
+        return np.empty(0, dtype=np.int64)
+    offsets = np.repeat(starts - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
+    return np.unique(vertex_faces.indices[offsets])
+
+
+def _neighbourhood(
+    faces: np.ndarray, vertex_faces: sp.csr_matrix, added: np.ndarray, seeds: np.ndarray,
+    rings: int,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Faces within ``rings`` vertex rings of ``seeds``: ids into the original faces and into
+    the faces added by earlier holes. Cost depends on the neighbourhood, not the mesh."""
+    region = np.unique(seeds)
+    n_original = vertex_faces.shape[0]
+    picked = np.empty(0, dtype=np.int64)
+    picked_added = np.empty(0, dtype=np.int64)
+    for _ in range(rings):
+        inside = region[region < n_original]
+        picked = _faces_of(vertex_faces, inside)
+        picked_added = (np.flatnonzero(np.isin(added, region).any(axis=1))
+                        if len(added) else picked_added)
+        grown = np.unique(np.concatenate([region, faces[picked].ravel(),
+                                          added[picked_added].ravel()]))
+        if len(grown) == len(region):
+            break
+        region = grown
+    return picked, picked_added
+
+
+def _gather(vertices: np.ndarray, blocks: list[np.ndarray], ids: np.ndarray) -> np.ndarray:
+    """Positions of ``ids`` among the original vertices followed by the added blocks."""
+    n = len(vertices)
+    out = np.empty((len(ids), 3))
+    original = ids < n
+    out[original] = vertices[ids[original]]
+    if (~original).any():
+        out[~original] = np.concatenate(blocks)[ids[~original] - n]
+    return out
+
+
+def _fill_one(vertices, faces, loop, method, options):
+    from surfinpaint.baseline import conventional_fill
+
+    if method == "fair":
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
+        return new_v, new_f, {}
+    if method == "initial":
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False)
+        return new_v, new_f, {}
+    if method == "triangulate":
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=False, fair=False)
+        return new_v, new_f, {}
+    if method == "conformal":
+        from surfinpaint.conformal import conformal_fill
+
+        return conformal_fill(vertices, faces, loop, **options)
+    raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
+
+
+def fill_holes(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    holes: Sequence | None = None,
+    method: str = "conformal",
+    *,
+    include_border: bool = False,
+    max_hole_edges: int | None = None,
+    rings: int | None = None,
+    validate: bool = True,
+    progress: ProgressCallback | None = None,
+    **options,
+) -> FillResult:
+    """Fill holes of a triangle mesh.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    faces : (f, 3) int array
+    holes : None, list of int, or list of loops
+        None fills every boundary loop except the outer border of an open surface
+        (``include_border=True`` fills those too). Integers index :func:`find_holes`' list;
+        sequences of vertex ids give boundary loops directly (any orientation, any start).
+    method : {"conformal", "fair", "initial", "triangulate"}
+        "conformal": λ-H inpainting (Lui, Wen, Gu), falling back to "fair" per hole on
+        failure. "fair": the conventional fill (Liepa 2003: triangulate, refine, fair).
+        "initial": triangulate and refine only. "triangulate": minimum-weight triangulation.
+    max_hole_edges : int, optional
+        Holes with more boundary edges are skipped (reported, not filled).
+    rings : int, optional
+        Vertex rings of the surrounding surface handed to the filler (the conformal method's
+        patch size); a default suited to the method when None.
+    progress : callable(done, total, message), optional
+        Called before and after each hole.
+    **options
+        Passed to the conformal method (see :func:`surfinpaint.conformal.conformal_fill`).
+
+    Returns
+    -------
+    FillResult
+        ``.vertices`` (the originals, unchanged and in order, then the new ones), ``.faces``
+        (the originals, then the new ones) and ``.reports`` (one :class:`HoleReport` a hole).
+
+    Raises
+    ------
+    MeshError
+        Invalid mesh or hole selection (the message names the offending ids).
+    NotImplementedError
+        ``method="conformal"`` before the conformal method is available.
+    """
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    if validate:
+        from surfinpaint.validation import validate_mesh
+
+        validate_mesh(vertices, faces)
+    loops = select_holes(vertices, faces, holes, include_border=include_border)
+    if method == "conformal":
+        try:
+            import surfinpaint.conformal  # noqa: F401
+        except ImportError as exc:
+            raise NotImplementedError(
+                "method='conformal' is not implemented yet; use method='fair'"
+            ) from exc
+    if rings is None:
+        rings = int(options.get("patch_rings", 6)) + 3 if method == "conformal" else 3
+    n = len(vertices)
+    vertex_faces = _vertex_face_csr(faces, n)
+    new_vertex_blocks: list[np.ndarray] = []
+    new_face_blocks: list[np.ndarray] = []
+    n_new_vertices = 0
+    reports: list[HoleReport] = []
+    total = len(loops)
+    for index, loop in enumerate(loops):
+        report = HoleReport(index=index, loop=np.asarray(loop), n_edges=len(loop),
+                            requested=method, method=method)
+        reports.append(report)
+        if max_hole_edges is not None and len(loop) > max_hole_edges:
+            report.skipped = f"{len(loop)} boundary edges > max_hole_edges={max_hole_edges}"
+            report.method = "none"
+            continue
+        if progress:
+            progress(index, total, f"hole {index}: {len(loop)} edges, {method}")
+        started = time.perf_counter()
+        added = (np.concatenate(new_face_blocks) if new_face_blocks
+                 else np.empty((0, 3), dtype=np.int64))
+        picked, picked_added = _neighbourhood(faces, vertex_faces, added, loop, rings)
+        local_faces_global = np.concatenate([faces[picked], added[picked_added]])
+        local_ids, local_faces = np.unique(local_faces_global, return_inverse=True)
+        local_faces = local_faces.reshape(-1, 3)
+        local_vertices = _gather(vertices, new_vertex_blocks, local_ids)
+        local_loop = np.searchsorted(local_ids, loop)
+        try:
+            new_v, new_f, details = _fill_one(local_vertices, local_faces, local_loop,
+                                               method, options)
+        except (FillError, np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
+            if method != "conformal" or isinstance(exc, MeshError):
+                raise
+            report.fallback = f"{type(exc).__name__}: {exc}"
+            report.method = "fair"
+            warnings.warn(f"hole {index}: conformal fill failed ({exc}); used the "
+                          "conventional fill instead", stacklevel=2)
+            new_v, new_f, details = _fill_one(local_vertices, local_faces, local_loop,
+                                               "fair", options)
+        if details.get("fallback"):
+            report.fallback = details["fallback"]
+            report.method = "fair"
+            warnings.warn(f"hole {index}: {details['fallback']}; used the conventional fill",
+                          stacklevel=2)
+        new_f = np.asarray(new_f, dtype=np.int64)
+        n_local = len(local_vertices)
+        mapped = np.where(new_f < n_local, local_ids[np.minimum(new_f, n_local - 1)],
+                          n + n_new_vertices + (new_f - n_local))
+        new_vertex_blocks.append(np.asarray(new_v, dtype=np.float64).reshape(-1, 3))
+        new_face_blocks.append(mapped)
+        n_new_vertices += len(new_v)
+        report.new_vertices = len(new_v)
+        report.new_faces = len(new_f)
+        report.seconds = time.perf_counter() - started
+        report.details = details
+        if progress:
+            progress(index + 1, total, f"hole {index}: done in {report.seconds:.2f} s")
+    out_vertices = (np.concatenate([vertices, *new_vertex_blocks]) if new_vertex_blocks
+                    else vertices.copy())
+    out_faces = (np.concatenate([faces, *new_face_blocks]) if new_face_blocks
+                 else faces.copy())
+    return FillResult(out_vertices, out_faces, reports, n, len(faces))

@@ -1,0 +1,109 @@
+import numpy as np
+import pytest
+import trimesh
+
+from surfinpaint.errors import MeshError
+from surfinpaint.holes import find_holes, orient_loop, select_holes
+from surfinpaint.mesh import boundary_loops
+
+
+def sphere_with_caps(centres, radius=0.35, subdivisions=3):
+    s = trimesh.creation.icosphere(subdivisions)
+    v, f = np.asarray(s.vertices), np.asarray(s.faces)
+    centroid = v[f].mean(axis=1)
+    drop = np.zeros(len(f), bool)
+    for c in centres:
+        drop |= np.linalg.norm(centroid - np.asarray(c, float), axis=1) < radius
+    return v, f[~drop]
+
+
+def disk(n=12):
+    u, w = np.meshgrid(np.linspace(-1, 1, n), np.linspace(-1, 1, n), indexing="ij")
+    keep = (u**2 + w**2) <= 1.0001
+    ids = -np.ones(u.shape, int)
+    ids[keep] = np.arange(keep.sum())
+    vertices = np.column_stack([u[keep], w[keep], 0.1 * u[keep] ** 2])
+    a, b, c, d = ids[:-1, :-1], ids[1:, :-1], ids[1:, 1:], ids[:-1, 1:]
+    faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3),
+                            np.stack([a, c, d], -1).reshape(-1, 3)])
+    return vertices, faces[(faces >= 0).all(axis=1)]
+
+
+def test_closed_mesh_has_no_holes():
+    s = trimesh.creation.icosphere(2)
+    assert find_holes(s.vertices, s.faces) == []
+    assert select_holes(s.vertices, s.faces) == []
+
+
+def test_holes_of_a_sphere_are_holes_not_borders():
+    v, f = sphere_with_caps([(0, 0, 1), (1, 0, 0)])
+    holes = find_holes(v, f)
+    assert len(holes) == 2
+    assert not any(h.is_border for h in holes)
+    for h in holes:
+        pts = v[h.loop]
+        # faces with centroids within 0.35 of the cap centre were removed, so the loop runs
+        # between 0.35 - e and 0.35 + e from it (e: the edge length, < 0.2 here)
+        assert 2 * (0.35 - 0.2) < h.diameter < 2 * (0.35 + 0.2)
+        assert h.n_edges == len(h.loop)
+        seg = np.linalg.norm(pts - np.roll(pts, -1, axis=0), axis=1).sum()
+        assert np.isclose(h.perimeter, seg)
+
+
+def test_a_third_of_a_sphere_removed_is_still_a_hole():
+    s = trimesh.creation.icosphere(3)
+    v, f = np.asarray(s.vertices), np.asarray(s.faces)
+    keep = v[f].mean(axis=1)[:, 2] < 1 / 3  # a cap of a third of the area
+    holes = find_holes(v, f[keep])
+    assert len(holes) == 1 and not holes[0].is_border
+
+
+def test_open_disk_border_and_inner_hole():
+    v, f = disk(16)
+    centroid = v[f].mean(axis=1)
+    f = f[np.linalg.norm(centroid[:, :2] - [0.3, 0.2], axis=1) > 0.2]
+    holes = find_holes(v, f)
+    assert [h.is_border for h in holes] == [True, False]
+    chosen = select_holes(v, f)
+    assert len(chosen) == 1 and set(chosen[0]) == set(holes[1].loop)
+    assert len(select_holes(v, f, include_border=True)) == 2
+
+
+def test_select_by_index_and_by_loop_any_orientation_and_start():
+    v, f = sphere_with_caps([(0, 0, 1), (1, 0, 0)])
+    holes = find_holes(v, f)
+    assert np.array_equal(select_holes(v, f, [1])[0], holes[1].loop)
+    given = np.roll(holes[0].loop[::-1], 3)  # reversed, other start
+    oriented = orient_loop(f, given)
+    loops = {tuple(np.roll(l, -int(np.argmin(l)))) for l in boundary_loops(f)}
+    assert tuple(np.roll(oriented, -int(np.argmin(oriented)))) in loops
+
+
+def test_bad_hole_selection_is_named():
+    v, f = sphere_with_caps([(0, 0, 1)])
+    with pytest.raises(MeshError, match="out of range"):
+        select_holes(v, f, [3])
+    with pytest.raises(MeshError, match="not joined by a boundary edge"):
+        select_holes(v, f, [[0, 1, 2]])
+
+
+def test_holes_of_a_real_scan():
+    pytest.importorskip("pymeshlab")
+    from surfinpaint.data import pymeshlab_sample
+
+    v, f = pymeshlab_sample("rangemaps/face000.ply")
+    holes = find_holes(v, f)
+    main = np.bincount([h.component for h in holes]).argmax()
+    on_face = [h for h in holes if h.component == main]
+    # the face itself: one outer border (its longest loop) and many small scanning holes
+    assert [h.is_border for h in on_face].count(True) == 1
+    assert on_face[0].is_border and on_face[0].n_edges == max(h.n_edges for h in holes)
+    assert len(on_face) > 10
+    # small floating pieces of the scan are bounded by their own outer border
+    first_of = {}
+    for h in holes:
+        first_of.setdefault(h.component, h)
+    assert all(h.is_border for h in first_of.values())
+    # each loop is made of boundary edges of the mesh
+    for h in holes:
+        orient_loop(f, h.loop)
