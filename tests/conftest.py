@@ -1,0 +1,62 @@
+"""Shared test fixtures: small meshes with known structure.
+
+Each fixture returns fresh ``(vertices, faces)`` arrays (float64 (n, 3), int64 (f, 3)).
+The helper functions are importable too (``from conftest import grid_mesh``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+
+def grid_mesh(nx: int = 4, ny: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    """A flat (nx+1) x (ny+1) vertex grid in z = 0, two triangles per cell, normals +z."""
+    i, j = np.meshgrid(np.arange(nx + 1), np.arange(ny + 1), indexing="ij")
+    vertices = np.column_stack([i.ravel() / nx, j.ravel() / ny, np.zeros(i.size)])
+    a = (i[:-1, :-1] * (ny + 1) + j[:-1, :-1]).ravel()
+    b, c, d = a + (ny + 1), a + (ny + 1) + 1, a + 1
+    faces = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    return vertices, faces.astype(np.int64)
+
+
+def tetrahedron_mesh() -> tuple[np.ndarray, np.ndarray]:
+    """A closed, consistently outward-oriented tetrahedron."""
+    vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], dtype=np.int64)
+    return vertices, faces
+
+
+def shuffled_mesh(seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """A bumpy grid with randomly permuted vertex ids, full-precision float64 coordinates
+    and two unreferenced vertices (one at the front, one in the middle): the vertex order is
+    nothing a loader could reconstruct by itself."""
+    rng = np.random.default_rng(seed)
+    v, f = grid_mesh(5, 4)
+    v = v + rng.normal(scale=0.01, size=v.shape)
+    v[:, 2] += 0.1 * np.sin(3 * v[:, 0]) + np.pi / 7
+    n = len(v)
+    extra = np.array([[1e6 / 3, -np.e, 1e-7], [np.sqrt(2), 2.0**-30, -0.0]])
+    # new position of every old vertex; positions 0 and n//2 stay free for the extras
+    slots = np.setdiff1d(np.arange(n + 2), [0, n // 2])
+    new_of_old = rng.permutation(slots)
+    vertices = np.empty((n + 2, 3))
+    vertices[new_of_old] = v
+    vertices[0], vertices[n // 2] = extra
+    faces = new_of_old[f]
+    return vertices, faces.astype(np.int64)
+
+
+@pytest.fixture
+def grid() -> tuple[np.ndarray, np.ndarray]:
+    return grid_mesh()
+
+
+@pytest.fixture
+def tetrahedron() -> tuple[np.ndarray, np.ndarray]:
+    return tetrahedron_mesh()
+
+
+@pytest.fixture
+def shuffled() -> tuple[np.ndarray, np.ndarray]:
+    return shuffled_mesh()

@@ -1,0 +1,260 @@
+"""Mesh validation: every defect is rejected with its ids named; the rest is reported."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import grid_mesh, tetrahedron_mesh
+
+from surfinpaint.errors import MeshError
+from surfinpaint.validation import check_loop, nonmanifold_vertices, validate_mesh
+
+
+def _shifted_tetrahedron(offset: float, shift: int) -> tuple[np.ndarray, np.ndarray]:
+    v, f = tetrahedron_mesh()
+    return v + offset, f + shift
+
+
+# ------------------------------------------------------------------------ valid meshes
+
+
+def test_closed_tetrahedron(tetrahedron):
+    report = validate_mesh(*tetrahedron)
+    assert (report.n_vertices, report.n_faces, report.n_edges) == (4, 4, 6)
+    assert report.n_components == 1 and report.is_closed
+    assert report.euler_characteristic == 2
+    assert report.unreferenced_vertices.size == 0 and report.nonmanifold_vertices.size == 0
+
+
+def test_open_grid(grid):
+    v, f = grid
+    report = validate_mesh(v, f, path="grid.ply")
+    assert report.n_components == 1
+    assert report.boundary_loop_lengths == [2 * (4 + 3)]  # the grid's border
+    assert report.euler_characteristic == 1  # a disk
+    assert report.path == "grid.ply" and "grid.ply" in report.summary()
+
+
+def test_components_and_unreferenced_are_reported_not_rejected(tetrahedron):
+    v1, f1 = tetrahedron
+    v2, f2 = _shifted_tetrahedron(5.0, 5)  # leaves vertex 4 unused
+    v = np.concatenate([v1, [[9.0, 9, 9]], v2])
+    f = np.concatenate([f1, f2])
+    v0, f0 = v.copy(), f.copy()
+    report = validate_mesh(v, f)
+    assert report.n_components == 2
+    assert report.unreferenced_vertices.tolist() == [4]
+    assert report.euler_characteristic == 4
+    assert any("unreferenced" in note and "4" in note for note in report.notes)
+    np.testing.assert_array_equal(v, v0)  # inputs untouched
+    np.testing.assert_array_equal(f, f0)
+
+
+def test_hole_gives_second_boundary_loop():
+    v, f = grid_mesh(6, 6)
+    # remove the two triangles of an inner cell and its neighbour: one 6-vertex hole
+    inner = (3 * 7 + 3)
+    cell = [k for k in range(len(f)) if inner in f[k] and inner + 7 in f[k]]
+    report = validate_mesh(v, np.delete(f, cell, axis=0))
+    assert sorted(report.boundary_loop_lengths) == [4, 24]
+
+
+# ------------------------------------------------------------------------- rejections
+
+
+def _rejects(v, f, *fragments):
+    with pytest.raises(MeshError) as info:
+        validate_mesh(v, f, path="m.obj")
+    text = str(info.value)
+    assert text.startswith("m.obj: ")
+    for fragment in fragments:
+        assert fragment in text, text
+    return info.value
+
+
+def test_wrong_shapes_and_dtypes(tetrahedron):
+    v, f = tetrahedron
+    _rejects(v[:, :2], f, "(n, 3)", "(4, 2)")
+    _rejects(v, np.column_stack([f, f[:, :1]]), "(f, 3)", "(4, 4)")
+    _rejects(v, f.astype(float), "integer", "float64")
+    _rejects(v.ravel(), f, "(n, 3)")
+
+
+def test_empty(tetrahedron):
+    v, f = tetrahedron
+    _rejects(np.zeros((0, 3)), np.zeros((0, 3), int), "no vertices")
+    _rejects(v, np.zeros((0, 3), int), "no faces")
+
+
+def test_non_finite_coordinates_name_vertices(tetrahedron):
+    v, f = tetrahedron
+    v = v.copy()
+    v[1, 0], v[3, 2] = np.nan, -np.inf
+    err = _rejects(v, f, "2 vertices", "NaN or infinite", ": 1, 3")
+    assert err.vertices == [1, 3]
+
+
+def test_index_range_names_faces(tetrahedron):
+    v, f = tetrahedron
+    bad = f.copy()
+    bad[2, 1] = 4
+    assert _rejects(v, bad, "vertex ids >= the vertex count 4", ": 2").faces == [2]
+    bad = f.copy()
+    bad[3, 0] = -1
+    assert _rejects(v, bad, "negative", ": 3").faces == [3]
+
+
+def test_long_id_lists_are_previewed():
+    v, f = grid_mesh(10, 10)
+    v = v.copy()
+    v[:25] = np.nan
+    err = _rejects(v, f, "25 vertices", "0, 1, 2", "and 15 more")
+    assert err.vertices == list(range(25))
+
+
+def test_repeated_vertex_in_face(tetrahedron):
+    v, f = tetrahedron
+    bad = np.concatenate([f, [[1, 2, 1]]])
+    assert _rejects(v, bad, "same vertex twice", "4 (1, 2, 1)").faces == [4]
+
+
+def test_duplicate_faces_even_with_other_orientation(tetrahedron):
+    v, f = tetrahedron
+    bad = np.concatenate([f, [[3, 2, 1]]])  # face 3 is (1, 2, 3)
+    assert _rejects(v, bad, "1 duplicate faces", "4 (same vertices as 3)").faces == [4]
+
+
+def test_zero_area_faces():
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0], [0.5, 0, 0]])
+    f = np.array([[0, 1, 2], [0, 3, 1]])  # collinear corners
+    assert _rejects(v, f, "zero area", "1 (0, 3, 1)").faces == [1]
+    v2 = v.copy()
+    v2[4] = v2[1]  # coincident corners
+    _rejects(v2, np.array([[0, 1, 2], [1, 4, 2]]), "zero area", "1 (1, 4, 2)")
+
+
+def test_thin_but_real_triangle_is_accepted():
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0.5, 1e-8, 0]])
+    validate_mesh(v, np.array([[0, 1, 2]]))
+
+
+def test_nonmanifold_edge_is_named():
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1]])
+    f = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])  # three faces on edge (0, 1)
+    err = _rejects(v, f, "1 non-manifold edges", "(0, 1) in 3 faces")
+    assert err.edges == [(0, 1)]
+
+
+def test_inconsistent_orientation_names_edge_and_faces():
+    v, f = grid_mesh(3, 3)
+    bad = f.copy()
+    bad[4] = bad[4, ::-1]
+    err = _rejects(v, bad, "inconsistent face orientation")
+    assert 4 in err.faces
+    # every named edge is traversed in the same direction by two faces
+    for a, b in err.edges:
+        half = {(int(x), int(y)) for t in bad for x, y in zip(t, np.roll(t, -1), strict=True)}
+        assert (a, b) in half
+        owners = [k for k, t in enumerate(bad)
+                  if any((t[i], t[(i + 1) % 3]) == (a, b) for i in range(3))]
+        assert len(owners) == 2 and 4 in owners
+
+
+def test_flipped_separate_component_is_fine(tetrahedron):
+    v1, f1 = tetrahedron
+    v2, f2 = _shifted_tetrahedron(3.0, 4)
+    validate_mesh(np.concatenate([v1, v2]), np.concatenate([f1, f2[:, ::-1]]))
+
+
+# ------------------------------------------------------------------ bow-tie vertices
+
+
+def _fans_brute_force(faces: np.ndarray) -> np.ndarray:
+    """Reference: per vertex, flood-fill its faces through shared edges at the vertex."""
+    out = []
+    for vtx in np.unique(faces):
+        around = [t for t in range(len(faces)) if vtx in faces[t]]
+        seen, fans = set(), 0
+        for start in around:
+            if start in seen:
+                continue
+            fans += 1
+            stack = [start]
+            seen.add(start)
+            while stack:
+                t = stack.pop()
+                for u in around:
+                    if u not in seen and len(set(faces[t]) & set(faces[u])) == 2:
+                        seen.add(u)
+                        stack.append(u)
+        if fans > 1:
+            out.append(vtx)
+    return np.array(out, dtype=np.int64)
+
+
+def test_bowtie_two_triangles():
+    assert nonmanifold_vertices(np.array([[0, 1, 2], [0, 3, 4]])).tolist() == [0]
+
+
+def test_two_tetrahedra_sharing_a_vertex(tetrahedron):
+    v1, f1 = tetrahedron
+    v2, f2 = _shifted_tetrahedron(1.0, 3)  # vertex 3 is shared
+    v = np.concatenate([v1, v2[1:]])
+    f = np.concatenate([f1, f2])
+    assert nonmanifold_vertices(f).tolist() == [3]
+    report = validate_mesh(v, f)  # allowed, but reported
+    assert report.nonmanifold_vertices.tolist() == [3] and report.n_components == 1
+
+
+def test_manifold_meshes_have_no_bowties(tetrahedron, grid):
+    assert nonmanifold_vertices(tetrahedron[1]).size == 0
+    assert nonmanifold_vertices(grid[1]).size == 0
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_bowties_match_brute_force_on_random_face_subsets(seed):
+    rng = np.random.default_rng(seed)
+    _, f = grid_mesh(6, 5)
+    sub = f[rng.random(len(f)) < 0.55]
+    expected = _fans_brute_force(sub)
+    assert expected.size > 0 or seed > 2  # the subsets do produce bow-ties
+    np.testing.assert_array_equal(nonmanifold_vertices(sub), expected)
+
+
+def test_bowties_fast_on_large_mesh():
+    # vectorization check by size, not time: 200k faces must go through without loops
+    _, f = grid_mesh(300, 300)
+    assert nonmanifold_vertices(f).size == 0
+
+
+# ------------------------------------------------------------------------- check_loop
+
+
+def test_check_loop_accepts_a_boundary_loop(grid):
+    v, f = grid
+    from surfinpaint.mesh import boundary_loops
+
+    check_loop(f, boundary_loops(f)[0])
+
+
+def test_check_loop_rejects_interior_edges(grid):
+    _, f = grid
+    with pytest.raises(MeshError, match="not boundary edges") as info:
+        check_loop(f, f[5])  # a face's corners: interior edges
+    assert len(info.value.edges) >= 1
+
+
+def test_check_loop_rejects_repeats_and_short_loops(grid):
+    _, f = grid
+    with pytest.raises(MeshError, match="more than once: 0"):
+        check_loop(f, [0, 1, 0, 2])
+    with pytest.raises(MeshError, match="at least 3"):
+        check_loop(f, [0, 1])
+
+
+def test_check_loop_names_bowtie_vertex():
+    # two fans meet at vertex 0; the loop around one fan passes through it
+    f = np.array([[0, 1, 2], [0, 2, 3], [0, 4, 5], [0, 5, 6]])
+    with pytest.raises(MeshError, match=r"bow-tie\) vertices 0") as info:
+        check_loop(f, [0, 1, 2, 3])
+    assert info.value.vertices == [0]
