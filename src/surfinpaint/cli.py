@@ -107,7 +107,10 @@ def cmd_fill(args: argparse.Namespace) -> int:
     with _progress(not args.quiet) as progress:
         result = fill_holes(vertices, faces, holes=holes, method=args.method,
                             include_border=args.all, max_hole_edges=args.max_hole_edges,
-                            progress=progress, **options)
+                            repair=args.repair, progress=progress, **options)
+    if len(result.removed_faces):
+        console.print(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
+                      "edges; the holes they left were filled too")
     if not result.reports:
         console.print(f"{args.mesh}: nothing to fill (no holes"
                       f"{'' if args.all else ' apart from the outer border'}); "
@@ -118,6 +121,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
             console.print(f"hole {r.index}: skipped ({r.skipped})")
         else:
             extra = f", [yellow]fell back: {r.fallback}[/yellow]" if r.fallback else ""
+            extra += f" ({r.note})" if r.note else ""
             console.print(f"hole {r.index}: {r.n_edges} edges -> {r.new_vertices} vertices, "
                           f"{r.new_faces} faces, {r.method}, {r.seconds:.2f} s{extra}")
     if args.png:
@@ -179,8 +183,9 @@ def cmd_demo(args: argparse.Namespace) -> int:
     before_after(vertices, faces, result, picture)
     for r in result.reports:
         console.print(f"hole {r.index}: {r.n_edges} edges, {r.new_vertices} new vertices, "
-                      f"{r.method}, {r.seconds:.2f} s" + (f" (fell back: {r.fallback})"
-                                                        if r.fallback else ""))
+                      f"{r.method}, {r.seconds:.2f} s"
+                      + (f" (fell back: {r.fallback})" if r.fallback else "")
+                      + (f" ({r.note})" if r.note else ""))
     console.print(f"wrote {filled} and {picture}")
     return EXIT_OK
 
@@ -212,6 +217,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="skip holes with more than N boundary edges")
     p.add_argument("--all", action="store_true",
                    help="also fill loops that look like the surface's outer border")
+    p.add_argument("--repair", action="store_true",
+                   help="remove the faces around non-manifold edges first, then fill the "
+                   "holes that leaves")
     p.add_argument("--inpaint", help="inpainting model for λ and H (conformal method)")
     p.add_argument("--reconstruct", choices=("gauss-codazzi", "laplacian"),
                    help="reconstruction from (λ, H) (conformal method)")

@@ -7,17 +7,17 @@ inpainting of λ and H over the hole; reconstruction of the positions from the i
 (λ, H) with the known surface as boundary condition; S0's interior vertices moved onto the
 reconstruction. The original vertices never move.
 
-With ``select=True`` (default) the method checks itself without any ground truth: it hides
-the innermost known rings around the hole, fills that larger hole both conformally and by
-fairing, and keeps the conformal fill only when it predicts the hidden surface better
-(method.md §8, "an honest safety net").
+With ``select=True`` (default) the method checks itself without any ground truth of the
+hole: it cuts sibling holes of the same size out of the known surface nearby, fills them both
+conformally and by fairing, and keeps the conformal fill only when it reproduces the removed
+surface better there (method.md §8, "an honest safety net").
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, MeshError
 from surfinpaint.mesh import (
     boundary_loops,
     face_areas,
@@ -27,6 +27,9 @@ from surfinpaint.mesh import (
 )
 
 __all__ = ["conformal_fill", "hole_patch", "inpaint_patch"]
+
+# neighbouring triangles whose normals turn by more than this are a fold-over
+FOLD_ANGLE = 120.0
 
 
 def _is_disk(faces: np.ndarray) -> bool:
@@ -89,10 +92,11 @@ def inpaint_patch(
     *,
     spacing: float = 0.5,
     fit_radius: int = 2,
+    fit_sigma: float | None = None,
     dilate: int = 1,
     inpaint: str = "biharmonic",
     fidelity: float | None = None,
-    reconstruct: str = "laplacian",
+    reconstruct: str = "gauss-codazzi",
     max_nodes: int = 250_000,
 ) -> tuple[np.ndarray, dict]:
     """One λ-H inpainting pass over a disk patch.
@@ -109,6 +113,8 @@ def inpaint_patch(
         Grid spacing as a fraction of the mean parameter-space edge length of the patch.
     fit_radius : int
         Window half-width (nodes) of the robust λ, H fits.
+    fit_sigma : float, optional
+        Gaussian weight width (nodes) of those fits; ``0.75 * fit_radius`` by default.
     dilate : int
         Nodes by which the hole region is grown before inpainting (the crease between the
         fill and the surface pollutes the nodes next to it).
@@ -151,7 +157,8 @@ def inpaint_patch(
     phi, inside, face_index = resample(uv, local, points, grid)
     hole = inside & (face_index < n_fill_faces)
     known = inside & ~hole
-    lam0, H0 = robust_lambda_h(phi, h, valid=known, radius=fit_radius)
+    sigma = 0.75 * fit_radius if fit_sigma is None else fit_sigma
+    lam0, H0 = robust_lambda_h(phi, h, valid=known, radius=fit_radius, sigma=sigma)
     region = _dilate(hole, dilate) & inside
     have = np.isfinite(lam0) & np.isfinite(H0)
     domain = inside & (have | region)
@@ -172,18 +179,30 @@ def inpaint_patch(
     }
 
 
-def _check_patch(vertices: np.ndarray, fill_faces: np.ndarray, before_normals: np.ndarray):
-    """Reject fills with non-finite positions, degenerate triangles, or triangles whose normal
-    turned against the initial fill's (a fold)."""
-    if not np.isfinite(vertices[np.unique(fill_faces)]).all():
+def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int) -> None:
+    """Reject fills with non-finite positions, degenerate triangles, or fold-overs: two
+    neighbouring triangles (in the fill, or a fill triangle and the surface next to it) whose
+    normals turn by more than ``FOLD_ANGLE``."""
+    fill = patch_faces[:n_fill_faces]
+    if not np.isfinite(vertices[np.unique(fill)]).all():
         raise FillError("the filled patch has non-finite coordinates")
-    area = face_areas(vertices, fill_faces)
+    area = face_areas(vertices, fill)
     if (area <= 1e-12 * max(float(np.median(area)), 1e-300)).any():
         raise FillError("the filled patch has degenerate triangles")
-    after = face_normals(vertices, fill_faces)
-    flipped = np.einsum("ij,ij->i", after, before_normals) < 0
-    if flipped.any():
-        raise FillError(f"{int(flipped.sum())} fill triangles flipped during the rebuild")
+    _, face_edge, count = unique_edges(patch_faces)
+    normals = face_normals(vertices, patch_faces)
+    owner = np.full((len(count), 2), -1)
+    slots = np.argsort(face_edge.ravel(), kind="stable")
+    edge_sorted = face_edge.ravel()[slots]
+    first = np.searchsorted(edge_sorted, np.arange(len(count)))
+    owner[:, 0] = slots[first] // 3
+    two = count == 2
+    owner[two, 1] = slots[first[two] + 1] // 3
+    pairs = owner[two & ((owner[:, 0] < n_fill_faces) | (owner[:, 1] < n_fill_faces))]
+    cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
+    folds = int((cos < np.cos(np.radians(FOLD_ANGLE))).sum())
+    if folds:
+        raise FillError(f"the filled patch folds over at {folds} edges")
 
 
 def _conformal_only(vertices, faces, loop, *, start, patch_rings, iterations, options):
@@ -199,38 +218,98 @@ def _conformal_only(vertices, faces, loop, *, start, patch_rings, iterations, op
     patch, rings = hole_patch(faces, loop, new_f, patch_rings)
     moving = np.arange(n, n + len(new_v))
     all_v = np.concatenate([vertices, new_v])
-    start_normals = face_normals(all_v, new_f)
     info: dict = {"rings": rings}
     for _ in range(iterations):
         positions, info_pass = inpaint_patch(all_v, patch, len(new_f), moving, **options)
         all_v[moving] = positions
         info.update(info_pass)
-    _check_patch(all_v, new_f, start_normals)
+    _check_patch(all_v, patch, len(new_f))
     return all_v[n:], new_f, info
 
 
-def _hidden_ring_score(vertices, faces, loop, hide, fill):
-    """How well ``fill`` predicts the ``hide`` rings of known surface around the hole.
+def _sibling_centres(vertices, faces, loop, gap_rings, count):
+    """Vertices ``gap_rings`` edge rings away from the hole, spread around it."""
+    from scipy.sparse.csgraph import dijkstra
 
-    Removes the faces within ``hide`` rings of the loop, fills the larger hole with ``fill``
-    and returns the mean distance from the hidden faces (area-sampled) to the fill.
+    from surfinpaint.mesh import vertex_adjacency
+
+    graph = vertex_adjacency(faces, len(vertices)).astype(float)
+    rings = dijkstra(graph, directed=False, indices=loop, min_only=True, unweighted=True,
+                     limit=gap_rings + 0.5)
+    candidates = np.flatnonzero(rings == gap_rings)
+    if len(candidates) == 0:
+        return []
+    centre = vertices[loop].mean(axis=0)
+    chosen = [int(candidates[np.argmax(np.linalg.norm(vertices[candidates] - centre, 1))])]
+    while len(chosen) < count:
+        d = np.min(np.linalg.norm(vertices[candidates][:, None] - vertices[chosen][None], axis=2),
+                   axis=1)
+        chosen.append(int(candidates[np.argmax(d)]))
+    return chosen
+
+
+def sibling_scores(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    fills: dict,
+    *,
+    siblings: int = 2,
+    gap_rings: int = 3,
+    n_samples: int = 2000,
+) -> dict[str, float]:
+    """How well each filler does on holes like this one cut from the known surface nearby.
+
+    Geodesic disks as wide as the hole are cut ``gap_rings`` rings beyond it (``siblings``
+    of them, spread around), filled by every filler in ``fills`` (name → function(vertices,
+    faces, loop) → (new_vertices, new_faces, info)), and scored by the two-sided mean distance
+    between each fill and the removed surface. No ground truth of the hole itself is used.
+
+    Returns
+    -------
+    dict
+        Mean score per filler over the siblings that could be cut (empty if none could).
     """
-    from surfinpaint.metrics import point_mesh_distance, sample_surface
+    from surfinpaint.cutting import cut_geodesic_disk
+    from surfinpaint.metrics import hole_patch_of, surface_distance
 
-    n = len(vertices)
-    near = k_ring(faces, loop, hide - 1, n)
-    hidden = near[faces].any(axis=1)
-    kept = faces[~hidden]
-    loops = boundary_loops(kept)
-    # the enlarged hole: the loop that runs through the hidden region's border
-    border = k_ring(faces, loop, hide, n) & ~near
-    candidates = [l for l in loops if border[l].mean() > 0.5]
-    if len(candidates) != 1:
-        raise FillError("the hidden rings do not leave one simple hole")
-    new_v, new_f, _ = fill(vertices, kept, candidates[0])
-    all_v = np.concatenate([vertices, new_v])
-    samples = sample_surface(vertices, faces[hidden], 2000, seed=0)
-    return float(point_mesh_distance(samples, all_v, new_f).mean())
+    points = vertices[loop]
+    radius = 0.5 * float(np.max(np.linalg.norm(points[:, None] - points[None], axis=2)))
+    edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
+    gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
+    scores: dict[str, list[float]] = {name: [] for name in fills}
+    for centre in _sibling_centres(vertices, faces, loop, gap, siblings):
+        try:
+            cut = cut_geodesic_disk(vertices, faces, centre, radius)
+        except (ValueError, RuntimeError, MeshError):
+            continue
+        results = {}
+        for name, fill in fills.items():
+            try:
+                new_v, new_f, _ = fill(cut.vertices, cut.faces, cut.loop)
+            except (FillError, ValueError, RuntimeError, np.linalg.LinAlgError):
+                results = None
+                break
+            all_v = np.concatenate([cut.vertices, new_v])
+            pv, pf = hole_patch_of(all_v, np.concatenate([cut.faces, new_f]),
+                                   len(cut.vertices), cut.faces)
+            results[name] = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces,
+                                             n_samples=n_samples)["mean"]
+        if results:
+            for name, value in results.items():
+                scores[name].append(value)
+    return {name: float(np.mean(v)) for name, v in scores.items() if v}
+
+
+def neighbourhood_rings(n_edges: int, *, patch_rings: int = 10, select: bool = True,
+                        siblings: int = 2, gap_rings: int = 3, **_) -> int:
+    """Vertex rings around a hole of ``n_edges`` boundary edges that :func:`conformal_fill`
+    looks at: its patch, and with ``select`` the sibling holes and their patches."""
+    rings = patch_rings + 3
+    if select and siblings > 0:
+        hole_rings = int(np.ceil(n_edges / (2 * np.pi))) + 1
+        rings = max(rings, gap_rings + 2 * hole_rings + patch_rings + 3)
+    return rings
 
 
 def conformal_fill(
@@ -239,10 +318,11 @@ def conformal_fill(
     loop: np.ndarray,
     *,
     start: str = "fair",
-    patch_rings: int = 6,
+    patch_rings: int = 10,
     iterations: int = 1,
     select: bool = True,
-    hide_rings: int = 2,
+    siblings: int = 2,
+    gap_rings: int = 3,
     **options,
 ) -> tuple[np.ndarray, np.ndarray, dict]:
     """Fill one hole by conformal λ-H inpainting.
@@ -260,10 +340,11 @@ def conformal_fill(
     iterations : int
         Outer iterations: re-parameterize the new patch and inpaint again.
     select : bool
-        Keep the conformal fill only when it predicts hidden known rings better than the
-        faired fill does (otherwise report a fallback to the faired fill).
-    hide_rings : int
-        Rings hidden for that check.
+        Self-check: keep the conformal fill only when it also fills sibling holes (as wide
+        as this one, cut from the known surface nearby, see :func:`sibling_scores`) better
+        than the faired fill does; otherwise keep the faired fill.
+    siblings, gap_rings : int
+        Number of sibling holes, and rings between them and the hole.
     **options
         Passed to :func:`inpaint_patch` (``spacing``, ``fit_radius``, ``dilate``,
         ``inpaint``, ``fidelity``, ``reconstruct``).
@@ -274,7 +355,9 @@ def conformal_fill(
     new_faces : (p, 3) int array
         Over the old ids and ``len(vertices) + j`` for the new ones.
     details : dict
-        Diagnostics; ``details["fallback"]`` is set when the faired fill was kept.
+        Diagnostics: the grids of the last pass (``lam0``, ``H0``, ``lam``, ``H``, ``hole``,
+        ``region``, ``domain``, ``h``), the self-check scores, and ``selected="fair"`` with a
+        ``selection`` note when the self-check kept the faired fill.
 
     Raises
     ------
@@ -300,17 +383,18 @@ def conformal_fill(
         fv, ff = conventional_fill(v, f, l, refine=True, fair=True)
         return fv, ff, {}
 
-    try:
-        score_conformal = _hidden_ring_score(vertices, faces, loop, hide_rings, conformal)
-        score_fair = _hidden_ring_score(vertices, faces, loop, hide_rings, faired)
-    except (FillError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
-        info["selection"] = f"not checked ({exc})"
+    scores = sibling_scores(vertices, faces, loop, {"conformal": conformal, "fair": faired},
+                            siblings=siblings, gap_rings=gap_rings)
+    if len(scores) < 2:
+        info["selection"] = "self-check: no sibling hole could be cut; kept the conformal fill"
         return new_v, new_f, info
+    score_conformal, score_fair = scores["conformal"], scores["fair"]
     info["score_conformal"] = score_conformal
     info["score_fair"] = score_fair
     if score_conformal <= score_fair:
         return new_v, new_f, info
     fv, ff = conventional_fill(vertices, faces, loop, refine=True, fair=True)
-    info["fallback"] = (f"the faired fill predicts the hidden rings better "
-                        f"({score_fair:.3g} < {score_conformal:.3g})")
+    info["selected"] = "fair"
+    info["selection"] = (f"self-check: the faired fill predicts the hidden rings better "
+                         f"({score_fair:.3g} < {score_conformal:.3g})")
     return np.asarray(fv, float), np.asarray(ff, np.int64), info

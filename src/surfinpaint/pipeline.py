@@ -18,6 +18,7 @@ import scipy.sparse as sp
 
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.holes import select_holes
+from surfinpaint.validation import check_loop
 
 __all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
 
@@ -28,7 +29,12 @@ ProgressCallback = Callable[[int, int, str], None]
 
 @dataclass
 class HoleReport:
-    """What happened to one hole."""
+    """What happened to one hole.
+
+    ``method`` is the method whose fill was kept: "fair" when the conformal method fell back
+    after a failure (``fallback`` says why, and a warning is issued) or when its self-check
+    preferred the faired fill (``note`` says so); "none" when the hole was ``skipped``.
+    """
 
     index: int
     loop: np.ndarray
@@ -39,19 +45,25 @@ class HoleReport:
     new_faces: int = 0
     seconds: float = 0.0
     fallback: str | None = None
+    note: str | None = None
     skipped: str | None = None
     details: dict = field(default_factory=dict)
 
 
 @dataclass
 class FillResult:
-    """A filled mesh: the original vertices first, unchanged, then the new ones."""
+    """A filled mesh: the original vertices first, unchanged, then the new ones.
+
+    ``faces`` holds the original faces in order (less ``removed_faces``, ids into the input
+    faces, when ``repair=True``), then the new faces.
+    """
 
     vertices: np.ndarray
     faces: np.ndarray
     reports: list[HoleReport]
     n_original_vertices: int
     n_original_faces: int
+    removed_faces: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
 
     @property
     def new_faces(self) -> np.ndarray:
@@ -138,6 +150,7 @@ def fill_holes(
     include_border: bool = False,
     max_hole_edges: int | None = None,
     rings: int | None = None,
+    repair: bool = False,
     validate: bool = True,
     progress: ProgressCallback | None = None,
     **options,
@@ -158,6 +171,10 @@ def fill_holes(
         "initial": triangulate and refine only. "triangulate": minimum-weight triangulation.
     max_hole_edges : int, optional
         Holes with more boundary edges are skipped (reported, not filled).
+    repair : bool
+        Remove the faces around non-manifold edges first (see
+        :func:`surfinpaint.repair.remove_nonmanifold_faces`); the holes this opens are then
+        filled with the others. The removed faces are listed in ``FillResult.removed_faces``.
     rings : int, optional
         Vertex rings of the surrounding surface handed to the filler (the conformal method's
         patch size); a default suited to the method when None.
@@ -183,10 +200,16 @@ def fill_holes(
         raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
+    removed_faces = np.empty(0, dtype=np.int64)
+    if repair:
+        from surfinpaint.repair import remove_nonmanifold_faces
+
+        faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
     if validate:
         from surfinpaint.validation import validate_mesh
 
         validate_mesh(vertices, faces)
+    explicit = holes is not None
     loops = select_holes(vertices, faces, holes, include_border=include_border)
     if method == "conformal":
         try:
@@ -195,8 +218,8 @@ def fill_holes(
             raise NotImplementedError(
                 "method='conformal' is not implemented yet; use method='fair'"
             ) from exc
-    if rings is None:
-        rings = int(options.get("patch_rings", 6)) + 3 if method == "conformal" else 3
+    if method == "conformal":
+        from surfinpaint.conformal import neighbourhood_rings
     n = len(vertices)
     vertex_faces = _vertex_face_csr(faces, n)
     new_vertex_blocks: list[np.ndarray] = []
@@ -217,12 +240,27 @@ def fill_holes(
         started = time.perf_counter()
         added = (np.concatenate(new_face_blocks) if new_face_blocks
                  else np.empty((0, 3), dtype=np.int64))
-        picked, picked_added = _neighbourhood(faces, vertex_faces, added, loop, rings)
+        hole_rings = rings
+        if hole_rings is None:
+            hole_rings = (neighbourhood_rings(len(loop), **options) if method == "conformal"
+                          else 3)
+        picked, picked_added = _neighbourhood(faces, vertex_faces, added, loop, hole_rings)
         local_faces_global = np.concatenate([faces[picked], added[picked_added]])
         local_ids, local_faces = np.unique(local_faces_global, return_inverse=True)
         local_faces = local_faces.reshape(-1, 3)
         local_vertices = _gather(vertices, new_vertex_blocks, local_ids)
         local_loop = np.searchsorted(local_ids, loop)
+        try:
+            # on the neighbourhood (global ids): the cost stays with the hole
+            check_loop(local_faces_global, loop)
+        except MeshError as exc:
+            message = f"hole {index}: {exc.message}"
+            if explicit:
+                raise MeshError(message, vertices=exc.vertices, edges=exc.edges) from None
+            report.skipped = exc.message
+            report.method = "none"
+            warnings.warn(f"{message}; skipped", stacklevel=2)
+            continue
         try:
             new_v, new_f, details = _fill_one(local_vertices, local_faces, local_loop,
                                                method, options)
@@ -235,11 +273,9 @@ def fill_holes(
                           "conventional fill instead", stacklevel=2)
             new_v, new_f, details = _fill_one(local_vertices, local_faces, local_loop,
                                                "fair", options)
-        if details.get("fallback"):
-            report.fallback = details["fallback"]
-            report.method = "fair"
-            warnings.warn(f"hole {index}: {details['fallback']}; used the conventional fill",
-                          stacklevel=2)
+        if details.get("selected"):
+            report.method = details["selected"]
+            report.note = details.get("selection")
         new_f = np.asarray(new_f, dtype=np.int64)
         n_local = len(local_vertices)
         mapped = np.where(new_f < n_local, local_ids[np.minimum(new_f, n_local - 1)],
@@ -257,4 +293,4 @@ def fill_holes(
                     else vertices.copy())
     out_faces = (np.concatenate([faces, *new_face_blocks]) if new_face_blocks
                  else faces.copy())
-    return FillResult(out_vertices, out_faces, reports, n, len(faces))
+    return FillResult(out_vertices, out_faces, reports, n, len(faces), removed_faces)
