@@ -205,7 +205,13 @@ def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: in
         raise FillError(f"the filled patch folds over at {folds} edges")
 
 
-def _conformal_only(vertices, faces, loop, *, start, patch_rings, iterations, options):
+def _fills(vertices, faces, loop, *, start, patch_rings, iterations, options, want_fair):
+    """The conformal fill of one hole and, when ``want_fair``, the faired fill it can be
+    compared with (shared work: with ``start="fair"`` the faired fill is the initial fill).
+
+    Returns a dict name -> (new_vertices, new_faces, info); a failed conformal fill is
+    returned as its exception under "conformal".
+    """
     from surfinpaint.baseline import conventional_fill
 
     n = len(vertices)
@@ -213,18 +219,30 @@ def _conformal_only(vertices, faces, loop, *, start, patch_rings, iterations, op
                                      fair=(start == "fair"))
     new_v = np.asarray(new_v, dtype=float)
     new_f = np.asarray(new_f, dtype=np.int64)
+    out: dict = {}
+    if want_fair:
+        if start == "fair":
+            out["fair"] = (new_v, new_f, {})
+        else:
+            fv, ff = conventional_fill(vertices, faces, loop, refine=True, fair=True)
+            out["fair"] = (np.asarray(fv, float), np.asarray(ff, np.int64), {})
     if len(new_v) == 0:
-        return new_v, new_f, {"rings": 0, "note": "no interior vertices to move"}
-    patch, rings = hole_patch(faces, loop, new_f, patch_rings)
-    moving = np.arange(n, n + len(new_v))
-    all_v = np.concatenate([vertices, new_v])
-    info: dict = {"rings": rings}
-    for _ in range(iterations):
-        positions, info_pass = inpaint_patch(all_v, patch, len(new_f), moving, **options)
-        all_v[moving] = positions
-        info.update(info_pass)
-    _check_patch(all_v, patch, len(new_f))
-    return all_v[n:], new_f, info
+        out["conformal"] = (new_v, new_f, {"rings": 0, "note": "no interior vertices to move"})
+        return out
+    try:
+        patch, rings = hole_patch(faces, loop, new_f, patch_rings)
+        moving = np.arange(n, n + len(new_v))
+        all_v = np.concatenate([vertices, new_v])
+        info: dict = {"rings": rings}
+        for _ in range(iterations):
+            positions, info_pass = inpaint_patch(all_v, patch, len(new_f), moving, **options)
+            all_v[moving] = positions
+            info.update(info_pass)
+        _check_patch(all_v, patch, len(new_f))
+        out["conformal"] = (all_v[n:], new_f, info)
+    except (FillError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
+        out["conformal"] = exc
+    return out
 
 
 def _sibling_centres(vertices, faces, loop, gap_rings, count):
@@ -252,7 +270,7 @@ def sibling_scores(
     vertices: np.ndarray,
     faces: np.ndarray,
     loop: np.ndarray,
-    fills: dict,
+    fill,
     *,
     siblings: int = 2,
     gap_rings: int = 3,
@@ -261,9 +279,10 @@ def sibling_scores(
     """How well each filler does on holes like this one cut from the known surface nearby.
 
     Geodesic disks as wide as the hole are cut ``gap_rings`` rings beyond it (``siblings``
-    of them, spread around), filled by every filler in ``fills`` (name → function(vertices,
-    faces, loop) → (new_vertices, new_faces, info)), and scored by the two-sided mean distance
-    between each fill and the removed surface. No ground truth of the hole itself is used.
+    of them, spread around), filled by ``fill`` (function(vertices, faces, loop) → dict
+    name → (new_vertices, new_faces, info), or an exception for a failed candidate), and
+    each candidate is scored by the two-sided mean distance between its fill and the removed
+    surface. No ground truth of the hole itself is used.
 
     Returns
     -------
@@ -277,27 +296,24 @@ def sibling_scores(
     radius = 0.5 * float(np.max(np.linalg.norm(points[:, None] - points[None], axis=2)))
     edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
     gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
-    scores: dict[str, list[float]] = {name: [] for name in fills}
+    scores: dict[str, list[float]] = {}
     for centre in _sibling_centres(vertices, faces, loop, gap, siblings):
         try:
             cut = cut_geodesic_disk(vertices, faces, centre, radius)
-        except (ValueError, RuntimeError, MeshError):
+            candidates = fill(cut.vertices, cut.faces, cut.loop)
+        except (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError):
+            continue
+        if any(isinstance(c, Exception) for c in candidates.values()):
             continue
         results = {}
-        for name, fill in fills.items():
-            try:
-                new_v, new_f, _ = fill(cut.vertices, cut.faces, cut.loop)
-            except (FillError, ValueError, RuntimeError, np.linalg.LinAlgError):
-                results = None
-                break
+        for name, (new_v, new_f, _) in candidates.items():
             all_v = np.concatenate([cut.vertices, new_v])
             pv, pf = hole_patch_of(all_v, np.concatenate([cut.faces, new_f]),
                                    len(cut.vertices), cut.faces)
             results[name] = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces,
                                              n_samples=n_samples)["mean"]
-        if results:
-            for name, value in results.items():
-                scores[name].append(value)
+        for name, value in results.items():
+            scores.setdefault(name, []).append(value)
     return {name: float(np.mean(v)) for name, v in scores.items() if v}
 
 
@@ -364,37 +380,33 @@ def conformal_fill(
     FillError
         When a step fails (the caller falls back to the conventional fill).
     """
-    from surfinpaint.baseline import conventional_fill
 
     if start not in ("fair", "initial"):
         raise ValueError(f"start must be 'fair' or 'initial', got {start!r}")
     options = {k: v for k, v in options.items() if v is not None}
-    new_v, new_f, info = _conformal_only(vertices, faces, loop, start=start,
-                                         patch_rings=patch_rings, iterations=iterations,
-                                         options=options)
+
+    def both(v, f, l, want_fair=True):
+        return _fills(v, f, l, start=start, patch_rings=patch_rings, iterations=iterations,
+                      options=options, want_fair=want_fair)
+
+    fills = both(vertices, faces, loop, want_fair=select)
+    if isinstance(fills["conformal"], Exception):
+        raise fills["conformal"]
+    new_v, new_f, info = fills["conformal"]
     if not select:
         return new_v, new_f, info
-
-    def conformal(v, f, l):
-        return _conformal_only(v, f, l, start=start, patch_rings=patch_rings,
-                               iterations=iterations, options=options)
-
-    def faired(v, f, l):
-        fv, ff = conventional_fill(v, f, l, refine=True, fair=True)
-        return fv, ff, {}
-
-    scores = sibling_scores(vertices, faces, loop, {"conformal": conformal, "fair": faired},
-                            siblings=siblings, gap_rings=gap_rings)
+    scores = sibling_scores(vertices, faces, loop, both, siblings=siblings,
+                            gap_rings=gap_rings)
     if len(scores) < 2:
-        info["selection"] = "self-check: no sibling hole could be cut; kept the conformal fill"
+        info["selection"] = "self-check: no sibling hole could be filled; kept the conformal fill"
         return new_v, new_f, info
     score_conformal, score_fair = scores["conformal"], scores["fair"]
     info["score_conformal"] = score_conformal
     info["score_fair"] = score_fair
     if score_conformal <= score_fair:
         return new_v, new_f, info
-    fv, ff = conventional_fill(vertices, faces, loop, refine=True, fair=True)
+    fv, ff, _ = fills["fair"]
     info["selected"] = "fair"
-    info["selection"] = (f"self-check: the faired fill predicts the hidden rings better "
+    info["selection"] = (f"self-check: the faired fill reproduces sibling holes better "
                          f"({score_fair:.3g} < {score_conformal:.3g})")
-    return np.asarray(fv, float), np.asarray(ff, np.int64), info
+    return fv, ff, info
