@@ -1,0 +1,416 @@
+"""Accuracy benchmark: fill holes with known ground truth and measure the distance to it.
+
+Geodesic disks (radius from ~5 mean edge lengths up to ~8 % of the bounding-box diagonal)
+are cut from real and synthetic meshes (:mod:`surfinpaint.cutting`); each hole is filled, one
+at a time, by every method and the filled patch is compared with the removed patch by the
+two-sided surface distance (:func:`surfinpaint.metrics.surface_distance`), reported in % of
+the hole diameter.
+
+Methods: ``fair`` and ``conformal`` (``surfinpaint.fill_holes``; ``conformal_raw`` is the
+conformal method without its self-check, ``select=False``, so it measures the conformal fill
+itself; ``conventional`` calls :func:`surfinpaint.baseline.conventional_fill` directly) and
+the reference peers ``cgal`` (CGAL triangulate_refine_and_fair_hole) and ``meshlib`` (MeshLib
+fillHoleNicely) from ``benchmarks/peers.py``. Peers get the hole's 6-ring neighbourhood
+only (as ``fill_holes`` does internally), so the times compare the fills, not the copying of
+big meshes. A method that raises NotImplementedError is reported "n/a", one that raises
+anything else "failed"; the run goes on.
+
+Run::
+
+    .venv/bin/python benchmarks/accuracy.py               # default set: 67 holes, 2-5 min
+    .venv/bin/python benchmarks/accuracy.py --quick       # 8 holes, ~15 s
+    .venv/bin/python benchmarks/accuracy.py --methods fair,cgal --cases bunny,cube \
+        --out results.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import sys
+import time
+import traceback
+import warnings
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from surfinpaint import data
+from surfinpaint.cutting import CutResult, cut_geodesic_disk
+from surfinpaint.mesh import k_ring, mean_edge_length, unique_edges
+from surfinpaint.metrics import hole_patch_of, surface_distance
+
+sys.path.insert(0, str(Path(__file__).parent))
+import peers  # noqa: E402
+
+ALL_METHODS = ("fair", "conformal", "conformal_raw", "conventional", "cgal", "meshlib")
+DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
+
+
+# --------------------------------------------------------------------------- cases
+
+
+@dataclass
+class Case:
+    """A mesh and where to cut: ``sites`` (3D points, snapped to the nearest vertex) and the
+    hole radius of each site in mean edge lengths, or ``None``: every site gets every size of
+    :func:`_sizes` (from 5 mean edge lengths to 8 % of the bounding-box diagonal)."""
+
+    name: str
+    load: Callable[[], tuple[np.ndarray, np.ndarray]]
+    sites: Callable[[np.ndarray], np.ndarray]
+    radii_h: list[float] | None = None
+    note: str = ""
+
+
+def _extreme(directions) -> Callable[[np.ndarray], np.ndarray]:
+    """Sites: the vertices furthest along the given directions from the centroid."""
+    d = np.asarray(directions, float)
+
+    def pick(v: np.ndarray) -> np.ndarray:
+        c = v.mean(axis=0)
+        return v[np.argmax((v - c) @ d.T, axis=0)]
+
+    return pick
+
+
+def _points(points) -> Callable[[np.ndarray], np.ndarray]:
+    p = np.asarray(points, float)
+    return lambda v: p
+
+
+def _cases(quick: bool) -> dict[str, Case]:
+    if quick:
+        return {
+            "sphere": Case("sphere", lambda: data.sphere(4), _extreme([[0, 0, 1]])),
+            "torus": Case("torus", data.torus, _extreme([[1, 0, 0]])),
+            "cube": Case("cube", lambda: data.cube(16), _points([[0, 0, 0], [0.5, 0, 0]]),
+                         radii_h=[5, 6], note="corner, edge"),
+            "bunny": Case("bunny", lambda: data.pymeshlab_sample("bunny.obj"),
+                          _extreme([[1, 0, 0]])),
+        }
+    return {
+        "bunny": Case("bunny", lambda: data.pymeshlab_sample("bunny.obj"),
+                      _extreme([[0, 1, 0.3], [1, 0, 0], [0, 0, 1]])),
+        "pial": Case("pial", lambda: data.fsaverage5("pial", "left"),
+                     _extreme([[-1, 0, 0.2], [0, 0, 1], [0, -1, 0]]),
+                     note="fsaverage5 left pial (lateral, superior, posterior)"),
+        "white": Case("white", lambda: data.fsaverage5("white", "left"),
+                      _extreme([[-1, 0, 0.2], [0, 0, 1], [0, -1, 0]]),
+                      note="fsaverage5 left white"),
+        "sphere": Case("sphere", lambda: data.sphere(5), _extreme([[0, 0, 1], [1, 0, 0],
+                                                                   [0, -1, 0]])),
+        "torus": Case("torus", lambda: data.torus(n_major=160, n_minor=64),
+                      _extreme([[1, 0, 0], [0, 0, 1], [0, 1, -0.5]]),
+                      note="outer equator, top, side"),
+        "cube": Case("cube", lambda: data.cube(40),
+                     _points([[0, 0, 0], [0.5, 0, 0], [1, 1, 1], [0.5, 1, 0.5]]),
+                     radii_h=[5, 6, 8, 8], note="corner, edge, corner, face centre"),
+        "snowman": Case("snowman", lambda: data.snowman(edge_length=0.04),
+                        _points([[0.0, -0.75, 0.95], [1.0, 0, 0], [0, 0.6, 1.9]]),
+                        note="lower neck, lower ball, upper neck"),
+        "tooth": Case("tooth", data.tooth, _points([[0.42, 0.42, 1.3], [0.8, 0, 0.5],
+                                                    [0, 0, 1.0]]),
+                      note="cusp, crown side, central fossa"),
+    }
+
+
+def _holes(case: Case, v: np.ndarray, h: float, n_sizes: int) -> list[tuple[np.ndarray, float]]:
+    """(site, radius) of every hole of a case."""
+    sites = case.sites(v)
+    if case.radii_h is not None:
+        return [(s, r * h) for s, r in zip(sites, case.radii_h, strict=True)]
+    diag = float(np.linalg.norm(np.ptp(v, axis=0)))
+    top = max(0.08 * diag, 8 * h)
+    sizes = np.linspace(5 * h, top, n_sizes) if n_sizes > 1 else np.array([5 * h])
+    return [(s, float(r)) for s in sites for r in sizes]
+
+
+# --------------------------------------------------------------------------- methods
+
+
+def _local(vertices, faces, loop, rings=6):
+    """The hole's ``rings``-ring neighbourhood: (vertices, faces, loop, local→global ids)."""
+    mask = k_ring(faces, loop, rings, len(vertices))
+    sub = faces[mask[faces].all(axis=1)]
+    ids = np.unique(sub)
+    remap = np.full(len(vertices), -1)
+    remap[ids] = np.arange(len(ids))
+    return vertices[ids], remap[sub], remap[loop], ids
+
+
+def _run_peer(fn, vertices, faces, loop):
+    lv, lf, lloop, ids = _local(vertices, faces, loop)
+    t0 = time.perf_counter()
+    nv, nf = fn(lv, lf, lloop)
+    dt = time.perf_counter() - t0
+    n_local = len(lv)
+    nf = np.where(nf < n_local, ids[np.minimum(nf, n_local - 1)],
+                  len(vertices) + nf - n_local)
+    return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
+
+
+def _run_ours(method, vertices, faces, loop, **options):
+    import surfinpaint
+
+    fill_holes = getattr(surfinpaint, "fill_holes", None)
+    if fill_holes is None:
+        from surfinpaint.pipeline import fill_holes
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fill_holes(vertices, faces, holes=[loop], method=method, **options)
+    dt = time.perf_counter() - t0
+    note = ""
+    for r in res.reports:
+        if r.fallback:
+            note = f"failed, used {r.method}: {r.fallback}"
+        elif r.method != method:
+            note = f"self-check kept {r.method}"
+    return np.asarray(res.vertices), np.asarray(res.faces), dt, note
+
+
+def _run_conventional(vertices, faces, loop):
+    from surfinpaint.baseline import conventional_fill
+
+    t0 = time.perf_counter()
+    nv, nf = conventional_fill(vertices, faces, loop)
+    dt = time.perf_counter() - t0
+    return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
+
+
+def run_method(method: str, vertices, faces, loop):
+    """Fill one hole: (all vertices, all faces, seconds, note)."""
+    if method in ("fair", "conformal"):
+        return _run_ours(method, vertices, faces, loop)
+    if method == "conformal_raw":
+        return _run_ours("conformal", vertices, faces, loop, select=False)
+    if method == "conventional":
+        return _run_conventional(vertices, faces, loop)
+    if method in peers.PEERS:
+        return _run_peer(peers.PEERS[method], vertices, faces, loop)
+    raise ValueError(f"unknown method {method!r}: choose from {', '.join(ALL_METHODS)}")
+
+
+# --------------------------------------------------------------------------- scoring
+
+
+@dataclass
+class Row:
+    case: str
+    hole: int
+    radius_h: float
+    boundary_edges: int
+    diameter: float
+    method: str
+    status: str = "ok"
+    mean_pct: float = float("nan")
+    hausdorff_pct: float = float("nan")
+    mean_ab_pct: float = float("nan")
+    mean_ba_pct: float = float("nan")
+    seconds: float = float("nan")
+    new_vertices: int = 0
+    new_faces: int = 0
+    note: str = ""
+    extra: dict = field(default_factory=dict)
+
+
+def _closed(faces: np.ndarray, loop: np.ndarray) -> bool:
+    """Every loop edge now has two faces and no edge has more than two."""
+    edges, _, count = unique_edges(faces)
+    if (count > 2).any():
+        return False
+    a = np.sort(np.column_stack([loop, np.roll(loop, -1)]), axis=1)
+    key = edges[:, 0] * (edges.max() + 1) + edges[:, 1]
+    k = a[:, 0] * (edges.max() + 1) + a[:, 1]
+    pos = np.searchsorted(key, k)
+    return bool((key[np.minimum(pos, len(key) - 1)] == k).all()
+                and (count[np.minimum(pos, len(key) - 1)] == 2).all())
+
+
+def score(cut: CutResult, method: str, case: str, hole: int, radius_h: float,
+          n_samples: int) -> Row:
+    row = Row(case=case, hole=hole, radius_h=radius_h, boundary_edges=len(cut.loop),
+              diameter=cut.diameter, method=method)
+    try:
+        v, f, dt, note = run_method(method, cut.vertices, cut.faces, cut.loop)
+    except NotImplementedError as exc:
+        row.status, row.note = "n/a", str(exc).splitlines()[0][:100]
+        return row
+    except ImportError as exc:
+        row.status, row.note = "n/a", f"missing package: {exc}"
+        return row
+    except Exception as exc:  # a failing method is a result, not a crash
+        row.status = "failed"
+        row.note = f"{type(exc).__name__}: {str(exc).splitlines()[0][:100] if str(exc) else ''}"
+        traceback.print_exc(limit=2, file=sys.stderr)
+        return row
+    row.seconds, row.note = dt, note
+    if note.startswith("self-check"):
+        row.status = "selected"
+    elif note:
+        row.status = "fallback"
+    pv, pf = hole_patch_of(v, f, len(cut.vertices), cut.faces)
+    row.new_vertices, row.new_faces = len(v) - len(cut.vertices), len(pf)
+    if len(pf) == 0:
+        row.status = "failed"
+        row.note = "no patch faces"
+        return row
+    if not _closed(f, cut.loop):
+        row.status = "open"
+        row.note = (row.note + "; " if row.note else "") + "hole not closed or non-manifold"
+    d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=n_samples)
+    scale = 100.0 / cut.diameter
+    row.mean_pct = d["mean"] * scale
+    row.hausdorff_pct = d["hausdorff"] * scale
+    row.mean_ab_pct = d["mean_ab"] * scale
+    row.mean_ba_pct = d["mean_ba"] * scale
+    return row
+
+
+# --------------------------------------------------------------------------- tables
+
+
+def _fmt(x: float, digits: int = 3) -> str:
+    return "—" if not np.isfinite(x) else f"{x:.{digits}f}"
+
+
+def table(rows: list[Row]) -> str:
+    out = ["| case | hole (r/h, edges, diameter) | method | mean % | Hausdorff % | time s "
+           "| new v | status |",
+           "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        hole = f"#{r.hole} ({r.radius_h:.1f}, {r.boundary_edges}, {r.diameter:.4g})"
+        status = r.status if not r.note else f"{r.status}: {r.note}"
+        out.append(f"| {r.case} | {hole} | {r.method} | {_fmt(r.mean_pct)} "
+                   f"| {_fmt(r.hausdorff_pct)} | {_fmt(r.seconds)} | {r.new_vertices} "
+                   f"| {status} |")
+    return "\n".join(out)
+
+
+def summary(rows: list[Row], methods: list[str], references: tuple[str, ...] = ("fair", "cgal"),
+            ) -> str:
+    """Per method, over every hole it returned a fill for (what a user gets, including the
+    self-check's choice of the faired fill and fallbacks after a failure): the median mean
+    error, and the median and worst ratio of its mean error to each reference's on the same
+    hole.
+    """
+    filled = ("ok", "selected", "fallback")
+    by = {(r.method, r.case, r.hole): r for r in rows if r.status in filled}
+    head = "| method | own / self-check→fair / failed→fair / total | median mean % "
+    head += "".join(f"| median mean / {ref} | worst mean / {ref} " for ref in references)
+    head += "| median Hausdorff / cgal | median time s |"
+    out = [head, "|" + "---|" * (5 + 2 * len(references))]
+    med = lambda x: float(np.median(x)) if len(x) else float("nan")  # noqa: E731
+    for m in methods:
+        mine = [r for r in rows if r.method == m]
+        got = [r for r in mine if r.status in filled]
+        counts = [sum(r.status == s for r in mine) for s in filled]
+        cells = [f"| {m} | {counts[0]} / {counts[1]} / {counts[2]} / {len(mine)} ",
+                 f"| {_fmt(med([r.mean_pct for r in got]))} "]
+        for ref in references:
+            # holes every method fills exactly (planar) carry no ratio: skip them
+            ratio = [r.mean_pct / by[(ref, r.case, r.hole)].mean_pct for r in got
+                     if (ref, r.case, r.hole) in by and by[(ref, r.case, r.hole)].mean_pct > 1e-6]
+            cells.append(f"| {_fmt(med(ratio))} | {_fmt(max(ratio) if ratio else float('nan'))} ")
+        hratio = [r.hausdorff_pct / by[("cgal", r.case, r.hole)].hausdorff_pct for r in got
+                  if ("cgal", r.case, r.hole) in by
+                  and by[("cgal", r.case, r.hole)].hausdorff_pct > 1e-6]
+        cells.append(f"| {_fmt(med(hratio))} | {_fmt(med([r.seconds for r in got]))} |")
+        out.append("".join(cells))
+    return "\n".join(out)
+
+
+def case_summary(rows: list[Row], methods: list[str]) -> str:
+    """Median mean error (% of hole diameter) per case and method."""
+    filled = ("ok", "selected", "fallback")
+    cases = list(dict.fromkeys(r.case for r in rows))
+    out = ["| case | " + " | ".join(methods) + " |", "|---|" + "---|" * len(methods)]
+    for c in cases:
+        cells = []
+        for m in methods:
+            vals = [r.mean_pct for r in rows if r.case == c and r.method == m
+                    and r.status in filled]
+            cells.append(_fmt(float(np.median(vals))) if vals else "—")
+        out.append(f"| {c} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+# --------------------------------------------------------------------------- main
+
+
+def main(argv: list[str] | None = None) -> list[Row]:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help="fewer, smaller cases")
+    parser.add_argument("--methods", default=",".join(DEFAULT_METHODS),
+                        help=f"comma-separated, from {', '.join(ALL_METHODS)}")
+    parser.add_argument("--cases", default=None, help="comma-separated case names")
+    parser.add_argument("--samples", type=int, default=10000,
+                        help="surface samples per side for the distance")
+    parser.add_argument("--out", default=None, help="write all rows as JSON here")
+    args = parser.parse_args(argv)
+    methods = [m.strip() for m in args.methods.split(",") if m.strip()]
+    for m in methods:
+        if m not in ALL_METHODS:
+            parser.error(f"unknown method {m!r}: choose from {', '.join(ALL_METHODS)}")
+    cases = _cases(args.quick)
+    if args.cases:
+        names = [c.strip() for c in args.cases.split(",")]
+        unknown = [c for c in names if c not in cases]
+        if unknown:
+            parser.error(f"unknown case(s) {unknown}: choose from {', '.join(cases)}")
+        cases = {k: cases[k] for k in names}
+
+    # warm up compiled kernels (numba) so the first timings are fair
+    wv, wf = data.sphere(2)
+    warm = cut_geodesic_disk(wv, wf, 0, 0.5)
+    for m in methods:
+        try:
+            run_method(m, warm.vertices, warm.faces, warm.loop)
+        except Exception:  # noqa: BLE001 - reported properly in the real run
+            pass
+    surface_distance(warm.truth_vertices, warm.truth_faces, warm.truth_vertices,
+                     warm.truth_faces, n_samples=100)
+
+    started = time.perf_counter()
+    rows: list[Row] = []
+    for case in cases.values():
+        try:
+            v, f = case.load()
+        except (ModuleNotFoundError, FileNotFoundError) as exc:
+            print(f"skipping {case.name}: {exc}", file=sys.stderr)
+            continue
+        h = mean_edge_length(v, f)
+        for k, (site, radius) in enumerate(_holes(case, v, h, 2 if args.quick else 3)):
+            cut = cut_geodesic_disk(v, f, site, radius)
+            for m in methods:
+                row = score(cut, m, case.name, k, radius / h, args.samples)
+                rows.append(row)
+                print(f"{case.name} #{k} r={radius / h:.1f}h {m}: {row.status} "
+                      f"mean {_fmt(row.mean_pct)} % in {_fmt(row.seconds)} s",
+                      file=sys.stderr, flush=True)
+    total = time.perf_counter() - started
+
+    print(f"## Hole-filling accuracy ({'quick' if args.quick else 'default'} set)\n")
+    print("Distances are two-sided surface distances between the filled patch and the "
+          "removed truth (area-uniform samples), in % of the hole diameter; r/h is the cut "
+          "radius in mean edge lengths.\n")
+    print(table(rows))
+    print()
+    print(summary(rows, methods))
+    print()
+    print(case_summary(rows, methods))
+    print(f"\npeers: {peers.versions()}; python {platform.python_version()}; "
+          f"total {total:.1f} s")
+    if args.out:
+        payload = {"rows": [asdict(r) for r in rows], "versions": peers.versions(),
+                   "quick": args.quick, "seconds": total}
+        Path(args.out).write_text(json.dumps(payload, indent=1, default=float))
+    return rows
+
+
+if __name__ == "__main__":
+    main()

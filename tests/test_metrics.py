@@ -1,0 +1,146 @@
+"""Surface distances against analytic values and brute force."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from surfinpaint import data, metrics
+from surfinpaint.cutting import cut_geodesic_disk
+from surfinpaint.metrics import (
+    closest_point_on_triangles,
+    hole_patch_of,
+    point_mesh_distance,
+    sample_surface,
+    surface_distance,
+)
+
+
+def rectangle(x1, nx=8, ny=8):
+    """Flat rectangle [0, x1] × [0, 1] in z = 0, a grid of triangles."""
+    i, j = np.meshgrid(np.arange(nx + 1), np.arange(ny + 1), indexing="ij")
+    v = np.column_stack([i.ravel() * x1 / nx, j.ravel() / ny, np.zeros(i.size)])
+    a = (i[:-1, :-1] * (ny + 1) + j[:-1, :-1]).ravel()
+    f = np.concatenate([np.column_stack([a, a + ny + 1, a + ny + 2]),
+                        np.column_stack([a, a + ny + 2, a + 1])])
+    return v, f
+
+
+def brute_closest(p, tri, n=120):
+    """Closest point by dense barycentric sampling (an upper bound of the exact distance)."""
+    s, t = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
+    keep = s + t <= 1
+    s, t = s[keep], t[keep]
+    q = tri[0] + s[:, None] * (tri[1] - tri[0]) + t[:, None] * (tri[2] - tri[0])
+    return np.linalg.norm(q - p, axis=1).min()
+
+
+def test_closest_point_on_triangles_matches_brute_force_in_every_region():
+    rng = np.random.default_rng(0)
+    tris = rng.normal(size=(60, 3, 3))
+    tris[0, 2] = tris[0, 1]  # degenerate: a segment
+    tris[1, :] = tris[1, 0]  # degenerate: a point
+    p = rng.normal(scale=2.0, size=(60, 3))
+    q = closest_point_on_triangles(p, tris[:, 0], tris[:, 1], tris[:, 2])
+    exact = np.linalg.norm(q - p, axis=1)
+    brute = np.array([brute_closest(p[k], tris[k]) for k in range(60)])
+    span = np.linalg.norm(tris - tris.mean(axis=1, keepdims=True), axis=2).max(axis=1)
+    assert (exact <= brute + 1e-12).all()
+    assert (brute - exact < 2 * span / 120 + 1e-12).all()
+    # the closest point is on the triangle: its barycentric coordinates are in [0, 1]
+    for k in range(2, 60):
+        a, b, c = tris[k]
+        m = np.column_stack([b - a, c - a])
+        st = np.linalg.lstsq(m, q[k] - a, rcond=None)[0]
+        assert st.min() > -1e-9 and st.sum() < 1 + 1e-9
+        np.testing.assert_allclose(a + m @ st, q[k], atol=1e-9)
+
+
+def test_point_mesh_distance_numba_and_numpy_agree_with_all_triangles():
+    v, f = data.sphere(1)
+    rng = np.random.default_rng(1)
+    p = rng.normal(scale=0.8, size=(400, 3))
+    index = metrics._TriangleIndex(v, f)
+    fast = index.distance(p)
+    index.use_numba = False
+    slow = index.distance(p)
+    tri = v[f]
+    full = np.array([np.linalg.norm(closest_point_on_triangles(
+        np.repeat(x[None], len(f), 0), tri[:, 0], tri[:, 1], tri[:, 2]) - x, axis=1).min()
+        for x in p])
+    np.testing.assert_allclose(fast, full, atol=1e-12)
+    np.testing.assert_allclose(slow, full, atol=1e-12)
+    np.testing.assert_allclose(point_mesh_distance(p, v, f), full, atol=1e-12)
+
+
+def test_distance_of_a_mesh_to_itself_is_zero():
+    v, f = data.torus(n_major=32, n_minor=12)
+    d = surface_distance(v, f, v, f, n_samples=3000)
+    assert d["mean"] < 1e-14 and d["hausdorff"] < 1e-14
+
+
+def test_concentric_spheres():
+    # faces of the scaled mesh are parallel to the originals, at distance 0.2·(plane offset)
+    # with plane offsets in [cos(edge angle), 1]: the distance is |r1 - r2| to 0.5 %
+    v, f = data.sphere(4)
+    d = surface_distance(v, f, 1.2 * v, f, n_samples=5000)
+    for key in ("mean", "mean_ab", "mean_ba", "hausdorff"):
+        assert d[key] == pytest.approx(0.2, rel=5e-3)
+    assert d["hausdorff"] <= 0.2 + 1e-12
+
+
+def test_rectangle_in_a_larger_rectangle_analytic():
+    # A = [0,1]², B = [0,2]×[0,1]: A ⊂ B so A→B is 0; B→A is max(x−1, 0), whose mean over B
+    # is 1/4 and maximum 1 (the far corners, which are vertices)
+    va, fa = rectangle(1.0)
+    vb, fb = rectangle(2.0, nx=16)
+    d = surface_distance(va, fa, vb, fb, n_samples=40000)
+    assert d["mean_ab"] < 1e-14
+    assert d["mean_ba"] == pytest.approx(0.25, abs=0.005)
+    assert d["max_ab"] < 1e-14
+    assert d["hausdorff"] == pytest.approx(1.0, abs=1e-12)
+    assert d["mean"] == pytest.approx(0.125, abs=0.003)
+
+
+def test_cap_against_whole_sphere_hausdorff():
+    # a cap of angular radius θ inside the unit sphere: the farthest sphere point from the cap
+    # is the antipode of its centre, at chord distance 2 cos(θ/2) from the cap's rim
+    v, f = data.sphere(4)
+    cut = cut_geodesic_disk(v, f, 0, 0.6)
+    tv, tf = cut.truth_vertices, cut.truth_faces
+    theta = np.arccos(np.clip(tv @ v[0], -1, 1)).max()
+    d = surface_distance(tv, tf, v, f, n_samples=4000)
+    assert d["max_ab"] < 1e-12
+    assert d["hausdorff"] == pytest.approx(2 * np.cos(theta / 2), rel=2e-3)
+
+
+def test_samples_are_area_uniform_and_reproducible():
+    va, fa = rectangle(2.0, nx=4, ny=2)
+    p = sample_surface(va, fa, 20000, seed=3)
+    np.testing.assert_array_equal(p, sample_surface(va, fa, 20000, seed=3))
+    assert np.abs(p[:, 2]).max() == 0
+    assert (p[:, 0] < 1).mean() == pytest.approx(0.5, abs=0.015)
+    assert p[:, 0].mean() == pytest.approx(1.0, abs=0.02)
+    assert p[:, 1].mean() == pytest.approx(0.5, abs=0.01)
+
+
+def test_hole_patch_of_recovers_the_truth():
+    v, f = data.sphere(3)
+    cut = cut_geodesic_disk(v, f, 0, 0.5)
+    hv, hf = cut.vertices, cut.faces
+    # "fill" the hole with the truth itself: interior vertices appended after the originals
+    kept_id = np.full(len(v), -1)
+    kept_id[cut.kept] = np.arange(len(cut.kept))
+    interior = np.flatnonzero(kept_id[cut.holes[0].truth_ids] < 0)
+    new_id = kept_id[cut.holes[0].truth_ids].copy()
+    new_id[interior] = len(hv) + np.arange(len(interior))
+    filled_v = np.vstack([hv, cut.truth_vertices[interior]])
+    filled_f = np.vstack([hf, new_id[cut.truth_faces]])
+    pv, pf = hole_patch_of(filled_v, filled_f, len(hv), hf)
+    assert len(pf) == len(cut.truth_faces)
+    d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=2000)
+    assert d["hausdorff"] < 1e-14
+    # without the original faces, patch faces on boundary vertices only are missed
+    pv2, pf2 = hole_patch_of(filled_v, filled_f, len(hv))
+    only_boundary = (new_id[cut.truth_faces] < len(hv)).all(axis=1).sum()
+    assert len(pf2) == len(cut.truth_faces) - only_boundary
