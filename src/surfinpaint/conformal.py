@@ -317,6 +317,54 @@ def sibling_scores(
     return {name: float(np.mean(v)) for name, v in scores.items() if v}
 
 
+def hidden_ring_scores(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    fill,
+    *,
+    hide_rings: int = 2,
+    n_samples: int = 2000,
+) -> dict[str, float]:
+    """How well each filler predicts known surface hidden around the hole.
+
+    The faces within ``hide_rings`` rings of the loop are removed, the larger hole is filled
+    by ``fill`` (as in :func:`sibling_scores`), and each candidate is scored by the mean
+    distance from the hidden faces (area-sampled) to its fill.
+
+    Returns
+    -------
+    dict
+        Score per filler (empty when the hidden rings do not leave one simple hole or a
+        candidate fails).
+    """
+    from surfinpaint.metrics import point_mesh_distance, sample_surface
+
+    n = len(vertices)
+    near = k_ring(faces, loop, hide_rings - 1, n)
+    hidden = near[faces].any(axis=1)
+    kept = faces[~hidden]
+    border = k_ring(faces, loop, hide_rings, n) & ~near
+    try:
+        enlarged = [l for l in boundary_loops(kept) if border[l].mean() > 0.5]
+    except MeshError:
+        return {}
+    if len(enlarged) != 1:
+        return {}
+    try:
+        candidates = fill(vertices, kept, enlarged[0])
+    except (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError):
+        return {}
+    if any(isinstance(c, Exception) for c in candidates.values()):
+        return {}
+    samples = sample_surface(vertices, faces[hidden], n_samples, seed=0)
+    return {
+        name: float(point_mesh_distance(samples, np.concatenate([vertices, new_v]),
+                                        new_f).mean())
+        for name, (new_v, new_f, _) in candidates.items()
+    }
+
+
 def neighbourhood_rings(n_edges: int, *, patch_rings: int = 10, select: bool = True,
                         siblings: int = 2, gap_rings: int = 3, **_) -> int:
     """Vertex rings around a hole of ``n_edges`` boundary edges that :func:`conformal_fill`
@@ -337,6 +385,7 @@ def conformal_fill(
     patch_rings: int = 10,
     iterations: int = 1,
     select: bool = True,
+    hide_rings: int = 2,
     siblings: int = 2,
     gap_rings: int = 3,
     **options,
@@ -356,9 +405,12 @@ def conformal_fill(
     iterations : int
         Outer iterations: re-parameterize the new patch and inpaint again.
     select : bool
-        Self-check: keep the conformal fill only when it also fills sibling holes (as wide
-        as this one, cut from the known surface nearby, see :func:`sibling_scores`) better
-        than the faired fill does; otherwise keep the faired fill.
+        Self-check: keep the conformal fill only when it beats the faired fill on two
+        tests that use no truth of the hole: predicting ``hide_rings`` hidden rings of the
+        known surface around it (:func:`hidden_ring_scores`), and filling sibling holes as
+        wide as this one cut from the known surface nearby (:func:`sibling_scores`).
+    hide_rings : int
+        Rings hidden for the first test.
     siblings, gap_rings : int
         Number of sibling holes, and rings between them and the hole.
     **options
@@ -395,18 +447,27 @@ def conformal_fill(
     new_v, new_f, info = fills["conformal"]
     if not select:
         return new_v, new_f, info
-    scores = sibling_scores(vertices, faces, loop, both, siblings=siblings,
-                            gap_rings=gap_rings)
-    if len(scores) < 2:
-        info["selection"] = "self-check: no sibling hole could be filled; kept the conformal fill"
-        return new_v, new_f, info
-    score_conformal, score_fair = scores["conformal"], scores["fair"]
-    info["score_conformal"] = score_conformal
-    info["score_fair"] = score_fair
-    if score_conformal <= score_fair:
-        return new_v, new_f, info
-    fv, ff, _ = fills["fair"]
-    info["selected"] = "fair"
-    info["selection"] = (f"self-check: the faired fill reproduces sibling holes better "
-                         f"({score_fair:.3g} < {score_conformal:.3g})")
-    return fv, ff, info
+    # Keeping the faired fill is the safe choice: the conformal fill must win two
+    # independent checks, the cheaper one first.
+    checks = {"hidden rings": lambda: hidden_ring_scores(vertices, faces, loop, both,
+                                                         hide_rings=hide_rings),
+              "sibling holes": lambda: sibling_scores(vertices, faces, loop, both,
+                                                      siblings=siblings,
+                                                      gap_rings=gap_rings)}
+    verdicts = []
+    for name, check in checks.items():
+        scores = check()
+        if len(scores) < 2:
+            verdicts.append(f"{name}: not available")
+            continue
+        info[f"score_{name.replace(' ', '_')}"] = scores
+        verdicts.append(f"{name}: conformal {scores['conformal']:.3g}, "
+                        f"fair {scores['fair']:.3g}")
+        if scores["conformal"] > scores["fair"]:
+            info["selected"] = "fair"
+            info["selection"] = (f"self-check ({name}) preferred the faired fill "
+                                 f"({scores['fair']:.3g} < {scores['conformal']:.3g})")
+            fv, ff, _ = fills["fair"]
+            return fv, ff, info
+    info["selection"] = "self-check kept the conformal fill (" + "; ".join(verdicts) + ")"
+    return new_v, new_f, info

@@ -273,9 +273,9 @@ def fill_holes(
                           "conventional fill instead", stacklevel=2)
             new_v, new_f, details = _fill_one(local_vertices, local_faces, local_loop,
                                                "fair", options)
+        report.note = details.get("selection")
         if details.get("selected"):
             report.method = details["selected"]
-            report.note = details.get("selection")
         new_f = np.asarray(new_f, dtype=np.int64)
         n_local = len(local_vertices)
         mapped = np.where(new_f < n_local, local_ids[np.minimum(new_f, n_local - 1)],

@@ -1,0 +1,107 @@
+"""Regular grids: placement, barycentric resampling and interpolation back at points."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from test_parameterization import grid_mesh
+
+from surfinpaint.grid import Grid, grid_over, interpolate, resample
+
+
+def test_grid_over_resolution_and_spacing():
+    uv = np.array([[1.0, 2.0], [3.0, 3.0]])
+    g = grid_over(uv, resolution=9)
+    assert g.h == pytest.approx(0.25)
+    assert g.shape == (9, 5)
+    assert g.origin == (1.0, 2.0)
+    assert g.u[-1] == pytest.approx(3.0) and g.v[-1] == pytest.approx(3.0)
+    g2 = grid_over(uv, h=0.3, margin=0.1)
+    assert g2.origin == pytest.approx((0.9, 1.9))
+    assert g2.u[-1] >= 3.1 - 1e-12 and g2.v[-1] >= 3.1 - 1e-12
+    U, V = g2.nodes()
+    assert U.shape == g2.shape and V[0, 1] - V[0, 0] == pytest.approx(0.3)
+
+
+@pytest.mark.parametrize("kw", [{}, {"h": 0.1, "resolution": 5}, {"resolution": 1},
+                                {"h": -1.0}])
+def test_grid_over_rejects_bad_parameters(kw):
+    with pytest.raises(ValueError):
+        grid_over(np.array([[0.0, 0.0], [1.0, 1.0]]), **kw)
+
+
+def test_resample_reproduces_linear_functions_exactly():
+    uv, f = grid_mesh(23, 17, extent=(0.0, 1.3, -0.2, 0.8), jitter=0.35)
+    values = np.column_stack([2 * uv[:, 0] - 3 * uv[:, 1] + 1, uv[:, 1], np.ones(len(uv))])
+    g = grid_over(uv, resolution=97, margin=0.05)
+    sampled, inside, face_index = resample(uv, f, values, g)
+    U, V = g.nodes()
+    expect_inside = (U >= 0) & (U <= 1.3) & (V >= -0.2) & (V <= 0.8)
+    # nodes within round-off of the border may go either way
+    border = (np.abs(U) < 1e-9) | (np.abs(U - 1.3) < 1e-9) | (np.abs(V + 0.2) < 1e-9) \
+        | (np.abs(V - 0.8) < 1e-9)
+    assert np.array_equal(inside[~border], expect_inside[~border])
+    assert np.allclose(sampled[inside, 0], (2 * U - 3 * V + 1)[inside], atol=1e-12)
+    assert np.allclose(sampled[inside, 1], V[inside], atol=1e-12)
+    assert np.all(np.isnan(sampled[~inside]))
+    assert np.all(face_index[inside] >= 0) and np.all(face_index[~inside] == -1)
+    # the node really lies in the triangle it reports
+    i, j = np.argwhere(inside)[123]
+    tri = uv[f[face_index[i, j]]]
+    p = np.array([U[i, j], V[i, j]])
+    lam = np.linalg.solve(np.vstack([tri.T, np.ones(3)]), np.append(p, 1.0))
+    assert np.all(lam > -1e-9)
+
+
+def test_resample_scalar_and_chunking(monkeypatch):
+    import surfinpaint.grid as grid_module
+
+    uv, f = grid_mesh(11, jitter=0.3)
+    g = grid_over(uv, resolution=41)
+    full, inside, _ = resample(uv, f, uv[:, 0], g)
+    monkeypatch.setattr(grid_module, "_CHUNK", 7)  # many tiny chunks
+    chunked, inside2, _ = resample(uv, f, uv[:, 0], g)
+    assert full.shape == g.shape
+    assert np.array_equal(inside, inside2)
+    assert np.allclose(full[inside], chunked[inside])
+
+
+def test_interpolate_bilinear_is_exact_for_bilinear_functions():
+    g = Grid((-1.0, 0.5), 0.1, (21, 13))
+    U, V = g.nodes()
+    f = lambda u, v: 1.0 + 2.0 * u - v + 3.0 * u * v  # noqa: E731
+    rng = np.random.default_rng(1)
+    pts = np.column_stack([rng.uniform(-1.0, 1.0, 500), rng.uniform(0.5, 1.7, 500)])
+    for order in (1, 3):
+        got = interpolate(f(U, V), g, pts, order=order)
+        assert np.allclose(got, f(pts[:, 0], pts[:, 1]), atol=1e-12)
+
+
+def test_interpolate_bicubic_is_exact_for_quadratics_and_falls_back_near_nan():
+    g = Grid((0.0, 0.0), 0.25, (17, 17))
+    U, V = g.nodes()
+    q = lambda u, v: u * u - 2 * u * v + 0.5 * v * v + u  # noqa: E731
+    vals = q(U, V)
+    pts = np.array([[1.3, 2.2], [2.05, 0.6], [3.1, 3.3]])
+    cubic = interpolate(vals, g, pts, order=3)
+    assert np.allclose(cubic, q(pts[:, 0], pts[:, 1]), atol=1e-12)
+    linear = interpolate(vals, g, pts, order=1)
+    assert not np.allclose(linear, q(pts[:, 0], pts[:, 1]), atol=1e-6)
+    holed = vals.copy()
+    holed[4, 10] = np.nan  # inside the 4×4 stencil of the first point, not its cell
+    near = interpolate(holed, g, pts[:1], order=3)
+    assert near[0] == pytest.approx(linear[0])
+    holed[5, 8] = np.nan  # a corner of the first point's cell
+    assert np.isnan(interpolate(holed, g, pts[:1], order=1)[0])
+
+
+def test_interpolate_vector_values_and_off_grid_points():
+    g = Grid((0.0, 0.0), 1.0, (3, 3))
+    U, V = g.nodes()
+    vals = np.stack([U, V, U + V], axis=-1)
+    out = interpolate(vals, g, np.array([[0.5, 1.5], [2.0, 2.0], [2.5, 0.0], [np.nan, 0]]))
+    assert out.shape == (4, 3)
+    assert np.allclose(out[0], [0.5, 1.5, 2.0]) and np.allclose(out[1], [2.0, 2.0, 4.0])
+    assert np.all(np.isnan(out[2:]))
+    with pytest.raises(ValueError, match="order"):
+        interpolate(vals, g, np.zeros((1, 2)), order=2)
