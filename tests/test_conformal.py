@@ -43,7 +43,12 @@ def test_conformal_beats_fairing_on_a_torus_hole(torus_hole):
     cut = torus_hole
     fair = error(cut, fill_holes(cut.vertices, cut.faces, method="fair"))
     conformal = error(cut, fill_holes(cut.vertices, cut.faces, select=False))
-    assert conformal < 0.5 * fair  # measured 0.12 % vs 0.49 %
+    # default fit window (radius 3 nodes): measured 0.32 % vs 0.46 %
+    assert conformal < 0.8 * fair
+    # a narrower fit window follows this regular torus even closer (0.11 %), but aliases
+    # with the triangles on other meshes, hence not the default
+    narrow = error(cut, fill_holes(cut.vertices, cut.faces, select=False, fit_radius=2))
+    assert narrow < 0.5 * fair
 
 
 @pytest.mark.parametrize("case", ["sphere", "bumpy"])

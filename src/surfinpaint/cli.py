@@ -243,7 +243,8 @@ def build_parser() -> argparse.ArgumentParser:
                        "written by `surfinpaint represent`.")
     p.add_argument("representation", help="a .npz from `surfinpaint represent`")
     p.add_argument("-o", "--output", required=True, help="output mesh")
-    p.add_argument("--method", choices=("gauss-codazzi", "laplacian"), default="gauss-codazzi")
+    p.add_argument("--method", choices=("gauss-codazzi", "laplacian"), default="laplacian",
+                   help="reconstruction (laplacian measured better for whole-surface rebuilds)")
     p.set_defaults(func=cmd_rebuild)
 
     p = sub.add_parser("demo", help="fill the bundled default mesh and draw before/after",

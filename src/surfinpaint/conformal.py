@@ -91,7 +91,7 @@ def inpaint_patch(
     moving: np.ndarray,
     *,
     spacing: float = 0.5,
-    fit_radius: int = 2,
+    fit_radius: int = 3,
     fit_sigma: float | None = None,
     dilate: int = 1,
     inpaint: str = "biharmonic",
