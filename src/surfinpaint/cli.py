@@ -1,4 +1,4 @@
-"""Command-line interface: ``surfinpaint holes|fill|represent|rebuild|demo ...``.
+"""Command-line interface: ``surfinpaint holes|fill|represent|rebuild|demo|report|experiments``.
 
 Exit codes: 0 success (including "nothing to fill"), 1 bad input or failure, 2 usage error.
 """
@@ -57,13 +57,15 @@ def _progress(enabled: bool) -> Iterator:
 
 
 def _print_warnings(caught: list[warnings.WarningMessage]) -> None:
+    from rich.markup import escape
+
     console = _console()
     seen = set()
     for w in caught:
         text = str(w.message)
         if text not in seen:
             seen.add(text)
-            console.print(f"[yellow]warning:[/yellow] {text}")
+            console.print(f"[yellow]warning:[/yellow] {escape(text)}")
 
 
 def _holes_table(vertices, faces, title: str) -> None:
@@ -253,29 +255,40 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", default="demo-out", help="output folder")
     p.add_argument("--method", choices=METHODS, default="conformal")
     p.set_defaults(func=cmd_demo)
+
+    from surfinpaint.experiments import add_experiments_parser
+    from surfinpaint.report import add_report_parser
+
+    add_report_parser(sub)
+    add_experiments_parser(sub)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from rich.markup import escape
+
     parser = build_parser()
     args = parser.parse_args(argv)
     console = _console()
+    source = getattr(args, "mesh", None) or getattr(args, "representation", None)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
             code = args.func(args)
         except _UsageError as exc:
             parser.print_usage(sys.stderr)
-            console.print(f"surfinpaint: error: {exc}")
+            console.print(f"surfinpaint: error: {escape(str(exc))}")
             code = EXIT_USAGE
         except MeshError as exc:
-            console.print(f"[red]error:[/red] {exc}")
+            if exc.path is None and source is not None:
+                exc = exc.with_path(source)  # problems found after reading: name the file
+            console.print(f"[red]error:[/red] {escape(str(exc))}")
             code = EXIT_FAILURE
         except NotImplementedError as exc:
-            console.print(f"[red]error:[/red] {exc}")
+            console.print(f"[red]error:[/red] {escape(str(exc))}")
             code = EXIT_FAILURE
         except (OSError, ValueError, RuntimeError) as exc:
-            console.print(f"[red]error:[/red] {type(exc).__name__}: {exc}")
+            console.print(f"[red]error:[/red] {type(exc).__name__}: {escape(str(exc))}")
             code = EXIT_FAILURE
     _print_warnings(caught)
     return code

@@ -198,6 +198,9 @@ def fill_holes(
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
+    for name, value in (("max_hole_edges", max_hole_edges), ("rings", rings)):
+        if value is not None and (not isinstance(value, int | np.integer) or value < 1):
+            raise ValueError(f"{name} must be a positive integer, got {value!r}")
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     removed_faces = np.empty(0, dtype=np.int64)
