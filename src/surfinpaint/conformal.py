@@ -147,7 +147,16 @@ def inpaint_patch(
     uv = lscm(points, local)
     flipped = flipped_faces(local, uv)
     if len(flipped):
-        raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped faces)")
+        # a flipped sliver at the patch's outer edge only hides a little known data; a flip
+        # in or next to the fill would corrupt the grid where it matters
+        fill_vertices = np.unique(local[:n_fill_faces])
+        if np.isin(local[flipped], fill_vertices).any():
+            raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped "
+                            "faces at the fill)")
+        keep = np.ones(len(local), dtype=bool)
+        keep[flipped] = False
+        n_fill_faces = int(keep[:n_fill_faces].sum())
+        local = local[keep]
     edges, _, _ = unique_edges(local)
     mean_uv_edge = float(np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1).mean())
     h = spacing * mean_uv_edge
