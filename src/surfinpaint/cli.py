@@ -25,7 +25,7 @@ class _UsageError(Exception):
 def _console():
     from rich.console import Console
 
-    return Console(stderr=True, highlight=False)
+    return Console(stderr=True, highlight=False, soft_wrap=True)
 
 
 def _parse_hole_list(text: str | None) -> list[int] | None:
@@ -88,18 +88,21 @@ def _holes_table(vertices, faces, title: str) -> None:
 
 def cmd_holes(args: argparse.Namespace) -> int:
     from surfinpaint.io import read_mesh
+    from surfinpaint.validation import validate_mesh
 
     vertices, faces = read_mesh(args.mesh)
+    validate_mesh(vertices, faces, path=str(args.mesh))
     _holes_table(vertices, faces, f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces")
     return EXIT_OK
 
 
 def cmd_fill(args: argparse.Namespace) -> int:
-    from surfinpaint.io import read_mesh, write_mesh
+    from surfinpaint.io import output_format, read_mesh, write_mesh
     from surfinpaint.pipeline import fill_holes
 
     console = _console()
     holes = _parse_hole_list(args.holes)
+    output_format(args.output)  # an unusable output name fails now, not after the fill
     vertices, faces = read_mesh(args.mesh)
     options = {}
     if args.inpaint:
@@ -107,9 +110,16 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if args.reconstruct:
         options["reconstruct"] = args.reconstruct
     with _progress(not args.quiet) as progress:
-        result = fill_holes(vertices, faces, holes=holes, method=args.method,
-                            include_border=args.all, max_hole_edges=args.max_hole_edges,
-                            repair=args.repair, progress=progress, **options)
+        try:
+            result = fill_holes(vertices, faces, holes=holes, method=args.method,
+                                include_border=args.all, max_hole_edges=args.max_hole_edges,
+                                repair=args.repair, progress=progress, **options)
+        except MeshError as exc:
+            if args.repair or "non-manifold edges" not in exc.message:
+                raise
+            raise MeshError(exc.message + "; --repair removes the faces around them and fills "
+                            "the holes that leaves", path=str(args.mesh), vertices=exc.vertices,
+                            edges=exc.edges, faces=exc.faces) from None
     if len(result.removed_faces):
         console.print(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
                       "edges; the holes they left were filled too")

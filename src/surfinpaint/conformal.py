@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from surfinpaint.errors import FillError, MeshError
+from surfinpaint.intersection import patch_intersects_surroundings, self_intersections
 from surfinpaint.mesh import (
     boundary_loops,
     face_areas,
@@ -189,9 +190,10 @@ def inpaint_patch(
 
 
 def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int) -> None:
-    """Reject fills with non-finite positions, degenerate triangles, or fold-overs: two
-    neighbouring triangles (in the fill, or a fill triangle and the surface next to it) whose
-    normals turn by more than ``FOLD_ANGLE``."""
+    """Reject fills with non-finite positions, degenerate triangles, fold-overs (two
+    neighbouring triangles, in the fill or a fill triangle and the surface next to it, whose
+    normals turn by more than ``FOLD_ANGLE``), or intersections with the surrounding rings or
+    with itself."""
     fill = patch_faces[:n_fill_faces]
     if not np.isfinite(vertices[np.unique(fill)]).all():
         raise FillError("the filled patch has non-finite coordinates")
@@ -212,6 +214,13 @@ def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: in
     folds = int((cos < np.cos(np.radians(FOLD_ANGLE))).sum())
     if folds:
         raise FillError(f"the filled patch folds over at {folds} edges")
+    crossing = patch_intersects_surroundings(vertices, fill, patch_faces[n_fill_faces:])
+    if len(crossing):
+        raise FillError(f"the filled patch cuts through the surrounding surface "
+                        f"({len(crossing)} triangle pairs)")
+    crossing = self_intersections(vertices, fill)
+    if len(crossing):
+        raise FillError(f"the filled patch intersects itself ({len(crossing)} triangle pairs)")
 
 
 def _fills(vertices, faces, loop, *, start, patch_rings, iterations, options, want_fair):

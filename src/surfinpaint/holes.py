@@ -184,6 +184,8 @@ def select_holes(
         found = find_holes(vertices, faces)
         chosen = []
         for index in holes:
+            if int(index) != index:
+                raise ValueError(f"hole indices must be integers, got {index!r}")
             if not 0 <= int(index) < len(found):
                 raise MeshError(
                     f"hole index {index} out of range: the mesh has {len(found)} boundary loops"

@@ -76,6 +76,21 @@ def _format_of(path: Path) -> str | None:
     return None
 
 
+def output_format(path: str | os.PathLike) -> str:
+    """The format :func:`write_mesh` would write ``path`` in.
+
+    Raises
+    ------
+    MeshError
+        When the file name selects no supported format (checked before long work starts).
+    """
+    p = Path(path)
+    fmt = _format_of(p)
+    if fmt is None:
+        raise _unknown_format(p)
+    return fmt
+
+
 def _unknown_format(path: Path) -> MeshError:
     return MeshError(
         f"unknown mesh format {''.join(path.suffixes) or '(no extension)'!r}; supported: "

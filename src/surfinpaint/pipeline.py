@@ -18,6 +18,7 @@ import scipy.sparse as sp
 
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.holes import select_holes
+from surfinpaint.repair import unjoined_bowties
 from surfinpaint.validation import check_loop
 
 __all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
@@ -109,6 +110,23 @@ def _neighbourhood(
             break
         region = grown
     return picked, picked_added
+
+
+def _degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> int:
+    """Number of faces the validator would call zero-area."""
+    from surfinpaint.validation import ZERO_AREA_RTOL
+
+    p = vertices[faces]
+    a, b = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    area = 0.5 * np.linalg.norm(np.cross(a, b), axis=1)
+    longest2 = np.max([(a * a).sum(1), (b * b).sum(1), ((b - a) ** 2).sum(1)], axis=0)
+    return int((area <= ZERO_AREA_RTOL * longest2).sum())
+
+
+def _skip(report: HoleReport, reason: str) -> None:
+    report.skipped = reason
+    report.method = "none"
+    warnings.warn(f"hole {report.index}: {reason}; skipped", stacklevel=3)
 
 
 def _gather(vertices: np.ndarray, blocks: list[np.ndarray], ids: np.ndarray) -> np.ndarray:
@@ -257,12 +275,19 @@ def fill_holes(
             # on the neighbourhood (global ids): the cost stays with the hole
             check_loop(local_faces_global, loop)
         except MeshError as exc:
-            message = f"hole {index}: {exc.message}"
-            if explicit:
-                raise MeshError(message, vertices=exc.vertices, edges=exc.edges) from None
-            report.skipped = exc.message
-            report.method = "none"
-            warnings.warn(f"{message}; skipped", stacklevel=2)
+            # a loop pinched at a bow-tie (split into pieces): filling each piece joins the
+            # fans there, so the result is manifold once all pieces are filled
+            if "bow-tie" not in exc.message or unjoined_bowties(local_faces_global, loop).size:
+                if explicit:
+                    raise MeshError(f"hole {index}: {exc.message}", vertices=exc.vertices,
+                                    edges=exc.edges) from None
+                _skip(report, exc.message)
+                continue
+        touching = local_faces_global[np.isin(local_faces_global, loop).any(axis=1)]
+        if np.isin(touching, loop).all():
+            # a lone triangle or a strip one face wide: the loop bounds nothing but the faces
+            # along it, and a fill would lay a second sheet on them (duplicate faces)
+            _skip(report, "the loop bounds only the faces along it (a lone sheet)")
             continue
         try:
             new_v, new_f, details = _fill_one(local_vertices, local_faces, local_loop,
@@ -280,6 +305,12 @@ def fill_holes(
         if details.get("selected"):
             report.method = details["selected"]
         new_f = np.asarray(new_f, dtype=np.int64)
+        degenerate = _degenerate_faces(
+            np.concatenate([local_vertices, np.reshape(new_v, (-1, 3))]), new_f)
+        if degenerate:
+            _skip(report, f"the fill would add {degenerate} zero-area triangles (the loop "
+                  "spans no area: a slit or a T-junction)")
+            continue
         n_local = len(local_vertices)
         mapped = np.where(new_f < n_local, local_ids[np.minimum(new_f, n_local - 1)],
                           n + n_new_vertices + (new_f - n_local))
