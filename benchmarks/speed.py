@@ -63,16 +63,29 @@ def _make_large(path: str, n_major: int, n_minor: int) -> None:
     np.savez(path, vertices=cut.vertices, faces=cut.faces)
 
 
+def _peak_mb() -> float:
+    """Peak resident memory of this process (VmHWM). Not ru_maxrss: on Linux that survives
+    execve, so a child would report its parent's peak."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
 def _child(method: str, path: str) -> None:
     with np.load(path) as data:  # "reading the mesh"
         vertices, faces = data["vertices"], data["faces"]
-    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    before = _peak_mb()
     t = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         result = fill_holes(vertices, faces, method=method)
     seconds = time.perf_counter() - t
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    peak = _peak_mb()
     print(json.dumps({"method": method, "vertices": len(vertices),
                       "holes": len(result.reports),
                       "max_edges": max(r.n_edges for r in result.reports),

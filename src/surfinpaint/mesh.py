@@ -53,15 +53,20 @@ def unique_edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     ([[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]], [1, 1, 2, 1, 1])
     """
     faces = np.asarray(faces, dtype=np.int64)
-    half = np.stack([faces[:, [1, 2]], faces[:, [2, 0]], faces[:, [0, 1]]], axis=1)
-    half = half.reshape(-1, 2)
-    key = np.sort(half, axis=1)
-    # 1-D keys sort the same as the (small, large) rows and are ~20x faster than axis=0
-    base = np.int64(key.max() + 1) if len(key) else np.int64(1)
-    flat = key[:, 0] * base + key[:, 1]
+    flat, base = _edge_keys(faces)
     uniq, inverse, count = np.unique(flat, return_inverse=True, return_counts=True)
     edges = np.column_stack([uniq // base, uniq % base])
     return edges, inverse.reshape(-1, 3), count
+
+
+def _edge_keys(faces: np.ndarray) -> tuple[np.ndarray, np.int64]:
+    """One int64 key per half-edge 3 t + k (the edge opposite corner k of face t), equal for
+    the two directions of an edge; built from 1-D arrays to keep large meshes' memory low.
+    1-D keys also sort ~20x faster than rows with ``axis=0``."""
+    tails = faces[:, [1, 2, 0]].ravel()
+    heads = faces[:, [2, 0, 1]].ravel()
+    base = np.int64(faces.max() + 1) if faces.size else np.int64(1)
+    return np.minimum(tails, heads) * base + np.maximum(tails, heads), base
 
 
 def boundary_halfedges(faces: np.ndarray) -> np.ndarray:
@@ -71,10 +76,17 @@ def boundary_halfedges(faces: np.ndarray) -> np.ndarray:
     returned half-edges chain head to tail around each hole.
     """
     faces = np.asarray(faces, dtype=np.int64)
-    edges, face_edge, count = unique_edges(faces)
-    half = np.stack([faces[:, [1, 2]], faces[:, [2, 0]], faces[:, [0, 1]]], axis=1)
-    on_boundary = count[face_edge] == 1
-    return half[on_boundary]
+    if len(faces) == 0:
+        return np.empty((0, 2), dtype=np.int64)
+    flat, _ = _edge_keys(faces)
+    order = np.argsort(flat, kind="stable")
+    ordered = flat[order]
+    del flat
+    differs = ordered[1:] != ordered[:-1]
+    alone = np.r_[True, differs] & np.r_[differs, True]  # keys used by a single half-edge
+    h = np.sort(order[alone])
+    t, k = h // 3, h % 3
+    return np.column_stack([faces[t, (k + 1) % 3], faces[t, (k + 2) % 3]])
 
 
 def boundary_loops(faces: np.ndarray) -> list[np.ndarray]:

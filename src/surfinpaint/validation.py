@@ -246,13 +246,18 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *,
     graph = sp.csr_matrix((np.ones(len(tail), np.int8), (tail, head)), shape=(n, n))
     _, labels = connected_components(graph, directed=True, connection="weak")
     n_components = int(np.count_nonzero(np.bincount(labels[referenced])))
+    del graph, labels
 
+    bowtie = _bowtie(f, tail, head, key, order, starts, counts)
+    has_boundary = bool(np.any(counts == 1))
+    # free the half-edge arrays first: tracing loops builds its own, and on a mesh of
+    # millions of faces both at once would double the peak memory
+    del tail, head, key, order, skey, starts, counts, inner, h1, h2
     loop_lengths: list[int] = []
-    if np.any(counts == 1):
+    if has_boundary:
         from surfinpaint.mesh import boundary_loops
 
         loop_lengths = [len(loop) for loop in boundary_loops(f)]
-    bowtie = _bowtie(f, tail, head, key, order, starts, counts)
 
     report = MeshReport(
         n_vertices=n, n_faces=len(f), n_edges=n_edges, n_components=n_components,
@@ -282,24 +287,32 @@ def _face_text(ids: np.ndarray, f: np.ndarray) -> str:
 
 def _bowtie(f, tail, head, key, order, starts, counts) -> np.ndarray:
     """Bow-tie vertices from the sorted half-edge table (see :func:`nonmanifold_vertices`)."""
-    # corners c = 3 t + k; half-edge h leaves corner h and arrives at corner 3 t + (k + 1) % 3
-    h = np.arange(len(tail))
-    head_corner = h - h % 3 + (h % 3 + 1) % 3
-    # link consecutive half-edges of the same undirected edge (all of them when non-manifold)
-    same_next = np.r_[key[order[1:]] == key[order[:-1]], False]
-    a = order[np.flatnonzero(same_next)]
-    b = order[np.flatnonzero(same_next) + 1]
-    lo = np.minimum(tail[a], head[a])
-    # at the smaller endpoint and at the larger one, join the two faces' corners
-    ca_lo = np.where(tail[a] == lo, a, head_corner[a])
-    cb_lo = np.where(tail[b] == lo, b, head_corner[b])
-    ca_hi = np.where(tail[a] == lo, head_corner[a], a)
-    cb_hi = np.where(tail[b] == lo, head_corner[b], b)
+    # corners c = 3 t + k; half-edge h leaves corner h and arrives at corner 3 t + (k + 1) % 3.
+    # Corner ids fit in int32 for any mesh this size, which halves the temporaries' memory.
     m = len(tail)
-    rows = np.concatenate([ca_lo, ca_hi])
-    cols = np.concatenate([cb_lo, cb_hi])
+    ids = np.int32 if m < 2**31 - 1 else np.int64
+    # link consecutive half-edges of the same undirected edge (all of them when non-manifold)
+    same = np.flatnonzero(key[order[1:]] == key[order[:-1]])
+    a = order[same].astype(ids)
+    b = order[same + 1].astype(ids)
+    del same
+
+    def head_corner(h):
+        return (h - h % 3 + (h % 3 + 1) % 3).astype(ids)
+
+    # at the smaller endpoint and at the larger one, join the two faces' corners
+    lo = np.minimum(tail[a], head[a])
+    a_at_lo = tail[a] == lo
+    b_at_lo = tail[b] == lo
+    del lo
+    ha, hb = head_corner(a), head_corner(b)
+    rows = np.concatenate([np.where(a_at_lo, a, ha), np.where(a_at_lo, ha, a)])
+    cols = np.concatenate([np.where(b_at_lo, b, hb), np.where(b_at_lo, hb, b)])
+    del a, b, ha, hb, a_at_lo, b_at_lo
     graph = sp.csr_matrix((np.ones(len(rows), np.int8), (rows, cols)), shape=(m, m))
+    del rows, cols
     n_fans, fan = connected_components(graph, directed=True, connection="weak")
+    del graph
     # links only join corners of one vertex, so each fan belongs to a single vertex
     vertex_of_fan = np.empty(n_fans, dtype=np.int64)
     vertex_of_fan[fan] = f.ravel()
