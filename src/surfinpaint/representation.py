@@ -359,7 +359,8 @@ def rebuild(rep: LambdaH, method: str = "laplacian", *, order: int = 3,
 
 def plot_representation(rep: LambdaH, path: str | os.PathLike, *, clip: float = 1.0,
                         title: str | None = None) -> None:
-    """Write a PNG of λ and H over the parameter domain with colour bars (paper Figs. 2–4).
+    """Write a PNG of λ and H over the parameter domain with colour bars (paper Figs. 2–4)
+    and the histogram of the map's angle distortion (paper Fig. 1(D)). Written atomically.
 
     Parameters
     ----------
@@ -379,7 +380,8 @@ def plot_representation(rep: LambdaH, path: str | os.PathLike, *, clip: float = 
     g = rep.grid
     extent = (g.origin[0] - g.h / 2, g.origin[0] + (g.shape[0] - 0.5) * g.h,
               g.origin[1] - g.h / 2, g.origin[1] + (g.shape[1] - 0.5) * g.h)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=True)
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8), constrained_layout=True,
+                             gridspec_kw={"width_ratios": [1, 1, 0.8]})
     finite_h = rep.H[np.isfinite(rep.H)]
     if len(finite_h):
         lo, hi = np.percentile(finite_h, [clip, 100 - clip])
@@ -400,6 +402,14 @@ def plot_representation(rep: LambdaH, path: str | os.PathLike, *, clip: float = 
         ax.set_ylabel("v")
         ax.set_aspect("equal")
         fig.colorbar(im, ax=ax, shrink=0.85)
+    from surfinpaint.figures import save_figure
+    from surfinpaint.parameterization import angle_distortion, plot_conformality
+
+    distortion = np.abs(angle_distortion(rep.vertices, rep.faces, rep.uv))
+    plot_conformality(axes[2], rep.vertices, rep.faces, rep.uv)
+    axes[2].set_title(f"conformality: angle distortion (median {np.median(distortion):.2f}°)")
     fig.suptitle(title or f"λ-H representation ({rep.map} map, {g.shape[0]}×{g.shape[1]})")
-    fig.savefig(os.fspath(path), dpi=120)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, dpi=120)
+    finally:
+        plt.close(fig)
