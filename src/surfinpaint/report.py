@@ -79,7 +79,8 @@ class HoleComparison:
     fallback : str or None
         Why the conformal method used the faired fill.
     scores : dict
-        The self-check's hidden-ring errors (``"conformal"``, ``"fair"``), when it ran.
+        The self-check's tests that ran (``"hidden_rings"``, ``"sibling_holes"``), each a
+        dict of the errors of ``"conformal"`` and ``"fair"``.
     errors : dict
         With a ground truth: per fill (``"fair"``, ``"conformal"`` = what ``fill`` writes,
         ``"conformal raw"`` = the conformal fill before the self-check) the two-sided mean
@@ -208,8 +209,8 @@ def compare_holes(
             seconds={"fair": rf.seconds, "conformal": rc.seconds},
             new_vertices={"fair": rf.new_vertices, "conformal": rc.new_vertices},
             kept=rc.method == "conformal", fallback=rc.fallback or rc.note,
-            scores={name: rc.details[f"score_{name}"] for name in ("conformal", "fair")
-                    if f"score_{name}" in rc.details},
+            scores={name[len("score_"):]: value for name, value in rc.details.items()
+                    if name.startswith("score_")},
         )
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
@@ -444,13 +445,10 @@ def _fmt(x: float, digits: int = 3) -> str:
 
 def _outcome(c: HoleComparison) -> str:
     if c.kept:
-        check = (f" (self-check {_fmt(c.scores['conformal'])} ≤ {_fmt(c.scores['fair'])})"
-                 if c.scores else "")
-        return "kept" + check
-    if c.scores:
-        return (f"fell back to fair (self-check {_fmt(c.scores['conformal'])} > "
-                f"{_fmt(c.scores['fair'])})")
-    return f"fell back to fair ({c.fallback})"
+        return "kept" + (f" ({c.fallback})" if c.fallback else "")
+    if c.fallback and c.fallback.startswith("self-check"):
+        return f"faired fill kept: {c.fallback}"
+    return f"fell back to fair after a failure ({c.fallback})"
 
 
 def _error_text(c: HoleComparison, method: str) -> str:
@@ -500,11 +498,13 @@ _LEGEND = (
     "in orange, hole border in red); (D)/(E) the conformal factor λ and (F)/(G) the mean "
     "curvature H over the patch's conformal parameter domain, initial (estimated from the "
     "known surface only: grey nodes have no value) and inpainted; solid outline: the hole, "
-    "dashed: the inpainted region. When the conformal method's self-check (sibling holes cut "
-    "from the known surface nearby, filled by both methods) preferred the faired fill, (C) "
-    "shows the conformal fill it rejected. Errors: two-sided mean and Hausdorff distance to "
-    "the removed truth, in % of the hole diameter; 'conformal' is what `surfinpaint fill` "
-    "writes, 'conformal raw' the conformal fill before the self-check."
+    "dashed: the inpainted region. The conformal method's self-check keeps its fill only if "
+    "it beats the faired fill on two tests that use no truth (hidden rings of known surface "
+    "around the hole, and sibling holes of the same size cut from the known surface nearby); "
+    "when it kept the faired fill, (C) shows the conformal fill it rejected. Errors: "
+    "two-sided mean and Hausdorff distance to the removed truth, in % of the hole "
+    "diameter; 'conformal' is what `surfinpaint fill` writes, 'conformal raw' the conformal "
+    "fill before the self-check."
 )
 
 
