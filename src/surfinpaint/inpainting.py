@@ -22,6 +22,8 @@ import scipy.sparse.linalg as spla
 from scipy import ndimage
 from scipy.sparse import csgraph
 
+from surfinpaint.lambda_h import check_spacing, domain_mask
+
 __all__ = ["INPAINT_METHODS", "biharmonic_flow", "inpaint"]
 
 INPAINT_METHODS = ("biharmonic", "harmonic")
@@ -201,14 +203,8 @@ def _check(values, region, domain, h):
     region = np.asarray(region)
     if region.shape != shape or region.dtype != bool:
         raise ValueError(f"region must be a boolean mask of shape {shape}")
-    if domain is None:
-        domain = np.ones(shape, dtype=bool)
-    domain = np.asarray(domain)
-    if domain.shape != shape or domain.dtype != bool:
-        raise ValueError(f"domain must be a boolean mask of shape {shape}")
-    h = float(h)
-    if not (np.isfinite(h) and h > 0):
-        raise ValueError(f"grid spacing h must be a positive number, got {h}")
+    domain = domain_mask(domain, shape)
+    h = check_spacing(h)
     return f, region, domain, squeeze
 
 

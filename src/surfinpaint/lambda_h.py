@@ -93,11 +93,23 @@ def _check_phi(phi: np.ndarray) -> np.ndarray:
     return phi
 
 
-def _check_h(h: float) -> float:
+def check_spacing(h: float) -> float:
+    """``h`` as a float; ValueError unless it is a positive finite grid spacing."""
     h = float(h)
     if not (np.isfinite(h) and h > 0):
         raise ValueError(f"grid spacing h must be a positive number, got {h}")
     return h
+
+
+def domain_mask(domain: np.ndarray | None, shape: tuple[int, int]) -> np.ndarray:
+    """The boolean mask of grid nodes that exist (all of them when ``domain`` is None);
+    ValueError when it is not a boolean array of ``shape``."""
+    if domain is None:
+        return np.ones(shape, dtype=bool)
+    domain = np.asarray(domain)
+    if domain.shape != shape or domain.dtype != bool:
+        raise ValueError(f"domain must be a boolean mask of shape {shape}")
+    return domain
 
 
 def lambda_h(phi: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
@@ -131,7 +143,7 @@ def lambda_h(phi: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
     True
     """
     phi = _check_phi(phi)
-    h = _check_h(h)
+    h = check_spacing(h)
     pu, pv = central_derivatives(phi, h)
     lam2 = 0.5 * (np.sum(pu * pu, axis=-1) + np.sum(pv * pv, axis=-1))
     n = normals(phi, h)
@@ -158,7 +170,7 @@ def hopf_differential(phi: np.ndarray, h: float) -> np.ndarray:
     mu : (n, m) complex array, NaN (real and imaginary part) where undefined.
     """
     phi = _check_phi(phi)
-    h = _check_h(h)
+    h = check_spacing(h)
     c = phi
     puu = (shifted(c, 1, 0) - 2 * c + shifted(c, -1, 0)) / (h * h)
     pvv = (shifted(c, 0, 1) - 2 * c + shifted(c, 0, -1)) / (h * h)

@@ -34,6 +34,8 @@ from scipy import ndimage
 from surfinpaint.errors import FillError
 from surfinpaint.lambda_h import (
     central_derivatives,
+    check_spacing,
+    domain_mask,
     hopf_differential,
     lambda_h,
     normals,
@@ -150,14 +152,8 @@ def _check_inputs(lam, H, phi, known, domain, h):
             raise ValueError(f"{name} must have shape {shape} like phi, got {a.shape}")
     if known.dtype != bool:
         raise ValueError(f"known must be a boolean mask, got dtype {known.dtype}")
-    if domain is None:
-        domain = np.ones(shape, dtype=bool)
-    domain = np.asarray(domain)
-    if domain.shape != shape or domain.dtype != bool:
-        raise ValueError(f"domain must be a boolean mask of shape {shape}")
-    h = float(h)
-    if not (np.isfinite(h) and h > 0):
-        raise ValueError(f"grid spacing h must be a positive number, got {h}")
+    domain = domain_mask(domain, shape)
+    h = check_spacing(h)
     bad = np.argwhere(known & domain & ~np.all(np.isfinite(phi), axis=-1))
     if len(bad):
         raise ValueError(

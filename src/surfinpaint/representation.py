@@ -247,7 +247,7 @@ def boundary_band(domain: np.ndarray, band: int = 4) -> np.ndarray:
 
 
 def represent(vertices: np.ndarray, faces: np.ndarray, resolution: int = 256, *,
-              map: str = "rectangular", band: int = 4, h: float | None = None,
+              map: str = "lscm", band: int = 4, h: float | None = None,
               strict: bool = False) -> LambdaH:
     """The λ-H representation of a disk-topology mesh.
 
@@ -259,10 +259,11 @@ def represent(vertices: np.ndarray, faces: np.ndarray, resolution: int = 256, *,
         (``n = φu × φv`` is the faces' normal).
     resolution : int
         Grid nodes along the longer side of the parameter domain.
-    map : {"rectangular", "lscm"}
-        The conformal map (:func:`~surfinpaint.parameterization.rectangular_conformal_map`
-        or :func:`~surfinpaint.parameterization.lscm`); both scale the domain so that its
-        area is the surface area.
+    map : {"lscm", "rectangular"}
+        The conformal map (:func:`~surfinpaint.parameterization.lscm`, the default, measured
+        2–4× more accurate in round trips and folding fewer triangles on ragged borders, or
+        the paper's :func:`~surfinpaint.parameterization.rectangular_conformal_map`); both
+        scale the domain so that its area is the surface area.
     band : int
         Width in nodes of the boundary band kept as known data for :func:`rebuild`. The
         Gauss–Codazzi rebuild needs λ and H on 3 known rings, and λ, H need one more ring
