@@ -172,8 +172,9 @@ def inpaint_patch(
     region = _dilate(hole, dilate) & inside
     have = np.isfinite(lam0) & np.isfinite(H0)
     domain = inside & (have | region)
-    lam = inpaint_grid(lam0, region, domain=domain, method=inpaint, h=h, fidelity=fidelity)
-    H = inpaint_grid(H0, region, domain=domain, method=inpaint, h=h, fidelity=fidelity)
+    # λ and H share the operator: one factorization for both
+    lam, H = np.moveaxis(inpaint_grid(np.stack([lam0, H0], axis=-1), region, domain=domain,
+                                      method=inpaint, h=h, fidelity=fidelity), -1, 0)
     lam = np.where(domain, lam, np.nan)
     H = np.where(domain, H, np.nan)
     phi_known = np.where(domain[..., None], phi, np.nan)
@@ -308,10 +309,11 @@ def sibling_scores(
         Mean score per filler over the siblings that could be cut (empty if none could).
     """
     from surfinpaint.cutting import cut_geodesic_disk
+    from surfinpaint.holes import loop_diameter
     from surfinpaint.metrics import hole_patch_of, surface_distance
 
     points = vertices[loop]
-    radius = 0.5 * float(np.max(np.linalg.norm(points[:, None] - points[None], axis=2)))
+    radius = 0.5 * loop_diameter(points)
     edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
     gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
     scores: dict[str, list[float]] = {}

@@ -15,7 +15,7 @@ from surfinpaint.mesh import (
     face_areas,
 )
 
-__all__ = ["Hole", "find_holes", "select_holes", "orient_loop"]
+__all__ = ["Hole", "find_holes", "loop_diameter", "select_holes", "orient_loop"]
 
 # A component's longest loop is its outer border when the area the loop spans is at least
 # this fraction of the component's own area: a scan's border spans about its whole area
@@ -52,7 +52,8 @@ class Hole:
     is_border: bool
 
 
-def _diameter(points: np.ndarray) -> float:
+def loop_diameter(points: np.ndarray) -> float:
+    """Largest distance between two of ``points`` (exact; via the convex hull when many)."""
     if len(points) > 1500:
         # the diameter is attained on the convex hull; fall back to a subsample when flat
         from scipy.spatial import ConvexHull, QhullError
@@ -121,7 +122,7 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray) -> list[Hole]:
             is_border = bool(span >= BORDER_SPAN_FRACTION * area_per_component[component])
         holes.append(
             Hole(loop=loop, n_edges=len(loop), perimeter=perimeter,
-                 diameter=_diameter(points), component=component, is_border=is_border)
+                 diameter=loop_diameter(points), component=component, is_border=is_border)
         )
     return holes
 

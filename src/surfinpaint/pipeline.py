@@ -19,7 +19,7 @@ import scipy.sparse as sp
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.holes import select_holes
 from surfinpaint.repair import unjoined_bowties
-from surfinpaint.validation import check_loop
+from surfinpaint.validation import check_loop, zero_area_faces
 
 __all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
 
@@ -110,17 +110,6 @@ def _neighbourhood(
             break
         region = grown
     return picked, picked_added
-
-
-def _degenerate_faces(vertices: np.ndarray, faces: np.ndarray) -> int:
-    """Number of faces the validator would call zero-area."""
-    from surfinpaint.validation import ZERO_AREA_RTOL
-
-    p = vertices[faces]
-    a, b = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    area = 0.5 * np.linalg.norm(np.cross(a, b), axis=1)
-    longest2 = np.max([(a * a).sum(1), (b * b).sum(1), ((b - a) ** 2).sum(1)], axis=0)
-    return int((area <= ZERO_AREA_RTOL * longest2).sum())
 
 
 def _skip(report: HoleReport, reason: str) -> None:
@@ -305,8 +294,8 @@ def fill_holes(
         if details.get("selected"):
             report.method = details["selected"]
         new_f = np.asarray(new_f, dtype=np.int64)
-        degenerate = _degenerate_faces(
-            np.concatenate([local_vertices, np.reshape(new_v, (-1, 3))]), new_f)
+        degenerate = len(zero_area_faces(
+            np.concatenate([local_vertices, np.reshape(new_v, (-1, 3))]), new_f))
         if degenerate:
             _skip(report, f"the fill would add {degenerate} zero-area triangles (the loop "
                   "spans no area: a slit or a T-junction)")

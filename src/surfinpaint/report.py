@@ -199,13 +199,13 @@ def compare_holes(
     filled["conformal raw"] = raw
     patches = {name: [None if p is None else _compact(*p) for p in fills]
                for name, fills in filled.items()}
-    from surfinpaint.holes import _diameter
+    from surfinpaint.holes import loop_diameter
 
     out = []
     for k, loop in enumerate(loops):
         rc, rf = conformal.reports[k], fair.reports[k]
         comp = HoleComparison(
-            index=k, n_edges=len(loop), diameter=_diameter(vertices[loop]),
+            index=k, n_edges=len(loop), diameter=loop_diameter(vertices[loop]),
             seconds={"fair": rf.seconds, "conformal": rc.seconds},
             new_vertices={"fair": rf.new_vertices, "conformal": rc.new_vertices},
             kept=rc.method == "conformal", fallback=rc.fallback or rc.note,

@@ -137,6 +137,25 @@ def _pairs(ids: np.ndarray, keys: np.ndarray, n: int) -> list[tuple[int, int]]:
     return [(int(k // n), int(k % n)) for k in keys[ids]]
 
 
+def zero_area_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Ids of faces whose area is at most ``ZERO_AREA_RTOL`` times their longest edge squared
+    (collinear or coincident corners)."""
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    a, b = [], []
+    for k in range(3):
+        c = np.ascontiguousarray(v[:, k])
+        c0 = c[f[:, 0]]
+        a.append(c[f[:, 1]] - c0)
+        b.append(c[f[:, 2]] - c0)
+    area2 = np.sqrt((a[1] * b[2] - a[2] * b[1]) ** 2 + (a[2] * b[0] - a[0] * b[2]) ** 2
+                    + (a[0] * b[1] - a[1] * b[0]) ** 2)
+    longest2 = np.maximum(np.maximum(a[0] ** 2 + a[1] ** 2 + a[2] ** 2,
+                                     b[0] ** 2 + b[1] ** 2 + b[2] ** 2),
+                          (b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2 + (b[2] - a[2]) ** 2)
+    return np.flatnonzero(0.5 * area2 <= ZERO_AREA_RTOL * longest2)
+
+
 def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *,
                   path: str | None = None) -> MeshReport:
     """Check a triangle mesh and describe it.
@@ -193,18 +212,7 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *,
         raise _fail(f"{dup.size} duplicate faces: {text}", path, faces=dup[:100].tolist())
 
     # per coordinate on 1-D arrays: several times faster than np.cross on (f, 3) gathers
-    a, b = [], []
-    for k in range(3):
-        c = np.ascontiguousarray(v[:, k])
-        c0 = c[f[:, 0]]
-        a.append(c[f[:, 1]] - c0)
-        b.append(c[f[:, 2]] - c0)
-    area2 = np.sqrt((a[1] * b[2] - a[2] * b[1]) ** 2 + (a[2] * b[0] - a[0] * b[2]) ** 2
-                    + (a[0] * b[1] - a[1] * b[0]) ** 2)
-    longest2 = np.maximum(np.maximum(a[0] ** 2 + a[1] ** 2 + a[2] ** 2,
-                                     b[0] ** 2 + b[1] ** 2 + b[2] ** 2),
-                          (b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2 + (b[2] - a[2]) ** 2)
-    flat = np.flatnonzero(0.5 * area2 <= ZERO_AREA_RTOL * longest2)
+    flat = zero_area_faces(v, f)
     if flat.size:
         raise _fail(f"{flat.size} faces have zero area (collinear or coincident corners): "
                     f"{_face_text(flat, f)}", path, faces=flat[:100].tolist())
