@@ -232,7 +232,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--repair", action="store_true",
                    help="remove the faces around non-manifold edges first, then fill the "
                    "holes that leaves")
-    p.add_argument("--inpaint", help="inpainting model for λ and H (conformal method)")
+    p.add_argument("--inpaint", choices=("biharmonic", "harmonic"),
+                   help="inpainting model for λ and H (conformal method; default biharmonic)")
     p.add_argument("--reconstruct", choices=("gauss-codazzi", "laplacian"),
                    help="reconstruction from (λ, H) (conformal method)")
     p.add_argument("--png", help="also write a before/after picture")
