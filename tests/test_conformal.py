@@ -120,3 +120,43 @@ def test_fold_check_rejects_a_folded_fill():
     broken[3] = np.nan
     with pytest.raises(FillError, match="non-finite"):
         _check_patch(broken, faces, 2)
+
+
+def test_too_few_known_rings_for_gauss_codazzi_retries_the_laplacian_form(sphere_hole,
+                                                                          monkeypatch):
+    import surfinpaint.reconstruction as reconstruction
+
+    real = reconstruction.reconstruct
+    calls = []
+
+    def thin(lam, H, phi, known, h, method="gauss-codazzi", **kw):
+        calls.append(method)
+        if method == "gauss-codazzi":
+            raise ValueError("the unknown region needs 3 ring(s) (8-neighbour) of known nodes")
+        return real(lam, H, phi, known, h, method=method, **kw)
+
+    monkeypatch.setattr(reconstruction, "reconstruct", thin)
+    cut = sphere_hole
+    result = fill_holes(cut.vertices, cut.faces, select=False)
+    report = result.reports[0]
+    assert calls == ["gauss-codazzi", "laplacian"]
+    assert report.method == "conformal" and report.fallback is None
+    assert report.details["reconstruct"].startswith("laplacian")
+    # the Laplacian form is less accurate here than Gauss–Codazzi (0.71 % against 0.24 %,
+    # the self-check weighs that in normal use) but it does rebuild the sphere: the flat
+    # initial fill it starts from is off by 4.8 % of the diameter
+    initial = error(cut, fill_holes(cut.vertices, cut.faces, method="initial"))
+    assert error(cut, result) < 0.25 * initial
+
+
+def test_self_check_that_cannot_run_keeps_the_faired_fill(sphere_hole, monkeypatch):
+    import surfinpaint.conformal as conformal
+
+    monkeypatch.setattr(conformal, "hidden_ring_scores", lambda *a, **k: {})
+    monkeypatch.setattr(conformal, "sibling_scores", lambda *a, **k: {})
+    cut = sphere_hole
+    result = fill_holes(cut.vertices, cut.faces)
+    faired = fill_holes(cut.vertices, cut.faces, method="fair")
+    assert result.reports[0].method == "fair"
+    assert "not possible" in result.reports[0].note
+    assert np.array_equal(result.vertices, faired.vertices)

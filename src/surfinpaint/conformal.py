@@ -178,15 +178,25 @@ def inpaint_patch(
     lam = np.where(domain, lam, np.nan)
     H = np.where(domain, H, np.nan)
     phi_known = np.where(domain[..., None], phi, np.nan)
-    rebuilt = reconstruct_grid(lam, H, phi_known, domain & ~region, h, method=reconstruct,
-                               domain=domain)
+    try:
+        rebuilt = reconstruct_grid(lam, H, phi_known, domain & ~region, h, method=reconstruct,
+                                   domain=domain)
+        used = reconstruct
+    except ValueError as exc:
+        # Gauss–Codazzi needs 3 known rings around the region, the Laplacian form 1: a patch
+        # squeezed between holes or against the border may have only the latter
+        if reconstruct != "gauss-codazzi" or "ring" not in str(exc):
+            raise
+        rebuilt = reconstruct_grid(lam, H, phi_known, domain & ~region, h,
+                                   method="laplacian", domain=domain)
+        used = "laplacian (too few known rings for gauss-codazzi)"
     where = np.searchsorted(ids, moving)
     positions = interpolate(rebuilt, grid, uv[where], order=3)
     if not np.isfinite(positions).all():
         raise FillError("the reconstruction is not finite at some fill vertices")
     return positions, {
-        "grid_shape": grid.shape, "h": h, "lam0": lam0, "H0": H0, "lam": lam, "H": H,
-        "hole": hole, "region": region, "domain": domain,
+        "grid_shape": grid.shape, "h": h, "reconstruct": used, "lam0": lam0, "H0": H0,
+        "lam": lam, "H": H, "hole": hole, "region": region, "domain": domain,
     }
 
 
@@ -425,10 +435,11 @@ def conformal_fill(
     iterations : int
         Outer iterations: re-parameterize the new patch and inpaint again.
     select : bool
-        Self-check: keep the conformal fill only when it beats the faired fill on two
-        tests that use no truth of the hole: predicting ``hide_rings`` hidden rings of the
-        known surface around it (:func:`hidden_ring_scores`), and filling sibling holes as
-        wide as this one cut from the known surface nearby (:func:`sibling_scores`).
+        Self-check: keep the conformal fill only when it beats the faired fill on the
+        tests that can be run (at least one must) and use no truth of the hole: predicting
+        ``hide_rings`` hidden rings of the known surface around it
+        (:func:`hidden_ring_scores`), and filling sibling holes as wide as this one cut
+        from the known surface nearby (:func:`sibling_scores`).
     hide_rings : int
         Rings hidden for the first test.
     siblings, gap_rings : int
@@ -475,11 +486,13 @@ def conformal_fill(
                                                       siblings=siblings,
                                                       gap_rings=gap_rings)}
     verdicts = []
+    ran = 0
     for name, check in checks.items():
         scores = check()
         if len(scores) < 2:
             verdicts.append(f"{name}: not available")
             continue
+        ran += 1
         info[f"score_{name.replace(' ', '_')}"] = scores
         verdicts.append(f"{name}: conformal {scores['conformal']:.3g}, "
                         f"fair {scores['fair']:.3g}")
@@ -489,5 +502,12 @@ def conformal_fill(
                                  f"({scores['fair']:.3g} < {scores['conformal']:.3g})")
             fv, ff, _ = fills["fair"]
             return fv, ff, info
+    if not ran:
+        # nothing to check against (no room around the hole): the faired fill is the safe one
+        fv, ff, _ = fills["fair"]
+        info["selected"] = "fair"
+        info["selection"] = "self-check not possible here, kept the faired fill (" + \
+            "; ".join(verdicts) + ")"
+        return fv, ff, info
     info["selection"] = "self-check kept the conformal fill (" + "; ".join(verdicts) + ")"
     return new_v, new_f, info
