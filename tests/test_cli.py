@@ -477,3 +477,30 @@ def test_face_range_map_all_loops(tmp_path, capsys):
     v2, f2 = read_mesh(out)
     np.testing.assert_array_equal(v2[: len(v)], v)
     validate_mesh(v2, f2)
+
+
+def test_holes_with_repair_lists_what_fill_repair_numbers(tmp_path, capsys):
+    # a fin (three faces on one edge) on a sphere with a hole: plain `holes` refuses it,
+    # `holes --repair` lists the loops `fill --repair --holes i` will number
+    from surfinpaint.cutting import cut_geodesic_disk
+    from surfinpaint.data import sphere
+    from surfinpaint.io import write_mesh
+    from surfinpaint.mesh import boundary_loops
+    from surfinpaint.repair import remove_nonmanifold_faces
+
+    v, f = sphere(2)
+    cut = cut_geodesic_disk(v, f, 0, 0.5)
+    a, b = cut.faces[100][:2]
+    vertices = np.vstack([cut.vertices, cut.vertices[a] * 1.3])
+    faces = np.vstack([cut.faces, [[a, b, len(cut.vertices)]]])
+    path = tmp_path / "fin.ply"
+    write_mesh(path, vertices, faces)
+    assert main(["holes", str(path)]) == 1
+    capsys.readouterr()
+    assert main(["holes", str(path), "--repair"]) == 0
+    out = capsys.readouterr().out
+    repaired, _ = remove_nonmanifold_faces(vertices, faces)
+    assert _flat("removed by --repair") in _flat(out)
+    # one table row per loop of the repaired mesh (rows end in their kind column)
+    rows = _flat(out).count("│hole│") + _flat(out).count("│outerborder│")
+    assert rows == len(boundary_loops(repaired)) > 0

@@ -91,8 +91,14 @@ def cmd_holes(args: argparse.Namespace) -> int:
     from surfinpaint.validation import validate_mesh
 
     vertices, faces = read_mesh(args.mesh)
+    title = f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces"
+    if args.repair:
+        from surfinpaint.repair import remove_nonmanifold_faces
+
+        faces, removed = remove_nonmanifold_faces(vertices, faces)
+        title += f" ({len(removed)} removed by --repair: the numbering `fill --repair` uses)"
     validate_mesh(vertices, faces, path=str(args.mesh))
-    _holes_table(vertices, faces, f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces")
+    _holes_table(vertices, faces, title)
     return EXIT_OK
 
 
@@ -215,6 +221,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("holes", help="list the holes (boundary loops) of a mesh",
                        description="Print a table of the boundary loops of MESH.")
     p.add_argument("mesh", help="input mesh (PLY, OBJ, STL, OFF, GIFTI, FreeSurfer)")
+    p.add_argument("--repair", action="store_true",
+                   help="first remove the faces around non-manifold edges, as `fill --repair` "
+                   "does, and list the holes of the result")
     p.set_defaults(func=cmd_holes)
 
     p = sub.add_parser("fill", help="fill holes and write the filled mesh",
