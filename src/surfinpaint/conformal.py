@@ -77,14 +77,6 @@ def hole_patch(
     raise FillError("no disk-shaped patch around the hole: its neighbourhood is not a disk")
 
 
-def _dilate(mask: np.ndarray, steps: int) -> np.ndarray:
-    from scipy.ndimage import binary_dilation
-
-    if steps <= 0:
-        return mask.copy()
-    return binary_dilation(mask, structure=np.ones((3, 3), bool), iterations=steps)
-
-
 def inpaint_patch(
     vertices: np.ndarray,
     patch_faces: np.ndarray,
@@ -140,6 +132,7 @@ def inpaint_patch(
     from surfinpaint.grid import grid_over, interpolate, resample
     from surfinpaint.inpainting import inpaint as inpaint_grid
     from surfinpaint.parameterization import flipped_faces, lscm
+    from surfinpaint.reconstruction import dilate as dilate_mask
     from surfinpaint.reconstruction import reconstruct as reconstruct_grid
 
     ids, local = np.unique(patch_faces, return_inverse=True)
@@ -169,7 +162,7 @@ def inpaint_patch(
     known = inside & ~hole
     sigma = 0.75 * fit_radius if fit_sigma is None else fit_sigma
     lam0, H0 = robust_lambda_h(phi, h, valid=known, radius=fit_radius, sigma=sigma)
-    region = _dilate(hole, dilate) & inside
+    region = dilate_mask(hole, dilate) & inside
     have = np.isfinite(lam0) & np.isfinite(H0)
     domain = inside & (have | region)
     # λ and H share the operator: one factorization for both

@@ -167,9 +167,13 @@ def _nodes(idx: np.ndarray, limit: int = 5) -> str:
     return head + (f" and {len(idx) - limit} more" if len(idx) > limit else "")
 
 
-def _dilate(mask: np.ndarray, rings: int, structure: np.ndarray) -> np.ndarray:
-    if rings == 0:
+def dilate(mask: np.ndarray, rings: int, structure: np.ndarray | None = None) -> np.ndarray:
+    """``mask`` grown by ``rings`` grid nodes (8-neighbour by default; ``structure`` as for
+    :func:`scipy.ndimage.binary_dilation`)."""
+    if rings <= 0:
         return mask.copy()
+    if structure is None:
+        structure = np.ones((3, 3), dtype=bool)
     return ndimage.binary_dilation(mask, structure=structure, iterations=rings)
 
 
@@ -185,7 +189,7 @@ def _require_support(
             f"(needs at least {2 * rings + 1} nodes per side)"
         )
     padded = np.pad(unknown, rings)
-    need = _dilate(padded, rings, structure)
+    need = dilate(padded, rings, structure)
     ok = np.pad(known | unknown, rings)
     bad = need & ~ok
     if bad.any():
@@ -301,9 +305,9 @@ def _gauss_codazzi_rebuild(lam, H, phi, known, unknown, h, integrate="gradient")
     _require_support(unknown, known, 3, _BLOCK, "gauss-codazzi")
     phi_known = np.where(known[..., None], phi, np.nan)
     lam_phi, H_phi = lambda_h(phi_known, h)
-    need = _dilate(unknown, 3, _BLOCK)
+    need = dilate(unknown, 3, _BLOCK)
     lam = _filled(lam, lam_phi, need, "lam")
-    H = _filled(H, H_phi, _dilate(unknown, 2, _BLOCK), "H")
+    H = _filled(H, H_phi, dilate(unknown, 2, _BLOCK), "H")
     mu = _codazzi_mu(lam, H, hopf_differential(phi_known, h), unknown, h)
     e1, e2, n, (lu, lv, L, N) = _frame(lam, H, mu, phi_known, unknown, h)
     if integrate == "normal":
@@ -320,7 +324,7 @@ def _codazzi_mu(lam, H, mu_known, unknown, h):
     Real form with g = λ²: 2∂z(g Hz) = ½[(gHu)u − (gHv)v] − ½ i [(gHv)u + (gHu)v], each
     term with compact (3 × 3) differences.
     """
-    region = _dilate(unknown, 1, _BLOCK)
+    region = dilate(unknown, 1, _BLOCK)
     g = lam**2
 
     def s(f, di, dj):
@@ -340,7 +344,7 @@ def _codazzi_mu(lam, H, mu_known, unknown, h):
     mixed = (s(gHv, 1, 0) - s(gHv, -1, 0) + s(gHu, 0, 1) - s(gHu, 0, -1)) / (2 * h)
     rhs = (0.5 * (Huu - Hvv) - 0.5j * mixed)[region]
     idx, A, neighbours = _laplacian_system(region, h)
-    boundary = _dilate(region, 1, _CROSS) & ~region
+    boundary = dilate(region, 1, _CROSS) & ~region
     bad = np.argwhere(boundary & ~np.isfinite(mu_known))
     if len(bad):  # guarded by _require_support; a NaN here means degenerate known data
         raise ValueError(f"Hopf differential of the known surface undefined at {_nodes(bad)}")
@@ -363,7 +367,7 @@ def _frame(lam, H, mu, phi_known, unknown, h):
     Each grid edge p → q gives (X(q) − X(p))/h = ½(C(p)X(p) + C(q)X(q)) (trapezoid rule).
     The three coordinates of space decouple, so one least-squares matrix serves all three.
     """
-    frame_unknown = _dilate(unknown, 1, _CROSS)
+    frame_unknown = dilate(unknown, 1, _CROSS)
     pu, pv = central_derivatives(phi_known, h)
     lam_phi = np.sqrt(0.5 * (np.sum(pu**2, -1) + np.sum(pv**2, -1)))
     with np.errstate(invalid="ignore", divide="ignore"):
