@@ -15,6 +15,8 @@ surface better there (method.md §8, "an honest safety net").
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from surfinpaint.errors import FillError, MeshError
@@ -27,7 +29,8 @@ from surfinpaint.mesh import (
     unique_edges,
 )
 
-__all__ = ["conformal_fill", "hole_patch", "inpaint_patch"]
+__all__ = ["PatchGrid", "conformal_fill", "hole_patch", "inpaint_patch", "patch_grid",
+           "reconstruct_patch"]
 
 # neighbouring triangles whose normals turn by more than this are a fold-over
 FOLD_ANGLE = 120.0
@@ -75,6 +78,112 @@ def hole_patch(
         if _is_disk(patch):
             return patch, k
     raise FillError("no disk-shaped patch around the hole: its neighbourhood is not a disk")
+
+
+@dataclass
+class PatchGrid:
+    """A disk patch resampled on a regular grid over its conformal map.
+
+    Attributes
+    ----------
+    ids : (k,) int array
+        Global vertex ids of the patch's vertices (sorted); ``uv`` rows follow them.
+    uv : (k, 2) float array
+        The patch's conformal (LSCM) map.
+    grid : Grid
+    h : float
+        Grid spacing.
+    phi : (N, M, 3) float array
+        Positions resampled on the grid (NaN outside the patch).
+    inside, hole, known : (N, M) bool arrays
+        Nodes in the patch, in the fill, and in the known surface around it.
+    """
+
+    ids: np.ndarray
+    uv: np.ndarray
+    grid: object
+    h: float
+    phi: np.ndarray
+    inside: np.ndarray
+    hole: np.ndarray
+    known: np.ndarray
+
+    def uv_of(self, vertex_ids: np.ndarray) -> np.ndarray:
+        """Parameter positions of the given global vertex ids (all in the patch)."""
+        return self.uv[np.searchsorted(self.ids, vertex_ids)]
+
+
+def patch_grid(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
+               spacing: float = 0.5, max_nodes: int = 250_000) -> PatchGrid:
+    """Map a disk patch conformally (LSCM) and resample it on a regular grid.
+
+    The grid spacing is ``spacing`` times the mean parameter-space edge length. Faces that
+    the map flips are dropped when they are away from the fill (they only hide a little
+    known data).
+
+    Raises
+    ------
+    FillError
+        When the map flips faces at the fill, or the grid would exceed ``max_nodes``.
+    """
+    from surfinpaint.grid import grid_over, resample
+    from surfinpaint.parameterization import flipped_faces, lscm
+
+    ids, local = np.unique(patch_faces, return_inverse=True)
+    local = local.reshape(-1, 3)
+    points = vertices[ids]
+    uv = lscm(points, local)
+    flipped = flipped_faces(local, uv)
+    if len(flipped):
+        # a flipped sliver at the patch's outer edge only hides a little known data; a flip
+        # in or next to the fill would corrupt the grid where it matters
+        fill_vertices = np.unique(local[:n_fill_faces])
+        if np.isin(local[flipped], fill_vertices).any():
+            raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped "
+                            "faces at the fill)")
+        keep = np.ones(len(local), dtype=bool)
+        keep[flipped] = False
+        n_fill_faces = int(keep[:n_fill_faces].sum())
+        local = local[keep]
+    edges, _, _ = unique_edges(local)
+    mean_uv_edge = float(np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1).mean())
+    h = spacing * mean_uv_edge
+    grid = grid_over(uv, h=h, margin=2 * h)
+    if grid.shape[0] * grid.shape[1] > max_nodes:
+        raise FillError(f"grid of {grid.shape} nodes is larger than max_nodes={max_nodes}")
+    phi, inside, face_index = resample(uv, local, points, grid)
+    hole = inside & (face_index < n_fill_faces)
+    return PatchGrid(ids=ids, uv=uv, grid=grid, h=h, phi=phi, inside=inside, hole=hole,
+                     known=inside & ~hole)
+
+
+def reconstruct_patch(pg: PatchGrid, lam: np.ndarray, H: np.ndarray, region: np.ndarray,
+                      domain: np.ndarray, *, method: str = "gauss-codazzi"
+                      ) -> tuple[np.ndarray, str]:
+    """Positions on the patch's grid rebuilt from (λ, H) over ``region``, with the resampled
+    surface on ``domain & ~region`` as boundary data.
+
+    Gauss–Codazzi needs 3 known rings around the region, the Laplacian form 1: a patch
+    squeezed between holes or against the border may have only the latter, and then the
+    Laplacian form is used.
+
+    Returns
+    -------
+    phi : (N, M, 3) float array
+    used : str
+        The reconstruction actually used.
+    """
+    from surfinpaint.reconstruction import reconstruct
+
+    phi_known = np.where(domain[..., None], pg.phi, np.nan)
+    try:
+        return reconstruct(lam, H, phi_known, domain & ~region, pg.h, method=method,
+                           domain=domain), method
+    except ValueError as exc:
+        if method != "gauss-codazzi" or "ring" not in str(exc):
+            raise
+    return (reconstruct(lam, H, phi_known, domain & ~region, pg.h, method="laplacian",
+                        domain=domain), "laplacian (too few known rings for gauss-codazzi)")
 
 
 def inpaint_patch(
@@ -129,37 +238,12 @@ def inpaint_patch(
         When the map folds, the grid is too large, or the result is not finite.
     """
     from surfinpaint.estimation import robust_lambda_h
-    from surfinpaint.grid import grid_over, interpolate, resample
+    from surfinpaint.grid import interpolate
     from surfinpaint.inpainting import inpaint as inpaint_grid
-    from surfinpaint.parameterization import flipped_faces, lscm
     from surfinpaint.reconstruction import dilate as dilate_mask
-    from surfinpaint.reconstruction import reconstruct as reconstruct_grid
 
-    ids, local = np.unique(patch_faces, return_inverse=True)
-    local = local.reshape(-1, 3)
-    points = vertices[ids]
-    uv = lscm(points, local)
-    flipped = flipped_faces(local, uv)
-    if len(flipped):
-        # a flipped sliver at the patch's outer edge only hides a little known data; a flip
-        # in or next to the fill would corrupt the grid where it matters
-        fill_vertices = np.unique(local[:n_fill_faces])
-        if np.isin(local[flipped], fill_vertices).any():
-            raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped "
-                            "faces at the fill)")
-        keep = np.ones(len(local), dtype=bool)
-        keep[flipped] = False
-        n_fill_faces = int(keep[:n_fill_faces].sum())
-        local = local[keep]
-    edges, _, _ = unique_edges(local)
-    mean_uv_edge = float(np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1).mean())
-    h = spacing * mean_uv_edge
-    grid = grid_over(uv, h=h, margin=2 * h)
-    if grid.shape[0] * grid.shape[1] > max_nodes:
-        raise FillError(f"grid of {grid.shape} nodes is larger than max_nodes={max_nodes}")
-    phi, inside, face_index = resample(uv, local, points, grid)
-    hole = inside & (face_index < n_fill_faces)
-    known = inside & ~hole
+    pg = patch_grid(vertices, patch_faces, n_fill_faces, spacing=spacing, max_nodes=max_nodes)
+    grid, h, phi, inside, hole, known = pg.grid, pg.h, pg.phi, pg.inside, pg.hole, pg.known
     sigma = 0.75 * fit_radius if fit_sigma is None else fit_sigma
     lam0, H0 = robust_lambda_h(phi, h, valid=known, radius=fit_radius, sigma=sigma)
     region = dilate_mask(hole, dilate) & inside
@@ -170,21 +254,8 @@ def inpaint_patch(
                                       method=inpaint, h=h, fidelity=fidelity), -1, 0)
     lam = np.where(domain, lam, np.nan)
     H = np.where(domain, H, np.nan)
-    phi_known = np.where(domain[..., None], phi, np.nan)
-    try:
-        rebuilt = reconstruct_grid(lam, H, phi_known, domain & ~region, h, method=reconstruct,
-                                   domain=domain)
-        used = reconstruct
-    except ValueError as exc:
-        # Gauss–Codazzi needs 3 known rings around the region, the Laplacian form 1: a patch
-        # squeezed between holes or against the border may have only the latter
-        if reconstruct != "gauss-codazzi" or "ring" not in str(exc):
-            raise
-        rebuilt = reconstruct_grid(lam, H, phi_known, domain & ~region, h,
-                                   method="laplacian", domain=domain)
-        used = "laplacian (too few known rings for gauss-codazzi)"
-    where = np.searchsorted(ids, moving)
-    positions = interpolate(rebuilt, grid, uv[where], order=3)
+    rebuilt, used = reconstruct_patch(pg, lam, H, region, domain, method=reconstruct)
+    positions = interpolate(rebuilt, grid, pg.uv_of(moving), order=3)
     if not np.isfinite(positions).all():
         raise FillError("the reconstruction is not finite at some fill vertices")
     return positions, {
