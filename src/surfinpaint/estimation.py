@@ -93,11 +93,24 @@ def fitted_derivatives(
     count = ndimage.correlate(mask, np.ones_like(w), mode="constant")
     ok = count >= min_fraction * w.size
     # scale-aware conditioning test: a one-sided or collinear window cannot fix a quadratic
+    # Full windows all have the same Gram matrix (same sums over the same all-one mask, so
+    # bit-identical): its SVD is taken once, and only partial windows pay for their own.
     cond = np.full(valid.shape, np.inf)
-    cond[ok] = np.linalg.cond(gram[ok])
+    full = count == w.size
+    partial = ok & ~full
+    cond[partial] = np.linalg.cond(gram[partial])
+    if full.any():
+        cond[full] = np.linalg.cond(gram[np.unravel_index(np.argmax(full), full.shape)])
     ok &= cond < 1e6
     coef = np.full(valid.shape + (nb, phi.shape[-1]), np.nan)
-    coef[ok] = np.linalg.solve(gram[ok], rhs[ok])
+    partial &= ok
+    coef[partial] = np.linalg.solve(gram[partial], rhs[partial])
+    full &= ok
+    if full.any():  # one factorization serves every full window
+        g0 = gram[np.unravel_index(np.argmax(full), full.shape)]
+        r = rhs[full]  # (k, nb, c)
+        sol = np.linalg.solve(g0, r.transpose(1, 0, 2).reshape(nb, -1))
+        coef[full] = sol.reshape(nb, len(r), -1).transpose(1, 0, 2)
     return {
         "value": coef[..., 0, :],
         "u": coef[..., 1, :] / h,

@@ -18,11 +18,11 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from scipy import ndimage
 from scipy.sparse import csgraph
 
 from surfinpaint.lambda_h import check_spacing, domain_mask
+from surfinpaint.linalg import factorized_definite
 
 __all__ = ["INPAINT_METHODS", "biharmonic_flow", "inpaint"]
 
@@ -136,7 +136,7 @@ def inpaint(
         rhs[soft_ids] += fidelity * f0
     _require_constrained(Q, free, region, fixed, D, fidelity is not None)
     try:
-        solve = spla.factorized(Q)
+        solve = factorized_definite(Q)
     except RuntimeError as err:  # singular: a part of the region left unconstrained
         raise ValueError(f"inpainting system is singular ({err}); the region needs known "
                          "data around it inside the domain") from err

@@ -99,16 +99,19 @@ def _neighbourhood(
     n_original = vertex_faces.shape[0]
     picked = np.empty(0, dtype=np.int64)
     picked_added = np.empty(0, dtype=np.int64)
+    frontier = region
+    # grow from the newest ring only: the faces of the older rings are already picked
     for _ in range(rings):
-        inside = region[region < n_original]
-        picked = _faces_of(vertex_faces, inside)
-        picked_added = (np.flatnonzero(np.isin(added, region).any(axis=1))
-                        if len(added) else picked_added)
-        grown = np.unique(np.concatenate([region, faces[picked].ravel(),
-                                          added[picked_added].ravel()]))
-        if len(grown) == len(region):
+        new = _faces_of(vertex_faces, frontier[frontier < n_original])
+        new_added = (np.flatnonzero(np.isin(added, frontier).any(axis=1))
+                     if len(added) else np.empty(0, dtype=np.int64))
+        picked = np.union1d(picked, new)
+        picked_added = np.union1d(picked_added, new_added)
+        grown = np.unique(np.concatenate([faces[new].ravel(), added[new_added].ravel()]))
+        frontier = np.setdiff1d(grown, region, assume_unique=True)
+        if len(frontier) == 0:
             break
-        region = grown
+        region = np.union1d(region, frontier)
     return picked, picked_added
 
 

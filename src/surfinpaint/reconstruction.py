@@ -28,7 +28,6 @@ import warnings
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from scipy import ndimage
 
 from surfinpaint.errors import FillError
@@ -40,6 +39,7 @@ from surfinpaint.lambda_h import (
     lambda_h,
     normals,
 )
+from surfinpaint.linalg import factorized_definite
 
 __all__ = ["reconstruct", "METHODS"]
 
@@ -269,7 +269,7 @@ def _laplacian_rebuild(lam, H, phi, known, unknown, h, max_iter, tol):
     lam = _filled(lam, np.nan, unknown, "lam")
     H = _filled(H, np.nan, unknown, "H")
     idx, A, neighbours = _laplacian_system(unknown, h)
-    solve = spla.factorized(A)
+    solve = factorized_definite(A)
     b_known = _dirichlet_rhs(np.where(known[..., None], phi, 0.0), neighbours, h)
     w = (2 * lam**2 * H)[unknown]
     work = np.where(known[..., None], phi, 0.0)
@@ -349,7 +349,7 @@ def _codazzi_mu(lam, H, mu_known, unknown, h):
     if len(bad):  # guarded by _require_support; a NaN here means degenerate known data
         raise ValueError(f"Hopf differential of the known surface undefined at {_nodes(bad)}")
     b = _dirichlet_rhs(np.where(boundary, mu_known, 0.0)[..., None], neighbours, h)[:, 0]
-    solve = spla.factorized(A.astype(complex))
+    solve = factorized_definite(A.astype(complex))
     mu = np.where(region, 0.0, mu_known)
     mu[region] = solve(rhs - b)
     return mu
@@ -437,7 +437,7 @@ def _frame(lam, H, mu, phi_known, unknown, h):
         shape=(n_rows, 3 * idx.size),
     )
     AtA = (A.T @ A).tocsc()
-    solve = spla.factorized(AtA)
+    solve = factorized_definite(AtA)
     Atb = A.T @ rhs
     sol = np.column_stack([solve(Atb[:, k]) for k in range(3)]).reshape(idx.size, 3, 3)
     frame = known_frame.copy()
@@ -462,7 +462,7 @@ def _integrate(pu, pv, puu, pvv, phi_known, unknown, h):
         div = div + delta - np.roll(delta, (di, dj), axis=(0, 1))
     idx, A, neighbours = _laplacian_system(unknown, h)
     b = _dirichlet_rhs(np.where(unknown[..., None], 0.0, phi_known), neighbours, h)
-    solve = spla.factorized(A)
+    solve = factorized_definite(A)
     rhs = div[unknown] / h**2 - b
     return np.column_stack([solve(rhs[:, k]) for k in range(3)])
 
@@ -472,6 +472,6 @@ def _integrate_normal(lam, H, n, phi_known, unknown, h):
     n = n / np.linalg.norm(n, axis=-1, keepdims=True)
     idx, A, neighbours = _laplacian_system(unknown, h)
     b = _dirichlet_rhs(np.where(unknown[..., None], 0.0, phi_known), neighbours, h)
-    solve = spla.factorized(A)
+    solve = factorized_definite(A)
     rhs = (2 * lam**2 * H)[unknown][:, None] * n[unknown] - b
     return np.column_stack([solve(rhs[:, k]) for k in range(3)])

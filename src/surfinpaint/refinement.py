@@ -65,23 +65,52 @@ def _edge_keys(a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
     return lo * n + hi
 
 
+def _cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (k, 3) arrays: the same arithmetic as ``np.cross`` (so
+    bit-identical results) without its axis handling, which dominates on the small arrays
+    of a flip round."""
+    out = np.empty_like(u)
+    out[:, 0] = u[:, 1] * w[:, 2] - u[:, 2] * w[:, 1]
+    out[:, 1] = u[:, 2] * w[:, 0] - u[:, 0] * w[:, 2]
+    out[:, 2] = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
+    return out
+
+
 def _inside_diametral_ball(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
                            s: np.ndarray) -> np.ndarray:
     """How far point s lies inside the smallest ball through triangle (a, b, c): the ball
     whose equator is the circumcircle. Returns 1 - |s - centre| / radius (> 0 inside); a
     degenerate triangle has an infinite ball (returns 1)."""
-    u = p[b] - p[a]
-    w = p[c] - p[a]
-    n = np.cross(u, w)
+    pa = p[a]
+    u = p[b] - pa
+    w = p[c] - pa
+    n = _cross(u, w)
     n2 = np.einsum("ij,ij->i", n, n)
     uu = np.einsum("ij,ij->i", u, u)
     ww = np.einsum("ij,ij->i", w, w)
-    num = ww[:, None] * np.cross(n, u) + uu[:, None] * np.cross(w, n)
+    num = ww[:, None] * _cross(n, u) + uu[:, None] * _cross(w, n)
     ok = n2 > 1e-30 * np.maximum(uu, ww) ** 2
-    centre = p[a] + num / np.where(ok, 2 * n2, 1.0)[:, None]
-    radius = np.linalg.norm(centre - p[a], axis=1)
+    centre = pa + num / np.where(ok, 2 * n2, 1.0)[:, None]
+    radius = np.linalg.norm(centre - pa, axis=1)
     dist = np.linalg.norm(p[s] - centre, axis=1)
     return np.where(ok, 1.0 - dist / np.where(ok, radius, 1.0), 1.0)
+
+
+def _both_balls(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
+                d: np.ndarray) -> np.ndarray:
+    """max(inside(a, b, c; d), inside(b, a, d; c)) in one vectorized call (half the calls)."""
+    k = len(a)
+    both = _inside_diametral_ball(p, np.concatenate([a, b]), np.concatenate([b, a]),
+                                  np.concatenate([c, d]), np.concatenate([d, c]))
+    return np.maximum(both[:k], both[k:])
+
+
+def _in_sorted(x: np.ndarray, sorted_keys: np.ndarray) -> np.ndarray:
+    """``np.isin(x, sorted_keys)`` for a sorted key array, by binary search."""
+    if len(sorted_keys) == 0:
+        return np.zeros(len(x), dtype=bool)
+    pos = np.minimum(np.searchsorted(sorted_keys, x), len(sorted_keys) - 1)
+    return sorted_keys[pos] == x
 
 
 def delaunay_flip(
@@ -124,36 +153,41 @@ def delaunay_flip(
         np.asarray(fixed_edges)[:, 0], np.asarray(fixed_edges)[:, 1], n)
     forbidden = np.empty(0, np.int64) if forbidden_edges is None else _edge_keys(
         np.asarray(forbidden_edges)[:, 0], np.asarray(forbidden_edges)[:, 1], n)
+    fixed = np.unique(fixed)
+    forbidden = np.unique(forbidden)
     for _ in range(max_rounds):
-        edges, face_edge, count = unique_edges(f)
-        flat = face_edge.ravel()  # entry 3t + k: edge opposite corner k of face t
+        # one stable sort of the half-edge keys gives the edges, their face counts and the
+        # two half-edges of each interior edge (entry 3t + k: opposite corner k of face t)
+        tails = f[:, [1, 2, 0]].ravel()
+        heads = f[:, [2, 0, 1]].ravel()
+        flat = np.minimum(tails, heads) * n + np.maximum(tails, heads)
         order = np.argsort(flat, kind="stable")
-        first = np.searchsorted(flat[order], np.arange(len(edges)))
-        keys = edges[:, 0] * n + edges[:, 1]
-        inner = np.flatnonzero((count == 2) & ~np.isin(keys, fixed))
+        sorted_flat = flat[order]
+        start = np.flatnonzero(np.r_[True, sorted_flat[1:] != sorted_flat[:-1]])
+        keys = sorted_flat[start]  # sorted, unique
+        count = np.diff(np.r_[start, len(flat)])
+        inner = np.flatnonzero((count == 2) & ~_in_sorted(keys, fixed))
         if len(inner) == 0:
             break
-        e1, e2 = order[first[inner]], order[first[inner] + 1]
+        e1, e2 = order[start[inner]], order[start[inner] + 1]
         t1, k1 = e1 // 3, e1 % 3
         t2, k2 = e2 // 3, e2 % 3
         a = f[t1, (k1 + 1) % 3]
         b = f[t1, (k1 + 2) % 3]
         c = f[t1, k1]
         d = f[t2, k2]
-        score = np.maximum(_inside_diametral_ball(p, a, b, c, d),
-                           _inside_diametral_ball(p, b, a, d, c))
+        score = _both_balls(p, a, b, c, d)
         # the remaining checks only on the failing edges (few after the first rounds)
         bad = np.flatnonzero((score > _FLIP_SLACK) & (c != d))
         a, b, c, d, t1, t2, score = (x[bad] for x in (a, b, c, d, t1, t2, score))
         new_key = _edge_keys(c, d, n)
         # in 3D both diagonals can fail the test; flipping then would cycle
-        ok = np.maximum(_inside_diametral_ball(p, c, d, a, b),
-                        _inside_diametral_ball(p, d, c, b, a)) <= _FLIP_SLACK
-        ok &= ~np.isin(new_key, keys) & ~np.isin(new_key, forbidden)
+        ok = _both_balls(p, c, d, a, b) <= _FLIP_SLACK
+        ok &= ~_in_sorted(new_key, keys) & ~_in_sorted(new_key, forbidden)
         # the two new triangles must be proper and not fold against the old pair
-        old_n = np.cross(p[b] - p[a], p[c] - p[a]) + np.cross(p[a] - p[b], p[d] - p[b])
-        n1 = np.cross(p[d] - p[a], p[c] - p[a])
-        n2 = np.cross(p[b] - p[d], p[c] - p[d])
+        old_n = _cross(p[b] - p[a], p[c] - p[a]) + _cross(p[a] - p[b], p[d] - p[b])
+        n1 = _cross(p[d] - p[a], p[c] - p[a])
+        n2 = _cross(p[b] - p[d], p[c] - p[d])
         scale = np.einsum("ij,ij->i", p[c] - p[d], p[c] - p[d])
         ok &= (np.einsum("ij,ij->i", n1, old_n) > 0) & (np.einsum("ij,ij->i", n2, old_n) > 0)
         ok &= (np.linalg.norm(n1, axis=1) > 1e-12 * scale)
