@@ -129,6 +129,17 @@ def _holes(case: Case, v: np.ndarray, h: float, n_sizes: int) -> list[tuple[np.n
     return [(s, float(r)) for s in sites for r in sizes]
 
 
+def benchmark_cuts(names: list[str], n_sizes: int = 3):
+    """Yield (case name, hole index, CutResult) for the default set's holes of ``names``."""
+    cases = _cases(False)
+    for name in names:
+        case = cases[name]
+        v, f = case.load()
+        h = mean_edge_length(v, f)
+        for k, (site, radius) in enumerate(_holes(case, v, h, n_sizes)):
+            yield name, k, cut_geodesic_disk(v, f, site, radius)
+
+
 # --------------------------------------------------------------------------- methods
 
 

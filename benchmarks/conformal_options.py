@@ -25,8 +25,6 @@ sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402  (the benchmark's cases and holes)
 
 from surfinpaint import fill_holes  # noqa: E402
-from surfinpaint.cutting import cut_geodesic_disk  # noqa: E402
-from surfinpaint.mesh import mean_edge_length  # noqa: E402
 from surfinpaint.metrics import hole_patch_of, surface_distance  # noqa: E402
 
 DEFAULT_CONFIGS = [
@@ -54,7 +52,6 @@ def main() -> None:
                         help="JSON list of option dicts for fill_holes")
     args = parser.parse_args()
     configs = json.loads(args.configs)
-    cases = accuracy._cases(False)
     ratios: list[list[float]] = [[] for _ in configs]
     failed = [0] * len(configs)
     names = [json.dumps(c) if c else "defaults" for c in configs]
@@ -62,27 +59,22 @@ def main() -> None:
     print("|---|---|---|" + "---|" * len(configs))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for name in args.cases.split(","):
-            case = cases[name]
-            v, f = case.load()
-            h = mean_edge_length(v, f)
-            for k, (site, radius) in enumerate(accuracy._holes(case, v, h, 3)):
-                cut = cut_geodesic_disk(v, f, site, radius)
-                fair = _error(cut, fill_holes(cut.vertices, cut.faces, method="fair"))
-                if fair < 1e-9:
-                    continue
-                cells = []
-                for i, config in enumerate(configs):
-                    result = fill_holes(cut.vertices, cut.faces, select=False, **config)
-                    ratio = _error(cut, result) / fair
-                    if result.reports[0].fallback:
-                        failed[i] += 1
-                        cells.append(f"{ratio:.2f}*")
-                    else:
-                        cells.append(f"{ratio:.2f}")
-                    ratios[i].append(ratio)
-                print(f"| {name} | {k} | {len(cut.loop)} | " + " | ".join(cells) + " |",
-                      flush=True)
+        for name, k, cut in accuracy.benchmark_cuts(args.cases.split(",")):
+            fair = _error(cut, fill_holes(cut.vertices, cut.faces, method="fair"))
+            if fair < 1e-9:
+                continue
+            cells = []
+            for i, config in enumerate(configs):
+                result = fill_holes(cut.vertices, cut.faces, select=False, **config)
+                ratio = _error(cut, result) / fair
+                if result.reports[0].fallback:
+                    failed[i] += 1
+                    cells.append(f"{ratio:.2f}*")
+                else:
+                    cells.append(f"{ratio:.2f}")
+                ratios[i].append(ratio)
+            print(f"| {name} | {k} | {len(cut.loop)} | " + " | ".join(cells) + " |",
+                  flush=True)
     print("\n(* the conformal fill failed and the faired fill was used: ratio 1)\n")
     print("| options | median ratio | geometric mean | holes better than fair | worst | failed |")
     print("|---|---|---|---|---|---|")

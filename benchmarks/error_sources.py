@@ -39,11 +39,9 @@ import accuracy  # noqa: E402  (the benchmark's cases and holes)
 from surfinpaint import fill_holes  # noqa: E402
 from surfinpaint.baseline import conventional_fill  # noqa: E402
 from surfinpaint.conformal import hole_patch, patch_grid, reconstruct_patch  # noqa: E402
-from surfinpaint.cutting import cut_geodesic_disk  # noqa: E402
 from surfinpaint.estimation import robust_lambda_h  # noqa: E402
 from surfinpaint.grid import interpolate  # noqa: E402
 from surfinpaint.inpainting import inpaint  # noqa: E402
-from surfinpaint.mesh import mean_edge_length  # noqa: E402
 from surfinpaint.metrics import (  # noqa: E402
     hole_patch_of,
     point_mesh_distance,
@@ -122,25 +120,19 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cases", default="bunny,pial,white,sphere,torus,cube,snowman,tooth")
     args = parser.parse_args()
-    cases = accuracy._cases(False)
     rows, names = [], []
     print("| case | hole | edges | " + " | ".join(COLUMNS) + " |")
     print("|---|---|---|" + "---|" * len(COLUMNS))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for name in args.cases.split(","):
-            case = cases[name]
-            v, f = case.load()
-            h = mean_edge_length(v, f)
-            for k, (site, radius) in enumerate(accuracy._holes(case, v, h, 3)):
-                cut = cut_geodesic_disk(v, f, site, radius)
-                row = hole_row(cut)
-                if row[0] < 1e-9:  # the fill is exact (a flat face): no ratio to take
-                    continue
-                rows.append(row)
-                names.append(name)
-                print(f"| {name} | {k} | {len(cut.loop)} | "
-                      + " | ".join(f"{x:.3f}" for x in row) + " |", flush=True)
+        for name, k, cut in accuracy.benchmark_cuts(args.cases.split(",")):
+            row = hole_row(cut)
+            if row[0] < 1e-9:  # the fill is exact (a flat face): no ratio to take
+                continue
+            rows.append(row)
+            names.append(name)
+            print(f"| {name} | {k} | {len(cut.loop)} | "
+                  + " | ".join(f"{x:.3f}" for x in row) + " |", flush=True)
     r = np.array(rows)
     # the first five columns are two-sided errors, compared with the faired fill's; the two
     # grid columns are one-sided and only compared with each other
