@@ -160,3 +160,52 @@ def test_self_check_that_cannot_run_keeps_the_faired_fill(sphere_hole, monkeypat
     assert result.reports[0].method == "fair"
     assert "not possible" in result.reports[0].note
     assert np.array_equal(result.vertices, faired.vertices)
+
+
+def test_patch_grid_splits_the_patch_into_hole_and_known_and_rebuilds_a_sphere(sphere_hole):
+    from surfinpaint.baseline import conventional_fill
+    from surfinpaint.conformal import patch_grid, reconstruct_patch
+    from surfinpaint.reconstruction import dilate
+
+    cut = sphere_hole
+    new_v, new_f = conventional_fill(cut.vertices, cut.faces, cut.loop)
+    vertices = np.vstack([cut.vertices, new_v])
+    patch, _ = hole_patch(cut.faces, cut.loop, new_f, 6)
+    pg = patch_grid(vertices, patch, len(new_f))
+    assert pg.hole.any() and pg.known.any()
+    assert not (pg.hole & pg.known).any()
+    assert np.array_equal(pg.hole | pg.known, pg.inside)
+    # the patch's loop vertices map into the grid's box, and uv_of finds them by global id
+    uv = pg.uv_of(cut.loop)
+    assert np.isfinite(uv).all() and uv.shape == (len(cut.loop), 2)
+    # rebuilding the hole from the patch's own sampled λ, H gives the patch back; the same
+    # with H negated does not (the rebuild reads H)
+    from surfinpaint.estimation import robust_lambda_h
+
+    lam, H = robust_lambda_h(pg.phi, pg.h, valid=pg.inside, radius=3, sigma=2.25)
+    region = dilate(pg.hole, 1) & pg.inside
+    domain = pg.inside & np.isfinite(lam) & np.isfinite(H)
+    region &= domain
+    errors = []
+    for sign in (1.0, -1.0):
+        rebuilt, used = reconstruct_patch(pg, np.where(domain, lam, np.nan),
+                                          np.where(domain, sign * H, np.nan), region, domain)
+        assert used == "gauss-codazzi"
+        errors.append(np.abs(rebuilt[pg.hole] - pg.phi[pg.hole]).max())
+    assert errors[0] < 0.01 * cut.diameter
+    assert errors[1] > 5 * errors[0]
+
+
+def test_factorized_definite_solves_positive_and_negative_definite_systems():
+    import scipy.sparse as sp
+
+    from surfinpaint.linalg import factorized_definite
+    from surfinpaint.mesh import cotangent_laplacian
+
+    v, f = sphere(2)
+    L = cotangent_laplacian(v, f)
+    A = (-L + sp.identity(len(v))).tocsc()  # SPD
+    b = np.random.default_rng(0).normal(size=(len(v), 2))
+    for M in (A, -A):
+        x = factorized_definite(M)(b)
+        assert np.abs(M @ x - b).max() < 1e-10
