@@ -218,7 +218,7 @@ def lscm(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     free[pinned] = False
     x = np.full(2 * n, np.nan)
     x[pinned] = values
-    x[free] = _spd_solve(Q[free][:, free], -Q[free][:, pinned] @ values)
+    x[free] = factorized_definite(Q[free][:, free])(-Q[free][:, pinned] @ values)
     uv = x.reshape(n, 2)
     uv = _scale_to_area(v, f, uv)
     return uv - np.nanmin(uv, axis=0)
@@ -264,16 +264,12 @@ def _boundary_corners(vertices: np.ndarray, loop: np.ndarray) -> np.ndarray:
     return np.unique(idx) if len(np.unique(idx)) < 4 else idx[np.argsort(idx)]
 
 
-def _spd_solve(A: sp.spmatrix, b: np.ndarray) -> np.ndarray:
-    return factorized_definite(A)(np.asarray(b, dtype=float))
-
-
 def _dirichlet_solve(L: sp.csr_matrix, fixed: np.ndarray, values: np.ndarray,
                      free: np.ndarray) -> np.ndarray:
     x = np.full(L.shape[0], np.nan)
     x[fixed] = values
     rhs = -L[free][:, fixed] @ values
-    x[free] = _spd_solve(L[free][:, free], rhs)
+    x[free] = factorized_definite(L[free][:, free])(np.asarray(rhs, dtype=float))
     return x
 
 
