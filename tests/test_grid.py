@@ -105,3 +105,99 @@ def test_interpolate_vector_values_and_off_grid_points():
     assert np.all(np.isnan(out[2:]))
     with pytest.raises(ValueError, match="order"):
         interpolate(vals, g, np.zeros((1, 2)), order=2)
+
+
+# ------------------------------------------------------------------- C1 (Clough–Tocher)
+
+
+def _quadratic(uv):
+    u, v = uv[:, 0], uv[:, 1]
+    value = 1 + 2 * u - 3 * v + u * u - 2 * u * v + 0.7 * v * v
+    grad = np.stack([2 + 2 * u - 2 * v, -3 - 2 * u + 1.4 * v], axis=1)
+    return value, grad
+
+
+def _locate(uv, f, points):
+    """Brute-force containing triangle of each point (small meshes only)."""
+    tri = uv[f]
+    out = np.full(len(points), -1)
+    for k, p in enumerate(points):
+        t1, t2, r = tri[:, 0] - tri[:, 2], tri[:, 1] - tri[:, 2], p - tri[:, 2]
+        det = t1[:, 0] * t2[:, 1] - t2[:, 0] * t1[:, 1]
+        b1 = (r[:, 0] * t2[:, 1] - r[:, 1] * t2[:, 0]) / det
+        b2 = (t1[:, 0] * r[:, 1] - t1[:, 1] * r[:, 0]) / det
+        inside = (b1 >= -1e-12) & (b2 >= -1e-12) & (1 - b1 - b2 >= -1e-12)
+        out[k] = np.flatnonzero(inside)[0]
+    return out
+
+
+def test_vertex_gradients_and_clough_tocher_reproduce_quadratics():
+    from surfinpaint.grid import clough_tocher, vertex_gradients
+
+    uv, f = grid_mesh(12, extent=(0.0, 1.0, 0.0, 1.0), jitter=0.3)
+    value, grad = _quadratic(uv)
+    est = vertex_gradients(uv, f, value)
+    assert est.shape == (len(uv), 2, 1)
+    assert np.abs(est[:, :, 0] - grad).max() < 1e-5  # border vertices included
+    g = grid_over(uv, resolution=61)
+    _, inside, face_index = resample(uv, f, value, g)
+    U, V = g.nodes()
+    pts = np.column_stack([U[inside], V[inside]])
+    exact = _quadratic(pts)[0]
+    got = clough_tocher(uv, f, value, grad[:, :, None], face_index[inside], pts)[:, 0]
+    assert np.abs(got - exact).max() < 1e-12
+    # through the vertex values
+    at_vertices = clough_tocher(uv, f, value, est, _locate(uv, f, uv), uv)[:, 0]
+    assert np.abs(at_vertices - value).max() < 1e-12
+    smooth, inside2, _ = resample(uv, f, value, g, interpolant="clough-tocher")
+    linear, _, _ = resample(uv, f, value, g)
+    assert np.array_equal(inside, inside2)
+    assert np.abs(smooth[inside] - exact).max() < 1e-5
+    assert np.abs(linear[inside] - exact).max() > 1e-3
+    with pytest.raises(ValueError, match="interpolant"):
+        resample(uv, f, value, g, interpolant="cubic")
+
+
+def test_clough_tocher_is_c1_across_edges_and_converges_as_h_cubed():
+    from surfinpaint.grid import clough_tocher, vertex_gradients
+
+    fun = lambda p: np.sin(3 * p[:, 0]) * np.cos(2 * p[:, 1])  # noqa: E731
+    uv, f = grid_mesh(9, extent=(0.0, 1.0, 0.0, 1.0), jitter=0.3)
+    grads = vertex_gradients(uv, f, fun(uv))
+    # derivative across interior edges, one-sided on both sides of the edge's midpoint
+    from surfinpaint.grid import face_neighbours
+
+    interior = np.flatnonzero(face_neighbours(f)[:, 2] >= 0)  # edge (f[t, 0], f[t, 1])
+    assert len(interior) > 50
+    jumps = {}
+    for kind in ("clough-tocher", "linear"):
+        worst = 0.0
+        for a, b in f[interior[::10], :2]:
+            m = (uv[a] + uv[b]) / 2
+            e = uv[b] - uv[a]
+            normal = np.array([-e[1], e[0]]) / np.linalg.norm(e)
+            eps = 1e-5
+            pts = np.array([m - eps * normal, m, m + eps * normal])
+            if kind == "linear":
+                tri = _locate(uv, f, pts)
+                vals = []
+                for p, t in zip(pts, tri, strict=True):
+                    A = np.vstack([uv[f[t]].T, np.ones(3)])
+                    vals.append(np.linalg.solve(A, np.append(p, 1.0)) @ fun(uv[f[t]]))
+                vals = np.array(vals)
+            else:
+                vals = clough_tocher(uv, f, fun(uv), grads, _locate(uv, f, pts), pts)[:, 0]
+            worst = max(worst, abs((vals[2] - vals[1]) - (vals[1] - vals[0])) / eps)
+        jumps[kind] = worst
+    assert jumps["clough-tocher"] < 1e-3 and jumps["linear"] > 1e-2
+    errors = []
+    for n in (9, 17, 33):
+        uv, f = grid_mesh(n, extent=(0.0, 1.0, 0.0, 1.0), jitter=0.3)
+        g = grid_over(uv, resolution=121)
+        U, V = g.nodes()
+        exact = fun(np.column_stack([U.ravel(), V.ravel()])).reshape(U.shape)
+        smooth, inside, _ = resample(uv, f, fun(uv), g, interpolant="clough-tocher")
+        linear, _, _ = resample(uv, f, fun(uv), g)
+        errors.append(np.abs(smooth - exact)[inside].max())
+        assert errors[-1] < np.abs(linear - exact)[inside].max() / 5
+    assert errors[0] / errors[1] > 5 and errors[1] / errors[2] > 5  # ~8: O(h³)
