@@ -179,3 +179,19 @@ def test_bad_requests_raise():
     bad = np.vstack([f, f[:1]])
     with pytest.raises(MeshError, match="edge-manifold"):
         cut_geodesic_disk(v, bad, 0, 0.5)
+
+
+def test_ring_distances_and_submesh_keep_rings_and_order():
+    from surfinpaint.cutting import ring_distances, submesh
+    from surfinpaint.mesh import k_ring
+
+    v, f = data.sphere(3)
+    seeds = np.array([0, 5])
+    ring = ring_distances(f, len(v), seeds, 3.5)
+    for k in range(4):
+        assert np.array_equal(ring <= k, k_ring(f, seeds, k, len(v)))
+    assert np.isinf(ring[~k_ring(f, seeds, 3, len(v))]).all()
+    sv, sf, ids = submesh(v, f, ring <= 3)
+    assert np.array_equal(ids, np.sort(ids)) and np.array_equal(sv, v[ids])
+    whole = f[(ring <= 3)[f].all(axis=1)]
+    assert np.array_equal(ids[sf], whole)  # the same faces, in the same order

@@ -115,3 +115,31 @@ def test_bad_input():
     # a single triangle within scale: nothing to do
     new_v, patch = refine_patch(p, tri, np.array([0, 1, 2]), scales=np.full(3, 10.0))
     assert new_v.shape == (0, 3) and patch.tolist() == tri.tolist()
+
+
+def test_compiled_flips_match_the_numpy_rounds(monkeypatch):
+    # a refined patch on a regular sphere: many co-circular quads and equal scores, where the
+    # ranks and tie-breaks of the two implementations must agree exactly
+    import surfinpaint.refinement as refinement
+
+    m = trimesh.creation.icosphere(3)
+    faces = m.faces[np.linalg.norm(m.triangles_center - m.vertices[0], axis=1) > 0.5]
+    loop = max(boundary_loops(faces), key=len)
+    patch = minimum_weight_triangulation(m.vertices, loop, faces)
+    calls = []
+    original = refinement.delaunay_flip
+
+    def record(*args, **kwargs):
+        calls.append((args, kwargs))
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(refinement, "delaunay_flip", record)
+    refine_patch(m.vertices, patch, loop, faces=faces)
+    monkeypatch.undo()
+    assert calls
+    for args, kwargs in calls:
+        compiled = delaunay_flip(*args, **kwargs)
+        monkeypatch.setattr(refinement, "_FLIP_KERNEL", [None])  # the numpy rounds
+        plain = delaunay_flip(*args, **kwargs)
+        monkeypatch.undo()
+        assert np.array_equal(compiled, plain)

@@ -18,7 +18,8 @@ from scipy.sparse.csgraph import dijkstra
 from surfinpaint.errors import MeshError
 from surfinpaint.mesh import boundary_loops, unique_edges
 
-__all__ = ["CutResult", "Hole", "cut_geodesic_disk", "cut_holes"]
+__all__ = ["CutResult", "Hole", "cut_geodesic_disk", "cut_holes", "ring_distances",
+           "submesh"]
 
 
 @dataclass(frozen=True)
@@ -322,3 +323,50 @@ def cut_geodesic_disk(vertices: np.ndarray, faces: np.ndarray, center,
     True
     """
     return cut_holes(vertices, faces, [center], [radius])
+
+
+def _edge_graph(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
+    """Vertex adjacency through the face edges, for unweighted graph searches (entries are
+    edge multiplicities; only the pattern matters). Cheaper than a unique-edge list."""
+    f = np.asarray(faces, dtype=np.int64)
+    rows = f[:, [0, 1, 2, 1, 2, 0]].ravel()
+    cols = f[:, [1, 2, 0, 0, 1, 2]].ravel()
+    return sp.csr_matrix((np.ones(len(rows), dtype=np.float32), (rows, cols)),
+                         shape=(n_vertices, n_vertices))
+
+
+def ring_distances(faces: np.ndarray, n_vertices: int, seeds, limit: float = np.inf, *,
+                   graph: sp.csr_matrix | None = None) -> np.ndarray:
+    """Edge-ring distance of every vertex from ``seeds`` (0 on the seeds, ``inf`` beyond
+    ``limit`` or unreachable): the ``k``-ring of the seeds is ``distance <= k``.
+
+    ``graph`` may pass a precomputed adjacency (from an earlier call's mesh) for repeated
+    searches on one mesh.
+    """
+    if graph is None:
+        graph = _edge_graph(faces, n_vertices)
+    seeds = np.atleast_1d(np.asarray(seeds, dtype=np.int64))
+    return dijkstra(graph, directed=False, indices=seeds, min_only=True, unweighted=True,
+                    limit=limit)
+
+
+def submesh(vertices: np.ndarray, faces: np.ndarray, keep: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The faces whose three vertices are all in the mask ``keep``, with their vertices.
+
+    Vertices and faces keep their relative order, so every computation that depends on the
+    order of ids (sorting, tie-breaking) gives the same result on the submesh.
+
+    Returns
+    -------
+    vertices, faces : arrays
+        The submesh, compactly indexed.
+    ids : (k,) int array
+        Original id of each submesh vertex (sorted).
+    """
+    f = np.asarray(faces, dtype=np.int64)
+    sub = f[keep[f].all(axis=1)]
+    ids = np.unique(sub)
+    remap = np.full(len(vertices), -1, dtype=np.int64)
+    remap[ids] = np.arange(len(ids))
+    return np.asarray(vertices)[ids], remap[sub], ids

@@ -30,6 +30,16 @@ def _window(radius: int, sigma: float | None) -> tuple[np.ndarray, np.ndarray, n
     return a.astype(float), b.astype(float), w
 
 
+def _condition(gram: np.ndarray) -> np.ndarray:
+    """2-norm condition numbers of symmetric positive semi-definite matrices (..., k, k):
+    their singular values are their eigenvalues, and eigvalsh is cheaper than an SVD."""
+    if gram.size == 0:
+        return np.zeros(gram.shape[:-2])
+    ev = np.abs(np.linalg.eigvalsh(gram))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(ev.min(axis=-1) > 0, ev.max(axis=-1) / ev.min(axis=-1), np.inf)
+
+
 def fitted_derivatives(
     phi: np.ndarray,
     h: float,
@@ -73,34 +83,46 @@ def fitted_derivatives(
         phi = phi[..., None]
     finite = np.isfinite(phi).all(axis=-1)
     valid = finite if valid is None else (np.asarray(valid, dtype=bool) & finite)
-    a, b, w = _window(radius, sigma)
-    basis = [a**p * b**q for p, q in _POWERS]
+    _, _, w = _window(radius, sigma)
     mask = valid.astype(float)
     data = np.where(valid[..., None], phi, 0.0)
-    nb = len(basis)
-    # normal equations per node: G c = r, G_pq = Σ w B_p B_q [valid], r_p = Σ w B_p f
-    gram = np.empty(valid.shape + (nb, nb))
-    for p in range(nb):
-        for q in range(p, nb):
-            g = ndimage.correlate(mask, w * basis[p] * basis[q], mode="constant")
-            gram[..., p, q] = g
-            gram[..., q, p] = g
-    rhs = np.empty(valid.shape + (nb, phi.shape[-1]))
-    for p in range(nb):
-        kernel = w * basis[p]
-        for c in range(phi.shape[-1]):
-            rhs[..., p, c] = ndimage.correlate(data[..., c], kernel, mode="constant")
-    count = ndimage.correlate(mask, np.ones_like(w), mode="constant")
+    nb = len(_POWERS)
+    # normal equations per node: G c = r, G_pq = Σ w B_p B_q [valid], r_p = Σ w B_p f.
+    # The window weights factor, w B_p B_q = (g(a) a^i)(g(b) b^j) with the Gaussian g, so
+    # each window sum is two 1-D correlations, and the first pass serves several sums.
+    offsets = np.arange(-radius, radius + 1, dtype=float)
+    g = (np.ones_like(offsets) if sigma is None
+         else np.exp(-offsets**2 / (2.0 * sigma**2)))
+
+    def window_sums(x, degree):
+        """{(i, j): Σ_window g(a) a^i g(b) b^j x} for i + j <= degree."""
+        along_a = [ndimage.correlate1d(x, g * offsets**i, axis=0, mode="constant")
+                   for i in range(degree + 1)]
+        return {(i, j): ndimage.correlate1d(along_a[i], g * offsets**j, axis=1,
+                                            mode="constant")
+                for i in range(degree + 1) for j in range(degree + 1 - i)}
+
+    moments = window_sums(mask, 4)
+    names = list(moments)
+    which = np.array([[names.index((pa + qa, pb + qb)) for qa, qb in _POWERS]
+                      for pa, pb in _POWERS])
+    gram = np.stack([moments[k] for k in names], axis=-1)[..., which]
+    sums = window_sums(data, 2)
+    rhs = np.stack([sums[power] for power in _POWERS], axis=-2)
+    ones = np.ones_like(offsets)
+    count = ndimage.correlate1d(ndimage.correlate1d(mask, ones, axis=0, mode="constant"),
+                                ones, axis=1, mode="constant")
     ok = count >= min_fraction * w.size
     # scale-aware conditioning test: a one-sided or collinear window cannot fix a quadratic
     # Full windows all have the same Gram matrix (same sums over the same all-one mask, so
-    # bit-identical): its SVD is taken once, and only partial windows pay for their own.
+    # bit-identical): its condition number is taken once, and only partial windows pay for
+    # their own.
     cond = np.full(valid.shape, np.inf)
     full = count == w.size
     partial = ok & ~full
-    cond[partial] = np.linalg.cond(gram[partial])
+    cond[partial] = _condition(gram[partial])
     if full.any():
-        cond[full] = np.linalg.cond(gram[np.unravel_index(np.argmax(full), full.shape)])
+        cond[full] = _condition(gram[np.unravel_index(np.argmax(full), full.shape)])
     ok &= cond < 1e6
     coef = np.full(valid.shape + (nb, phi.shape[-1]), np.nan)
     partial &= ok

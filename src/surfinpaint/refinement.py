@@ -113,6 +113,173 @@ def _in_sorted(x: np.ndarray, sorted_keys: np.ndarray) -> np.ndarray:
     return sorted_keys[pos] == x
 
 
+def _inside_ball_one(p, a, b, c, s):  # pragma: no cover - compiled
+    """:func:`_inside_diametral_ball` for one (a, b, c; s), the same arithmetic."""
+    ux, uy, uz = p[b, 0] - p[a, 0], p[b, 1] - p[a, 1], p[b, 2] - p[a, 2]
+    wx, wy, wz = p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2]
+    nx, ny, nz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+    # row dot products in the order numpy's einsum("ij,ij->i") adds them: (x + z) + y
+    n2 = (nx * nx + nz * nz) + ny * ny
+    uu = (ux * ux + uz * uz) + uy * uy
+    ww = (wx * wx + wz * wz) + wy * wy
+    if not n2 > 1e-30 * max(uu, ww) ** 2:
+        return 1.0
+    # num = ww (n × u) + uu (w × n)
+    mx = ww * (ny * uz - nz * uy) + uu * (wy * nz - wz * ny)
+    my = ww * (nz * ux - nx * uz) + uu * (wz * nx - wx * nz)
+    mz = ww * (nx * uy - ny * ux) + uu * (wx * ny - wy * nx)
+    den = 2 * n2
+    cx, cy, cz = p[a, 0] + mx / den, p[a, 1] + my / den, p[a, 2] + mz / den
+    rx, ry, rz = cx - p[a, 0], cy - p[a, 1], cz - p[a, 2]
+    dx, dy, dz = p[s, 0] - cx, p[s, 1] - cy, p[s, 2] - cz
+    radius = np.sqrt(rx * rx + ry * ry + rz * rz)
+    dist = np.sqrt(dx * dx + dy * dy + dz * dz)
+    return 1.0 - dist / radius
+
+
+def _in_sorted_one(x, keys):  # pragma: no cover - compiled
+    if len(keys) == 0:
+        return False
+    pos = min(np.searchsorted(keys, x), len(keys) - 1)
+    return keys[pos] == x
+
+
+def _max(x, y):  # pragma: no cover - compiled
+    """``np.maximum`` of two floats (NaN if either is)."""
+    if x != x or y != y:
+        return np.nan
+    return max(x, y)
+
+
+def _cross_one(ax, ay, az, bx, by, bz):  # pragma: no cover - compiled
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover - compiled
+    """The rounds of :func:`delaunay_flip` as plain loops (compiled by numba), flipping
+    ``f`` in place: the same tests, ranks, votes and tie-breaks as the numpy rounds."""
+    n = p.shape[0]
+    m = f.shape[0]
+    flat = np.empty(3 * m, np.int64)
+    vote = np.empty(m, np.int64)
+    for _ in range(max_rounds):
+        for t in range(m):
+            for k in range(3):
+                x, y = f[t, (k + 1) % 3], f[t, (k + 2) % 3]
+                flat[3 * t + k] = min(x, y) * n + max(x, y)
+        order = np.argsort(flat, kind="mergesort")
+        sorted_flat = flat[order]
+        # the unique keys (sorted) and, per interior edge, its two half-edges
+        keys = np.empty(3 * m, np.int64)
+        first = np.empty(3 * m, np.int64)
+        n_keys = 0
+        for i in range(3 * m):
+            if i == 0 or sorted_flat[i] != sorted_flat[i - 1]:
+                keys[n_keys] = sorted_flat[i]
+                first[n_keys] = i
+                n_keys += 1
+        keys = keys[:n_keys]
+        # candidates, in key order
+        ca = np.empty(n_keys, np.int64)
+        cb = np.empty(n_keys, np.int64)
+        cc = np.empty(n_keys, np.int64)
+        cd = np.empty(n_keys, np.int64)
+        ct1 = np.empty(n_keys, np.int64)
+        ct2 = np.empty(n_keys, np.int64)
+        cscore = np.empty(n_keys)
+        ckey = np.empty(n_keys, np.int64)
+        n_inner = 0
+        n_cand = 0
+        for q in range(n_keys):
+            stop = first[q + 1] if q + 1 < n_keys else 3 * m
+            if stop - first[q] != 2 or _in_sorted_one(keys[q], fixed):
+                continue
+            n_inner += 1
+            e1, e2 = order[first[q]], order[first[q] + 1]
+            t1, k1 = e1 // 3, e1 % 3
+            t2, k2 = e2 // 3, e2 % 3
+            a, b, c = f[t1, (k1 + 1) % 3], f[t1, (k1 + 2) % 3], f[t1, k1]
+            d = f[t2, k2]
+            score = _max(_inside_ball_one(p, a, b, c, d), _inside_ball_one(p, b, a, d, c))
+            if not (score > slack and c != d):
+                continue
+            new_key = min(c, d) * n + max(c, d)
+            if not _max(_inside_ball_one(p, c, d, a, b), _inside_ball_one(p, d, c, b, a)) <= slack:
+                continue
+            if _in_sorted_one(new_key, keys) or _in_sorted_one(new_key, forbidden):
+                continue
+            o1 = _cross_one(p[b, 0] - p[a, 0], p[b, 1] - p[a, 1], p[b, 2] - p[a, 2],
+                            p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2])
+            o2 = _cross_one(p[a, 0] - p[b, 0], p[a, 1] - p[b, 1], p[a, 2] - p[b, 2],
+                            p[d, 0] - p[b, 0], p[d, 1] - p[b, 1], p[d, 2] - p[b, 2])
+            ox, oy, oz = o1[0] + o2[0], o1[1] + o2[1], o1[2] + o2[2]
+            n1 = _cross_one(p[d, 0] - p[a, 0], p[d, 1] - p[a, 1], p[d, 2] - p[a, 2],
+                            p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2])
+            n2 = _cross_one(p[b, 0] - p[d, 0], p[b, 1] - p[d, 1], p[b, 2] - p[d, 2],
+                            p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2])
+            sx, sy, sz = p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2]
+            scale = (sx * sx + sz * sz) + sy * sy
+            if not ((n1[0] * ox + n1[2] * oz) + n1[1] * oy > 0):
+                continue
+            if not ((n2[0] * ox + n2[2] * oz) + n2[1] * oy > 0):
+                continue
+            if not (np.sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]) > 1e-12 * scale):
+                continue
+            if not (np.sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]) > 1e-12 * scale):
+                continue
+            ca[n_cand], cb[n_cand], cc[n_cand], cd[n_cand] = a, b, c, d
+            ct1[n_cand], ct2[n_cand] = t1, t2
+            cscore[n_cand] = score
+            ckey[n_cand] = new_key
+            n_cand += 1
+        if n_inner == 0 or n_cand == 0:
+            break
+        # each face votes for its worst candidate edge; unanimous edges flip together
+        rank = np.empty(n_cand, np.int64)
+        by_score = np.argsort(cscore[:n_cand], kind="mergesort")
+        for r in range(n_cand):
+            rank[by_score[r]] = r
+        vote[:] = -1
+        for j in range(n_cand):
+            vote[ct1[j]] = max(vote[ct1[j]], rank[j])
+            vote[ct2[j]] = max(vote[ct2[j]], rank[j])
+        win = np.empty(n_cand, np.int64)
+        n_win = 0
+        for j in range(n_cand):
+            if vote[ct1[j]] == rank[j] and vote[ct2[j]] == rank[j]:
+                win[n_win] = j
+                n_win += 1
+        # two quads could share the same new diagonal; keep the first
+        win = win[:n_win]
+        by_key = np.argsort(ckey[win], kind="mergesort")
+        for r in range(n_win):
+            j = win[by_key[r]]
+            if r > 0 and ckey[j] == ckey[win[by_key[r - 1]]]:
+                continue
+            f[ct1[j], 0], f[ct1[j], 1], f[ct1[j], 2] = ca[j], cd[j], cc[j]
+            f[ct2[j], 0], f[ct2[j], 1], f[ct2[j], 2] = cd[j], cb[j], cc[j]
+    return f
+
+
+_FLIP_KERNEL: list = []  # compiled on first use (numba imports slowly)
+
+
+def _flip_kernel():
+    """The numba-compiled :func:`_flip_loops`, or None without numba."""
+    if not _FLIP_KERNEL:
+        try:
+            import numba
+        except ImportError:  # pragma: no cover - numba is optional
+            _FLIP_KERNEL.append(None)
+        else:
+            jit = numba.njit(cache=True)
+            g = globals()
+            for name in ("_inside_ball_one", "_in_sorted_one", "_max", "_cross_one"):
+                g[name] = jit(getattr(g[name], "py_func", g[name]))
+            _FLIP_KERNEL.append(jit(_flip_loops))
+    return _FLIP_KERNEL[0]
+
+
 def delaunay_flip(
     positions: np.ndarray,
     faces: np.ndarray,
@@ -153,8 +320,12 @@ def delaunay_flip(
         np.asarray(fixed_edges)[:, 0], np.asarray(fixed_edges)[:, 1], n)
     forbidden = np.empty(0, np.int64) if forbidden_edges is None else _edge_keys(
         np.asarray(forbidden_edges)[:, 0], np.asarray(forbidden_edges)[:, 1], n)
-    fixed = np.unique(fixed)
-    forbidden = np.unique(forbidden)
+    fixed = np.unique(fixed).astype(np.int64)
+    forbidden = np.unique(forbidden).astype(np.int64)
+    kernel = _flip_kernel()
+    if kernel is not None:  # the same rounds, compiled (the numpy rounds are call-bound)
+        return kernel(np.ascontiguousarray(p), f, fixed, forbidden, int(max_rounds),
+                      _FLIP_SLACK)
     for _ in range(max_rounds):
         # one stable sort of the half-edge keys gives the edges, their face counts and the
         # two half-edges of each interior edge (entry 3t + k: opposite corner k of face t)
