@@ -6,18 +6,20 @@ at a time, by every method and the filled patch is compared with the removed pat
 two-sided surface distance (:func:`surfinpaint.metrics.surface_distance`), reported in % of
 the hole diameter.
 
-Methods: ``fair`` and ``conformal`` (``surfinpaint.fill_holes``; ``conformal_raw`` is the
-conformal method without its self-check, ``select=False``, so it measures the conformal fill
-itself; ``conventional`` calls :func:`surfinpaint.baseline.conventional_fill` directly) and
-the reference peers ``cgal`` (CGAL triangulate_refine_and_fair_hole) and ``meshlib`` (MeshLib
-fillHoleNicely) from ``benchmarks/peers.py``. Peers get the hole's 6-ring neighbourhood
-only (as ``fill_holes`` does internally), so the times compare the fills, not the copying of
-big meshes. A method that raises NotImplementedError is reported "n/a", one that raises
-anything else "failed"; the run goes on.
+Methods: ``fair`` and ``conformal`` (``surfinpaint.fill_holes``; ``fair3`` is the fair fill
+with triharmonic fairing, ``fair_order=3``, the conformal method's initial fill and fallback;
+``conformal_raw`` is the conformal method without its self-check, ``select=False``, so it
+measures the conformal fill itself; ``conventional`` calls
+:func:`surfinpaint.baseline.conventional_fill` directly) and the reference peers ``cgal``
+(CGAL triangulate_refine_and_fair_hole) and ``meshlib`` (MeshLib fillHoleNicely) from
+``benchmarks/peers.py``. Peers get the hole's 6-ring neighbourhood only (as ``fill_holes``
+does internally), so the times compare the fills, not the copying of big meshes. A method
+that raises NotImplementedError is reported "n/a", one that raises anything else "failed";
+the run goes on.
 
 Run::
 
-    .venv/bin/python benchmarks/accuracy.py               # default set: 67 holes, 2-5 min
+    .venv/bin/python benchmarks/accuracy.py               # default set: 76 holes, 2-5 min
     .venv/bin/python benchmarks/accuracy.py --quick       # 8 holes, ~15 s
     .venv/bin/python benchmarks/accuracy.py --methods fair,cgal --cases bunny,cube \
         --out results.json
@@ -46,7 +48,7 @@ from surfinpaint.metrics import hole_patch_of, surface_distance
 sys.path.insert(0, str(Path(__file__).parent))
 import peers  # noqa: E402
 
-ALL_METHODS = ("fair", "conformal", "conformal_raw", "conventional", "cgal", "meshlib")
+ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conventional", "cgal", "meshlib")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 
 
@@ -82,6 +84,20 @@ def _points(points) -> Callable[[np.ndarray], np.ndarray]:
     return lambda v: p
 
 
+def _face_scan() -> tuple[np.ndarray, np.ndarray]:
+    from surfinpaint.experiments import face_scan
+
+    return face_scan()
+
+
+def _face_sites(v: np.ndarray) -> np.ndarray:
+    """Nose tip, left and right cheek, each three times (one per hole size; larger holes
+    would reach the scan's border)."""
+    from surfinpaint.experiments import face_sites
+
+    return np.tile(v[face_sites(v)], (3, 1))
+
+
 def _cases(quick: bool) -> dict[str, Case]:
     if quick:
         return {
@@ -95,6 +111,8 @@ def _cases(quick: bool) -> dict[str, Case]:
     return {
         "bunny": Case("bunny", lambda: data.pymeshlab_sample("bunny.obj"),
                       _extreme([[0, 1, 0.3], [1, 0, 0], [0, 0, 1]])),
+        "face": Case("face", _face_scan, _face_sites, radii_h=[5, 5, 5, 12, 12, 12, 18, 18, 18],
+                     note="PyMeshLab's face000 range scan: nose tip, both cheeks"),
         "pial": Case("pial", lambda: data.fsaverage5("pial", "left"),
                      _extreme([[-1, 0, 0.2], [0, 0, 1], [0, -1, 0]]),
                      note="fsaverage5 left pial (lateral, superior, posterior)"),
@@ -199,6 +217,8 @@ def run_method(method: str, vertices, faces, loop):
         return _run_ours(method, vertices, faces, loop)
     if method == "conformal_raw":
         return _run_ours("conformal", vertices, faces, loop, select=False)
+    if method == "fair3":  # triharmonic fairing: the conformal method's S0 and fallback
+        return _run_ours("fair", vertices, faces, loop, fair_order=3)
     if method == "conventional":
         return _run_conventional(vertices, faces, loop)
     if method in peers.PEERS:

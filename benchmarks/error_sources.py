@@ -4,8 +4,10 @@ pipeline replaced by the ground truth.
 For each hole of ``accuracy.py`` (two-sided mean error to the removed surface, in % of the
 hole diameter):
 
-- ``fair``: the conventional fill (triangulate, refine, fair).
-- ``conformal``: the raw conformal fill (``select=False``): S0 is the faired fill.
+- ``fair``: the conventional fill (triangulate, refine, bilaplacian fairing): the baseline.
+- ``fair3``: the same with trilaplacian fairing (the conformal method's self-check chooses
+  between the two for its fallback).
+- ``conformal``: the raw conformal fill (``select=False``): S0 is the ``fair`` fill.
 - ``S0=truth``: the same λ-H pipeline with the removed surface itself as the initial fill
   (its map, grid and fill vertices), estimates still from the known part only.
 - ``clean data``: S0 = truth, λ and H fitted on the whole true patch (no estimation noise at
@@ -16,8 +18,8 @@ hole diameter):
 The column ``true λ,H`` isolates the rebuild, ``clean data`` the inpainting model,
 ``S0=truth`` the initial fill and estimation noise. The two ``grid`` columns measure the
 rebuilt surface itself, before any vertex is placed on it: the mean distance from the
-rebuilt hole grid nodes to the truth (one-sided), with S0 the faired fill (as ``conformal``)
-and with S0 the truth (as ``S0=truth``).
+rebuilt hole grid nodes to the truth (one-sided), with S0 the ``fair`` fill (as
+``conformal``) and with S0 the truth (as ``S0=truth``).
 
     python benchmarks/error_sources.py                      # all cases, ~3 min
     python benchmarks/error_sources.py --cases snowman,tooth
@@ -37,8 +39,12 @@ sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402  (the benchmark's cases and holes)
 
 from surfinpaint import fill_holes  # noqa: E402
-from surfinpaint.baseline import conventional_fill  # noqa: E402
-from surfinpaint.conformal import hole_patch, patch_grid, reconstruct_patch  # noqa: E402
+from surfinpaint.conformal import (  # noqa: E402
+    faired_fill,
+    hole_patch,
+    patch_grid,
+    reconstruct_patch,
+)
 from surfinpaint.estimation import robust_lambda_h  # noqa: E402
 from surfinpaint.grid import interpolate  # noqa: E402
 from surfinpaint.inpainting import inpaint  # noqa: E402
@@ -49,8 +55,8 @@ from surfinpaint.metrics import (  # noqa: E402
 )
 from surfinpaint.reconstruction import dilate  # noqa: E402
 
-COLUMNS = ("fair", "conformal", "S0=truth", "clean data", "true λ,H", "grid, S0=fair",
-           "grid, S0=truth")
+COLUMNS = ("fair", "fair3", "conformal", "S0=truth", "clean data", "true λ,H",
+           "grid, S0=fair", "grid, S0=truth")
 
 
 def _error(patch_v, patch_f, cut) -> float:
@@ -97,13 +103,13 @@ def _variant(vertices, fill, moving, cut, *, estimate_on: str, inpainting: bool,
 def hole_row(cut) -> list[float]:
     n = len(cut.vertices)
     out = []
-    for options in ({"method": "fair"}, {"select": False}):
-        res = fill_holes(cut.vertices, cut.faces, **options)
+    for options in ({"method": "fair"}, {"method": "fair", "fair_order": 3},
+                    {"select": False}):
+        res = fill_holes(cut.vertices, cut.faces, [cut.loop], **options)
         out.append(_error(*hole_patch_of(res.vertices, res.faces, n, cut.faces), cut))
     truth = _truth_as_fill(cut)
-    fair_v, fair_f = conventional_fill(cut.vertices, cut.faces, cut.loop)
-    faired = (np.vstack([cut.vertices, fair_v]), np.asarray(fair_f, np.int64),
-              n + np.arange(len(fair_v)))
+    fair_v, fair_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    faired = (np.vstack([cut.vertices, fair_v]), fair_f, n + np.arange(len(fair_v)))
     for s0, estimate_on, inpainting, grid_points in (
             (truth, "known", True, False), (truth, "all", True, False),
             (truth, "all", False, False), (faired, "known", True, True),
@@ -118,7 +124,8 @@ def hole_row(cut) -> list[float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--cases", default="bunny,pial,white,sphere,torus,cube,snowman,tooth")
+    parser.add_argument("--cases",
+                        default="bunny,face,pial,white,sphere,torus,cube,snowman,tooth")
     args = parser.parse_args()
     rows, names = [], []
     print("| case | hole | edges | " + " | ".join(COLUMNS) + " |")
@@ -134,11 +141,11 @@ def main() -> None:
             print(f"| {name} | {k} | {len(cut.loop)} | "
                   + " | ".join(f"{x:.3f}" for x in row) + " |", flush=True)
     r = np.array(rows)
-    # the first five columns are two-sided errors, compared with the faired fill's; the two
+    # the first six columns are two-sided errors, compared with the baseline's; the two
     # grid columns are one-sided and only compared with each other
-    ratio = np.column_stack([r[:, 1:5] / r[:, :1], r[:, 5] / r[:, 6]])
-    heads = [*COLUMNS[1:5], "grid S0=fair / grid S0=truth"]
-    print("\nMedian over holes (geometric mean) of the ratio to the faired fill's error, and"
+    ratio = np.column_stack([r[:, 1:6] / r[:, :1], r[:, 6] / r[:, 7]])
+    heads = [*COLUMNS[1:6], "grid S0=fair / grid S0=truth"]
+    print("\nMedian over holes (geometric mean) of the ratio to the baseline's error, and"
           " of the\nrebuilt grid's error with S0 = the faired fill to that with S0 = the"
           " truth:\n")
     print("| case | holes | " + " | ".join(heads) + " |")

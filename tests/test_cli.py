@@ -21,6 +21,7 @@ from surfinpaint.data import sphere
 from surfinpaint.holes import find_holes
 from surfinpaint.io import read_mesh, write_mesh
 from surfinpaint.mesh import mean_edge_length, unique_edges
+from surfinpaint.pipeline import fill_holes
 from surfinpaint.repair import unjoined_bowties
 from surfinpaint.validation import nonmanifold_vertices, validate_mesh
 
@@ -361,6 +362,23 @@ def test_fill_fair_keeps_the_original_vertices(tmp_path, capsys):
     np.testing.assert_array_equal(f2[: len(f)], f)
     assert len(v2) > len(v)
     assert validate_mesh(v2, f2).is_closed
+
+
+def test_fill_fair_order_is_passed_on(tmp_path, capsys):
+    v, f = _holey_sphere()
+    path = tmp_path / "two.ply"
+    write_mesh(path, v, f)
+    outs = {}
+    for order in (2, 3):
+        out = tmp_path / f"filled{order}.ply"
+        assert main(["fill", str(path), "-o", str(out), "--method", "fair", "--fair-order",
+                     str(order), "-q"]) == 0
+        outs[order] = read_mesh(out)[0]
+        expected = fill_holes(v, f, method="fair", fair_order=order).vertices
+        np.testing.assert_allclose(outs[order], expected, rtol=0, atol=1e-6)  # PLY floats
+    assert np.abs(outs[3] - outs[2]).max() > 1e-4
+    with pytest.raises(SystemExit):
+        main(["fill", str(path), "-o", str(tmp_path / "x.ply"), "--fair-order", "4"])
 
 
 def test_fill_overwrites_an_existing_output_completely(tmp_path, capsys):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from surfinpaint import FillError, fill_holes
-from surfinpaint.conformal import _check_patch, conformal_fill, hole_patch
+from surfinpaint.conformal import _check_patch, conformal_fill, faired_fill, hole_patch
 from surfinpaint.cutting import cut_geodesic_disk
 from surfinpaint.data import bumpy_disk, sphere, torus
 from surfinpaint.mesh import boundary_loops, unique_edges
@@ -51,6 +51,86 @@ def test_conformal_beats_fairing_on_a_torus_hole(torus_hole):
     assert narrow < 0.5 * fair
 
 
+@pytest.mark.parametrize("case", ["sphere", "torus"])
+def test_triharmonic_fairing_follows_the_curvature_closer(case, sphere_hole, torus_hole):
+    cut = sphere_hole if case == "sphere" else torus_hole
+    errors = {order: error(cut, fill_holes(cut.vertices, cut.faces, method="fair",
+                                           fair_order=order)) for order in (2, 3)}
+    # curvature-continuous across the hole's edge: a cap that bulges like the surface
+    assert errors[3] < 0.8 * errors[2], errors
+
+
+def _without_lambda_h(monkeypatch):
+    import surfinpaint.conformal as conformal
+
+    def broken(*args, **kwargs):
+        raise FillError("forced failure")
+
+    monkeypatch.setattr(conformal, "inpaint_patch", broken)
+
+
+def test_self_check_picks_trilaplacian_fairing_on_a_smooth_surface(sphere_hole, monkeypatch):
+    _without_lambda_h(monkeypatch)  # only the choice between the faired fills is left
+    cut = sphere_hole
+    with pytest.warns(UserWarning, match="forced failure"):
+        result = fill_holes(cut.vertices, cut.faces)
+    report = result.reports[0]
+    assert report.details["fair_order"] == 3 and "forced failure" in report.fallback
+    tri = fill_holes(cut.vertices, cut.faces, method="fair", fair_order=3)
+    assert np.array_equal(result.vertices, tri.vertices)
+    assert error(cut, tri) < error(cut, fill_holes(cut.vertices, cut.faces, method="fair"))
+
+
+def test_self_check_keeps_bilaplacian_fairing_on_a_noisy_range_scan(monkeypatch):
+    pytest.importorskip("pymeshlab")
+    from surfinpaint.experiments import face_scan, face_sites
+    from surfinpaint.mesh import mean_edge_length
+
+    _without_lambda_h(monkeypatch)
+    v, f = face_scan()
+    cheek = int(face_sites(v)[1])
+    cut = cut_geodesic_disk(v, f, cheek, 5 * mean_edge_length(v, f))
+    hole = [cut.loop]  # the scan has holes of its own
+    errors = {k: error(cut, fill_holes(cut.vertices, cut.faces, hole, "fair", fair_order=k))
+              for k in (2, 3)}
+    # the scanner's depth steps make the curvature at the hole's edge noisy: continuing it
+    # (trilaplacian) is worse here (measured 0.65 % against 0.42 % of the diameter)
+    assert errors[3] > 1.2 * errors[2]
+    with pytest.warns(UserWarning, match="forced failure"):
+        result = fill_holes(cut.vertices, cut.faces, hole)
+    assert result.reports[0].details["fair_order"] == 2
+    assert error(cut, result) == pytest.approx(errors[2], rel=1e-9)
+
+
+def test_faired_fill_falls_back_to_order_2_when_order_3_cannot_be_anchored(sphere_hole,
+                                                                           monkeypatch):
+    import surfinpaint.baseline as baseline
+
+    cut = sphere_hole
+    real = baseline.conventional_fill
+    biharmonic = real(cut.vertices, cut.faces, cut.loop)
+
+    def no_third_ring(*args, order=2, **kwargs):
+        if order > 2:
+            raise FillError("free vertices are not connected to any fixed vertex")
+        return real(*args, order=order, **kwargs)
+
+    monkeypatch.setattr(baseline, "conventional_fill", no_third_ring)
+    new_v, new_f, used = faired_fill(cut.vertices, cut.faces, cut.loop)
+    assert used == 2
+    assert np.array_equal(new_v, biharmonic[0]) and np.array_equal(new_f, biharmonic[1])
+
+
+    def broken(*args, **kwargs):
+        raise FillError("cannot fill")
+
+    monkeypatch.setattr(baseline, "conventional_fill", broken)
+    with pytest.raises(FillError):  # nothing lower to try: the failure is not swallowed
+        faired_fill(cut.vertices, cut.faces, cut.loop)
+    monkeypatch.setattr(baseline, "conventional_fill", real)
+    assert faired_fill(cut.vertices, cut.faces, cut.loop)[2] == 3
+
+
 @pytest.mark.parametrize("case", ["sphere", "bumpy"])
 def test_self_check_keeps_the_fill_that_is_closer_to_the_truth(case, sphere_hole):
     if case == "sphere":
@@ -58,7 +138,8 @@ def test_self_check_keeps_the_fill_that_is_closer_to_the_truth(case, sphere_hole
     else:
         v, f = bumpy_disk()
         cut = cut_geodesic_disk(v, f, int(np.argmin(np.linalg.norm(v[:, :2], axis=1))), 0.3)
-    fair = error(cut, fill_holes(cut.vertices, cut.faces, method="fair"))
+    # the self-check compares with the method's own faired fill (triharmonic)
+    fair = error(cut, fill_holes(cut.vertices, cut.faces, method="fair", fair_order=3))
     raw = error(cut, fill_holes(cut.vertices, cut.faces, select=False))
     chosen = fill_holes(cut.vertices, cut.faces)
     report = chosen.reports[0]
@@ -68,6 +149,31 @@ def test_self_check_keeps_the_fill_that_is_closer_to_the_truth(case, sphere_hole
     assert np.isclose(error(cut, chosen), min(raw, fair), rtol=1e-6)
     if expected == "fair":
         assert report.note and report.fallback is None
+
+
+def test_cube_edge_hole():
+    from surfinpaint.data import cube
+    from surfinpaint.mesh import mean_edge_length
+
+    v, f = cube(16)
+    centre = int(np.argmin(np.linalg.norm(v - [0.5, 0.0, 0.0], axis=1)))  # on an edge
+    cut = cut_geodesic_disk(v, f, centre, 6 * mean_edge_length(v, f))
+    baseline = fill_holes(cut.vertices, cut.faces, method="fair")
+    raw = fill_holes(cut.vertices, cut.faces, select=False)
+    chosen = fill_holes(cut.vertices, cut.faces)
+    for result in (raw, chosen):
+        assert np.array_equal(result.vertices[: len(cut.vertices)], cut.vertices)
+        _, _, count = unique_edges(result.faces)
+        assert (count == 2).all()  # closed and manifold again
+    # measured 3.14 % (λ-H fill) against 2.74 % (bilaplacian) and 2.04 % (trilaplacian) of
+    # the hole diameter: the λ-H fill smooths the crease like its estimates around it, so
+    # the paper's "edge kept better" is not reproduced. The hidden-ring test prefers the
+    # bilaplacian fill here (0.0074 against 0.0094), so the baseline is what is written.
+    report = chosen.reports[0]
+    assert report.method == "fair" and report.details["fair_order"] == 2
+    assert np.array_equal(chosen.vertices, baseline.vertices)
+    scores = report.details["score_hidden_rings"]
+    assert scores["fair2"] < min(scores["fair3"], scores["conformal"])
 
 
 def test_several_holes_closed_surface_stays_valid():
@@ -159,6 +265,7 @@ def test_self_check_that_cannot_run_keeps_the_faired_fill(sphere_hole, monkeypat
     faired = fill_holes(cut.vertices, cut.faces, method="fair")
     assert result.reports[0].method == "fair"
     assert "not possible" in result.reports[0].note
+    # with nothing to choose by, the baseline (bilaplacian) fill: the safe one
     assert np.array_equal(result.vertices, faired.vertices)
 
 
@@ -209,3 +316,22 @@ def test_factorized_definite_solves_positive_and_negative_definite_systems():
     for M in (A, -A):
         x = factorized_definite(M)(b)
         assert np.abs(M @ x - b).max() < 1e-10
+
+
+@pytest.mark.parametrize("check", ["hidden", "siblings"])
+def test_self_checks_on_the_local_part_give_the_same_scores(check):
+    # a hole in a big mesh: with patch_rings the checks work on the part of the mesh around
+    # the hole (or the sibling) and must give exactly the scores of the whole mesh
+    from surfinpaint.conformal import _fills, hidden_ring_scores, sibling_scores
+
+    v, f = torus(n_major=96, n_minor=40)
+    cut = cut_geodesic_disk(v, f, 0, 0.25)
+
+    def both(vv, ff, ll):
+        return _fills(vv, ff, ll, start="fair", orders=(2, 3), s0_order=2, patch_rings=10,
+                      iterations=1, options={})
+
+    score = hidden_ring_scores if check == "hidden" else sibling_scores
+    local = score(cut.vertices, cut.faces, cut.loop, both, patch_rings=10)
+    whole = score(cut.vertices, cut.faces, cut.loop, both)
+    assert len(whole) == 3 and local == whole

@@ -77,7 +77,7 @@ def test_unknown_method_and_bad_holes():
         fill_holes(v, f[1:], holes=[5], method="fair")
 
 
-def test_conformal_failure_falls_back_to_the_baseline(sphere_with_three_holes, monkeypatch):
+def test_conformal_failure_falls_back_to_the_faired_fill(sphere_with_three_holes, monkeypatch):
     import surfinpaint.conformal as conformal
 
     def broken(*args, **kwargs):
@@ -90,6 +90,23 @@ def test_conformal_failure_falls_back_to_the_baseline(sphere_with_three_holes, m
     assert result.reports[0].method == "fair"
     assert "forced failure" in result.reports[0].fallback
     assert_valid_fill(v, f, result, 2)
+    # the faired fill of the order the self-check chose, or of the order asked for
+    order = result.reports[0].details["fair_order"]
+    assert np.array_equal(result.vertices, fill_holes(v, f, holes=[0], method="fair",
+                                                      fair_order=order).vertices)
+    for asked_order in (2, 3):
+        with pytest.warns(UserWarning, match="forced failure"):
+            asked = fill_holes(v, f, holes=[0], fair_order=asked_order)
+        assert asked.reports[0].details["fair_order"] == asked_order
+        assert np.array_equal(asked.vertices, fill_holes(v, f, holes=[0], method="fair",
+                                                         fair_order=asked_order).vertices)
+
+
+def test_fair_order_is_checked(sphere_with_three_holes):
+    v, f, _ = sphere_with_three_holes
+    for bad in (0, 4, 2.5):
+        with pytest.raises(ValueError, match="fair_order"):
+            fill_holes(v, f, method="fair", fair_order=bad)
 
 
 def test_inputs_are_not_modified(sphere_with_three_holes):

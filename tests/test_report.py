@@ -12,10 +12,13 @@ from surfinpaint.cutting import cut_holes
 from surfinpaint.data import sphere
 from surfinpaint.errors import MeshError
 from surfinpaint.io import write_mesh
+from surfinpaint.pipeline import fill_holes
 from surfinpaint.report import (
     PANEL_SIZE,
+    HoleComparison,
     add_report_parser,
     compare_holes,
+    hole_title,
     hole_truths,
 )
 
@@ -48,6 +51,22 @@ def test_hole_truths_rejects_an_unrelated_truth(holed_sphere):
         hole_truths(cut.vertices, cut.faces, [h.loop for h in cut.holes], 2.0 * v, f)
 
 
+def test_hole_title_says_which_fill_is_written():
+    errors = {name: {"mean": m, "hausdorff": 2 * m}
+              for name, m in (("fair", 0.3), ("conformal", 0.2), ("conformal raw", 0.5))}
+    rejected = HoleComparison(index=2, n_edges=40, diameter=1.5, kept=False,
+                              fallback="self-check (hidden rings) preferred ...", fair_order=3,
+                              errors=errors)
+    title = hole_title(rejected, "snowman")
+    assert title.startswith("snowman: hole 2, 40 boundary edges")
+    assert "rejected the λ-H fill; the faired fill (order 3) is written" in title
+    assert "(B) 0.3 / 0.6, (C) 0.5 / 1, written 0.2 / 0.4" in title
+    failed = HoleComparison(index=0, n_edges=9, diameter=1.0, kept=False,
+                            fallback="FillError: folds", fair_order=2)
+    assert "the λ-H fill failed; the faired fill (order 2) is written" in hole_title(failed)
+    assert "(C) is written" in hole_title(HoleComparison(index=0, n_edges=9, diameter=1.0))
+
+
 def test_compare_holes_measures_both_fills(holed_sphere):
     _, _, cut = holed_sphere
     truth = [(h.truth_vertices, h.truth_faces) for h in cut.holes]
@@ -63,9 +82,19 @@ def test_compare_holes_measures_both_fills(holed_sphere):
         for method, e in c.errors.items():
             assert 0 < e["mean"] < 3.0, (method, e)
             assert e["mean"] <= e["hausdorff"]
-        # what `fill` writes is the fill the self-check kept
-        kept = "conformal raw" if c.kept else "fair"
-        assert c.errors["conformal"] == c.errors[kept]
+    # what `fill` writes is the conformal fill where the self-check kept it, and the
+    # method's own (triharmonic) faired fill elsewhere
+    written = fills["conformal"]
+    offset = written.n_original_vertices
+    for c, hole, report in zip(comparisons, cut.holes, written.reports, strict=True):
+        new = written.vertices[offset: offset + report.new_vertices]
+        offset += report.new_vertices
+        if c.kept:
+            assert c.errors["conformal"] == c.errors["conformal raw"]
+        else:
+            alone = fill_holes(cut.vertices, cut.faces, holes=[hole.loop], method="fair",
+                               fair_order=3)
+            assert np.array_equal(new, alone.vertices[len(cut.vertices):])
     # each fill's vertices start with the mesh's, unchanged
     for name in ("fair", "conformal", "conformal raw"):
         for fill_v, fill_f in fills["filled"][name]:

@@ -119,7 +119,8 @@ def cmd_fill(args: argparse.Namespace) -> int:
         try:
             result = fill_holes(vertices, faces, holes=holes, method=args.method,
                                 include_border=args.all, max_hole_edges=args.max_hole_edges,
-                                repair=args.repair, progress=progress, **options)
+                                repair=args.repair, progress=progress,
+                                fair_order=args.fair_order, **options)
         except MeshError as exc:
             if args.repair or "non-manifold edges" not in exc.message:
                 raise
@@ -245,6 +246,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="inpainting model for λ and H (conformal method; default biharmonic)")
     p.add_argument("--reconstruct", choices=("gauss-codazzi", "laplacian"),
                    help="reconstruction from (λ, H) (conformal method)")
+    p.add_argument("--fair-order", type=int, choices=(1, 2, 3),
+                   help="fairing order: 1 harmonic, 2 biharmonic (default of 'fair', the "
+                   "classic baseline), 3 triharmonic; the conformal method chooses its "
+                   "fallback between 2 and 3 per hole by its self-check unless told")
     p.add_argument("--png", help="also write a before/after picture")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
     p.set_defaults(func=cmd_fill)

@@ -29,8 +29,8 @@ from surfinpaint.mesh import (
     unique_edges,
 )
 
-__all__ = ["PatchGrid", "conformal_fill", "hole_patch", "inpaint_patch", "patch_grid",
-           "reconstruct_patch"]
+__all__ = ["PatchGrid", "conformal_fill", "faired_fill", "hole_patch", "inpaint_patch",
+           "patch_grid", "reconstruct_patch"]
 
 # neighbouring triangles whose normals turn by more than this are a fold-over
 FOLD_ANGLE = 120.0
@@ -298,9 +298,36 @@ def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: in
         raise FillError(f"the filled patch intersects itself ({len(crossing)} triangle pairs)")
 
 
-def _fills(vertices, faces, loop, *, start, patch_rings, iterations, options, want_fair):
-    """The conformal fill of one hole and, when ``want_fair``, the faired fill it can be
-    compared with (shared work: with ``start="fair"`` the faired fill is the initial fill).
+def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order: int = 3
+                ) -> tuple[np.ndarray, np.ndarray, int]:
+    """The conventional fill (triangulate, refine, fair) with fairing of ``order``, or of
+    order 2 where the surface around the hole has too few rings to anchor a higher order.
+
+    Returns
+    -------
+    new_vertices, new_faces : arrays
+        As :func:`surfinpaint.baseline.conventional_fill`.
+    order : int
+        The order actually used.
+    """
+    from surfinpaint.baseline import conventional_fill
+
+    try:
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True,
+                                         order=order)
+    except FillError:
+        if order <= 2:
+            raise
+        order = 2
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
+    return np.asarray(new_v, dtype=float), np.asarray(new_f, dtype=np.int64), order
+
+
+def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, iterations,
+           options, want_fair=True, want_conformal=True):
+    """The faired fills of fairing ``orders`` (``"fair2"``, ``"fair3"``; when ``want_fair``)
+    and the conformal fill (when ``want_conformal``; S0 is the order-``s0_order`` faired fill
+    with ``start="fair"``) of one hole: work is shared.
 
     Returns a dict name -> (new_vertices, new_faces, info); a failed conformal fill is
     returned as its exception under "conformal".
@@ -308,17 +335,23 @@ def _fills(vertices, faces, loop, *, start, patch_rings, iterations, options, wa
     from surfinpaint.baseline import conventional_fill
 
     n = len(vertices)
-    new_v, new_f = conventional_fill(vertices, faces, loop, refine=True,
-                                     fair=(start == "fair"))
-    new_v = np.asarray(new_v, dtype=float)
-    new_f = np.asarray(new_f, dtype=np.int64)
+    needed = set(orders if want_fair else ())
+    if want_conformal and start == "fair":
+        needed.add(s0_order)
+    faired = {k: faired_fill(vertices, faces, loop, k) for k in sorted(needed)}
     out: dict = {}
     if want_fair:
-        if start == "fair":
-            out["fair"] = (new_v, new_f, {})
-        else:
-            fv, ff = conventional_fill(vertices, faces, loop, refine=True, fair=True)
-            out["fair"] = (np.asarray(fv, float), np.asarray(ff, np.int64), {})
+        for k in orders:
+            fv, ff, used = faired[k]
+            out[f"fair{k}"] = (fv, ff, {"fair_order": used})
+    if not want_conformal:
+        return out
+    if start == "fair":
+        new_v, new_f, _ = faired[s0_order]
+    else:
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False)
+        new_v = np.asarray(new_v, dtype=float)
+        new_f = np.asarray(new_f, dtype=np.int64)
     if len(new_v) == 0:
         out["conformal"] = (new_v, new_f, {"rings": 0, "note": "no interior vertices to move"})
         return out
@@ -338,15 +371,11 @@ def _fills(vertices, faces, loop, *, start, patch_rings, iterations, options, wa
     return out
 
 
-def _sibling_centres(vertices, faces, loop, gap_rings, count):
+def _sibling_centres(vertices, faces, loop, gap_rings, count, graph=None):
     """Vertices ``gap_rings`` edge rings away from the hole, spread around it."""
-    from scipy.sparse.csgraph import dijkstra
+    from surfinpaint.cutting import ring_distances
 
-    from surfinpaint.mesh import vertex_adjacency
-
-    graph = vertex_adjacency(faces, len(vertices)).astype(float)
-    rings = dijkstra(graph, directed=False, indices=loop, min_only=True, unweighted=True,
-                     limit=gap_rings + 0.5)
+    rings = ring_distances(faces, len(vertices), loop, gap_rings + 0.5, graph=graph)
     candidates = np.flatnonzero(rings == gap_rings)
     if len(candidates) == 0:
         return []
@@ -368,6 +397,7 @@ def sibling_scores(
     siblings: int = 2,
     gap_rings: int = 3,
     n_samples: int = 2000,
+    patch_rings: int | None = None,
 ) -> dict[str, float]:
     """How well each filler does on holes like this one cut from the known surface nearby.
 
@@ -375,14 +405,18 @@ def sibling_scores(
     of them, spread around), filled by ``fill`` (function(vertices, faces, loop) → dict
     name → (new_vertices, new_faces, info), or an exception for a failed candidate), and
     each candidate is scored by the two-sided mean distance between its fill and the removed
-    surface. No ground truth of the hole itself is used.
+    surface (infinite when it failed there). No ground truth of the hole itself is used.
+
+    With ``patch_rings`` (the most rings of surface ``fill`` looks at around a hole), each
+    sibling is cut and filled on the part of the mesh around it that can matter, when that
+    provably gives the same cut (else on the whole mesh): the same scores, less work.
 
     Returns
     -------
     dict
         Mean score per filler over the siblings that could be cut (empty if none could).
     """
-    from surfinpaint.cutting import cut_geodesic_disk
+    from surfinpaint.cutting import _edge_graph, cut_geodesic_disk, ring_distances, submesh
     from surfinpaint.holes import loop_diameter
     from surfinpaint.metrics import hole_patch_of, surface_distance
 
@@ -390,17 +424,47 @@ def sibling_scores(
     radius = 0.5 * loop_diameter(points)
     edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
     gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
-    scores: dict[str, list[float]] = {}
-    for centre in _sibling_centres(vertices, faces, loop, gap, siblings):
+    graph = _edge_graph(faces, len(vertices))
+    errors = (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError)
+
+    def local_cut(centre):
+        """The cut on the faces within ``reach`` rings of the centre, or None when that
+        could differ from the cut of the whole mesh. Dijkstra distances are at least
+        Euclidean, so the disk lies among the vertices within ``radius`` of the centre
+        (ring <= r0) and, with the rim beyond r0, its distances are those of the whole
+        mesh; the cleanup and the fill's patch must stay ``patch_rings + 2`` rings inside."""
+        ring = ring_distances(faces, len(vertices), centre, graph=graph)
+        close = (np.linalg.norm(vertices - vertices[centre], axis=1) <= radius)
+        close &= np.isfinite(ring)
+        r0 = float(ring[close].max())
+        reach = r0 + patch_rings + 4
+        keep = ring <= reach
+        if keep[faces].all():
+            return None
+        sv, sf, ids = submesh(vertices, faces, keep)
         try:
-            cut = cut_geodesic_disk(vertices, faces, centre, radius)
+            cut = cut_geodesic_disk(sv, sf, int(np.searchsorted(ids, centre)), radius)
+        except (ValueError, MeshError):
+            return None
+        if ring[ids[cut.holes[0].truth_ids]].max() > reach - patch_rings - 2:
+            return None
+        return cut
+
+    scores: dict[str, list[float]] = {}
+    for centre in _sibling_centres(vertices, faces, loop, gap, siblings, graph=graph):
+        try:
+            cut = local_cut(centre) if patch_rings is not None else None
+            if cut is None:
+                cut = cut_geodesic_disk(vertices, faces, centre, radius)
             candidates = fill(cut.vertices, cut.faces, cut.loop)
-        except (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError):
-            continue
-        if any(isinstance(c, Exception) for c in candidates.values()):
+        except errors:
             continue
         results = {}
-        for name, (new_v, new_f, _) in candidates.items():
+        for name, candidate in candidates.items():
+            if isinstance(candidate, Exception):  # it failed on a hole like this one
+                results[name] = np.inf
+                continue
+            new_v, new_f, _ = candidate
             all_v = np.concatenate([cut.vertices, new_v])
             pv, pf = hole_patch_of(all_v, np.concatenate([cut.faces, new_f]),
                                    len(cut.vertices), cut.faces)
@@ -419,44 +483,66 @@ def hidden_ring_scores(
     *,
     hide_rings: int = 2,
     n_samples: int = 2000,
+    patch_rings: int | None = None,
 ) -> dict[str, float]:
     """How well each filler predicts known surface hidden around the hole.
 
     The faces within ``hide_rings`` rings of the loop are removed, the larger hole is filled
     by ``fill`` (as in :func:`sibling_scores`), and each candidate is scored by the mean
-    distance from the hidden faces (area-sampled) to its fill.
+    distance from the hidden faces (area-sampled) to its fill (infinite when it failed).
+
+    With ``patch_rings`` (the most rings of surface ``fill`` looks at around a hole), the
+    test runs on the faces within ``hide_rings + patch_rings + 3`` rings of the loop when
+    that provably gives the same enlarged hole (else on the whole mesh): the same scores,
+    less work.
 
     Returns
     -------
     dict
-        Score per filler (empty when the hidden rings do not leave one simple hole or a
-        candidate fails).
+        Score per filler (empty when the hidden rings do not leave one simple hole or
+        ``fill`` raises).
     """
+    from surfinpaint.cutting import ring_distances, submesh
     from surfinpaint.metrics import point_mesh_distance, sample_surface
 
-    n = len(vertices)
-    near = k_ring(faces, loop, hide_rings - 1, n)
-    hidden = near[faces].any(axis=1)
-    kept = faces[~hidden]
-    border = k_ring(faces, loop, hide_rings, n) & ~near
-    try:
-        enlarged = [l for l in boundary_loops(kept) if border[l].mean() > 0.5]
-    except MeshError:
-        return {}
-    if len(enlarged) != 1:
-        return {}
-    try:
-        candidates = fill(vertices, kept, enlarged[0])
-    except (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError):
-        return {}
-    if any(isinstance(c, Exception) for c in candidates.values()):
-        return {}
-    samples = sample_surface(vertices, faces[hidden], n_samples, seed=0)
-    return {
-        name: float(point_mesh_distance(samples, np.concatenate([vertices, new_v]),
-                                        new_f).mean())
-        for name, (new_v, new_f, _) in candidates.items()
-    }
+    def run(vertices, faces, loop, ring, rim):
+        """The test; None when a loop next to the hidden faces reaches the ``rim`` vertices
+        (then it is not the loop of the whole mesh)."""
+        near = ring <= hide_rings - 1
+        hidden = near[faces].any(axis=1)
+        kept = faces[~hidden]
+        border = (ring <= hide_rings) & ~near
+        try:
+            loops = boundary_loops(kept)
+        except MeshError:
+            return None if rim is not None else {}
+        if rim is not None and any(border[l].any() and rim[l].any() for l in loops):
+            return None
+        enlarged = [l for l in loops if border[l].mean() > 0.5]
+        if len(enlarged) != 1:
+            return {}
+        try:
+            candidates = fill(vertices, kept, enlarged[0])
+        except (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError):
+            return {}
+        samples = sample_surface(vertices, faces[hidden], n_samples, seed=0)
+        return {
+            name: np.inf if isinstance(c, Exception) else  # failed on a hole like this one
+            float(point_mesh_distance(samples, np.concatenate([vertices, c[0]]), c[1]).mean())
+            for name, c in candidates.items()
+        }
+
+    if patch_rings is not None:
+        reach = hide_rings + patch_rings + 3
+        ring = ring_distances(faces, len(vertices), loop, reach + 1)
+        keep = ring <= reach
+        if not keep[faces].all():
+            sv, sf, ids = submesh(vertices, faces, keep)
+            scores = run(sv, sf, np.searchsorted(ids, loop), ring[ids], ring[ids] >= reach)
+            if scores is not None:
+                return scores
+    ring = ring_distances(faces, len(vertices), loop, hide_rings + 0.5)
+    return run(vertices, faces, loop, ring, None)
 
 
 def neighbourhood_rings(n_edges: int, *, patch_rings: int = 10, select: bool = True,
@@ -476,6 +562,7 @@ def conformal_fill(
     loop: np.ndarray,
     *,
     start: str = "fair",
+    fair_order: int | None = None,
     patch_rings: int = 10,
     iterations: int = 1,
     select: bool = True,
@@ -484,7 +571,7 @@ def conformal_fill(
     gap_rings: int = 3,
     **options,
 ) -> tuple[np.ndarray, np.ndarray, dict]:
-    """Fill one hole by conformal λ-H inpainting.
+    """Fill one hole by conformal λ-H inpainting, checked against fairing.
 
     Parameters
     ----------
@@ -494,6 +581,12 @@ def conformal_fill(
         The hole's boundary loop, oriented as :func:`surfinpaint.mesh.boundary_loops` gives.
     start : {"fair", "initial"}
         Initial fill S0: faired (default) or only triangulated and refined.
+    fair_order : int, optional
+        Fairing order of S0 and of the faired fill the self-check compares with and falls
+        back to. None (default): S0 is bilaplacian (the baseline), and the faired fill is
+        chosen per hole by the same truth-free tests between the bilaplacian and the
+        trilaplacian one (curvature-continuous across the hole's edge: measured better on
+        smooth surfaces, much worse on noisy range scans; docs/accuracy.md).
     patch_rings : int
         Rings of the known surface in the patch (shrunk where the patch would not be a disk).
     iterations : int
@@ -503,7 +596,12 @@ def conformal_fill(
         tests that can be run (at least one must) and use no truth of the hole: predicting
         ``hide_rings`` hidden rings of the known surface around it
         (:func:`hidden_ring_scores`), and filling sibling holes as wide as this one cut
-        from the known surface nearby (:func:`sibling_scores`).
+        from the known surface nearby (:func:`sibling_scores`); it must beat every faired
+        candidate there. The trilaplacian fill is chosen over the bilaplacian one when it
+        wins the hidden-ring test and does not lose the sibling test. The λ-H fill of the
+        hole itself is computed only when it has won; when it then fails, the chosen
+        faired fill is returned and ``details["failed"]`` says why. ``select=False``
+        returns the raw conformal fill, or raises.
     hide_rings : int
         Rings hidden for the first test.
     siblings, gap_rings : int
@@ -518,60 +616,97 @@ def conformal_fill(
     new_faces : (p, 3) int array
         Over the old ids and ``len(vertices) + j`` for the new ones.
     details : dict
-        Diagnostics: the grids of the last pass (``lam0``, ``H0``, ``lam``, ``H``, ``hole``,
-        ``region``, ``domain``, ``h``), the self-check scores, and ``selected="fair"`` with a
-        ``selection`` note when the self-check kept the faired fill.
+        The self-check scores per candidate (``"conformal"``, ``"fair2"``, ``"fair3"``) and
+        a ``selection`` note; with the conformal fill, the grids of its last pass
+        (``lam0``, ``H0``, ``lam``, ``H``, ``hole``, ``region``, ``domain``, ``h``); with a
+        faired fill, ``selected="fair"``, its ``fair_order`` and, if the conformal fill
+        failed, ``failed``.
 
     Raises
     ------
     FillError
-        When a step fails (the caller falls back to the conventional fill).
+        With ``select=False``, when a step fails; otherwise only when not even the faired
+        fill can be made (the caller falls back to the conventional fill).
+    ValueError
+        For an unknown ``start`` or ``fair_order``.
     """
-
     if start not in ("fair", "initial"):
         raise ValueError(f"start must be 'fair' or 'initial', got {start!r}")
+    if fair_order is not None and fair_order not in (1, 2, 3):
+        raise ValueError(f"fair_order must be 1, 2, 3 or None, got {fair_order!r}")
     options = {k: v for k, v in options.items() if v is not None}
+    orders = (2, 3) if fair_order is None else (fair_order,)
 
-    def both(v, f, l, want_fair=True):
-        return _fills(v, f, l, start=start, patch_rings=patch_rings, iterations=iterations,
-                      options=options, want_fair=want_fair)
+    def fills_of(v, f, l, *, fair=True, conformal=True):
+        return _fills(v, f, l, start=start, orders=orders, s0_order=orders[0],
+                      patch_rings=patch_rings, iterations=iterations, options=options,
+                      want_fair=fair, want_conformal=conformal)
 
-    fills = both(vertices, faces, loop, want_fair=select)
-    if isinstance(fills["conformal"], Exception):
-        raise fills["conformal"]
-    new_v, new_f, info = fills["conformal"]
     if not select:
-        return new_v, new_f, info
-    # Keeping the faired fill is the safe choice: the conformal fill must win two
-    # independent checks, the cheaper one first.
-    checks = {"hidden rings": lambda: hidden_ring_scores(vertices, faces, loop, both,
-                                                         hide_rings=hide_rings),
-              "sibling holes": lambda: sibling_scores(vertices, faces, loop, both,
-                                                      siblings=siblings,
-                                                      gap_rings=gap_rings)}
-    verdicts = []
-    ran = 0
-    for name, check in checks.items():
-        scores = check()
-        if len(scores) < 2:
-            verdicts.append(f"{name}: not available")
-            continue
-        ran += 1
+        fill = fills_of(vertices, faces, loop, fair=False)["conformal"]
+        if isinstance(fill, Exception):
+            raise fill
+        return fill
+
+    # The λ-H fill of the hole itself is made only once it has won the tests (it is the
+    # costly one, and it loses on most holes); the faired fills are cheap.
+    fills = fills_of(vertices, faces, loop, conformal=False)
+    fair_names = [f"fair{k}" for k in orders]
+
+    def best_of_all(scores):
+        return scores["conformal"] <= min(scores[k] for k in fair_names)
+
+    def prefers_fair3(scores):
+        return "fair3" in scores and scores["fair3"] < scores["fair2"]
+
+    # the cheaper test first; the siblings only when they can still change the outcome
+    hidden = hidden_ring_scores(vertices, faces, loop, fills_of, hide_rings=hide_rings,
+                                patch_rings=patch_rings)
+    racing = not hidden or best_of_all(hidden)
+    sibling = {}
+    if racing or (fair_order is None and prefers_fair3(hidden)):
+        sibling = sibling_scores(
+            vertices, faces, loop, lambda v, f, l: fills_of(v, f, l, conformal=racing),
+            siblings=siblings, gap_rings=gap_rings, patch_rings=patch_rings)
+    tests = {name: scores for name, scores in (("hidden rings", hidden),
+                                               ("sibling holes", sibling)) if scores}
+    info: dict = {}
+    if fair_order is not None:
+        fair_name = fair_names[0]
+    elif prefers_fair3(hidden) and (not sibling or prefers_fair3(sibling)):
+        fair_name = "fair3"
+    else:
+        fair_name = "fair2"
+    verdicts = "; ".join(
+        f"{name}: " + ", ".join(f"{k} {v:.3g}" for k, v in scores.items())
+        for name, scores in tests.items()) or "no test could be run here"
+    lost = [name for name, scores in tests.items()
+            if "conformal" not in scores or not best_of_all(scores)]
+    failed = None
+    # made when it won, or when it failed on a test hole: then whether it fails on this
+    # hole too is what the report and the warning must say
+    won = bool(tests) and not lost
+    if won or any(np.isinf(scores.get("conformal", 0.0)) for scores in tests.values()):
+        own = fills_of(vertices, faces, loop, fair=False)["conformal"]
+        if isinstance(own, Exception):
+            failed = own
+        elif won:
+            new_v, new_f, info = own
+            for name, scores in tests.items():
+                info[f"score_{name.replace(' ', '_')}"] = scores
+            info["selection"] = f"self-check kept the conformal fill ({verdicts})"
+            return new_v, new_f, info
+    for name, scores in tests.items():
         info[f"score_{name.replace(' ', '_')}"] = scores
-        verdicts.append(f"{name}: conformal {scores['conformal']:.3g}, "
-                        f"fair {scores['fair']:.3g}")
-        if scores["conformal"] > scores["fair"]:
-            info["selected"] = "fair"
-            info["selection"] = (f"self-check ({name}) preferred the faired fill "
-                                 f"({scores['fair']:.3g} < {scores['conformal']:.3g})")
-            fv, ff, _ = fills["fair"]
-            return fv, ff, info
-    if not ran:
-        # nothing to check against (no room around the hole): the faired fill is the safe one
-        fv, ff, _ = fills["fair"]
-        info["selected"] = "fair"
-        info["selection"] = "self-check not possible here, kept the faired fill (" + \
-            "; ".join(verdicts) + ")"
-        return fv, ff, info
-    info["selection"] = "self-check kept the conformal fill (" + "; ".join(verdicts) + ")"
-    return new_v, new_f, info
+    fv, ff, fair_info = fills[fair_name]
+    info["selected"] = "fair"
+    info["fair_order"] = fair_info["fair_order"]
+    which = f"the faired fill (order {fair_info['fair_order']})"
+    if failed is not None:
+        info["failed"] = f"{type(failed).__name__}: {failed}"
+        info["selection"] = f"the conformal fill failed, used {which} ({verdicts})"
+    elif not tests:
+        info["selection"] = f"self-check not possible here, kept {which}"
+    else:
+        info["selection"] = f"self-check ({', '.join(lost)}) preferred {which} ({verdicts})"
+    return fv, ff, info

@@ -94,25 +94,30 @@ def _neighbourhood(
     rings: int,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Faces within ``rings`` vertex rings of ``seeds``: ids into the original faces and into
-    the faces added by earlier holes. Cost depends on the neighbourhood, not the mesh."""
-    region = np.unique(seeds)
+    the faces added by earlier holes. Cost depends on the neighbourhood, not the mesh (the
+    membership mask is allocated lazily, zero pages are never touched)."""
     n_original = vertex_faces.shape[0]
-    picked = np.empty(0, dtype=np.int64)
-    picked_added = np.empty(0, dtype=np.int64)
-    frontier = region
+    n_all = max(n_original, int(added.max()) + 1 if len(added) else 0, int(np.max(seeds)) + 1)
+    in_region = np.zeros(n_all, dtype=bool)
+    frontier = np.unique(seeds)
+    in_region[frontier] = True
+    picked, picked_added = [], []
     # grow from the newest ring only: the faces of the older rings are already picked
     for _ in range(rings):
         new = _faces_of(vertex_faces, frontier[frontier < n_original])
-        new_added = (np.flatnonzero(np.isin(added, frontier).any(axis=1))
-                     if len(added) else np.empty(0, dtype=np.int64))
-        picked = np.union1d(picked, new)
-        picked_added = np.union1d(picked_added, new_added)
-        grown = np.unique(np.concatenate([faces[new].ravel(), added[new_added].ravel()]))
-        frontier = np.setdiff1d(grown, region, assume_unique=True)
+        picked.append(new)
+        grown = faces[new].ravel()
+        if len(added):
+            new_added = np.flatnonzero(in_region[added].any(axis=1))
+            picked_added.append(new_added)
+            grown = np.concatenate([grown, added[new_added].ravel()])
+        frontier = np.unique(grown[~in_region[grown]])
         if len(frontier) == 0:
             break
-        region = np.union1d(region, frontier)
-    return picked, picked_added
+        in_region[frontier] = True
+    empty = np.empty(0, dtype=np.int64)
+    return (np.unique(np.concatenate(picked)) if picked else empty,
+            np.unique(np.concatenate(picked_added)) if picked_added else empty)
 
 
 def _skip(report: HoleReport, reason: str) -> None:
@@ -136,8 +141,14 @@ def _fill_one(vertices, faces, loop, method, options):
     from surfinpaint.baseline import conventional_fill
 
     if method == "fair":
-        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
-        return new_v, new_f, {}
+        order = options.get("fair_order") or 2
+        if order == 2:
+            new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
+            return new_v, new_f, {}
+        from surfinpaint.conformal import faired_fill
+
+        new_v, new_f, used = faired_fill(vertices, faces, loop, order)
+        return new_v, new_f, {"fair_order": used}
     if method == "initial":
         new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False)
         return new_v, new_f, {}
@@ -147,7 +158,8 @@ def _fill_one(vertices, faces, loop, method, options):
     if method == "conformal":
         from surfinpaint.conformal import conformal_fill
 
-        return conformal_fill(vertices, faces, loop, **options)
+        return conformal_fill(vertices, faces, loop,
+                              **{k: v for k, v in options.items() if v is not None})
     raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
 
 
@@ -163,6 +175,7 @@ def fill_holes(
     repair: bool = False,
     validate: bool = True,
     progress: ProgressCallback | None = None,
+    fair_order: int | None = None,
     **options,
 ) -> FillResult:
     """Fill holes of a triangle mesh.
@@ -190,6 +203,11 @@ def fill_holes(
         patch size); a default suited to the method when None.
     progress : callable(done, total, message), optional
         Called before and after each hole.
+    fair_order : int, optional
+        Fairing order (1 harmonic, 2 biharmonic, 3 triharmonic). "fair" uses 2 unless told
+        (Liepa's and CGAL's default: the baseline). The conformal method, unless told,
+        chooses its fallback per hole between 2 and 3 by its truth-free self-check (see
+        :func:`surfinpaint.conformal.conformal_fill`).
     **options
         Passed to the conformal method (see :func:`surfinpaint.conformal.conformal_fill`).
 
@@ -208,6 +226,10 @@ def fill_holes(
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
+    if fair_order is not None and (not isinstance(fair_order, int | np.integer)
+                                   or fair_order not in (1, 2, 3)):
+        raise ValueError(f"fair_order must be 1, 2 or 3, got {fair_order!r}")
+    options = {**options, "fair_order": fair_order}
     for name, value in (("max_hole_edges", max_hole_edges), ("rings", rings)):
         if value is not None and (not isinstance(value, int | np.integer) or value < 1):
             raise ValueError(f"{name} must be a positive integer, got {value!r}")
@@ -290,12 +312,19 @@ def fill_holes(
             report.fallback = f"{type(exc).__name__}: {exc}"
             report.method = "fair"
             warnings.warn(f"hole {index}: conformal fill failed ({exc}); used the "
-                          "conventional fill instead", stacklevel=2)
-            new_v, new_f, details = _fill_one(local_vertices, local_faces, local_loop,
-                                               "fair", options)
+                          "faired fill instead", stacklevel=2)
+            new_v, new_f, details = _fill_one(
+                local_vertices, local_faces, local_loop, "fair",
+                {"fair_order": options.get("fair_order")})
         report.note = details.get("selection")
         if details.get("selected"):
             report.method = details["selected"]
+        if details.get("failed"):
+            # the conformal method already fell back to its (self-checked) faired fill
+            report.fallback = details["failed"]
+            warnings.warn(f"hole {index}: conformal fill failed ({details['failed']}); used "
+                          f"the faired fill (order {details['fair_order']}) instead",
+                          stacklevel=2)
         new_f = np.asarray(new_f, dtype=np.int64)
         degenerate = len(zero_area_faces(
             np.concatenate([local_vertices, np.reshape(new_v, (-1, 3))]), new_f))

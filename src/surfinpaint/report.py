@@ -80,7 +80,9 @@ class HoleComparison:
         Why the conformal method used the faired fill.
     scores : dict
         The self-check's tests that ran (``"hidden_rings"``, ``"sibling_holes"``), each a
-        dict of the errors of ``"conformal"`` and ``"fair"``.
+        dict of the errors of its candidates (``"conformal"``, ``"fair2"``, ``"fair3"``).
+    fair_order : int or None
+        Fairing order of the faired fill the conformal method wrote (None: it kept its own).
     errors : dict
         With a ground truth: per fill (``"fair"``, ``"conformal"`` = what ``fill`` writes,
         ``"conformal raw"`` = the conformal fill before the self-check) the two-sided mean
@@ -97,6 +99,7 @@ class HoleComparison:
     kept: bool = True
     fallback: str | None = None
     scores: dict = field(default_factory=dict)
+    fair_order: int | None = None
     errors: dict = field(default_factory=dict)
     picture: str | None = None
 
@@ -188,13 +191,16 @@ def compare_holes(
         # the conformal fill before the self-check; None where the conformal method failed
         raw = [fill if r.method == "conformal" else None
                for fill, r in zip(filled["conformal"], conformal.reports, strict=True)]
+        details = [r.details for r in conformal.reports]
+        # the self-check does not make the λ-H fill of a hole it rejects: make it here
         rejected = [k for k, r in enumerate(conformal.reports)
-                    if r.method == "fair" and not r.fallback and "lam" in r.details]
+                    if r.method == "fair" and not r.fallback and not r.skipped]
         for k in rejected:
             again = fill_holes(vertices, faces, holes=[loops[k]], method="conformal",
                                validate=False, **{**options, "select": False})
             if not again.reports[0].fallback:
                 raw[k] = (again.vertices, _patches(again)[0])
+                details[k] = {**again.reports[0].details, **details[k]}
             step(f"hole {k}: conformal fill before the self-check", 0)
     filled["conformal raw"] = raw
     patches = {name: [None if p is None else _compact(*p) for p in fills]
@@ -211,6 +217,7 @@ def compare_holes(
             kept=rc.method == "conformal", fallback=rc.fallback or rc.note,
             scores={name[len("score_"):]: value for name, value in rc.details.items()
                     if name.startswith("score_")},
+            fair_order=rc.details.get("fair_order"),
         )
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
@@ -218,7 +225,7 @@ def compare_holes(
         out.append(comp)
         step(f"hole {k}: measured")
     return out, {"fair": fair, "conformal": conformal, "filled": filled,
-                 "details": [r.details for r in conformal.reports], "loops": loops}
+                 "details": details, "loops": loops}
 
 
 def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray],
@@ -570,11 +577,19 @@ def write_page(out_dir: str | os.PathLike,
 
 def hole_title(c: HoleComparison, name: str = "") -> str:
     """One line that says what a hole panel shows, with its numbers."""
+    if c.kept:
+        written = "the λ-H fill (C) is written"
+    else:
+        order = f" (order {c.fair_order})" if c.fair_order else ""
+        why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith("self-check")
+               else "the self-check rejected the λ-H fill")
+        written = f"{why}; the faired fill{order} is written"
     text = (f"{name + ': ' if name else ''}hole {c.index}, {c.n_edges} boundary edges, "
-            f"diameter {_fmt(c.diameter)}; conformal {_outcome(c)}")
+            f"diameter {_fmt(c.diameter)}; {written}")
     if c.errors:
-        text += (f"\nerror (mean / Hausdorff, % of diameter): fair {_error_text(c, 'fair')}, "
-                 f"conformal {_error_text(c, 'conformal raw')}")
+        text += (f"\nerror (mean / Hausdorff, % of diameter): (B) {_error_text(c, 'fair')}, "
+                 f"(C) {_error_text(c, 'conformal raw')}, written "
+                 f"{_error_text(c, 'conformal')}")
     return text
 
 
