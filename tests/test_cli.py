@@ -522,3 +522,46 @@ def test_holes_with_repair_lists_what_fill_repair_numbers(tmp_path, capsys):
     # one table row per loop of the repaired mesh (rows end in their kind column)
     rows = _flat(out).count("│hole│") + _flat(out).count("│outerborder│")
     assert rows == len(boundary_loops(repaired)) > 0
+
+
+def test_represent_and_rebuild_round_trip(tmp_path, capsys):
+    from surfinpaint.data import bumpy_disk
+    from surfinpaint.metrics import surface_distance
+    from surfinpaint.representation import LambdaH
+
+    v, f = bumpy_disk(12)
+    mesh = tmp_path / "disk.ply"
+    write_mesh(mesh, v, f)
+    rep_path, png = tmp_path / "rep.npz", tmp_path / "rep.png"
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--resolution", "48",
+                 "--png", str(png)]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    rep = LambdaH.load(rep_path)
+    assert rep.lam.shape[0] == 48 or rep.lam.shape[1] == 48
+    assert rep.sampling == "smooth" and rep.map == "lscm"
+    out = tmp_path / "rebuilt.obj"
+    assert main(["rebuild", str(rep_path), "-o", str(out)]) == 0
+    v2, f2 = read_mesh(out)
+    np.testing.assert_array_equal(f2, f)
+    assert np.abs(v2 - v).max() > 0  # rebuilt, not copied
+    diag = np.linalg.norm(np.ptp(v, axis=0))
+    assert surface_distance(v2, f2, v, f, n_samples=4000)["mean"] < 1e-3 * diag
+    # the options reach represent()
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--resolution", "32",
+                 "--sampling", "pl", "--subdivide", "0", "--map", "rectangular"]) == 0
+    rep = LambdaH.load(rep_path)
+    assert (rep.sampling, rep.subdivide, rep.map) == ("pl", 0, "rectangular")
+
+
+def test_represent_and_rebuild_bad_input(tmp_path, capsys):
+    v, f = sphere(2)
+    closed = tmp_path / "closed.ply"
+    write_mesh(closed, v, f)
+    out = tmp_path / "rep.npz"
+    assert main(["represent", str(closed), "-o", str(out)]) == 1
+    assert "closed" in _flat(capsys.readouterr().err) and not out.exists()
+    junk = tmp_path / "junk.npz"
+    junk.write_bytes(b"not a zip file")
+    assert main(["rebuild", str(junk), "-o", str(tmp_path / "x.ply")]) == 1
+    assert "representation" in _flat(capsys.readouterr().err)
+    assert not (tmp_path / "x.ply").exists()

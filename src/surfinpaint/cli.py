@@ -157,7 +157,8 @@ def cmd_represent(args: argparse.Namespace) -> int:
     from surfinpaint.representation import plot_representation, represent
 
     vertices, faces = read_mesh(args.mesh)
-    rep = represent(vertices, faces, resolution=args.resolution, map=args.map)
+    rep = represent(vertices, faces, resolution=args.resolution, map=args.map,
+                    sampling=args.sampling, subdivide=args.subdivide)
     rep.save(args.output)
     if args.png:
         plot_representation(rep, args.png)
@@ -263,6 +264,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--map", choices=("rectangular", "lscm"), default="lscm",
                    help="conformal map: free-boundary LSCM (default: 2-4x more accurate "
                    "round trips, measured) or the paper's rectangular map")
+    p.add_argument("--sampling", choices=("smooth", "pl"), default="smooth",
+                   help="sample the C1 (Clough-Tocher) surface through the vertices "
+                   "(default) or the piecewise-linear mesh")
+    p.add_argument("--subdivide", type=int, metavar="LEVELS",
+                   help="subdivision levels onto the smooth surface before the map "
+                   "(default: automatic, from the mesh's crease angles; 0: none)")
     p.add_argument("--png", help="also write λ and H as images")
     p.set_defaults(func=cmd_represent)
 
