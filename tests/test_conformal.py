@@ -322,7 +322,8 @@ def test_factorized_definite_solves_positive_and_negative_definite_systems():
 def test_self_checks_on_the_local_part_give_the_same_scores(check):
     # a hole in a big mesh: with patch_rings the checks work on the part of the mesh around
     # the hole (or the sibling) and must give exactly the scores of the whole mesh
-    from surfinpaint.conformal import _fills, hidden_ring_scores, sibling_scores
+    from surfinpaint.conformal import _fills
+    from surfinpaint.selfcheck import hidden_ring_scores, sibling_scores
 
     v, f = torus(n_major=96, n_minor=40)
     cut = cut_geodesic_disk(v, f, 0, 0.25)
