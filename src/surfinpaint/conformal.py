@@ -327,10 +327,11 @@ def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order
 
 
 def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, iterations,
-           options, want_fair=True, want_conformal=True):
+           options, want_fair=True, want_conformal=True, s0=None):
     """The faired fills of fairing ``orders`` (``"fair2"``, ``"fair3"``; when ``want_fair``)
     and the conformal fill (when ``want_conformal``; S0 is the order-``s0_order`` faired fill
-    with ``start="fair"``) of one hole: work is shared.
+    with ``start="fair"``, or ``s0`` = (new_vertices, new_faces) when already made) of one
+    hole: work is shared.
 
     Returns a dict name -> (new_vertices, new_faces, info); a failed conformal fill is
     returned as its exception under "conformal".
@@ -339,7 +340,7 @@ def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, itera
 
     n = len(vertices)
     needed = set(orders if want_fair else ())
-    if want_conformal and start == "fair":
+    if want_conformal and start == "fair" and s0 is None:
         needed.add(s0_order)
     faired = {k: faired_fill(vertices, faces, loop, k) for k in sorted(needed)}
     out: dict = {}
@@ -350,7 +351,7 @@ def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, itera
     if not want_conformal:
         return out
     if start == "fair":
-        new_v, new_f, _ = faired[s0_order]
+        new_v, new_f = s0 if s0 is not None else faired[s0_order][:2]
     else:
         new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False)
         new_v = np.asarray(new_v, dtype=float)
@@ -466,10 +467,10 @@ def conformal_fill(
     options = {k: v for k, v in options.items() if v is not None}
     orders = (2, 3) if fair_order is None else (fair_order,)
 
-    def fills_of(v, f, l, *, fair=True, conformal=True):
+    def fills_of(v, f, l, *, fair=True, conformal=True, s0=None):
         return _fills(v, f, l, start=start, orders=orders, s0_order=orders[0],
                       patch_rings=patch_rings, iterations=iterations, options=options,
-                      want_fair=fair, want_conformal=conformal)
+                      want_fair=fair, want_conformal=conformal, s0=s0)
 
     if not select:
         fill = fills_of(vertices, faces, loop, fair=False)["conformal"]
@@ -499,7 +500,7 @@ def conformal_fill(
             siblings=siblings, gap_rings=gap_rings, patch_rings=patch_rings)
     tests = {name: scores for name, scores in (("hidden rings", hidden),
                                                ("sibling holes", sibling)) if scores}
-    info: dict = {}
+    scores_info = {f"score_{name.replace(' ', '_')}": scores for name, scores in tests.items()}
     if fair_order is not None:
         fair_name = fair_names[0]
     elif prefers_fair3(hidden) and (not sibling or prefers_fair3(sibling)):
@@ -516,17 +517,16 @@ def conformal_fill(
     # hole too is what the report and the warning must say
     won = bool(tests) and not lost
     if won or any(np.isinf(scores.get("conformal", 0.0)) for scores in tests.values()):
-        own = fills_of(vertices, faces, loop, fair=False)["conformal"]
+        s0 = fills[fair_names[0]][:2] if start == "fair" else None  # S0, already made
+        own = fills_of(vertices, faces, loop, fair=False, s0=s0)["conformal"]
         if isinstance(own, Exception):
             failed = own
         elif won:
             new_v, new_f, info = own
-            for name, scores in tests.items():
-                info[f"score_{name.replace(' ', '_')}"] = scores
+            info.update(scores_info)
             info["selection"] = f"self-check kept the conformal fill ({verdicts})"
             return new_v, new_f, info
-    for name, scores in tests.items():
-        info[f"score_{name.replace(' ', '_')}"] = scores
+    info = dict(scores_info)
     fv, ff, fair_info = fills[fair_name]
     info["selected"] = "fair"
     info["fair_order"] = fair_info["fair_order"]
