@@ -39,12 +39,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402  (the benchmark's cases and holes)
 
 from surfinpaint import fill_holes  # noqa: E402
-from surfinpaint.conformal import (  # noqa: E402
-    faired_fill,
-    hole_patch,
-    patch_grid,
-    reconstruct_patch,
-)
+from surfinpaint.baseline import faired_fill  # noqa: E402
+from surfinpaint.conformal import hole_patch, patch_grid, reconstruct_patch  # noqa: E402
 from surfinpaint.estimation import robust_lambda_h  # noqa: E402
 from surfinpaint.grid import interpolate  # noqa: E402
 from surfinpaint.inpainting import inpaint  # noqa: E402

@@ -14,7 +14,7 @@ from surfinpaint.fairing import fair as fair_patch
 from surfinpaint.refinement import refine_patch
 from surfinpaint.triangulation import _orient_loop, minimum_weight_triangulation
 
-__all__ = ["conventional_fill"]
+__all__ = ["conventional_fill", "faired_fill"]
 
 
 def conventional_fill(
@@ -109,6 +109,34 @@ def conventional_fill(
     if not np.isfinite(new_v).all():
         raise FillError("fairing produced non-finite positions")
     return new_v, patch
+
+
+def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order: int = 3
+                ) -> tuple[np.ndarray, np.ndarray, int]:
+    """The conventional fill (triangulate, refine, fair) with fairing of ``order``, or of
+    order 2 where the surface around the hole has too few rings to anchor a higher order.
+
+    Returns
+    -------
+    new_vertices, new_faces : arrays
+        As :func:`surfinpaint.baseline.conventional_fill`.
+    order : int
+        The order actually used.
+
+    Raises
+    ------
+    FillError
+        When even the order-2 (or the requested lower-order) fill cannot be made.
+    """
+    try:
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True,
+                                         order=order)
+    except FillError:
+        if order <= 2:
+            raise
+        order = 2
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
+    return np.asarray(new_v, dtype=float), np.asarray(new_f, dtype=np.int64), order
 
 
 def _neighbourhood(faces: np.ndarray, loop: np.ndarray, n: int, rings: int) -> np.ndarray:

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from surfinpaint.baseline import faired_fill
 from surfinpaint.errors import FillError
 from surfinpaint.intersection import patch_intersects_surroundings, self_intersections
 from surfinpaint.mesh import (
@@ -32,8 +33,8 @@ from surfinpaint.mesh import (
 )
 from surfinpaint.selfcheck import hidden_ring_scores, sibling_scores
 
-__all__ = ["PatchGrid", "conformal_fill", "faired_fill", "hole_patch", "inpaint_patch",
-           "patch_grid", "reconstruct_patch"]
+__all__ = ["PatchGrid", "conformal_fill", "hole_patch", "inpaint_patch", "patch_grid",
+           "reconstruct_patch"]
 
 # neighbouring triangles whose normals turn by more than this are a fold-over
 FOLD_ANGLE = 120.0
@@ -299,31 +300,6 @@ def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: in
     crossing = self_intersections(vertices, fill)
     if len(crossing):
         raise FillError(f"the filled patch intersects itself ({len(crossing)} triangle pairs)")
-
-
-def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order: int = 3
-                ) -> tuple[np.ndarray, np.ndarray, int]:
-    """The conventional fill (triangulate, refine, fair) with fairing of ``order``, or of
-    order 2 where the surface around the hole has too few rings to anchor a higher order.
-
-    Returns
-    -------
-    new_vertices, new_faces : arrays
-        As :func:`surfinpaint.baseline.conventional_fill`.
-    order : int
-        The order actually used.
-    """
-    from surfinpaint.baseline import conventional_fill
-
-    try:
-        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True,
-                                         order=order)
-    except FillError:
-        if order <= 2:
-            raise
-        order = 2
-        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
-    return np.asarray(new_v, dtype=float), np.asarray(new_f, dtype=np.int64), order
 
 
 def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, iterations,

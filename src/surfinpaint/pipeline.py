@@ -138,16 +138,10 @@ def _gather(vertices: np.ndarray, blocks: list[np.ndarray], ids: np.ndarray) -> 
 
 
 def _fill_one(vertices, faces, loop, method, options):
-    from surfinpaint.baseline import conventional_fill
+    from surfinpaint.baseline import conventional_fill, faired_fill
 
     if method == "fair":
-        order = options.get("fair_order") or 2
-        if order == 2:
-            new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
-            return new_v, new_f, {}
-        from surfinpaint.conformal import faired_fill
-
-        new_v, new_f, used = faired_fill(vertices, faces, loop, order)
+        new_v, new_f, used = faired_fill(vertices, faces, loop, options.get("fair_order") or 2)
         return new_v, new_f, {"fair_order": used}
     if method == "initial":
         new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False)
