@@ -9,7 +9,6 @@ import numpy as np
 
 from surfinpaint.errors import MeshError
 from surfinpaint.mesh import (
-    boundary_halfedges,
     boundary_loops,
     connected_components,
     face_areas,
@@ -133,27 +132,30 @@ def orient_loop(faces: np.ndarray, loop: Sequence[int]) -> np.ndarray:
     Raises
     ------
     MeshError
-        When consecutive ids are not joined by a boundary edge of the mesh.
+        When consecutive ids are not joined by a boundary edge of the mesh, or the loop's
+        edges disagree on the direction.
     """
+    from surfinpaint.triangulation import _halfedge_faces
+
     loop = np.asarray(loop, dtype=np.int64).ravel()
     if len(loop) < 3:
         raise MeshError(f"a hole loop needs at least 3 vertices, got {len(loop)}")
     if len(np.unique(loop)) != len(loop):
         raise MeshError("a hole loop must not repeat a vertex", vertices=loop.tolist())
-    half = boundary_halfedges(faces)
-    forward = set(map(tuple, half.tolist()))
-    steps = list(zip(loop.tolist(), np.roll(loop, -1).tolist(), strict=True))
-    if all(s in forward for s in steps):
-        return loop
-    if all((b, a) in forward for a, b in steps):
-        return loop[::-1].copy()
-    bad = [s for s in steps if s not in forward and (s[1], s[0]) not in forward]
-    if bad:
+    forward, backward = _halfedge_faces(faces, loop)
+    # a boundary edge has a face on one side only
+    bad = np.flatnonzero((forward >= 0) == (backward >= 0))
+    if len(bad):
+        pairs = [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in bad]
         raise MeshError(
-            f"vertices {bad[0][0]} and {bad[0][1]} of the given loop are not joined by a "
+            f"vertices {pairs[0][0]} and {pairs[0][1]} of the given loop are not joined by a "
             "boundary edge of the mesh",
-            edges=bad[:10],
+            edges=pairs[:10],
         )
+    if (forward >= 0).all():
+        return loop
+    if (backward >= 0).all():
+        return loop[::-1].copy()
     raise MeshError("the given loop mixes both directions of the boundary")
 
 
