@@ -48,7 +48,8 @@ from surfinpaint.metrics import hole_patch_of, surface_distance
 sys.path.insert(0, str(Path(__file__).parent))
 import peers  # noqa: E402
 
-ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conventional", "cgal", "meshlib")
+ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conventional", "cgal", "cgal3",
+               "meshlib")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 
 
@@ -322,13 +323,14 @@ def table(rows: list[Row]) -> str:
     return "\n".join(out)
 
 
-def summary(rows: list[Row], methods: list[str], references: tuple[str, ...] = ("fair", "cgal"),
-            ) -> str:
+def summary(rows: list[Row], methods: list[str],
+            references: tuple[str, ...] = ("fair", "cgal", "cgal3")) -> str:
     """Per method, over every hole it returned a fill for (what a user gets, including the
     self-check's choice of the faired fill and fallbacks after a failure): the median mean
     error, and the median and worst ratio of its mean error to each reference's on the same
-    hole.
+    hole (references that were not run are left out).
     """
+    references = tuple(ref for ref in references if ref in methods)
     filled = ("ok", "selected", "fallback")
     by = {(r.method, r.case, r.hole): r for r in rows if r.status in filled}
     head = "| method | own / self-check→fair / failed→fair / total | median mean % "

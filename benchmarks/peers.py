@@ -8,7 +8,8 @@ vertices (ids ``n .. n + m - 1`` after the ``n`` original ones, which never move
 
 - :func:`cgal_fill`: CGAL ``Polygon_mesh_processing::triangulate_refine_and_fair_hole``
   (Liepa 2003: minimum-weight triangulation, refinement, biharmonic fairing), through the
-  SWIG bindings of the ``cgal`` package.
+  SWIG bindings of the ``cgal`` package; :func:`cgal3_fill` the same with triharmonic
+  fairing (``fairing_continuity=2``).
 - :func:`meshlib_fill`: MeshLib ``fillHoleNicely`` (triangulation, subdivision to a maximum
   edge length, curvature-smooth fill), through the ``meshlib`` package.
 """
@@ -21,7 +22,7 @@ import tempfile
 
 import numpy as np
 
-__all__ = ["PEERS", "available", "cgal_fill", "meshlib_fill", "versions"]
+__all__ = ["PEERS", "available", "cgal3_fill", "cgal_fill", "meshlib_fill", "versions"]
 
 
 def _boundary_edge_lengths(vertices: np.ndarray, loop: np.ndarray) -> np.ndarray:
@@ -29,9 +30,12 @@ def _boundary_edge_lengths(vertices: np.ndarray, loop: np.ndarray) -> np.ndarray
     return np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1)
 
 
-def cgal_fill(vertices: np.ndarray, faces: np.ndarray,
-              loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def cgal_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
+              continuity: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Fill the hole bounded by ``loop`` with CGAL's triangulate_refine_and_fair_hole.
+
+    ``continuity`` is CGAL's ``fairing_continuity``: 1 (default, bilaplacian fairing) or 2
+    (trilaplacian), with CGAL's default density factor √2.
 
     The mesh goes to a ``Polyhedron_3`` through a temporary OFF file (the bindings have no
     array constructor; vertices keep the file order and get their index as id). The border
@@ -71,7 +75,8 @@ def cgal_fill(vertices: np.ndarray, faces: np.ndarray,
         raise RuntimeError("no border half-edge of CGAL's polyhedron lies on the given loop")
     out_faces: list = []
     out_vertices: list = []
-    ok = triangulate_refine_and_fair_hole(poly, border, out_faces, out_vertices)
+    ok = triangulate_refine_and_fair_hole(poly, border, out_faces, out_vertices,
+                                          float(np.sqrt(2.0)), int(continuity))
     if ok is False:
         raise RuntimeError("CGAL triangulate_refine_and_fair_hole reported failure (fairing)")
     n = len(v)
@@ -145,20 +150,26 @@ def meshlib_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     return out_v[len(v):].astype(float), new_f
 
 
-PEERS = {"cgal": cgal_fill, "meshlib": meshlib_fill}
+def cgal3_fill(vertices: np.ndarray, faces: np.ndarray,
+               loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`cgal_fill` with trilaplacian fairing (``fairing_continuity=2``)."""
+    return cgal_fill(vertices, faces, loop, continuity=2)
+
+
+PEERS = {"cgal": cgal_fill, "cgal3": cgal3_fill, "meshlib": meshlib_fill}
 _PACKAGES = {"cgal": "cgal", "meshlib": "meshlib"}
 
 
 def available() -> list[str]:
     """Names of the peers whose package imports."""
     out = []
-    for name, module in (("cgal", "CGAL.CGAL_Polygon_mesh_processing"),
-                         ("meshlib", "meshlib.mrmeshpy")):
+    for names, module in ((("cgal", "cgal3"), "CGAL.CGAL_Polygon_mesh_processing"),
+                          (("meshlib",), "meshlib.mrmeshpy")):
         try:
             __import__(module)
         except ImportError:
             continue
-        out.append(name)
+        out.extend(names)
     return out
 
 
