@@ -7,9 +7,10 @@ two-sided surface distance (:func:`surfinpaint.metrics.surface_distance`), repor
 the hole diameter.
 
 Methods: ``fair`` and ``conformal`` (``surfinpaint.fill_holes``; ``fair3`` is the fair fill
-with triharmonic fairing, ``fair_order=3``, the conformal method's initial fill and fallback;
+with trilaplacian fairing, ``fair_order=3``, one of the conformal method's fallbacks;
 ``conformal_raw`` is the conformal method without its self-check, ``select=False``, so it
-measures the conformal fill itself; ``conventional`` calls
+measures the conformal fill itself; ``conformal_grid`` and ``conformal_grid_raw`` the same
+with the paper's grid discretization, ``discretization="grid"``; ``conventional`` calls
 :func:`surfinpaint.baseline.conventional_fill` directly) and the reference peers ``cgal``
 (CGAL triangulate_refine_and_fair_hole) and ``meshlib`` (MeshLib fillHoleNicely) from
 ``benchmarks/peers.py``. Peers get the hole's 6-ring neighbourhood only (as ``fill_holes``
@@ -48,8 +49,8 @@ from surfinpaint.metrics import hole_patch_of, surface_distance
 sys.path.insert(0, str(Path(__file__).parent))
 import peers  # noqa: E402
 
-ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conventional", "cgal", "cgal3",
-               "meshlib")
+ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conformal_grid",
+               "conformal_grid_raw", "conventional", "cgal", "cgal3", "meshlib")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 
 
@@ -218,6 +219,11 @@ def run_method(method: str, vertices, faces, loop):
         return _run_ours(method, vertices, faces, loop)
     if method == "conformal_raw":
         return _run_ours("conformal", vertices, faces, loop, select=False)
+    if method == "conformal_grid":  # the paper's grid discretization, with the self-check
+        return _run_ours("conformal", vertices, faces, loop, discretization="grid")
+    if method == "conformal_grid_raw":
+        return _run_ours("conformal", vertices, faces, loop, discretization="grid",
+                         select=False)
     if method == "fair3":  # triharmonic fairing: the conformal method's S0 and fallback
         return _run_ours("fair", vertices, faces, loop, fair_order=3)
     if method == "conventional":

@@ -84,6 +84,7 @@ def test_conformal_failure_falls_back_to_the_faired_fill(sphere_with_three_holes
         raise FillError("forced failure")
 
     monkeypatch.setattr(conformal, "inpaint_patch", broken)
+    monkeypatch.setattr(conformal, "inpaint_patch_on_mesh", broken)
     v, f, _ = sphere_with_three_holes
     with pytest.warns(UserWarning, match="forced failure"):
         result = fill_holes(v, f, holes=[0])

@@ -296,7 +296,16 @@ def test_explicit_loops_in_any_direction():
 
 
 def _force(monkeypatch, fake):
+    """Replace the λ-H pass of both discretizations by ``fake`` (the grid pass's
+    signature: vertices, patch_faces, n_fill_faces, moving -> positions, details)."""
     monkeypatch.setattr(surfinpaint.conformal, "inpaint_patch", fake)
+
+    def on_mesh(vertices, faces, loop, fill_faces, moving, *, rings=4, **kwargs):
+        patch, _ = surfinpaint.conformal.hole_patch(faces, loop, fill_faces, rings)
+        positions, details = fake(vertices, patch, len(fill_faces), moving)
+        return positions, patch, details
+
+    monkeypatch.setattr(surfinpaint.conformal, "inpaint_patch_on_mesh", on_mesh)
 
 
 def _fallback_case():
@@ -321,9 +330,10 @@ def test_fallback_when_the_conformal_fill_raises(monkeypatch):
 
 
 def test_fallback_when_the_grid_is_too_large():
+    # the grid discretization's own failure
     v, f = _fallback_case()
     with pytest.warns(UserWarning, match="max_nodes"):
-        result = fill_holes(v, f, method="conformal", max_nodes=10)
+        result = fill_holes(v, f, method="conformal", discretization="grid", max_nodes=10)
     (r,) = result.reports
     assert r.method == "fair" and "max_nodes" in r.fallback
     check_filled(v, f, result)

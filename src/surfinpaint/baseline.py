@@ -14,7 +14,7 @@ from surfinpaint.fairing import fair as fair_patch
 from surfinpaint.refinement import refine_patch
 from surfinpaint.triangulation import _orient_loop, minimum_weight_triangulation
 
-__all__ = ["conventional_fill", "faired_fill"]
+__all__ = ["conventional_fill", "faired_fill", "faired_fills"]
 
 
 def conventional_fill(
@@ -137,6 +137,50 @@ def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order
         order = 2
         new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
     return np.asarray(new_v, dtype=float), np.asarray(new_f, dtype=np.int64), order
+
+
+def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                 orders=(2, 3)) -> dict[int, tuple[np.ndarray, np.ndarray, int]]:
+    """:func:`faired_fill` for several fairing orders, sharing the triangulation and the
+    refinement (those of the order-2 fill).
+
+    Returns
+    -------
+    dict
+        order -> (new_vertices, new_faces, order actually used).
+
+    Raises
+    ------
+    FillError
+        As :func:`faired_fill`.
+    """
+    v = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    initial_v, patch = conventional_fill(v, faces, loop, refine=True, fair=False)
+    initial_v = np.asarray(initial_v, dtype=float)
+    patch = np.asarray(patch, dtype=np.int64)
+    n = len(v)
+    out = {}
+    for order in orders:
+        if len(initial_v) == 0:
+            out[order] = (initial_v, patch, order)
+            continue
+        used = order
+        while True:
+            near = _neighbourhood(faces, np.asarray(loop, dtype=np.int64).ravel(), n,
+                                  max(used - 2, 0))
+            try:
+                new_v = fair_patch(np.vstack([v, initial_v]), np.vstack([near, patch]),
+                                   np.arange(n, n + len(initial_v)), order=used)[n:]
+                break
+            except (MeshError, FillError) as err:
+                if used <= 2:
+                    raise FillError(f"cannot fill the hole: {err}") from err
+                used = 2  # too few rings to anchor a higher order
+        if not np.isfinite(new_v).all():
+            raise FillError("fairing produced non-finite positions")
+        out[order] = (new_v, patch, used)
+    return out
 
 
 def _neighbourhood(faces: np.ndarray, loop: np.ndarray, n: int, rings: int) -> np.ndarray:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from surfinpaint.baseline import faired_fill
+from surfinpaint.baseline import faired_fills
 from surfinpaint.errors import FillError
 from surfinpaint.intersection import patch_intersects_surroundings, self_intersections
 from surfinpaint.mesh import (
@@ -33,8 +33,8 @@ from surfinpaint.mesh import (
 )
 from surfinpaint.selfcheck import hidden_ring_scores, sibling_scores
 
-__all__ = ["PatchGrid", "conformal_fill", "hole_patch", "inpaint_patch", "patch_grid",
-           "reconstruct_patch"]
+__all__ = ["PatchGrid", "conformal_fill", "hole_patch", "inpaint_patch",
+           "inpaint_patch_on_mesh", "lambda_h_pictures", "patch_grid", "reconstruct_patch"]
 
 # neighbouring triangles whose normals turn by more than this are a fold-over
 FOLD_ANGLE = 120.0
@@ -268,6 +268,123 @@ def inpaint_patch(
     }
 
 
+def inpaint_patch_on_mesh(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    fill_faces: np.ndarray,
+    moving: np.ndarray,
+    *,
+    rings: int = 4,
+    iterations: int = 20,
+) -> tuple[np.ndarray, np.ndarray, dict]:
+    """λ-H inpainting of a filled hole on its patch's own triangles
+    (:func:`surfinpaint.mesh_inpainting.inpaint_on_mesh`): the default discretization.
+
+    The patch is the fill plus ``rings`` face rings of the surface around the hole, mapped by
+    LSCM; where that map flips a triangle the patch loses a ring, down to 3 rings.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+        Positions of the mesh's vertices followed by the fill's new ones.
+    faces : (f, 3) int array
+        The mesh's faces (without the fill).
+    loop : (k,) int array
+        The hole's boundary loop.
+    fill_faces : (p, 3) int array
+        The fill's faces.
+    moving : (m,) int array
+        Vertex ids to move (the fill's interior vertices).
+    rings : int
+        Face rings of the surface in the patch.
+    iterations : int
+        Updates of the normals and λ in the coupled solve.
+
+    Returns
+    -------
+    positions : (m, 3) float array
+        New positions of ``moving``.
+    patch_faces : (p', 3) int array
+        The patch used (fill faces first).
+    details : dict
+        Rings used, and under ``"mesh_lambda_h"`` the patch's map and its positions before
+        and after, from which :func:`lambda_h_pictures` draws λ and H for the report.
+
+    Raises
+    ------
+    FillError
+        When the map flips triangles even with 3 rings, or the coupled solve fails.
+    """
+    from surfinpaint.mesh_inpainting import inpaint_on_mesh
+    from surfinpaint.parameterization import flipped_faces, lscm
+
+    for k in range(rings, 2, -1):
+        patch, used = hole_patch(faces, loop, fill_faces, k)
+        ids, local = np.unique(patch, return_inverse=True)
+        local = local.reshape(-1, 3)
+        uv = lscm(vertices[ids], local)
+        flipped = flipped_faces(local, uv)
+        if len(flipped) == 0:
+            break
+        if used < k:  # hole_patch shrank it already: fewer rings are tried by the loop
+            continue
+    else:
+        raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped "
+                        "faces, even with 3 rings)")
+    free = np.isin(ids, moving)
+    points = vertices[ids]
+    new_points = inpaint_on_mesh(points, local, uv, free, iterations=iterations)
+    details = {"rings": used, "discretization": "mesh",
+               "mesh_lambda_h": {"uv": uv, "faces": local, "n_fill_faces": len(fill_faces),
+                                 "free": free, "before": points, "after": new_points}}
+    return new_points[np.searchsorted(ids, moving)], patch, details
+
+
+def lambda_h_pictures(details: dict, resolution: int = 160) -> dict:
+    """The λ, H grids the report draws (``lam0``, ``H0``, ``lam``, ``H``, ``hole``,
+    ``region``, ``domain``) from a fill's details: as they are for the grid
+    discretization, rasterized over the parameter domain from the per-vertex values of the
+    mesh discretization (``details["mesh_lambda_h"]``); empty when there are none."""
+    if "lam0" in details:
+        return {k: details[k] for k in ("lam0", "H0", "lam", "H", "hole", "region",
+                                        "domain") if k in details}
+    from surfinpaint.mesh_inpainting import vertex_lambda_h
+
+    data = details.get("mesh_lambda_h")
+    if data is None:
+        return {}
+    uv, faces, free = data["uv"], data["faces"], data["free"]
+    lam0, H0 = vertex_lambda_h(data["before"], faces, uv)
+    lam, H = vertex_lambda_h(data["after"], faces, uv)
+    # before: only what the known surface says (no vertex whose Laplacian sees the fill)
+    touched = np.zeros(len(uv), bool)
+    touched[faces[free[faces].any(axis=1)].ravel()] = True
+    lam0[touched], H0[touched] = np.nan, np.nan
+    return _raster(uv, faces, data["n_fill_faces"], touched,
+                   {"lam0": lam0, "H0": H0, "lam": lam, "H": H}, resolution)
+
+
+def _raster(uv, faces, n_fill_faces, touched, values: dict, resolution: int) -> dict:
+    """Per-vertex values of a parameterized patch as grid images for the report."""
+    from surfinpaint.grid import grid_over, resample
+
+    grid = grid_over(uv, resolution=resolution)
+    stacked = np.column_stack(list(values.values()))
+    sampled, inside, face_index = resample(uv, faces, np.nan_to_num(stacked), grid)
+    # a node is unknown "before" when any corner of its triangle is
+    corner_unknown = touched[faces].any(axis=1)
+    out = {"h": grid.h, "grid_shape": grid.shape,
+           "domain": inside, "hole": inside & (face_index < n_fill_faces),
+           "region": inside & np.where(face_index >= 0, corner_unknown[face_index], False)}
+    for k, name in enumerate(values):
+        image = np.where(inside, sampled[..., k], np.nan)
+        if name.endswith("0"):
+            image = np.where(out["region"], np.nan, image)
+        out[name] = image
+    return out
+
+
 def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int) -> None:
     """Reject fills with non-finite positions, degenerate triangles, fold-overs (two
     neighbouring triangles, in the fill or a fill triangle and the surface next to it, whose
@@ -303,7 +420,7 @@ def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: in
 
 
 def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, iterations,
-           options, want_fair=True, want_conformal=True, s0=None):
+           options, want_fair=True, want_conformal=True, s0=None, discretization="mesh"):
     """The faired fills of fairing ``orders`` (``"fair2"``, ``"fair3"``; when ``want_fair``)
     and the conformal fill (when ``want_conformal``; S0 is the order-``s0_order`` faired fill
     with ``start="fair"``, or ``s0`` = (new_vertices, new_faces) when already made) of one
@@ -318,7 +435,7 @@ def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, itera
     needed = set(orders if want_fair else ())
     if want_conformal and start == "fair" and s0 is None:
         needed.add(s0_order)
-    faired = {k: faired_fill(vertices, faces, loop, k) for k in sorted(needed)}
+    faired = faired_fills(vertices, faces, loop, sorted(needed)) if needed else {}
     out: dict = {}
     if want_fair:
         for k in orders:
@@ -336,14 +453,23 @@ def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, itera
         out["conformal"] = (new_v, new_f, {"rings": 0, "note": "no interior vertices to move"})
         return out
     try:
-        patch, rings = hole_patch(faces, loop, new_f, patch_rings)
         moving = np.arange(n, n + len(new_v))
         all_v = np.concatenate([vertices, new_v])
-        info: dict = {"rings": rings}
-        for _ in range(iterations):
-            positions, info_pass = inpaint_patch(all_v, patch, len(new_f), moving, **options)
-            all_v[moving] = positions
-            info.update(info_pass)
+        info: dict = {}
+        if discretization == "mesh":
+            for _ in range(iterations):
+                positions, patch, info_pass = inpaint_patch_on_mesh(
+                    all_v, faces, loop, new_f, moving, rings=patch_rings, **options)
+                all_v[moving] = positions
+                info.update(info_pass)
+        else:
+            patch, rings = hole_patch(faces, loop, new_f, patch_rings)
+            info["rings"] = rings
+            for _ in range(iterations):
+                positions, info_pass = inpaint_patch(all_v, patch, len(new_f), moving,
+                                                     **options)
+                all_v[moving] = positions
+                info.update(info_pass)
         _check_patch(all_v, patch, len(new_f))
         out["conformal"] = (all_v[n:], new_f, info)
     except (FillError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
@@ -351,10 +477,43 @@ def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, itera
     return out
 
 
-def neighbourhood_rings(n_edges: int, *, patch_rings: int = 10, select: bool = True,
+# rings of surface in a hole's patch, per discretization (measured: docs/accuracy.md)
+PATCH_RINGS = {"mesh": 4, "grid": 10}
+# options of the grid discretization only (see inpaint_patch)
+GRID_OPTIONS = ("spacing", "fit_radius", "fit_sigma", "dilate", "inpaint", "fidelity",
+                "reconstruct", "max_nodes")
+
+
+def check_options(discretization: str, options: dict) -> dict:
+    """The options of the λ-H pass for ``discretization``, without the ``None`` ones.
+
+    Raises
+    ------
+    ValueError
+        For an unknown discretization, or grid options with the mesh one.
+    """
+    if discretization not in PATCH_RINGS:
+        raise ValueError(f"discretization must be 'mesh' or 'grid', got {discretization!r}")
+    options = {k: v for k, v in options.items() if v is not None}
+    if discretization == "mesh":
+        # the mesh discretization inpaints biharmonically, coupled with its rebuild
+        if options.pop("inpaint", "biharmonic") != "biharmonic":
+            raise ValueError("inpainting models other than 'biharmonic' need "
+                             "discretization='grid'")
+        grid_only = sorted(set(options) & set(GRID_OPTIONS))
+        if grid_only:
+            raise ValueError(f"option(s) {', '.join(grid_only)} apply to "
+                             "discretization='grid' only")
+    return options
+
+
+def neighbourhood_rings(n_edges: int, *, patch_rings: int | None = None,
+                        discretization: str = "mesh", select: bool = True,
                         siblings: int = 2, gap_rings: int = 3, **_) -> int:
     """Vertex rings around a hole of ``n_edges`` boundary edges that :func:`conformal_fill`
     looks at: its patch, and with ``select`` the sibling holes and their patches."""
+    if patch_rings is None:
+        patch_rings = PATCH_RINGS.get(discretization, max(PATCH_RINGS.values()))
     rings = patch_rings + 3
     if select and siblings > 0:
         hole_rings = int(np.ceil(n_edges / (2 * np.pi))) + 1
@@ -369,7 +528,8 @@ def conformal_fill(
     *,
     start: str = "fair",
     fair_order: int | None = None,
-    patch_rings: int = 10,
+    discretization: str = "mesh",
+    patch_rings: int | None = None,
     iterations: int = 1,
     select: bool = True,
     hide_rings: int = 2,
@@ -393,28 +553,38 @@ def conformal_fill(
         chosen per hole by the same truth-free tests between the bilaplacian and the
         trilaplacian one (curvature-continuous across the hole's edge: measured better on
         smooth surfaces, much worse on noisy range scans; docs/accuracy.md).
-    patch_rings : int
-        Rings of the known surface in the patch (shrunk where the patch would not be a disk).
+    discretization : {"mesh", "grid"}
+        Where λ and H live. ``"mesh"`` (default): on the patch's own triangles, inpainting
+        and rebuild solved together (:func:`inpaint_patch_on_mesh`; measured better on
+        every benchmark mesh, docs/accuracy.md). ``"grid"``: the paper's regular grid over
+        the conformal domain (:func:`inpaint_patch`), with its own options.
+    patch_rings : int, optional
+        Rings of the known surface in the patch (shrunk where the patch would not be a disk
+        or, on the mesh, where the map flips a triangle); 4 for the mesh discretization,
+        10 for the grid by default.
     iterations : int
         Outer iterations: re-parameterize the new patch and inpaint again.
     select : bool
-        Self-check: keep the conformal fill only when it beats the faired fill on the
-        tests that can be run (at least one must) and use no truth of the hole: predicting
-        ``hide_rings`` hidden rings of the known surface around it
-        (:func:`hidden_ring_scores`), and filling sibling holes as wide as this one cut
-        from the known surface nearby (:func:`sibling_scores`); it must beat every faired
-        candidate there. The trilaplacian fill is chosen over the bilaplacian one when it
-        wins the hidden-ring test and does not lose the sibling test. The λ-H fill of the
-        hole itself is computed only when it has won; when it then fails, the chosen
-        faired fill is returned and ``details["failed"]`` says why. ``select=False``
-        returns the raw conformal fill, or raises.
+        Self-check, using no truth of the hole: predicting ``hide_rings`` hidden rings of
+        the known surface around it (:func:`hidden_ring_scores`), and filling sibling holes
+        as wide as this one cut from the known surface nearby (:func:`sibling_scores`).
+        The conformal fill is kept when it beats the bilaplacian fill (the baseline, or
+        the faired fill of ``fair_order``) on the hidden-ring test and does not lose the
+        sibling test (without the former, or when the λ-H fill fails on the hidden-ring
+        test's larger hole, it must win the latter). Otherwise a faired fill
+        is written: the trilaplacian one if it passes the same two tests against the
+        bilaplacian one, else the bilaplacian one. The λ-H fill of the hole itself is
+        computed only when it has won; when it then fails, the faired fill is returned and
+        ``details["failed"]`` says why. ``select=False`` returns the raw conformal fill, or
+        raises.
     hide_rings : int
         Rings hidden for the first test.
     siblings, gap_rings : int
         Number of sibling holes, and rings between them and the hole.
     **options
-        Passed to :func:`inpaint_patch` (``spacing``, ``fit_radius``, ``dilate``,
-        ``inpaint``, ``fidelity``, ``reconstruct``).
+        Passed to :func:`inpaint_patch` with the grid (``spacing``, ``fit_radius``,
+        ``dilate``, ``inpaint``, ``fidelity``, ``reconstruct``); they are an error with the
+        mesh discretization (except ``inpaint="biharmonic"``, which it is).
 
     Returns
     -------
@@ -440,13 +610,16 @@ def conformal_fill(
         raise ValueError(f"start must be 'fair' or 'initial', got {start!r}")
     if fair_order is not None and fair_order not in (1, 2, 3):
         raise ValueError(f"fair_order must be 1, 2, 3 or None, got {fair_order!r}")
-    options = {k: v for k, v in options.items() if v is not None}
+    options = check_options(discretization, options)
+    if patch_rings is None:
+        patch_rings = PATCH_RINGS[discretization]
     orders = (2, 3) if fair_order is None else (fair_order,)
 
     def fills_of(v, f, l, *, fair=True, conformal=True, s0=None):
         return _fills(v, f, l, start=start, orders=orders, s0_order=orders[0],
                       patch_rings=patch_rings, iterations=iterations, options=options,
-                      want_fair=fair, want_conformal=conformal, s0=s0)
+                      want_fair=fair, want_conformal=conformal, s0=s0,
+                      discretization=discretization)
 
     if not select:
         fill = fills_of(vertices, faces, loop, fair=False)["conformal"]
@@ -454,23 +627,34 @@ def conformal_fill(
             raise fill
         return fill
 
-    # The λ-H fill of the hole itself is made only once it has won the tests (it is the
-    # costly one, and it loses on most holes); the faired fills are cheap.
+    # The λ-H fill of the hole itself is made only once it has won the tests; the faired
+    # fills are cheap.
     fills = fills_of(vertices, faces, loop, conformal=False)
     fair_names = [f"fair{k}" for k in orders]
+    # the λ-H fill is measured against the bilaplacian fill (or the order asked for): the
+    # trilaplacian one is the faired fallback on smooth surfaces where the λ-H fill fails
+    reference = fair_names[0]
 
-    def best_of_all(scores):
-        return scores["conformal"] <= min(scores[k] for k in fair_names)
+    def beats(scores, name, other):
+        return name in scores and scores[name] < scores[other]
 
-    def prefers_fair3(scores):
-        return "fair3" in scores and scores["fair3"] < scores["fair2"]
+    def wins(hidden, sibling, name, other):
+        """Wins the hidden-ring test and does not lose the sibling test; without the
+        former, must win the latter."""
+        if hidden:
+            return beats(hidden, name, other) and (not sibling or beats(sibling, name, other))
+        return bool(sibling) and beats(sibling, name, other)
 
     # the cheaper test first; the siblings only when they can still change the outcome
     hidden = hidden_ring_scores(vertices, faces, loop, fills_of, hide_rings=hide_rings,
                                 patch_rings=patch_rings)
-    racing = not hidden or best_of_all(hidden)
+    # a λ-H fill that fails on the enlarged hole says nothing about how it fills this one
+    # (it fails there on folded brain patches, measured): then the siblings decide
+    hidden_lh = hidden if np.isfinite(hidden.get("conformal", 0.0)) else {}
+    racing = not hidden_lh or beats(hidden_lh, "conformal", reference)
+    fair3_racing = fair_order is None and (not hidden or beats(hidden, "fair3", "fair2"))
     sibling = {}
-    if racing or (fair_order is None and prefers_fair3(hidden)):
+    if racing or fair3_racing:
         sibling = sibling_scores(
             vertices, faces, loop, lambda v, f, l: fills_of(v, f, l, conformal=racing),
             siblings=siblings, gap_rings=gap_rings, patch_rings=patch_rings)
@@ -478,20 +662,20 @@ def conformal_fill(
                                                ("sibling holes", sibling)) if scores}
     scores_info = {f"score_{name.replace(' ', '_')}": scores for name, scores in tests.items()}
     if fair_order is not None:
-        fair_name = fair_names[0]
-    elif prefers_fair3(hidden) and (not sibling or prefers_fair3(sibling)):
+        fair_name = reference
+    elif hidden and wins(hidden, sibling, "fair3", "fair2"):
         fair_name = "fair3"
     else:
         fair_name = "fair2"
     verdicts = "; ".join(
         f"{name}: " + ", ".join(f"{k} {v:.3g}" for k, v in scores.items())
         for name, scores in tests.items()) or "no test could be run here"
+    won = wins(hidden_lh, sibling, "conformal", reference)
     lost = [name for name, scores in tests.items()
-            if "conformal" not in scores or not best_of_all(scores)]
+            if not beats(scores, "conformal", reference)]
     failed = None
     # made when it won, or when it failed on a test hole: then whether it fails on this
     # hole too is what the report and the warning must say
-    won = bool(tests) and not lost
     if won or any(np.isinf(scores.get("conformal", 0.0)) for scores in tests.values()):
         s0 = fills[fair_names[0]][:2] if start == "fair" else None  # S0, already made
         own = fills_of(vertices, faces, loop, fair=False, s0=s0)["conformal"]

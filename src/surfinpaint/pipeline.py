@@ -248,7 +248,10 @@ def fill_holes(
                 "method='conformal' is not implemented yet; use method='fair'"
             ) from exc
     if method == "conformal":
-        from surfinpaint.conformal import neighbourhood_rings
+        from surfinpaint.conformal import check_options, neighbourhood_rings
+
+        # bad options are the caller's error, not a failed hole to fall back from
+        check_options(options.get("discretization") or "mesh", options)
     n = len(vertices)
     vertex_faces = _vertex_face_csr(faces, n)
     new_vertex_blocks: list[np.ndarray] = []

@@ -418,6 +418,9 @@ def hole_panel(
         if key == "C" and conformal is None:
             ax.text(0.5, 0.5, "the conformal method failed on this hole\n(the faired fill "
                     "was used)", ha="center", va="center", transform=ax.transAxes)
+    from surfinpaint.conformal import lambda_h_pictures
+
+    details = lambda_h_pictures(details)
     have = all(name in details for name in ("lam0", "H0", "lam", "H", "domain"))
     if have:
         domain = np.asarray(details["domain"], bool)

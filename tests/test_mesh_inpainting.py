@@ -1,0 +1,133 @@
+"""λ-H inpainting on the patch mesh (surfinpaint.mesh_inpainting): analytic surfaces sampled
+on exactly conformal grids, so that λ and H are known."""
+
+import numpy as np
+import pytest
+
+import surfinpaint.mesh_inpainting as mesh_inpainting
+from surfinpaint.analytic import enneper, grid, isothermal_torus, stereographic_sphere
+from surfinpaint.errors import FillError
+from surfinpaint.fairing import fair
+from surfinpaint.mesh_inpainting import inpaint_on_mesh, vertex_lambda_h
+
+
+def grid_mesh(n: int, extent=(-1.0, 1.0, -1.0, 1.0)):
+    """Triangulated n × n grid: (uv (n², 2), faces counter-clockwise in uv)."""
+    u, v, h = grid(n, extent)
+    uv = np.column_stack([u.ravel(), v.ravel()])
+    ids = np.arange(n * n).reshape(n, n)
+    a, b = ids[:-1, :-1].ravel(), ids[1:, :-1].ravel()
+    c, d = ids[1:, 1:].ravel(), ids[:-1, 1:].ravel()
+    faces = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    return u, v, uv, faces
+
+
+def interior_errors(surface, n, extent=(-1.0, 1.0, -1.0, 1.0)):
+    u, v, uv, faces = grid_mesh(n, extent)
+    phi, lam, H = surface(u, v)
+    lam_h, H_h = vertex_lambda_h(phi.reshape(-1, 3), faces, uv)
+    inner = (np.abs(uv - np.mean(uv, axis=0)) < 0.45 * np.ptp(uv, axis=0)).all(axis=1)
+    return (np.abs(lam_h - lam.ravel())[inner].max(), np.abs(H_h - H.ravel())[inner].max())
+
+
+@pytest.mark.parametrize("surface, extent", [
+    (stereographic_sphere, (-1.0, 1.0, -1.0, 1.0)),
+    (isothermal_torus, (0.0, 1.5, -0.75, 0.75)),
+    (enneper, (-1.0, 1.0, -1.0, 1.0)),
+])
+def test_vertex_lambda_h_converges_at_second_order(surface, extent):
+    coarse = interior_errors(surface, 17, extent)
+    fine = interior_errors(surface, 33, extent)
+    for e_coarse, e_fine in zip(coarse, fine, strict=True):
+        assert e_fine < 0.02
+        # Enneper's coordinates are cubic: the 5-point Laplacian is exact, H = 0 to round-off
+        assert e_fine < 1e-12 or np.log2(e_coarse / e_fine) > 1.7
+
+
+def test_vertex_lambda_h_sign_follows_method_md():
+    # unit sphere, n = φu × φv inward: H = +1
+    u, v, uv, faces = grid_mesh(21)
+    phi, _, _ = stereographic_sphere(u, v)
+    _, H = vertex_lambda_h(phi.reshape(-1, 3), faces, uv)
+    assert np.nanmedian(H) == pytest.approx(1.0, abs=0.01)
+    # the border has no two-sided Laplacian
+    border = (np.abs(uv) == 1.0).any(axis=1)
+    assert np.isnan(H[border]).all() and np.isfinite(H[~border]).all()
+
+
+def enneper_hole(n, radius=0.45):
+    u, v, uv, faces = grid_mesh(n)
+    phi, _, _ = enneper(u, v)
+    truth = phi.reshape(-1, 3)
+    free = np.linalg.norm(uv, axis=1) < radius
+    return truth, faces, uv, free
+
+
+def hole_error(n):
+    truth, faces, uv, free = enneper_hole(n)
+    points = fair(truth, faces, free, order=2)  # the baseline's fill as start
+    filled = inpaint_on_mesh(points, faces, uv, free)
+    scale = np.ptp(truth[free], axis=0).max()
+    return (np.abs(filled - truth)[free].max() / scale,
+            np.abs(points - truth)[free].max() / scale, filled, truth, free)
+
+
+def test_enneper_hole_is_rebuilt_exactly():
+    # λ = 1 + u² + v² and H = 0 are biharmonic, and on this grid the discrete operators are
+    # exact for Enneper's cubic coordinates: the fill is the truth to round-off, where
+    # bilaplacian fairing is not
+    for n in (17, 33):
+        error, fair_error, filled, truth, free = hole_error(n)
+        assert error < 1e-9
+        assert error < 1e-3 * fair_error
+        # the fixed vertices are untouched
+        assert np.array_equal(filled[~free], truth[~free])
+
+
+def test_sphere_hole_closer_than_fairing():
+    # λ = 2/(1 + r²) is not biharmonic, H = 1 is: close, not exact
+    u, v, uv, faces = grid_mesh(25)
+    phi, _, _ = stereographic_sphere(u, v)
+    truth = phi.reshape(-1, 3)
+    free = np.linalg.norm(uv, axis=1) < 0.5
+    start = fair(truth, faces, free, order=2)
+    filled = inpaint_on_mesh(start, faces, uv, free)
+    error = np.linalg.norm(filled - truth, axis=1)[free].max()
+    assert error < 0.2 * np.linalg.norm(start - truth, axis=1)[free].max()
+    assert error < 0.01
+
+
+def test_plane_stays_plane():
+    _, _, uv, faces = grid_mesh(15)
+    points = np.column_stack([uv, np.zeros(len(uv))])
+    free = np.linalg.norm(uv, axis=1) < 0.5
+    bumped = points.copy()
+    bumped[free, 2] = 0.05 * (0.25 - (uv[free] ** 2).sum(axis=1))
+    filled = inpaint_on_mesh(bumped, faces, uv, free)
+    assert np.abs(filled[:, 2]).max() < 1e-9
+    np.testing.assert_allclose(filled[:, :2], uv, atol=1e-9)
+
+
+def test_nothing_free_is_identity():
+    truth, faces, uv, _ = enneper_hole(9)
+    out = inpaint_on_mesh(truth, faces, uv, np.zeros(len(truth), bool))
+    assert np.array_equal(out, truth) and out is not truth
+
+
+def test_free_vertices_at_the_border_are_refused():
+    truth, faces, uv, _ = enneper_hole(9)
+    free = np.linalg.norm(uv, axis=1) < 0.8  # reaches within two rings of the border
+    with pytest.raises(FillError, match="too thin"):
+        inpaint_on_mesh(truth, faces, uv, free)
+
+
+def test_divergence_and_no_settling_are_failures(monkeypatch):
+    truth, faces, uv, free = enneper_hole(17)
+    start = fair(truth, faces, free, order=2)
+    monkeypatch.setattr(mesh_inpainting, "DIVERGED", 1e-6)
+    with pytest.raises(FillError, match="diverges"):
+        inpaint_on_mesh(start, faces, uv, free)
+    monkeypatch.setattr(mesh_inpainting, "DIVERGED", 10.0)
+    monkeypatch.setattr(mesh_inpainting, "SETTLED", 0.0)
+    with pytest.raises(FillError, match="does not settle"):
+        inpaint_on_mesh(start, faces, uv, free, iterations=1, tol=0.0)
