@@ -144,3 +144,15 @@ def test_hole_patch_of_recovers_the_truth():
     pv2, pf2 = hole_patch_of(filled_v, filled_f, len(hv))
     only_boundary = (new_id[cut.truth_faces] < len(hv)).all(axis=1).sum()
     assert len(pf2) == len(cut.truth_faces) - only_boundary
+
+
+def test_mean_surface_distances_match_surface_distance():
+    from surfinpaint.data import sphere
+    from surfinpaint.metrics import mean_surface_distances, surface_distance
+
+    v, f = sphere(3)
+    patches = [(1.05 * v, f), (v + [0.02, 0.0, 0.0], f), (v, f)]
+    means = mean_surface_distances(patches, v, f, n_samples=3000)
+    expected = [surface_distance(pv, pf, v, f, n_samples=3000)["mean"] for pv, pf in patches]
+    np.testing.assert_allclose(means, expected, rtol=1e-12, atol=1e-15)
+    assert means[2] < 1e-12 < means[1] < means[0]

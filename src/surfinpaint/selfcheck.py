@@ -66,7 +66,7 @@ def sibling_scores(
     """
     from surfinpaint.cutting import _edge_graph, cut_geodesic_disk, ring_distances, submesh
     from surfinpaint.holes import loop_diameter
-    from surfinpaint.metrics import hole_patch_of, surface_distance
+    from surfinpaint.metrics import hole_patch_of, mean_surface_distances
 
     points = vertices[loop]
     radius = 0.5 * loop_diameter(points)
@@ -98,27 +98,28 @@ def sibling_scores(
             return None
         return cut
 
-    scores: dict[str, list[float]] = {}
-    for centre in _sibling_centres(vertices, faces, loop, gap, siblings, graph=graph):
+    def score(centre) -> dict[str, float] | None:
         try:
             cut = local_cut(centre) if patch_rings is not None else None
             if cut is None:
                 cut = cut_geodesic_disk(vertices, faces, centre, radius)
             candidates = fill(cut.vertices, cut.faces, cut.loop)
         except errors:
-            continue
-        results = {}
-        for name, candidate in candidates.items():
-            if isinstance(candidate, Exception):  # it failed on a hole like this one
-                results[name] = np.inf
-                continue
-            new_v, new_f, _ = candidate
-            all_v = np.concatenate([cut.vertices, new_v])
-            pv, pf = hole_patch_of(all_v, np.concatenate([cut.faces, new_f]),
-                                   len(cut.vertices), cut.faces)
-            results[name] = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces,
-                                             n_samples=n_samples)["mean"]
-        for name, value in results.items():
+            return None
+        # a candidate that failed on a hole like this one scores infinity
+        results = {name: np.inf for name, c in candidates.items() if isinstance(c, Exception)}
+        made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
+        patches = [hole_patch_of(np.concatenate([cut.vertices, new_v]),
+                                 np.concatenate([cut.faces, new_f]), len(cut.vertices),
+                                 cut.faces) for new_v, new_f, _ in made.values()]
+        results.update(zip(made, mean_surface_distances(
+            patches, cut.truth_vertices, cut.truth_faces, n_samples=n_samples), strict=True))
+        return results
+
+    scores: dict[str, list[float]] = {}
+    for centre in _sibling_centres(vertices, faces, loop, gap, siblings, graph=graph):
+        results = score(centre)
+        for name, value in (results or {}).items():
             scores.setdefault(name, []).append(value)
     return {name: float(np.mean(v)) for name, v in scores.items() if v}
 
