@@ -2,8 +2,9 @@
 defaults, printed as markdown tables.
 
 Every configuration fills the same benchmark holes (those of ``accuracy.py``) with the raw
-conformal fill (``select=False``, so the self-check does not hide the option's effect); the
-score per hole is its two-sided mean error divided by the faired fill's.
+conformal fill of the grid discretization (``select=False, discretization="grid"``, so the
+self-check does not hide the option's effect; these options are the grid's); the score per
+hole is its two-sided mean error divided by the faired fill's.
 
     python benchmarks/conformal_options.py
     python benchmarks/conformal_options.py --cases torus,bunny \\
@@ -65,7 +66,8 @@ def main() -> None:
                 continue
             cells = []
             for i, config in enumerate(configs):
-                result = fill_holes(cut.vertices, cut.faces, select=False, **config)
+                result = fill_holes(cut.vertices, cut.faces, select=False,
+                                    **{"discretization": "grid", **config})
                 ratio = _error(cut, result) / fair
                 if result.reports[0].fallback:
                     failed[i] += 1

@@ -7,7 +7,9 @@ hole diameter):
 - ``fair``: the conventional fill (triangulate, refine, bilaplacian fairing): the baseline.
 - ``fair3``: the same with trilaplacian fairing (the conformal method's self-check chooses
   between the two for its fallback).
-- ``conformal``: the raw conformal fill (``select=False``): S0 is the ``fair`` fill.
+- ``conformal``: the raw conformal fill of the paper's grid discretization (``select=False,
+  discretization="grid"``): S0 is the ``fair`` fill. Every column below replaces a part of
+  that grid pipeline (this study predates the mesh discretization, the default now).
 - ``S0=truth``: the same λ-H pipeline with the removed surface itself as the initial fill
   (its map, grid and fill vertices), estimates still from the known part only.
 - ``clean data``: S0 = truth, λ and H fitted on the whole true patch (no estimation noise at
@@ -100,7 +102,7 @@ def hole_row(cut) -> list[float]:
     n = len(cut.vertices)
     out = []
     for options in ({"method": "fair"}, {"method": "fair", "fair_order": 3},
-                    {"select": False}):
+                    {"select": False, "discretization": "grid"}):
         res = fill_holes(cut.vertices, cut.faces, [cut.loop], **options)
         out.append(_error(*hole_patch_of(res.vertices, res.faces, n, cut.faces), cut))
     truth = _truth_as_fill(cut)

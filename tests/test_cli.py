@@ -381,6 +381,27 @@ def test_fill_fair_order_is_passed_on(tmp_path, capsys):
         main(["fill", str(path), "-o", str(tmp_path / "x.ply"), "--fair-order", "4"])
 
 
+def test_fill_discretization_is_passed_on(tmp_path, capsys):
+    v, f = _holey_sphere()
+    path = tmp_path / "two.ply"
+    write_mesh(path, v, f)
+    outs = {}
+    for name in ("mesh", "grid"):
+        out = tmp_path / f"{name}.ply"
+        assert main(["fill", str(path), "-o", str(out), "--discretization", name,
+                     "-q"]) == 0
+        outs[name] = read_mesh(out)[0]
+        expected = fill_holes(v, f, discretization=name).vertices
+        np.testing.assert_allclose(outs[name], expected, rtol=0, atol=1e-6)  # PLY floats
+    # grid-only options without the grid are a usage error, and nothing is written
+    out = tmp_path / "bad.ply"
+    assert main(["fill", str(path), "-o", str(out), "--reconstruct", "laplacian"]) == 2
+    assert "--discretizationgrid" in _flat(capsys.readouterr().err)
+    assert not out.exists()
+    assert main(["fill", str(path), "-o", str(out), "--discretization", "grid",
+                 "--reconstruct", "laplacian", "-q"]) == 0
+
+
 def test_fill_overwrites_an_existing_output_completely(tmp_path, capsys):
     v, f = _holey_sphere()
     path = tmp_path / "in.off"

@@ -110,7 +110,11 @@ def cmd_fill(args: argparse.Namespace) -> int:
     holes = _parse_hole_list(args.holes)
     output_format(args.output)  # an unusable output name fails now, not after the fill
     vertices, faces = read_mesh(args.mesh)
-    options = {}
+    options = {"discretization": args.discretization}
+    if args.discretization != "grid" and (args.reconstruct or args.inpaint == "harmonic"):
+        raise _UsageError("--reconstruct and --inpaint harmonic need --discretization grid "
+                          "(the mesh discretization inpaints biharmonically and rebuilds "
+                          "in the Laplacian form, solved together)")
     if args.inpaint:
         options["inpaint"] = args.inpaint
     if args.reconstruct:
@@ -243,10 +247,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--repair", action="store_true",
                    help="remove the faces around non-manifold edges first, then fill the "
                    "holes that leaves")
+    p.add_argument("--discretization", choices=("mesh", "grid"), default="mesh",
+                   help="where the conformal method's λ and H live: on the patch's "
+                   "triangles (default, measured more accurate) or on the paper's regular "
+                   "grid over the conformal domain")
     p.add_argument("--inpaint", choices=("biharmonic", "harmonic"),
-                   help="inpainting model for λ and H (conformal method; default biharmonic)")
+                   help="inpainting model for λ and H (default biharmonic; harmonic needs "
+                   "--discretization grid)")
     p.add_argument("--reconstruct", choices=("gauss-codazzi", "laplacian"),
-                   help="reconstruction from (λ, H) (conformal method)")
+                   help="reconstruction from (λ, H) with --discretization grid")
     p.add_argument("--fair-order", type=int, choices=(1, 2, 3),
                    help="fairing order: 1 harmonic, 2 biharmonic (default of 'fair', the "
                    "classic baseline), 3 triharmonic; the conformal method chooses its "

@@ -1,18 +1,25 @@
 """Conformal surface inpainting of one hole (Lui, Wen, Gu; method.md §6).
 
-Per hole: an initial fill S0 (the baseline's triangulation and refinement, faired by
-default); a disk patch of S0 plus ``patch_rings`` rings of the surface around it; its
-conformal map to the plane; a regular grid; robust estimates of λ and H on the known part;
-inpainting of λ and H over the hole; reconstruction of the positions from the inpainted
-(λ, H) with the known surface as boundary condition; S0's interior vertices moved onto the
-reconstruction. The original vertices never move.
+Per hole: an initial fill S0 (the baseline's triangulation, refinement and bilaplacian
+fairing); a disk patch of S0 plus a few rings of the surface around it; its conformal map
+(LSCM); λ and H of the known part; inpainting of λ and H over the hole; reconstruction of
+the positions from the inpainted (λ, H) with the known surface as boundary condition. The
+original vertices never move.
+
+Two discretizations. ``"mesh"`` (default, :func:`inpaint_patch_on_mesh`): λ, H live on the
+patch's own triangles, and inpainting and rebuild are solved together so that the
+curvature at the hole's edge stays tied to the positions
+(:mod:`surfinpaint.mesh_inpainting`). ``"grid"`` (:func:`inpaint_patch`): the paper's
+regular grid over the conformal domain with robust λ, H fits, biharmonic inpainting on the
+hole dilated past the crease, and a Gauss–Codazzi rebuild; measured less accurate
+(docs/accuracy.md), kept as the paper's method and for comparison.
 
 With ``select=True`` (default) the method checks itself without any ground truth of the
-hole (:mod:`surfinpaint.selfcheck`): it hides the rings of known surface around the hole and
-cuts sibling holes of the same size out of the known surface nearby, fills them with the
-λ-H method and by bilaplacian and trilaplacian fairing, keeps the λ-H fill only when it
-reproduces the removed surface best there, and otherwise writes the faired fill the same
-tests prefer (method.md §8, "an honest safety net").
+hole (:mod:`surfinpaint.selfcheck`): it hides the rings of known surface around the hole
+and cuts sibling holes of the same size out of the known surface nearby, fills them with
+the λ-H method and by bilaplacian and trilaplacian fairing, keeps the λ-H fill when it
+reproduces the removed surface better than the bilaplacian fill there, and otherwise
+writes the faired fill the same tests prefer (method.md §8, "an honest safety net").
 """
 
 from __future__ import annotations
@@ -373,7 +380,8 @@ def _raster(uv, faces, n_fill_faces, touched, values: dict, resolution: int) -> 
 
     grid = grid_over(uv, resolution=resolution)
     stacked = np.column_stack(list(values.values()))
-    sampled, inside, face_index = resample(uv, faces, np.nan_to_num(stacked), grid)
+    # NaN (the border, where H has no two-sided Laplacian) stays NaN: drawn grey
+    sampled, inside, face_index = resample(uv, faces, stacked, grid)
     # a node is unknown "before" when any corner of its triangle is
     corner_unknown = touched[faces].any(axis=1)
     out = {"h": grid.h, "grid_shape": grid.shape,

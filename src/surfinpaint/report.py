@@ -9,9 +9,10 @@ one camera facing the hole; (D)/(E) the conformal factor λ before and after inp
 (F)/(G) the mean curvature H before and after, over the conformal parameter domain of the
 hole's patch, with the hole (solid) and the inpainted region (dashed) outlined.
 
-"Before" is the robust estimate from the known surface only (``lam0``/``H0`` of
-:func:`surfinpaint.conformal.inpaint_patch`): the nodes of the hole that no fit reaches are
-grey, since the initial fill's own λ, H are not data the method uses.
+"Before" is what the known surface says (:func:`surfinpaint.conformal.lambda_h_pictures`):
+λ, H of the surface around the hole on its patch's triangles, or the robust grid estimate
+with ``discretization="grid"``; the part that sees the initial fill is grey, since the
+initial fill's own λ, H are not data the method uses.
 
 When the conformal method's self-check kept the faired fill for a hole (``fallback``), panel
 (C) shows the conformal fill it rejected (computed again with ``select=False``), so the two

@@ -1,0 +1,156 @@
+"""The conformal method's self-check: how well selection rules choose among its candidates.
+
+For every hole of ``accuracy.py``, each candidate fill (``fair2``: bilaplacian fairing, the
+baseline; ``fair3``: trilaplacian; ``conformal``: the λ-H fill) is made and scored three
+ways: its true error (two-sided mean distance to the removed surface, % of the hole
+diameter), the hidden-ring test and the sibling-hole test (:mod:`surfinpaint.selfcheck`,
+both always run here, with the same test settings as ``conformal_fill``). Selection rules
+are then replayed on these scores; each row is the median and worst ratio of the chosen
+fill's true error to the baseline's, over the holes where the baseline is not exact.
+
+    python benchmarks/selfcheck_rules.py [--cases torus,bunny] [--json scores.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+import accuracy  # noqa: E402
+
+from surfinpaint.conformal import DECISIVE, PATCH_RINGS, TEST_TOL, _fills  # noqa: E402
+from surfinpaint.metrics import surface_distance  # noqa: E402
+from surfinpaint.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
+
+CASES = "bunny,face,pial,white,sphere,torus,cube,snowman,tooth"
+INF = float("inf")
+
+
+def _fills_of(test: bool):
+    def fills(v, f, loop):
+        return _fills(v, f, loop, start="fair", orders=(2, 3), s0_order=2,
+                      patch_rings=PATCH_RINGS["mesh"], iterations=1,
+                      options={"tol": TEST_TOL} if test else {}, discretization="mesh",
+                      test=test)
+    return fills
+
+
+def hole_scores(cut) -> dict:
+    fills = _fills_of(test=False)(cut.vertices, cut.faces, cut.loop)
+    true = {}
+    for name, fill in fills.items():
+        if isinstance(fill, Exception):
+            true[name] = INF
+            continue
+        new_v, new_f, _ = fill
+        d = surface_distance(np.vstack([cut.vertices, new_v]), new_f, cut.truth_vertices,
+                             cut.truth_faces, n_samples=4000)
+        true[name] = 100.0 * d["mean"] / cut.diameter
+    tests = _fills_of(test=True)
+    rings = PATCH_RINGS["mesh"]
+    return {"true": true,
+            "hidden": hidden_ring_scores(cut.vertices, cut.faces, cut.loop, tests,
+                                         patch_rings=rings),
+            "sibling": sibling_scores(cut.vertices, cut.faces, cut.loop, tests,
+                                      patch_rings=rings)}
+
+
+def _beats(scores, a, b):
+    return a in scores and scores[a] < scores[b]
+
+
+def _wins(hidden, sibling, a, b):
+    if hidden:
+        return _beats(hidden, a, b) and (not sibling or _beats(sibling, a, b))
+    return bool(sibling) and _beats(sibling, a, b)
+
+
+def _faired(h, s):
+    return "fair3" if h and _wins(h, s, "fair3", "fair2") else "fair2"
+
+
+def rule_all_faired(h, s):
+    """Session 3: the λ-H fill must beat both faired fills on every test that ran."""
+    tests = [t for t in (h, s) if t]
+    if tests and all(t.get("conformal", INF) <= min(t["fair2"], t["fair3"]) for t in tests):
+        return "conformal"
+    return _faired(h, s)
+
+
+def rule_against_bilaplacian(h, s):
+    """The λ-H fill against the bilaplacian fill only (win test 1, do not lose test 2)."""
+    return "conformal" if _wins(h, s, "conformal", "fair2") else _faired(h, s)
+
+
+def rule_failed_hidden_says_nothing(h, s):
+    """As above, but a λ-H failure on test 1's larger hole leaves test 2 to decide."""
+    h_lh = h if np.isfinite(h.get("conformal", 0.0)) else {}
+    return "conformal" if _wins(h_lh, s, "conformal", "fair2") else _faired(h, s)
+
+
+def rule_default(h, s):
+    """The default: as above, and a test-1 error below DECISIVE × the bilaplacian's wins
+    without test 2."""
+    h_lh = h if np.isfinite(h.get("conformal", 0.0)) else {}
+    if h_lh and h_lh["conformal"] < DECISIVE * h_lh["fair2"]:
+        return "conformal"
+    return rule_failed_hidden_says_nothing(h, s)
+
+
+RULES = {
+    "λ-H must beat both faired fills (session 3)": rule_all_faired,
+    "λ-H against the bilaplacian fill": rule_against_bilaplacian,
+    "… and a failed hidden-ring test says nothing": rule_failed_hidden_says_nothing,
+    "… and a decisive hidden-ring win skips the siblings (default)": rule_default,
+    "always the λ-H fill (select=False)": lambda h, s: "conformal",
+    "the best candidate, chosen with the truth (ceiling)": None,
+}
+
+
+def replay(rows: list[dict]) -> str:
+    rows = [r for r in rows if r["true"]["fair2"] > 1e-9]
+    out = ["| rule | median error / baseline | worst | λ-H written | failed → faired |",
+           "|---|---|---|---|---|"]
+    for label, rule in RULES.items():
+        ratios, written, failed = [], 0, 0
+        for r in rows:
+            true = r["true"]
+            pick = (min(true, key=true.get) if rule is None
+                    else rule(r["hidden"], r["sibling"]))
+            if not np.isfinite(true[pick]):  # the λ-H fill failed on the hole itself
+                failed += 1
+                pick = _faired(r["hidden"], r["sibling"])
+            written += pick == "conformal"
+            ratios.append(true[pick] / true["fair2"])
+        ratios = np.array(ratios)
+        out.append(f"| {label} | {np.median(ratios):.3f} | {ratios.max():.3f} | "
+                   f"{written} of {len(rows)} | {failed} |")
+    return "\n".join(out)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--cases", default=CASES)
+    parser.add_argument("--json", help="also write the per-hole scores here")
+    args = parser.parse_args()
+    rows = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for name, k, cut in accuracy.benchmark_cuts(args.cases.split(",")):
+            rows.append({"case": name, "hole": k, **hole_scores(cut)})
+            print(f"{name} #{k}: " + ", ".join(f"{c} {v:.3g}"
+                                               for c, v in rows[-1]["true"].items()),
+                  file=sys.stderr, flush=True)
+    if args.json:
+        Path(args.json).write_text(json.dumps(rows, indent=1))
+    print(replay(rows))
+
+
+if __name__ == "__main__":
+    main()
