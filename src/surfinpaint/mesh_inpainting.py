@@ -207,9 +207,10 @@ def _coupled_solve(points, faces, uv, free, iterations, tol, relax):
                  / (2.0 * lam[stencil] ** 2 * area[stencil]))
     moving = np.union1d(f, tied)
     near = faces[np.isin(faces, moving).any(axis=1)]
-    history: list = []
+    previous = None  # (residual, solution) of the last step, for the Anderson mixing
     d_res: list = []
     d_new: list = []
+    step = np.inf
     for _ in range(iterations):
         normals = vertex_normals(phi, near)
         lam[moving] = np.sqrt(mass_matrix(phi, near).diagonal()[moving] / area[moving])
@@ -238,16 +239,14 @@ def _coupled_solve(points, faces, uv, free, iterations, tol, relax):
         if ANDERSON and relax == 1.0:
             # Anderson mixing of the last few steps: the lagged iteration is nearly linear
             # near its fixed point, and this takes it there in fewer solves
-            residual = (new - phi[f]).ravel()
-            if history:
-                d_res.append(residual - history[-1][0])
-                d_new.append(new.ravel() - history[-1][1])
+            residual, flat = (new - phi[f]).ravel(), new.ravel()
+            if previous is not None:
+                d_res.append(residual - previous[0])
+                d_new.append(flat - previous[1])
                 del d_res[:-ANDERSON], d_new[:-ANDERSON]
                 gamma = np.linalg.lstsq(np.column_stack(d_res), residual, rcond=None)[0]
-                history.append((residual, new.ravel()))
-                new = (new.ravel() - np.column_stack(d_new) @ gamma).reshape(new.shape)
-            else:
-                history.append((residual, new.ravel()))
+                new = (flat - np.column_stack(d_new) @ gamma).reshape(new.shape)
+            previous = (residual, flat)
             phi[f] = new
         else:
             phi[f] += relax * (new - phi[f])
