@@ -24,7 +24,13 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402
 
-from surfinpaint.conformal import DECISIVE, PATCH_RINGS, TEST_TOL, _fills  # noqa: E402
+from surfinpaint.conformal import (  # noqa: E402
+    DECISIVE,
+    PATCH_RINGS,
+    S0_ORDER,
+    TEST_TOL,
+    _fills,
+)
 from surfinpaint.metrics import surface_distance  # noqa: E402
 from surfinpaint.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
 
@@ -34,7 +40,7 @@ INF = float("inf")
 
 def _fills_of(test: bool):
     def fills(v, f, loop):
-        return _fills(v, f, loop, start="fair", orders=(2, 3), s0_order=2,
+        return _fills(v, f, loop, start="fair", orders=(2, 3), s0_order=S0_ORDER,
                       patch_rings=PATCH_RINGS["mesh"], iterations=1,
                       options={"tol": TEST_TOL} if test else {}, discretization="mesh",
                       test=test)

@@ -1,7 +1,7 @@
 """Conformal surface inpainting of one hole (Lui, Wen, Gu; method.md §6).
 
-Per hole: an initial fill S0 (the baseline's triangulation, refinement and bilaplacian
-fairing); a disk patch of S0 plus a few rings of the surface around it; its conformal map
+Per hole: an initial fill S0 (the baseline's triangulation and refinement, faired with the
+trilaplacian); a disk patch of S0 plus a few rings of the surface around it; its conformal map
 (LSCM); λ and H of the known part; inpainting of λ and H over the hole; reconstruction of
 the positions from the inpainted (λ, H) with the known surface as boundary condition. The
 original vertices never move.
@@ -493,6 +493,9 @@ def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, itera
 
 # rings of surface in a hole's patch, per discretization (measured: docs/accuracy.md)
 PATCH_RINGS = {"mesh": 4, "grid": 10}
+# fairing order of the initial fill S0 (without ``fair_order``): measured, the λ-H fill
+# from the trilaplacian S0 is closer (benchmarks/selfcheck_rules.py, README)
+S0_ORDER = 3
 # a λ-H fill this many times closer than the faired fill on the hidden rings is kept
 # without the sibling test
 DECISIVE = 0.5
@@ -568,10 +571,12 @@ def conformal_fill(
         Initial fill S0: faired (default) or only triangulated and refined.
     fair_order : int, optional
         Fairing order of S0 and of the faired fill the self-check compares with and falls
-        back to. None (default): S0 is bilaplacian (the baseline), and the faired fill is
-        chosen per hole by the same truth-free tests between the bilaplacian and the
-        trilaplacian one (curvature-continuous across the hole's edge: measured better on
-        smooth surfaces, much worse on noisy range scans; docs/accuracy.md).
+        back to. None (default): S0 is trilaplacian (``S0_ORDER``; the λ-H fill from it
+        measured closer), the λ-H fill is compared with the bilaplacian fill (the
+        baseline), and the faired fallback is chosen per hole by the same truth-free tests
+        between the bilaplacian and the trilaplacian one (curvature-continuous across the
+        hole's edge: measured better on smooth surfaces, much worse on noisy range scans;
+        docs/accuracy.md).
     discretization : {"mesh", "grid"}
         Where λ and H live. ``"mesh"`` (default): on the patch's own triangles, inpainting
         and rebuild solved together (:func:`inpaint_patch_on_mesh`; measured better on
@@ -634,12 +639,13 @@ def conformal_fill(
     if patch_rings is None:
         patch_rings = PATCH_RINGS[discretization]
     orders = (2, 3) if fair_order is None else (fair_order,)
+    s0_order = S0_ORDER if fair_order is None else fair_order
 
     # the test holes' λ-H fills stop at a coarser step: their scores differ by far more
     test_options = {"tol": TEST_TOL, **options} if discretization == "mesh" else options
 
     def fills_of(v, f, l, *, fair=True, conformal=True, s0=None, test=True):
-        return _fills(v, f, l, start=start, orders=orders, s0_order=orders[0],
+        return _fills(v, f, l, start=start, orders=orders, s0_order=s0_order,
                       patch_rings=patch_rings, iterations=iterations,
                       options=test_options if test else options, want_fair=fair,
                       want_conformal=conformal, s0=s0, discretization=discretization,
@@ -705,7 +711,7 @@ def conformal_fill(
     # made when it won, or when it failed on a test hole: then whether it fails on this
     # hole too is what the report and the warning must say
     if won or any(np.isinf(scores.get("conformal", 0.0)) for scores in tests.values()):
-        s0 = fills[fair_names[0]][:2] if start == "fair" else None  # S0, already made
+        s0 = fills[f"fair{s0_order}"][:2] if start == "fair" else None  # S0, already made
         own = fills_of(vertices, faces, loop, fair=False, s0=s0, test=False)["conformal"]
         if isinstance(own, Exception):
             failed = own
