@@ -100,20 +100,30 @@ def rule_failed_hidden_says_nothing(h, s):
     return "conformal" if _wins(h_lh, s, "conformal", "fair2") else _faired(h, s)
 
 
-def rule_default(h, s):
-    """The default: as above, and a test-1 error below DECISIVE × the bilaplacian's wins
-    without test 2."""
+def rule_decisive(h, s):
+    """As above, and a test-1 error below DECISIVE × the bilaplacian's wins without
+    test 2."""
     h_lh = h if np.isfinite(h.get("conformal", 0.0)) else {}
     if h_lh and h_lh["conformal"] < DECISIVE * h_lh["fair2"]:
         return "conformal"
     return rule_failed_hidden_says_nothing(h, s)
 
 
+def rule_default(h, s):
+    """The default: as above, and a λ-H failure on a sibling hole says nothing either."""
+    h_lh = h if np.isfinite(h.get("conformal", 0.0)) else {}
+    s_lh = s if np.isfinite(s.get("conformal", 0.0)) else {}
+    if h_lh and h_lh["conformal"] < DECISIVE * h_lh["fair2"]:
+        return "conformal"
+    return "conformal" if _wins(h_lh, s_lh, "conformal", "fair2") else _faired(h, s)
+
+
 RULES = {
     "λ-H must beat both faired fills (session 3)": rule_all_faired,
     "λ-H against the bilaplacian fill": rule_against_bilaplacian,
     "… and a failed hidden-ring test says nothing": rule_failed_hidden_says_nothing,
-    "… and a decisive hidden-ring win skips the siblings (default)": rule_default,
+    "… and a decisive hidden-ring win skips the siblings": rule_decisive,
+    "… and a failed sibling test says nothing either (default)": rule_default,
     "always the λ-H fill (select=False)": lambda h, s: "conformal",
     "the best candidate, chosen with the truth (ceiling)": None,
 }

@@ -594,9 +594,10 @@ def conformal_fill(
         as wide as this one cut from the known surface nearby (:func:`sibling_scores`).
         The conformal fill is kept when it beats the bilaplacian fill (the baseline, or
         the faired fill of ``fair_order``) on the hidden-ring test and does not lose the
-        sibling test (without the former, or when the λ-H fill fails on the hidden-ring
-        test's larger hole, it must win the latter; with less than half the faired fill's
-        hidden-ring error the sibling test is skipped). Otherwise a faired fill
+        sibling test; a test whose hole the λ-H fill fails on says nothing (the other
+        decides, and without the hidden-ring test the λ-H fill must win the sibling test);
+        with less than half the faired fill's hidden-ring error the sibling test is
+        skipped. Otherwise a faired fill
         is written: the trilaplacian one if it passes the same two tests against the
         bilaplacian one, else the bilaplacian one. The λ-H fill of the hole itself is
         computed only when it has won; when it then fails, the faired fill is returned and
@@ -704,7 +705,9 @@ def conformal_fill(
     verdicts = "; ".join(
         f"{name}: " + ", ".join(f"{k} {v:.3g}" for k, v in scores.items())
         for name, scores in tests.items()) or "no test could be run here"
-    won = wins(hidden_lh, sibling, "conformal", reference)
+    # likewise a λ-H fill that fails on a sibling hole: then the hidden rings decide
+    sibling_lh = sibling if np.isfinite(sibling.get("conformal", 0.0)) else {}
+    won = wins(hidden_lh, sibling_lh, "conformal", reference)
     lost = [name for name, scores in tests.items()
             if not beats(scores, "conformal", reference)]
     failed = None
