@@ -414,3 +414,39 @@ def test_mesh_pass_drops_rings_where_the_map_flips(sphere_hole, monkeypatch):
     monkeypatch.setattr(parameterization, "flipped_faces", lambda faces, uv: np.array([0]))
     with pytest.raises(FillError, match="folds"):
         inpaint_patch_on_mesh(vertices, cut.faces, cut.loop, new_f, moving)
+
+
+@pytest.mark.parametrize("hidden, sibling, expected", [
+    # wins the hidden rings, does not lose the siblings: kept
+    ({"fair2": 1.0, "fair3": 1.2, "conformal": 0.8}, {"fair2": 1.0, "fair3": 1.2,
+                                                      "conformal": 0.9}, "conformal"),
+    # loses the siblings: the faired fill
+    ({"fair2": 1.0, "fair3": 1.2, "conformal": 0.8}, {"fair2": 1.0, "fair3": 1.2,
+                                                      "conformal": 1.1}, "fair"),
+    # failed on the sibling holes: the hidden rings decide
+    ({"fair2": 1.0, "fair3": 1.2, "conformal": 0.8}, {"fair2": 1.0, "fair3": 1.2,
+                                                      "conformal": np.inf}, "conformal"),
+    # failed on the hidden-ring hole: the siblings decide
+    ({"fair2": 1.0, "fair3": 1.2, "conformal": np.inf}, {"fair2": 1.0, "fair3": 1.2,
+                                                         "conformal": 0.9}, "conformal"),
+    # failed on both: no evidence, the faired fill
+    ({"fair2": 1.0, "fair3": 1.2, "conformal": np.inf}, {"fair2": 1.0, "fair3": 1.2,
+                                                         "conformal": np.inf}, "fair"),
+    # a decisive hidden-ring win: the siblings are not asked
+    ({"fair2": 1.0, "fair3": 1.2, "conformal": 0.4}, None, "conformal"),
+])
+def test_self_check_rule(hidden, sibling, expected, sphere_hole, monkeypatch):
+    import surfinpaint.conformal as conformal
+
+    asked = []
+
+    def fake_sibling(*args, **kwargs):
+        asked.append(True)
+        return dict(sibling)
+
+    monkeypatch.setattr(conformal, "hidden_ring_scores", lambda *a, **k: dict(hidden))
+    monkeypatch.setattr(conformal, "sibling_scores", fake_sibling)
+    cut = sphere_hole
+    new_v, new_f, info = conformal_fill(cut.vertices, cut.faces, cut.loop)
+    assert info.get("selected", "conformal") == expected, info["selection"]
+    assert bool(asked) == (sibling is not None)
