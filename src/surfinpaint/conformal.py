@@ -336,8 +336,6 @@ def inpaint_patch_on_mesh(
         flipped = flipped_faces(local, uv)
         if len(flipped) == 0:
             break
-        if used < k:  # hole_patch shrank it already: fewer rings are tried by the loop
-            continue
     else:
         raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped "
                         "faces, even with 3 rings)")
