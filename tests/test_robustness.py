@@ -345,19 +345,25 @@ def _moving_fake(transform):
     return fake
 
 
-def test_fallback_on_non_finite_positions(monkeypatch):
-    def nan(vertices, patch_faces, n_fill_faces, moving):
-        out = vertices[moving].copy()
-        out[len(out) // 2] = np.nan
-        return out
-
-    _force(monkeypatch, _moving_fake(nan))
+def _assert_falls_back(monkeypatch, transform):
+    """The λ-H pass replaced by ``transform``: the hole gets the faired fill, with a
+    warning and the reason in the report, and the result is a valid closed mesh."""
+    _force(monkeypatch, _moving_fake(transform))
     v, f = _fallback_case()
     with pytest.warns(UserWarning):
         result = fill_holes(v, f, method="conformal")
     (r,) = result.reports
     assert r.method == "fair" and r.fallback
     check_filled(v, f, result)
+
+
+def test_fallback_on_non_finite_positions(monkeypatch):
+    def nan(vertices, patch_faces, n_fill_faces, moving):
+        out = vertices[moving].copy()
+        out[len(out) // 2] = np.nan
+        return out
+
+    _assert_falls_back(monkeypatch, nan)
 
 
 def test_fallback_on_folded_positions(monkeypatch):
@@ -366,13 +372,7 @@ def test_fallback_on_folded_positions(monkeypatch):
     def fold(vertices, patch_faces, n_fill_faces, moving):
         return vertices[moving] * np.array([1.0, 1.0, -1.0])
 
-    _force(monkeypatch, _moving_fake(fold))
-    v, f = _fallback_case()
-    with pytest.warns(UserWarning):
-        result = fill_holes(v, f, method="conformal")
-    (r,) = result.reports
-    assert r.method == "fair" and r.fallback
-    check_filled(v, f, result)
+    _assert_falls_back(monkeypatch, fold)
 
 
 def test_fallback_on_a_patch_through_the_surroundings(monkeypatch):
@@ -387,13 +387,7 @@ def test_fallback_on_a_patch_through_the_surroundings(monkeypatch):
         sign = np.where(np.arange(len(p)) % 2 == 0, 1.0, -1.0)[:, None]
         return c + 2.2 * tangent + 0.06 * sign * normal
 
-    _force(monkeypatch, _moving_fake(spread))
-    v, f = _fallback_case()
-    with pytest.warns(UserWarning):
-        result = fill_holes(v, f, method="conformal")
-    (r,) = result.reports
-    assert r.method == "fair" and r.fallback
-    check_filled(v, f, result)
+    _assert_falls_back(monkeypatch, spread)
 
 
 def test_crossing_patch_is_caught_without_the_fold_check(monkeypatch):

@@ -128,15 +128,7 @@ def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order
     FillError
         When even the order-2 (or the requested lower-order) fill cannot be made.
     """
-    try:
-        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True,
-                                         order=order)
-    except FillError:
-        if order <= 2:
-            raise
-        order = 2
-        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=True)
-    return np.asarray(new_v, dtype=float), np.asarray(new_f, dtype=np.int64), order
+    return faired_fills(vertices, faces, loop, (order,))[order]
 
 
 def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
