@@ -71,14 +71,19 @@ def _beats(scores, a, b):
     return a in scores and scores[a] < scores[b]
 
 
-def _wins(hidden, sibling, a, b):
+def _holds(scores, a, b):
+    return a in scores and scores[a] <= scores[b]
+
+
+def _wins(hidden, sibling, a, b, tie_holds=False):
     if hidden:
-        return _beats(hidden, a, b) and (not sibling or _beats(sibling, a, b))
+        second = _holds if tie_holds else _beats
+        return _beats(hidden, a, b) and (not sibling or second(sibling, a, b))
     return bool(sibling) and _beats(sibling, a, b)
 
 
-def _faired(h, s):
-    return "fair3" if h and _wins(h, s, "fair3", "fair2") else "fair2"
+def _faired(h, s, tie_holds=False):
+    return "fair3" if h and _wins(h, s, "fair3", "fair2", tie_holds) else "fair2"
 
 
 def rule_all_faired(h, s):
@@ -109,13 +114,21 @@ def rule_decisive(h, s):
     return rule_failed_hidden_says_nothing(h, s)
 
 
-def rule_default(h, s):
-    """The default: as above, and a λ-H failure on a sibling hole says nothing either."""
+def rule_failed_sibling_says_nothing(h, s, tie_holds=False):
+    """As above, and a λ-H failure on a sibling hole says nothing either."""
     h_lh = h if np.isfinite(h.get("conformal", 0.0)) else {}
     s_lh = s if np.isfinite(s.get("conformal", 0.0)) else {}
     if h_lh and h_lh["conformal"] < DECISIVE * h_lh["fair2"]:
         return "conformal"
-    return "conformal" if _wins(h_lh, s_lh, "conformal", "fair2") else _faired(h, s)
+    if _wins(h_lh, s_lh, "conformal", "fair2", tie_holds):
+        return "conformal"
+    return _faired(h, s, tie_holds)
+
+
+def rule_default(h, s):
+    """The default: as above, and a tie on the sibling holes (the same fill, as on holes too
+    small for inner vertices) is not a loss."""
+    return rule_failed_sibling_says_nothing(h, s, tie_holds=True)
 
 
 RULES = {
@@ -123,7 +136,8 @@ RULES = {
     "λ-H against the bilaplacian fill": rule_against_bilaplacian,
     "… and a failed hidden-ring test says nothing": rule_failed_hidden_says_nothing,
     "… and a decisive hidden-ring win skips the siblings": rule_decisive,
-    "… and a failed sibling test says nothing either (default)": rule_default,
+    "… and a failed sibling test says nothing either": rule_failed_sibling_says_nothing,
+    "… and a tie on the siblings is not a loss (default)": rule_default,
     "always the λ-H fill (select=False)": lambda h, s: "conformal",
     "the best candidate, chosen with the truth (ceiling)": None,
 }

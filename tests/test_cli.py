@@ -402,6 +402,36 @@ def test_fill_discretization_is_passed_on(tmp_path, capsys):
                  "--reconstruct", "laplacian", "-q"]) == 0
 
 
+def test_fill_crease_options_are_passed_on(tmp_path, capsys):
+    from surfinpaint.cutting import cut_geodesic_disk
+    from surfinpaint.data import cube
+    from surfinpaint.mesh import mean_edge_length
+
+    v, f = cube(12)
+    centre = int(np.argmin(np.linalg.norm(v - [0.5, 0.0, 0.0], axis=1)))
+    cut = cut_geodesic_disk(v, f, centre, 4 * mean_edge_length(v, f))
+    path = tmp_path / "cube.ply"
+    write_mesh(path, cut.vertices, cut.faces)
+    off_cube = {}
+    for flags, kwargs in (([], {}), (["--no-creases"], {"creases": False}),
+                          (["--crease-angle", "95"], {"crease_angle": 95.0})):
+        out = tmp_path / "out.ply"
+        assert main(["fill", str(path), "-o", str(out), "-q", *flags]) == 0
+        written = read_mesh(out)[0]
+        expected = fill_holes(cut.vertices, cut.faces, **kwargs).vertices
+        np.testing.assert_allclose(written, expected, rtol=0, atol=1e-6)
+        new = written[len(cut.vertices):]
+        off_cube[" ".join(flags)] = np.minimum(new, 1 - new).min(axis=1).max()
+    # with the crease the new vertices lie on the cube; without it (or with a threshold
+    # above the cube's 90°) the edge is rounded off
+    assert off_cube[""] < 1e-6
+    assert off_cube["--no-creases"] > 1e-2 and off_cube["--crease-angle 95"] > 1e-2
+    bad = tmp_path / "bad.ply"
+    assert main(["fill", str(path), "-o", str(bad), "--crease-angle", "200"]) == 2
+    assert "--crease-angle" in capsys.readouterr().err
+    assert not bad.exists()
+
+
 def test_fill_overwrites_an_existing_output_completely(tmp_path, capsys):
     v, f = _holey_sphere()
     path = tmp_path / "in.off"

@@ -48,6 +48,7 @@ SMALL = {
     "cube": (lambda: data.cube(4), 2),
     "snowman": (lambda: data.snowman(edge_length=0.15), 2),
     "tooth": (lambda: data.tooth(edge_length=0.12), 2),
+    "lens": (lambda: data.lens(edge_length=0.15), 2),
 }
 
 
@@ -205,3 +206,24 @@ def test_missing_package_names_what_to_install(monkeypatch):
     monkeypatch.setattr(importlib, "import_module", fake)
     with pytest.raises(ModuleNotFoundError, match="pip install nilearn"):
         data.fsaverage5()
+
+
+def test_lens_is_two_spherical_caps_with_a_sharp_rim():
+    radius = 1.5
+    v, f = data.lens(0.08, radius=radius)
+    centre = np.sqrt(radius**2 - 1)
+    top, bottom = v[:, 2] > 1e-12, v[:, 2] < -1e-12
+    # on the spheres up to the profile's sampling (4000 points per cap: 6e-9)
+    np.testing.assert_allclose(np.linalg.norm(v[top] + [0, 0, centre], axis=1), radius,
+                               rtol=1e-8)
+    np.testing.assert_allclose(np.linalg.norm(v[bottom] - [0, 0, centre], axis=1), radius,
+                               rtol=1e-8)
+    rim = ~top & ~bottom
+    np.testing.assert_allclose(np.hypot(v[rim, 0], v[rim, 1]), 1.0, rtol=1e-12)
+    from surfinpaint.creases import sharp_edges
+
+    edges, turn = sharp_edges(v, f)
+    assert rim[edges].all() and len(edges) == rim.sum()  # the rim is the one crease
+    assert (turn > np.degrees(2 * np.arcsin(1 / radius))).all()
+    with pytest.raises(ValueError, match="radius"):
+        data.lens(radius=1.0)

@@ -108,3 +108,16 @@ def test_bad_input():
     with pytest.raises(MeshError, match="not connected to any fixed"):
         fair(v, f, np.arange(len(v)))
     assert np.array_equal(fair(v, f, []), v)
+
+
+@pytest.mark.parametrize("order", [2, 3])
+def test_a_cut_border_does_not_pull_a_plane(order):
+    # free vertices next to the left side, which a crease cut open: its one-sided Laplacians
+    # are not zero on a plane; left out, the plane (and its triangles) stay as they are
+    v, f = _grid(jitter=0.0)
+    left = np.isclose(v[:, 0], 0)
+    free = np.flatnonzero((v[:, 0] > 0) & (v[:, 0] < 0.3) & (np.abs(v[:, 1] - 0.5) < 0.25))
+    pulled = fair(v, f, free, order=order)
+    assert np.abs(pulled - v).max() > 1e-3
+    kept = fair(v, f, free, order=order, cut=left)
+    assert np.abs(kept - v).max() < 1e-12

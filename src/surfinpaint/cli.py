@@ -115,6 +115,13 @@ def cmd_fill(args: argparse.Namespace) -> int:
         raise _UsageError("--reconstruct and --inpaint harmonic need --discretization grid "
                           "(the mesh discretization inpaints biharmonically and rebuilds "
                           "in the Laplacian form, solved together)")
+    if args.no_creases:
+        options["creases"] = False
+    if args.crease_angle is not None:
+        if not 0.0 < args.crease_angle < 180.0:
+            raise _UsageError(f"--crease-angle must be between 0 and 180 degrees, got "
+                              f"{args.crease_angle:g}")
+        options["crease_angle"] = args.crease_angle
     if args.inpaint:
         options["inpaint"] = args.inpaint
     if args.reconstruct:
@@ -251,6 +258,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="where the conformal method's λ and H live: on the patch's "
                    "triangles (default, measured more accurate) or on the paper's regular "
                    "grid over the conformal domain")
+    p.add_argument("--no-creases", action="store_true",
+                   help="fill every hole as smooth (by default a sharp crease that crosses a "
+                   "hole is continued across it and each side filled on its own)")
+    p.add_argument("--crease-angle", type=float, metavar="DEG",
+                   help="turn between neighbouring faces (degrees) above which an edge is "
+                   "part of a crease (default 60)")
     p.add_argument("--inpaint", choices=("biharmonic", "harmonic"),
                    help="inpainting model for λ and H (default biharmonic; harmonic needs "
                    "--discretization grid)")

@@ -28,6 +28,7 @@ __all__ = [
     "default_demo_mesh",
     "default_demo_path",
     "fsaverage5",
+    "lens",
     "pymeshfix_bunny",
     "pymeshlab_sample",
     "regenerate_default_data",
@@ -280,6 +281,38 @@ def cube(n: int = 16) -> tuple[np.ndarray, np.ndarray]:
     f = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
     v = lattice / n
     return v, _orient_convex(v, f, np.full(3, 0.5))
+
+
+def lens(edge_length: float = 0.05, radius: float = 1.5) -> tuple[np.ndarray, np.ndarray]:
+    """Lens: two equal spherical caps meeting at a sharp circular rim (a curved crease).
+
+    Both caps are parts of spheres of ``radius`` (mean curvature ``1 / radius``) through the
+    unit circle in the plane z = 0, which is the rim: a ring of vertices where the normals
+    turn by ``2 arcsin(1 / radius)`` (84° at the default).
+
+    Parameters
+    ----------
+    edge_length : float
+        Target edge length (adjusted so that the rim is a ring of the mesh).
+    radius : float
+        The caps' sphere radius, > 1.
+
+    Returns
+    -------
+    vertices, faces
+        A closed genus-0 surface, outward oriented.
+    """
+    if radius <= 1.0:
+        raise ValueError(f"radius must be > 1, got {radius}")
+    centre = np.sqrt(radius**2 - 1.0)
+    half = np.arcsin(1.0 / radius)  # the cap's half angle
+    t = np.linspace(0.0, half, 4000)
+    rho, z = radius * np.sin(t), radius * np.cos(t) - centre
+    steps = 2 * max(1, int(round(radius * half / edge_length)))  # even: the rim is a ring
+    rho = np.concatenate([rho, rho[-2::-1]])
+    z = np.concatenate([z, -z[-2::-1]])
+    v, f = _revolution(rho, z, 2 * radius * half / steps)
+    return v, _outward(v, f)
 
 
 def snowman(edge_length: float = 0.06) -> tuple[np.ndarray, np.ndarray]:

@@ -54,6 +54,7 @@ def fair(
     order: int = 2,
     *,
     iterations: int = 1,
+    cut: np.ndarray | None = None,
 ) -> np.ndarray:
     """Solve ``Δ^order x = 0`` at the free vertices with all other vertices fixed.
 
@@ -69,6 +70,11 @@ def fair(
     iterations : int
         Number of solves; each recomputes the cotangent weights and masses from the previous
         result (the first uses the input positions, e.g. a flat initial patch).
+    cut : (n,) bool array, optional
+        Fixed vertices on a border the mesh was cut open along (a crease,
+        :mod:`surfinpaint.creases`): their one-sided Laplacians are left out of the
+        operator (they are not zero even on a plane, and would pull the free vertices
+        along the plane into slivers).
 
     Returns
     -------
@@ -134,6 +140,8 @@ def fair(
     f = local[sub]
     is_free = mask[ids]
     in_rows = rows_mask[ids]
+    if cut is not None:
+        in_rows = in_rows & ~np.asarray(cut, dtype=bool)[ids]
     _check_anchored(f, is_free, ids)
 
     for _ in range(iterations):

@@ -91,6 +91,7 @@ def inpaint_on_mesh(
     iterations: int = 20,
     tol: float = 1e-3,
     relax: float | None = None,
+    natural: np.ndarray | None = None,
 ) -> np.ndarray:
     """Move the ``free`` vertices so that λ and H are biharmonic over them and the surface
     is rebuilt from them, the other vertices fixed.
@@ -125,6 +126,12 @@ def inpaint_on_mesh(
         the disk's border.
     iterations, tol, relax :
         See above.
+    natural : (n,) bool array, optional
+        Border vertices the free ones may come close to: a crease the mesh was cut along
+        (:mod:`surfinpaint.creases`), fixed in position. H has no two-sided Laplacian
+        there, so near the free vertices it is an unknown of the inpainting with natural
+        boundary conditions (the biharmonic energy of the one side), and further out the
+        mean of its inner neighbours' H.
 
     Returns
     -------
@@ -150,7 +157,7 @@ def inpaint_on_mesh(
                                                                  (0.5, 3 * iterations)]
     for k, (weight, steps) in enumerate(attempts):
         try:
-            return _coupled_solve(points, faces, uv, free, steps, tol, weight)
+            return _coupled_solve(points, faces, uv, free, steps, tol, weight, natural)
         except _Unsettled as exc:
             if k == len(attempts) - 1:
                 raise FillError(str(exc)) from None
@@ -161,7 +168,7 @@ class _Unsettled(FillError):
     """The lagged iteration diverged or did not settle."""
 
 
-def _coupled_solve(points, faces, uv, free, iterations, tol, relax):
+def _coupled_solve(points, faces, uv, free, iterations, tol, relax, natural=None):
     f = np.flatnonzero(free)
     fixed = np.flatnonzero(~free)
     if len(f) == 0:
@@ -171,27 +178,35 @@ def _coupled_solve(points, faces, uv, free, iterations, tol, relax):
     if (area <= 0).any():
         raise FillError("the parameter map has vertices with no area")
     Q = (L @ sp.diags(1.0 / area) @ L).tocsr()
-    # H at the fixed vertices whose Laplacian reaches a free one is tied to φ; H further
-    # out (the rest of the biharmonic stencil) is data, which must not be on the border
-    L_free_cols = L[:, f]
-    tied = np.setdiff1d(np.flatnonzero(np.diff(L_free_cols.tocsr().indptr) > 0), f)
-    Q_f = Q[f]
-    stencil = np.setdiff1d(np.unique(Q_f.indices), np.union1d(f, tied))
     border = _border(faces)
-    if np.isin(stencil, border).any() or np.isin(tied, border).any():
+    on_natural = np.zeros(len(points), dtype=bool)
+    if natural is not None:
+        on_natural[border] = np.asarray(natural, dtype=bool)[border]
+    # H at the fixed vertices whose Laplacian reaches a free one is tied to φ; H further
+    # out (the rest of the biharmonic stencil) is data, which must not be on the border.
+    # On a natural border (a crease) H near the free vertices is unknown instead (U)
+    L_free_cols = L[:, f]
+    reach = np.setdiff1d(np.flatnonzero(np.diff(L_free_cols.tocsr().indptr) > 0), f)
+    crease = np.setdiff1d(np.unique(Q[f].indices), f)
+    crease = crease[on_natural[crease]]
+    tied = reach[~on_natural[reach]]
+    U = np.concatenate([f, crease])
+    Q_f = Q[U]
+    stencil = np.setdiff1d(np.unique(Q_f.indices), np.union1d(U, tied))
+    outer = border[~on_natural[border]]
+    if np.isin(stencil, outer).any() or np.isin(tied, outer).any():
         raise FillError("the patch is too thin around the hole: the biharmonic stencil "
                         "reaches its border")
     L_ff, L_fk = L[f][:, f].tocsc(), L[f][:, fixed]
     L_tf, L_tk = L[tied][:, f], L[tied][:, fixed]
-    Q_ff, Q_ft, Q_fs = Q_f[:, f].tocsc(), Q_f[:, tied], Q_f[:, stencil]
-    Q_fk = Q_f[:, fixed]
+    Q_ff, Q_ft, Q_fs = Q_f[:, U].tocsc(), Q_f[:, tied], Q_f[:, stencil]
+    Q_fk = Q[f][:, fixed]
     try:
         L_lu, Q_lu = spla.splu(L_ff), spla.splu(Q_ff)
+        # λ has data on the crease (its one-sided areas): the plain biharmonic over f
+        lam_lu = Q_lu if len(crease) == 0 else spla.splu(Q[f][:, f].tocsc())
     except RuntimeError as exc:  # SuperLU: exactly singular
         raise FillError(f"the λ-H system on the patch is singular: {exc}") from exc
-    # Eliminating φ from the rebuild, φ_c = g_c + L_ff⁻¹ (M s n_c H) with g = L_ff⁻¹(-L_fk
-    # φ_k), leaves Q_ff H plus a rank-(tied ring) term: Woodbury, with the two sparse
-    # factors made once and only a small dense system per iteration
     g = L_lu.solve(-(L_fk @ points[fixed]))
     Z_t = L_lu.solve(L_tf.T.toarray()).T  # L_tf L_ff⁻¹, (t, m)
     Y = Q_lu.solve(Q_ft.toarray())  # Q_ff⁻¹ Q_ft, (m, t)
@@ -199,32 +214,51 @@ def _coupled_solve(points, faces, uv, free, iterations, tol, relax):
     L_tf_g = L_tf @ g  # (t, 3)
     scale = mean_edge_length(points, faces)
     phi = points.copy()
-    # λ and the normals change only at the free vertices and the tied ring: recomputed on
-    # the faces around them; H on the rest of the stencil is fixed data
+    # λ and the normals change only at the free vertices and the ring around them:
+    # recomputed on the faces around them; H on the rest of the stencil is fixed data
     lam = np.sqrt(mass_matrix(points, faces).diagonal() / area)
-    normals = vertex_normals(points, faces)
-    H_stencil = (np.einsum("ij,ij->i", (L @ points)[stencil], normals[stencil])
-                 / (2.0 * lam[stencil] ** 2 * area[stencil]))
-    moving = np.union1d(f, tied)
+    natural_data = stencil[on_natural[stencil]]
+    if len(natural_data):
+        # on a crease H has no two-sided Laplacian: there it is the mean H of the
+        # neighbours off the border, which the free vertices move (so it is lagged too)
+        inner = np.ones(len(points))
+        inner[border] = 0.0
+        adjacency = sp.csr_matrix((L != 0).astype(float))[natural_data]
+        weight = np.maximum(adjacency @ inner, 1.0)
+
+    def stencil_H(phi):
+        lam2 = mass_matrix(phi, faces).diagonal() / area
+        H = np.einsum("ij,ij->i", L @ phi, vertex_normals(phi, faces)) / (2.0 * lam2 * area)
+        out = H[stencil]
+        if len(natural_data):
+            out[on_natural[stencil]] = (adjacency @ np.where(inner > 0, H, 0.0)) / weight
+        return out
+
+    H_stencil = stencil_H(points)
+    # λ changes at the vertices whose faces touch a free one, the normals likewise
+    moving = np.union1d(f, reach)
     near = faces[np.isin(faces, moving).any(axis=1)]
     previous = None  # (residual, solution) of the last step, for the Anderson mixing
     d_res: list = []
     d_new: list = []
     step = np.inf
     for _ in range(iterations):
+        if len(natural_data):
+            H_stencil = stencil_H(phi)
         normals = vertex_normals(phi, near)
         lam[moving] = np.sqrt(mass_matrix(phi, near).diagonal()[moving] / area[moving])
-        lam[f] = Q_lu.solve(-(Q_fk @ lam[fixed]))
+        lam[f] = lam_lu.solve(-(Q_fk @ lam[fixed]))
         s = 2.0 * lam**2
         w_n = normals[tied] / (area[tied] * s[tied])[:, None]  # (t, 3)
         d_n = normals[f] * (area[f] * s[f])[:, None]  # (m, 3)
         # H at the tied ring = w_n · (L_tk φ_k + L_tf φ_f), φ_f = g + L_ff⁻¹ (d_n H)
         K = sum(w_n[:, [c]] * Z_t * d_n[:, c] for c in range(3))  # (t, m)
+        K = np.hstack([K, np.zeros((len(tied), len(crease)))])  # H on a crease: no φ
         b = (-(Q_ft @ np.einsum("ij,ij->i", w_n, L_tk_phi + L_tf_g))
              - Q_fs @ H_stencil)
         y = Q_lu.solve(b)
         try:
-            H_f = y - Y @ np.linalg.solve(np.eye(len(tied)) + K @ Y, K @ y)
+            H_f = (y - Y @ np.linalg.solve(np.eye(len(tied)) + K @ Y, K @ y))[:len(f)]
         except np.linalg.LinAlgError as exc:
             raise FillError(f"the coupled λ-H system is singular: {exc}") from exc
         new = g + L_lu.solve(d_n * H_f[:, None])

@@ -313,7 +313,8 @@ def fill_holes(
             new_v, new_f, details = _fill_one(
                 local_vertices, local_faces, local_loop, "fair",
                 {"fair_order": options.get("fair_order")})
-        report.note = details.get("selection")
+        notes = [details.get(key) for key in ("selection", "crease", "crease_failed")]
+        report.note = "; ".join(note for note in notes if note) or None
         if details.get("selected"):
             report.method = details["selected"]
         if details.get("failed"):

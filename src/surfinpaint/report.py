@@ -315,8 +315,12 @@ def _range(arrays, masks, low=2.0, high=98.0):
     if len(values) == 0:
         return None, None
     lo, hi = np.percentile(values, [low, high])
-    if hi <= lo:
-        hi = lo + 1e-12
+    if hi - lo <= 1e-9 * max(abs(lo), abs(hi), 1.0):
+        # constant up to round-off (λ = 1, H = 0 on a cube's faces): a readable range
+        # around it, not one whose colour bar labels are round-off
+        centre = 0.5 * (lo + hi)
+        half = 0.05 * abs(centre) if centre != 0 else 1.0
+        lo, hi = centre - half, centre + half
     return float(lo), float(hi)
 
 
@@ -382,6 +386,10 @@ def hole_panel(
         "C": "(C) conformal fill", "D": "(D) initial λ (known part)",
         "E": "(E) inpainted λ", "F": "(F) initial H (known part)", "G": "(G) inpainted H",
     }
+    if "crease" in (details or {}) and "mesh_lambda_h" in details:
+        # λ and H of one side of a crease (each side is inpainted on its own)
+        for key in "DEFG":
+            names[key] += ", one side"
     names.update(titles or {})
     views = [_view_of(vertices, faces, loop)]
     for fill in (fair, conformal):
