@@ -9,7 +9,8 @@ the hole diameter.
 Methods: ``fair`` and ``conformal`` (``surfinpaint.fill_holes``; ``fair3`` is the fair fill
 with trilaplacian fairing, ``fair_order=3``, one of the conformal method's fallbacks;
 ``conformal_raw`` is the conformal method without its self-check, ``select=False``, so it
-measures the conformal fill itself; ``conformal_grid`` and ``conformal_grid_raw`` the same
+measures the conformal fill itself; ``conformal_smooth`` fills every hole as smooth,
+``creases=False``; ``conformal_grid`` and ``conformal_grid_raw`` the same
 with the paper's grid discretization, ``discretization="grid"``; ``conventional`` calls
 :func:`surfinpaint.baseline.conventional_fill` directly) and the reference peers ``cgal``
 (CGAL triangulate_refine_and_fair_hole) and ``meshlib`` (MeshLib fillHoleNicely) from
@@ -22,6 +23,8 @@ Run::
 
     .venv/bin/python benchmarks/accuracy.py               # default set: 76 holes, 2-5 min
     .venv/bin/python benchmarks/accuracy.py --quick       # 8 holes, ~15 s
+    .venv/bin/python benchmarks/accuracy.py --set creases --methods \
+        fair,fair3,conformal_smooth,conformal,cgal,cgal3,meshlib   # 17 holes across creases
     .venv/bin/python benchmarks/accuracy.py --methods fair,cgal --cases bunny,cube \
         --out results.json
 """
@@ -49,8 +52,9 @@ from surfinpaint.metrics import hole_patch_of, surface_distance
 sys.path.insert(0, str(Path(__file__).parent))
 import peers  # noqa: E402
 
-ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conformal_grid",
-               "conformal_grid_raw", "conventional", "cgal", "cgal3", "meshlib")
+ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conformal_smooth",
+               "conformal_grid", "conformal_grid_raw", "conventional", "cgal", "cgal3",
+               "meshlib")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 
 
@@ -138,6 +142,28 @@ def _cases(quick: bool) -> dict[str, Case]:
     }
 
 
+def _crease_cases() -> dict[str, Case]:
+    """``--set creases``: holes across sharp creases (cube edges; a lens's circular rim
+    between two spherical caps) and, for the limit, across a rim that turns by less than
+    the crease threshold."""
+    rim = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0]]
+    return {
+        "cube24": Case("cube24", lambda: data.cube(24),
+                       _points([[0.5, 0, 0]] * 3 + [[0.35, 0, 0]] * 2),
+                       radii_h=[4, 6, 8, 4, 6], note="edge y = z = 0, centred and off"),
+        "cube40": Case("cube40", lambda: data.cube(40),
+                       _points([[0.5, 0, 0]] * 2 + [[0, 0.5, 1]] * 2), radii_h=[6, 10, 6, 10],
+                       note="two edges"),
+        "lens": Case("lens", lambda: data.lens(0.04), _points(rim), radii_h=[4, 6, 8, 12],
+                     note="rim turning by 96°"),
+        "lens_sharp": Case("lens_sharp", lambda: data.lens(0.04, radius=3.0),
+                           _points(rim[:2]), radii_h=[5, 8], note="rim turning by 141°"),
+        "lens_blunt": Case("lens_blunt", lambda: data.lens(0.04, radius=1.1),
+                           _points(rim[:2]), radii_h=[5, 8],
+                           note="rim turning by 49°: below the 60° threshold, filled as smooth"),
+    }
+
+
 def _holes(case: Case, v: np.ndarray, h: float, n_sizes: int) -> list[tuple[np.ndarray, float]]:
     """(site, radius) of every hole of a case."""
     sites = case.sites(v)
@@ -219,6 +245,8 @@ def run_method(method: str, vertices, faces, loop):
         return _run_ours(method, vertices, faces, loop)
     if method == "conformal_raw":
         return _run_ours("conformal", vertices, faces, loop, select=False)
+    if method == "conformal_smooth":  # every hole filled as smooth (no crease continued)
+        return _run_ours("conformal", vertices, faces, loop, creases=False)
     if method == "conformal_grid":  # the paper's grid discretization, with the self-check
         return _run_ours("conformal", vertices, faces, loop, discretization="grid")
     if method == "conformal_grid_raw":
@@ -387,6 +415,9 @@ def main(argv: list[str] | None = None) -> list[Row]:
     parser.add_argument("--methods", default=",".join(DEFAULT_METHODS),
                         help=f"comma-separated, from {', '.join(ALL_METHODS)}")
     parser.add_argument("--cases", default=None, help="comma-separated case names")
+    parser.add_argument("--set", choices=("default", "creases"), default="default",
+                        help="the hole set: the default benchmark, or holes across sharp "
+                        "creases")
     parser.add_argument("--samples", type=int, default=10000,
                         help="surface samples per side for the distance")
     parser.add_argument("--out", default=None, help="write all rows as JSON here")
@@ -395,7 +426,7 @@ def main(argv: list[str] | None = None) -> list[Row]:
     for m in methods:
         if m not in ALL_METHODS:
             parser.error(f"unknown method {m!r}: choose from {', '.join(ALL_METHODS)}")
-    cases = _cases(args.quick)
+    cases = _crease_cases() if args.set == "creases" else _cases(args.quick)
     if args.cases:
         names = [c.strip() for c in args.cases.split(",")]
         unknown = [c for c in names if c not in cases]

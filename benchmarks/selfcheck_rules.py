@@ -25,12 +25,15 @@ sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402
 
 from surfinpaint.conformal import (  # noqa: E402
+    CREASE_ANGLE,
     DECISIVE,
     PATCH_RINGS,
     S0_ORDER,
     TEST_TOL,
     _fills,
 )
+from surfinpaint.creases import CREASE_EDGES, hole_crease  # noqa: E402
+from surfinpaint.errors import FillError  # noqa: E402
 from surfinpaint.metrics import surface_distance  # noqa: E402
 from surfinpaint.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
 
@@ -38,16 +41,24 @@ CASES = "bunny,face,pial,white,sphere,torus,cube,snowman,tooth"
 INF = float("inf")
 
 
-def _fills_of(test: bool):
+def _fills_of(test: bool, crossed: bool = False):
+    """The candidates as ``conformal_fill`` makes them (for a hole ``crossed`` by a crease,
+    its test holes as there too)."""
     def fills(v, f, loop):
-        return _fills(v, f, loop, start="fair", orders=(2, 3), s0_order=S0_ORDER,
-                      patch_rings=PATCH_RINGS["mesh"], iterations=1,
-                      options={"tol": TEST_TOL} if test else {}, discretization="mesh",
-                      test=test)
+        out = _fills(v, f, loop, start="fair", orders=(2, 3), s0_order=S0_ORDER,
+                     patch_rings=PATCH_RINGS["mesh"], iterations=1,
+                     options={"tol": TEST_TOL} if test else {}, discretization="mesh",
+                     test=test, crease_angle=CREASE_ANGLE,
+                     crease_edges=1 if test and crossed else CREASE_EDGES)
+        made = out.get("conformal")
+        if test and crossed and not isinstance(made, Exception) and "crease" not in made[2]:
+            out["conformal"] = FillError("no crease crosses the test hole")
+        return out
     return fills
 
 
 def hole_scores(cut) -> dict:
+    crossed = hole_crease(cut.vertices, cut.faces, cut.loop) is not None
     fills = _fills_of(test=False)(cut.vertices, cut.faces, cut.loop)
     true = {}
     for name, fill in fills.items():
@@ -58,9 +69,9 @@ def hole_scores(cut) -> dict:
         d = surface_distance(np.vstack([cut.vertices, new_v]), new_f, cut.truth_vertices,
                              cut.truth_faces, n_samples=4000)
         true[name] = 100.0 * d["mean"] / cut.diameter
-    tests = _fills_of(test=True)
+    tests = _fills_of(test=True, crossed=crossed)
     rings = PATCH_RINGS["mesh"]
-    return {"true": true,
+    return {"true": true, "crossed": crossed,
             "hidden": hidden_ring_scores(cut.vertices, cut.faces, cut.loop, tests,
                                          patch_rings=rings),
             "sibling": sibling_scores(cut.vertices, cut.faces, cut.loop, tests,
@@ -125,9 +136,13 @@ def rule_failed_sibling_says_nothing(h, s, tie_holds=False):
     return _faired(h, s, tie_holds)
 
 
-def rule_default(h, s):
+def rule_default(h, s, crossed=False):
     """The default: as above, and a tie on the sibling holes (the same fill, as on holes too
-    small for inner vertices) is not a loss."""
+    small for inner vertices) is not a loss; a hole crossed by a crease keeps its crease
+    fill when no test hole is crossed (all λ-H test scores are then infinite)."""
+    if crossed and not np.isfinite(h.get("conformal", INF)) \
+            and not np.isfinite(s.get("conformal", INF)):
+        return "conformal"
     return rule_failed_sibling_says_nothing(h, s, tie_holds=True)
 
 
@@ -137,7 +152,8 @@ RULES = {
     "… and a failed hidden-ring test says nothing": rule_failed_hidden_says_nothing,
     "… and a decisive hidden-ring win skips the siblings": rule_decisive,
     "… and a failed sibling test says nothing either": rule_failed_sibling_says_nothing,
-    "… and a tie on the siblings is not a loss (default)": rule_default,
+    "… and a tie on the siblings is not a loss; crease fills kept when no test hole is "
+    "crossed (default)": rule_default,
     "always the λ-H fill (select=False)": lambda h, s: "conformal",
     "the best candidate, chosen with the truth (ceiling)": None,
 }
@@ -151,8 +167,12 @@ def replay(rows: list[dict]) -> str:
         ratios, written, failed = [], 0, 0
         for r in rows:
             true = r["true"]
-            pick = (min(true, key=true.get) if rule is None
-                    else rule(r["hidden"], r["sibling"]))
+            if rule is None:
+                pick = min(true, key=true.get)
+            elif rule is rule_default:
+                pick = rule(r["hidden"], r["sibling"], r.get("crossed", False))
+            else:
+                pick = rule(r["hidden"], r["sibling"])
             if not np.isfinite(true[pick]):  # the λ-H fill failed on the hole itself
                 failed += 1
                 pick = _faired(r["hidden"], r["sibling"])

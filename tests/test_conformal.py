@@ -198,10 +198,28 @@ def test_cube_edge_hole():
     report = chosen.reports[0]
     assert report.method == "conformal" and "crease" in report.details["crease"]
     assert "crease" in report.note  # said in the report and on the CLI
+    # the hole spans the edge from corner to corner: no test hole is crossed by the crease,
+    # so the tests cannot speak for the crease fill, which is kept
+    assert "no test hole is crossed by the crease" in report.note
     assert np.array_equal(chosen.vertices, raw.vertices)
     assert error(cut, chosen) < 1e-9
     assert error(cut, baseline) > 0.02 and error(cut, smooth) > 0.02
     assert "crease" not in smooth.reports[0].details
+
+
+def test_self_check_fills_its_test_holes_along_the_crease():
+    # the hidden-ring test's larger hole leaves one sharp edge before the corners: still
+    # filled along the crease, the test sees the crease fill exact
+    from surfinpaint.data import cube
+    from surfinpaint.mesh import mean_edge_length
+
+    v, f = cube(24)
+    centre = int(np.argmin(np.linalg.norm(v - [0.5, 0.0, 0.0], axis=1)))
+    cut = cut_geodesic_disk(v, f, centre, 8 * mean_edge_length(v, f))
+    report = fill_holes(cut.vertices, cut.faces).reports[0]
+    hidden = report.details["score_hidden_rings"]
+    assert hidden["conformal"] < 1e-9 < hidden["fair3"]
+    assert report.method == "conformal"
 
 
 def test_lens_rim_hole_follows_the_curved_crease():

@@ -147,3 +147,32 @@ def test_split_fill_failure_is_a_fill_error(monkeypatch):
     monkeypatch.setattr(triangulation, "minimum_weight_triangulation", broken)
     with pytest.raises(FillError, match="two sides of the crease"):
         split_fill(cut.vertices, cut.faces, cut.loop, crease)
+
+
+def test_a_crease_along_the_loop_enters_the_hole_where_it_leaves_the_loop():
+    # this hole's loop runs along the edge x = 0, z = 1 for one edge at each end: the crease
+    # enters the hole at the last loop vertex on it, else its continuation would lie on a
+    # loop edge and give flat, flipped triangles
+    cut = _cube_hole(n=40, at=(0.0, 0.5, 1.0), radius_h=10)
+    crease = hole_crease(cut.vertices, cut.faces, cut.loop)
+    loop = cut.loop
+    on_edge = np.isclose(cut.vertices[:, 0], 0) & np.isclose(cut.vertices[:, 2], 1)
+    for end in crease.ends:
+        ahead = [loop[(end - 1) % len(loop)], loop[(end + 1) % len(loop)]]
+        assert on_edge[loop[end]] and on_edge[ahead].sum() == 1
+    new_v, new_f, _ = split_fill(cut.vertices, cut.faces, cut.loop, crease)
+    points = np.vstack([cut.vertices, new_v])
+    normals = np.cross(points[new_f[:, 1]] - points[new_f[:, 0]],
+                       points[new_f[:, 2]] - points[new_f[:, 0]])
+    outward = np.where(np.abs(normals[:, 0]) > np.abs(normals[:, 2]), -normals[:, 0],
+                       normals[:, 2])
+    assert (outward > 0).all() and _cube_distance(new_v).max() < 1e-12
+
+
+def test_one_sharp_edge_before_a_corner_is_enough_when_asked():
+    # a hole reaching to one edge from both corners: chains of one edge
+    cut = _cube_hole(n=24, radius_h=10.5)
+    assert hole_crease(cut.vertices, cut.faces, cut.loop) is None
+    crease = hole_crease(cut.vertices, cut.faces, cut.loop, min_edges=1)
+    assert crease is not None and [len(c) for c in crease.chains] == [2, 2]
+    assert np.allclose(np.abs(crease.directions[:, 0]), 1)

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from surfinpaint.baseline import faired_fills
-from surfinpaint.creases import CREASE_ANGLE, hole_crease, split_fill
+from surfinpaint.creases import CREASE_ANGLE, CREASE_EDGES, hole_crease, split_fill
 from surfinpaint.errors import FillError
 from surfinpaint.intersection import patch_intersects_surroundings, self_intersections
 from surfinpaint.mesh import (
@@ -439,18 +439,18 @@ def _raster(uv, faces, n_fill_faces, touched, values: dict, resolution: int) -> 
 
 
 def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
-                 self_crossing: bool = True) -> None:
+                 self_crossing: bool = True, crease: np.ndarray | None = None) -> None:
     """Reject fills with non-finite positions, degenerate triangles, fold-overs (two
     neighbouring triangles, in the fill or a fill triangle and the surface next to it, whose
-    normals turn by more than ``FOLD_ANGLE``), or intersections with the surrounding rings or
-    (with ``self_crossing``) with itself."""
+    normals turn by more than ``FOLD_ANGLE``, except across the ``crease`` edges), or
+    intersections with the surrounding rings or (with ``self_crossing``) with itself."""
     fill = patch_faces[:n_fill_faces]
     if not np.isfinite(vertices[np.unique(fill)]).all():
         raise FillError("the filled patch has non-finite coordinates")
     area = face_areas(vertices, fill)
     if (area <= 1e-12 * max(float(np.median(area)), 1e-300)).any():
         raise FillError("the filled patch has degenerate triangles")
-    _, face_edge, count = unique_edges(patch_faces)
+    edges, face_edge, count = unique_edges(patch_faces)
     normals = face_normals(vertices, patch_faces)
     owner = np.full((len(count), 2), -1)
     slots = np.argsort(face_edge.ravel(), kind="stable")
@@ -459,7 +459,13 @@ def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: in
     owner[:, 0] = slots[first] // 3
     two = count == 2
     owner[two, 1] = slots[first[two] + 1] // 3
-    pairs = owner[two & ((owner[:, 0] < n_fill_faces) | (owner[:, 1] < n_fill_faces))]
+    checked = two & ((owner[:, 0] < n_fill_faces) | (owner[:, 1] < n_fill_faces))
+    if crease is not None and len(crease):
+        # a crease is meant to turn sharply
+        base = int(max(edges.max(), np.max(crease))) + 1
+        sharp = np.sort(np.asarray(crease, dtype=np.int64), axis=1)
+        checked &= ~np.isin(edges[:, 0] * base + edges[:, 1], sharp[:, 0] * base + sharp[:, 1])
+    pairs = owner[checked]
     cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
     folds = int((cos < np.cos(np.radians(FOLD_ANGLE))).sum())
     if folds:
@@ -475,7 +481,7 @@ def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: in
 
 def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, iterations,
            options, want_fair=True, want_conformal=True, s0=None, discretization="mesh",
-           test=False, crease_angle=None):
+           test=False, crease_angle=None, crease_edges=CREASE_EDGES):
     """The faired fills of fairing ``orders`` (``"fair2"``, ``"fair3"``; when ``want_fair``)
     and the conformal fill (when ``want_conformal``; S0 is the order-``s0_order`` faired fill
     with ``start="fair"``, or ``s0`` = (new_vertices, new_faces) when already made) of one
@@ -511,7 +517,8 @@ def _fills(vertices, faces, loop, *, start, orders, s0_order, patch_rings, itera
     crease_note = None
     crease = None
     if crease_angle is not None and discretization == "mesh":
-        crease = hole_crease(vertices, faces, loop, angle=crease_angle)
+        crease = hole_crease(vertices, faces, loop, angle=crease_angle,
+                             min_edges=crease_edges)
     if crease is not None:
         try:
             cv, cf, cut_edges = split_fill(vertices, faces, loop, crease, order=s0_order,
@@ -563,7 +570,7 @@ def _lambda_h_fill(vertices, faces, loop, new_v, new_f, *, iterations, patch_rin
             positions, info_pass = inpaint_patch(all_v, patch, len(new_f), moving, **options)
             all_v[moving] = positions
             info.update(info_pass)
-    _check_patch(all_v, patch, len(new_f), self_crossing=not test)
+    _check_patch(all_v, patch, len(new_f), self_crossing=not test, crease=cut_edges)
     return all_v[n:], new_f, info
 
 
@@ -733,12 +740,25 @@ def conformal_fill(
     # the test holes' λ-H fills stop at a coarser step: their scores differ by far more
     test_options = {"tol": TEST_TOL, **options} if discretization == "mesh" else options
 
+    angle = crease_angle if creases and discretization == "mesh" else None
+    # a hole crossed by a crease is filled along it; so are its test holes, where one sharp
+    # edge left between them and a corner is enough (the crease is known from the hole
+    # itself); a test hole that is not crossed (beside the crease) is filled as smooth and
+    # says nothing about the crease fill
+    crossed = angle is not None and hole_crease(vertices, faces, loop, angle=angle) is not None
+
     def fills_of(v, f, l, *, fair=True, conformal=True, s0=None, test=True):
-        return _fills(v, f, l, start=start, orders=orders, s0_order=s0_order,
-                      patch_rings=patch_rings, iterations=iterations,
-                      options=test_options if test else options, want_fair=fair,
-                      want_conformal=conformal, s0=s0, discretization=discretization,
-                      test=test, crease_angle=crease_angle if creases else None)
+        out = _fills(v, f, l, start=start, orders=orders, s0_order=s0_order,
+                     patch_rings=patch_rings, iterations=iterations,
+                     options=test_options if test else options, want_fair=fair,
+                     want_conformal=conformal, s0=s0, discretization=discretization,
+                     test=test, crease_angle=angle,
+                     crease_edges=1 if test and crossed else CREASE_EDGES)
+        made = out.get("conformal")
+        if test and crossed and made is not None and not isinstance(made, Exception) \
+                and "crease" not in made[2]:
+            out["conformal"] = FillError("no crease crosses the test hole")
+        return out
 
     if not select:
         fill = fills_of(vertices, faces, loop, fair=False, test=False)["conformal"]
@@ -801,6 +821,11 @@ def conformal_fill(
     # likewise a λ-H fill that fails on a sibling hole: then the hidden rings decide
     sibling_lh = sibling if np.isfinite(sibling.get("conformal", 0.0)) else {}
     won = wins(hidden_lh, sibling_lh, "conformal", reference)
+    if crossed and not hidden_lh and not sibling_lh:
+        # no test hole is crossed by the crease (the hole spans it from corner to corner):
+        # the two straight sharp chains that meet across the hole are the evidence
+        won = True
+        verdicts += "; no test hole is crossed by the crease, the crease fill is kept"
     lost = [name for name, scores in tests.items()
             if not (holds if name == "sibling holes" and hidden else beats)(
                 scores, "conformal", reference)]

@@ -175,22 +175,42 @@ def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
             chains.append((int(i), np.asarray(chain)))
     if len(chains) != 2:
         return None
-    (ia, ca), (ib, cb) = chains
     k = len(loop)
+    cos_turn = np.cos(np.radians(CREASE_TURN))
+
+    def tangent(chain):
+        # the chain's tangent into the hole at its loop vertex, by the one-sided second-order
+        # difference (a chord would bend the continuation of a curved crease)
+        if len(chain) > 2:
+            d = 3 * v[chain[0]] - 4 * v[chain[1]] + v[chain[2]]
+        else:  # a single edge (allowed with min_edges=1): its direction
+            d = v[chain[0]] - v[chain[1]]
+        return d / np.linalg.norm(d)
+
+    ends = []
+    for i, chain in chains:
+        # where the crease runs on along the loop's edges, it enters the hole further on
+        for _ in range(k):
+            direction = tangent(chain)
+            steps = [(j, v[loop[j]] - v[loop[i]]) for j in ((i - 1) % k, (i + 1) % k)]
+            ahead = [j for j, step in steps if int(loop[j]) not in chain
+                     and step @ direction > cos_turn * np.linalg.norm(step)]
+            if not ahead:
+                break
+            i, chain = ahead[0], np.concatenate([[loop[ahead[0]]], chain])
+        ends.append((i, chain))
+    (ia, ca), (ib, cb) = ends
     if min((ia - ib) % k, (ib - ia) % k) < 2:
         return None
-    # directions into the hole: the chain's tangent at the loop vertex, by the one-sided
-    # second-order difference (a chord would bend the continuation of a curved crease)
-    directions = np.array([3 * v[c[0]] - 4 * v[c[1]] + v[c[2]] for c in (ca, cb)])
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    directions = np.array([tangent(ca), tangent(cb)])
     across = v[cb[0]] - v[ca[0]]
     across /= np.linalg.norm(across)
-    cos_turn = np.cos(np.radians(CREASE_TURN))
     if directions[0] @ across < cos_turn or -(directions[1] @ across) < cos_turn:
         return None
     key = edges[:, 0] * n + edges[:, 1]
     chain_edges = np.sort(np.concatenate([np.column_stack([c[:-1], c[1:]]) for c in (ca, cb)]),
                           axis=1)
+    # (the chains' edges along the loop have one face: no turn to measure there)
     mean_turn = float(turn[np.isin(key, chain_edges[:, 0] * n + chain_edges[:, 1])].mean())
     return Crease(ends=np.array([ia, ib]), chains=[ca, cb], directions=directions,
                   angle=mean_turn)
@@ -341,17 +361,20 @@ def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, crease
               np.concatenate([rolled_scales[jb:], rolled_scales[:1],
                               np.full(len(curve), spacing)]))]
     points = np.vstack([v, curve])
+    path = np.concatenate([[a], curve_ids, [b]])
+    # no diagonal between two points of the crease: its triangles would be flat slivers
+    chords = np.array([(p, q) for i, p in enumerate(path) for q in path[i + 2:]],
+                      dtype=np.int64).reshape(-1, 2)
     fill_faces = []
     try:
         for side, side_scales in sides:
-            patch = minimum_weight_triangulation(points, side)
+            patch = minimum_weight_triangulation(points, side, avoid=chords)
             new_v, patch = refine_patch(points, patch, side, scales=side_scales)
             points = np.vstack([points, new_v])
             fill_faces.append(patch)
     except MeshError as err:
         raise FillError(f"cannot fill the two sides of the crease: {err}") from err
     fill = np.vstack(fill_faces)
-    path = np.concatenate([[a], curve_ids, [b]])
     near = _local_faces(faces, loop, n, order + 1)
     cut_edges = np.concatenate([np.column_stack([path[:-1], path[1:]]),
                                 sharp_edges(v, near, angle)[0],

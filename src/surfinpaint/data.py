@@ -288,7 +288,8 @@ def lens(edge_length: float = 0.05, radius: float = 1.5) -> tuple[np.ndarray, np
 
     Both caps are parts of spheres of ``radius`` (mean curvature ``1 / radius``) through the
     unit circle in the plane z = 0, which is the rim: a ring of vertices where the normals
-    turn by ``2 arcsin(1 / radius)`` (84° at the default).
+    turn by ``180° - 2 arcsin(1 / radius)`` (96° at the default; flatter caps make a sharper
+    rim).
 
     Parameters
     ----------
