@@ -464,7 +464,8 @@ def main(argv: list[str] | None = None) -> list[Row]:
                       file=sys.stderr, flush=True)
     total = time.perf_counter() - started
 
-    print(f"## Hole-filling accuracy ({'quick' if args.quick else 'default'} set)\n")
+    label = "crease" if args.set == "creases" else "quick" if args.quick else "default"
+    print(f"## Hole-filling accuracy ({label} set)\n")
     print("Distances are two-sided surface distances between the filled patch and the "
           "removed truth (area-uniform samples), in % of the hole diameter; r/h is the cut "
           "radius in mean edge lengths.\n")

@@ -14,6 +14,10 @@ regular grid over the conformal domain with robust λ, H fits, biharmonic inpain
 hole dilated past the crease, and a Gauss–Codazzi rebuild; measured less accurate
 (docs/accuracy.md), kept as the paper's method and for comparison.
 
+A sharp crease that crosses the hole (a cube's edge) is continued across it first and each
+side is filled and inpainted on its own (:mod:`surfinpaint.creases`): λ and H describe the
+smooth sides, not the crease.
+
 With ``select=True`` (default) the method checks itself without any ground truth of the
 hole (:mod:`surfinpaint.selfcheck`): it hides the rings of known surface around the hole
 and cuts sibling holes of the same size out of the known surface nearby, fills them with
