@@ -120,3 +120,21 @@ def test_mass_matrix_kinds_agree_on_total_area():
 def test_vertex_normals_of_plane():
     vertices, faces = grid_mesh(4)
     assert np.allclose(vertex_normals(vertices, faces), [0, 0, 1])
+
+
+def test_edge_faces_pairs_the_faces_of_each_edge():
+    from surfinpaint.data import cube
+    from surfinpaint.mesh import edge_faces
+
+    v, f = cube(3)
+    edges, owners, count = edge_faces(f)
+    assert (count == 2).all() and (owners >= 0).all()
+    # each listed face holds the edge
+    for k in (0, 1):
+        held = (f[owners[:, k]] == edges[:, [0]]).any(axis=1) & (
+            f[owners[:, k]] == edges[:, [1]]).any(axis=1)
+        assert held.all()
+    assert (owners[:, 0] != owners[:, 1]).all()
+    # an open mesh: border edges have one face and -1
+    edges, owners, count = edge_faces(f[1:])
+    assert (owners[count == 1, 1] == -1).all() and (count == 1).sum() == 3

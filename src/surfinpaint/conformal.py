@@ -38,6 +38,7 @@ from surfinpaint.errors import FillError
 from surfinpaint.intersection import patch_intersects_surroundings, self_intersections
 from surfinpaint.mesh import (
     boundary_loops,
+    edge_faces,
     face_areas,
     face_normals,
     k_ring,
@@ -454,15 +455,9 @@ def _check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: in
     area = face_areas(vertices, fill)
     if (area <= 1e-12 * max(float(np.median(area)), 1e-300)).any():
         raise FillError("the filled patch has degenerate triangles")
-    edges, face_edge, count = unique_edges(patch_faces)
+    edges, owner, count = edge_faces(patch_faces)
     normals = face_normals(vertices, patch_faces)
-    owner = np.full((len(count), 2), -1)
-    slots = np.argsort(face_edge.ravel(), kind="stable")
-    edge_sorted = face_edge.ravel()[slots]
-    first = np.searchsorted(edge_sorted, np.arange(len(count)))
-    owner[:, 0] = slots[first] // 3
     two = count == 2
-    owner[two, 1] = slots[first[two] + 1] // 3
     checked = two & ((owner[:, 0] < n_fill_faces) | (owner[:, 1] < n_fill_faces))
     if crease is not None and len(crease):
         # a crease is meant to turn sharply

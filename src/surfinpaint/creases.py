@@ -27,7 +27,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import FillError, MeshError
-from surfinpaint.mesh import face_normals, unique_edges
+from surfinpaint.mesh import edge_faces, face_normals
 
 __all__ = ["Crease", "crease_curve", "cut_along", "hole_crease", "sharp_edges",
            "split_fill"]
@@ -83,12 +83,10 @@ def sharp_edges(vertices: np.ndarray, faces: np.ndarray, angle: float = CREASE_A
     (24, 90.0)
     """
     faces = np.asarray(faces, dtype=np.int64)
-    edges, face_edge, count = unique_edges(faces)
-    owner = np.argsort(face_edge.ravel(), kind="stable") // 3
-    first = np.concatenate([[0], np.cumsum(count)[:-1]])
+    edges, owner, count = edge_faces(faces)
     two = np.flatnonzero(count == 2)
     normals = face_normals(vertices, faces)
-    cos = np.einsum("ij,ij->i", normals[owner[first[two]]], normals[owner[first[two] + 1]])
+    cos = np.einsum("ij,ij->i", normals[owner[two, 0]], normals[owner[two, 1]])
     turn = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
     keep = turn > angle
     return edges[two[keep]], turn[keep]
@@ -271,15 +269,13 @@ def cut_along(faces: np.ndarray, edges: np.ndarray) -> tuple[np.ndarray, np.ndar
     """
     faces = np.asarray(faces, dtype=np.int64)
     n_faces = len(faces)
-    all_edges, face_edge, count = unique_edges(faces)
+    all_edges, owner, count = edge_faces(faces)
     n = int(faces.max()) + 1
     edges = np.sort(np.asarray(edges, dtype=np.int64).reshape(-1, 2), axis=1)
     is_cut = np.isin(all_edges[:, 0] * n + all_edges[:, 1], edges[:, 0] * n + edges[:, 1])
     # the two faces of each interior uncut edge share the corners at its two ends
-    slot = np.argsort(face_edge.ravel(), kind="stable")
-    first = np.concatenate([[0], np.cumsum(count)[:-1]])
     join = np.flatnonzero((count == 2) & ~is_cut)
-    fa, fb = slot[first[join]] // 3, slot[first[join] + 1] // 3
+    fa, fb = owner[join, 0], owner[join, 1]
     rows, cols = [], []
     for end in (0, 1):
         u = all_edges[join, end]

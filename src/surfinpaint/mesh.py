@@ -15,6 +15,7 @@ from surfinpaint.errors import MeshError
 __all__ = [
     "boundary_halfedges",
     "boundary_loops",
+    "edge_faces",
     "connected_components",
     "cotangent_laplacian",
     "edge_lengths",
@@ -57,6 +58,35 @@ def unique_edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     uniq, inverse, count = np.unique(flat, return_inverse=True, return_counts=True)
     edges = np.column_stack([uniq // base, uniq % base])
     return edges, inverse.reshape(-1, 3), count
+
+
+def edge_faces(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The faces on each undirected edge.
+
+    Returns
+    -------
+    edges : (e, 2) int array
+        As :func:`unique_edges`.
+    owners : (e, 2) int array
+        The first two faces on each edge (by face index); -1 where there is none (the
+        border). Non-manifold edges list only two of theirs.
+    count : (e,) int array
+        Number of faces on each edge.
+
+    Examples
+    --------
+    >>> edges, owners, count = edge_faces(np.array([[0, 1, 2], [2, 1, 3]]))
+    >>> owners[count == 2].tolist()
+    [[0, 1]]
+    """
+    edges, face_edge, count = unique_edges(faces)
+    slots = np.argsort(face_edge.ravel(), kind="stable")
+    first = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)
+    owners = np.full((len(count), 2), -1, dtype=np.int64)
+    owners[:, 0] = slots[first] // 3
+    two = count >= 2
+    owners[two, 1] = slots[first[two] + 1] // 3
+    return edges, owners, count
 
 
 def _edge_keys(faces: np.ndarray) -> tuple[np.ndarray, np.int64]:
