@@ -70,6 +70,9 @@ def test_grid_options_with_the_mesh_discretization_are_an_error(sphere_hole):
         fill_holes(cut.vertices, cut.faces, inpaint="harmonic")
     with pytest.raises(ValueError, match="discretization must be"):
         fill_holes(cut.vertices, cut.faces, discretization="voxels")
+    for angle in (0.0, 180.0, -5.0):
+        with pytest.raises(ValueError, match="crease_angle must be between 0 and 180"):
+            fill_holes(cut.vertices, cut.faces, crease_angle=angle)
     # saying the default is fine
     fill_holes(cut.vertices, cut.faces, inpaint="biharmonic", select=False)
 

@@ -588,17 +588,24 @@ GRID_OPTIONS = ("spacing", "fit_radius", "fit_sigma", "dilate", "inpaint", "fide
                 "reconstruct", "max_nodes")
 
 
+def _check_crease_angle(angle: float) -> None:
+    if not 0.0 < angle < 180.0:
+        raise ValueError(f"crease_angle must be between 0 and 180 degrees, got {angle}")
+
+
 def check_options(discretization: str, options: dict) -> dict:
     """The options of the λ-H pass for ``discretization``, without the ``None`` ones.
 
     Raises
     ------
     ValueError
-        For an unknown discretization, or grid options with the mesh one.
+        For an unknown discretization, grid options with the mesh one, or a
+        ``crease_angle`` outside (0, 180) degrees.
     """
     if discretization not in PATCH_RINGS:
         raise ValueError(f"discretization must be 'mesh' or 'grid', got {discretization!r}")
     options = {k: v for k, v in options.items() if v is not None}
+    _check_crease_angle(options.get("crease_angle", CREASE_ANGLE))
     if discretization == "mesh":
         # the mesh discretization inpaints biharmonically, coupled with its rebuild
         if options.pop("inpaint", "biharmonic") != "biharmonic":
@@ -728,8 +735,7 @@ def conformal_fill(
         raise ValueError(f"start must be 'fair' or 'initial', got {start!r}")
     if fair_order is not None and fair_order not in (1, 2, 3):
         raise ValueError(f"fair_order must be 1, 2, 3 or None, got {fair_order!r}")
-    if not 0.0 < crease_angle < 180.0:
-        raise ValueError(f"crease_angle must be between 0 and 180 degrees, got {crease_angle}")
+    _check_crease_angle(crease_angle)
     options = check_options(discretization, options)
     if patch_rings is None:
         patch_rings = PATCH_RINGS[discretization]
