@@ -138,3 +138,17 @@ def test_edge_faces_pairs_the_faces_of_each_edge():
     # an open mesh: border edges have one face and -1
     edges, owners, count = edge_faces(f[1:])
     assert (owners[count == 1, 1] == -1).all() and (count == 1).sum() == 3
+
+
+def test_faces_near_grows_by_rings():
+    from surfinpaint.data import cube
+    from surfinpaint.mesh import faces_near, k_ring
+
+    v, f = cube(6)
+    seeds = np.array([0])
+    for rings in range(3):
+        near = faces_near(f, seeds, rings, len(v))
+        # the faces touching the vertices within ``rings`` edges of the seeds
+        within = k_ring(f, seeds, rings, len(v))
+        assert np.array_equal(near, f[within[f].any(axis=1)])
+    assert len(faces_near(f, seeds, 0, len(v))) < len(faces_near(f, seeds, 2, len(v)))

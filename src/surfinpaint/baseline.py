@@ -11,6 +11,7 @@ import numpy as np
 
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.fairing import fair as fair_patch
+from surfinpaint.mesh import faces_near
 from surfinpaint.refinement import refine_patch
 from surfinpaint.triangulation import _orient_loop, minimum_weight_triangulation
 
@@ -179,11 +180,7 @@ def _neighbourhood(faces: np.ndarray, loop: np.ndarray, n: int, rings: int) -> n
     """Faces within ``rings`` rings of the loop's one-ring: all that triangulation,
     refinement and fairing of order ``rings + 2`` look at. Working on them alone keeps the
     cost of filling a small hole in a big mesh small."""
-    mask = np.zeros(n, dtype=bool)
-    mask[loop] = True
-    for _ in range(rings):
-        mask[faces[mask[faces].any(axis=1)].ravel()] = True
-    return faces[mask[faces].any(axis=1)]
+    return faces_near(faces, loop, rings, n)
 
 
 def _check_boundary(faces: np.ndarray, loop: np.ndarray) -> None:

@@ -27,7 +27,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import FillError, MeshError
-from surfinpaint.mesh import edge_faces, face_normals
+from surfinpaint.mesh import edge_faces, face_normals, faces_near
 
 __all__ = ["Crease", "crease_curve", "cut_along", "hole_crease", "sharp_edges",
            "split_fill"]
@@ -92,14 +92,6 @@ def sharp_edges(vertices: np.ndarray, faces: np.ndarray, angle: float = CREASE_A
     return edges[two[keep]], turn[keep]
 
 
-def _local_faces(faces: np.ndarray, loop: np.ndarray, n: int, rings: int) -> np.ndarray:
-    mask = np.zeros(n, dtype=bool)
-    mask[loop] = True
-    for _ in range(rings):
-        mask[faces[mask[faces].any(axis=1)].ravel()] = True
-    return faces[mask[faces].all(axis=1)]
-
-
 def _chain(start: int, adjacency: sp.csr_matrix, points: np.ndarray, blocked: np.ndarray,
            length: int) -> list[int]:
     """Follow sharp edges from ``start`` while they go on nearly straight (a short walk along
@@ -155,7 +147,7 @@ def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     faces = np.asarray(faces, dtype=np.int64)
     loop = np.asarray(loop, dtype=np.int64)
     n = len(v)
-    local = _local_faces(faces, loop, n, min_edges + 1)
+    local = faces_near(faces, loop, min_edges, n)
     if len(local) == 0:
         return None
     edges, turn = sharp_edges(v, local, angle)
@@ -371,7 +363,7 @@ def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, crease
     except MeshError as err:
         raise FillError(f"cannot fill the two sides of the crease: {err}") from err
     fill = np.vstack(fill_faces)
-    near = _local_faces(faces, loop, n, order + 1)
+    near = faces_near(faces, loop, order, n)
     cut_edges = np.concatenate([np.column_stack([path[:-1], path[1:]]),
                                 sharp_edges(v, near, angle)[0],
                                 *(np.column_stack([c[:-1], c[1:]]) for c in crease.chains)])

@@ -16,6 +16,7 @@ __all__ = [
     "boundary_halfedges",
     "boundary_loops",
     "edge_faces",
+    "faces_near",
     "connected_components",
     "cotangent_laplacian",
     "edge_lengths",
@@ -227,6 +228,24 @@ def k_ring(faces: np.ndarray, seeds: np.ndarray, k: int, n_vertices: int) -> np.
             break
         mask = grown
     return mask
+
+
+def faces_near(faces: np.ndarray, seeds: np.ndarray, rings: int, n_vertices: int) -> np.ndarray:
+    """The faces within ``rings`` rings of the seeds' one-ring (``rings=0``: the faces
+    touching a seed), grown by vertex masks: the cost follows the region, with no adjacency
+    matrix over the whole mesh.
+
+    Examples
+    --------
+    >>> faces = np.array([[0, 1, 2], [1, 3, 2], [3, 4, 2]])
+    >>> faces_near(faces, np.array([0]), 0, 5).tolist(), len(faces_near(faces, [0], 1, 5))
+    ([[0, 1, 2]], 3)
+    """
+    mask = np.zeros(n_vertices, dtype=bool)
+    mask[np.asarray(seeds, dtype=np.int64)] = True
+    for _ in range(rings):
+        mask[faces[mask[faces].any(axis=1)].ravel()] = True
+    return faces[mask[faces].any(axis=1)]
 
 
 def connected_components(faces: np.ndarray, n_vertices: int) -> tuple[int, np.ndarray]:
