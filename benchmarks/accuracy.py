@@ -1,9 +1,10 @@
 """Accuracy benchmark: fill holes with known ground truth and measure the distance to it.
 
 Geodesic disks (radius from ~5 mean edge lengths up to ~8 % of the bounding-box diagonal)
-are cut from real and synthetic meshes (:mod:`surfinpaint.cutting`); each hole is filled, one
+are cut from real and synthetic meshes (:mod:`surfinpaint.geometry.cutting`); each hole is filled,
+one
 at a time, by every method and the filled patch is compared with the removed patch by the
-two-sided surface distance (:func:`surfinpaint.metrics.surface_distance`), reported in % of
+two-sided surface distance (:func:`surfinpaint.geometry.metrics.surface_distance`), reported in % of
 the hole diameter.
 
 Methods: ``fair`` and ``conformal`` (``surfinpaint.fill_holes``; ``fair3`` is the fair fill
@@ -12,7 +13,7 @@ with trilaplacian fairing, ``fair_order=3``, one of the conformal method's fallb
 measures the conformal fill itself; ``conformal_smooth`` fills every hole as smooth,
 ``creases=False``; ``conformal_grid`` and ``conformal_grid_raw`` the same
 with the paper's grid discretization, ``discretization="grid"``; ``conventional`` calls
-:func:`surfinpaint.baseline.conventional_fill` directly) and the reference peers ``cgal``
+:func:`surfinpaint.fill.liepa.baseline.conventional_fill` directly) and the reference peers ``cgal``
 (CGAL triangulate_refine_and_fair_hole) and ``meshlib`` (MeshLib fillHoleNicely) from
 ``benchmarks/peers.py``. Peers get the hole's 6-ring neighbourhood only (as ``fill_holes``
 does internally), so the times compare the fills, not the copying of big meshes. A method
@@ -45,9 +46,9 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint import data
-from surfinpaint.cutting import CutResult, cut_geodesic_disk
-from surfinpaint.mesh import k_ring, mean_edge_length, unique_edges
-from surfinpaint.metrics import hole_patch_of, surface_distance
+from surfinpaint.geometry.cutting import CutResult, cut_geodesic_disk
+from surfinpaint.geometry.mesh import k_ring, mean_edge_length, unique_edges
+from surfinpaint.geometry.metrics import hole_patch_of, surface_distance
 
 sys.path.insert(0, str(Path(__file__).parent))
 import peers  # noqa: E402
@@ -91,7 +92,7 @@ def _points(points) -> Callable[[np.ndarray], np.ndarray]:
 
 
 def _face_scan() -> tuple[np.ndarray, np.ndarray]:
-    from surfinpaint.experiments import face_scan
+    from surfinpaint.app.experiments import face_scan
 
     return face_scan()
 
@@ -99,7 +100,7 @@ def _face_scan() -> tuple[np.ndarray, np.ndarray]:
 def _face_sites(v: np.ndarray) -> np.ndarray:
     """Nose tip, left and right cheek, each three times (one per hole size; larger holes
     would reach the scan's border)."""
-    from surfinpaint.experiments import face_sites
+    from surfinpaint.app.experiments import face_sites
 
     return np.tile(v[face_sites(v)], (3, 1))
 
@@ -215,7 +216,7 @@ def _run_ours(method, vertices, faces, loop, **options):
 
     fill_holes = getattr(surfinpaint, "fill_holes", None)
     if fill_holes is None:
-        from surfinpaint.pipeline import fill_holes
+        from surfinpaint.fill.pipeline import fill_holes
     t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -231,7 +232,7 @@ def _run_ours(method, vertices, faces, loop, **options):
 
 
 def _run_conventional(vertices, faces, loop):
-    from surfinpaint.baseline import conventional_fill
+    from surfinpaint.fill.liepa.baseline import conventional_fill
 
     t0 = time.perf_counter()
     nv, nf = conventional_fill(vertices, faces, loop)

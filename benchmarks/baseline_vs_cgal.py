@@ -1,7 +1,7 @@
 """Conventional fill (Liepa 2003, ours) against CGAL's triangulate_refine_and_fair_hole.
 
 Cuts geodesic disks out of an icosphere, a torus and PyMeshLab's bunny, fills each hole with
-:func:`surfinpaint.baseline.conventional_fill` and with CGAL (Python bindings, package
+:func:`surfinpaint.fill.liepa.baseline.conventional_fill` and with CGAL (Python bindings, package
 ``cgal``), and prints a markdown table of the two-sided distance to the removed truth (mean
 and Hausdorff over area-uniform samples of both surfaces, in % of the hole diameter) and the
 fill time (CGAL's includes writing and reading the mesh as OFF, its bindings' only way in).
@@ -18,10 +18,10 @@ import numpy as np
 import trimesh
 from peers import cgal_fill  # benchmarks/peers.py: CGAL through its SWIG bindings
 
-from surfinpaint.baseline import conventional_fill
-from surfinpaint.cutting import cut_geodesic_disk
 from surfinpaint.data import pymeshlab_sample, torus
-from surfinpaint.metrics import surface_distance
+from surfinpaint.fill.liepa.baseline import conventional_fill
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.metrics import surface_distance
 
 
 def _icosphere(subdivisions: int):

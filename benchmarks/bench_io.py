@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.io import MeshWarning, read_mesh, write_mesh
-from surfinpaint.validation import nonmanifold_vertices, validate_mesh
+from surfinpaint.geometry.validation import nonmanifold_vertices, validate_mesh
+from surfinpaint.io.formats import MeshWarning, read_mesh, write_mesh
 
 
 def torus(n_faces: int) -> tuple[np.ndarray, np.ndarray]:

@@ -11,8 +11,8 @@ import time
 import numpy as np
 
 from surfinpaint.data import pymeshfix_bunny, pymeshlab_sample, sphere
-from surfinpaint.intersection import patch_intersects_surroundings, self_intersections
-from surfinpaint.repair import remove_nonmanifold_faces
+from surfinpaint.geometry.intersection import patch_intersects_surroundings, self_intersections
+from surfinpaint.geometry.repair import remove_nonmanifold_faces
 
 
 def best_of(fn, repeat: int = 5) -> float:

@@ -26,7 +26,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402  (the benchmark's cases and holes)
 
 from surfinpaint import fill_holes  # noqa: E402
-from surfinpaint.metrics import hole_patch_of, surface_distance  # noqa: E402
+from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
 
 DEFAULT_CONFIGS = [
     {},

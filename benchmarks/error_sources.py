@@ -41,17 +41,17 @@ sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402  (the benchmark's cases and holes)
 
 from surfinpaint import fill_holes  # noqa: E402
-from surfinpaint.baseline import faired_fill  # noqa: E402
-from surfinpaint.conformal import hole_patch, patch_grid, reconstruct_patch  # noqa: E402
-from surfinpaint.estimation import robust_lambda_h  # noqa: E402
-from surfinpaint.grid import interpolate  # noqa: E402
-from surfinpaint.inpainting import inpaint  # noqa: E402
-from surfinpaint.metrics import (  # noqa: E402
+from surfinpaint.fill.conformal.core import hole_patch, patch_grid, reconstruct_patch  # noqa: E402
+from surfinpaint.fill.liepa.baseline import faired_fill  # noqa: E402
+from surfinpaint.geometry.metrics import (  # noqa: E402
     hole_patch_of,
     point_mesh_distance,
     surface_distance,
 )
-from surfinpaint.reconstruction import dilate  # noqa: E402
+from surfinpaint.representation.estimation import robust_lambda_h  # noqa: E402
+from surfinpaint.representation.grid import interpolate  # noqa: E402
+from surfinpaint.representation.inpainting import inpaint  # noqa: E402
+from surfinpaint.representation.reconstruction import dilate  # noqa: E402
 
 COLUMNS = ("fair", "fair3", "conformal", "S0=truth", "clean data", "true λ,H",
            "grid, S0=fair", "grid, S0=truth")

@@ -26,8 +26,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402
 import error_sources as es  # noqa: E402
 
-from surfinpaint.baseline import conventional_fill  # noqa: E402
-from surfinpaint.mesh import face_areas, vertex_adjacency, vertex_normals  # noqa: E402
+from surfinpaint.fill.liepa.baseline import conventional_fill  # noqa: E402
+from surfinpaint.geometry.mesh import face_areas, vertex_adjacency, vertex_normals  # noqa: E402
 
 
 def inflated(vertices, fill, moving, loop, target_area, sign):

@@ -25,10 +25,15 @@ import time
 import numpy as np
 from scipy import ndimage
 
-from surfinpaint.analytic import enneper, grid, isothermal_torus, stereographic_sphere
-from surfinpaint.inpainting import inpaint
-from surfinpaint.lambda_h import lambda_h
-from surfinpaint.reconstruction import METHODS, reconstruct
+from surfinpaint.representation.analytic import (
+    enneper,
+    grid,
+    isothermal_torus,
+    stereographic_sphere,
+)
+from surfinpaint.representation.fields import lambda_h
+from surfinpaint.representation.inpainting import inpaint
+from surfinpaint.representation.reconstruction import METHODS, reconstruct
 
 SURFACES = {
     "enneper": (enneper, (-1.0, 1.0, -1.0, 1.0)),

@@ -1,7 +1,8 @@
 """Reference hole fillers from other libraries, for benchmarks only (never imported by the
 package; they need the ``peers`` extras: ``pip install surfinpaint[peers]``).
 
-Both follow the convention of :func:`surfinpaint.baseline.conventional_fill`: given a mesh and
+Both follow the convention of :func:`surfinpaint.fill.liepa.baseline.conventional_fill`: given a
+mesh and
 one boundary loop, return ``(new_vertices, new_faces)`` where ``new_vertices`` are the added
 vertices (ids ``n .. n + m - 1`` after the ``n`` original ones, which never move) and
 ``new_faces`` the patch faces over original and new ids, oriented like the mesh.

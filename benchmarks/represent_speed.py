@@ -24,13 +24,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
-from surfinpaint.cutting import cut_geodesic_disk
 from surfinpaint.data import bumpy_disk, fsaverage5, pymeshlab_sample
-from surfinpaint.grid import grid_over, resample
-from surfinpaint.lambda_h import lambda_h
-from surfinpaint.mesh import connected_components, mean_edge_length
-from surfinpaint.metrics import surface_distance
-from surfinpaint.parameterization import (
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.mesh import connected_components, mean_edge_length
+from surfinpaint.geometry.metrics import surface_distance
+from surfinpaint.geometry.parameterization import (
     angle_distortion,
     check_disk,
     conformal_distortion,
@@ -38,7 +36,9 @@ from surfinpaint.parameterization import (
     lscm,
     rectangular_conformal_map,
 )
-from surfinpaint.representation import (
+from surfinpaint.representation.fields import lambda_h
+from surfinpaint.representation.grid import grid_over, resample
+from surfinpaint.representation.represent import (
     FoldedMapWarning,
     boundary_band,
     disk_from_mesh,

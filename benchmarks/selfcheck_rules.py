@@ -3,7 +3,7 @@
 For every hole of ``accuracy.py``, each candidate fill (``fair2``: bilaplacian fairing, the
 baseline; ``fair3``: trilaplacian; ``conformal``: the λ-H fill) is made and scored three
 ways: its true error (two-sided mean distance to the removed surface, % of the hole
-diameter), the hidden-ring test and the sibling-hole test (:mod:`surfinpaint.selfcheck`,
+diameter), the hidden-ring test and the sibling-hole test (:mod:`surfinpaint.fill.selfcheck`,
 both always run here, with the same test settings as ``conformal_fill``). Selection rules
 are then replayed on these scores; each row is the median and worst ratio of the chosen
 fill's true error to the baseline's, over the holes where the baseline is not exact.
@@ -24,7 +24,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402
 
-from surfinpaint.conformal import (  # noqa: E402
+from surfinpaint.errors import FillError  # noqa: E402
+from surfinpaint.fill.conformal.core import (  # noqa: E402
     CREASE_ANGLE,
     DECISIVE,
     PATCH_RINGS,
@@ -32,10 +33,9 @@ from surfinpaint.conformal import (  # noqa: E402
     TEST_TOL,
     _fills,
 )
-from surfinpaint.creases import CREASE_EDGES, hole_crease  # noqa: E402
-from surfinpaint.errors import FillError  # noqa: E402
-from surfinpaint.metrics import surface_distance  # noqa: E402
-from surfinpaint.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
+from surfinpaint.fill.creases import CREASE_EDGES, hole_crease  # noqa: E402
+from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
+from surfinpaint.geometry.metrics import surface_distance  # noqa: E402
 
 CASES = "bunny,face,pial,white,sphere,torus,cube,snowman,tooth"
 INF = float("inf")

@@ -22,9 +22,9 @@ import warnings
 import numpy as np
 
 from surfinpaint import fill_holes
-from surfinpaint.cutting import cut_geodesic_disk, cut_holes
 from surfinpaint.data import torus
-from surfinpaint.mesh import mean_edge_length
+from surfinpaint.geometry.cutting import cut_geodesic_disk, cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length
 
 
 def per_hole_times(quick: bool) -> list[dict]:

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 import trimesh
 
-from surfinpaint.baseline import conventional_fill
-from surfinpaint.cutting import cut_geodesic_disk
 from surfinpaint.errors import FillError
-from surfinpaint.mesh import boundary_loops, unique_edges
+from surfinpaint.fill.liepa.baseline import conventional_fill
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.mesh import boundary_loops, unique_edges
 
 
 def _sphere_hole(subdivisions: int = 4, radius: float = 0.6, centre: int = 0):

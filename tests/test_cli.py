@@ -15,15 +15,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from surfinpaint.cli import main
-from surfinpaint.cutting import cut_holes
+from surfinpaint.app.cli import main
 from surfinpaint.data import sphere
-from surfinpaint.holes import find_holes
-from surfinpaint.io import read_mesh, write_mesh
-from surfinpaint.mesh import mean_edge_length, unique_edges
-from surfinpaint.pipeline import fill_holes
-from surfinpaint.repair import unjoined_bowties
-from surfinpaint.validation import nonmanifold_vertices, validate_mesh
+from surfinpaint.fill.holes import find_holes
+from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length, unique_edges
+from surfinpaint.geometry.repair import unjoined_bowties
+from surfinpaint.geometry.validation import nonmanifold_vertices, validate_mesh
+from surfinpaint.io.formats import read_mesh, write_mesh
 
 EXE = Path(sys.executable).parent / "surfinpaint"
 
@@ -403,9 +403,9 @@ def test_fill_discretization_is_passed_on(tmp_path, capsys):
 
 
 def test_fill_crease_options_are_passed_on(tmp_path, capsys):
-    from surfinpaint.cutting import cut_geodesic_disk
     from surfinpaint.data import cube
-    from surfinpaint.mesh import mean_edge_length
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+    from surfinpaint.geometry.mesh import mean_edge_length
 
     v, f = cube(12)
     centre = int(np.argmin(np.linalg.norm(v - [0.5, 0.0, 0.0], axis=1)))
@@ -551,11 +551,11 @@ def test_face_range_map_all_loops(tmp_path, capsys):
 def test_holes_with_repair_lists_what_fill_repair_numbers(tmp_path, capsys):
     # a fin (three faces on one edge) on a sphere with a hole: plain `holes` refuses it,
     # `holes --repair` lists the loops `fill --repair --holes i` will number
-    from surfinpaint.cutting import cut_geodesic_disk
     from surfinpaint.data import sphere
-    from surfinpaint.io import write_mesh
-    from surfinpaint.mesh import boundary_loops
-    from surfinpaint.repair import remove_nonmanifold_faces
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+    from surfinpaint.geometry.mesh import boundary_loops
+    from surfinpaint.geometry.repair import remove_nonmanifold_faces
+    from surfinpaint.io.formats import write_mesh
 
     v, f = sphere(2)
     cut = cut_geodesic_disk(v, f, 0, 0.5)
@@ -577,8 +577,8 @@ def test_holes_with_repair_lists_what_fill_repair_numbers(tmp_path, capsys):
 
 def test_represent_and_rebuild_round_trip(tmp_path, capsys):
     from surfinpaint.data import bumpy_disk
-    from surfinpaint.metrics import surface_distance
-    from surfinpaint.representation import LambdaH
+    from surfinpaint.geometry.metrics import surface_distance
+    from surfinpaint.representation.represent import LambdaH
 
     v, f = bumpy_disk(12)
     mesh = tmp_path / "disk.ply"

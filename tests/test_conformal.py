@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 
 from surfinpaint import FillError, fill_holes
-from surfinpaint.baseline import faired_fill
-from surfinpaint.conformal import _check_patch, conformal_fill, hole_patch
-from surfinpaint.cutting import cut_geodesic_disk
 from surfinpaint.data import bumpy_disk, sphere, torus
-from surfinpaint.mesh import boundary_loops, unique_edges
-from surfinpaint.metrics import hole_patch_of, surface_distance
+from surfinpaint.fill.conformal.core import _check_patch, conformal_fill, hole_patch
+from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.mesh import boundary_loops, unique_edges
+from surfinpaint.geometry.metrics import hole_patch_of, surface_distance
 
 
 def error(cut, result):
@@ -87,7 +87,7 @@ def test_triharmonic_fairing_follows_the_curvature_closer(case, sphere_hole, tor
 
 
 def _without_lambda_h(monkeypatch):
-    import surfinpaint.conformal as conformal
+    import surfinpaint.fill.conformal.core as conformal
 
     def broken(*args, **kwargs):
         raise FillError("forced failure")
@@ -110,8 +110,8 @@ def test_self_check_picks_trilaplacian_fairing_on_a_smooth_surface(sphere_hole, 
 
 def test_self_check_keeps_bilaplacian_fairing_on_a_noisy_range_scan(monkeypatch):
     pytest.importorskip("pymeshlab")
-    from surfinpaint.experiments import face_scan, face_sites
-    from surfinpaint.mesh import mean_edge_length
+    from surfinpaint.app.experiments import face_scan, face_sites
+    from surfinpaint.geometry.mesh import mean_edge_length
 
     _without_lambda_h(monkeypatch)
     v, f = face_scan()
@@ -131,7 +131,7 @@ def test_self_check_keeps_bilaplacian_fairing_on_a_noisy_range_scan(monkeypatch)
 
 def test_faired_fill_falls_back_to_order_2_when_order_3_cannot_be_anchored(sphere_hole,
                                                                            monkeypatch):
-    import surfinpaint.baseline as baseline
+    import surfinpaint.fill.liepa.baseline as baseline
 
     cut = sphere_hole
     real = baseline.conventional_fill
@@ -182,7 +182,7 @@ def test_self_check_keeps_the_fill_that_is_closer_to_the_truth(case, sphere_hole
 
 def test_cube_edge_hole():
     from surfinpaint.data import cube
-    from surfinpaint.mesh import mean_edge_length
+    from surfinpaint.geometry.mesh import mean_edge_length
 
     v, f = cube(16)
     centre = int(np.argmin(np.linalg.norm(v - [0.5, 0.0, 0.0], axis=1)))  # on an edge
@@ -214,7 +214,7 @@ def test_self_check_fills_its_test_holes_along_the_crease():
     # the hidden-ring test's larger hole leaves one sharp edge before the corners: still
     # filled along the crease, the test sees the crease fill exact
     from surfinpaint.data import cube
-    from surfinpaint.mesh import mean_edge_length
+    from surfinpaint.geometry.mesh import mean_edge_length
 
     v, f = cube(24)
     centre = int(np.argmin(np.linalg.norm(v - [0.5, 0.0, 0.0], axis=1)))
@@ -227,7 +227,7 @@ def test_self_check_fills_its_test_holes_along_the_crease():
 
 def test_lens_rim_hole_follows_the_curved_crease():
     from surfinpaint.data import lens
-    from surfinpaint.mesh import mean_edge_length
+    from surfinpaint.geometry.mesh import mean_edge_length
 
     v, f = lens(0.05)
     centre = int(np.argmin(np.linalg.norm(v - [1.0, 0, 0], axis=1)))  # on the rim
@@ -242,7 +242,7 @@ def test_lens_rim_hole_follows_the_curved_crease():
 
 def test_several_holes_closed_surface_stays_valid():
     v, f = sphere(3)
-    from surfinpaint.cutting import cut_holes
+    from surfinpaint.geometry.cutting import cut_holes
 
     cut = cut_holes(v, f, [0, 30, 60], [0.3, 0.35, 0.25])
     result = fill_holes(cut.vertices, cut.faces)
@@ -294,7 +294,7 @@ def test_fold_check_rejects_a_folded_fill():
 
 def test_too_few_known_rings_for_gauss_codazzi_retries_the_laplacian_form(sphere_hole,
                                                                           monkeypatch):
-    import surfinpaint.reconstruction as reconstruction
+    import surfinpaint.representation.reconstruction as reconstruction
 
     real = reconstruction.reconstruct
     calls = []
@@ -320,7 +320,7 @@ def test_too_few_known_rings_for_gauss_codazzi_retries_the_laplacian_form(sphere
 
 
 def test_self_check_that_cannot_run_keeps_the_faired_fill(sphere_hole, monkeypatch):
-    import surfinpaint.conformal as conformal
+    import surfinpaint.fill.conformal.core as conformal
 
     monkeypatch.setattr(conformal, "hidden_ring_scores", lambda *a, **k: {})
     monkeypatch.setattr(conformal, "sibling_scores", lambda *a, **k: {})
@@ -334,9 +334,9 @@ def test_self_check_that_cannot_run_keeps_the_faired_fill(sphere_hole, monkeypat
 
 
 def test_patch_grid_splits_the_patch_into_hole_and_known_and_rebuilds_a_sphere(sphere_hole):
-    from surfinpaint.baseline import conventional_fill
-    from surfinpaint.conformal import patch_grid, reconstruct_patch
-    from surfinpaint.reconstruction import dilate
+    from surfinpaint.fill.conformal.core import patch_grid, reconstruct_patch
+    from surfinpaint.fill.liepa.baseline import conventional_fill
+    from surfinpaint.representation.reconstruction import dilate
 
     cut = sphere_hole
     new_v, new_f = conventional_fill(cut.vertices, cut.faces, cut.loop)
@@ -351,7 +351,7 @@ def test_patch_grid_splits_the_patch_into_hole_and_known_and_rebuilds_a_sphere(s
     assert np.isfinite(uv).all() and uv.shape == (len(cut.loop), 2)
     # rebuilding the hole from the patch's own sampled λ, H gives the patch back; the same
     # with H negated does not (the rebuild reads H)
-    from surfinpaint.estimation import robust_lambda_h
+    from surfinpaint.representation.estimation import robust_lambda_h
 
     lam, H = robust_lambda_h(pg.phi, pg.h, valid=pg.inside, radius=3, sigma=2.25)
     region = dilate(pg.hole, 1) & pg.inside
@@ -370,8 +370,8 @@ def test_patch_grid_splits_the_patch_into_hole_and_known_and_rebuilds_a_sphere(s
 def test_factorized_definite_solves_positive_and_negative_definite_systems():
     import scipy.sparse as sp
 
-    from surfinpaint.linalg import factorized_definite
-    from surfinpaint.mesh import cotangent_laplacian
+    from surfinpaint.geometry.linalg import factorized_definite
+    from surfinpaint.geometry.mesh import cotangent_laplacian
 
     v, f = sphere(2)
     L = cotangent_laplacian(v, f)
@@ -386,8 +386,8 @@ def test_factorized_definite_solves_positive_and_negative_definite_systems():
 def test_self_checks_on_the_local_part_give_the_same_scores(check):
     # a hole in a big mesh: with patch_rings the checks work on the part of the mesh around
     # the hole (or the sibling) and must give exactly the scores of the whole mesh
-    from surfinpaint.conformal import _fills
-    from surfinpaint.selfcheck import hidden_ring_scores, sibling_scores
+    from surfinpaint.fill.conformal.core import _fills
+    from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores
 
     v, f = torus(n_major=96, n_minor=40)
     cut = cut_geodesic_disk(v, f, 0, 0.25)
@@ -403,7 +403,7 @@ def test_self_checks_on_the_local_part_give_the_same_scores(check):
 
 
 def test_mesh_pass_gives_the_report_its_pictures(sphere_hole):
-    from surfinpaint.conformal import inpaint_patch_on_mesh, lambda_h_pictures
+    from surfinpaint.fill.conformal.core import inpaint_patch_on_mesh, lambda_h_pictures
 
     cut = sphere_hole
     new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
@@ -427,7 +427,7 @@ def test_mesh_pass_gives_the_report_its_pictures(sphere_hole):
 
 
 def test_mesh_pass_drops_rings_where_the_map_flips(sphere_hole, monkeypatch):
-    import surfinpaint.parameterization as parameterization
+    import surfinpaint.geometry.parameterization as parameterization
 
     cut = sphere_hole
     new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
@@ -443,7 +443,7 @@ def test_mesh_pass_drops_rings_where_the_map_flips(sphere_hole, monkeypatch):
         return np.array([0]) if len(seen) < 2 else real(faces, uv)
 
     monkeypatch.setattr(parameterization, "flipped_faces", flips_unless_thin)
-    from surfinpaint.conformal import inpaint_patch_on_mesh
+    from surfinpaint.fill.conformal.core import inpaint_patch_on_mesh
 
     _, patch, details = inpaint_patch_on_mesh(vertices, cut.faces, cut.loop, new_f, moving)
     assert details["rings"] == 3 and seen[1] < seen[0] and len(patch) == seen[1]
@@ -472,7 +472,7 @@ def test_mesh_pass_drops_rings_where_the_map_flips(sphere_hole, monkeypatch):
     ({"fair2": 1.0, "fair3": 1.2, "conformal": 0.4}, None, "conformal"),
 ])
 def test_self_check_rule(hidden, sibling, expected, sphere_hole, monkeypatch):
-    import surfinpaint.conformal as conformal
+    import surfinpaint.fill.conformal.core as conformal
 
     asked = []
 

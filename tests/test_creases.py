@@ -1,13 +1,18 @@
-"""Creases across holes (surfinpaint.creases): found, continued, cut along, filled."""
+"""Creases across holes (surfinpaint.fill.creases): found, continued, cut along, filled."""
 
 import numpy as np
 import pytest
 
-from surfinpaint.creases import crease_curve, cut_along, hole_crease, sharp_edges, split_fill
-from surfinpaint.cutting import cut_geodesic_disk
 from surfinpaint.data import cube, lens, sphere
 from surfinpaint.errors import FillError
-from surfinpaint.mesh import boundary_loops, connected_components, mean_edge_length, unique_edges
+from surfinpaint.fill.creases import crease_curve, cut_along, hole_crease, sharp_edges, split_fill
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.mesh import (
+    boundary_loops,
+    connected_components,
+    mean_edge_length,
+    unique_edges,
+)
 
 
 def _cube_hole(n=16, at=(0.5, 0.0, 0.0), radius_h=6):
@@ -135,7 +140,7 @@ def test_split_fill_of_a_curved_crease_stays_on_the_lens():
 
 
 def test_split_fill_failure_is_a_fill_error(monkeypatch):
-    import surfinpaint.triangulation as triangulation
+    import surfinpaint.fill.liepa.triangulation as triangulation
     from surfinpaint.errors import MeshError
 
     cut = _cube_hole()

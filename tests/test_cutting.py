@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from surfinpaint import data
-from surfinpaint.cutting import cut_geodesic_disk, cut_holes
 from surfinpaint.errors import MeshError
-from surfinpaint.mesh import boundary_loops, mean_edge_length, unique_edges
+from surfinpaint.geometry.cutting import cut_geodesic_disk, cut_holes
+from surfinpaint.geometry.mesh import boundary_loops, mean_edge_length, unique_edges
 
 
 def face_set(faces):
@@ -182,8 +182,8 @@ def test_bad_requests_raise():
 
 
 def test_ring_distances_and_submesh_keep_rings_and_order():
-    from surfinpaint.cutting import ring_distances, submesh
-    from surfinpaint.mesh import k_ring
+    from surfinpaint.geometry.cutting import ring_distances, submesh
+    from surfinpaint.geometry.mesh import k_ring
 
     v, f = data.sphere(3)
     seeds = np.array([0, 5])

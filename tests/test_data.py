@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from surfinpaint import data
-from surfinpaint.mesh import (
+from surfinpaint.geometry.mesh import (
     boundary_loops,
     connected_components,
     edge_lengths,
@@ -159,7 +159,7 @@ def test_demo_mesh_is_packaged_small_and_reproducible(tmp_path):
     check_surface(v, f, euler=0, n_boundary_loops=2)
     # regenerating gives the same mesh (the file stores float32 positions)
     (new,) = data.regenerate_default_data(tmp_path)
-    from surfinpaint.io import read_mesh
+    from surfinpaint.io.formats import read_mesh
 
     nv, nf = read_mesh(new)
     np.testing.assert_array_equal(nf, f)
@@ -220,7 +220,7 @@ def test_lens_is_two_spherical_caps_with_a_sharp_rim():
                                rtol=1e-8)
     rim = ~top & ~bottom
     np.testing.assert_allclose(np.hypot(v[rim, 0], v[rim, 1]), 1.0, rtol=1e-12)
-    from surfinpaint.creases import sharp_edges
+    from surfinpaint.fill.creases import sharp_edges
 
     edges, turn = sharp_edges(v, f)
     assert rim[edges].all() and len(edges) == rim.sum()  # the rim is the one crease

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from surfinpaint.analytic import enneper, grid, stereographic_sphere
-from surfinpaint.estimation import fitted_derivatives, robust_lambda_h
+from surfinpaint.representation.analytic import enneper, grid, stereographic_sphere
+from surfinpaint.representation.estimation import fitted_derivatives, robust_lambda_h
 
 
 def test_quadratic_fit_is_exact_on_quadratics():
@@ -57,7 +57,7 @@ def test_noise_is_averaged_out():
     phi, lam, H = stereographic_sphere(u, v)
     rng = np.random.default_rng(1)
     noisy = phi + rng.normal(scale=0.02 * h, size=phi.shape)
-    from surfinpaint.lambda_h import lambda_h
+    from surfinpaint.representation.fields import lambda_h
 
     _, raw_H = lambda_h(noisy, h)
     _, fit_H = robust_lambda_h(noisy, h, radius=3, sigma=2.0)

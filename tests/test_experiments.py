@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from test_report import png_size
 
-from surfinpaint.experiments import CASES, REBUILDS, add_experiments_parser, run_set
-from surfinpaint.report import PANEL_SIZE
+from surfinpaint.app.experiments import CASES, REBUILDS, add_experiments_parser, run_set
+from surfinpaint.app.report import PANEL_SIZE
 
 
 def test_experiments_quick_subset_writes_tables_and_pictures(tmp_path, monkeypatch):

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from surfinpaint.cutting import cut_geodesic_disk
 from surfinpaint.errors import MeshError
-from surfinpaint.fairing import fair
-from surfinpaint.refinement import refine_patch
-from surfinpaint.triangulation import minimum_weight_triangulation
+from surfinpaint.fill.liepa.fairing import fair
+from surfinpaint.fill.liepa.refinement import refine_patch
+from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
+from surfinpaint.geometry.cutting import cut_geodesic_disk
 
 
 def _grid(n: int = 16, jitter: float = 0.2, seed: int = 0):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from test_parameterization import grid_mesh
 
-from surfinpaint.grid import Grid, grid_over, interpolate, resample
+from surfinpaint.representation.grid import Grid, grid_over, interpolate, resample
 
 
 def test_grid_over_resolution_and_spacing():
@@ -54,7 +54,7 @@ def test_resample_reproduces_linear_functions_exactly():
 
 
 def test_resample_scalar_and_chunking(monkeypatch):
-    import surfinpaint.grid as grid_module
+    import surfinpaint.representation.grid as grid_module
 
     uv, f = grid_mesh(11, jitter=0.3)
     g = grid_over(uv, resolution=41)
@@ -132,7 +132,7 @@ def _locate(uv, f, points):
 
 
 def test_vertex_gradients_and_clough_tocher_reproduce_quadratics():
-    from surfinpaint.grid import clough_tocher, vertex_gradients
+    from surfinpaint.representation.grid import clough_tocher, vertex_gradients
 
     uv, f = grid_mesh(12, extent=(0.0, 1.0, 0.0, 1.0), jitter=0.3)
     value, grad = _quadratic(uv)
@@ -159,13 +159,13 @@ def test_vertex_gradients_and_clough_tocher_reproduce_quadratics():
 
 
 def test_clough_tocher_is_c1_across_edges_and_converges_as_h_cubed():
-    from surfinpaint.grid import clough_tocher, vertex_gradients
+    from surfinpaint.representation.grid import clough_tocher, vertex_gradients
 
     fun = lambda p: np.sin(3 * p[:, 0]) * np.cos(2 * p[:, 1])  # noqa: E731
     uv, f = grid_mesh(9, extent=(0.0, 1.0, 0.0, 1.0), jitter=0.3)
     grads = vertex_gradients(uv, f, fun(uv))
     # derivative across interior edges, one-sided on both sides of the edge's midpoint
-    from surfinpaint.grid import face_neighbours
+    from surfinpaint.representation.grid import face_neighbours
 
     interior = np.flatnonzero(face_neighbours(f)[:, 2] >= 0)  # edge (f[t, 0], f[t, 1])
     assert len(interior) > 50

@@ -3,8 +3,8 @@ import pytest
 import trimesh
 
 from surfinpaint.errors import MeshError
-from surfinpaint.holes import find_holes, orient_loop, select_holes
-from surfinpaint.mesh import boundary_loops
+from surfinpaint.fill.holes import find_holes, orient_loop, select_holes
+from surfinpaint.geometry.mesh import boundary_loops
 
 
 def sphere_with_caps(centres, radius=0.35, subdivisions=3):

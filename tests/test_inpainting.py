@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from surfinpaint.inpainting import biharmonic_flow, inpaint
+from surfinpaint.representation.inpainting import biharmonic_flow, inpaint
 
 
 @pytest.fixture

@@ -9,7 +9,7 @@ import pytest
 from conftest import grid_mesh
 
 from surfinpaint.data import sphere, torus
-from surfinpaint.intersection import (
+from surfinpaint.geometry.intersection import (
     intersecting_pairs,
     patch_intersects_surroundings,
     self_intersections,

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from conftest import grid_mesh
 
-from surfinpaint import io as mio
 from surfinpaint.errors import MeshError
-from surfinpaint.io import SUPPORTED_FORMATS, MeshWarning, read_mesh, write_mesh
-from surfinpaint.validation import validate_mesh
+from surfinpaint.geometry.validation import validate_mesh
+from surfinpaint.io import formats as mio
+from surfinpaint.io.formats import SUPPORTED_FORMATS, MeshWarning, read_mesh, write_mesh
 
 # name -> (write kwargs, stores float64 exactly)
 EXACT = {"m.ply": {}, "m_ascii.ply": {"ascii": True}, "m.obj": {}, "m.off": {}}

@@ -3,8 +3,13 @@
 import numpy as np
 import pytest
 
-from surfinpaint.analytic import enneper, grid, isothermal_torus, stereographic_sphere
-from surfinpaint.lambda_h import (
+from surfinpaint.representation.analytic import (
+    enneper,
+    grid,
+    isothermal_torus,
+    stereographic_sphere,
+)
+from surfinpaint.representation.fields import (
     central_derivatives,
     grid_laplacian,
     hopf_differential,

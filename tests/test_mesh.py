@@ -3,7 +3,7 @@ import pytest
 import trimesh
 
 from surfinpaint.errors import MeshError
-from surfinpaint.mesh import (
+from surfinpaint.geometry.mesh import (
     boundary_loops,
     connected_components,
     cotangent_laplacian,
@@ -124,7 +124,7 @@ def test_vertex_normals_of_plane():
 
 def test_edge_faces_pairs_the_faces_of_each_edge():
     from surfinpaint.data import cube
-    from surfinpaint.mesh import edge_faces
+    from surfinpaint.geometry.mesh import edge_faces
 
     v, f = cube(3)
     edges, owners, count = edge_faces(f)
@@ -142,7 +142,7 @@ def test_edge_faces_pairs_the_faces_of_each_edge():
 
 def test_faces_near_grows_by_rings():
     from surfinpaint.data import cube
-    from surfinpaint.mesh import faces_near, k_ring
+    from surfinpaint.geometry.mesh import faces_near, k_ring
 
     v, f = cube(6)
     seeds = np.array([0])

@@ -1,14 +1,20 @@
-"""λ-H inpainting on the patch mesh (surfinpaint.mesh_inpainting): analytic surfaces sampled
+"""λ-H inpainting on the patch mesh (surfinpaint.fill.conformal.mesh_inpainting): analytic surfaces
+sampled
 on exactly conformal grids, so that λ and H are known."""
 
 import numpy as np
 import pytest
 
-import surfinpaint.mesh_inpainting as mesh_inpainting
-from surfinpaint.analytic import enneper, grid, isothermal_torus, stereographic_sphere
+import surfinpaint.fill.conformal.mesh_inpainting as mesh_inpainting
 from surfinpaint.errors import FillError
-from surfinpaint.fairing import fair
-from surfinpaint.mesh_inpainting import inpaint_on_mesh, vertex_lambda_h
+from surfinpaint.fill.conformal.mesh_inpainting import inpaint_on_mesh, vertex_lambda_h
+from surfinpaint.fill.liepa.fairing import fair
+from surfinpaint.representation.analytic import (
+    enneper,
+    grid,
+    isothermal_torus,
+    stereographic_sphere,
+)
 
 
 def grid_mesh(n: int, extent=(-1.0, 1.0, -1.0, 1.0)):

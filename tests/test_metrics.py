@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from surfinpaint import data, metrics
-from surfinpaint.cutting import cut_geodesic_disk
-from surfinpaint.metrics import (
+from surfinpaint import data
+from surfinpaint.geometry import metrics
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.metrics import (
     closest_point_on_triangles,
     hole_patch_of,
     point_mesh_distance,
@@ -148,7 +149,7 @@ def test_hole_patch_of_recovers_the_truth():
 
 def test_mean_surface_distances_match_surface_distance():
     from surfinpaint.data import sphere
-    from surfinpaint.metrics import mean_surface_distances, surface_distance
+    from surfinpaint.geometry.metrics import mean_surface_distances, surface_distance
 
     v, f = sphere(3)
     patches = [(1.05 * v, f), (v + [0.02, 0.0, 0.0], f), (v, f)]

@@ -5,11 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from surfinpaint.analytic import stereographic_sphere
 from surfinpaint.data import bumpy_disk, sphere, torus
 from surfinpaint.errors import MeshError
-from surfinpaint.mesh import face_areas
-from surfinpaint.parameterization import (
+from surfinpaint.geometry.mesh import face_areas
+from surfinpaint.geometry.parameterization import (
     angle_distortion,
     check_disk,
     conformal_distortion,
@@ -20,6 +19,7 @@ from surfinpaint.parameterization import (
     plot_conformality,
     rectangular_conformal_map,
 )
+from surfinpaint.representation.analytic import stereographic_sphere
 
 
 def grid_mesh(n: int, m: int | None = None, extent=(0.0, 1.0, 0.0, 1.0), jitter: float = 0.0,

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from surfinpaint import data
-from surfinpaint.cutting import cut_holes
-from surfinpaint.mesh import boundary_loops, unique_edges
-from surfinpaint.metrics import surface_distance
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import boundary_loops, unique_edges
+from surfinpaint.geometry.metrics import surface_distance
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 peers = pytest.importorskip("peers")

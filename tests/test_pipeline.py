@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from surfinpaint import FillError, MeshError, fill_holes, find_holes
-from surfinpaint.cutting import cut_holes
 from surfinpaint.data import sphere
-from surfinpaint.mesh import boundary_loops, unique_edges
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import boundary_loops, unique_edges
 
 
 @pytest.fixture(scope="module")
@@ -78,7 +78,7 @@ def test_unknown_method_and_bad_holes():
 
 
 def test_conformal_failure_falls_back_to_the_faired_fill(sphere_with_three_holes, monkeypatch):
-    import surfinpaint.conformal as conformal
+    import surfinpaint.fill.conformal.core as conformal
 
     def broken(*args, **kwargs):
         raise FillError("forced failure")

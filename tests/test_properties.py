@@ -12,11 +12,11 @@ from hypothesis import HealthCheck, given, reject, settings
 from hypothesis import strategies as st
 from test_robustness import check_filled
 
-from surfinpaint.cutting import cut_geodesic_disk
 from surfinpaint.data import sphere, torus
-from surfinpaint.mesh import mean_edge_length
-from surfinpaint.metrics import point_mesh_distance
-from surfinpaint.pipeline import fill_holes
+from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.mesh import mean_edge_length
+from surfinpaint.geometry.metrics import point_mesh_distance
 
 SETTINGS = settings(max_examples=15, deadline=None, database=None, derandomize=True,
                     suppress_health_check=[HealthCheck.filter_too_much,

@@ -5,10 +5,15 @@ import warnings
 import numpy as np
 import pytest
 
-from surfinpaint.analytic import enneper, grid, isothermal_torus, stereographic_sphere
 from surfinpaint.errors import FillError
-from surfinpaint.lambda_h import lambda_h
-from surfinpaint.reconstruction import METHODS, reconstruct
+from surfinpaint.representation.analytic import (
+    enneper,
+    grid,
+    isothermal_torus,
+    stereographic_sphere,
+)
+from surfinpaint.representation.fields import lambda_h
+from surfinpaint.representation.reconstruction import METHODS, reconstruct
 
 SIZES = (17, 33, 65)
 

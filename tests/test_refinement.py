@@ -8,9 +8,9 @@ import trimesh
 from scipy.spatial import Delaunay
 
 from surfinpaint.errors import MeshError
-from surfinpaint.mesh import boundary_loops, face_areas, mean_edge_length, unique_edges
-from surfinpaint.refinement import boundary_scales, delaunay_flip, refine_patch
-from surfinpaint.triangulation import minimum_weight_triangulation
+from surfinpaint.fill.liepa.refinement import boundary_scales, delaunay_flip, refine_patch
+from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
+from surfinpaint.geometry.mesh import boundary_loops, face_areas, mean_edge_length, unique_edges
 
 
 def _edge_set(faces):
@@ -120,7 +120,7 @@ def test_bad_input():
 def test_compiled_flips_match_the_numpy_rounds(monkeypatch):
     # a refined patch on a regular sphere: many co-circular quads and equal scores, where the
     # ranks and tie-breaks of the two implementations must agree exactly
-    import surfinpaint.refinement as refinement
+    import surfinpaint.fill.liepa.refinement as refinement
 
     m = trimesh.creation.icosphere(3)
     faces = m.faces[np.linalg.norm(m.triangles_center - m.vertices[0], axis=1) > 0.5]

@@ -12,10 +12,10 @@ from conftest import grid_mesh
 
 from surfinpaint.data import sphere
 from surfinpaint.errors import MeshError
-from surfinpaint.mesh import boundary_loops, unique_edges
-from surfinpaint.pipeline import fill_holes
-from surfinpaint.repair import corner_fans, remove_nonmanifold_faces, unjoined_bowties
-from surfinpaint.validation import nonmanifold_vertices, validate_mesh
+from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.geometry.mesh import boundary_loops, unique_edges
+from surfinpaint.geometry.repair import corner_fans, remove_nonmanifold_faces, unjoined_bowties
+from surfinpaint.geometry.validation import nonmanifold_vertices, validate_mesh
 
 
 def _edge_faces(faces, a, b):
@@ -160,7 +160,7 @@ def bunny_path():
 
 
 def test_stanford_bunny(bunny_path):
-    from surfinpaint.io import read_mesh
+    from surfinpaint.io.formats import read_mesh
 
     v, f = read_mesh(bunny_path)
     edges, face_edge, count = unique_edges(f)
@@ -179,7 +179,7 @@ def test_stanford_bunny(bunny_path):
 
 
 def test_stanford_bunny_filled(bunny_path):
-    from surfinpaint.io import read_mesh
+    from surfinpaint.io.formats import read_mesh
 
     v, f = read_mesh(bunny_path)
     with warnings.catch_warnings():
@@ -202,7 +202,7 @@ def _pinched_sphere():
 
 
 def test_unjoined_bowties_pinched_loop():
-    from surfinpaint.baseline import conventional_fill
+    from surfinpaint.fill.liepa.baseline import conventional_fill
 
     v, f, centre = _pinched_sphere()
     loops = boundary_loops(f)

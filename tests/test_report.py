@@ -8,12 +8,7 @@ import struct
 import numpy as np
 import pytest
 
-from surfinpaint.cutting import cut_holes
-from surfinpaint.data import sphere
-from surfinpaint.errors import MeshError
-from surfinpaint.io import write_mesh
-from surfinpaint.pipeline import fill_holes
-from surfinpaint.report import (
+from surfinpaint.app.report import (
     PANEL_SIZE,
     HoleComparison,
     add_report_parser,
@@ -21,6 +16,11 @@ from surfinpaint.report import (
     hole_title,
     hole_truths,
 )
+from surfinpaint.data import sphere
+from surfinpaint.errors import MeshError
+from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.io.formats import write_mesh
 
 
 def png_size(path) -> tuple[int, int]:
@@ -153,8 +153,8 @@ def test_report_cli_rejects_bad_hole_list(tmp_path):
 
 def test_panel_without_a_conformal_fill(holed_sphere, tmp_path, monkeypatch):
     monkeypatch.delenv("DISPLAY", raising=False)
-    from surfinpaint.pipeline import fill_holes
-    from surfinpaint.report import hole_panel
+    from surfinpaint.app.report import hole_panel
+    from surfinpaint.fill.pipeline import fill_holes
 
     _, _, cut = holed_sphere
     loop = cut.holes[0].loop
@@ -166,7 +166,7 @@ def test_panel_without_a_conformal_fill(holed_sphere, tmp_path, monkeypatch):
 
 
 def test_page_without_truth_has_no_error_columns(tmp_path):
-    from surfinpaint.report import HoleComparison, table_rows, write_page
+    from surfinpaint.app.report import HoleComparison, table_rows, write_page
 
     comparisons = [
         HoleComparison(index=3, n_edges=12, diameter=0.5, seconds={"fair": 0.1, "conformal": 1},

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from test_parameterization import grid_mesh
 
-from surfinpaint.analytic import stereographic_sphere
 from surfinpaint.data import bumpy_disk, sphere
 from surfinpaint.errors import MeshError
-from surfinpaint.metrics import surface_distance
-from surfinpaint.representation import (
+from surfinpaint.geometry.metrics import surface_distance
+from surfinpaint.representation.analytic import stereographic_sphere
+from surfinpaint.representation.represent import (
     FoldedMapWarning,
     LambdaH,
     disk_from_mesh,
@@ -102,7 +102,7 @@ def test_smooth_sampling_reproduces_the_sphere_better_than_piecewise_linear():
 
 
 def test_smooth_subdivision_keeps_the_vertices_and_follows_the_surface():
-    from surfinpaint.representation import smooth_subdivision
+    from surfinpaint.representation.represent import smooth_subdivision
 
     off = []
     for n in (9, 17):
@@ -119,14 +119,14 @@ def test_smooth_subdivision_keeps_the_vertices_and_follows_the_surface():
     assert off[0] / off[1] > 6  # O(e³)
     assert np.array_equal(smooth_subdivision(v, f, uv0, 0)[0], v)
     # consistent orientation: refined normals agree with the coarse ones
-    from surfinpaint.mesh import face_normals
+    from surfinpaint.geometry.mesh import face_normals
 
     coarse = face_normals(v, f)[np.tile(np.arange(len(f)), 16)]
     assert (np.einsum("ij,ij->i", face_normals(vf, ff), coarse) > 0.9).all()
 
 
 def test_subdivision_levels_by_crease_angle():
-    from surfinpaint.representation import mean_crease_angle, subdivision_levels
+    from surfinpaint.representation.represent import mean_crease_angle, subdivision_levels
 
     v, f = bumpy_disk(20)
     assert mean_crease_angle(v, f) < 4.0 and subdivision_levels(v, f) == 0
@@ -170,7 +170,7 @@ def test_rebuild_keeps_band_vertices_and_uses_given_lambda_h():
     v4, _ = rebuild(rep, H=np.where(rep.unknown, 0.0, rep.H))
     assert np.abs(v4 - v2).max() > 1e-3
     # vertices whose cell touches no rebuilt node are exactly the originals
-    from surfinpaint.grid import interpolate
+    from surfinpaint.representation.grid import interpolate
 
     touch = interpolate(rep.unknown.astype(float), rep.grid, rep.uv, order=1)
     still = ~(np.isfinite(touch) & (touch > 0))
@@ -183,7 +183,7 @@ def face_scan_disk(radius: float = 40.0):
     from scipy.sparse.csgraph import dijkstra
 
     from surfinpaint.data import pymeshlab_sample
-    from surfinpaint.mesh import connected_components
+    from surfinpaint.geometry.mesh import connected_components
 
     v, f = pymeshlab_sample("rangemaps/face000.ply")
     _, label = connected_components(f, len(v))
@@ -208,8 +208,8 @@ def test_round_trip_face_scan_within_targets():
 
 def pial_disk():
     pytest.importorskip("nilearn")
-    from surfinpaint.cutting import cut_geodesic_disk
     from surfinpaint.data import fsaverage5
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
 
     v, f = fsaverage5("pial", "left")
     cut = cut_geodesic_disk(v, f, 5000, 25.0)
@@ -309,7 +309,7 @@ def test_plot_representation_writes_png(tmp_path):
 
 
 def test_boundary_band_width_and_inputs_unchanged():
-    from surfinpaint.representation import boundary_band
+    from surfinpaint.representation.represent import boundary_band
 
     domain = np.zeros((20, 20), dtype=bool)
     domain[2:18, 3:17] = True

@@ -14,15 +14,15 @@ import numpy as np
 import pytest
 from conftest import grid_mesh
 
-import surfinpaint.conformal
-from surfinpaint.cutting import cut_holes
+import surfinpaint.fill.conformal.core
 from surfinpaint.data import sphere
 from surfinpaint.errors import FillError
-from surfinpaint.holes import find_holes
-from surfinpaint.intersection import patch_intersects_surroundings
-from surfinpaint.mesh import k_ring, mean_edge_length, vertex_normals
-from surfinpaint.pipeline import fill_holes
-from surfinpaint.validation import nonmanifold_vertices, validate_mesh
+from surfinpaint.fill.holes import find_holes
+from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.intersection import patch_intersects_surroundings
+from surfinpaint.geometry.mesh import k_ring, mean_edge_length, vertex_normals
+from surfinpaint.geometry.validation import nonmanifold_vertices, validate_mesh
 
 METHODS = ["conformal", "fair"]
 
@@ -211,7 +211,7 @@ def test_holes_one_edge_apart(method):
     # two 2-ring holes whose centres are 5 edges apart: one edge between their loops
     from scipy.sparse.csgraph import shortest_path
 
-    from surfinpaint.mesh import vertex_adjacency
+    from surfinpaint.geometry.mesh import vertex_adjacency
 
     hops = shortest_path(vertex_adjacency(f, len(v)), unweighted=True, indices=[0])[0]
     other = int(np.flatnonzero(hops == 5)[0])
@@ -298,14 +298,14 @@ def test_explicit_loops_in_any_direction():
 def _force(monkeypatch, fake):
     """Replace the λ-H pass of both discretizations by ``fake`` (the grid pass's
     signature: vertices, patch_faces, n_fill_faces, moving -> positions, details)."""
-    monkeypatch.setattr(surfinpaint.conformal, "inpaint_patch", fake)
+    monkeypatch.setattr(surfinpaint.fill.conformal.core, "inpaint_patch", fake)
 
     def on_mesh(vertices, faces, loop, fill_faces, moving, *, rings=4, **kwargs):
-        patch, _ = surfinpaint.conformal.hole_patch(faces, loop, fill_faces, rings)
+        patch, _ = surfinpaint.fill.conformal.core.hole_patch(faces, loop, fill_faces, rings)
         positions, details = fake(vertices, patch, len(fill_faces), moving)
         return positions, patch, details
 
-    monkeypatch.setattr(surfinpaint.conformal, "inpaint_patch_on_mesh", on_mesh)
+    monkeypatch.setattr(surfinpaint.fill.conformal.core, "inpaint_patch_on_mesh", on_mesh)
 
 
 def _fallback_case():
@@ -393,7 +393,7 @@ def test_fallback_on_a_patch_through_the_surroundings(monkeypatch):
 def test_crossing_patch_is_caught_without_the_fold_check(monkeypatch):
     # the same crossing patch, with the fold test switched off: the intersection test of the
     # patch against its surrounding rings has to catch it by itself
-    monkeypatch.setattr(surfinpaint.conformal, "FOLD_ANGLE", 180.0)
+    monkeypatch.setattr(surfinpaint.fill.conformal.core, "FOLD_ANGLE", 180.0)
     test_fallback_on_a_patch_through_the_surroundings(monkeypatch)
 
 

@@ -7,8 +7,8 @@ import pytest
 import trimesh
 
 from surfinpaint.errors import MeshError
-from surfinpaint.mesh import boundary_loops, face_areas, face_normals, unique_edges
-from surfinpaint.triangulation import minimum_weight_triangulation
+from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
+from surfinpaint.geometry.mesh import boundary_loops, face_areas, face_normals, unique_edges
 
 
 def _convex_polygon(k: int, seed: int = 0) -> np.ndarray:
@@ -148,7 +148,7 @@ def test_avoids_diagonals_that_are_already_mesh_edges():
 
 
 def test_numpy_fallback_matches_compiled_kernel(monkeypatch):
-    from surfinpaint import triangulation
+    from surfinpaint.fill.liepa import triangulation
 
     m = trimesh.creation.icosphere(3)
     v, f = np.asarray(m.vertices), np.asarray(m.faces)

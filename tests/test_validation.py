@@ -7,7 +7,7 @@ import pytest
 from conftest import grid_mesh, tetrahedron_mesh
 
 from surfinpaint.errors import MeshError
-from surfinpaint.validation import check_loop, nonmanifold_vertices, validate_mesh
+from surfinpaint.geometry.validation import check_loop, nonmanifold_vertices, validate_mesh
 
 
 def _shifted_tetrahedron(offset: float, shift: int) -> tuple[np.ndarray, np.ndarray]:
@@ -232,7 +232,7 @@ def test_bowties_fast_on_large_mesh():
 
 def test_check_loop_accepts_a_boundary_loop(grid):
     v, f = grid
-    from surfinpaint.mesh import boundary_loops
+    from surfinpaint.geometry.mesh import boundary_loops
 
     check_loop(f, boundary_loops(f)[0])
 

@@ -12,19 +12,19 @@ The main entry points work on plain numpy arrays::
     >>> result.vertices, result.faces, result.reports                    # doctest: +SKIP
 """
 
-from surfinpaint.baseline import conventional_fill
 from surfinpaint.errors import FillError, MeshError
-from surfinpaint.estimation import robust_lambda_h
-from surfinpaint.holes import Hole, find_holes
-from surfinpaint.inpainting import inpaint
-from surfinpaint.io import SUPPORTED_FORMATS, MeshWarning, read_mesh, write_mesh
-from surfinpaint.lambda_h import lambda_h
-from surfinpaint.metrics import surface_distance
-from surfinpaint.parameterization import lscm, rectangular_conformal_map
-from surfinpaint.pipeline import FillResult, HoleReport, fill_holes
-from surfinpaint.reconstruction import reconstruct
-from surfinpaint.representation import LambdaH, rebuild, represent
-from surfinpaint.validation import MeshReport, validate_mesh
+from surfinpaint.fill.holes import Hole, find_holes
+from surfinpaint.fill.liepa.baseline import conventional_fill
+from surfinpaint.fill.pipeline import FillResult, HoleReport, fill_holes
+from surfinpaint.geometry.metrics import surface_distance
+from surfinpaint.geometry.parameterization import lscm, rectangular_conformal_map
+from surfinpaint.geometry.validation import MeshReport, validate_mesh
+from surfinpaint.io.formats import SUPPORTED_FORMATS, MeshWarning, read_mesh, write_mesh
+from surfinpaint.representation.estimation import robust_lambda_h
+from surfinpaint.representation.fields import lambda_h
+from surfinpaint.representation.inpainting import inpaint
+from surfinpaint.representation.reconstruction import reconstruct
+from surfinpaint.representation.represent import LambdaH, rebuild, represent
 
 __version__ = "0.1.0"
 

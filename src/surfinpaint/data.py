@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from surfinpaint.mesh import unique_edges, vertex_normals
+from surfinpaint.geometry.mesh import unique_edges, vertex_normals
 
 __all__ = [
     "bumpy_disk",
@@ -435,7 +435,7 @@ def _package_root(package: str, purpose: str):
 
 def _load_mesh_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     try:
-        from surfinpaint.io import read_mesh
+        from surfinpaint.io.formats import read_mesh
     except ImportError:
         read_mesh = None
     if read_mesh is not None:
@@ -556,7 +556,7 @@ def default_demo_path() -> Path:
 
 
 def _make_demo() -> tuple[np.ndarray, np.ndarray]:
-    from surfinpaint.cutting import cut_holes
+    from surfinpaint.geometry.cutting import cut_holes
 
     v, f = snowman(edge_length=0.07)
     centres, radii = _demo_holes(v)

@@ -1,0 +1,765 @@
+"""Hole fills side by side, for judging by eye: ``surfinpaint report``.
+
+Every hole is filled twice, by the conventional fill (Liepa: triangulate, refine, fair) and by
+the conformal λ-H inpainting (Lui, Wen, Gu), and drawn as one panel in the layout of the
+paper's figures:
+
+(A) the surface with the hole, (B) the conventional fill, (C) the conformal fill, seen from
+one camera facing the hole; (D)/(E) the conformal factor λ before and after inpainting and
+(F)/(G) the mean curvature H before and after, over the conformal parameter domain of the
+hole's patch, with the hole (solid) and the inpainted region (dashed) outlined.
+
+"Before" is what the known surface says (:func:`surfinpaint.fill.conformal.core.lambda_h_pictures`):
+λ, H of the surface around the hole on its patch's triangles, or the robust grid estimate
+with ``discretization="grid"``; the part that sees the initial fill is grey, since the
+initial fill's own λ, H are not data the method uses.
+
+When the conformal method's self-check kept the faired fill for a hole (``fallback``), panel
+(C) shows the conformal fill it rejected (computed again with ``select=False``), so the two
+fills can still be compared; the page says which one ``surfinpaint fill`` would write.
+
+A page (``index.md`` and ``index.html``) lists the holes with their sizes, times, the
+self-check scores and, given the ground truth, each method's distance to it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import html
+import os
+import tempfile
+import time
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from surfinpaint.errors import MeshError
+
+__all__ = [
+    "HoleComparison",
+    "add_report_parser",
+    "compare_holes",
+    "hole_panel",
+    "hole_truths",
+    "run_report",
+    "write_page",
+    "write_report",
+]
+
+PANEL_SIZE = (1600, 960)  # pixels of every hole panel
+_DPI = 100
+
+# a progress hook: step(message, advance=1)
+Step = Callable[..., None]
+
+
+@dataclass
+class HoleComparison:
+    """Both fills of one hole, measured.
+
+    Attributes
+    ----------
+    index : int
+        Position in the list of holes filled (:func:`write_report` renumbers holes chosen
+        by index with those indices, the numbering of ``surfinpaint holes``).
+    n_edges : int
+        Boundary edges of the hole.
+    diameter : float
+        Largest distance between two boundary vertices.
+    seconds : dict
+        Wall time per method (``"fair"``, ``"conformal"``; the conformal time includes its
+        self-check).
+    new_vertices : dict
+        Vertices added per method.
+    kept : bool
+        Whether the conformal method kept its own fill (False: it failed, or its self-check
+        preferred the faired fill; ``fallback`` says which).
+    fallback : str or None
+        Why the conformal method used the faired fill.
+    scores : dict
+        The self-check's tests that ran (``"hidden_rings"``, ``"sibling_holes"``), each a
+        dict of the errors of its candidates (``"conformal"``, ``"fair2"``, ``"fair3"``).
+    fair_order : int or None
+        Fairing order of the faired fill the conformal method wrote (None: it kept its own).
+    errors : dict
+        With a ground truth: per fill (``"fair"``, ``"conformal"`` = what ``fill`` writes,
+        ``"conformal raw"`` = the conformal fill before the self-check) the two-sided mean
+        distance and Hausdorff distance to the truth in % of the hole diameter.
+    picture : str or None
+        File name of the panel.
+    """
+
+    index: int
+    n_edges: int
+    diameter: float
+    seconds: dict = field(default_factory=dict)
+    new_vertices: dict = field(default_factory=dict)
+    kept: bool = True
+    fallback: str | None = None
+    scores: dict = field(default_factory=dict)
+    fair_order: int | None = None
+    errors: dict = field(default_factory=dict)
+    picture: str | None = None
+
+
+# --------------------------------------------------------------------------- fills
+
+
+def _patches(result) -> list[np.ndarray]:
+    """Each hole's new faces (ids into ``result.vertices``), in report order."""
+    counts = [r.new_faces for r in result.reports]
+    # the new faces come last, hole after hole
+    starts = len(result.faces) - sum(counts) + np.concatenate([[0], np.cumsum(counts)])
+    return [result.faces[starts[k]:starts[k + 1]] for k in range(len(counts))]
+
+
+def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    ids, inverse = np.unique(faces, return_inverse=True)
+    return vertices[ids], inverse.reshape(-1, 3)
+
+
+def _error(patch: tuple[np.ndarray, np.ndarray] | None,
+           truth: tuple[np.ndarray, np.ndarray] | None, diameter: float) -> dict[str, float]:
+    from surfinpaint.geometry.metrics import surface_distance
+
+    if patch is None or truth is None or len(patch[1]) == 0:
+        return {"mean": float("nan"), "hausdorff": float("nan")}
+    d = surface_distance(patch[0], patch[1], truth[0], truth[1], n_samples=10000)
+    return {"mean": 100.0 * d["mean"] / diameter, "hausdorff": 100.0 * d["hausdorff"] / diameter}
+
+
+def compare_holes(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loops: Sequence[np.ndarray],
+    *,
+    truth: Sequence[tuple[np.ndarray, np.ndarray]] | None = None,
+    step: Step | None = None,
+    **options,
+) -> tuple[list[HoleComparison], dict]:
+    """Fill the given holes by both methods and measure them.
+
+    Parameters
+    ----------
+    vertices, faces : arrays
+        The mesh with holes.
+    loops : sequence of (k,) int arrays
+        The holes' boundary loops (as :func:`surfinpaint.fill_holes` accepts them).
+    truth : sequence of (vertices, faces) or None, optional
+        The ground-truth patch of each hole (e.g. :attr:`surfinpaint.geometry.cutting.Hole`'s
+        ``truth_vertices``/``truth_faces``), to measure each fill against; None for a hole
+        without one (its errors are NaN).
+    step : callable(message, advance=1), optional
+        Progress hook, called after each stage: 2 + one per hole (and with ``advance=0``
+        for each conformal fill that is computed again because the self-check rejected it).
+    **options
+        Passed to the conformal method.
+
+    Returns
+    -------
+    comparisons : list of HoleComparison
+    fills : dict
+        ``"fair"`` and ``"conformal"``: the :class:`~surfinpaint.fill.pipeline.FillResult` of each
+        method; ``"filled"``: per method (``"fair"``, ``"conformal"``, ``"conformal raw"``)
+        each hole's fill as ``(vertices, faces)`` (the vertices start with the mesh's, the
+        faces are the hole's new ones; ``"conformal raw"`` is None where the conformal
+        method failed); ``"loops"``: the oriented loops; ``"details"``:
+        each hole's conformal grid data (empty when it failed).
+    """
+    from surfinpaint.fill.holes import select_holes
+    from surfinpaint.fill.pipeline import fill_holes
+
+    vertices = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    loops = select_holes(vertices, faces, list(loops))
+    if truth is not None and len(truth) != len(loops):
+        raise ValueError(f"{len(truth)} truth patches for {len(loops)} holes")
+    step = step or (lambda message, advance=1: None)
+    with warnings.catch_warnings():
+        # the fallbacks are reported in the comparison, not as warnings
+        warnings.simplefilter("ignore", UserWarning)
+        fair = fill_holes(vertices, faces, holes=loops, method="fair", validate=False)
+        step("conventional fills done")
+        conformal = fill_holes(vertices, faces, holes=loops, method="conformal",
+                               validate=False, **options)
+        step("conformal fills done")
+        # each fill as (vertices starting with the mesh's, the hole's new faces)
+        filled = {"fair": [(fair.vertices, p) for p in _patches(fair)],
+                  "conformal": [(conformal.vertices, p) for p in _patches(conformal)]}
+        # the conformal fill before the self-check; None where the conformal method failed
+        raw = [fill if r.method == "conformal" else None
+               for fill, r in zip(filled["conformal"], conformal.reports, strict=True)]
+        details = [r.details for r in conformal.reports]
+        # the self-check does not make the λ-H fill of a hole it rejects: make it here
+        rejected = [k for k, r in enumerate(conformal.reports)
+                    if r.method == "fair" and not r.fallback and not r.skipped]
+        for k in rejected:
+            again = fill_holes(vertices, faces, holes=[loops[k]], method="conformal",
+                               validate=False, **{**options, "select": False})
+            if not again.reports[0].fallback:
+                raw[k] = (again.vertices, _patches(again)[0])
+                details[k] = {**again.reports[0].details, **details[k]}
+            step(f"hole {k}: conformal fill before the self-check", 0)
+    filled["conformal raw"] = raw
+    patches = {name: [None if p is None else _compact(*p) for p in fills]
+               for name, fills in filled.items()}
+    from surfinpaint.fill.holes import loop_diameter
+
+    out = []
+    for k, loop in enumerate(loops):
+        rc, rf = conformal.reports[k], fair.reports[k]
+        comp = HoleComparison(
+            index=k, n_edges=len(loop), diameter=loop_diameter(vertices[loop]),
+            seconds={"fair": rf.seconds, "conformal": rc.seconds},
+            new_vertices={"fair": rf.new_vertices, "conformal": rc.new_vertices},
+            kept=rc.method == "conformal", fallback=rc.fallback or rc.note,
+            scores={name[len("score_"):]: value for name, value in rc.details.items()
+                    if name.startswith("score_")},
+            fair_order=rc.details.get("fair_order"),
+        )
+        if truth is not None:
+            comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
+                           for name in ("fair", "conformal", "conformal raw")}
+        out.append(comp)
+        step(f"hole {k}: measured")
+    return out, {"fair": fair, "conformal": conformal, "filled": filled,
+                 "details": details, "loops": loops}
+
+
+def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray],
+                truth_vertices: np.ndarray,
+                truth_faces: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The patch of a complete mesh that fills each hole of a mesh cut from it.
+
+    The holed mesh's vertices are found among the truth's by position; the truth faces that
+    the holed mesh lacks are grouped into connected pieces, and each hole gets the piece
+    through its boundary vertices.
+
+    Returns
+    -------
+    list of (vertices, faces) or None
+        One truth patch per hole; None for a hole the truth has as well.
+
+    Raises
+    ------
+    MeshError
+        When a boundary vertex of a hole is not a vertex of the truth (the truth must be the
+        mesh the holes were cut from).
+    """
+    from scipy.spatial import cKDTree
+
+    from surfinpaint.geometry.mesh import connected_components
+
+    tv = np.asarray(truth_vertices, float)
+    tf = np.asarray(truth_faces, np.int64)
+    scale = float(np.ptp(tv, axis=0).max()) or 1.0
+    dist, match = cKDTree(tv).query(np.asarray(vertices, float))
+    found = dist <= 1e-6 * scale
+    used = np.unique(np.asarray(faces))
+    if not found[used].any():
+        raise MeshError("none of the mesh's vertices is a vertex of the truth: --truth must "
+                        "be the complete mesh the holes were cut from")
+    missing = [int(v) for loop in loops for v in loop if not found[v]]
+    if missing:
+        raise MeshError("boundary vertices of the holes are not vertices of the truth mesh "
+                        "(--truth must be the mesh the holes were cut from)",
+                        vertices=missing[:20])
+    # faces of the holed mesh in truth ids; faces with an unmatched vertex match nothing
+    mapped = np.sort(np.where(found[faces], match[faces], -1), axis=1)
+    key = np.sort(tf, axis=1)
+    base = len(tv) + 1
+    if base < 2**20:  # one int64 code per face
+        present = np.unique(((mapped[:, 0] * base) + mapped[:, 1]) * base + mapped[:, 2])
+        codes = (key[:, 0] * base + key[:, 1]) * base + key[:, 2]
+        absent = tf[~np.isin(codes, present)]
+    else:  # codes would overflow
+        known = set(map(tuple, mapped.tolist()))
+        absent = tf[np.array([tuple(k) not in known for k in key.tolist()], bool)]
+    _, label = connected_components(absent, len(tv))
+    out = []
+    for loop in loops:
+        pieces = np.unique(label[match[loop]])
+        piece_faces = absent[np.isin(label[absent[:, 0]], pieces)] if len(absent) else absent
+        # a hole the truth has too (a scanner's own hole) has no truth: None
+        out.append(_compact(tv, piece_faces) if len(piece_faces) else None)
+    return out
+
+
+# --------------------------------------------------------------------------- panels
+
+
+def _view_of(vertices, faces, loop, patch=None):
+    """Vertices, faces and highlighted face ids of a close-up of one hole (optionally
+    filled with ``patch``, faces over ``vertices``)."""
+    from surfinpaint.app.figures import crop_around
+
+    centre = vertices[loop].mean(axis=0)
+    radius = 1.8 * float(np.linalg.norm(vertices[loop] - centre, axis=1).max())
+    near = faces[crop_around(vertices, faces, centre, radius)]
+    highlight = None
+    if patch is not None:
+        highlight = np.arange(len(near), len(near) + len(patch))
+        near = np.concatenate([near, patch])
+    ids, local = np.unique(near, return_inverse=True)
+    lookup = np.full(len(vertices), -1)
+    lookup[ids] = np.arange(len(ids))
+    return {"vertices": vertices[ids], "faces": local.reshape(-1, 3), "highlight": highlight,
+            "loops": [lookup[loop]]}
+
+
+def _range(arrays, masks, low=2.0, high=98.0):
+    values = np.concatenate([a[m & np.isfinite(a)] for a, m in zip(arrays, masks, strict=True)])
+    if len(values) == 0:
+        return None, None
+    lo, hi = np.percentile(values, [low, high])
+    if hi - lo <= 1e-9 * max(abs(lo), abs(hi), 1.0):
+        # constant up to round-off (λ = 1, H = 0 on a cube's faces): a readable range
+        # around it, not one whose colour bar labels are round-off
+        centre = 0.5 * (lo + hi)
+        half = 0.05 * abs(centre) if centre != 0 else 1.0
+        lo, hi = centre - half, centre + half
+    return float(lo), float(hi)
+
+
+def _crop_white(images: list[np.ndarray], margin: int = 12) -> list[np.ndarray]:
+    """Crop views rendered from one camera to the union of their non-white pixels, so they
+    stay aligned and fill their axes."""
+    ink = np.zeros(images[0].shape[:2], bool)
+    for image in images:
+        ink |= (image < 245).any(axis=-1)
+    if not ink.any():
+        return images
+    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
+    r0, r1 = max(rows[0] - margin, 0), min(rows[-1] + margin + 1, ink.shape[0])
+    c0, c1 = max(cols[0] - margin, 0), min(cols[-1] + margin + 1, ink.shape[1])
+    return [image[r0:r1, c0:c1] for image in images]
+
+
+def hole_panel(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    fair: tuple[np.ndarray, np.ndarray],
+    conformal: tuple[np.ndarray, np.ndarray],
+    details: dict,
+    path: str | os.PathLike,
+    *,
+    titles: dict | None = None,
+    suptitle: str = "",
+    tilt: float = 35.0,
+) -> Path:
+    """Write the paper-style panel of one hole (A–G, see the module docstring) as a PNG of
+    ``PANEL_SIZE`` pixels.
+
+    Parameters
+    ----------
+    vertices, faces : arrays
+        The mesh with the hole.
+    loop : (k,) int array
+        The hole's boundary loop.
+    fair, conformal : (vertices, faces)
+        The two fills of this hole: ``faces`` index ``vertices``, which must start with the
+        mesh's vertices (a :class:`~surfinpaint.fill.pipeline.FillResult`'s ``vertices`` and the
+        hole's new faces). ``conformal`` may be None (the method failed): (C) says so.
+    details : dict
+        The conformal method's grid data of this hole (``lam0``, ``H0``, ``lam``, ``H``,
+        ``hole``, ``region``, ``domain``); panels D–G say "no data" without them.
+    path : path
+    titles : dict, optional
+        Replacement titles for panels ``"A"``–``"G"``.
+    suptitle : str
+    tilt : float
+        Degrees by which the camera leaves the hole's mean normal, towards the world's up
+        axis, so the shape of the fills shows (only for holes facing sideways).
+    """
+    from matplotlib.figure import Figure
+
+    from surfinpaint.app.figures import grid_image, render_views, save_figure, view_direction
+
+    vertices = np.asarray(vertices, float)
+    loop = np.asarray(loop)
+    names = {
+        "A": "(A) surface with the hole", "B": "(B) conventional fill (faired)",
+        "C": "(C) conformal fill", "D": "(D) initial λ (known part)",
+        "E": "(E) inpainted λ", "F": "(F) initial H (known part)", "G": "(G) inpainted H",
+    }
+    if "crease" in (details or {}) and "mesh_lambda_h" in details:
+        # λ and H of one side of a crease (each side is inpainted on its own)
+        for key in "DEFG":
+            names[key] += ", one side"
+    names.update(titles or {})
+    views = [_view_of(vertices, faces, loop)]
+    for fill in (fair, conformal):
+        if fill is None:  # no fill to show: an empty view
+            views.append({"vertices": np.zeros((0, 3)), "faces": np.zeros((0, 3), int)})
+            continue
+        fill_vertices = np.asarray(fill[0], float)
+        views.append(_view_of(fill_vertices, np.asarray(faces), loop, np.asarray(fill[1])))
+    centre = vertices[loop].mean(axis=0)
+    radius = 1.6 * float(np.linalg.norm(vertices[loop] - centre, axis=1).max())
+    direction = view_direction(vertices, faces, [loop])
+    from surfinpaint.app.figures import _up_vector
+
+    up = _up_vector(direction)
+    if tilt and abs(float(up @ direction)) < 0.5:
+        # seen a little from above rather than head-on, so bumps and dents of a fill show;
+        # not when the hole already faces up or down (across a cube's edge, say), where
+        # tilting would turn half of it away
+        up = up - (up @ direction) * direction
+        up /= np.linalg.norm(up)
+        angle = np.radians(tilt)
+        direction = np.cos(angle) * direction + np.sin(angle) * up
+    images = render_views(views, centre=centre, direction=direction,
+                          distance=radius / np.tan(np.radians(15.0)), size=(520, 440))
+
+    images = _crop_white(images)
+    fig = Figure(figsize=(PANEL_SIZE[0] / _DPI, PANEL_SIZE[1] / _DPI), dpi=_DPI,
+                 layout="constrained")
+    grid = fig.add_gridspec(2, 12, height_ratios=[1.0, 1.0])
+    for k, (key, image) in enumerate(zip("ABC", images, strict=True)):
+        ax = fig.add_subplot(grid[0, 4 * k:4 * k + 4])
+        ax.imshow(image)
+        ax.set_axis_off()
+        ax.set_title(names[key], fontsize=11)
+        if key == "C" and conformal is None:
+            ax.text(0.5, 0.5, "the conformal method failed on this hole\n(the faired fill "
+                    "was used)", ha="center", va="center", transform=ax.transAxes)
+    from surfinpaint.fill.conformal.core import lambda_h_pictures
+
+    details = lambda_h_pictures(details)
+    have = all(name in details for name in ("lam0", "H0", "lam", "H", "domain"))
+    if have:
+        domain = np.asarray(details["domain"], bool)
+        hole = details.get("hole")
+        region = details.get("region")
+        lam_range = _range([details["lam0"], details["lam"]], [domain, domain])
+        h_range = _range([details["H0"], details["H"]], [domain, domain])
+        for k, (key, name, cmap, span, label) in enumerate((
+                ("D", "lam0", "viridis", lam_range, "λ"),
+                ("E", "lam", "viridis", lam_range, "λ"),
+                ("F", "H0", "coolwarm", h_range, "H"),
+                ("G", "H", "coolwarm", h_range, "H"))):
+            ax = fig.add_subplot(grid[1, 3 * k:3 * k + 3])
+            grid_image(ax, details[name], names[key], hole=hole, region=region, domain=domain,
+                       cmap=cmap, vmin=span[0], vmax=span[1], label=label)
+    else:
+        ax = fig.add_subplot(grid[1, :])
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "no λ, H data: the conformal method did not run on this hole",
+                ha="center", va="center", fontsize=12)
+    if suptitle:
+        fig.suptitle(suptitle, fontsize=12)
+    return save_figure(fig, path, dpi=_DPI)
+
+
+# --------------------------------------------------------------------------- the page
+
+
+def _fmt(x: float, digits: int = 3) -> str:
+    return "–" if x is None or not np.isfinite(x) else f"{x:.{digits}g}"
+
+
+def _outcome(c: HoleComparison) -> str:
+    if c.kept:
+        return "kept" + (f" ({c.fallback})" if c.fallback else "")
+    if c.fallback and c.fallback.startswith("self-check"):
+        return f"faired fill kept: {c.fallback}"
+    return f"fell back to fair after a failure ({c.fallback})"
+
+
+def _error_text(c: HoleComparison, method: str) -> str:
+    """"mean / Hausdorff" of one fill; "no truth" or "failed" when not measured."""
+    if not c.errors or not np.isfinite(c.errors["fair"]["mean"]):
+        return "no truth"
+    e = c.errors[method]
+    if not np.isfinite(e["mean"]):
+        return "failed"
+    return f"{_fmt(e['mean'])} / {_fmt(e['hausdorff'])}"
+
+
+def table_rows(comparisons: Sequence[HoleComparison]) -> tuple[list[str], list[list[str]]]:
+    """Header and rows of the per-hole table (strings), errors included when measured."""
+    with_truth = any(c.errors for c in comparisons)
+    header = ["hole", "edges", "diameter", "fair: new v, s", "conformal: new v, s",
+              "conformal outcome"]
+    if with_truth:
+        header += ["fair mean / Hd %", "conformal mean / Hd %", "conformal raw mean / Hd %"]
+    rows = []
+    for c in comparisons:
+        row = [str(c.index), str(c.n_edges), _fmt(c.diameter),
+               f"{c.new_vertices['fair']}, {c.seconds['fair']:.2f}",
+               f"{c.new_vertices['conformal']}, {c.seconds['conformal']:.2f}", _outcome(c)]
+        if with_truth:
+            row += [_error_text(c, m) for m in ("fair", "conformal", "conformal raw")]
+        rows.append(row)
+    return header, rows
+
+
+def _markdown_table(header, rows) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def _html_table(header, rows) -> str:
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{html.escape(x)}</td>" for x in r) + "</tr>"
+                   for r in rows)
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+_LEGEND = (
+    "Panels: (A) the surface with the hole, (B) the conventional fill (Liepa: triangulate, "
+    "refine, fair), (C) the conformal λ-H fill, all from one camera facing the hole (fill "
+    "in orange, hole border in red); (D)/(E) the conformal factor λ and (F)/(G) the mean "
+    "curvature H over the patch's conformal parameter domain, initial (from the known "
+    "surface only: grey where there is no value) and after inpainting; solid outline: the "
+    "hole, dashed: the region whose values are inpainted. The conformal method's self-check "
+    "keeps its fill where it beats the bilaplacian faired fill on two tests that use no "
+    "truth (hidden rings of known surface around the hole, and sibling holes of the same "
+    "size cut from the known surface nearby); when it kept a faired fill, (C) shows the "
+    "conformal fill it rejected. Errors: "
+    "two-sided mean and Hausdorff distance to the removed truth, in % of the hole "
+    "diameter; 'conformal' is what `surfinpaint fill` writes, 'conformal raw' the conformal "
+    "fill before the self-check."
+)
+
+
+def _write_text(path: Path, text: str) -> None:
+    from surfinpaint.app.figures import _umask_mode
+
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(text)
+        _umask_mode(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
+
+def write_page(out_dir: str | os.PathLike,
+               sections: Sequence[dict], title: str, intro: str = "") -> tuple[Path, Path]:
+    """Write ``index.md`` and ``index.html`` in ``out_dir``.
+
+    Each section is a dict with ``title``, optional ``text``, ``comparisons`` (a list of
+    :class:`HoleComparison`, shown as a table with their pictures) and/or ``table``
+    (``(header, rows)``) and ``pictures`` (file names relative to ``out_dir``).
+    """
+    out_dir = Path(out_dir)
+    md = [f"# {title}", ""]
+    body = [f"<h1>{html.escape(title)}</h1>"]
+    if intro:
+        md += [intro, ""]
+        body.append(f"<p>{html.escape(intro)}</p>")
+    for section in sections:
+        md += [f"## {section['title']}", ""]
+        body.append(f"<h2>{html.escape(section['title'])}</h2>")
+        if section.get("text"):
+            md += [section["text"], ""]
+            body.append(f"<p>{html.escape(section['text'])}</p>")
+        tables = []
+        pictures = list(section.get("pictures", []))
+        if section.get("comparisons"):
+            tables.append(table_rows(section["comparisons"]))
+            pictures = [c.picture for c in section["comparisons"] if c.picture] + pictures
+        if section.get("table"):
+            tables.append(section["table"])
+        for header, rows in tables:
+            md += [_markdown_table(header, rows), ""]
+            body.append(_html_table(header, rows))
+        for picture in pictures:
+            md += [f"![{picture}]({picture})", ""]
+            body.append(f'<p><a href="{html.escape(picture)}"><img src="{html.escape(picture)}"'
+                        f' alt="{html.escape(picture)}" width="100%"></a></p>')
+    style = ("body{font-family:sans-serif;max-width:1650px;margin:auto}table{border-collapse:"
+             "collapse}td,th{border:1px solid #999;padding:3px 8px;text-align:right}")
+    page = ("<!DOCTYPE html><html><head><meta charset='utf-8'>"
+            f"<title>{html.escape(title)}</title><style>{style}</style></head><body>"
+            + "\n".join(body) + "</body></html>\n")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    _write_text(out_dir / "index.md", "\n".join(md))
+    _write_text(out_dir / "index.html", page)
+    return out_dir / "index.md", out_dir / "index.html"
+
+
+def hole_title(c: HoleComparison, name: str = "") -> str:
+    """One line that says what a hole panel shows, with its numbers."""
+    if c.kept:
+        written = "the λ-H fill (C) is written"
+    else:
+        order = f" (order {c.fair_order})" if c.fair_order else ""
+        why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith("self-check")
+               else "the self-check rejected the λ-H fill")
+        written = f"{why}; the faired fill{order} is written"
+    text = (f"{name + ': ' if name else ''}hole {c.index}, {c.n_edges} boundary edges, "
+            f"diameter {_fmt(c.diameter)}; {written}")
+    if c.errors:
+        text += (f"\nerror (mean / Hausdorff, % of diameter): (B) {_error_text(c, 'fair')}, "
+                 f"(C) {_error_text(c, 'conformal raw')}, written "
+                 f"{_error_text(c, 'conformal')}")
+    return text
+
+
+def panels_for(vertices, faces, comparisons, fills, out_dir, prefix="hole",
+               name: str = "", step: Step | None = None) -> None:
+    """Draw the panel of every compared hole into ``out_dir`` as ``<prefix><index>.png``
+    (sets ``.picture``); ``comparisons`` and ``fills`` as :func:`compare_holes` returns
+    them."""
+    out_dir = Path(out_dir)
+    filled = fills["filled"]
+    for k, c in enumerate(comparisons):
+        titles = {}
+        if filled["conformal raw"][k] is None:
+            titles["C"] = "(C) conformal fill (failed)"
+        elif not c.kept:
+            titles["C"] = "(C) conformal fill (rejected by the self-check)"
+        picture = f"{prefix}{c.index}.png"
+        # panel C: the raw conformal fill when it was rejected (see the module docstring)
+        hole_panel(vertices, faces, fills["loops"][k], filled["fair"][k],
+                   filled["conformal raw"][k], fills["details"][k], out_dir / picture,
+                   titles=titles, suptitle=hole_title(c, name))
+        c.picture = picture
+        if step:
+            step(f"hole {c.index}: panel drawn")
+
+
+def write_report(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    out_dir: str | os.PathLike,
+    holes: Sequence | None = None,
+    *,
+    truth: tuple[np.ndarray, np.ndarray] | None = None,
+    title: str = "surfinpaint report",
+    step: Step | None = None,
+    **options,
+) -> list[HoleComparison]:
+    """Fill holes by both methods and write a panel per hole and the page indexing them.
+
+    Parameters
+    ----------
+    vertices, faces : arrays
+        The mesh with holes.
+    out_dir : path
+        Folder for ``hole<k>.png``, ``index.md`` and ``index.html``.
+    holes : None, list of int, or list of loops
+        As :func:`surfinpaint.fill_holes` (None: every hole but the outer border).
+    truth : (vertices, faces), optional
+        The complete mesh the holes were cut from: each fill is measured against the part
+        of it that fills the hole (:func:`hole_truths`).
+    step : callable(message), optional
+        Progress hook, called after each stage.
+    **options
+        Passed to the conformal method.
+
+    Returns
+    -------
+    list of HoleComparison
+    """
+    from surfinpaint.fill.holes import select_holes
+
+    vertices = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    loops = select_holes(vertices, faces, holes)
+    truths = hole_truths(vertices, faces, loops, *truth) if truth is not None else None
+    started = time.perf_counter()
+    comparisons, fills = compare_holes(vertices, faces, loops, truth=truths, step=step,
+                                       **options)
+    if holes is not None and all(np.ndim(h) == 0 for h in holes):
+        for c, index in zip(comparisons, holes, strict=True):
+            c.index = int(index)  # the numbering of `surfinpaint holes`
+    panels_for(vertices, faces, comparisons, fills, out_dir, step=step)
+    text = (f"{len(vertices)} vertices, {len(faces)} faces, {len(loops)} holes; "
+            f"{time.perf_counter() - started:.1f} s in all.")
+    write_page(out_dir, [{"title": "Holes", "text": text, "comparisons": comparisons}],
+               title, _LEGEND)
+    return comparisons
+
+
+# --------------------------------------------------------------------------- command line
+
+
+def _hole_list(text: str) -> list[int]:
+    try:
+        return [int(t) for t in text.split(",") if t.strip()]
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(
+            f"--holes takes comma-separated hole indices, got {text!r}") from exc
+
+
+def add_report_parser(subparsers) -> argparse.ArgumentParser:
+    """Add ``surfinpaint report`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "report", help="fill with both methods and write pictures and a page per hole",
+        description="Fill the holes of MESH with the conventional and the conformal method "
+        "and write, per hole, a PNG panel (the hole, both fills, λ and H before and after "
+        "inpainting) and a page (index.md, index.html) with sizes, times and, with --truth, "
+        "each method's distance to the truth. Renders off-screen (no display needed).")
+    p.add_argument("mesh", help="input mesh with holes")
+    p.add_argument("-o", "--output", required=True, help="output folder")
+    p.add_argument("--holes", type=_hole_list,
+                   help="comma-separated hole indices from `surfinpaint holes` (default: all "
+                   "holes but the outer border)")
+    p.add_argument("--truth", help="the complete mesh the holes were cut from (same vertex "
+                   "positions): measure each fill against it")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    p.set_defaults(func=run_report)
+    return p
+
+
+def progress_bar(enabled: bool, total: int, description: str):
+    """A rich progress bar on stderr (a context manager yielding
+    ``step(message, advance=1)``), or a no-op."""
+    import contextlib
+
+    if not enabled:
+        return contextlib.nullcontext(lambda message, advance=1: None)
+
+    @contextlib.contextmanager
+    def bar():
+        from rich.console import Console
+        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+        with Progress(TextColumn("{task.description}"), BarColumn(),
+                      TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+                      console=Console(stderr=True), transient=False) as progress:
+            task = progress.add_task(description, total=total)
+
+            def step(message: str, advance: int = 1) -> None:
+                progress.update(task, advance=advance, description=message)
+
+            yield step
+            progress.update(task, completed=total)
+
+    return bar()
+
+
+def run_report(args: argparse.Namespace) -> int:
+    """``surfinpaint report``: returns the exit code (0 on success)."""
+    from rich.console import Console
+
+    from surfinpaint.fill.holes import select_holes
+    from surfinpaint.geometry.validation import validate_mesh
+    from surfinpaint.io.formats import read_mesh
+
+    console = Console(stderr=True, highlight=False)
+    vertices, faces = read_mesh(args.mesh)
+    validate_mesh(vertices, faces, path=str(args.mesh))
+    truth = read_mesh(args.truth) if args.truth else None
+    loops = select_holes(vertices, faces, args.holes)
+    if not loops:
+        console.print(f"{args.mesh}: no holes to fill (apart from the outer border)")
+    total = 2 + 2 * len(loops)  # the fills, the measurements, the panels
+    with progress_bar(not args.quiet, total, "filling") as step:
+        comparisons = write_report(vertices, faces, args.output, args.holes, truth=truth,
+                                   step=step, title=f"surfinpaint report: {args.mesh}")
+    for c in comparisons:
+        console.print(hole_title(c).replace("\n", "; "))
+    console.print(f"wrote {Path(args.output) / 'index.html'} and {len(comparisons)} panels")
+    return 0

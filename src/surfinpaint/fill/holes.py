@@ -1,0 +1,198 @@
+"""Holes of a triangle mesh: its boundary loops, measured, and which of them to fill."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from surfinpaint.errors import MeshError
+from surfinpaint.geometry.mesh import (
+    boundary_loops,
+    connected_components,
+    face_areas,
+)
+
+__all__ = ["Hole", "find_holes", "loop_diameter", "select_holes", "orient_loop"]
+
+# A component's longest loop is its outer border when the area the loop spans is at least
+# this fraction of the component's own area: a scan's border spans about its whole area
+# (0.6–1), while a hole in a closed surface spans a small part of what remains (a third of a
+# sphere removed spans 0.33).
+BORDER_SPAN_FRACTION = 0.4
+
+
+@dataclass(frozen=True)
+class Hole:
+    """One boundary loop of a mesh.
+
+    Attributes
+    ----------
+    loop : (k,) int array
+        Vertex ids in order, oriented like the half-edges of the faces next to it.
+    n_edges : int
+        Number of boundary edges (= number of loop vertices).
+    perimeter : float
+        Length of the loop.
+    diameter : float
+        Largest distance between two loop vertices.
+    component : int
+        Connected component (vertex label) the loop belongs to.
+    is_border : bool
+        True when the loop looks like the surface's own outer border rather than a hole.
+    """
+
+    loop: np.ndarray
+    n_edges: int
+    perimeter: float
+    diameter: float
+    component: int
+    is_border: bool
+
+
+def loop_diameter(points: np.ndarray) -> float:
+    """Largest distance between two of ``points`` (exact; via the convex hull when many)."""
+    if len(points) > 1500:
+        # the diameter is attained on the convex hull; fall back to a subsample when flat
+        from scipy.spatial import ConvexHull, QhullError
+
+        try:
+            points = points[ConvexHull(points).vertices]
+        except QhullError:
+            points = points[:: max(1, len(points) // 1500)]
+    d = points[:, None, :] - points[None, :, :]
+    return float(np.sqrt((d * d).sum(-1)).max())
+
+
+def _spanned_area(points: np.ndarray) -> float:
+    """Norm of the vector area of a closed polygon: the area of a surface it bounds, at least."""
+    centred = points - points.mean(axis=0)
+    return 0.5 * float(np.linalg.norm(np.cross(centred, np.roll(centred, -1, axis=0)).sum(0)))
+
+
+def find_holes(vertices: np.ndarray, faces: np.ndarray) -> list[Hole]:
+    """Boundary loops of a mesh, measured, with the outer borders flagged.
+
+    Every boundary loop is returned. In each connected component the longest loop is flagged
+    ``is_border`` when it spans at least ``BORDER_SPAN_FRACTION`` of that component's area
+    (an open scan's outer edge); all other loops are holes. Callers choose what to fill with
+    :func:`select_holes`.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    faces : (f, 3) int array
+
+    Returns
+    -------
+    list of Hole, ordered by component and then by decreasing length.
+
+    Raises
+    ------
+    MeshError
+        When the boundary does not close into loops (inconsistent orientation).
+
+    Examples
+    --------
+    >>> v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.]])
+    >>> [h.n_edges for h in find_holes(v, np.array([[0, 1, 2], [0, 2, 3]]))]
+    [4]
+    """
+    vertices = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    loops = boundary_loops(faces)
+    if not loops:
+        return []
+    _, label = connected_components(faces, len(vertices))
+    area_per_component = np.bincount(
+        label[faces[:, 0]], weights=face_areas(vertices, faces), minlength=label.max() + 1
+    )
+    holes: list[Hole] = []
+    longest_seen: set[int] = set()
+    for loop in sorted(loops, key=lambda l: (label[l[0]], -len(l))):
+        points = vertices[loop]
+        perimeter = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).sum())
+        component = int(label[loop[0]])
+        is_border = False
+        if component not in longest_seen:
+            longest_seen.add(component)
+            span = _spanned_area(points)
+            is_border = bool(span >= BORDER_SPAN_FRACTION * area_per_component[component])
+        holes.append(
+            Hole(loop=loop, n_edges=len(loop), perimeter=perimeter,
+                 diameter=loop_diameter(points), component=component, is_border=is_border)
+        )
+    return holes
+
+
+def orient_loop(faces: np.ndarray, loop: Sequence[int]) -> np.ndarray:
+    """A caller's boundary loop (any start, any direction) as the mesh's oriented loop.
+
+    Raises
+    ------
+    MeshError
+        When consecutive ids are not joined by a boundary edge of the mesh, or the loop's
+        edges disagree on the direction.
+    """
+    from surfinpaint.fill.liepa.triangulation import _halfedge_faces
+
+    loop = np.asarray(loop, dtype=np.int64).ravel()
+    if len(loop) < 3:
+        raise MeshError(f"a hole loop needs at least 3 vertices, got {len(loop)}")
+    if len(np.unique(loop)) != len(loop):
+        raise MeshError("a hole loop must not repeat a vertex", vertices=loop.tolist())
+    forward, backward = _halfedge_faces(faces, loop)
+    # a boundary edge has a face on one side only
+    bad = np.flatnonzero((forward >= 0) == (backward >= 0))
+    if len(bad):
+        pairs = [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in bad]
+        raise MeshError(
+            f"vertices {pairs[0][0]} and {pairs[0][1]} of the given loop are not joined by a "
+            "boundary edge of the mesh",
+            edges=pairs[:10],
+        )
+    if (forward >= 0).all():
+        return loop
+    if (backward >= 0).all():
+        return loop[::-1].copy()
+    raise MeshError("the given loop mixes both directions of the boundary")
+
+
+def select_holes(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    holes: Sequence | None = None,
+    *,
+    include_border: bool = False,
+) -> list[np.ndarray]:
+    """Oriented loops to fill, from a caller's choice.
+
+    Parameters
+    ----------
+    holes : None, sequence of int, or sequence of loops
+        None: every loop except outer borders (all loops with ``include_border``).
+        Integers: indices into :func:`find_holes`' list. Sequences: boundary loops given by
+        their vertex ids (any start, any direction).
+
+    Raises
+    ------
+    MeshError
+        When an index is out of range or a loop is not a boundary loop of the mesh.
+    """
+    if holes is None:
+        return [h.loop for h in find_holes(vertices, faces) if include_border or not h.is_border]
+    holes = list(holes)
+    if all(np.ndim(h) == 0 for h in holes):
+        found = find_holes(vertices, faces)
+        chosen = []
+        for index in holes:
+            if int(index) != index:
+                raise ValueError(f"hole indices must be integers, got {index!r}")
+            if not 0 <= int(index) < len(found):
+                raise MeshError(
+                    f"hole index {index} out of range: the mesh has {len(found)} boundary loops"
+                )
+            chosen.append(found[int(index)].loop)
+        return chosen
+    return [orient_loop(faces, loop) for loop in holes]

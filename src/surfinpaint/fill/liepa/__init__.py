@@ -1,0 +1,1 @@
+"""The conventional fill (Liepa 2003): minimum-weight triangulation, refinement, fairing."""

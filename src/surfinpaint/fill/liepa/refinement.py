@@ -1,0 +1,521 @@
+"""Refinement of a hole's patch to the density of the surrounding mesh (Liepa 2003, §4).
+
+Each boundary vertex gets a scale σ, the mean length of its edges in the surrounding mesh.
+A patch triangle whose centroid is far (by the density factor α = √2) from all three corners,
+relative to both the centroid's interpolated scale and the corner's own, is split at the
+centroid; interior edges are then relaxed by Delaunay flips (an edge is swapped when a
+triangle's diametral ball contains the opposite vertex; boundary edges never are). Split and
+relax repeat until nothing splits. This is also the refinement of CGAL's
+``triangulate_and_refine_hole``; it keeps the loop's vertices and edges, produces triangles
+whose size follows σ, and needs no projection. (Isotropic remeshing of the patch would give
+rounder triangles but needs a projection onto the piecewise-flat patch; Liepa's scheme keeps
+every new vertex on it by construction.)
+
+The bare triangulation is not relaxed before the first split: flipping its long diagonals
+between strongly non-coplanar triangles would change the patch's shape.
+
+Splits and flips are applied in batches: all failing triangles split at once, and each relax
+round flips a set of non-Delaunay edges no two of which share a triangle (each triangle votes
+for its worst edge; edges voted for by both triangles flip). The worst edge overall always
+flips, so every round makes progress.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.mesh import unique_edges
+
+__all__ = ["boundary_scales", "delaunay_flip", "refine_patch"]
+
+# A point must be this far inside a diametral ball (relative to its radius) before an edge
+# flips; keeps co-circular quads (e.g. a square) from flipping back and forth.
+_FLIP_SLACK = 1e-9
+
+
+def boundary_scales(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -> np.ndarray:
+    """Liepa's scale σ at each loop vertex: the mean length of its edges in ``faces``.
+
+    Only faces touching the loop are visited, so the cost follows the hole, not the mesh.
+
+    Returns
+    -------
+    (k,) float array, aligned with ``loop``.
+    """
+    v = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    loop = np.asarray(loop, dtype=np.int64)
+    on_loop = np.zeros(len(v), dtype=bool)
+    on_loop[loop] = True
+    near = faces[on_loop[faces].any(axis=1)]
+    edges, _, _ = unique_edges(near)
+    length = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1)
+    total = np.bincount(edges.ravel(), weights=np.repeat(length, 2), minlength=len(v))
+    count = np.bincount(edges.ravel(), minlength=len(v))
+    if (count[loop] == 0).any():
+        lonely = loop[count[loop] == 0]
+        raise MeshError(f"loop vertices {preview(lonely.tolist())} have no edges in the mesh",
+                        vertices=lonely[:10].tolist())
+    return total[loop] / count[loop]
+
+
+def _edge_keys(a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    return lo * n + hi
+
+
+def _cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (k, 3) arrays: the same arithmetic as ``np.cross`` (so
+    bit-identical results) without its axis handling, which dominates on the small arrays
+    of a flip round."""
+    out = np.empty_like(u)
+    out[:, 0] = u[:, 1] * w[:, 2] - u[:, 2] * w[:, 1]
+    out[:, 1] = u[:, 2] * w[:, 0] - u[:, 0] * w[:, 2]
+    out[:, 2] = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
+    return out
+
+
+def _inside_diametral_ball(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
+                           s: np.ndarray) -> np.ndarray:
+    """How far point s lies inside the smallest ball through triangle (a, b, c): the ball
+    whose equator is the circumcircle. Returns 1 - |s - centre| / radius (> 0 inside); a
+    degenerate triangle has an infinite ball (returns 1)."""
+    pa = p[a]
+    u = p[b] - pa
+    w = p[c] - pa
+    n = _cross(u, w)
+    n2 = np.einsum("ij,ij->i", n, n)
+    uu = np.einsum("ij,ij->i", u, u)
+    ww = np.einsum("ij,ij->i", w, w)
+    num = ww[:, None] * _cross(n, u) + uu[:, None] * _cross(w, n)
+    ok = n2 > 1e-30 * np.maximum(uu, ww) ** 2
+    centre = pa + num / np.where(ok, 2 * n2, 1.0)[:, None]
+    radius = np.linalg.norm(centre - pa, axis=1)
+    dist = np.linalg.norm(p[s] - centre, axis=1)
+    return np.where(ok, 1.0 - dist / np.where(ok, radius, 1.0), 1.0)
+
+
+def _both_balls(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
+                d: np.ndarray) -> np.ndarray:
+    """max(inside(a, b, c; d), inside(b, a, d; c)) in one vectorized call (half the calls)."""
+    k = len(a)
+    both = _inside_diametral_ball(p, np.concatenate([a, b]), np.concatenate([b, a]),
+                                  np.concatenate([c, d]), np.concatenate([d, c]))
+    return np.maximum(both[:k], both[k:])
+
+
+def _in_sorted(x: np.ndarray, sorted_keys: np.ndarray) -> np.ndarray:
+    """``np.isin(x, sorted_keys)`` for a sorted key array, by binary search."""
+    if len(sorted_keys) == 0:
+        return np.zeros(len(x), dtype=bool)
+    pos = np.minimum(np.searchsorted(sorted_keys, x), len(sorted_keys) - 1)
+    return sorted_keys[pos] == x
+
+
+def _inside_ball_one(p, a, b, c, s):  # pragma: no cover - compiled
+    """:func:`_inside_diametral_ball` for one (a, b, c; s), the same arithmetic."""
+    ux, uy, uz = p[b, 0] - p[a, 0], p[b, 1] - p[a, 1], p[b, 2] - p[a, 2]
+    wx, wy, wz = p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2]
+    nx, ny, nz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+    # row dot products in the order numpy's einsum("ij,ij->i") adds them: (x + z) + y
+    n2 = (nx * nx + nz * nz) + ny * ny
+    uu = (ux * ux + uz * uz) + uy * uy
+    ww = (wx * wx + wz * wz) + wy * wy
+    if not n2 > 1e-30 * max(uu, ww) ** 2:
+        return 1.0
+    # num = ww (n × u) + uu (w × n)
+    mx = ww * (ny * uz - nz * uy) + uu * (wy * nz - wz * ny)
+    my = ww * (nz * ux - nx * uz) + uu * (wz * nx - wx * nz)
+    mz = ww * (nx * uy - ny * ux) + uu * (wx * ny - wy * nx)
+    den = 2 * n2
+    cx, cy, cz = p[a, 0] + mx / den, p[a, 1] + my / den, p[a, 2] + mz / den
+    rx, ry, rz = cx - p[a, 0], cy - p[a, 1], cz - p[a, 2]
+    dx, dy, dz = p[s, 0] - cx, p[s, 1] - cy, p[s, 2] - cz
+    radius = np.sqrt(rx * rx + ry * ry + rz * rz)
+    dist = np.sqrt(dx * dx + dy * dy + dz * dz)
+    return 1.0 - dist / radius
+
+
+def _in_sorted_one(x, keys):  # pragma: no cover - compiled
+    if len(keys) == 0:
+        return False
+    pos = min(np.searchsorted(keys, x), len(keys) - 1)
+    return keys[pos] == x
+
+
+def _max(x, y):  # pragma: no cover - compiled
+    """``np.maximum`` of two floats (NaN if either is)."""
+    if x != x or y != y:
+        return np.nan
+    return max(x, y)
+
+
+def _cross_one(ax, ay, az, bx, by, bz):  # pragma: no cover - compiled
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover - compiled
+    """The rounds of :func:`delaunay_flip` as plain loops (compiled by numba), flipping
+    ``f`` in place: the same tests, ranks, votes and tie-breaks as the numpy rounds."""
+    n = p.shape[0]
+    m = f.shape[0]
+    flat = np.empty(3 * m, np.int64)
+    vote = np.empty(m, np.int64)
+    for _ in range(max_rounds):
+        for t in range(m):
+            for k in range(3):
+                x, y = f[t, (k + 1) % 3], f[t, (k + 2) % 3]
+                flat[3 * t + k] = min(x, y) * n + max(x, y)
+        order = np.argsort(flat, kind="mergesort")
+        sorted_flat = flat[order]
+        # the unique keys (sorted) and, per interior edge, its two half-edges
+        keys = np.empty(3 * m, np.int64)
+        first = np.empty(3 * m, np.int64)
+        n_keys = 0
+        for i in range(3 * m):
+            if i == 0 or sorted_flat[i] != sorted_flat[i - 1]:
+                keys[n_keys] = sorted_flat[i]
+                first[n_keys] = i
+                n_keys += 1
+        keys = keys[:n_keys]
+        # candidates, in key order
+        ca = np.empty(n_keys, np.int64)
+        cb = np.empty(n_keys, np.int64)
+        cc = np.empty(n_keys, np.int64)
+        cd = np.empty(n_keys, np.int64)
+        ct1 = np.empty(n_keys, np.int64)
+        ct2 = np.empty(n_keys, np.int64)
+        cscore = np.empty(n_keys)
+        ckey = np.empty(n_keys, np.int64)
+        n_inner = 0
+        n_cand = 0
+        for q in range(n_keys):
+            stop = first[q + 1] if q + 1 < n_keys else 3 * m
+            if stop - first[q] != 2 or _in_sorted_one(keys[q], fixed):
+                continue
+            n_inner += 1
+            e1, e2 = order[first[q]], order[first[q] + 1]
+            t1, k1 = e1 // 3, e1 % 3
+            t2, k2 = e2 // 3, e2 % 3
+            a, b, c = f[t1, (k1 + 1) % 3], f[t1, (k1 + 2) % 3], f[t1, k1]
+            d = f[t2, k2]
+            score = _max(_inside_ball_one(p, a, b, c, d), _inside_ball_one(p, b, a, d, c))
+            if not (score > slack and c != d):
+                continue
+            new_key = min(c, d) * n + max(c, d)
+            if not _max(_inside_ball_one(p, c, d, a, b), _inside_ball_one(p, d, c, b, a)) <= slack:
+                continue
+            if _in_sorted_one(new_key, keys) or _in_sorted_one(new_key, forbidden):
+                continue
+            o1 = _cross_one(p[b, 0] - p[a, 0], p[b, 1] - p[a, 1], p[b, 2] - p[a, 2],
+                            p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2])
+            o2 = _cross_one(p[a, 0] - p[b, 0], p[a, 1] - p[b, 1], p[a, 2] - p[b, 2],
+                            p[d, 0] - p[b, 0], p[d, 1] - p[b, 1], p[d, 2] - p[b, 2])
+            ox, oy, oz = o1[0] + o2[0], o1[1] + o2[1], o1[2] + o2[2]
+            n1 = _cross_one(p[d, 0] - p[a, 0], p[d, 1] - p[a, 1], p[d, 2] - p[a, 2],
+                            p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2])
+            n2 = _cross_one(p[b, 0] - p[d, 0], p[b, 1] - p[d, 1], p[b, 2] - p[d, 2],
+                            p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2])
+            sx, sy, sz = p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2]
+            scale = (sx * sx + sz * sz) + sy * sy
+            if not ((n1[0] * ox + n1[2] * oz) + n1[1] * oy > 0):
+                continue
+            if not ((n2[0] * ox + n2[2] * oz) + n2[1] * oy > 0):
+                continue
+            if not (np.sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]) > 1e-12 * scale):
+                continue
+            if not (np.sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]) > 1e-12 * scale):
+                continue
+            ca[n_cand], cb[n_cand], cc[n_cand], cd[n_cand] = a, b, c, d
+            ct1[n_cand], ct2[n_cand] = t1, t2
+            cscore[n_cand] = score
+            ckey[n_cand] = new_key
+            n_cand += 1
+        if n_inner == 0 or n_cand == 0:
+            break
+        # each face votes for its worst candidate edge; unanimous edges flip together
+        rank = np.empty(n_cand, np.int64)
+        by_score = np.argsort(cscore[:n_cand], kind="mergesort")
+        for r in range(n_cand):
+            rank[by_score[r]] = r
+        vote[:] = -1
+        for j in range(n_cand):
+            vote[ct1[j]] = max(vote[ct1[j]], rank[j])
+            vote[ct2[j]] = max(vote[ct2[j]], rank[j])
+        win = np.empty(n_cand, np.int64)
+        n_win = 0
+        for j in range(n_cand):
+            if vote[ct1[j]] == rank[j] and vote[ct2[j]] == rank[j]:
+                win[n_win] = j
+                n_win += 1
+        # two quads could share the same new diagonal; keep the first
+        win = win[:n_win]
+        by_key = np.argsort(ckey[win], kind="mergesort")
+        for r in range(n_win):
+            j = win[by_key[r]]
+            if r > 0 and ckey[j] == ckey[win[by_key[r - 1]]]:
+                continue
+            f[ct1[j], 0], f[ct1[j], 1], f[ct1[j], 2] = ca[j], cd[j], cc[j]
+            f[ct2[j], 0], f[ct2[j], 1], f[ct2[j], 2] = cd[j], cb[j], cc[j]
+    return f
+
+
+_FLIP_KERNEL: list = []  # compiled on first use (numba imports slowly)
+
+
+def _flip_kernel():
+    """The numba-compiled :func:`_flip_loops`, or None without numba."""
+    if not _FLIP_KERNEL:
+        try:
+            import numba
+        except ImportError:  # pragma: no cover - numba is optional
+            _FLIP_KERNEL.append(None)
+        else:
+            jit = numba.njit(cache=True)
+            g = globals()
+            for name in ("_inside_ball_one", "_in_sorted_one", "_max", "_cross_one"):
+                g[name] = jit(getattr(g[name], "py_func", g[name]))
+            _FLIP_KERNEL.append(jit(_flip_loops))
+    return _FLIP_KERNEL[0]
+
+
+def delaunay_flip(
+    positions: np.ndarray,
+    faces: np.ndarray,
+    *,
+    fixed_edges: np.ndarray | None = None,
+    forbidden_edges: np.ndarray | None = None,
+    max_rounds: int = 1000,
+) -> np.ndarray:
+    """Flip interior edges until each is locally Delaunay in Liepa's 3D sense.
+
+    Edge (a, b) between triangles (a, b, c) and (b, a, d) flips to (c, d) when d lies inside
+    the diametral ball of (a, b, c) (the smallest ball through it) or c inside that of
+    (b, a, d), and the flipped edge passes the same test (in 3D both diagonals can fail it,
+    and flipping those would cycle). In the plane this is the usual Delaunay test. Unlike an
+    angle-sum test it leaves strongly non-planar quads alone.
+
+    Parameters
+    ----------
+    positions : (n, 3) float array
+    faces : (f, 3) int array
+        A consistently oriented, edge-manifold triangle mesh (here: a hole's patch).
+    fixed_edges : (e, 2) int array, optional
+        Edges that must not flip (boundary edges never flip in any case).
+    forbidden_edges : (e, 2) int array, optional
+        Edges that must not be created (e.g. edges that already exist outside the patch).
+    max_rounds : int
+        Cap on batch rounds.
+
+    Returns
+    -------
+    (f, 3) int array
+        The flipped faces (same count and orientation).
+    """
+    p = np.asarray(positions, dtype=float)
+    f = np.asarray(faces, dtype=np.int64).copy()
+    n = len(p)
+    fixed = np.empty(0, np.int64) if fixed_edges is None else _edge_keys(
+        np.asarray(fixed_edges)[:, 0], np.asarray(fixed_edges)[:, 1], n)
+    forbidden = np.empty(0, np.int64) if forbidden_edges is None else _edge_keys(
+        np.asarray(forbidden_edges)[:, 0], np.asarray(forbidden_edges)[:, 1], n)
+    fixed = np.unique(fixed).astype(np.int64)
+    forbidden = np.unique(forbidden).astype(np.int64)
+    kernel = _flip_kernel()
+    if kernel is not None:  # the same rounds, compiled (the numpy rounds are call-bound)
+        return kernel(np.ascontiguousarray(p), f, fixed, forbidden, int(max_rounds),
+                      _FLIP_SLACK)
+    for _ in range(max_rounds):
+        # one stable sort of the half-edge keys gives the edges, their face counts and the
+        # two half-edges of each interior edge (entry 3t + k: opposite corner k of face t)
+        tails = f[:, [1, 2, 0]].ravel()
+        heads = f[:, [2, 0, 1]].ravel()
+        flat = np.minimum(tails, heads) * n + np.maximum(tails, heads)
+        order = np.argsort(flat, kind="stable")
+        sorted_flat = flat[order]
+        start = np.flatnonzero(np.r_[True, sorted_flat[1:] != sorted_flat[:-1]])
+        keys = sorted_flat[start]  # sorted, unique
+        count = np.diff(np.r_[start, len(flat)])
+        inner = np.flatnonzero((count == 2) & ~_in_sorted(keys, fixed))
+        if len(inner) == 0:
+            break
+        e1, e2 = order[start[inner]], order[start[inner] + 1]
+        t1, k1 = e1 // 3, e1 % 3
+        t2, k2 = e2 // 3, e2 % 3
+        a = f[t1, (k1 + 1) % 3]
+        b = f[t1, (k1 + 2) % 3]
+        c = f[t1, k1]
+        d = f[t2, k2]
+        score = _both_balls(p, a, b, c, d)
+        # the remaining checks only on the failing edges (few after the first rounds)
+        bad = np.flatnonzero((score > _FLIP_SLACK) & (c != d))
+        a, b, c, d, t1, t2, score = (x[bad] for x in (a, b, c, d, t1, t2, score))
+        new_key = _edge_keys(c, d, n)
+        # in 3D both diagonals can fail the test; flipping then would cycle
+        ok = _both_balls(p, c, d, a, b) <= _FLIP_SLACK
+        ok &= ~_in_sorted(new_key, keys) & ~_in_sorted(new_key, forbidden)
+        # the two new triangles must be proper and not fold against the old pair
+        old_n = _cross(p[b] - p[a], p[c] - p[a]) + _cross(p[a] - p[b], p[d] - p[b])
+        n1 = _cross(p[d] - p[a], p[c] - p[a])
+        n2 = _cross(p[b] - p[d], p[c] - p[d])
+        scale = np.einsum("ij,ij->i", p[c] - p[d], p[c] - p[d])
+        ok &= (np.einsum("ij,ij->i", n1, old_n) > 0) & (np.einsum("ij,ij->i", n2, old_n) > 0)
+        ok &= (np.linalg.norm(n1, axis=1) > 1e-12 * scale)
+        ok &= (np.linalg.norm(n2, axis=1) > 1e-12 * scale)
+        cand = np.flatnonzero(ok)
+        if len(cand) == 0:
+            break
+        # each face votes for its worst candidate edge; unanimous edges flip together
+        rank = np.empty(len(cand), dtype=np.int64)
+        rank[np.argsort(score[cand], kind="stable")] = np.arange(len(cand))
+        vote = np.full(len(f), -1, dtype=np.int64)
+        np.maximum.at(vote, t1[cand], rank)
+        np.maximum.at(vote, t2[cand], rank)
+        win = cand[(vote[t1[cand]] == rank) & (vote[t2[cand]] == rank)]
+        # two quads could share the same new diagonal; keep one
+        _, keep = np.unique(new_key[win], return_index=True)
+        win = win[keep]
+        f[t1[win]] = np.column_stack([a[win], d[win], c[win]])
+        f[t2[win]] = np.column_stack([d[win], b[win], c[win]])
+    return f
+
+
+def refine_patch(
+    vertices: np.ndarray,
+    patch_faces: np.ndarray,
+    loop: np.ndarray,
+    *,
+    faces: np.ndarray | None = None,
+    scales: np.ndarray | None = None,
+    density: float = np.sqrt(2.0),
+    max_iterations: int = 50,
+    relax_rounds: int = 1000,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Refine a hole's patch to the edge density of the surrounding mesh (Liepa 2003).
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+        All mesh vertices; none of them moves.
+    patch_faces : (p, 3) int array
+        The patch (typically
+        :func:`~surfinpaint.fill.liepa.triangulation.minimum_weight_triangulation`
+        of the loop), oriented like the surrounding mesh.
+    loop : (k,) int array
+        The hole's boundary loop; its edges are never flipped.
+    faces : (f, 3) int array, optional
+        The surrounding mesh: gives the scales σ of the loop vertices (mean adjacent edge
+        length) and the edges the patch must not duplicate.
+    scales : (k,) float array, optional
+        σ per loop vertex, if precomputed. Without ``faces`` or ``scales``, σ is the mean of
+        the two loop edges at each vertex.
+    density : float
+        Liepa's density factor α; larger gives more, smaller triangles.
+    max_iterations : int
+        Cap on split-and-relax rounds (each round shrinks triangles about threefold in area).
+    relax_rounds : int
+        Cap on the batch flip rounds after each split round (see :func:`delaunay_flip`).
+        The default relaxes to convergence, as Liepa does ("until no edge swaps"). One
+        round, closer to CGAL's single relax pass, leaves worse triangles (smallest angle 8°
+        instead of 18° on a planar 60-gon) for about the same fairing error (mean ratio to
+        CGAL 0.88 vs 0.89 over 24 benchmark holes, with the unrestricted triangulation search).
+
+    Returns
+    -------
+    new_vertices : (m, 3) float array
+        Positions of the vertices added inside the hole, to be appended after ``vertices``
+        (ids ``n .. n + m - 1``).
+    new_patch_faces : (q, 3) int array
+        The refined patch over old and new ids.
+
+    Raises
+    ------
+    MeshError
+        When ``patch_faces`` or ``loop`` reference ids out of range.
+    ValueError
+        For a non-positive density or scales that do not match the loop.
+    """
+    v = np.asarray(vertices, dtype=float)
+    patch = np.asarray(patch_faces, dtype=np.int64).reshape(-1, 3)
+    loop = np.asarray(loop, dtype=np.int64).ravel()
+    n = len(v)
+    if not density > 0:
+        raise ValueError(f"density must be positive, got {density}")
+    for name, ids in (("patch_faces", patch.ravel()), ("loop", loop)):
+        bad = ids[(ids < 0) | (ids >= n)]
+        if len(bad):
+            raise MeshError(f"{name} references vertex ids {preview(bad.tolist())} outside "
+                            f"0..{n - 1}", vertices=bad[:10].tolist())
+    if len(patch) == 0:
+        return np.empty((0, 3)), patch.copy()
+
+    if scales is not None:
+        sigma_loop = np.asarray(scales, dtype=float).ravel()
+        if sigma_loop.shape != loop.shape or not (sigma_loop > 0).all():
+            raise ValueError("scales must be positive, one per loop vertex")
+    elif faces is not None:
+        sigma_loop = boundary_scales(v, faces, loop)
+    else:
+        edge = np.linalg.norm(v[np.roll(loop, -1)] - v[loop], axis=1)
+        sigma_loop = 0.5 * (edge + np.roll(edge, 1))
+
+    # work on local ids: the patch's own vertices first, new ones appended
+    ids = np.unique(np.concatenate([patch.ravel(), loop]))
+    local = np.full(n, -1, dtype=np.int64)
+    local[ids] = np.arange(len(ids))
+    f = local[patch]
+    pos = v[ids]
+    sigma = np.full(len(ids), np.nan)
+    sigma[local[loop]] = sigma_loop
+    unset = np.isnan(sigma)
+    if unset.any():  # patch vertices off the loop: their mean patch edge length
+        e, _, _ = unique_edges(f)
+        length = np.linalg.norm(pos[e[:, 0]] - pos[e[:, 1]], axis=1)
+        tot = np.bincount(e.ravel(), weights=np.repeat(length, 2), minlength=len(ids))
+        cnt = np.bincount(e.ravel(), minlength=len(ids))
+        sigma[unset] = tot[unset] / np.maximum(cnt[unset], 1)
+
+    lo = local[loop]
+    fixed = np.column_stack([lo, np.roll(lo, -1)])
+    forbidden = None
+    if faces is not None:
+        forbidden = _outside_edges(np.asarray(faces, dtype=np.int64), local)
+
+    # no relaxation before the first split: flipping the bare triangulation's long diagonals
+    # would change its shape, while flips between split pieces (nearly coplanar) do not
+    for _ in range(max_iterations):
+        centroid = pos[f].mean(axis=1)
+        sigma_c = sigma[f].mean(axis=1)
+        dist = density * np.linalg.norm(pos[f] - centroid[:, None, :], axis=2)
+        split = ((dist > sigma_c[:, None]) & (dist > sigma[f])).all(axis=1)
+        if not split.any():
+            break
+        t = np.flatnonzero(split)
+        x = len(pos) + np.arange(len(t))
+        pos = np.vstack([pos, centroid[t]])
+        sigma = np.concatenate([sigma, sigma_c[t]])
+        a, b, c = f[t, 0], f[t, 1], f[t, 2]
+        f = np.vstack([
+            f[~split],
+            np.column_stack([a, b, x]),
+            np.column_stack([b, c, x]),
+            np.column_stack([c, a, x]),
+        ])
+        f = delaunay_flip(pos, f, fixed_edges=fixed, forbidden_edges=forbidden,
+                          max_rounds=relax_rounds)
+
+    # back to global ids: old patch vertices keep theirs, new ones follow n
+    to_global = np.concatenate([ids, n + np.arange(len(pos) - len(ids))])
+    return pos[len(ids):].copy(), to_global[f]
+
+
+def _outside_edges(faces: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """Existing mesh edges between patch vertices, in local ids (they must not be recreated)."""
+    inside = local >= 0
+    near = faces[inside[faces].sum(axis=1) >= 2]
+    if len(near) == 0:
+        return np.empty((0, 2), dtype=np.int64)
+    e, _, _ = unique_edges(near)
+    e = e[inside[e].all(axis=1)]
+    return local[e]

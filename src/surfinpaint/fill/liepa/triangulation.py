@@ -1,0 +1,413 @@
+"""Minimum-weight triangulation of a hole's boundary loop (Liepa 2003, §3).
+
+P. Liepa, "Filling holes in meshes", Eurographics Symposium on Geometry Processing 2003.
+The weight of a triangulation is the pair (largest dihedral angle, total area), compared
+lexicographically: first avoid folds, then prefer small area. Dihedral angles are measured
+between adjacent new triangles and, across the loop's edges, with the existing faces of the
+surrounding mesh, so the patch continues the surface instead of folding back onto it.
+
+The O(k³) dynamic program (Barequet–Sharir) runs in a numba kernel whose inner loop over the
+apex reads contiguous rows: 500 loop edges take about 0.4 s, 300 about 0.08 s (a numpy
+version vectorized over each diagonal length took 5 s for 500). The first call in a fresh
+environment compiles the kernel (about 2 s, then cached on disk).
+
+By default the candidate diagonals are first restricted to the edges of the 3D Delaunay
+tetrahedralization of the loop's points, as CGAL's ``triangulate_hole`` does.
+Diagonals that are already mesh edges outside the hole are not used (they would make the
+result non-manifold); if every triangulation needs one, the constraint is dropped. The loop
+is rotated to start at its smallest vertex id, so the result does not depend on where the
+caller starts it (the program is not rotation invariant: ties, and the special closing edge).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from surfinpaint.errors import MeshError, preview
+
+__all__ = ["minimum_weight_triangulation"]
+
+# Two largest dihedral angles whose 1 - cos differ by less than this count as equal, so the
+# area decides; without it rounding noise would decide between equally flat triangulations.
+_ANGLE_TIE = 1e-12
+# A triangle whose |cross product| is below this times its squared edge lengths is
+# degenerate (collinear corners, common along straight hole borders). Its "1 - cos" weight is
+# set above that of any fold (at most 2), so it is used only when nothing else is possible.
+_DEGENERATE = 1e-12
+_DEGENERATE_BEND = 3.0
+
+
+def _halfedge_faces(faces: np.ndarray, loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each loop edge (loop[i], loop[i+1]): the face holding it as a half-edge in that
+    direction (-1 if none) and the face holding it reversed (-1 if none)."""
+    faces = np.asarray(faces, dtype=np.int64)
+    k = len(loop)
+    a, b = loop, np.roll(loop, -1)
+    # only faces touching the loop matter; keeps the search local on big meshes
+    n = int(max(faces.max(initial=-1), loop.max())) + 1
+    on_loop = np.zeros(n, dtype=bool)
+    on_loop[loop] = True
+    near = np.flatnonzero(on_loop[faces].any(axis=1))
+    f = faces[near]
+    tail = f.ravel()
+    head = f[:, [1, 2, 0]].ravel()
+    owner = np.repeat(near, 3)
+    key = tail * n + head
+    order = np.argsort(key, kind="stable")
+    key, owner = key[order], owner[order]
+
+    def lookup(q: np.ndarray) -> np.ndarray:
+        pos = np.clip(np.searchsorted(key, q), 0, max(len(key) - 1, 0))
+        hit = (key[pos] == q) if len(key) else np.zeros(k, dtype=bool)
+        return np.where(hit, owner[pos] if len(key) else -1, -1)
+
+    return lookup(a * n + b), lookup(b * n + a)
+
+
+def _orient_loop(loop: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """The loop, reversed if needed so that it follows the half-edges of the faces beside it
+    (the orientation :func:`surfinpaint.geometry.mesh.boundary_loops` returns).
+
+    Raises
+    ------
+    MeshError
+        If some loop edge is not an edge of any face, or the loop's edges disagree on the
+        orientation (the loop is not a boundary of a consistently oriented mesh).
+    """
+    loop = np.asarray(loop, dtype=np.int64)
+    forward, backward = _halfedge_faces(faces, loop)
+    missing = np.flatnonzero((forward < 0) & (backward < 0))
+    if len(missing):
+        bad = [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in missing]
+        raise MeshError(
+            f"loop edges {preview(bad)} are not edges of the mesh", edges=bad[:10]
+        )
+    if (forward >= 0).all():
+        return loop
+    if (backward >= 0).all():
+        return loop[::-1].copy()
+    bad = [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in np.flatnonzero(forward < 0)]
+    raise MeshError(
+        f"loop is not consistently oriented with the mesh faces at edges {preview(bad)}",
+        edges=bad[:10],
+    )
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.divide(v, norm, out=np.zeros_like(v), where=norm > 0)
+
+
+def minimum_weight_triangulation(
+    vertices: np.ndarray, loop: np.ndarray, faces: np.ndarray | None = None,
+    *, search: str = "delaunay", avoid: np.ndarray | None = None,
+) -> np.ndarray:
+    """Triangulate a closed loop of vertices with Liepa's minimum-weight triangulation.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    loop : (k,) int array
+        Vertex ids of the hole's boundary, in order, k ≥ 3.
+    faces : (f, 3) int array, optional
+        The surrounding mesh. When given, the loop may be passed in either orientation (it is
+        detected from the faces), dihedral angles with the faces across the loop's edges enter
+        the weight, and diagonals that are already mesh edges are avoided (they would make the
+        result non-manifold). Without it the loop must follow the boundary half-edges as
+        :func:`surfinpaint.geometry.mesh.boundary_loops` returns them.
+    search : {"delaunay", "all"}
+        Candidate triangles. ``"delaunay"`` (default, as CGAL does) first restricts the
+        diagonals to edges of the 3D Delaunay tetrahedralization of the loop's points and
+        falls back to all diagonals when that leaves no triangulation (or the points are
+        coplanar); ``"all"`` searches all diagonals (Liepa's original). Over 31 benchmark
+        holes the restriction cut the worst fill error ratio to CGAL from 2.5 to 1.3 (mean
+        0.99 to 0.92): area minimization among equal-angle candidates otherwise picks
+        creased triangulations on irregular meshes.
+    avoid : (m, 2) int array, optional
+        Pairs of loop vertices not to join by a diagonal unless nothing else triangulates
+        the loop (e.g. points along a straight crease, whose triangles would be flat).
+
+    Returns
+    -------
+    (k - 2, 3) int array
+        New faces over the ids in ``loop``, each loop edge used once and in the direction
+        opposite to its existing face, so the patch is oriented like the surrounding mesh.
+
+    Raises
+    ------
+    MeshError
+        If the loop has fewer than 3 vertices, repeats a vertex, has ids out of range, or is
+        not a boundary of ``faces``.
+    ValueError
+        For an unknown ``search``.
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    >>> minimum_weight_triangulation(square, np.array([0, 1, 2, 3])).shape
+    (2, 3)
+    """
+    if search not in ("delaunay", "all"):
+        raise ValueError(f"unknown search {search!r}: use 'delaunay' or 'all'")
+    v = np.asarray(vertices, dtype=float)
+    loop = np.asarray(loop, dtype=np.int64).ravel()
+    k = len(loop)
+    if k < 3:
+        raise MeshError(f"a hole loop needs at least 3 vertices, got {k}",
+                        vertices=loop.tolist())
+    bad = loop[(loop < 0) | (loop >= len(v))]
+    if len(bad):
+        raise MeshError(f"loop vertex ids {preview(bad.tolist())} are out of range "
+                        f"0..{len(v) - 1}", vertices=bad[:10].tolist())
+    uniq, counts = np.unique(loop, return_counts=True)
+    if (counts > 1).any():
+        rep = uniq[counts > 1]
+        raise MeshError(f"loop visits vertices {preview(rep.tolist())} more than once",
+                        vertices=rep[:10].tolist())
+
+    boundary_normal = np.full((k, 3), np.nan)
+    forbidden = np.zeros((k, k), dtype=bool)
+    if faces is not None:
+        faces = np.asarray(faces, dtype=np.int64)
+        loop = _orient_loop(loop, faces)
+    # the dynamic program is not invariant under rotating the loop (ties, and the closing
+    # edge is special); a canonical start makes the result independent of the caller's
+    loop = np.roll(loop, -int(np.argmin(loop)))
+    if faces is not None:
+        owner, _ = _halfedge_faces(faces, loop)
+        f = faces[owner]
+        boundary_normal = _unit(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]))
+        forbidden = _existing_diagonals(faces, loop, len(v))
+    if avoid is not None and len(avoid):
+        position = np.full(len(v), -1)
+        position[loop] = np.arange(k)
+        pairs = position[np.asarray(avoid, dtype=np.int64).reshape(-1, 2)]
+        pairs = np.sort(pairs[(pairs >= 0).all(axis=1)], axis=1)
+        forbidden = forbidden.copy()
+        forbidden[pairs[:, 0], pairs[:, 1]] = True
+
+    tri = None
+    if search == "delaunay":
+        outside = _non_delaunay_diagonals(v[loop])
+        if outside is not None:
+            tri = _solve(v[loop], boundary_normal, forbidden | outside)
+    if tri is None:
+        tri = _solve(v[loop], boundary_normal, forbidden)
+    if tri is None:
+        # every triangulation reuses an existing edge; accept that rather than fail
+        tri = _solve(v[loop], boundary_normal, np.zeros((k, k), dtype=bool))
+    return loop[tri]
+
+
+def _non_delaunay_diagonals(p: np.ndarray) -> np.ndarray | None:
+    """(k, k) mask of loop-vertex pairs that are not edges of the 3D Delaunay
+    tetrahedralization of the loop's points (None when it does not exist, e.g. the loop
+    is planar)."""
+    from scipy.spatial import Delaunay, QhullError
+
+    k = len(p)
+    if k < 5:
+        return None
+    try:
+        tets = Delaunay(p).simplices
+    except (QhullError, ValueError):
+        return None
+    ok = np.zeros((k, k), dtype=bool)
+    for a in range(4):
+        for b in range(a + 1, 4):
+            ok[tets[:, a], tets[:, b]] = True
+    ok |= ok.T
+    return ~ok
+
+
+def _existing_diagonals(faces: np.ndarray, loop: np.ndarray, n: int) -> np.ndarray:
+    """(k, k) mask of loop-vertex pairs (i < j, not loop edges) already joined by an edge."""
+    k = len(loop)
+    pos = np.full(n, -1, dtype=np.int64)
+    pos[loop] = np.arange(k)
+    p = pos[faces]
+    inside = p >= 0
+    mask = np.zeros((k, k), dtype=bool)
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        both = inside[:, a] & inside[:, b]
+        i = np.minimum(p[both, a], p[both, b])
+        j = np.maximum(p[both, a], p[both, b])
+        mask[i, j] = True
+    # the loop's own edges are not diagonals
+    idx = np.arange(k - 1)
+    mask[idx, idx + 1] = False
+    mask[0, k - 1] = False
+    return mask
+
+
+def _solve(p: np.ndarray, boundary_normal: np.ndarray,
+           forbidden: np.ndarray) -> np.ndarray | None:
+    """Liepa's dynamic program on loop positions ``p``; returns faces in loop positions."""
+    k = len(p)
+    kernel = _compiled_dp()
+    args = (np.ascontiguousarray(p, dtype=float),
+            np.ascontiguousarray(boundary_normal, dtype=float), np.ascontiguousarray(forbidden))
+    apex, finite = kernel(*args) if kernel is not None else _dp_numpy(*args)
+    if not finite:
+        return None
+    out = np.empty((k - 2, 3), dtype=np.int64)
+    stack = [(0, k - 1)]
+    n_out = 0
+    while stack:
+        i, j = stack.pop()
+        if j - i < 2:
+            continue
+        m = int(apex[i, j])
+        out[n_out] = (j, m, i)
+        n_out += 1
+        stack.append((i, m))
+        stack.append((m, j))
+    return out
+
+
+_KERNEL: list = []  # the compiled kernel, built on first use (numba imports slowly)
+
+
+def _compiled_dp():
+    """The numba-compiled :func:`_dp_loops`, or None without numba."""
+    if not _KERNEL:
+        try:
+            import numba
+        except ImportError:  # pragma: no cover - numba is optional
+            _KERNEL.append(None)
+        else:
+            _KERNEL.append(numba.njit(cache=True)(_dp_loops))
+    return _KERNEL[0]
+
+
+def _dp_numpy(p, boundary_normal, forbidden):
+    """:func:`_dp_loops` vectorized with numpy over each diagonal length and the apex
+    (the fallback without numba; about 10x slower for long loops)."""
+    k = p.shape[0]
+    worst = np.full((k, k), np.inf)
+    area = np.full((k, k), np.inf)
+    apex = np.full((k, k), -1, dtype=np.int64)
+    side = np.full((k, k, 3), np.nan)
+    idx = np.arange(k - 1)
+    worst[idx, idx + 1] = 0.0
+    area[idx, idx + 1] = 0.0
+    side[idx, idx + 1] = boundary_normal[:-1]
+
+    def bend(normal, other):  # 1 - cos; a missing neighbour (NaN) counts as flat
+        c = np.einsum("...k,...k->...", normal, other)
+        return np.where(np.isnan(c), 0.0, 1.0 - c)
+
+    for d in range(2, k):
+        i = np.arange(k - d)
+        j = i + d
+        m = i[:, None] + np.arange(1, d)[None, :]
+        ii = np.broadcast_to(i[:, None], m.shape)
+        jj = np.broadcast_to(j[:, None], m.shape)
+        cross = np.cross(p[m] - p[jj], p[ii] - p[jj])
+        norm = np.linalg.norm(cross, axis=-1)
+        normal = np.divide(cross, norm[..., None], out=np.zeros_like(cross),
+                           where=norm[..., None] > 0)
+        scale = (np.einsum("...k,...k->...", p[m] - p[jj], p[m] - p[jj])
+                 + np.einsum("...k,...k->...", p[ii] - p[jj], p[ii] - p[jj]))
+        flat = np.where(norm <= _DEGENERATE * scale, _DEGENERATE_BEND, 0.0)
+        w = np.maximum.reduce([worst[ii, m], worst[m, jj], flat,
+                               bend(normal, side[ii, m]), bend(normal, side[m, jj])])
+        if d == k - 1:
+            w = np.maximum(w, bend(normal, boundary_normal[-1][None, None, :]))
+        total = area[ii, m] + area[m, jj] + 0.5 * norm
+        best = w.min(axis=1, keepdims=True)
+        total = np.where(w <= best + _ANGLE_TIE, total, np.inf)
+        choice = np.argmin(total, axis=1)
+        rows = np.arange(len(i))
+        keep = np.isfinite(w[rows, choice]) & ~(forbidden[i, j] & (d < k - 1))
+        i, j, choice, rows = i[keep], j[keep], choice[keep], rows[keep]
+        worst[i, j] = w[rows, choice]
+        area[i, j] = total[rows, choice]
+        apex[i, j] = m[rows, choice]
+        side[i, j] = normal[rows, choice]
+    return apex, bool(np.isfinite(worst[0, k - 1]))
+
+
+def _dp_loops(p, boundary_normal, forbidden):  # pragma: no cover - compiled
+    """Barequet–Sharir O(k³) table with Liepa's (max dihedral, area) weight.
+
+    Sub-polygon (i, j) is the loop from i to j closed by segment (i, j); its triangle on
+    (i, j) is (j, m, i) in output orientation (the loop runs i -> m -> j along existing
+    faces). The normal across segment (i, j) seen from inside the sub-polygon is the existing
+    face's for loop edges and the chosen triangle's otherwise. Angles are kept as
+    ``1 - cos`` (monotone in the angle, no arccos in the inner loop). Every table is stored
+    twice, by rows and by columns, so the inner loop over the apex reads contiguous memory.
+    """
+    k = p.shape[0]
+    inf = np.inf
+    worst_r = np.full((k, k), inf)  # [i, j] for sub-polygon i..j
+    worst_c = np.full((k, k), inf)  # [j, i], the same values
+    area_r = np.full((k, k), inf)
+    area_c = np.full((k, k), inf)
+    norm_r = np.full((k, k, 3), np.nan)
+    norm_c = np.full((k, k, 3), np.nan)
+    apex = np.full((k, k), -1, dtype=np.int64)
+    for i in range(k - 1):
+        worst_r[i, i + 1] = 0.0
+        worst_c[i + 1, i] = 0.0
+        area_r[i, i + 1] = 0.0
+        area_c[i + 1, i] = 0.0
+        for c in range(3):
+            norm_r[i, i + 1, c] = boundary_normal[i, c]
+            norm_c[i + 1, i, c] = boundary_normal[i, c]
+    closing = boundary_normal[k - 1]
+    has_closing = not np.isnan(closing[0])
+    for d in range(2, k):
+        for i in range(k - d):
+            j = i + d
+            best_w = inf
+            best_t = inf
+            best_m = -1
+            bx = by = bz = 0.0
+            for m in range(i + 1, j):
+                wi = worst_r[i, m]
+                wj = worst_c[j, m]
+                if wi == inf or wj == inf:
+                    continue
+                ux = p[m, 0] - p[j, 0]
+                uy = p[m, 1] - p[j, 1]
+                uz = p[m, 2] - p[j, 2]
+                vx = p[i, 0] - p[j, 0]
+                vy = p[i, 1] - p[j, 1]
+                vz = p[i, 2] - p[j, 2]
+                cx = uy * vz - uz * vy
+                cy = uz * vx - ux * vz
+                cz = ux * vy - uy * vx
+                norm = np.sqrt(cx * cx + cy * cy + cz * cz)
+                if norm > 0:
+                    nx, ny, nz = cx / norm, cy / norm, cz / norm
+                else:
+                    nx = ny = nz = 0.0
+                w = max(wi, wj)
+                if norm <= _DEGENERATE * (ux * ux + uy * uy + uz * uz + vx * vx + vy * vy
+                                          + vz * vz):
+                    w = max(w, _DEGENERATE_BEND)
+                sx = norm_r[i, m, 0]
+                if not np.isnan(sx):  # NaN: no neighbour across, counts as flat
+                    w = max(w, 1.0 - (nx * sx + ny * norm_r[i, m, 1] + nz * norm_r[i, m, 2]))
+                sx = norm_c[j, m, 0]
+                if not np.isnan(sx):
+                    w = max(w, 1.0 - (nx * sx + ny * norm_c[j, m, 1] + nz * norm_c[j, m, 2]))
+                if d == k - 1 and has_closing:  # closing loop edge (0, k-1) borders a face
+                    w = max(w, 1.0 - (nx * closing[0] + ny * closing[1] + nz * closing[2]))
+                total = area_r[i, m] + area_c[j, m] + 0.5 * norm
+                if w < best_w - _ANGLE_TIE or (w <= best_w + _ANGLE_TIE and total < best_t):
+                    best_w = w
+                    best_t = total
+                    best_m = m
+                    bx, by, bz = nx, ny, nz
+            if best_m < 0 or (forbidden[i, j] and d < k - 1):
+                continue
+            worst_r[i, j] = best_w
+            worst_c[j, i] = best_w
+            area_r[i, j] = best_t
+            area_c[j, i] = best_t
+            apex[i, j] = best_m
+            norm_r[i, j, 0], norm_r[i, j, 1], norm_r[i, j, 2] = bx, by, bz
+            norm_c[j, i, 0], norm_c[j, i, 1], norm_c[j, i, 2] = bx, by, bz
+    return apex, worst_r[0, k - 1] < inf

@@ -1,0 +1,194 @@
+"""Truth-free tests of hole fillers (method.md §8, "an honest safety net").
+
+A filler that is to be trusted on a hole should do well on holes like it whose truth is
+known: the rings of known surface around the hole, hidden and predicted again
+(:func:`hidden_ring_scores`), and sibling holes as wide as it cut out of the known surface
+nearby (:func:`sibling_scores`). Each test takes ``fill(vertices, faces, loop)`` returning
+several candidate fills by name and scores every candidate, so one test run compares them
+all. :func:`surfinpaint.fill.conformal.core.conformal_fill` uses them to choose between its λ-H fill
+and the faired fills.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from surfinpaint.errors import FillError, MeshError
+from surfinpaint.geometry.mesh import boundary_loops
+
+__all__ = ["hidden_ring_scores", "sibling_scores"]
+
+
+def _sibling_centres(vertices, faces, loop, gap_rings, count, graph=None):
+    """Vertices ``gap_rings`` edge rings away from the hole, spread around it."""
+    from surfinpaint.geometry.cutting import ring_distances
+
+    rings = ring_distances(faces, len(vertices), loop, gap_rings + 0.5, graph=graph)
+    candidates = np.flatnonzero(rings == gap_rings)
+    if len(candidates) == 0:
+        return []
+    centre = vertices[loop].mean(axis=0)
+    chosen = [int(candidates[np.argmax(np.linalg.norm(vertices[candidates] - centre, 1))])]
+    while len(chosen) < count:
+        d = np.min(np.linalg.norm(vertices[candidates][:, None] - vertices[chosen][None], axis=2),
+                   axis=1)
+        chosen.append(int(candidates[np.argmax(d)]))
+    return chosen
+
+
+def sibling_scores(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    fill,
+    *,
+    siblings: int = 2,
+    gap_rings: int = 3,
+    n_samples: int = 2000,
+    patch_rings: int | None = None,
+) -> dict[str, float]:
+    """How well each filler does on holes like this one cut from the known surface nearby.
+
+    Geodesic disks as wide as the hole are cut ``gap_rings`` rings beyond it (``siblings``
+    of them, spread around), filled by ``fill`` (function(vertices, faces, loop) → dict
+    name → (new_vertices, new_faces, info), or an exception for a failed candidate), and
+    each candidate is scored by the two-sided mean distance between its fill and the removed
+    surface (infinite when it failed there). No ground truth of the hole itself is used.
+
+    With ``patch_rings`` (the most rings of surface ``fill`` looks at around a hole), each
+    sibling is cut and filled on the part of the mesh around it that can matter, when that
+    provably gives the same cut (else on the whole mesh): the same scores, less work.
+
+    Returns
+    -------
+    dict
+        Mean score per filler over the siblings that could be cut (empty if none could).
+    """
+    from surfinpaint.fill.holes import loop_diameter
+    from surfinpaint.geometry.cutting import _edge_graph, cut_geodesic_disk, ring_distances, submesh
+    from surfinpaint.geometry.metrics import hole_patch_of, mean_surface_distances
+
+    points = vertices[loop]
+    radius = 0.5 * loop_diameter(points)
+    edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
+    gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
+    graph = _edge_graph(faces, len(vertices))
+    errors = (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError)
+
+    def local_cut(centre):
+        """The cut on the faces within ``reach`` rings of the centre, or None when that
+        could differ from the cut of the whole mesh. Dijkstra distances are at least
+        Euclidean, so the disk lies among the vertices within ``radius`` of the centre
+        (ring <= r0) and, with the rim beyond r0, its distances are those of the whole
+        mesh; the cleanup and the fill's patch must stay ``patch_rings + 2`` rings inside."""
+        ring = ring_distances(faces, len(vertices), centre, graph=graph)
+        close = (np.linalg.norm(vertices - vertices[centre], axis=1) <= radius)
+        close &= np.isfinite(ring)
+        r0 = float(ring[close].max())
+        reach = r0 + patch_rings + 4
+        keep = ring <= reach
+        if keep[faces].all():
+            return None
+        sv, sf, ids = submesh(vertices, faces, keep)
+        try:
+            cut = cut_geodesic_disk(sv, sf, int(np.searchsorted(ids, centre)), radius)
+        except (ValueError, MeshError):
+            return None
+        if ring[ids[cut.holes[0].truth_ids]].max() > reach - patch_rings - 2:
+            return None
+        return cut
+
+    def score(centre) -> dict[str, float] | None:
+        try:
+            cut = local_cut(centre) if patch_rings is not None else None
+            if cut is None:
+                cut = cut_geodesic_disk(vertices, faces, centre, radius)
+            candidates = fill(cut.vertices, cut.faces, cut.loop)
+        except errors:
+            return None
+        # a candidate that failed on a hole like this one scores infinity
+        results = {name: np.inf for name, c in candidates.items() if isinstance(c, Exception)}
+        made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
+        patches = [hole_patch_of(np.concatenate([cut.vertices, new_v]),
+                                 np.concatenate([cut.faces, new_f]), len(cut.vertices),
+                                 cut.faces) for new_v, new_f, _ in made.values()]
+        results.update(zip(made, mean_surface_distances(
+            patches, cut.truth_vertices, cut.truth_faces, n_samples=n_samples), strict=True))
+        return results
+
+    scores: dict[str, list[float]] = {}
+    for centre in _sibling_centres(vertices, faces, loop, gap, siblings, graph=graph):
+        results = score(centre)
+        for name, value in (results or {}).items():
+            scores.setdefault(name, []).append(value)
+    return {name: float(np.mean(v)) for name, v in scores.items() if v}
+
+
+def hidden_ring_scores(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    fill,
+    *,
+    hide_rings: int = 2,
+    n_samples: int = 2000,
+    patch_rings: int | None = None,
+) -> dict[str, float]:
+    """How well each filler predicts known surface hidden around the hole.
+
+    The faces within ``hide_rings`` rings of the loop are removed, the larger hole is filled
+    by ``fill`` (as in :func:`sibling_scores`), and each candidate is scored by the mean
+    distance from the hidden faces (area-sampled) to its fill (infinite when it failed).
+
+    With ``patch_rings`` (the most rings of surface ``fill`` looks at around a hole), the
+    test runs on the faces within ``hide_rings + patch_rings + 3`` rings of the loop when
+    that provably gives the same enlarged hole (else on the whole mesh): the same scores,
+    less work.
+
+    Returns
+    -------
+    dict
+        Score per filler (empty when the hidden rings do not leave one simple hole or
+        ``fill`` raises).
+    """
+    from surfinpaint.geometry.cutting import ring_distances, submesh
+    from surfinpaint.geometry.metrics import point_mesh_distance, sample_surface
+
+    def run(vertices, faces, loop, ring, rim):
+        """The test; None when a loop next to the hidden faces reaches the ``rim`` vertices
+        (then it is not the loop of the whole mesh)."""
+        near = ring <= hide_rings - 1
+        hidden = near[faces].any(axis=1)
+        kept = faces[~hidden]
+        border = (ring <= hide_rings) & ~near
+        try:
+            loops = boundary_loops(kept)
+        except MeshError:
+            return None if rim is not None else {}
+        if rim is not None and any(border[l].any() and rim[l].any() for l in loops):
+            return None
+        enlarged = [l for l in loops if border[l].mean() > 0.5]
+        if len(enlarged) != 1:
+            return {}
+        try:
+            candidates = fill(vertices, kept, enlarged[0])
+        except (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError):
+            return {}
+        samples = sample_surface(vertices, faces[hidden], n_samples, seed=0)
+        return {
+            name: np.inf if isinstance(c, Exception) else  # failed on a hole like this one
+            float(point_mesh_distance(samples, np.concatenate([vertices, c[0]]), c[1]).mean())
+            for name, c in candidates.items()
+        }
+
+    if patch_rings is not None:
+        reach = hide_rings + patch_rings + 3
+        ring = ring_distances(faces, len(vertices), loop, reach + 1)
+        keep = ring <= reach
+        if not keep[faces].all():
+            sv, sf, ids = submesh(vertices, faces, keep)
+            scores = run(sv, sf, np.searchsorted(ids, loop), ring[ids], ring[ids] >= reach)
+            if scores is not None:
+                return scores
+    ring = ring_distances(faces, len(vertices), loop, hide_rings + 0.5)
+    return run(vertices, faces, loop, ring, None)
