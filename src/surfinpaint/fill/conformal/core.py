@@ -9,7 +9,7 @@ original vertices never move.
 Two discretizations. ``"mesh"`` (default, :func:`inpaint_patch_on_mesh`): λ, H live on the
 patch's own triangles, and inpainting and rebuild are solved together so that the
 curvature at the hole's edge stays tied to the positions
-(:mod:`surfinpaint.fill.conformal.mesh_inpainting`). ``"grid"`` (:func:`inpaint_patch`): the paper's
+(:mod:`surfinpaint.representation.on_mesh`). ``"grid"`` (:func:`inpaint_patch`): the paper's
 regular grid over the conformal domain with robust λ, H fits, biharmonic inpainting on the
 hole dilated past the crease, and a Gauss–Codazzi rebuild; measured less accurate
 (docs/accuracy.md), kept as the paper's method and for comparison.
@@ -292,7 +292,7 @@ def inpaint_patch_on_mesh(
     cut_edges: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, dict]:
     """λ-H inpainting of a filled hole on its patch's own triangles
-    (:func:`surfinpaint.fill.conformal.mesh_inpainting.inpaint_on_mesh`): the default
+    (:func:`surfinpaint.representation.on_mesh.inpaint_on_mesh`): the default
     discretization.
 
     The patch is the fill plus ``rings`` face rings of the surface around the hole, mapped by
@@ -373,8 +373,8 @@ def inpaint_patch_on_mesh(
 def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterations, tol,
                    natural=None):
     """:func:`inpaint_patch_on_mesh` of one patch, grown from ``seeds`` over ``faces``."""
-    from surfinpaint.fill.conformal.mesh_inpainting import inpaint_on_mesh
     from surfinpaint.geometry.parameterization import flipped_faces, lscm
+    from surfinpaint.representation.on_mesh import inpaint_on_mesh
 
     for k in range(rings, 2, -1):
         patch, used = hole_patch(faces, seeds, fill_faces, k)
@@ -405,7 +405,7 @@ def lambda_h_pictures(details: dict, resolution: int = 160) -> dict:
     if "lam0" in details:
         return {k: details[k] for k in ("lam0", "H0", "lam", "H", "hole", "region",
                                         "domain") if k in details}
-    from surfinpaint.fill.conformal.mesh_inpainting import vertex_lambda_h
+    from surfinpaint.representation.on_mesh import vertex_lambda_h
 
     data = details.get("mesh_lambda_h")
     if data is None:

@@ -1,13 +1,12 @@
-"""λ-H inpainting on the patch mesh (surfinpaint.fill.conformal.mesh_inpainting): analytic surfaces
+"""λ-H inpainting on the patch mesh (surfinpaint.representation.on_mesh): analytic surfaces
 sampled
 on exactly conformal grids, so that λ and H are known."""
 
 import numpy as np
 import pytest
 
-import surfinpaint.fill.conformal.mesh_inpainting as mesh_inpainting
+import surfinpaint.representation.on_mesh as mesh_inpainting
 from surfinpaint.errors import FillError
-from surfinpaint.fill.conformal.mesh_inpainting import inpaint_on_mesh, vertex_lambda_h
 from surfinpaint.fill.liepa.fairing import fair
 from surfinpaint.representation.analytic import (
     enneper,
@@ -15,6 +14,7 @@ from surfinpaint.representation.analytic import (
     isothermal_torus,
     stereographic_sphere,
 )
+from surfinpaint.representation.on_mesh import inpaint_on_mesh, vertex_lambda_h
 
 
 def grid_mesh(n: int, extent=(-1.0, 1.0, -1.0, 1.0)):
