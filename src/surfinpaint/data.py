@@ -21,6 +21,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from surfinpaint.geometry.mesh import unique_edges, vertex_normals
+from surfinpaint.io.atomic import atomic_open
 
 __all__ = [
     "bumpy_disk",
@@ -576,7 +577,7 @@ def _write_binary_ply(path: Path, vertices: np.ndarray, faces: np.ndarray) -> No
         f"property float z\nelement face {len(faces)}\n"
         "property list uchar int vertex_indices\nend_header\n"
     )
-    with open(path, "wb") as fh:
+    with atomic_open(path) as fh:
         fh.write(header.encode("ascii"))
         fh.write(vertices.tobytes())
         fh.write(face_rec.tobytes())

@@ -7,10 +7,11 @@ need it.
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from surfinpaint.io.atomic import atomic_path
 
 __all__ = ["before_after", "crop_around", "grid_image", "render_meshes", "render_views",
            "save_figure", "view_direction"]
@@ -28,12 +29,6 @@ def _quiet_vtk() -> None:
         vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
     except ImportError:  # pragma: no cover - older VTK
         pass
-
-
-def _file_mode() -> int:
-    umask = os.umask(0)
-    os.umask(umask)
-    return 0o666 & ~umask
 
 
 def _pv_mesh(vertices: np.ndarray, faces: np.ndarray):
@@ -101,16 +96,11 @@ def render_meshes(
         plotter.camera_position = [tuple(centre + 2.0 * extent * direction), tuple(centre),
                                    tuple(up)]
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=path.parent)
-    os.close(fd)
     try:
-        plotter.screenshot(tmp)
-        os.chmod(tmp, _file_mode())
-        os.replace(tmp, path)
+        with atomic_path(path, suffix=".png") as tmp:
+            plotter.screenshot(tmp)
     finally:
         plotter.close()
-        if os.path.exists(tmp):
-            os.remove(tmp)
     return path
 
 
@@ -280,24 +270,10 @@ def grid_image(ax, values: np.ndarray, title: str, *, hole: np.ndarray | None = 
     return image
 
 
-def _umask_mode(path: str) -> None:
-    """Give a file from mkstemp (mode 0600) the mode a plain ``open`` would have given it."""
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(path, 0o666 & ~umask)
-
-
 def save_figure(fig, path: str | os.PathLike, dpi: int = 100) -> Path:
     """Save a matplotlib figure to a PNG atomically (temporary file, then rename)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_path(path, suffix=".png") as tmp:
         fig.savefig(tmp, dpi=dpi, format="png")
-        _umask_mode(tmp)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
     return path

@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import html
 import os
-import tempfile
 import time
 import warnings
 from collections.abc import Callable, Sequence
@@ -37,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint.errors import MeshError
+from surfinpaint.io.atomic import atomic_open
 
 __all__ = [
     "HoleComparison",
@@ -529,18 +529,8 @@ _LEGEND = (
 
 
 def _write_text(path: Path, text: str) -> None:
-    from surfinpaint.app.figures import _umask_mode
-
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        _umask_mode(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    with atomic_open(path, "w", encoding="utf-8") as handle:
+        handle.write(text)
 
 
 def write_page(out_dir: str | os.PathLike,

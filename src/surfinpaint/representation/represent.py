@@ -16,7 +16,6 @@ measures the whole chain map → sample → λ, H → reconstruct → interpolat
 from __future__ import annotations
 
 import os
-import tempfile
 import warnings
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -26,6 +25,7 @@ from scipy import ndimage
 
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.parameterization import flipped_faces, lscm, rectangular_conformal_map
+from surfinpaint.io.atomic import atomic_open
 from surfinpaint.representation.grid import (
     Grid,
     clough_tocher,
@@ -128,16 +128,8 @@ class LambdaH:
         arrays["grid_h"] = np.array(self.grid.h, dtype=float)
         arrays["grid_shape"] = np.array(self.grid.shape, dtype=np.int64)
         arrays["format"] = np.array(_FORMAT)
-        fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp",
-                                   dir=path.parent if str(path.parent) else ".")
-        try:
-            with os.fdopen(fd, "wb") as handle:
-                np.savez_compressed(handle, **arrays)
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        with atomic_open(path) as handle:
+            np.savez_compressed(handle, **arrays)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> LambdaH:

@@ -1,0 +1,93 @@
+"""What the format readers share: the warning class, polygon fan triangulation, messages."""
+
+from __future__ import annotations
+
+import warnings
+from typing import IO
+
+import numpy as np
+
+from surfinpaint.errors import MeshError, preview
+
+__all__ = ["MeshWarning"]
+
+
+class MeshWarning(UserWarning):
+    """Something about a mesh file worth knowing that does not stop reading or writing it."""
+
+
+def describe(exc: BaseException) -> str:
+    """The exception's type and first line, for a message."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0][:200]}" if text else type(exc).__name__
+
+
+def triangulate(counts: np.ndarray, flat: np.ndarray, name: str) -> np.ndarray:
+    """Fan-triangulate polygons given as corner counts and concatenated corner ids."""
+    counts = np.asarray(counts, dtype=np.int64)
+    flat = np.asarray(flat, dtype=np.int64)
+    if counts.size and counts.min() < 3:
+        bad = np.flatnonzero(counts < 3)
+        raise MeshError(f"faces with fewer than three corners: {ids(bad)}", path=name,
+                        faces=bad[:50].tolist())
+    if counts.size == 0 or counts.max() == 3:
+        return flat.reshape(-1, 3)
+    n_poly = int(np.count_nonzero(counts > 3))
+    warnings.warn(
+        f"{name}: {n_poly} polygon face(s) with more than three corners were fan-triangulated",
+        MeshWarning,
+        stacklevel=3,
+    )
+    start = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    n_tri = counts - 2
+    owner = np.repeat(np.arange(len(counts)), n_tri)
+    # j = 1 .. k-2 within each polygon
+    j = np.arange(owner.size) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri) + 1
+    s = start[owner]
+    return np.column_stack([flat[s], flat[s + j], flat[s + j + 1]])
+
+
+def ids(values: np.ndarray, limit: int = 10) -> str:
+    """A short preview of ids for a message."""
+    return preview(np.asarray(values).tolist(), limit)
+
+
+def decode_text(data: bytes, what: str) -> str:
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise MeshError(f"not a text {what} file (undecodable byte at offset {exc.start})"
+                        ) from None
+
+
+
+def tokens_per_line(lines: list[str]) -> np.ndarray:
+    """Whitespace-separated tokens on each line."""
+    return np.fromiter(map(len, map(str.split, lines)), dtype=np.int64, count=len(lines))
+
+
+def xyz_rows(lines: list[str]) -> np.ndarray:
+    """The first three numbers of each line (OBJ w or OFF colour columns are skipped)."""
+    ntok = tokens_per_line(lines)
+    if np.any(ntok < 3):
+        k = int(np.flatnonzero(ntok < 3)[0])
+        raise MeshError(f"vertex {k} has fewer than three coordinates", vertices=[k])
+    try:
+        values = np.array(" ".join(lines).split(), dtype=np.float64)
+    except ValueError as exc:
+        raise MeshError(f"non-numeric vertex coordinate ({describe(exc)})") from None
+    if np.all(ntok == 3):
+        return values.reshape(-1, 3)
+    # colour or normal columns after x y z
+    start = np.cumsum(ntok) - ntok
+    return values[start[:, None] + np.arange(3)]
+
+
+
+def write_rows(fh: IO[bytes], row: str, a: np.ndarray, chunk: int = 65536) -> None:
+    """Text rows via one %-format per chunk (much faster than np.savetxt's row loop).
+    %.17g round-trips float64 exactly."""
+    for k in range(0, len(a), chunk):
+        block = a[k:k + chunk]
+        fh.write((row * len(block) % tuple(block.ravel().tolist())).encode("ascii"))
+

@@ -1,0 +1,266 @@
+"""PLY, ascii and binary (either byte order): the header, the elements, the writer."""
+
+from __future__ import annotations
+
+import struct
+from pathlib import Path
+
+import numpy as np
+
+from surfinpaint.errors import MeshError
+from surfinpaint.io.base import describe, write_rows
+
+_PLY_TYPES = {
+    "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
+    "short": "i2", "int16": "i2", "ushort": "u2", "uint16": "u2",
+    "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
+    "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
+}
+
+
+def _ply_header(data: bytes) -> tuple[str, list, int]:
+    """Parse the PLY header: (format, [(element, count, [(name, type, list count type)])],
+    offset of the body)."""
+    if not data.startswith(b"ply"):
+        raise MeshError("not a PLY file (does not start with 'ply')")
+    end = data.find(b"end_header", 0, 1 << 20)
+    if end < 0:
+        raise MeshError("PLY header has no 'end_header' line (truncated or not PLY)")
+    body = data.index(b"\n", end) + 1 if b"\n" in data[end:end + 64] else len(data)
+    header = data[:end].decode("ascii", errors="replace").splitlines()[1:]
+    fmt = None
+    elements: list = []
+    for line in header:
+        parts = line.split()
+        if not parts or parts[0] in ("comment", "obj_info"):
+            continue
+        if parts[0] == "format" and len(parts) >= 2:
+            fmt = parts[1]
+        elif parts[0] == "element" and len(parts) == 3:
+            try:
+                count = int(parts[2])
+            except ValueError:
+                raise MeshError(f"PLY header: bad element count in {line!r}") from None
+            elements.append((parts[1], count, []))
+        elif parts[0] == "property" and elements:
+            if parts[1] == "list" and len(parts) == 5:
+                ctype, itype = _PLY_TYPES.get(parts[2]), _PLY_TYPES.get(parts[3])
+                if ctype is None or itype is None:
+                    raise MeshError(f"PLY header: unknown type in {line!r}")
+                elements[-1][2].append((parts[4], itype, ctype))
+            elif len(parts) == 3 and parts[1] in _PLY_TYPES:
+                elements[-1][2].append((parts[2], _PLY_TYPES[parts[1]], None))
+            else:
+                raise MeshError(f"PLY header: cannot parse {line!r}")
+        else:
+            raise MeshError(f"PLY header: cannot parse {line!r}")
+    if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
+        raise MeshError(f"PLY header: unknown format {fmt!r}")
+    return fmt, elements, body
+
+
+def read_ply(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    fmt, elements, offset = _ply_header(data)
+    names = [e[0] for e in elements]
+    if "vertex" not in names:
+        raise MeshError("PLY file has no vertex element")
+    if "face" not in names:
+        raise MeshError("PLY file has no face element (a point cloud, not a mesh)")
+    vprops = [p[0] for p in elements[names.index("vertex")][2]]
+    if not {"x", "y", "z"} <= set(vprops):
+        raise MeshError(f"PLY vertex element lacks x, y, z (has {', '.join(vprops)})")
+    fprops = [p[0] for p in elements[names.index("face")][2] if p[2] is not None]
+    key = next((k for k in ("vertex_indices", "vertex_index") if k in fprops),
+               fprops[0] if len(fprops) == 1 else None)
+    if key is None:
+        raise MeshError("PLY face element has no vertex_indices list")
+    last = max(names.index("vertex"), names.index("face"))
+    if fmt == "ascii":
+        tokens = data[offset:].split()
+        try:
+            values = np.array(tokens, dtype=np.float64)
+        except ValueError as exc:
+            raise MeshError(f"PLY body has a non-numeric entry ({describe(exc)})") from None
+        reader = _PlyAscii(values)
+    else:
+        reader = _PlyBinary(data, offset, "<" if fmt == "binary_little_endian" else ">")
+    parsed = {}
+    for name, count, props in elements[:last + 1]:
+        parsed[name] = reader.element(name, count, props)
+    v = parsed["vertex"]
+    vertices = np.column_stack([np.asarray(v["x"], np.float64), np.asarray(v["y"], np.float64),
+                                np.asarray(v["z"], np.float64)]).reshape(-1, 3)
+    counts, flat = parsed["face"][key]
+    if flat.size and not np.all(np.isfinite(flat) & (flat == np.round(flat))):
+        raise MeshError("PLY face list has non-integer vertex indices")
+    return vertices, counts, flat.astype(np.int64)
+
+
+class _PlyBinary:
+    def __init__(self, data: bytes, offset: int, endian: str) -> None:
+        self.data, self.offset, self.endian = data, offset, endian
+
+    def _need(self, nbytes: int, name: str) -> None:
+        if self.offset + nbytes > len(self.data):
+            raise MeshError(f"PLY file is truncated in element {name!r} "
+                            f"(needs {self.offset + nbytes} bytes, has {len(self.data)})")
+
+    def element(self, name: str, count: int, props: list) -> dict:
+        e = self.endian
+        lists = [p for p in props if p[2] is not None]
+        if not lists:
+            dtype = np.dtype([(p, e + t) for p, t, _ in props])
+            self._need(count * dtype.itemsize, name)
+            rec = np.frombuffer(self.data, dtype, count=count, offset=self.offset)
+            self.offset += count * dtype.itemsize
+            return {p: rec[p] for p, _, _ in props}
+        # fast path: every list as long as in the first record (all triangles, all quads)
+        sizes, pos = {}, self.offset
+        for p, t, c in props:
+            if c is None:
+                pos += np.dtype(t).itemsize
+                continue
+            self._need(pos - self.offset + np.dtype(c).itemsize, name)
+            n = int(np.frombuffer(self.data, e + c, count=1, offset=pos)[0])
+            sizes[p] = n
+            pos += np.dtype(c).itemsize + n * np.dtype(t).itemsize
+        fields = []
+        for p, t, c in props:
+            if c is None:
+                fields.append((p, e + t))
+            else:
+                fields += [(p + "\0n", e + c), (p, e + t, (sizes[p],))]
+        dtype = np.dtype(fields)
+        if count == 0:
+            return {p: (np.zeros(0, np.int64), np.zeros(0)) for p, _, c in lists}
+        if self.offset + count * dtype.itemsize <= len(self.data):
+            rec = np.frombuffer(self.data, dtype, count=count, offset=self.offset)
+            if all(np.all(rec[p + "\0n"] == sizes[p]) for p, _, _ in lists):
+                self.offset += count * dtype.itemsize
+                out = {p: rec[p] for p, _, c in props if c is None}
+                for p, _, _ in lists:
+                    out[p] = (np.full(count, sizes[p], np.int64), rec[p].ravel())
+                return out
+        return self._slow(name, count, props)
+
+    def _slow(self, name: str, count: int, props: list) -> dict:
+        """Record by record, for mixed polygon sizes."""
+        e, data = self.endian, self.data
+        cols: dict = {p: [] for p, _, _ in props}
+        lens: dict = {p: [] for p, _, c in props if c is not None}
+        pos = self.offset
+        try:
+            for _ in range(count):
+                for p, t, c in props:
+                    if c is None:
+                        cols[p].append(struct.unpack_from(e + _STRUCT[t], data, pos)[0])
+                        pos += np.dtype(t).itemsize
+                    else:
+                        n = struct.unpack_from(e + _STRUCT[c], data, pos)[0]
+                        pos += np.dtype(c).itemsize
+                        cols[p].extend(struct.unpack_from(f"{e}{n}{_STRUCT[t]}", data, pos))
+                        lens[p].append(n)
+                        pos += n * np.dtype(t).itemsize
+        except struct.error:
+            raise MeshError(f"PLY file is truncated in element {name!r}") from None
+        self.offset = pos
+        out = {}
+        for p, _, c in props:
+            if c is None:
+                out[p] = np.array(cols[p])
+            else:
+                out[p] = (np.array(lens[p], np.int64), np.array(cols[p], np.int64))
+        return out
+
+
+_STRUCT = {"i1": "b", "u1": "B", "i2": "h", "u2": "H", "i4": "i", "u4": "I", "f4": "f",
+           "f8": "d"}
+
+
+class _PlyAscii:
+    def __init__(self, values: np.ndarray) -> None:
+        self.values, self.pos = values, 0
+
+    def _need(self, n: int, name: str) -> None:
+        if self.pos + n > len(self.values):
+            raise MeshError(f"PLY file is truncated in element {name!r}")
+
+    def element(self, name: str, count: int, props: list) -> dict:
+        v = self.values
+        lists = [p for p in props if p[2] is not None]
+        if not lists:
+            k = len(props)
+            self._need(count * k, name)
+            block = v[self.pos:self.pos + count * k].reshape(count, k)
+            self.pos += count * k
+            return {p: block[:, i] for i, (p, _, _) in enumerate(props)}
+        # fast path: constant list lengths, judged from the first record
+        layout, width, q = [], 0, self.pos
+        for p, _, c in props:
+            if c is None:
+                layout.append((p, width, None))
+                width += 1
+                q += 1
+            else:
+                self._need(q - self.pos + 1, name)
+                n = int(v[q])
+                layout.append((p, width, n))
+                width += 1 + n
+                q += 1 + n
+        if count and self.pos + count * width <= len(v):
+            block = v[self.pos:self.pos + count * width].reshape(count, width)
+            if all(np.all(block[:, w] == n) for _, w, n in layout if n is not None):
+                self.pos += count * width
+                out = {}
+                for p, w, n in layout:
+                    if n is None:
+                        out[p] = block[:, w]
+                    else:
+                        out[p] = (np.full(count, n, np.int64), block[:, w + 1:w + 1 + n].ravel())
+                return out
+        cols: dict = {p: [] for p, _, _ in props}
+        lens: dict = {p: [] for p, _, c in props if c is not None}
+        pos = self.pos
+        for _ in range(count):
+            for p, _, c in props:
+                self._need(pos - self.pos + 1, name)
+                if c is None:
+                    cols[p].append(v[pos])
+                    pos += 1
+                else:
+                    n = int(v[pos])
+                    if pos + 1 + n > len(v):
+                        raise MeshError(f"PLY file is truncated in element {name!r}")
+                    cols[p].append(v[pos + 1:pos + 1 + n])
+                    lens[p].append(n)
+                    pos += 1 + n
+        self.pos = pos
+        out = {}
+        for p, _, c in props:
+            if c is None:
+                out[p] = np.array(cols[p])
+            else:
+                flat = np.concatenate(cols[p]) if cols[p] else np.zeros(0)
+                out[p] = (np.array(lens[p], np.int64), flat)
+        return out
+
+
+
+def write_ply(fh, tmp: str, v: np.ndarray, f: np.ndarray, ascii: bool) -> None:
+    fmt = "ascii" if ascii else "binary_little_endian"
+    header = (
+        f"ply\nformat {fmt} 1.0\ncomment written by surfinpaint\n"
+        f"element vertex {len(v)}\nproperty double x\nproperty double y\nproperty double z\n"
+        f"element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n"
+    )
+    fh.write(header.encode("ascii"))
+    if ascii:
+        write_rows(fh, "%.17g %.17g %.17g\n", v)
+        write_rows(fh, "3 %d %d %d\n", f)
+        return
+    fh.write(np.ascontiguousarray(v, dtype="<f8").tobytes())
+    rec = np.empty(len(f), dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    rec["n"] = 3
+    rec["i"] = f
+    fh.write(rec.tobytes())
+
