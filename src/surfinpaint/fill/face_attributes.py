@@ -1,0 +1,105 @@
+"""Per-face attributes of filled holes: values for the faces a fill added.
+
+Face data are copied from the original faces across the loop, never interpolated (a
+material id or a face colour continues into the hole), by the random-walker rule of
+:func:`surfinpaint.fill.attributes.inpaint_labels` on the fill's dual graph.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import scipy.sparse as sp
+
+from surfinpaint.fill.attributes import _Dirichlet, _hole_blocks, _labels_by_indicators, _rows
+from surfinpaint.geometry.mesh import edge_faces
+
+__all__ = ["fill_face_attributes", "fill_result_face_attributes"]
+
+
+def fill_face_attributes(
+    vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
+    face_attributes: Mapping[str, np.ndarray],
+) -> dict[str, np.ndarray]:
+    """Values of every per-face attribute at the faces a fill added to one hole.
+
+    Rule: face data are copied, never interpolated (a material id or a face colour continues
+    from across the loop). Each new face takes the value, among those of the original faces
+    across the loop, whose harmonic indicator on the fill's dual graph is largest: the
+    random-walker rule of :func:`~surfinpaint.fill.attributes.inpaint_labels` on faces
+    (nodes the fill's faces and the original faces touching the loop, joined across shared
+    edges with weight edge length over centroid distance), so every value's region among
+    the new faces is connected to the faces across the loop that carry it.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+        The filled mesh's positions.
+    faces : (f, 3) int array
+        The original faces; ``face_attributes`` rows follow them.
+    loop : (k,) int array
+    fill_faces : (m, 3) int array
+    face_attributes : mapping of name to (f,) or (f, c) array
+
+    Returns
+    -------
+    dict of name to (m,) or (m, c) array
+    """
+    vertices = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    fill_faces = np.asarray(fill_faces, dtype=np.int64).reshape(-1, 3)
+    arrays = {name: _rows(name, a, (len(faces),), "faces")
+              for name, a in face_attributes.items()}
+    if len(fill_faces) == 0 or not arrays:
+        return {name: a[:0] for name, a in arrays.items()}
+    touching = np.flatnonzero(np.isin(faces, np.asarray(loop, dtype=np.int64)).any(axis=1))
+    local = np.concatenate([faces[touching], fill_faces])
+    edges, owners, count = edge_faces(local)
+    pair = (count == 2) & (owners.max(axis=1) >= len(touching))  # an edge of the fill
+    left, right = owners[pair].T
+    centroids = vertices[local].mean(axis=1)
+    weight = (np.linalg.norm(vertices[edges[pair, 0]] - vertices[edges[pair, 1]], axis=1)
+              / np.maximum(np.linalg.norm(centroids[left] - centroids[right], axis=1), 1e-300))
+    W = sp.coo_matrix((np.concatenate([weight, weight]),
+                       (np.concatenate([left, right]), np.concatenate([right, left]))),
+                      shape=(len(local), len(local))).tocsr()
+    graph = (sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W).tocsr()
+    known = np.arange(len(local)) < len(touching)
+    found = _labels_by_indicators(_Dirichlet(graph, known),
+                                  [values[touching] for values in arrays.values()])
+    return dict(zip(arrays, found, strict=True))
+
+
+def fill_result_face_attributes(
+    result, face_attributes: Mapping[str, np.ndarray]
+) -> dict[str, np.ndarray]:
+    """Every per-face attribute over a whole filled mesh: the original faces' values, then
+    the new faces' by :func:`fill_face_attributes`.
+
+    Parameters
+    ----------
+    result : FillResult
+    face_attributes : mapping of name to (f, ...) array
+        One row per input face; with ``repair=True`` the rows of ``result.removed_faces``
+        are dropped, as the faces were.
+
+    Returns
+    -------
+    dict of name to (len(result.faces), ...) array.
+    """
+    n_input = result.n_original_faces + len(result.removed_faces)
+    keep = np.ones(n_input, dtype=bool)
+    keep[result.removed_faces] = False
+    originals = {name: _rows(name, a, (n_input,), "faces")[keep]
+                 for name, a in face_attributes.items()}
+    faces = result.faces[: result.n_original_faces]
+    parts: dict[str, list[np.ndarray]] = {name: [a] for name, a in originals.items()}
+    for report, _, face_ids in _hole_blocks(result):
+        if len(face_ids) == 0:
+            continue
+        filled = fill_face_attributes(result.vertices, faces, report.loop,
+                                      result.faces[face_ids], originals)
+        for name, values in filled.items():
+            parts[name].append(values)
+    return {name: np.concatenate(blocks) for name, blocks in parts.items()}

@@ -1,0 +1,247 @@
+"""Attributes of filled holes: inpainted values, recomputed normals, contiguous labels, face
+values, against analytic truth on a sphere and a plane."""
+
+import numpy as np
+import pytest
+from conftest import grid_mesh
+from scipy.spatial import cKDTree
+
+from surfinpaint import fill_holes
+from surfinpaint.data import sphere
+from surfinpaint.fill.attributes import (
+    attribute_kind,
+    fill_hole_attributes,
+    fill_result_attributes,
+    hole_domain,
+    inpaint_labels,
+    inpaint_values,
+)
+from surfinpaint.fill.face_attributes import fill_result_face_attributes
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import connected_components, mean_edge_length, vertex_normals
+
+DIRECTION = np.array([0.6, 0.3, 0.7]) / np.linalg.norm([0.6, 0.3, 0.7])
+
+
+def colour_of(points):
+    """An 8-bit colour channel linear in position: 0 to 255 across the unit sphere."""
+    return 127.5 + 127.5 * points @ DIRECTION
+
+
+@pytest.fixture(scope="module")
+def filled_sphere():
+    """A unit sphere with one 60-edge hole (radius 0.8), filled by the default method."""
+    v, f = sphere(4)
+    cut = cut_holes(v, f, [0], [0.8])
+    result = fill_holes(cut.vertices, cut.faces)
+    assert len(result.vertices) > len(cut.vertices) + 100
+    return cut.vertices, cut.faces, result, v[0]
+
+
+def plane_normal(center):
+    """A unit vector perpendicular to ``center``: a plane through the hole's centre."""
+    normal = np.cross(center, [0.0, 0.0, 1.0])
+    return normal / np.linalg.norm(normal)
+
+
+def test_colour_linear_in_position_within_4_of_255(filled_sphere):
+    v, f, result, _ = filled_sphere
+    n = len(v)
+    rgb = np.column_stack([np.rint(colour_of(v)), np.rint(255 - colour_of(v)),
+                           np.full(n, 200)]).astype(np.uint8)
+    out = fill_result_attributes(result, {"color": rgb})["color"]
+    new = result.vertices[n:]
+    assert out.dtype == np.uint8 and out.shape == (len(result.vertices), 3)
+    error = np.abs(out[n:, 0] - colour_of(new)).mean()
+    _, nearest = cKDTree(v).query(new)
+    copied = np.abs(rgb[nearest, 0] - colour_of(new)).mean()
+    assert error < 4.0  # measured 0.26
+    assert copied > 10.0  # measured 15.7: the test tells inpainting from copying
+    assert np.abs(out[n:, 1] - (255 - colour_of(new))).mean() < 4.0
+    assert np.all(out[n:, 2] == 200)
+
+
+def test_float_property_equal_to_z_within_002(filled_sphere):
+    v, _, result, _ = filled_sphere
+    n = len(v)
+    out = fill_result_attributes(result, {"z": v[:, 2].astype(np.float32)})["z"]
+    assert out.dtype == np.float32
+    assert np.abs(out[n:] - result.vertices[n:, 2]).max() < 0.02  # measured 0.0025
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_normals_recomputed_within_10_degrees_of_the_sphere(filled_sphere, sign):
+    v, f, result, _ = filled_sphere
+    n = len(v)
+    given = sign * vertex_normals(v, f)  # -1: an inward-pointing convention is kept
+    out = fill_result_attributes(result, {"normals": given})["normals"]
+    new = result.vertices[n:]
+    truth = sign * new / np.linalg.norm(new, axis=1, keepdims=True)
+    angle = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", out[n:], truth), -1, 1)))
+    assert angle.max() < 10.0  # measured 2.3
+    assert np.allclose(np.linalg.norm(out[n:], axis=1), 1.0)
+
+
+def test_labels_split_by_a_plane_through_the_hole_stay_on_their_side(filled_sphere):
+    v, f, result, center = filled_sphere
+    n = len(v)
+    normal = plane_normal(center)
+    labels = np.where(v @ normal > 0, 7, 2).astype(np.int16)
+    out = fill_result_attributes(result, {"region": labels})["region"]
+    assert out.dtype == np.int16
+    side = result.vertices[n:] @ normal
+    far = np.abs(side) > mean_edge_length(v, f)
+    assert far.sum() > 0.8 * len(side) and (~far).sum() > 0
+    assert np.array_equal(out[n:][far], np.where(side[far] > 0, 7, 2))
+    # each region is one connected piece of the filled surface
+    for label in (2, 7):
+        keep = result.faces[(out[result.faces] == label).all(axis=1)]
+        count, component = connected_components(keep, len(result.vertices))
+        assert len(np.unique(component[np.unique(keep)])) == 1
+
+
+def test_originals_unchanged_bitwise(filled_sphere):
+    v, f, result, center = filled_sphere
+    n = len(v)
+    rng = np.random.default_rng(1)
+    attributes = {"color": rng.integers(0, 256, (n, 4)).astype(np.uint8),
+                  "thickness": rng.normal(size=n), "normals": vertex_normals(v, f),
+                  "parcel": rng.integers(0, 5, n), "uv": rng.random((n, 2))}
+    out = fill_result_attributes(result, attributes)
+    for name, values in attributes.items():
+        assert out[name].dtype == values.dtype
+        assert np.array_equal(out[name][:n], values), name
+    assert set(np.unique(out["parcel"][n:])) <= set(range(5))
+
+
+def test_clamping_keeps_an_overshooting_colour_in_range():
+    """255 on the loop, 0 two rings out: the biharmonic extrapolates that slope past 255
+    inside the hole; the colour must be clamped (not wrapped around by uint8)."""
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], [0.6])
+    result = fill_holes(cut.vertices, cut.faces, method="fair")
+    n = len(cut.vertices)
+    value = np.zeros(n)
+    value[cut.loop] = 255.0
+    new_ids = np.arange(n, len(result.vertices))
+    dom = hole_domain(result.vertices, cut.faces, cut.loop, result.new_faces)
+    known = ~np.isin(dom.ids, new_ids)
+    raw = inpaint_values(dom.domain, dom.faces, known, value[np.minimum(dom.ids, n - 1)])
+    assert raw[~known].max() > 260  # the overshoot is real
+    out = fill_result_attributes(result, {"red": value.astype(np.uint8), "w": value})
+    assert out["red"][n:].max() == 255 and out["red"][n:].min() >= 0
+    assert out["w"][n:].max() == 255.0
+    explicit = fill_hole_attributes(result.vertices, cut.faces, cut.loop, result.new_faces,
+                                    new_ids, {"w": np.zeros(len(result.vertices)) + 1.0},
+                                    ranges={"w": np.array([[0.0], [0.5]])})
+    assert np.all(explicit["w"] == 0.5)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_inpainting_reproduces_a_linear_function_on_a_plane(order):
+    v, f = grid_mesh(8, 8)
+    v = v + np.array([0.0, 0.0, 0.0])
+    values = np.column_stack([2 * v[:, 0] - v[:, 1] + 0.5, v[:, 1]])
+    known = ~((np.abs(v[:, 0] - 0.5) < 0.3) & (np.abs(v[:, 1] - 0.5) < 0.3))
+    garbage = values.copy()
+    garbage[~known] = 1e3
+    out = inpaint_values(v[:, :2], f, known, garbage, order=order)
+    assert np.abs(out - values).max() < 1e-10
+
+
+def test_inpaint_labels_keeps_the_only_label_and_invents_none():
+    v, f = grid_mesh(6, 6)
+    known = ~((np.abs(v[:, 0] - 0.5) < 0.3) & (np.abs(v[:, 1] - 0.5) < 0.3))
+    labels = np.where(v[:, 0] < 0.5, "left", "right")
+    labels[~known] = "hidden"
+    out = inpaint_labels(v, f, known, labels)
+    assert set(out[~known]) <= {"left", "right"}
+    x = v[~known, 0]
+    assert np.all(out[~known][x < 0.4] == "left") and np.all(out[~known][x > 0.6] == "right")
+    single = inpaint_labels(v, f, known, np.where(known, 4, -1))
+    assert np.all(single == 4)
+
+
+@pytest.mark.parametrize(("name", "values", "kind"), [
+    ("normals", np.zeros((4, 3)), "normal"),
+    ("Normal", np.zeros((4, 3), np.float32), "normal"),
+    ("normals", np.zeros((4, 2)), "values"),  # not 3D vectors
+    ("color", np.zeros((4, 3), np.uint8), "values"),
+    ("vertex_colors", np.zeros((4, 4), np.uint8), "values"),
+    ("red", np.zeros(4, np.uint8), "values"),  # a colour channel, not a label
+    ("parcel", np.array([0, 0, 3, 3]), "label"),
+    ("mask", np.array([True, False, True, False]), "label"),
+    ("quality", np.arange(200, dtype=np.uint8), "values"),  # too many distinct values
+    ("thickness", np.array([2.1, 2.5, 3.0, 1.9]), "values"),
+    ("uv", np.zeros((4, 2)), "values"),
+    ("tissue", np.array(["gm", "wm", "gm", "csf"]), "label"),  # strings: never averaged
+])
+def test_attribute_kind_rule(name, values, kind):
+    assert attribute_kind(name, values) == kind
+
+
+def test_kinds_override_and_bad_input(filled_sphere):
+    v, _, result, center = filled_sphere
+    n = len(v)
+    side = (v @ plane_normal(center) > 0).astype(np.int64)
+    out = fill_result_attributes(result, {"side": side}, kinds={"side": "values"})["side"]
+    assert out.dtype == np.int64
+    assert set(np.unique(out[n:])) <= {0, 1}  # rounded and clamped, not labels
+    with pytest.raises(ValueError, match="'short' has 3 rows"):
+        fill_result_attributes(result, {"short": np.zeros(3)})
+    with pytest.raises(ValueError, match="unknown attribute kinds"):
+        fill_result_attributes(result, {"side": side}, kinds={"side": "texture"})
+    with pytest.raises(ValueError, match="not there"):
+        fill_result_attributes(result, {"side": side}, kinds={"other": "label"})
+
+
+def test_face_attributes_continue_from_across_the_loop(filled_sphere):
+    v, f, result, center = filled_sphere
+    normal = plane_normal(center)
+    side = v[f].mean(axis=1) @ normal > 0
+    material = np.where(side, 3, 1).astype(np.uint8)
+    weight = np.where(side, 0.25, 0.75)
+    out = fill_result_face_attributes(result, {"material": material, "weight": weight})
+    assert np.array_equal(out["material"][: len(f)], material)
+    new = result.vertices[result.new_faces].mean(axis=1) @ normal
+    far = np.abs(new) > mean_edge_length(v, f)
+    assert np.array_equal(out["material"][len(f):][far], np.where(new[far] > 0, 3, 1))
+    assert set(np.unique(out["weight"][len(f):])) <= {0.25, 0.75}  # copied, not averaged
+    assert out["material"].dtype == np.uint8 and len(out["weight"]) == len(result.faces)
+
+
+def test_holes_close_together_shrink_the_patch_and_still_fill():
+    v, f = sphere(4)
+    cut = cut_holes(v, f, [0, 1], [0.25, 0.25])  # icosahedron neighbours: near each other
+    result = fill_holes(cut.vertices, cut.faces, method="fair")
+    n = len(cut.vertices)
+    out = fill_result_attributes(result, {"z": cut.vertices[:, 2]})["z"]
+    assert np.abs(out[n:] - result.vertices[n:, 2]).max() < 0.02
+    start = n
+    rings = []
+    for report in result.reports:
+        ids = np.arange(start, start + report.new_vertices)
+        start += report.new_vertices
+        faces = result.new_faces[np.isin(result.new_faces, ids).any(axis=1)]
+        rings.append(hole_domain(result.vertices, cut.faces, report.loop, faces,
+                                 rings=30).rings)
+    assert min(rings) < 30
+
+
+@pytest.mark.parametrize("method", ["fair", "triangulate"])
+def test_several_holes_one_skipped(method):
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0, 20, 40], [0.25, 0.35, 0.2])
+    n = len(cut.vertices)
+    result = fill_holes(cut.vertices, cut.faces, method=method, max_hole_edges=10)
+    assert [r.skipped is not None for r in result.reports].count(True) == 1
+    out = fill_result_attributes(result, {"z": cut.vertices[:, 2], "x": cut.vertices[:, 0]})
+    assert len(out["z"]) == len(result.vertices)  # triangulate adds no vertex
+    assert np.abs(out["z"][n:] - result.vertices[n:, 2]).max(initial=0.0) < 0.02
+    assert np.abs(out["x"][n:] - result.vertices[n:, 0]).max(initial=0.0) < 0.02
+    faces = fill_result_face_attributes(result, {"id": np.arange(len(cut.faces))})["id"]
+    assert len(faces) == len(result.faces)
+    assert np.array_equal(faces[: len(cut.faces)], np.arange(len(cut.faces)))
+    # a new face takes the id of a face touching its own hole's loop
+    touching = np.isin(cut.faces, np.concatenate([r.loop for r in result.reports])).any(1)
+    assert np.isin(faces[len(cut.faces):], np.flatnonzero(touching)).all()
