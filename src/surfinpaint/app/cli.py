@@ -1,12 +1,14 @@
 """Command-line interface: ``surfinpaint holes|fill|represent|rebuild|demo|report|experiments``.
 
-Exit codes: 0 success (including "nothing to fill"), 1 bad input or failure, 2 usage error.
+Exit codes: 0 success (including "nothing to fill"), 1 bad input or failure, 2 usage error,
+130 after Ctrl-C and 143 after SIGTERM (one line printed, temporary files removed).
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import signal
 import sys
 import warnings
 from collections.abc import Iterator, Sequence
@@ -141,11 +143,11 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if len(result.removed_faces):
         console.print(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
                       "edges; the holes they left were filled too")
+    write_mesh(args.output, result.vertices, result.faces)
     if not result.reports:
         console.print(f"{args.mesh}: nothing to fill (no holes"
                       f"{'' if args.all else ' apart from the outer border'}); "
                       f"wrote the mesh unchanged to {args.output}")
-    write_mesh(args.output, result.vertices, result.faces)
     for r in result.reports:
         if r.skipped:
             console.print(f"hole {r.index}: skipped ({r.skipped})")
@@ -273,6 +275,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="fairing order: 1 harmonic, 2 biharmonic (default of 'fair', the "
                    "classic baseline), 3 triharmonic; the conformal method chooses its "
                    "fallback between 2 and 3 per hole by its self-check unless told")
+    p.add_argument("--in-place", action="store_true",
+                   help="allow -o to name the input file, replacing it (atomically: a "
+                   "failed or interrupted fill leaves it as it was)")
     p.add_argument("--png", help="also write a before/after picture")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
     p.set_defaults(func=cmd_fill)
@@ -319,34 +324,91 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+# What each command reads and writes, for the checks made before any work: the input
+# attributes, and per command its outputs as (attribute, option named in messages, kind).
+_INPUTS = ("mesh", "representation", "truth")
+_OUTPUTS = {
+    "fill": (("output", "-o", "file"), ("png", "--png", "file")),
+    "represent": (("output", "-o", "file"), ("png", "--png", "file")),
+    "rebuild": (("output", "-o", "file"),),
+    "demo": (("output", "-o", "dir"),),
+    "report": (("output", "-o", "dir"),),
+    "experiments": (("output", "-o", "dir"),),
+}
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Refuse, before any work, an output that cannot be written or would replace an input."""
+    from surfinpaint.app.outputs import (
+        check_output_directory,
+        check_output_file,
+        check_outputs_distinct,
+    )
+
+    files, folders = {}, {}
+    for attribute, option, kind in _OUTPUTS.get(args.command, ()):
+        path = getattr(args, attribute, None)
+        if path is not None:
+            (files if kind == "file" else folders)[option] = str(path)
+    inputs = [str(getattr(args, a)) for a in _INPUTS if getattr(args, a, None) is not None]
+    check_outputs_distinct(files, inputs,
+                           in_place="-o" if getattr(args, "in_place", False) else None)
+    for option, path in files.items():
+        check_output_file(path, option)
+    for option, path in folders.items():
+        check_output_directory(path, option)
+
+
+def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> int:
+    """Run one command, mapping each kind of failure to its exit code and one message."""
     from rich.markup import escape
 
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    console = _console()
+    from surfinpaint.app.outputs import OutputError, OutputOverwritesInput
+
     source = getattr(args, "mesh", None) or getattr(args, "representation", None)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    try:
+        _check_outputs(args)
+        return args.func(args)
+    except (_UsageError, OutputOverwritesInput) as exc:
+        parser.print_usage(sys.stderr)
+        console.print(f"surfinpaint: error: {escape(str(exc))}")
+        return EXIT_USAGE
+    except OutputError as exc:
+        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        return EXIT_FAILURE
+    except MeshError as exc:
+        if exc.path is None and source is not None:
+            exc = exc.with_path(source)  # problems found after reading: name the file
+        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        return EXIT_FAILURE
+    except NotImplementedError as exc:
+        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        return EXIT_FAILURE
+    except (OSError, ValueError, RuntimeError) as exc:
+        console.print(f"[red]error:[/red] {type(exc).__name__}: {escape(str(exc))}")
+        return EXIT_FAILURE
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """The ``surfinpaint`` command. Returns the exit code: 0 success, 1 failure, 2 usage
+    error, 130 after Ctrl-C, 143 after SIGTERM (temporary files removed, one line printed)."""
+    from surfinpaint.app.interrupts import Interrupted, signals_raise
+
+    with signals_raise():
         try:
-            code = args.func(args)
-        except _UsageError as exc:
-            parser.print_usage(sys.stderr)
-            console.print(f"surfinpaint: error: {escape(str(exc))}")
-            code = EXIT_USAGE
-        except MeshError as exc:
-            if exc.path is None and source is not None:
-                exc = exc.with_path(source)  # problems found after reading: name the file
-            console.print(f"[red]error:[/red] {escape(str(exc))}")
-            code = EXIT_FAILURE
-        except NotImplementedError as exc:
-            console.print(f"[red]error:[/red] {escape(str(exc))}")
-            code = EXIT_FAILURE
-        except (OSError, ValueError, RuntimeError) as exc:
-            console.print(f"[red]error:[/red] {type(exc).__name__}: {escape(str(exc))}")
-            code = EXIT_FAILURE
-    _print_warnings(caught)
-    return code
+            parser = build_parser()
+            args = parser.parse_args(argv)
+            console = _console()
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                code = _run(parser, args, console)
+            _print_warnings(caught)
+            return code
+        except (Interrupted, KeyboardInterrupt) as exc:
+            if not isinstance(exc, Interrupted):  # a Ctrl-C that came before our handler
+                exc = Interrupted(signal.SIGINT)
+            print(f"surfinpaint: {exc}; stopped, no partial output left", file=sys.stderr)
+            return exc.exit_code
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,107 @@
+"""Checks on where a command will write, made before any work is done.
+
+A fill can take minutes; finding only at the end that the output directory is missing or
+read-only, or that ``-o`` names the input (which the atomic rename would silently replace),
+wastes them or destroys the input. These checks run first.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+
+class OutputError(Exception):
+    """An output that cannot be written where asked (the command line exits 1)."""
+
+
+class OutputOverwritesInput(OutputError):
+    """An output that names an input file, or another output (a usage error: exit 2)."""
+
+
+def _probe_directory(directory: Path, shown: str) -> None:
+    """Create and remove a file in ``directory``: the only test that also sees read-only
+    mounts, ACLs and pseudo file systems (``os.access`` does not, and root passes it)."""
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".surfinpaint-probe.", dir=directory)
+    except OSError as exc:
+        raise OutputError(f"{shown}: cannot write in directory {str(directory)!r} "
+                          f"({exc.strerror or exc})") from None
+    os.close(fd)
+    os.unlink(probe)
+
+
+def check_output_file(path: str | os.PathLike, option: str = "-o") -> None:
+    """Raise :class:`OutputError` unless a file can be written (atomically) at ``path``.
+
+    The directory must exist and accept new files (the atomic writers create a temporary
+    file there and rename it); an existing ``path`` must be a regular file.
+    """
+    p = Path(path)
+    shown = f"{option} {str(path)!r}"
+    if p.is_dir():
+        raise OutputError(f"{shown} is a directory, not a file name")
+    if p.exists() and not stat.S_ISREG(p.stat().st_mode):
+        raise OutputError(f"{shown} exists and is not a regular file (the rename that writes "
+                          "the output atomically would replace it)")
+    directory = p.parent if str(p.parent) else Path(".")
+    if not directory.exists():
+        raise OutputError(f"{shown}: directory {str(directory)!r} does not exist")
+    if not directory.is_dir():
+        raise OutputError(f"{shown}: {str(directory)!r} is not a directory")
+    _probe_directory(directory, shown)
+
+
+def check_output_directory(path: str | os.PathLike, option: str = "-o") -> None:
+    """Raise :class:`OutputError` unless ``path`` is, or can be created as, a writable folder.
+
+    For a folder that does not exist yet, its nearest existing ancestor must be a writable
+    directory (the command creates the missing levels).
+    """
+    p = Path(path)
+    shown = f"{option} {str(path)!r}"
+    if p.exists() and not p.is_dir():
+        raise OutputError(f"{shown} exists and is not a directory")
+    existing = p
+    while not existing.exists():
+        if existing.parent == existing:
+            break
+        existing = existing.parent
+    if not existing.is_dir():
+        raise OutputError(f"{shown}: {str(existing)!r} is not a directory")
+    _probe_directory(existing, shown)
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether two names denote one file (hard links and symbolic links included)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist yet
+        return a.resolve() == b.resolve()
+
+
+def check_outputs_distinct(outputs: Mapping[str, str], inputs: Sequence[str], *,
+                           in_place: str | None = None) -> None:
+    """Raise :class:`OutputOverwritesInput` if an output names an input or another output.
+
+    Parameters
+    ----------
+    outputs : mapping of option name to path
+    inputs : paths read by the command
+    in_place : str, optional
+        The option (e.g. ``"-o"``) allowed to name an input, for ``--in-place``.
+    """
+    names = list(outputs.items())
+    for i, (option, path) in enumerate(names):
+        for source in inputs:
+            if option != in_place and _same_file(Path(path), Path(source)):
+                hint = "; pass --in-place to replace it" if option == "-o" else ""
+                raise OutputOverwritesInput(f"{option} {path!r} is the input file {source!r}: "
+                                            f"writing it would replace the input{hint}")
+        for other, other_path in names[i + 1:]:
+            if _same_file(Path(path), Path(other_path)):
+                raise OutputOverwritesInput(f"{option} and {other} name the same file "
+                                            f"{path!r}")

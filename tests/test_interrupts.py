@@ -1,0 +1,184 @@
+"""Interrupts and outputs on the command line, with real signals and real subprocesses.
+
+Ctrl-C (SIGINT) and SIGTERM stop `surfinpaint fill` with one line on stderr and exit
+130 / 143, leaving neither the output nor the atomic writer's temporary file, whether the
+signal comes while holes are filled or while the output is being written. Where the output
+goes is checked before the input is even read; `-o` naming the input is refused unless
+`--in-place`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import grid_mesh
+
+from surfinpaint.app.cli import main
+from surfinpaint.data import sphere
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length
+from surfinpaint.io.formats import read_mesh, write_mesh
+
+SIGNALS = [pytest.param(signal.SIGINT, 130, id="SIGINT"),
+           pytest.param(signal.SIGTERM, 143, id="SIGTERM")]
+
+
+def _fill_process(*args: str) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "surfinpaint", "fill", *args, "-q"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _assert_stopped(proc: subprocess.Popen, code: int, out_dir: Path) -> None:
+    """Exited promptly with ``code``, said so in one line (the last; no traceback), and left
+    nothing in ``out_dir``."""
+    try:
+        _, err = proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        pytest.fail("the signal did not stop the fill within 30 s")
+    lines = err.strip().splitlines()
+    assert proc.returncode == code, err
+    assert lines[-1].startswith("surfinpaint: interrupted"), err
+    assert sum("interrupted" in line for line in lines) == 1 and "Traceback" not in err, err
+    assert sorted(os.listdir(out_dir)) == []
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+def test_signal_while_writing_removes_the_temporary_file(tmp_path, signum, code):
+    # a 10^6-vertex grid has no hole but its outer border, so `fill` writes it unchanged;
+    # as text OBJ that takes seconds, and the signal is sent as soon as the writer's
+    # temporary file appears next to the target
+    source = tmp_path / "grid.ply"
+    write_mesh(source, *grid_mesh(999, 999))
+    before = _digest(source)
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    proc = _fill_process(str(source), "-o", str(out_dir / "filled.obj"))
+    deadline = time.monotonic() + 120
+    while not any("filled.obj" in name and name != "filled.obj"
+                  for name in os.listdir(out_dir)):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline, "the temporary output file never appeared"
+        time.sleep(0.005)
+    proc.send_signal(signum)
+    _assert_stopped(proc, code, out_dir)
+    assert _digest(source) == before
+
+
+def _many_holes() -> tuple[np.ndarray, np.ndarray]:
+    """A sphere with 60 small holes: several seconds of filling."""
+    v, f = sphere(5)
+    centres = [0]
+    distance = np.linalg.norm(v - v[0], axis=1)
+    for _ in range(59):  # farthest-point picks: holes apart from each other
+        centres.append(int(np.argmax(distance)))
+        distance = np.minimum(distance, np.linalg.norm(v - v[centres[-1]], axis=1))
+    cut = cut_holes(v, f, centres, [3.0 * mean_edge_length(v, f)] * len(centres))
+    return cut.vertices, cut.faces
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+def test_signal_while_filling_stops_with_one_line(tmp_path, signum, code):
+    # the input is a named pipe: once the test has written the mesh into it, the process
+    # has read it and is filling (which takes far longer than the one second waited)
+    holes = tmp_path / "holes.ply"
+    write_mesh(holes, *_many_holes())
+    pipe = tmp_path / "pipe.ply"
+    os.mkfifo(pipe)
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    proc = _fill_process(str(pipe), "-o", str(out_dir / "filled.ply"))
+    with open(pipe, "wb") as feed:
+        feed.write(holes.read_bytes())
+    time.sleep(1.0)
+    assert proc.poll() is None, "the fill ended before the signal was sent"
+    proc.send_signal(signum)
+    _assert_stopped(proc, code, out_dir)
+
+
+def test_output_directory_is_checked_before_the_input_is_read(tmp_path):
+    # the input is a named pipe nobody writes to: reading it would block for ever, so a
+    # prompt exit shows that the output was checked first
+    pipe = tmp_path / "never.ply"
+    os.mkfifo(pipe)
+    bad = [tmp_path / "missing" / "out.ply",      # directory does not exist
+           pipe / "out.ply",                       # "directory" is not one
+           tmp_path,                               # output is a directory
+           Path("/proc/surfinpaint-out.ply")]      # a directory no file can be created in
+    for out in bad:
+        run = subprocess.run([sys.executable, "-m", "surfinpaint", "fill", str(pipe),
+                              "-o", str(out), "-q"], capture_output=True, text=True,
+                             timeout=60)
+        assert run.returncode == 1, run.stderr
+        assert str(out) in "".join(run.stderr.split("\n")), run.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["never.ply"]
+
+
+def _holey(tmp_path: Path) -> Path:
+    v, f = sphere(2)
+    cut = cut_holes(v, f, [0], [2.5 * mean_edge_length(v, f)])
+    path = tmp_path / "in.ply"
+    write_mesh(path, cut.vertices, cut.faces)
+    return path
+
+
+def test_output_naming_the_input_is_refused(tmp_path, capsys):
+    source = _holey(tmp_path)
+    before = _digest(source)
+    link = tmp_path / "link.ply"
+    os.link(source, link)
+    for out in (source, link, tmp_path / "." / "in.ply"):
+        assert main(["fill", str(source), "-o", str(out), "-q"]) == 2
+        assert "--in-place" in capsys.readouterr().err
+    assert main(["fill", str(source), "-o", str(tmp_path / "a.ply"), "--png",
+                 str(tmp_path / "a.ply"), "-q"]) == 2
+    assert _digest(source) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply", "link.ply"]
+
+
+def test_in_place_replaces_the_input_with_the_filled_mesh(tmp_path):
+    source = _holey(tmp_path)
+    v0, f0 = read_mesh(source)
+    assert main(["fill", str(source), "-o", str(source), "--in-place", "-q"]) == 0
+    v1, f1 = read_mesh(source)
+    assert len(f1) > len(f0)
+    np.testing.assert_array_equal(v1[:len(v0)], v0)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply"]
+
+
+def test_interrupt_inside_main_returns_130_and_restores_the_handler(tmp_path, capsys,
+                                                                     monkeypatch):
+    # in-process: a real SIGINT sent to this process once the input has been read
+    import surfinpaint.io.formats as formats
+
+    source = _holey(tmp_path)
+    out = tmp_path / "out.ply"
+    previous = signal.getsignal(signal.SIGINT)
+    real_read = formats.read_mesh
+
+    def read_then_interrupt(*args, **kwargs):
+        result = real_read(*args, **kwargs)
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1.0)  # the handler raises here, at the next bytecode of the main thread
+        return result
+
+    monkeypatch.setattr(formats, "read_mesh", read_then_interrupt)
+    assert main(["fill", str(source), "-o", str(out), "-q"]) == 130
+    assert capsys.readouterr().err.strip().startswith("surfinpaint: interrupted")
+    assert not out.exists()
+    assert signal.getsignal(signal.SIGINT) is previous
