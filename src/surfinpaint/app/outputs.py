@@ -23,15 +23,15 @@ class OutputOverwritesInput(OutputError):
 
 
 def _probe_directory(directory: Path, shown: str) -> None:
-    """Create and remove a file in ``directory``: the only test that also sees read-only
-    mounts, ACLs and pseudo file systems (``os.access`` does not, and root passes it)."""
+    """Create a file in ``directory``: the only test that also sees read-only mounts, ACLs
+    and pseudo file systems (``os.access`` does not, and root passes it). An anonymous
+    temporary file, so that nothing is left behind even if the process is killed."""
     try:
-        fd, probe = tempfile.mkstemp(prefix=".surfinpaint-probe.", dir=directory)
+        with tempfile.TemporaryFile(dir=directory):
+            pass
     except OSError as exc:
         raise OutputError(f"{shown}: cannot write in directory {str(directory)!r} "
                           f"({exc.strerror or exc})") from None
-    os.close(fd)
-    os.unlink(probe)
 
 
 def check_output_file(path: str | os.PathLike, option: str = "-o") -> None:
