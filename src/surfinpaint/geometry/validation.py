@@ -148,6 +148,11 @@ def zero_area_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         c0 = c[f[:, 0]]
         a.append(c[f[:, 1]] - c0)
         b.append(c[f[:, 2]] - c0)
+    # in units of each face's largest edge component: scale-free, no overflow at 1e+200 and
+    # no underflow at 1e-200 when squared
+    unit = np.maximum.reduce([np.abs(x) for x in a + b])
+    unit[unit == 0] = 1.0
+    a, b = [x / unit for x in a], [x / unit for x in b]
     area2 = np.sqrt((a[1] * b[2] - a[2] * b[1]) ** 2 + (a[2] * b[0] - a[0] * b[2]) ** 2
                     + (a[0] * b[1] - a[1] * b[0]) ** 2)
     longest2 = np.maximum(np.maximum(a[0] ** 2 + a[1] ** 2 + a[2] ** 2,

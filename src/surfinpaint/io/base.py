@@ -53,11 +53,18 @@ def ids(values: np.ndarray, limit: int = 10) -> str:
 
 
 def decode_text(data: bytes, what: str) -> str:
+    """The text of a text-format file: UTF-8 (a leading byte-order mark dropped), or Latin-1
+    when it is not UTF-8 (accented comments and group names from older exporters; numbers and
+    keywords are ASCII either way). A NUL byte means a binary file."""
+    nul = data.find(b"\0")
+    if nul >= 0:
+        raise MeshError(f"not a text {what} file (a NUL byte at offset {nul})")
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
     try:
         return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise MeshError(f"not a text {what} file (undecodable byte at offset {exc.start})"
-                        ) from None
+    except UnicodeDecodeError:
+        return data.decode("latin-1")
 
 
 

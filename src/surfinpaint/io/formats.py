@@ -12,11 +12,12 @@ soup (three separate corners per face), so exactly equal corners are merged, num
 of first occurrence. Polygons (quads, n-gons) are fan-triangulated in place, with a
 :class:`MeshWarning`.
 
-PLY, OBJ and OFF are parsed here rather than by trimesh: with ``process=False`` trimesh still
-drops unreferenced OBJ vertices, splits vertices on texture seams, leaves negative OBJ indices
-unresolved with ``maintain_order=True``, regroups polygon faces (triangles first), misreads
-binary PLY with mixed polygon sizes, and writes OBJ/OFF with ten significant digits. trimesh is
-used for ascii STL; nibabel for GIFTI and FreeSurfer.
+PLY, OBJ, OFF and ascii STL are parsed here rather than by trimesh: with ``process=False``
+trimesh still drops unreferenced OBJ vertices, splits vertices on texture seams, leaves
+negative OBJ indices unresolved with ``maintain_order=True``, regroups polygon faces
+(triangles first), misreads binary PLY with mixed polygon sizes, writes OBJ/OFF with ten
+significant digits, and prints tracebacks on stderr for a malformed ascii STL. nibabel reads
+and writes GIFTI and FreeSurfer.
 
 One module per format family (:mod:`~surfinpaint.io.ply`, :mod:`~surfinpaint.io.obj`,
 :mod:`~surfinpaint.io.off`, :mod:`~surfinpaint.io.stl`, :mod:`~surfinpaint.io.brain`); this one

@@ -36,6 +36,10 @@ def read_off(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarra
     if len(body) < nv + nf:
         raise MeshError(f"file is truncated: header announces {nv} vertices and {nf} faces, "
                         f"found {len(body)} data lines")
+    if len(body) > nv + nf:
+        raise MeshError(f"trailing data: the header announces {nv} vertices and {nf} faces, "
+                        f"the file has {len(body) - nv - nf} more data lines (more vertices or "
+                        "faces than announced?)")
     vertices = xyz_rows(body[:nv])
     counts, flat = _off_faces(body[nv:nv + nf])
     return vertices, counts, flat

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import struct
 from pathlib import Path
 
@@ -18,16 +19,20 @@ _PLY_TYPES = {
 }
 
 
+_END_HEADER = re.compile(rb"^[ \t]*end_header[ \t]*(?:\r\n|\n|\r|$)", re.MULTILINE)
+
+
 def _ply_header(data: bytes) -> tuple[str, list, int]:
     """Parse the PLY header: (format, [(element, count, [(name, type, list count type)])],
     offset of the body)."""
     if not data.startswith(b"ply"):
         raise MeshError("not a PLY file (does not start with 'ply')")
-    end = data.find(b"end_header", 0, 1 << 20)
-    if end < 0:
+    # the line that is exactly end_header (a comment may mention the word)
+    end = _END_HEADER.search(data, 0, 1 << 20)
+    if end is None:
         raise MeshError("PLY header has no 'end_header' line (truncated or not PLY)")
-    body = data.index(b"\n", end) + 1 if b"\n" in data[end:end + 64] else len(data)
-    header = data[:end].decode("ascii", errors="replace").splitlines()[1:]
+    body = end.end()
+    header = data[:end.start()].decode("ascii", errors="replace").splitlines()[1:]
     fmt = None
     elements: list = []
     for line in header:
@@ -41,6 +46,8 @@ def _ply_header(data: bytes) -> tuple[str, list, int]:
                 count = int(parts[2])
             except ValueError:
                 raise MeshError(f"PLY header: bad element count in {line!r}") from None
+            if count < 0:
+                raise MeshError(f"PLY header: negative element count in {line!r}")
             elements.append((parts[1], count, []))
         elif parts[0] == "property" and elements:
             if parts[1] == "list" and len(parts) == 5:
@@ -74,7 +81,6 @@ def read_ply(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarra
                fprops[0] if len(fprops) == 1 else None)
     if key is None:
         raise MeshError("PLY face element has no vertex_indices list")
-    last = max(names.index("vertex"), names.index("face"))
     if fmt == "ascii":
         tokens = data[offset:].split()
         try:
@@ -85,8 +91,13 @@ def read_ply(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarra
     else:
         reader = _PlyBinary(data, offset, "<" if fmt == "binary_little_endian" else ">")
     parsed = {}
-    for name, count, props in elements[:last + 1]:
+    for name, count, props in elements:
         parsed[name] = reader.element(name, count, props)
+    trailing = reader.trailing()
+    if trailing:
+        announced = ", ".join(f"element {name} {count}" for name, count, _ in elements)
+        raise MeshError(f"trailing data: {trailing} after the last element (the header "
+                        f"announces {announced}; more records than announced?)")
     v = parsed["vertex"]
     vertices = np.column_stack([np.asarray(v["x"], np.float64), np.asarray(v["y"], np.float64),
                                 np.asarray(v["z"], np.float64)]).reshape(-1, 3)
@@ -104,6 +115,11 @@ class _PlyBinary:
         if self.offset + nbytes > len(self.data):
             raise MeshError(f"PLY file is truncated in element {name!r} "
                             f"(needs {self.offset + nbytes} bytes, has {len(self.data)})")
+
+    def trailing(self) -> str:
+        """What is left after the last element ('' when nothing but whitespace)."""
+        rest = self.data[self.offset:]
+        return f"{len(rest)} bytes" if rest.strip() else ""
 
     def element(self, name: str, count: int, props: list) -> dict:
         e = self.endian
@@ -180,6 +196,11 @@ _STRUCT = {"i1": "b", "u1": "B", "i2": "h", "u2": "H", "i4": "i", "u4": "I", "f4
 class _PlyAscii:
     def __init__(self, values: np.ndarray) -> None:
         self.values, self.pos = values, 0
+
+    def trailing(self) -> str:
+        """What is left after the last element ('' when nothing)."""
+        left = len(self.values) - self.pos
+        return f"{left} values" if left else ""
 
     def _need(self, n: int, name: str) -> None:
         if self.pos + n > len(self.values):

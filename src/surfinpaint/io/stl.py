@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import io
+import re
 import struct
 import warnings
 from pathlib import Path
@@ -15,20 +15,10 @@ from surfinpaint.io.base import MeshWarning, decode_text
 
 
 def read_stl(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    corners = None
-    if len(data) >= 84:
-        n = struct.unpack_from("<I", data, 80)[0]
-        if len(data) == 84 + 50 * n:
-            rec = np.frombuffer(data, _STL_DTYPE, count=n, offset=84)
-            corners = rec["corners"].reshape(-1, 3).astype(np.float64)
+    corners = _binary_corners(data)
     if corners is None:
-        if not data.lstrip()[:5].lower() == b"solid":
-            if len(data) >= 84:
-                n = struct.unpack_from("<I", data, 80)[0]
-                raise MeshError(f"not an STL file, or a truncated binary STL (the header "
-                                f"announces {n} triangles = {84 + 50 * n} bytes, the file has "
-                                f"{len(data)})")
-            raise MeshError(f"not an STL file (only {len(data)} bytes, no 'solid' keyword)")
+        if not _says_solid(data):
+            raise MeshError(_not_binary(data))
         corners = _read_stl_ascii(data)
     if len(corners) == 0:
         raise MeshError("STL file has no triangles")
@@ -50,21 +40,116 @@ def read_stl(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarra
 _STL_DTYPE = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attr", "<u2")])
 
 
+def _binary_corners(data: bytes) -> np.ndarray | None:
+    """The corners of a binary STL, or None when the size does not fit one.
+
+    A few bytes after the announced triangles (less than one 50-byte record: some exporters
+    pad to an even or aligned length) are accepted, unless the file reads as ascii STL.
+    """
+    if len(data) < 84:
+        return None
+    n = struct.unpack_from("<I", data, 80)[0]
+    excess = len(data) - (84 + 50 * n)
+    if excess == 0 or (0 < excess < 50 and not _looks_ascii(data)):
+        rec = np.frombuffer(data, _STL_DTYPE, count=n, offset=84)
+        return rec["corners"].reshape(-1, 3).astype(np.float64)
+    return None
+
+
+def _says_solid(data: bytes) -> bool:
+    return data.lstrip()[:5].lower() == b"solid"
+
+
+def _looks_ascii(data: bytes) -> bool:
+    return _says_solid(data) and re.search(rb"(?i)(?<!\S)facet(?!\S)", data[:4096]) is not None
+
+
+def _not_binary(data: bytes) -> str:
+    if len(data) < 84:
+        return f"not an STL file (only {len(data)} bytes, no 'solid' keyword)"
+    n = struct.unpack_from("<I", data, 80)[0]
+    need = 84 + 50 * n
+    if len(data) < need:
+        return (f"not an STL file, or a truncated binary STL (the header announces {n} "
+                f"triangles = {need} bytes, the file has {len(data)})")
+    return (f"not an STL file, or a binary STL with trailing data ({len(data) - need} bytes "
+            f"after the {n} triangles its header announces)")
+
+
+_NUM = r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|inf(?:inity)?))"
+_FACET = re.compile(
+    r"facet\s+normal" + r"\s+" + r"\s+".join([_NUM] * 3) + r"\s+outer\s+loop"
+    + "".join(r"\s+vertex\s+" + r"\s+".join([_NUM] * 3) for _ in range(3))
+    + r"\s+endloop\s+endfacet(?!\S)",
+    re.IGNORECASE,
+)
+_KEYWORD = re.compile(r"(?i)(?<!\S)(facet|endsolid)(?!\S)")
+
+
 def _read_stl_ascii(data: bytes) -> np.ndarray:
-    from trimesh.exchange.stl import load_stl
-
+    """Corners of an ascii STL, parsed here: every facet must be exactly ``facet normal n n n /
+    outer loop / vertex x y z (three times) / endloop / endfacet``; the first that is not is
+    named by its line. (trimesh prints tracebacks on stderr for such files.)"""
     text = decode_text(data, "STL")
-    n_facets = text.lower().count("endfacet")
-    loaded = load_stl(io.BytesIO(data))
-    if "vertices" not in loaded or "faces" not in loaded:
-        raise MeshError("ascii STL file has no readable facets (truncated or not STL)")
-    v = np.asarray(loaded["vertices"], dtype=np.float64)
-    f = np.asarray(loaded["faces"], dtype=np.int64)
-    if len(f) != n_facets:
-        raise MeshError(f"ascii STL is malformed or truncated ({n_facets} complete facets, "
-                        f"{len(f)} read)")
-    return v[f].reshape(-1, 3)
+    corners = _ascii_fast(text)
+    return corners if corners is not None else _ascii_checked(text)
 
+
+_FACET_TOKENS = 21  # facet normal n n n outer loop (vertex x y z) x 3 endloop endfacet
+_KEYWORD_COLUMNS = {0: "facet", 1: "normal", 5: "outer", 6: "loop", 7: "vertex", 11: "vertex",
+                    15: "vertex", 19: "endloop", 20: "endfacet"}
+_CORNER_COLUMNS = [8, 9, 10, 12, 13, 14, 16, 17, 18]
+
+
+def _ascii_fast(text: str) -> np.ndarray | None:
+    """Corners of one well-formed solid, in vectorized passes; None for anything else."""
+    tokens = text.lower().split()
+    if not tokens or tokens[0] != "solid" or "facet" not in tokens[:64]:
+        return None
+    first = tokens.index("facet", 0, 64)
+    tail = next((k for k in range(len(tokens) - 1, max(first, len(tokens) - 64) - 1, -1)
+                 if tokens[k] == "endsolid"), None)
+    if tail is None or (tail - first) % _FACET_TOKENS:
+        return None
+    body = np.array(tokens[first:tail], dtype=object).reshape(-1, _FACET_TOKENS)
+    if any(np.any(body[:, c] != word) for c, word in _KEYWORD_COLUMNS.items()):
+        return None
+    try:
+        np.asarray(body[:, 2:5].ravel(), dtype=np.float64)  # the normals must be numbers
+        values = np.asarray(body[:, _CORNER_COLUMNS].ravel(), dtype=np.float64)
+    except ValueError:
+        return None
+    return values.reshape(-1, 3)
+
+
+_NUM = r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|inf(?:inity)?))"
+_FACET = re.compile(
+    r"facet\s+normal" + r"\s+" + r"\s+".join([_NUM] * 3) + r"\s+outer\s+loop"
+    + "".join(r"\s+vertex\s+" + r"\s+".join([_NUM] * 3) for _ in range(3))
+    + r"\s+endloop\s+endfacet(?!\S)",
+    re.IGNORECASE,
+)
+_KEYWORD = re.compile(r"(?i)(?<!\S)(facet|endsolid)(?!\S)")
+
+
+def _ascii_checked(text: str) -> np.ndarray:
+    """Facet by facet (several solids, odd spacing), naming the first malformed facet."""
+    facets = list(_FACET.finditer(text))
+    starts = {m.start() for m in facets}
+    keywords = list(_KEYWORD.finditer(text))
+    for key in keywords:
+        if key.group(1).lower() == "facet" and key.start() not in starts:
+            line = text.count("\n", 0, key.start()) + 1
+            content = text[key.start():].split("\n", 1)[0].strip()
+            raise MeshError(f"ascii STL: malformed facet at line {line} ({content[:60]!r}; "
+                            "expected 'facet normal nx ny nz', 'outer loop', three 'vertex x y "
+                            "z', 'endloop', 'endfacet')")
+    if not keywords or keywords[-1].group(1).lower() != "endsolid":
+        raise MeshError("ascii STL is truncated (no 'endsolid' after the last facet)")
+    if not facets:
+        return np.zeros((0, 3))
+    values = np.array([x for m in facets for x in m.groups()[3:]], dtype=np.float64)
+    return values.reshape(-1, 3)
 
 
 def warn_stl_numbering(faces: np.ndarray, n_vertices: int, name: str) -> None:
