@@ -8,11 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from surfinpaint.errors import MeshError
-from surfinpaint.geometry.mesh import (
-    boundary_loops,
-    connected_components,
-    face_areas,
-)
+from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.mesh import boundary_loops, face_areas
 
 __all__ = ["Hole", "find_holes", "loop_diameter", "select_holes", "orient_loop"]
 
@@ -71,7 +68,8 @@ def _spanned_area(points: np.ndarray) -> float:
     return 0.5 * float(np.linalg.norm(np.cross(centred, np.roll(centred, -1, axis=0)).sum(0)))
 
 
-def find_holes(vertices: np.ndarray, faces: np.ndarray) -> list[Hole]:
+def find_holes(vertices: np.ndarray, faces: np.ndarray,
+               table: EdgeTable | None = None) -> list[Hole]:
     """Boundary loops of a mesh, measured, with the outer borders flagged.
 
     Every boundary loop is returned. In each connected component the longest loop is flagged
@@ -83,6 +81,9 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray) -> list[Hole]:
     ----------
     vertices : (n, 3) float array
     faces : (f, 3) int array
+    table : EdgeTable, optional
+        The faces' edge table, if already built (e.g. by the caller that validated the
+        mesh): the loops and components are then read from it in O(E).
 
     Returns
     -------
@@ -101,10 +102,12 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray) -> list[Hole]:
     """
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
-    loops = boundary_loops(faces)
+    if table is None:
+        table = EdgeTable.build(faces, len(vertices))
+    loops = boundary_loops(faces, table)
     if not loops:
         return []
-    _, label = connected_components(faces, len(vertices))
+    _, label = table.vertex_components
     area_per_component = np.bincount(
         label[faces[:, 0]], weights=face_areas(vertices, faces), minlength=label.max() + 1
     )

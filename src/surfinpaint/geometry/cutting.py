@@ -16,6 +16,7 @@ from scipy.sparse.csgraph import connected_components as _cc
 from scipy.sparse.csgraph import dijkstra
 
 from surfinpaint.errors import MeshError
+from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, unique_edges
 
 __all__ = ["CutResult", "Hole", "cut_geodesic_disk", "cut_holes", "ring_distances",
@@ -100,7 +101,8 @@ class _Topology:
     def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
         self.n = len(vertices)
         self.faces = faces
-        edges, face_edge, count = unique_edges(faces)
+        table = EdgeTable.build(faces, self.n)
+        edges, count = table.edges, table.count
         if (count > 2).any():
             bad = edges[count > 2][:10]
             raise MeshError("mesh is not edge-manifold", edges=[tuple(e) for e in bad.tolist()])
@@ -109,20 +111,11 @@ class _Topology:
         length = np.maximum(length, 1e-300)
         self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])),
                                    shape=(self.n, self.n)).tocsr()
-        # the two faces of each interior edge
-        flat_edge = face_edge.ravel()
-        flat_face = np.repeat(np.arange(len(faces)), 3)
-        order = np.argsort(flat_edge, kind="stable")
-        e_sorted, f_sorted = flat_edge[order], flat_face[order]
-        first = np.flatnonzero(np.r_[True, e_sorted[1:] != e_sorted[:-1]])
-        interior = count[e_sorted[first]] == 2
-        self.face_pairs = np.column_stack([f_sorted[first[interior]],
-                                           f_sorted[first[interior] + 1]])
-        # the shared edge as a half-edge of the first face (the second has it reversed)
-        corner = (order % 3)[first[interior]]
-        f1 = faces[self.face_pairs[:, 0]]
-        rows = np.arange(len(f1))
-        self.pair_half = np.column_stack([f1[rows, (corner + 1) % 3], f1[rows, (corner + 2) % 3]])
+        # the two faces of each interior edge, and the edge as a half-edge of the first face
+        # (the second has it reversed)
+        h1, h2 = table.interior_pairs()
+        self.face_pairs = np.column_stack([h1 // 3, h2 // 3])
+        self.pair_half = np.column_stack([table.tails(h1), table.heads(h1)])
         self.on_boundary = np.zeros(self.n, bool)
         self.on_boundary[edges[count == 1].ravel()] = True
         self.face_component = _cc(self._face_graph(np.ones(len(faces), bool)),

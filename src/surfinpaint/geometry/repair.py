@@ -15,6 +15,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import MeshError
+from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.validation import check_arrays
 
 __all__ = ["corner_fans", "remove_nonmanifold_faces", "unjoined_bowties"]
@@ -24,7 +25,7 @@ def _halfedges(faces: np.ndarray, n: int):
     """Half-edges h = 3 t + k (corner k -> k + 1 of face t): tail, head, undirected key."""
     tail = faces.ravel()
     head = faces[:, [1, 2, 0]].ravel()
-    key = np.minimum(tail, head) * np.int64(n) + np.maximum(tail, head)
+    key = edge_keys(tail, head, n)
     return tail, head, key
 
 
@@ -234,7 +235,7 @@ def unjoined_bowties(faces: np.ndarray, loop: np.ndarray) -> np.ndarray:
     order = np.argsort(key, kind="stable")
     sk = key[order]
     nxt = np.roll(loop, -1)
-    wanted = np.minimum(loop, nxt) * np.int64(n) + np.maximum(loop, nxt)
+    wanted = edge_keys(loop, nxt, n)
     pos = np.clip(np.searchsorted(sk, wanted), 0, len(sk) - 1)
     right = np.clip(np.searchsorted(sk, wanted, side="right"), 0, len(sk))
     bad = np.flatnonzero((sk[pos] != wanted) | (right - pos != 1))

@@ -16,6 +16,8 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.mesh import boundary_loops
 
 __all__ = ["MeshReport", "check_arrays", "check_loop", "nonmanifold_vertices", "validate_mesh"]
 
@@ -124,19 +126,6 @@ def check_arrays(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = 
                     faces=high[:100].tolist())
 
 
-def _edge_keys(faces: np.ndarray, n: int):
-    """Half-edges h = 3 t + k (corner k -> k+1 of face t): tails, heads, undirected key."""
-    tail = faces.ravel()
-    head = faces[:, [1, 2, 0]].ravel()
-    lo = np.minimum(tail, head)
-    hi = np.maximum(tail, head)
-    return tail, head, lo * np.int64(n) + hi
-
-
-def _pairs(ids: np.ndarray, keys: np.ndarray, n: int) -> list[tuple[int, int]]:
-    return [(int(k // n), int(k % n)) for k in keys[ids]]
-
-
 def zero_area_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """Ids of faces whose area is at most ``ZERO_AREA_RTOL`` times their longest edge squared
     (collinear or coincident corners)."""
@@ -161,8 +150,8 @@ def zero_area_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return np.flatnonzero(0.5 * area2 <= ZERO_AREA_RTOL * longest2)
 
 
-def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *,
-                  path: str | None = None) -> MeshReport:
+def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = None,
+                  table: EdgeTable | None = None) -> MeshReport:
     """Check a triangle mesh and describe it.
 
     Parameters
@@ -171,6 +160,9 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *,
     faces : (f, 3) int array
     path : str, optional
         File name used in messages and stored in the report.
+    table : EdgeTable, optional
+        The faces' edge table, if already built (it is reused by ``find_holes``): the checks
+        are then O(E) passes over it.
 
     Returns
     -------
@@ -205,16 +197,11 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *,
         raise _fail(f"{repeated.size} faces use the same vertex twice: "
                     f"{_face_text(repeated, f)}", path, faces=repeated[:100].tolist())
 
-    s = np.sort(f, axis=1)
-    order = np.lexsort((s[:, 2], s[:, 1], s[:, 0]))
-    same = np.flatnonzero((s[order[1:]] == s[order[:-1]]).all(axis=1))
-    if same.size:
-        # name each later copy with the face it repeats
-        first = order[same]
-        dup = order[same + 1]
-        text = _listing([f"{int(b)} (same vertices as {int(a)})"
-                         for a, b in zip(first[:10], dup[:10], strict=True)], len(dup))
-        raise _fail(f"{dup.size} duplicate faces: {text}", path, faces=dup[:100].tolist())
+    if table is None:
+        table = EdgeTable.build(f, n)
+    else:
+        table.check_faces(f)
+    _check_duplicates(table, path)
 
     # per coordinate on 1-D arrays: several times faster than np.cross on (f, 3) gathers
     flat = zero_area_faces(v, f)
@@ -222,55 +209,18 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *,
         raise _fail(f"{flat.size} faces have zero area (collinear or coincident corners): "
                     f"{_face_text(flat, f)}", path, faces=flat[:100].tolist())
 
-    tail, head, key = _edge_keys(f, n)
-    order = np.argsort(key, kind="stable")
-    skey = key[order]
-    starts = np.flatnonzero(np.r_[True, skey[1:] != skey[:-1]])
-    counts = np.diff(np.r_[starts, len(skey)])
-    n_edges = len(starts)
-
-    nonmanifold = np.flatnonzero(counts > 2)
-    if nonmanifold.size:
-        edges = [(int(k // n), int(k % n)) for k in skey[starts[nonmanifold[:100]]]]
-        text = _listing([f"({a}, {b}) in {int(counts[i])} faces"
-                         for (a, b), i in zip(edges[:10], nonmanifold[:10], strict=True)],
-                        nonmanifold.size)
-        raise _fail(f"{nonmanifold.size} non-manifold edges (shared by more than two faces): "
-                    f"{text}", path, edges=edges)
-
-    # interior edge: its two half-edges must run in opposite directions
-    inner = starts[counts == 2]
-    h1, h2 = order[inner], order[inner + 1]
-    clash = np.flatnonzero(tail[h1] == tail[h2])
-    if clash.size:
-        edges = [(int(tail[h1[i]]), int(head[h1[i]])) for i in clash[:100]]
-        faces_bad = np.unique(np.concatenate([h1[clash], h2[clash]]) // 3)
-        text = _listing([f"({a}, {b}) in faces {int(h1[i] // 3)} and {int(h2[i] // 3)}"
-                         for (a, b), i in zip(edges[:10], clash[:10], strict=True)],
-                        clash.size)
-        raise _fail(f"inconsistent face orientation: {clash.size} shared edges are traversed "
-                    f"in the same direction by both faces: {text}", path, edges=edges,
-                    faces=faces_bad[:100].tolist())
+    _check_edges(table, path)
 
     referenced = np.zeros(n, dtype=bool)
     referenced[f.ravel()] = True
     unreferenced = np.flatnonzero(~referenced)
-    # csr built here: handing scipy a coo matrix costs several times more
-    graph = sp.csr_matrix((np.ones(len(tail), np.int8), (tail, head)), shape=(n, n))
-    _, labels = connected_components(graph, directed=True, connection="weak")
-    n_components = int(np.count_nonzero(np.bincount(labels[referenced])))
-    del graph, labels
-
-    bowtie = _bowtie(f, tail, head, key, order, starts, counts)
-    has_boundary = bool(np.any(counts == 1))
-    # free the half-edge arrays first: tracing loops builds its own, and on a mesh of
-    # millions of faces both at once would double the peak memory
-    del tail, head, key, order, skey, starts, counts, inner, h1, h2
+    _, labels = table.vertex_components
+    n_components = int(np.count_nonzero(np.bincount(labels[np.flatnonzero(referenced)])))
+    bowtie = _bowtie(table)
     loop_lengths: list[int] = []
-    if has_boundary:
-        from surfinpaint.geometry.mesh import boundary_loops
-
-        loop_lengths = [len(loop) for loop in boundary_loops(f)]
+    if np.any(table.count == 1):
+        loop_lengths = [len(loop) for loop in boundary_loops(f, table)]
+    n_edges = table.n_edges
 
     report = MeshReport(
         n_vertices=n, n_faces=len(f), n_edges=n_edges, n_components=n_components,
@@ -298,37 +248,103 @@ def _face_text(ids: np.ndarray, f: np.ndarray) -> str:
     return _listing([f"{int(i)} {tuple(int(x) for x in f[i])}" for i in ids[:10]], len(ids))
 
 
-def _bowtie(f, tail, head, key, order, starts, counts) -> np.ndarray:
-    """Bow-tie vertices from the sorted half-edge table (see :func:`nonmanifold_vertices`)."""
-    # corners c = 3 t + k; half-edge h leaves corner h and arrives at corner 3 t + (k + 1) % 3.
-    # Corner ids fit in int32 for any mesh this size, which halves the temporaries' memory.
-    m = len(tail)
+def _check_duplicates(table: EdgeTable, path: str | None) -> None:
+    """Raise for faces with the same three vertices as another, naming each later copy with
+    the face it repeats (in the order of the faces' sorted vertex triples)."""
+    # Two such faces share every edge and have the same vertex opposite it, so comparing the
+    # opposite corners (corner k of face t is opposite half-edge 3 t + k) of the faces on
+    # each edge finds them all in O(E); only edges with three or more faces need a sort.
+    corner_vertex = table.faces.ravel()
+    h1, h2 = table.interior_pairs()
+    twin = corner_vertex[h1] == corner_vertex[h2]
+    suspects = [h1[twin] // 3, h2[twin] // 3]
+    crowded = np.flatnonzero(table.count > 2)
+    if crowded.size:
+        h = np.concatenate([table.halfedges[table.start[e]:table.start[e + 1]]
+                            for e in crowded])
+        edge, opposite = table.face_edge.ravel()[h], corner_vertex[h]
+        order = np.lexsort((opposite, edge))
+        same = np.flatnonzero((edge[order[1:]] == edge[order[:-1]])
+                              & (opposite[order[1:]] == opposite[order[:-1]]))
+        suspects.append(h[order[np.r_[same, same + 1]]] // 3)
+    faces_bad = np.unique(np.concatenate(suspects))
+    if not faces_bad.size:
+        return
+    # the message as a sort of the sorted vertex triples of the faces involved gives it
+    s = np.sort(table.faces[faces_bad], axis=1)
+    order = np.lexsort((s[:, 2], s[:, 1], s[:, 0]))
+    same = np.flatnonzero((s[order[1:]] == s[order[:-1]]).all(axis=1))
+    first, dup = faces_bad[order[same]], faces_bad[order[same + 1]]
+    text = _listing([f"{int(b)} (same vertices as {int(a)})"
+                     for a, b in zip(first[:10], dup[:10], strict=True)], len(dup))
+    raise _fail(f"{dup.size} duplicate faces: {text}", path, faces=dup[:100].tolist())
+
+
+def _check_edges(table: EdgeTable, path: str | None) -> None:
+    """Raise for non-manifold edges and for interior edges whose two faces traverse them
+    in the same direction (inconsistent orientation), naming the edges and faces."""
+    count = table.count
+    nonmanifold = np.flatnonzero(count > 2)
+    if nonmanifold.size:
+        edges = [(int(a), int(b)) for a, b in table.edges[nonmanifold[:100]]]
+        text = _listing([f"({a}, {b}) in {int(count[i])} faces"
+                         for (a, b), i in zip(edges[:10], nonmanifold[:10], strict=True)],
+                        nonmanifold.size)
+        raise _fail(f"{nonmanifold.size} non-manifold edges (shared by more than two faces): "
+                    f"{text}", path, edges=edges)
+    # interior edge: its two half-edges must run in opposite directions
+    h1, h2 = table.interior_pairs()
+    clash = np.flatnonzero(table.forward[h1] == table.forward[h2])
+    if clash.size:
+        h1, h2 = h1[clash], h2[clash]
+        edges = [(int(a), int(b)) for a, b in zip(table.tails(h1[:100]), table.heads(h1[:100]),
+                                                   strict=True)]
+        faces_bad = np.unique(np.concatenate([h1, h2]) // 3)
+        text = _listing([f"({a}, {b}) in faces {int(p // 3)} and {int(q // 3)}"
+                         for (a, b), p, q in zip(edges[:10], h1[:10], h2[:10], strict=True)],
+                        clash.size)
+        raise _fail(f"inconsistent face orientation: {clash.size} shared edges are traversed "
+                    f"in the same direction by both faces: {text}", path, edges=edges,
+                    faces=faces_bad[:100].tolist())
+
+
+def _bowtie(table: EdgeTable) -> np.ndarray:
+    """Bow-tie vertices from the edge table (see :func:`nonmanifold_vertices`)."""
+    # Corner c = 3 t + k is vertex faces[t, k]; half-edge h = 3 t + k leaves corner
+    # 3 t + (k + 1) % 3 and arrives at corner 3 t + (k + 2) % 3. Corner ids fit in int32 for
+    # any mesh this size, which halves the temporaries' memory.
+    corner_vertex = table.faces.ravel()
+    m = len(corner_vertex)
     ids = np.int32 if m < 2**31 - 1 else np.int64
     # link consecutive half-edges of the same undirected edge (all of them when non-manifold)
-    same = np.flatnonzero(key[order[1:]] == key[order[:-1]])
-    a = order[same].astype(ids)
-    b = order[same + 1].astype(ids)
+    continues = np.ones(m, dtype=bool)
+    continues[table.start[:-1]] = False
+    same = np.flatnonzero(continues[1:])
+    del continues
+    a = table.halfedges[same].astype(ids)
+    b = table.halfedges[same + 1].astype(ids)
     del same
 
-    def head_corner(h):
-        return (h - h % 3 + (h % 3 + 1) % 3).astype(ids)
+    def corners(h):
+        base = h - h % 3
+        return base + (h % 3 + 1) % 3, base + (h % 3 + 2) % 3
 
     # at the smaller endpoint and at the larger one, join the two faces' corners
-    lo = np.minimum(tail[a], head[a])
-    a_at_lo = tail[a] == lo
-    b_at_lo = tail[b] == lo
-    del lo
-    ha, hb = head_corner(a), head_corner(b)
-    rows = np.concatenate([np.where(a_at_lo, a, ha), np.where(a_at_lo, ha, a)])
-    cols = np.concatenate([np.where(b_at_lo, b, hb), np.where(b_at_lo, hb, b)])
-    del a, b, ha, hb, a_at_lo, b_at_lo
+    a_tail, a_head = corners(a)
+    b_tail, b_head = corners(b)
+    del a, b
+    a_at_lo = corner_vertex[a_tail] < corner_vertex[a_head]
+    b_at_lo = corner_vertex[b_tail] < corner_vertex[b_head]
+    rows = np.concatenate([np.where(a_at_lo, a_tail, a_head), np.where(a_at_lo, a_head, a_tail)])
+    cols = np.concatenate([np.where(b_at_lo, b_tail, b_head), np.where(b_at_lo, b_head, b_tail)])
+    del a_tail, a_head, b_tail, b_head, a_at_lo, b_at_lo
     graph = sp.csr_matrix((np.ones(len(rows), np.int8), (rows, cols)), shape=(m, m))
     del rows, cols
     n_fans, fan = connected_components(graph, directed=True, connection="weak")
     del graph
     # links only join corners of one vertex, so each fan belongs to a single vertex
     vertex_of_fan = np.empty(n_fans, dtype=np.int64)
-    vertex_of_fan[fan] = f.ravel()
+    vertex_of_fan[fan] = corner_vertex
     return np.flatnonzero(np.bincount(vertex_of_fan) > 1)
 
 
@@ -355,13 +371,7 @@ def nonmanifold_vertices(faces: np.ndarray) -> np.ndarray:
     f = np.asarray(faces, dtype=np.int64)
     if f.size == 0:
         return np.zeros(0, np.int64)
-    n = int(f.max()) + 1
-    tail, head, key = _edge_keys(f, n)
-    order = np.argsort(key, kind="stable")
-    skey = key[order]
-    starts = np.flatnonzero(np.r_[True, skey[1:] != skey[:-1]])
-    counts = np.diff(np.r_[starts, len(skey)])
-    return _bowtie(f, tail, head, key, order, starts, counts)
+    return _bowtie(EdgeTable.build(f))
 
 
 def check_loop(faces: np.ndarray, loop: np.ndarray, *, path: str | None = None) -> None:
@@ -392,20 +402,16 @@ def check_loop(faces: np.ndarray, loop: np.ndarray, *, path: str | None = None) 
         twice = values[counts > 1]
         raise _fail(f"boundary loop visits vertices more than once: {preview(twice)}", path,
                     vertices=twice[:100].tolist())
-    n = int(max(f.max(), loop.max())) + 1
-    _, _, key = _edge_keys(f, n)
-    uniq, per_edge = np.unique(key, return_counts=True)
+    table = EdgeTable.build(f, int(loop.max()) + 1)
     a, b = loop, np.roll(loop, -1)
-    lk = np.minimum(a, b) * np.int64(n) + np.maximum(a, b)
-    pos = np.clip(np.searchsorted(uniq, lk), 0, len(uniq) - 1)
-    found = uniq[pos] == lk
-    on_boundary = found & (per_edge[pos] == 1)
+    edge = table.find(a, b)
+    on_boundary = (edge >= 0) & (table.count[edge] == 1)
     if not on_boundary.all():
         bad = np.flatnonzero(~on_boundary)
         edges = [(int(a[i]), int(b[i])) for i in bad[:100]]
         raise _fail(f"{bad.size} loop edges are not boundary edges of the mesh: "
                     f"{preview(edges)}", path, edges=edges)
-    bowtie = np.intersect1d(nonmanifold_vertices(f), loop)
+    bowtie = np.intersect1d(_bowtie(table), loop)
     if bowtie.size:
         raise _fail(f"hole boundary passes through non-manifold (bow-tie) vertices "
                     f"{preview(bowtie)}: the faces there form several fans, so filling the "

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from surfinpaint.geometry.edges import edge_keys
+
 __all__ = [
     "Grid",
     "clough_tocher",
@@ -314,7 +316,7 @@ def face_neighbours(faces: np.ndarray) -> np.ndarray:
     fid = np.tile(np.arange(nf), 3)
     corner = np.repeat(np.arange(3), nf)
     base = np.int64(f.max()) + 1 if nf else np.int64(1)
-    key = np.minimum(a, b) * base + np.maximum(a, b)
+    key = edge_keys(a, b, base)
     order = np.argsort(key, kind="stable")
     same = key[order][1:] == key[order][:-1]
     out = np.full((nf, 3), -1, dtype=np.int64)

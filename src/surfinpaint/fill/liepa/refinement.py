@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import unique_edges
 
 __all__ = ["boundary_scales", "delaunay_flip", "refine_patch"]
@@ -58,11 +59,6 @@ def boundary_scales(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -
         raise MeshError(f"loop vertices {preview(lonely.tolist())} have no edges in the mesh",
                         vertices=lonely[:10].tolist())
     return total[loop] / count[loop]
-
-
-def _edge_keys(a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    return lo * n + hi
 
 
 def _cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -316,9 +312,9 @@ def delaunay_flip(
     p = np.asarray(positions, dtype=float)
     f = np.asarray(faces, dtype=np.int64).copy()
     n = len(p)
-    fixed = np.empty(0, np.int64) if fixed_edges is None else _edge_keys(
+    fixed = np.empty(0, np.int64) if fixed_edges is None else edge_keys(
         np.asarray(fixed_edges)[:, 0], np.asarray(fixed_edges)[:, 1], n)
-    forbidden = np.empty(0, np.int64) if forbidden_edges is None else _edge_keys(
+    forbidden = np.empty(0, np.int64) if forbidden_edges is None else edge_keys(
         np.asarray(forbidden_edges)[:, 0], np.asarray(forbidden_edges)[:, 1], n)
     fixed = np.unique(fixed).astype(np.int64)
     forbidden = np.unique(forbidden).astype(np.int64)
@@ -331,7 +327,7 @@ def delaunay_flip(
         # two half-edges of each interior edge (entry 3t + k: opposite corner k of face t)
         tails = f[:, [1, 2, 0]].ravel()
         heads = f[:, [2, 0, 1]].ravel()
-        flat = np.minimum(tails, heads) * n + np.maximum(tails, heads)
+        flat = edge_keys(tails, heads, n)
         order = np.argsort(flat, kind="stable")
         sorted_flat = flat[order]
         start = np.flatnonzero(np.r_[True, sorted_flat[1:] != sorted_flat[:-1]])
@@ -351,7 +347,7 @@ def delaunay_flip(
         # the remaining checks only on the failing edges (few after the first rounds)
         bad = np.flatnonzero((score > _FLIP_SLACK) & (c != d))
         a, b, c, d, t1, t2, score = (x[bad] for x in (a, b, c, d, t1, t2, score))
-        new_key = _edge_keys(c, d, n)
+        new_key = edge_keys(c, d, n)
         # in 3D both diagonals can fail the test; flipping then would cycle
         ok = _both_balls(p, c, d, a, b) <= _FLIP_SLACK
         ok &= ~_in_sorted(new_key, keys) & ~_in_sorted(new_key, forbidden)

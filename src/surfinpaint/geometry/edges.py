@@ -1,0 +1,200 @@
+"""The edge table of a triangle mesh: the one place where undirected edges are keyed,
+sorted and counted.
+
+A mesh's whole-mesh checks (validation, boundary loops, components, the outer-border test)
+all start from the same sort of its ``3 f`` half-edges by undirected edge. :class:`EdgeTable`
+does that sort once, in vectorized O(E log E) numpy (one stable sort of int64 keys, cheap on
+meshes whose faces are stored in spatial order), and every later pass over it is O(E).
+Build it once with :meth:`EdgeTable.build` and hand it to ``validate_mesh``, ``find_holes``
+and ``boundary_loops`` to skip rebuilding it.
+
+Half-edge ``h = 3 t + k`` is the edge opposite corner ``k`` of face ``t``, running from
+``faces[t, (k + 1) % 3]`` to ``faces[t, (k + 2) % 3]`` (the face's own orientation).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+__all__ = ["EdgeTable", "edge_keys"]
+
+
+def edge_keys(a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
+    """One int64 key per vertex pair, the same for ``(a, b)`` and ``(b, a)``:
+    ``min * n + max``, so sorting the keys sorts the edges by (smaller id, larger id).
+
+    Parameters
+    ----------
+    a, b : int arrays of the same shape
+        Vertex ids, all below ``n``.
+    n : int
+        A bound on the vertex ids (usually the vertex count).
+
+    Examples
+    --------
+    >>> edge_keys(np.array([3, 1]), np.array([1, 3]), 10).tolist()
+    [13, 13]
+    """
+    a = np.asarray(a, dtype=np.int64)
+    b = np.asarray(b, dtype=np.int64)
+    return np.minimum(a, b) * np.int64(n) + np.maximum(a, b)
+
+
+@dataclass(frozen=True, eq=False)
+class EdgeTable:
+    """Sorted unique undirected edges of a triangle mesh and the maps between edges, faces
+    and half-edges (see the module docstring for the half-edge numbering).
+
+    Attributes
+    ----------
+    faces : (f, 3) int64 array
+        The faces the table was built from (not copied: do not modify them afterwards).
+    n_vertices : int
+        The vertex-id bound used for the keys (at least ``faces.max() + 1``).
+    edges : (e, 2) int64 array
+        Each undirected edge once as (smaller id, larger id), sorted lexicographically.
+    count : (e,) int64 array
+        Faces on each edge: 1 on the boundary, 2 inside, more where non-manifold.
+    face_edge : (f, 3) int64 array
+        ``face_edge[t, k]``: the edge opposite corner ``k`` of face ``t``.
+    halfedges : (3 f,) int64 array
+        Half-edge ids grouped by edge (``halfedges[start[e]:start[e + 1]]`` are edge ``e``'s,
+        in increasing id, hence increasing face, order).
+    start : (e + 1,) int64 array
+        Offsets of each edge's group in ``halfedges``.
+    forward : (3 f,) bool array
+        Whether half-edge ``h`` runs from the smaller vertex id to the larger: two
+        half-edges of one edge traverse it in opposite directions iff these differ.
+
+    Examples
+    --------
+    >>> t = EdgeTable.build(np.array([[0, 1, 2], [2, 1, 3]]))
+    >>> t.edges.tolist(), t.count.tolist()
+    ([[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]], [1, 1, 2, 1, 1])
+    >>> t.edge_faces(2).tolist(), t.boundary_halfedges().tolist()
+    ([0, 1], [[2, 0], [0, 1], [1, 3], [3, 2]])
+    """
+
+    faces: np.ndarray
+    n_vertices: int
+    edges: np.ndarray
+    count: np.ndarray
+    face_edge: np.ndarray
+    halfedges: np.ndarray
+    start: np.ndarray
+    forward: np.ndarray
+
+    @classmethod
+    def build(cls, faces: np.ndarray, n_vertices: int | None = None) -> EdgeTable:
+        """Sort the half-edges of ``faces`` by undirected edge.
+
+        Parameters
+        ----------
+        faces : (f, 3) int array
+            Vertex ids in ``0 .. n_vertices - 1`` (not checked: validate first).
+        n_vertices : int, optional
+            The vertex count; ``faces.max() + 1`` when omitted.
+        """
+        f = np.asarray(faces, dtype=np.int64)
+        n = int(f.max()) + 1 if f.size else 1
+        if n_vertices is not None:
+            n = max(n, int(n_vertices))
+        tails, heads = f[:, [1, 2, 0]].ravel(), f[:, [2, 0, 1]].ravel()
+        forward = tails < heads
+        key = edge_keys(tails, heads, n)
+        del tails, heads
+        # stable, so each edge's half-edges stay in face order (timsort also profits from
+        # the runs of a spatially ordered mesh: ~2x faster than the default quicksort)
+        order = np.argsort(key, kind="stable")
+        sorted_key = key[order]
+        del key
+        new = np.empty(len(order), dtype=bool)
+        new[:1] = True
+        np.not_equal(sorted_key[1:], sorted_key[:-1], out=new[1:])
+        first = np.flatnonzero(new)
+        unique = sorted_key[first]
+        del sorted_key
+        face_edge = np.empty(len(order), dtype=np.int64)
+        face_edge[order] = np.cumsum(new) - 1
+        start = np.append(first, len(order)).astype(np.int64)
+        edges = np.column_stack([unique // n, unique % n])
+        return cls(faces=f, n_vertices=n, edges=edges, count=np.diff(start),
+                   face_edge=face_edge.reshape(-1, 3), halfedges=order, start=start,
+                   forward=forward)
+
+    @property
+    def n_edges(self) -> int:
+        return len(self.edges)
+
+    def check_faces(self, faces: np.ndarray) -> None:
+        """Raise ``ValueError`` when ``faces`` cannot be the faces this table was built from
+        (a different count), so a stale table is not used silently."""
+        if len(faces) != len(self.faces):
+            raise ValueError(f"the edge table was built for {len(self.faces)} faces, "
+                             f"not {len(faces)}")
+
+    def tails(self, h: np.ndarray) -> np.ndarray:
+        """Start vertex of half-edges ``h``."""
+        edge = self.face_edge.ravel()[h]
+        return np.where(self.forward[h], self.edges[edge, 0], self.edges[edge, 1])
+
+    def heads(self, h: np.ndarray) -> np.ndarray:
+        """End vertex of half-edges ``h``."""
+        edge = self.face_edge.ravel()[h]
+        return np.where(self.forward[h], self.edges[edge, 1], self.edges[edge, 0])
+
+    def interior_pairs(self) -> tuple[np.ndarray, np.ndarray]:
+        """The two half-edges ``(h1, h2)``, ``h1 < h2``, of each edge with exactly two faces,
+        in edge order."""
+        inner = self.start[:-1][self.count == 2]
+        return self.halfedges[inner], self.halfedges[inner + 1]
+
+    def edge_faces(self, e: int) -> np.ndarray:
+        """The faces on edge ``e``, in increasing order."""
+        return self.halfedges[self.start[e]:self.start[e + 1]] // 3
+
+    @cached_property
+    def owners(self) -> np.ndarray:
+        """(e, 2) int64: the first two faces on each edge, -1 where there is none."""
+        out = np.full((self.n_edges, 2), -1, dtype=np.int64)
+        out[:, 0] = self.halfedges[self.start[:-1]] // 3
+        two = self.count >= 2
+        out[two, 1] = self.halfedges[self.start[:-1][two] + 1] // 3
+        return out
+
+    def boundary_halfedges(self) -> np.ndarray:
+        """(b, 2) int64: the directed boundary edges (edges with one face), oriented as in
+        their face, in increasing half-edge order."""
+        h = np.sort(self.halfedges[self.start[:-1][self.count == 1]])
+        return np.column_stack([self.tails(h), self.heads(h)])
+
+    def find(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Edge id of each vertex pair ``(a[i], b[i])`` (either direction), -1 where the pair
+        is not an edge of the mesh."""
+        a = np.asarray(a, dtype=np.int64)
+        b = np.asarray(b, dtype=np.int64)
+        out = np.full(a.shape, -1, dtype=np.int64)
+        inside = (a >= 0) & (b >= 0) & (a < self.n_vertices) & (b < self.n_vertices)
+        if not self.n_edges or not inside.any():
+            return out
+        keys = edge_keys(self.edges[:, 0], self.edges[:, 1], self.n_vertices)
+        query = edge_keys(a[inside], b[inside], self.n_vertices)
+        pos = np.minimum(np.searchsorted(keys, query), len(keys) - 1)
+        out[inside] = np.where(keys[pos] == query, pos, -1)
+        return out
+
+    @cached_property
+    def vertex_components(self) -> tuple[int, np.ndarray]:
+        """Connected components of the vertices through the edges: ``(count, label per
+        vertex)``, labels numbered in order of each component's smallest vertex; vertices
+        on no edge are components of their own."""
+        e = self.edges
+        graph = sp.csr_matrix((np.ones(len(e), np.int8), (e[:, 0], e[:, 1])),
+                              shape=(self.n_vertices, self.n_vertices))
+        count, label = connected_components(graph, directed=False)
+        return int(count), label
