@@ -1,0 +1,195 @@
+"""Inpainted overlays of filled holes against the truth: fsaverage5 left pial surface with its
+curvature, sulcal depth and cortical thickness maps (as nilearn ships them, offline).
+
+Geodesic disks are cut out of the surface (:func:`surfinpaint.geometry.cutting.cut_holes`,
+one hole a case, centres drawn at random with a fixed seed) and the maps' values at the new
+vertices are compared with the truth, for four rules:
+
+- ``biharmonic``: :mod:`surfinpaint.fill.attributes` (biharmonic on the patch's LSCM map);
+- ``biharmonic-3d``: the same on the patch's 3D triangles (the surface metric);
+- ``harmonic``: ``order=1`` on the LSCM map (the Dirichlet energy is conformally invariant,
+  so this is also the harmonic fill on the surface);
+- ``nearest``: each new vertex copies the nearest original vertex's value (3D distance).
+
+Two settings. ``true surface``: the removed vertices are put back where they were, so only the
+overlay is inpainted and the error is exact at each vertex. ``filled surface``: the hole is
+filled by :func:`surfinpaint.fill_holes` (default method) and the truth at a new vertex is the
+map interpolated (barycentrically) at its closest point on the removed patch.
+
+Errors are mean absolute errors over all new vertices of all holes, in the map's units
+(curv in 1/mm, sulc and thickness in mm), with the map's standard deviation for scale.
+
+    python benchmarks/attributes.py [--holes 12] [--radii 6,12] [--seed 0] [--no-fill]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+import warnings
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from surfinpaint import fill_holes
+from surfinpaint.data import fsaverage5
+from surfinpaint.fill.attributes import (
+    fill_hole_attributes,
+    fill_result_attributes,
+    hole_domain,
+    inpaint_values,
+)
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.metrics import closest_point_on_triangles
+
+MAPS = ("curv", "sulc", "thick")
+RULES = ("biharmonic", "biharmonic-3d", "harmonic", "nearest")
+
+
+def load_maps() -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+    """The LEFT pial surface and its maps (never the right hemisphere: it is reserved)."""
+    import nibabel
+    from nilearn import datasets
+
+    bundle = datasets.fetch_surf_fsaverage("fsaverage5")
+    v, f = fsaverage5("pial", "left")
+    maps = {name: np.asarray(nibabel.load(bundle[f"{name}_left"]).agg_data(), dtype=float)
+            for name in MAPS}
+    return v, f, maps
+
+
+def _stack(maps: dict[str, np.ndarray], ids: np.ndarray) -> np.ndarray:
+    return np.column_stack([maps[name][ids] for name in MAPS])
+
+
+def true_surface_case(v, f, maps, cut) -> dict[str, np.ndarray]:
+    """(new, maps) errors of each rule with the removed vertices back in place."""
+    hole = cut.holes[0]
+    kept_faces = cut.kept[cut.faces]
+    loop = cut.kept[hole.loop]
+    fill_faces = hole.truth_ids[hole.truth_faces]
+    new_ids = np.setdiff1d(hole.truth_ids, cut.kept)
+    truth = _stack(maps, new_ids)
+    attrs = {name: maps[name] for name in MAPS}
+    kinds = dict.fromkeys(MAPS, "values")
+    out = {}
+    for rule, order in (("biharmonic", 2), ("harmonic", 1)):
+        filled = fill_hole_attributes(v, kept_faces, loop, fill_faces, new_ids, attrs,
+                                      kinds=kinds, order=order)
+        out[rule] = np.column_stack([filled[name] for name in MAPS]) - truth
+    dom = hole_domain(v, kept_faces, loop, fill_faces)
+    known = ~np.isin(dom.ids, new_ids)
+    flat = inpaint_values(v[dom.ids], dom.faces, known, _stack(maps, dom.ids))
+    out["biharmonic-3d"] = flat[np.searchsorted(dom.ids, new_ids)] - truth
+    _, nearest = cKDTree(v[cut.kept]).query(v[new_ids])
+    out["nearest"] = _stack(maps, cut.kept[nearest]) - truth
+    return out
+
+
+def _truth_at(points, hole, maps) -> np.ndarray:
+    """The maps interpolated at each point's closest point on the removed patch."""
+    tv, tf = hole.truth_vertices, hole.truth_faces
+    k = min(16, len(tf))
+    _, cand = cKDTree(tv[tf].mean(axis=1)).query(points, k=k)
+    cand = cand.reshape(len(points), k)
+    rep = np.repeat(points, k, axis=0)
+    tri = tv[tf[cand.ravel()]]
+    q = closest_point_on_triangles(rep, tri[:, 0], tri[:, 1], tri[:, 2])
+    best = np.argmin(((q - rep) ** 2).sum(axis=1).reshape(-1, k), axis=1)
+    pick = np.arange(len(points)) * k + best
+    a, b, c = tri[pick, 0], tri[pick, 1], tri[pick, 2]
+    q = q[pick]
+    # barycentric coordinates of q in its triangle
+    v0, v1, v2 = b - a, c - a, q - a
+    d00, d01, d11 = (v0 * v0).sum(1), (v0 * v1).sum(1), (v1 * v1).sum(1)
+    d20, d21 = (v2 * v0).sum(1), (v2 * v1).sum(1)
+    den = np.maximum(d00 * d11 - d01 * d01, 1e-300)
+    wb = (d11 * d20 - d01 * d21) / den
+    wc = (d00 * d21 - d01 * d20) / den
+    weights = np.column_stack([1 - wb - wc, wb, wc])
+    corner_ids = hole.truth_ids[tf[cand[np.arange(len(points)), best]]]
+    values = np.stack([_stack(maps, corner_ids[:, j]) for j in range(3)], axis=1)
+    return np.einsum("ij,ijk->ik", weights, values)
+
+
+def filled_surface_case(maps, cut) -> dict[str, np.ndarray] | None:
+    """(new, maps) errors of each rule on the default fill of the hole."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = fill_holes(cut.vertices, cut.faces)
+    n = len(cut.vertices)
+    if len(result.vertices) == n:
+        return None
+    new = result.vertices[n:]
+    truth = _truth_at(new, cut.holes[0], maps)
+    attrs = {name: maps[name][cut.kept] for name in MAPS}
+    kinds = dict.fromkeys(MAPS, "values")
+    out = {}
+    for rule, order in (("biharmonic", 2), ("harmonic", 1)):
+        filled = fill_result_attributes(result, attrs, kinds=kinds, order=order)
+        out[rule] = np.column_stack([filled[name][n:] for name in MAPS]) - truth
+    _, nearest = cKDTree(cut.vertices).query(new)
+    out["nearest"] = _stack(maps, cut.kept[nearest]) - truth
+    return out
+
+
+def _table(errors: dict, maps, title: str, rules) -> str:
+    lines = [f"**{title}**", "",
+             "| map (sd) | hole radius | new vertices | " + " | ".join(rules) + " |",
+             "|---|---|---|" + "---|" * len(rules)]
+    for j, name in enumerate(MAPS):
+        for radius, per_rule in errors.items():
+            if not per_rule:
+                continue
+            mae = {rule: np.abs(np.concatenate(per_rule[rule])[:, j]).mean() for rule in rules}
+            count = sum(len(e) for e in per_rule[rules[0]])
+            cells = " | ".join(f"{mae[rule]:.4f}" for rule in rules)
+            lines.append(f"| {name} ({maps[name].std():.3f}) | {radius:g} mm | {count} | "
+                         f"{cells} |")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--holes", type=int, default=12, help="holes per radius")
+    parser.add_argument("--radii", default="6,12", help="geodesic radii in mm")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--no-fill", action="store_true", help="true surface only")
+    args = parser.parse_args(argv)
+    v, f, maps = load_maps()
+    rng = np.random.default_rng(args.seed)
+    radii = [float(r) for r in args.radii.split(",")]
+    true_err: dict = {r: {rule: [] for rule in RULES} for r in radii}
+    fill_err: dict = {r: {rule: [] for rule in RULES if rule != "biharmonic-3d"}
+                      for r in radii}
+    started, skipped = time.perf_counter(), 0
+    for radius in radii:
+        made = 0
+        for center in rng.permutation(len(v)):
+            if made == args.holes:
+                break
+            try:
+                cut = cut_holes(v, f, [int(center)], [radius])
+            except ValueError:
+                skipped += 1
+                continue
+            made += 1
+            for rule, e in true_surface_case(v, f, maps, cut).items():
+                true_err[radius][rule].append(e)
+            if not args.no_fill:
+                errors = filled_surface_case(maps, cut)
+                for rule, e in (errors or {}).items():
+                    fill_err[radius][rule].append(e)
+    print(f"fsaverage5 left pial, {args.holes} holes per radius, seed {args.seed} "
+          f"({skipped} centres skipped: no disk), {time.perf_counter() - started:.0f} s\n")
+    print(_table(true_err, maps, "True surface: mean absolute error at the removed vertices",
+                 RULES))
+    if not args.no_fill:
+        print()
+        print(_table(fill_err, maps, "Filled surface (default fill): mean absolute error at "
+                     "the new vertices", [r for r in RULES if r != "biharmonic-3d"]))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
