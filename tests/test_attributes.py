@@ -245,3 +245,4 @@ def test_several_holes_one_skipped(method):
     # a new face takes the id of a face touching its own hole's loop
     touching = np.isin(cut.faces, np.concatenate([r.loop for r in result.reports])).any(1)
     assert np.isin(faces[len(cut.faces):], np.flatnonzero(touching)).all()
+

@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.spatial import cKDTree
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.linalg import factorized_definite
@@ -53,6 +54,7 @@ __all__ = [
     "HoleDomain",
     "MAX_LABELS",
     "attribute_kind",
+    "check_attributes",
     "fill_hole_attributes",
     "fill_result_attributes",
     "hole_domain",
@@ -510,19 +512,51 @@ def fill_result_attributes(
     dict of name to (len(result.vertices), ...) array, in each attribute's dtype.
     """
     n, total = result.n_original_vertices, len(result.vertices)
-    originals = {name: _rows(name, a, (n, total))[:n] for name, a in attributes.items()}
-    kinds = _resolve_kinds(originals, kinds)
+    originals, kinds = check_attributes(n, attributes, kinds, total)
     ranges = {name: _channel_ranges(a) for name, a in originals.items()
               if kinds[name] == "values"}
     out = {name: np.concatenate([a, np.zeros((total - n, *a.shape[1:]), dtype=a.dtype)])
            for name, a in originals.items()}
     faces = result.faces[: result.n_original_faces]
     for report, new_ids, face_ids in _hole_blocks(result):
-        if len(new_ids) == 0:
+        if len(new_ids) == 0 or not out:
             continue
-        filled = fill_hole_attributes(result.vertices, faces, report.loop,
-                                      result.faces[face_ids], new_ids, out, kinds=kinds,
-                                      ranges=ranges, rings=rings, order=order)
+        try:
+            filled = fill_hole_attributes(result.vertices, faces, report.loop,
+                                          result.faces[face_ids], new_ids, out, kinds=kinds,
+                                          ranges=ranges, rings=rings, order=order)
+        except (RuntimeError, np.linalg.LinAlgError) as exc:
+            # a singular patch system: the geometry is filled, its attributes must not be lost
+            warnings.warn(f"hole {report.index}: attributes not inpainted ({exc}); the new "
+                          "vertices copy the nearest original vertex's values", stacklevel=2)
+            _, nearest = cKDTree(result.vertices[:n]).query(result.vertices[new_ids])
+            filled = {name: a[nearest] for name, a in originals.items()}
         for name, values in filled.items():
             out[name][new_ids] = values
     return out
+
+
+def check_attributes(
+    n_vertices: int, attributes: Mapping[str, np.ndarray] | None,
+    kinds: Mapping[str, str] | None = None, n_filled: int | None = None,
+) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+    """The per-vertex attributes as arrays of ``n_vertices`` rows, and their kinds.
+
+    Parameters
+    ----------
+    n_vertices : int
+    attributes : mapping of name to array, or None
+    kinds : mapping of name to kind, optional
+    n_filled : int, optional
+        Also accepted as a row count (an array over a filled mesh: its first
+        ``n_vertices`` rows are kept).
+
+    Raises
+    ------
+    ValueError
+        Naming the attribute with the wrong number of rows, or an unknown kind.
+    """
+    counts = (n_vertices,) if n_filled is None else (n_vertices, n_filled)
+    arrays = {name: _rows(name, a, counts)[:n_vertices]
+              for name, a in dict(attributes or {}).items()}
+    return arrays, _resolve_kinds(arrays, kinds)

@@ -1,0 +1,160 @@
+"""Meshes as objects of other libraries: ``trimesh.Trimesh`` and ``pyvista.PolyData`` in, and
+out again with every attribute.
+
+Neither library is needed to import surfinpaint: each is imported only when one of its
+objects is passed in or asked for.
+
+What is carried (one name a per-vertex or per-face array, as in ``FillResult.attributes``):
+
+- ``trimesh.Trimesh``: vertex colours (``visual.vertex_colors``, RGBA uint8, as
+  ``"vertex_colors"``), face colours (``visual.face_colors`` as the face attribute
+  ``"face_colors"``), ``vertex_attributes`` and ``face_attributes``; a texture's ``uv`` as the
+  attribute ``"uv"`` (the image and material are not carried: a warning says so).
+- ``pyvista.PolyData``: ``point_data`` and ``cell_data`` (polygons fan-triangulated first,
+  with a warning; cell data then follow the triangles).
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping
+
+import numpy as np
+
+__all__ = ["COLOUR_NAMES", "mesh_arrays", "to_pyvista", "to_trimesh"]
+
+#: Attribute names that ``to_trimesh`` puts in ``visual`` (the first one found) rather than
+#: ``vertex_attributes``.
+COLOUR_NAMES = ("vertex_colors", "vertex_colours", "colors", "colours", "color", "colour",
+                "rgba", "rgb")
+
+
+def _library(mesh) -> str | None:
+    module = type(mesh).__module__
+    for name in ("trimesh", "pyvista"):
+        if module == name or module.startswith(name + "."):
+            return name
+    return None
+
+
+def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
+    attributes = {name: np.asarray(a) for name, a in mesh.vertex_attributes.items()}
+    face_attributes = {name: np.asarray(a) for name, a in mesh.face_attributes.items()}
+    visual = mesh.visual
+    if visual.kind == "vertex":
+        attributes.setdefault("vertex_colors", np.asarray(visual.vertex_colors))
+    elif visual.kind == "face":
+        face_attributes.setdefault("face_colors", np.asarray(visual.face_colors))
+    elif visual.kind == "texture":
+        uv = getattr(visual, "uv", None)
+        if uv is not None and len(uv) == len(mesh.vertices):
+            attributes.setdefault("uv", np.asarray(uv))
+        warnings.warn("trimesh texture: the texture coordinates are carried as the attribute "
+                      "'uv', the image and material are not", stacklevel=4)
+    return np.asarray(mesh.vertices), np.asarray(mesh.faces), attributes, face_attributes
+
+
+def _from_pyvista(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
+    extra = {"lines": mesh.n_lines, "vertex cells": mesh.n_verts}
+    if any(extra.values()):
+        raise ValueError("the PolyData has " + ", ".join(f"{k} {n}" for k, n in extra.items()
+                                                          if n)
+                         + " besides its polygons: keep only the surface (extract_surface)")
+    if not mesh.is_all_triangles:
+        warnings.warn(f"PolyData: {mesh.n_cells} polygons or strips fan-triangulated (cell "
+                      "data follow the triangles)", stacklevel=4)
+        mesh = mesh.triangulate()
+    faces = np.asarray(mesh.regular_faces, dtype=np.int64).reshape(-1, 3)
+    attributes = {name: np.asarray(mesh.point_data[name]) for name in mesh.point_data.keys()}
+    face_attributes = {name: np.asarray(mesh.cell_data[name])
+                       for name in mesh.cell_data.keys()}
+    return np.asarray(mesh.points), faces, attributes, face_attributes
+
+
+def mesh_arrays(
+    mesh, faces=None, attributes: Mapping[str, np.ndarray] | None = None,
+    face_attributes: Mapping[str, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Vertices, faces and attributes of a mesh given as arrays or as a library's object.
+
+    Parameters
+    ----------
+    mesh : (n, 3) array, ``trimesh.Trimesh`` or ``pyvista.PolyData``
+        The vertices (then ``faces`` is required) or a mesh object (then ``faces`` must be
+        None); an object's own attributes are picked up (see the module docstring).
+    faces : (f, 3) int array, optional
+    attributes, face_attributes : mapping of name to array, optional
+        Per-vertex and per-face arrays; they take precedence over an object's own of the
+        same name.
+
+    Returns
+    -------
+    vertices, faces, attributes, face_attributes
+
+    Raises
+    ------
+    TypeError
+        An object of another kind, a mesh object with ``faces`` too, or arrays without
+        ``faces``.
+    ValueError
+        A PolyData with lines or vertex cells.
+    """
+    library = _library(mesh)
+    if library is None:
+        if faces is None:
+            raise TypeError(f"fill_holes needs faces with vertices given as an array; got a "
+                            f"{type(mesh).__name__} and no faces (trimesh.Trimesh and "
+                            "pyvista.PolyData are taken whole)")
+        own_vertices, own_faces, own, own_faces_attributes = mesh, faces, {}, {}
+    else:
+        if faces is not None:
+            raise TypeError(f"faces given with a {type(mesh).__name__}: pass the mesh alone")
+        reader = _from_trimesh if library == "trimesh" else _from_pyvista
+        own_vertices, own_faces, own, own_faces_attributes = reader(mesh)
+    return (own_vertices, own_faces, {**own, **dict(attributes or {})},
+            {**own_faces_attributes, **dict(face_attributes or {})})
+
+
+def _colour_name(attributes: Mapping[str, np.ndarray]) -> str | None:
+    for name in COLOUR_NAMES:
+        for key, a in attributes.items():
+            if key.lower() == name and np.ndim(a) == 2 and np.shape(a)[1] in (3, 4):
+                return key
+    return None
+
+
+def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
+               attributes: Mapping[str, np.ndarray] | None = None,
+               face_attributes: Mapping[str, np.ndarray] | None = None):
+    """A ``trimesh.Trimesh`` (``process=False``: nothing merged or reordered) with the vertex
+    colours in ``visual`` (the first attribute named in :data:`COLOUR_NAMES`, or a face
+    attribute ``"face_colors"`` when there are no vertex colours) and every other attribute
+    in ``vertex_attributes`` / ``face_attributes``."""
+    import trimesh
+
+    attributes = dict(attributes or {})
+    face_attributes = dict(face_attributes or {})
+    colour = _colour_name(attributes)
+    vertex_colors = attributes.pop(colour) if colour else None
+    face_colors = (face_attributes.pop("face_colors") if vertex_colors is None
+                   and "face_colors" in face_attributes else None)
+    return trimesh.Trimesh(vertices=vertices, faces=faces, process=False, validate=False,
+                           vertex_colors=vertex_colors, face_colors=face_colors,
+                           vertex_attributes=attributes, face_attributes=face_attributes)
+
+
+def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
+               attributes: Mapping[str, np.ndarray] | None = None,
+               face_attributes: Mapping[str, np.ndarray] | None = None):
+    """A ``pyvista.PolyData`` with every attribute in ``point_data`` and every face attribute
+    in ``cell_data``."""
+    import pyvista
+
+    faces = np.asarray(faces, dtype=np.int64)
+    cells = np.column_stack([np.full(len(faces), 3, dtype=np.int64), faces]).ravel()
+    mesh = pyvista.PolyData(np.asarray(vertices, dtype=float), cells)
+    for name, a in (attributes or {}).items():
+        mesh.point_data[name] = np.asarray(a)
+    for name, a in (face_attributes or {}).items():
+        mesh.cell_data[name] = np.asarray(a)
+    return mesh
