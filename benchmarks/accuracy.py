@@ -45,7 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint import data
+from surfinpaint import ConformalOptions, data, fill_holes
 from surfinpaint.geometry.cutting import CutResult, cut_geodesic_disk
 from surfinpaint.geometry.mesh import k_ring, mean_edge_length, unique_edges
 from surfinpaint.geometry.metrics import hole_patch_of, surface_distance
@@ -57,6 +57,13 @@ ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conformal_smooth"
                "conformal_grid", "conformal_grid_raw", "conventional", "cgal", "cgal3",
                "meshlib")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
+# the conformal method's variants: their options
+CONFORMAL_VARIANTS = {
+    "conformal_raw": {"select": False},  # the λ-H fill itself, without the self-check
+    "conformal_smooth": {"creases": False},  # every hole filled as smooth
+    "conformal_grid": {"discretization": "grid"},  # the paper's grid, with the self-check
+    "conformal_grid_raw": {"discretization": "grid", "select": False},
+}
 
 
 # --------------------------------------------------------------------------- cases
@@ -211,16 +218,11 @@ def _run_peer(fn, vertices, faces, loop):
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
 
-def _run_ours(method, vertices, faces, loop, **options):
-    import surfinpaint
-
-    fill_holes = getattr(surfinpaint, "fill_holes", None)
-    if fill_holes is None:
-        from surfinpaint.fill.pipeline import fill_holes
+def _run_ours(method, vertices, faces, loop, **kwargs):
     t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        res = fill_holes(vertices, faces, holes=[loop], method=method, **options)
+        res = fill_holes(vertices, faces, holes=[loop], method=method, **kwargs)
     dt = time.perf_counter() - t0
     note = ""
     for r in res.reports:
@@ -244,15 +246,9 @@ def run_method(method: str, vertices, faces, loop):
     """Fill one hole: (all vertices, all faces, seconds, note)."""
     if method in ("fair", "conformal"):
         return _run_ours(method, vertices, faces, loop)
-    if method == "conformal_raw":
-        return _run_ours("conformal", vertices, faces, loop, select=False)
-    if method == "conformal_smooth":  # every hole filled as smooth (no crease continued)
-        return _run_ours("conformal", vertices, faces, loop, creases=False)
-    if method == "conformal_grid":  # the paper's grid discretization, with the self-check
-        return _run_ours("conformal", vertices, faces, loop, discretization="grid")
-    if method == "conformal_grid_raw":
-        return _run_ours("conformal", vertices, faces, loop, discretization="grid",
-                         select=False)
+    if method in CONFORMAL_VARIANTS:
+        return _run_ours("conformal", vertices, faces, loop,
+                         options=ConformalOptions(**CONFORMAL_VARIANTS[method]))
     if method == "fair3":  # triharmonic fairing: the conformal method's S0 and fallback
         return _run_ours("fair", vertices, faces, loop, fair_order=3)
     if method == "conventional":

@@ -8,7 +8,7 @@ hole is its two-sided mean error divided by the faired fill's.
 
     python benchmarks/conformal_options.py
     python benchmarks/conformal_options.py --cases torus,bunny \\
-        --configs '[{}, {"fit_radius": 2}, {"iterations": 2}]'
+        --configs '[{}, {"fit_radius": 2}, {"passes": 2}]'
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 import accuracy  # noqa: E402  (the benchmark's cases and holes)
 
-from surfinpaint import fill_holes  # noqa: E402
+from surfinpaint import ConformalOptions, GridOptions, fill_holes  # noqa: E402
 from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
 
 DEFAULT_CONFIGS = [
@@ -36,8 +36,17 @@ DEFAULT_CONFIGS = [
     {"reconstruct": "laplacian"},
     {"inpaint": "harmonic"},
     {"fidelity": 0.01},
-    {"iterations": 2},
+    {"passes": 2},
 ]
+# the names of ConformalOptions; the others are GridOptions'
+CONFORMAL_NAMES = {"passes", "patch_rings", "start"}
+
+
+def _options(config: dict) -> ConformalOptions:
+    """The raw grid-discretization fill with ``config`` (names of either options class)."""
+    outer = {k: v for k, v in config.items() if k in CONFORMAL_NAMES}
+    grid = GridOptions(**{k: v for k, v in config.items() if k not in CONFORMAL_NAMES})
+    return ConformalOptions(select=False, discretization="grid", grid=grid, **outer)
 
 
 def _error(cut, result) -> float:
@@ -50,7 +59,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cases", default="torus,sphere,snowman,bunny,white")
     parser.add_argument("--configs", default=json.dumps(DEFAULT_CONFIGS),
-                        help="JSON list of option dicts for fill_holes")
+                        help="JSON list of option dicts (names of GridOptions, or passes, "
+                        "patch_rings, start)")
     args = parser.parse_args()
     configs = json.loads(args.configs)
     ratios: list[list[float]] = [[] for _ in configs]
@@ -66,8 +76,7 @@ def main() -> None:
                 continue
             cells = []
             for i, config in enumerate(configs):
-                result = fill_holes(cut.vertices, cut.faces, select=False,
-                                    **{"discretization": "grid", **config})
+                result = fill_holes(cut.vertices, cut.faces, options=_options(config))
                 ratio = _error(cut, result) / fair
                 if result.reports[0].fallback:
                     failed[i] += 1

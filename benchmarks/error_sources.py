@@ -40,8 +40,9 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 import accuracy  # noqa: E402  (the benchmark's cases and holes)
 
-from surfinpaint import fill_holes  # noqa: E402
-from surfinpaint.fill.conformal.core import hole_patch, patch_grid, reconstruct_patch  # noqa: E402
+from surfinpaint import ConformalOptions, fill_holes  # noqa: E402
+from surfinpaint.fill.conformal.grid_pass import patch_grid, reconstruct_patch  # noqa: E402
+from surfinpaint.fill.conformal.patch import hole_patch  # noqa: E402
 from surfinpaint.fill.liepa.baseline import faired_fill  # noqa: E402
 from surfinpaint.geometry.metrics import (  # noqa: E402
     hole_patch_of,
@@ -102,7 +103,7 @@ def hole_row(cut) -> list[float]:
     n = len(cut.vertices)
     out = []
     for options in ({"method": "fair"}, {"method": "fair", "fair_order": 3},
-                    {"select": False, "discretization": "grid"}):
+                    {"options": ConformalOptions(select=False, discretization="grid")}):
         res = fill_holes(cut.vertices, cut.faces, [cut.loop], **options)
         out.append(_error(*hole_patch_of(res.vertices, res.faces, n, cut.faces), cut))
     truth = _truth_as_fill(cut)

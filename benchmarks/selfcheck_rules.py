@@ -6,7 +6,10 @@ ways: its true error (two-sided mean distance to the removed surface, % of the h
 diameter), the hidden-ring test and the sibling-hole test (:mod:`surfinpaint.fill.selfcheck`,
 both always run here, with the same test settings as ``conformal_fill``). Selection rules
 are then replayed on these scores; each row is the median and worst ratio of the chosen
-fill's true error to the baseline's, over the holes where the baseline is not exact.
+fill's true error to the baseline's, over the holes where the baseline is not exact. The
+default rule is the library's own (:func:`surfinpaint.fill.conformal.choose`, with the
+sibling test left out where :func:`~surfinpaint.fill.conformal.sibling_test_plan` skips it);
+the others are the rules it was measured against.
 
     python benchmarks/selfcheck_rules.py [--cases torus,bunny] [--json scores.json]
 """
@@ -25,15 +28,9 @@ sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402
 
 from surfinpaint.errors import FillError  # noqa: E402
-from surfinpaint.fill.conformal.core import (  # noqa: E402
-    CREASE_ANGLE,
-    DECISIVE,
-    PATCH_RINGS,
-    S0_ORDER,
-    TEST_TOL,
-    _fills,
-)
-from surfinpaint.fill.creases import CREASE_EDGES, hole_crease  # noqa: E402
+from surfinpaint.fill.conformal import ConformalOptions, choose, sibling_test_plan  # noqa: E402
+from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
+from surfinpaint.fill.conformal.selection import DECISIVE  # noqa: E402
 from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
 from surfinpaint.geometry.metrics import surface_distance  # noqa: E402
 
@@ -41,37 +38,27 @@ CASES = "bunny,face,pial,white,sphere,torus,cube,snowman,tooth"
 INF = float("inf")
 
 
-def _fills_of(test: bool, crossed: bool = False):
-    """The candidates as ``conformal_fill`` makes them (for a hole ``crossed`` by a crease,
-    its test holes as there too)."""
-    def fills(v, f, loop):
-        out = _fills(v, f, loop, start="fair", orders=(2, 3), s0_order=S0_ORDER,
-                     patch_rings=PATCH_RINGS["mesh"], iterations=1,
-                     options={"tol": TEST_TOL} if test else {}, discretization="mesh",
-                     test=test, crease_angle=CREASE_ANGLE,
-                     crease_edges=1 if test and crossed else CREASE_EDGES)
-        made = out.get("conformal")
-        if test and crossed and not isinstance(made, Exception) and "crease" not in made[2]:
-            out["conformal"] = FillError("no crease crosses the test hole")
-        return out
-    return fills
-
-
 def hole_scores(cut) -> dict:
-    crossed = hole_crease(cut.vertices, cut.faces, cut.loop) is not None
-    fills = _fills_of(test=False)(cut.vertices, cut.faces, cut.loop)
+    """The candidates as ``conformal_fill`` makes them with the default options (its test
+    holes too), their true errors and both tests' scores."""
+    candidates = Candidates.for_hole(cut.vertices, cut.faces, cut.loop, ConformalOptions())
+    fills = candidates.faired(cut.vertices, cut.faces, cut.loop)
+    s0 = candidates.initial(cut.vertices, cut.faces, cut.loop, fills)
+    try:
+        fills["conformal"] = candidates.lambda_h(cut.vertices, cut.faces, cut.loop, s0)
+    except FillError as exc:
+        fills["conformal"] = exc
     true = {}
     for name, fill in fills.items():
         if isinstance(fill, Exception):
             true[name] = INF
             continue
-        new_v, new_f, _ = fill
-        d = surface_distance(np.vstack([cut.vertices, new_v]), new_f, cut.truth_vertices,
-                             cut.truth_faces, n_samples=4000)
+        d = surface_distance(np.vstack([cut.vertices, fill.vertices]), fill.faces,
+                             cut.truth_vertices, cut.truth_faces, n_samples=4000)
         true[name] = 100.0 * d["mean"] / cut.diameter
-    tests = _fills_of(test=True, crossed=crossed)
-    rings = PATCH_RINGS["mesh"]
-    return {"true": true, "crossed": crossed,
+    tests = candidates.for_tests()
+    rings = candidates.options.rings_in_patch
+    return {"true": true, "crossed": candidates.crossed,
             "hidden": hidden_ring_scores(cut.vertices, cut.faces, cut.loop, tests,
                                          patch_rings=rings),
             "sibling": sibling_scores(cut.vertices, cut.faces, cut.loop, tests,
@@ -136,14 +123,22 @@ def rule_failed_sibling_says_nothing(h, s, tie_holds=False):
     return _faired(h, s, tie_holds)
 
 
+def default_verdict(h, s, crossed=False):
+    """The library's verdict (``choose``), given the sibling scores it would have computed
+    (none where ``sibling_test_plan`` skips the test, no λ-H score where it leaves it out)."""
+    run, with_lambda_h = sibling_test_plan(h)
+    sibling = {} if not run else s if with_lambda_h else {
+        k: v for k, v in s.items() if k != "conformal"}
+    return choose(h, sibling, crossed=crossed)
+
+
 def rule_default(h, s, crossed=False):
-    """The default: as above, and a tie on the sibling holes (the same fill, as on holes too
-    small for inner vertices) is not a loss; a hole crossed by a crease keeps its crease
-    fill when no test hole is crossed (all λ-H test scores are then infinite)."""
-    if crossed and not np.isfinite(h.get("conformal", INF)) \
-            and not np.isfinite(s.get("conformal", INF)):
-        return "conformal"
-    return rule_failed_sibling_says_nothing(h, s, tie_holds=True)
+    """The default, the library's rule: as above, and a tie on the sibling holes (the same
+    fill, as on holes too small for inner vertices) is not a loss; a hole crossed by a
+    crease keeps its crease fill when no test hole is crossed (all λ-H test scores are then
+    infinite)."""
+    verdict = default_verdict(h, s, crossed)
+    return "conformal" if verdict.keep else verdict.faired
 
 
 RULES = {
@@ -175,7 +170,8 @@ def replay(rows: list[dict]) -> str:
                 pick = rule(r["hidden"], r["sibling"])
             if not np.isfinite(true[pick]):  # the λ-H fill failed on the hole itself
                 failed += 1
-                pick = _faired(r["hidden"], r["sibling"])
+                pick = (default_verdict(r["hidden"], r["sibling"], r.get("crossed", False))
+                        .faired if rule is rule_default else _faired(r["hidden"], r["sibling"]))
             written += pick == "conformal"
             ratios.append(true[pick] / true["fair2"])
         ratios = np.array(ratios)

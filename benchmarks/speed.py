@@ -21,7 +21,7 @@ import warnings
 
 import numpy as np
 
-from surfinpaint import fill_holes
+from surfinpaint import ConformalOptions, fill_holes
 from surfinpaint.data import torus
 from surfinpaint.geometry.cutting import cut_geodesic_disk, cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
@@ -32,7 +32,8 @@ def per_hole_times(quick: bool) -> list[dict]:
     h = mean_edge_length(v, f)
     rows = []
     radii = (3, 6, 10, 14) if quick else (3, 5, 8, 11, 14, 16)
-    methods = (("fair", {}), ("conformal", {"select": False}), ("conformal", {}))
+    methods = (("fair", {}), ("conformal", {"options": ConformalOptions(select=False)}),
+               ("conformal", {}))
     # warm up compiled kernels
     warm = cut_geodesic_disk(v, f, 0, 3 * h)
     for m, o in methods:
@@ -41,7 +42,8 @@ def per_hole_times(quick: bool) -> list[dict]:
         cut = cut_geodesic_disk(v, f, 1000 * k + 17, r * h)
         row = {"edges": len(cut.loop)}
         for m, o in methods:
-            name = m if o.get("select", True) else m + " (no self-check)"
+            name = m if o.get("options", ConformalOptions()).select else \
+                m + " (no self-check)"
             times = []
             for _ in range(1 if quick else 3):
                 t = time.perf_counter()

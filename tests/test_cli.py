@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from surfinpaint import ConformalOptions, GridOptions
 from surfinpaint.app.cli import main
 from surfinpaint.data import sphere
 from surfinpaint.fill.holes import find_holes
@@ -391,7 +392,7 @@ def test_fill_discretization_is_passed_on(tmp_path, capsys):
         assert main(["fill", str(path), "-o", str(out), "--discretization", name,
                      "-q"]) == 0
         outs[name] = read_mesh(out)[0]
-        expected = fill_holes(v, f, discretization=name).vertices
+        expected = fill_holes(v, f, options=ConformalOptions(discretization=name)).vertices
         np.testing.assert_allclose(outs[name], expected, rtol=0, atol=1e-6)  # PLY floats
     # grid-only options without the grid are a usage error, and nothing is written
     out = tmp_path / "bad.ply"
@@ -400,6 +401,13 @@ def test_fill_discretization_is_passed_on(tmp_path, capsys):
     assert not out.exists()
     assert main(["fill", str(path), "-o", str(out), "--discretization", "grid",
                  "--reconstruct", "laplacian", "-q"]) == 0
+    expected = fill_holes(v, f, options=ConformalOptions(
+        discretization="grid", grid=GridOptions(reconstruct="laplacian"))).vertices
+    np.testing.assert_allclose(read_mesh(out)[0], expected, rtol=0, atol=1e-6)
+    # the conformal method's flags with the faired fill are a usage error too
+    assert main(["fill", str(path), "-o", str(tmp_path / "fair.ply"), "--method", "fair",
+                 "--no-creases", "-q"]) == 2
+    assert "optionsof--methodconformal" in _flat(capsys.readouterr().err)
 
 
 def test_fill_crease_options_are_passed_on(tmp_path, capsys):
@@ -418,7 +426,8 @@ def test_fill_crease_options_are_passed_on(tmp_path, capsys):
         out = tmp_path / "out.ply"
         assert main(["fill", str(path), "-o", str(out), "-q", *flags]) == 0
         written = read_mesh(out)[0]
-        expected = fill_holes(cut.vertices, cut.faces, **kwargs).vertices
+        expected = fill_holes(cut.vertices, cut.faces,
+                              options=ConformalOptions(**kwargs)).vertices
         np.testing.assert_allclose(written, expected, rtol=0, atol=1e-6)
         new = written[len(cut.vertices):]
         off_cube[" ".join(flags)] = np.minimum(new, 1 - new).min(axis=1).max()

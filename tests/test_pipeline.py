@@ -28,12 +28,13 @@ def assert_valid_fill(vertices, faces, result, expected_loops_left):
     assert np.array_equal(np.setdiff1d(np.arange(n, len(result.vertices)), used), [])
 
 
-@pytest.mark.parametrize("method", ["fair", "initial", "triangulate"])
-def test_baseline_methods_close_every_hole(sphere_with_three_holes, method):
+@pytest.mark.parametrize("fair_order", [None, 1, 3])
+def test_faired_fill_closes_every_hole(sphere_with_three_holes, fair_order):
     v, f, _ = sphere_with_three_holes
-    result = fill_holes(v, f, method=method)
+    result = fill_holes(v, f, method="fair", fair_order=fair_order)
     assert_valid_fill(v, f, result, 0)
-    assert [r.method for r in result.reports] == [method] * 3
+    assert [r.method for r in result.reports] == ["fair"] * 3
+    assert [r.fair_order for r in result.reports] == [fair_order or 2] * 3
     assert sum(r.new_faces for r in result.reports) == len(result.faces) - len(f)
     assert sum(r.new_vertices for r in result.reports) == len(result.vertices) - len(v)
 
@@ -78,13 +79,13 @@ def test_unknown_method_and_bad_holes():
 
 
 def test_conformal_failure_falls_back_to_the_faired_fill(sphere_with_three_holes, monkeypatch):
-    import surfinpaint.fill.conformal.core as conformal
+    import surfinpaint.fill.conformal.candidates as candidates
 
     def broken(*args, **kwargs):
         raise FillError("forced failure")
 
-    monkeypatch.setattr(conformal, "inpaint_patch", broken)
-    monkeypatch.setattr(conformal, "inpaint_patch_on_mesh", broken)
+    monkeypatch.setattr(candidates, "inpaint_patch", broken)
+    monkeypatch.setattr(candidates, "inpaint_patch_on_mesh", broken)
     v, f, _ = sphere_with_three_holes
     with pytest.warns(UserWarning, match="forced failure"):
         result = fill_holes(v, f, holes=[0])
@@ -92,13 +93,13 @@ def test_conformal_failure_falls_back_to_the_faired_fill(sphere_with_three_holes
     assert "forced failure" in result.reports[0].fallback
     assert_valid_fill(v, f, result, 2)
     # the faired fill of the order the self-check chose, or of the order asked for
-    order = result.reports[0].details["fair_order"]
+    order = result.reports[0].fair_order
     assert np.array_equal(result.vertices, fill_holes(v, f, holes=[0], method="fair",
                                                       fair_order=order).vertices)
     for asked_order in (2, 3):
         with pytest.warns(UserWarning, match="forced failure"):
             asked = fill_holes(v, f, holes=[0], fair_order=asked_order)
-        assert asked.reports[0].details["fair_order"] == asked_order
+        assert asked.reports[0].fair_order == asked_order
         assert np.array_equal(asked.vertices, fill_holes(v, f, holes=[0], method="fair",
                                                          fair_order=asked_order).vertices)
 

@@ -160,7 +160,7 @@ def test_panel_without_a_conformal_fill(holed_sphere, tmp_path, monkeypatch):
     loop = cut.holes[0].loop
     fair = fill_holes(cut.vertices, cut.faces, holes=[loop], method="fair")
     path = hole_panel(cut.vertices, cut.faces, loop, (fair.vertices, fair.new_faces), None,
-                      {}, tmp_path / "panel.png")
+                      None, tmp_path / "panel.png")
     assert png_size(path) == PANEL_SIZE
     assert not list(tmp_path.glob("*.tmp")) and len(list(tmp_path.iterdir())) == 1
 

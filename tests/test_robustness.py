@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 from conftest import grid_mesh
 
-import surfinpaint.fill.conformal.core
+import surfinpaint.fill.conformal.candidates
+import surfinpaint.fill.conformal.checks
+from surfinpaint import ConformalOptions, GridOptions
 from surfinpaint.data import sphere
 from surfinpaint.errors import FillError
 from surfinpaint.fill.holes import find_holes
@@ -273,7 +275,7 @@ def test_t_junction_slit(method, n_split):
     ("kwargs", "match"),
     [
         ({"method": "magic"}, "unknown method"),
-        ({"rings": 0}, "rings"),
+        ({"neighbourhood_rings": 0}, "neighbourhood_rings"),
         ({"max_hole_edges": -1}, "max_hole_edges"),
         ({"holes": [0.5]}, "0.5"),
         ({"holes": [3]}, "out of range"),
@@ -297,15 +299,17 @@ def test_explicit_loops_in_any_direction():
 
 def _force(monkeypatch, fake):
     """Replace the λ-H pass of both discretizations by ``fake`` (the grid pass's
-    signature: vertices, patch_faces, n_fill_faces, moving -> positions, details)."""
-    monkeypatch.setattr(surfinpaint.fill.conformal.core, "inpaint_patch", fake)
+    signature: vertices, patch_faces, n_fill_faces, moving, options -> positions, λ-H
+    grids, reconstruction used); the selection rule is left alone."""
+    candidates = surfinpaint.fill.conformal.candidates
+    monkeypatch.setattr(candidates, "inpaint_patch", fake)
 
     def on_mesh(vertices, faces, loop, fill_faces, moving, *, rings=4, **kwargs):
-        patch, _ = surfinpaint.fill.conformal.core.hole_patch(faces, loop, fill_faces, rings)
-        positions, details = fake(vertices, patch, len(fill_faces), moving)
-        return positions, patch, details
+        patch, used = candidates.hole_patch(faces, loop, fill_faces, rings)
+        positions, _, _ = fake(vertices, patch, len(fill_faces), moving, None)
+        return positions, patch, used, None
 
-    monkeypatch.setattr(surfinpaint.fill.conformal.core, "inpaint_patch_on_mesh", on_mesh)
+    monkeypatch.setattr(candidates, "inpaint_patch_on_mesh", on_mesh)
 
 
 def _fallback_case():
@@ -325,7 +329,7 @@ def test_fallback_when_the_conformal_fill_raises(monkeypatch):
     assert "forced failure" in r.fallback
     assert check_filled(v, f, result).is_closed
     # the same fill as asking for the faired fill the self-check chose directly
-    direct = fill_holes(v, f, method="fair", fair_order=r.details["fair_order"])
+    direct = fill_holes(v, f, method="fair", fair_order=r.fair_order)
     np.testing.assert_allclose(result.vertices, direct.vertices, atol=1e-12)
 
 
@@ -333,15 +337,16 @@ def test_fallback_when_the_grid_is_too_large():
     # the grid discretization's own failure
     v, f = _fallback_case()
     with pytest.warns(UserWarning, match="max_nodes"):
-        result = fill_holes(v, f, method="conformal", discretization="grid", max_nodes=10)
+        result = fill_holes(v, f, method="conformal", options=ConformalOptions(
+            discretization="grid", grid=GridOptions(max_nodes=10)))
     (r,) = result.reports
     assert r.method == "fair" and "max_nodes" in r.fallback
     check_filled(v, f, result)
 
 
 def _moving_fake(transform):
-    def fake(vertices, patch_faces, n_fill_faces, moving, **kwargs):
-        return transform(vertices, patch_faces, n_fill_faces, moving), {}
+    def fake(vertices, patch_faces, n_fill_faces, moving, options):
+        return transform(vertices, patch_faces, n_fill_faces, moving), None, "fake"
     return fake
 
 
@@ -393,7 +398,7 @@ def test_fallback_on_a_patch_through_the_surroundings(monkeypatch):
 def test_crossing_patch_is_caught_without_the_fold_check(monkeypatch):
     # the same crossing patch, with the fold test switched off: the intersection test of the
     # patch against its surrounding rings has to catch it by itself
-    monkeypatch.setattr(surfinpaint.fill.conformal.core, "FOLD_ANGLE", 180.0)
+    monkeypatch.setattr(surfinpaint.fill.conformal.checks, "FOLD_ANGLE", 180.0)
     test_fallback_on_a_patch_through_the_surroundings(monkeypatch)
 
 

@@ -13,9 +13,11 @@ The main entry points work on plain numpy arrays::
 """
 
 from surfinpaint.errors import FillError, MeshError
+from surfinpaint.fill.conformal import ConformalOptions, GridOptions, Verdict, choose
 from surfinpaint.fill.holes import Hole, find_holes
 from surfinpaint.fill.liepa.baseline import conventional_fill
-from surfinpaint.fill.pipeline import FillResult, HoleReport, fill_holes
+from surfinpaint.fill.pipeline import METHODS, FillResult, HoleReport, fill_holes
+from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.geometry.parameterization import lscm, rectangular_conformal_map
 from surfinpaint.geometry.validation import MeshReport, validate_mesh
@@ -29,16 +31,22 @@ from surfinpaint.representation.represent import LambdaH, rebuild, represent
 __version__ = "0.1.0"
 
 __all__ = [
+    "METHODS",
     "SUPPORTED_FORMATS",
+    "ConformalOptions",
+    "Fill",
     "FillError",
     "FillResult",
+    "GridOptions",
     "Hole",
     "HoleReport",
     "LambdaH",
     "MeshError",
     "MeshReport",
     "MeshWarning",
+    "Verdict",
     "__version__",
+    "choose",
     "conventional_fill",
     "fill_holes",
     "find_holes",

@@ -104,6 +104,35 @@ def cmd_holes(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _conformal_options(args: argparse.Namespace):
+    """The conformal method's options from the flags of ``fill`` (None with ``--method
+    fair``; conformal flags with it are a usage error)."""
+    from surfinpaint.fill.conformal import ConformalOptions, GridOptions
+
+    grid_flags = {"inpaint": args.inpaint, "reconstruct": args.reconstruct}
+    if args.discretization != "grid" and (args.reconstruct or args.inpaint == "harmonic"):
+        raise _UsageError("--reconstruct and --inpaint harmonic need --discretization grid "
+                          "(the mesh discretization inpaints biharmonically and rebuilds "
+                          "in the Laplacian form, solved together)")
+    if args.crease_angle is not None and not 0.0 < args.crease_angle < 180.0:
+        raise _UsageError(f"--crease-angle must be between 0 and 180 degrees, got "
+                          f"{args.crease_angle:g}")
+    if args.method != "conformal":
+        given = [flag for flag, value in (
+            ("--discretization grid", args.discretization == "grid"),
+            ("--no-creases", args.no_creases), ("--crease-angle", args.crease_angle),
+            ("--inpaint", args.inpaint), ("--reconstruct", args.reconstruct)) if value]
+        if given:
+            raise _UsageError(f"{', '.join(given)}: options of --method conformal")
+        return None
+    kw = {"discretization": args.discretization, "creases": not args.no_creases}
+    if args.crease_angle is not None:
+        kw["crease_angle"] = args.crease_angle
+    if args.discretization == "grid":
+        kw["grid"] = GridOptions(**{k: v for k, v in grid_flags.items() if v})
+    return ConformalOptions(**kw)
+
+
 def cmd_fill(args: argparse.Namespace) -> int:
     from surfinpaint.fill.pipeline import fill_holes
     from surfinpaint.io.formats import output_format, read_mesh, write_mesh
@@ -111,29 +140,14 @@ def cmd_fill(args: argparse.Namespace) -> int:
     console = _console()
     holes = _parse_hole_list(args.holes)
     output_format(args.output)  # an unusable output name fails now, not after the fill
+    options = _conformal_options(args)
     vertices, faces = read_mesh(args.mesh)
-    options = {"discretization": args.discretization}
-    if args.discretization != "grid" and (args.reconstruct or args.inpaint == "harmonic"):
-        raise _UsageError("--reconstruct and --inpaint harmonic need --discretization grid "
-                          "(the mesh discretization inpaints biharmonically and rebuilds "
-                          "in the Laplacian form, solved together)")
-    if args.no_creases:
-        options["creases"] = False
-    if args.crease_angle is not None:
-        if not 0.0 < args.crease_angle < 180.0:
-            raise _UsageError(f"--crease-angle must be between 0 and 180 degrees, got "
-                              f"{args.crease_angle:g}")
-        options["crease_angle"] = args.crease_angle
-    if args.inpaint:
-        options["inpaint"] = args.inpaint
-    if args.reconstruct:
-        options["reconstruct"] = args.reconstruct
     with _progress(not args.quiet) as progress:
         try:
             result = fill_holes(vertices, faces, holes=holes, method=args.method,
                                 include_border=args.all, max_hole_edges=args.max_hole_edges,
                                 repair=args.repair, progress=progress,
-                                fair_order=args.fair_order, **options)
+                                fair_order=args.fair_order, options=options)
         except MeshError as exc:
             if args.repair or "non-manifold edges" not in exc.message:
                 raise

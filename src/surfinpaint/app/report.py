@@ -9,7 +9,7 @@ one camera facing the hole; (D)/(E) the conformal factor λ before and after inp
 (F)/(G) the mean curvature H before and after, over the conformal parameter domain of the
 hole's patch, with the hole (solid) and the inpainted region (dashed) outlined.
 
-"Before" is what the known surface says (:func:`surfinpaint.fill.conformal.core.lambda_h_pictures`):
+"Before" is what the known surface says (:func:`surfinpaint.app.lambda_h_images.lambda_h_images`):
 λ, H of the surface around the hole on its patch's triangles, or the robust grid estimate
 with ``discretization="grid"``; the part that sees the initial fill is grey, since the
 initial fill's own λ, H are not data the method uses.
@@ -30,12 +30,15 @@ import os
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
+from surfinpaint.app.lambda_h_images import lambda_h_images
 from surfinpaint.errors import MeshError
+from surfinpaint.fill.conformal import ConformalOptions
+from surfinpaint.fill.results import LambdaHDiagnostics
 from surfinpaint.io.atomic import atomic_open
 
 __all__ = [
@@ -138,7 +141,7 @@ def compare_holes(
     *,
     truth: Sequence[tuple[np.ndarray, np.ndarray]] | None = None,
     step: Step | None = None,
-    **options,
+    options: ConformalOptions | None = None,
 ) -> tuple[list[HoleComparison], dict]:
     """Fill the given holes by both methods and measure them.
 
@@ -155,8 +158,8 @@ def compare_holes(
     step : callable(message, advance=1), optional
         Progress hook, called after each stage: 2 + one per hole (and with ``advance=0``
         for each conformal fill that is computed again because the self-check rejected it).
-    **options
-        Passed to the conformal method.
+    options : ConformalOptions, optional
+        The conformal method's options.
 
     Returns
     -------
@@ -166,8 +169,9 @@ def compare_holes(
         method; ``"filled"``: per method (``"fair"``, ``"conformal"``, ``"conformal raw"``)
         each hole's fill as ``(vertices, faces)`` (the vertices start with the mesh's, the
         faces are the hole's new ones; ``"conformal raw"`` is None where the conformal
-        method failed); ``"loops"``: the oriented loops; ``"details"``:
-        each hole's conformal grid data (empty when it failed).
+        method failed); ``"loops"``: the oriented loops; ``"diagnostics"``: each hole's
+        :class:`~surfinpaint.fill.results.LambdaHDiagnostics` of the conformal fill (None
+        when it failed).
     """
     from surfinpaint.fill.holes import select_holes
     from surfinpaint.fill.pipeline import fill_holes
@@ -183,8 +187,9 @@ def compare_holes(
         warnings.simplefilter("ignore", UserWarning)
         fair = fill_holes(vertices, faces, holes=loops, method="fair", validate=False)
         step("conventional fills done")
+        options = ConformalOptions() if options is None else options
         conformal = fill_holes(vertices, faces, holes=loops, method="conformal",
-                               validate=False, **options)
+                               validate=False, options=options)
         step("conformal fills done")
         # each fill as (vertices starting with the mesh's, the hole's new faces)
         filled = {"fair": [(fair.vertices, p) for p in _patches(fair)],
@@ -192,16 +197,16 @@ def compare_holes(
         # the conformal fill before the self-check; None where the conformal method failed
         raw = [fill if r.method == "conformal" else None
                for fill, r in zip(filled["conformal"], conformal.reports, strict=True)]
-        details = [r.details for r in conformal.reports]
+        diagnostics = [r.diagnostics for r in conformal.reports]
         # the self-check does not make the λ-H fill of a hole it rejects: make it here
         rejected = [k for k, r in enumerate(conformal.reports)
                     if r.method == "fair" and not r.fallback and not r.skipped]
         for k in rejected:
             again = fill_holes(vertices, faces, holes=[loops[k]], method="conformal",
-                               validate=False, **{**options, "select": False})
+                               validate=False, options=replace(options, select=False))
             if not again.reports[0].fallback:
                 raw[k] = (again.vertices, _patches(again)[0])
-                details[k] = {**again.reports[0].details, **details[k]}
+                diagnostics[k] = again.reports[0].diagnostics
             step(f"hole {k}: conformal fill before the self-check", 0)
     filled["conformal raw"] = raw
     patches = {name: [None if p is None else _compact(*p) for p in fills]
@@ -216,9 +221,9 @@ def compare_holes(
             seconds={"fair": rf.seconds, "conformal": rc.seconds},
             new_vertices={"fair": rf.new_vertices, "conformal": rc.new_vertices},
             kept=rc.method == "conformal", fallback=rc.fallback or rc.note,
-            scores={name[len("score_"):]: value for name, value in rc.details.items()
-                    if name.startswith("score_")},
-            fair_order=rc.details.get("fair_order"),
+            scores={} if rc.verdict is None else {
+                name.replace(" ", "_"): scores for name, scores in rc.verdict.tests.items()},
+            fair_order=rc.fair_order,
         )
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
@@ -226,7 +231,7 @@ def compare_holes(
         out.append(comp)
         step(f"hole {k}: measured")
     return out, {"fair": fair, "conformal": conformal, "filled": filled,
-                 "details": details, "loops": loops}
+                 "diagnostics": diagnostics, "loops": loops}
 
 
 def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray],
@@ -344,7 +349,7 @@ def hole_panel(
     loop: np.ndarray,
     fair: tuple[np.ndarray, np.ndarray],
     conformal: tuple[np.ndarray, np.ndarray],
-    details: dict,
+    diagnostics: LambdaHDiagnostics | None,
     path: str | os.PathLike,
     *,
     titles: dict | None = None,
@@ -364,9 +369,9 @@ def hole_panel(
         The two fills of this hole: ``faces`` index ``vertices``, which must start with the
         mesh's vertices (a :class:`~surfinpaint.fill.pipeline.FillResult`'s ``vertices`` and the
         hole's new faces). ``conformal`` may be None (the method failed): (C) says so.
-    details : dict
-        The conformal method's grid data of this hole (``lam0``, ``H0``, ``lam``, ``H``,
-        ``hole``, ``region``, ``domain``); panels D–G say "no data" without them.
+    diagnostics : LambdaHDiagnostics or None
+        What the conformal fill's λ-H pass left (:attr:`surfinpaint.HoleReport.diagnostics`);
+        panels D–G say "no data" without it.
     path : path
     titles : dict, optional
         Replacement titles for panels ``"A"``–``"G"``.
@@ -386,7 +391,7 @@ def hole_panel(
         "C": "(C) conformal fill", "D": "(D) initial λ (known part)",
         "E": "(E) inpainted λ", "F": "(F) initial H (known part)", "G": "(G) inpainted H",
     }
-    if "crease" in (details or {}) and "mesh_lambda_h" in details:
+    if diagnostics is not None and diagnostics.mesh is not None and diagnostics.mesh.one_side:
         # λ and H of one side of a crease (each side is inpainted on its own)
         for key in "DEFG":
             names[key] += ", one side"
@@ -427,23 +432,19 @@ def hole_panel(
         if key == "C" and conformal is None:
             ax.text(0.5, 0.5, "the conformal method failed on this hole\n(the faired fill "
                     "was used)", ha="center", va="center", transform=ax.transAxes)
-    from surfinpaint.fill.conformal.core import lambda_h_pictures
-
-    details = lambda_h_pictures(details)
-    have = all(name in details for name in ("lam0", "H0", "lam", "H", "domain"))
-    if have:
-        domain = np.asarray(details["domain"], bool)
-        hole = details.get("hole")
-        region = details.get("region")
-        lam_range = _range([details["lam0"], details["lam"]], [domain, domain])
-        h_range = _range([details["H0"], details["H"]], [domain, domain])
+    images = lambda_h_images(diagnostics)
+    if images is not None:
+        domain, hole, region = images.domain, images.hole, images.region
+        lam_range = _range([images.lam0, images.lam], [domain, domain])
+        h_range = _range([images.H0, images.H], [domain, domain])
         for k, (key, name, cmap, span, label) in enumerate((
                 ("D", "lam0", "viridis", lam_range, "λ"),
                 ("E", "lam", "viridis", lam_range, "λ"),
                 ("F", "H0", "coolwarm", h_range, "H"),
                 ("G", "H", "coolwarm", h_range, "H"))):
             ax = fig.add_subplot(grid[1, 3 * k:3 * k + 3])
-            grid_image(ax, details[name], names[key], hole=hole, region=region, domain=domain,
+            grid_image(ax, getattr(images, name), names[key], hole=hole, region=region,
+                       domain=domain,
                        cmap=cmap, vmin=span[0], vmax=span[1], label=label)
     else:
         ax = fig.add_subplot(grid[1, :])
@@ -612,7 +613,7 @@ def panels_for(vertices, faces, comparisons, fills, out_dir, prefix="hole",
         picture = f"{prefix}{c.index}.png"
         # panel C: the raw conformal fill when it was rejected (see the module docstring)
         hole_panel(vertices, faces, fills["loops"][k], filled["fair"][k],
-                   filled["conformal raw"][k], fills["details"][k], out_dir / picture,
+                   filled["conformal raw"][k], fills["diagnostics"][k], out_dir / picture,
                    titles=titles, suptitle=hole_title(c, name))
         c.picture = picture
         if step:
@@ -628,7 +629,7 @@ def write_report(
     truth: tuple[np.ndarray, np.ndarray] | None = None,
     title: str = "surfinpaint report",
     step: Step | None = None,
-    **options,
+    options: ConformalOptions | None = None,
 ) -> list[HoleComparison]:
     """Fill holes by both methods and write a panel per hole and the page indexing them.
 
@@ -645,8 +646,8 @@ def write_report(
         of it that fills the hole (:func:`hole_truths`).
     step : callable(message), optional
         Progress hook, called after each stage.
-    **options
-        Passed to the conformal method.
+    options : ConformalOptions, optional
+        The conformal method's options.
 
     Returns
     -------
@@ -660,7 +661,7 @@ def write_report(
     truths = hole_truths(vertices, faces, loops, *truth) if truth is not None else None
     started = time.perf_counter()
     comparisons, fills = compare_holes(vertices, faces, loops, truth=truths, step=step,
-                                       **options)
+                                       options=options)
     if holes is not None and all(np.ndim(h) == 0 for h in holes):
         for c, index in zip(comparisons, holes, strict=True):
             c.index = int(index)  # the numbering of `surfinpaint holes`

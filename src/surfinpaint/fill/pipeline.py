@@ -1,6 +1,7 @@
-"""Hole filling, top to bottom: choose the holes, cut a local neighbourhood around each, fill
-it with the requested method (falling back to the conventional fill when the conformal one
-fails), and append the new vertices and faces after the original ones.
+"""Hole filling, top to bottom: choose the holes; for each, cut a local neighbourhood around
+it, check its loop, fill it with the requested method (the conformal method writes a faired
+fill where its λ-H fill fails or loses its self-check), stitch the fill back after the
+original vertices and faces, and report what happened.
 
 Original vertices are never moved or reordered; original faces are kept in their order and
 the new faces follow them.
@@ -16,14 +17,20 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from surfinpaint.errors import FillError, MeshError
+from surfinpaint.errors import MeshError
+from surfinpaint.fill.conformal import ConformalOptions, Verdict, conformal_fill
+from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.holes import select_holes
-from surfinpaint.geometry.repair import unjoined_bowties
-from surfinpaint.geometry.validation import check_loop, zero_area_faces
+from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.fill.results import Fill, LambdaHDiagnostics
+from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
+from surfinpaint.geometry.validation import check_loop, validate_mesh, zero_area_faces
 
 __all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
 
-METHODS = ("conformal", "fair", "triangulate", "initial")
+METHODS = ("conformal", "fair")
+# vertex rings of the surface handed to the faired fill (its fairing needs up to 2)
+FAIR_NEIGHBOURHOOD_RINGS = 3
 
 ProgressCallback = Callable[[int, int, str], None]
 
@@ -35,6 +42,9 @@ class HoleReport:
     ``method`` is the method whose fill was kept: "fair" when the conformal method fell back
     after a failure (``fallback`` says why, and a warning is issued) or when its self-check
     preferred the faired fill (``note`` says so); "none" when the hole was ``skipped``.
+    ``fair_order`` is the fairing order of a faired fill, ``verdict`` the conformal method's
+    self-check, ``crease`` says that a crease crossing the hole was continued across it,
+    and ``diagnostics`` what the λ-H pass used (see :class:`~surfinpaint.fill.results.Fill`).
     """
 
     index: int
@@ -48,7 +58,10 @@ class HoleReport:
     fallback: str | None = None
     note: str | None = None
     skipped: str | None = None
-    details: dict = field(default_factory=dict)
+    fair_order: int | None = None
+    verdict: Verdict | None = None
+    crease: str | None = None
+    diagnostics: LambdaHDiagnostics | None = None
 
 
 @dataclass
@@ -120,12 +133,6 @@ def _neighbourhood(
             np.unique(np.concatenate(picked_added)) if picked_added else empty)
 
 
-def _skip(report: HoleReport, reason: str) -> None:
-    report.skipped = reason
-    report.method = "none"
-    warnings.warn(f"hole {report.index}: {reason}; skipped", stacklevel=3)
-
-
 def _gather(vertices: np.ndarray, blocks: list[np.ndarray], ids: np.ndarray) -> np.ndarray:
     """Positions of ``ids`` among the original vertices followed by the added blocks."""
     n = len(vertices)
@@ -137,24 +144,130 @@ def _gather(vertices: np.ndarray, blocks: list[np.ndarray], ids: np.ndarray) -> 
     return out
 
 
-def _fill_one(vertices, faces, loop, method, options):
-    from surfinpaint.fill.liepa.baseline import conventional_fill, faired_fill
+@dataclass
+class _Local:
+    """The neighbourhood of one hole, cut out of the mesh filled so far."""
 
+    loop: np.ndarray  # the hole's loop, global ids
+    ids: np.ndarray  # global ids of the local vertices (sorted)
+    faces_global: np.ndarray
+    vertices: np.ndarray
+    faces: np.ndarray  # over local ids
+    local_loop: np.ndarray
+
+
+class _FilledMesh:
+    """The mesh as its holes are filled: the original arrays, unchanged, and the blocks of
+    new vertices and faces appended hole by hole."""
+
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
+        self.vertices, self.faces = vertices, faces
+        self.vertex_faces = _vertex_face_csr(faces, len(vertices))
+        self.vertex_blocks: list[np.ndarray] = []
+        self.face_blocks: list[np.ndarray] = []
+        self.n_new = 0
+
+    def cut(self, loop: np.ndarray, rings: int) -> _Local:
+        """The faces within ``rings`` vertex rings of ``loop``, the earlier fills included
+        (the cost stays with the hole)."""
+        added = (np.concatenate(self.face_blocks) if self.face_blocks
+                 else np.empty((0, 3), dtype=np.int64))
+        picked, picked_added = _neighbourhood(self.faces, self.vertex_faces, added, loop, rings)
+        faces_global = np.concatenate([self.faces[picked], added[picked_added]])
+        ids, local_faces = np.unique(faces_global, return_inverse=True)
+        return _Local(loop=loop, ids=ids, faces_global=faces_global,
+                      vertices=_gather(self.vertices, self.vertex_blocks, ids),
+                      faces=local_faces.reshape(-1, 3), local_loop=np.searchsorted(ids, loop))
+
+    def stitch(self, local: _Local, fill: Fill) -> str | None:
+        """Append ``fill`` (over ``local``'s ids); the reason when it cannot be."""
+        new_v = np.asarray(fill.vertices, dtype=np.float64).reshape(-1, 3)
+        new_f = np.asarray(fill.faces, dtype=np.int64)
+        degenerate = len(zero_area_faces(np.concatenate([local.vertices, new_v]), new_f))
+        if degenerate:
+            return (f"the fill would add {degenerate} zero-area triangles (the loop spans no "
+                    "area: a slit or a T-junction)")
+        n_local = len(local.vertices)
+        mapped = np.where(new_f < n_local, local.ids[np.minimum(new_f, n_local - 1)],
+                          len(self.vertices) + self.n_new + (new_f - n_local))
+        self.vertex_blocks.append(new_v)
+        self.face_blocks.append(mapped)
+        self.n_new += len(new_v)
+        return None
+
+    def result(self, reports: list[HoleReport], removed_faces: np.ndarray) -> FillResult:
+        vertices = np.concatenate([self.vertices, *self.vertex_blocks])
+        faces = np.concatenate([self.faces, *self.face_blocks])
+        return FillResult(vertices, faces, reports, len(self.vertices), len(self.faces),
+                          removed_faces)
+
+
+def _skip(report: HoleReport, reason: str) -> None:
+    report.skipped = reason
+    report.method = "none"
+    warnings.warn(f"hole {report.index}: {reason}; skipped", stacklevel=3)
+
+
+def _problem(local: _Local, index: int, explicit: bool) -> str | None:
+    """Why the hole cannot be filled (None: it can); a hole the caller named is an error."""
+    try:
+        check_loop(local.faces_global, local.loop)
+    except MeshError as exc:
+        # a loop pinched at a bow-tie (split into pieces): filling each piece joins the
+        # fans there, so the result is manifold once all pieces are filled
+        if "bow-tie" not in exc.message or unjoined_bowties(local.faces_global,
+                                                            local.loop).size:
+            if explicit:
+                raise MeshError(f"hole {index}: {exc.message}", vertices=exc.vertices,
+                                edges=exc.edges) from None
+            return exc.message
+    touching = local.faces_global[np.isin(local.faces_global, local.loop).any(axis=1)]
+    if np.isin(touching, local.loop).all():
+        # a lone triangle or a strip one face wide: the loop bounds nothing but the faces
+        # along it, and a fill would lay a second sheet on them (duplicate faces)
+        return "the loop bounds only the faces along it (a lone sheet)"
+    return None
+
+
+def _fill(local: _Local, method: str, options: ConformalOptions,
+          fair_order: int | None) -> Fill:
     if method == "fair":
-        new_v, new_f, used = faired_fill(vertices, faces, loop, options.get("fair_order") or 2)
-        return new_v, new_f, {"fair_order": used}
-    if method == "initial":
-        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False)
-        return new_v, new_f, {}
-    if method == "triangulate":
-        new_v, new_f = conventional_fill(vertices, faces, loop, refine=False, fair=False)
-        return new_v, new_f, {}
-    if method == "conformal":
-        from surfinpaint.fill.conformal.core import conformal_fill
+        new_v, new_f, used = faired_fill(local.vertices, local.faces, local.local_loop,
+                                         fair_order or 2)
+        return Fill(new_v, new_f, "fair", fair_order=used)
+    return conformal_fill(local.vertices, local.faces, local.local_loop, options,
+                          fair_order=fair_order)
 
-        return conformal_fill(vertices, faces, loop,
-                              **{k: v for k, v in options.items() if v is not None})
-    raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
+
+def _record(report: HoleReport, fill: Fill) -> None:
+    """What the method did with the hole, in its report (a fallback also as a warning)."""
+    report.method = fill.kind
+    report.note = fill.notes
+    report.fair_order = fill.fair_order
+    report.verdict, report.crease, report.diagnostics = (fill.verdict, fill.crease,
+                                                          fill.diagnostics)
+    if fill.failure:
+        report.fallback = fill.failure
+        warnings.warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "
+                      f"the faired fill (order {fill.fair_order}) instead", stacklevel=3)
+
+
+def _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings
+             ) -> ConformalOptions:
+    """The conformal options to use; bad arguments are the caller's error."""
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
+    check_fair_order(fair_order)
+    if options is not None and not isinstance(options, ConformalOptions):
+        raise ValueError(f"options must be a ConformalOptions, got {type(options).__name__}")
+    if options is not None and method != "conformal":
+        raise ValueError(f"options apply to method='conformal', not {method!r}")
+    for name, value in (("max_hole_edges", max_hole_edges),
+                        ("neighbourhood_rings", neighbourhood_rings)):
+        if value is not None and (isinstance(value, bool)
+                                  or not isinstance(value, int | np.integer) or value < 1):
+            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    return ConformalOptions() if options is None else options
 
 
 def fill_holes(
@@ -163,14 +276,14 @@ def fill_holes(
     holes: Sequence | None = None,
     method: str = "conformal",
     *,
+    options: ConformalOptions | None = None,
+    fair_order: int | None = None,
     include_border: bool = False,
     max_hole_edges: int | None = None,
-    rings: int | None = None,
+    neighbourhood_rings: int | None = None,
     repair: bool = False,
     validate: bool = True,
     progress: ProgressCallback | None = None,
-    fair_order: int | None = None,
-    **options,
 ) -> FillResult:
     """Fill holes of a triangle mesh.
 
@@ -182,28 +295,34 @@ def fill_holes(
         None fills every boundary loop except the outer border of an open surface
         (``include_border=True`` fills those too). Integers index :func:`find_holes`' list;
         sequences of vertex ids give boundary loops directly (any orientation, any start).
-    method : {"conformal", "fair", "initial", "triangulate"}
-        "conformal": λ-H inpainting (Lui, Wen, Gu), falling back to "fair" per hole on
-        failure. "fair": the conventional fill (Liepa 2003: triangulate, refine, fair).
-        "initial": triangulate and refine only. "triangulate": minimum-weight triangulation.
-    max_hole_edges : int, optional
-        Holes with more boundary edges are skipped (reported, not filled).
-    repair : bool
-        Remove the faces around non-manifold edges first (see
-        :func:`surfinpaint.geometry.repair.remove_nonmanifold_faces`); the holes this opens are then
-        filled with the others. The removed faces are listed in ``FillResult.removed_faces``.
-    rings : int, optional
-        Vertex rings of the surrounding surface handed to the filler (the conformal method's
-        patch size); a default suited to the method when None.
-    progress : callable(done, total, message), optional
-        Called before and after each hole.
+    method : {"conformal", "fair"}
+        "conformal": λ-H inpainting (Lui, Wen, Gu) checked against fairing, writing a
+        faired fill per hole where it fails or loses (:func:`surfinpaint.fill.conformal.
+        conformal_fill`). "fair": the conventional fill (Liepa 2003: triangulate, refine,
+        fair).
+    options : ConformalOptions, optional
+        The conformal method's options (its defaults when None); an error with "fair".
     fair_order : int, optional
         Fairing order (1 harmonic, 2 biharmonic, 3 triharmonic). "fair" uses 2 unless told
         (Liepa's and CGAL's default: the baseline). The conformal method, unless told,
-        chooses its fallback per hole between 2 and 3 by its truth-free self-check (see
-        :func:`surfinpaint.fill.conformal.core.conformal_fill`).
-    **options
-        Passed to the conformal method (see :func:`surfinpaint.fill.conformal.core.conformal_fill`).
+        starts from the trilaplacian fill and chooses its fallback per hole between 2 and 3
+        by its truth-free self-check.
+    include_border : bool
+        Also fill the loops that look like the outer border of an open surface.
+    max_hole_edges : int, optional
+        Holes with more boundary edges are skipped (reported, not filled).
+    neighbourhood_rings : int, optional
+        Vertex rings of the surrounding surface cut out and handed to the filler; None: what
+        the method looks at (for the conformal method, its patch and its test holes).
+    repair : bool
+        Remove the faces around non-manifold edges first (see
+        :func:`surfinpaint.geometry.repair.remove_nonmanifold_faces`); the holes this opens
+        are then filled with the others. The removed faces are listed in
+        ``FillResult.removed_faces``.
+    validate : bool
+        Check the mesh first (:func:`surfinpaint.validate_mesh`).
+    progress : callable(done, total, message), optional
+        Called before and after each hole.
 
     Returns
     -------
@@ -215,135 +334,44 @@ def fill_holes(
     ------
     MeshError
         Invalid mesh or hole selection (the message names the offending ids).
-    NotImplementedError
-        ``method="conformal"`` before the conformal method is available.
+    ValueError
+        An unknown method or a bad argument (an unknown option name is a TypeError).
     """
-    if method not in METHODS:
-        raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
-    if fair_order is not None and (not isinstance(fair_order, int | np.integer)
-                                   or fair_order not in (1, 2, 3)):
-        raise ValueError(f"fair_order must be 1, 2 or 3, got {fair_order!r}")
-    options = {**options, "fair_order": fair_order}
-    for name, value in (("max_hole_edges", max_hole_edges), ("rings", rings)):
-        if value is not None and (not isinstance(value, int | np.integer) or value < 1):
-            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     removed_faces = np.empty(0, dtype=np.int64)
     if repair:
-        from surfinpaint.geometry.repair import remove_nonmanifold_faces
-
         faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
     if validate:
-        from surfinpaint.geometry.validation import validate_mesh
-
         validate_mesh(vertices, faces)
-    explicit = holes is not None
     loops = select_holes(vertices, faces, holes, include_border=include_border)
-    if method == "conformal":
-        try:
-            import surfinpaint.fill.conformal.core  # noqa: F401
-        except ImportError as exc:
-            raise NotImplementedError(
-                "method='conformal' is not implemented yet; use method='fair'"
-            ) from exc
-    if method == "conformal":
-        from surfinpaint.fill.conformal.core import check_options, neighbourhood_rings
-
-        # bad options are the caller's error, not a failed hole to fall back from
-        check_options(options.get("discretization") or "mesh", options)
-    n = len(vertices)
-    vertex_faces = _vertex_face_csr(faces, n)
-    new_vertex_blocks: list[np.ndarray] = []
-    new_face_blocks: list[np.ndarray] = []
-    n_new_vertices = 0
-    reports: list[HoleReport] = []
-    total = len(loops)
-    for index, loop in enumerate(loops):
-        report = HoleReport(index=index, loop=np.asarray(loop), n_edges=len(loop),
-                            requested=method, method=method)
-        reports.append(report)
-        if max_hole_edges is not None and len(loop) > max_hole_edges:
-            report.skipped = f"{len(loop)} boundary edges > max_hole_edges={max_hole_edges}"
+    mesh = _FilledMesh(vertices, faces)
+    reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
+                          method=method) for k, loop in enumerate(loops)]
+    for report in reports:
+        if max_hole_edges is not None and report.n_edges > max_hole_edges:
+            report.skipped = f"{report.n_edges} boundary edges > max_hole_edges={max_hole_edges}"
             report.method = "none"
             continue
         if progress:
-            progress(index, total, f"hole {index}: {len(loop)} edges, {method}")
+            progress(report.index, len(loops),
+                     f"hole {report.index}: {report.n_edges} edges, {method}")
         started = time.perf_counter()
-        added = (np.concatenate(new_face_blocks) if new_face_blocks
-                 else np.empty((0, 3), dtype=np.int64))
-        hole_rings = rings
-        if hole_rings is None:
-            hole_rings = (neighbourhood_rings(len(loop), **options) if method == "conformal"
-                          else 3)
-        picked, picked_added = _neighbourhood(faces, vertex_faces, added, loop, hole_rings)
-        local_faces_global = np.concatenate([faces[picked], added[picked_added]])
-        local_ids, local_faces = np.unique(local_faces_global, return_inverse=True)
-        local_faces = local_faces.reshape(-1, 3)
-        local_vertices = _gather(vertices, new_vertex_blocks, local_ids)
-        local_loop = np.searchsorted(local_ids, loop)
-        try:
-            # on the neighbourhood (global ids): the cost stays with the hole
-            check_loop(local_faces_global, loop)
-        except MeshError as exc:
-            # a loop pinched at a bow-tie (split into pieces): filling each piece joins the
-            # fans there, so the result is manifold once all pieces are filled
-            if "bow-tie" not in exc.message or unjoined_bowties(local_faces_global, loop).size:
-                if explicit:
-                    raise MeshError(f"hole {index}: {exc.message}", vertices=exc.vertices,
-                                    edges=exc.edges) from None
-                _skip(report, exc.message)
-                continue
-        touching = local_faces_global[np.isin(local_faces_global, loop).any(axis=1)]
-        if np.isin(touching, loop).all():
-            # a lone triangle or a strip one face wide: the loop bounds nothing but the faces
-            # along it, and a fill would lay a second sheet on them (duplicate faces)
-            _skip(report, "the loop bounds only the faces along it (a lone sheet)")
+        rings = neighbourhood_rings or (options.neighbourhood_rings(report.n_edges)
+                                        if method == "conformal" else FAIR_NEIGHBOURHOOD_RINGS)
+        local = mesh.cut(loops[report.index], rings)
+        problem = _problem(local, report.index, explicit=holes is not None)
+        if problem is None:
+            fill = _fill(local, method, options, fair_order)
+            _record(report, fill)
+            problem = mesh.stitch(local, fill)
+        if problem is not None:
+            _skip(report, problem)
             continue
-        try:
-            new_v, new_f, details = _fill_one(local_vertices, local_faces, local_loop,
-                                               method, options)
-        except (FillError, np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
-            if method != "conformal" or isinstance(exc, MeshError):
-                raise
-            report.fallback = f"{type(exc).__name__}: {exc}"
-            report.method = "fair"
-            warnings.warn(f"hole {index}: conformal fill failed ({exc}); used the "
-                          "faired fill instead", stacklevel=2)
-            new_v, new_f, details = _fill_one(
-                local_vertices, local_faces, local_loop, "fair",
-                {"fair_order": options.get("fair_order")})
-        notes = [details.get(key) for key in ("selection", "crease", "crease_failed")]
-        report.note = "; ".join(note for note in notes if note) or None
-        if details.get("selected"):
-            report.method = details["selected"]
-        if details.get("failed"):
-            # the conformal method already fell back to its (self-checked) faired fill
-            report.fallback = details["failed"]
-            warnings.warn(f"hole {index}: conformal fill failed ({details['failed']}); used "
-                          f"the faired fill (order {details['fair_order']}) instead",
-                          stacklevel=2)
-        new_f = np.asarray(new_f, dtype=np.int64)
-        degenerate = len(zero_area_faces(
-            np.concatenate([local_vertices, np.reshape(new_v, (-1, 3))]), new_f))
-        if degenerate:
-            _skip(report, f"the fill would add {degenerate} zero-area triangles (the loop "
-                  "spans no area: a slit or a T-junction)")
-            continue
-        n_local = len(local_vertices)
-        mapped = np.where(new_f < n_local, local_ids[np.minimum(new_f, n_local - 1)],
-                          n + n_new_vertices + (new_f - n_local))
-        new_vertex_blocks.append(np.asarray(new_v, dtype=np.float64).reshape(-1, 3))
-        new_face_blocks.append(mapped)
-        n_new_vertices += len(new_v)
-        report.new_vertices = len(new_v)
-        report.new_faces = len(new_f)
+        report.new_vertices, report.new_faces = len(fill.vertices), len(fill.faces)
         report.seconds = time.perf_counter() - started
-        report.details = details
         if progress:
-            progress(index + 1, total, f"hole {index}: done in {report.seconds:.2f} s")
-    out_vertices = (np.concatenate([vertices, *new_vertex_blocks]) if new_vertex_blocks
-                    else vertices.copy())
-    out_faces = (np.concatenate([faces, *new_face_blocks]) if new_face_blocks
-                 else faces.copy())
-    return FillResult(out_vertices, out_faces, reports, n, len(faces), removed_faces)
+            progress(report.index + 1, len(loops),
+                     f"hole {report.index}: done in {report.seconds:.2f} s")
+    return mesh.result(reports, removed_faces)

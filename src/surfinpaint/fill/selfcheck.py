@@ -5,8 +5,8 @@ known: the rings of known surface around the hole, hidden and predicted again
 (:func:`hidden_ring_scores`), and sibling holes as wide as it cut out of the known surface
 nearby (:func:`sibling_scores`). Each test takes ``fill(vertices, faces, loop)`` returning
 several candidate fills by name and scores every candidate, so one test run compares them
-all. :func:`surfinpaint.fill.conformal.core.conformal_fill` uses them to choose between its λ-H fill
-and the faired fills.
+all. :func:`surfinpaint.fill.conformal.conformal_fill` uses them to choose between its λ-H fill and
+the faired fills (:func:`surfinpaint.fill.conformal.choose`).
 """
 
 from __future__ import annotations
@@ -51,7 +51,8 @@ def sibling_scores(
 
     Geodesic disks as wide as the hole are cut ``gap_rings`` rings beyond it (``siblings``
     of them, spread around), filled by ``fill`` (function(vertices, faces, loop) → dict
-    name → (new_vertices, new_faces, info), or an exception for a failed candidate), and
+    name → :class:`~surfinpaint.fill.results.Fill`, or the exception of a failed
+    candidate), and
     each candidate is scored by the two-sided mean distance between its fill and the removed
     surface (infinite when it failed there). No ground truth of the hole itself is used.
 
@@ -111,7 +112,8 @@ def sibling_scores(
         made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
         patches = [hole_patch_of(np.concatenate([cut.vertices, new_v]),
                                  np.concatenate([cut.faces, new_f]), len(cut.vertices),
-                                 cut.faces) for new_v, new_f, _ in made.values()]
+                                 cut.faces) for new_v, new_f in
+                   ((c.vertices, c.faces) for c in made.values())]
         results.update(zip(made, mean_surface_distances(
             patches, cut.truth_vertices, cut.truth_faces, n_samples=n_samples), strict=True))
         return results
@@ -177,7 +179,8 @@ def hidden_ring_scores(
         samples = sample_surface(vertices, faces[hidden], n_samples, seed=0)
         return {
             name: np.inf if isinstance(c, Exception) else  # failed on a hole like this one
-            float(point_mesh_distance(samples, np.concatenate([vertices, c[0]]), c[1]).mean())
+            float(point_mesh_distance(samples, np.concatenate([vertices, c.vertices]),
+                                      c.faces).mean())
             for name, c in candidates.items()
         }
 

@@ -1,0 +1,188 @@
+"""The candidate fills of one hole: the faired fills (bilaplacian, trilaplacian) from one
+triangulation, and the λ-H fill, made only when asked (it is the costly one).
+
+The λ-H fill starts from an initial fill S0 (the trilaplacian faired fill unless a fairing
+order is asked for, or only triangulated and refined), runs ``passes`` λ-H passes of the
+chosen discretization over the hole's patch, and is checked (:mod:`.checks`). A crease that
+crosses the hole is continued across it first and each side is filled and inpainted on its
+own (:mod:`surfinpaint.fill.creases`): λ and H describe the smooth sides, not the crease.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from surfinpaint.errors import FillError
+from surfinpaint.fill.conformal.checks import check_patch
+from surfinpaint.fill.conformal.grid_pass import inpaint_patch
+from surfinpaint.fill.conformal.mesh_pass import inpaint_patch_on_mesh
+from surfinpaint.fill.conformal.options import (
+    S0_ORDER,
+    SOLVER_TOL,
+    TEST_SOLVER_TOL,
+    ConformalOptions,
+)
+from surfinpaint.fill.conformal.patch import hole_patch
+from surfinpaint.fill.creases import CREASE_EDGES, hole_crease, split_fill
+from surfinpaint.fill.liepa.baseline import conventional_fill, faired_fills
+from surfinpaint.fill.results import Fill, LambdaHDiagnostics
+
+__all__ = ["NUMERICAL_ERRORS", "Candidates"]
+
+# what a numerical step of the λ-H fill raises when it fails (FillError is a RuntimeError;
+# LinAlgError and MeshError are ValueErrors): turned into a FillError where the fill is made
+NUMERICAL_ERRORS = (ValueError, RuntimeError, np.linalg.LinAlgError)
+
+# candidate name -> fill, or the FillError of a λ-H fill that failed on that hole
+Candidate = Fill | FillError
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """How the candidate fills of one hole (and of its self-check's test holes) are made.
+
+    Attributes
+    ----------
+    options : ConformalOptions
+    orders : tuple of int
+        Fairing orders of the faired candidates (``fair2``, ``fair3``; or the one asked for).
+    s0_order : int
+        Fairing order of S0 (with ``options.start == "fair"``).
+    crease_angle : float, optional
+        Creases are looked for (mesh discretization with ``options.creases``); None: every
+        hole is filled as smooth.
+    crossed : bool
+        A crease crosses the hole itself: its test holes are filled along it too, where one
+        sharp edge left between them and a corner is enough (the crease is known from the
+        hole), and a test hole that is not crossed says nothing about the crease fill.
+    """
+
+    options: ConformalOptions
+    orders: tuple[int, ...]
+    s0_order: int
+    crease_angle: float | None
+    crossed: bool
+
+    @classmethod
+    def for_hole(cls, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                 options: ConformalOptions, fair_order: int | None = None) -> Candidates:
+        """The candidates of the hole ``loop`` with ``options`` and the fairing order asked
+        for (None: S0 trilaplacian, faired candidates of orders 2 and 3)."""
+        angle = options.crease_angle if options.creases and \
+            options.discretization == "mesh" else None
+        crossed = angle is not None and \
+            hole_crease(vertices, faces, loop, angle=angle) is not None
+        return cls(options=options, orders=(2, 3) if fair_order is None else (fair_order,),
+                   s0_order=S0_ORDER if fair_order is None else fair_order,
+                   crease_angle=angle, crossed=crossed)
+
+    def faired(self, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray
+               ) -> dict[str, Fill]:
+        """The faired candidates ``"fair<k>"`` (one triangulation and refinement shared)."""
+        made = faired_fills(vertices, faces, loop, sorted(self.orders))
+        return {f"fair{k}": Fill(made[k][0], made[k][1], "fair", fair_order=made[k][2])
+                for k in self.orders}
+
+    def initial(self, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                faired: dict[str, Fill] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """S0 = (new_vertices, new_faces): the order-``s0_order`` faired fill (taken from
+        ``faired`` when given), or only triangulated and refined."""
+        if self.options.start == "fair":
+            if faired is not None:
+                s0 = faired[f"fair{self.s0_order}"]
+                return s0.vertices, s0.faces
+            new_v, new_f, _ = faired_fills(vertices, faces, loop, [self.s0_order])[self.s0_order]
+            return new_v, new_f
+        new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False)
+        return np.asarray(new_v, dtype=float), np.asarray(new_f, dtype=np.int64)
+
+    def lambda_h(self, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                 s0: tuple[np.ndarray, np.ndarray], *, test: bool = False) -> Fill:
+        """The λ-H fill from S0; along a crease that crosses the hole when one does (as a
+        smooth hole when that fails).
+
+        ``test``: a self-check test hole's fill, scored by its distance to the removed
+        surface: its coupled solve stops at a coarser step, and the costly
+        self-intersection check is left to the hole's own fill.
+
+        Raises
+        ------
+        FillError
+            When the λ-H fill fails (a numerical failure of any step is one).
+        """
+        crease = None
+        if self.crease_angle is not None:
+            crease = hole_crease(vertices, faces, loop, angle=self.crease_angle,
+                                 min_edges=1 if test and self.crossed else CREASE_EDGES)
+        crease_failure = None
+        if crease is not None:
+            try:
+                cv, cf, cut_edges = split_fill(vertices, faces, loop, crease,
+                                               order=self.s0_order, angle=self.crease_angle)
+                fill = self._passes(vertices, faces, loop, cv, cf, test=test,
+                                    cut_edges=cut_edges)
+                return replace(fill, crease=f"a crease ({crease.angle:.0f}°) crosses the "
+                               "hole: continued across it, each side inpainted on its own")
+            except NUMERICAL_ERRORS as exc:
+                crease_failure = f"the crease fill failed ({exc}), filled as a smooth hole"
+        try:
+            fill = self._passes(vertices, faces, loop, *s0, test=test)
+        except FillError:
+            raise
+        except NUMERICAL_ERRORS as exc:
+            raise FillError(f"{type(exc).__name__}: {exc}") from exc
+        return replace(fill, crease_failure=crease_failure)
+
+    def for_tests(self, *, with_lambda_h: bool = True
+                  ) -> Callable[[np.ndarray, np.ndarray, np.ndarray], dict[str, Candidate]]:
+        """The candidates of a self-check test hole, as :mod:`surfinpaint.fill.selfcheck`
+        takes them: function(vertices, faces, loop) -> name -> Fill (or the FillError of a
+        λ-H fill that failed there)."""
+        def fills(vertices, faces, loop) -> dict[str, Candidate]:
+            out: dict[str, Candidate] = dict(self.faired(vertices, faces, loop))
+            if not with_lambda_h:
+                return out
+            s0 = self.initial(vertices, faces, loop, out)
+            try:
+                made = self.lambda_h(vertices, faces, loop, s0, test=True)
+                if self.crossed and made.crease is None:
+                    raise FillError("no crease crosses the test hole")
+                out["conformal"] = made
+            except FillError as exc:
+                out["conformal"] = exc
+            return out
+        return fills
+
+    def _passes(self, vertices, faces, loop, new_v, new_f, *, test, cut_edges=None) -> Fill:
+        """``options.passes`` λ-H passes over S0 = (new_v, new_f), then the checks."""
+        o = self.options
+        n = len(vertices)
+        moving = np.arange(n, n + len(new_v))
+        if cut_edges is not None:  # the crease's points in the fill stay where they are put
+            moving = np.setdiff1d(moving, cut_edges)
+        if len(moving) == 0:
+            return Fill(new_v, new_f, "conformal", diagnostics=LambdaHDiagnostics(
+                o.discretization, rings=0, note="no interior vertices to move"))
+        all_v = np.concatenate([vertices, new_v])
+        rings = o.rings_in_patch
+        if o.discretization == "mesh":
+            tol = o.solver_tol if o.solver_tol is not None else (
+                TEST_SOLVER_TOL if test else SOLVER_TOL)
+            for _ in range(o.passes):
+                positions, patch, used, mesh = inpaint_patch_on_mesh(
+                    all_v, faces, loop, new_f, moving, rings=rings,
+                    iterations=o.solver_iterations, tol=tol, cut_edges=cut_edges)
+                all_v[moving] = positions
+            diagnostics = LambdaHDiagnostics("mesh", used, mesh=mesh)
+        else:
+            patch, used = hole_patch(faces, loop, new_f, rings)
+            for _ in range(o.passes):
+                positions, grid, reconstruct = inpaint_patch(all_v, patch, len(new_f), moving,
+                                                             o.grid)
+                all_v[moving] = positions
+            diagnostics = LambdaHDiagnostics("grid", used, reconstruct=reconstruct, grid=grid)
+        check_patch(all_v, patch, len(new_f), self_crossing=not test, crease=cut_edges)
+        return Fill(all_v[n:], new_f, "conformal", diagnostics=diagnostics)

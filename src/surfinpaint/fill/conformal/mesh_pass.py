@@ -1,0 +1,134 @@
+"""The mesh discretization of one λ-H pass, the default: λ and H live on the patch's own
+triangles, and inpainting and rebuild are solved together so that the curvature at the
+hole's edge stays tied to the positions (:mod:`surfinpaint.representation.on_mesh`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from surfinpaint.errors import FillError
+from surfinpaint.fill.conformal.patch import hole_patch
+from surfinpaint.fill.creases import cut_along
+from surfinpaint.fill.results import MeshLambdaH
+from surfinpaint.geometry import parameterization
+from surfinpaint.geometry.mesh import connected_components
+from surfinpaint.representation.on_mesh import inpaint_on_mesh
+
+__all__ = ["inpaint_patch_on_mesh"]
+
+# the fewest rings of surface a patch keeps where the conformal map flips triangles
+MIN_RINGS = 3
+
+
+def inpaint_patch_on_mesh(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    fill_faces: np.ndarray,
+    moving: np.ndarray,
+    *,
+    rings: int = 4,
+    iterations: int = 20,
+    tol: float = 1e-3,
+    cut_edges: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray, int, MeshLambdaH]:
+    """λ-H inpainting of a filled hole on its patch's own triangles
+    (:func:`surfinpaint.representation.on_mesh.inpaint_on_mesh`).
+
+    The patch is the fill plus ``rings`` face rings of the surface around the hole, mapped by
+    LSCM; where that map flips a triangle the patch loses a ring, down to 3 rings. With
+    ``cut_edges`` (a crease across the hole, :func:`surfinpaint.fill.creases.split_fill`) the
+    mesh is cut open along them first and each side of the crease is a patch of its own,
+    the crease its fixed border.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+        Positions of the mesh's vertices followed by the fill's new ones.
+    faces : (f, 3) int array
+        The mesh's faces (without the fill).
+    loop : (k,) int array
+        The hole's boundary loop.
+    fill_faces : (p, 3) int array
+        The fill's faces.
+    moving : (m,) int array
+        Vertex ids to move (the fill's interior vertices).
+    rings : int
+        Face rings of the surface in the patch.
+    iterations, tol :
+        Updates of the normals and λ in the coupled solve, and the step (in mean edge
+        lengths) below which it stops.
+    cut_edges : (c, 2) int array, optional
+        Edges to cut along (see above).
+
+    Returns
+    -------
+    positions : (m, 3) float array
+        New positions of ``moving``.
+    patch_faces : (p', 3) int array
+        The patch used (fill faces first).
+    rings : int
+        The rings used (with a crease, the fewest of its sides).
+    lambda_h : MeshLambdaH
+        The patch's map and its positions before and after (with a crease, of its side
+        with the larger fill), from which the report draws λ and H.
+
+    Raises
+    ------
+    FillError
+        When the map flips triangles even with 3 rings, or the coupled solve fails.
+    """
+    moving = np.asarray(moving, dtype=np.int64)
+    if cut_edges is None:
+        return _inpaint_piece(vertices, faces, loop, fill_faces, moving, rings=rings,
+                              iterations=iterations, tol=tol)
+    cut, parent = cut_along(np.vstack([fill_faces, faces]), cut_edges)
+    cut_fill, cut_known = cut[:len(fill_faces)], cut[len(fill_faces):]
+    points = vertices[parent]
+    free = np.isin(parent, moving)
+    natural = np.isin(parent, cut_edges)
+    _, label = connected_components(cut_fill, len(parent))
+    side = label[cut_fill[:, 0]]
+    positions = vertices[moving].copy()
+    order = np.argsort(moving)
+    ring_faces, used, first = [], rings, None
+    for piece in sorted(np.unique(side), key=lambda s: -(side == s).sum()):
+        piece_fill = cut_fill[side == piece]
+        piece_moving = np.unique(piece_fill[free[piece_fill]])
+        seeds = np.unique(piece_fill[~free[piece_fill]])
+        new, patch, piece_rings, lambda_h = _inpaint_piece(
+            points, cut_known, seeds, piece_fill, piece_moving, rings=rings,
+            iterations=iterations, tol=tol, natural=natural)
+        positions[order[np.searchsorted(moving[order], parent[piece_moving])]] = new
+        ring_faces.append(parent[patch[len(piece_fill):]])
+        first = first or lambda_h
+        used = min(used, piece_rings)
+    rings_all = np.unique(np.sort(np.vstack(ring_faces), axis=1), axis=0, return_index=True)[1]
+    ring_faces = np.vstack(ring_faces)[np.sort(rings_all)]
+    first = MeshLambdaH(first.uv, first.faces, first.n_fill_faces, first.free, first.before,
+                        first.after, one_side=True)
+    return positions, np.vstack([fill_faces, ring_faces]), used, first
+
+
+def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterations, tol,
+                   natural=None):
+    """:func:`inpaint_patch_on_mesh` of one patch, grown from ``seeds`` over ``faces``."""
+    for k in range(rings, MIN_RINGS - 1, -1):
+        patch, used = hole_patch(faces, seeds, fill_faces, k)
+        ids, local = np.unique(patch, return_inverse=True)
+        local = local.reshape(-1, 3)
+        # through the module: tests stand in for the flip test
+        uv = parameterization.lscm(vertices[ids], local)
+        flipped = parameterization.flipped_faces(local, uv)
+        if len(flipped) == 0:
+            break
+    else:
+        raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped "
+                        f"faces, even with {MIN_RINGS} rings)")
+    free = np.isin(ids, moving)
+    points = vertices[ids]
+    new_points = inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
+                                 natural=None if natural is None else natural[ids])
+    lambda_h = MeshLambdaH(uv=uv, faces=local, n_fill_faces=len(fill_faces), free=free,
+                           before=points, after=new_points)
+    return new_points[np.searchsorted(ids, moving)], patch, used, lambda_h

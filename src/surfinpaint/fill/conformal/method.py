@@ -1,0 +1,130 @@
+"""Conformal surface inpainting of one hole (Lui, Wen, Gu; method.md §6), checked against
+fairing without any truth of the hole.
+
+Per hole: the candidates (:mod:`.candidates`: the faired fills, and the λ-H fill made only
+when needed) → the truth-free test scores (:mod:`surfinpaint.fill.selfcheck`) → the verdict
+(:func:`.selection.choose`, pure) → the winner, made and checked → a typed
+:class:`~surfinpaint.fill.results.Fill`. A failure of the λ-H fill is a ``FillError``,
+caught here and only here: the faired fill the verdict prefers is written instead, and the
+``Fill`` says why. The original vertices never move.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from surfinpaint.errors import FillError
+from surfinpaint.fill.conformal.candidates import Candidates
+from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
+from surfinpaint.fill.conformal.selection import Verdict, choose, sibling_test_plan
+from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.fill.results import Fill
+from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores
+
+__all__ = ["conformal_fill"]
+
+
+def conformal_fill(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    options: ConformalOptions | None = None,
+    *,
+    fair_order: int | None = None,
+) -> Fill:
+    """Fill one hole by conformal λ-H inpainting, checked against fairing.
+
+    Parameters
+    ----------
+    vertices, faces : arrays
+        The mesh (often a local neighbourhood cut by :func:`surfinpaint.fill_holes`).
+    loop : (k,) int array
+        The hole's boundary loop, oriented as :func:`surfinpaint.geometry.mesh.boundary_loops`
+        gives.
+    options : ConformalOptions, optional
+        The method's options (the defaults when None).
+    fair_order : int, optional
+        Fairing order of S0 and of the faired fill the self-check compares with and falls
+        back to. None (default): S0 is trilaplacian (measured: the λ-H fill from it is
+        closer), the λ-H fill is measured against the bilaplacian fill (the baseline), and
+        the faired fallback is chosen per hole by the same tests between the bilaplacian and
+        the trilaplacian one (better on smooth surfaces, much worse on noisy range scans;
+        docs/accuracy.md).
+
+    Returns
+    -------
+    Fill
+        ``kind="conformal"`` with its verdict and diagnostics, or ``kind="fair"`` with its
+        ``fair_order``, the verdict and, when the λ-H fill failed, ``failure``.
+
+    Raises
+    ------
+    FillError
+        Only when not even the faired fill can be made.
+    ValueError
+        For a bad ``fair_order``.
+    """
+    options = ConformalOptions() if options is None else options
+    check_fair_order(fair_order)
+    candidates = Candidates.for_hole(vertices, faces, loop, options, fair_order)
+    faired: dict[str, Fill] = {}
+    verdict = None
+    try:
+        if not options.select:
+            s0 = candidates.initial(vertices, faces, loop)
+            return candidates.lambda_h(vertices, faces, loop, s0)
+        # the faired fills are cheap; the λ-H fill of the hole is made once it has won
+        faired = candidates.faired(vertices, faces, loop)
+        verdict = self_check(vertices, faces, loop, candidates)
+        if verdict.make:
+            s0 = candidates.initial(vertices, faces, loop, faired)
+            own = candidates.lambda_h(vertices, faces, loop, s0)
+            if verdict.keep:
+                return replace(own, verdict=verdict,
+                               selection=verdict.sentence(kept=True, failed=False))
+    except FillError as exc:
+        return _fall_back(vertices, faces, loop, faired, verdict, exc, fair_order)
+    return _faired_choice(faired, verdict)
+
+
+def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+               candidates: Candidates) -> Verdict:
+    """Run the truth-free tests of the hole's candidates and :func:`choose` by their scores:
+    the cheaper hidden-ring test first, the sibling test only when it can still change the
+    outcome (:func:`sibling_test_plan`)."""
+    o = candidates.options
+    reference = f"fair{candidates.orders[0]}"
+    choose_faired = len(candidates.orders) > 1
+    hidden = hidden_ring_scores(vertices, faces, loop, candidates.for_tests(),
+                                hide_rings=o.hide_rings, patch_rings=o.rings_in_patch)
+    run, with_lambda_h = sibling_test_plan(hidden, reference=reference,
+                                           choose_faired=choose_faired)
+    sibling = {}
+    if run:
+        sibling = sibling_scores(vertices, faces, loop,
+                                 candidates.for_tests(with_lambda_h=with_lambda_h),
+                                 siblings=o.siblings, gap_rings=o.gap_rings,
+                                 patch_rings=o.rings_in_patch)
+    return choose(hidden, sibling, reference=reference, choose_faired=choose_faired,
+                  crossed=candidates.crossed)
+
+
+def _faired_choice(faired: dict[str, Fill], verdict: Verdict,
+                   failure: str | None = None) -> Fill:
+    """The faired fill the verdict prefers, with the verdict in words."""
+    fill = faired[verdict.faired]
+    return replace(fill, verdict=verdict, failure=failure, selection=verdict.sentence(
+        kept=False, failed=failure is not None, fair_order=fill.fair_order))
+
+
+def _fall_back(vertices, faces, loop, faired, verdict, exc: FillError,
+               fair_order: int | None) -> Fill:
+    """The faired fill written when the λ-H fill (or a step before the verdict) failed: the
+    one the verdict prefers, or without a verdict the order asked for (2 by default)."""
+    failure = f"{type(exc).__name__}: {exc}"
+    if verdict is not None:
+        return _faired_choice(faired, verdict, failure)
+    new_v, new_f, used = faired_fill(vertices, faces, loop, fair_order or 2)
+    return Fill(new_v, new_f, "fair", fair_order=used, failure=failure)

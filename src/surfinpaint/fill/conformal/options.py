@@ -1,0 +1,217 @@
+"""The conformal method's options: validated once here, documented once in the docstrings.
+
+:class:`ConformalOptions` holds what the conformal fill of one hole does (its initial fill,
+where λ and H live, its patch, its self-check, creases); :class:`GridOptions` the options of
+the paper's grid discretization only. Both are frozen: a value that is accepted here is one
+the method can run with.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from surfinpaint.fill.creases import CREASE_ANGLE
+from surfinpaint.representation.inpainting import INPAINT_METHODS
+from surfinpaint.representation.reconstruction import METHODS as RECONSTRUCT_METHODS
+
+__all__ = ["ConformalOptions", "GridOptions", "PATCH_RINGS", "S0_ORDER", "TEST_SOLVER_TOL",
+           "check_fair_order"]
+
+# rings of surface in a hole's patch, per discretization (measured: docs/accuracy.md)
+PATCH_RINGS = {"mesh": 4, "grid": 10}
+# fairing order of the initial fill S0 (without ``fair_order``): measured, the λ-H fill
+# from the trilaplacian S0 is closer (benchmarks/selfcheck_rules.py, README)
+S0_ORDER = 3
+# step (mean edge lengths) at which the coupled λ-H solve of the hole's own fill stops
+SOLVER_TOL = 1e-3
+# the same for a self-check test hole: their scores differ by far more
+TEST_SOLVER_TOL = 1e-2
+
+
+def _positive_int(name: str, value, minimum: int = 1) -> None:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+
+
+def _positive_number(name: str, value) -> None:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.number) \
+            or not np.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be a positive number, got {value!r}")
+
+
+def _one_of(name: str, value, choices) -> None:
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, choices))}, "
+                         f"got {value!r}")
+
+
+def check_fair_order(fair_order, *, allow_none: bool = True) -> None:
+    """Raise ValueError unless ``fair_order`` is 1, 2, 3 (or None when ``allow_none``)."""
+    if fair_order is None and allow_none:
+        return
+    if isinstance(fair_order, bool) or not isinstance(fair_order, int | np.integer) \
+            or fair_order not in (1, 2, 3):
+        raise ValueError(f"fair_order must be 1, 2 or 3, got {fair_order!r}")
+
+
+@dataclass(frozen=True)
+class GridOptions:
+    """Options of the paper's grid discretization (``discretization="grid"``,
+    :func:`surfinpaint.fill.conformal.grid_pass.inpaint_patch`).
+
+    Attributes
+    ----------
+    spacing : float
+        Grid spacing as a fraction of the mean parameter-space edge length of the patch.
+    fit_radius : int
+        Window half-width (nodes) of the robust λ, H fits.
+    fit_sigma : float, optional
+        Gaussian weight width (nodes) of those fits; ``0.75 * fit_radius`` when None.
+    dilate : int
+        Nodes by which the hole region is grown before inpainting (the crease between the
+        initial fill and the surface pollutes the nodes next to it).
+    inpaint : {"biharmonic", "harmonic"}
+        Inpainting model of λ and H (:func:`surfinpaint.inpaint`).
+    fidelity : float, optional
+        Soft data weight of the inpainting (:func:`surfinpaint.inpaint`); None: hard data.
+    reconstruct : {"gauss-codazzi", "laplacian"}
+        Reconstruction of the positions from (λ, H) (:func:`surfinpaint.reconstruct`); the
+        Laplacian form is used where too few known rings surround the region.
+    max_nodes : int
+        Largest grid; a larger one is a failure of the hole (the faired fill is used).
+    """
+
+    spacing: float = 0.5
+    fit_radius: int = 3
+    fit_sigma: float | None = None
+    dilate: int = 1
+    inpaint: str = "biharmonic"
+    fidelity: float | None = None
+    reconstruct: str = "gauss-codazzi"
+    max_nodes: int = 250_000
+
+    def __post_init__(self) -> None:
+        _positive_number("spacing", self.spacing)
+        _positive_int("fit_radius", self.fit_radius)
+        if self.fit_sigma is not None:
+            _positive_number("fit_sigma", self.fit_sigma)
+        _positive_int("dilate", self.dilate, minimum=0)
+        _one_of("inpaint", self.inpaint, INPAINT_METHODS)
+        if self.fidelity is not None:
+            _positive_number("fidelity", self.fidelity)
+        _one_of("reconstruct", self.reconstruct, RECONSTRUCT_METHODS)
+        _positive_int("max_nodes", self.max_nodes)
+
+
+@dataclass(frozen=True)
+class ConformalOptions:
+    """Options of the conformal fill (:func:`surfinpaint.fill.conformal.conformal_fill`).
+
+    The fairing order of the initial fill and of the faired fallback is ``fill_holes``'
+    ``fair_order`` (it applies to the faired method too).
+
+    Attributes
+    ----------
+    start : {"fair", "initial"}
+        Initial fill S0: faired (default; trilaplacian unless ``fair_order`` says) or only
+        triangulated and refined.
+    discretization : {"mesh", "grid"}
+        Where λ and H live. ``"mesh"`` (default): on the patch's own triangles, inpainting
+        and rebuild solved together (measured better on every benchmark mesh,
+        docs/accuracy.md). ``"grid"``: the paper's regular grid over the conformal domain,
+        with the options ``grid``.
+    patch_rings : int, optional
+        Face rings of the known surface in a hole's patch (fewer where the patch would not
+        be a disk or, on the mesh, where the conformal map flips a triangle); None: 4 for
+        the mesh discretization, 10 for the grid.
+    passes : int
+        Outer passes: re-parameterize the new patch and inpaint again.
+    solver_iterations : int
+        Mesh discretization: updates of the normals and λ in the coupled λ-H solve.
+    solver_tol : float, optional
+        Mesh discretization: step (mean edge lengths) below which the coupled solve stops;
+        None: 1e-3 for the hole, 1e-2 for the self-check's test holes.
+    select : bool
+        Self-check without any truth of the hole (method.md §8): predict ``hide_rings``
+        hidden rings of the known surface around it, and fill ``siblings`` holes as wide
+        as it cut from the known surface ``gap_rings`` rings away; the λ-H fill is kept
+        when it wins (:func:`surfinpaint.fill.conformal.selection.choose`), else a faired
+        fill is written. False: the raw λ-H fill (the faired fill when it fails).
+    hide_rings : int
+        Rings hidden for the first test.
+    siblings : int
+        Number of sibling holes (0: no sibling test).
+    gap_rings : int
+        Rings between the hole and its sibling holes.
+    creases : bool
+        Mesh discretization: a sharp crease (edges whose faces turn by more than
+        ``crease_angle`` degrees, :func:`surfinpaint.fill.creases.hole_crease`) that crosses
+        the hole is continued across it and each side is filled on its own. False fills
+        every hole as smooth.
+    crease_angle : float
+        Degrees, in (0, 180); see ``creases``.
+    grid : GridOptions, optional
+        Options of the grid discretization; ``GridOptions()`` when ``discretization`` is
+        "grid" and None. Given with the mesh discretization, an error.
+    """
+
+    start: str = "fair"
+    discretization: str = "mesh"
+    patch_rings: int | None = None
+    passes: int = 1
+    solver_iterations: int = 20
+    solver_tol: float | None = None
+    select: bool = True
+    hide_rings: int = 2
+    siblings: int = 2
+    gap_rings: int = 3
+    creases: bool = True
+    crease_angle: float = CREASE_ANGLE
+    grid: GridOptions | None = None
+
+    def __post_init__(self) -> None:
+        _one_of("start", self.start, ("fair", "initial"))
+        _one_of("discretization", self.discretization, tuple(PATCH_RINGS))
+        if self.patch_rings is not None:
+            # the mesh discretization drops rings where the map flips, down to 3
+            _positive_int("patch_rings", self.patch_rings,
+                          minimum=3 if self.discretization == "mesh" else 1)
+        _positive_int("passes", self.passes)
+        _positive_int("solver_iterations", self.solver_iterations)
+        if self.solver_tol is not None:
+            _positive_number("solver_tol", self.solver_tol)
+        _positive_int("hide_rings", self.hide_rings)
+        _positive_int("siblings", self.siblings, minimum=0)
+        _positive_int("gap_rings", self.gap_rings, minimum=0)
+        for name in ("select", "creases"):
+            if not isinstance(getattr(self, name), bool | np.bool_):
+                raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
+        if isinstance(self.crease_angle, bool) or not isinstance(
+                self.crease_angle, int | float | np.number) \
+                or not 0.0 < self.crease_angle < 180.0:
+            raise ValueError("crease_angle must be between 0 and 180 degrees, got "
+                             f"{self.crease_angle!r}")
+        if self.grid is not None and not isinstance(self.grid, GridOptions):
+            raise ValueError(f"grid must be a GridOptions, got {type(self.grid).__name__}")
+        if self.discretization == "grid" and self.grid is None:
+            object.__setattr__(self, "grid", GridOptions())
+        if self.discretization == "mesh" and self.grid is not None:
+            raise ValueError("grid options apply to discretization='grid' only")
+
+    @property
+    def rings_in_patch(self) -> int:
+        """``patch_rings``, or the default of the discretization."""
+        return PATCH_RINGS[self.discretization] if self.patch_rings is None \
+            else int(self.patch_rings)
+
+    def neighbourhood_rings(self, n_edges: int) -> int:
+        """Vertex rings around a hole of ``n_edges`` boundary edges that the fill looks at:
+        its patch, and with ``select`` the sibling holes and their patches (the size of the
+        neighbourhood :func:`surfinpaint.fill_holes` cuts for it)."""
+        rings = self.rings_in_patch + 3
+        if self.select and self.siblings > 0:
+            hole_rings = int(np.ceil(n_edges / (2 * np.pi))) + 1
+            rings = max(rings, self.gap_rings + 2 * hole_rings + self.rings_in_patch + 3)
+        return rings

@@ -1,0 +1,186 @@
+"""The self-check's rule: keep the λ-H fill or write a faired fill, from truth-free test
+scores (method.md §8, "an honest safety net"; measured in benchmarks/selfcheck_rules.py).
+
+Both functions are pure: scores in, decision out. The scores are those of
+:func:`surfinpaint.fill.selfcheck.hidden_ring_scores` (the rings of known surface around the
+hole, hidden and predicted again) and :func:`surfinpaint.fill.selfcheck.sibling_scores`
+(holes as wide as it cut from the known surface nearby): candidate name (``"conformal"``,
+``"fair2"``, ``"fair3"``) -> mean distance to the removed surface, infinite where the
+candidate failed; an empty dict when the test could not run.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["DECISIVE", "Verdict", "choose", "sibling_test_plan"]
+
+# a λ-H fill this many times closer than the faired fill on the hidden rings is kept
+# without the sibling test (on the benchmark the sibling test never overturned one)
+DECISIVE = 0.5
+
+Scores = Mapping[str, float]
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The self-check's decision for one hole.
+
+    Attributes
+    ----------
+    keep : bool
+        Keep the λ-H fill (when it can be made and passes its checks).
+    make : bool
+        Make the λ-H fill of the hole: when kept, or when it failed on a test hole (whether
+        it fails on this hole too is then what the report must say).
+    faired : str
+        The faired fill to write otherwise: ``"fair2"``, ``"fair3"`` (or the one asked for).
+    reference : str
+        The faired fill the λ-H fill was measured against.
+    hidden, sibling : dict
+        The scores of the two tests (empty: not run).
+    lost : tuple of str
+        The tests the λ-H fill did not pass ("hidden rings", "sibling holes").
+    scores : str
+        The scores in words (with the reason when no test could speak).
+    """
+
+    keep: bool
+    make: bool
+    faired: str
+    reference: str
+    hidden: dict = field(default_factory=dict)
+    sibling: dict = field(default_factory=dict)
+    lost: tuple[str, ...] = ()
+    scores: str = ""
+
+    @property
+    def tests(self) -> dict[str, dict]:
+        """The tests that ran, by name, in the order they ran."""
+        return {name: s for name, s in (("hidden rings", self.hidden),
+                                        ("sibling holes", self.sibling)) if s}
+
+    def sentence(self, *, kept: bool, failed: bool, fair_order: int | None = None) -> str:
+        """The verdict in words, once the λ-H fill was kept, or a faired fill of
+        ``fair_order`` written (``failed``: because the λ-H fill failed on this hole)."""
+        if kept:
+            return f"self-check kept the conformal fill ({self.scores})"
+        which = f"the faired fill (order {fair_order})"
+        if failed:
+            return f"the conformal fill failed, used {which} ({self.scores})"
+        if not self.tests:
+            return f"self-check not possible here, kept {which}"
+        return f"self-check ({', '.join(self.lost)}) preferred {which} ({self.scores})"
+
+
+def _beats(scores: Scores, name: str, other: str) -> bool:
+    return name in scores and scores[name] < scores[other]
+
+
+def _holds(scores: Scores, name: str, other: str) -> bool:
+    # a tie is not a loss: on sibling holes too small for inner vertices every fill is the
+    # same triangulation
+    return name in scores and scores[name] <= scores[other]
+
+
+def _wins(hidden: Scores, sibling: Scores, name: str, other: str) -> bool:
+    """Wins the hidden-ring test and does not lose the sibling test; without the former,
+    must win the latter."""
+    if hidden:
+        return _beats(hidden, name, other) and (not sibling or _holds(sibling, name, other))
+    return bool(sibling) and _beats(sibling, name, other)
+
+
+def _said(scores: Scores) -> Scores:
+    """The scores of a test, or none when the λ-H fill failed on its hole: a λ-H fill that
+    fails on a test hole says nothing about how it fills this one (it fails on the enlarged
+    hole of folded brain patches, measured), and the other test decides."""
+    return scores if np.isfinite(scores.get("conformal", 0.0)) else {}
+
+
+def _decisive(hidden_lh: Scores, reference: str) -> bool:
+    return "conformal" in hidden_lh and hidden_lh["conformal"] < DECISIVE * hidden_lh[reference]
+
+
+def sibling_test_plan(hidden: Scores, *, reference: str = "fair2",
+                      choose_faired: bool = True) -> tuple[bool, bool]:
+    """Whether the (costly) sibling test is run after the hidden-ring test, and with the
+    λ-H candidate: only when it can still change the outcome.
+
+    Parameters
+    ----------
+    hidden : dict
+        The hidden-ring scores.
+    reference : str
+        The faired fill the λ-H fill is measured against.
+    choose_faired : bool
+        The faired fill is chosen between "fair2" and "fair3" by the tests too.
+
+    Returns
+    -------
+    run : bool
+    with_lambda_h : bool
+        The λ-H fill is still in the race (else only the faired fills are scored).
+    """
+    hidden_lh = _said(hidden)
+    racing = not hidden_lh or _beats(hidden_lh, "conformal", reference)
+    faired_racing = choose_faired and (not hidden or _beats(hidden, "fair3", "fair2"))
+    return (racing or faired_racing) and not _decisive(hidden_lh, reference), racing
+
+
+def choose(hidden_scores: Scores, sibling_scores: Scores, *, reference: str = "fair2",
+           choose_faired: bool = True, crossed: bool = False) -> Verdict:
+    """Keep the λ-H fill or a faired fill, from the two tests' scores.
+
+    The λ-H fill is kept when it beats ``reference`` on the hidden-ring test and does not
+    lose the sibling test (a tie is not a loss); without a hidden-ring test it must win the
+    sibling test; with less than ``DECISIVE`` times the reference's hidden-ring error it is
+    kept whatever the siblings say. A test whose hole the λ-H fill failed on says nothing.
+    A hole ``crossed`` by a crease where no test hole could speak keeps its crease fill
+    (the two straight sharp chains that meet across the hole are the evidence). Otherwise
+    the faired fill is ``"fair3"`` if it passes the same tests against ``"fair2"``
+    (``choose_faired``), else ``"fair2"``, or ``reference`` when not ``choose_faired``.
+
+    Parameters
+    ----------
+    hidden_scores, sibling_scores : dict
+        Candidate name -> score (lower is better; inf: failed there); empty: not run.
+    reference : str
+        The faired fill the λ-H fill is measured against (the bilaplacian one unless a
+        fairing order is asked for).
+    choose_faired : bool
+        Choose the faired fill between "fair2" and "fair3"; False: ``reference``.
+    crossed : bool
+        A crease crosses the hole.
+
+    Returns
+    -------
+    Verdict
+    """
+    hidden, sibling = dict(hidden_scores), dict(sibling_scores)
+    hidden_lh, sibling_lh = _said(hidden), _said(sibling)
+    tests = {name: s for name, s in (("hidden rings", hidden), ("sibling holes", sibling))
+             if s}
+    scores = "; ".join(f"{name}: " + ", ".join(f"{k} {v:.3g}" for k, v in s.items())
+                       for name, s in tests.items()) or "no test could be run here"
+    keep = _decisive(hidden_lh, reference) or _wins(hidden_lh, sibling_lh, "conformal",
+                                                    reference)
+    if crossed and not hidden_lh and not sibling_lh:
+        keep = True
+        scores += "; no test hole is crossed by the crease, the crease fill is kept"
+    if not choose_faired:
+        faired = reference
+    elif hidden and _wins(hidden, sibling, "fair3", "fair2"):
+        faired = "fair3"
+    else:
+        faired = "fair2"
+    lost = tuple(name for name, s in tests.items()
+                 if not (_holds if name == "sibling holes" and hidden else _beats)(
+                     s, "conformal", reference))
+    failed_on_a_test = any(np.isinf(s.get("conformal", 0.0)) for s in tests.values())
+    return Verdict(keep=keep, make=keep or failed_on_a_test, faired=faired,
+                   reference=reference, hidden=hidden, sibling=sibling, lost=lost,
+                   scores=scores)
