@@ -228,15 +228,18 @@ def test_holes_close_together_shrink_the_patch_and_still_fill():
     assert min(rings) < 30
 
 
-@pytest.mark.parametrize("method", ["fair", "triangulate"])
-def test_several_holes_one_skipped(method):
+@pytest.mark.parametrize("fair_order", [2, 3])
+def test_several_holes_one_skipped(fair_order):
     v, f = sphere(3)
     cut = cut_holes(v, f, [0, 20, 40], [0.25, 0.35, 0.2])
     n = len(cut.vertices)
-    result = fill_holes(cut.vertices, cut.faces, method=method, max_hole_edges=10)
+    result = fill_holes(cut.vertices, cut.faces, method="fair", fair_order=fair_order,
+                        max_hole_edges=10)
     assert [r.skipped is not None for r in result.reports].count(True) == 1
+    # one of the filled holes gets no new vertex (only triangulated), the other one
+    assert sorted(r.new_vertices for r in result.reports if not r.skipped) == [0, 1]
     out = fill_result_attributes(result, {"z": cut.vertices[:, 2], "x": cut.vertices[:, 0]})
-    assert len(out["z"]) == len(result.vertices)  # triangulate adds no vertex
+    assert len(out["z"]) == len(result.vertices)
     assert np.abs(out["z"][n:] - result.vertices[n:, 2]).max(initial=0.0) < 0.02
     assert np.abs(out["x"][n:] - result.vertices[n:, 0]).max(initial=0.0) < 0.02
     faces = fill_result_face_attributes(result, {"id": np.arange(len(cut.faces))})["id"]

@@ -1,8 +1,7 @@
 """λ-H inpainting on the patch's own conformal mesh (method.md §8, "mesh-native").
 
-The grid pipeline (:mod:`surfinpaint.fill.conformal.core`'s ``inpaint_patch``) resamples the patch
-on a
-regular grid, estimates λ and H there, inpaints them on the hole region dilated past the
+The grid pipeline (:func:`surfinpaint.fill.conformal.grid_pass.inpaint_patch`) resamples the
+patch on a regular grid, estimates λ and H there, inpaints them on the hole region dilated past the
 crease between the fill and the surface, and rebuilds. This module does the same on the
 patch's triangles, with the parameter mesh's cotangent Laplacian as Δ:
 
