@@ -13,6 +13,14 @@ vertices (ids ``n .. n + m - 1`` after the ``n`` original ones, which never move
   fairing (``fairing_continuity=2``).
 - :func:`meshlib_fill`: MeshLib ``fillHoleNicely`` (triangulation, subdivision to a maximum
   edge length, curvature-smooth fill), through the ``meshlib`` package.
+- :func:`pymeshlab_fill`: MeshLab's ``meshing_close_holes`` with hole refinement, through
+  ``pymeshlab``.
+- :func:`pymeshfix_fill`: MeshFix's ``fill_small_boundaries`` (triangulation, refinement and
+  fairing), through ``pymeshfix``.
+
+The last two fill every hole up to a number of boundary edges: they are given exactly the
+hole's edge count, so the outer border of the neighbourhood the benchmark hands them (always
+longer) stays open.
 """
 
 from __future__ import annotations
@@ -23,7 +31,8 @@ import tempfile
 
 import numpy as np
 
-__all__ = ["PEERS", "available", "cgal3_fill", "cgal_fill", "meshlib_fill", "versions"]
+__all__ = ["PEERS", "available", "cgal3_fill", "cgal_fill", "meshlib_fill", "pymeshfix_fill",
+           "pymeshlab_fill", "versions"]
 
 
 def _boundary_edge_lengths(vertices: np.ndarray, loop: np.ndarray) -> np.ndarray:
@@ -157,15 +166,107 @@ def cgal3_fill(vertices: np.ndarray, faces: np.ndarray,
     return cgal_fill(vertices, faces, loop, continuity=2)
 
 
-PEERS = {"cgal": cgal_fill, "cgal3": cgal3_fill, "meshlib": meshlib_fill}
-_PACKAGES = {"cgal": "cgal", "meshlib": "meshlib"}
+def _split_new(vertices: np.ndarray, faces: np.ndarray, out_v: np.ndarray, out_f: np.ndarray,
+               name: str) -> tuple[np.ndarray, np.ndarray]:
+    """(new vertices, new faces) of a peer's whole output mesh.
+
+    Peers may reorder vertices (MeshFix does): output vertices at exactly an original
+    position are that original vertex, the others are new (numbered after the originals in
+    output order). Raises when an original vertex is missing or moved, or an original face
+    is missing.
+    """
+    from scipy.spatial import cKDTree
+
+    n = len(vertices)
+    dist, nearest = cKDTree(out_v).query(vertices)
+    if (dist > 0).any() or len(np.unique(nearest)) != n:
+        raise RuntimeError(f"{name} moved or dropped original vertices "
+                           f"{np.flatnonzero(dist > 0)[:10].tolist()}")
+    new_id = np.full(len(out_v), -1, np.int64)
+    new_id[nearest] = np.arange(n)
+    added = new_id < 0
+    new_id[added] = n + np.arange(int(added.sum()))
+    out_f = new_id[out_f]
+    key = lambda a: {tuple(t) for t in np.sort(a, axis=1).tolist()}  # noqa: E731
+    before = key(faces)
+    missing = before - key(out_f)
+    if missing:
+        raise RuntimeError(f"{name} changed {len(missing)} original faces")
+    is_new = np.array([tuple(t) not in before for t in np.sort(out_f, axis=1).tolist()], bool)
+    return out_v[added], out_f[is_new]
+
+
+def pymeshlab_fill(vertices: np.ndarray, faces: np.ndarray,
+                   loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Fill the hole bounded by ``loop`` with MeshLab's ``meshing_close_holes``.
+
+    Settings: ``maxholesize`` = the loop's edge count + 1 (MeshLab closes holes below that
+    size),
+    ``refinehole=True`` with ``refineholeedgelen`` the mean boundary edge length, and
+    ``selfintersection=True`` (MeshLab's default: no fill faces that intersect the mesh).
+
+    Raises
+    ------
+    RuntimeError
+        When MeshLab adds no face, or moves or changes original vertices or faces.
+    """
+    import pymeshlab
+
+    v = np.asarray(vertices, float)
+    f = np.asarray(faces, np.int64)
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=v, face_matrix=f.astype(np.int32)))
+    ms.meshing_close_holes(maxholesize=int(len(loop)) + 1, selected=False, newfaceselected=True,
+                           selfintersection=True, refinehole=True,
+                           refineholeedgelen=pymeshlab.PureValue(
+                               float(_boundary_edge_lengths(v, loop).mean())))
+    m = ms.current_mesh()
+    new_v, new_f = _split_new(v, f, m.vertex_matrix().astype(float),
+                              m.face_matrix().astype(np.int64), "MeshLab")
+    if len(new_f) == 0:
+        raise RuntimeError("MeshLab's meshing_close_holes added no face")
+    return new_v, new_f
+
+
+def pymeshfix_fill(vertices: np.ndarray, faces: np.ndarray,
+                   loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Fill the hole bounded by ``loop`` with MeshFix's ``fill_small_boundaries``
+    (``nbe`` = the loop's edge count + 1, ``refine=True``; MeshFix may reorder vertices,
+    they are matched back by position).
+
+    Raises
+    ------
+    RuntimeError
+        When MeshFix adds no face, or moves or changes original vertices or faces.
+    """
+    import pymeshfix
+
+    v = np.asarray(vertices, float)
+    f = np.asarray(faces, np.int64)
+    tin = pymeshfix.PyTMesh()
+    tin.set_quiet(True)
+    tin.load_array(v, f.astype(np.int32))
+    tin.fill_small_boundaries(nbe=int(len(loop)) + 1, refine=True)
+    out_v, out_f = tin.return_arrays()
+    new_v, new_f = _split_new(v, f, np.asarray(out_v, float), np.asarray(out_f, np.int64),
+                              "MeshFix")
+    if len(new_f) == 0:
+        raise RuntimeError("MeshFix's fill_small_boundaries added no face")
+    return new_v, new_f
+
+
+PEERS = {"cgal": cgal_fill, "cgal3": cgal3_fill, "meshlib": meshlib_fill,
+         "pymeshlab": pymeshlab_fill, "pymeshfix": pymeshfix_fill}
+_PACKAGES = {"cgal": "cgal", "meshlib": "meshlib", "pymeshlab": "pymeshlab",
+             "pymeshfix": "pymeshfix"}
 
 
 def available() -> list[str]:
     """Names of the peers whose package imports."""
     out = []
     for names, module in ((("cgal", "cgal3"), "CGAL.CGAL_Polygon_mesh_processing"),
-                          (("meshlib",), "meshlib.mrmeshpy")):
+                          (("meshlib",), "meshlib.mrmeshpy"), (("pymeshlab",), "pymeshlab"),
+                          (("pymeshfix",), "pymeshfix")):
         try:
             __import__(module)
         except ImportError:

@@ -1,0 +1,145 @@
+"""The validation benchmark's hole manifest: which mesh is in which half, and every hole.
+
+``benchmarks/holes_manifest.json`` is checked in and is the benchmark's definition; this
+module wrote it (``python benchmarks/holes_manifest.py --write``) and reads it. The split is
+by MESH, fixed in :data:`SPLIT` below, balanced by kind: every mesh the project had used
+before this benchmark (the default accuracy set's bunny, face scan, pial, white, sphere,
+torus, cube, snowman, tooth) is in the tuning half, so the validation half holds meshes no
+rule was chosen on. Meshes derived from one source stay in one half (cow and its scan, the
+bracket and its scan, the lblock and its scan).
+
+Holes: 7 per mesh, geodesic radii of 3, 4, 5, 6, 7, 8 and 10 mean edge lengths, centres
+spread by farthest-point choice among seeded random candidates; on open meshes (range
+scans) holes 1, 3 and 5 lie 1-2.5 edge lengths from the border; on CAD parts holes 0, 2, 4
+and 6 are centred on a sharp edge or corner. A candidate whose cut fails (reaches the
+border, not a disk) is skipped. Centres are stored as points (snapped to the nearest vertex
+when cutting) with the radius in mesh units, so the holes do not depend on this code.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+import validation_meshes as vm  # noqa: E402
+
+MANIFEST = Path(__file__).parent / "holes_manifest.json"
+RADII_H = (3, 4, 5, 6, 7, 8, 10)
+NEAR_BORDER = (1, 3, 5)
+ON_FEATURE = (0, 2, 4, 6)
+FEATURE_DEG = 45.0
+
+SPLIT = {
+    "tuning": ["face000", "scan_bunny", "scan_bracket", "bunny", "bone", "blob_a", "cube40",
+               "bracket", "airplane", "pial", "white", "tooth", "premolar", "sphere", "torus",
+               "snowman"],
+    "validation": ["scan_cow", "scan_wuson", "scan_lblock", "cow", "blob_b", "blob_c", "nut",
+                   "flange", "lblock", "inflated", "midthickness", "molar5", "incisor",
+                   "ellipsoid", "fs_sphere", "peanut"],
+}
+
+
+def read(path: Path = MANIFEST) -> dict:
+    """The manifest: ``{"meshes": [{"mesh", "kind", "source", "split", "n_vertices", "h",
+    "holes": [{"centre", "radius", "radius_h", "near_border", "on_feature"}]}]}``."""
+    return json.loads(Path(path).read_text())
+
+
+def _feature_vertices(v: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Vertices on an edge whose dihedral angle exceeds :data:`FEATURE_DEG`."""
+    from surfinpaint.geometry.mesh import unique_edges
+
+    n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    edges, face_edge, count = unique_edges(f)
+    flat = face_edge.ravel()
+    owner = np.repeat(np.arange(len(f)), 3)
+    order = np.argsort(flat, kind="stable")
+    e, o = flat[order], owner[order]
+    first = np.flatnonzero(np.r_[True, e[1:] != e[:-1]])
+    pair = first[count[e[first]] == 2]
+    cos = np.einsum("ij,ij->i", n[o[pair]], n[o[pair + 1]])
+    sharp = edges[e[pair][cos < np.cos(np.radians(FEATURE_DEG))]]
+    return np.unique(sharp)
+
+
+def _holes_of(mesh_id: str, index: int) -> dict:
+    from scipy.sparse.csgraph import dijkstra
+
+    from surfinpaint.geometry.cutting import _Topology, cut_geodesic_disk
+    from surfinpaint.geometry.mesh import mean_edge_length
+
+    m = vm.load(mesh_id)
+    v, f = m.vertices, m.faces
+    h = mean_edge_length(v, f)
+    topo = _Topology(v, f)
+    border = np.flatnonzero(topo.on_boundary)
+    to_border = (dijkstra(topo.graph, directed=False, indices=border, min_only=True)
+                 if len(border) else np.full(len(v), np.inf))
+    kind = vm.SOURCES[mesh_id].kind
+    features = _feature_vertices(v, f) if kind == "cad" else np.zeros(0, np.int64)
+    rng = np.random.default_rng(1000 + index)
+    holes, centres = [], []
+    for k, r_h in enumerate(RADII_H):
+        r = r_h * h
+        near = len(border) > 0 and k in NEAR_BORDER
+        on_feature = len(features) > 0 and k in ON_FEATURE
+        if near:
+            pool = np.flatnonzero((to_border >= r + h) & (to_border <= r + 2.5 * h))
+        else:
+            pool = np.flatnonzero(to_border >= r + 3 * h)
+        if on_feature:
+            pool = np.intersect1d(pool, features)
+        pool = rng.permutation(pool)[:300]
+        if centres:  # farthest from the holes so far first
+            gap = np.linalg.norm(v[pool][:, None] - np.array(centres)[None], axis=2).min(1)
+            pool = pool[np.argsort(-gap, kind="stable")]
+        for c in pool[:40]:
+            try:
+                cut_geodesic_disk(v, f, int(c), r)
+            except ValueError:
+                continue
+            centres.append(v[c])
+            holes.append({"centre": v[c].tolist(), "radius": float(r), "radius_h": r_h,
+                          "near_border": bool(near), "on_feature": bool(on_feature)})
+            break
+        else:
+            print(f"{mesh_id}: no hole of radius {r_h} h could be cut", file=sys.stderr)
+    split = next(s for s, ids in SPLIT.items() if mesh_id in ids)
+    return {"mesh": mesh_id, "kind": kind, "source": vm.SOURCES[mesh_id].source,
+            "split": split, "n_vertices": len(v), "h": h, "holes": holes}
+
+
+def write(path: Path = MANIFEST, only: list[str] | None = None) -> dict:
+    """Build the manifest from :data:`SPLIT` and :mod:`validation_meshes` and write it;
+    meshes whose source is not installed are skipped with a note."""
+    meshes = []
+    ids = [i for s in ("tuning", "validation") for i in SPLIT[s]]
+    for index, mesh_id in enumerate(ids):
+        if only and mesh_id not in only:
+            continue
+        try:
+            meshes.append(_holes_of(mesh_id, index))
+        except (FileNotFoundError, ModuleNotFoundError) as exc:
+            print(f"skipping {mesh_id}: {exc}", file=sys.stderr)
+            continue
+        print(f"{mesh_id}: {len(meshes[-1]['holes'])} holes", file=sys.stderr, flush=True)
+    manifest = {"about": "validation benchmark holes; written by benchmarks/holes_manifest.py",
+                "meshes": meshes}
+    Path(path).write_text(json.dumps(manifest, indent=1) + "\n")
+    return manifest
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description="write benchmarks/holes_manifest.json")
+    parser.add_argument("--write", action="store_true")
+    parser.add_argument("--out", default=str(MANIFEST))
+    args = parser.parse_args()
+    if not args.write:
+        parser.error("pass --write to (re)write the manifest")
+    write(Path(args.out))

@@ -1,0 +1,295 @@
+"""Validation benchmark: the holes of ``benchmarks/holes_manifest.json`` (32 meshes of 6 kinds,
+split by mesh into a tuning and a validation half), every method, both halves reported,
+validation first.
+
+Each hole is cut (:func:`surfinpaint.geometry.cutting.cut_geodesic_disk`), filled and scored
+exactly as in ``benchmarks/accuracy.py`` (its :func:`accuracy.score`: two-sided mean
+distance between the fill and the removed truth, in % of the hole diameter); on simulated
+range scans the truth is the removed patch without the scanner noise. Methods: ours (fair,
+fair3, conformal = the default, conformal_raw = λ-H without the self-check) and the peers of
+``benchmarks/peers.py`` (cgal, cgal3, meshlib, pymeshlab, pymeshfix).
+
+Run (one hole at a time, nothing parallel)::
+
+    .venv/bin/python benchmarks/validation.py --out validation.json      # all 224 holes
+    .venv/bin/python benchmarks/validation.py --quick                     # 6 holes, smoke
+    .venv/bin/python benchmarks/validation.py --tables validation.json    # tables again
+
+Every row is also appended to ``<out>.partial.jsonl`` as it is made, so the tables of a run
+that was stopped can be printed with ``--tables <out>.partial.jsonl``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import sys
+import time
+import warnings
+from dataclasses import asdict, replace
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+import accuracy  # noqa: E402
+import holes_manifest  # noqa: E402
+import peers  # noqa: E402
+import validation_meshes as vm  # noqa: E402
+
+from surfinpaint.geometry.cutting import cut_geodesic_disk  # noqa: E402
+from surfinpaint.geometry.mesh import mean_edge_length  # noqa: E402
+
+OURS = ("fair", "fair3", "conformal", "conformal_raw")
+PEERS = ("cgal", "cgal3", "meshlib", "pymeshlab", "pymeshfix")
+METHODS = OURS + PEERS
+DEFAULT = "conformal"
+CANDIDATES = ("fair", "fair3", "conformal_raw")  # what the self-check chooses among
+FILLED = ("ok", "selected", "fallback")
+
+
+def _cut(mesh: vm.BenchMesh, hole: dict):
+    cut = cut_geodesic_disk(mesh.vertices, mesh.faces, np.asarray(hole["centre"]),
+                            hole["radius"])
+    if mesh.truth is None:
+        return cut
+    h = cut.holes[0]  # range scan: compare with the noise-free surface
+    return replace(cut, holes=[replace(h, truth_vertices=mesh.truth[h.truth_ids])])
+
+
+def run(manifest: dict, methods: list[str], samples: int, partial: Path | None,
+        meshes: list[str] | None = None, max_holes: int | None = None) -> list[dict]:
+    rows = []
+    # the validation half first: the numbers that count are there even if a run is cut short
+    order = sorted(manifest["meshes"], key=lambda e: e["split"] != "validation")
+    for entry in order:
+        if meshes and entry["mesh"] not in meshes:
+            continue
+        try:
+            mesh = vm.load(entry["mesh"])
+        except (FileNotFoundError, ModuleNotFoundError) as exc:
+            print(f"note: skipping {entry['mesh']}: {exc}", file=sys.stderr)
+            continue
+        if len(mesh.vertices) != entry["n_vertices"]:
+            warnings.warn(f"{entry['mesh']} has {len(mesh.vertices)} vertices, the manifest "
+                          f"says {entry['n_vertices']}: its source changed", stacklevel=1)
+        h = mean_edge_length(mesh.vertices, mesh.faces)
+        for k, hole in enumerate(entry["holes"][:max_holes]):
+            cut = _cut(mesh, hole)
+            for m in methods:
+                row = accuracy.score(cut, m, entry["mesh"], k, hole["radius"] / h, samples)
+                row.extra = {"kind": entry["kind"], "split": entry["split"],
+                             "near_border": hole["near_border"],
+                             "on_feature": hole["on_feature"]}
+                d = asdict(row)
+                rows.append(d)
+                if partial is not None:
+                    with partial.open("a") as fh:
+                        fh.write(json.dumps(d, default=float) + "\n")
+                print(f"{entry['mesh']} #{k} r={hole['radius_h']}h {m}: {row.status} "
+                      f"mean {accuracy._fmt(row.mean_pct)} % in {accuracy._fmt(row.seconds)} s"
+                      f"{' ' + row.note if row.note else ''}", file=sys.stderr, flush=True)
+    return rows
+
+
+# --------------------------------------------------------------------------- tables
+
+
+def _errors(rows: list[dict]) -> dict:
+    """{(method, mesh, hole): mean %} of the filled rows."""
+    return {(r["method"], r["case"], r["hole"]): r["mean_pct"] for r in rows
+            if r["status"] in FILLED and np.isfinite(r["mean_pct"])}
+
+
+def _med(x) -> float:
+    return float(np.median(x)) if len(x) else float("nan")
+
+
+def _f(x: float, d: int = 3) -> str:
+    return accuracy._fmt(x, d)
+
+
+def headline(rows: list[dict], methods: list[str]) -> dict:
+    """The numbers of issue 14's targets for one half (see docs/validation.md)."""
+    err = _errors(rows)
+    holes = sorted({(r["case"], r["hole"]) for r in rows})
+    meshes = list(dict.fromkeys(r["case"] for r in rows))
+    out: dict = {"meshes": len(meshes), "holes": len(holes)}
+
+    def ratio(a: str, b: str, keys) -> list[float]:
+        return [err[(a, *k)] / err[(b, *k)] for k in keys
+                if (a, *k) in err and (b, *k) in err and err[(b, *k)] > 1e-6]
+
+    out["default_over_cgal_per_hole"] = _med(ratio(DEFAULT, "cgal", holes))
+    per_mesh = {m: {meth: _med([err[(meth, c, k)] for c, k in holes
+                                if c == m and (meth, c, k) in err]) for meth in methods}
+                for m in meshes}
+    out["per_mesh"] = per_mesh
+    out["default_over_cgal_median_mesh"] = _med(
+        [per_mesh[m][DEFAULT] / per_mesh[m]["cgal"] for m in meshes
+         if per_mesh[m]["cgal"] > 1e-6])
+    present = [p for p in PEERS if p in methods]
+    wins = [m for m in meshes if all(per_mesh[m][DEFAULT] <= per_mesh[m][p] or
+                                     not np.isfinite(per_mesh[m][p]) for p in present)]
+    out["default_best_of_peers"] = (len(wins), len(meshes))
+    vs_fair = {m: per_mesh[m][DEFAULT] / per_mesh[m]["fair"] for m in meshes
+               if per_mesh[m]["fair"] > 1e-6}
+    worst = max(vs_fair, key=vs_fair.get) if vs_fair else None
+    out["worst_mesh_vs_fair"] = (worst, vs_fair.get(worst, float("nan")))
+    out["meshes_above_1.1_fair"] = sorted(m for m, x in vs_fair.items() if x > 1.1)
+    faired = {k: min(err[(m, *k)] for m in ("fair", "fair3") if (m, *k) in err)
+              for k in holes if any((m, *k) in err for m in ("fair", "fair3"))}
+    vs_faired = {k: err[(DEFAULT, *k)] / faired[k] for k in holes
+                 if (DEFAULT, *k) in err and k in faired and faired[k] > 1e-6}
+    wk = max(vs_faired, key=vs_faired.get) if vs_faired else None
+    out["worst_hole_vs_better_faired"] = (wk, vs_faired.get(wk, float("nan")))
+    out["holes_above_1.5_faired"] = sum(x > 1.5 for x in vs_faired.values())
+    for meth in ("conformal", "conformal_raw"):
+        mine = [r for r in rows if r["method"] == meth]
+        fell = [r["note"].split(": ", 1)[-1] for r in mine if r["status"] == "fallback"]
+        reasons: dict[str, int] = {}
+        for note in fell:
+            key = note[:70]
+            reasons[key] = reasons.get(key, 0) + 1
+        out[f"{meth}_fallback"] = (len(fell), len(mine), reasons)
+    # the self-check as a chooser among its candidates
+    chosen_best, regret = 0, []
+    for k in holes:
+        cands = [err[(m, *k)] for m in CANDIDATES if (m, *k) in err]
+        if (DEFAULT, *k) not in err or len(cands) < len(CANDIDATES):
+            continue
+        best = min(cands)
+        if best <= 1e-6:
+            continue
+        r = err[(DEFAULT, *k)] / best
+        regret.append(r)
+        chosen_best += r <= 1.01
+    out["chooser_best"] = (chosen_best, len(regret))
+    out["chooser_median_regret"] = _med(regret)
+    out["oracle_over_cgal"] = _med([min(err[(m, *k)] for m in CANDIDATES) / err[("cgal", *k)]
+                                    for k in holes if all((m, *k) in err for m in CANDIDATES)
+                                    and ("cgal", *k) in err and err[("cgal", *k)] > 1e-6])
+    out["seconds"] = {meth: (_med([r["seconds"] for r in rows if r["method"] == meth
+                                   and r["status"] in FILLED]),
+                             _med([r["seconds"] for r in rows if r["method"] == meth
+                                   and r["status"] in FILLED and r["boundary_edges"] <= 100]),
+                             max([r["seconds"] for r in rows if r["method"] == meth
+                                  and r["status"] in FILLED], default=float("nan")))
+                      for meth in methods}
+    out["failed"] = {meth: sum(r["status"] in ("failed", "open") for r in rows
+                               if r["method"] == meth) for meth in methods}
+    return out
+
+
+def report(rows: list[dict], methods: list[str], split: str) -> str:
+    part = [r for r in rows if r["extra"]["split"] == split]
+    if not part:
+        return f"## {split} half: no rows\n"
+    hl = headline(part, methods)
+    kinds = {r["case"]: r["extra"]["kind"] for r in part}
+    lines = [f"## {split.capitalize()} half: {hl['meshes']} meshes, {hl['holes']} holes\n"]
+    b, n = hl["default_best_of_peers"]
+    wm, wmr = hl["worst_mesh_vs_fair"]
+    wh, whr = hl["worst_hole_vs_better_faired"]
+    cb, cn = hl["chooser_best"]
+    lines += [
+        "| measure (default = conformal) | value | target |",
+        "|---|---|---|",
+        f"| per-hole median error / CGAL | {_f(hl['default_over_cgal_per_hole'])} | ≤ 0.67 |",
+        f"| median over meshes of (mesh median / CGAL's) | "
+        f"{_f(hl['default_over_cgal_median_mesh'])} | |",
+        f"| meshes where the default is most accurate of all peers (per-mesh median) | "
+        f"{b} / {n} ({100 * b / max(n, 1):.0f} %) | ≥ 80 % |",
+        f"| worst mesh median / bilaplacian (fair) | {_f(wmr)} ({wm}) | ≤ 1.1 |",
+        f"| meshes above 1.1 × fair | {', '.join(hl['meshes_above_1.1_fair']) or 'none'} | |",
+        f"| worst hole / better faired fill (min fair, fair3) | {_f(whr)} "
+        f"({wh[0]} #{wh[1]}) | ≤ 1.5 |" if wh else "| worst hole | — | |",
+        f"| holes above 1.5 × the better faired fill | {hl['holes_above_1.5_faired']} | 0 |",
+    ]
+    for meth in ("conformal", "conformal_raw"):
+        k, t, _ = hl[f"{meth}_fallback"]
+        lines.append(f"| {meth}: λ-H failed, fell back | {k} / {t} "
+                     f"({100 * k / max(t, 1):.1f} %) | ≤ 2 % |")
+    lines += [
+        f"| self-check picks the best of fair/fair3/conformal_raw (within 1 %) | {cb} / {cn} "
+        f"({100 * cb / max(cn, 1):.0f} %) | ≥ 70 % |",
+        f"| self-check median regret (chosen / best candidate) | "
+        f"{_f(hl['chooser_median_regret'])} | ≤ 1.05 |",
+        f"| perfect chooser among the candidates / CGAL (per-hole median) | "
+        f"{_f(hl['oracle_over_cgal'])} | |",
+        "",
+        "λ-H fallback reasons (conformal): " + ("; ".join(
+            f"{v}× {k}" for k, v in hl["conformal_fallback"][2].items()) or "none"),
+        "",
+        "| mesh | kind | " + " | ".join(methods) + " | default / cgal |",
+        "|---|---|" + "---|" * (len(methods) + 1),
+    ]
+    for mesh, med in hl["per_mesh"].items():
+        best = min((med[p] for p in methods if np.isfinite(med[p])), default=np.nan)
+        cells = [f"**{_f(med[m])}**" if med[m] == best else _f(med[m]) for m in methods]
+        ratio = med[DEFAULT] / med["cgal"] if med.get("cgal", 0) > 1e-6 else float("nan")
+        lines.append(f"| {mesh} | {kinds[mesh]} | " + " | ".join(cells) + f" | {_f(ratio)} |")
+    lines += ["", "| method | median s per hole | median s, ≤ 100 edges | max s | failed/open |",
+              "|---|---|---|---|---|"]
+    for meth in methods:
+        a, b2, c = hl["seconds"][meth]
+        lines.append(f"| {meth} | {_f(a)} | {_f(b2)} | {_f(c)} | {hl['failed'][meth]} |")
+    return "\n".join(lines) + "\n"
+
+
+def tables(rows: list[dict], methods: list[str]) -> str:
+    methods = [m for m in methods if any(r["method"] == m for r in rows)]
+    head = ("Per-mesh cells: median over the mesh's holes of the two-sided mean distance, % of "
+            "the hole diameter; bold: the best method of the row.\n")
+    return head + "\n" + report(rows, methods, "validation") + "\n" + report(
+        rows, methods, "tuning")
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true",
+                        help="smoke test: the first hole of one small mesh per kind")
+    parser.add_argument("--methods", default=",".join(METHODS))
+    parser.add_argument("--meshes", default=None, help="comma-separated mesh ids")
+    parser.add_argument("--samples", type=int, default=10000)
+    parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST))
+    parser.add_argument("--out", default=None, help="write all rows as JSON here")
+    parser.add_argument("--tables", default=None,
+                        help="print the tables of a saved run (.json or .partial.jsonl)")
+    args = parser.parse_args(argv)
+    methods = [m.strip() for m in args.methods.split(",") if m.strip()]
+    unknown = [m for m in methods if m not in accuracy.ALL_METHODS + PEERS]
+    if unknown:
+        parser.error(f"unknown methods {unknown}")
+    if args.tables:
+        text = Path(args.tables).read_text()
+        rows = (json.loads(text)["rows"] if args.tables.endswith(".json")
+                else [json.loads(line) for line in text.splitlines() if line.strip()])
+        print(tables(rows, methods))
+        return rows
+    manifest = holes_manifest.read(Path(args.manifest))
+    meshes = [m.strip() for m in args.meshes.split(",")] if args.meshes else None
+    max_holes = None
+    if args.quick:
+        meshes = meshes or ["scan_wuson", "tooth", "blob_c", "nut", "inflated", "peanut"]
+        max_holes = 1
+    partial = Path(args.out + ".partial.jsonl") if args.out else None
+    if partial is not None and partial.exists():
+        partial.unlink()
+    accuracy.warm_up(methods)
+    started = time.perf_counter()
+    rows = run(manifest, methods, args.samples, partial, meshes, max_holes)
+    total = time.perf_counter() - started
+    print(tables(rows, methods))
+    print(f"\npeers: {peers.versions()}; python {platform.python_version()}; "
+          f"total {total:.1f} s")
+    if args.out:
+        Path(args.out).write_text(json.dumps(
+            {"rows": rows, "versions": peers.versions(), "quick": args.quick,
+             "seconds": total}, indent=1, default=float))
+    return rows
+
+
+if __name__ == "__main__":
+    main()

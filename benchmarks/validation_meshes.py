@@ -1,0 +1,450 @@
+"""The meshes of the validation benchmark (``benchmarks/validation.py``), by id.
+
+Every mesh is loaded from an installed package or generated, deterministically: nothing is
+downloaded and no copy is committed. Kinds: ``range_scan`` (PyMeshLab's real face scan and
+simulated scans of complete meshes: orthographic depth images with quantization and noise,
+triangulated on the pixel grid; their truth is the same scan without noise), ``organic``
+(sculpted and organic shapes), ``cad`` (sharp edges, fillets, corners: manifold3d booleans
+and hulls remeshed isotropically with features kept), ``brain`` (fsaverage5 LEFT hemisphere
+from nilearn), ``teeth`` (synthetic crowns with cusps) and ``smooth`` (smooth synthetic).
+
+Never used here, by rule: Debian's ``libcgal-demo`` meshes and the fsaverage5 RIGHT
+hemisphere (kept for an independent evaluation).
+
+:func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
+``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
+"""
+
+from __future__ import annotations
+
+import importlib.resources
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from surfinpaint import data
+from surfinpaint.geometry.mesh import unique_edges
+
+ASSIMP = Path("/usr/share/assimp/models")  # Debian's assimp-testmodels
+
+
+@dataclass(frozen=True)
+class BenchMesh:
+    """A benchmark mesh: ``truth`` is the noise-free position of every vertex (range scans)
+    or ``None`` (the mesh itself is the truth)."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    truth: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Source:
+    kind: str
+    source: str
+    make: Callable[[], BenchMesh]
+
+
+# --------------------------------------------------------------------------- file sources
+
+
+def _package_file(package: str, relative: str) -> Path:
+    root = importlib.resources.files(__import__(package))
+    path = Path(str(root)) / relative
+    if not path.is_file():
+        raise FileNotFoundError(f"{path} is not installed")
+    return path
+
+
+def _read(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices and faces of a file, coincident vertices merged (STL, seams)."""
+    import trimesh
+
+    mesh = trimesh.load(str(path), force="mesh", process=False)
+    mesh.merge_vertices(merge_tex=True, merge_norm=True)
+    return np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64)
+
+
+def _largest_component(v: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The largest edge-connected piece, unreferenced vertices dropped."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    edges, face_edge, count = unique_edges(f)
+    flat = face_edge.ravel()
+    owner = np.repeat(np.arange(len(f)), 3)
+    g = sp.coo_matrix((np.ones(len(flat)), (owner, flat)), shape=(len(f), len(edges))).tocsr()
+    adjacency = g @ g.T
+    _, label = connected_components(adjacency, directed=False)
+    f = f[label == np.argmax(np.bincount(label))]
+    ids, inverse = np.unique(f, return_inverse=True)
+    return v[ids], inverse.reshape(-1, 3)
+
+
+def _remesh(v: np.ndarray, f: np.ndarray, edge_length: float, feature_deg: float = 30.0,
+            iterations: int = 8) -> tuple[np.ndarray, np.ndarray]:
+    """PyMeshLab isotropic remeshing to ``edge_length``, edges sharper than ``feature_deg``
+    kept (so CAD creases and corners stay sharp)."""
+    import pymeshlab
+
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=v, face_matrix=f.astype(np.int32)))
+    ms.meshing_isotropic_explicit_remeshing(iterations=iterations,
+                                            targetlen=pymeshlab.PureValue(edge_length),
+                                            featuredeg=feature_deg)
+    m = ms.current_mesh()
+    return _largest_component(m.vertex_matrix().astype(float), m.face_matrix().astype(np.int64))
+
+
+def _subdivided(v: np.ndarray, f: np.ndarray, times: int) -> tuple[np.ndarray, np.ndarray]:
+    """Loop subdivision: a finer, smooth version of a coarse organic mesh."""
+    import trimesh.remesh
+
+    v, f = trimesh.remesh.subdivide_loop(v, f, iterations=times)
+    return np.asarray(v, float), np.asarray(f, np.int64)
+
+
+def _mesh(v, f) -> BenchMesh:
+    return BenchMesh(np.asarray(v, float), np.asarray(f, np.int64))
+
+
+def _pymeshlab(name: str, subdivide: int = 0) -> Callable[[], BenchMesh]:
+    def make() -> BenchMesh:
+        v, f = _read(_package_file("pymeshlab", f"tests/sample_meshes/{name}"))
+        return _mesh(*_subdivided(v, f, subdivide)) if subdivide else _mesh(v, f)
+
+    return make
+
+
+def _fsaverage(surface: str) -> Callable[[], BenchMesh]:
+    def make() -> BenchMesh:
+        if surface == "midthickness":  # the standard surface halfway through the cortex
+            pv, f = data.fsaverage5("pial", "left")
+            wv, _ = data.fsaverage5("white", "left")
+            return _mesh(0.5 * (pv + wv), f)
+        return _mesh(*data.fsaverage5(surface, "left"))
+
+    return make
+
+
+# --------------------------------------------------------------------------- range scans
+
+
+def _rasterize(points: np.ndarray, faces: np.ndarray, pixel: float):
+    """Orthographic z-buffer of projected triangles: ``points`` are (x, y, depth) with depth
+    growing towards the viewer; returns the depth image (nan where empty) and its origin."""
+    from numba import njit
+
+    @njit(cache=True)
+    def raster(p, tri, x0, y0, step, nx, ny):  # pragma: no cover - compiled
+        depth = np.full((ny, nx), -np.inf)
+        for t in range(tri.shape[0]):
+            a, b, c = p[tri[t, 0]], p[tri[t, 1]], p[tri[t, 2]]
+            det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+            if abs(det) < 1e-300:
+                continue
+            i0 = max(int(np.floor((min(a[0], b[0], c[0]) - x0) / step)), 0)
+            i1 = min(int(np.ceil((max(a[0], b[0], c[0]) - x0) / step)), nx - 1)
+            j0 = max(int(np.floor((min(a[1], b[1], c[1]) - y0) / step)), 0)
+            j1 = min(int(np.ceil((max(a[1], b[1], c[1]) - y0) / step)), ny - 1)
+            for j in range(j0, j1 + 1):
+                y = y0 + j * step
+                for i in range(i0, i1 + 1):
+                    x = x0 + i * step
+                    l1 = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det
+                    l2 = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det
+                    if l1 < 0 or l2 < 0 or l1 + l2 > 1:
+                        continue
+                    z = a[2] + l1 * (b[2] - a[2]) + l2 * (c[2] - a[2])
+                    if z > depth[j, i]:
+                        depth[j, i] = z
+        return depth
+
+    lo, hi = points[:, :2].min(axis=0), points[:, :2].max(axis=0)
+    nx, ny = (np.ceil((hi - lo) / pixel).astype(int) + 1).tolist()
+    depth = raster(points, faces, lo[0], lo[1], pixel, nx, ny)
+    depth[~np.isfinite(depth)] = np.nan
+    return depth, lo
+
+
+def _clean_open(v: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Remove the stars of pinched border vertices until every vertex is manifold, then keep
+    the largest piece."""
+    for _ in range(20):
+        edges, _, count = unique_edges(f)
+        border = edges[count == 1].ravel()
+        pinched = np.flatnonzero(np.bincount(border, minlength=len(v)) > 2)
+        if len(pinched) == 0:
+            break
+        f = f[~np.isin(f, pinched).any(axis=1)]
+    return _largest_component(v, f)
+
+
+def simulated_scan(vertices: np.ndarray, faces: np.ndarray, view, *, pixels: int = 150,
+                   noise_h: float = 0.05, quantum_h: float = 0.05, seed: int = 0,
+                   max_jump_h: float = 3.0, min_cos: float = 0.25) -> BenchMesh:
+    """A range scan of a complete mesh seen from direction ``view`` (towards the viewer).
+
+    Orthographic depth image ``pixels`` wide (along the larger side); the depth is
+    quantized to ``quantum_h`` pixels plus Gaussian noise of ``noise_h`` pixels (seeded), as a
+    scanner's. The pixel grid is triangulated where the four depths of a square differ by
+    less than ``max_jump_h`` pixels (depth jumps are silhouettes) and the surface is not
+    grazing (``|cos| >= min_cos`` to the view). ``truth`` holds the noise-free positions.
+    """
+    d = np.asarray(view, float)
+    d /= np.linalg.norm(d)
+    u = np.cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0])
+    u /= np.linalg.norm(u)
+    w = np.cross(d, u)
+    projected = vertices @ np.column_stack([u, w, d])
+    pixel = float(np.ptp(projected[:, :2], axis=0).max()) / pixels
+    depth, lo = _rasterize(projected, faces, pixel)
+    ny, nx = depth.shape
+    rng = np.random.default_rng(seed)
+    quantum = quantum_h * pixel
+    noisy = np.round(depth / quantum) * quantum + rng.normal(0.0, noise_h * pixel, depth.shape)
+    valid = np.isfinite(depth)
+    ids = np.full(depth.shape, -1)
+    ids[valid] = np.arange(int(valid.sum()))
+    jj, ii = np.nonzero(valid)
+
+    def positions(z: np.ndarray) -> np.ndarray:
+        x, y = lo[0] + ii * pixel, lo[1] + jj * pixel
+        return np.outer(x, u) + np.outer(y, w) + np.outer(z[valid], d)
+
+    a, b = ids[:-1, :-1], ids[:-1, 1:]
+    c, e = ids[1:, 1:], ids[1:, :-1]
+    q = np.stack([a, b, c, e], -1).reshape(-1, 4)
+    z4 = np.stack([depth[:-1, :-1], depth[:-1, 1:], depth[1:, 1:], depth[1:, :-1]],
+                  -1).reshape(-1, 4)
+    ok = (q >= 0).all(axis=1)
+    ok[ok] = np.ptp(z4[ok], axis=1) < max_jump_h * pixel
+    q = q[ok]
+    f = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
+    clean = positions(depth)
+    n = np.cross(clean[f[:, 1]] - clean[f[:, 0]], clean[f[:, 2]] - clean[f[:, 0]])
+    cos = (n @ d) / np.maximum(np.linalg.norm(n, axis=1), 1e-300)
+    f = f[np.abs(cos) >= min_cos]
+    if (cos[np.abs(cos) >= min_cos] < 0).mean() > 0.5:  # face the viewer
+        f = f[:, ::-1]
+    both = np.hstack([positions(noisy), clean])
+    both, f = _clean_open(both, f)
+    del nx, ny
+    return BenchMesh(both[:, :3], f, truth=both[:, 3:])
+
+
+def _scan(source: Callable[[], BenchMesh], view, seed: int) -> Callable[[], BenchMesh]:
+    def make() -> BenchMesh:
+        m = source()
+        return simulated_scan(m.vertices, m.faces, view, seed=seed)
+
+    return make
+
+
+def _face_scan() -> BenchMesh:
+    from surfinpaint.app.experiments import face_scan
+
+    return _mesh(*face_scan())
+
+
+def _wuson() -> BenchMesh:
+    return _mesh(*_read(ASSIMP / "OFF" / "Wuson.off"))
+
+
+# --------------------------------------------------------------------------- generated
+
+
+def _manifold_mesh(solid, edge_length: float) -> BenchMesh:
+    m = solid.to_mesh()
+    v = np.asarray(m.vert_properties, float)[:, :3]
+    f = np.asarray(m.tri_verts, np.int64)
+    return _mesh(*_remesh(v, f, edge_length))
+
+
+def _bracket() -> BenchMesh:
+    """A rounded plate (filleted edges: the hull of spheres) with a sharp-edged boss and two
+    drilled holes."""
+    import manifold3d as m3
+
+    r = 0.15
+    balls = [m3.Manifold.sphere(r, 24).translate((x, y, z))
+             for x in (r, 2 - r) for y in (r, 1.2 - r) for z in (r, 0.5 - r)]
+    plate = m3.Manifold.batch_hull(balls)
+    boss = m3.Manifold.cube((0.6, 0.6, 0.5)).translate((0.7, 0.3, 0.45))
+    drill = m3.Manifold.cylinder(1.2, 0.16, -1, 48).translate((0.35, 0.6, -0.1))
+    part = (plate + boss) - drill - drill.translate((1.3, 0, 0))
+    return _manifold_mesh(part, 0.035)
+
+
+def _flange() -> BenchMesh:
+    """A cylinder flange with a hub, a bore, a chamfer and six bolt holes."""
+    import manifold3d as m3
+
+    disk = m3.Manifold.cylinder(0.25, 1.0, -1, 96)
+    hub = m3.Manifold.cylinder(0.6, 0.45, 0.35, 96).translate((0, 0, 0.25))
+    bore = m3.Manifold.cylinder(1.2, 0.22, -1, 64).translate((0, 0, -0.1))
+    part = disk + hub - bore
+    for k in range(6):
+        a = np.pi * k / 3
+        part = part - m3.Manifold.cylinder(0.6, 0.09, -1, 32).translate(
+            (0.72 * np.cos(a), 0.72 * np.sin(a), -0.1))
+    return _manifold_mesh(part, 0.03)
+
+
+def _lblock() -> BenchMesh:
+    """An L-shaped block: a filleted arm (hull of cylinders) joined to a sharp box, with a
+    sharp slot cut in."""
+    import manifold3d as m3
+
+    r = 0.12
+    rods = [m3.Manifold.cylinder(1.0, r, -1, 32).translate((x, y, 0))
+            for x in (r, 0.6 - r) for y in (r, 1.6 - r)]
+    arm = m3.Manifold.batch_hull(rods)
+    foot = m3.Manifold.cube((1.6, 0.6, 0.4))
+    slot = m3.Manifold.cube((0.3, 0.8, 0.3)).translate((1.0, -0.1, 0.2))
+    return _manifold_mesh(arm + foot - slot, 0.03)
+
+
+def _nut() -> BenchMesh:
+    v, f = _read(_package_file("pyvista", "examples/nut.ply"))
+    return _mesh(*_remesh(v, f, 1.2))
+
+
+def _blob(seed: int, lobes: int, edge_length: float) -> Callable[[], BenchMesh]:
+    """An organic blob: the smooth union of ``lobes`` random ellipsoids about the origin
+    (manifold3d level set, then isotropic remeshing)."""
+
+    def make() -> BenchMesh:
+        import manifold3d as m3
+
+        rng = np.random.default_rng(seed)
+        centres = rng.normal(0, 0.45, (lobes, 3))
+        radii = rng.uniform(0.35, 0.7, (lobes, 3))
+        k = 0.12
+
+        def sdf(x, y, z):
+            p = np.array([x, y, z])
+            s = -np.linalg.norm((p - centres) / radii, axis=1) + 1.0
+            s = s * radii.min(axis=1)
+            return float(k * np.log(np.exp(s / k).sum()))
+
+        lo, hi = (centres - radii).min(0) - 0.2, (centres + radii).max(0) + 0.2
+        solid = m3.Manifold.level_set(sdf, [*lo.tolist(), *hi.tolist()], 0.06)
+        m = solid.to_mesh()
+        v = np.asarray(m.vert_properties, float)[:, :3]
+        f = np.asarray(m.tri_verts, np.int64)
+        return _mesh(*_remesh(v, f, edge_length, feature_deg=180.0))
+
+    return make
+
+
+def _crown(cusps: int, radius: float, height: float, scale,
+           seed: int) -> Callable[[], BenchMesh]:
+    """A tooth-like crown: :func:`surfinpaint.data.tooth` with ``cusps`` more Gaussian cusps
+    of random heights at ``radius`` from the axis, scaled by ``scale``."""
+
+    def make() -> BenchMesh:
+        from surfinpaint.geometry.mesh import vertex_normals
+
+        v, f = data.tooth(0.05)
+        rng = np.random.default_rng(seed)
+        # more cusps on top of the data module's four, along the normals
+        n = vertex_normals(v, f)
+        ang = 2 * np.pi * (np.arange(cusps) + rng.uniform(-0.1, 0.1, cusps)) / cusps
+        centre = np.column_stack([radius * np.cos(ang), radius * np.sin(ang)])
+        d2 = ((v[:, None, :2] - centre[None]) ** 2).sum(-1)
+        top = np.clip((v[:, 2] - 0.5) / 0.3, 0.0, 1.0)
+        top = top * top * (3 - 2 * top)
+        amp = height * rng.uniform(0.7, 1.3, cusps)
+        bump = (amp * np.exp(-d2 / (2 * 0.15**2))).sum(axis=1) * top
+        v = (v + n * bump[:, None]) * np.asarray(scale, float)
+        return _mesh(v, f)
+
+    return make
+
+
+def _ellipsoid() -> BenchMesh:
+    v, f = data.sphere(5)
+    return _mesh(v * [1.6, 1.0, 0.7], f)
+
+
+def _peanut() -> BenchMesh:
+    rho, z = data._smooth_union_profile([0.0, 1.3], [0.9, 0.8], blend=0.3)
+    v, f = data._revolution(rho, z, 0.04)
+    return _mesh(v, data._outward(v, f))
+
+
+# --------------------------------------------------------------------------- the table
+
+
+def _cow() -> BenchMesh:
+    return _pymeshlab("cow.obj", 1)()
+
+
+def _bunny() -> BenchMesh:
+    return _pymeshlab("bunny.obj")()
+
+
+SOURCES: dict[str, Source] = {
+    # range scans
+    "face000": Source("range_scan", "PyMeshLab rangemaps/face000.ply (real scan)", _face_scan),
+    "scan_bunny": Source("range_scan", "simulated scan of PyMeshLab bunny.obj",
+                         _scan(_bunny, (0.3, 0.2, 1.0), 1)),
+    "scan_bracket": Source("range_scan", "simulated scan of the bracket CAD part",
+                           _scan(_bracket, (0.4, -0.5, 1.0), 2)),
+    "scan_cow": Source("range_scan", "simulated scan of PyMeshLab cow.obj (subdivided)",
+                       _scan(_cow, (1.0, 0.3, 0.2), 3)),
+    "scan_wuson": Source("range_scan", "simulated scan of assimp-testmodels OFF/Wuson.off",
+                         _scan(_wuson, (0.2, 1.0, 0.3), 4)),
+    "scan_lblock": Source("range_scan", "simulated scan of the lblock CAD part",
+                          _scan(_lblock, (0.5, 0.6, 1.0), 5)),
+    # organic, sculpted
+    "bunny": Source("organic", "PyMeshLab bunny.obj", _bunny),
+    "bone": Source("organic", "PyMeshLab bone.ply, Loop-subdivided twice",
+                   _pymeshlab("bone.ply", 2)),
+    "blob_a": Source("organic", "smooth union of 5 random ellipsoids (level set)",
+                     _blob(11, 5, 0.045)),
+    "cow": Source("organic", "PyMeshLab cow.obj, Loop-subdivided once", _cow),
+    "blob_b": Source("organic", "smooth union of 8 random ellipsoids (level set)",
+                     _blob(23, 8, 0.045)),
+    "blob_c": Source("organic", "smooth union of 3 random ellipsoids (level set)",
+                     _blob(37, 3, 0.04)),
+    # CAD
+    "cube40": Source("cad", "surfinpaint.data.cube(40)", lambda: _mesh(*data.cube(40))),
+    "bracket": Source("cad", "manifold3d: filleted plate, boss, two drilled holes", _bracket),
+    "airplane": Source("cad", "PyMeshLab airplane.obj", _pymeshlab("airplane.obj")),
+    "nut": Source("cad", "PyVista examples/nut.ply, remeshed", _nut),
+    "flange": Source("cad", "manifold3d: flange, hub, bore, six bolt holes", _flange),
+    "lblock": Source("cad", "manifold3d: filleted arm on a box with a slot", _lblock),
+    # brain (fsaverage5 LEFT only)
+    "pial": Source("brain", "nilearn fsaverage5 pial_left", _fsaverage("pial")),
+    "white": Source("brain", "nilearn fsaverage5 white_left", _fsaverage("white")),
+    "inflated": Source("brain", "nilearn fsaverage5 infl_left", _fsaverage("infl")),
+    "midthickness": Source("brain", "nilearn fsaverage5 (pial_left + white_left) / 2",
+                           _fsaverage("midthickness")),
+    # teeth-like
+    "tooth": Source("teeth", "surfinpaint.data.tooth()", lambda: _mesh(*data.tooth())),
+    "premolar": Source("teeth", "tooth body, 2 more cusps, narrowed",
+                       _crown(2, 0.35, 0.15, (0.8, 1.0, 1.0), 5)),
+    "molar5": Source("teeth", "tooth body, 5 more cusps, widened",
+                     _crown(5, 0.45, 0.12, (1.15, 1.05, 0.9), 6)),
+    "incisor": Source("teeth", "tooth body, 3 low cusps, flattened",
+                      _crown(3, 0.3, 0.08, (1.1, 0.55, 1.2), 7)),
+    # smooth synthetic
+    "sphere": Source("smooth", "surfinpaint.data.sphere(5)", lambda: _mesh(*data.sphere(5))),
+    "torus": Source("smooth", "surfinpaint.data.torus(160, 64)",
+                    lambda: _mesh(*data.torus(n_major=160, n_minor=64))),
+    "snowman": Source("smooth", "surfinpaint.data.snowman(0.04)",
+                      lambda: _mesh(*data.snowman(edge_length=0.04))),
+    "ellipsoid": Source("smooth", "icosphere(5) scaled 1.6 x 1.0 x 0.7", _ellipsoid),
+    "fs_sphere": Source("smooth", "nilearn fsaverage5 sphere_left (irregular sphere)",
+                        _fsaverage("sphere")),
+    "peanut": Source("smooth", "smooth union of two balls, revolved", _peanut),
+}
+
+
+def load(mesh_id: str) -> BenchMesh:
+    """The benchmark mesh ``mesh_id`` (see :data:`SOURCES`)."""
+    return SOURCES[mesh_id].make()
