@@ -45,8 +45,9 @@ SPLIT = {
 
 
 def read(path: Path = MANIFEST) -> dict:
-    """The manifest: ``{"meshes": [{"mesh", "kind", "source", "split", "n_vertices", "h",
-    "holes": [{"centre", "radius", "radius_h", "near_border", "on_feature"}]}]}``."""
+    """The manifest: ``{"meshes": [{"mesh", "kind", "source", "split", "n_vertices",
+    "n_faces", "h", "holes": [{"centre", "radius", "radius_h", "near_border",
+    "on_feature"}]}]}``."""
     return json.loads(Path(path).read_text())
 
 
@@ -112,7 +113,7 @@ def _holes_of(mesh_id: str, index: int) -> dict:
             print(f"{mesh_id}: no hole of radius {r_h} h could be cut", file=sys.stderr)
     split = next(s for s, ids in SPLIT.items() if mesh_id in ids)
     return {"mesh": mesh_id, "kind": kind, "source": vm.SOURCES[mesh_id].source,
-            "split": split, "n_vertices": len(v), "h": h, "holes": holes}
+            "split": split, "n_vertices": len(v), "n_faces": len(f), "h": h, "holes": holes}
 
 
 def write(path: Path = MANIFEST, only: list[str] | None = None) -> dict:

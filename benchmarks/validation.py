@@ -71,9 +71,10 @@ def run(manifest: dict, methods: list[str], samples: int, partial: Path | None,
         except (FileNotFoundError, ModuleNotFoundError) as exc:
             print(f"note: skipping {entry['mesh']}: {exc}", file=sys.stderr)
             continue
-        if len(mesh.vertices) != entry["n_vertices"]:
-            warnings.warn(f"{entry['mesh']} has {len(mesh.vertices)} vertices, the manifest "
-                          f"says {entry['n_vertices']}: its source changed", stacklevel=1)
+        if (len(mesh.vertices), len(mesh.faces)) != (entry["n_vertices"], entry["n_faces"]):
+            warnings.warn(f"{entry['mesh']} has {len(mesh.vertices)} vertices and "
+                          f"{len(mesh.faces)} faces, the manifest says {entry['n_vertices']} "
+                          f"and {entry['n_faces']}: its source changed", stacklevel=1)
         h = mean_edge_length(mesh.vertices, mesh.faces)
         for k, hole in enumerate(entry["holes"][:max_holes]):
             cut = _cut(mesh, hole)

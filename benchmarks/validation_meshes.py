@@ -312,9 +312,11 @@ def _nut() -> BenchMesh:
     return _mesh(*_remesh(v, f, 1.2))
 
 
-def _blob(seed: int, lobes: int, edge_length: float) -> Callable[[], BenchMesh]:
-    """An organic blob: the smooth union of ``lobes`` random ellipsoids about the origin
-    (manifold3d level set, then isotropic remeshing)."""
+def _blob(seed: int, lobes: int, edge_length: float, detail: float = 0.0,
+          frequency: float = 10.0) -> Callable[[], BenchMesh]:
+    """An organic blob: the smooth union of ``lobes`` random ellipsoids about the origin, with
+    sculpted-like wrinkles of amplitude ``detail`` and spatial ``frequency`` (manifold3d
+    level set, then isotropic remeshing)."""
 
     def make() -> BenchMesh:
         import manifold3d as m3
@@ -328,7 +330,9 @@ def _blob(seed: int, lobes: int, edge_length: float) -> Callable[[], BenchMesh]:
             p = np.array([x, y, z])
             s = -np.linalg.norm((p - centres) / radii, axis=1) + 1.0
             s = s * radii.min(axis=1)
-            return float(k * np.log(np.exp(s / k).sum()))
+            wrinkle = detail * np.sin(frequency * x + 1.3 * y) * np.sin(
+                0.8 * frequency * y - z) * np.cos(1.1 * frequency * z + 0.5 * x)
+            return float(k * np.log(np.exp(s / k).sum()) + wrinkle)
 
         lo, hi = (centres - radii).min(0) - 0.2, (centres + radii).max(0) + 0.2
         solid = m3.Manifold.level_set(sdf, [*lo.tolist(), *hi.tolist()], 0.06)
@@ -404,11 +408,11 @@ SOURCES: dict[str, Source] = {
     "bunny": Source("organic", "PyMeshLab bunny.obj", _bunny),
     "bone": Source("organic", "PyMeshLab bone.ply, Loop-subdivided twice",
                    _pymeshlab("bone.ply", 2)),
-    "blob_a": Source("organic", "smooth union of 5 random ellipsoids (level set)",
-                     _blob(11, 5, 0.045)),
+    "blob_a": Source("organic", "union of 5 random ellipsoids with wrinkles (level set)",
+                     _blob(11, 5, 0.04, 0.035, 9.0)),
     "cow": Source("organic", "PyMeshLab cow.obj, Loop-subdivided once", _cow),
-    "blob_b": Source("organic", "smooth union of 8 random ellipsoids (level set)",
-                     _blob(23, 8, 0.045)),
+    "blob_b": Source("organic", "union of 8 random ellipsoids with wrinkles (level set)",
+                     _blob(23, 8, 0.04, 0.03, 12.0)),
     "blob_c": Source("organic", "smooth union of 3 random ellipsoids (level set)",
                      _blob(37, 3, 0.04)),
     # CAD
