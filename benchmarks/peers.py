@@ -18,9 +18,9 @@ vertices (ids ``n .. n + m - 1`` after the ``n`` original ones, which never move
 - :func:`pymeshfix_fill`: MeshFix's ``fill_small_boundaries`` (triangulation, refinement and
   fairing), through ``pymeshfix``.
 
-The last two fill every hole up to a number of boundary edges: they are given exactly the
-hole's edge count, so the outer border of the neighbourhood the benchmark hands them (always
-longer) stays open.
+The last two fill every hole up to a number of boundary edges: every other boundary loop is
+capped by a temporary fan (removed again from their output) before they are called, so they
+fill the given hole only.
 """
 
 from __future__ import annotations
@@ -196,6 +196,28 @@ def _split_new(vertices: np.ndarray, faces: np.ndarray, out_v: np.ndarray, out_f
     return out_v[added], out_f[is_new]
 
 
+def _only_this_hole(fill, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                    name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Run ``fill(vertices, faces)`` (a whole-mesh hole filler returning its output mesh) with
+    every boundary loop but ``loop`` capped by a fan to its centroid, and return the
+    (new vertices, new faces) of the given hole, as the other peers do."""
+    from surfinpaint.geometry.mesh import boundary_loops
+
+    n = len(vertices)
+    target = set(np.asarray(loop).tolist())
+    others = [lp for lp in boundary_loops(faces) if set(lp.tolist()) != target]
+    centres = np.array([vertices[lp].mean(axis=0) for lp in others]).reshape(-1, 3)
+    caps = [np.column_stack([np.roll(lp, -1), lp, np.full(len(lp), n + k)])
+            for k, lp in enumerate(others)]  # reversed edges: orientation consistent
+    capped_v = np.vstack([vertices, centres])
+    capped_f = np.vstack([faces, *caps]) if caps else faces
+    out_v, out_f = fill(capped_v, capped_f)
+    new_v, new_f = _split_new(capped_v, capped_f, out_v, out_f, name)
+    if ((new_f >= n) & (new_f < n + len(others))).any():
+        raise RuntimeError(f"{name} attached its fill to a temporary cap")
+    return new_v, np.where(new_f >= n, new_f - len(others), new_f)
+
+
 def pymeshlab_fill(vertices: np.ndarray, faces: np.ndarray,
                    loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Fill the hole bounded by ``loop`` with MeshLab's ``meshing_close_holes``.
@@ -213,16 +235,18 @@ def pymeshlab_fill(vertices: np.ndarray, faces: np.ndarray,
     import pymeshlab
 
     v = np.asarray(vertices, float)
-    f = np.asarray(faces, np.int64)
-    ms = pymeshlab.MeshSet()
-    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=v, face_matrix=f.astype(np.int32)))
-    ms.meshing_close_holes(maxholesize=int(len(loop)) + 1, selected=False, newfaceselected=True,
-                           selfintersection=True, refinehole=True,
-                           refineholeedgelen=pymeshlab.PureValue(
-                               float(_boundary_edge_lengths(v, loop).mean())))
-    m = ms.current_mesh()
-    new_v, new_f = _split_new(v, f, m.vertex_matrix().astype(float),
-                              m.face_matrix().astype(np.int64), "MeshLab")
+    edge = float(_boundary_edge_lengths(v, loop).mean())
+
+    def fill(cv, cf):
+        ms = pymeshlab.MeshSet()
+        ms.add_mesh(pymeshlab.Mesh(vertex_matrix=cv, face_matrix=cf.astype(np.int32)))
+        ms.meshing_close_holes(maxholesize=int(len(loop)) + 1, selected=False,
+                               newfaceselected=True, selfintersection=True, refinehole=True,
+                               refineholeedgelen=pymeshlab.PureValue(edge))
+        m = ms.current_mesh()
+        return m.vertex_matrix().astype(float), m.face_matrix().astype(np.int64)
+
+    new_v, new_f = _only_this_hole(fill, v, np.asarray(faces, np.int64), loop, "MeshLab")
     if len(new_f) == 0:
         raise RuntimeError("MeshLab's meshing_close_holes added no face")
     return new_v, new_f
@@ -241,15 +265,16 @@ def pymeshfix_fill(vertices: np.ndarray, faces: np.ndarray,
     """
     import pymeshfix
 
-    v = np.asarray(vertices, float)
-    f = np.asarray(faces, np.int64)
-    tin = pymeshfix.PyTMesh()
-    tin.set_quiet(True)
-    tin.load_array(v, f.astype(np.int32))
-    tin.fill_small_boundaries(nbe=int(len(loop)) + 1, refine=True)
-    out_v, out_f = tin.return_arrays()
-    new_v, new_f = _split_new(v, f, np.asarray(out_v, float), np.asarray(out_f, np.int64),
-                              "MeshFix")
+    def fill(cv, cf):
+        tin = pymeshfix.PyTMesh()
+        tin.set_quiet(True)
+        tin.load_array(cv, cf.astype(np.int32))
+        tin.fill_small_boundaries(nbe=int(len(loop)) + 1, refine=True)
+        out_v, out_f = tin.return_arrays()
+        return np.asarray(out_v, float), np.asarray(out_f, np.int64)
+
+    new_v, new_f = _only_this_hole(fill, np.asarray(vertices, float),
+                                   np.asarray(faces, np.int64), loop, "MeshFix")
     if len(new_f) == 0:
         raise RuntimeError("MeshFix's fill_small_boundaries added no face")
     return new_v, new_f

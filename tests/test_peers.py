@@ -1,4 +1,5 @@
-"""The benchmark's reference peers (CGAL, MeshLib) really fill the hole they are given."""
+"""The benchmark's reference peers (CGAL, MeshLib, PyMeshLab, PyMeshFix) really fill the hole
+they are given."""
 
 from __future__ import annotations
 
@@ -17,10 +18,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 peers = pytest.importorskip("peers")
 
 CGAL_MODULE = "CGAL.CGAL_Polygon_mesh_processing"
-MODULES = {"cgal": CGAL_MODULE, "cgal3": CGAL_MODULE, "meshlib": "meshlib.mrmeshpy"}
+MODULES = {"cgal": CGAL_MODULE, "cgal3": CGAL_MODULE, "meshlib": "meshlib.mrmeshpy",
+           "pymeshlab": "pymeshlab", "pymeshfix": "pymeshfix"}
+# MeshLab's close-holes refines but does not fair and MeshFix's fill stays near the
+# triangulation: on a sphere cap both are close to flat (a flat cap is ~4.5 % off here), the
+# three fairing peers follow the sphere
+SMOOTH = {"cgal": True, "cgal3": True, "meshlib": True, "pymeshlab": False, "pymeshfix": False}
 
 
-@pytest.mark.parametrize("name", ["cgal", "cgal3", "meshlib"])
+@pytest.mark.parametrize("name", list(MODULES))
 def test_peer_fills_only_the_given_hole_accurately(name):
     pytest.importorskip(MODULES[name])
     v, f = data.sphere(4)
@@ -46,13 +52,17 @@ def test_peer_fills_only_the_given_hole_accurately(name):
     remap[ids] = np.arange(len(ids))
     d = surface_distance(allv[ids], remap[new_f], target.truth_vertices, target.truth_faces,
                          n_samples=3000)
-    assert d["mean"] < 0.01 * target.diameter
-    assert np.abs(np.linalg.norm(new_v, axis=1) - 1).max() < 0.02
+    if SMOOTH[name]:
+        assert d["mean"] < 0.01 * target.diameter
+        assert np.abs(np.linalg.norm(new_v, axis=1) - 1).max() < 0.02
+    else:
+        assert d["mean"] < 0.05 * target.diameter
+        assert np.linalg.norm(new_v, axis=1).max() < 1.001  # inside the ball, not wild
 
 
 def test_versions_are_recorded():
     v = peers.versions()
-    assert set(v) == {"cgal", "meshlib"}
+    assert set(v) == {"cgal", "meshlib", "pymeshlab", "pymeshfix"}
     assert all(isinstance(x, str) and x for x in v.values())
 
 
