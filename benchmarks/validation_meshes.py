@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numba import njit
 
 from surfinpaint import data
 from surfinpaint.geometry.mesh import unique_edges
@@ -132,39 +133,40 @@ def _fsaverage(surface: str) -> Callable[[], BenchMesh]:
 # --------------------------------------------------------------------------- range scans
 
 
+@njit(cache=True)
+def _raster(p, tri, x0, y0, step, nx, ny):  # pragma: no cover - compiled
+    """Largest depth of the triangles ``tri`` of projected points ``p`` (x, y, depth) at each
+    pixel centre (``-inf`` where none)."""
+    depth = np.full((ny, nx), -np.inf)
+    for t in range(tri.shape[0]):
+        a, b, c = p[tri[t, 0]], p[tri[t, 1]], p[tri[t, 2]]
+        det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+        if abs(det) < 1e-300:
+            continue
+        i0 = max(int(np.floor((min(a[0], b[0], c[0]) - x0) / step)), 0)
+        i1 = min(int(np.ceil((max(a[0], b[0], c[0]) - x0) / step)), nx - 1)
+        j0 = max(int(np.floor((min(a[1], b[1], c[1]) - y0) / step)), 0)
+        j1 = min(int(np.ceil((max(a[1], b[1], c[1]) - y0) / step)), ny - 1)
+        for j in range(j0, j1 + 1):
+            y = y0 + j * step
+            for i in range(i0, i1 + 1):
+                x = x0 + i * step
+                l1 = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det
+                l2 = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det
+                if l1 < 0 or l2 < 0 or l1 + l2 > 1:
+                    continue
+                z = a[2] + l1 * (b[2] - a[2]) + l2 * (c[2] - a[2])
+                if z > depth[j, i]:
+                    depth[j, i] = z
+    return depth
+
+
 def _rasterize(points: np.ndarray, faces: np.ndarray, pixel: float):
     """Orthographic z-buffer of projected triangles: ``points`` are (x, y, depth) with depth
     growing towards the viewer; returns the depth image (nan where empty) and its origin."""
-    from numba import njit
-
-    @njit(cache=True)
-    def raster(p, tri, x0, y0, step, nx, ny):  # pragma: no cover - compiled
-        depth = np.full((ny, nx), -np.inf)
-        for t in range(tri.shape[0]):
-            a, b, c = p[tri[t, 0]], p[tri[t, 1]], p[tri[t, 2]]
-            det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
-            if abs(det) < 1e-300:
-                continue
-            i0 = max(int(np.floor((min(a[0], b[0], c[0]) - x0) / step)), 0)
-            i1 = min(int(np.ceil((max(a[0], b[0], c[0]) - x0) / step)), nx - 1)
-            j0 = max(int(np.floor((min(a[1], b[1], c[1]) - y0) / step)), 0)
-            j1 = min(int(np.ceil((max(a[1], b[1], c[1]) - y0) / step)), ny - 1)
-            for j in range(j0, j1 + 1):
-                y = y0 + j * step
-                for i in range(i0, i1 + 1):
-                    x = x0 + i * step
-                    l1 = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det
-                    l2 = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det
-                    if l1 < 0 or l2 < 0 or l1 + l2 > 1:
-                        continue
-                    z = a[2] + l1 * (b[2] - a[2]) + l2 * (c[2] - a[2])
-                    if z > depth[j, i]:
-                        depth[j, i] = z
-        return depth
-
     lo, hi = points[:, :2].min(axis=0), points[:, :2].max(axis=0)
     nx, ny = (np.ceil((hi - lo) / pixel).astype(int) + 1).tolist()
-    depth = raster(points, faces, lo[0], lo[1], pixel, nx, ny)
+    depth = _raster(points, faces, lo[0], lo[1], pixel, nx, ny)
     depth[~np.isfinite(depth)] = np.nan
     return depth, lo
 
@@ -201,7 +203,6 @@ def simulated_scan(vertices: np.ndarray, faces: np.ndarray, view, *, pixels: int
     projected = vertices @ np.column_stack([u, w, d])
     pixel = float(np.ptp(projected[:, :2], axis=0).max()) / pixels
     depth, lo = _rasterize(projected, faces, pixel)
-    ny, nx = depth.shape
     rng = np.random.default_rng(seed)
     quantum = quantum_h * pixel
     noisy = np.round(depth / quantum) * quantum + rng.normal(0.0, noise_h * pixel, depth.shape)
@@ -231,7 +232,6 @@ def simulated_scan(vertices: np.ndarray, faces: np.ndarray, view, *, pixels: int
         f = f[:, ::-1]
     both = np.hstack([positions(noisy), clean])
     both, f = _clean_open(both, f)
-    del nx, ny
     return BenchMesh(both[:, :3], f, truth=both[:, 3:])
 
 
@@ -250,7 +250,10 @@ def _face_scan() -> BenchMesh:
 
 
 def _wuson() -> BenchMesh:
-    return _mesh(*_read(ASSIMP / "OFF" / "Wuson.off"))
+    path = ASSIMP / "OFF" / "Wuson.off"
+    if not path.is_file():
+        raise FileNotFoundError(f"{path} is missing: apt-get install assimp-testmodels")
+    return _mesh(*_read(path))
 
 
 # --------------------------------------------------------------------------- generated

@@ -1,0 +1,85 @@
+"""The validation benchmark's checked-in hole manifest is well formed and split by mesh.
+
+Reads ``benchmarks/holes_manifest.json`` and the tables of ``benchmarks/holes_manifest.py``
+and ``benchmarks/validation_meshes.py`` only: no mesh is loaded.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+sys.path.insert(0, str(BENCH))
+holes_manifest = pytest.importorskip("holes_manifest")
+validation_meshes = pytest.importorskip("validation_meshes")
+
+KINDS = {"range_scan", "organic", "cad", "brain", "teeth", "smooth"}
+
+
+@pytest.fixture(scope="module")
+def manifest():
+    return holes_manifest.read()
+
+
+def test_entries_are_well_formed(manifest):
+    assert manifest["meshes"]
+    for entry in manifest["meshes"]:
+        assert set(entry) == {"mesh", "kind", "source", "split", "n_vertices", "n_faces", "h",
+                              "holes"}, entry["mesh"]
+        assert entry["kind"] in KINDS and entry["split"] in ("tuning", "validation")
+        assert entry["n_vertices"] > 0 and entry["n_faces"] > 0 and entry["h"] > 0
+        assert entry["holes"], entry["mesh"]
+        for hole in entry["holes"]:
+            assert set(hole) == {"centre", "radius", "radius_h", "near_border", "on_feature"}
+            assert len(hole["centre"]) == 3 and np.isfinite(hole["centre"]).all()
+            assert 3 <= hole["radius_h"] <= 10
+            assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
+
+
+def test_split_is_by_mesh_and_fixed(manifest):
+    ids = [e["mesh"] for e in manifest["meshes"]]
+    assert len(ids) == len(set(ids)), "a mesh is listed twice"
+    tuning, validation = (set(holes_manifest.SPLIT[s]) for s in ("tuning", "validation"))
+    assert not tuning & validation
+    for entry in manifest["meshes"]:
+        assert entry["mesh"] in holes_manifest.SPLIT[entry["split"]], entry["mesh"]
+        source = validation_meshes.SOURCES[entry["mesh"]]
+        assert (source.kind, source.source) == (entry["kind"], entry["source"])
+
+
+def test_size_and_balance(manifest):
+    meshes = manifest["meshes"]
+    assert len(meshes) >= 25
+    assert {e["kind"] for e in meshes} == KINDS
+    assert sum(len(e["holes"]) for e in meshes) >= 200
+    per = Counter((e["kind"], e["split"]) for e in meshes)
+    for kind in KINDS:  # every kind in both halves, balanced
+        assert per[(kind, "tuning")] >= 2 and per[(kind, "validation")] >= 2, kind
+        assert abs(per[(kind, "tuning")] - per[(kind, "validation")]) <= 1, kind
+    holes = [h for e in meshes for h in e["holes"]]
+    assert sum(h["near_border"] for h in holes) >= 10
+    assert sum(h["on_feature"] for h in holes) >= 10
+    assert {h["radius_h"] for h in holes} >= {3, 10}
+
+
+def test_meshes_used_before_are_in_the_tuning_half(manifest):
+    """The meshes of the default accuracy set (on which the self-check rules were chosen)
+    must not be in the validation half."""
+    split = {e["mesh"]: e["split"] for e in manifest["meshes"]}
+    for mesh in ("face000", "bunny", "pial", "white", "sphere", "torus", "cube40", "snowman",
+                 "tooth"):
+        assert split[mesh] == "tuning", mesh
+
+
+def test_reserved_sources_are_never_used():
+    """Debian's libcgal-demo meshes and the fsaverage5 right hemisphere are kept for an
+    independent evaluation."""
+    code = (BENCH / "validation_meshes.py").read_text().split('"""', 2)[2].lower()  # no docstring
+    assert "libcgal" not in code and "cgal-demo" not in code and "/cgal" not in code
+    assert "right" not in code
+    assert '"left"' in code

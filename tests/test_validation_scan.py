@@ -1,0 +1,45 @@
+"""The validation benchmark's simulated range scan (``benchmarks/validation_meshes.py``): a
+scan of a sphere lies on the sphere, faces the viewer and is a clean open manifold."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from surfinpaint import data
+from surfinpaint.geometry.mesh import boundary_loops, unique_edges
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+validation_meshes = pytest.importorskip("validation_meshes")
+
+
+def test_scan_of_a_sphere():
+    v, f = data.sphere(3)
+    view = np.array([0.0, 0.0, 1.0])
+    scan = validation_meshes.simulated_scan(v, f, view, pixels=40, noise_h=0.05,
+                                            quantum_h=0.05, seed=3)
+    pixel = 2.0 / 40
+    # the truth lies on the icosphere (within its flat facets) on the side facing the viewer
+    r = np.linalg.norm(scan.truth, axis=1)
+    assert r.max() <= 1 + 1e-9 and r.min() > 0.98
+    assert (scan.truth[:, 2] > 0).all()
+    # the noisy copy differs along the view only, by quantization and noise (≤ 5 sigma)
+    diff = scan.vertices - scan.truth
+    assert np.abs(diff[:, :2]).max() < 1e-12
+    assert 0 < np.abs(diff[:, 2]).max() < (0.025 + 5 * 0.05) * pixel
+    # one open, edge-manifold piece, one border, no grazing faces near the silhouette
+    _, _, count = unique_edges(scan.faces)
+    assert count.max() == 2
+    assert len(boundary_loops(scan.faces)) == 1
+    t = scan.truth[scan.faces]
+    n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    cos = n @ view / np.linalg.norm(n, axis=1)
+    assert cos.min() >= 0.25  # every face faces the viewer, none grazing
+    # it covers the non-grazing part of the visible disk, |z| >= 0.25: projected area
+    # π (1 - 0.25²), less a border ring about a pixel wide
+    proj = 0.5 * np.abs(n[:, 2]).sum()
+    disk = np.pi * (1 - 0.25**2)
+    assert disk - 2 * np.pi * pixel < proj < disk
