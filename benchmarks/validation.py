@@ -123,6 +123,9 @@ def headline(rows: list[dict], methods: list[str]) -> dict:
                 if (a, *k) in err and (b, *k) in err and err[(b, *k)] > 1e-6]
 
     out["default_over_cgal_per_hole"] = _med(ratio(DEFAULT, "cgal", holes))
+    for flag in ("near_border", "on_feature"):
+        keys = sorted({(r["case"], r["hole"]) for r in rows if r["extra"][flag]})
+        out[f"default_over_cgal_{flag}"] = (_med(ratio(DEFAULT, "cgal", keys)), len(keys))
     per_mesh = {m: {meth: _med([err[(meth, c, k)] for c, k in holes
                                 if c == m and (meth, c, k) in err]) for meth in methods}
                 for m in meshes}
@@ -151,7 +154,7 @@ def headline(rows: list[dict], methods: list[str]) -> dict:
         fell = [r["note"].split(": ", 1)[-1] for r in mine if r["status"] == "fallback"]
         reasons: dict[str, int] = {}
         for note in fell:
-            key = note[:70]
+            key = note[:100]
             reasons[key] = reasons.get(key, 0) + 1
         out[f"{meth}_fallback"] = (len(fell), len(mine), reasons)
     # the self-check as a chooser among its candidates
@@ -198,6 +201,10 @@ def report(rows: list[dict], methods: list[str], split: str) -> str:
         "| measure (default = conformal) | value | target |",
         "|---|---|---|",
         f"| per-hole median error / CGAL | {_f(hl['default_over_cgal_per_hole'])} | ≤ 0.67 |",
+        f"| same, holes near a border ({hl['default_over_cgal_near_border'][1]}) | "
+        f"{_f(hl['default_over_cgal_near_border'][0])} | |",
+        f"| same, holes on a sharp edge or corner ({hl['default_over_cgal_on_feature'][1]}) | "
+        f"{_f(hl['default_over_cgal_on_feature'][0])} | |",
         f"| median over meshes of (mesh median / CGAL's) | "
         f"{_f(hl['default_over_cgal_median_mesh'])} | |",
         f"| meshes where the default is most accurate of all peers (per-mesh median) | "

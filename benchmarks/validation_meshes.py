@@ -452,6 +452,39 @@ SOURCES: dict[str, Source] = {
 }
 
 
+def split_bowties(mesh: BenchMesh) -> tuple[BenchMesh, np.ndarray]:
+    """Make every vertex manifold: each extra fan of faces at a bow-tie vertex gets its own
+    copy of the vertex (appended; the surface is unchanged, only its connectivity). Returns
+    the mesh and the bow-tie vertices that were split."""
+    from surfinpaint.geometry.repair import corner_fans
+    from surfinpaint.geometry.validation import nonmanifold_vertices
+
+    bowties = nonmanifold_vertices(mesh.faces)
+    if len(bowties) == 0:
+        return mesh, bowties
+    n_fans, fan = corner_fans(mesh.faces)
+    corners = mesh.faces.ravel()
+    first = np.full(len(mesh.vertices), n_fans)  # the fan that keeps the vertex id
+    np.minimum.at(first, corners, fan)
+    extra = np.unique(fan[fan != first[corners]])
+    new_id = np.full(n_fans, -1)
+    new_id[extra] = len(mesh.vertices) + np.arange(len(extra))
+    faces = np.where(new_id[fan] >= 0, new_id[fan], corners).reshape(-1, 3)
+    vertex_of_fan = np.empty(n_fans, np.int64)
+    vertex_of_fan[fan] = corners
+    copies = vertex_of_fan[extra]
+    vertices = np.vstack([mesh.vertices, mesh.vertices[copies]])
+    truth = None if mesh.truth is None else np.vstack([mesh.truth, mesh.truth[copies]])
+    return BenchMesh(vertices, faces, truth), bowties
+
+
 def load(mesh_id: str) -> BenchMesh:
-    """The benchmark mesh ``mesh_id`` (see :data:`SOURCES`)."""
-    return SOURCES[mesh_id].make()
+    """The benchmark mesh ``mesh_id`` (see :data:`SOURCES`), bow-tie vertices split (with a
+    note on stderr)."""
+    import sys
+
+    mesh, bowties = split_bowties(SOURCES[mesh_id].make())
+    if len(bowties):
+        print(f"note: {mesh_id}: split {len(bowties)} bow-tie vertices "
+              f"{bowties[:5].tolist()} into one vertex per fan", file=sys.stderr)
+    return mesh

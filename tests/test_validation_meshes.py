@@ -1,5 +1,6 @@
-"""The validation benchmark's simulated range scan (``benchmarks/validation_meshes.py``): a
-scan of a sphere lies on the sphere, faces the viewer and is a clean open manifold."""
+"""The validation benchmark's mesh helpers (``benchmarks/validation_meshes.py``): a simulated
+range scan of a sphere lies on the sphere, faces the viewer and is a clean open manifold;
+bow-tie vertices are split without moving the surface."""
 
 from __future__ import annotations
 
@@ -43,3 +44,23 @@ def test_scan_of_a_sphere():
     proj = 0.5 * np.abs(n[:, 2]).sum()
     disk = np.pi * (1 - 0.25**2)
     assert disk - 2 * np.pi * pixel < proj < disk
+
+
+def test_split_bowties_gives_one_vertex_per_fan():
+    from surfinpaint.geometry.validation import nonmanifold_vertices
+
+    # two closed tetrahedra touching at vertex 0 (a bow-tie), then a closed sphere
+    tet = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    v = np.vstack([np.zeros(3), np.eye(3), -np.eye(3)])
+    f = np.vstack([tet, np.where(tet > 0, tet + 3, 0)[:, ::-1]])
+    mesh = validation_meshes.BenchMesh(v, f, truth=v + 1.0)
+    out, bowties = validation_meshes.split_bowties(mesh)
+    assert bowties.tolist() == [0]
+    assert len(out.vertices) == len(v) + 1 and len(nonmanifold_vertices(out.faces)) == 0
+    # same triangles in space, same truth, ids of the other vertices kept
+    assert np.array_equal(out.vertices[out.faces], v[f])
+    assert np.array_equal(out.truth[out.faces], (v + 1.0)[f])
+    assert np.array_equal(out.faces[f != 0], f[f != 0])
+    sv, sf = data.sphere(2)
+    same, none = validation_meshes.split_bowties(validation_meshes.BenchMesh(sv, sf))
+    assert len(none) == 0 and same.faces is sf
