@@ -249,3 +249,130 @@ def test_several_holes_one_skipped(fair_order):
     touching = np.isin(cut.faces, np.concatenate([r.loop for r in result.reports])).any(1)
     assert np.isin(faces[len(cut.faces):], np.flatnonzero(touching)).all()
 
+
+# ----------------------------------------------------------------- fill_holes and objects
+
+
+@pytest.fixture(scope="module")
+def holed_sphere():
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], [0.7])
+    return cut.vertices, cut.faces
+
+
+def sphere_attributes(v, f):
+    n = len(v)
+    rgba = np.column_stack([np.rint(colour_of(v)), np.full(n, 10), np.full(n, 250),
+                            np.full(n, 255)]).astype(np.uint8)
+    return {"vertex_colors": rgba, "z": v[:, 2].copy(), "region": (v[:, 0] > 0).astype(np.int8)}
+
+
+def test_fill_holes_attributes_argument(holed_sphere):
+    v, f = holed_sphere
+    attributes = sphere_attributes(v, f)
+    face_ids = np.arange(len(f))
+    result = fill_holes(v, f, method="fair", attributes=attributes,
+                        face_attributes={"id": face_ids})
+    plain = fill_holes(v, f, method="fair")
+    assert np.array_equal(result.vertices, plain.vertices)  # the geometry is not touched
+    expected = fill_result_attributes(plain, attributes)
+    assert set(result.attributes) == set(attributes)
+    for name, values in expected.items():
+        assert np.array_equal(result.attributes[name], values)
+        assert np.array_equal(result.attributes[name][: len(v)], attributes[name])
+    assert len(result.face_attributes["id"]) == len(result.faces)
+    assert fill_holes(v, f, method="fair").attributes == {}
+    with pytest.raises(ValueError, match="'z' has 3 rows"):
+        fill_holes(v, f, method="fair", attributes={"z": np.zeros(3)})
+    with pytest.raises(ValueError, match="face attribute 'id' has 3 rows"):
+        fill_holes(v, f, method="fair", face_attributes={"id": np.zeros(3)})
+    with pytest.raises(ValueError, match="unknown attribute kinds"):
+        fill_holes(v, f, method="fair", attributes={"z": v[:, 2]},
+                   attribute_kinds={"z": "smooth"})
+
+
+def test_trimesh_in_and_out(holed_sphere):
+    trimesh = pytest.importorskip("trimesh")
+    v, f = holed_sphere
+    n = len(v)
+    attributes = sphere_attributes(v, f)
+    mesh = trimesh.Trimesh(v, f, process=False, vertex_colors=attributes["vertex_colors"],
+                           vertex_attributes={"z": attributes["z"]},
+                           face_attributes={"material": np.arange(len(f)) % 3})
+    result = fill_holes(mesh, method="fair")
+    assert set(result.attributes) == {"vertex_colors", "z"}
+    colours = result.attributes["vertex_colors"]
+    assert colours.dtype == np.uint8 and colours.shape == (len(result.vertices), 4)
+    assert np.abs(colours[n:, 0] - colour_of(result.vertices[n:])).mean() < 4.0
+    out = result.to_trimesh()
+    assert isinstance(out, trimesh.Trimesh) and out.visual.kind == "vertex"
+    assert np.array_equal(out.vertices, result.vertices)
+    assert np.array_equal(out.faces, result.faces)
+    assert np.array_equal(out.visual.vertex_colors, colours)
+    assert np.array_equal(out.visual.vertex_colors[:n], attributes["vertex_colors"])
+    assert np.array_equal(out.vertex_attributes["z"], result.attributes["z"])
+    assert np.array_equal(out.face_attributes["material"][: len(f)], np.arange(len(f)) % 3)
+    assert len(out.face_attributes["material"]) == len(result.faces)
+    with pytest.raises(TypeError, match="pass the mesh alone"):
+        fill_holes(mesh, f)
+
+
+def test_pyvista_in_and_out(holed_sphere):
+    pyvista = pytest.importorskip("pyvista")
+    v, f = holed_sphere
+    n = len(v)
+    poly = pyvista.PolyData(v, np.column_stack([np.full(len(f), 3), f]).ravel())
+    poly.point_data["Normals"] = vertex_normals(v, f)
+    poly.point_data["z"] = v[:, 2]
+    poly.point_data["region"] = (v[:, 0] > 0).astype(np.int32)
+    poly.cell_data["material"] = (np.arange(len(f)) % 3).astype(np.int32)
+    result = fill_holes(poly, method="fair")
+    assert set(result.attributes) == {"Normals", "z", "region"}
+    out = result.to_pyvista()
+    assert isinstance(out, pyvista.PolyData) and out.n_points == len(result.vertices)
+    assert np.array_equal(out.points, result.vertices)
+    assert np.array_equal(out.regular_faces, result.faces)
+    for name in ("Normals", "z", "region"):
+        assert np.array_equal(out.point_data[name], result.attributes[name])
+        assert np.array_equal(np.asarray(out.point_data[name])[:n],
+                              np.asarray(poly.point_data[name]))
+    new = result.vertices[n:]
+    cos = np.einsum("ij,ij->i", result.attributes["Normals"][n:],
+                    new / np.linalg.norm(new, axis=1, keepdims=True))
+    assert np.degrees(np.arccos(np.clip(cos, -1, 1))).max() < 10.0
+    assert np.abs(result.attributes["z"][n:] - new[:, 2]).max() < 0.02
+    assert len(out.cell_data["material"]) == len(result.faces)
+
+
+def test_pyvista_polygons_are_triangulated_with_a_warning():
+    pyvista = pytest.importorskip("pyvista")
+    plane = pyvista.Plane(i_resolution=6, j_resolution=6)  # quads, with an open border
+    plane.point_data["x"] = plane.points[:, 0]
+    with pytest.warns(UserWarning, match="fan-triangulated"):
+        result = fill_holes(plane, method="fair")
+    assert result.faces.shape[1] == 3 and len(result.faces) == 72
+    assert np.array_equal(result.attributes["x"], plane.points[:, 0])
+
+
+def test_arrays_need_faces_and_other_objects_are_refused():
+    v, _ = sphere(1)
+    with pytest.raises(TypeError, match="needs faces"):
+        fill_holes(v)
+
+
+def test_trimesh_and_pyvista_are_optional_at_import():
+    import subprocess
+    import sys
+
+    code = ("import sys; sys.modules['trimesh'] = None; sys.modules['pyvista'] = None\n"
+            "import surfinpaint\n"
+            "from surfinpaint.data import sphere\n"
+            "from surfinpaint.geometry.cutting import cut_holes\n"
+            "v, f = sphere(2); c = cut_holes(v, f, [0], [0.5])\n"
+            "r = surfinpaint.fill_holes(c.vertices, c.faces, method='fair',"
+            " attributes={'z': c.vertices[:, 2]})\n"
+            "assert len(r.attributes['z']) == len(r.vertices)\n"
+            "try:\n    r.to_trimesh()\nexcept ImportError:\n    print('no trimesh')\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "no trimesh"

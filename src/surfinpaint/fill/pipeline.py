@@ -18,10 +18,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from surfinpaint.errors import MeshError
+from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions, Verdict, conformal_fill
 from surfinpaint.fill.conformal.options import check_fair_order
+from surfinpaint.fill.face_attributes import fill_result_face_attributes
 from surfinpaint.fill.holes import select_holes
 from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import Fill, LambdaHDiagnostics
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
 from surfinpaint.geometry.validation import check_loop, validate_mesh, zero_area_faces
@@ -78,11 +81,29 @@ class FillResult:
     n_original_vertices: int
     n_original_faces: int
     removed_faces: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    #: per-vertex arrays over ``vertices`` (the new rows inpainted: fill/attributes.py)
+    attributes: dict[str, np.ndarray] = field(default_factory=dict)
+    #: per-face arrays over ``faces`` (the new rows from across the loop)
+    face_attributes: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def new_faces(self) -> np.ndarray:
         """The faces added by the fill (all holes)."""
         return self.faces[self.n_original_faces :]
+
+    def to_trimesh(self):
+        """A ``trimesh.Trimesh``: colours in ``visual``, the other attributes in
+        ``vertex_attributes`` and ``face_attributes`` (see :mod:`surfinpaint.fill.objects`)."""
+        from surfinpaint.fill.objects import to_trimesh
+
+        return to_trimesh(self.vertices, self.faces, self.attributes, self.face_attributes)
+
+    def to_pyvista(self):
+        """A ``pyvista.PolyData``: the attributes in ``point_data``, the face attributes in
+        ``cell_data``."""
+        from surfinpaint.fill.objects import to_pyvista
+
+        return to_pyvista(self.vertices, self.faces, self.attributes, self.face_attributes)
 
 
 def _vertex_face_csr(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
@@ -271,13 +292,16 @@ def _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings
 
 
 def fill_holes(
-    vertices: np.ndarray,
-    faces: np.ndarray,
+    vertices,
+    faces: np.ndarray | None = None,
     holes: Sequence | None = None,
     method: str = "conformal",
     *,
     options: ConformalOptions | None = None,
     fair_order: int | None = None,
+    attributes: dict[str, np.ndarray] | None = None,
+    face_attributes: dict[str, np.ndarray] | None = None,
+    attribute_kinds: dict[str, str] | None = None,
     include_border: bool = False,
     max_hole_edges: int | None = None,
     neighbourhood_rings: int | None = None,
@@ -289,7 +313,10 @@ def fill_holes(
 
     Parameters
     ----------
-    vertices : (n, 3) float array
+    vertices : (n, 3) float array, ``trimesh.Trimesh`` or ``pyvista.PolyData``
+        A mesh object brings its own attributes (a Trimesh's vertex colours and
+        ``vertex_attributes``, a PolyData's ``point_data``; see
+        :mod:`surfinpaint.fill.objects`); ``faces`` is then left out.
     faces : (f, 3) int array
     holes : None, list of int, or list of loops
         None fills every boundary loop except the outer border of an open surface
@@ -323,6 +350,12 @@ def fill_holes(
         Check the mesh first (:func:`surfinpaint.validate_mesh`).
     progress : callable(done, total, message), optional
         Called before and after each hole.
+    attributes, face_attributes : dict of name to array, optional
+        Per-vertex (per-face) data; the new vertices' values are inpainted and the new faces'
+        copied from across the loop (rules: :mod:`surfinpaint.fill.attributes`), the
+        originals' kept as they are, in ``FillResult.attributes`` (``.face_attributes``).
+    attribute_kinds : dict of name to {"values", "normal", "label"}, optional
+        Overrides :func:`surfinpaint.fill.attributes.attribute_kind`.
 
     Returns
     -------
@@ -337,6 +370,14 @@ def fill_holes(
     ValueError
         An unknown method or a bad argument (an unknown option name is a TypeError).
     """
+    vertices, faces, attributes, face_attributes = mesh_arrays(vertices, faces, attributes,
+                                                               face_attributes)
+    # bad attributes are the caller's error, found before any hole is filled
+    attributes, attribute_kinds = check_attributes(len(vertices), attributes, attribute_kinds)
+    for name, a in face_attributes.items():
+        if np.ndim(a) == 0 or len(a) != len(faces):
+            raise ValueError(f"face attribute {name!r} has {len(a) if np.ndim(a) else 0} "
+                             f"rows, the mesh has {len(faces)} faces")
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
@@ -374,4 +415,14 @@ def fill_holes(
         if progress:
             progress(report.index + 1, len(loops),
                      f"hole {report.index}: done in {report.seconds:.2f} s")
-    return mesh.result(reports, removed_faces)
+    return _with_attributes(mesh.result(reports, removed_faces), attributes, face_attributes,
+                            attribute_kinds)
+
+
+def _with_attributes(result: FillResult, attributes, face_attributes, kinds) -> FillResult:
+    """The attributes of the filled mesh, new rows by the rules of fill/attributes.py."""
+    if attributes:
+        result.attributes = fill_result_attributes(result, attributes, kinds=kinds)
+    if face_attributes:
+        result.face_attributes = fill_result_face_attributes(result, face_attributes)
+    return result
