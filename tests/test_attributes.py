@@ -264,7 +264,7 @@ def sphere_attributes(v, f):
     n = len(v)
     rgba = np.column_stack([np.rint(colour_of(v)), np.full(n, 10), np.full(n, 250),
                             np.full(n, 255)]).astype(np.uint8)
-    return {"vertex_colors": rgba, "z": v[:, 2].copy(), "region": (v[:, 0] > 0).astype(np.int8)}
+    return {"color": rgba, "z": v[:, 2].copy(), "region": (v[:, 0] > 0).astype(np.int8)}
 
 
 def test_fill_holes_attributes_argument(holed_sphere):
@@ -296,12 +296,12 @@ def test_trimesh_in_and_out(holed_sphere):
     v, f = holed_sphere
     n = len(v)
     attributes = sphere_attributes(v, f)
-    mesh = trimesh.Trimesh(v, f, process=False, vertex_colors=attributes["vertex_colors"],
+    mesh = trimesh.Trimesh(v, f, process=False, vertex_colors=attributes["color"],
                            vertex_attributes={"z": attributes["z"]},
                            face_attributes={"material": np.arange(len(f)) % 3})
     result = fill_holes(mesh, method="fair")
-    assert set(result.attributes) == {"vertex_colors", "z"}
-    colours = result.attributes["vertex_colors"]
+    assert set(result.attributes) == {"color", "z"}
+    colours = result.attributes["color"]
     assert colours.dtype == np.uint8 and colours.shape == (len(result.vertices), 4)
     assert np.abs(colours[n:, 0] - colour_of(result.vertices[n:])).mean() < 4.0
     out = result.to_trimesh()
@@ -309,12 +309,17 @@ def test_trimesh_in_and_out(holed_sphere):
     assert np.array_equal(out.vertices, result.vertices)
     assert np.array_equal(out.faces, result.faces)
     assert np.array_equal(out.visual.vertex_colors, colours)
-    assert np.array_equal(out.visual.vertex_colors[:n], attributes["vertex_colors"])
+    assert np.array_equal(out.visual.vertex_colors[:n], attributes["color"])
     assert np.array_equal(out.vertex_attributes["z"], result.attributes["z"])
     assert np.array_equal(out.face_attributes["material"][: len(f)], np.arange(len(f)) % 3)
     assert len(out.face_attributes["material"]) == len(result.faces)
     with pytest.raises(TypeError, match="pass the mesh alone"):
         fill_holes(mesh, f)
+    face_coloured = trimesh.Trimesh(v, f, process=False,
+                                    face_colors=np.tile([[9, 99, 199, 255]], (len(f), 1)))
+    out = fill_holes(face_coloured, method="fair").to_trimesh()
+    assert out.visual.kind == "face"
+    assert np.all(out.visual.face_colors == [9, 99, 199, 255])  # the new faces' too
 
 
 def test_pyvista_in_and_out(holed_sphere):

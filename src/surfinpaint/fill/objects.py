@@ -6,10 +6,11 @@ objects is passed in or asked for.
 
 What is carried (one name a per-vertex or per-face array, as in ``FillResult.attributes``):
 
-- ``trimesh.Trimesh``: vertex colours (``visual.vertex_colors``, RGBA uint8, as
-  ``"vertex_colors"``), face colours (``visual.face_colors`` as the face attribute
-  ``"face_colors"``), ``vertex_attributes`` and ``face_attributes``; a texture's ``uv`` as the
-  attribute ``"uv"`` (the image and material are not carried: a warning says so).
+- ``trimesh.Trimesh``: vertex colours (``visual.vertex_colors``, RGBA uint8) as the attribute
+  ``"color"`` and face colours (``visual.face_colors``) as the face attribute ``"color"`` (the
+  names :mod:`surfinpaint.io` reads colours of every format under), ``vertex_attributes`` and
+  ``face_attributes``; a texture's ``uv`` as the attribute ``"uv"`` (the image and material
+  are not carried: a warning says so).
 - ``pyvista.PolyData``: ``point_data`` and ``cell_data`` (polygons fan-triangulated first,
   with a warning; cell data then follow the triangles).
 """
@@ -25,7 +26,7 @@ __all__ = ["COLOUR_NAMES", "mesh_arrays", "to_pyvista", "to_trimesh"]
 
 #: Attribute names that ``to_trimesh`` puts in ``visual`` (the first one found) rather than
 #: ``vertex_attributes``.
-COLOUR_NAMES = ("vertex_colors", "vertex_colours", "colors", "colours", "color", "colour",
+COLOUR_NAMES = ("color", "colour", "colors", "colours", "vertex_colors", "vertex_colours",
                 "rgba", "rgb")
 
 
@@ -42,9 +43,9 @@ def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
     face_attributes = {name: np.asarray(a) for name, a in mesh.face_attributes.items()}
     visual = mesh.visual
     if visual.kind == "vertex":
-        attributes.setdefault("vertex_colors", np.asarray(visual.vertex_colors))
+        attributes.setdefault("color", np.asarray(visual.vertex_colors))
     elif visual.kind == "face":
-        face_attributes.setdefault("face_colors", np.asarray(visual.face_colors))
+        face_attributes.setdefault("color", np.asarray(visual.face_colors))
     elif visual.kind == "texture":
         uv = getattr(visual, "uv", None)
         if uv is not None and len(uv) == len(mesh.vertices):
@@ -127,17 +128,17 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
                attributes: Mapping[str, np.ndarray] | None = None,
                face_attributes: Mapping[str, np.ndarray] | None = None):
     """A ``trimesh.Trimesh`` (``process=False``: nothing merged or reordered) with the vertex
-    colours in ``visual`` (the first attribute named in :data:`COLOUR_NAMES`, or a face
-    attribute ``"face_colors"`` when there are no vertex colours) and every other attribute
-    in ``vertex_attributes`` / ``face_attributes``."""
+    colours in ``visual`` (the first attribute named in :data:`COLOUR_NAMES`; when there is
+    none, the face attribute so named) and every other attribute in ``vertex_attributes`` /
+    ``face_attributes``."""
     import trimesh
 
     attributes = dict(attributes or {})
     face_attributes = dict(face_attributes or {})
     colour = _colour_name(attributes)
     vertex_colors = attributes.pop(colour) if colour else None
-    face_colors = (face_attributes.pop("face_colors") if vertex_colors is None
-                   and "face_colors" in face_attributes else None)
+    face_colour = None if colour else _colour_name(face_attributes)
+    face_colors = face_attributes.pop(face_colour) if face_colour else None
     return trimesh.Trimesh(vertices=vertices, faces=faces, process=False, validate=False,
                            vertex_colors=vertex_colors, face_colors=face_colors,
                            vertex_attributes=attributes, face_attributes=face_attributes)
