@@ -53,7 +53,9 @@ def fill_face_attributes(
               for name, a in face_attributes.items()}
     if len(fill_faces) == 0 or not arrays:
         return {name: a[:0] for name, a in arrays.items()}
-    touching = np.flatnonzero(np.isin(faces, np.asarray(loop, dtype=np.int64)).any(axis=1))
+    on_loop = np.zeros(len(vertices), dtype=bool)
+    on_loop[np.asarray(loop, dtype=np.int64)] = True
+    touching = np.flatnonzero(on_loop[faces].any(axis=1))
     local = np.concatenate([faces[touching], fill_faces])
     edges, owners, count = edge_faces(local)
     pair = (count == 2) & (owners.max(axis=1) >= len(touching))  # an edge of the fill
