@@ -381,3 +381,26 @@ def test_trimesh_and_pyvista_are_optional_at_import():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "no trimesh"
+
+
+def test_corner_attributes_carried_in_one_chart_and_not_across_a_seam(filled_sphere):
+    from surfinpaint.fill.face_attributes import fill_result_corner_attributes
+
+    v, f, result, _ = filled_sphere
+    # (f, 3, 2): per corner, one value per vertex; x and z have no extreme in the hole (y has:
+    # its inpainted values are clamped to the largest original y)
+    uv = v[f][:, :, [0, 2]].astype(np.float32)
+    out = fill_result_corner_attributes(result, {"uv": uv})["uv"]
+    assert out.shape == (len(result.faces), 3, 2) and out.dtype == np.float32
+    assert np.array_equal(out[: len(f)], uv)
+    assert np.abs(out[len(f):] - result.vertices[result.new_faces][:, :, [0, 2]]).max() < 0.02
+    # a seam at a loop vertex: its corners on one face take another value
+    seam = uv.copy()
+    loop_vertex = result.reports[0].loop[0]
+    face = np.flatnonzero((f == loop_vertex).any(axis=1))[0]
+    seam[face, f[face] == loop_vertex] += 1.0
+    with pytest.warns(UserWarning, match="'uv' has several values or none at 1 vertices"):
+        cut = fill_result_corner_attributes(result, {"uv": seam})["uv"]
+    assert np.isnan(cut[len(f):]).all() and np.array_equal(cut[: len(f)], seam)
+    with pytest.raises(ValueError, match="must be a float"):
+        fill_result_corner_attributes(result, {"uv": np.zeros((len(f), 3), np.float32)})

@@ -14,8 +14,10 @@ The rules, by kind (:func:`attribute_kind` decides the kind of an array):
     ``(L M⁻¹ L x)_new = 0`` with the known values of the patch as Dirichlet data (which fixes
     values and slopes at the hole's edge: two rings enter the stencil). One sparse direct
     solve a hole, all channels of all attributes at once. The result is clamped to each
-    channel's range over the original vertices (the biharmonic overshoots a little); integer
-    arrays (8-bit colours) are rounded and keep their dtype, so colours stay within 0..255.
+    channel's range over the original vertices (the biharmonic overshoots a little; a hole
+    that holds the attribute's extreme value is clipped at the largest original value);
+    integer arrays (8-bit colours) are rounded and keep their dtype, so colours stay within
+    0..255.
 ``"normal"``
     Not inpainted: recomputed from the filled surface (area-weighted face normals), pointing
     the way the given normals point at the loop.

@@ -1,21 +1,38 @@
-"""Per-face attributes of filled holes: values for the faces a fill added.
+"""Per-face and per-corner attributes of filled holes: values for the faces a fill added.
 
 Face data are copied from the original faces across the loop, never interpolated (a
 material id or a face colour continues into the hole), by the random-walker rule of
 :func:`surfinpaint.fill.attributes.inpaint_labels` on the fill's dual graph.
+
+Corner data (``(f, 3, k)``: values that may differ between the faces around a vertex, such as
+texture coordinates at a UV seam) are carried per vertex where the hole's patch lies in one
+chart: when every patch vertex has one value on all its corners in the patch, those values
+are inpainted like a per-vertex attribute and the new faces' corners take them. Where a seam
+crosses the patch (or a patch corner has no value, NaN) there is no one value to continue:
+the new faces' corners are NaN ("no value") and a warning names the hole and the attribute.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 
 import numpy as np
 import scipy.sparse as sp
 
-from surfinpaint.fill.attributes import _Dirichlet, _hole_blocks, _labels_by_indicators, _rows
+from surfinpaint.fill.attributes import (
+    _channel_ranges,
+    _Dirichlet,
+    _hole_blocks,
+    _labels_by_indicators,
+    _rows,
+    hole_domain,
+    inpaint_values,
+)
 from surfinpaint.geometry.mesh import edge_faces
 
-__all__ = ["fill_face_attributes", "fill_result_face_attributes"]
+__all__ = ["fill_corner_attributes", "fill_face_attributes", "fill_result_corner_attributes",
+           "fill_result_face_attributes"]
 
 
 def fill_face_attributes(
@@ -102,6 +119,107 @@ def fill_result_face_attributes(
             continue
         filled = fill_face_attributes(result.vertices, faces, report.loop,
                                       result.faces[face_ids], originals)
+        for name, values in filled.items():
+            parts[name].append(values)
+    return {name: np.concatenate(blocks) for name, blocks in parts.items()}
+
+
+def fill_corner_attributes(
+    vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
+    new_ids: np.ndarray, corner_attributes: Mapping[str, np.ndarray], *, rings: int = 3,
+    hole: int | None = None,
+) -> dict[str, np.ndarray]:
+    """Values of every per-corner attribute at the corners of the faces a fill added.
+
+    Rule (see the module docstring): per vertex on the hole's patch when the patch has one
+    value at each vertex (one chart), inpainted biharmonically over the new vertices and
+    clamped to the attribute's range; NaN with a warning where a seam crosses the patch.
+
+    Parameters
+    ----------
+    vertices, faces, loop, fill_faces, new_ids :
+        As for :func:`surfinpaint.fill.attributes.fill_hole_attributes`.
+    corner_attributes : mapping of name to (f, 3, k) float array
+        One row per original face.
+    rings : int
+    hole : int, optional
+        The hole's number, for the warning.
+
+    Returns
+    -------
+    dict of name to (m, 3, k) float array
+    """
+    vertices = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    fill_faces = np.asarray(fill_faces, dtype=np.int64).reshape(-1, 3)
+    arrays = {name: _rows(name, a, (len(faces),), "faces")
+              for name, a in corner_attributes.items()}
+    if not arrays or len(fill_faces) == 0:
+        return {name: np.empty((len(fill_faces), 3, a.shape[2])) for name, a in arrays.items()}
+    dom = hole_domain(vertices, faces, loop, fill_faces, rings)
+    in_patch = np.zeros(len(vertices), dtype=bool)
+    in_patch[dom.ids] = True
+    ring = in_patch[faces].all(axis=1)
+    corner_vertex = np.searchsorted(dom.ids, faces[ring].ravel())
+    known = ~np.isin(dom.ids, new_ids)
+    out = {}
+    for name, a in arrays.items():
+        k = a.shape[2]
+        values = np.asarray(a, dtype=float)[ring].reshape(-1, k)
+        low = np.full((len(dom.ids), k), np.inf)
+        high = np.full((len(dom.ids), k), -np.inf)
+        np.minimum.at(low, corner_vertex, values)  # NaN (no value) propagates
+        np.maximum.at(high, corner_vertex, values)
+        single = known & np.all(low == high, axis=1)
+        if not np.array_equal(single, known):
+            warnings.warn(f"hole {'' if hole is None else hole}: corner attribute {name!r} "
+                          f"has several values or none at {int((known & ~single).sum())} "
+                          "vertices around the hole (a seam): its new faces' corners get "
+                          "no value (NaN)", stacklevel=3)
+            out[name] = np.full((len(fill_faces), 3, k), np.nan)
+            continue
+        low[~known] = 0.0
+        filled = inpaint_values(dom.domain, dom.faces, known, low)
+        limits = _channel_ranges(values)
+        filled = np.clip(filled, limits[0], limits[1])
+        out[name] = filled[np.searchsorted(dom.ids, fill_faces)].astype(a.dtype)
+    return out
+
+
+def fill_result_corner_attributes(
+    result, corner_attributes: Mapping[str, np.ndarray], *, rings: int = 3,
+) -> dict[str, np.ndarray]:
+    """Every per-corner attribute over a whole filled mesh: the original faces' corners,
+    then the new faces' by :func:`fill_corner_attributes`.
+
+    Parameters
+    ----------
+    result : FillResult
+    corner_attributes : mapping of name to (f, 3, k) float array
+        One row per input face (rows of ``result.removed_faces`` dropped).
+
+    Returns
+    -------
+    dict of name to (len(result.faces), 3, k) array.
+    """
+    n_input = result.n_original_faces + len(result.removed_faces)
+    keep = np.ones(n_input, dtype=bool)
+    keep[result.removed_faces] = False
+    originals = {}
+    for name, a in corner_attributes.items():
+        a = _rows(name, a, (n_input,), "faces")
+        if a.ndim != 3 or a.shape[1] != 3 or a.dtype.kind != "f":
+            raise ValueError(f"corner attribute {name!r} must be a float (f, 3, k) array, "
+                             f"got {a.dtype} {a.shape}")
+        originals[name] = a[keep]
+    faces = result.faces[: result.n_original_faces]
+    parts: dict[str, list[np.ndarray]] = {name: [a] for name, a in originals.items()}
+    for report, new_ids, face_ids in _hole_blocks(result):
+        if len(face_ids) == 0:
+            continue
+        filled = fill_corner_attributes(result.vertices, faces, report.loop,
+                                        result.faces[face_ids], new_ids, originals,
+                                        rings=rings, hole=report.index)
         for name, values in filled.items():
             parts[name].append(values)
     return {name: np.concatenate(blocks) for name, blocks in parts.items()}
