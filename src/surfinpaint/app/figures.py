@@ -7,28 +7,20 @@ need it.
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from surfinpaint.io.atomic import atomic_path
 
-__all__ = ["before_after", "crop_around", "grid_image", "render_meshes", "render_views",
-           "save_figure", "view_direction"]
+__all__ = ["HoleFrame", "add_legend", "add_scale_bar", "before_after", "close_up",
+           "crop_to_ink", "frame_hole", "grid_image", "render_hole", "render_meshes",
+           "render_views", "save_figure", "view_direction"]
 
 SURFACE = "#d9d4c7"
 PATCH = "#e8833a"
 BORDER = "#c0392b"
-
-
-def _quiet_vtk() -> None:
-    """Silence VTK's note that there is no X display: off-screen rendering needs none."""
-    try:
-        from vtkmodules.vtkCommonCore import vtkLogger
-
-        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
-    except ImportError:  # pragma: no cover - older VTK
-        pass
 
 
 def _pv_mesh(vertices: np.ndarray, faces: np.ndarray):
@@ -104,34 +96,85 @@ def render_meshes(
     return path
 
 
-def before_after(vertices: np.ndarray, faces: np.ndarray, result, path) -> Path:
-    """Two panels: the mesh with its holes outlined, and the filled mesh with the patches
-    coloured. ``result`` is a :class:`surfinpaint.fill.pipeline.FillResult`."""
-    loops = [r.loop for r in result.reports if not r.skipped]
-    direction = view_direction(vertices, faces, loops)
-    patch = np.arange(result.n_original_faces, len(result.faces))
-    methods = sorted({r.method for r in result.reports if not r.skipped})
-    return render_meshes(
-        [
-            {"vertices": vertices, "faces": faces, "loops": loops,
-             "title": f"with holes ({len(loops)})"},
-            {"vertices": result.vertices, "faces": result.faces, "highlight": patch,
-             "title": "filled: " + ", ".join(methods) if methods else "filled"},
-        ],
-        path,
-        direction=direction,
-    )
+def _overview_direction(frames: list[HoleFrame]) -> np.ndarray:
+    """The direction, among the holes' normals and their mean, from which the most holes
+    face the camera (ties: the first, the mean)."""
+    candidates = [np.array([1.0, 0.6, 0.8]) / np.linalg.norm([1.0, 0.6, 0.8])]
+    if frames:
+        mean = np.sum([f.direction for f in frames], axis=0)
+        if np.linalg.norm(mean) > 1e-9:
+            candidates = [mean / np.linalg.norm(mean)]
+        candidates += [f.direction for f in frames]
+    facing = [sum(float(f.direction @ d) > 0.3 for f in frames) for d in candidates]
+    return candidates[int(np.argmax(facing))]
+
+
+def before_after(vertices: np.ndarray, faces: np.ndarray, result, path, *,
+                 close_ups: int = 3) -> Path:
+    """The mesh before and after a fill, whole and hole by hole.
+
+    Top: the whole mesh with its holes outlined and the filled mesh with the new faces
+    coloured, seen from where the most holes face the camera. Below: close-ups of the
+    ``close_ups`` largest filled holes before and after (each framed by
+    :func:`frame_hole`, with a scale bar), and the colour key.
+
+    ``result`` is a :class:`surfinpaint.fill.pipeline.FillResult` of ``vertices, faces``.
+    """
+    from matplotlib.figure import Figure
+
+    vertices = np.asarray(vertices, float)
+    counts = [r.new_faces for r in result.reports]
+    first = len(result.faces) - sum(counts)  # the new faces come last, hole after hole
+    starts = first + np.concatenate([[0], np.cumsum(counts)]).astype(int)
+    filled = [(r, result.faces[starts[k]:starts[k + 1]])
+              for k, r in enumerate(result.reports) if not r.skipped and counts[k]]
+    frames = [frame_hole(vertices, faces, r.loop) for r, _ in filled]
+    direction = _overview_direction(frames)
+    centre = vertices.mean(axis=0)
+    radius = float(np.linalg.norm(vertices - centre, axis=1).max())
+    loops = [r.loop for r, _ in filled]
+    overview = crop_to_ink(render_views(
+        [{"vertices": vertices, "faces": faces, "loops": loops, "edges": False},
+         {"vertices": result.vertices, "faces": result.faces, "edges": False,
+          "highlight": np.arange(first, len(result.faces))}],
+        centre=centre, direction=direction, distance=1.05 * radius / np.tan(np.radians(15)),
+        size=(700, 560)))
+    shown = sorted(range(len(filled)), key=lambda k: -filled[k][0].n_edges)[:close_ups]
+    rows = 2 if shown else 1
+    fig = Figure(figsize=(14, 6.0 + 3.4 * (rows - 1)), dpi=100, layout="constrained")
+    grid = fig.add_gridspec(rows, 2 * max(len(shown), 1),
+                            height_ratios=[1.6, 1.0][:rows])
+    titles = (f"with {len(filled)} hole{'s' if len(filled) != 1 else ''}",
+              "filled: " + ", ".join(sorted({r.method for r, _ in filled})) if filled
+              else "nothing filled")
+    half = grid.ncols // 2
+    for k, (image, title) in enumerate(zip(overview, titles, strict=True)):
+        ax = fig.add_subplot(grid[0, k * half:(k + 1) * half])
+        ax.imshow(image)
+        ax.set_axis_off()
+        ax.set_title(title, fontsize=12)
+    surface = result.faces[:first]
+    for slot, k in enumerate(shown):
+        report, patch = filled[k]
+        images, units_per_pixel = render_hole(
+            vertices, faces, report.loop, [(result.vertices, patch)], size=(420, 340))
+        if len(surface) != len(faces):  # --repair removed faces: draw what was written
+            images[1:] = render_hole(vertices, surface, report.loop,
+                                     [(result.vertices, patch)], size=(420, 340))[0][1:]
+        for j, (image, when) in enumerate(zip(images, ("before", "after"), strict=True)):
+            ax = fig.add_subplot(grid[1, 2 * slot + j])
+            ax.imshow(image)
+            ax.set_axis_off()
+            ax.set_title(f"hole {report.index} ({report.n_edges} edges), {when}", fontsize=10)
+            add_scale_bar(ax, units_per_pixel)
+    if len(filled) > len(shown):
+        fig.text(0.5, 0.0, f"close-ups of the {len(shown)} largest of {len(filled)} filled "
+                 "holes", ha="center", va="bottom", fontsize=10)
+    add_legend(fig)
+    return save_figure(fig, path)
 
 
 # --------------------------------------------------------------------------- hole panels
-
-
-def crop_around(vertices: np.ndarray, faces: np.ndarray, centre: np.ndarray,
-                radius: float) -> np.ndarray:
-    """Ids of the faces whose three corners lie within ``radius`` of ``centre``: a close-up
-    renders only these, so nothing further away hides the hole."""
-    inside = np.linalg.norm(np.asarray(vertices) - np.asarray(centre), axis=1) <= radius
-    return np.flatnonzero(inside[np.asarray(faces)].all(axis=1))
 
 
 def _up_vector(direction: np.ndarray) -> np.ndarray:
@@ -140,6 +183,218 @@ def _up_vector(direction: np.ndarray) -> np.ndarray:
         if abs(float(axis @ direction)) < 0.9:
             return axis
     return np.array([1.0, 0, 0])  # pragma: no cover - one of the three always qualifies
+
+
+@dataclass(frozen=True)
+class HoleFrame:
+    """A camera framing one hole: parallel projection along the hole's normal.
+
+    Attributes
+    ----------
+    centre : (3,) array
+        The loop's centroid, at the middle of the picture.
+    direction : (3,) unit array
+        The hole's normal, on the side of the surface's outside: the camera sits at
+        ``centre + t · direction`` and looks back along it.
+    up : (3,) unit array
+        Perpendicular to ``direction``: up in the picture.
+    half_height : float
+        Mesh units from the centre to the top of the picture (the zoom).
+    """
+
+    centre: np.ndarray
+    direction: np.ndarray
+    up: np.ndarray
+    half_height: float
+
+    @property
+    def right(self) -> np.ndarray:
+        """Right in the picture (for a camera looking along ``-direction``)."""
+        return np.cross(self.up, self.direction)
+
+    def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Picture coordinates ``(n, 2)`` (right, up; mesh units from the centre) and depth
+        ``(n,)`` (towards the camera) of ``points``."""
+        d = np.asarray(points, float) - self.centre
+        return np.column_stack([d @ self.right, d @ self.up]), d @ self.direction
+
+
+def frame_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
+               margin: float = 1.8) -> HoleFrame:
+    """Frame one hole: look along its normal from outside, zoomed so that the hole spans
+    ``1 / margin`` of the picture's height.
+
+    The normal is the loop's vector area (which does not care how folded the surface around
+    it is), turned to the side the surface's vertex normals at the loop point to; for a loop
+    that spans almost no area (a saddle-shaped or slit-like loop) the mean vertex normal.
+    """
+    from surfinpaint.geometry.mesh import vertex_normals
+
+    vertices = np.asarray(vertices, float)
+    loop = np.asarray(loop)
+    points = vertices[loop]
+    centre = points.mean(axis=0)
+    area = 0.5 * np.cross(points - centre, np.roll(points, -1, axis=0) - centre).sum(axis=0)
+    outside = vertex_normals(vertices, faces)[loop].sum(axis=0)
+    extent = float(np.linalg.norm(points - centre, axis=1).max()) or 1.0
+    if np.linalg.norm(area) > 1e-3 * extent**2:
+        direction = area / np.linalg.norm(area)
+        if direction @ outside < 0:
+            direction = -direction
+    elif np.linalg.norm(outside) > 0:
+        direction = outside / np.linalg.norm(outside)
+    else:
+        direction = np.array([0.0, 0.0, 1.0])
+    up = _up_vector(direction)
+    up = up - (up @ direction) * direction
+    up /= np.linalg.norm(up)
+    frame = HoleFrame(centre, direction, up, 1.0)
+    uv, _ = frame.project(points)
+    return HoleFrame(centre, direction, up, margin * float(np.abs(uv).max() or extent))
+
+
+def close_up(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, frame: HoleFrame,
+             *, patch: np.ndarray | None = None, aspect: float = 1.25) -> dict:
+    """The part of the surface that a picture framed by ``frame`` should show.
+
+    Kept: the faces in the picture's rectangle (``aspect`` = width / height) within a ball
+    around the hole, connected there to the hole's loop, and not over the hole: faces whose
+    centre falls inside the loop's outline in the picture are dropped, whether in front
+    (they would hide the hole or its fill: another bank of a sulcus, an overhang) or behind
+    (they would show through the hole), except the rim's own faces (those touching the
+    loop's one-ring), which belong to the picture even where the surface folds under the
+    loop. ``patch`` (faces over ``vertices``, e.g. a fill's
+    new faces) is kept whole and highlighted.
+
+    Returns
+    -------
+    dict
+        ``vertices``, ``faces``, ``highlight`` (ids of the patch faces, or None) and
+        ``loops``, as :func:`render_views` takes them.
+    """
+    from matplotlib.path import Path as Outline
+
+    from surfinpaint.geometry.mesh import connected_components, k_ring
+
+    vertices = np.asarray(vertices, float)
+    faces = np.asarray(faces)
+    loop = np.asarray(loop)
+    uv, _ = frame.project(vertices)
+    corners = uv[faces]  # (f, 3, 2)
+    centres = corners.mean(axis=1)
+    h = frame.half_height
+    in_picture = ((np.abs(corners[..., 0]).min(axis=1) <= aspect * h)
+                  & (np.abs(corners[..., 1]).min(axis=1) <= h))
+    near = (np.linalg.norm(vertices - frame.centre, axis=1) <= 2.5 * aspect * h)[faces].all(1)
+    rim = k_ring(faces, loop, 1, len(vertices))[faces].any(axis=1)
+    over_hole = Outline(uv[loop]).contains_points(centres) & ~rim
+    kept = faces[in_picture & near & ~over_hole]
+    _, label = connected_components(kept, len(vertices))
+    kept = kept[np.isin(label[kept[:, 0]], label[loop])]
+    highlight = None
+    if patch is not None and len(patch):
+        highlight = np.arange(len(kept), len(kept) + len(patch))
+        kept = np.concatenate([kept, np.asarray(patch)])
+    ids, local = np.unique(kept, return_inverse=True)
+    lookup = np.full(len(vertices), -1)
+    lookup[ids] = np.arange(len(ids))
+    return {"vertices": vertices[ids], "faces": local.reshape(-1, 3), "highlight": highlight,
+            "loops": [lookup[loop]]}
+
+
+def render_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                fills: list[tuple[np.ndarray, np.ndarray] | None], *,
+                size: tuple[int, int] = (520, 420)) -> tuple[list[np.ndarray], float]:
+    """Close-ups of one hole, framed by :func:`frame_hole` and clipped by :func:`close_up`:
+    the surface with the hole, then the surface with each fill.
+
+    Parameters
+    ----------
+    vertices, faces : the mesh with the hole.
+    loop : (k,) int array
+    fills : list of (vertices, new faces) or None
+        Each fill's vertices start with ``vertices``; None draws an empty view.
+    size : (width, height) pixels of each close-up.
+
+    Returns
+    -------
+    images : list of (height, width, 3) uint8 arrays, 1 + len(fills)
+    units_per_pixel : float
+        Mesh units per pixel, for :func:`add_scale_bar`.
+    """
+    frame = frame_hole(vertices, faces, loop)
+    aspect = size[0] / size[1]
+    views = [close_up(vertices, faces, loop, frame, aspect=aspect)]
+    for fill in fills:
+        if fill is None:
+            views.append({"vertices": np.zeros((0, 3)), "faces": np.zeros((0, 3), int)})
+        else:
+            views.append(close_up(fill[0], faces, loop, frame, patch=fill[1], aspect=aspect))
+    images = render_views(views, centre=frame.centre, direction=frame.direction,
+                          distance=20.0 * frame.half_height, size=size, up=frame.up,
+                          half_height=frame.half_height)
+    return images, 2.0 * frame.half_height / images[0].shape[0]
+
+
+def crop_to_ink(images: list[np.ndarray], margin: int = 12) -> list[np.ndarray]:
+    """Crop views rendered from one camera to the union of their non-white pixels, so they
+    stay aligned and fill their axes (the pixel size, and so a scale bar, is unchanged)."""
+    ink = np.zeros(images[0].shape[:2], bool)
+    for image in images:
+        ink |= (image < 245).any(axis=-1)
+    if not ink.any():
+        return images
+    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
+    r0, r1 = max(rows[0] - margin, 0), min(rows[-1] + margin + 1, ink.shape[0])
+    c0, c1 = max(cols[0] - margin, 0), min(cols[-1] + margin + 1, ink.shape[1])
+    return [image[r0:r1, c0:c1] for image in images]
+
+
+def _nice_length(limit: float) -> float:
+    """The largest 1, 2 or 5 times a power of ten not above ``limit``."""
+    power = 10.0 ** np.floor(np.log10(limit))
+    return max(m * power for m in (1.0, 2.0, 5.0) if m * power <= limit)
+
+
+def add_scale_bar(ax, units_per_pixel: float, *, unit: str = "mesh units") -> float:
+    """Draw a scale bar in the lower left of an image shown by ``ax.imshow``.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes holding the image (pixel coordinates).
+    units_per_pixel : float
+        Mesh units per pixel of the picture (exact for a parallel projection).
+    unit : str
+
+    Returns
+    -------
+    float
+        The bar's length in mesh units (1, 2 or 5 times a power of ten, at most a quarter
+        of the picture's width).
+    """
+    image = ax.get_images()[0].get_array()
+    height, width = image.shape[:2]
+    length = _nice_length(0.25 * width * units_per_pixel)
+    pixels = length / units_per_pixel
+    x0, y0 = 0.05 * width, 0.93 * height
+    ax.plot([x0, x0 + pixels], [y0, y0], color="black", linewidth=3, solid_capstyle="butt")
+    ax.text(x0, y0 - 0.02 * height, f"{length:g} {unit}", ha="left", va="bottom",
+            fontsize=9)
+    ax.set_xlim(-0.5, width - 0.5)
+    ax.set_ylim(height - 0.5, -0.5)
+    return length
+
+
+def add_legend(fig, *, fill_label: str = "fill (new faces)") -> None:
+    """The colour key of the renderings, at the bottom of ``fig``."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    handles = [Patch(facecolor=SURFACE, edgecolor="#8a8578", label="surface (input)"),
+               Line2D([], [], color=BORDER, linewidth=3, label="hole boundary"),
+               Patch(facecolor=PATCH, edgecolor="#8a8578", label=fill_label)]
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, frameon=False,
+               fontsize=10)
 
 
 def _quiet_vtk() -> None:
@@ -159,6 +414,8 @@ def render_views(
     direction: np.ndarray,
     distance: float,
     size: tuple[int, int] = (520, 440),
+    up: np.ndarray | None = None,
+    half_height: float | None = None,
 ) -> list[np.ndarray]:
     """Render several meshes from one camera into RGB arrays (off-screen).
 
@@ -166,11 +423,18 @@ def render_views(
     ----------
     views : list of dict
         As the panels of :func:`render_meshes`: ``vertices``, ``faces``, optional
-        ``highlight`` (face ids in the patch colour) and ``loops`` (drawn in red).
+        ``highlight`` (face ids in the patch colour), ``loops`` (drawn in red) and
+        ``edges`` (draw the triangles' edges; default: for fewer than 30000 faces).
     centre, direction, distance :
         The camera looks at ``centre`` from ``centre + distance · direction``.
     size : (width, height)
         Pixels of each view.
+    up : (3,) array, optional
+        Up in the picture (default: the world axis least aligned with ``direction``).
+    half_height : float, optional
+        A parallel projection showing this many mesh units above and below ``centre`` (a
+        scale bar is then exact: ``2 * half_height / height`` units per pixel); default a
+        perspective view with a 30° view angle.
 
     Returns
     -------
@@ -199,14 +463,20 @@ def render_views(
                     colours[np.asarray(highlight)] = (0.91, 0.51, 0.23)
                 mesh.cell_data["colour"] = (colours * 255).astype(np.uint8)
                 plotter.add_mesh(mesh, scalars="colour", rgb=True, smooth_shading=False,
-                                 specular=0.25, show_edges=len(faces) < 30000,
+                                 specular=0.25,
+                                 show_edges=view.get("edges", len(faces) < 30000),
                                  edge_color="#8a8578", line_width=0.4)
             for loop in view.get("loops") or []:
                 pts = np.asarray(view["vertices"])[np.append(loop, loop[0])]
                 plotter.add_lines(np.repeat(pts, 2, axis=0)[1:-1], color=BORDER, width=3)
             plotter.camera_position = [tuple(centre + distance * direction), tuple(centre),
-                                       tuple(_up_vector(direction))]
-            plotter.camera.view_angle = 30.0
+                                       tuple(_up_vector(direction) if up is None else up)]
+            if half_height is None:
+                plotter.camera.view_angle = 30.0
+            else:
+                plotter.enable_parallel_projection()
+                plotter.camera.parallel_scale = float(half_height)
+            plotter.reset_camera_clipping_range()
         image = np.asarray(plotter.screenshot(return_img=True))
     finally:
         plotter.close()

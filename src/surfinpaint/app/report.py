@@ -296,25 +296,6 @@ def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndar
 # --------------------------------------------------------------------------- panels
 
 
-def _view_of(vertices, faces, loop, patch=None):
-    """Vertices, faces and highlighted face ids of a close-up of one hole (optionally
-    filled with ``patch``, faces over ``vertices``)."""
-    from surfinpaint.app.figures import crop_around
-
-    centre = vertices[loop].mean(axis=0)
-    radius = 1.8 * float(np.linalg.norm(vertices[loop] - centre, axis=1).max())
-    near = faces[crop_around(vertices, faces, centre, radius)]
-    highlight = None
-    if patch is not None:
-        highlight = np.arange(len(near), len(near) + len(patch))
-        near = np.concatenate([near, patch])
-    ids, local = np.unique(near, return_inverse=True)
-    lookup = np.full(len(vertices), -1)
-    lookup[ids] = np.arange(len(ids))
-    return {"vertices": vertices[ids], "faces": local.reshape(-1, 3), "highlight": highlight,
-            "loops": [lookup[loop]]}
-
-
 def _range(arrays, masks, low=2.0, high=98.0):
     values = np.concatenate([a[m & np.isfinite(a)] for a, m in zip(arrays, masks, strict=True)])
     if len(values) == 0:
@@ -329,20 +310,6 @@ def _range(arrays, masks, low=2.0, high=98.0):
     return float(lo), float(hi)
 
 
-def _crop_white(images: list[np.ndarray], margin: int = 12) -> list[np.ndarray]:
-    """Crop views rendered from one camera to the union of their non-white pixels, so they
-    stay aligned and fill their axes."""
-    ink = np.zeros(images[0].shape[:2], bool)
-    for image in images:
-        ink |= (image < 245).any(axis=-1)
-    if not ink.any():
-        return images
-    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
-    r0, r1 = max(rows[0] - margin, 0), min(rows[-1] + margin + 1, ink.shape[0])
-    c0, c1 = max(cols[0] - margin, 0), min(cols[-1] + margin + 1, ink.shape[1])
-    return [image[r0:r1, c0:c1] for image in images]
-
-
 def hole_panel(
     vertices: np.ndarray,
     faces: np.ndarray,
@@ -354,7 +321,6 @@ def hole_panel(
     *,
     titles: dict | None = None,
     suptitle: str = "",
-    tilt: float = 35.0,
 ) -> Path:
     """Write the paper-style panel of one hole (A–G, see the module docstring) as a PNG of
     ``PANEL_SIZE`` pixels.
@@ -376,13 +342,17 @@ def hole_panel(
     titles : dict, optional
         Replacement titles for panels ``"A"``–``"G"``.
     suptitle : str
-    tilt : float
-        Degrees by which the camera leaves the hole's mean normal, towards the world's up
-        axis, so the shape of the fills shows (only for holes facing sideways).
     """
     from matplotlib.figure import Figure
 
-    from surfinpaint.app.figures import grid_image, render_views, save_figure, view_direction
+    from surfinpaint.app.figures import (
+        add_legend,
+        add_scale_bar,
+        crop_to_ink,
+        grid_image,
+        render_hole,
+        save_figure,
+    )
 
     vertices = np.asarray(vertices, float)
     loop = np.asarray(loop)
@@ -396,31 +366,10 @@ def hole_panel(
         for key in "DEFG":
             names[key] += ", one side"
     names.update(titles or {})
-    views = [_view_of(vertices, faces, loop)]
-    for fill in (fair, conformal):
-        if fill is None:  # no fill to show: an empty view
-            views.append({"vertices": np.zeros((0, 3)), "faces": np.zeros((0, 3), int)})
-            continue
-        fill_vertices = np.asarray(fill[0], float)
-        views.append(_view_of(fill_vertices, np.asarray(faces), loop, np.asarray(fill[1])))
-    centre = vertices[loop].mean(axis=0)
-    radius = 1.6 * float(np.linalg.norm(vertices[loop] - centre, axis=1).max())
-    direction = view_direction(vertices, faces, [loop])
-    from surfinpaint.app.figures import _up_vector
-
-    up = _up_vector(direction)
-    if tilt and abs(float(up @ direction)) < 0.5:
-        # seen a little from above rather than head-on, so bumps and dents of a fill show;
-        # not when the hole already faces up or down (across a cube's edge, say), where
-        # tilting would turn half of it away
-        up = up - (up @ direction) * direction
-        up /= np.linalg.norm(up)
-        angle = np.radians(tilt)
-        direction = np.cos(angle) * direction + np.sin(angle) * up
-    images = render_views(views, centre=centre, direction=direction,
-                          distance=radius / np.tan(np.radians(15.0)), size=(520, 440))
-
-    images = _crop_white(images)
+    fills = [None if fill is None else (np.asarray(fill[0], float), np.asarray(fill[1]))
+             for fill in (fair, conformal)]
+    images, units_per_pixel = render_hole(vertices, faces, loop, fills, size=(520, 440))
+    images = crop_to_ink(images)
     fig = Figure(figsize=(PANEL_SIZE[0] / _DPI, PANEL_SIZE[1] / _DPI), dpi=_DPI,
                  layout="constrained")
     grid = fig.add_gridspec(2, 12, height_ratios=[1.0, 1.0])
@@ -429,6 +378,8 @@ def hole_panel(
         ax.imshow(image)
         ax.set_axis_off()
         ax.set_title(names[key], fontsize=11)
+        if key == "A":
+            add_scale_bar(ax, units_per_pixel)
         if key == "C" and conformal is None:
             ax.text(0.5, 0.5, "the conformal method failed on this hole\n(the faired fill "
                     "was used)", ha="center", va="center", transform=ax.transAxes)
@@ -451,6 +402,7 @@ def hole_panel(
         ax.set_axis_off()
         ax.text(0.5, 0.5, "no λ, H data: the conformal method did not run on this hole",
                 ha="center", va="center", fontsize=12)
+    add_legend(fig)
     if suptitle:
         fig.suptitle(suptitle, fontsize=12)
     return save_figure(fig, path, dpi=_DPI)
