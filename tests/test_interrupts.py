@@ -182,3 +182,37 @@ def test_interrupt_inside_main_returns_130_and_restores_the_handler(tmp_path, ca
     assert capsys.readouterr().err.strip().startswith("surfinpaint: interrupted")
     assert not out.exists()
     assert signal.getsignal(signal.SIGINT) is previous
+
+
+def test_an_interrupt_between_creating_and_guarding_a_temporary_file_leaves_none(
+        tmp_path, monkeypatch):
+    # the narrowest window: the temporary file exists, the writer's own clean-up is not
+    # armed yet; the command line's remove_unfinished() still finds it
+    from surfinpaint.app.interrupts import Interrupted
+    from surfinpaint.io import atomic
+
+    real_close = os.close
+
+    def close_then_interrupt(fd):
+        real_close(fd)
+        raise Interrupted(signal.SIGTERM)
+
+    monkeypatch.setattr(atomic.os, "close", close_then_interrupt)
+    with pytest.raises(Interrupted), atomic.atomic_path(tmp_path / "out.ply"):
+        pass  # pragma: no cover - never entered
+    monkeypatch.undo()
+    left = os.listdir(tmp_path)
+    assert len(left) == 1 and left[0].startswith(".out.ply.")
+    assert atomic.remove_unfinished() == [str(tmp_path / left[0])]
+    assert os.listdir(tmp_path) == []
+
+
+def test_finished_and_failed_writes_leave_nothing_registered(tmp_path):
+    from surfinpaint.io import atomic
+
+    with atomic.atomic_open(tmp_path / "a.txt", "w") as handle:
+        handle.write("done")
+    with pytest.raises(OSError, match="disk full"), atomic.atomic_open(tmp_path / "b.txt", "w"):
+        raise OSError("disk full")
+    assert atomic.remove_unfinished() == []
+    assert sorted(os.listdir(tmp_path)) == ["a.txt"]

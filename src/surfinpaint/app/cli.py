@@ -421,6 +421,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         except (Interrupted, KeyboardInterrupt) as exc:
             if not isinstance(exc, Interrupted):  # a Ctrl-C that came before our handler
                 exc = Interrupted(signal.SIGINT)
+            from surfinpaint.io.atomic import remove_unfinished
+
+            remove_unfinished()  # a write interrupted before it could clean up after itself
             print(f"surfinpaint: {exc}; stopped, no partial output left", file=sys.stderr)
             return exc.exit_code
 

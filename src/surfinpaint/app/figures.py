@@ -141,7 +141,7 @@ def before_after(vertices: np.ndarray, faces: np.ndarray, result, path, *,
         size=(700, 560)))
     shown = sorted(range(len(filled)), key=lambda k: -filled[k][0].n_edges)[:close_ups]
     rows = 2 if shown else 1
-    fig = Figure(figsize=(14, 6.0 + 3.4 * (rows - 1)), dpi=100, layout="constrained")
+    fig = Figure(figsize=(14, 5.6 + 3.0 * (rows - 1)), dpi=100, layout="constrained")
     grid = fig.add_gridspec(rows, 2 * max(len(shown), 1),
                             height_ratios=[1.6, 1.0][:rows])
     titles = (f"with {len(filled)} hole{'s' if len(filled) != 1 else ''}",

@@ -11,13 +11,13 @@ replaced or left as it was.
 from __future__ import annotations
 
 import os
-import tempfile
+import secrets
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO
 
-__all__ = ["atomic_open", "atomic_path", "new_file_mode"]
+__all__ = ["atomic_open", "atomic_path", "new_file_mode", "remove_unfinished"]
 
 
 def new_file_mode(path: str | os.PathLike | None = None) -> int:
@@ -58,18 +58,65 @@ def atomic_path(path: str | os.PathLike, *, suffix: str = ".tmp") -> Iterator[st
     """
     target = Path(path)
     directory = target.parent if str(target.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=directory)
-    os.close(fd)
+    tmp = _create_temporary(directory, target.name, suffix)
     try:
         yield tmp
         os.chmod(tmp, new_file_mode(target))
         os.replace(tmp, target)
     except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
+        _remove(tmp)
         raise
+    finally:
+        _UNFINISHED.discard(tmp)
+
+
+# Temporary files created and not yet renamed into place or removed. A name is added BEFORE
+# its file is created, so that an interrupt landing anywhere (even inside the creation, or
+# between it and the ``try`` that removes the file on failure) leaves it findable by
+# remove_unfinished().
+_UNFINISHED: set[str] = set()
+
+
+def _create_temporary(directory: Path, name: str, suffix: str) -> str:
+    """Create an empty, private (0o600) file ``.NAME.XXXXXXXX<suffix>`` in ``directory``."""
+    for _ in range(100):
+        tmp = os.path.join(directory, f".{name}.{secrets.token_hex(4)}{suffix}")
+        _UNFINISHED.add(tmp)
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        except FileExistsError:
+            _UNFINISHED.discard(tmp)
+            continue
+        except OSError:  # not created
+            _UNFINISHED.discard(tmp)
+            raise
+        # an interrupt from here on (or one raised as os.open returned) leaves the name
+        # registered: remove_unfinished() finds the file
+        os.close(fd)
+        return tmp
+    raise FileExistsError(f"no free temporary name for {name!r} in {str(directory)!r}")
+
+
+def _remove(tmp: str) -> None:
+    try:
+        os.unlink(tmp)
+    except FileNotFoundError:
+        pass
+
+
+def remove_unfinished() -> list[str]:
+    """Remove the temporary files of writes still under way, and return their names.
+
+    For a process being stopped (Ctrl-C, SIGTERM): every write removes its own temporary
+    file when an exception passes through it, but an interrupt can land in the few
+    instructions between creating the file and entering that protection; the command line
+    calls this before exiting so that no temporary file survives either way.
+    """
+    removed = sorted(_UNFINISHED)
+    for tmp in removed:
+        _remove(tmp)
+    _UNFINISHED.difference_update(removed)
+    return removed
 
 
 @contextmanager
