@@ -454,7 +454,7 @@ def test_failure_mid_write_leaves_old_file_and_no_temp(tmp_path, shuffled, monke
     write_mesh(target, v, f)
     before = _sha(target)
 
-    def half_then_fail(fh, tmp, vertices, faces, ascii):
+    def half_then_fail(fh, tmp, mesh, ascii):
         fh.write(b"ply\nformat ascii 1.0\n")
         fh.flush()
         raise exc
@@ -467,7 +467,7 @@ def test_failure_mid_write_leaves_old_file_and_no_temp(tmp_path, shuffled, monke
 
 
 def test_failure_mid_write_of_new_file_leaves_nothing(tmp_path, shuffled, monkeypatch):
-    def fail(fh, tmp, vertices, faces, ascii):
+    def fail(fh, tmp, mesh, ascii):
         fh.write(b"OFF\n12 ")
         raise RuntimeError("injected")
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+from dataclasses import dataclass, field
 from typing import IO
 
 import numpy as np
@@ -22,21 +23,49 @@ def describe(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text[0][:200]}" if text else type(exc).__name__
 
 
-def triangulate(counts: np.ndarray, flat: np.ndarray, name: str) -> np.ndarray:
-    """Fan-triangulate polygons given as corner counts and concatenated corner ids."""
+@dataclass
+class Parsed:
+    """What a format reader found, before polygons are triangulated.
+
+    ``counts`` and ``flat`` are the polygons (corner counts, concatenated vertex ids);
+    ``face_attributes`` have one row per polygon, ``corner_values`` one ``(c, k)`` float row
+    per corner of ``flat`` (NaN: none); ``dropped`` names what the file holds that cannot be
+    carried (each becomes a :class:`MeshWarning`).
+    """
+
+    vertices: np.ndarray
+    counts: np.ndarray
+    flat: np.ndarray
+    attributes: dict[str, np.ndarray] = field(default_factory=dict)
+    face_attributes: dict[str, np.ndarray] = field(default_factory=dict)
+    corner_values: dict[str, np.ndarray] = field(default_factory=dict)
+    metadata: dict[str, str] = field(default_factory=dict)
+    dropped: list[str] = field(default_factory=list)
+
+
+def triangulate(counts: np.ndarray, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Fan-triangulate polygons given by their corner counts.
+
+    Returns
+    -------
+    corners : (t, 3) int array
+        Each triangle's corners as positions in the concatenated corner list: a polygon with
+        k corners ``p0 .. p(k-1)`` becomes ``(p0, p_i, p_i+1)``, i = 1 .. k-2, in its place.
+    owner : (t,) int array
+        The polygon of each triangle.
+    """
     counts = np.asarray(counts, dtype=np.int64)
-    flat = np.asarray(flat, dtype=np.int64)
     if counts.size and counts.min() < 3:
         bad = np.flatnonzero(counts < 3)
         raise MeshError(f"faces with fewer than three corners: {ids(bad)}", path=name,
                         faces=bad[:50].tolist())
     if counts.size == 0 or counts.max() == 3:
-        return flat.reshape(-1, 3)
+        return np.arange(3 * len(counts)).reshape(-1, 3), np.arange(len(counts))
     n_poly = int(np.count_nonzero(counts > 3))
     warnings.warn(
         f"{name}: {n_poly} polygon face(s) with more than three corners were fan-triangulated",
         MeshWarning,
-        stacklevel=3,
+        stacklevel=4,
     )
     start = np.concatenate([[0], np.cumsum(counts)[:-1]])
     n_tri = counts - 2
@@ -44,7 +73,7 @@ def triangulate(counts: np.ndarray, flat: np.ndarray, name: str) -> np.ndarray:
     # j = 1 .. k-2 within each polygon
     j = np.arange(owner.size) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri) + 1
     s = start[owner]
-    return np.column_stack([flat[s], flat[s + j], flat[s + j + 1]])
+    return np.column_stack([s, s + j, s + j + 1]), owner
 
 
 def ids(values: np.ndarray, limit: int = 10) -> str:

@@ -1,29 +1,48 @@
-"""Brain surfaces: GIFTI (``.gii``, ``.gii.gz``) and FreeSurfer geometry files, via nibabel."""
+"""Brain surfaces: GIFTI (``.gii``, ``.gii.gz``) and FreeSurfer geometry files, via nibabel,
+with their per-vertex overlays (GIFTI ``.shape.gii`` / ``.func.gii``, FreeSurfer ``curv``,
+``thickness``, ``sulc``, ...) read beside the surface and written beside the output.
+
+nibabel is imported inside the functions: it is needed only when such files are used.
+"""
 
 from __future__ import annotations
 
 import gzip
+import json
+import re
 import struct
 import warnings
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 
 from surfinpaint.errors import MeshError
-from surfinpaint.io.base import describe
+from surfinpaint.io.base import Parsed, describe
+from surfinpaint.io.meshdata import MeshData
 
 FREESURFER_MAGIC = b"\xff\xff\xfe"
+_MORPH_MAGIC = b"\xff\xff\xff"
+
+#: FreeSurfer's per-vertex files beside ``lh.*`` / ``rh.*`` surfaces in a subject's ``surf/``.
+FREESURFER_OVERLAYS = ("curv", "sulc", "thickness", "area", "volume", "jacobian_white",
+                       "avg_curv", "curv.pial", "area.pial")
+_GIFTI_DATA = (".shape.gii", ".func.gii", ".label.gii", ".gii.gz", ".gii")
 
 
-def read_gifti(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _gunzip(data: bytes) -> bytes:
+    if data[:2] != b"\x1f\x8b":
+        return data
+    try:
+        return gzip.decompress(data)
+    except (OSError, EOFError) as exc:
+        raise MeshError(f"corrupt gzip data ({describe(exc)})") from None
+
+
+def read_gifti(data: bytes, path: Path) -> Parsed:
     import nibabel as nib
 
-    if data[:2] == b"\x1f\x8b":
-        try:
-            data = gzip.decompress(data)
-        except (OSError, EOFError) as exc:
-            raise MeshError(f"corrupt gzip data ({describe(exc)})") from None
-    image = nib.gifti.GiftiImage.from_bytes(data)
+    image = nib.gifti.GiftiImage.from_bytes(_gunzip(data))
     points = image.get_arrays_from_intent("NIFTI_INTENT_POINTSET")
     triangles = image.get_arrays_from_intent("NIFTI_INTENT_TRIANGLE")
     if not points:
@@ -36,13 +55,29 @@ def read_gifti(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndar
         raise MeshError(f"GIFTI pointset has shape {vertices.shape}, expected (n, 3)")
     if faces.ndim != 2 or faces.shape[1] != 3:
         raise MeshError(f"GIFTI triangle array has shape {faces.shape}, expected (f, 3)")
-    return vertices, np.full(len(faces), 3, np.int64), faces.astype(np.int64).ravel()
+    out = Parsed(vertices, np.full(len(faces), 3, np.int64), faces.astype(np.int64).ravel())
+    out.metadata.update({str(k): str(v) for k, v in image.meta.items()})
+    out.metadata.update({f"pointset.{k}": str(v) for k, v in points[0].meta.items()})
+    xform = getattr(points[0].coordsys, "xform", None)
+    if xform is not None and not np.allclose(xform, np.eye(4)):
+        out.dropped.append("the pointset's coordinate transform (not the identity) is not kept")
+    for k, array in enumerate(image.darrays):
+        if array is points[0] or array is triangles[0]:
+            continue
+        values = np.asarray(array.data)
+        name = array.meta.get("Name") or f"array_{k}"
+        if values.ndim and len(values) == len(vertices):
+            out.attributes[_safe(name)] = values
+        else:
+            out.dropped.append(f"GIFTI data array {name!r} (shape {values.shape}, not one row "
+                               "per vertex) is not kept")
+    return out
 
 
-def read_freesurfer(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def read_freesurfer(data: bytes, path: Path) -> Parsed:
     from nibabel.freesurfer import read_geometry
 
-    if data[:3] not in (FREESURFER_MAGIC, b"\xff\xff\xff"):
+    if data[:3] not in (FREESURFER_MAGIC, _MORPH_MAGIC):
         raise MeshError("not a FreeSurfer surface (magic bytes are not FF FF FE)")
     if data[:3] == FREESURFER_MAGIC:
         # the two creation lines end in "\n\n"; the counts follow as big-endian int32
@@ -56,33 +91,223 @@ def read_freesurfer(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np
                             f"and {nf} faces = {need} bytes, the file has {len(data)})")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # nibabel warns about missing volume info footers
-        vertices, faces = read_geometry(str(path))
-    return (np.asarray(vertices, dtype=np.float64), np.full(len(faces), 3, np.int64),
-            np.asarray(faces, dtype=np.int64).ravel())
+        vertices, faces, info, stamp = read_geometry(str(path), read_metadata=True,
+                                                     read_stamp=True)
+    out = Parsed(np.asarray(vertices, dtype=np.float64), np.full(len(faces), 3, np.int64),
+                 np.asarray(faces, dtype=np.int64).ravel())
+    if stamp:
+        out.metadata["create_stamp"] = str(stamp)
+    if info:
+        out.metadata["volume_info"] = json.dumps(
+            {k: np.asarray(v).tolist() if not isinstance(v, str) else v
+             for k, v in info.items()})
+    return out
 
 
+# ------------------------------------------------------------------------------ overlays
 
-def gifti_bytes(v: np.ndarray, f: np.ndarray) -> bytes:
+
+def _surface_base(path: Path) -> str:
+    """The surface's name without its format suffix: overlays are named ``BASE.NAME...``."""
+    name = path.name
+    for suffix in (".surf.gii.gz", ".surf.gii", ".gii.gz", ".gii"):
+        if name.lower().endswith(suffix):
+            return name[:-len(suffix)]
+    return name
+
+
+def _safe(name: str) -> str:
+    return re.sub(r"[^\w.-]", "_", str(name)) or "overlay"
+
+
+def overlays_beside(path: Path) -> list[Path]:
+    """The overlay files of a surface: ``BASE.NAME.shape.gii`` / ``BASE.NAME.func.gii`` and
+    FreeSurfer morphometry files ``BASE.NAME`` (what :func:`overlay_outputs` writes), and, for
+    a FreeSurfer surface named ``lh.*`` or ``rh.*``, ``lh.curv``, ``lh.thickness``, ... beside
+    it (:data:`FREESURFER_OVERLAYS`)."""
+    base = _surface_base(path)
+    folder = path.parent
+    found = sorted(folder.glob(f"{_glob_escape(base)}.*.shape.gii"))
+    found += sorted(folder.glob(f"{_glob_escape(base)}.*.func.gii"))
+    found += [p for p in sorted(folder.glob(f"{_glob_escape(path.name)}.*"))
+              if p not in found and _is_morph(p)]
+    hemi = re.match(r"^(lh|rh)\.", path.name)
+    if hemi:
+        found += [p for name in FREESURFER_OVERLAYS
+                  if (p := folder / f"{hemi.group(1)}.{name}") != path and _is_morph(p)]
+    return found
+
+
+def _glob_escape(text: str) -> str:
+    return re.sub(r"([*?\[])", r"[\1]", text)
+
+
+def _is_morph(p: Path) -> bool:
+    try:
+        with open(p, "rb") as fh:
+            return p.is_file() and fh.read(3) == _MORPH_MAGIC
+    except OSError:
+        return False
+
+
+def overlay_name(overlay: Path, surface: Path | None = None) -> str:
+    """The attribute name of an overlay file: ``lh.pial.thickness.shape.gii`` beside
+    ``lh.pial.gii`` -> ``thickness``; ``lh.curv`` -> ``curv``."""
+    name = overlay.name
+    for suffix in _GIFTI_DATA:
+        if name.lower().endswith(suffix):
+            name = name[:-len(suffix)]
+            break
+    if surface is not None:
+        for base in (surface.name, _surface_base(surface)):
+            if name.startswith(base + "."):
+                name = name[len(base) + 1:]
+                break
+    return _safe(re.sub(r"^(lh|rh)\.", "", name))
+
+
+def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
+                  ) -> dict[str, np.ndarray]:
+    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry files).
+
+    Raises
+    ------
+    MeshError
+        Naming the overlay file, when it cannot be read or has not ``n`` values.
+    """
+    import nibabel as nib
+    from nibabel.freesurfer import read_morph_data
+
+    out = {}
+    for p in files:
+        p = Path(p)
+        try:
+            if p.name.lower().endswith((".gii", ".gii.gz")):
+                image = nib.gifti.GiftiImage.from_bytes(_gunzip(p.read_bytes()))
+                arrays = [np.asarray(a.data) for a in image.darrays]
+                values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
+            else:
+                values = np.asarray(read_morph_data(str(p)))
+        except MeshError as err:
+            raise err.with_path(str(p)) from None
+        except Exception as exc:
+            raise MeshError(f"cannot read the overlay: {describe(exc)}", path=str(p)) from None
+        if values.ndim == 0 or len(values) != n:
+            raise MeshError(f"overlay has {len(values) if values.ndim else 0} values, the "
+                            f"surface {n} vertices", path=str(p))
+        out[overlay_name(p, surface)] = values
+    return out
+
+
+def _gifti_type(a: np.ndarray) -> tuple[np.ndarray, str] | None:
+    """The array in a GIFTI data type (uint8, int32, float32) and its name, or None."""
+    if a.dtype in (np.uint8, np.bool_):
+        return a.astype(np.uint8), "NIFTI_TYPE_UINT8"
+    if a.dtype.kind in "iu":
+        if a.size and (a.min() < np.iinfo(np.int32).min or a.max() > np.iinfo(np.int32).max):
+            return None
+        return a.astype(np.int32), "NIFTI_TYPE_INT32"
+    if a.dtype.kind == "f":
+        return a.astype(np.float32), "NIFTI_TYPE_FLOAT32"
+    return None
+
+
+def _writable(mesh: MeshData) -> dict[str, np.ndarray]:
+    return {k: a for k, a in mesh.attributes.items() if a.ndim <= 2 and _gifti_type(a)}
+
+
+def unstored_brain(mesh: MeshData) -> list[str]:
+    """What a GIFTI surface and its overlays cannot store."""
+    kept = _writable(mesh)
+    names = [f"per-vertex {k} ({a.dtype}, shape {a.shape})" for k, a in mesh.attributes.items()
+             if k not in kept]
+    names += [f"per-face {k}" for k in mesh.face_attributes]
+    names += [f"per-corner {k}" for k in mesh.corner_attributes]
+    return [f"GIFTI and FreeSurfer store per-vertex numbers only: {', '.join(names)} not "
+            "written"] if names else []
+
+
+def unstored_freesurfer(mesh: MeshData) -> list[str]:
+    """What a FreeSurfer surface and its overlays cannot store."""
+    return unstored_brain(mesh) + [f"metadata {k!r} is not stored in a FreeSurfer surface"
+                                   for k in mesh.metadata
+                                   if k not in ("create_stamp", "volume_info")]
+
+
+def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Callable]]:
+    """The overlay files written beside a surface, each as (path, write(handle)).
+
+    GIFTI: ``BASE.NAME.shape.gii`` (``BASE``: the output's name without ``.gii``/``.gii.gz``);
+    FreeSurfer: ``OUT.NAME`` morphometry files (float32) for 1-D arrays, ``OUT.NAME.shape.gii``
+    for arrays of several columns. Float arrays are stored as float32, integers as int32.
+    """
+    out = []
+    for name, a in _writable(mesh).items():
+        name = _safe(name)
+        if fmt == "freesurfer" and a.ndim == 1:
+            out.append((path.with_name(f"{path.name}.{name}"), _morph_writer(a)))
+        else:
+            base = path.name if fmt == "freesurfer" else _surface_base(path)
+            out.append((path.with_name(f"{base}.{name}.shape.gii"), _shape_writer(a)))
+    return out
+
+
+def _shape_writer(a: np.ndarray) -> Callable:
+    def write(fh) -> None:
+        import nibabel as nib
+
+        columns = [a] if a.ndim == 1 else [a[:, k] for k in range(a.shape[1])]
+        arrays = []
+        for c in columns:
+            values, dtype = _gifti_type(np.ascontiguousarray(c))
+            arrays.append(nib.gifti.GiftiDataArray(values, intent="NIFTI_INTENT_SHAPE",
+                                                   datatype=dtype))
+        fh.write(nib.gifti.GiftiImage(darrays=arrays).to_bytes())
+    return write
+
+
+def _morph_writer(a: np.ndarray) -> Callable:
+    def write(fh) -> None:
+        from nibabel.freesurfer import write_morph_data
+
+        write_morph_data(fh, np.asarray(a, dtype=np.float32))
+    return write
+
+
+def gifti_bytes(mesh: MeshData) -> bytes:
     import nibabel as nib
 
-    points = nib.gifti.GiftiDataArray(v.astype(np.float32), intent="NIFTI_INTENT_POINTSET",
-                                      datatype="NIFTI_TYPE_FLOAT32")
-    triangles = nib.gifti.GiftiDataArray(f.astype(np.int32), intent="NIFTI_INTENT_TRIANGLE",
+    meta = {k: v for k, v in mesh.metadata.items() if not k.startswith("pointset.")}
+    point_meta = {k[len("pointset."):]: v for k, v in mesh.metadata.items()
+                  if k.startswith("pointset.")}
+    points = nib.gifti.GiftiDataArray(mesh.vertices.astype(np.float32),
+                                      intent="NIFTI_INTENT_POINTSET",
+                                      datatype="NIFTI_TYPE_FLOAT32",
+                                      meta=nib.gifti.GiftiMetaData(point_meta))
+    triangles = nib.gifti.GiftiDataArray(mesh.faces.astype(np.int32),
+                                         intent="NIFTI_INTENT_TRIANGLE",
                                          datatype="NIFTI_TYPE_INT32")
-    return nib.gifti.GiftiImage(darrays=[points, triangles]).to_bytes()
+    return nib.gifti.GiftiImage(darrays=[points, triangles],
+                                meta=nib.gifti.GiftiMetaData(meta)).to_bytes()
 
 
-def write_gifti(fh, tmp: str, v: np.ndarray, f: np.ndarray, ascii: bool) -> None:
-    fh.write(gifti_bytes(v, f))
+def write_gifti(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
+    fh.write(gifti_bytes(mesh))
 
 
-def write_gifti_gz(fh, tmp: str, v: np.ndarray, f: np.ndarray, ascii: bool) -> None:
-    fh.write(gzip.compress(gifti_bytes(v, f)))
+def write_gifti_gz(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
+    fh.write(gzip.compress(gifti_bytes(mesh)))
 
 
-def write_freesurfer(fh, tmp: str, v: np.ndarray, f: np.ndarray, ascii: bool) -> None:
+def write_freesurfer(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
     from nibabel.freesurfer import write_geometry
 
+    info = mesh.metadata.get("volume_info")
+    volume_info = None
+    if info:
+        volume_info = {k: v if isinstance(v, str) else np.asarray(v)
+                       for k, v in json.loads(info).items()}
+    stamp = mesh.metadata.get("create_stamp")
     # nibabel writes by file name; it goes to the same temporary file
-    write_geometry(tmp, v.astype(np.float32), f.astype(np.int32))
-
+    write_geometry(tmp, mesh.vertices.astype(np.float32), mesh.faces.astype(np.int32),
+                   create_stamp=stamp, volume_info=volume_info)

@@ -29,29 +29,39 @@ existing file is either fully replaced or left as it was.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+import warnings
+from collections.abc import Callable, Mapping, Sequence
+from contextlib import ExitStack
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.validation import check_arrays
 from surfinpaint.io.atomic import atomic_open
-from surfinpaint.io.base import MeshWarning, describe, triangulate
+from surfinpaint.io.base import MeshWarning, Parsed, describe, ids, triangulate
 from surfinpaint.io.brain import (
     FREESURFER_MAGIC,
+    overlay_outputs,
+    overlays_beside,
     read_freesurfer,
     read_gifti,
+    read_overlays,
+    unstored_brain,
+    unstored_freesurfer,
     write_freesurfer,
     write_gifti,
     write_gifti_gz,
 )
-from surfinpaint.io.obj import read_obj, write_obj
-from surfinpaint.io.off import read_off, write_off
-from surfinpaint.io.ply import read_ply, write_ply
-from surfinpaint.io.stl import read_stl, warn_stl_numbering, write_stl
+from surfinpaint.io.meshdata import MeshData, per_vertex, seam_vertices
+from surfinpaint.io.obj import read_obj, unstored_obj, write_obj
+from surfinpaint.io.off import read_off, unstored_off, write_off
+from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
+from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
 
-__all__ = ["SUPPORTED_FORMATS", "MeshWarning", "output_format", "read_mesh", "write_mesh"]
+__all__ = ["SUPPORTED_FORMATS", "MeshData", "MeshWarning", "output_format", "read_mesh",
+           "read_mesh_data", "write_mesh", "write_mesh_data"]
 
 _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
 
@@ -136,12 +146,83 @@ def read_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
     Warns
     -----
     MeshWarning
-        When polygons with more than three corners were triangulated.
+        When polygons with more than three corners were triangulated, and naming the
+        per-vertex, per-face or per-corner data the file carries, which this function does not
+        return (:func:`read_mesh_data` does).
 
     Examples
     --------
     >>> vertices, faces = read_mesh("bunny.ply")  # doctest: +SKIP
     """
+    mesh, dropped, _ = _read(path, overlays=False)
+    carried = [f"{kind} {', '.join(arrays)}" for kind, arrays in (
+        ("per-vertex", mesh.attributes), ("per-face", mesh.face_attributes),
+        ("per-corner", mesh.corner_attributes)) if arrays]
+    if carried:
+        dropped.append(f"{'; '.join(carried)} not returned by read_mesh (read_mesh_data keeps "
+                       "them)")
+    for message in dropped:
+        warnings.warn(f"{path}: {message}", MeshWarning, stacklevel=2)
+    return mesh.vertices, mesh.faces
+
+
+def read_mesh_data(path: str | os.PathLike, *,
+                   overlays: bool | Sequence[str | os.PathLike] = True) -> MeshData:
+    """Read a mesh with its per-vertex, per-face and per-corner data and file metadata.
+
+    What each format carries, under which names (see :mod:`surfinpaint.io.meshdata`):
+
+    - PLY: every vertex and face property of any name and type, types kept (``red green
+      blue [alpha]`` -> ``color``, ``nx ny nz`` -> ``normal``, ``u v`` -> ``uv``, ``s t`` ->
+      ``st``, ``texture_u texture_v`` -> ``texture_uv``, ``q_0 .. q_k`` -> ``q``); per-corner
+      face lists (``texcoord``) as corner data; comments as metadata.
+    - OFF / COFF / NOFF / STOFF: vertex ``normal``, ``color`` (uint8 when integral, else
+      float), ``uv``; face ``color``.
+    - OBJ: ``vt`` -> ``uv``, ``vn`` -> ``normal``, ``v x y z r g b`` -> ``color`` (float).
+      Per vertex when each vertex has one value on all its corners; where a vertex has
+      several (a UV seam) the data is kept per corner and a :class:`MeshWarning` says so.
+    - STL: a binary STL's non-zero 16-bit facet attributes -> face ``stl_attribute``.
+    - GIFTI / FreeSurfer: extra per-vertex data arrays of the GIFTI file and overlays beside
+      the surface (see ``overlays``); GIFTI metadata.
+
+    Parameters
+    ----------
+    path : str or path-like
+        As for :func:`read_mesh`.
+    overlays : bool or sequence of paths, default True
+        GIFTI and FreeSurfer surfaces only. True: read the overlays found beside the surface
+        (:func:`surfinpaint.io.brain.overlays_beside`: ``SURFACE.NAME.shape.gii`` /
+        ``.func.gii`` / ``SURFACE.NAME``, and FreeSurfer's ``lh.curv``, ``lh.thickness``,
+        ``lh.sulc``, ... beside ``lh.*``); False: none; or the overlay files to read, each a
+        GIFTI data file or a FreeSurfer morphometry file with one value per vertex.
+
+    Returns
+    -------
+    MeshData
+        Unpacks as ``vertices, faces`` exactly as :func:`read_mesh` returns them.
+
+    Raises
+    ------
+    MeshError
+        As :func:`read_mesh`; and for an overlay that cannot be read or does not have one
+        value per vertex (naming the overlay file).
+
+    Warns
+    -----
+    MeshWarning
+        Naming everything the file holds that is not carried (other PLY elements, PLY list
+        properties of vertices, OBJ groups and materials, GIFTI arrays of another size, ...),
+        and per-corner data kept per corner at UV seams.
+    """
+    mesh, dropped, seams = _read(path, overlays=overlays)
+    for message in dropped + seams:
+        warnings.warn(f"{path}: {message}", MeshWarning, stacklevel=2)
+    return mesh
+
+
+def _read(path: str | os.PathLike, *, overlays: bool | Sequence
+          ) -> tuple[MeshData, list[str], list[str]]:
+    """The mesh, what the file holds that is not carried, and the notes on seams."""
     p = Path(path)
     name = str(path)
     data = _read_bytes(p)
@@ -151,14 +232,48 @@ def read_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
     if fmt is None:
         raise _unknown_format(p)
     try:
-        vertices, counts, flat = _READERS[fmt](data, p)
+        parsed = _READERS[fmt](data, p)
     except MeshError as err:
         raise err.with_path(name) from None
     except Exception as exc:  # any parser failure means a bad file
         raise MeshError(f"cannot read as {_LABELS[fmt]}: {describe(exc)}", path=name) from None
-    faces = triangulate(counts, flat, name)
-    check_arrays(vertices, faces, path=name)
-    return vertices, faces
+    corners, owner = triangulate(parsed.counts, name)
+    faces = np.asarray(parsed.flat, dtype=np.int64)[corners]
+    check_arrays(parsed.vertices, faces, path=name)
+    mesh, seams = _assemble(parsed, corners, owner, faces)
+    if overlays is not False and fmt in ("gii", "gii.gz", "freesurfer"):
+        files = overlays_beside(p) if overlays is True else [Path(o) for o in overlays]
+        mesh = MeshData(mesh.vertices, mesh.faces,
+                        {**mesh.attributes, **read_overlays(files, len(mesh.vertices), p)},
+                        mesh.face_attributes, mesh.corner_attributes, mesh.metadata)
+    return mesh, list(parsed.dropped), seams
+
+
+def _assemble(parsed: Parsed, corners: np.ndarray, owner: np.ndarray, faces: np.ndarray
+              ) -> tuple[MeshData, list[str]]:
+    """The triangulated mesh with the parsed data (polygon rows repeated on their fan
+    triangles, per-corner data per vertex where each vertex has one value), and a note for
+    each per-corner array kept per corner."""
+    seams = []
+    attributes = dict(parsed.attributes)
+    corner_attributes = {}
+    flat = np.asarray(parsed.flat, dtype=np.int64)
+    for key, values in parsed.corner_values.items():
+        dtype = values.dtype if values.dtype.kind == "f" else np.float64  # NaN: no value
+        values = np.asarray(values, dtype=np.float64)
+        single = per_vertex(flat, values, len(parsed.vertices))
+        if single is not None:
+            attributes[key] = single.astype(dtype, copy=False)
+            continue
+        where = seam_vertices(flat, values, len(parsed.vertices))
+        corner_attributes[key] = values[corners].astype(dtype, copy=False)
+        seams.append(f"{key} differs between the faces around {len(where)} vertices (a seam; "
+                     f"e.g. vertices {ids(where, 5)}): kept per face corner "
+                     f"(corner_attributes[{key!r}]), not per vertex; a fill gives its new "
+                     "faces no per-corner values")
+    return MeshData(parsed.vertices, faces, attributes,
+                    {k: np.asarray(a)[owner] for k, a in parsed.face_attributes.items()},
+                    corner_attributes, parsed.metadata), seams
 
 
 _LABELS = {"ply": "PLY", "obj": "OBJ", "stl": "STL", "off": "OFF", "gii": "GIFTI",
@@ -184,14 +299,20 @@ def _read_bytes(p: Path) -> bytes:
 
 
 
-_READERS: dict[str, Callable[[bytes, Path], tuple[np.ndarray, np.ndarray, np.ndarray]]] = {
+_READERS: dict[str, Callable[[bytes, Path], Parsed]] = {
     "ply": read_ply, "obj": read_obj, "off": read_off, "stl": read_stl,
     "gii": read_gifti, "gii.gz": read_gifti, "freesurfer": read_freesurfer,
 }
 
-_WRITERS = {
+_WRITERS: dict[str, Callable[[IO[bytes], str, MeshData, bool], None]] = {
     "ply": write_ply, "obj": write_obj, "off": write_off, "stl": write_stl,
     "gii": write_gifti, "gii.gz": write_gifti_gz, "freesurfer": write_freesurfer,
+}
+
+# what each format cannot store of a MeshData, as messages
+_UNSTORED: dict[str, Callable[[MeshData], list[str]]] = {
+    "ply": unstored_ply, "obj": unstored_obj, "off": unstored_off, "stl": unstored_stl,
+    "gii": unstored_brain, "gii.gz": unstored_brain, "freesurfer": unstored_freesurfer,
 }
 
 
@@ -199,7 +320,8 @@ _WRITERS = {
 
 
 def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray, *,
-               ascii: bool = False) -> None:
+               ascii: bool = False, attributes: Mapping[str, np.ndarray] | None = None,
+               face_attributes: Mapping[str, np.ndarray] | None = None) -> None:
     """Write a triangle mesh, atomically, in the format given by the file name.
 
     Parameters
@@ -214,6 +336,9 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray,
     faces : (f, 3) int array
     ascii : bool, default False
         PLY only: write ascii instead of binary little-endian. STL is always binary.
+    attributes, face_attributes : dict of str to array, optional
+        Per-vertex and per-face data to write with the mesh, as :func:`write_mesh_data`
+        writes a :class:`MeshData`'s (e.g. a ``FillResult``'s ``.attributes``).
 
     Raises
     ------
@@ -226,28 +351,66 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray,
     -----
     MeshWarning
         For STL, when the vertex numbering cannot be stored (unreferenced vertices, or
-        vertices not first used in index order); reading it back renumbers them.
+        vertices not first used in index order); reading it back renumbers them. Naming
+        every attribute the format cannot store (it is not written).
     """
+    _write(path, MeshData(vertices, faces, dict(attributes or {}), dict(face_attributes or {})),
+           ascii=ascii)
+
+
+def write_mesh_data(path: str | os.PathLike, mesh: MeshData, *, ascii: bool = False) -> None:
+    """Write a :class:`MeshData`, atomically, with all the data its format can store.
+
+    What each format stores: PLY every per-vertex and per-face array of numbers (1-D or
+    2-D; 64-bit integers as 32-bit when their values fit) and per-corner arrays as face
+    lists; OFF vertex ``normal``, ``color``, ``uv`` and face ``color``; OBJ ``uv`` and
+    ``normal`` (per vertex or per corner) and a float ``color`` per vertex; STL a uint16
+    face ``stl_attribute``; GIFTI and FreeSurfer each per-vertex array as an overlay file
+    beside the surface (``OUT.NAME.shape.gii``; FreeSurfer ``OUT.NAME``, 1-D arrays), named
+    so that :func:`read_mesh_data` finds them again. Metadata: PLY comments, GIFTI metadata.
+
+    Raises
+    ------
+    MeshError
+        As :func:`write_mesh`. Nothing is left behind on failure.
+
+    Warns
+    -----
+    MeshWarning
+        Naming every array or metadata the format cannot store.
+    """
+    if not isinstance(mesh, MeshData):
+        raise TypeError(f"write_mesh_data writes a MeshData, got {type(mesh).__name__}")
+    _write(path, mesh, ascii=ascii)
+
+
+def _write(path: str | os.PathLike, mesh: MeshData, *, ascii: bool) -> None:
     p = Path(path)
     name = str(path)
     fmt = _format_of(p)
     if fmt is None:
         raise _unknown_format(p)
-    vertices = np.asarray(vertices)
-    faces = np.asarray(faces)
-    check_arrays(vertices, faces, path=name)
-    vertices = vertices.astype(np.float64, copy=False)
-    faces = faces.astype(np.int64, copy=False)
+    check_arrays(mesh.vertices, mesh.faces, path=name)
+    mesh = MeshData(np.asarray(mesh.vertices).astype(np.float64, copy=False),
+                    np.asarray(mesh.faces).astype(np.int64, copy=False), mesh.attributes,
+                    mesh.face_attributes, mesh.corner_attributes, mesh.metadata)
     directory = p.parent if str(p.parent) else Path(".")
     if not directory.is_dir():
         raise MeshError(f"directory {str(directory)!r} does not exist", path=name)
     if fmt == "stl":
-        warn_stl_numbering(faces, len(vertices), name)
+        warn_stl_numbering(mesh.faces, len(mesh.vertices), name)
+    for message in _UNSTORED[fmt](mesh):
+        warnings.warn(f"{name}: {message}", MeshWarning, stacklevel=3)
+    beside = overlay_outputs(p, mesh, fmt) if fmt in ("gii", "gii.gz", "freesurfer") else []
     created = False
     try:
-        with atomic_open(p) as fh:
+        with ExitStack() as stack:
+            # overlays first: their content is complete before anything is moved into place
+            for target, write in beside:
+                write(stack.enter_context(atomic_open(target)))
+            fh = stack.enter_context(atomic_open(p))
             created = True
-            _WRITERS[fmt](fh, fh.name, vertices, faces, ascii)
+            _WRITERS[fmt](fh, fh.name, mesh, ascii)
     except MeshError as err:
         raise err.with_path(name) from None
     except Exception as exc:

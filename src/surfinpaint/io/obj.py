@@ -1,4 +1,5 @@
-"""Wavefront OBJ: ``v`` and ``f`` records, vertex ids kept in file order."""
+"""Wavefront OBJ: ``v`` (with optional ``r g b``), ``vt``, ``vn`` and ``f`` records, vertex
+ids kept in file order; texture coordinates and normals per face corner."""
 
 from __future__ import annotations
 
@@ -8,50 +9,153 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint.errors import MeshError
-from surfinpaint.io.base import decode_text, write_rows, xyz_rows
+from surfinpaint.io.base import Parsed, decode_text, tokens_per_line, write_rows, xyz_rows
+from surfinpaint.io.meshdata import MeshData
+
+_RECORD = re.compile(r"^[ \t]*(v|vt|vn|f)[ \t]+([^\r\n]*)", re.MULTILINE)
+_KEYWORD = re.compile(r"^[ \t]*([A-Za-z_]\w*)", re.MULTILINE)
+_CORNER = re.compile(r"(?<!\S)(-?\d+)(?:/(-?\d*))?(?:/(-?\d*))?(?!\S)")
+_KNOWN = {"v", "vt", "vn", "f"}
 
 
-def read_obj(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def read_obj(data: bytes, path: Path) -> Parsed:
     text = decode_text(data, "OBJ")
-    # only v and f records matter; the regex keeps the scan in C
-    records = _OBJ_RECORD.findall(text)
-    vlines = [rest for kind, rest in records if kind == "v"]
-    flines = [rest for kind, rest in records if kind == "f"]
-    if any("#" in ln for ln in vlines):
-        vlines = [ln.partition("#")[0] for ln in vlines]
-    vertices = xyz_rows(vlines)
-    # drop texture/normal references ("7/3/7", "7//7") and comments, keep vertex ids
+    records = _RECORD.findall(text)
+    lines = {kind: [rest.partition("#")[0] if "#" in rest else rest
+                    for k, rest in records if k == kind] for kind in _KNOWN}
+    vertices = xyz_rows(lines["v"])
+    flines = lines["f"]
+    counts = tokens_per_line(flines)
     ftext = "\n".join(flines)
-    if "#" in ftext:
-        ftext = "\n".join(ln.partition("#")[0] for ln in flines)
-    ftext = _OBJ_SLASH.sub("", ftext)
-    flines = ftext.split("\n") if flines else []
-    counts = np.fromiter(map(len, map(str.split, flines)), dtype=np.int64, count=len(flines))
+    if "/" in ftext:
+        corners = _CORNER.findall(ftext)
+        if len(corners) != counts.sum():
+            raise MeshError("a face has a non-integer vertex index")
+        columns = [" ".join(c[k] or "0" for c in corners) for k in range(3)]
+    else:
+        columns = [ftext, "", ""]
     try:
-        flat = np.array(ftext.split(), dtype=np.int64)
+        vid, tid, nid = (np.array(c.split(), dtype=np.int64) for c in columns)
     except ValueError:
         raise MeshError("a face has a non-integer vertex index") from None
-    if np.any(flat == 0):
-        face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(flat == 0)[0], "right"))
+    if np.any(vid == 0):
+        face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(vid == 0)[0], "right"))
         raise MeshError(f"face {face} uses vertex index 0 (OBJ counts from 1)", faces=[face])
-    if np.any(flat < 0):
-        # negative ids count back from the last vertex defined before the face
-        is_v = np.array([kind == "v" for kind, _ in records])
-        nv_before = np.cumsum(is_v)[~is_v]
-        nv_corner = np.repeat(nv_before, counts)
-        flat = np.where(flat < 0, flat + nv_corner, flat - 1)
-        # an index reaching before the first vertex stays negative and is reported later
-    else:
-        flat = flat - 1
-    return vertices, counts, flat
+    kinds = np.array([k for k, _ in records])
+    out = Parsed(vertices, counts, _resolve(vid, kinds, "v", counts))
+    ntok = tokens_per_line(lines["v"])
+    if len(ntok) and np.all(ntok == 6):
+        values = np.array(" ".join(lines["v"]).split(), dtype=np.float64).reshape(-1, 6)
+        out.attributes["color"] = values[:, 3:]
+    elif len(ntok) and np.any(ntok > 4):
+        out.dropped.append("extra numbers on v lines (not all 'x y z r g b') are not kept")
+    for kind, ids, key, width in (("vt", tid, "uv", 2), ("vn", nid, "normal", 3)):
+        if not lines[kind]:
+            continue
+        if not ids.size or not np.any(ids):
+            out.dropped.append(f"{kind} records not referenced by any face are not kept")
+            continue
+        table = _columns(lines[kind], width, kind, out)
+        index = _resolve(ids, kinds, kind, counts)
+        bad = (ids != 0) & ((index < 0) | (index >= len(table)))
+        if np.any(bad):
+            face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(bad)[0], "right"))
+            raise MeshError(f"face {face} uses a {kind} index out of range", faces=[face])
+        values = np.full((len(ids), width), np.nan)
+        values[ids != 0] = table[index[ids != 0]]
+        out.corner_values[key] = values
+    other = sorted(set(_KEYWORD.findall(text)) - _KNOWN)
+    if other:
+        out.dropped.append(f"OBJ records {', '.join(other)} (groups, materials, lines, ...) "
+                           "are not kept")
+    return out
 
 
-_OBJ_RECORD = re.compile(r"^[ \t]*([vf])[ \t]+([^\r\n]*)", re.MULTILINE)
-_OBJ_SLASH = re.compile(r"/[^\s]*")
+def _resolve(ids: np.ndarray, kinds: np.ndarray, kind: str, counts: np.ndarray) -> np.ndarray:
+    """0-based indices of 1-based OBJ ids; negative ids count back from the last record of
+    ``kind`` before the face (an id before the first stays negative and is reported later)."""
+    if not np.any(ids < 0):
+        return ids - 1
+    before = np.cumsum(kinds == kind)[kinds == "f"]
+    return np.where(ids < 0, ids + np.repeat(before, counts), ids - 1)
 
 
-def write_obj(fh, tmp: str, v: np.ndarray, f: np.ndarray, ascii: bool) -> None:
+def _columns(lines: list[str], width: int, kind: str, out: Parsed) -> np.ndarray:
+    ntok = tokens_per_line(lines)
+    if np.any(ntok < width):
+        k = int(np.flatnonzero(ntok < width)[0])
+        raise MeshError(f"{kind} record {k} has fewer than {width} numbers")
+    try:
+        values = np.array(" ".join(lines).split(), dtype=np.float64)
+    except ValueError:
+        raise MeshError(f"a {kind} record has a non-numeric entry") from None
+    start = np.cumsum(ntok) - ntok
+    if np.any(ntok > width):
+        extra = values[np.repeat(start + width, ntok - width)
+                       + np.arange(int((ntok - width).sum()))
+                       - np.repeat(np.cumsum(ntok - width) - (ntok - width), ntok - width)]
+        if np.any(extra != 0):
+            out.dropped.append(f"{kind} components after the first {width} are not kept")
+    return values[start[:, None] + np.arange(width)]
+
+
+def _obj_arrays(mesh: MeshData) -> dict[str, tuple[str, np.ndarray]]:
+    """What OBJ stores: uv and normal per vertex or per corner, float rgb colour per vertex."""
+    out = {}
+    for key, width in (("uv", 2), ("normal", 3)):
+        corner = mesh.corner_attributes.get(key)
+        vertex = mesh.attributes.get(key)
+        if corner is not None and corner.shape[2] == width and corner.dtype.kind in "fiu":
+            out[key] = ("corner", corner)
+        elif vertex is not None and vertex.shape[1:] == (width,) and vertex.dtype.kind in "fiu":
+            out[key] = ("vertex", vertex)
+    colour = mesh.attributes.get("color")
+    if colour is not None and colour.shape[1:] == (3,) and colour.dtype.kind in "fiu":
+        out["color"] = ("vertex", colour / 255.0 if colour.dtype == np.uint8 else colour)
+    return out
+
+
+def unstored_obj(mesh: MeshData) -> list[str]:
+    """What :func:`write_obj` cannot store."""
+    kept = _obj_arrays(mesh)
+    names = [f"per-vertex {k}" for k in mesh.attributes
+             if k not in kept or kept[k][0] != "vertex"]
+    names += [f"per-face {k}" for k in mesh.face_attributes]
+    names += [f"per-corner {k}" for k in mesh.corner_attributes
+              if k not in kept or kept[k][0] != "corner"]
+    out = [f"OBJ stores uv, normal and rgb color: {', '.join(names)} not written"] if names \
+        else []
+    out += [f"metadata {k!r} is not stored in OBJ" for k in mesh.metadata]
+    if "color" in kept and mesh.attributes["color"].dtype == np.uint8:
+        out.append("8-bit color is written as OBJ's float r g b (value / 255)")
+    return out
+
+
+def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
+    v, f = mesh.vertices, mesh.faces
+    kept = _obj_arrays(mesh)
     fh.write(b"# written by surfinpaint\n")
-    write_rows(fh, "v %.17g %.17g %.17g\n", v)
-    write_rows(fh, "f %d %d %d\n", f + 1)
-
+    if "color" in kept:
+        write_rows(fh, "v" + " %.17g" * 6 + "\n", np.column_stack([v, kept["color"][1]]))
+    else:
+        write_rows(fh, "v %.17g %.17g %.17g\n", v)
+    ids = [f + 1]
+    for key, record in (("uv", "vt"), ("normal", "vn")):
+        if key not in kept:
+            ids.append(None)
+            continue
+        where, a = kept[key]
+        if where == "vertex":
+            table, index = a, f
+        else:
+            table, inverse = np.unique(a.reshape(-1, a.shape[2]), axis=0, return_inverse=True)
+            index = inverse.reshape(-1, 3)
+        width = table.shape[1]
+        write_rows(fh, record + " %.17g" * width + "\n", np.asarray(table, np.float64))
+        ids.append(index + 1)
+    if ids[1] is None and ids[2] is None:
+        write_rows(fh, "f %d %d %d\n", f + 1)
+        return
+    corner = "%d/" + ("%d" if ids[1] is not None else "") + ("/%d" if ids[2] is not None else "")
+    stacked = np.stack([i for i in ids if i is not None], axis=2).reshape(len(f), -1)
+    write_rows(fh, "f " + " ".join([corner] * 3) + "\n", stacked)

@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint.errors import MeshError
-from surfinpaint.io.base import describe, write_rows
+from surfinpaint.io.base import Parsed, describe, write_rows
+from surfinpaint.io.meshdata import MeshData, group_columns, split_columns
 
 _PLY_TYPES = {
     "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
@@ -22,9 +23,9 @@ _PLY_TYPES = {
 _END_HEADER = re.compile(rb"^[ \t]*end_header[ \t]*(?:\r\n|\n|\r|$)", re.MULTILINE)
 
 
-def _ply_header(data: bytes) -> tuple[str, list, int]:
+def _ply_header(data: bytes) -> tuple[str, list, int, list[str]]:
     """Parse the PLY header: (format, [(element, count, [(name, type, list count type)])],
-    offset of the body)."""
+    offset of the body, comment and obj_info lines)."""
     if not data.startswith(b"ply"):
         raise MeshError("not a PLY file (does not start with 'ply')")
     # the line that is exactly end_header (a comment may mention the word)
@@ -32,12 +33,20 @@ def _ply_header(data: bytes) -> tuple[str, list, int]:
     if end is None:
         raise MeshError("PLY header has no 'end_header' line (truncated or not PLY)")
     body = end.end()
-    header = data[:end.start()].decode("ascii", errors="replace").splitlines()[1:]
+    head = data[:end.start()]
+    try:
+        header = head.decode("utf-8").splitlines()[1:]
+    except UnicodeDecodeError:
+        header = head.decode("latin-1").splitlines()[1:]
     fmt = None
     elements: list = []
+    notes: list[str] = []
     for line in header:
         parts = line.split()
-        if not parts or parts[0] in ("comment", "obj_info"):
+        if parts and parts[0] in ("comment", "obj_info"):
+            notes.append(line.strip())
+            continue
+        if not parts:
             continue
         if parts[0] == "format" and len(parts) >= 2:
             fmt = parts[1]
@@ -63,11 +72,11 @@ def _ply_header(data: bytes) -> tuple[str, list, int]:
             raise MeshError(f"PLY header: cannot parse {line!r}")
     if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
         raise MeshError(f"PLY header: unknown format {fmt!r}")
-    return fmt, elements, body
+    return fmt, elements, body, notes
 
 
-def read_ply(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    fmt, elements, offset = _ply_header(data)
+def read_ply(data: bytes, path: Path) -> Parsed:
+    fmt, elements, offset, notes = _ply_header(data)
     names = [e[0] for e in elements]
     if "vertex" not in names:
         raise MeshError("PLY file has no vertex element")
@@ -104,7 +113,35 @@ def read_ply(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarra
     counts, flat = parsed["face"][key]
     if flat.size and not np.all(np.isfinite(flat) & (flat == np.round(flat))):
         raise MeshError("PLY face list has non-integer vertex indices")
-    return vertices, counts, flat.astype(np.int64)
+    out = Parsed(vertices, counts, flat.astype(np.int64),
+                 metadata={"comments": "\n".join(notes)} if notes else {})
+    _ply_data(out, elements, parsed, key)
+    return out
+
+
+def _ply_data(out: Parsed, elements: list, parsed: dict, key: str) -> None:
+    """The properties beside x, y, z and the face indices, in their declared types."""
+    for name, count, props in elements:
+        if name not in ("vertex", "face"):
+            if count:
+                out.dropped.append(f"PLY element {name!r} ({count} records) is not kept")
+            continue
+        columns = {}
+        for prop, t, c in props:
+            if name == "vertex" and prop in ("x", "y", "z") or name == "face" and prop == key:
+                continue
+            if c is None:
+                columns[prop] = np.asarray(parsed[name][prop]).astype(np.dtype(t))
+                continue
+            lengths, values = parsed[name][prop]
+            k, rem = np.divmod(lengths, np.maximum(out.counts, 1))
+            if name == "face" and len(k) and np.all(rem == 0) and np.all(k == k[0]) and k[0]:
+                out.corner_values[prop] = np.asarray(values).astype(np.dtype(t)).reshape(
+                    -1, int(k[0]))
+            else:
+                out.dropped.append(f"PLY {name} list property {prop!r} is not kept")
+        grouped = group_columns(columns)
+        (out.attributes if name == "vertex" else out.face_attributes).update(grouped)
 
 
 class _PlyBinary:
@@ -267,21 +304,94 @@ class _PlyAscii:
 
 
 
-def write_ply(fh, tmp: str, v: np.ndarray, f: np.ndarray, ascii: bool) -> None:
-    fmt = "ascii" if ascii else "binary_little_endian"
-    header = (
-        f"ply\nformat {fmt} 1.0\ncomment written by surfinpaint\n"
-        f"element vertex {len(v)}\nproperty double x\nproperty double y\nproperty double z\n"
-        f"element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n"
-    )
-    fh.write(header.encode("ascii"))
-    if ascii:
-        write_rows(fh, "%.17g %.17g %.17g\n", v)
-        write_rows(fh, "3 %d %d %d\n", f)
-        return
-    fh.write(np.ascontiguousarray(v, dtype="<f8").tobytes())
-    rec = np.empty(len(f), dtype=[("n", "u1"), ("i", "<i4", (3,))])
-    rec["n"] = 3
-    rec["i"] = f
-    fh.write(rec.tobytes())
+_PLY_NAMES = {"i1": "char", "u1": "uchar", "i2": "short", "u2": "ushort", "i4": "int",
+              "u4": "uint", "f4": "float", "f8": "double"}
 
+
+def _storable(a: np.ndarray) -> np.ndarray | None:
+    """The array in a PLY type with the same values, or None (64-bit integers that do not
+    fit 32 bits, strings, objects, complex numbers)."""
+    if a.dtype == np.bool_:
+        return a.astype("u1")
+    if a.dtype.kind in "iu" and a.dtype.itemsize == 8:
+        for t in ("i4", "u4"):
+            if a.size == 0 or (a.min() >= np.iinfo(t).min and a.max() <= np.iinfo(t).max):
+                return a.astype(t)
+        return None
+    if a.dtype == np.float16:
+        return a.astype("f4")
+    key = a.dtype.newbyteorder("=").str[1:]
+    return a.astype(key) if key in _PLY_NAMES else None
+
+
+def _columns(arrays: dict) -> list[tuple[str, np.ndarray]]:
+    out = []
+    for name, a in arrays.items():
+        if np.asarray(a).ndim > 2:
+            continue
+        for column, values in split_columns({name: a}):
+            stored = _storable(np.asarray(values))
+            if stored is not None:
+                out.append((column, stored))
+    return out
+
+
+def unstored_ply(mesh: MeshData) -> list[str]:
+    """What :func:`write_ply` cannot store: arrays of non-numbers or over 2 dimensions."""
+    out = []
+    for kind, arrays in (("per-vertex", mesh.attributes), ("per-face", mesh.face_attributes)):
+        for name, a in arrays.items():
+            a = np.asarray(a)
+            if a.ndim > 2 or any(_storable(np.asarray(c)) is None
+                                 for _, c in split_columns({name: a})):
+                out.append(f"{kind} {name} ({a.dtype}, shape {a.shape}) cannot be stored in "
+                           "PLY and is not written")
+    for name, a in mesh.corner_attributes.items():
+        if _storable(np.asarray(a)) is None:
+            out.append(f"per-corner {name} ({a.dtype}) cannot be stored in PLY and is not "
+                       "written")
+    out += [f"metadata {key!r} is not stored in PLY" for key in mesh.metadata
+            if key != "comments"]
+    return out
+
+
+def write_ply(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
+    v, f = mesh.vertices, mesh.faces
+    vcols = [("x", v[:, 0]), ("y", v[:, 1]), ("z", v[:, 2])] + _columns(mesh.attributes)
+    fcols = _columns(mesh.face_attributes)
+    corners = [(name, c.reshape(len(f), -1)) for name, a in mesh.corner_attributes.items()
+               if (c := _storable(np.asarray(a))) is not None]
+    fmt = "ascii" if ascii else "binary_little_endian"
+    comments = [line if line.split(" ", 1)[0] in ("comment", "obj_info") else f"comment {line}"
+                for line in mesh.metadata.get("comments", "").splitlines()]
+    comments = comments or ["comment written by surfinpaint"]
+    lines = ["ply", f"format {fmt} 1.0", *comments, f"element vertex {len(v)}"]
+    lines += [f"property {_PLY_NAMES[a.dtype.str[1:]]} {n}" for n, a in vcols]
+    lines += [f"element face {len(f)}", "property list uchar int vertex_indices"]
+    lines += [f"property {_PLY_NAMES[a.dtype.str[1:]]} {n}" for n, a in fcols]
+    lines += [f"property list uchar {_PLY_NAMES[a.dtype.str[1:]]} {n}" for n, a in corners]
+    fh.write(("\n".join(lines) + "\nend_header\n").encode("utf-8"))
+    face_cols = ([("\0n", np.full(len(f), 3, np.uint8)), ("\0i", f.astype("i4"))] + fcols
+                 + [c for n, a in corners
+                    for c in ((f"{n}\0n", np.full(len(f), a.shape[1], np.uint8)), (n, a))])
+    for cols in (vcols, face_cols):
+        if ascii:
+            _ascii_rows(fh, cols)
+        else:
+            fields = [(n, "<" + a.dtype.str[1:], a.shape[1:]) for n, a in cols]
+            rec = np.empty(len(cols[0][1]), dtype=fields)
+            for n, a in cols:
+                rec[n] = a
+            fh.write(rec.tobytes())
+
+
+def _ascii_rows(fh, cols: list[tuple[str, np.ndarray]]) -> None:
+    """Rows of text: integers as such, float32 with 9 and float64 with 17 significant digits
+    (both read back exactly)."""
+    codes, blocks = [], []
+    for _, a in cols:
+        a = a.reshape(len(a), -1)
+        code = "%d" if a.dtype.kind in "iu" else "%.9g" if a.dtype.itemsize == 4 else "%.17g"
+        codes += [code] * a.shape[1]
+        blocks.append(a.astype(np.float64))
+    write_rows(fh, " ".join(codes) + "\n", np.column_stack(blocks))

@@ -11,11 +11,12 @@ import numpy as np
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.mesh import face_normals
-from surfinpaint.io.base import MeshWarning, decode_text
+from surfinpaint.io.base import MeshWarning, Parsed, decode_text
+from surfinpaint.io.meshdata import MeshData
 
 
 def read_stl(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    corners = _binary_corners(data)
+    corners, facet_attributes = _binary_corners(data)
     if corners is None:
         if not _says_solid(data):
             raise MeshError(_not_binary(data))
@@ -34,26 +35,30 @@ def read_stl(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarra
     flat = np.empty(len(corners), dtype=np.int64)
     flat[order] = rank[group]
     vertices = corners[np.sort(first)]
-    return vertices, np.full(len(corners) // 3, 3, np.int64), flat
+    out = Parsed(vertices, np.full(len(corners) // 3, 3, np.int64), flat)
+    if facet_attributes is not None and np.any(facet_attributes):
+        out.face_attributes["stl_attribute"] = facet_attributes
+    return out
 
 
 _STL_DTYPE = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attr", "<u2")])
 
 
-def _binary_corners(data: bytes) -> np.ndarray | None:
-    """The corners of a binary STL, or None when the size does not fit one.
+def _binary_corners(data: bytes) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The corners of a binary STL and its facets' 16-bit attributes, or None, None when the
+    size does not fit one.
 
     A few bytes after the announced triangles (less than one 50-byte record: some exporters
     pad to an even or aligned length) are accepted, unless the file reads as ascii STL.
     """
     if len(data) < 84:
-        return None
+        return None, None
     n = struct.unpack_from("<I", data, 80)[0]
     excess = len(data) - (84 + 50 * n)
     if excess == 0 or (0 < excess < 50 and not _looks_ascii(data)):
         rec = np.frombuffer(data, _STL_DTYPE, count=n, offset=84)
-        return rec["corners"].reshape(-1, 3).astype(np.float64)
-    return None
+        return rec["corners"].reshape(-1, 3).astype(np.float64), rec["attr"].astype(np.uint16)
+    return None, None
 
 
 def _says_solid(data: bytes) -> bool:
@@ -162,16 +167,36 @@ def warn_stl_numbering(faces: np.ndarray, n_vertices: int, name: str) -> None:
             f"{name}: STL stores only triangles; {lost}vertices will be renumbered by first "
             "use on reading",
             MeshWarning,
-            stacklevel=3,
+            stacklevel=4,
         )
 
 
 
-def write_stl(fh, tmp: str, v: np.ndarray, f: np.ndarray, ascii: bool) -> None:
+def unstored_stl(mesh: MeshData) -> list[str]:
+    """What :func:`write_stl` cannot store: everything but a 16-bit ``stl_attribute``."""
+    names = [f"per-vertex {k}" for k in mesh.attributes]
+    names += [f"per-face {k}" for k, a in mesh.face_attributes.items()
+              if not (k == "stl_attribute" and _fits_u16(a))]
+    names += [f"per-corner {k}" for k in mesh.corner_attributes]
+    if not names:
+        return []
+    return [f"STL stores triangles only: {', '.join(names)} not written"]
+
+
+def _fits_u16(a: np.ndarray) -> bool:
+    a = np.asarray(a)
+    return (a.ndim == 1 and a.dtype.kind in "iub"
+            and (a.size == 0 or (a.min() >= 0 and a.max() <= 0xFFFF)))
+
+
+def write_stl(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
+    v, f = mesh.vertices, mesh.faces
     rec = np.zeros(len(f), dtype=_STL_DTYPE)
     rec["normal"] = face_normals(v, f)
     rec["corners"] = v[f]
+    attr = mesh.face_attributes.get("stl_attribute")
+    if attr is not None and _fits_u16(attr):
+        rec["attr"] = attr
     fh.write(b"binary STL written by surfinpaint".ljust(80, b" "))
     fh.write(struct.pack("<I", len(f)))
     fh.write(rec.tobytes())
-
