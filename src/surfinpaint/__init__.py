@@ -10,8 +10,10 @@ The main entry points work on plain numpy arrays::
     >>> holes = surfinpaint.find_holes(vertices, faces)                  # doctest: +SKIP
     >>> result = surfinpaint.fill_holes(vertices, faces)                 # doctest: +SKIP
     >>> result.vertices, result.faces, result.reports                    # doctest: +SKIP
+    >>> rows = surfinpaint.fill_files(["scans/"], "filled/")              # doctest: +SKIP
 """
 
+from surfinpaint.app.batch import FileRow, fill_files
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.fill.conformal import ConformalOptions, GridOptions, Verdict, choose
 from surfinpaint.fill.holes import Hole, find_holes
@@ -34,6 +36,7 @@ __all__ = [
     "METHODS",
     "SUPPORTED_FORMATS",
     "ConformalOptions",
+    "FileRow",
     "Fill",
     "FillError",
     "FillResult",
@@ -48,6 +51,7 @@ __all__ = [
     "__version__",
     "choose",
     "conventional_fill",
+    "fill_files",
     "fill_holes",
     "find_holes",
     "inpaint",

@@ -1,7 +1,9 @@
-"""Command-line interface: ``surfinpaint holes|fill|represent|rebuild|demo|report|experiments``.
+"""Command-line interface:
+``surfinpaint holes|fill|batch|represent|rebuild|demo|report|experiments``.
 
-Exit codes: 0 success (including "nothing to fill"), 1 bad input or failure, 2 usage error,
-130 after Ctrl-C and 143 after SIGTERM (one line printed, temporary files removed).
+Exit codes: 0 success (including "nothing to fill"), 1 bad input or failure (for ``batch``:
+any file failed), 2 usage error, 130 after Ctrl-C and 143 after SIGTERM (one line printed,
+temporary files removed; ``batch``: the same command again picks up the rest).
 """
 
 from __future__ import annotations
@@ -40,8 +42,8 @@ def _parse_hole_list(text: str | None) -> list[int] | None:
 
 
 @contextlib.contextmanager
-def _progress(enabled: bool) -> Iterator:
-    """A rich progress bar on stderr, or a no-op callback."""
+def _progress(enabled: bool, what: str = "filling") -> Iterator:
+    """A rich progress bar on stderr, or a no-op callback; ``what`` is its first label."""
     if not enabled:
         yield None
         return
@@ -50,7 +52,7 @@ def _progress(enabled: bool) -> Iterator:
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
                   console=_console(), transient=False) as bar:
-        task = bar.add_task("filling", total=None)
+        task = bar.add_task(what, total=None)
 
         def update(done: int, total: int, message: str) -> None:
             bar.update(task, completed=done, total=total, description=message)
@@ -140,14 +142,11 @@ def cmd_fill(args: argparse.Namespace) -> int:
     console = _console()
     holes = _parse_hole_list(args.holes)
     output_format(args.output)  # an unusable output name fails now, not after the fill
-    options = _conformal_options(args)
+    options = fill_options(args)
     vertices, faces = read_mesh(args.mesh)
     with _progress(not args.quiet) as progress:
         try:
-            result = fill_holes(vertices, faces, holes=holes, method=args.method,
-                                include_border=args.all, max_hole_edges=args.max_hole_edges,
-                                repair=args.repair, progress=progress,
-                                fair_order=args.fair_order, options=options)
+            result = fill_holes(vertices, faces, holes=holes, progress=progress, **options)
         except MeshError as exc:
             if args.repair or "non-manifold edges" not in exc.message:
                 raise
@@ -177,6 +176,65 @@ def cmd_fill(args: argparse.Namespace) -> int:
         console.print(f"wrote {args.png}")
     console.print(f"wrote {args.output}")
     return EXIT_OK
+
+
+def fill_options(args: argparse.Namespace) -> dict:
+    """The keyword arguments of :func:`surfinpaint.fill_holes` given by the fill options
+    (:func:`add_fill_options`) of ``fill`` and ``batch``; usage errors raised."""
+    return {"method": args.method, "include_border": args.all,
+            "max_hole_edges": args.max_hole_edges, "repair": args.repair,
+            "fair_order": args.fair_order, "options": _conformal_options(args)}
+
+
+def cmd_batch(args: argparse.Namespace) -> int:
+    from rich.markup import escape
+
+    from surfinpaint.app.batch import STATUSES, SUMMARY_CSV, fill_files
+    from surfinpaint.app.interrupts import Interrupted
+
+    console = _console()
+    options = fill_options(args)
+    if args.jobs is not None and args.dask_scheduler:
+        raise _UsageError("--jobs is for worker processes on this machine; with "
+                          "--dask-scheduler the cluster's workers fill the files")
+    if args.jobs is not None and args.jobs < 1:
+        raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
+    client = _dask_client(args.dask_scheduler) if args.dask_scheduler else None
+    try:
+        with _progress(not args.quiet, "files") as progress:
+            rows = fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
+                              overwrite=args.overwrite, progress=progress, **options)
+    except (Interrupted, KeyboardInterrupt) as exc:
+        if not isinstance(exc, Interrupted):
+            exc = Interrupted(signal.SIGINT)
+        console.print(f"surfinpaint: {exc}; the files in flight were finished, the files "
+                      f"done are in {Path(args.output) / SUMMARY_CSV}, and the same command "
+                      "again picks up the rest")
+        return exc.exit_code
+    finally:
+        if client is not None:
+            client.close()
+    for row in rows:
+        if row.status == "failed":
+            console.print(f"[red]error:[/red] {escape(row.message)}")
+        elif row.message and row.status != "skipped":
+            console.print(f"[yellow]warning:[/yellow] {escape(row.path)}: {escape(row.message)}")
+    counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in STATUSES)
+    console.print(f"{len(rows)} files: {counts}; wrote {Path(args.output) / SUMMARY_CSV} "
+                  "and summary.json")
+    return EXIT_FAILURE if any(r.status == "failed" for r in rows) else EXIT_OK
+
+
+def _dask_client(address: str):
+    try:
+        from distributed import Client
+    except ImportError as exc:
+        raise _UsageError("--dask-scheduler needs Dask's 'distributed' package: "
+                          "pip install 'surfinpaint[dask]'") from exc
+    try:
+        return Client(address, timeout=30)
+    except (OSError, TimeoutError) as exc:
+        raise OSError(f"cannot reach the Dask scheduler at {address}: {exc}") from exc
 
 
 def cmd_represent(args: argparse.Namespace) -> int:
@@ -237,32 +295,14 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def build_parser() -> argparse.ArgumentParser:
+def add_fill_options(parser: argparse.ArgumentParser) -> None:
+    """The options that say how holes are filled, shared by ``fill`` and ``batch`` (read
+    back by :func:`fill_options`)."""
     from surfinpaint.fill.pipeline import METHODS
 
-    parser = argparse.ArgumentParser(
-        prog="surfinpaint",
-        description="Fill holes in triangle meshes by conformal surface inpainting.",
-    )
-    parser.add_argument("--version", action="version", version=f"surfinpaint {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-
-    p = sub.add_parser("holes", help="list the holes (boundary loops) of a mesh",
-                       description="Print a table of the boundary loops of MESH.")
-    p.add_argument("mesh", help="input mesh (PLY, OBJ, STL, OFF, GIFTI, FreeSurfer)")
-    p.add_argument("--repair", action="store_true",
-                   help="first remove the faces around non-manifold edges, as `fill --repair` "
-                   "does, and list the holes of the result")
-    p.set_defaults(func=cmd_holes)
-
-    p = sub.add_parser("fill", help="fill holes and write the filled mesh",
-                       description="Fill the holes of MESH and write OUT: the original "
-                       "vertices unchanged and in order, then the new ones.")
-    p.add_argument("mesh", help="input mesh")
-    p.add_argument("-o", "--output", required=True, help="output mesh (format by extension)")
+    p = parser.add_argument_group("fill options")
     p.add_argument("--method", choices=METHODS, default="conformal",
                    help="conformal (default) or the conventional fill 'fair'")
-    p.add_argument("--holes", help="comma-separated hole indices from `surfinpaint holes`")
     p.add_argument("--max-hole-edges", type=int, metavar="N",
                    help="skip holes with more than N boundary edges")
     p.add_argument("--all", action="store_true",
@@ -289,12 +329,61 @@ def build_parser() -> argparse.ArgumentParser:
                    help="fairing order: 1 harmonic, 2 biharmonic (default of 'fair', the "
                    "classic baseline), 3 triharmonic; the conformal method chooses its "
                    "fallback between 2 and 3 per hole by its self-check unless told")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from surfinpaint.fill.pipeline import METHODS
+
+    parser = argparse.ArgumentParser(
+        prog="surfinpaint",
+        description="Fill holes in triangle meshes by conformal surface inpainting.",
+    )
+    parser.add_argument("--version", action="version", version=f"surfinpaint {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("holes", help="list the holes (boundary loops) of a mesh",
+                       description="Print a table of the boundary loops of MESH.")
+    p.add_argument("mesh", help="input mesh (PLY, OBJ, STL, OFF, GIFTI, FreeSurfer)")
+    p.add_argument("--repair", action="store_true",
+                   help="first remove the faces around non-manifold edges, as `fill --repair` "
+                   "does, and list the holes of the result")
+    p.set_defaults(func=cmd_holes)
+
+    p = sub.add_parser("fill", help="fill holes and write the filled mesh",
+                       description="Fill the holes of MESH and write OUT: the original "
+                       "vertices unchanged and in order, then the new ones.")
+    p.add_argument("mesh", help="input mesh")
+    p.add_argument("-o", "--output", required=True, help="output mesh (format by extension)")
+    p.add_argument("--holes", help="comma-separated hole indices from `surfinpaint holes`")
+    add_fill_options(p)
     p.add_argument("--in-place", action="store_true",
                    help="allow -o to name the input file, replacing it (atomically: a "
                    "failed or interrupted fill leaves it as it was)")
     p.add_argument("--png", help="also write a before/after picture")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
     p.set_defaults(func=cmd_fill)
+
+    p = sub.add_parser("batch", help="fill many mesh files, on all cores or a Dask cluster",
+                       description="Fill the holes of every mesh file named by INPUT "
+                       "(files, folders searched recursively, glob patterns) into OUTDIR, "
+                       "mirroring their layout, and write OUTDIR/summary.csv and "
+                       "summary.json (one row per file). A bad file is reported and the "
+                       "others still written (exit 1 if any failed). A rerun skips outputs "
+                       "newer than their input, so an interrupted run picks up where it "
+                       "stopped.")
+    p.add_argument("inputs", nargs="+", metavar="INPUT", help="mesh file, folder or glob")
+    p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="output folder")
+    p.add_argument("--jobs", type=int, metavar="N",
+                   help="worker processes on this machine (default: all cores; 1: one file "
+                   "after another in this process)")
+    p.add_argument("--dask-scheduler", metavar="ADDRESS",
+                   help="run every file as a task on this Dask cluster (tcp://host:port; "
+                   "its workers must see the files at the same paths)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="refill files whose output is newer than the input")
+    add_fill_options(p)
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    p.set_defaults(func=cmd_batch)
 
     p = sub.add_parser("represent", help="λ-H representation of a disk-like mesh",
                        description="Conformally map a disk-topology MESH to the plane and "
@@ -345,6 +434,7 @@ _OUTPUTS = {
     "fill": (("output", "-o", "file"), ("png", "--png", "file")),
     "represent": (("output", "-o", "file"), ("png", "--png", "file")),
     "rebuild": (("output", "-o", "file"),),
+    "batch": (("output", "-o", "dir"),),
     "demo": (("output", "-o", "dir"),),
     "report": (("output", "-o", "dir"),),
     "experiments": (("output", "-o", "dir"),),

@@ -1,0 +1,582 @@
+"""Batch filling: many mesh files at once, on local worker processes or a Dask cluster.
+
+:func:`fill_files` finds the mesh files named by files, folders (searched recursively) and
+glob patterns, fills each one in a worker (:func:`fill_file`, a top-level function, so that
+spawned processes and Dask workers can import it), and writes ``summary.csv`` and
+``summary.json`` with one :class:`FileRow` per input file.
+
+A file that cannot be read or filled becomes a ``failed`` row; the others are still written.
+Every output is written atomically (a complete file or none), so an interrupted run, or a
+worker killed mid-file, leaves no partial output, and a rerun skips the outputs that are
+newer than their input: it picks up where the last run stopped.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import glob
+import io
+import json
+import multiprocessing
+import os
+import signal
+import time
+import uuid
+import warnings
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+from surfinpaint.errors import MeshError
+from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
+from surfinpaint.io.atomic import atomic_open
+from surfinpaint.io.formats import SUPPORTED_FORMATS, read_mesh, write_mesh
+
+__all__ = ["FileJob", "FileRow", "STATUSES", "fill_file", "fill_files", "find_inputs",
+           "read_summary", "write_summary"]
+
+Status = Literal["filled", "closed", "failed", "skipped"]
+#: The statuses of a :class:`FileRow`, in the order the summary counts them.
+STATUSES: tuple[str, ...] = ("filled", "closed", "failed", "skipped")
+
+SUMMARY_CSV, SUMMARY_JSON = "summary.csv", "summary.json"
+
+#: How often a file whose worker process died is tried again (alone) before it is reported
+#: failed: Dask's default ``distributed.scheduler.allowed-failures`` too.
+WORKER_RETRIES = 3
+
+ProgressCallback = Callable[[int, int, str], None]
+
+
+@dataclass(frozen=True)
+class FileJob:
+    """One input file and the output it is filled into (both absolute), and their names
+    as the summary shows them: the input as given (or found under a folder given), the
+    output relative to the output folder."""
+
+    source: Path
+    target: Path
+    name: str
+    output: str
+
+
+@dataclass(frozen=True)
+class FileRow:
+    """What happened to one input file: a row of ``summary.csv`` / ``summary.json``.
+
+    ``status`` is "filled" (the fill ran and the output was written; holes it did not fill
+    are named in ``message``), "closed" (no hole to fill: the mesh was written unchanged),
+    "failed" (nothing written; ``message`` holds the error) or "skipped" (the output was
+    newer than the input and left alone; the counts are those of the run that wrote it,
+    when its summary says). ``holes_found`` counts the holes selected for filling (the
+    outer border of an open surface only with ``include_border``), ``kept`` the holes
+    whose fill was kept per method (a conformal fill can fall back to, or prefer, "fair"),
+    ``seconds`` the wall time of reading, filling and writing the file, and ``message``
+    the warnings and notes of the fill, or the error. ``path`` is the input as given,
+    ``output`` the output's path relative to the output folder.
+    """
+
+    path: str
+    output: str
+    status: Status
+    holes_found: int | None = None
+    holes_filled: int | None = None
+    kept: Mapping[str, int] = field(default_factory=dict)
+    new_vertices: int | None = None
+    seconds: float = 0.0
+    message: str = ""
+
+    def __post_init__(self) -> None:
+        if self.status not in STATUSES:
+            raise ValueError(f"status must be one of {', '.join(STATUSES)}, got "
+                             f"{self.status!r}")
+
+
+# ------------------------------------------------------------------------- finding inputs
+
+
+def _is_mesh_name(name: str) -> bool:
+    lower = name.lower()
+    return not name.startswith(".") and any(lower.endswith(s) for s in SUPPORTED_FORMATS)
+
+
+def _meshes_under(folder: Path) -> Iterator[Path]:
+    """Mesh files under ``folder`` (recursively; hidden files and folders left out)."""
+    for root, dirs, files in os.walk(folder):
+        dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+        for name in sorted(files):
+            if _is_mesh_name(name):
+                yield Path(root) / name
+
+
+def _glob_base(pattern: str) -> Path:
+    """The folder part of a glob pattern before its first wildcard."""
+    parts = Path(pattern).parts
+    base = [p for p in parts[: next(i for i, p in enumerate(parts) if glob.has_magic(p))]]
+    return Path(*base) if base else Path(".")
+
+
+def _expand(item: str) -> Iterator[tuple[Path, Path]]:
+    """(file, path relative to the output folder) for one input argument."""
+    path = Path(item)
+    if path.is_dir():
+        for found in _meshes_under(path):
+            yield found, found.relative_to(path)
+    elif glob.has_magic(item) and not path.exists():
+        base = _glob_base(item)
+        for match in sorted(glob.glob(item, recursive=True)):
+            found = Path(match)
+            if found.is_dir():
+                for inner in _meshes_under(found):
+                    yield inner, inner.relative_to(base)
+            elif _is_mesh_name(found.name):
+                yield found, found.relative_to(base)
+    else:
+        yield path, Path(path.name)  # a missing file becomes a failed row, not a crash
+
+
+def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike
+                ) -> list[FileJob]:
+    """The files to fill and their outputs: ``out_dir`` mirrors the inputs' layout.
+
+    A file argument is written to ``out_dir/<its name>``; a folder is searched recursively
+    for files with a known mesh extension (:data:`surfinpaint.io.SUPPORTED_FORMATS`), each
+    written to the same relative path under ``out_dir``; a glob pattern (``*``, ``?``,
+    ``[...]``, ``**``) mirrors the matches' paths below the pattern's first wildcard. Files
+    inside ``out_dir`` are never inputs; a file named twice is filled once.
+
+    Raises
+    ------
+    ValueError
+        When an input names no mesh file, two inputs would be written to the same output,
+        or an input would be overwritten by its output.
+    """
+    out = Path(out_dir).absolute()
+    out_real = os.path.realpath(out)
+    jobs: list[FileJob] = []
+    seen: set[str] = set()
+    targets: dict[Path, str] = {}
+    for item in inputs:
+        expanded = list(_expand(os.fspath(item)))
+        if not expanded:
+            raise ValueError(f"{os.fspath(item)}: no mesh files there (known extensions: "
+                             f"{', '.join(SUPPORTED_FORMATS)})")
+        for found, relative in expanded:
+            real = os.path.realpath(found)
+            if real in seen or (found.exists() and Path(real).is_relative_to(out_real)
+                                and os.fspath(found) != os.fspath(item)):
+                continue
+            seen.add(real)
+            target = out / relative
+            if target in targets:
+                raise ValueError(f"{targets[target]} and {found} would both be written to "
+                                 f"{target}; give them separately or rename one")
+            if os.path.realpath(target) == real:
+                raise ValueError(f"{found} would be overwritten by its output: choose an "
+                                 "output folder other than the input's (inputs are never "
+                                 "modified)")
+            targets[target] = os.fspath(found)
+            jobs.append(FileJob(found.absolute(), target, os.fspath(found),
+                                relative.as_posix()))
+    if not jobs:
+        raise ValueError("no input files given")
+    return jobs
+
+
+# -------------------------------------------------------------------------- one file's fill
+
+
+def _named(job: FileJob, text: str) -> str:
+    """``text`` naming the files as the summary does (workers see absolute paths)."""
+    return text.replace(os.fspath(job.source), job.name).replace(os.fspath(job.target),
+                                                                 job.output)
+
+
+def _messages(job: FileJob, result: FillResult,
+              caught: Iterable[warnings.WarningMessage]) -> str:
+    texts: list[str] = []
+    for text in [_named(job, str(w.message)) for w in caught] + [
+            f"hole {r.index}: skipped ({r.skipped})" for r in result.reports if r.skipped]:
+        if text not in texts and not any(text in t for t in texts):
+            texts.append(text)
+    if len(result.removed_faces):
+        texts.append(f"repair removed {len(result.removed_faces)} faces around non-manifold "
+                     "edges")
+    return " | ".join(texts)
+
+
+def _row_of(job: FileJob, result: FillResult, seconds: float, message: str) -> FileRow:
+    kept: dict[str, int] = {}
+    for report in result.reports:
+        if not report.skipped:
+            kept[report.method] = kept.get(report.method, 0) + 1
+    filled = sum(kept.values())
+    return FileRow(job.name, job.output, "filled" if result.reports else "closed",
+                   holes_found=len(result.reports), holes_filled=filled, kept=kept,
+                   new_vertices=len(result.vertices) - result.n_original_vertices,
+                   seconds=seconds, message=message)
+
+
+def _error_text(job: FileJob, exc: Exception) -> str:
+    if isinstance(exc, MeshError):
+        return _named(job, str(exc if exc.path else exc.with_path(job.name)))
+    return _named(job, f"{job.name}: {type(exc).__name__}: {exc}")
+
+
+def fill_file(job: FileJob, options: Mapping[str, Any]) -> FileRow:
+    """Read, fill and write one file; never raises for a bad file (it becomes a "failed"
+    row, with nothing written). A top-level function: spawned processes and Dask workers
+    import it. Runs with one BLAS thread: the parallelism is over files."""
+    from threadpoolctl import threadpool_limits
+
+    started = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
+        warnings.simplefilter("always")
+        try:
+            vertices, faces = read_mesh(job.source)
+            result = fill_holes(vertices, faces, **options)
+            job.target.parent.mkdir(parents=True, exist_ok=True)
+            write_mesh(job.target, result.vertices, result.faces)
+        except Exception as exc:  # any failure of one file is that file's row, not the batch's
+            return FileRow(job.name, job.output, "failed",
+                           seconds=time.perf_counter() - started, message=_error_text(job, exc))
+    return _row_of(job, result, time.perf_counter() - started, _messages(job, result, caught))
+
+
+def _worker_died(job: FileJob, why: str) -> FileRow:
+    return FileRow(job.name, job.output, "failed",
+                   message=f"{job.name}: the worker process died while filling it ({why})")
+
+
+def _remove_temporaries(jobs: Iterable[FileJob]) -> None:
+    """Delete what a worker killed mid-write left: the temporary files of the atomic writer
+    (:mod:`surfinpaint.io.atomic`: ``.NAME.XXXXXX.tmp`` next to the target). Only called
+    while no worker writes them."""
+    for job in jobs:
+        for leftover in job.target.parent.glob(f".{glob.escape(job.target.name)}.*.tmp"):
+            leftover.unlink(missing_ok=True)
+
+
+# ------------------------------------------------------------------------- the runners
+
+
+class _Rows:
+    """The rows of a run as they come in, and the progress callback told of each."""
+
+    def __init__(self, total: int, progress: ProgressCallback | None) -> None:
+        self.total, self.progress = total, progress
+        self.by_name: dict[str, FileRow] = {}
+
+    def add(self, row: FileRow, *, quiet: bool = False) -> None:
+        self.by_name[row.path] = row
+        if self.progress is not None and not quiet:
+            self.progress(len(self.by_name), self.total, f"{row.path}: {row.status}")
+
+    def ordered(self, jobs: Sequence[FileJob]) -> list[FileRow]:
+        """The rows in the inputs' order (files not done, after an interrupt, left out)."""
+        return [self.by_name[job.name] for job in jobs if job.name in self.by_name]
+
+
+def _ignore_interrupts() -> None:
+    """Worker initializer: Ctrl-C reaches the whole process group; the parent decides (it
+    lets the files in flight finish, so that their outputs are complete and recorded)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], workers: int,
+           rows: _Rows) -> list[FileJob]:
+    """Keep ``workers`` files of ``queue`` in flight on ``pool`` until the queue is empty or
+    a worker dies (the pool is then broken); returns the files that were in flight then."""
+    running: dict[Future, FileJob] = {}
+    lost: list[FileJob] = []
+    broken = False
+    try:
+        while (queue and not broken) or running:
+            while queue and not broken and len(running) < workers:
+                job = queue.popleft()
+                try:
+                    running[pool.submit(fill_file, job, options)] = job
+                except BrokenProcessPool:  # an idle worker died: this file never started
+                    queue.appendleft(job)
+                    broken = True
+            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in done:
+                # a file leaves `running` once recorded: an interrupt here loses no row
+                if isinstance(future.exception(), BrokenProcessPool):
+                    lost.append(running[future])
+                    broken = True
+                else:
+                    rows.add(future.result())
+                del running[future]
+    except BaseException:
+        # Ctrl-C or a callback's error: the files in flight finish, complete, and are recorded
+        for future in running:
+            if future.exception() is None:
+                rows.add(future.result(), quiet=True)
+        raise
+    return lost
+
+
+def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
+              rows: _Rows) -> list[FileJob]:
+    """Fill ``jobs`` on ``workers`` spawned processes. A dead worker breaks the pool: a new
+    one takes the files not yet started; the files in flight then are returned.
+
+    Raises
+    ------
+    RuntimeError
+        When pools of several workers break :data:`WORKER_RETRIES` times in a row before
+        finishing any file: the workers cannot start (or every file kills them).
+    """
+    context = multiprocessing.get_context("spawn")
+    queue: deque[FileJob] = deque(jobs)
+    suspects: list[FileJob] = []
+    fruitless = 0
+    while queue:
+        done_before = len(rows.by_name)
+        with ProcessPoolExecutor(workers, mp_context=context,
+                                 initializer=_ignore_interrupts) as pool:
+            lost = _drain(pool, queue, options, workers, rows)
+        _remove_temporaries(lost)
+        suspects += lost
+        fruitless = fruitless + 1 if len(rows.by_name) == done_before else 0
+        if fruitless == WORKER_RETRIES and workers > 1:
+            raise RuntimeError(
+                f"the worker processes died {fruitless} times before finishing any file; "
+                "can they start? (a script that calls fill_files needs the "
+                "`if __name__ == '__main__':` guard: workers are spawned and import it)")
+    return suspects
+
+
+def _run_local(jobs: Sequence[FileJob], options: Mapping[str, Any], n_jobs: int,
+               rows: _Rows) -> None:
+    """One file after another in this process (``n_jobs=1``), or on worker processes. The
+    files in flight when a worker died are tried again, each alone (so that the one that
+    kills its worker is found), up to :data:`WORKER_RETRIES` times."""
+    if n_jobs == 1:
+        for job in jobs:
+            rows.add(fill_file(job, options))
+        return
+    suspects = _run_pool(jobs, options, min(n_jobs, len(jobs)), rows)
+    for _ in range(WORKER_RETRIES):
+        if not suspects:
+            break
+        # one file at a time: a worker that dies now names the file that killed it
+        suspects = _run_pool(suspects, options, 1, rows)
+    for job in suspects:
+        rows.add(_worker_died(job, f"tried {WORKER_RETRIES + 1} times"))
+
+
+def _run_dask(jobs: Sequence[FileJob], options: Mapping[str, Any], client: Any,
+              rows: _Rows) -> None:
+    """Every file a task on the Dask cluster of ``client`` (its workers must see the
+    inputs and the output folder at the same paths). The scheduler retries the task of a
+    worker that died; after its ``allowed-failures`` the file is a failed row."""
+    from distributed import KilledWorker, as_completed
+
+    run = uuid.uuid4().hex[:8]
+    futures = client.map(fill_file, jobs, options=dict(options), pure=False,
+                         key=[f"surfinpaint-fill-{run}-{i}" for i in range(len(jobs))])
+    job_of = {future.key: job for future, job in zip(futures, jobs, strict=True)}
+    try:
+        for future in as_completed(futures):
+            job = job_of[future.key]
+            try:
+                row = future.result()
+            except KilledWorker as exc:
+                row = _worker_died(job, f"KilledWorker: {exc}")
+            except Exception as exc:  # the task could not run there (e.g. no surfinpaint)
+                row = FileRow(job.name, job.output, "failed",
+                              message=f"{job.name}: the cluster could not fill it: "
+                              f"{type(exc).__name__}: {exc}")
+            rows.add(row)
+    except BaseException:
+        client.cancel([future for future in futures if not future.done()])
+        raise
+
+
+# ------------------------------------------------------------------------- the summary
+
+
+def _csv_columns() -> list[str]:
+    return ["path", "output", "status", "holes_found", "holes_filled",
+            *[f"kept_{m}" for m in METHODS], "new_vertices", "seconds", "message"]
+
+
+def _csv_record(row: FileRow) -> dict[str, Any]:
+    record = dataclasses.asdict(row)
+    kept = record.pop("kept")
+    record.update({f"kept_{m}": kept.get(m, 0) if row.holes_found is not None else None
+                   for m in METHODS})
+    record["seconds"] = f"{row.seconds:.3f}"
+    return record
+
+
+def _plain(options: Any) -> Any:
+    if dataclasses.is_dataclass(options) and not isinstance(options, type):
+        return dataclasses.asdict(options)
+    return {k: _plain(v) for k, v in options.items()} if isinstance(options, Mapping) \
+        else options
+
+
+def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
+                  options: Mapping[str, Any] | None = None) -> tuple[Path, Path]:
+    """Write ``summary.csv`` and ``summary.json`` (with the fill options and the version)
+    into ``out_dir``, each atomically; returns their paths."""
+    from surfinpaint import __version__
+
+    out = Path(out_dir)
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=_csv_columns(), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(_csv_record(row) for row in rows)
+    document = {"surfinpaint": __version__, "options": _plain(options or {}),
+                "files": [dataclasses.asdict(row) for row in rows]}
+    with atomic_open(out / SUMMARY_CSV, "w") as handle:
+        handle.write(text.getvalue())
+    with atomic_open(out / SUMMARY_JSON, "w") as handle:
+        json.dump(document, handle, indent=1, default=str)
+        handle.write("\n")
+    return out / SUMMARY_CSV, out / SUMMARY_JSON
+
+
+def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
+    """The rows of ``out_dir/summary.json``; empty when there is none (or it is unreadable:
+    it is only used to carry the counts of an earlier run into a rerun's skipped rows)."""
+    try:
+        document = json.loads((Path(out_dir) / SUMMARY_JSON).read_text(encoding="utf-8"))
+        return [FileRow(**entry) for entry in document["files"]]
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
+
+
+# ------------------------------------------------------------------------- the entry point
+
+
+def _up_to_date(job: FileJob) -> bool:
+    """Whether the output exists and is newer than its input."""
+    try:
+        return job.target.stat().st_mtime_ns > job.source.stat().st_mtime_ns
+    except OSError:
+        return False
+
+
+def _skipped(job: FileJob, earlier: FileRow | None) -> FileRow:
+    """The row of a file whose output is up to date, with the counts of the run that wrote
+    it when its summary has them."""
+    note = f"{job.output} is newer than the input: kept (overwrite refills it)"
+    if earlier is None or earlier.output != job.output or \
+            earlier.status == "failed":
+        return FileRow(job.name, job.output, "skipped", message=note)
+    if earlier.status == "skipped":
+        return earlier
+    before = f"; written by an earlier run ({earlier.status}" + \
+        (f": {earlier.message})" if earlier.message else ")")
+    return dataclasses.replace(earlier, status="skipped", seconds=0.0, message=note + before)
+
+
+def _cores() -> int:
+    """The cores this process may use (its CPU affinity where the system has one)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
+def _check_options(options: Mapping[str, Any]) -> None:
+    """Bad fill options are the caller's error before any file is read: ``fill_holes``
+    checks them on a closed tetrahedron (no hole, so nothing is filled)."""
+    import numpy as np
+
+    for name in ("holes", "progress"):
+        if name in options:
+            raise TypeError(f"fill_files fills the holes of every file; {name!r} is "
+                            "per mesh: call fill_holes for that")
+    vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    fill_holes(vertices, faces, **options)
+
+
+def fill_files(
+    inputs: Sequence[str | os.PathLike] | str | os.PathLike,
+    out_dir: str | os.PathLike,
+    jobs: int | None = None,
+    client: Any = None,
+    *,
+    overwrite: bool = False,
+    progress: ProgressCallback | None = None,
+    **fill_options: Any,
+) -> list[FileRow]:
+    """Fill the holes of many mesh files, in parallel, into ``out_dir``.
+
+    Parameters
+    ----------
+    inputs : path or sequence of paths
+        Files, folders (searched recursively for known mesh extensions) and glob patterns;
+        ``out_dir`` mirrors their layout (see :func:`find_inputs`).
+    out_dir : path
+        Output folder (created); it also receives ``summary.csv`` and ``summary.json``.
+    jobs : int, optional
+        Worker processes on this machine (default: the cores this process may use); 1 fills
+        the files one after another in this process.
+    client : distributed.Client, optional
+        Run every file as a task on this Dask cluster instead (the optional extra ``dask``);
+        its workers must import surfinpaint and see the files at the same paths.
+    overwrite : bool
+        Refill files whose output is newer than the input (skipped by default).
+    progress : callable(done, total, message), optional
+        Called once a file is done (skipped files included).
+    **fill_options
+        Passed to :func:`surfinpaint.fill_holes` for every file: ``method``, ``options``
+        (a :class:`~surfinpaint.ConformalOptions`), ``fair_order``, ``include_border``,
+        ``max_hole_edges``, ``repair``; checked before any file is read.
+
+    Returns
+    -------
+    list of FileRow
+        One row per input file, in the order of the inputs; also written to the summary.
+        On ``KeyboardInterrupt`` the files in flight are finished, the summary of the files
+        done is written, and the interrupt propagates; a rerun picks up the rest.
+
+    Raises
+    ------
+    ValueError
+        Bad options or inputs (no mesh file, two inputs onto one output, ...).
+    """
+    if jobs is not None and client is not None:
+        raise ValueError("jobs= is for worker processes on this machine; a Dask client's "
+                         "cluster has its own workers")
+    if jobs is not None and (not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 1):
+        raise ValueError(f"jobs must be a positive integer, got {jobs!r}")
+    _check_options(fill_options)
+    paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
+    out = Path(out_dir)
+    todo = find_inputs(paths, out)
+    out.mkdir(parents=True, exist_ok=True)
+    earlier = {row.path: row for row in read_summary(out)}
+    rows = _Rows(len(todo), progress)
+    pending = []
+    for job in todo:
+        if not overwrite and _up_to_date(job):
+            rows.add(_skipped(job, earlier.get(job.name)))
+        else:
+            pending.append(job)
+    _remove_temporaries(pending)
+    # the largest files first, so that the workers run out of work at about the same time
+    pending.sort(key=lambda job: -job.source.stat().st_size if job.source.is_file() else 0)
+    try:
+        if client is not None:
+            _run_dask(pending, fill_options, client, rows)
+        elif pending:
+            _run_local(pending, fill_options, jobs or _cores(), rows)
+    finally:
+        if client is None:  # no local worker is left writing: what a killed one left can go
+            _remove_temporaries(pending)
+        write_summary(rows.ordered(todo), out, fill_options)
+    if client is not None:
+        _remove_temporaries(pending)
+    return rows.ordered(todo)

@@ -1,0 +1,346 @@
+"""Batch filling (``surfinpaint batch`` / :func:`surfinpaint.fill_files`): a nested folder of
+meshes and a corrupt file, on local worker processes and on a Dask cluster; one summary row
+per file; the outputs equal what :func:`fill_holes` gives for each mesh alone; reruns skip
+what is up to date; an interrupted run, or one whose worker is killed, leaves no partial
+output and a rerun completes it with nothing lost or duplicated."""
+
+from __future__ import annotations
+
+import csv
+import json
+import multiprocessing
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import surfinpaint
+from surfinpaint.app.batch import FileRow, fill_files, find_inputs, read_summary
+from surfinpaint.app.cli import main
+from surfinpaint.data import snowman, sphere, torus
+from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length
+from surfinpaint.io.formats import read_mesh, write_mesh
+
+FAIR = {"method": "fair"}
+
+
+def _holey(vertices, faces, n_holes: int, radius: float = 2.5):
+    h = mean_edge_length(vertices, faces)
+    centres = [0, int(np.argmin(vertices @ vertices[0]))][:n_holes]
+    cut = cut_holes(vertices, faces, centres, [radius * h] * n_holes)
+    return cut.vertices, cut.faces
+
+
+def _meshes() -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Five meshes at nested paths (four with holes, one closed) in five formats."""
+    return {
+        "snowman.ply": _holey(*snowman(0.12), 2),
+        "subject1/sphere.obj": _holey(*sphere(2), 1),
+        "subject1/deep/closed.off": sphere(1),
+        "subject2/torus.gii": _holey(*torus(n_major=24, n_minor=12), 1),
+        "subject2/deep/er/sphere2.ply": _holey(*sphere(2), 2),
+    }
+
+
+def _scans(root: Path) -> Path:
+    """The nested folder of :func:`_meshes` plus one corrupt file; returns its path."""
+    folder = root / "scans"
+    for name, (v, f) in _meshes().items():
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        write_mesh(folder / name, v, f)
+    (folder / "subject2" / "corrupt.ply").write_bytes(
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 9\n"
+        + np.random.default_rng(0).bytes(200))
+    (folder / "notes.txt").write_text("not a mesh")
+    return folder
+
+
+def _expected(scans: Path, **options) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """What `fill_holes` gives for each input file alone, read back as the batch's output
+    is."""
+    out = {}
+    tmp_path = scans.parent
+    for i, name in enumerate(_meshes()):
+        result = fill_holes(*read_mesh(scans / name), **options)
+        reference = tmp_path / f"reference{i}{''.join(Path(name).suffixes)}"
+        write_mesh(reference, result.vertices, result.faces)
+        out[name] = read_mesh(reference)
+    return out
+
+
+def _no_temporaries(folder: Path) -> None:
+    leftovers = [p for p in folder.rglob("*") if p.name.endswith(".tmp")]
+    assert leftovers == []
+
+
+def _check_outputs(out: Path, expected) -> None:
+    """Every good mesh's output equals its lone fill exactly; nothing else was written."""
+    written = sorted(p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file())
+    assert written == sorted([*expected, "summary.csv", "summary.json"])
+    for name, (v, f) in expected.items():
+        got_v, got_f = read_mesh(out / name)
+        np.testing.assert_array_equal(got_v, v)
+        np.testing.assert_array_equal(got_f, f)
+    _no_temporaries(out)
+
+
+def _check_rows(rows: list[FileRow], expected, skipped=()) -> None:
+    """One row per input file, in the inputs' order, with counts that match the meshes
+    (those of the earlier run for the ``skipped`` outputs)."""
+    assert [Path(r.path).name for r in rows] == [
+        "snowman.ply", "sphere.obj", "closed.off", "corrupt.ply", "torus.gii", "sphere2.ply"]
+    by_name = {r.output: r for r in rows}
+    assert len(by_name) == 6
+    for name, (v, _) in expected.items():
+        row = by_name[name]
+        n_holes = {"snowman.ply": 2, "subject1/sphere.obj": 1, "subject1/deep/closed.off": 0,
+                   "subject2/torus.gii": 1, "subject2/deep/er/sphere2.ply": 2}[name]
+        status = "closed" if n_holes == 0 else "filled"
+        assert row.status == ("skipped" if name in skipped else status), row
+        assert row.holes_found == row.holes_filled == n_holes
+        assert sum(row.kept.values()) == n_holes
+        n_original = len(_meshes()[name][0])  # the original vertices come first
+        assert row.new_vertices == len(v) - n_original
+        assert row.seconds > 0 or name in skipped
+    bad = by_name["subject2/corrupt.ply"]
+    assert bad.status == "failed" and "corrupt.ply" in bad.message
+    assert bad.holes_found is None
+
+
+def test_find_inputs_mirrors_folders_globs_and_files(tmp_path):
+    scans = _scans(tmp_path)
+    out = tmp_path / "out"
+    jobs = find_inputs([scans], out)
+    assert [j.output for j in jobs] == [
+        "snowman.ply", "subject1/sphere.obj", "subject1/deep/closed.off",
+        "subject2/corrupt.ply", "subject2/torus.gii", "subject2/deep/er/sphere2.ply"]
+    assert all(j.target == out.absolute() / j.output for j in jobs)
+    # a glob mirrors below its first wildcard; a file goes to the top; duplicates once
+    jobs = find_inputs([str(scans / "subject*" / "*.obj"), scans / "snowman.ply",
+                        str(scans / "**" / "snowman.ply")], out)
+    assert [j.output for j in jobs] == ["subject1/sphere.obj", "snowman.ply"]
+    jobs = find_inputs([str(scans / "subject2" / "**" / "*.ply")], out)
+    assert [j.output for j in jobs] == ["corrupt.ply", "deep/er/sphere2.ply"]
+    # an output folder inside the input folder is not searched
+    (scans / "filled").mkdir()
+    write_mesh(scans / "filled" / "old.ply", *sphere(1))
+    assert "old.ply" not in {Path(j.output).name for j in find_inputs([scans], scans / "filled")}
+    (tmp_path / "other").mkdir()
+    write_mesh(tmp_path / "other" / "closed.off", *sphere(1))
+    with pytest.raises(ValueError, match="both be written"):
+        find_inputs([scans / "subject1" / "deep", tmp_path / "other"], out)
+    with pytest.raises(ValueError, match="no mesh files"):
+        find_inputs([scans / "subject1", str(tmp_path / "nothing" / "*.ply")], out)
+    with pytest.raises(ValueError, match="overwritten"):
+        find_inputs([scans / "snowman.ply"], scans)
+
+
+def test_local_workers_fill_every_file_and_report_the_corrupt_one(tmp_path):
+    scans = _scans(tmp_path)
+    out = tmp_path / "out"
+    expected = _expected(scans)
+    rows = fill_files([scans], out, jobs=2)
+    _check_rows(rows, expected)
+    _check_outputs(out, expected)
+    assert read_summary(out) == rows
+    with open(out / "summary.csv", newline="") as handle:
+        table = list(csv.DictReader(handle))
+    assert [t["path"] for t in table] == [r.path for r in rows]
+    assert [t["status"] for t in table] == [r.status for r in rows]
+    snow = next(t for t in table if t["output"] == "snowman.ply")
+    assert int(snow["kept_conformal"]) + int(snow["kept_fair"]) == 2
+    document = json.loads((out / "summary.json").read_text())
+    assert document["options"] == {} and document["surfinpaint"] == surfinpaint.__version__
+
+
+def test_a_rerun_skips_up_to_date_outputs_and_overwrite_refills(tmp_path):
+    scans = _scans(tmp_path)
+    out = tmp_path / "out"
+    first = fill_files([scans], out, jobs=1, **FAIR)
+    stamps = {p: p.stat().st_mtime_ns for p in out.rglob("*.*") if "summary" not in p.name}
+    again = fill_files([scans], out, jobs=1, **FAIR)
+    for before, after in zip(first, again, strict=True):
+        if before.status == "failed":  # a failed file has no output: it is tried again
+            assert after.status == "failed"
+            continue
+        assert after.status == "skipped"
+        # the counts of the run that wrote the output are kept
+        assert (after.holes_found, after.kept, after.new_vertices) == (
+            before.holes_found, before.kept, before.new_vertices)
+    assert stamps == {p: p.stat().st_mtime_ns for p in stamps}
+    # an input changed after its output was written is filled again, the others not
+    changed = scans / "subject1" / "sphere.obj"
+    os.utime(changed, ns=(changed.stat().st_atime_ns, stamps[out / "subject1/sphere.obj"] + 1))
+    third = {r.output: r.status for r in fill_files([scans], out, jobs=1, **FAIR)}
+    assert third["subject1/sphere.obj"] == "filled"
+    assert [s for o, s in third.items() if o != "subject1/sphere.obj"].count("skipped") == 4
+    forced = fill_files([scans], out, jobs=1, overwrite=True, **FAIR)
+    assert [r.status for r in forced].count("skipped") == 0
+    assert all(p.stat().st_mtime_ns > t for p, t in stamps.items())
+
+
+def test_bad_options_fail_before_any_file_is_read(tmp_path):
+    scans = _scans(tmp_path)
+    for options, match in (({"method": "nope"}, "unknown method"),
+                           ({"fair_order": 5}, "fair_order"),
+                           ({"discretization": "grid"}, "discretization"),
+                           ({"holes": [0]}, "per mesh")):
+        with pytest.raises((ValueError, TypeError), match=match):
+            fill_files([scans], tmp_path / "out", jobs=1, **options)
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(ValueError, match="positive"):
+        fill_files([scans], tmp_path / "out", jobs=0)
+    with pytest.raises(ValueError, match="Dask"):
+        fill_files([scans], tmp_path / "out", jobs=2, client=object())
+
+
+def test_an_interrupted_run_leaves_no_partial_output_and_a_rerun_completes_it(tmp_path):
+    scans = _scans(tmp_path)
+    out = tmp_path / "out"
+    expected = _expected(scans, **FAIR)
+    # what a worker killed mid-write leaves: the atomic writer's temporary file
+    (out / "subject1").mkdir(parents=True)
+    (out / "subject1" / ".sphere.obj.x1y2z3.tmp").write_text("half a mesh")
+
+    def interrupt(done, total, message):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        fill_files([scans], out, jobs=2, progress=interrupt, **FAIR)
+    done = read_summary(out)
+    # the file that was being recorded and those in flight are finished and recorded
+    assert 1 <= len(done) < 6
+    assert all((out / r.output).is_file() for r in done if r.status != "failed")
+    _no_temporaries(out)
+    for path in out.rglob("*.*"):  # whatever was written is complete
+        if "summary" not in path.name:
+            np.testing.assert_array_equal(read_mesh(path)[0],
+                                          expected[path.relative_to(out).as_posix()][0])
+    rows = fill_files([scans], out, jobs=1, **FAIR)
+    _check_rows(rows, expected, skipped={r.output for r in done if r.status != "failed"})
+    _check_outputs(out, expected)
+
+
+@pytest.mark.slow
+def test_ctrl_c_finishes_the_files_in_flight_and_the_same_command_picks_up_the_rest(tmp_path):
+    # Ctrl-C in a terminal signals the whole process group: the workers as well
+    folder = tmp_path / "scans"
+    folder.mkdir()
+    v, f = _holey(*snowman(0.12), 2)
+    for i in range(10):
+        write_mesh(folder / f"s{i}.ply", v, f)
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "surfinpaint", "batch", str(folder), "-o", str(out),
+               "--jobs", "2", "-q"]
+    proc = subprocess.Popen(command, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    deadline = time.monotonic() + 120
+    while not (out.is_dir() and any(out.glob("s*.ply"))):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline, "no output appeared"
+        time.sleep(0.01)
+    os.killpg(proc.pid, signal.SIGINT)
+    try:
+        _, err = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        pytest.fail("Ctrl-C did not stop the batch within 60 s")
+    assert proc.returncode == 130, err
+    assert "picks up the rest" in err and "Traceback" not in err, err
+    _no_temporaries(out)
+    done = read_summary(out)
+    # every output written was finished and recorded; at least one file was left to do
+    assert sorted(p.name for p in out.glob("s*.ply")) == sorted(r.output for r in done)
+    assert 1 <= len(done) < 10 and all(r.status == "filled" for r in done)
+    rows = fill_files([folder], out, jobs=1)
+    assert [r.status for r in rows].count("skipped") == len(done)
+    assert [r.status for r in rows].count("filled") == 10 - len(done)
+    reference = fill_holes(v, f)
+    for i in range(10):
+        np.testing.assert_array_equal(read_mesh(out / f"s{i}.ply")[0], reference.vertices)
+    _no_temporaries(out)
+
+
+def test_a_killed_local_worker_is_replaced_and_its_files_retried(tmp_path):
+    scans = _scans(tmp_path)
+    out = tmp_path / "out"
+    expected = _expected(scans, **FAIR)
+    killed = []
+
+    def kill_a_worker(done, total, message):
+        if not killed:
+            worker = multiprocessing.active_children()[0]
+            os.kill(worker.pid, signal.SIGKILL)
+            killed.append(worker.pid)
+
+    rows = fill_files([scans], out, jobs=2, progress=kill_a_worker, **FAIR)
+    assert killed
+    _check_rows(rows, expected)
+    _check_outputs(out, expected)
+
+
+def test_a_dask_cluster_fills_every_file_even_when_a_worker_dies(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    scans = _scans(tmp_path)
+    out = tmp_path / "out"
+    expected = _expected(scans, **FAIR)
+    marker = tmp_path / "worker-killed"
+
+    class KillOnce(distributed.WorkerPlugin):
+        """Kill the worker process as the first task starts executing, once."""
+
+        def transition(self, key, start, finish, **kwargs):
+            if finish == "executing" and not marker.exists():
+                marker.write_text(key)
+                os._exit(1)
+
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        client.register_plugin(KillOnce())
+        rows = fill_files([scans], out, client=client, **FAIR)
+    assert marker.exists()  # a worker died mid-task, and Dask ran its task again
+    _check_rows(rows, expected)
+    _check_outputs(out, expected)
+
+
+def test_cli_batch_exit_codes_and_shared_fill_options(tmp_path, capsys):
+    scans = _scans(tmp_path)
+    out = tmp_path / "out"
+    assert main(["batch", str(scans), "-o", str(out), "--jobs", "1", "--method", "fair",
+                 "--fair-order", "3", "-q"]) == 1
+    err = capsys.readouterr().err
+    assert "corrupt.ply" in err and "1 failed" in err and "1 closed" in err
+    assert json.loads((out / "summary.json").read_text())["options"]["fair_order"] == 3
+    good = [str(scans / "snowman.ply"), str(scans / "subject1")]
+    assert main(["batch", *good, "-o", str(out / "good"), "--jobs", "1", "--method",
+                 "fair", "-q"]) == 0
+    assert (out / "good" / "sphere.obj").is_file() and (out / "good" / "snowman.ply").is_file()
+    assert main(["batch", *good, "-o", str(out / "good"), "--jobs", "1", "-q"]) == 0
+    assert "3 skipped" in capsys.readouterr().err
+    # the conformal options object reaches the summary (and the workers: the same one)
+    assert main(["batch", *good, "-o", str(out / "smooth"), "--jobs", "1", "--no-creases",
+                 "--crease-angle", "45", "-q"]) == 0
+    recorded = json.loads((out / "smooth" / "summary.json").read_text())["options"]
+    assert recorded["method"] == "conformal"
+    assert (recorded["options"]["creases"], recorded["options"]["crease_angle"]) == (False, 45)
+    for usage in (["--jobs", "0"], ["--jobs", "2", "--dask-scheduler", "tcp://x:1"],
+                  ["--inpaint", "harmonic"]):
+        assert main(["batch", str(scans), "-o", str(out / "usage"), *usage]) == 2
+    assert not (out / "usage").exists()
+    # `fill` and `batch` take the same fill options, from one argument group
+    sections = []
+    for command in ("fill", "batch"):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        text = capsys.readouterr().out
+        sections.append(text[text.index("fill options:"):].split("\n\n")[0])
+    assert sections[0] == sections[1]
+    assert all(flag in sections[0] for flag in ("--method", "--fair-order", "--repair"))
