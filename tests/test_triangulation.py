@@ -156,7 +156,7 @@ def test_numpy_fallback_matches_compiled_kernel(monkeypatch):
     faces = f[~(d[f] < 0.5).all(axis=1)]
     loop = boundary_loops(faces)[0]
     compiled = minimum_weight_triangulation(v, loop, faces)
-    monkeypatch.setattr(triangulation, "_KERNEL", [None])
+    monkeypatch.setattr(triangulation, "_compiled_dp", lambda: None)
     plain = minimum_weight_triangulation(v, loop, faces)
     assert np.array_equal(compiled, plain)
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from surfinpaint.compiled import kernel
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import unique_edges
@@ -134,10 +135,52 @@ def _inside_ball_one(p, a, b, c, s):  # pragma: no cover - compiled
 
 
 def _in_sorted_one(x, keys):  # pragma: no cover - compiled
-    if len(keys) == 0:
-        return False
-    pos = min(np.searchsorted(keys, x), len(keys) - 1)
-    return keys[pos] == x
+    """Whether ``x`` is in the sorted ``keys``, by bisection (numba's ``np.searchsorted``
+    costs a second of compilation)."""
+    lo, hi = 0, len(keys)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if keys[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo < len(keys) and keys[lo] == x
+
+
+def _stable_argsort(x):  # pragma: no cover - compiled
+    """``np.argsort(x, kind="stable")`` for NaN-free ``x`` (a stable order is unique, so the
+    same permutation), as a bottom-up merge sort: numba's own argsort costs over two seconds
+    of compilation per dtype."""
+    n = len(x)
+    idx = np.empty(n, np.int64)
+    for i in range(n):  # not np.arange: its numba implementation compiles slowly
+        idx[i] = i
+    tmp = np.empty(n, np.int64)
+    width = 1
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid = min(lo + width, n)
+            hi = min(lo + 2 * width, n)
+            i, j, k = lo, mid, lo
+            while i < mid and j < hi:
+                if x[idx[j]] < x[idx[i]]:  # strict: ties keep the left (earlier) one
+                    tmp[k] = idx[j]
+                    j += 1
+                else:
+                    tmp[k] = idx[i]
+                    i += 1
+                k += 1
+            while i < mid:
+                tmp[k] = idx[i]
+                i += 1
+                k += 1
+            while j < hi:
+                tmp[k] = idx[j]
+                j += 1
+                k += 1
+        idx, tmp = tmp, idx
+        width *= 2
+    return idx
 
 
 def _max(x, y):  # pragma: no cover - compiled
@@ -163,7 +206,7 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover 
             for k in range(3):
                 x, y = f[t, (k + 1) % 3], f[t, (k + 2) % 3]
                 flat[3 * t + k] = min(x, y) * n + max(x, y)
-        order = np.argsort(flat, kind="mergesort")
+        order = _stable_argsort(flat)
         sorted_flat = flat[order]
         # the unique keys (sorted) and, per interior edge, its two half-edges
         keys = np.empty(3 * m, np.int64)
@@ -232,7 +275,7 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover 
             break
         # each face votes for its worst candidate edge; unanimous edges flip together
         rank = np.empty(n_cand, np.int64)
-        by_score = np.argsort(cscore[:n_cand], kind="mergesort")
+        by_score = _stable_argsort(cscore[:n_cand])  # scores passed `> slack`: no NaN
         for r in range(n_cand):
             rank[by_score[r]] = r
         vote[:] = -1
@@ -247,7 +290,7 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover 
                 n_win += 1
         # two quads could share the same new diagonal; keep the first
         win = win[:n_win]
-        by_key = np.argsort(ckey[win], kind="mergesort")
+        by_key = _stable_argsort(ckey[win])
         for r in range(n_win):
             j = win[by_key[r]]
             if r > 0 and ckey[j] == ckey[win[by_key[r - 1]]]:
@@ -263,16 +306,14 @@ _FLIP_KERNEL: list = []  # compiled on first use (numba imports slowly)
 def _flip_kernel():
     """The numba-compiled :func:`_flip_loops`, or None without numba."""
     if not _FLIP_KERNEL:
-        try:
-            import numba
-        except ImportError:  # pragma: no cover - numba is optional
-            _FLIP_KERNEL.append(None)
-        else:
-            jit = numba.njit(cache=True)
+        flip = kernel(_flip_loops)
+        if flip is not None:
+            # _flip_loops calls these by their global names: compile them too
             g = globals()
-            for name in ("_inside_ball_one", "_in_sorted_one", "_max", "_cross_one"):
-                g[name] = jit(getattr(g[name], "py_func", g[name]))
-            _FLIP_KERNEL.append(jit(_flip_loops))
+            for name in ("_inside_ball_one", "_in_sorted_one", "_max", "_cross_one",
+                         "_stable_argsort"):
+                g[name] = kernel(g[name])
+        _FLIP_KERNEL.append(flip)
     return _FLIP_KERNEL[0]
 
 

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from surfinpaint.compiled import Kernel
 from surfinpaint.errors import MeshError, preview
 
 __all__ = ["minimum_weight_triangulation"]
@@ -265,19 +266,9 @@ def _solve(p: np.ndarray, boundary_normal: np.ndarray,
     return out
 
 
-_KERNEL: list = []  # the compiled kernel, built on first use (numba imports slowly)
-
-
 def _compiled_dp():
     """The numba-compiled :func:`_dp_loops`, or None without numba."""
-    if not _KERNEL:
-        try:
-            import numba
-        except ImportError:  # pragma: no cover - numba is optional
-            _KERNEL.append(None)
-        else:
-            _KERNEL.append(numba.njit(cache=True)(_dp_loops))
-    return _KERNEL[0]
+    return _DP_KERNEL.get()
 
 
 def _dp_numpy(p, boundary_normal, forbidden):
@@ -411,3 +402,6 @@ def _dp_loops(p, boundary_normal, forbidden):  # pragma: no cover - compiled
             norm_r[i, j, 0], norm_r[i, j, 1], norm_r[i, j, 2] = bx, by, bz
             norm_c[j, i, 0], norm_c[j, i, 1], norm_c[j, i, 2] = bx, by, bz
     return apex, worst_r[0, k - 1] < inf
+
+
+_DP_KERNEL = Kernel(_dp_loops)  # compiled on first use (numba imports slowly)
