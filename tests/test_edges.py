@@ -152,3 +152,57 @@ def test_triplicate_face_on_a_nonmanifold_edge_names_each_copy():
     assert f"2 duplicate faces: {last} (same vertices as 3), {last + 1} (same vertices as " \
            f"{last})" in str(info.value)
     assert info.value.faces == [last, last + 1]
+
+
+def _fan_counts_brute_force(faces: np.ndarray) -> dict[int, int]:
+    """Fans per vertex by flood fill over the faces at it, joined across two-face edges."""
+    table = _brute(faces)
+    fans = {}
+    for vertex in np.unique(faces).tolist():
+        mine = [t for t, face in enumerate(faces.tolist()) if vertex in face]
+        seen, count = set(), 0
+        for t in mine:
+            if t in seen:
+                continue
+            count += 1
+            stack = [t]
+            seen.add(t)
+            while stack:
+                s = stack.pop()
+                for other in faces[s].tolist():
+                    if other == vertex:
+                        continue
+                    on_edge = table[(min(vertex, other), max(vertex, other))]
+                    if len(on_edge) != 2:
+                        continue  # border, or a non-manifold edge: joins nothing
+                    for u, _, _, _ in on_edge:
+                        if u not in seen:
+                            seen.add(u)
+                            stack.append(u)
+        fans[vertex] = count
+    return fans
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_bowtie_walk_matches_flood_fill_on_sphere_subsets(seed):
+    # random face subsets of a closed sphere: open fans, closed fans, several of each
+    from surfinpaint.geometry.validation import nonmanifold_vertices
+
+    _, f = sphere(2)
+    rng = np.random.default_rng(seed)
+    sub = f[rng.random(len(f)) < 0.7]
+    fans = _fan_counts_brute_force(sub)
+    expected = sorted(v for v, n in fans.items() if n > 1)
+    assert expected  # the subsets do make bow-ties
+    assert nonmanifold_vertices(sub).tolist() == expected
+
+
+def test_bowtie_walk_closed_fans_and_fins():
+    from surfinpaint.geometry.validation import nonmanifold_vertices
+
+    v, f = sphere(1)
+    touching = np.vstack([f, np.where(f == 0, 0, f + len(v))])  # two spheres share vertex 0
+    assert nonmanifold_vertices(touching).tolist() == [0]
+    fin = np.vstack([f, [[f[0, 0], f[0, 1], len(v)]]])  # a third face on edge f[0, :2]
+    expected = sorted(v for v, n in _fan_counts_brute_force(fin).items() if n > 1)
+    assert nonmanifold_vertices(fin).tolist() == expected == sorted(f[0, :2].tolist())

@@ -168,6 +168,7 @@ def select_holes(
     holes: Sequence | None = None,
     *,
     include_border: bool = False,
+    table: EdgeTable | None = None,
 ) -> list[np.ndarray]:
     """Oriented loops to fill, from a caller's choice.
 
@@ -177,6 +178,8 @@ def select_holes(
         None: every loop except outer borders (all loops with ``include_border``).
         Integers: indices into :func:`find_holes`' list. Sequences: boundary loops given by
         their vertex ids (any start, any direction).
+    table : EdgeTable, optional
+        The faces' edge table, if already built (passed on to :func:`find_holes`).
 
     Raises
     ------
@@ -184,10 +187,11 @@ def select_holes(
         When an index is out of range or a loop is not a boundary loop of the mesh.
     """
     if holes is None:
-        return [h.loop for h in find_holes(vertices, faces) if include_border or not h.is_border]
+        return [h.loop for h in find_holes(vertices, faces, table)
+                if include_border or not h.is_border]
     holes = list(holes)
     if all(np.ndim(h) == 0 for h in holes):
-        found = find_holes(vertices, faces)
+        found = find_holes(vertices, faces, table)
         chosen = []
         for index in holes:
             if int(index) != index:

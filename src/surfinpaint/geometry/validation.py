@@ -12,8 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.edges import EdgeTable
@@ -309,51 +307,72 @@ def _check_edges(table: EdgeTable, path: str | None) -> None:
 
 
 def _bowtie(table: EdgeTable) -> np.ndarray:
-    """Bow-tie vertices from the edge table (see :func:`nonmanifold_vertices`)."""
+    """Bow-tie vertices from the edge table (see :func:`nonmanifold_vertices`): walk the fan
+    of one corner of each vertex and compare its size with the vertex's corner count."""
     # Corner c = 3 t + k is vertex faces[t, k]; half-edge h = 3 t + k leaves corner
-    # 3 t + (k + 1) % 3 and arrives at corner 3 t + (k + 2) % 3. Corner ids fit in int32 for
-    # any mesh this size, which halves the temporaries' memory.
+    # 3 t + (k + 1) % 3 (its tail corner) and arrives at corner 3 t + (k + 2) % 3.
     corner_vertex = table.faces.ravel()
     m = len(corner_vertex)
+    if m == 0:
+        return np.zeros(0, np.int64)
+    # corner ids fit in int32 for any mesh this size, which halves the memory traffic
     ids = np.int32 if m < 2**31 - 1 else np.int64
-    # link consecutive half-edges of the same undirected edge (all of them when non-manifold)
-    continues = np.ones(m, dtype=bool)
-    continues[table.start[:-1]] = False
-    same = np.flatnonzero(continues[1:])
-    del continues
-    a = table.halfedges[same].astype(ids)
-    b = table.halfedges[same + 1].astype(ids)
-    del same
+    first = np.arange(0, m, 3, dtype=ids)[:, None]
+    tail_corner = (first + np.array([1, 2, 0], dtype=ids)).ravel()
+    head_corner = (first + np.array([2, 0, 1], dtype=ids)).ravel()
+    del first
+    # across[s][c]: the corner of the same vertex in the face across corner c's outgoing
+    # (s = 0) or incoming (s = 1) edge; -1 on the border and across non-manifold edges
+    h1, h2 = table.interior_pairs()
+    at, ah, bt, bh = tail_corner[h1], head_corner[h1], tail_corner[h2], head_corner[h2]
+    del tail_corner, head_corner, h1, h2
+    reversed_ = corner_vertex[at] != corner_vertex[bt]  # b runs the other way (oriented)
+    across = np.full((2, m), -1, dtype=ids)
+    across[0, at] = np.where(reversed_, bh, bt)
+    across[1, ah] = np.where(reversed_, bt, bh)
+    across[0, bt] = np.where(reversed_, ah, at)
+    across[1, bh] = np.where(reversed_, at, ah)
+    del at, ah, bt, bh, reversed_
+    n_corners = np.bincount(corner_vertex)
+    start = np.empty(len(n_corners), dtype=ids)
+    start[corner_vertex] = np.arange(m, dtype=ids)  # any one corner of each vertex
+    used = np.flatnonzero(n_corners)
+    start = start[used]
+    ahead, closed = _walk_fans(across, start, across[0, start])
+    behind, _ = _walk_fans(across, start, np.where(closed, -1, across[1, start]))
+    return used[1 + ahead + behind != n_corners[used]]
 
-    def corners(h):
-        base = h - h % 3
-        return base + (h % 3 + 1) % 3, base + (h % 3 + 2) % 3
 
-    # at the smaller endpoint and at the larger one, join the two faces' corners
-    a_tail, a_head = corners(a)
-    b_tail, b_head = corners(b)
-    del a, b
-    a_at_lo = corner_vertex[a_tail] < corner_vertex[a_head]
-    b_at_lo = corner_vertex[b_tail] < corner_vertex[b_head]
-    rows = np.concatenate([np.where(a_at_lo, a_tail, a_head), np.where(a_at_lo, a_head, a_tail)])
-    cols = np.concatenate([np.where(b_at_lo, b_tail, b_head), np.where(b_at_lo, b_head, b_tail)])
-    del a_tail, a_head, b_tail, b_head, a_at_lo, b_at_lo
-    graph = sp.csr_matrix((np.ones(len(rows), np.int8), (rows, cols)), shape=(m, m))
-    del rows, cols
-    n_fans, fan = connected_components(graph, directed=True, connection="weak")
-    del graph
-    # links only join corners of one vertex, so each fan belongs to a single vertex
-    vertex_of_fan = np.empty(n_fans, dtype=np.int64)
-    vertex_of_fan[fan] = corner_vertex
-    return np.flatnonzero(np.bincount(vertex_of_fan) > 1)
+def _walk_fans(across: np.ndarray, start: np.ndarray, step: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """From each corner ``start[i]``, first to ``step[i]`` (-1: nowhere), walk corner to
+    corner across the edges, never straight back: the corners reached (``start`` not
+    counted) and whether the walk came back to ``start`` (a closed fan)."""
+    reached = np.zeros(len(start), dtype=np.int64)
+    closed = np.zeros(len(start), dtype=bool)
+    live = np.flatnonzero(step >= 0)
+    cur, prev, home = step[live], start[live], start[live]
+    while live.size:
+        back = cur == home
+        closed[live[back]] = True
+        keep = ~back
+        live, cur, prev, home = live[keep], cur[keep], prev[keep], home[keep]
+        reached[live] += 1
+        ahead = across[0, cur]
+        cur, prev = np.where(ahead != prev, ahead, across[1, cur]), cur
+        keep = cur >= 0
+        live, cur, prev, home = live[keep], cur[keep], prev[keep], home[keep]
+    return reached, closed
 
 
 def nonmanifold_vertices(faces: np.ndarray) -> np.ndarray:
     """Bow-tie vertices: the faces around the vertex form more than one fan.
 
     Two faces at a vertex belong to the same fan when a chain of faces around the vertex,
-    each sharing an edge through the vertex with the next, joins them. At a manifold vertex
-    all its faces form one fan (a closed disk inside, an open one on the boundary).
+    each sharing an edge through the vertex with the next, joins them; an edge with more than
+    two faces joins none of them (so the ends of a non-manifold edge count here too). At a
+    manifold vertex all its faces form one fan (a closed disk inside, an open one on the
+    boundary). O(E): each vertex's fan is walked from one of its corners.
 
     Parameters
     ----------
