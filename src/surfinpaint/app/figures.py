@@ -167,10 +167,10 @@ def before_after(vertices: np.ndarray, faces: np.ndarray, result, path, *,
             ax.set_axis_off()
             ax.set_title(f"hole {report.index} ({report.n_edges} edges), {when}", fontsize=10)
             add_scale_bar(ax, units_per_pixel)
+    note = None
     if len(filled) > len(shown):
-        fig.text(0.5, 0.0, f"close-ups of the {len(shown)} largest of {len(filled)} filled "
-                 "holes", ha="center", va="bottom", fontsize=10)
-    add_legend(fig)
+        note = f"close-ups: the {len(shown)} largest of {len(filled)} filled holes"
+    add_legend(fig, note=note)
     return save_figure(fig, path)
 
 
@@ -385,8 +385,8 @@ def add_scale_bar(ax, units_per_pixel: float, *, unit: str = "mesh units") -> fl
     return length
 
 
-def add_legend(fig, *, fill_label: str = "fill (new faces)") -> None:
-    """The colour key of the renderings, at the bottom of ``fig``."""
+def add_legend(fig, *, fill_label: str = "fill (new faces)", note: str | None = None) -> None:
+    """The colour key of the renderings, at the bottom of ``fig`` (``note`` above it)."""
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -394,7 +394,7 @@ def add_legend(fig, *, fill_label: str = "fill (new faces)") -> None:
                Line2D([], [], color=BORDER, linewidth=3, label="hole boundary"),
                Patch(facecolor=PATCH, edgecolor="#8a8578", label=fill_label)]
     fig.legend(handles=handles, loc="outside lower center", ncols=3, frameon=False,
-               fontsize=10)
+               fontsize=10, title=note, title_fontsize=10)
 
 
 def _quiet_vtk() -> None:
