@@ -44,7 +44,7 @@ import numpy as np
 
 from surfinpaint import data
 from surfinpaint.app.report import (
-    _LEGEND,
+    LEGEND,
     PANEL_SIZE,
     HoleComparison,
     compare_holes,
@@ -402,7 +402,7 @@ def run_set(out_dir: str | Path, scale: str = "full", *, cases: list[str] | None
         sections.append({"title": r.title, "text": note,
                          "comparisons": r.comparisons, "pictures": r.pictures})
     write_page(out_dir, sections, f"surfinpaint experiments ({scale})",
-               f"Scale {scale!r}, {time.perf_counter() - started:.0f} s in all. " + _LEGEND)
+               f"Scale {scale!r}, {time.perf_counter() - started:.0f} s in all. " + LEGEND)
     return results
 
 

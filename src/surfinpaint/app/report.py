@@ -25,29 +25,50 @@ self-check scores and, given the ground truth, each method's distance to it.
 from __future__ import annotations
 
 import argparse
-import html
 import os
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
+from surfinpaint.app.figures import (
+    add_legend,
+    add_scale_bar,
+    crop_to_ink,
+    grid_image,
+    render_hole,
+    save_figure,
+)
 from surfinpaint.app.lambda_h_images import lambda_h_images
+from surfinpaint.app.report_page import (
+    LEGEND,
+    HoleComparison,
+    hole_title,
+    table_rows,
+    write_page,
+)
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.conformal import ConformalOptions
+from surfinpaint.fill.holes import loop_diameter, select_holes
+from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.fill.results import LambdaHDiagnostics
-from surfinpaint.io.atomic import atomic_open
+from surfinpaint.geometry.mesh import connected_components
+from surfinpaint.geometry.metrics import surface_distance
+from surfinpaint.geometry.validation import validate_mesh
+from surfinpaint.io.formats import read_mesh
 
 __all__ = [
+    "LEGEND",
     "HoleComparison",
     "add_report_parser",
     "compare_holes",
     "hole_panel",
     "hole_truths",
     "run_report",
+    "table_rows",
     "write_page",
     "write_report",
 ]
@@ -57,55 +78,6 @@ _DPI = 100
 
 # a progress hook: step(message, advance=1)
 Step = Callable[..., None]
-
-
-@dataclass
-class HoleComparison:
-    """Both fills of one hole, measured.
-
-    Attributes
-    ----------
-    index : int
-        Position in the list of holes filled (:func:`write_report` renumbers holes chosen
-        by index with those indices, the numbering of ``surfinpaint holes``).
-    n_edges : int
-        Boundary edges of the hole.
-    diameter : float
-        Largest distance between two boundary vertices.
-    seconds : dict
-        Wall time per method (``"fair"``, ``"conformal"``; the conformal time includes its
-        self-check).
-    new_vertices : dict
-        Vertices added per method.
-    kept : bool
-        Whether the conformal method kept its own fill (False: it failed, or its self-check
-        preferred the faired fill; ``fallback`` says which).
-    fallback : str or None
-        Why the conformal method used the faired fill.
-    scores : dict
-        The self-check's tests that ran (``"hidden_rings"``, ``"sibling_holes"``), each a
-        dict of the errors of its candidates (``"conformal"``, ``"fair2"``, ``"fair3"``).
-    fair_order : int or None
-        Fairing order of the faired fill the conformal method wrote (None: it kept its own).
-    errors : dict
-        With a ground truth: per fill (``"fair"``, ``"conformal"`` = what ``fill`` writes,
-        ``"conformal raw"`` = the conformal fill before the self-check) the two-sided mean
-        distance and Hausdorff distance to the truth in % of the hole diameter.
-    picture : str or None
-        File name of the panel.
-    """
-
-    index: int
-    n_edges: int
-    diameter: float
-    seconds: dict = field(default_factory=dict)
-    new_vertices: dict = field(default_factory=dict)
-    kept: bool = True
-    fallback: str | None = None
-    scores: dict = field(default_factory=dict)
-    fair_order: int | None = None
-    errors: dict = field(default_factory=dict)
-    picture: str | None = None
 
 
 # --------------------------------------------------------------------------- fills
@@ -126,7 +98,6 @@ def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.nd
 
 def _error(patch: tuple[np.ndarray, np.ndarray] | None,
            truth: tuple[np.ndarray, np.ndarray] | None, diameter: float) -> dict[str, float]:
-    from surfinpaint.geometry.metrics import surface_distance
 
     if patch is None or truth is None or len(patch[1]) == 0:
         return {"mean": float("nan"), "hausdorff": float("nan")}
@@ -173,8 +144,6 @@ def compare_holes(
         :class:`~surfinpaint.fill.results.LambdaHDiagnostics` of the conformal fill (None
         when it failed).
     """
-    from surfinpaint.fill.holes import select_holes
-    from surfinpaint.fill.pipeline import fill_holes
 
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
@@ -211,7 +180,6 @@ def compare_holes(
     filled["conformal raw"] = raw
     patches = {name: [None if p is None else _compact(*p) for p in fills]
                for name, fills in filled.items()}
-    from surfinpaint.fill.holes import loop_diameter
 
     out = []
     for k, loop in enumerate(loops):
@@ -256,7 +224,6 @@ def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndar
     """
     from scipy.spatial import cKDTree
 
-    from surfinpaint.geometry.mesh import connected_components
 
     tv = np.asarray(truth_vertices, float)
     tf = np.asarray(truth_faces, np.int64)
@@ -345,14 +312,6 @@ def hole_panel(
     """
     from matplotlib.figure import Figure
 
-    from surfinpaint.app.figures import (
-        add_legend,
-        add_scale_bar,
-        crop_to_ink,
-        grid_image,
-        render_hole,
-        save_figure,
-    )
 
     vertices = np.asarray(vertices, float)
     loop = np.asarray(loop)
@@ -406,147 +365,6 @@ def hole_panel(
     if suptitle:
         fig.suptitle(suptitle, fontsize=12)
     return save_figure(fig, path, dpi=_DPI)
-
-
-# --------------------------------------------------------------------------- the page
-
-
-def _fmt(x: float, digits: int = 3) -> str:
-    return "–" if x is None or not np.isfinite(x) else f"{x:.{digits}g}"
-
-
-def _outcome(c: HoleComparison) -> str:
-    if c.kept:
-        return "kept" + (f" ({c.fallback})" if c.fallback else "")
-    if c.fallback and c.fallback.startswith("self-check"):
-        return f"faired fill kept: {c.fallback}"
-    return f"fell back to fair after a failure ({c.fallback})"
-
-
-def _error_text(c: HoleComparison, method: str) -> str:
-    """"mean / Hausdorff" of one fill; "no truth" or "failed" when not measured."""
-    if not c.errors or not np.isfinite(c.errors["fair"]["mean"]):
-        return "no truth"
-    e = c.errors[method]
-    if not np.isfinite(e["mean"]):
-        return "failed"
-    return f"{_fmt(e['mean'])} / {_fmt(e['hausdorff'])}"
-
-
-def table_rows(comparisons: Sequence[HoleComparison]) -> tuple[list[str], list[list[str]]]:
-    """Header and rows of the per-hole table (strings), errors included when measured."""
-    with_truth = any(c.errors for c in comparisons)
-    header = ["hole", "edges", "diameter", "fair: new v, s", "conformal: new v, s",
-              "conformal outcome"]
-    if with_truth:
-        header += ["fair mean / Hd %", "conformal mean / Hd %", "conformal raw mean / Hd %"]
-    rows = []
-    for c in comparisons:
-        row = [str(c.index), str(c.n_edges), _fmt(c.diameter),
-               f"{c.new_vertices['fair']}, {c.seconds['fair']:.2f}",
-               f"{c.new_vertices['conformal']}, {c.seconds['conformal']:.2f}", _outcome(c)]
-        if with_truth:
-            row += [_error_text(c, m) for m in ("fair", "conformal", "conformal raw")]
-        rows.append(row)
-    return header, rows
-
-
-def _markdown_table(header, rows) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(r) + " |" for r in rows]
-    return "\n".join(lines)
-
-
-def _html_table(header, rows) -> str:
-    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(x)}</td>" for x in r) + "</tr>"
-                   for r in rows)
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
-
-
-_LEGEND = (
-    "Panels: (A) the surface with the hole, (B) the conventional fill (Liepa: triangulate, "
-    "refine, fair), (C) the conformal λ-H fill, all from one camera facing the hole (fill "
-    "in orange, hole border in red); (D)/(E) the conformal factor λ and (F)/(G) the mean "
-    "curvature H over the patch's conformal parameter domain, initial (from the known "
-    "surface only: grey where there is no value) and after inpainting; solid outline: the "
-    "hole, dashed: the region whose values are inpainted. The conformal method's self-check "
-    "keeps its fill where it beats the bilaplacian faired fill on two tests that use no "
-    "truth (hidden rings of known surface around the hole, and sibling holes of the same "
-    "size cut from the known surface nearby); when it kept a faired fill, (C) shows the "
-    "conformal fill it rejected. Errors: "
-    "two-sided mean and Hausdorff distance to the removed truth, in % of the hole "
-    "diameter; 'conformal' is what `surfinpaint fill` writes, 'conformal raw' the conformal "
-    "fill before the self-check."
-)
-
-
-def _write_text(path: Path, text: str) -> None:
-    with atomic_open(path, "w", encoding="utf-8") as handle:
-        handle.write(text)
-
-
-def write_page(out_dir: str | os.PathLike,
-               sections: Sequence[dict], title: str, intro: str = "") -> tuple[Path, Path]:
-    """Write ``index.md`` and ``index.html`` in ``out_dir``.
-
-    Each section is a dict with ``title``, optional ``text``, ``comparisons`` (a list of
-    :class:`HoleComparison`, shown as a table with their pictures) and/or ``table``
-    (``(header, rows)``) and ``pictures`` (file names relative to ``out_dir``).
-    """
-    out_dir = Path(out_dir)
-    md = [f"# {title}", ""]
-    body = [f"<h1>{html.escape(title)}</h1>"]
-    if intro:
-        md += [intro, ""]
-        body.append(f"<p>{html.escape(intro)}</p>")
-    for section in sections:
-        md += [f"## {section['title']}", ""]
-        body.append(f"<h2>{html.escape(section['title'])}</h2>")
-        if section.get("text"):
-            md += [section["text"], ""]
-            body.append(f"<p>{html.escape(section['text'])}</p>")
-        tables = []
-        pictures = list(section.get("pictures", []))
-        if section.get("comparisons"):
-            tables.append(table_rows(section["comparisons"]))
-            pictures = [c.picture for c in section["comparisons"] if c.picture] + pictures
-        if section.get("table"):
-            tables.append(section["table"])
-        for header, rows in tables:
-            md += [_markdown_table(header, rows), ""]
-            body.append(_html_table(header, rows))
-        for picture in pictures:
-            md += [f"![{picture}]({picture})", ""]
-            body.append(f'<p><a href="{html.escape(picture)}"><img src="{html.escape(picture)}"'
-                        f' alt="{html.escape(picture)}" width="100%"></a></p>')
-    style = ("body{font-family:sans-serif;max-width:1650px;margin:auto}table{border-collapse:"
-             "collapse}td,th{border:1px solid #999;padding:3px 8px;text-align:right}")
-    page = ("<!DOCTYPE html><html><head><meta charset='utf-8'>"
-            f"<title>{html.escape(title)}</title><style>{style}</style></head><body>"
-            + "\n".join(body) + "</body></html>\n")
-    out_dir.mkdir(parents=True, exist_ok=True)
-    _write_text(out_dir / "index.md", "\n".join(md))
-    _write_text(out_dir / "index.html", page)
-    return out_dir / "index.md", out_dir / "index.html"
-
-
-def hole_title(c: HoleComparison, name: str = "") -> str:
-    """One line that says what a hole panel shows, with its numbers."""
-    if c.kept:
-        written = "the λ-H fill (C) is written"
-    else:
-        order = f" (order {c.fair_order})" if c.fair_order else ""
-        why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith("self-check")
-               else "the self-check rejected the λ-H fill")
-        written = f"{why}; the faired fill{order} is written"
-    text = (f"{name + ': ' if name else ''}hole {c.index}, {c.n_edges} boundary edges, "
-            f"diameter {_fmt(c.diameter)}; {written}")
-    if c.errors:
-        text += (f"\nerror (mean / Hausdorff, % of diameter): (B) {_error_text(c, 'fair')}, "
-                 f"(C) {_error_text(c, 'conformal raw')}, written "
-                 f"{_error_text(c, 'conformal')}")
-    return text
 
 
 def panels_for(vertices, faces, comparisons, fills, out_dir, prefix="hole",
@@ -605,7 +423,6 @@ def write_report(
     -------
     list of HoleComparison
     """
-    from surfinpaint.fill.holes import select_holes
 
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
@@ -621,7 +438,7 @@ def write_report(
     text = (f"{len(vertices)} vertices, {len(faces)} faces, {len(loops)} holes; "
             f"{time.perf_counter() - started:.1f} s in all.")
     write_page(out_dir, [{"title": "Holes", "text": text, "comparisons": comparisons}],
-               title, _LEGEND)
+               title, LEGEND)
     return comparisons
 
 
@@ -687,9 +504,6 @@ def run_report(args: argparse.Namespace) -> int:
     """``surfinpaint report``: returns the exit code (0 on success)."""
     from rich.console import Console
 
-    from surfinpaint.fill.holes import select_holes
-    from surfinpaint.geometry.validation import validate_mesh
-    from surfinpaint.io.formats import read_mesh
 
     console = Console(stderr=True, highlight=False)
     vertices, faces = read_mesh(args.mesh)

@@ -14,14 +14,21 @@ from __future__ import annotations
 import numpy as np
 
 from surfinpaint.errors import FillError, MeshError
+from surfinpaint.fill.holes import loop_diameter
+from surfinpaint.geometry.cutting import _edge_graph, cut_geodesic_disk, ring_distances, submesh
 from surfinpaint.geometry.mesh import boundary_loops
+from surfinpaint.geometry.metrics import (
+    hole_patch_of,
+    mean_surface_distances,
+    point_mesh_distance,
+    sample_surface,
+)
 
 __all__ = ["hidden_ring_scores", "sibling_scores"]
 
 
 def _sibling_centres(vertices, faces, loop, gap_rings, count, graph=None):
     """Vertices ``gap_rings`` edge rings away from the hole, spread around it."""
-    from surfinpaint.geometry.cutting import ring_distances
 
     rings = ring_distances(faces, len(vertices), loop, gap_rings + 0.5, graph=graph)
     candidates = np.flatnonzero(rings == gap_rings)
@@ -65,9 +72,6 @@ def sibling_scores(
     dict
         Mean score per filler over the siblings that could be cut (empty if none could).
     """
-    from surfinpaint.fill.holes import loop_diameter
-    from surfinpaint.geometry.cutting import _edge_graph, cut_geodesic_disk, ring_distances, submesh
-    from surfinpaint.geometry.metrics import hole_patch_of, mean_surface_distances
 
     points = vertices[loop]
     radius = 0.5 * loop_diameter(points)
@@ -153,8 +157,6 @@ def hidden_ring_scores(
         Score per filler (empty when the hidden rings do not leave one simple hole or
         ``fill`` raises).
     """
-    from surfinpaint.geometry.cutting import ring_distances, submesh
-    from surfinpaint.geometry.metrics import point_mesh_distance, sample_surface
 
     def run(vertices, faces, loop, ring, rim):
         """The test; None when a loop next to the hidden faces reaches the ``rim`` vertices
