@@ -226,7 +226,7 @@ class _FilledMesh:
 def _skip(report: HoleReport, reason: str) -> None:
     report.skipped = reason
     report.method = "none"
-    warnings.warn(f"hole {report.index}: {reason}; skipped", stacklevel=3)
+    warnings.warn(f"hole {report.index}: {reason}; skipped", stacklevel=4)
 
 
 def _problem(local: _Local, index: int, explicit: bool) -> str | None:
@@ -270,7 +270,7 @@ def _record(report: HoleReport, fill: Fill) -> None:
     if fill.failure:
         report.fallback = fill.failure
         warnings.warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "
-                      f"the faired fill (order {fill.fair_order}) instead", stacklevel=3)
+                      f"the faired fill (order {fill.fair_order}) instead", stacklevel=4)
 
 
 def _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings
@@ -372,25 +372,16 @@ def fill_holes(
     """
     vertices, faces, attributes, face_attributes = mesh_arrays(vertices, faces, attributes,
                                                                face_attributes)
-    # bad attributes are the caller's error, found before any hole is filled
-    attributes, attribute_kinds = check_attributes(len(vertices), attributes, attribute_kinds)
-    for name, a in face_attributes.items():
-        if np.ndim(a) == 0 or len(a) != len(faces):
-            raise ValueError(f"face attribute {name!r} has {len(a) if np.ndim(a) else 0} "
-                             f"rows, the mesh has {len(faces)} faces")
+    # bad arguments are the caller's error, found before any hole is filled
+    attributes, attribute_kinds = _checked_attributes(len(vertices), len(faces), attributes,
+                                                      face_attributes, attribute_kinds)
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
-    vertices = np.asarray(vertices, dtype=np.float64)
-    faces = np.asarray(faces, dtype=np.int64)
-    removed_faces = np.empty(0, dtype=np.int64)
-    if repair:
-        faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
-    if validate:
-        validate_mesh(vertices, faces)
+    vertices, faces, removed_faces = _prepared(vertices, faces, repair, validate)
     loops = select_holes(vertices, faces, holes, include_border=include_border)
     mesh = _FilledMesh(vertices, faces)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
                           method=method) for k, loop in enumerate(loops)]
-    for report in reports:
+    for report, loop in zip(reports, loops, strict=True):
         if max_hole_edges is not None and report.n_edges > max_hole_edges:
             report.skipped = f"{report.n_edges} boundary edges > max_hole_edges={max_hole_edges}"
             report.method = "none"
@@ -398,25 +389,57 @@ def fill_holes(
         if progress:
             progress(report.index, len(loops),
                      f"hole {report.index}: {report.n_edges} edges, {method}")
-        started = time.perf_counter()
         rings = neighbourhood_rings or (options.neighbourhood_rings(report.n_edges)
                                         if method == "conformal" else FAIR_NEIGHBOURHOOD_RINGS)
-        local = mesh.cut(loops[report.index], rings)
-        problem = _problem(local, report.index, explicit=holes is not None)
-        if problem is None:
-            fill = _fill(local, method, options, fair_order)
-            _record(report, fill)
-            problem = mesh.stitch(local, fill)
-        if problem is not None:
-            _skip(report, problem)
-            continue
-        report.new_vertices, report.new_faces = len(fill.vertices), len(fill.faces)
-        report.seconds = time.perf_counter() - started
-        if progress:
+        _fill_hole(mesh, report, loop, rings, explicit=holes is not None,
+                   fill=lambda local: _fill(local, method, options, fair_order))
+        if progress and not report.skipped:
             progress(report.index + 1, len(loops),
                      f"hole {report.index}: done in {report.seconds:.2f} s")
     return _with_attributes(mesh.result(reports, removed_faces), attributes, face_attributes,
                             attribute_kinds)
+
+
+def _fill_hole(mesh: _FilledMesh, report: HoleReport, loop: np.ndarray, rings: int, *,
+               explicit: bool, fill: Callable[[_Local], Fill]) -> None:
+    """One hole: cut its neighbourhood, check its loop, fill it, stitch the fill in, and
+    say what happened in ``report`` (skipped, with a warning, when it cannot be filled)."""
+    started = time.perf_counter()
+    local = mesh.cut(loop, rings)
+    problem = _problem(local, report.index, explicit)
+    if problem is None:
+        made = fill(local)
+        _record(report, made)
+        problem = mesh.stitch(local, made)
+    if problem is not None:
+        _skip(report, problem)
+        return
+    report.new_vertices, report.new_faces = len(made.vertices), len(made.faces)
+    report.seconds = time.perf_counter() - started
+
+
+def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds):
+    """The vertex attributes and their kinds, checked (:func:`check_attributes`), and the
+    face attributes' row counts."""
+    attributes, kinds = check_attributes(n_vertices, attributes, kinds)
+    for name, a in face_attributes.items():
+        if np.ndim(a) == 0 or len(a) != n_faces:
+            raise ValueError(f"face attribute {name!r} has {len(a) if np.ndim(a) else 0} "
+                             f"rows, the mesh has {n_faces} faces")
+    return attributes, kinds
+
+
+def _prepared(vertices, faces, repair: bool, validate: bool):
+    """The mesh as arrays, with ``repair`` the faces around non-manifold edges removed
+    (and which), with ``validate`` checked."""
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    removed_faces = np.empty(0, dtype=np.int64)
+    if repair:
+        faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
+    if validate:
+        validate_mesh(vertices, faces)
+    return vertices, faces, removed_faces
 
 
 def _with_attributes(result: FillResult, attributes, face_attributes, kinds) -> FillResult:
