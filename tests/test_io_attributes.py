@@ -246,11 +246,37 @@ def test_obj_uv_seam_kept_per_corner_and_written_back(tmp_path):
 
 def test_obj_vertex_colours_and_dropped_records_are_named(tmp_path):
     path = tmp_path / "c.obj"
-    path.write_text("mtllib m.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\n"
-                    "usemtl red\ng part\nf 1 2 3\n")
-    with pytest.warns(MeshWarning, match=r"OBJ records g, mtllib, usemtl .* not kept"):
+    path.write_text("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\ns 1\nl 1 2\nf 1 2 3\n")
+    with pytest.warns(MeshWarning, match=r"OBJ records l, s \(smoothing .* not kept"):
         mesh = read_mesh_data(path)
     np.testing.assert_array_equal(mesh.attributes["color"], np.eye(3))
+
+
+def test_obj_objects_groups_materials_are_face_labels_and_written_back(tmp_path):
+    v, f = grid_mesh(2, 1)  # 4 faces
+    lines = ["mtllib skin.mtl", *(f"v {x!r} {y!r} {z!r}" for x, y, z in v.tolist()),
+             "o body", "g left", "usemtl skin"]
+    lines += ["f " + " ".join(str(i + 1) for i in f[0])]
+    lines += ["usemtl bone # a comment", "f " + " ".join(str(i + 1) for i in f[1])]
+    lines += ["g right", "f " + " ".join(str(i + 1) for i in f[2]),
+              "f " + " ".join(str(i + 1) for i in f[3])]
+    path = tmp_path / "m.obj"
+    path.write_text("\n".join(lines) + "\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mesh = read_mesh_data(path)
+    assert mesh.face_attributes["object"].tolist() == ["body"] * 4
+    assert mesh.face_attributes["group"].tolist() == ["left", "left", "right", "right"]
+    assert mesh.face_attributes["material"].tolist() == ["skin", "bone", "bone", "bone"]
+    assert mesh.metadata == {"mtllib": "skin.mtl"}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        write_mesh_data(tmp_path / "out.obj", mesh)
+        again = read_mesh_data(tmp_path / "out.obj")
+    for key in ("object", "group", "material"):
+        assert again.face_attributes[key].tolist() == mesh.face_attributes[key].tolist()
+    assert again.metadata == mesh.metadata
+    np.testing.assert_array_equal(again.faces, f)
 
 
 # ------------------------------------------------------------------------------ OFF

@@ -15,7 +15,7 @@ from conftest import grid_mesh
 from surfinpaint import data
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.validation import validate_mesh, zero_area_faces
-from surfinpaint.io import MeshWarning, read_mesh, write_mesh
+from surfinpaint.io import MeshWarning, read_mesh, read_mesh_data, write_mesh
 
 
 def _written(tmp_path, name: str, **kwargs) -> tuple[bytes, np.ndarray, np.ndarray]:
@@ -148,6 +148,8 @@ def test_latin1_bytes_in_obj_comments_and_group_names(tmp_path):
     path.write_bytes(b"# mod\xe8le cr\xe9\xe9 \xe0 la main\no pi\xe8ce\n" + blob[:first_face]
                      + b"g gr\xfcn\nusemtl m\xe9tal\n" + blob[first_face:])
     _same(path, v, f)
+    labels = read_mesh_data(path).face_attributes
+    assert set(labels["material"]) == {"m\xe9tal"} and set(labels["object"]) == {"pi\xe8ce"}
 
 
 def test_latin1_bytes_in_off_comments(tmp_path):

@@ -181,6 +181,8 @@ def read_mesh_data(path: str | os.PathLike, *,
     - OBJ: ``vt`` -> ``uv``, ``vn`` -> ``normal``, ``v x y z r g b`` -> ``color`` (float).
       Per vertex when each vertex has one value on all its corners; where a vertex has
       several (a UV seam) the data is kept per corner and a :class:`MeshWarning` says so.
+      ``o``, ``g``, ``usemtl`` -> face labels ``object``, ``group``, ``material``;
+      ``mtllib`` -> metadata.
     - STL: a binary STL's non-zero 16-bit facet attributes -> face ``stl_attribute``.
     - GIFTI / FreeSurfer: extra per-vertex data arrays of the GIFTI file and overlays beside
       the surface (see ``overlays``); GIFTI metadata.
@@ -211,7 +213,8 @@ def read_mesh_data(path: str | os.PathLike, *,
     -----
     MeshWarning
         Naming everything the file holds that is not carried (other PLY elements, PLY list
-        properties of vertices, OBJ groups and materials, GIFTI arrays of another size, ...),
+        properties of vertices, OBJ smoothing groups and lines, GIFTI arrays of another size,
+        ...),
         and per-corner data kept per corner at UV seams.
     """
     mesh, dropped, seams = _read(path, overlays=overlays)

@@ -13,16 +13,23 @@ from surfinpaint.io.base import Parsed, decode_text, tokens_per_line, write_rows
 from surfinpaint.io.meshdata import MeshData
 
 _RECORD = re.compile(r"^[ \t]*(v|vt|vn|f)[ \t]+([^\r\n]*)", re.MULTILINE)
-_KEYWORD = re.compile(r"^[ \t]*([A-Za-z_]\w*)", re.MULTILINE)
+# the records that label the faces after them, scanned only when there is one
+_LABEL_OR_FACE = re.compile(r"^[ \t]*(usemtl|g|o|mtllib|f)(?![^ \t\r\n])[ \t]*([^\r\n]*)",
+                            re.MULTILINE)
+# the keywords of all records but the many v and f ones (a scan that returns few matches)
+_KEYWORD = re.compile(r"^[ \t]*(?!v[ \t]|f[ \t])([A-Za-z_]\w*)", re.MULTILINE)
 _CORNER = re.compile(r"(?<!\S)(-?\d+)(?:/(-?\d*))?(?:/(-?\d*))?(?!\S)")
-_KNOWN = {"v", "vt", "vn", "f"}
+_KNOWN = {"v", "vt", "vn", "f", "usemtl", "g", "o", "mtllib"}
+#: face labels from the state records before each face: attribute name -> record
+_LABELS = {"object": "o", "group": "g", "material": "usemtl"}
 
 
 def read_obj(data: bytes, path: Path) -> Parsed:
     text = decode_text(data, "OBJ")
     records = _RECORD.findall(text)
-    lines = {kind: [rest.partition("#")[0] if "#" in rest else rest
-                    for k, rest in records if k == kind] for kind in _KNOWN}
+    present = set(_KEYWORD.findall(text))
+    lines = {kind: _lines(records, kind) if kind in present | {"v", "f"} else []
+             for kind in ("v", "vt", "vn", "f")}
     vertices = xyz_rows(lines["v"])
     flines = lines["f"]
     counts = tokens_per_line(flines)
@@ -41,8 +48,7 @@ def read_obj(data: bytes, path: Path) -> Parsed:
     if np.any(vid == 0):
         face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(vid == 0)[0], "right"))
         raise MeshError(f"face {face} uses vertex index 0 (OBJ counts from 1)", faces=[face])
-    kinds = np.array([k for k, _ in records])
-    out = Parsed(vertices, counts, _resolve(vid, kinds, "v", counts))
+    out = Parsed(vertices, counts, _resolve(vid, records, "v", counts))
     ntok = tokens_per_line(lines["v"])
     if len(ntok) and np.all(ntok == 6):
         values = np.array(" ".join(lines["v"]).split(), dtype=np.float64).reshape(-1, 6)
@@ -56,7 +62,7 @@ def read_obj(data: bytes, path: Path) -> Parsed:
             out.dropped.append(f"{kind} records not referenced by any face are not kept")
             continue
         table = _columns(lines[kind], width, kind, out)
-        index = _resolve(ids, kinds, kind, counts)
+        index = _resolve(ids, records, kind, counts)
         bad = (ids != 0) & ((index < 0) | (index >= len(table)))
         if np.any(bad):
             face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(bad)[0], "right"))
@@ -64,18 +70,46 @@ def read_obj(data: bytes, path: Path) -> Parsed:
         values = np.full((len(ids), width), np.nan)
         values[ids != 0] = table[index[ids != 0]]
         out.corner_values[key] = values
-    other = sorted(set(_KEYWORD.findall(text)) - _KNOWN)
+    if present & {"o", "g", "usemtl", "mtllib"}:
+        _labels(out, _LABEL_OR_FACE.findall(text))
+    other = sorted(present - _KNOWN)
     if other:
-        out.dropped.append(f"OBJ records {', '.join(other)} (groups, materials, lines, ...) "
-                           "are not kept")
+        out.dropped.append(f"OBJ records {', '.join(other)} (smoothing groups, lines, "
+                           "points, ...) are not kept")
     return out
 
 
-def _resolve(ids: np.ndarray, kinds: np.ndarray, kind: str, counts: np.ndarray) -> np.ndarray:
+def _lines(records: list, kind: str) -> list[str]:
+    """The text after the keyword of each record of ``kind``, comments cut."""
+    found = [rest for k, rest in records if k == kind]
+    if any("#" in line for line in found):
+        found = [line.partition("#")[0] for line in found]
+    return found
+
+
+def _labels(out: Parsed, records: list) -> None:
+    """Object, group and material of each face (the last ``o``, ``g``, ``usemtl`` before
+    it; "" before any) as face labels, and the material libraries as metadata."""
+    kinds = np.array([k for k, _ in records])
+    names = np.array([rest.partition("#")[0].strip() for _, rest in records], dtype=object)
+    for label, record in _LABELS.items():
+        at = kinds == record
+        if not np.any(at):
+            continue
+        last = np.maximum.accumulate(np.where(at, np.arange(len(kinds)), -1))[kinds == "f"]
+        out.face_attributes[label] = np.where(last >= 0, names[np.maximum(last, 0)],
+                                              "").astype(str)
+    libraries = names[kinds == "mtllib"]
+    if len(libraries):
+        out.metadata["mtllib"] = "\n".join(libraries)
+
+
+def _resolve(ids: np.ndarray, records: list, kind: str, counts: np.ndarray) -> np.ndarray:
     """0-based indices of 1-based OBJ ids; negative ids count back from the last record of
     ``kind`` before the face (an id before the first stays negative and is reported later)."""
     if not np.any(ids < 0):
         return ids - 1
+    kinds = np.array([k for k, _ in records])
     before = np.cumsum(kinds == kind)[kinds == "f"]
     return np.where(ids < 0, ids + np.repeat(before, counts), ids - 1)
 
@@ -120,12 +154,13 @@ def unstored_obj(mesh: MeshData) -> list[str]:
     kept = _obj_arrays(mesh)
     names = [f"per-vertex {k}" for k in mesh.attributes
              if k not in kept or kept[k][0] != "vertex"]
-    names += [f"per-face {k}" for k in mesh.face_attributes]
+    names += [f"per-face {k}" for k, a in mesh.face_attributes.items()
+              if k not in _LABELS or np.asarray(a).ndim != 1]
     names += [f"per-corner {k}" for k in mesh.corner_attributes
               if k not in kept or kept[k][0] != "corner"]
     out = [f"OBJ stores uv, normal and rgb color: {', '.join(names)} not written"] if names \
         else []
-    out += [f"metadata {k!r} is not stored in OBJ" for k in mesh.metadata]
+    out += [f"metadata {k!r} is not stored in OBJ" for k in mesh.metadata if k != "mtllib"]
     if "color" in kept and mesh.attributes["color"].dtype == np.uint8:
         out.append("8-bit color is written as OBJ's float r g b (value / 255)")
     return out
@@ -135,6 +170,8 @@ def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
     v, f = mesh.vertices, mesh.faces
     kept = _obj_arrays(mesh)
     fh.write(b"# written by surfinpaint\n")
+    for library in mesh.metadata.get("mtllib", "").splitlines():
+        fh.write(f"mtllib {library}\n".encode())
     if "color" in kept:
         write_rows(fh, "v" + " %.17g" * 6 + "\n", np.column_stack([v, kept["color"][1]]))
     else:
@@ -154,8 +191,31 @@ def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
         write_rows(fh, record + " %.17g" * width + "\n", np.asarray(table, np.float64))
         ids.append(index + 1)
     if ids[1] is None and ids[2] is None:
-        write_rows(fh, "f %d %d %d\n", f + 1)
+        row, stacked = "f %d %d %d\n", f + 1
+    else:
+        corner = ("%d/" + ("%d" if ids[1] is not None else "")
+                  + ("/%d" if ids[2] is not None else ""))
+        row = "f " + " ".join([corner] * 3) + "\n"
+        stacked = np.stack([i for i in ids if i is not None], axis=2).reshape(len(f), -1)
+    _write_faces(fh, row, stacked, mesh)
+
+
+def _write_faces(fh, row: str, stacked: np.ndarray, mesh: MeshData) -> None:
+    """Face rows in runs of one object, group and material, each run after its records."""
+    labels = [(record, np.asarray(mesh.face_attributes[label]).astype(str))
+              for label, record in _LABELS.items()
+              if np.asarray(mesh.face_attributes.get(label, np.zeros((0, 0)))).ndim == 1]
+    if not labels:
+        write_rows(fh, row, stacked)
         return
-    corner = "%d/" + ("%d" if ids[1] is not None else "") + ("/%d" if ids[2] is not None else "")
-    stacked = np.stack([i for i in ids if i is not None], axis=2).reshape(len(f), -1)
-    write_rows(fh, "f " + " ".join([corner] * 3) + "\n", stacked)
+    change = np.zeros(len(stacked), dtype=bool)
+    change[0] = True
+    for _, values in labels:
+        change[1:] |= values[1:] != values[:-1]
+    starts = np.flatnonzero(change).tolist() + [len(stacked)]
+    for a, b in zip(starts[:-1], starts[1:], strict=True):
+        for record, values in labels:
+            if a == 0 and values[a] == "" or a and values[a] == values[a - 1]:
+                continue
+            fh.write(f"{record} {values[a]}\n".encode())
+        write_rows(fh, row, stacked[a:b])
