@@ -459,3 +459,22 @@ def test_appended_rows_keep_the_originals_and_refuse_missing_attributes(tmp_path
                       face_attributes={"quality": [1.0]})
     with pytest.raises(ValueError, match=r"attribute 'color' has 2 rows, expected 6"):
         MeshData(v, f, {"color": colour[:2]})
+
+
+def test_label_overlay_keeps_numbers_and_names_the_lost_label_table(tmp_path):
+    nib = pytest.importorskip("nibabel")
+    v, f, _, _ = _brain_surface(tmp_path)
+    write_mesh(tmp_path / "s.gii", v, f)
+    labels = (np.arange(len(v)) % 3).astype(np.int32)
+    table = nib.gifti.GiftiLabelTable()
+    for key, name in enumerate(["unknown", "V1", "V2"]):
+        label = nib.gifti.GiftiLabel(key=key, red=1.0, green=0.0, blue=0.0, alpha=1.0)
+        label.label = name
+        table.labels.append(label)
+    image = nib.gifti.GiftiImage(labeltable=table, darrays=[nib.gifti.GiftiDataArray(
+        labels, intent="NIFTI_INTENT_LABEL", datatype="NIFTI_TYPE_INT32")])
+    (tmp_path / "s.areas.label.gii").write_bytes(image.to_bytes())
+    with pytest.warns(MeshWarning, match=r"label table of overlay s\.areas\.label\.gii"):
+        mesh = read_mesh_data(tmp_path / "s.gii", overlays=[tmp_path / "s.areas.label.gii"])
+    np.testing.assert_array_equal(mesh.attributes["areas"], labels)
+    assert mesh.attributes["areas"].dtype == np.int32

@@ -121,7 +121,7 @@ def _safe(name: str) -> str:
 
 
 def overlays_beside(path: Path) -> list[Path]:
-    """The overlay files of a surface: ``BASE.NAME.shape.gii`` / ``BASE.NAME.func.gii`` and
+    """The overlay files of a surface: ``BASE.NAME.shape.gii`` / ``.func.gii`` / ``.label.gii`` and
     FreeSurfer morphometry files ``BASE.NAME`` (what :func:`overlay_outputs` writes), and, for
     a FreeSurfer surface named ``lh.*`` or ``rh.*``, ``lh.curv``, ``lh.thickness``, ... beside
     it (:data:`FREESURFER_OVERLAYS`)."""
@@ -129,6 +129,7 @@ def overlays_beside(path: Path) -> list[Path]:
     folder = path.parent
     found = sorted(folder.glob(f"{_glob_escape(base)}.*.shape.gii"))
     found += sorted(folder.glob(f"{_glob_escape(base)}.*.func.gii"))
+    found += sorted(folder.glob(f"{_glob_escape(base)}.*.label.gii"))
     found += [p for p in sorted(folder.glob(f"{_glob_escape(path.name)}.*"))
               if p not in found and _is_morph(p)]
     hemi = re.match(r"^(lh|rh)\.", path.name)
@@ -167,8 +168,9 @@ def overlay_name(overlay: Path, surface: Path | None = None) -> str:
 
 
 def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
-                  ) -> dict[str, np.ndarray]:
-    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry files).
+                  ) -> tuple[dict[str, np.ndarray], list[str]]:
+    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry files),
+    and what they hold that is not kept (a GIFTI label table).
 
     Raises
     ------
@@ -178,7 +180,7 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
     import nibabel as nib
     from nibabel.freesurfer import read_morph_data
 
-    out = {}
+    out, dropped = {}, []
     for p in files:
         p = Path(p)
         try:
@@ -186,6 +188,9 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
                 image = nib.gifti.GiftiImage.from_bytes(_gunzip(p.read_bytes()))
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
+                if image.labeltable.labels:
+                    dropped.append(f"the label table of overlay {p.name} (names and colours "
+                                   "of its labels) is not kept, only the label numbers")
             else:
                 values = np.asarray(read_morph_data(str(p)))
         except MeshError as err:
@@ -196,7 +201,7 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
             raise MeshError(f"overlay has {len(values) if values.ndim else 0} values, the "
                             f"surface {n} vertices", path=str(p))
         out[overlay_name(p, surface)] = values
-    return out
+    return out, dropped
 
 
 def _gifti_type(a: np.ndarray) -> tuple[np.ndarray, str] | None:

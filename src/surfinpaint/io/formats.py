@@ -244,12 +244,14 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     faces = np.asarray(parsed.flat, dtype=np.int64)[corners]
     check_arrays(parsed.vertices, faces, path=name)
     mesh, seams = _assemble(parsed, corners, owner, faces)
+    dropped = list(parsed.dropped)
     if overlays is not False and fmt in ("gii", "gii.gz", "freesurfer"):
         files = overlays_beside(p) if overlays is True else [Path(o) for o in overlays]
-        mesh = MeshData(mesh.vertices, mesh.faces,
-                        {**mesh.attributes, **read_overlays(files, len(mesh.vertices), p)},
+        extra, lost = read_overlays(files, len(mesh.vertices), p)
+        dropped += lost
+        mesh = MeshData(mesh.vertices, mesh.faces, {**mesh.attributes, **extra},
                         mesh.face_attributes, mesh.corner_attributes, mesh.metadata)
-    return mesh, list(parsed.dropped), seams
+    return mesh, dropped, seams
 
 
 def _assemble(parsed: Parsed, corners: np.ndarray, owner: np.ndarray, faces: np.ndarray
