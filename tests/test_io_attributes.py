@@ -478,3 +478,26 @@ def test_label_overlay_keeps_numbers_and_names_the_lost_label_table(tmp_path):
         mesh = read_mesh_data(tmp_path / "s.gii", overlays=[tmp_path / "s.areas.label.gii"])
     np.testing.assert_array_equal(mesh.attributes["areas"], labels)
     assert mesh.attributes["areas"].dtype == np.int32
+
+
+def test_read_fill_write_keeps_the_original_vertices_and_their_attributes(tmp_path):
+    from surfinpaint import data, fill_holes
+
+    v, f = data.default_demo_mesh()
+    colour = np.clip((v - v.min(0)) / np.ptp(v, 0) * 255, 0, 255).astype(np.uint8)
+    quality = v[:, 2].astype(np.float32)
+    write_mesh_data(tmp_path / "in.ply", MeshData(v, f, {"color": colour, "q": quality}))
+    mesh = read_mesh_data(tmp_path / "in.ply")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the fill's own notes
+        result = fill_holes(mesh.vertices, mesh.faces, attributes=mesh.attributes,
+                            face_attributes=mesh.face_attributes)
+    write_mesh(tmp_path / "out.ply", result.vertices, result.faces,
+               attributes=result.attributes, face_attributes=result.face_attributes)
+    out = read_mesh_data(tmp_path / "out.ply")
+    n = len(v)
+    assert len(out.vertices) > n
+    np.testing.assert_array_equal(out.vertices[:n], v)
+    np.testing.assert_array_equal(out.attributes["color"][:n], colour)
+    np.testing.assert_array_equal(out.attributes["q"][:n], quality)
+    assert out.attributes["color"].dtype == np.uint8 and out.attributes["q"].dtype == np.float32
