@@ -103,7 +103,17 @@ def test_signal_while_filling_stops_with_one_line(tmp_path, signum, code):
     out_dir = tmp_path / "out"
     out_dir.mkdir()
     proc = _fill_process(str(pipe), "-o", str(out_dir / "filled.ply"))
-    with open(pipe, "wb") as feed:
+    deadline = time.monotonic() + 120
+    while True:  # wait for the reader without blocking, should the process die first
+        try:
+            fd = os.open(pipe, os.O_WRONLY | os.O_NONBLOCK)
+            break
+        except OSError:  # ENXIO: nobody has the pipe open for reading yet
+            assert proc.poll() is None, proc.communicate()
+            assert time.monotonic() < deadline, "the fill never opened its input"
+            time.sleep(0.01)
+    os.set_blocking(fd, True)
+    with os.fdopen(fd, "wb") as feed:
         feed.write(holes.read_bytes())
     time.sleep(1.0)
     assert proc.poll() is None, "the fill ended before the signal was sent"
