@@ -587,30 +587,47 @@ def test_holes_with_repair_lists_what_fill_repair_numbers(tmp_path, capsys):
 def test_represent_and_rebuild_round_trip(tmp_path, capsys):
     from surfinpaint.data import bumpy_disk
     from surfinpaint.geometry.metrics import surface_distance
-    from surfinpaint.representation.represent import LambdaH
+    from surfinpaint.representation.grid_represent import LambdaH
+    from surfinpaint.representation.represent import MeshLambdaH
 
     v, f = bumpy_disk(12)
     mesh = tmp_path / "disk.ply"
     write_mesh(mesh, v, f)
     rep_path, png = tmp_path / "rep.npz", tmp_path / "rep.png"
-    assert main(["represent", str(mesh), "-o", str(rep_path), "--resolution", "48",
-                 "--png", str(png)]) == 0
+    grid_path = tmp_path / "grid.npz"
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--png", str(png),
+                 "--export-grid", str(grid_path), "--resolution", "48"]) == 0
+    err = _flat(capsys.readouterr().err)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    rep = LambdaH.load(rep_path)
-    assert rep.lam.shape[0] == 48 or rep.lam.shape[1] == 48
-    assert rep.sampling == "smooth" and rep.map == "lscm"
+    rep = MeshLambdaH.load(rep_path)
+    grid = LambdaH.load(grid_path)
+    assert max(grid.grid.shape) == 48 and grid.sampling == "smooth" and grid.map == "lscm"
+    # the self-checks are printed as stored: mesh units and % of the diagonal
+    for check in (rep.check, grid.check):
+        assert _flat(f"mean {check.mean:.3g} ({check.mean_percent:.3g} % of the diagonal") in err
+        assert _flat(f"Hausdorff {check.hausdorff:.3g} ({check.hausdorff_percent:.3g} %)") in err
+    assert rep.check.converged and rep.check.mean_percent < 1e-8
     out = tmp_path / "rebuilt.obj"
     assert main(["rebuild", str(rep_path), "-o", str(out)]) == 0
+    err = _flat(capsys.readouterr().err)
+    assert _flat("against the stored original: round trip: mean") in err
     v2, f2 = read_mesh(out)
     np.testing.assert_array_equal(f2, f)
-    assert np.abs(v2 - v).max() > 0  # rebuilt, not copied
     diag = np.linalg.norm(np.ptp(v, axis=0))
-    assert surface_distance(v2, f2, v, f, n_samples=4000)["mean"] < 1e-3 * diag
+    assert np.abs(v2 - v).max() < 1e-6 * diag  # obj text precision
+    assert main(["rebuild", str(grid_path), "-o", str(out)]) == 0
+    assert _flat("against the stored original") in _flat(capsys.readouterr().err)
+    v3, _ = read_mesh(out)
+    assert np.abs(v3 - v).max() > 0  # rebuilt from the grid, not copied
+    assert surface_distance(v3, f, v, f, n_samples=4000)["mean"] < 1e-3 * diag
     # the options reach represent()
-    assert main(["represent", str(mesh), "-o", str(rep_path), "--resolution", "32",
-                 "--sampling", "pl", "--subdivide", "0", "--map", "rectangular"]) == 0
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--discretization", "grid",
+                 "--resolution", "32", "--sampling", "pl", "--subdivide", "0", "--map",
+                 "rectangular", "--no-check"]) == 0
     rep = LambdaH.load(rep_path)
-    assert (rep.sampling, rep.subdivide, rep.map) == ("pl", 0, "rectangular")
+    assert (rep.sampling, rep.subdivide, rep.map, rep.check) == ("pl", 0, "rectangular", None)
+    # grid options without a grid are a usage error
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--resolution", "32"]) == 2
 
 
 def test_represent_and_rebuild_bad_input(tmp_path, capsys):

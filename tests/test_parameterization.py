@@ -16,7 +16,6 @@ from surfinpaint.geometry.parameterization import (
     flipped_faces,
     lscm,
     pinched_vertices,
-    plot_conformality,
     rectangular_conformal_map,
 )
 from surfinpaint.representation.analytic import stereographic_sphere
@@ -201,18 +200,6 @@ def test_distortion_histogram_counts_every_angle():
     assert len(edges) == 21
     counts0, _ = distortion_histogram(planar(uv0), f, uv0, bins=21)
     assert counts0[10] == 3 * len(f)  # all differences are 0, the middle bin
-
-
-def test_plot_conformality_draws():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    uv0, f = grid_mesh(6)
-    fig, ax = plt.subplots()
-    assert plot_conformality(ax, planar(uv0), f, uv0 * [1.2, 1.0]) is ax
-    plt.close(fig)
 
 
 def test_flipped_faces_finds_a_fold():

@@ -1,323 +1,250 @@
-"""The λ-H representation of meshes: analytic λ and H, round trips, storage, plotting."""
+"""The λ-H representation on the mesh's own triangles: exact round trips, the Newton rebuild
+and its failures, the stored self-check, the grid export, the layering."""
 
 from __future__ import annotations
 
+import ast
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
 from test_parameterization import grid_mesh
 
-from surfinpaint.data import bumpy_disk, sphere
-from surfinpaint.errors import MeshError
+import surfinpaint
+from surfinpaint.data import bumpy_disk
+from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.metrics import surface_distance
-from surfinpaint.representation.analytic import stereographic_sphere
+from surfinpaint.geometry.parameterization import lscm
+from surfinpaint.representation.analytic import enneper, stereographic_sphere
+from surfinpaint.representation.grid_represent import LambdaH
+from surfinpaint.representation.mesh_lambda_h import (
+    mesh_lambda_h,
+    normals_with_jacobian,
+    rebuild_on_mesh,
+)
+from surfinpaint.representation.reconstruction import NotConvergedWarning
 from surfinpaint.representation.represent import (
-    FoldedMapWarning,
-    LambdaH,
-    disk_from_mesh,
-    plot_representation,
+    MeshLambdaH,
+    export_resolution,
+    grid_export,
+    load_representation,
     rebuild,
     represent,
 )
 
 
-def stereographic_patch(n: int, radius: float = 2.0):
-    """A sphere patch of radius R sampled on the stereographic square [-½, ½]²; faces CCW in
-    (u, v), so n = φu × φv points to the centre and H = +1/R."""
-    uv0, f = grid_mesh(n, extent=(-0.5, 0.5, -0.5, 0.5))
-    phi, _, _ = stereographic_sphere(uv0[:, 0], uv0[:, 1])
-    return uv0, radius * phi, f
+def sphere_patch(n: int, radius: float = 2.0):
+    """A sphere patch of radius R over the stereographic square [-½, ½]², CCW in (u, v)."""
+    uv, f = grid_mesh(n, extent=(-0.5, 0.5, -0.5, 0.5))
+    phi, _, _ = stereographic_sphere(uv[:, 0], uv[:, 1])
+    return radius * phi, f
 
 
-def relative_distance(v2, f2, v, f):
-    d = surface_distance(v2, f2, v, f, n_samples=10000)
-    diag = float(np.linalg.norm(np.ptp(v, axis=0)))
-    return d["mean"] / diag, d["hausdorff"] / diag
+def enneper_patch(n: int, jitter: float = 0.0):
+    """Enneper's minimal surface (H = 0) over [-0.8, 0.8]², optionally jittered."""
+    uv, f = grid_mesh(n, extent=(-0.8, 0.8, -0.8, 0.8), jitter=jitter, seed=3)
+    phi, _, _ = enneper(uv[:, 0], uv[:, 1])
+    return phi, f
 
 
-# ------------------------------------------------------------------------ analytic λ and H
+def finger(height: float = 1.0, width: float = 0.3, rings: int = 16):
+    """A disk with a tall Gaussian bump: λ varies 25× over it (measured), and its triangles
+    are stretched to slivers on the flanks."""
+    v, f = bumpy_disk(rings)
+    v[:, 2] = height * np.exp(-(v[:, 0] ** 2 + v[:, 1] ** 2) / width**2)
+    return v, f
 
 
-@pytest.mark.parametrize("map_name", ["lscm", "rectangular"])
-def test_planar_disk_has_zero_curvature(map_name):
-    v, f = bumpy_disk(10)
-    v[:, 2] = 0.0
-    rep = represent(v, f, 64, map=map_name)
-    finite = np.isfinite(rep.H)
-    assert finite[rep.unknown].all()
-    assert np.abs(rep.H[finite]).max() < 1e-9
-    if map_name == "lscm":  # an exact similarity, scaled to the surface's area: λ ≡ 1
-        lam = rep.lam[np.isfinite(rep.lam)]
-        assert np.abs(lam - 1.0).max() < 1e-9
+def diagonal(v):
+    return float(np.linalg.norm(np.ptp(v, axis=0)))
 
 
-def test_stereographic_patch_lambda_and_H_match_the_analytic_values():
+# ------------------------------------------------------------------------ λ, H on the mesh
+
+
+def test_mesh_lambda_h_matches_the_sphere_and_converges():
     errors = []
-    for n in (21, 41):
-        uv0, v, f = stereographic_patch(n)
-        # grid nodes on the mesh vertices: the PL surface has no curvature inside triangles
-        rep = represent(v, f, n, map="rectangular")
-        # the rectangular map of a conformal square with its corners is the identity
-        s = np.ptp(rep.uv[:, 0])
-        assert np.abs(rep.uv / s - (uv0 + 0.5)).max() < 2e-3
-        U, W = rep.grid.nodes()
-        u0, w0 = U / s - 0.5, W / s - 0.5
-        lam_exact = 2 * 2.0 / (1 + u0**2 + w0**2) / s  # R · 2/(1+|z|²) per parameter unit
-        m = rep.unknown
-        errors.append(np.abs(rep.lam / lam_exact - 1)[m].max())
-        assert np.abs(rep.H[m] - 0.5).max() < 2e-3  # H = +1/R with n = φu × φv inward
-    assert errors[0] < 5e-3
-    assert errors[0] / errors[1] > 3.5  # O(h²)
+    for n in (17, 33):
+        v, f = sphere_patch(n)
+        uv = lscm(v, f)
+        lam, H, defect = mesh_lambda_h(v, f, uv)
+        inner = np.isfinite(H)
+        assert (~inner).sum() == len(boundary_loops(f)[0])  # NaN exactly on the border
+        errors.append(np.abs(H[inner] - 0.5).max())  # H = 1/R, n = φu × φv inward
+        # the defect is the tangential part of Δφ: small against 2λ²H on a regular mesh
+        assert np.median(np.linalg.norm(defect[inner], axis=1)
+                         / (2 * lam[inner] ** 2 * np.abs(H[inner]))) < 0.05
+    assert errors[1] < 0.01
+    assert errors[0] / errors[1] > 3  # O(h²)
 
 
-def test_spherical_cap_H_sign_follows_the_orientation():
-    _, v, f = stereographic_patch(33)
-    for faces, sign in ((f, 1.0), (f[:, ::-1], -1.0)):
-        rep = represent(v, faces, 97, map="lscm")
-        H = rep.H[rep.unknown]
-        # finer than the mesh, H is spiky on the edges, but right on average
-        assert np.mean(H) == pytest.approx(sign * 0.5, rel=0.02)
-        assert np.median(sign * H) > 0
+def test_normal_jacobian_matches_finite_differences():
+    v, f = finger(rings=6)
+    rng = np.random.default_rng(1)
+    dv = rng.normal(size=v.shape)
+    n0, D = normals_with_jacobian(v, f)
+    eps = 1e-6
+    n_plus, _ = normals_with_jacobian(v + eps * dv, f)
+    n_minus, _ = normals_with_jacobian(v - eps * dv, f)
+    fd = (n_plus - n_minus).ravel() / (2 * eps)
+    assert np.linalg.norm(D @ dv.ravel() - fd) < 1e-6 * np.linalg.norm(fd)
 
 
-def test_smooth_sampling_reproduces_the_sphere_better_than_piecewise_linear():
-    # a coarse mesh sampled 6x finer than its edges: the PL surface has H = 0 inside the
-    # triangles and spikes on the edges, the C1 interpolant through the same vertices not
-    _, v, f = stereographic_patch(17)
-    errors = {}
-    for sampling in ("pl", "smooth"):
-        rep = represent(v, f, 97, map="rectangular", sampling=sampling, subdivide=0)
-        assert rep.sampling == sampling and rep.subdivide == 0
-        m = rep.unknown
-        s = np.ptp(rep.uv[:, 0])
-        U, W = rep.grid.nodes()
-        lam_exact = 4.0 / (1 + (U / s - 0.5) ** 2 + (W / s - 0.5) ** 2) / s
-        dH = np.abs(rep.H[m] - 0.5)
-        errors[sampling] = (dH.max(), np.abs(rep.lam / lam_exact - 1)[m].max(), np.median(dH))
-    # H = 1/R = 0.5; PL: H = 0 inside the triangles (median error 0.5), spikes on edges
-    assert errors["smooth"][0] < 0.25 and errors["pl"][0] > 1.0
-    assert errors["smooth"][2] < 0.05 and errors["pl"][2] > 0.4
-    assert errors["smooth"][1] < errors["pl"][1] / 2
+# ------------------------------------------------------------------------- exact round trips
 
 
-def test_smooth_subdivision_keeps_the_vertices_and_follows_the_surface():
-    from surfinpaint.representation.represent import smooth_subdivision
-
-    off = []
-    for n in (9, 17):
-        uv0, v, f = stereographic_patch(n)
-        vf, ff = smooth_subdivision(v, f, uv0, 2)
-        assert len(ff) == 16 * len(f)
-        assert np.array_equal(vf[:len(v)], v)  # the original vertices, same ids
-        # the sphere has radius 2 and centre 0: the new vertices on the C1 interpolant are
-        # far closer to it than the flat triangles (their centroids) and converge faster
-        off_smooth = np.abs(np.linalg.norm(vf[len(v):], axis=1) - 2.0).max()
-        off_flat = np.abs(np.linalg.norm(v[f].mean(axis=1), axis=1) - 2.0).max()
-        assert off_smooth < off_flat / 5
-        off.append(off_smooth)
-    assert off[0] / off[1] > 6  # O(e³)
-    assert np.array_equal(smooth_subdivision(v, f, uv0, 0)[0], v)
-    # consistent orientation: refined normals agree with the coarse ones
-    from surfinpaint.geometry.mesh import face_normals
-
-    coarse = face_normals(v, f)[np.tile(np.arange(len(f)), 16)]
-    assert (np.einsum("ij,ij->i", face_normals(vf, ff), coarse) > 0.9).all()
+@pytest.mark.parametrize("surface", ["sphere", "enneper", "enneper-jittered", "bumpy",
+                                     "finger"])
+def test_mesh_round_trip_is_exact(surface):
+    v, f = {"sphere": lambda: sphere_patch(21),
+            "enneper": lambda: enneper_patch(21),
+            "enneper-jittered": lambda: enneper_patch(21, jitter=0.3),
+            "bumpy": lambda: bumpy_disk(12),
+            "finger": finger}[surface]()
+    rep = represent(v, f)
+    assert isinstance(rep, MeshLambdaH) and rep.discretization == "mesh"
+    assert rep.check.converged
+    # exact to the solver's tolerance, not to the discretization's O(h²)
+    assert rep.check.vertex_max < 1e-9 * diagonal(v)
+    out = rebuild(rep)
+    assert out.converged and np.array_equal(out.faces, f)
+    border = rep.known
+    assert np.array_equal(out.vertices[border], v[border])  # the border is fixed
+    assert np.abs(out.vertices - v).max() < 1e-9 * diagonal(v)
 
 
-def test_subdivision_levels_by_crease_angle():
-    from surfinpaint.representation.represent import mean_crease_angle, subdivision_levels
-
-    v, f = bumpy_disk(20)
-    assert mean_crease_angle(v, f) < 4.0 and subdivision_levels(v, f) == 0
-    flat = v.copy()
-    flat[:, 2] = 0.0
-    assert mean_crease_angle(flat, f) < 1e-6
-    pv, pf = pial_disk()
-    assert mean_crease_angle(pv, pf) > 10.0 and subdivision_levels(pv, pf) == 3
-
-
-# ------------------------------------------------------------------------ round trips
+def test_the_defect_is_what_makes_the_round_trip_exact():
+    v, f = finger()
+    rep = represent(v, f, check=False)
+    plain = rebuild(rep, defect=np.zeros_like(rep.defect))  # the paper's Δφ = 2λ²H n
+    exact = rebuild(rep)
+    assert plain.converged and exact.converged
+    err_plain = np.abs(plain.vertices - v).max() / diagonal(v)
+    err_exact = np.abs(exact.vertices - v).max() / diagonal(v)
+    assert err_exact < 1e-9 < 1e-4 < err_plain
 
 
-@pytest.mark.parametrize("map_name", ["lscm", "rectangular"])
-def test_round_trip_bumpy_disk_within_targets(map_name):
-    v, f = bumpy_disk(20)
-    rep = represent(v, f, 80, map=map_name)
-    v2, f2 = rebuild(rep)
-    assert np.array_equal(f2, f)
-    moved = np.linalg.norm(v2 - v, axis=1) > 0
-    assert moved.mean() > 0.6  # the test is not passed by leaving the vertices alone
-    mean, hausdorff = relative_distance(v2, f2, v, f)
-    assert mean < 1e-3 and hausdorff < 1e-2
+def test_rebuild_uses_given_lambda_h():
+    v, f = bumpy_disk(10)
+    rep = represent(v, f, check=False)
+    flat = rebuild(rep, H=np.where(rep.known, np.nan, 0.0), defect=np.zeros_like(rep.defect))
+    assert flat.converged
+    # H = 0 and no defect: the harmonic surface with the same border
+    from surfinpaint.geometry.mesh import cotangent_laplacian
+
+    L = cotangent_laplacian(rep.uv, f)
+    inner = ~rep.known
+    assert np.abs((L @ flat.vertices)[inner]).max() < 1e-9
+    with pytest.raises(ValueError, match="not finite"):
+        rebuild(rep, H=np.full(len(v), np.nan))
 
 
-def test_round_trip_gauss_codazzi():
-    v, f = bumpy_disk(16)
-    rep = represent(v, f, 48, map="lscm")
-    v2, f2 = rebuild(rep, "gauss-codazzi")
-    mean, hausdorff = relative_distance(v2, f2, v, f)
-    assert mean < 1e-3 and hausdorff < 1e-2
+# ------------------------------------------------------------------- convergence is reported
 
 
-def test_rebuild_keeps_band_vertices_and_uses_given_lambda_h():
-    v, f = bumpy_disk(12)
-    rep = represent(v, f, 40, map="lscm")
-    v2, _ = rebuild(rep)
-    v3, _ = rebuild(rep, lam=rep.lam.copy(), H=rep.H.copy())
-    assert np.array_equal(v2, v3)
-    # with H = 0 inside the surface comes out different (flatter)
-    v4, _ = rebuild(rep, H=np.where(rep.unknown, 0.0, rep.H))
-    assert np.abs(v4 - v2).max() > 1e-3
-    # vertices whose cell touches no rebuilt node are exactly the originals
-    from surfinpaint.representation.grid import interpolate
-
-    touch = interpolate(rep.unknown.astype(float), rep.grid, rep.uv, order=1)
-    still = ~(np.isfinite(touch) & (touch > 0))
-    assert still.any() and np.array_equal(v2[still], v[still])
+def test_non_convergence_is_reported_not_silent():
+    v, f = finger(height=1.0)
+    rep = represent(v, f, check=False)
+    with pytest.warns(NotConvergedWarning, match="did not converge"):
+        out = rebuild(rep, max_iter=2)
+    assert not out.converged and out.iterations == 2
+    assert "did not converge" in out.message
+    solve = rebuild_on_mesh(v, f, rep.uv, rep.lam, rep.H, rep.defect, rep.known, max_iter=2)
+    assert not solve.converged and solve.residual > 1e-6
 
 
-def face_scan_disk(radius: float = 40.0):
-    pytest.importorskip("pymeshlab")
-    import scipy.sparse as sp
-    from scipy.sparse.csgraph import dijkstra
-
-    from surfinpaint.data import pymeshlab_sample
-    from surfinpaint.geometry.mesh import connected_components
-
-    v, f = pymeshlab_sample("rangemaps/face000.ply")
-    _, label = connected_components(f, len(v))
-    f = f[label[f[:, 0]] == np.argmax(np.bincount(label[f[:, 0]]))]
-    used = np.unique(f)
-    centre = used[np.argmin(np.linalg.norm(v[used] - v[used].mean(0), axis=1))]
-    e = np.vstack([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
-    w = np.linalg.norm(v[e[:, 0]] - v[e[:, 1]], axis=1)
-    d = dijkstra(sp.csr_matrix((w, (e[:, 0], e[:, 1])), shape=(len(v), len(v))),
-                 directed=False, indices=centre, limit=radius)
-    return disk_from_mesh(v, f[(d[f] < radius).all(axis=1)])
+def test_grid_rebuild_non_convergence_is_reported():
+    v, f = bumpy_disk(10)
+    rep = represent(v, f, discretization="grid", resolution=40, check=False)
+    with pytest.warns(NotConvergedWarning):
+        out = rebuild(rep, max_iter=2)
+    assert not out.converged and out.iterations == 2
+    assert rebuild(rep).converged
 
 
-def test_round_trip_face_scan_within_targets():
-    v, f = face_scan_disk(30.0)
-    assert len(v) > 10000
-    rep = represent(v, f, 96, map="lscm")
-    v2, f2 = rebuild(rep)
-    mean, hausdorff = relative_distance(v2, f2, v, f)
-    assert mean < 1e-3 and hausdorff < 1e-2
+# ------------------------------------------------------------------------------- self-check
 
 
-def pial_disk():
-    pytest.importorskip("nilearn")
-    from surfinpaint.data import fsaverage5
-    from surfinpaint.geometry.cutting import cut_geodesic_disk
-
-    v, f = fsaverage5("pial", "left")
-    cut = cut_geodesic_disk(v, f, 5000, 25.0)
-    return cut.truth_vertices, cut.truth_faces
-
-
-@pytest.mark.parametrize("resolution", [64, 128])
-def test_round_trip_pial_disk_within_targets(resolution):
-    # 250 vertices of ~3 mm, mean crease angle 17°: by default the disk is subdivided onto
-    # its C1 interpolant (3 levels) and mapped again, then sampled smoothly
-    v, f = pial_disk()
-    rep = represent(v, f, resolution, map="lscm")
-    assert rep.subdivide == 3 and rep.sampling == "smooth"
-    v2, f2 = rebuild(rep)
-    moved = np.linalg.norm(v2 - v, axis=1) > 0
-    assert moved.mean() > 0.3  # not passed by leaving the vertices alone
-    mean, hausdorff = relative_distance(v2, f2, v, f)
-    assert mean < 1e-3 and hausdorff < 1e-2
-    # without the subdivision (the map of the piecewise-linear mesh) it misses the target
-    # at 128 (0.17 %), and so does the previous default (PL sampling) at 64 (0.13 %)
-    sampling = "pl" if resolution == 64 else "smooth"
-    v3, _ = rebuild(represent(v, f, resolution, map="lscm", sampling=sampling, subdivide=0))
-    assert relative_distance(v3, f, v, f)[0] > 1e-3
-
-
-def test_pial_disk_round_trip_hausdorff_and_folding():
-    v, f = pial_disk()
-    rep = represent(v, f, 64, map="lscm")
-    v2, f2 = rebuild(rep)
-    _, hausdorff = relative_distance(v2, f2, v, f)
-    assert hausdorff < 1e-2
-    # the rectangular map folds a few triangles of this coarse, irregular disk
-    with pytest.warns(FoldedMapWarning, match="folds"):
-        rect = represent(v, f, 32, map="rectangular")
-    # subdivided and mapped again with the coarse map's corners, which are original vertices
-    assert rect.subdivide == 3 and len(rect.corners) == 4 and (rect.corners < len(v)).all()
-    assert rect.uv.shape == (len(v), 2) and np.isfinite(rect.uv).all()
-    with pytest.raises(MeshError, match="folds"):
-        represent(v, f, 32, map="rectangular", strict=True)
-
-
-# ------------------------------------------------------------------------ input and output
-
-
-def test_represent_rejects_non_disks_and_bad_parameters():
-    with pytest.raises(MeshError, match="closed"):
-        represent(*sphere(2), 32)
-    v, f = bumpy_disk(4)
-    with pytest.raises(ValueError, match="unknown conformal map"):
-        represent(v, f, 32, map="sphere")
-    with pytest.raises(ValueError, match="band"):
-        represent(v, f, 32, band=0)
-    with pytest.raises(ValueError, match="sampling"):
-        represent(v, f, 32, sampling="cubic")
-    with pytest.raises(ValueError, match="subdivide"):
-        represent(v, f, 32, subdivide=-1)
-
-
-def test_disk_from_mesh_closes_inner_holes_and_drops_islands():
-    uv, f = grid_mesh(13, extent=(-1, 1, -1, 1))
-    v = np.column_stack([uv, 0.1 * uv[:, 0] ** 2])
-    hole = (np.abs(uv[f]).max(axis=2) < 0.3).all(axis=1)
-    island = np.array([[0, 0, 5.0], [1, 0, 5.0], [0, 1, 5.0]])
-    v_all = np.vstack([v, island])
-    f_all = np.vstack([f[~hole], len(v) + np.array([[0, 1, 2]])])
-    v2, f2 = disk_from_mesh(v_all, f_all)
-    assert len(f2) >= len(f[~hole]) + hole.sum() // 2
-    assert v2[:, 2].max() < 1.0  # the island is gone
-    with pytest.raises(MeshError, match="closed"):
-        disk_from_mesh(*sphere(1))
-
-
-def test_save_and_load_round_trip(tmp_path):
-    v, f = bumpy_disk(6)
-    rep = represent(v, f, 24, map="rectangular")
+def test_self_check_numbers_are_stored_and_correct(tmp_path):
+    v, f = bumpy_disk(10)
+    rep = represent(v, f)
+    check = rep.check
+    out = rebuild(rep)
+    d = surface_distance(out.vertices, f, v, f, n_samples=20000)
+    assert check.mean == pytest.approx(d["mean"], rel=1e-6, abs=1e-15)
+    assert check.hausdorff == pytest.approx(d["hausdorff"], rel=1e-6, abs=1e-15)
+    assert check.diagonal == pytest.approx(diagonal(v))
+    assert check.mean_percent == pytest.approx(100 * check.mean / check.diagonal)
     path = tmp_path / "rep.npz"
     rep.save(path)
-    assert [p.name for p in tmp_path.iterdir()] == ["rep.npz"]  # no temporary file left
-    back = LambdaH.load(path)
-    assert back.grid == rep.grid and back.map == rep.map and back.band == rep.band
-    assert back.sampling == rep.sampling and back.subdivide == rep.subdivide
-    for name in ("domain", "lam", "H", "phi", "known", "uv", "vertices", "faces", "corners"):
-        assert np.array_equal(getattr(back, name), getattr(rep, name), equal_nan=True), name
-    assert np.array_equal(rebuild(back)[0], rebuild(rep)[0])
-    np.savez(tmp_path / "other.npz", x=np.zeros(3))
-    with pytest.raises(ValueError, match="not a λ-H representation"):
-        LambdaH.load(tmp_path / "other.npz")
+    back = load_representation(path)
+    assert isinstance(back, MeshLambdaH) and back.check == check
+    assert np.array_equal(rebuild(back).vertices, out.vertices)
+    # a representation that does not give its mesh back says so in its check
+    broken = MeshLambdaH(**{**rep.__dict__, "H": np.where(rep.known, np.nan, rep.H * 1.5),
+                            "check": None})
+    from surfinpaint.representation.represent import check_representation
+
+    bad = check_representation(broken)
+    assert bad.mean_percent > 100 * check.mean_percent + 1e-3
 
 
-def test_plot_representation_writes_png(tmp_path):
-    rep = represent(*bumpy_disk(6), 24)
+def test_grid_export_follows_lambda_and_reports_its_error(tmp_path):
+    v, f = finger(rings=10)
+    rep = represent(v, f, check=False)
+    n = export_resolution(rep)
+    assert 64 <= n <= 1024
+    grid = grid_export(rep, 48)
+    assert isinstance(grid, LambdaH) and max(grid.grid.shape) == 48
+    assert grid.check is not None and grid.check.mean > 0
+    grid.save(tmp_path / "grid.npz")
+    back = load_representation(tmp_path / "grid.npz")
+    assert isinstance(back, LambdaH) and back.check == grid.check
+    # a wider λ range asks for a finer grid
+    assert export_resolution(represent(*finger(height=1.0, rings=10), check=False)) >= \
+        export_resolution(represent(*finger(height=0.2, rings=10), check=False))
+
+
+def test_represent_rejects_bad_parameters():
+    v, f = bumpy_disk(4)
+    with pytest.raises(ValueError, match="discretization"):
+        represent(v, f, discretization="voxels")
+    with pytest.raises(ValueError, match="grid"):
+        represent(v, f, resolution=32)
+    with pytest.raises(ValueError, match="conformal map"):
+        represent(v, f, map="sphere")
+
+
+def test_plot_representation_of_a_mesh_writes_png(tmp_path):
+    from surfinpaint.app.lambda_h_figures import plot_representation
+
+    rep = represent(*bumpy_disk(6), check=False)
     path = tmp_path / "rep.png"
     with warnings.catch_warnings():
-        warnings.simplefilter("error")  # headless: no backend warnings
+        warnings.simplefilter("ignore")
         plot_representation(rep, path)
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_boundary_band_width_and_inputs_unchanged():
-    from surfinpaint.representation.represent import boundary_band
+# --------------------------------------------------------------------------------- layering
 
-    domain = np.zeros((20, 20), dtype=bool)
-    domain[2:18, 3:17] = True
-    band = boundary_band(domain, 4)
-    assert not band[~domain].any()
-    assert np.array_equal(domain & ~band, np.pad(np.ones((8, 6), bool), ((6, 6), (7, 7))))
-    v, f = bumpy_disk(6)
-    v0, f0 = v.copy(), f.copy()
-    rep = represent(v, f, 24)
-    rebuild(rep)
-    assert np.array_equal(v, v0) and np.array_equal(f, f0)
+
+def _imports(folder: Path) -> set[str]:
+    names = set()
+    for path in folder.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                names.add(node.module)
+            elif isinstance(node, ast.Import):
+                names.update(alias.name for alias in node.names)
+    return names
+
+
+def test_representation_imports_nothing_from_fill_or_app():
+    root = Path(surfinpaint.__file__).parent
+    for layer, banned in (("representation", ("surfinpaint.fill", "surfinpaint.app")),
+                          ("geometry", ("surfinpaint.fill", "surfinpaint.app",
+                                        "surfinpaint.representation", "matplotlib"))):
+        found = {m for m in _imports(root / layer) if m.startswith(banned)}
+        assert not found, f"{layer}/ imports {sorted(found)}"

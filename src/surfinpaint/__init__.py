@@ -28,7 +28,7 @@ from surfinpaint.representation.estimation import robust_lambda_h
 from surfinpaint.representation.fields import lambda_h
 from surfinpaint.representation.inpainting import inpaint
 from surfinpaint.representation.reconstruction import reconstruct
-from surfinpaint.representation.represent import LambdaH, rebuild, represent
+from surfinpaint.representation.represent import LambdaH, MeshLambdaH, rebuild, represent
 
 __version__ = "0.1.0"
 
@@ -44,6 +44,7 @@ __all__ = [
     "Hole",
     "HoleReport",
     "LambdaH",
+    "MeshLambdaH",
     "MeshError",
     "MeshReport",
     "MeshWarning",

@@ -237,32 +237,77 @@ def _dask_client(address: str):
         raise OSError(f"cannot reach the Dask scheduler at {address}: {exc}") from exc
 
 
+def _grid_options(args: argparse.Namespace) -> dict:
+    options = {"sampling": args.sampling, "subdivide": args.subdivide}
+    return {k: v for k, v in options.items() if v is not None}
+
+
+def _print_round_trip(console, check, what: str) -> None:
+    from rich.markup import escape
+
+    colour = "green" if check.converged else "red"
+    console.print(f"{what} [{colour}]{escape(check.summary())}[/{colour}]")
+
+
 def cmd_represent(args: argparse.Namespace) -> int:
     from surfinpaint.io.formats import read_mesh
-    from surfinpaint.representation.represent import plot_representation, represent
+    from surfinpaint.representation.represent import grid_export, represent
 
+    console = _console()
     vertices, faces = read_mesh(args.mesh)
-    rep = represent(vertices, faces, resolution=args.resolution, map=args.map,
-                    sampling=args.sampling, subdivide=args.subdivide)
+    grid = _grid_options(args)
+    if args.discretization == "grid":
+        grid["resolution"] = args.resolution or 256
+    elif grid or args.resolution:
+        if not args.export_grid:
+            raise _UsageError("--resolution, --sampling and --subdivide are for "
+                              "--discretization grid or --export-grid")
+    rep = represent(vertices, faces, discretization=args.discretization, map=args.map,
+                    check=not args.no_check, **(grid if args.discretization == "grid" else {}))
     rep.save(args.output)
+    written = [str(args.output)]
+    if rep.check is not None:
+        _print_round_trip(console, rep.check, f"{args.discretization} representation:")
+    if args.export_grid:
+        exported = grid_export(rep, args.resolution, check=not args.no_check, **grid)
+        exported.save(args.export_grid)
+        written.append(str(args.export_grid))
+        if exported.check is not None:
+            shape = "×".join(str(n) for n in exported.grid.shape)
+            _print_round_trip(console, exported.check, f"grid export {shape}:")
     if args.png:
+        from surfinpaint.app.lambda_h_figures import plot_representation
+
         plot_representation(rep, args.png)
-    _console().print(f"wrote {args.output}" + (f" and {args.png}" if args.png else ""))
+        written.append(str(args.png))
+    console.print("wrote " + ", ".join(written))
     return EXIT_OK
 
 
 def cmd_rebuild(args: argparse.Namespace) -> int:
     from surfinpaint.io.formats import write_mesh
-    from surfinpaint.representation.represent import LambdaH, rebuild
+    from surfinpaint.representation.represent import load_representation, rebuild
+    from surfinpaint.representation.roundtrip import measure_round_trip
 
+    console = _console()
     try:
-        rep = LambdaH.load(args.representation)
+        rep = load_representation(args.representation)
     except (OSError, KeyError, ValueError) as exc:
         raise MeshError(f"not a λ-H representation file ({exc})",
                         path=str(args.representation)) from exc
-    vertices, faces = rebuild(rep, method=args.method)
-    write_mesh(args.output, vertices, faces)
-    _console().print(f"wrote {args.output}")
+    if rep.discretization == "grid":
+        out = rebuild(rep, method=args.method or "laplacian")
+    elif args.method not in (None, "laplacian"):
+        raise _UsageError("--method is for grid representations; a mesh representation is "
+                          "rebuilt on its triangles")
+    else:
+        out = rebuild(rep)
+    write_mesh(args.output, out.vertices, out.faces)
+    check = measure_round_trip(rep.vertices, out.vertices, rep.faces, converged=out.converged,
+                               iterations=out.iterations, message=out.message,
+                               seconds=out.seconds)
+    _print_round_trip(console, check, "against the stored original:")
+    console.print(f"wrote {args.output}")
     return EXIT_OK
 
 
@@ -387,29 +432,43 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("represent", help="λ-H representation of a disk-like mesh",
                        description="Conformally map a disk-topology MESH to the plane and "
-                       "store its conformal factor λ and mean curvature H on a grid.")
+                       "store its conformal factor λ and mean curvature H, on the mesh's own "
+                       "parameter triangles (default) or on a grid; then rebuild the mesh "
+                       "from them and print the round-trip error.")
     p.add_argument("mesh", help="input mesh (a topological disk)")
     p.add_argument("-o", "--output", required=True, help="output .npz")
-    p.add_argument("--resolution", type=int, default=256, help="grid nodes along the long side")
+    p.add_argument("--discretization", choices=("mesh", "grid"), default="mesh",
+                   help="λ, H at the mesh's vertices, rebuilt on its triangles (default: "
+                   "exact when the rebuild converges), or the paper's regular grid")
     p.add_argument("--map", choices=("rectangular", "lscm"), default="lscm",
                    help="conformal map: free-boundary LSCM (default: 2-4x more accurate "
                    "round trips, measured) or the paper's rectangular map")
-    p.add_argument("--sampling", choices=("smooth", "pl"), default="smooth",
-                   help="sample the C1 (Clough-Tocher) surface through the vertices "
+    p.add_argument("--resolution", type=int,
+                   help="grid nodes along the long side (grid: default 256; --export-grid: "
+                   "default from λ's range)")
+    p.add_argument("--export-grid", metavar="NPZ",
+                   help="also write the grid (image) form of the representation and print "
+                   "its own round trip")
+    p.add_argument("--sampling", choices=("smooth", "pl"),
+                   help="grid: sample the C1 (Clough-Tocher) surface through the vertices "
                    "(default) or the piecewise-linear mesh")
     p.add_argument("--subdivide", type=int, metavar="LEVELS",
-                   help="subdivision levels onto the smooth surface before the map "
+                   help="grid: subdivision levels onto the smooth surface before the map "
                    "(default: automatic, from the mesh's crease angles; 0: none)")
+    p.add_argument("--no-check", action="store_true",
+                   help="do not rebuild and measure the round trip")
     p.add_argument("--png", help="also write λ and H as images")
     p.set_defaults(func=cmd_represent)
 
     p = sub.add_parser("rebuild", help="rebuild a mesh from a λ-H representation",
                        description="Rebuild the surface from the (λ, H) stored in a .npz "
-                       "written by `surfinpaint represent`.")
+                       "written by `surfinpaint represent`, and print its distance to the "
+                       "original stored with it.")
     p.add_argument("representation", help="a .npz from `surfinpaint represent`")
     p.add_argument("-o", "--output", required=True, help="output mesh")
-    p.add_argument("--method", choices=("gauss-codazzi", "laplacian"), default="laplacian",
-                   help="reconstruction (laplacian measured better for whole-surface rebuilds)")
+    p.add_argument("--method", choices=("gauss-codazzi", "laplacian"),
+                   help="grid reconstruction (default laplacian: measured better for "
+                   "whole-surface rebuilds)")
     p.set_defaults(func=cmd_rebuild)
 
     p = sub.add_parser("demo", help="fill the bundled default mesh and draw before/after",

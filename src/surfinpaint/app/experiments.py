@@ -284,7 +284,8 @@ def _run_rebuild(item: Rebuild, scale: str, out_dir: Path, step) -> CaseResult:
     dv, df = disk.truth_vertices, disk.truth_faces
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a few folded triangles on ragged borders
-        rep = represent(dv, df, resolution=resolution)
+        rep = represent(dv, df, discretization="grid", check=False,
+                        resolution=resolution)
         rebuilt, _ = rebuild(rep)
     diameter = disk.diameter
     d = surface_distance(rebuilt, df, dv, df, n_samples=10000)

@@ -42,7 +42,6 @@ __all__ = [
     "flipped_faces",
     "lscm",
     "pinched_vertices",
-    "plot_conformality",
     "rectangular_conformal_map",
 ]
 
@@ -452,17 +451,6 @@ def distortion_histogram(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray
     """
     d = angle_distortion(vertices, faces, uv).ravel()
     return np.histogram(d[np.isfinite(d)], bins=bins, range=range_deg)
-
-
-def plot_conformality(ax, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray,
-                      bins: int = 60, range_deg: tuple[float, float] = (-30.0, 30.0),
-                      label: str | None = None):
-    """Draw the angle-distortion histogram on a matplotlib ``ax``; returns ``ax``."""
-    counts, edges = distortion_histogram(vertices, faces, uv, bins, range_deg)
-    ax.stairs(counts, edges, fill=True, alpha=0.6, label=label)
-    ax.set_xlabel("angle difference (degrees)")
-    ax.set_ylabel("number of angles")
-    return ax
 
 
 def flipped_faces(faces: np.ndarray, uv: np.ndarray) -> np.ndarray:

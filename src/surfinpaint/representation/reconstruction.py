@@ -25,6 +25,7 @@ Both return the exact surface up to O(h²) when λ and H are exact, and converge
 from __future__ import annotations
 
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -41,9 +42,37 @@ from surfinpaint.representation.fields import (
     normals,
 )
 
-__all__ = ["reconstruct", "METHODS"]
+__all__ = ["METHODS", "NotConvergedWarning", "ReconstructionInfo", "reconstruct"]
 
 METHODS = ("gauss-codazzi", "laplacian")
+
+
+
+class NotConvergedWarning(RuntimeWarning):
+    """An iterative rebuild stopped at its iteration limit without converging."""
+
+
+@dataclass(frozen=True)
+class ReconstructionInfo:
+    """How a reconstruction went (``reconstruct(..., return_info=True)``).
+
+    Attributes
+    ----------
+    converged : bool
+        The iteration reached its tolerance (always True for the direct Gauss–Codazzi
+        solve).
+    iterations : int
+        Iterations taken (0 for Gauss–Codazzi).
+    change : float
+        Last relative change of φ (0 for Gauss–Codazzi).
+    message : str
+    """
+
+    converged: bool
+    iterations: int
+    change: float
+    message: str
+
 
 _CROSS = ndimage.generate_binary_structure(2, 1)
 _BLOCK = ndimage.generate_binary_structure(2, 2)
@@ -81,11 +110,19 @@ def reconstruct(
         ``max_iter`` (100) and ``tol`` (1e-12, relative change of φ) for ``"laplacian"``.
         ``integrate`` ("gradient" or "normal") for ``"gauss-codazzi"``: how φ is obtained
         from the rebuilt frame (see the module notes).
+        ``return_info`` (False): also return a :class:`ReconstructionInfo`.
 
     Returns
     -------
     (n, m, 3) array
         ``phi`` with the unknown nodes rebuilt; known nodes are bitwise unchanged.
+    ReconstructionInfo
+        Only with ``return_info=True``.
+
+    Warns
+    -----
+    NotConvergedWarning
+        When the ``"laplacian"`` iteration stops at ``max_iter``.
 
     Raises
     ------
@@ -107,28 +144,32 @@ def reconstruct(
     True
     """
     domain = options.pop("domain", None)
+    return_info = bool(options.pop("return_info", False))
     lam, H, phi, known, domain, h = _check_inputs(lam, H, phi, known, domain, h)
     unknown = domain & ~known
     out = phi.copy()
+    info = ReconstructionInfo(True, 0, 0.0, "nothing to rebuild")
     if not unknown.any():
-        return out
+        return (out, info) if return_info else out
     if method == "laplacian":
         max_iter = int(options.pop("max_iter", 100))
         tol = float(options.pop("tol", 1e-12))
         _no_more(options)
-        values = _laplacian_rebuild(lam, H, phi, known & domain, unknown, h, max_iter, tol)
+        values, info = _laplacian_rebuild(lam, H, phi, known & domain, unknown, h, max_iter,
+                                          tol)
     elif method == "gauss-codazzi":
         integrate = options.pop("integrate", "gradient")
         if integrate not in ("gradient", "normal"):
             raise ValueError(f"integrate must be 'gradient' or 'normal', got {integrate!r}")
         _no_more(options)
         values = _gauss_codazzi_rebuild(lam, H, phi, known & domain, unknown, h, integrate)
+        info = ReconstructionInfo(True, 0, 0.0, "gauss-codazzi: direct solves")
     else:
         raise ValueError(f"unknown reconstruction method {method!r}; choose from {METHODS}")
     if not np.all(np.isfinite(values)):
         raise FillError(f"{method} reconstruction produced non-finite positions")
     out[unknown] = values
-    return out
+    return (out, info) if return_info else out
 
 
 # --------------------------------------------------------------------------- input checks
@@ -275,7 +316,8 @@ def _laplacian_rebuild(lam, H, phi, known, unknown, h, max_iter, tol):
     work = np.where(known[..., None], phi, 0.0)
     x = np.column_stack([solve(-b_known[:, k]) for k in range(3)])  # harmonic start
     scale = max(np.ptp(phi[known], axis=0).max(), np.finfo(float).tiny)
-    for _ in range(max_iter):
+    change = np.inf
+    for it in range(max_iter):
         work[unknown] = x
         n = normals(work, h)[unknown]
         if not np.all(np.isfinite(n)):
@@ -287,15 +329,12 @@ def _laplacian_rebuild(lam, H, phi, known, unknown, h, max_iter, tol):
         if not np.isfinite(change) or change > 1e6:
             raise FillError("laplacian reconstruction diverged")
         if change <= tol:
-            break
-    else:
-        warnings.warn(
-            f"laplacian reconstruction stopped after {max_iter} iterations with relative "
-            f"change {change:.2e} > tol {tol:.1e}",
-            RuntimeWarning,
-            stacklevel=3,
-        )
-    return x
+            return x, ReconstructionInfo(True, it + 1, float(change),
+                                         f"laplacian: converged in {it + 1} iterations")
+    message = (f"laplacian reconstruction stopped after {max_iter} iterations with relative "
+               f"change {change:.2e} > tol {tol:.1e}")
+    warnings.warn(message, NotConvergedWarning, stacklevel=3)
+    return x, ReconstructionInfo(False, max_iter, float(change), message)
 
 
 # ---------------------------------------------------------------------- gauss-codazzi form

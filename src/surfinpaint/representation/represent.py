@@ -1,595 +1,343 @@
-"""The λ-H representation of a disk-topology triangle mesh, and the surface rebuilt from it.
+"""The λ-H representation of a disk-topology mesh, the mesh rebuilt from it, and its check.
 
-:func:`represent` maps the mesh conformally to the plane (method.md §6.4), samples its
-positions φ on a regular grid over the parameter domain (§6.5) and computes the conformal
-factor λ and the mean curvature H there (§3). φ is sampled from the C1 (Clough–Tocher)
-surface through the vertices rather than the piecewise-linear mesh, and a coarse, strongly
-curved mesh is first subdivided onto that surface and mapped again, so that the map is
-conformal for the surface that is sampled (see :func:`represent`). :func:`rebuild` goes
-back: φ is reconstructed from (λ, H) on the interior of the domain with a band of boundary
-nodes as known data (§4), and every mesh vertex is placed at the reconstructed φ at its
-(u, v) (§6.8). The round trip
-measures the whole chain map → sample → λ, H → reconstruct → interpolate on a surface whose
-(λ, H) are right.
+Two discretizations (method.md §3, §8):
+
+- ``"mesh"`` (the default): λ, H (and the discrete conformality defect, see
+  :mod:`~surfinpaint.representation.mesh_lambda_h`) at the vertices of the mesh's own
+  parameter triangles; the rebuild solves ``L φ = M (2λ²H n + defect)`` on the same
+  triangles with the border fixed, by Newton's method. Exact (to the solver's tolerance)
+  when λ and H are the mesh's own, on any disk the map does not fold.
+- ``"grid"``: the paper's images, φ resampled on a regular grid over the parameter domain
+  (:mod:`~surfinpaint.representation.grid_represent`). :func:`grid_export` makes it from a
+  mesh representation, with a resolution that follows λ's range.
+
+:func:`represent` checks itself by default: it rebuilds the mesh from the representation
+and stores the round-trip error (:class:`~surfinpaint.representation.roundtrip.RoundTrip`).
 """
 
 from __future__ import annotations
 
 import os
+import time
 import warnings
-from dataclasses import dataclass, field, fields
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
-from surfinpaint.errors import MeshError, preview
-from surfinpaint.geometry.parameterization import flipped_faces, lscm, rectangular_conformal_map
-from surfinpaint.io.atomic import atomic_open
-from surfinpaint.representation.grid import (
-    Grid,
-    clough_tocher,
-    grid_over,
-    interpolate,
-    resample,
-    vertex_gradients,
-)
+from surfinpaint.representation.grid_represent import LambdaH, rebuild_grid, represent_grid
+from surfinpaint.representation.mapping import MAPS, parameterize
+from surfinpaint.representation.mesh_lambda_h import mesh_lambda_h, rebuild_on_mesh
+from surfinpaint.representation.reconstruction import NotConvergedWarning
+from surfinpaint.representation.roundtrip import RoundTrip, measure_round_trip, save_npz
 
 __all__ = [
-    "FoldedMapWarning",
-    "LambdaH",
-    "MAPS",
-    "boundary_band",
-    "disk_from_mesh",
-    "parameterize",
-    "plot_representation",
+    "DISCRETIZATIONS",
+    "MeshLambdaH",
+    "Rebuilt",
+    "check_representation",
+    "export_resolution",
+    "grid_export",
+    "load_representation",
     "rebuild",
-    "mean_crease_angle",
     "represent",
-    "smooth_subdivision",
-    "subdivision_levels",
 ]
 
-MAPS = ("rectangular", "lscm")
-SAMPLINGS = ("smooth", "pl")
-# automatic subdivision: refine until the mean crease angle is at most this (degrees), with
-# at most _MAX_LEVELS levels and _MAX_FACES faces (see subdivision_levels)
-_CREASE_DEG = 4.0
-_MAX_LEVELS = 4
-_MAX_FACES = 500_000
-
-# the Gauss–Codazzi rebuild closes its stencils with 3 rings (8-neighbour) of known nodes
-_BLOCK = ndimage.generate_binary_structure(2, 2)
-_FORMAT = 1
+DISCRETIZATIONS = ("mesh", "grid")
+_FORMAT = 2
+# the automatic grid export: nodes along the long side at most / at least
+_MAX_RESOLUTION = 1024
+_MIN_RESOLUTION = 64
 
 
 @dataclass
-class LambdaH:
-    """The λ-H representation of a mesh on a regular grid over its conformal parameter domain.
+class MeshLambdaH:
+    """The λ-H representation of a mesh on its own conformally mapped triangles.
 
     Attributes
     ----------
-    grid : Grid
-        The regular grid (``[i, j]`` ↔ ``(u0 + i h, v0 + j h)``).
-    domain : (N, M) bool array
-        Nodes inside the parameter domain (inside some parameter triangle).
-    lam, H : (N, M) float arrays
-        Conformal factor and mean curvature (method.md §1), NaN where a stencil leaves the
-        domain.
-    phi : (N, M, 3) float array
-        The mesh's positions sampled at the nodes, NaN outside the domain.
-    known : (N, M) bool array
-        The boundary band of the domain whose φ is the boundary data of :func:`rebuild`.
-    uv : (n, 2) float array
-        Parameter coordinates of each mesh vertex.
     vertices : (n, 3) float array
+        The original positions (the known ones are the boundary data of the rebuild; the
+        rest are kept to measure the round trip).
     faces : (f, 3) int array
+    uv : (n, 2) float array
+        The conformal map.
+    lam, H : (n,) float arrays
+        Conformal factor and mean curvature at the vertices (method.md §1; H is NaN on the
+        border).
+    defect : (n, 2) float array
+        The discrete conformality defect (a, b) (zero for a smooth conformal map; NaN on the
+        border).
+    known : (n,) bool array
+        Vertices fixed in the rebuild: the border.
     map : str
-        The conformal map used, ``"rectangular"`` or ``"lscm"``.
-    band : int
-        Width of ``known`` in nodes.
-    corners : (4,) int array
-        Corner vertices of the rectangular map (empty for LSCM).
-    sampling : str
-        How φ was sampled: ``"smooth"`` (C1 Clough–Tocher) or ``"pl"`` (piecewise linear).
-    subdivide : int
-        Levels of smooth subdivision applied before the (second) conformal map.
+        The conformal map, ``"lscm"`` or ``"rectangular"``.
+    check : RoundTrip or None
+        The self-check of :func:`represent`.
     """
 
-    grid: Grid
-    domain: np.ndarray
-    lam: np.ndarray
-    H: np.ndarray
-    phi: np.ndarray
-    known: np.ndarray
-    uv: np.ndarray
     vertices: np.ndarray
     faces: np.ndarray
-    map: str = "rectangular"
-    band: int = 4
-    corners: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    sampling: str = "pl"
-    subdivide: int = 0
+    uv: np.ndarray
+    lam: np.ndarray
+    H: np.ndarray
+    defect: np.ndarray
+    known: np.ndarray
+    map: str = "lscm"
+    check: RoundTrip | None = None
 
-    @property
-    def unknown(self) -> np.ndarray:
-        """(N, M) nodes that :func:`rebuild` reconstructs: the domain minus the band."""
-        return self.domain & ~self.known
+    discretization = "mesh"
 
     def save(self, path: str | os.PathLike) -> None:
-        """Write to ``path`` as ``.npz``, atomically (temporary file, then rename)."""
-        path = Path(path)
-        arrays = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "grid"}
-        arrays["map"] = np.array(self.map)
-        arrays["band"] = np.array(self.band)
-        arrays["sampling"] = np.array(self.sampling)
-        arrays["subdivide"] = np.array(self.subdivide)
-        arrays["grid_origin"] = np.array(self.grid.origin, dtype=float)
-        arrays["grid_h"] = np.array(self.grid.h, dtype=float)
-        arrays["grid_shape"] = np.array(self.grid.shape, dtype=np.int64)
-        arrays["format"] = np.array(_FORMAT)
-        with atomic_open(path) as handle:
-            np.savez_compressed(handle, **arrays)
+        """Write to ``path`` as ``.npz``, atomically."""
+        arrays = {name: np.asarray(getattr(self, name)) for name in
+                  ("vertices", "faces", "uv", "lam", "H", "defect", "known")}
+        arrays.update(discretization=np.array("mesh"), map=np.array(self.map),
+                      format=np.array(_FORMAT))
+        if self.check is not None:
+            arrays.update(self.check.to_arrays())
+        save_npz(path, arrays)
 
     @classmethod
-    def load(cls, path: str | os.PathLike) -> LambdaH:
+    def load(cls, path: str | os.PathLike) -> MeshLambdaH:
         """Read a representation written by :meth:`save`.
 
         Raises
         ------
         ValueError
-            When the file is not a λ-H representation (names what is missing).
+            When the file is not a mesh λ-H representation (names what is missing).
         """
         with np.load(path, allow_pickle=False) as data:
-            needed = {"grid_origin", "grid_h", "grid_shape", "domain", "lam", "H", "phi",
-                      "known", "uv", "vertices", "faces", "map"}
+            needed = {"vertices", "faces", "uv", "lam", "H", "defect", "known", "map"}
             missing = sorted(needed - set(data.files))
             if missing:
-                raise ValueError(f"{path}: not a λ-H representation (missing {missing})")
-            grid = Grid(tuple(float(x) for x in data["grid_origin"]), float(data["grid_h"]),
-                        tuple(int(x) for x in data["grid_shape"]))
-            return cls(
-                grid=grid, domain=data["domain"].astype(bool), lam=data["lam"], H=data["H"],
-                phi=data["phi"], known=data["known"].astype(bool), uv=data["uv"],
-                vertices=data["vertices"], faces=data["faces"].astype(np.int64),
-                map=str(data["map"]), band=int(data["band"]) if "band" in data.files else 4,
-                corners=data["corners"] if "corners" in data.files else np.zeros(0, np.int64),
-                sampling=str(data["sampling"]) if "sampling" in data.files else "pl",
-                subdivide=int(data["subdivide"]) if "subdivide" in data.files else 0,
-            )
+                raise ValueError(f"{path}: not a mesh λ-H representation (missing {missing})")
+            return cls(vertices=data["vertices"], faces=data["faces"].astype(np.int64),
+                       uv=data["uv"], lam=data["lam"], H=data["H"], defect=data["defect"],
+                       known=data["known"].astype(bool), map=str(data["map"]),
+                       check=RoundTrip.from_arrays(data))
 
 
-def disk_from_mesh(vertices: np.ndarray, faces: np.ndarray, *, fill_holes: bool = True,
-                   max_rounds: int = 20) -> tuple[np.ndarray, np.ndarray]:
-    """Make a topological disk out of an open mesh such as a range scan.
+@dataclass(frozen=True)
+class Rebuilt:
+    """A mesh rebuilt from its λ-H representation.
 
-    Keeps the largest connected component, removes the faces around pinched boundary
-    vertices and slivers of zero area (repeating while that creates new ones), then closes
-    every boundary loop but the longest with the conventional fill (Liepa's triangulate /
-    refine / fair, :func:`surfinpaint.fill.liepa.baseline.conventional_fill`). Unused vertices are
-    dropped.
+    Unpacks as ``vertices, faces = rebuild(rep)``.
+
+    Attributes
+    ----------
+    vertices : (n, 3) float array
+    faces : (f, 3) int array
+        The representation's faces.
+    converged : bool
+        Whether the rebuild's iteration converged; when not, a
+        :class:`~surfinpaint.representation.reconstruction.NotConvergedWarning` was issued.
+    iterations : int
+    message : str
+    seconds : float
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    converged: bool
+    iterations: int
+    message: str
+    seconds: float
+
+    def __iter__(self):
+        return iter((self.vertices, self.faces))
+
+
+def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = "mesh",
+              map: str = "lscm", check: bool = True, strict: bool = False,
+              **grid_options) -> MeshLambdaH | LambdaH:
+    """The λ-H representation of a disk-topology mesh, checked by its round trip.
 
     Parameters
     ----------
     vertices : (n, 3) float array
     faces : (f, 3) int array
-        Consistently oriented, edge-manifold.
-    fill_holes : bool
-        Close the inner loops; otherwise a mesh with several loops raises.
-    max_rounds : int
-        Limit on the cleaning rounds.
-
-    Returns
-    -------
-    vertices, faces
-        A mesh that passes :func:`~surfinpaint.geometry.parameterization.check_disk`.
-
-    Raises
-    ------
-    MeshError
-        When no disk comes out (e.g. a closed mesh, or a handle), saying why.
-    """
-    from surfinpaint.geometry.mesh import boundary_loops, connected_components, face_areas
-    from surfinpaint.geometry.parameterization import check_disk, pinched_vertices
-
-    v = np.asarray(vertices, dtype=float)
-    f = np.asarray(faces, dtype=np.int64)
-    for _ in range(max_rounds):
-        _, label = connected_components(f, len(v))
-        biggest = np.argmax(np.bincount(label[f[:, 0]]))
-        f = f[label[f[:, 0]] == biggest]
-        area = face_areas(v, f)
-        scale = float(np.ptp(v[np.unique(f)], axis=0).max())
-        bad = area <= 1e-14 * scale**2
-        pinched = pinched_vertices(f)
-        if len(pinched):
-            bad |= np.isin(f, pinched).any(axis=1)
-        if not bad.any():
-            break
-        f = f[~bad]
-    if fill_holes:
-        from surfinpaint.fill.liepa.baseline import conventional_fill
-
-        for loop in boundary_loops(f)[1:]:
-            new_v, new_f = conventional_fill(v, f, loop)
-            v = np.vstack([v, new_v])
-            f = np.vstack([f, new_f])
-    used = np.unique(f)
-    remap = np.full(len(v), -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    v, f = v[used], remap[f]
-    check_disk(v, f)
-    return v, f
-
-
-class FoldedMapWarning(UserWarning):
-    """The conformal map folds some triangles over (see
-    :func:`~surfinpaint.geometry.parameterization.flipped_faces`)."""
-
-
-def parameterize(vertices: np.ndarray, faces: np.ndarray, map: str = "rectangular", *,
-                 strict: bool = False,
-                 corners: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """``(uv, corners)`` of the named conformal map (``corners`` empty for LSCM).
-
-    Folded (flipped) parameter triangles make the grid sampling ambiguous there; a few of
-    them (they come from obtuse triangles on ragged boundaries) only disturb the sampling
-    locally, so by default they give a :class:`FoldedMapWarning`.
-
-    ``corners`` (rectangular map only) fixes the four corner vertices.
-
-    Raises
-    ------
-    ValueError
-        For an unknown map name.
-    MeshError
-        When the mesh is not a disk, or, with ``strict``, when the map folds (names the
-        flipped faces).
-    """
-    if map == "rectangular":
-        uv, corners = rectangular_conformal_map(vertices, faces, corners)
-    elif map == "lscm":
-        uv, corners = lscm(vertices, faces), np.zeros(0, dtype=np.int64)
-    else:
-        raise ValueError(f"unknown conformal map {map!r}; choose from {MAPS}")
-    flipped = flipped_faces(faces, uv)
-    if len(flipped):
-        message = (f"the {map} map folds {len(flipped)} of {len(faces)} triangles over "
-                   f"(faces {preview(flipped)}); the mesh probably has badly shaped "
-                   "triangles there")
-        if strict:
-            raise MeshError(message, faces=flipped[:100])
-        warnings.warn(message, FoldedMapWarning, stacklevel=3)
-    return uv, corners
-
-
-def mean_crease_angle(vertices: np.ndarray, faces: np.ndarray) -> float:
-    """Mean angle in degrees between the normals of faces sharing an interior edge."""
-    from surfinpaint.geometry.mesh import face_normals
-    from surfinpaint.representation.grid import face_neighbours
-
-    f = np.asarray(faces, dtype=np.int64)
-    n = face_normals(np.asarray(vertices, dtype=float), f)
-    nb = face_neighbours(f)
-    t, k = np.nonzero(nb > np.arange(len(nb))[:, None])  # every interior edge once
-    if len(t) == 0:
-        return 0.0
-    cos = np.clip(np.einsum("ij,ij->i", n[t], n[nb[t, k]]), -1.0, 1.0)
-    return float(np.degrees(np.nanmean(np.arccos(cos))))
-
-
-def subdivision_levels(vertices: np.ndarray, faces: np.ndarray) -> int:
-    """Levels of :func:`smooth_subdivision` that :func:`represent` applies by default.
-
-    Each level halves the angles between neighbouring faces; the mesh is refined until
-    their mean is at most 4° (at most 4 levels and 500,000 faces). Measured
-    (``benchmarks/represent_speed.py``): the 250-vertex pial disk (mean crease 17°) needs 3
-    levels to reach the round-trip targets, while the face scan (3.6°, its creases are scan
-    noise that subdivision keeps) and the synthetic disks (≤ 2.2°) do not gain from it.
-    """
-    crease = mean_crease_angle(vertices, faces)
-    if not np.isfinite(crease) or crease <= _CREASE_DEG:
-        return 0
-    levels = int(np.ceil(np.log2(crease / _CREASE_DEG)))
-    by_size = int(np.floor(np.log(_MAX_FACES / max(len(faces), 1)) / np.log(4)))
-    return int(max(0, min(levels, _MAX_LEVELS, by_size)))
-
-
-def smooth_subdivision(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray,
-                       levels: int = 1) -> tuple[np.ndarray, np.ndarray]:
-    """Refine a mesh onto the C1 surface through its vertices.
-
-    The parameter triangles are split ``levels`` times into four (edge midpoints), and every
-    new vertex is placed on the Clough–Tocher interpolant
-    (:func:`~surfinpaint.representation.grid.clough_tocher`) of the positions over ``uv``, so the
-    refined
-    mesh approximates one smooth surface through the original vertices, with creases
-    2^levels times flatter.
-
-    Parameters
-    ----------
-    vertices : (n, 3) float array
-    faces : (f, 3) int array
-    uv : (n, 2) float array
-        A parameterization of the mesh (no folded triangles, ideally).
-    levels : int
-
-    Returns
-    -------
-    vertices : (n + m, 3) float array
-        The original vertices first (same ids), then the new ones.
-    faces : (4^levels f, 3) int array
-        Same orientation as ``faces``.
-    """
-    from surfinpaint.geometry.mesh import unique_edges
-
-    v = np.asarray(vertices, dtype=float)
-    q = np.asarray(uv, dtype=float)
-    f0 = np.asarray(faces, dtype=np.int64)
-    if levels <= 0:
-        return v.copy(), f0.copy()
-    grads = vertex_gradients(q, f0, v)
-    f = f0
-    origin = np.arange(len(f0))  # the original face each fine face lies in
-    points = [q]
-    at = [np.full(len(q), -1, dtype=np.int64)]
-    n = len(q)
-    for _ in range(levels):
-        allq = np.vstack(points)
-        e, fe, _ = unique_edges(f)
-        eorigin = np.empty(len(e), dtype=np.int64)
-        eorigin[fe.ravel()] = np.repeat(origin, 3)  # any face on the edge: C0 there
-        points.append((allq[e[:, 0]] + allq[e[:, 1]]) / 2)
-        at.append(eorigin)
-        m = n + fe  # m[:, k]: midpoint of the edge opposite corner k
-        a, b, c = f[:, 0], f[:, 1], f[:, 2]
-        f = np.vstack([np.column_stack([a, m[:, 2], m[:, 1]]),
-                       np.column_stack([m[:, 2], b, m[:, 0]]),
-                       np.column_stack([m[:, 1], m[:, 0], c]),
-                       np.column_stack([m[:, 0], m[:, 1], m[:, 2]])])
-        origin = np.tile(origin, 4)
-        n += len(e)
-    new_q = np.vstack(points[1:])
-    new_at = np.concatenate(at[1:])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        new_v = clough_tocher(q, f0, v, grads, new_at, new_q)
-    # folded or degenerate parameter triangles have no well-defined smooth patch: their new
-    # vertices stay on the flat triangle (barycentric coordinates of the point in it)
-    bad = np.zeros(len(f0), dtype=bool)
-    bad[flipped_faces(f0, q)] = True
-    bad = bad[new_at] | ~np.isfinite(new_v).all(axis=1)
-    if bad.any():
-        tri = q[f0[new_at[bad]]]
-        r = new_q[bad] - tri[:, 2]
-        t1, t2 = tri[:, 0] - tri[:, 2], tri[:, 1] - tri[:, 2]
-        det = t1[:, 0] * t2[:, 1] - t2[:, 0] * t1[:, 1]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            b1 = (r[:, 0] * t2[:, 1] - r[:, 1] * t2[:, 0]) / det
-            b2 = (t1[:, 0] * r[:, 1] - t1[:, 1] * r[:, 0]) / det
-        b = np.column_stack([b1, b2, 1 - b1 - b2])
-        b = np.where(np.isfinite(b).all(axis=1, keepdims=True), b, 1.0 / 3)
-        new_v[bad] = np.einsum("pk,pkd->pd", b, v[f0[new_at[bad]]])
-    return np.vstack([v, new_v]), f
-
-
-def boundary_band(domain: np.ndarray, band: int = 4) -> np.ndarray:
-    """Nodes of ``domain`` within ``band`` 8-neighbour steps of a node outside it (or of the
-    grid border): the known data around the rebuilt interior."""
-    interior = ndimage.binary_erosion(domain, structure=_BLOCK, iterations=band,
-                                      border_value=0)
-    return domain & ~interior
-
-
-def represent(vertices: np.ndarray, faces: np.ndarray, resolution: int = 256, *,
-              map: str = "lscm", band: int = 4, h: float | None = None,
-              strict: bool = False, sampling: str = "smooth",
-              subdivide: int | None = None) -> LambdaH:
-    """The λ-H representation of a disk-topology mesh.
-
-    Parameters
-    ----------
-    vertices : (n, 3) float array
-    faces : (f, 3) int array
-        A topological disk, consistently oriented; H's sign follows its orientation
-        (``n = φu × φv`` is the faces' normal).
-    resolution : int
-        Grid nodes along the longer side of the parameter domain.
+        A topological disk, consistently oriented; H's sign follows its orientation.
+    discretization : {"mesh", "grid"}
+        λ and H at the vertices of the mesh's parameter triangles (default), or on a
+        regular grid (:func:`~surfinpaint.representation.grid_represent.represent_grid`,
+        which takes ``resolution``, ``h``, ``band``, ``sampling``, ``subdivide``). Measured
+        (``benchmarks/represent_speed.py``, docs/representation.md): the mesh form gives the
+        mesh back to ~1e-13 of the diagonal where its rebuild converges to the original,
+        the grid at 512² 0.01–1 % on the distorted benchmark disks.
     map : {"lscm", "rectangular"}
-        The conformal map (:func:`~surfinpaint.geometry.parameterization.lscm`, the default,
-        measured
-        as or more accurate in round trips at 128–512 nodes on the four benchmark meshes
-        (1.0–25×; only the face disk at 64 was 1.3× better rectangular) and folding fewer
-        triangles on ragged borders, or
-        the paper's :func:`~surfinpaint.geometry.parameterization.rectangular_conformal_map`); both
-        scale the domain so that its area is the surface area.
-    band : int
-        Width in nodes of the boundary band kept as known data for :func:`rebuild`. The
-        Gauss–Codazzi rebuild needs λ and H on 3 known rings, and λ, H need one more ring
-        of φ, hence 4; the Laplacian rebuild needs 1.
-    h : float, optional
-        Grid spacing, instead of ``resolution``.
+        The conformal map (:func:`~surfinpaint.representation.mapping.parameterize`).
+    check : bool
+        Rebuild the mesh from the representation and store the round-trip error in
+        ``check`` (:class:`~surfinpaint.representation.roundtrip.RoundTrip`).
     strict : bool
         Raise instead of warning when the map folds triangles over.
-    sampling : {"smooth", "pl"}
-        How φ is sampled at the nodes: the C1 Clough–Tocher interpolant of the vertex
-        positions over the mesh's own parameter triangles (``"smooth"``, the default), or
-        the piecewise-linear mesh itself (``"pl"``). Sampled finer than its triangles, a
-        piecewise-linear surface has Δφ = 0 inside them and spikes on the edges, with a large
-        tangential part that (λ, H) do not carry; the smooth surface through the same
-        vertices has neither. Measured round-trip mean error on the bumpy disk 1.3–10×
-        lower than ``"pl"``, on the face scans equal at 64 and 1.1–1.4× lower at 128–512
-        (README, ``benchmarks/represent_speed.py --compare``).
-    subdivide : int, optional
-        Levels of :func:`smooth_subdivision` before the conformal map is computed again on
-        the refined mesh; ``None`` (default) chooses them with
-        :func:`subdivision_levels` (0 for meshes with mean crease angle ≤ 4°). On a coarse,
-        strongly curved mesh a piecewise-linear conformal map is far from conformal for the
-        smooth surface through its vertices: a smooth φ over it has a non-conformal metric,
-        and the derivatives of that metric are the tangential part of Δφ
-        (<Δφ, φu> = ½(E − G)u + Fv), which (λ, H) do not carry. Mapping the subdivided mesh
-        makes it conformal to O(refined edge). On the 250-vertex pial disk the tangential
-        part fell from 21–24 % of |Δφ| (PL sampling; 40–54 % smooth) to 5–6 % with 3
-        levels, and the round-trip mean error from 0.13–0.24 % to 0.004–0.015 % of the
-        diagonal (64–512 nodes).
+    **grid_options
+        For ``discretization="grid"`` only.
 
     Returns
     -------
-    LambdaH
+    MeshLambdaH or LambdaH
 
     Raises
     ------
     MeshError
-        When the mesh is not a topological disk, has degenerate faces, or (``strict``) the
-        map folds.
+        When the mesh is not a topological disk, or (``strict``) the map folds.
     ValueError
         For bad parameters.
 
     Examples
     --------
     >>> from surfinpaint.data import bumpy_disk
-    >>> rep = represent(*bumpy_disk(8), resolution=32)
-    >>> rep.lam.shape == rep.grid.shape
+    >>> rep = represent(*bumpy_disk(8))
+    >>> rep.check.converged and rep.check.mean_percent < 1e-6
     True
     """
-    from surfinpaint.representation.fields import lambda_h
-
-    if band < 1:
-        raise ValueError(f"band must be at least 1 node, got {band}")
-    if sampling not in SAMPLINGS:
-        raise ValueError(f"unknown sampling {sampling!r}; choose from {SAMPLINGS}")
-    if subdivide is not None and subdivide < 0:
-        raise ValueError(f"subdivide must be at least 0, got {subdivide}")
+    if discretization not in DISCRETIZATIONS:
+        raise ValueError(f"unknown discretization {discretization!r}; choose from "
+                         f"{DISCRETIZATIONS}")
+    if map not in MAPS:
+        raise ValueError(f"unknown conformal map {map!r}; choose from {MAPS}")
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    uv, corners = parameterize(v, f, map, strict=strict)
-    levels = subdivision_levels(v, f) if subdivide is None else int(subdivide)
-    sample_uv, sample_f, sample_v = uv, f, v
-    if levels:
-        # the smooth surface is built over the LSCM map, which folds fewer triangles; the
-        # original vertices keep their ids in the refined mesh, so their (u, v) are read
-        # from its map (with the coarse map's corners for the rectangular map)
-        base_uv = uv if map == "lscm" else lscm(v, f)
-        sample_v, sample_f = smooth_subdivision(v, f, base_uv, levels)
-        sample_uv, _ = parameterize(sample_v, sample_f, map, strict=strict,
-                                    corners=corners if len(corners) else None)
-        uv = sample_uv[:len(v)]
-    # with subdivision the refined border may bulge out of the original vertices' box
-    over = sample_uv[np.unique(sample_f)] if levels else uv
-    grid = grid_over(over, h=h) if h is not None else grid_over(over, resolution=resolution)
-    interpolant = "clough-tocher" if sampling == "smooth" else "linear"
-    phi, domain, _ = resample(sample_uv, sample_f, sample_v, grid, interpolant=interpolant)
-    lam, H = lambda_h(phi, grid.h)
-    known = boundary_band(domain, band)
-    return LambdaH(grid=grid, domain=domain, lam=lam, H=H, phi=phi, known=known, uv=uv,
-                   vertices=v.copy(), faces=f.copy(), map=map, band=band,
-                   corners=np.asarray(corners, dtype=np.int64), sampling=sampling,
-                   subdivide=levels)
+    if discretization == "grid":
+        rep = represent_grid(v, f, map=map, strict=strict, **grid_options)
+    else:
+        if grid_options:
+            raise ValueError(f"options {sorted(grid_options)} are for discretization='grid'")
+        rep = _represent_on_mesh(v, f, map, strict)
+    if check:
+        rep.check = check_representation(rep)
+    return rep
 
 
-def rebuild(rep: LambdaH, method: str = "laplacian", *, order: int = 3,
+def _represent_on_mesh(v: np.ndarray, f: np.ndarray, map: str, strict: bool) -> MeshLambdaH:
+    from surfinpaint.geometry.mesh import boundary_loops
+
+    uv, _ = parameterize(v, f, map, strict=strict)
+    lam, H, defect = mesh_lambda_h(v, f, uv)
+    known = np.zeros(len(v), dtype=bool)
+    known[np.concatenate(boundary_loops(f))] = True
+    unused = np.ones(len(v), dtype=bool)
+    unused[f.ravel()] = False
+    known |= unused  # vertices on no face: nothing to rebuild them from
+    return MeshLambdaH(vertices=v.copy(), faces=f.copy(), uv=uv, lam=lam, H=H,
+                       defect=defect, known=known, map=map)
+
+
+def rebuild(rep: MeshLambdaH | LambdaH, method: str = "laplacian", *,
             lam: np.ndarray | None = None, H: np.ndarray | None = None,
-            **options) -> tuple[np.ndarray, np.ndarray]:
+            defect: np.ndarray | None = None, tol: float | None = None,
+            max_iter: int | None = None, **options) -> Rebuilt:
     """The mesh rebuilt from its λ-H representation.
-
-    φ is reconstructed on the unknown nodes (the domain minus its boundary band) from
-    (λ, H) with the band's φ as boundary data; each vertex whose interpolation cell touches
-    a reconstructed node is moved to the interpolated φ at its (u, v). The other vertices
-    lie in the band, where φ is the original surface itself, so they keep their positions
-    (interpolating the resampled surface there would only add interpolation error).
 
     Parameters
     ----------
-    rep : LambdaH
+    rep : MeshLambdaH or LambdaH
     method : {"laplacian", "gauss-codazzi"}
-        The reconstruction (:func:`surfinpaint.representation.reconstruction.reconstruct`). The
-        Laplacian
-        form measured 2–10x lower round-trip error and 4–10x faster here (bumpy disk,
-        ``benchmarks/represent_speed.py``).
-    order : {1, 3}
-        Bilinear or bicubic interpolation of the reconstructed φ at the vertices (bicubic
-        falls back to bilinear where its 4×4 stencil leaves the domain).
-    lam, H : (N, M) arrays, optional
-        Replace the representation's λ and H (e.g. inpainted or edited ones).
+        The grid reconstruction (grid representations only;
+        :func:`~surfinpaint.representation.grid_represent.rebuild_grid`).
+    lam, H : arrays, optional
+        Replace the representation's λ and H (e.g. inpainted ones), shaped like them.
+    defect : (n, 2) array, optional
+        Mesh only: replace the conformality defect (zeros: the paper's ``Δφ = 2λ²H n``).
+    tol, max_iter : float, int, optional
+        Tolerance and iteration budget: on the mesh, Newton's (relative to the border's
+        diagonal; default 1e-10 and 200 steps,
+        :func:`~surfinpaint.representation.mesh_lambda_h.rebuild_on_mesh`); on the grid,
+        the Laplacian iteration's (``reconstruct``'s defaults).
     **options
-        Passed on to ``reconstruct``.
+        Grid only: passed on to ``rebuild_grid``.
 
     Returns
     -------
-    vertices : (n, 3) float array
-    faces : (f, 3) int array
-        The representation's faces, unchanged.
+    Rebuilt
+
+    Warns
+    -----
+    NotConvergedWarning
+        When the rebuild did not converge (``Rebuilt.converged`` is then False).
     """
-    from surfinpaint.representation.reconstruction import reconstruct
+    if isinstance(rep, LambdaH):
+        started = time.perf_counter()
+        options.update({k: x for k, x in (("tol", tol), ("max_iter", max_iter))
+                        if x is not None})
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NotConvergedWarning)  # re-issued below, once
+            v, f, info = rebuild_grid(rep, method, lam=lam, H=H, **options)
+        out = Rebuilt(v, f, info.converged, info.iterations, info.message,
+                      time.perf_counter() - started)
+    else:
+        if options or method != "laplacian":
+            raise ValueError("method and reconstruction options are for grid representations")
+        solve = rebuild_on_mesh(rep.vertices, rep.faces, rep.uv,
+                                rep.lam if lam is None else lam, rep.H if H is None else H,
+                                rep.defect if defect is None else defect, rep.known,
+                                tol=1e-10 if tol is None else tol,
+                                max_iter=200 if max_iter is None else max_iter)
+        out = Rebuilt(solve.points, rep.faces.copy(), solve.converged, solve.iterations,
+                      solve.message, solve.seconds)
+    if not out.converged:
+        warnings.warn(f"the λ-H rebuild did not converge: {out.message}", NotConvergedWarning,
+                      stacklevel=2)
+    return out
 
-    lam = rep.lam if lam is None else np.asarray(lam, dtype=float)
-    H = rep.H if H is None else np.asarray(H, dtype=float)
-    phi = reconstruct(lam, H, rep.phi, rep.known, rep.grid.h, method=method,
-                      domain=rep.domain, **options)
-    out = np.array(rep.vertices, dtype=float, copy=True)
-    used = np.zeros(len(out), dtype=bool)
-    used[rep.faces.ravel()] = True
-    touches = interpolate(rep.unknown.astype(float), rep.grid, rep.uv, order=1)
-    moved = used & np.isfinite(touches) & (touches > 0)
-    values = interpolate(phi, rep.grid, rep.uv[moved], order=order)
-    ok = np.isfinite(values).all(axis=1)
-    idx = np.flatnonzero(moved)[ok]
-    out[idx] = values[ok]
-    return out, rep.faces.copy()
+
+def check_representation(rep: MeshLambdaH | LambdaH) -> RoundTrip:
+    """Rebuild the mesh from ``rep`` and measure it against the original it stores."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotConvergedWarning)  # it is in the result
+        out = rebuild(rep)
+    return measure_round_trip(rep.vertices, out.vertices, rep.faces, converged=out.converged,
+                              iterations=out.iterations, message=out.message,
+                              seconds=out.seconds)
 
 
-def plot_representation(rep: LambdaH, path: str | os.PathLike, *, clip: float = 1.0,
-                        title: str | None = None) -> None:
-    """Write a PNG of λ and H over the parameter domain with colour bars (paper Figs. 2–4)
-    and the histogram of the map's angle distortion (paper Fig. 1(D)). Written atomically.
+def load_representation(path: str | os.PathLike) -> MeshLambdaH | LambdaH:
+    """Read either kind of representation file (:meth:`MeshLambdaH.save`,
+    :meth:`LambdaH.save`).
+
+    Raises
+    ------
+    ValueError
+        When the file is not a λ-H representation.
+    """
+    with np.load(path, allow_pickle=False) as data:
+        kind = str(data["discretization"]) if "discretization" in data.files else "grid"
+    if kind == "mesh":
+        return MeshLambdaH.load(path)
+    return LambdaH.load(path)
+
+
+def export_resolution(rep: MeshLambdaH) -> int:
+    """Grid nodes along the long side for :func:`grid_export`: the spacing follows λ's
+    range, so that the grid resolves the mesh where the map shrinks it most.
+
+    The spacing is the 5th percentile of the parameter edge lengths (the edges where λ is
+    large are short in the plane), clipped to 64–1024 nodes.
+    """
+    from surfinpaint.geometry.mesh import unique_edges
+
+    edges = unique_edges(rep.faces)[0]
+    length = np.linalg.norm(rep.uv[edges[:, 0]] - rep.uv[edges[:, 1]], axis=1)
+    h = float(np.percentile(length[length > 0], 5))
+    extent = float(np.ptp(rep.uv[np.unique(rep.faces)], axis=0).max())
+    return int(np.clip(np.ceil(extent / h), _MIN_RESOLUTION, _MAX_RESOLUTION))
+
+
+def grid_export(rep: MeshLambdaH, resolution: int | None = None, *, check: bool = True,
+                **grid_options) -> LambdaH:
+    """The grid (image) form of a mesh representation, with its own round-trip error.
 
     Parameters
     ----------
-    rep : LambdaH
-    path : str or PathLike
-    clip : float
-        The colour ranges are clipped to the ``clip``/``100 − clip`` percentiles, since H of
-        a resampled piecewise-linear surface has spikes on the edges (and λ near a
-        rectangle's corners).
-    title : str, optional
+    rep : MeshLambdaH
+    resolution : int, optional
+        Nodes along the long side; default :func:`export_resolution`.
+    check : bool
+        Measure the grid's own round trip (stored in ``check``).
+    **grid_options
+        Passed on to :func:`~surfinpaint.representation.grid_represent.represent_grid`.
     """
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    g = rep.grid
-    extent = (g.origin[0] - g.h / 2, g.origin[0] + (g.shape[0] - 0.5) * g.h,
-              g.origin[1] - g.h / 2, g.origin[1] + (g.shape[1] - 0.5) * g.h)
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8), constrained_layout=True,
-                             gridspec_kw={"width_ratios": [1, 1, 0.8]})
-    finite_h = rep.H[np.isfinite(rep.H)]
-    if len(finite_h):
-        lo, hi = np.percentile(finite_h, [clip, 100 - clip])
-        m = max(abs(lo), abs(hi), 1e-12)
-    else:
-        m = 1.0
-    finite_lam = rep.lam[np.isfinite(rep.lam)]
-    lam_range = (dict(zip(("vmin", "vmax"), np.percentile(finite_lam, [clip, 100 - clip]),
-                          strict=True)) if len(finite_lam) else {})
-    for ax, data, name, kw in (
-        (axes[0], rep.lam, "conformal factor λ", {"cmap": "viridis", **lam_range}),
-        (axes[1], rep.H, "mean curvature H", {"cmap": "RdBu_r", "vmin": -m, "vmax": m}),
-    ):
-        # arrays are [i, j] = (u, v): transpose so u runs along x and v along y
-        im = ax.imshow(data.T, origin="lower", extent=extent, interpolation="nearest", **kw)
-        ax.set_title(name)
-        ax.set_xlabel("u")
-        ax.set_ylabel("v")
-        ax.set_aspect("equal")
-        fig.colorbar(im, ax=ax, shrink=0.85)
-    from surfinpaint.app.figures import save_figure
-    from surfinpaint.geometry.parameterization import angle_distortion, plot_conformality
-
-    distortion = np.abs(angle_distortion(rep.vertices, rep.faces, rep.uv))
-    plot_conformality(axes[2], rep.vertices, rep.faces, rep.uv)
-    axes[2].set_title(f"conformality: angle distortion (median {np.median(distortion):.2f}°)")
-    fig.suptitle(title or f"λ-H representation ({rep.map} map, {g.shape[0]}×{g.shape[1]})")
-    try:
-        save_figure(fig, path, dpi=120)
-    finally:
-        plt.close(fig)
+    n = export_resolution(rep) if resolution is None else int(resolution)
+    return represent(rep.vertices, rep.faces, discretization="grid", map=rep.map,
+                     check=check, resolution=n, **grid_options)

@@ -1,0 +1,429 @@
+"""λ-H on a mesh's own parameter triangles, and the Newton rebuild of the mesh from them.
+
+The discretization is the one of :mod:`surfinpaint.representation.on_mesh`: the parameter
+mesh's cotangent Laplacian ``L`` and Voronoi areas ``M`` give ``Δφ ≈ M⁻¹ L φ``, λ² is the
+ratio of a vertex's 3D to its parameter Voronoi area, and ``H = n · Δφ / (2λ²)`` with the
+area-weighted vertex normal ``n``. For a smooth conformal φ, Δφ is normal (method.md §1);
+on a mesh it is not quite: the discrete map is conformal only up to the triangles' shapes,
+and ``M⁻¹ L φ`` has a tangential part (measured: a median 2-26 % of its length on the
+benchmark disks, up to 100 % on slivers). That part is the *conformality defect*
+``a e1 + b e2`` in the orthonormal tangent frame ``e1 = P φ_u / |P φ_u|``, ``e2 = n × e1``
+(``P`` the tangent projection, ``φ_u`` the area-weighted vertex gradient over the parameter
+triangles). It vanishes in the continuum (``<Δφ, φ_u> = ½(E − G)_u + F_v = 0`` for a
+conformal φ), so (λ, H) are the paper's representation and (a, b) what the discretization
+adds to make the rebuild exact:
+
+    L φ = M (2λ²H n(φ) + a e1(φ) + b e2(φ))     at the unknown vertices,
+
+with the known vertices (at least the border) fixed. The original mesh solves it to rounding
+error. :func:`rebuild_on_mesh` solves it by damped Newton with the exact Jacobian from the
+harmonic surface, and when that does not converge, by pseudo-transient continuation (a heat
+flow toward the equations whose time step grows into Newton's). It reports whether it
+converged; it never stops silently at a limit.
+
+The equations need not have one solution only: on large, strongly folded disks (a 70 mm
+pial disk) the continuation converges (residual 1e-12) to another surface with the same
+data on the same triangles. The self-check of :func:`~surfinpaint.representation.represent.
+represent` measures that distance.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from surfinpaint.geometry.mesh import (
+    _face_cross,
+    cotangent_laplacian,
+    mass_matrix,
+    vertex_normals,
+)
+
+# damped Newton steps tried from the start before pseudo-transient continuation
+NEWTON_STEPS = 12
+
+__all__ = [
+    "MeshSolve",
+    "gradient_operators",
+    "mesh_lambda_h",
+    "normals_with_jacobian",
+    "rebuild_on_mesh",
+]
+
+
+def gradient_operators(uv: np.ndarray, faces: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """Sparse ``(G_u, G_v)``: the parameter-area-weighted mean over a vertex's triangles of
+    the gradient of a piecewise-linear function, so ``G_u φ`` is ``φ_u`` at the vertices.
+
+    Parameters
+    ----------
+    uv : (n, 2) float array
+    faces : (f, 3) int array
+
+    Returns
+    -------
+    G_u, G_v : (n, n) sparse matrices
+    """
+    q = np.asarray(uv, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    n = len(q)
+    e1, e2 = q[f[:, 1]] - q[f[:, 0]], q[f[:, 2]] - q[f[:, 0]]
+    det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    area = np.abs(det) / 2
+    safe = np.where(det != 0, det, 1.0)
+    weight = np.zeros(n)
+    for k in range(3):
+        np.add.at(weight, f[:, k], area)
+    weight = np.where(weight > 0, weight, 1.0)
+    rows = np.repeat(f[:, :, None], 3, axis=2).ravel()  # [face, corner i, corner k]
+    cols = np.repeat(f[:, None, :], 3, axis=1).ravel()
+    ops = []
+    # φ_u = c1 (φ1 − φ0) + c2 (φ2 − φ0): the rows of [e1; e2]⁻¹ per derivative
+    for c1, c2 in ((e2[:, 1], -e1[:, 1]), (-e2[:, 0], e1[:, 0])):
+        c1, c2 = c1 / safe, c2 / safe
+        coef = np.column_stack([-c1 - c2, c1, c2]) * area[:, None]  # (f, 3) per corner k
+        vals = np.repeat(coef[:, None, :], 3, axis=1).ravel()
+        G = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        ops.append((sp.diags(1.0 / weight) @ G).tocsr())
+    return ops[0], ops[1]
+
+
+def _cross_matrices(a: np.ndarray) -> np.ndarray:
+    """(k, 3, 3) matrices ``[a]×`` with ``[a]× b = a × b``."""
+    X = np.zeros((len(a), 3, 3))
+    X[:, 0, 1], X[:, 0, 2] = -a[:, 2], a[:, 1]
+    X[:, 1, 0], X[:, 1, 2] = a[:, 2], -a[:, 0]
+    X[:, 2, 0], X[:, 2, 1] = -a[:, 1], a[:, 0]
+    return X
+
+
+def _blocks(rows: np.ndarray, cols: np.ndarray, blocks: np.ndarray, n: int) -> sp.csr_matrix:
+    """The (3n, 3n) sparse matrix with 3×3 ``blocks`` at vertex pairs (rows, cols), summed."""
+    r = (3 * rows[:, None, None] + np.arange(3)[None, :, None]).repeat(3, axis=2)
+    c = (3 * cols[:, None, None] + np.arange(3)[None, None, :]).repeat(3, axis=1)
+    return sp.csr_matrix((blocks.ravel(), (r.ravel(), c.ravel())), shape=(3 * n, 3 * n))
+
+
+def normals_with_jacobian(points: np.ndarray, faces: np.ndarray
+                          ) -> tuple[np.ndarray, sp.csr_matrix]:
+    """Area-weighted unit vertex normals and their derivative with respect to the positions.
+
+    ``N_i = Σ_f (p1 − p0) × (p2 − p0)`` over the faces of i and ``n_i = N_i / |N_i|``;
+    ``∂N_i/∂p_k = [p_{k+2} − p_{k+1}]×`` for corner k of a face of i, and
+    ``dn = (I − n nᵀ) dN / |N|``.
+
+    Returns
+    -------
+    normals : (n, 3) float array
+    D : (3n, 3n) sparse matrix
+        ``d(normals).ravel() = D @ d(points).ravel()``.
+    """
+    p = np.asarray(points, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    n = len(p)
+    c = _face_cross(p, f)
+    N = np.zeros((n, 3))
+    for k in range(3):
+        np.add.at(N, f[:, k], c)
+    length = np.linalg.norm(N, axis=1)
+    length = np.where(length > 0, length, 1.0)
+    unit = N / length[:, None]
+    P = (np.eye(3)[None] - unit[:, :, None] * unit[:, None, :]) / length[:, None, None]
+    rows, cols, blocks = [], [], []
+    for k in range(3):
+        X = _cross_matrices(p[f[:, (k + 2) % 3]] - p[f[:, (k + 1) % 3]])
+        for i in range(3):
+            rows.append(f[:, i])
+            cols.append(f[:, k])
+            blocks.append(np.einsum("fab,fbc->fac", P[f[:, i]], X))
+    return unit, _blocks(np.concatenate(rows), np.concatenate(cols),
+                         np.concatenate(blocks), n)
+
+
+def mesh_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """λ, H and the conformality defect (α, β) at the vertices of a conformally mapped mesh.
+
+    Parameters
+    ----------
+    points : (n, 3) float array
+    faces : (f, 3) int array
+        Counter-clockwise in ``uv``.
+    uv : (n, 2) float array
+        A conformal map without folded triangles.
+
+    Returns
+    -------
+    lam : (n,) float array
+        ``sqrt(A_3D / A_uv)`` (Voronoi areas), as
+        :func:`~surfinpaint.representation.on_mesh.vertex_lambda_h`.
+    H : (n,) float array
+        ``n · M⁻¹ L φ / (2λ²)``, as ``vertex_lambda_h``; NaN on the border.
+    defect : (n, 2) float array
+        (α, β): the tangential part of ``M⁻¹ L φ`` is ``P(α φ_u + β φ_v)``; NaN on the
+        border.
+    """
+    from surfinpaint.geometry.mesh import boundary_loops
+
+    p = np.asarray(points, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    L = cotangent_laplacian(uv, f)
+    area_uv = mass_matrix(uv, f).diagonal()
+    lam2 = mass_matrix(p, f).diagonal() / area_uv
+    normal = vertex_normals(p, f)
+    lap = (L @ p) / area_uv[:, None]
+    along = np.einsum("ij,ij->i", lap, normal)
+    H = along / (2.0 * lam2)
+    G_u, _ = gradient_operators(uv, f)
+    e1, e2 = _frame(G_u @ p, normal)
+    tangential = lap - along[:, None] * normal
+    defect = np.column_stack([np.einsum("ij,ij->i", tangential, e1),
+                              np.einsum("ij,ij->i", tangential, e2)])
+    border = np.concatenate(boundary_loops(f)) if len(f) else np.zeros(0, np.int64)
+    H[border] = np.nan
+    defect[border] = np.nan
+    return np.sqrt(lam2), H, defect
+
+
+def _frame(g: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The orthonormal tangent frame ``e1 = P φ_u / |P φ_u|``, ``e2 = n × e1``."""
+    t = g - np.einsum("ij,ij->i", g, normal)[:, None] * normal
+    length = np.linalg.norm(t, axis=1, keepdims=True)
+    e1 = t / np.where(length > 0, length, 1.0)
+    return e1, np.cross(normal, e1)
+
+
+@dataclass(frozen=True)
+class MeshSolve:
+    """The outcome of :func:`rebuild_on_mesh`.
+
+    Attributes
+    ----------
+    points : (n, 3) float array
+        The rebuilt positions (the known ones unchanged).
+    converged : bool
+        The last Newton step was a full step shorter than ``tol`` times the border's size.
+    iterations : int
+        Newton steps taken (each one sparse solve).
+    step : float
+        Length of the last step relative to the border's bounding-box diagonal.
+    residual : float
+        ``|R| / |L φ|`` at the end, R the residual of the equations at the unknowns.
+    method : str
+        ``"newton"`` (damped Newton from the start converged) or ``"pseudo-transient"``
+        (it did not; pseudo-transient continuation from the start was used).
+    message : str
+        What happened, in words.
+    seconds : float
+    """
+
+    points: np.ndarray
+    converged: bool
+    iterations: int
+    step: float
+    residual: float
+    method: str
+    message: str
+    seconds: float
+
+
+class _System:
+    """The rebuild equations (data scaled by t), restricted to the unknown vertices:
+    ``R(φ) = L φ − t M (s n + a e1 + b e2)`` with s = 2λ²H and (a, b) the defect."""
+
+    def __init__(self, faces, uv, lam, H, defect, unknown):
+        self.faces = faces
+        self.L = cotangent_laplacian(uv, faces).tocsr()
+        self.area = mass_matrix(uv, faces).diagonal()
+        self.G_u = gradient_operators(uv, faces)[0]
+        self.s = np.where(unknown, 2.0 * lam**2 * H, 0.0)
+        self.a = np.where(unknown, defect[:, 0], 0.0)
+        self.b = np.where(unknown, defect[:, 1], 0.0)
+        self.L3 = sp.kron(self.L, sp.eye(3), format="csr")
+        self.G3 = sp.kron(self.G_u, sp.eye(3), format="csr")
+        self.idx = np.flatnonzero(np.repeat(unknown, 3))
+        self.n = len(uv)
+
+    def force(self, phi, normal):
+        e1, e2 = _frame(self.G_u @ phi, normal)
+        return self.s[:, None] * normal + self.a[:, None] * e1 + self.b[:, None] * e2
+
+    def residual(self, phi, t):
+        force = self.force(phi, vertex_normals(phi, self.faces))
+        return (self.L @ phi - t * self.area[:, None] * force).ravel()[self.idx]
+
+    def jacobian(self, phi, t):
+        normal, D = normals_with_jacobian(phi, self.faces)
+        g = self.G_u @ phi
+        ng = np.einsum("ij,ij->i", g, normal)
+        tan = g - ng[:, None] * normal
+        length = np.linalg.norm(tan, axis=1)
+        length = np.where(length > 0, length, 1.0)
+        e1 = tan / length[:, None]
+        eye = np.eye(3)[None]
+        P = eye - normal[:, :, None] * normal[:, None, :]
+        Q = (eye - e1[:, :, None] * e1[:, None, :]) / length[:, None, None]
+        C = ng[:, None, None] * eye + normal[:, :, None] * g[:, None, :]
+        K = (self.a[:, None, None] * eye + self.b[:, None, None] * _cross_matrices(normal)) @ Q
+        B = self.s[:, None, None] * eye - self.b[:, None, None] * _cross_matrices(e1)
+        scale = t * self.area[:, None, None]
+        ids = np.arange(self.n)
+        on_D = _blocks(ids, ids, scale * (B - K @ C), self.n)
+        on_G = _blocks(ids, ids, scale * (K @ P), self.n)
+        J = self.L3 - on_D @ D - on_G @ self.G3
+        return J[self.idx][:, self.idx].tocsc(), normal
+
+
+def _newton(system, phi, t, tol, budget, scale):
+    """Damped Newton at parameter t. Returns (phi, converged, steps, last step)."""
+    x = phi.copy()
+    r = system.residual(x, t)
+    last = np.inf
+    for k in range(budget):
+        J, _ = system.jacobian(x, t)
+        try:
+            dx = spla.splu(J, permc_spec="MMD_AT_PLUS_A").solve(-r)
+        except RuntimeError:  # exactly singular
+            return x, False, k + 1, last
+        norm0 = np.linalg.norm(r)
+        damping = 1.0
+        for _ in range(30):  # backtracking on the residual
+            trial = x.copy()
+            trial.ravel()[system.idx] += damping * dx
+            r_trial = system.residual(trial, t)
+            enough = np.linalg.norm(r_trial) < (1 - 1e-4 * damping) * norm0
+            if np.isfinite(r_trial).all() and enough:
+                break
+            damping /= 2
+        else:
+            return x, False, k + 1, last
+        x, r = trial, r_trial
+        last = damping * float(np.abs(dx).max()) / scale
+        if damping == 1.0 and last < tol:
+            return x, True, k + 1, last
+    return x, False, budget, last
+
+
+def rebuild_on_mesh(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, lam: np.ndarray,
+                    H: np.ndarray, defect: np.ndarray | None, known: np.ndarray, *,
+                    tol: float = 1e-10, max_iter: int = 200,
+                    start: np.ndarray | None = None) -> MeshSolve:
+    """Solve ``L φ = M (2λ²H n(φ) + P(φ)(α G_u + β G_v) φ)`` for the unknown vertices.
+
+    Parameters
+    ----------
+    points : (n, 3) float array
+        Positions; only the ``known`` ones are read (unless ``start`` is not given and they
+        are used for nothing else either: the start is the harmonic surface).
+    faces : (f, 3) int array
+        Counter-clockwise in ``uv``.
+    uv : (n, 2) float array
+    lam, H : (n,) float arrays
+        Needed (finite) at the unknown vertices.
+    defect : (n, 2) float array or None
+        The conformality defect (α, β) of :func:`mesh_lambda_h`; ``None`` or zeros give the
+        paper's equation ``Δφ = 2λ²H n`` (exact only for an exactly conformal mesh).
+    known : (n,) bool array
+        Fixed vertices; must contain the border (H has no two-sided Laplacian there).
+    tol : float
+        Converged when a full Newton step is shorter than ``tol`` times the diagonal of the
+        known vertices' bounding box.
+    max_iter : int
+        Newton steps (sparse solves) allowed in all, continuation included.
+    start : (n, 3) float array, optional
+        Initial positions of the unknown vertices; default the harmonic surface
+        (``L φ = 0``) with the known ones as boundary data.
+
+    Returns
+    -------
+    MeshSolve
+        With ``converged`` False (and why in ``message``) when the budget ran out; never
+        silently.
+
+    Raises
+    ------
+    ValueError
+        On bad shapes, or λ, H not finite at an unknown vertex, or no known vertex.
+    """
+    started = time.perf_counter()
+    p = np.asarray(points, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    known = np.asarray(known, dtype=bool)
+    n = len(p)
+    if known.shape != (n,) or not known.any():
+        raise ValueError("known must be an (n,) boolean mask with at least one vertex")
+    unknown = ~known
+    lam = np.asarray(lam, dtype=float)
+    H = np.asarray(H, dtype=float)
+    defect = np.zeros((n, 2)) if defect is None else np.asarray(defect, dtype=float)
+    for name, a in (("lam", lam), ("H", H), ("defect", defect)):
+        bad = np.flatnonzero(unknown & ~np.isfinite(a.reshape(n, -1)).all(axis=1))
+        if len(bad):
+            raise ValueError(f"{name} is not finite at {len(bad)} unknown vertices, e.g. "
+                             f"{bad[:5].tolist()}")
+    phi = p.copy()
+    if not unknown.any():
+        return MeshSolve(phi, True, 0, 0.0, 0.0, "newton", "nothing to rebuild",
+                         time.perf_counter() - started)
+    system = _System(f, np.asarray(uv, dtype=float), lam, H, defect, unknown)
+    scale = float(np.linalg.norm(np.ptp(p[known], axis=0))) or 1.0
+    if start is None:
+        L = system.L
+        lu = spla.splu(L[unknown][:, unknown].tocsc(), permc_spec="MMD_AT_PLUS_A")
+        phi[unknown] = lu.solve(-(L[unknown][:, known] @ p[known]))
+    else:
+        phi[unknown] = np.asarray(start, dtype=float)[unknown]
+    x, ok, used, step = _newton(system, phi, 1.0, tol, min(NEWTON_STEPS, max_iter), scale)
+    method = "newton"
+    if not ok and max_iter > used:
+        x, ok, more, step = _pseudo_transient(system, phi, tol, max_iter - used, scale)
+        used += more
+        method = "pseudo-transient"
+    r = system.residual(x, 1.0)
+    size = np.linalg.norm((system.L @ x).ravel()[system.idx]) or 1.0
+    if ok:
+        message = (f"{method} converged in {used} steps (last step {step:.1e} of the "
+                   "diagonal)")
+    else:
+        message = (f"did not converge: {used} steps ({method}), last step {step:.1e} of the "
+                   "diagonal")
+    return MeshSolve(x, ok, used, float(step), float(np.linalg.norm(r) / size), method,
+                     message, time.perf_counter() - started)
+
+
+def _pseudo_transient(system, phi, tol, budget, scale):
+    """Pseudo-transient continuation (Kelley–Keyes): Newton steps on
+    ``R(φ) − M (φ − φ_k) / Δt = 0``. For small Δt a step is one implicit step of the flow
+    ``M φ_t = R(φ)`` (``M⁻¹L`` is negative definite: a heat flow toward the equations);
+    Δt grows as the residual falls (by the ratio of successive residuals, "SER"), so the
+    last steps are Newton's. Returns (phi, converged, steps, last step)."""
+    x = phi.copy()
+    r = system.residual(x, 1.0)
+    area = np.repeat(system.area, 3)[system.idx]
+    unit = float(np.median(system.area))  # Δt in units of the parameter areas: M/Δt ~ L
+    dt, step = unit, np.inf
+    for k in range(budget):
+        J, _ = system.jacobian(x, 1.0)
+        try:
+            dx = spla.splu((J - sp.diags(area / dt)).tocsc(),
+                           permc_spec="MMD_AT_PLUS_A").solve(-r)
+        except RuntimeError:
+            dt /= 4
+            continue
+        trial = x.copy()
+        trial.ravel()[system.idx] += dx
+        r_trial = system.residual(trial, 1.0)
+        if not np.isfinite(r_trial).all() or np.linalg.norm(r_trial) > 10 * np.linalg.norm(r):
+            dt /= 4
+            continue
+        ratio = np.linalg.norm(r) / max(np.linalg.norm(r_trial), 1e-300)
+        x, r = trial, r_trial
+        step = float(np.abs(dx).max()) / scale
+        if step < tol and dt > 1e6 * unit:
+            return x, True, k + 1, step
+        dt = min(dt * float(np.clip(ratio, 0.25, 4.0)), 1e12 * unit)
+    return x, False, budget, step
