@@ -404,3 +404,76 @@ def test_corner_attributes_carried_in_one_chart_and_not_across_a_seam(filled_sph
     assert np.isnan(cut[len(f):]).all() and np.array_equal(cut[: len(f)], seam)
     with pytest.raises(ValueError, match="must be a float"):
         fill_result_corner_attributes(result, {"uv": np.zeros((len(f), 3), np.float32)})
+
+
+# ----------------------------------------------------------------- the CLI writes them
+
+
+@pytest.mark.parametrize("suffix", [".ply", ".off"])
+def test_cli_fill_writes_inpainted_attributes(holed_sphere, tmp_path, suffix, capsys):
+    from surfinpaint.app.cli import main
+    from surfinpaint.io import read_mesh_data, write_mesh
+
+    v, f = holed_sphere
+    n = len(v)
+    rgb = np.column_stack([np.rint(colour_of(v)), np.full(n, 10), np.full(n, 250)])
+    attributes = {"color": rgb.astype(np.uint8), "normal": vertex_normals(v, f)}
+    if suffix == ".ply":
+        attributes["quality"] = v[:, 2].astype(np.float32)
+    source, out = tmp_path / f"in{suffix}", tmp_path / f"out{suffix}"
+    write_mesh(source, v, f, attributes=attributes)
+    assert main(["fill", str(source), "-o", str(out), "--method", "fair", "-q"]) == 0
+    assert "attributes filled in at the new vertices" in capsys.readouterr().err
+    back = read_mesh_data(out)
+    assert len(back.vertices) > n and set(back.attributes) == set(attributes)
+    for name, values in attributes.items():
+        assert back.attributes[name].dtype == values.dtype
+        assert np.array_equal(back.attributes[name][:n], values), name
+    new = back.vertices[n:]
+    assert np.abs(back.attributes["color"][n:, 0] - colour_of(new)).mean() < 4.0
+    assert np.all(back.attributes["color"][n:, 1:] == [10, 250])
+    unit = new / np.linalg.norm(new, axis=1, keepdims=True)
+    cos = np.einsum("ij,ij->i", back.attributes["normal"][n:], unit)
+    assert np.degrees(np.arccos(np.clip(cos, -1, 1))).max() < 10.0
+    if suffix == ".ply":
+        assert np.abs(back.attributes["quality"][n:] - new[:, 2]).max() < 0.02
+
+
+def test_cli_fill_writes_gifti_overlays_beside(tmp_path):
+    from surfinpaint.app.cli import main
+    from surfinpaint.io import read_mesh_data, write_mesh
+
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], [0.6])
+    n = len(cut.vertices)
+    source, out = tmp_path / "lh.test.gii", tmp_path / "lh.filled.gii"
+    write_mesh(source, cut.vertices, cut.faces,
+               attributes={"thickness": (2.0 + cut.vertices[:, 2]).astype(np.float32)})
+    assert main(["fill", str(source), "-o", str(out), "--method", "fair", "-q"]) == 0
+    back = read_mesh_data(out)
+    thickness = back.attributes["thickness"]
+    assert len(thickness) == len(back.vertices) > n
+    assert np.array_equal(thickness[:n], (2.0 + cut.vertices[:, 2]).astype(np.float32))
+    assert np.abs(thickness[n:] - (2.0 + back.vertices[n:, 2])).max() < 0.02
+
+
+def test_cli_fill_carries_obj_texture_coordinates_at_a_seam_elsewhere(holed_sphere, tmp_path):
+    from surfinpaint.app.cli import main
+    from surfinpaint.io import MeshData, read_mesh_data, write_mesh_data
+
+    v, f = holed_sphere
+    uv = v[f][:, :, [0, 2]].copy()
+    from surfinpaint.geometry.mesh import boundary_loops
+
+    far = int(np.argmin(v @ v[boundary_loops(f)[0][0]]))
+    face = np.flatnonzero((f == far).any(axis=1))[0]
+    uv[face, f[face] == far] += 0.5  # a seam at the vertex farthest from the hole
+    source, out = tmp_path / "in.obj", tmp_path / "out.obj"
+    write_mesh_data(source, MeshData(v, f, corner_attributes={"uv": uv}))
+    with pytest.warns(UserWarning, match="seam"):
+        assert main(["fill", str(source), "-o", str(out), "--method", "fair", "-q"]) == 0
+        back = read_mesh_data(out)
+    corners = back.corner_attributes["uv"]
+    assert np.allclose(corners[: len(f)], uv)
+    new = back.vertices[back.faces[len(f):]][:, :, [0, 2]]
+    assert np.abs(corners[len(f):] - new).max() < 0.02

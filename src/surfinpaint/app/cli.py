@@ -136,17 +136,22 @@ def _conformal_options(args: argparse.Namespace):
 
 
 def cmd_fill(args: argparse.Namespace) -> int:
+    from surfinpaint.fill.face_attributes import fill_result_corner_attributes
     from surfinpaint.fill.pipeline import fill_holes
-    from surfinpaint.io.formats import output_format, read_mesh, write_mesh
+    from surfinpaint.io import MeshData, read_mesh_data, write_mesh_data
+    from surfinpaint.io.formats import output_format
 
     console = _console()
     holes = _parse_hole_list(args.holes)
     output_format(args.output)  # an unusable output name fails now, not after the fill
     options = fill_options(args)
-    vertices, faces = read_mesh(args.mesh)
+    mesh = read_mesh_data(args.mesh)
+    vertices, faces = mesh.vertices, mesh.faces
     with _progress(not args.quiet) as progress:
         try:
-            result = fill_holes(vertices, faces, holes=holes, progress=progress, **options)
+            result = fill_holes(vertices, faces, holes=holes, progress=progress,
+                                attributes=mesh.attributes,
+                                face_attributes=mesh.face_attributes, **options)
         except MeshError as exc:
             if args.repair or "non-manifold edges" not in exc.message:
                 raise
@@ -156,7 +161,9 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if len(result.removed_faces):
         console.print(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
                       "edges; the holes they left were filled too")
-    write_mesh(args.output, result.vertices, result.faces)
+    corners = fill_result_corner_attributes(result, mesh.corner_attributes)
+    write_mesh_data(args.output, MeshData(result.vertices, result.faces, result.attributes,
+                                          result.face_attributes, corners, mesh.metadata))
     if not result.reports:
         console.print(f"{args.mesh}: nothing to fill (no holes"
                       f"{'' if args.all else ' apart from the outer border'}); "
@@ -169,6 +176,10 @@ def cmd_fill(args: argparse.Namespace) -> int:
             extra += f" ({r.note})" if r.note else ""
             console.print(f"hole {r.index}: {r.n_edges} edges -> {r.new_vertices} vertices, "
                           f"{r.new_faces} faces, {r.method}, {r.seconds:.2f} s{extra}")
+    carried = [*result.attributes, *(f"{k} (per face)" for k in result.face_attributes),
+               *(f"{k} (per corner)" for k in corners)]
+    if carried and len(result.vertices) > len(vertices):
+        console.print(f"attributes filled in at the new vertices and faces: {', '.join(carried)}")
     if args.png:
         from surfinpaint.app.figures import before_after
 
