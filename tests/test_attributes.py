@@ -360,9 +360,13 @@ def test_pyvista_polygons_are_triangulated_with_a_warning():
 
 
 def test_arrays_need_faces_and_other_objects_are_refused():
-    v, _ = sphere(1)
+    from surfinpaint.io import MeshData
+
+    v, f = sphere(1)
     with pytest.raises(TypeError, match="needs faces"):
         fill_holes(v)
+    with pytest.raises(TypeError, match="given by its parts"):
+        fill_holes(MeshData(v, f))
 
 
 def test_trimesh_and_pyvista_are_optional_at_import():

@@ -102,6 +102,11 @@ def mesh_arrays(
     """
     library = _library(mesh)
     if library is None:
+        if faces is None and hasattr(mesh, "corner_attributes"):
+            raise TypeError("a MeshData is given by its parts: fill_holes(mesh.vertices, "
+                            "mesh.faces, attributes=mesh.attributes, face_attributes="
+                            "mesh.face_attributes); its corner data through surfinpaint.fill."
+                            "face_attributes.fill_result_corner_attributes")
         if faces is None:
             raise TypeError(f"fill_holes needs faces with vertices given as an array; got a "
                             f"{type(mesh).__name__} and no faces (trimesh.Trimesh and "
