@@ -481,3 +481,20 @@ def test_cli_fill_carries_obj_texture_coordinates_at_a_seam_elsewhere(holed_sphe
     assert np.allclose(corners[: len(f)], uv)
     new = back.vertices[back.faces[len(f):]][:, :, [0, 2]]
     assert np.abs(corners[len(f):] - new).max() < 0.02
+
+
+def test_batch_writes_inpainted_attributes(holed_sphere, tmp_path):
+    from surfinpaint.app.batch import FileJob, fill_file
+    from surfinpaint.io import read_mesh_data, write_mesh
+
+    v, f = holed_sphere
+    n = len(v)
+    source = tmp_path / "in.ply"
+    write_mesh(source, v, f, attributes={"quality": v[:, 2]})
+    job = FileJob(source=source, target=tmp_path / "out" / "in.ply", name="in.ply",
+                  output="out/in.ply")
+    row = fill_file(job, {"method": "fair"})
+    assert row.status != "failed", row.message
+    back = read_mesh_data(job.target)
+    assert np.array_equal(back.attributes["quality"][:n], v[:, 2])
+    assert np.abs(back.attributes["quality"][n:] - back.vertices[n:, 2]).max() < 0.02

@@ -33,9 +33,10 @@ from pathlib import Path
 from typing import Any, Literal
 
 from surfinpaint.errors import MeshError
+from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.io.atomic import atomic_open
-from surfinpaint.io.formats import SUPPORTED_FORMATS, read_mesh, write_mesh
+from surfinpaint.io.formats import SUPPORTED_FORMATS, read_mesh_data, write_mesh_data
 
 __all__ = ["FileJob", "FileRow", "STATUSES", "fill_file", "fill_files", "find_inputs",
            "read_summary", "write_summary"]
@@ -238,10 +239,10 @@ def fill_file(job: FileJob, options: Mapping[str, Any]) -> FileRow:
     with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
         warnings.simplefilter("always")
         try:
-            vertices, faces = read_mesh(job.source)
-            result = fill_holes(vertices, faces, **options)
+            # every attribute the file carries, filled in at the new vertices and faces
+            result, filled = fill_mesh_data(read_mesh_data(job.source), **options)
             job.target.parent.mkdir(parents=True, exist_ok=True)
-            write_mesh(job.target, result.vertices, result.faces)
+            write_mesh_data(job.target, filled)
         except Exception as exc:  # any failure of one file is that file's row, not the batch's
             return FileRow(job.name, job.output, "failed",
                            seconds=time.perf_counter() - started, message=_error_text(job, exc))

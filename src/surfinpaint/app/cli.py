@@ -136,9 +136,8 @@ def _conformal_options(args: argparse.Namespace):
 
 
 def cmd_fill(args: argparse.Namespace) -> int:
-    from surfinpaint.fill.face_attributes import fill_result_corner_attributes
-    from surfinpaint.fill.pipeline import fill_holes
-    from surfinpaint.io import MeshData, read_mesh_data, write_mesh_data
+    from surfinpaint.fill.objects import fill_mesh_data
+    from surfinpaint.io import read_mesh_data, write_mesh_data
     from surfinpaint.io.formats import output_format
 
     console = _console()
@@ -149,9 +148,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
     vertices, faces = mesh.vertices, mesh.faces
     with _progress(not args.quiet) as progress:
         try:
-            result = fill_holes(vertices, faces, holes=holes, progress=progress,
-                                attributes=mesh.attributes,
-                                face_attributes=mesh.face_attributes, **options)
+            result, filled = fill_mesh_data(mesh, holes=holes, progress=progress, **options)
         except MeshError as exc:
             if args.repair or "non-manifold edges" not in exc.message:
                 raise
@@ -161,9 +158,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if len(result.removed_faces):
         console.print(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
                       "edges; the holes they left were filled too")
-    corners = fill_result_corner_attributes(result, mesh.corner_attributes)
-    write_mesh_data(args.output, MeshData(result.vertices, result.faces, result.attributes,
-                                          result.face_attributes, corners, mesh.metadata))
+    write_mesh_data(args.output, filled)
     if not result.reports:
         console.print(f"{args.mesh}: nothing to fill (no holes"
                       f"{'' if args.all else ' apart from the outer border'}); "
@@ -176,8 +171,8 @@ def cmd_fill(args: argparse.Namespace) -> int:
             extra += f" ({r.note})" if r.note else ""
             console.print(f"hole {r.index}: {r.n_edges} edges -> {r.new_vertices} vertices, "
                           f"{r.new_faces} faces, {r.method}, {r.seconds:.2f} s{extra}")
-    carried = [*result.attributes, *(f"{k} (per face)" for k in result.face_attributes),
-               *(f"{k} (per corner)" for k in corners)]
+    carried = [*filled.attributes, *(f"{k} (per face)" for k in filled.face_attributes),
+               *(f"{k} (per corner)" for k in filled.corner_attributes)]
     if carried and len(result.vertices) > len(vertices):
         console.print(f"attributes filled in at the new vertices and faces: {', '.join(carried)}")
     if args.png:

@@ -22,7 +22,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-__all__ = ["COLOUR_NAMES", "mesh_arrays", "to_pyvista", "to_trimesh"]
+__all__ = ["COLOUR_NAMES", "fill_mesh_data", "mesh_arrays", "to_pyvista", "to_trimesh"]
 
 #: Attribute names that ``to_trimesh`` puts in ``visual`` (the first one found) rather than
 #: ``vertex_attributes``.
@@ -164,3 +164,34 @@ def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
     for name, a in (face_attributes or {}).items():
         mesh.cell_data[name] = np.asarray(a)
     return mesh
+
+
+def fill_mesh_data(mesh, **fill_options):
+    """Fill the holes of a :class:`surfinpaint.io.MeshData` with all its data: what a file
+    read by :func:`surfinpaint.io.read_mesh_data` becomes, ready for
+    :func:`surfinpaint.io.write_mesh_data`.
+
+    Parameters
+    ----------
+    mesh : MeshData
+    **fill_options
+        Passed to :func:`surfinpaint.fill_holes` (not ``attributes``/``face_attributes``:
+        the mesh's own are used).
+
+    Returns
+    -------
+    result : FillResult
+    filled : MeshData
+        The filled mesh with every attribute (new vertices', faces' and corners' values by
+        :mod:`surfinpaint.fill.attributes` and :mod:`surfinpaint.fill.face_attributes`) and
+        the metadata of ``mesh``.
+    """
+    from surfinpaint.fill.face_attributes import fill_result_corner_attributes
+    from surfinpaint.fill.pipeline import fill_holes
+    from surfinpaint.io import MeshData
+
+    result = fill_holes(mesh.vertices, mesh.faces, attributes=mesh.attributes,
+                        face_attributes=mesh.face_attributes, **fill_options)
+    corners = fill_result_corner_attributes(result, mesh.corner_attributes)
+    return result, MeshData(result.vertices, result.faces, result.attributes,
+                            result.face_attributes, corners, mesh.metadata)
