@@ -137,8 +137,7 @@ def _conformal_options(args: argparse.Namespace):
 
 def cmd_fill(args: argparse.Namespace) -> int:
     from surfinpaint.fill.objects import fill_mesh_data
-    from surfinpaint.io import read_mesh_data, write_mesh_data
-    from surfinpaint.io.formats import output_format
+    from surfinpaint.io.formats import output_format, read_mesh_data, write_mesh_data
 
     console = _console()
     holes = _parse_hole_list(args.holes)
