@@ -27,21 +27,22 @@ coefficient = st.floats(-0.12, 0.12, allow_nan=False)
 
 @st.composite
 def surfaces(draw):
-    """(name, vertices, faces): a radially displaced icosphere (star-shaped, so it cannot
-    intersect itself), an ellipsoid, or a torus, all with random smooth shapes."""
+    """(name, vertices, faces, tube radius): a radially displaced icosphere (star-shaped,
+    so it cannot intersect itself), an ellipsoid, or a torus, all with random smooth shapes
+    (the tube radius: the torus', infinite for the others)."""
     kind = draw(st.sampled_from(["blob", "ellipsoid", "torus"]))
     if kind == "torus":
         R = draw(st.floats(1.0, 1.5))
         r = draw(st.floats(0.35, 0.5))
-        return kind, *torus(R, r, 40, 16)
+        return kind, *torus(R, r, 40, 16), r
     v, f = sphere(3)
     if kind == "ellipsoid":
         axes = np.array([draw(st.floats(0.6, 1.5)) for _ in range(3)])
-        return kind, v * axes, f
+        return kind, v * axes, f, np.inf
     x, y, z = v.T
     basis = np.stack([x, y, z, x * y, y * z, z * x, x * x - y * y, 3 * z * z - 1])
     a = np.array([draw(coefficient) for _ in range(len(basis))])
-    return kind, v * (1 + a @ basis)[:, None], f
+    return kind, v * (1 + a @ basis)[:, None], f, np.inf
 
 
 @pytest.mark.parametrize("method", ["conformal", "fair"])
@@ -49,13 +50,18 @@ def surfaces(draw):
 @given(surface=surfaces(), where=st.floats(0, 1, exclude_max=True),
        size=st.floats(3, 8))
 def test_random_geodesic_hole(method, surface, where, size):
-    kind, v, f = surface
+    kind, v, f, tube = surface
     h = mean_edge_length(v, f)
     centre = int(where * len(v))
     try:
         cut = cut_geodesic_disk(v, f, centre, size * h)
     except ValueError:
         reject()  # the disk wrapped around the torus' tube: not one simple hole
+    if cut.diameter > np.pi * tube:
+        # wider than half the tube's girth: the loop nearly wraps the tube, and no fill
+        # that closes it as a disk is near the tube's far side (found: a 7h hole on a
+        # r = 0.5 tube, the bilaplacian fill 1.1 of the bulge from the truth)
+        reject()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         # include_border: on a flat ellipsoid a big hole can span as much as a border does
