@@ -43,6 +43,11 @@ class FillError(RuntimeError):
     """A hole could not be filled by the requested method (the caller may fall back)."""
 
 
+# what a numerical step raises when it fails: FillError is a RuntimeError, MeshError and
+# numpy's LinAlgError are ValueErrors (scipy's singular factorizations raise RuntimeError)
+NUMERICAL_ERRORS = (ValueError, RuntimeError)
+
+
 def preview(ids: Sequence, limit: int = 10) -> str:
     """Short text for a list of ids: the first ``limit`` and how many more."""
     ids = list(ids)

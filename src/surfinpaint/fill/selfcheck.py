@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from surfinpaint.errors import FillError, MeshError
+from surfinpaint.errors import NUMERICAL_ERRORS, MeshError
 from surfinpaint.fill.holes import loop_diameter
 from surfinpaint.geometry.cutting import _edge_graph, cut_geodesic_disk, ring_distances, submesh
 from surfinpaint.geometry.mesh import boundary_loops
@@ -78,7 +78,6 @@ def sibling_scores(
     edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
     gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
     graph = _edge_graph(faces, len(vertices))
-    errors = (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError)
 
     def local_cut(centre):
         """The cut on the faces within ``reach`` rings of the centre, or None when that
@@ -109,7 +108,7 @@ def sibling_scores(
             if cut is None:
                 cut = cut_geodesic_disk(vertices, faces, centre, radius)
             candidates = fill(cut.vertices, cut.faces, cut.loop)
-        except errors:
+        except NUMERICAL_ERRORS:
             return None
         # a candidate that failed on a hole like this one scores infinity
         results = {name: np.inf for name, c in candidates.items() if isinstance(c, Exception)}
@@ -176,7 +175,7 @@ def hidden_ring_scores(
             return {}
         try:
             candidates = fill(vertices, kept, enlarged[0])
-        except (FillError, ValueError, RuntimeError, MeshError, np.linalg.LinAlgError):
+        except NUMERICAL_ERRORS:
             return {}
         samples = sample_surface(vertices, faces[hidden], n_samples, seed=0)
         return {

@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import NUMERICAL_ERRORS, FillError
 from surfinpaint.fill.conformal.checks import check_patch
 from surfinpaint.fill.conformal.grid_pass import inpaint_patch
 from surfinpaint.fill.conformal.mesh_pass import inpaint_patch_on_mesh
@@ -30,11 +30,7 @@ from surfinpaint.fill.creases import CREASE_EDGES, hole_crease, split_fill
 from surfinpaint.fill.liepa.baseline import conventional_fill, faired_fills
 from surfinpaint.fill.results import Fill, LambdaHDiagnostics
 
-__all__ = ["NUMERICAL_ERRORS", "Candidates"]
-
-# what a numerical step of the λ-H fill raises when it fails (FillError is a RuntimeError;
-# LinAlgError and MeshError are ValueErrors): turned into a FillError where the fill is made
-NUMERICAL_ERRORS = (ValueError, RuntimeError, np.linalg.LinAlgError)
+__all__ = ["Candidates"]
 
 # candidate name -> fill, or the FillError of a λ-H fill that failed on that hole
 Candidate = Fill | FillError
@@ -111,7 +107,8 @@ class Candidates:
         Raises
         ------
         FillError
-            When the λ-H fill fails (a numerical failure of any step is one).
+            When the λ-H fill fails: a numerical failure of any step (``NUMERICAL_ERRORS``)
+            is turned into one here.
         """
         crease = None
         if self.crease_angle is not None:
