@@ -530,7 +530,7 @@ def fill_files(
     overwrite : bool
         Refill files whose output is newer than the input (skipped by default).
     progress : callable(done, total, message), optional
-        Called once a file is done (skipped files included).
+        Called before the first file and once a file is done (skipped files included).
     **fill_options
         Passed to :func:`surfinpaint.fill_holes` for every file: ``method``, ``options``
         (a :class:`~surfinpaint.ConformalOptions`), ``fair_order``, ``include_border``,
@@ -560,6 +560,8 @@ def fill_files(
     out.mkdir(parents=True, exist_ok=True)
     earlier = {row.path: row for row in read_summary(out)}
     rows = _Rows(len(todo), progress)
+    if progress is not None:
+        progress(0, len(todo), f"{len(todo)} files")
     pending = []
     for job in todo:
         if not overwrite and _up_to_date(job):
