@@ -87,7 +87,7 @@ def main() -> None:
         runs["--jobs 1"].append(timed([*batch, str(work / "jobs1"), "--jobs", "1"]))
         runs["--jobs 2"].append(timed([*batch, str(work / "jobs2"), "--jobs", "2"]))
         with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster:
+                          dashboard_address=":0") as cluster:
             runs["Dask, 2 workers"].append(timed(
                 [*batch, str(work / "dask"), "--dask-scheduler", cluster.scheduler_address]))
     load_after = os.getloadavg()[0]

@@ -14,6 +14,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -59,6 +60,10 @@ def _scans(root: Path) -> Path:
         b"ply\nformat binary_little_endian 1.0\nelement vertex 9\n"
         + np.random.default_rng(0).bytes(200))
     (folder / "notes.txt").write_text("not a mesh")
+    # quads, an open strip with no hole but its border: written triangulated, with a warning
+    rows = "\n".join(f"v {x} {y} 0" for y in (0, 1) for x in range(4))
+    (folder / "subject1" / "quads.obj").write_text(rows + "\nf 1 2 6 5\nf 2 3 7 6\n"
+                                                   "f 3 4 8 7\n")
     return folder
 
 
@@ -67,8 +72,10 @@ def _expected(scans: Path, **options) -> dict[str, tuple[np.ndarray, np.ndarray]
     is."""
     out = {}
     tmp_path = scans.parent
-    for i, name in enumerate(_meshes()):
-        result = fill_holes(*read_mesh(scans / name), **options)
+    for i, name in enumerate([*_meshes(), "subject1/quads.obj"]):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the quads' triangulation, tested in the rows
+            result = fill_holes(*read_mesh(scans / name), **options)
         reference = tmp_path / f"reference{i}{''.join(Path(name).suffixes)}"
         write_mesh(reference, result.vertices, result.faces)
         out[name] = read_mesh(reference)
@@ -95,11 +102,19 @@ def _check_rows(rows: list[FileRow], expected, skipped=()) -> None:
     """One row per input file, in the inputs' order, with counts that match the meshes
     (those of the earlier run for the ``skipped`` outputs)."""
     assert [Path(r.path).name for r in rows] == [
-        "snowman.ply", "sphere.obj", "closed.off", "corrupt.ply", "torus.gii", "sphere2.ply"]
+        "snowman.ply", "quads.obj", "sphere.obj", "closed.off", "corrupt.ply", "torus.gii",
+        "sphere2.ply"]
     by_name = {r.output: r for r in rows}
-    assert len(by_name) == 6
+    assert len(by_name) == 7
+    quads = by_name.pop("subject1/quads.obj")
+    # each file's warnings in its own row only (also with several files in one process)
+    assert quads.status in ("closed", "skipped") and "fan-triangulated" in quads.message
+    assert quads.message.startswith(f"{quads.path}: ")
     for name, (v, _) in expected.items():
+        if name == "subject1/quads.obj":
+            continue
         row = by_name[name]
+        assert "triangulated" not in row.message
         n_holes = {"snowman.ply": 2, "subject1/sphere.obj": 1, "subject1/deep/closed.off": 0,
                    "subject2/torus.gii": 1, "subject2/deep/er/sphere2.ply": 2}[name]
         status = "closed" if n_holes == 0 else "filled"
@@ -119,13 +134,14 @@ def test_find_inputs_mirrors_folders_globs_and_files(tmp_path):
     out = tmp_path / "out"
     jobs = find_inputs([scans], out)
     assert [j.output for j in jobs] == [
-        "snowman.ply", "subject1/sphere.obj", "subject1/deep/closed.off",
+        "snowman.ply", "subject1/quads.obj", "subject1/sphere.obj", "subject1/deep/closed.off",
         "subject2/corrupt.ply", "subject2/torus.gii", "subject2/deep/er/sphere2.ply"]
     assert all(j.target == out.absolute() / j.output for j in jobs)
     # a glob mirrors below its first wildcard; a file goes to the top; duplicates once
     jobs = find_inputs([str(scans / "subject*" / "*.obj"), scans / "snowman.ply",
                         str(scans / "**" / "snowman.ply")], out)
-    assert [j.output for j in jobs] == ["subject1/sphere.obj", "snowman.ply"]
+    assert [j.output for j in jobs] == ["subject1/quads.obj", "subject1/sphere.obj",
+                                        "snowman.ply"]
     jobs = find_inputs([str(scans / "subject2" / "**" / "*.ply")], out)
     assert [j.output for j in jobs] == ["corrupt.ply", "deep/er/sphere2.ply"]
     # an output folder inside the input folder is not searched
@@ -180,7 +196,7 @@ def test_a_rerun_skips_up_to_date_outputs_and_overwrite_refills(tmp_path):
     os.utime(changed, ns=(changed.stat().st_atime_ns, stamps[out / "subject1/sphere.obj"] + 1))
     third = {r.output: r.status for r in fill_files([scans], out, jobs=1, **FAIR)}
     assert third["subject1/sphere.obj"] == "filled"
-    assert [s for o, s in third.items() if o != "subject1/sphere.obj"].count("skipped") == 4
+    assert [s for o, s in third.items() if o != "subject1/sphere.obj"].count("skipped") == 5
     forced = fill_files([scans], out, jobs=1, overwrite=True, **FAIR)
     assert [r.status for r in forced].count("skipped") == 0
     assert all(p.stat().st_mtime_ns > t for p, t in stamps.items())
@@ -217,7 +233,7 @@ def test_an_interrupted_run_leaves_no_partial_output_and_a_rerun_completes_it(tm
         fill_files([scans], out, jobs=2, progress=interrupt, **FAIR)
     done = read_summary(out)
     # the file that was being recorded and those in flight are finished and recorded
-    assert 1 <= len(done) < 6
+    assert 1 <= len(done) < 7
     assert all((out / r.output).is_file() for r in done if r.status != "failed")
     _no_temporaries(out)
     for path in out.rglob("*.*"):  # whatever was written is complete
@@ -302,8 +318,8 @@ def test_a_dask_cluster_fills_every_file_even_when_a_worker_dies(tmp_path):
                 marker.write_text(key)
                 os._exit(1)
 
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, \
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=2, processes=True,
+                                  dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as client:
         client.register_plugin(KillOnce())
         rows = fill_files([scans], out, client=client, **FAIR)
@@ -318,14 +334,15 @@ def test_cli_batch_exit_codes_and_shared_fill_options(tmp_path, capsys):
     assert main(["batch", str(scans), "-o", str(out), "--jobs", "1", "--method", "fair",
                  "--fair-order", "3", "-q"]) == 1
     err = capsys.readouterr().err
-    assert "corrupt.ply" in err and "1 failed" in err and "1 closed" in err
+    assert "corrupt.ply" in err and "1 failed" in err and "2 closed" in err
+    assert err.count("fan-triangulated") == 1 and err.count("quads.obj") == 1
     assert json.loads((out / "summary.json").read_text())["options"]["fair_order"] == 3
     good = [str(scans / "snowman.ply"), str(scans / "subject1")]
     assert main(["batch", *good, "-o", str(out / "good"), "--jobs", "1", "--method",
                  "fair", "-q"]) == 0
     assert (out / "good" / "sphere.obj").is_file() and (out / "good" / "snowman.ply").is_file()
     assert main(["batch", *good, "-o", str(out / "good"), "--jobs", "1", "-q"]) == 0
-    assert "3 skipped" in capsys.readouterr().err
+    assert "4 skipped" in capsys.readouterr().err
     # the conformal options object reaches the summary (and the workers: the same one)
     assert main(["batch", *good, "-o", str(out / "smooth"), "--jobs", "1", "--no-creases",
                  "--crease-angle", "45", "-q"]) == 0

@@ -21,6 +21,7 @@ import json
 import multiprocessing
 import os
 import signal
+import threading
 import time
 import uuid
 import warnings
@@ -229,6 +230,11 @@ def _error_text(job: FileJob, exc: Exception) -> str:
     return _named(job, f"{job.name}: {type(exc).__name__}: {exc}")
 
 
+# The warnings filter and the BLAS thread limit are per process: a Dask worker with several
+# threads fills one file at a time, so that no file's warnings land in another's row.
+_ONE_FILE_AT_A_TIME = threading.Lock()
+
+
 def fill_file(job: FileJob, options: Mapping[str, Any]) -> FileRow:
     """Read, fill and write one file; never raises for a bad file (it becomes a "failed"
     row, with nothing written). A top-level function: spawned processes and Dask workers
@@ -236,7 +242,8 @@ def fill_file(job: FileJob, options: Mapping[str, Any]) -> FileRow:
     from threadpoolctl import threadpool_limits
 
     started = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
+    with _ONE_FILE_AT_A_TIME, warnings.catch_warnings(record=True) as caught, \
+            threadpool_limits(limits=1):
         warnings.simplefilter("always")
         try:
             # every attribute the file carries, filled in at the new vertices and faces

@@ -223,7 +223,9 @@ def cmd_batch(args: argparse.Namespace) -> int:
         if row.status == "failed":
             console.print(f"[red]error:[/red] {escape(row.message)}")
         elif row.message and row.status != "skipped":
-            console.print(f"[yellow]warning:[/yellow] {escape(row.path)}: {escape(row.message)}")
+            named = row.message if row.message.startswith(row.path) else \
+                f"{row.path}: {row.message}"
+            console.print(f"[yellow]warning:[/yellow] {escape(named)}")
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in STATUSES)
     console.print(f"{len(rows)} files: {counts}; wrote {Path(args.output) / SUMMARY_CSV} "
                   "and summary.json")
