@@ -119,8 +119,8 @@ def _meshes_under(folder: Path) -> Iterator[Path]:
 def _glob_base(pattern: str) -> Path:
     """The folder part of a glob pattern before its first wildcard."""
     parts = Path(pattern).parts
-    base = [p for p in parts[: next(i for i, p in enumerate(parts) if glob.has_magic(p))]]
-    return Path(*base) if base else Path(".")
+    first = next(i for i, part in enumerate(parts) if glob.has_magic(part))
+    return Path(*parts[:first]) if first else Path(".")
 
 
 def _expand(item: str) -> Iterator[tuple[Path, Path]]:
@@ -177,7 +177,7 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike
             target = out / relative
             if target in targets:
                 raise ValueError(f"{targets[target]} and {found} would both be written to "
-                                 f"{target}; give them separately or rename one")
+                                 f"{target}; fill them into different output folders or rename one")
             if os.path.realpath(target) == real:
                 raise ValueError(f"{found} would be overwritten by its output: choose an "
                                  "output folder other than the input's (inputs are never "
