@@ -74,6 +74,23 @@ def test_point_mesh_distance_numba_and_numpy_agree_with_all_triangles():
     np.testing.assert_allclose(point_mesh_distance(p, v, f), full, atol=1e-12)
 
 
+def test_triangles_with_a_zero_length_edge_give_the_segment_distance():
+    """A fill may contain a triangle with two equal corners (seen from a peer's fill in the
+    validation benchmark): the compiled kernel divided 0 by 0 there and raised."""
+    rng = np.random.default_rng(2)
+    seg = rng.normal(size=(3, 2, 3))  # three segments, each a triangle with a repeated corner
+    tris = np.stack([seg[0, [0, 0, 1]], seg[1, [0, 1, 0]], seg[2, [0, 1, 1]]])
+    p = rng.normal(scale=2.0, size=(300, 3))
+    for k, tri in enumerate(tris):
+        a, b = seg[k]
+        t = np.clip((p - a) @ (b - a) / ((b - a) @ (b - a)), 0, 1)
+        expected = np.linalg.norm(a + t[:, None] * (b - a) - p, axis=1)
+        index = metrics._TriangleIndex(tri, np.array([[0, 1, 2]]))
+        np.testing.assert_allclose(index.distance(p), expected, atol=1e-12)
+        index.use_numba = False
+        np.testing.assert_allclose(index.distance(p), expected, atol=1e-12)
+
+
 def test_distance_of_a_mesh_to_itself_is_zero():
     v, f = data.torus(n_major=32, n_minor=12)
     d = surface_distance(v, f, v, f, n_samples=3000)

@@ -14,6 +14,32 @@ __all__ = ["closest_point_on_triangles", "hole_patch_of", "point_mesh_distance",
            "sample_surface", "surface_distance"]
 
 
+_FLAT = 1e-20  # |ab × ac|² / (|ab|² |ac|²) below this: a degenerate triangle
+
+
+def _closest_on_edges(p, a, b, c, rows: np.ndarray) -> np.ndarray:
+    """Closest point to ``p`` on the three edges of each triangle (only ``rows`` computed;
+    the others are left zero)."""
+    out = np.zeros_like(p)
+    best = np.full(len(p), np.inf)
+    for u, w in ((a, b), (b, c), (c, a)):
+        e = w[rows] - u[rows]
+        t = _fraction(np.einsum("ij,ij->i", p[rows] - u[rows], e), np.einsum("ij,ij->i", e, e))
+        q = u[rows] + t[:, None] * e
+        d = ((q - p[rows]) ** 2).sum(axis=1)
+        closer = d < best[rows]
+        idx = np.flatnonzero(rows)[closer]
+        out[idx], best[idx] = q[closer], d[closer]
+    return out
+
+
+def _fraction(num: np.ndarray, den: np.ndarray) -> np.ndarray:
+    """``num / den`` clipped to [0, 1]; 0 where ``den`` (a squared edge length) is 0: the
+    closest point of a zero-length edge is its first end."""
+    safe = den > 0
+    return np.clip(np.divide(num, np.where(safe, den, 1.0)), 0, 1) * safe
+
+
 def closest_point_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray,
                                c: np.ndarray) -> np.ndarray:
     """Closest point to ``p[i]`` on triangle ``(a[i], b[i], c[i])``, for all ``i`` at once.
@@ -51,15 +77,22 @@ def closest_point_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray,
         out[m] = value[m] if value.ndim == 2 else value
         done[:] |= m
 
+    # degenerate triangles (repeated or collinear corners): the region tests below do not
+    # hold there (a zero-length ab sends every point to a); nearest point of the three edges
+    cross = np.cross(ab, ac)
+    flat = np.einsum("ij,ij->i", cross, cross) <= _FLAT * np.einsum(
+        "ij,ij->i", ab, ab) * np.einsum("ij,ij->i", ac, ac)
+    if flat.any():
+        put(flat, _closest_on_edges(p, a, b, c, flat))
     with np.errstate(divide="ignore", invalid="ignore"):
         put((d1 <= 0) & (d2 <= 0), a)
         put((d3 >= 0) & (d4 <= d3), b)
         put((d6 >= 0) & (d5 <= d6), c)
-        t = np.clip(d1 / (d1 - d3), 0, 1)
+        t = _fraction(d1, d1 - d3)
         put((vc <= 0) & (d1 >= 0) & (d3 <= 0), a + t[:, None] * ab)
-        t = np.clip(d2 / (d2 - d6), 0, 1)
+        t = _fraction(d2, d2 - d6)
         put((vb <= 0) & (d2 >= 0) & (d6 <= 0), a + t[:, None] * ac)
-        t = np.clip((d4 - d3) / ((d4 - d3) + (d5 - d6)), 0, 1)
+        t = _fraction(d4 - d3, (d4 - d3) + (d5 - d6))
         put((va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0), b + t[:, None] * (c - b))
         denom = va + vb + vc
         v = vb / denom
@@ -107,6 +140,25 @@ def _min_distance_loops(points, tri, cand, start):  # pragma: no cover - compile
             va = d3 * d6 - d5 * d4
             vb = d5 * d2 - d1 * d6
             vc = d1 * d4 - d3 * d2
+            nx, ny, nz = aby * acz - abz * acy, abz * acx - abx * acz, abx * acy - aby * acx
+            ab2 = abx * abx + aby * aby + abz * abz
+            ac2 = acx * acx + acy * acy + acz * acz
+            if nx * nx + ny * ny + nz * nz <= 1e-20 * ab2 * ac2:  # degenerate (see _FLAT)
+                for e in range(3):  # nearest point of its three edges
+                    if e == 0:
+                        ux, uy, uz, wx, wy, wz = ax, ay, az, bx, by, bz
+                    elif e == 1:
+                        ux, uy, uz, wx, wy, wz = bx, by, bz, cx, cy, cz
+                    else:
+                        ux, uy, uz, wx, wy, wz = cx, cy, cz, ax, ay, az
+                    ex, ey, ez = wx - ux, wy - uy, wz - uz
+                    ee = ex * ex + ey * ey + ez * ez
+                    s = ((px - ux) * ex + (py - uy) * ey + (pz - uz) * ez) / ee if ee > 0 else 0.0
+                    s = min(max(s, 0.0), 1.0)
+                    d = (ux + s * ex - px) ** 2 + (uy + s * ey - py) ** 2 + (uz + s * ez - pz) ** 2
+                    if d < best:
+                        best = d
+                continue
             if d1 <= 0 and d2 <= 0:
                 qx, qy, qz = ax, ay, az
             elif d3 >= 0 and d4 <= d3:
@@ -114,13 +166,16 @@ def _min_distance_loops(points, tri, cand, start):  # pragma: no cover - compile
             elif d6 >= 0 and d5 <= d6:
                 qx, qy, qz = cx, cy, cz
             elif vc <= 0 and d1 >= 0 and d3 <= 0:
-                s = min(max(d1 / (d1 - d3), 0.0), 1.0)
+                den = d1 - d3  # |ab|²: zero on a degenerate edge (its point is a)
+                s = min(max(d1 / den, 0.0), 1.0) if den > 0.0 else 0.0
                 qx, qy, qz = ax + s * abx, ay + s * aby, az + s * abz
             elif vb <= 0 and d2 >= 0 and d6 <= 0:
-                s = min(max(d2 / (d2 - d6), 0.0), 1.0)
+                den = d2 - d6  # |ac|²
+                s = min(max(d2 / den, 0.0), 1.0) if den > 0.0 else 0.0
                 qx, qy, qz = ax + s * acx, ay + s * acy, az + s * acz
             elif va <= 0 and d4 - d3 >= 0 and d5 - d6 >= 0:
-                s = min(max((d4 - d3) / ((d4 - d3) + (d5 - d6)), 0.0), 1.0)
+                den = (d4 - d3) + (d5 - d6)  # |bc|²
+                s = min(max((d4 - d3) / den, 0.0), 1.0) if den > 0.0 else 0.0
                 qx, qy, qz = bx + s * (cx - bx), by + s * (cy - by), bz + s * (cz - bz)
             else:
                 den = va + vb + vc
