@@ -26,6 +26,7 @@ import json
 import platform
 import sys
 import time
+import traceback
 import warnings
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -79,7 +80,15 @@ def run(manifest: dict, methods: list[str], samples: int, partial: Path | None,
         for k, hole in enumerate(entry["holes"][:max_holes]):
             cut = _cut(mesh, hole)
             for m in methods:
-                row = accuracy.score(cut, m, entry["mesh"], k, hole["radius"] / h, samples)
+                try:
+                    row = accuracy.score(cut, m, entry["mesh"], k, hole["radius"] / h, samples)
+                except Exception as exc:  # noqa: BLE001 - a scoring bug must not end a long
+                    # run: the row says so (status "error") and the traceback is printed
+                    traceback.print_exc(limit=4, file=sys.stderr)
+                    row = accuracy.Row(case=entry["mesh"], hole=k, radius_h=hole["radius"] / h,
+                                       boundary_edges=len(cut.loop), diameter=cut.diameter,
+                                       method=m, status="error",
+                                       note=f"scoring: {type(exc).__name__}: {exc}"[:200])
                 row.extra = {"kind": entry["kind"], "split": entry["split"],
                              "near_border": hole["near_border"],
                              "on_feature": hole["on_feature"]}
@@ -181,7 +190,7 @@ def headline(rows: list[dict], methods: list[str]) -> dict:
                              max([r["seconds"] for r in rows if r["method"] == meth
                                   and r["status"] in FILLED], default=float("nan")))
                       for meth in methods}
-    out["failed"] = {meth: sum(r["status"] in ("failed", "open") for r in rows
+    out["failed"] = {meth: sum(r["status"] in ("failed", "open", "error") for r in rows
                                if r["method"] == meth) for meth in methods}
     return out
 
@@ -238,7 +247,8 @@ def report(rows: list[dict], methods: list[str], split: str) -> str:
         cells = [f"**{_f(med[m])}**" if med[m] == best else _f(med[m]) for m in methods]
         ratio = med[DEFAULT] / med["cgal"] if med.get("cgal", 0) > 1e-6 else float("nan")
         lines.append(f"| {mesh} | {kinds[mesh]} | " + " | ".join(cells) + f" | {_f(ratio)} |")
-    lines += ["", "| method | median s per hole | median s, ≤ 100 edges | max s | failed/open |",
+    lines += ["", "| method | median s per hole | median s, ≤ 100 edges | max s "
+              "| failed/open/error |",
               "|---|---|---|---|---|"]
     for meth in methods:
         a, b2, c = hl["seconds"][meth]
