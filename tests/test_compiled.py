@@ -70,3 +70,23 @@ def test_a_kernel_with_no_cache_location_is_compiled_in_memory():
 def test_kernel_is_built_once():
     k = Kernel(lambda x: x + 1)
     assert k.get() is k.get()
+
+
+def test_the_command_line_says_once_that_it_compiles(tmp_path):
+    # a fresh numba cache: the first fill compiles (and says so once), the second does not
+    from surfinpaint.data import sphere
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+    from surfinpaint.io import write_mesh
+
+    v, f = sphere(2)
+    cut = cut_geodesic_disk(v, f, 0, 0.5)
+    source = tmp_path / "holed.ply"
+    write_mesh(source, cut.vertices, cut.faces)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=SRC)
+    command = [sys.executable, "-m", "surfinpaint", "fill", str(source), "-o",
+               str(tmp_path / "out.ply"), "--method", "fair"]
+    runs = [subprocess.run(command, env=env, capture_output=True, text=True, timeout=600)
+            for _ in range(2)]
+    assert [r.returncode for r in runs] == [0, 0], runs[0].stderr
+    assert runs[0].stderr.count(COMPILING_MESSAGE) == 1, runs[0].stderr
+    assert COMPILING_MESSAGE not in runs[1].stderr, runs[1].stderr

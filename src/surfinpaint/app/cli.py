@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import logging
 import signal
 import sys
 import warnings
@@ -559,6 +560,24 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> 
         return EXIT_FAILURE
 
 
+class _Notices(logging.Handler):
+    """The library's INFO notices (the one-time compilation of the numba kernels) as
+    ``surfinpaint: ...`` lines on the current stderr, when they happen."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        print(f"surfinpaint: {record.getMessage()}", file=sys.stderr, flush=True)
+
+
+_NOTICES = _Notices(logging.INFO)
+
+
+def _show_notices() -> None:
+    log = logging.getLogger("surfinpaint")
+    if _NOTICES not in log.handlers:
+        log.addHandler(_NOTICES)
+    log.setLevel(logging.INFO)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """The ``surfinpaint`` command. Returns the exit code: 0 success, 1 failure, 2 usage
     error, 130 after Ctrl-C, 143 after SIGTERM (temporary files removed, one line printed)."""
@@ -569,6 +588,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             parser = build_parser()
             args = parser.parse_args(argv)
             console = _console()
+            if not getattr(args, "quiet", False):
+                _show_notices()
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 code = _run(parser, args, console)

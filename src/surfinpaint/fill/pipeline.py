@@ -26,6 +26,7 @@ from surfinpaint.fill.holes import select_holes
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import Fill, LambdaHDiagnostics
+from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
 from surfinpaint.geometry.validation import check_loop, validate_mesh, zero_area_faces
 
@@ -376,8 +377,8 @@ def fill_holes(
     attributes, attribute_kinds = _checked_attributes(len(vertices), len(faces), attributes,
                                                       face_attributes, attribute_kinds)
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
-    vertices, faces, removed_faces = _prepared(vertices, faces, repair, validate)
-    loops = select_holes(vertices, faces, holes, include_border=include_border)
+    vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
+    loops = select_holes(vertices, faces, holes, include_border=include_border, table=table)
     mesh = _FilledMesh(vertices, faces)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
                           method=method) for k, loop in enumerate(loops)]
@@ -431,15 +432,18 @@ def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds)
 
 def _prepared(vertices, faces, repair: bool, validate: bool):
     """The mesh as arrays, with ``repair`` the faces around non-manifold edges removed
-    (and which), with ``validate`` checked."""
+    (and which), with ``validate`` checked; and its edge table when validated (built once:
+    the holes are found from it too)."""
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     removed_faces = np.empty(0, dtype=np.int64)
     if repair:
         faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
+    table = None
     if validate:
-        validate_mesh(vertices, faces)
-    return vertices, faces, removed_faces
+        table = EdgeTable.build(faces, len(vertices))
+        validate_mesh(vertices, faces, table=table)
+    return vertices, faces, removed_faces, table
 
 
 def _with_attributes(result: FillResult, attributes, face_attributes, kinds) -> FillResult:
