@@ -19,7 +19,10 @@ map interpolated (barycentrically) at its closest point on the removed patch.
 Errors are mean absolute errors over all new vertices of all holes, in the map's units
 (curv in 1/mm, sulc and thickness in mm), with the map's standard deviation for scale.
 
-    python benchmarks/attributes.py [--holes 12] [--radii 6,12] [--seed 0] [--no-fill]
+First, the sphere targets of ``tests/test_attributes.py`` (unit sphere, one hole of geodesic
+radius 0.8, default fill): colour linear in position, z, normals and a two-label split.
+
+    python benchmarks/attributes.py [--holes 12] [--radii 8,15,25] [--seed 0] [--no-fill]
 """
 
 from __future__ import annotations
@@ -32,7 +35,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from surfinpaint import fill_holes
-from surfinpaint.data import fsaverage5
+from surfinpaint.data import fsaverage5, sphere
 from surfinpaint.fill.attributes import (
     fill_hole_attributes,
     fill_result_attributes,
@@ -40,6 +43,7 @@ from surfinpaint.fill.attributes import (
     inpaint_values,
 )
 from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length, vertex_normals
 from surfinpaint.geometry.metrics import closest_point_on_triangles
 
 MAPS = ("curv", "sulc", "thick")
@@ -133,6 +137,41 @@ def filled_surface_case(maps, cut) -> dict[str, np.ndarray] | None:
     return out
 
 
+def sphere_targets() -> str:
+    """The sphere case of the tests, measured: a markdown list."""
+    direction = np.array([0.6, 0.3, 0.7]) / np.linalg.norm([0.6, 0.3, 0.7])
+
+    def colour(p):
+        return 127.5 + 127.5 * p @ direction
+
+    v, f = sphere(4)
+    cut = cut_holes(v, f, [0], [0.8])
+    cv, cf, n = cut.vertices, cut.faces, len(cut.vertices)
+    normal = np.cross(v[0], [0.0, 0.0, 1.0])
+    normal /= np.linalg.norm(normal)
+    result = fill_holes(cv, cf)
+    out = fill_result_attributes(result, {
+        "color": np.rint(colour(cv)).astype(np.uint8), "z": cv[:, 2],
+        "normal": vertex_normals(cv, cf), "side": np.where(cv @ normal > 0, 7, 2)})
+    new = result.vertices[n:]
+    _, nearest = cKDTree(cv).query(new)
+    unit = new / np.linalg.norm(new, axis=1, keepdims=True)
+    angle = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", out["normal"][n:], unit),
+                                         -1, 1)))
+    side = new @ normal
+    far = np.abs(side) > mean_edge_length(cv, cf)
+    wrong = out["side"][n:] != np.where(side > 0, 7, 2)
+    return "\n".join([
+        f"sphere(4), one {len(cut.loop)}-edge hole, {len(new)} new vertices:",
+        f"- colour: mean error {np.abs(out['color'][n:] - colour(new)).mean():.2f}/255 "
+        f"(nearest colour copied: {np.abs(np.rint(colour(cv))[nearest] - colour(new)).mean():.1f})",
+        f"- z: max error {np.abs(out['z'][n:] - new[:, 2]).max():.4f}",
+        f"- normals: max {angle.max():.1f} degrees from the sphere's",
+        f"- labels: {int(wrong[far].sum())} of {int(far.sum())} new vertices farther than an "
+        f"edge from the plane on the wrong side ({int(wrong[~far].sum())} of "
+        f"{int((~far).sum())} nearer)"])
+
+
 def _table(errors: dict, maps, title: str, rules) -> str:
     lines = [f"**{title}**", "",
              "| map (sd) | hole radius | new vertices | " + " | ".join(rules) + " |",
@@ -152,10 +191,11 @@ def _table(errors: dict, maps, title: str, rules) -> str:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--holes", type=int, default=12, help="holes per radius")
-    parser.add_argument("--radii", default="6,12", help="geodesic radii in mm")
+    parser.add_argument("--radii", default="8,15,25", help="geodesic radii in mm")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--no-fill", action="store_true", help="true surface only")
     args = parser.parse_args(argv)
+    print(sphere_targets() + "\n")
     v, f, maps = load_maps()
     rng = np.random.default_rng(args.seed)
     radii = [float(r) for r in args.radii.split(",")]

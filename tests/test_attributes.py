@@ -55,7 +55,7 @@ def test_colour_linear_in_position_within_4_of_255(filled_sphere):
     error = np.abs(out[n:, 0] - colour_of(new)).mean()
     _, nearest = cKDTree(v).query(new)
     copied = np.abs(rgb[nearest, 0] - colour_of(new)).mean()
-    assert error < 4.0  # measured 0.26
+    assert error < 4.0  # measured 0.34
     assert copied > 10.0  # measured 15.7: the test tells inpainting from copying
     assert np.abs(out[n:, 1] - (255 - colour_of(new))).mean() < 4.0
     assert np.all(out[n:, 2] == 200)
@@ -107,10 +107,14 @@ def test_originals_unchanged_bitwise(filled_sphere):
     attributes = {"color": rng.integers(0, 256, (n, 4)).astype(np.uint8),
                   "thickness": rng.normal(size=n), "normals": vertex_normals(v, f),
                   "parcel": rng.integers(0, 5, n), "uv": rng.random((n, 2))}
+    before = {name: values.copy() for name, values in attributes.items()}
     out = fill_result_attributes(result, attributes)
     for name, values in attributes.items():
+        assert np.array_equal(values, before[name]), name  # the inputs are not written to
         assert out[name].dtype == values.dtype
         assert np.array_equal(out[name][:n], values), name
+        out[name][0] = out[name][1]
+        assert np.array_equal(values, before[name]), name  # nor shared with the output
     assert set(np.unique(out["parcel"][n:])) <= set(range(5))
 
 
