@@ -42,9 +42,9 @@ def _spread_centres(vertices: np.ndarray, n: int, rng: np.random.Generator) -> l
 
 
 def make_meshes(folder: Path, count: int) -> list[Path]:
-    """``count`` meshes with 2-3 holes each (snowmen, spheres, tori, teeth) in nested
-    folders, as subjects of a study would be."""
-    shapes = [snowman(0.08), sphere(3), torus(n_major=64, n_minor=28), tooth(0.06)]
+    """``count`` meshes of 10k-26k vertices with 2-3 holes each (snowmen, spheres, tori,
+    teeth) in nested folders, as subjects of a study would be."""
+    shapes = [snowman(0.03), sphere(5), torus(n_major=256, n_minor=100), tooth(0.02)]
     rng = np.random.default_rng(17)
     paths = []
     for i in range(count):
