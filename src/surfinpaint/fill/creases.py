@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import FillError, MeshError
+from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import edge_faces, face_normals, faces_near
 
 __all__ = ["Crease", "crease_curve", "cut_along", "hole_crease", "sharp_edges",
@@ -197,11 +198,11 @@ def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     across /= np.linalg.norm(across)
     if directions[0] @ across < cos_turn or -(directions[1] @ across) < cos_turn:
         return None
-    key = edges[:, 0] * n + edges[:, 1]
-    chain_edges = np.sort(np.concatenate([np.column_stack([c[:-1], c[1:]]) for c in (ca, cb)]),
-                          axis=1)
+    key = edge_keys(edges[:, 0], edges[:, 1], n)
+    chain_edges = np.concatenate([np.column_stack([c[:-1], c[1:]]) for c in (ca, cb)])
     # (the chains' edges along the loop have one face: no turn to measure there)
-    mean_turn = float(turn[np.isin(key, chain_edges[:, 0] * n + chain_edges[:, 1])].mean())
+    mean_turn = float(turn[np.isin(key, edge_keys(chain_edges[:, 0], chain_edges[:, 1],
+                                                  n))].mean())
     return Crease(ends=np.array([ia, ib]), chains=[ca, cb], directions=directions,
                   angle=mean_turn)
 
@@ -264,7 +265,8 @@ def cut_along(faces: np.ndarray, edges: np.ndarray) -> tuple[np.ndarray, np.ndar
     all_edges, owner, count = edge_faces(faces)
     n = int(faces.max()) + 1
     edges = np.sort(np.asarray(edges, dtype=np.int64).reshape(-1, 2), axis=1)
-    is_cut = np.isin(all_edges[:, 0] * n + all_edges[:, 1], edges[:, 0] * n + edges[:, 1])
+    is_cut = np.isin(edge_keys(all_edges[:, 0], all_edges[:, 1], n),
+                     edge_keys(edges[:, 0], edges[:, 1], n))
     # the two faces of each interior uncut edge share the corners at its two ends
     join = np.flatnonzero((count == 2) & ~is_cut)
     fa, fb = owner[join, 0], owner[join, 1]

@@ -13,6 +13,7 @@ from surfinpaint.errors import FillError, MeshError
 from surfinpaint.fill.liepa.fairing import fair as fair_patch
 from surfinpaint.fill.liepa.refinement import refine_patch
 from surfinpaint.fill.liepa.triangulation import _orient_loop, minimum_weight_triangulation
+from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import faces_near
 
 __all__ = ["conventional_fill", "faired_fill", "faired_fills"]
@@ -189,10 +190,8 @@ def _check_boundary(faces: np.ndarray, loop: np.ndarray) -> None:
     on_loop = np.zeros(n, dtype=bool)
     on_loop[loop] = True
     near = faces[on_loop[faces].sum(axis=1) >= 2]
-    und = np.sort(np.concatenate([near[:, [0, 1]], near[:, [1, 2]], near[:, [2, 0]]]), axis=1)
-    key = und[:, 0] * n + und[:, 1]
-    lk = np.sort(np.column_stack([loop, np.roll(loop, -1)]), axis=1)
-    lkey = lk[:, 0] * n + lk[:, 1]
+    key = edge_keys(near.ravel(), near[:, [1, 2, 0]].ravel(), n)
+    lkey = edge_keys(loop, np.roll(loop, -1), n)
     keys, counts = np.unique(key, return_counts=True)
     pos = np.searchsorted(keys, lkey)
     pos = np.clip(pos, 0, len(keys) - 1)
