@@ -2,11 +2,12 @@
 
 import numpy as np
 import pytest
+from conftest import grid_mesh
 
 from surfinpaint import ConformalOptions, FillError, GridOptions, fill_holes
 from surfinpaint.data import bumpy_disk, sphere, torus
 from surfinpaint.fill.conformal import conformal_fill
-from surfinpaint.fill.conformal.checks import check_patch
+from surfinpaint.fill.conformal.checks import check_patch, damped_fill, fold_count
 from surfinpaint.fill.conformal.patch import hole_patch
 from surfinpaint.fill.liepa.baseline import conventional_fill, faired_fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
@@ -439,3 +440,53 @@ def test_mesh_pass_drops_rings_where_the_map_flips(sphere_hole, monkeypatch):
     monkeypatch.setattr(parameterization, "flipped_faces", lambda faces, uv: np.array([0]))
     with pytest.raises(FillError, match="folds"):
         inpaint_patch_on_mesh(vertices, cut.faces, cut.loop, new_f, moving)
+
+
+def _pushed_fan(displacement):
+    """A flat 9x9 grid whose centre vertex is the fill's only moving vertex, at its start
+    (the grid point) and moved by ``displacement``: (vertices, patch faces fill first,
+    number of fill faces, moving ids, start positions)."""
+    vertices, faces = grid_mesh(8, 8)
+    centre = int(np.argmin(np.linalg.norm(vertices[:, :2] - 0.5, axis=1)))
+    fan = np.isin(faces, centre).any(axis=1)
+    patch = np.vstack([faces[fan], faces[~fan]])
+    moved = vertices.copy()
+    moved[centre] += displacement
+    return moved, patch, int(fan.sum()), np.array([centre]), vertices[[centre]]
+
+
+@pytest.mark.parametrize(("displacement", "expected_t"), [
+    ((0.0, 0.0, 0.05), 1.0),   # a bump: passes undamped
+    ((0.2, 0.0, 0.0), 0.6),    # 1.6 edge lengths sideways: the fan folds until t·0.2 < 1/8
+    ((0.5, 0.3, 0.0), 0.15),   # far out: only the last step stays inside the fan
+])
+def test_damped_fill_keeps_the_largest_step_that_passes(displacement, expected_t):
+    moved, patch, n_fill, moving, start = _pushed_fan(np.array(displacement))
+    positions, t = damped_fill(moved, start, moving, patch, n_fill)
+    assert t == expected_t
+    np.testing.assert_allclose(positions[moving], start + t * (moved[moving] - start))
+    check_patch(positions, patch, n_fill)  # what is returned passes
+    untouched = np.setdiff1d(np.arange(len(moved)), moving)
+    np.testing.assert_array_equal(positions[untouched], moved[untouched])
+
+
+def test_damped_fill_raises_the_undamped_failure_when_no_step_passes():
+    moved, patch, n_fill, moving, start = _pushed_fan(np.array([np.nan, 0.0, 0.0]))
+    with pytest.raises(FillError, match="non-finite"):
+        damped_fill(moved, start, moving, patch, n_fill)
+
+
+def test_folds_the_start_has_too_are_not_counted_against_the_fill():
+    # the start itself folds at its fan (pushed far sideways); a fill that folds no more
+    # than that passes undamped, one that folds more does not
+    moved, patch, n_fill, moving, start = _pushed_fan(np.array([0.3, 0.0, 0.0]))
+    folded_start = moved[moving].copy()
+    allowed = fold_count(moved, patch, n_fill)
+    assert allowed > 0
+    same = moved.copy()
+    same[moving] += [0.0, 0.0, 1e-3]
+    positions, t = damped_fill(same, folded_start, moving, patch, n_fill)
+    assert t == 1.0
+    assert fold_count(positions, patch, n_fill) <= allowed
+    with pytest.raises(FillError, match="folds over"):
+        check_patch(same, patch, n_fill)  # without the start's allowance it would fail

@@ -19,11 +19,18 @@ import surfinpaint.fill.conformal.checks
 from surfinpaint import ConformalOptions, GridOptions
 from surfinpaint.data import sphere
 from surfinpaint.errors import FillError
+from surfinpaint.fill.conformal.checks import FOLD_ANGLE
 from surfinpaint.fill.holes import find_holes
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.intersection import patch_intersects_surroundings
-from surfinpaint.geometry.mesh import k_ring, mean_edge_length, vertex_normals
+from surfinpaint.geometry.mesh import (
+    edge_faces,
+    face_normals,
+    k_ring,
+    mean_edge_length,
+    vertex_normals,
+)
 from surfinpaint.geometry.validation import nonmanifold_vertices, validate_mesh
 
 METHODS = ["conformal", "fair"]
@@ -371,35 +378,60 @@ def test_fallback_on_non_finite_positions(monkeypatch):
     _assert_falls_back(monkeypatch, nan)
 
 
-def test_fallback_on_folded_positions(monkeypatch):
+def _assert_damped_or_falls_back(monkeypatch, transform, fold_angle=FOLD_ANGLE):
+    """The λ-H pass replaced by ``transform``, whose fill fails the checks: what is written
+    is either the faired fill (with the reason) or the λ-H fill damped toward its start
+    until it passes them (``damping`` < 1), never the failing fill itself."""
+    _force(monkeypatch, _moving_fake(transform))
+    v, f = _fallback_case()
+    result = fill_holes(v, f, method="conformal", options=ConformalOptions(select=False))
+    (r,) = result.reports
+    if r.method == "fair":
+        assert r.fallback
+    else:
+        assert r.method == "conformal" and 0 < r.diagnostics.damping < 1
+    check_filled(v, f, result)
+    assert patch_intersects_surroundings(result.vertices, result.new_faces, f).shape == (0, 2)
+    # no fold-over at any edge of the fill (the λ-H check's own definition, FOLD_ANGLE)
+    normals = face_normals(result.vertices, result.faces)
+    _, owner, count = edge_faces(result.faces)
+    pairs = owner[(count == 2) & (owner.max(axis=1) >= len(f))]
+    cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
+    assert (cos > np.cos(np.radians(fold_angle)) - 1e-12).all()
+    return r
+
+
+def test_folded_positions_are_damped_not_written(monkeypatch):
     # the fill mirrored across the plane z = 0, which holds the hole's axis: every fill
     # triangle is flipped against the surface around it
     def fold(vertices, patch_faces, n_fill_faces, moving):
         return vertices[moving] * np.array([1.0, 1.0, -1.0])
 
-    _assert_falls_back(monkeypatch, fold)
+    r = _assert_damped_or_falls_back(monkeypatch, fold)
+    assert r.method == "conformal"  # 15 % of the way to the mirror image folds nothing
 
 
-def test_fallback_on_a_patch_through_the_surroundings(monkeypatch):
+def test_patch_through_the_surroundings_is_damped_or_falls_back(monkeypatch):
+    _assert_damped_or_falls_back(monkeypatch, _spread)
+
+
+def _spread(vertices, patch_faces, n_fill_faces, moving):
     # the fill spread out over the surface around the hole, corrugated through it: no fold
     # between neighbouring triangles is needed for it to cross the ring
-    def spread(vertices, patch_faces, n_fill_faces, moving):
-        p = vertices[moving]
-        loop_ids = np.setdiff1d(np.unique(patch_faces[:n_fill_faces]), moving)
-        c = vertices[loop_ids].mean(axis=0)
-        normal = c / np.linalg.norm(c)
-        tangent = (p - c) - np.outer((p - c) @ normal, normal)
-        sign = np.where(np.arange(len(p)) % 2 == 0, 1.0, -1.0)[:, None]
-        return c + 2.2 * tangent + 0.06 * sign * normal
-
-    _assert_falls_back(monkeypatch, spread)
+    p = vertices[moving]
+    loop_ids = np.setdiff1d(np.unique(patch_faces[:n_fill_faces]), moving)
+    c = vertices[loop_ids].mean(axis=0)
+    normal = c / np.linalg.norm(c)
+    tangent = (p - c) - np.outer((p - c) @ normal, normal)
+    sign = np.where(np.arange(len(p)) % 2 == 0, 1.0, -1.0)[:, None]
+    return c + 2.2 * tangent + 0.06 * sign * normal
 
 
 def test_crossing_patch_is_caught_without_the_fold_check(monkeypatch):
     # the same crossing patch, with the fold test switched off: the intersection test of the
     # patch against its surrounding rings has to catch it by itself
     monkeypatch.setattr(surfinpaint.fill.conformal.checks, "FOLD_ANGLE", 180.0)
-    test_fallback_on_a_patch_through_the_surroundings(monkeypatch)
+    _assert_damped_or_falls_back(monkeypatch, _spread, fold_angle=180.0)
 
 
 def test_conformal_fill_faces_the_same_way_as_the_surface():

@@ -89,6 +89,9 @@ class LambdaHDiagnostics:
         Mesh discretization: the patch and its positions before and after.
     note : str, optional
         E.g. that the fill had no interior vertices to move.
+    damping : float
+        The fraction of the λ-H displacement from the initial fill that was kept to pass the
+        checks (1: undamped; :func:`surfinpaint.fill.conformal.checks.damped_fill`).
     """
 
     discretization: str
@@ -97,6 +100,7 @@ class LambdaHDiagnostics:
     grid: GridLambdaH | None = None
     mesh: MeshLambdaH | None = None
     note: str | None = None
+    damping: float = 1.0
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from surfinpaint.errors import NUMERICAL_ERRORS, FillError
-from surfinpaint.fill.conformal.checks import check_patch
+from surfinpaint.fill.conformal.checks import damped_fill
 from surfinpaint.fill.conformal.grid_pass import inpaint_patch
 from surfinpaint.fill.conformal.mesh_pass import inpaint_patch_on_mesh
 from surfinpaint.fill.conformal.options import (
@@ -164,6 +164,7 @@ class Candidates:
             return Fill(new_v, new_f, "conformal", diagnostics=LambdaHDiagnostics(
                 o.discretization, rings=0, note="no interior vertices to move"))
         all_v = np.concatenate([vertices, new_v])
+        start = all_v[moving].copy()
         rings = o.rings_in_patch
         if o.discretization == "mesh":
             tol = o.solver_tol if o.solver_tol is not None else (
@@ -181,5 +182,7 @@ class Candidates:
                                                              o.grid)
                 all_v[moving] = positions
             diagnostics = LambdaHDiagnostics("grid", used, reconstruct=reconstruct, grid=grid)
-        check_patch(all_v, patch, len(new_f), self_crossing=not test, crease=cut_edges)
-        return Fill(all_v[n:], new_f, "conformal", diagnostics=diagnostics)
+        all_v, damping = damped_fill(all_v, start, moving, patch, len(new_f),
+                                     self_crossing=not test, crease=cut_edges)
+        return Fill(all_v[n:], new_f, "conformal", diagnostics=replace(diagnostics,
+                                                                        damping=damping))

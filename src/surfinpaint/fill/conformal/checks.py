@@ -9,30 +9,22 @@ from surfinpaint.errors import FillError
 from surfinpaint.geometry.intersection import patch_intersects_surroundings, self_intersections
 from surfinpaint.geometry.mesh import edge_faces, face_areas, face_normals
 
-__all__ = ["FOLD_ANGLE", "check_patch"]
+__all__ = ["DAMPING_STEPS", "FOLD_ANGLE", "check_patch", "damped_fill", "fold_count"]
 
 # neighbouring triangles whose normals turn by more than this are a fold-over
 FOLD_ANGLE = 120.0
 
 
-def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
-                self_crossing: bool = True, crease: np.ndarray | None = None) -> None:
-    """Reject a filled patch (its first ``n_fill_faces`` faces are the fill).
+# the λ-H fill is damped toward its start S0 by these fractions of its displacement, largest
+# first, until it passes the checks (a line search: 1 is the undamped fill, 0 would be S0)
+DAMPING_STEPS = (1.0, 0.8, 0.6, 0.45, 0.3, 0.15)
 
-    Raises
-    ------
-    FillError
-        For non-finite positions, degenerate triangles, fold-overs (two neighbouring
-        triangles, in the fill or a fill triangle and the surface next to it, whose normals
-        turn by more than ``FOLD_ANGLE``, except across the ``crease`` edges), or
-        intersections with the surrounding rings or (with ``self_crossing``) with itself.
-    """
-    fill = patch_faces[:n_fill_faces]
-    if not np.isfinite(vertices[np.unique(fill)]).all():
-        raise FillError("the filled patch has non-finite coordinates")
-    area = face_areas(vertices, fill)
-    if (area <= 1e-12 * max(float(np.median(area)), 1e-300)).any():
-        raise FillError("the filled patch has degenerate triangles")
+
+def fold_count(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
+               crease: np.ndarray | None = None) -> int:
+    """Fold-overs of a filled patch: pairs of neighbouring triangles, in the fill or a fill
+    triangle and the surface next to it, whose normals turn by more than ``FOLD_ANGLE``,
+    except across the ``crease`` edges."""
     edges, owner, count = edge_faces(patch_faces)
     normals = face_normals(vertices, patch_faces)
     two = count == 2
@@ -44,9 +36,31 @@ def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int
         checked &= ~np.isin(edges[:, 0] * base + edges[:, 1], sharp[:, 0] * base + sharp[:, 1])
     pairs = owner[checked]
     cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
-    folds = int((cos < np.cos(np.radians(FOLD_ANGLE))).sum())
-    if folds:
-        raise FillError(f"the filled patch folds over at {folds} edges")
+    return int((cos < np.cos(np.radians(FOLD_ANGLE))).sum())
+
+
+def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
+                self_crossing: bool = True, crease: np.ndarray | None = None,
+                allowed_folds: int = 0) -> None:
+    """Reject a filled patch (its first ``n_fill_faces`` faces are the fill).
+
+    Raises
+    ------
+    FillError
+        For non-finite positions, degenerate triangles, more than ``allowed_folds``
+        fold-overs (:func:`fold_count`), or intersections with the surrounding rings or
+        (with ``self_crossing``) with itself.
+    """
+    fill = patch_faces[:n_fill_faces]
+    if not np.isfinite(vertices[np.unique(fill)]).all():
+        raise FillError("the filled patch has non-finite coordinates")
+    area = face_areas(vertices, fill)
+    if (area <= 1e-12 * max(float(np.median(area)), 1e-300)).any():
+        raise FillError("the filled patch has degenerate triangles")
+    folds = fold_count(vertices, patch_faces, n_fill_faces, crease=crease)
+    if folds > allowed_folds:
+        more = f" (its start has {allowed_folds})" if allowed_folds else ""
+        raise FillError(f"the filled patch folds over at {folds} edges{more}")
     crossing = patch_intersects_surroundings(vertices, fill, patch_faces[n_fill_faces:])
     if len(crossing):
         raise FillError(f"the filled patch cuts through the surrounding surface "
@@ -54,3 +68,55 @@ def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int
     crossing = self_intersections(vertices, fill) if self_crossing else ()
     if len(crossing):
         raise FillError(f"the filled patch intersects itself ({len(crossing)} triangle pairs)")
+
+
+def damped_fill(vertices: np.ndarray, start: np.ndarray, moving: np.ndarray,
+                patch_faces: np.ndarray, n_fill_faces: int, *, self_crossing: bool = True,
+                crease: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+    """The λ-H fill, damped toward its start until it passes :func:`check_patch`.
+
+    A fold-over of the λ-H fill is local and is rarely the whole displacement's fault: the
+    fill ``S0 + t (λH − S0)`` is tried for ``t`` in ``DAMPING_STEPS`` (a line search toward
+    the start, which the checks accepted as the faired fill), and the first that passes is
+    kept. Fold-overs that the start has too (a brain sulcus's loop can make every smooth
+    fill turn by more than ``FOLD_ANGLE`` against its rim) are not counted against it.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+        Positions with the λ-H fill at ``moving``.
+    start : (m, 3) float array
+        The start S0's positions of ``moving``.
+    moving : (m,) int array
+        The vertices the λ-H fill moved.
+    patch_faces, n_fill_faces, self_crossing, crease :
+        As :func:`check_patch`.
+
+    Returns
+    -------
+    positions : (n, 3) float array
+        ``vertices`` with the damped fill at ``moving``.
+    t : float
+        The fraction of the λ-H displacement kept (1: undamped).
+
+    Raises
+    ------
+    FillError
+        The undamped fill's failure, when no step passes.
+    """
+    at_start = vertices.copy()
+    at_start[moving] = start
+    allowed = fold_count(at_start, patch_faces, n_fill_faces, crease=crease)
+    displacement = vertices[moving] - start
+    first_failure = None
+    for t in DAMPING_STEPS:
+        trial = at_start.copy()
+        trial[moving] = start + t * displacement
+        try:
+            check_patch(trial, patch_faces, n_fill_faces, self_crossing=self_crossing,
+                        crease=crease, allowed_folds=allowed)
+        except FillError as exc:
+            first_failure = first_failure or exc
+            continue
+        return trial, t
+    raise first_failure
