@@ -11,7 +11,7 @@ from surfinpaint.fill.conformal.checks import check_patch, damped_fill, fold_cou
 from surfinpaint.fill.conformal.patch import hole_patch
 from surfinpaint.fill.liepa.baseline import conventional_fill, faired_fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
-from surfinpaint.geometry.mesh import boundary_loops, unique_edges
+from surfinpaint.geometry.mesh import boundary_loops, mean_edge_length, unique_edges
 from surfinpaint.geometry.metrics import hole_patch_of, surface_distance
 
 RAW = ConformalOptions(select=False)
@@ -490,3 +490,25 @@ def test_folds_the_start_has_too_are_not_counted_against_the_fill():
     assert fold_count(positions, patch, n_fill) <= allowed
     with pytest.raises(FillError, match="folds over"):
         check_patch(same, patch, n_fill)  # without the start's allowance it would fail
+
+
+def test_a_patch_lscm_flips_at_every_size_is_still_filled_by_lambda_h():
+    # a wavy height field over a grid jittered by 0.45 of its spacing (normal noise):
+    # slivers with negative cotangent weights, where LSCM flips triangles of the hole's
+    # patch at every ring count; the map is untangled (or mean-value) instead of a fallback
+    n = 31
+    x, y = np.meshgrid(np.linspace(-1, 1, n), np.linspace(-1, 1, n), indexing="ij")
+    rng = np.random.default_rng(3)
+    x = x + 0.45 * rng.standard_normal(x.shape) * (2 / n)
+    y = y + 0.45 * rng.standard_normal(y.shape) * (2 / n)
+    v = np.column_stack([x.ravel(), y.ravel(), (0.3 * np.sin(3 * x) * np.cos(3 * y)).ravel()])
+    i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
+    a = (i * n + j).ravel()
+    f = np.vstack([np.column_stack([a, a + n, a + n + 1]), np.column_stack([a, a + n + 1, a + 1])])
+    cut = cut_geodesic_disk(v, f, np.zeros(3), 4 * mean_edge_length(v, f))
+    result = fill_holes(cut.vertices, cut.faces, holes=[cut.loop],
+                        options=ConformalOptions(select=False))
+    (r,) = result.reports
+    assert r.method == "conformal" and r.fallback is None
+    assert r.diagnostics.mesh.map in ("lscm-untangled", "mean-value")
+    assert len(boundary_loops(result.faces)) == len(boundary_loops(cut.faces)) - 1

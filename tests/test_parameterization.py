@@ -15,8 +15,10 @@ from surfinpaint.geometry.parameterization import (
     distortion_histogram,
     flipped_faces,
     lscm,
+    mean_value_map,
     pinched_vertices,
     rectangular_conformal_map,
+    untangle,
 )
 from surfinpaint.representation.analytic import stereographic_sphere
 
@@ -211,3 +213,60 @@ def test_flipped_faces_finds_a_fold():
     assert np.all(np.isin(f[flips], 6).any(axis=1))
     assert len(flipped_faces(f, uv)) == 0
     assert len(flipped_faces(f, uv[:, ::-1])) == 0  # globally mirrored is not folded
+
+
+def _sliver_surface(seed=3):
+    """A wavy height field over a grid jittered by 45 % of its spacing: slivers whose
+    cotangent weights are negative, where LSCM flips some triangles."""
+    uv, faces = grid_mesh(31, extent=(-1.0, 1.0, -1.0, 1.0), jitter=0.45 * 2, seed=seed)
+    z = 0.3 * np.sin(3 * uv[:, 0]) * np.cos(3 * uv[:, 1])
+    return np.column_stack([uv, z]), faces
+
+
+def test_mean_value_map_of_a_square_lays_its_border_on_a_circle():
+    uv, faces = grid_mesh(11)
+    out = mean_value_map(planar(uv), faces)
+    border = np.unique(faces[np.isin(faces, np.flatnonzero(
+        (uv == 0).any(axis=1) | (uv == 1).any(axis=1)))])
+    border = border[((uv[border] == 0) | (uv[border] == 1)).any(axis=1)]
+    centre = (out.max(axis=0) + out.min(axis=0)) / 2
+    radius = np.linalg.norm(out[border] - centre, axis=1)
+    np.testing.assert_allclose(radius, radius[0], rtol=1e-12)  # one circle
+    assert len(flipped_faces(faces, out)) == 0
+    assert face_areas(out, faces).sum() == pytest.approx(1.0, rel=1e-12)  # area kept
+
+
+def test_mean_value_map_reproduces_a_flat_mesh_with_a_convex_border_map():
+    # on a flat mesh the mean-value weights reproduce linear functions: with the border
+    # where it is, the interior comes back exactly (Floater's linear precision)
+    uv, faces = grid_mesh(9, jitter=0.3)
+    out = mean_value_map(planar(uv), faces)
+    assert len(flipped_faces(faces, out)) == 0
+    # counter-clockwise like the input
+    d1, d2 = out[faces[:, 1]] - out[faces[:, 0]], out[faces[:, 2]] - out[faces[:, 0]]
+    assert (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] > 0).all()
+
+
+def test_mean_value_map_does_not_flip_where_lscm_does():
+    vertices, faces = _sliver_surface()
+    assert len(flipped_faces(faces, lscm(vertices, faces))) > 0
+    assert len(flipped_faces(faces, mean_value_map(vertices, faces))) == 0
+
+
+def test_untangle_repairs_a_flip_locally():
+    # a flat 21x21 grid's map with one interior vertex thrown across two of its neighbours
+    uv, faces = grid_mesh(21, jitter=0.2)
+    vertices = planar(uv)
+    start = lscm(vertices, faces)
+    centre = 10 * 21 + 10
+    broken = start.copy()
+    broken[centre] += 2.5 * (start[centre + 21] - start[centre])
+    assert len(flipped_faces(faces, broken)) > 0
+    out = untangle(vertices, faces, broken)
+    assert out is not None and len(flipped_faces(faces, out)) == 0
+    moved = np.flatnonzero(np.abs(out - broken).max(axis=1) > 0)
+    assert centre in moved
+    # only vertices near the flip move: a few rings, not the map
+    assert np.abs(uv[moved] - uv[centre]).max() <= 6.5 / 20
+    # a map with nothing flipped comes back as it is
+    np.testing.assert_array_equal(untangle(vertices, faces, start), start)

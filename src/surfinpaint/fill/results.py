@@ -61,6 +61,10 @@ class MeshLambdaH:
         Positions before (the initial fill) and after the λ-H pass.
     one_side : bool
         The patch is one side of a crease across the hole (the side with the larger fill).
+    map : {"lscm", "lscm-untangled", "mean-value"}
+        The patch's map: LSCM; where LSCM flips triangles at every patch size, LSCM with
+        the flips untangled locally, or the mean-value map of the patch
+        (:mod:`surfinpaint.geometry.parameterization`).
     """
 
     uv: np.ndarray
@@ -70,6 +74,7 @@ class MeshLambdaH:
     before: np.ndarray
     after: np.ndarray
     one_side: bool = False
+    map: str = "lscm"
 
 
 @dataclass(frozen=True)

@@ -4,6 +4,8 @@ hole's edge stays tied to the positions (:mod:`surfinpaint.representation.on_mes
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from surfinpaint.errors import FillError
@@ -105,14 +107,34 @@ def inpaint_patch_on_mesh(
         used = min(used, piece_rings)
     rings_all = np.unique(np.sort(np.vstack(ring_faces), axis=1), axis=0, return_index=True)[1]
     ring_faces = np.vstack(ring_faces)[np.sort(rings_all)]
-    first = MeshLambdaH(first.uv, first.faces, first.n_fill_faces, first.free, first.before,
-                        first.after, one_side=True)
+    first = replace(first, one_side=True)
     return positions, np.vstack([fill_faces, ring_faces]), used, first
 
 
 def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterations, tol,
                    natural=None):
     """:func:`inpaint_patch_on_mesh` of one patch, grown from ``seeds`` over ``faces``."""
+    patch, ids, local, uv, used, map_name = _mapped_patch(vertices, faces, seeds, fill_faces,
+                                                          rings)
+    free = np.isin(ids, moving)
+    points = vertices[ids]
+    new_points = inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
+                                 natural=None if natural is None else natural[ids])
+    lambda_h = MeshLambdaH(uv=uv, faces=local, n_fill_faces=len(fill_faces), free=free,
+                           before=points, after=new_points, map=map_name)
+    return new_points[np.searchsorted(ids, moving)], patch, used, lambda_h
+
+
+def _mapped_patch(vertices, faces, seeds, fill_faces, rings):
+    """The hole's patch and its map: LSCM with ``rings`` rings, fewer while LSCM flips a
+    triangle (down to ``MIN_RINGS``), and where it flips some at every size, the
+    mean-value map of the ``rings``-ring patch, which cannot flip one (slivers make LSCM's
+    cotangent weights negative; the mean-value weights stay positive).
+
+    Returns
+    -------
+    patch, ids, local, uv, rings used, map name ("lscm" or "mean-value")
+    """
     for k in range(rings, MIN_RINGS - 1, -1):
         patch, used = hole_patch(faces, seeds, fill_faces, k)
         ids, local = np.unique(patch, return_inverse=True)
@@ -121,14 +143,17 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
         uv = parameterization.lscm(vertices[ids], local)
         flipped = parameterization.flipped_faces(local, uv)
         if len(flipped) == 0:
-            break
-    else:
-        raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped "
-                        f"faces, even with {MIN_RINGS} rings)")
-    free = np.isin(ids, moving)
-    points = vertices[ids]
-    new_points = inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
-                                 natural=None if natural is None else natural[ids])
-    lambda_h = MeshLambdaH(uv=uv, faces=local, n_fill_faces=len(fill_faces), free=free,
-                           before=points, after=new_points)
-    return new_points[np.searchsorted(ids, moving)], patch, used, lambda_h
+            return patch, ids, local, uv, used, "lscm"
+    patch, used = hole_patch(faces, seeds, fill_faces, rings)
+    ids, local = np.unique(patch, return_inverse=True)
+    local = local.reshape(-1, 3)
+    uv = parameterization.untangle(vertices[ids], local,
+                                   parameterization.lscm(vertices[ids], local))
+    if uv is not None:
+        return patch, ids, local, uv, used, "lscm-untangled"
+    uv = parameterization.mean_value_map(vertices[ids], local)
+    flipped = parameterization.flipped_faces(local, uv)
+    if len(flipped):  # only round-off can do this
+        raise FillError(f"the map of the patch folds ({len(flipped)} flipped faces, with "
+                        "LSCM at every ring count and with the mean-value map)")
+    return patch, ids, local, uv, used, "mean-value"
