@@ -512,3 +512,21 @@ def test_a_patch_lscm_flips_at_every_size_is_still_filled_by_lambda_h():
     assert r.method == "conformal" and r.fallback is None
     assert r.diagnostics.mesh.map in ("lscm-untangled", "mean-value")
     assert len(boundary_loops(result.faces)) == len(boundary_loops(cut.faces)) - 1
+
+
+def test_a_hole_next_to_the_surface_border_is_inpainted_with_a_natural_border():
+    # a hole half an edge length from a bumpy disk's border: the patch's rings reach the
+    # border, where H has no two-sided Laplacian; it is a natural border of the λ-H solve
+    # (as a crease is) instead of "too thin", and the fill beats its trilaplacian start
+    v, f = bumpy_disk(32)
+    h = mean_edge_length(v, f)
+    rim = np.linalg.norm(v[:, :2], axis=1).max()
+    site = v[np.argmin(np.linalg.norm(v[:, :2] - [rim - 4.5 * h, 0.0], axis=1))]
+    cut = cut_geodesic_disk(v, f, site, 4 * h)
+    raw = fill_holes(cut.vertices, cut.faces, holes=[cut.loop],
+                     options=ConformalOptions(select=False))
+    (r,) = raw.reports
+    assert r.method == "conformal" and r.fallback is None
+    start = fill_holes(cut.vertices, cut.faces, holes=[cut.loop], method="fair", fair_order=3)
+    assert _patch_error(cut, raw.vertices[len(cut.vertices):], raw.new_faces) < \
+        0.5 * _patch_error(cut, start.vertices[len(cut.vertices):], start.new_faces)

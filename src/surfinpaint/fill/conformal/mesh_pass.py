@@ -13,7 +13,7 @@ from surfinpaint.fill.conformal.patch import hole_patch
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import MeshLambdaH
 from surfinpaint.geometry import parameterization
-from surfinpaint.geometry.mesh import connected_components
+from surfinpaint.geometry.mesh import boundary_halfedges, connected_components
 from surfinpaint.representation.on_mesh import inpaint_on_mesh
 
 __all__ = ["inpaint_patch_on_mesh"]
@@ -118,8 +118,16 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
                                                           rings)
     free = np.isin(ids, moving)
     points = vertices[ids]
+    # the surface's own border is a natural border of the patch, as a crease is: H has no
+    # two-sided Laplacian there, so a hole near it is inpainted with natural boundary
+    # conditions instead of giving up because the patch is too thin
+    on_border = np.zeros(len(vertices), dtype=bool)
+    on_border[boundary_halfedges(faces).ravel()] = True
+    on_border[seeds] = False  # the hole's own loop, which the fill closes
+    if natural is not None:
+        on_border |= natural
     new_points = inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
-                                 natural=None if natural is None else natural[ids])
+                                 natural=on_border[ids])
     lambda_h = MeshLambdaH(uv=uv, faces=local, n_fill_faces=len(fill_faces), free=free,
                            before=points, after=new_points, map=map_name)
     return new_points[np.searchsorted(ids, moving)], patch, used, lambda_h
