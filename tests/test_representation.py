@@ -248,3 +248,13 @@ def test_representation_imports_nothing_from_fill_or_app():
                                         "surfinpaint.representation", "matplotlib"))):
         found = {m for m in _imports(root / layer) if m.startswith(banned)}
         assert not found, f"{layer}/ imports {sorted(found)}"
+
+
+def test_lscm_real_form_for_large_meshes_matches_the_complex_solve(monkeypatch):
+    import surfinpaint.geometry.parameterization as parameterization
+
+    v, f = bumpy_disk(12)
+    complex_uv = lscm(v, f)
+    monkeypatch.setattr(parameterization, "_REAL_FORM_ABOVE", 0)
+    real_uv = parameterization.lscm(v, f)
+    assert np.abs(real_uv - complex_uv).max() < 1e-9 * np.ptp(complex_uv)
