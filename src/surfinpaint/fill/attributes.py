@@ -480,14 +480,33 @@ def fill_hole_attributes(
     return {name: out[name] for name in arrays}
 
 
-def _hole_blocks(result):
-    """(report, new vertex ids, new face ids) of each hole of a ``FillResult``, in the order
-    the fill appended them."""
+def _hole_blocks(result, rings: int):
+    """(report, new vertex ids, new face ids, near) of each hole of a ``FillResult``, in the
+    order the fill appended them; ``near`` are the ids of the original faces touching the
+    vertices within ``rings - 1`` rings of the loop (all a patch of ``rings`` rings can use),
+    found through a vertex-face incidence built once, so a hole costs what its neighbourhood
+    costs, not the mesh."""
+    faces = result.faces[: result.n_original_faces]
+    n = len(result.vertices)
+    if rings > 0:
+        incidence = sp.csr_matrix((np.ones(faces.size, dtype=np.int8),
+                                   (faces.ravel(), np.repeat(np.arange(len(faces)), 3))),
+                                  shape=(n, len(faces)))
     vertex_start, face_start = result.n_original_vertices, result.n_original_faces
     for report in result.reports:
         nv, nf = report.new_vertices, report.new_faces
+        seen = np.zeros(n, dtype=bool)
+        frontier = np.unique(np.asarray(report.loop, dtype=np.int64))
+        seen[frontier] = True
+        near = []
+        for _ in range(rings if nf else 0):
+            near.append(incidence[frontier].indices)
+            grown = np.unique(faces[near[-1]])
+            frontier = grown[~seen[grown]]
+            seen[grown] = True
         yield (report, np.arange(vertex_start, vertex_start + nv),
-               np.arange(face_start, face_start + nf))
+               np.arange(face_start, face_start + nf),
+               np.unique(np.concatenate(near)) if near else np.zeros(0, dtype=np.int64))
         vertex_start += nv
         face_start += nf
 
@@ -520,11 +539,11 @@ def fill_result_attributes(
     out = {name: np.concatenate([a, np.zeros((total - n, *a.shape[1:]), dtype=a.dtype)])
            for name, a in originals.items()}
     faces = result.faces[: result.n_original_faces]
-    for report, new_ids, face_ids in _hole_blocks(result):
+    for report, new_ids, face_ids, near in _hole_blocks(result, rings if out else 0):
         if len(new_ids) == 0 or not out:
             continue
         try:
-            filled = fill_hole_attributes(result.vertices, faces, report.loop,
+            filled = fill_hole_attributes(result.vertices, faces[near], report.loop,
                                           result.faces[face_ids], new_ids, out, kinds=kinds,
                                           ranges=ranges, rings=rings, order=order)
         except (RuntimeError, np.linalg.LinAlgError) as exc:

@@ -114,11 +114,12 @@ def fill_result_face_attributes(
                  for name, a in face_attributes.items()}
     faces = result.faces[: result.n_original_faces]
     parts: dict[str, list[np.ndarray]] = {name: [a] for name, a in originals.items()}
-    for report, _, face_ids in _hole_blocks(result):
-        if len(face_ids) == 0:
+    for report, _, face_ids, near in _hole_blocks(result, 1 if originals else 0):
+        if len(face_ids) == 0 or not originals:
             continue
-        filled = fill_face_attributes(result.vertices, faces, report.loop,
-                                      result.faces[face_ids], originals)
+        filled = fill_face_attributes(result.vertices, faces[near], report.loop,
+                                      result.faces[face_ids],
+                                      {name: a[near] for name, a in originals.items()})
         for name, values in filled.items():
             parts[name].append(values)
     return {name: np.concatenate(blocks) for name, blocks in parts.items()}
@@ -214,11 +215,12 @@ def fill_result_corner_attributes(
         originals[name] = a[keep]
     faces = result.faces[: result.n_original_faces]
     parts: dict[str, list[np.ndarray]] = {name: [a] for name, a in originals.items()}
-    for report, new_ids, face_ids in _hole_blocks(result):
-        if len(face_ids) == 0:
+    for report, new_ids, face_ids, near in _hole_blocks(result, rings if originals else 0):
+        if len(face_ids) == 0 or not originals:
             continue
-        filled = fill_corner_attributes(result.vertices, faces, report.loop,
-                                        result.faces[face_ids], new_ids, originals,
+        filled = fill_corner_attributes(result.vertices, faces[near], report.loop,
+                                        result.faces[face_ids], new_ids,
+                                        {name: a[near] for name, a in originals.items()},
                                         rings=rings, hole=report.index)
         for name, values in filled.items():
             parts[name].append(values)
