@@ -247,7 +247,8 @@ def fill_file(job: FileJob, options: Mapping[str, Any]) -> FileRow:
         warnings.simplefilter("always")
         try:
             # every attribute the file carries, filled in at the new vertices and faces
-            result, filled = fill_mesh_data(read_mesh_data(job.source), **options)
+            # the parallelism is over files: the holes of each are filled one by one
+            result, filled = fill_mesh_data(read_mesh_data(job.source), **options, jobs=1)
             job.target.parent.mkdir(parents=True, exist_ok=True)
             write_mesh_data(job.target, filled)
         except Exception as exc:  # any failure of one file is that file's row, not the batch's

@@ -144,11 +144,14 @@ def cmd_fill(args: argparse.Namespace) -> int:
     holes = _parse_hole_list(args.holes)
     output_format(args.output)  # an unusable output name fails now, not after the fill
     options = fill_options(args)
+    if args.jobs is not None and args.jobs < 1:
+        raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
     mesh = read_mesh_data(args.mesh)
     vertices, faces = mesh.vertices, mesh.faces
     with _progress(not args.quiet) as progress:
         try:
-            result, filled = fill_mesh_data(mesh, holes=holes, progress=progress, **options)
+            result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
+                                            jobs=args.jobs, **options)
         except MeshError as exc:
             if args.repair or "non-manifold edges" not in exc.message:
                 raise
@@ -409,6 +412,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="output mesh (format by extension)")
     p.add_argument("--holes", help="comma-separated hole indices from `surfinpaint holes`")
     add_fill_options(p)
+    p.add_argument("--jobs", type=int, metavar="N",
+                   help="worker processes filling holes at once (default: all cores; 1: one "
+                   "hole after another; the result is the same)")
     p.add_argument("--in-place", action="store_true",
                    help="allow -o to name the input file, replacing it (atomically: a "
                    "failed or interrupted fill leaves it as it was)")

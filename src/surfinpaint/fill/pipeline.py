@@ -18,12 +18,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from surfinpaint.errors import MeshError
+from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
-from surfinpaint.fill.conformal import ConformalOptions, Verdict, conformal_fill
+from surfinpaint.fill.conformal import ConformalOptions, Verdict
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
 from surfinpaint.fill.holes import select_holes
-from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import Fill, LambdaHDiagnostics
 from surfinpaint.geometry.edges import EdgeTable
@@ -227,7 +227,7 @@ class _FilledMesh:
 def _skip(report: HoleReport, reason: str) -> None:
     report.skipped = reason
     report.method = "none"
-    warnings.warn(f"hole {report.index}: {reason}; skipped", stacklevel=4)
+    warnings.warn(f"hole {report.index}: {reason}; skipped", stacklevel=5)
 
 
 def _problem(local: _Local, index: int, explicit: bool) -> str | None:
@@ -251,16 +251,6 @@ def _problem(local: _Local, index: int, explicit: bool) -> str | None:
     return None
 
 
-def _fill(local: _Local, method: str, options: ConformalOptions,
-          fair_order: int | None) -> Fill:
-    if method == "fair":
-        new_v, new_f, used = faired_fill(local.vertices, local.faces, local.local_loop,
-                                         fair_order or 2)
-        return Fill(new_v, new_f, "fair", fair_order=used)
-    return conformal_fill(local.vertices, local.faces, local.local_loop, options,
-                          fair_order=fair_order)
-
-
 def _record(report: HoleReport, fill: Fill) -> None:
     """What the method did with the hole, in its report (a fallback also as a warning)."""
     report.method = fill.kind
@@ -271,7 +261,7 @@ def _record(report: HoleReport, fill: Fill) -> None:
     if fill.failure:
         report.fallback = fill.failure
         warnings.warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "
-                      f"the faired fill (order {fill.fair_order}) instead", stacklevel=4)
+                      f"the faired fill (order {fill.fair_order}) instead", stacklevel=5)
 
 
 def _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings
@@ -309,6 +299,7 @@ def fill_holes(
     repair: bool = False,
     validate: bool = True,
     progress: ProgressCallback | None = None,
+    jobs: int | None = None,
 ) -> FillResult:
     """Fill holes of a triangle mesh.
 
@@ -350,7 +341,13 @@ def fill_holes(
     validate : bool
         Check the mesh first (:func:`surfinpaint.validate_mesh`).
     progress : callable(done, total, message), optional
-        Called before and after each hole.
+        Called before and after each hole (in hole order).
+    jobs : int, optional
+        Worker processes filling holes at once (None: all the cores this process may use;
+        1: one hole after another in this process). The result is bit-identical to the
+        serial run: holes whose neighbourhoods reach an earlier hole's loop are filled
+        after it (:mod:`surfinpaint.fill.parallel`); a few small holes are always filled
+        in this process.
     attributes, face_attributes : dict of name to array, optional
         Per-vertex (per-face) data; the new vertices' values are inpainted and the new faces'
         copied from across the loop (rules: :mod:`surfinpaint.fill.attributes`), the
@@ -377,39 +374,80 @@ def fill_holes(
     attributes, attribute_kinds = _checked_attributes(len(vertices), len(faces), attributes,
                                                       face_attributes, attribute_kinds)
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
+    jobs = parallel.resolve_jobs(jobs)
     vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
     loops = select_holes(vertices, faces, holes, include_border=include_border, table=table)
     mesh = _FilledMesh(vertices, faces)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
                           method=method) for k, loop in enumerate(loops)]
-    for report, loop in zip(reports, loops, strict=True):
+    todo = []
+    for report in reports:
         if max_hole_edges is not None and report.n_edges > max_hole_edges:
             report.skipped = f"{report.n_edges} boundary edges > max_hole_edges={max_hole_edges}"
             report.method = "none"
-            continue
-        if progress:
-            progress(report.index, len(loops),
-                     f"hole {report.index}: {report.n_edges} edges, {method}")
-        rings = neighbourhood_rings or (options.neighbourhood_rings(report.n_edges)
-                                        if method == "conformal" else FAIR_NEIGHBOURHOOD_RINGS)
-        _fill_hole(mesh, report, loop, rings, explicit=holes is not None,
-                   fill=lambda local: _fill(local, method, options, fair_order))
-        if progress and not report.skipped:
-            progress(report.index + 1, len(loops),
-                     f"hole {report.index}: done in {report.seconds:.2f} s")
+        else:
+            todo.append(report)
+    run = _Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
+               progress=progress, rings=neighbourhood_rings)
+    workers = min(jobs, len(todo))
+    if parallel.worth_parallel([r.n_edges for r in todo], workers):
+        _fill_in_parallel(mesh, todo, run, workers)
+    else:
+        for report in todo:
+            run.starting(report)
+            _fill_hole(mesh, report, run.rings_of(report), explicit=run.explicit,
+                       fill=run.fill)
+            run.finished(report)
     return _with_attributes(mesh.result(reports, removed_faces), attributes, face_attributes,
                             attribute_kinds)
 
 
-def _fill_hole(mesh: _FilledMesh, report: HoleReport, loop: np.ndarray, rings: int, *,
+@dataclass(frozen=True)
+class _Run:
+    """How the holes of one call are filled, and whom to tell."""
+
+    method: str
+    options: ConformalOptions
+    fair_order: int | None
+    explicit: bool
+    n_holes: int
+    progress: ProgressCallback | None
+    rings: int | None
+
+    def rings_of(self, report: HoleReport) -> int:
+        """The vertex rings cut out around the hole: what its method looks at."""
+        return self.rings or (self.options.neighbourhood_rings(report.n_edges)
+                              if self.method == "conformal" else FAIR_NEIGHBOURHOOD_RINGS)
+
+    def fill(self, local: _Local) -> Fill:
+        return parallel.fill_local(local.vertices, local.faces, local.local_loop, self.method,
+                                   self.options, self.fair_order)
+
+    def starting(self, report: HoleReport) -> None:
+        if self.progress:
+            self.progress(report.index, self.n_holes,
+                          f"hole {report.index}: {report.n_edges} edges, {self.method}")
+
+    def finished(self, report: HoleReport) -> None:
+        if self.progress and not report.skipped:
+            self.progress(report.index + 1, self.n_holes,
+                          f"hole {report.index}: done in {report.seconds:.2f} s")
+
+
+def _fill_hole(mesh: _FilledMesh, report: HoleReport, rings: int, *,
                explicit: bool, fill: Callable[[_Local], Fill]) -> None:
     """One hole: cut its neighbourhood, check its loop, fill it, stitch the fill in, and
     say what happened in ``report`` (skipped, with a warning, when it cannot be filled)."""
     started = time.perf_counter()
-    local = mesh.cut(loop, rings)
+    local = mesh.cut(report.loop, rings)
     problem = _problem(local, report.index, explicit)
-    if problem is None:
-        made = fill(local)
+    _stitched(mesh, report, local, None if problem else fill(local), problem, started)
+
+
+def _stitched(mesh: _FilledMesh, report: HoleReport, local: _Local, made: Fill | None,
+              problem: str | None, started: float) -> None:
+    """Stitch ``made`` (None: ``problem`` says why there is no fill) in, and report it."""
+    if made is not None:
         _record(report, made)
         problem = mesh.stitch(local, made)
     if problem is not None:
@@ -417,6 +455,45 @@ def _fill_hole(mesh: _FilledMesh, report: HoleReport, loop: np.ndarray, rings: i
         return
     report.new_vertices, report.new_faces = len(made.vertices), len(made.faces)
     report.seconds = time.perf_counter() - started
+
+
+def _fill_in_parallel(mesh: _FilledMesh, todo: list[HoleReport], run: _Run,
+                      workers: int) -> None:
+    """The holes of ``todo``, the independent ones in ``workers`` processes, stitched in hole
+    order; the dependent ones filled here when their turn comes (see
+    :mod:`surfinpaint.fill.parallel`)."""
+    cuts = {r.index: mesh.cut(r.loop, run.rings_of(r)) for r in todo}  # nothing stitched yet
+    free = parallel.independent({k: c.ids for k, c in cuts.items()},
+                                {r.index: r.loop for r in todo}, len(mesh.vertices))
+    problems: dict[int, str | MeshError | None] = {}
+    for k in sorted(free):
+        try:
+            problems[k] = _problem(cuts[k], k, run.explicit)
+        except MeshError as exc:  # raised when its turn comes, as the serial loop would
+            problems[k] = exc
+    executor = parallel.pool(max(1, min(workers, sum(p is None for p in problems.values()))))
+    try:
+        futures = {k: executor.submit(parallel.fill_in_worker, c.vertices, c.faces,
+                                      c.local_loop, run.method, run.options, run.fair_order)
+                   for k, c in cuts.items() if k in free and problems[k] is None}
+        for report in todo:
+            k = report.index
+            run.starting(report)
+            if k not in free:  # its neighbourhood takes in earlier fills: cut it now
+                _fill_hole(mesh, report, run.rings_of(report), explicit=run.explicit,
+                           fill=run.fill)
+            elif k in futures:
+                made, records, seconds = futures.pop(k).result()
+                parallel.reissue(records)
+                _stitched(mesh, report, cuts[k], made, None, time.perf_counter() - seconds)
+            elif isinstance(problems[k], MeshError):
+                raise problems[k]
+            else:
+                _stitched(mesh, report, cuts[k], None, problems[k], time.perf_counter())
+            cuts.pop(k)
+            run.finished(report)
+    finally:
+        executor.shutdown(wait=True, cancel_futures=True)
 
 
 def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds):

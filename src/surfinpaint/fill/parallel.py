@@ -1,0 +1,113 @@
+"""Holes filled in worker processes, bit-identical to one after another.
+
+A hole's fill depends only on its neighbourhood (the faces within the method's rings of its
+loop). In the serial loop, a later hole's neighbourhood takes in the faces an earlier hole
+added when it reaches that hole's loop; otherwise it is the same cut of the original mesh.
+So a hole whose neighbourhood in the original mesh holds no vertex of an earlier hole's
+loop is *independent*: its fill can be made at once, anywhere, from that cut. The others
+are *dependent* and are filled in order, after the holes before them are stitched in.
+
+A worker gets only the hole's neighbourhood arrays and the options (memory bounded by the
+neighbourhood, not the mesh) and returns the :class:`~surfinpaint.fill.results.Fill` and
+the warnings it raised; the parent stitches the fills in hole order, so vertex numbering,
+warnings and progress are those of the serial run.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import threading
+import time
+import warnings
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+from surfinpaint.fill.conformal import ConformalOptions, conformal_fill
+from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.fill.results import Fill
+
+__all__ = ["fill_local", "independent", "pool", "resolve_jobs", "worth_parallel"]
+
+# fewer independent holes than this, or fewer boundary edges in all, and the holes are
+# filled in this process: starting workers costs more than such holes take
+MIN_PARALLEL_HOLES = 3
+MIN_PARALLEL_EDGES = 120
+
+WarningRecord = tuple[str, type[Warning], str, int]
+
+
+def resolve_jobs(jobs) -> int:
+    """The number of worker processes: ``None`` all the cores this process may use."""
+    if jobs is None:
+        if hasattr(os, "sched_getaffinity"):
+            return len(os.sched_getaffinity(0))
+        return os.cpu_count() or 1
+    if isinstance(jobs, bool) or not isinstance(jobs, int | np.integer) or jobs < 1:
+        raise ValueError(f"jobs must be a positive integer or None (all cores), got {jobs!r}")
+    return int(jobs)
+
+
+def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
+               options: ConformalOptions, fair_order: int | None) -> Fill:
+    """Fill one hole of a neighbourhood (local ids) with ``method``."""
+    if method == "fair":
+        new_v, new_f, used = faired_fill(vertices, faces, loop, fair_order or 2)
+        return Fill(new_v, new_f, "fair", fair_order=used)
+    return conformal_fill(vertices, faces, loop, options, fair_order=fair_order)
+
+
+def fill_in_worker(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
+                   options: ConformalOptions, fair_order: int | None
+                   ) -> tuple[Fill, list[WarningRecord], float]:
+    """:func:`fill_local` in a worker process (top level: picklable), with the warnings it
+    raised (for the parent to re-issue in hole order) and the seconds it took. One BLAS
+    thread: the parallelism is over holes."""
+    from threadpoolctl import threadpool_limits
+
+    started = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
+        warnings.simplefilter("always")
+        made = fill_local(vertices, faces, loop, method, options, fair_order)
+    records = [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
+    return made, records, time.perf_counter() - started
+
+
+def reissue(records: list[WarningRecord]) -> None:
+    """The warnings a worker raised, issued here (the parent's filters apply)."""
+    for message, category, filename, lineno in records:
+        warnings.warn_explicit(message, category, filename, lineno)
+
+
+def independent(reaches: dict[int, np.ndarray], loops: dict[int, np.ndarray],
+                n_vertices: int) -> set[int]:
+    """The holes whose neighbourhood in the original mesh (``reaches[k]``: its vertex ids)
+    holds no vertex of an earlier hole's loop (``loops``: the holes that will be filled)."""
+    first_loop = np.full(n_vertices, np.iinfo(np.int64).max, dtype=np.int64)
+    for k in sorted(loops, reverse=True):  # a vertex of several loops: the earliest wins
+        first_loop[loops[k]] = k
+    return {k for k, reach in reaches.items()
+            if not (first_loop[reach[reach < n_vertices]] < k).any()}
+
+
+def worth_parallel(n_edges: list[int], workers: int) -> bool:
+    """Whether holes of these sizes are worth starting ``workers`` processes for."""
+    return (workers > 1 and len(n_edges) >= MIN_PARALLEL_HOLES
+            and sum(n_edges) >= MIN_PARALLEL_EDGES)
+
+
+def pool(workers: int) -> ProcessPoolExecutor:
+    """Worker processes: forked where this process runs one thread (no re-import of the
+    caller's script, so it needs no ``if __name__ == "__main__"`` guard, and compiled
+    kernels come along; the mesh's pages are shared, not copied), else started from a
+    server that imported the fill methods once ("forkserver"; "spawn" without fork: the
+    caller's script then needs the guard)."""
+    methods = multiprocessing.get_all_start_methods()
+    if "fork" in methods and threading.active_count() == 1:
+        return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"))
+    method = "forkserver" if "forkserver" in methods else "spawn"
+    context = multiprocessing.get_context(method)
+    if method == "forkserver":
+        context.set_forkserver_preload([__name__])
+    return ProcessPoolExecutor(workers, mp_context=context)
