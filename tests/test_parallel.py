@@ -3,8 +3,10 @@ another, bit for bit, with the holes that depend on earlier ones filled after th
 
 from __future__ import annotations
 
+import multiprocessing
 import re
 import warnings
+from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 import pytest
@@ -35,6 +37,15 @@ def holed():
 def always_parallel(monkeypatch):
     """Workers even for these small holes (the size rule keeps them serial otherwise)."""
     monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", 0)
+
+
+@pytest.fixture
+def forked(monkeypatch):
+    """Forked workers (what a one-thread process gets), which inherit this test's patches."""
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", 0)
+    context = multiprocessing.get_context("fork")
+    monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
+        workers, mp_context=context))
 
 
 @pytest.fixture(scope="module")
@@ -77,6 +88,16 @@ def test_two_jobs_bit_identical_to_one(filled, method):
     assert _summary(serial) == _summary(both)
 
 
+def test_forkserver_workers_bit_identical(holed, filled, always_parallel, monkeypatch):
+    """Where this process runs threads, the workers come from a forkserver (no fork of the
+    threads): the same result."""
+    vertices, faces, _ = holed
+    monkeypatch.setattr(parallel.threading, "active_count", lambda: 2)
+    served = fill_holes(vertices, faces, method="fair", jobs=2)
+    assert np.array_equal(served.vertices, filled["fair"][0].vertices)
+    assert np.array_equal(served.faces, filled["fair"][0].faces)
+
+
 def test_dependent_hole_found(holed):
     """The sixth hole's conformal neighbourhood reaches the fifth's loop; the faired
     fill's 3 rings reach no other loop."""
@@ -108,7 +129,7 @@ def test_independent_rule():
     assert parallel.independent({0: np.array([0, 1, 2, 40])}, {0: loops[0]}, 30) == {0}
 
 
-def test_warnings_and_progress_in_hole_order(holed, always_parallel, monkeypatch):
+def test_warnings_and_progress_in_hole_order(holed, forked, monkeypatch):
     """A warning raised while a hole is filled (in a worker) is issued here, in hole order;
     progress is called per hole, in hole order."""
     vertices, faces, _ = holed
@@ -136,7 +157,7 @@ def test_warnings_and_progress_in_hole_order(holed, always_parallel, monkeypatch
     assert messages[1] == messages[2]
 
 
-def test_worker_error_raised_as_serial(holed, always_parallel, monkeypatch):
+def test_worker_error_raised_as_serial(holed, forked, monkeypatch):
     vertices, faces, _ = holed
 
     def failing_fill(*args):
