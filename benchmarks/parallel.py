@@ -1,0 +1,98 @@
+"""Holes filled in parallel (issue 15): ``fill_holes(..., jobs=1)`` against ``jobs=2`` on a
+bumped ``icosphere(subdivisions)`` (``1 + 0.05 sin(6x) cos(5y)``, as benchmarks/scale.py) with
+``--holes`` geodesic-disk holes of ``--radius`` mean edge lengths. Whole ``fill_holes`` calls,
+interleaved (jobs=1, jobs=2, jobs=1, ...) in one run, best of ``--repeat``; after one untimed
+warm-up call per method (the compiled kernels). The hole phase is the whole call less the
+same call with every hole skipped (``max_hole_edges=1``: validation and hole finding). The
+results of the two are checked bit-identical. Prints a markdown table and the load.
+
+    python benchmarks/parallel.py [--subdivisions 6] [--holes 10] [--radius 11] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+
+from surfinpaint import fill_holes
+from surfinpaint.fill import parallel
+from surfinpaint.fill.conformal import ConformalOptions
+from surfinpaint.fill.pipeline import FAIR_NEIGHBOURHOOD_RINGS, _FilledMesh
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length
+
+
+def bumpy_sphere(subdivisions: int) -> tuple[np.ndarray, np.ndarray]:
+    import trimesh
+
+    m = trimesh.creation.icosphere(subdivisions=subdivisions)
+    v = np.asarray(m.vertices, dtype=float)
+    v = v * (1 + 0.05 * np.sin(6 * v[:, 0]) * np.cos(5 * v[:, 1]))[:, None]
+    return v, np.asarray(m.faces, dtype=np.int64)
+
+
+def sphere_points(n: int) -> np.ndarray:
+    k = np.arange(n) + 0.5
+    polar = np.arccos(1 - 2 * k / n)
+    azimuth = np.pi * (1 + 5**0.5) * k
+    return np.column_stack([np.cos(azimuth) * np.sin(polar), np.sin(azimuth) * np.sin(polar),
+                            np.cos(polar)])
+
+
+def n_independent(vertices, faces, loops, method: str) -> int:
+    """How many holes the parallel run can send to workers at once."""
+    mesh = _FilledMesh(vertices, faces)
+    rings = [ConformalOptions().neighbourhood_rings(len(loop)) if method == "conformal"
+             else FAIR_NEIGHBOURHOOD_RINGS for loop in loops]
+    reach = {k: mesh.cut(loop, r).ids for k, (loop, r) in enumerate(zip(loops, rings, strict=True))}
+    return len(parallel.independent(reach, dict(enumerate(loops)), len(vertices)))
+
+
+def timed(vertices, faces, **kw) -> tuple[float, object]:
+    started = time.perf_counter()
+    result = fill_holes(vertices, faces, **kw)
+    return time.perf_counter() - started, result
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--subdivisions", type=int, default=6)
+    parser.add_argument("--holes", type=int, default=10)
+    parser.add_argument("--radius", type=float, default=11.0)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--methods", default="fair,conformal")
+    args = parser.parse_args()
+    v, f = bumpy_sphere(args.subdivisions)
+    cut = cut_holes(v, f, list(sphere_points(args.holes)), args.radius * mean_edge_length(v, f))
+    V, F, loops = cut.vertices, cut.faces, [h.loop for h in cut.holes]
+    edges = sorted(len(loop) for loop in loops)
+    print(f"bumped icosphere({args.subdivisions}): {len(V)} vertices, {len(F)} faces, "
+          f"{len(loops)} holes of {edges[0]}-{edges[-1]} edges; load before "
+          f"{os.getloadavg()[0]:.1f}\n")
+    print("| method | independent holes | jobs=1 call (s) | jobs=2 call (s) | prep (s) "
+          "| hole phase jobs=1 (s) | jobs=2 (s) | speed-up (hole phase) | whole call |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for method in args.methods.split(","):
+        timed(V, F, method=method, jobs=1)  # warm-up: compiled kernels
+        best = {1: np.inf, 2: np.inf, "prep": np.inf}
+        results = {}
+        for _ in range(args.repeat):
+            best["prep"] = min(best["prep"], timed(V, F, method=method, max_hole_edges=1)[0])
+            for jobs in (1, 2):
+                seconds, results[jobs] = timed(V, F, method=method, jobs=jobs)
+                best[jobs] = min(best[jobs], seconds)
+        same = (np.array_equal(results[1].vertices, results[2].vertices)
+                and np.array_equal(results[1].faces, results[2].faces))
+        assert same, f"{method}: jobs=2 differs from jobs=1"
+        holes1, holes2 = best[1] - best["prep"], best[2] - best["prep"]
+        print(f"| {method} | {n_independent(V, F, loops, method)}/{len(loops)} "
+              f"| {best[1]:.2f} | {best[2]:.2f} | {best['prep']:.2f} | {holes1:.2f} "
+              f"| {holes2:.2f} | {holes1 / holes2:.2f}x | {best[1] / best[2]:.2f}x |")
+    print(f"\nload after {os.getloadavg()[0]:.1f}; results bit-identical (np.array_equal)")
+
+
+if __name__ == "__main__":
+    main()
