@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 import trimesh
+from conftest import grid_mesh
 
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.holes import find_holes, orient_loop, select_holes
@@ -107,3 +108,26 @@ def test_holes_of_a_real_scan():
     # each loop is made of boundary edges of the mesh
     for h in holes:
         orient_loop(f, h.loop)
+
+
+def test_one_numbering_for_holes_and_reports():
+    # an open sheet (its outer border is loop 0 or 1) with one inner hole: fill's reports,
+    # warnings and --holes use find_holes' numbers, the border included
+    from surfinpaint import fill_holes
+    from surfinpaint.fill.holes import hole_numbers
+
+    v, f = grid_mesh(8, 8)
+    centre = int(np.argmin(np.linalg.norm(v[:, :2] - 0.5, axis=1)))
+    f = f[~np.isin(f, centre).any(axis=1)]
+    found = find_holes(v, f)
+    inner = next(k for k, h in enumerate(found) if not h.is_border)
+    assert [h.is_border for h in found].count(True) == 1
+    result = fill_holes(v, f, method="fair")
+    assert [r.index for r in result.reports] == [inner]
+    again = fill_holes(v, f, holes=[inner], method="fair")
+    assert [r.index for r in again.reports] == [inner]
+    np.testing.assert_array_equal(again.faces, result.faces)
+    by_loop = fill_holes(v, f, holes=[found[inner].loop[::-1]], method="fair")
+    assert [r.index for r in by_loop.reports] == [inner]
+    assert hole_numbers(v, f, [h.loop for h in found]) == list(range(len(found)))
+    assert hole_numbers(v, f, [np.array([0, 1, 2])]) == [-1]

@@ -52,7 +52,7 @@ from surfinpaint.app.report_page import (
 )
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.conformal import ConformalOptions
-from surfinpaint.fill.holes import loop_diameter, select_holes
+from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.fill.results import LambdaHDiagnostics
 from surfinpaint.geometry.mesh import connected_components
@@ -431,9 +431,8 @@ def write_report(
     started = time.perf_counter()
     comparisons, fills = compare_holes(vertices, faces, loops, truth=truths, step=step,
                                        options=options)
-    if holes is not None and all(np.ndim(h) == 0 for h in holes):
-        for c, index in zip(comparisons, holes, strict=True):
-            c.index = int(index)  # the numbering of `surfinpaint holes`
+    for c, index in zip(comparisons, hole_numbers(vertices, faces, loops), strict=True):
+        c.index = index  # the numbering of `surfinpaint holes`
     panels_for(vertices, faces, comparisons, fills, out_dir, step=step)
     text = (f"{len(vertices)} vertices, {len(faces)} faces, {len(loops)} holes; "
             f"{time.perf_counter() - started:.1f} s in all.")

@@ -11,7 +11,7 @@ from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_areas
 
-__all__ = ["Hole", "find_holes", "loop_diameter", "select_holes", "orient_loop"]
+__all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop"]
 
 # A component's longest loop is its outer border when the area the loop spans is at least
 # this fraction of the component's own area: a scan's border spans about its whole area
@@ -203,3 +203,16 @@ def select_holes(
             chosen.append(found[int(index)].loop)
         return chosen
     return [orient_loop(faces, loop) for loop in holes]
+
+
+def hole_numbers(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray], *,
+                 table: EdgeTable | None = None) -> list[int]:
+    """The number :func:`find_holes` gives each of ``loops``: the one numbering that
+    ``surfinpaint holes``, ``--holes``, every report, warning and error use.
+
+    A loop is matched by its vertices (any start, any direction); -1 for a loop that
+    :func:`find_holes` does not list as one (a piece of a loop pinched at a bow-tie).
+    """
+    found = {tuple(sorted(map(int, h.loop))): k
+             for k, h in enumerate(find_holes(vertices, faces, table))}
+    return [found.get(tuple(sorted(map(int, loop))), -1) for loop in loops]

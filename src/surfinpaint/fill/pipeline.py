@@ -23,7 +23,7 @@ from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions, Verdict
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
-from surfinpaint.fill.holes import select_holes
+from surfinpaint.fill.holes import hole_numbers, select_holes
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import Fill, LambdaHDiagnostics
 from surfinpaint.geometry.edges import EdgeTable
@@ -378,8 +378,10 @@ def fill_holes(
     vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
     loops = select_holes(vertices, faces, holes, include_border=include_border, table=table)
     mesh = _FilledMesh(vertices, faces)
+    # numbered as find_holes numbers them (the outer border counts), whatever was selected
+    numbers = hole_numbers(vertices, faces, loops, table=table)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
-                          method=method) for k, loop in enumerate(loops)]
+                          method=method) for k, loop in zip(numbers, loops, strict=True)]
     todo = []
     for report in reports:
         if max_hole_edges is not None and report.n_edges > max_hole_edges:
@@ -388,7 +390,8 @@ def fill_holes(
         else:
             todo.append(report)
     run = _Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
-               progress=progress, rings=neighbourhood_rings)
+               progress=progress, rings=neighbourhood_rings,
+               position={id(r): k for k, r in enumerate(reports)})
     workers = min(jobs, len(todo))
     if parallel.worth_parallel([r.n_edges for r in todo], workers):
         _fill_in_parallel(mesh, todo, run, workers)
@@ -413,6 +416,7 @@ class _Run:
     n_holes: int
     progress: ProgressCallback | None
     rings: int | None
+    position: dict[int, int]  # a report's place among the selected holes, for the progress
 
     def rings_of(self, report: HoleReport) -> int:
         """The vertex rings cut out around the hole: what its method looks at."""
@@ -425,12 +429,12 @@ class _Run:
 
     def starting(self, report: HoleReport) -> None:
         if self.progress:
-            self.progress(report.index, self.n_holes,
+            self.progress(self.position[id(report)], self.n_holes,
                           f"hole {report.index}: {report.n_edges} edges, {self.method}")
 
     def finished(self, report: HoleReport) -> None:
         if self.progress and not report.skipped:
-            self.progress(report.index + 1, self.n_holes,
+            self.progress(self.position[id(report)] + 1, self.n_holes,
                           f"hole {report.index}: done in {report.seconds:.2f} s")
 
 
