@@ -416,7 +416,8 @@ class _Run:
     n_holes: int
     progress: ProgressCallback | None
     rings: int | None
-    position: dict[int, int]  # a report's place among the selected holes, for the progress
+    # a report's place among the selected holes, for the progress count
+    position: dict[int, int] = field(default_factory=dict)
 
     def rings_of(self, report: HoleReport) -> int:
         """The vertex rings cut out around the hole: what its method looks at."""
@@ -429,12 +430,12 @@ class _Run:
 
     def starting(self, report: HoleReport) -> None:
         if self.progress:
-            self.progress(self.position[id(report)], self.n_holes,
+            self.progress(self.position.get(id(report), 0), self.n_holes,
                           f"hole {report.index}: {report.n_edges} edges, {self.method}")
 
     def finished(self, report: HoleReport) -> None:
         if self.progress and not report.skipped:
-            self.progress(self.position[id(report)] + 1, self.n_holes,
+            self.progress(self.position.get(id(report), 0) + 1, self.n_holes,
                           f"hole {report.index}: done in {report.seconds:.2f} s")
 
 
