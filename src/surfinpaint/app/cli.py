@@ -18,13 +18,11 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from surfinpaint import __version__
+from surfinpaint.app.fill_options import UsageError as _UsageError
+from surfinpaint.app.fill_options import add_fill_options, fill_options
 from surfinpaint.errors import MeshError
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
-
-
-class _UsageError(Exception):
-    pass
 
 
 def _console():
@@ -107,35 +105,6 @@ def cmd_holes(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _conformal_options(args: argparse.Namespace):
-    """The conformal method's options from the flags of ``fill`` (None with ``--method
-    fair``; conformal flags with it are a usage error)."""
-    from surfinpaint.fill.conformal import ConformalOptions, GridOptions
-
-    grid_flags = {"inpaint": args.inpaint, "reconstruct": args.reconstruct}
-    if args.discretization != "grid" and (args.reconstruct or args.inpaint == "harmonic"):
-        raise _UsageError("--reconstruct and --inpaint harmonic need --discretization grid "
-                          "(the mesh discretization inpaints biharmonically and rebuilds "
-                          "in the Laplacian form, solved together)")
-    if args.crease_angle is not None and not 0.0 < args.crease_angle < 180.0:
-        raise _UsageError(f"--crease-angle must be between 0 and 180 degrees, got "
-                          f"{args.crease_angle:g}")
-    if args.method != "conformal":
-        given = [flag for flag, value in (
-            ("--discretization grid", args.discretization == "grid"),
-            ("--no-creases", args.no_creases), ("--crease-angle", args.crease_angle),
-            ("--inpaint", args.inpaint), ("--reconstruct", args.reconstruct)) if value]
-        if given:
-            raise _UsageError(f"{', '.join(given)}: options of --method conformal")
-        return None
-    kw = {"discretization": args.discretization, "creases": not args.no_creases}
-    if args.crease_angle is not None:
-        kw["crease_angle"] = args.crease_angle
-    if args.discretization == "grid":
-        kw["grid"] = GridOptions(**{k: v for k, v in grid_flags.items() if v})
-    return ConformalOptions(**kw)
-
-
 def cmd_fill(args: argparse.Namespace) -> int:
     from surfinpaint.fill.objects import fill_mesh_data
     from surfinpaint.io.formats import output_format, read_mesh_data, write_mesh_data
@@ -185,14 +154,6 @@ def cmd_fill(args: argparse.Namespace) -> int:
         console.print(f"wrote {args.png}")
     console.print(f"wrote {args.output}")
     return EXIT_OK
-
-
-def fill_options(args: argparse.Namespace) -> dict:
-    """The keyword arguments of :func:`surfinpaint.fill_holes` given by the fill options
-    (:func:`add_fill_options`) of ``fill`` and ``batch``; usage errors raised."""
-    return {"method": args.method, "include_border": args.all,
-            "max_hole_edges": args.max_hole_edges, "repair": args.repair,
-            "fair_order": args.fair_order, "options": _conformal_options(args)}
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
@@ -349,42 +310,6 @@ def cmd_demo(args: argparse.Namespace) -> int:
                       + (f" ({r.note})" if r.note else ""))
     console.print(f"wrote {filled} and {picture}")
     return EXIT_OK
-
-
-def add_fill_options(parser: argparse.ArgumentParser) -> None:
-    """The options that say how holes are filled, shared by ``fill`` and ``batch`` (read
-    back by :func:`fill_options`)."""
-    from surfinpaint.fill.pipeline import METHODS
-
-    p = parser.add_argument_group("fill options")
-    p.add_argument("--method", choices=METHODS, default="conformal",
-                   help="conformal (default) or the conventional fill 'fair'")
-    p.add_argument("--max-hole-edges", type=int, metavar="N",
-                   help="skip holes with more than N boundary edges")
-    p.add_argument("--all", action="store_true",
-                   help="also fill loops that look like the surface's outer border")
-    p.add_argument("--repair", action="store_true",
-                   help="remove the faces around non-manifold edges first, then fill the "
-                   "holes that leaves")
-    p.add_argument("--discretization", choices=("mesh", "grid"), default="mesh",
-                   help="where the conformal method's λ and H live: on the patch's "
-                   "triangles (default, measured more accurate) or on the paper's regular "
-                   "grid over the conformal domain")
-    p.add_argument("--no-creases", action="store_true",
-                   help="fill every hole as smooth (by default a sharp crease that crosses a "
-                   "hole is continued across it and each side filled on its own)")
-    p.add_argument("--crease-angle", type=float, metavar="DEG",
-                   help="turn between neighbouring faces (degrees) above which an edge is "
-                   "part of a crease (default 60)")
-    p.add_argument("--inpaint", choices=("biharmonic", "harmonic"),
-                   help="inpainting model for λ and H (default biharmonic; harmonic needs "
-                   "--discretization grid)")
-    p.add_argument("--reconstruct", choices=("gauss-codazzi", "laplacian"),
-                   help="reconstruction from (λ, H) with --discretization grid")
-    p.add_argument("--fair-order", type=int, choices=(1, 2, 3),
-                   help="fairing order: 1 harmonic, 2 biharmonic (default of 'fair', the "
-                   "classic baseline), 3 triharmonic; the conformal method chooses its "
-                   "fallback between 2 and 3 per hole by its self-check unless told")
 
 
 def build_parser() -> argparse.ArgumentParser:

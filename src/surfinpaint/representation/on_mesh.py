@@ -173,6 +173,53 @@ class _Unsettled(FillError):
     """The lagged iteration diverged or did not settle."""
 
 
+def _vertex_sets(L, Q, f, border, on_natural):
+    """The vertex sets of the coupled solve around the free vertices ``f``: ``reach`` (fixed
+    vertices whose Laplacian reaches a free one), ``crease`` (those of the biharmonic
+    stencil on a natural border), ``tied`` (``reach`` off it), ``U`` (the unknown H: ``f``
+    and ``crease``) and ``stencil`` (the rest of the biharmonic stencil: H data).
+
+    H at the tied vertices is tied to φ; H further out is data, which must not be on the
+    border. On a natural border (a crease, the surface's own border) H near the free
+    vertices is unknown instead.
+    """
+    reach = np.setdiff1d(np.flatnonzero(np.diff(L[:, f].tocsr().indptr) > 0), f)
+    crease = np.setdiff1d(np.unique(Q[f].indices), f)
+    crease = crease[on_natural[crease]]
+    tied = reach[~on_natural[reach]]
+    U = np.concatenate([f, crease])
+    stencil = np.setdiff1d(np.unique(Q[U].indices), np.union1d(U, tied))
+    outer = border[~on_natural[border]]
+    if np.isin(stencil, outer).any() or np.isin(tied, outer).any():
+        raise FillError("the patch is too thin around the hole: the biharmonic stencil "
+                        "reaches its border")
+    return reach, crease, tied, U, stencil
+
+
+class _AndersonMixing:
+    """Anderson mixing of the last ``depth`` steps of a fixed-point iteration: the lagged
+    iteration is nearly linear near its fixed point, and this takes it there in fewer
+    solves."""
+
+    def __init__(self, depth: int):
+        self.depth = depth
+        self.previous = None  # (residual, solution) of the last step
+        self.d_res: list = []
+        self.d_new: list = []
+
+    def mix(self, new: np.ndarray, current: np.ndarray) -> np.ndarray:
+        """The next iterate from the iteration's ``new`` one and the ``current`` one."""
+        residual, flat = (new - current).ravel(), new.ravel()
+        if self.previous is not None:
+            self.d_res.append(residual - self.previous[0])
+            self.d_new.append(flat - self.previous[1])
+            del self.d_res[:-self.depth], self.d_new[:-self.depth]
+            gamma = np.linalg.lstsq(np.column_stack(self.d_res), residual, rcond=None)[0]
+            new = (flat - np.column_stack(self.d_new) @ gamma).reshape(new.shape)
+        self.previous = (residual, flat)
+        return new
+
+
 def _coupled_solve(points, faces, uv, free, iterations, tol, relax, natural=None):
     f = np.flatnonzero(free)
     fixed = np.flatnonzero(~free)
@@ -187,21 +234,8 @@ def _coupled_solve(points, faces, uv, free, iterations, tol, relax, natural=None
     on_natural = np.zeros(len(points), dtype=bool)
     if natural is not None:
         on_natural[border] = np.asarray(natural, dtype=bool)[border]
-    # H at the fixed vertices whose Laplacian reaches a free one is tied to φ; H further
-    # out (the rest of the biharmonic stencil) is data, which must not be on the border.
-    # On a natural border (a crease) H near the free vertices is unknown instead (U)
-    L_free_cols = L[:, f]
-    reach = np.setdiff1d(np.flatnonzero(np.diff(L_free_cols.tocsr().indptr) > 0), f)
-    crease = np.setdiff1d(np.unique(Q[f].indices), f)
-    crease = crease[on_natural[crease]]
-    tied = reach[~on_natural[reach]]
-    U = np.concatenate([f, crease])
+    reach, crease, tied, U, stencil = _vertex_sets(L, Q, f, border, on_natural)
     Q_f = Q[U]
-    stencil = np.setdiff1d(np.unique(Q_f.indices), np.union1d(U, tied))
-    outer = border[~on_natural[border]]
-    if np.isin(stencil, outer).any() or np.isin(tied, outer).any():
-        raise FillError("the patch is too thin around the hole: the biharmonic stencil "
-                        "reaches its border")
     L_ff, L_fk = L[f][:, f].tocsc(), L[f][:, fixed]
     L_tf, L_tk = L[tied][:, f], L[tied][:, fixed]
     Q_ff, Q_ft, Q_fs = Q_f[:, U].tocsc(), Q_f[:, tied], Q_f[:, stencil]
@@ -243,9 +277,7 @@ def _coupled_solve(points, faces, uv, free, iterations, tol, relax, natural=None
     # λ changes at the vertices whose faces touch a free one, the normals likewise
     moving = np.union1d(f, reach)
     near = faces[np.isin(faces, moving).any(axis=1)]
-    previous = None  # (residual, solution) of the last step, for the Anderson mixing
-    d_res: list = []
-    d_new: list = []
+    mixing = _AndersonMixing(ANDERSON)
     step = np.inf
     for _ in range(iterations):
         if len(natural_data):
@@ -276,17 +308,7 @@ def _coupled_solve(points, faces, uv, free, iterations, tol, relax, natural=None
             phi[f] = new
             return phi
         if ANDERSON and relax == 1.0:
-            # Anderson mixing of the last few steps: the lagged iteration is nearly linear
-            # near its fixed point, and this takes it there in fewer solves
-            residual, flat = (new - phi[f]).ravel(), new.ravel()
-            if previous is not None:
-                d_res.append(residual - previous[0])
-                d_new.append(flat - previous[1])
-                del d_res[:-ANDERSON], d_new[:-ANDERSON]
-                gamma = np.linalg.lstsq(np.column_stack(d_res), residual, rcond=None)[0]
-                new = (flat - np.column_stack(d_new) @ gamma).reshape(new.shape)
-            previous = (residual, flat)
-            phi[f] = new
+            phi[f] = mixing.mix(new, phi[f])
         else:
             phi[f] += relax * (new - phi[f])
     if step > SETTLED:
