@@ -75,14 +75,16 @@ def main() -> None:
     print("| method | independent holes | jobs=1 call (s) | jobs=2 call (s) | prep (s) "
           "| hole phase jobs=1 (s) | jobs=2 (s) | speed-up (hole phase) | whole call |")
     print("|---|---|---|---|---|---|---|---|---|")
+    all_runs = []
     for method in args.methods.split(","):
         timed(V, F, method=method, jobs=1)  # warm-up: compiled kernels
         best = {1: np.inf, 2: np.inf, "prep": np.inf}
-        results = {}
+        results, runs = {}, {1: [], 2: []}
         for _ in range(args.repeat):
             best["prep"] = min(best["prep"], timed(V, F, method=method, max_hole_edges=1)[0])
             for jobs in (1, 2):
                 seconds, results[jobs] = timed(V, F, method=method, jobs=jobs)
+                runs[jobs].append(f"{seconds:.2f}")
                 best[jobs] = min(best[jobs], seconds)
         same = (np.array_equal(results[1].vertices, results[2].vertices)
                 and np.array_equal(results[1].faces, results[2].faces))
@@ -91,7 +93,9 @@ def main() -> None:
         print(f"| {method} | {n_independent(V, F, loops, method)}/{len(loops)} "
               f"| {best[1]:.2f} | {best[2]:.2f} | {best['prep']:.2f} | {holes1:.2f} "
               f"| {holes2:.2f} | {holes1 / holes2:.2f}x | {best[1] / best[2]:.2f}x |")
-    print(f"\nload after {os.getloadavg()[0]:.1f}; results bit-identical (np.array_equal)")
+        all_runs.append(f"{method}: jobs=1 {', '.join(runs[1])}; jobs=2 {', '.join(runs[2])}")
+    print("\nevery call (s): " + " | ".join(all_runs))
+    print(f"load after {os.getloadavg()[0]:.1f}; results bit-identical (np.array_equal)")
 
 
 if __name__ == "__main__":

@@ -36,13 +36,13 @@ def holed():
 @pytest.fixture
 def always_parallel(monkeypatch):
     """Workers even for these small holes (the size rule keeps them serial otherwise)."""
-    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", 0)
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
 
 
 @pytest.fixture
 def forked(monkeypatch):
     """Forked workers (what a one-thread process gets), which inherit this test's patches."""
-    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", 0)
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
     context = multiprocessing.get_context("fork")
     monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
         workers, mp_context=context))
@@ -54,7 +54,7 @@ def filled(holed):
     vertices, faces, _ = holed
     runs = {}
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(parallel, "MIN_PARALLEL_EDGES", 0)
+        patch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
         for method in ("fair", "conformal"):
             runs[method] = tuple(fill_holes(vertices, faces, method=method, jobs=jobs)
                                  for jobs in (1, 2))
@@ -187,10 +187,13 @@ def test_bad_jobs(holed, jobs):
 
 
 def test_few_or_small_holes_stay_serial():
-    assert not parallel.worth_parallel([100, 100], 2)  # two holes
-    assert not parallel.worth_parallel([10, 10, 10, 10], 2)  # tiny holes
-    assert not parallel.worth_parallel([100, 100, 100], 1)  # one worker
-    assert parallel.worth_parallel([60, 60, 60], 2)
+    assert not parallel.worth_parallel([100, 100], 2, "conformal")  # two holes
+    assert not parallel.worth_parallel([10, 10, 10, 10], 2, "conformal")  # tiny holes
+    assert not parallel.worth_parallel([100, 100, 100], 1, "conformal")  # one worker
+    assert parallel.worth_parallel([60, 60, 60], 2, "conformal")
+    # a faired fill is ~15x cheaper: ten 60-edge holes stay here
+    assert not parallel.worth_parallel([60] * 10, 2, "fair")
+    assert parallel.worth_parallel([100] * 40, 2, "fair")
 
 
 def test_resolve_jobs():

@@ -28,12 +28,14 @@ from surfinpaint.fill.conformal import ConformalOptions, conformal_fill
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.fill.results import Fill
 
-__all__ = ["fill_local", "independent", "pool", "resolve_jobs", "worth_parallel"]
+__all__ = ["fill_local", "first_loops", "independent", "pool", "reaches_no_earlier_loop",
+           "resolve_jobs", "worth_parallel"]
 
-# fewer independent holes than this, or fewer boundary edges in all, and the holes are
-# filled in this process: starting workers costs more than such holes take
+# fewer holes than this, or fewer boundary edges in all, and the holes are filled in this
+# process: starting workers costs more than such holes take (a faired fill of a 60-edge
+# hole takes ~12 ms, a conformal one ~170 ms: benchmarks/parallel.py)
 MIN_PARALLEL_HOLES = 3
-MIN_PARALLEL_EDGES = 120
+MIN_PARALLEL_EDGES = {"conformal": 120, "fair": 3000}
 
 WarningRecord = tuple[str, type[Warning], str, int]
 
@@ -80,21 +82,33 @@ def reissue(records: list[WarningRecord]) -> None:
         warnings.warn_explicit(message, category, filename, lineno)
 
 
+def first_loops(loops: dict[int, np.ndarray], n_vertices: int) -> np.ndarray:
+    """For each vertex, the first hole (of ``loops``: the holes that will be filled) whose
+    loop holds it; past the last hole for the others."""
+    first = np.full(n_vertices, np.iinfo(np.int64).max, dtype=np.int64)
+    for k in sorted(loops, reverse=True):  # a vertex of several loops: the earliest wins
+        first[loops[k]] = k
+    return first
+
+
+def reaches_no_earlier_loop(k: int, reach: np.ndarray, first: np.ndarray) -> bool:
+    """Whether hole ``k``'s neighbourhood in the original mesh (``reach``: its vertex ids)
+    holds no vertex of an earlier hole's loop (``first``: :func:`first_loops`)."""
+    return not (first[reach[reach < len(first)]] < k).any()
+
+
 def independent(reaches: dict[int, np.ndarray], loops: dict[int, np.ndarray],
                 n_vertices: int) -> set[int]:
-    """The holes whose neighbourhood in the original mesh (``reaches[k]``: its vertex ids)
-    holds no vertex of an earlier hole's loop (``loops``: the holes that will be filled)."""
-    first_loop = np.full(n_vertices, np.iinfo(np.int64).max, dtype=np.int64)
-    for k in sorted(loops, reverse=True):  # a vertex of several loops: the earliest wins
-        first_loop[loops[k]] = k
-    return {k for k, reach in reaches.items()
-            if not (first_loop[reach[reach < n_vertices]] < k).any()}
+    """The holes whose neighbourhood in the original mesh (``reaches[k]``) holds no vertex
+    of an earlier hole's loop."""
+    first = first_loops(loops, n_vertices)
+    return {k for k, reach in reaches.items() if reaches_no_earlier_loop(k, reach, first)}
 
 
-def worth_parallel(n_edges: list[int], workers: int) -> bool:
+def worth_parallel(n_edges: list[int], workers: int, method: str) -> bool:
     """Whether holes of these sizes are worth starting ``workers`` processes for."""
     return (workers > 1 and len(n_edges) >= MIN_PARALLEL_HOLES
-            and sum(n_edges) >= MIN_PARALLEL_EDGES)
+            and sum(n_edges) >= MIN_PARALLEL_EDGES[method])
 
 
 def pool(workers: int) -> ProcessPoolExecutor:

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
+from threadpoolctl import threadpool_limits
 
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import parallel
@@ -393,7 +394,7 @@ def fill_holes(
                progress=progress, rings=neighbourhood_rings,
                position={id(r): k for k, r in enumerate(reports)})
     workers = min(jobs, len(todo))
-    if parallel.worth_parallel([r.n_edges for r in todo], workers):
+    if parallel.worth_parallel([r.n_edges for r in todo], workers, method):
         _fill_in_parallel(mesh, todo, run, workers)
     else:
         for report in todo:
@@ -467,24 +468,32 @@ def _fill_in_parallel(mesh: _FilledMesh, todo: list[HoleReport], run: _Run,
     """The holes of ``todo``, the independent ones in ``workers`` processes, stitched in hole
     order; the dependent ones filled here when their turn comes (see
     :mod:`surfinpaint.fill.parallel`)."""
-    cuts = {r.index: mesh.cut(r.loop, run.rings_of(r)) for r in todo}  # nothing stitched yet
-    free = parallel.independent({k: c.ids for k, c in cuts.items()},
-                                {r.index: r.loop for r in todo}, len(mesh.vertices))
+    first_loop = parallel.first_loops({r.index: r.loop for r in todo}, len(mesh.vertices))
+    cuts: dict[int, _Local] = {}
     problems: dict[int, str | MeshError | None] = {}
-    for k in sorted(free):
-        try:
-            problems[k] = _problem(cuts[k], k, run.explicit)
-        except MeshError as exc:  # raised when its turn comes, as the serial loop would
-            problems[k] = exc
-    executor = parallel.pool(max(1, min(workers, sum(p is None for p in problems.values()))))
+    futures = {}
+    executor = parallel.pool(workers)
+    # one BLAS thread here too: a dependent hole filled here shares the cores with workers
+    blas = threadpool_limits(limits=1)
     try:
-        futures = {k: executor.submit(parallel.fill_in_worker, c.vertices, c.faces,
-                                      c.local_loop, run.method, run.options, run.fair_order)
-                   for k, c in cuts.items() if k in free and problems[k] is None}
+        for report in todo:  # nothing is stitched yet: these are cuts of the original mesh
+            k = report.index
+            cut = mesh.cut(report.loop, run.rings_of(report))
+            if not parallel.reaches_no_earlier_loop(k, cut.ids, first_loop):
+                continue
+            cuts[k] = cut
+            try:
+                problems[k] = _problem(cut, k, run.explicit)
+            except MeshError as exc:  # raised when its turn comes, as the serial loop would
+                problems[k] = exc
+            if problems[k] is None:  # sent at once: the workers start while we cut on
+                futures[k] = executor.submit(parallel.fill_in_worker, cut.vertices, cut.faces,
+                                             cut.local_loop, run.method, run.options,
+                                             run.fair_order)
         for report in todo:
             k = report.index
             run.starting(report)
-            if k not in free:  # its neighbourhood takes in earlier fills: cut it now
+            if k not in cuts:  # its neighbourhood takes in earlier fills: cut it now
                 _fill_hole(mesh, report, run.rings_of(report), explicit=run.explicit,
                            fill=run.fill)
             elif k in futures:
@@ -495,10 +504,11 @@ def _fill_in_parallel(mesh: _FilledMesh, todo: list[HoleReport], run: _Run,
                 raise problems[k]
             else:
                 _stitched(mesh, report, cuts[k], None, problems[k], time.perf_counter())
-            cuts.pop(k)
+            cuts.pop(k, None)
             run.finished(report)
     finally:
         executor.shutdown(wait=True, cancel_futures=True)
+        blas.restore_original_limits()
 
 
 def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds):
