@@ -19,44 +19,29 @@ from pathlib import Path
 
 from surfinpaint import __version__
 from surfinpaint.app.fill_options import UsageError as _UsageError
-from surfinpaint.app.fill_options import add_fill_options, fill_options
+from surfinpaint.app.fill_options import add_fill_options, fill_options, hole_list
+from surfinpaint.app.progress import console as _console
+from surfinpaint.app.progress import progress_bar
 from surfinpaint.errors import MeshError
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
-
-
-def _console():
-    from rich.console import Console
-
-    return Console(stderr=True, highlight=False, soft_wrap=True)
 
 
 def _parse_hole_list(text: str | None) -> list[int] | None:
     if text is None:
         return None
     try:
-        return [int(t) for t in text.split(",") if t.strip()]
-    except ValueError as exc:
-        raise _UsageError(f"--holes takes comma-separated hole indices, got {text!r}") from exc
+        return hole_list(text)
+    except argparse.ArgumentTypeError as exc:
+        raise _UsageError(str(exc)) from exc
 
 
 @contextlib.contextmanager
 def _progress(enabled: bool, what: str = "filling") -> Iterator:
-    """A rich progress bar on stderr, or a no-op callback; ``what`` is its first label."""
-    if not enabled:
-        yield None
-        return
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-    with Progress(TextColumn("{task.description}"), BarColumn(),
-                  TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-                  console=_console(), transient=False) as bar:
-        task = bar.add_task(what, total=None)
-
-        def update(done: int, total: int, message: str) -> None:
-            bar.update(task, completed=done, total=total, description=message)
-
-        yield update
+    """The ``progress`` callback of :func:`surfinpaint.fill_holes` moving a progress bar on
+    stderr, or None; ``what`` is its first label."""
+    with progress_bar(enabled, None, what) as bar:
+        yield bar.update if enabled else None
 
 
 def _print_warnings(caught: list[warnings.WarningMessage]) -> None:

@@ -43,13 +43,13 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint import data
+from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.report import (
     LEGEND,
     PANEL_SIZE,
     HoleComparison,
     compare_holes,
     panels_for,
-    progress_bar,
     write_page,
 )
 from surfinpaint.errors import MeshError

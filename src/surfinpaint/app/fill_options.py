@@ -6,11 +6,21 @@ from __future__ import annotations
 
 import argparse
 
-__all__ = ["UsageError", "add_fill_options", "fill_options"]
+__all__ = ["UsageError", "add_fill_options", "fill_options", "hole_list"]
 
 
 class UsageError(Exception):
     """A usage error of the command line (exit code 2)."""
+
+
+def hole_list(text: str) -> list[int]:
+    """``--holes 0,2,5``: hole numbers as ``surfinpaint holes`` lists them (an argparse
+    ``type``)."""
+    try:
+        return [int(t) for t in text.split(",") if t.strip()]
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(
+            f"--holes takes comma-separated hole indices, got {text!r}") from exc
 
 
 def _conformal_options(args: argparse.Namespace):

@@ -42,7 +42,10 @@ from surfinpaint.app.figures import (
     render_hole,
     save_figure,
 )
+from surfinpaint.app.fill_options import hole_list
 from surfinpaint.app.lambda_h_images import lambda_h_images
+from surfinpaint.app.progress import console as make_console
+from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.report_page import (
     LEGEND,
     HoleComparison,
@@ -444,14 +447,6 @@ def write_report(
 # --------------------------------------------------------------------------- command line
 
 
-def _hole_list(text: str) -> list[int]:
-    try:
-        return [int(t) for t in text.split(",") if t.strip()]
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(
-            f"--holes takes comma-separated hole indices, got {text!r}") from exc
-
-
 def add_report_parser(subparsers) -> argparse.ArgumentParser:
     """Add ``surfinpaint report`` to an argparse subparsers object."""
     p = subparsers.add_parser(
@@ -462,7 +457,7 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
         "each method's distance to the truth. Renders off-screen (no display needed).")
     p.add_argument("mesh", help="input mesh with holes")
     p.add_argument("-o", "--output", required=True, help="output folder")
-    p.add_argument("--holes", type=_hole_list,
+    p.add_argument("--holes", type=hole_list,
                    help="comma-separated hole indices from `surfinpaint holes` (default: all "
                    "holes but the outer border)")
     p.add_argument("--truth", help="the complete mesh the holes were cut from (same vertex "
@@ -472,39 +467,9 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def progress_bar(enabled: bool, total: int, description: str):
-    """A rich progress bar on stderr (a context manager yielding
-    ``step(message, advance=1)``), or a no-op."""
-    import contextlib
-
-    if not enabled:
-        return contextlib.nullcontext(lambda message, advance=1: None)
-
-    @contextlib.contextmanager
-    def bar():
-        from rich.console import Console
-        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-        with Progress(TextColumn("{task.description}"), BarColumn(),
-                      TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-                      console=Console(stderr=True), transient=False) as progress:
-            task = progress.add_task(description, total=total)
-
-            def step(message: str, advance: int = 1) -> None:
-                progress.update(task, advance=advance, description=message)
-
-            yield step
-            progress.update(task, completed=total)
-
-    return bar()
-
-
 def run_report(args: argparse.Namespace) -> int:
     """``surfinpaint report``: returns the exit code (0 on success)."""
-    from rich.console import Console
-
-
-    console = Console(stderr=True, highlight=False)
+    console = make_console()
     vertices, faces = read_mesh(args.mesh)
     validate_mesh(vertices, faces, path=str(args.mesh))
     truth = read_mesh(args.truth) if args.truth else None

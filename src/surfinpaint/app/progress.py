@@ -1,0 +1,51 @@
+"""The one progress display of the command line: a rich progress bar on stderr."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+
+__all__ = ["console", "progress_bar"]
+
+
+def console():
+    """The command line's console: stderr, no highlighting, long lines wrapped softly."""
+    from rich.console import Console
+
+    return Console(stderr=True, highlight=False, soft_wrap=True)
+
+
+class _Bar:
+    """Moves a progress bar: ``bar(message, advance=1)`` steps it, ``bar.update(done,
+    total, message)`` sets it (the ``progress`` callback of :func:`surfinpaint.fill_holes`)."""
+
+    def __init__(self, progress=None, task=None):
+        self._progress, self._task = progress, task
+
+    def __call__(self, message: str, advance: int = 1) -> None:
+        if self._progress is not None:
+            self._progress.update(self._task, advance=advance, description=message)
+
+    def update(self, done: int, total: int, message: str) -> None:
+        if self._progress is not None:
+            self._progress.update(self._task, completed=done, total=total,
+                                  description=message)
+
+
+@contextlib.contextmanager
+def progress_bar(enabled: bool, total: int | None = None,
+                 description: str = "") -> Iterator[_Bar]:
+    """A progress bar on stderr (a no-op one when not ``enabled``) of ``total`` steps (None:
+    set later by ``update``), first labelled ``description``."""
+    if not enabled:
+        yield _Bar()
+        return
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(),
+                  TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+                  console=console(), transient=False) as progress:
+        task = progress.add_task(description, total=total)
+        yield _Bar(progress, task)
+        if total is not None:
+            progress.update(task, completed=total)
