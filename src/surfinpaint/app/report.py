@@ -126,7 +126,7 @@ def compare_holes(
     loops : sequence of (k,) int arrays
         The holes' boundary loops (as :func:`surfinpaint.fill_holes` accepts them).
     truth : sequence of (vertices, faces) or None, optional
-        The ground-truth patch of each hole (e.g. :attr:`surfinpaint.geometry.cutting.Hole`'s
+        The ground-truth patch of each hole (e.g. :attr:`surfinpaint.geometry.cutting.CutHole`'s
         ``truth_vertices``/``truth_faces``), to measure each fill against; None for a hole
         without one (its errors are NaN).
     step : callable(message, advance=1), optional

@@ -19,12 +19,12 @@ from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, unique_edges
 
-__all__ = ["CutResult", "Hole", "cut_geodesic_disk", "cut_holes", "ring_distances",
+__all__ = ["CutHole", "CutResult", "cut_geodesic_disk", "cut_holes", "ring_distances",
            "submesh"]
 
 
 @dataclass(frozen=True)
-class Hole:
+class CutHole:
     """One cut hole and the ground truth that was removed.
 
     Attributes
@@ -62,17 +62,17 @@ class CutResult:
     vertices, faces : arrays
         The mesh with the holes; removed vertices are deleted and the remaining ones keep
         their original relative order.
-    holes : list of Hole
+    holes : list of CutHole
     kept : (n',) int array
         Original id of each remaining vertex.
     """
 
     vertices: np.ndarray
     faces: np.ndarray
-    holes: list[Hole] = field(default_factory=list)
+    holes: list[CutHole] = field(default_factory=list)
     kept: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
 
-    def _single(self) -> Hole:
+    def _single(self) -> CutHole:
         if len(self.holes) != 1:
             raise AttributeError(f"this cut has {len(self.holes)} holes: use .holes[i]")
         return self.holes[0]
@@ -267,7 +267,7 @@ def cut_holes(vertices: np.ndarray, faces: np.ndarray, centers: Sequence,
         if len(p) > 2000:  # keep the pairwise distances small: the diameter is on the hull
             p = p[:: len(p) // 2000 + 1]
         diameter = float(np.sqrt(((p[:, None] - p[None]) ** 2).sum(-1).max()))
-        holes.append(Hole(loop=loop, truth_vertices=v[tid], truth_faces=remap[f[reg]],
+        holes.append(CutHole(loop=loop, truth_vertices=v[tid], truth_faces=remap[f[reg]],
                           truth_ids=tid, diameter=diameter, center=ids[k],
                           radius=float(radii_arr[k])))
     return CutResult(vertices=out_v, faces=out_f, holes=holes, kept=kept)
