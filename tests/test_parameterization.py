@@ -7,6 +7,7 @@ import pytest
 
 from surfinpaint.data import bumpy_disk, sphere, torus
 from surfinpaint.errors import MeshError
+from surfinpaint.geometry.mean_value import mean_value_map, untangle
 from surfinpaint.geometry.mesh import face_areas
 from surfinpaint.geometry.parameterization import (
     angle_distortion,
@@ -15,10 +16,8 @@ from surfinpaint.geometry.parameterization import (
     distortion_histogram,
     flipped_faces,
     lscm,
-    mean_value_map,
     pinched_vertices,
     rectangular_conformal_map,
-    untangle,
 )
 from surfinpaint.representation.analytic import stereographic_sphere
 

@@ -64,7 +64,7 @@ class MeshLambdaH:
     map : {"lscm", "lscm-untangled", "mean-value"}
         The patch's map: LSCM; where LSCM flips triangles at every patch size, LSCM with
         the flips untangled locally, or the mean-value map of the patch
-        (:mod:`surfinpaint.geometry.parameterization`).
+        (:mod:`surfinpaint.geometry.mean_value`).
     """
 
     uv: np.ndarray

@@ -22,7 +22,6 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from scipy.sparse import csgraph
 
 from surfinpaint.errors import MeshError, preview
@@ -39,13 +38,14 @@ __all__ = [
     "angle_distortion",
     "check_disk",
     "conformal_distortion",
+    "disk_boundary",
     "distortion_histogram",
     "flipped_faces",
     "lscm",
-    "mean_value_map",
     "pinched_vertices",
     "rectangular_conformal_map",
-    "untangle",
+    "scale_to_area",
+    "signed_areas",
 ]
 
 
@@ -67,10 +67,10 @@ def check_disk(vertices: np.ndarray, faces: np.ndarray) -> None:
         boundary loops (how many), genus g, non-manifold edges or pinched vertices, or
         zero-area faces (ids).
     """
-    _disk_boundary(vertices, faces)
+    disk_boundary(vertices, faces)
 
 
-def _disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """:func:`check_disk`, returning the boundary loop (the edge table is built once here
     and once in ``boundary_loops``, which matters at 100k faces)."""
     v = np.asarray(vertices, dtype=float)
@@ -153,7 +153,7 @@ def _far_pair(vertices: np.ndarray, loop: np.ndarray) -> tuple[int, int]:
     return int(loop[a]), int(loop[b])
 
 
-def _scale_to_area(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
+def scale_to_area(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """Scale ``uv`` so the parameter area equals the surface area (mean λ² = 1)."""
     a3 = face_areas(vertices, faces).sum()
     a2 = face_areas(uv, faces).sum()
@@ -192,7 +192,7 @@ def lscm(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    loop = _disk_boundary(v, f)
+    loop = disk_boundary(v, f)
     n = len(v)
     L = cotangent_laplacian(v, f)
     # In z = u + iv the energy is (up to a factor 2) the Hermitian form z^H (−L + i A) z:
@@ -225,114 +225,8 @@ def lscm(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     else:
         z[free] = factorized_definite(Qf[:, free])(rhs)
     uv = np.column_stack([z.real, z.imag])
-    uv = _scale_to_area(v, f, uv)
+    uv = scale_to_area(v, f, uv)
     return uv - np.nanmin(uv, axis=0)
-
-
-def mean_value_map(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Floater's mean-value map of a disk onto a circle: bijective by construction.
-
-    Each interior vertex is the weighted mean of its neighbours, with the mean-value
-    weights ``w_ij = (tan(α/2) + tan(β/2)) / |v_i − v_j|`` (α, β the corner angles at
-    ``v_i`` beside the edge), which are positive on any triangle mesh; the boundary is laid
-    on a circle by arc length. Positive weights and a convex boundary make the map an
-    embedding (Tutte 1963, Floater 2003, *Mean value coordinates*): no triangle flips, where
-    LSCM's cotangent weights turn negative on slivers and can flip some. It is not
-    conformal, only close to it on well-shaped triangles.
-
-    Parameters
-    ----------
-    vertices : (n, 3) float array
-    faces : (f, 3) int array
-        A topological disk (see :func:`check_disk`), consistently oriented.
-
-    Returns
-    -------
-    uv : (n, 2) float array
-        Counter-clockwise where ``faces`` are, placed and scaled as :func:`lscm`'s.
-        Unreferenced vertices get NaN.
-
-    Raises
-    ------
-    MeshError
-        When the mesh is not a disk (from :func:`check_disk`).
-    """
-    v = np.asarray(vertices, dtype=float)
-    f = np.asarray(faces, dtype=np.int64)
-    loop = _disk_boundary(v, f)
-    n = len(v)
-    W = _mean_value_weights(v, f)
-    lengths = np.linalg.norm(v[np.roll(loop, -1)] - v[loop], axis=1)
-    angle = 2.0 * np.pi * np.concatenate([[0.0], np.cumsum(lengths)[:-1]]) / lengths.sum()
-    uv = np.full((n, 2), np.nan)
-    uv[loop] = np.column_stack([np.cos(angle), np.sin(angle)])
-    _mean_value_solve(W, uv, np.setdiff1d(np.unique(f), loop))
-    if np.nansum(_signed_areas(f, uv)) < 0:  # the boundary loop ran clockwise
-        uv[:, 1] = -uv[:, 1]
-    uv = _scale_to_area(v, f, uv)
-    return uv - np.nanmin(uv, axis=0)
-
-
-def untangle(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray, *,
-             rings: int = 6) -> np.ndarray:
-    """A map with its flipped triangles untangled locally.
-
-    The vertices of flipped triangles and ``k`` rings around them are placed again by the
-    mean-value weights (:func:`mean_value_map`) with the rest of ``uv`` fixed, for k = 1,
-    2, ... ``rings`` until nothing is flipped: the map stays as it was away from the flips.
-
-    Returns
-    -------
-    uv : (n, 2) float array
-        The map, unchanged where nothing is flipped, or None when ``rings`` rings do not
-        untangle it (or the flips reach the border).
-    """
-    v = np.asarray(vertices, dtype=float)
-    f = np.asarray(faces, dtype=np.int64)
-    flipped = flipped_faces(f, uv)
-    if len(flipped) == 0:
-        return uv
-    W = _mean_value_weights(v, f)
-    border = np.concatenate(boundary_loops(f))
-    adjacency = (W + W.T).tocsr()
-    seeds = np.zeros(len(v), dtype=bool)
-    seeds[f[flipped].ravel()] = True
-    for _ in range(rings):
-        seeds = seeds | (adjacency @ seeds.astype(float) > 0)
-        free = np.flatnonzero(seeds)
-        free = free[~np.isin(free, border)]
-        out = uv.copy()
-        _mean_value_solve(W, out, free)
-        if len(flipped_faces(f, out)) == 0:
-            return out
-    return None
-
-
-def _mean_value_weights(v: np.ndarray, f: np.ndarray) -> sp.csr_matrix:
-    """Floater's mean-value weights ``W[i, j]`` (positive; not symmetric)."""
-    rows, cols, weights = [], [], []
-    for c in range(3):  # the corner at f[:, c], its edges to the two others
-        i, j, k = f[:, c], f[:, (c + 1) % 3], f[:, (c + 2) % 3]
-        a, b = v[j] - v[i], v[k] - v[i]
-        la, lb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
-        cos = np.clip(np.einsum("ij,ij->i", a, b) / (la * lb), -1.0, 1.0)
-        half_tan = np.tan(np.arccos(cos) / 2.0)
-        rows += [i, i]
-        cols += [j, k]
-        weights += [half_tan / la, half_tan / lb]
-    return sp.csr_matrix((np.concatenate(weights), (np.concatenate(rows),
-                                                    np.concatenate(cols))),
-                         shape=(len(v), len(v)))
-
-
-def _mean_value_solve(W: sp.csr_matrix, uv: np.ndarray, free: np.ndarray) -> None:
-    """Place ``uv[free]`` at the mean-value combination of their neighbours (in place)."""
-    if len(free) == 0:
-        return
-    fixed = np.setdiff1d(np.flatnonzero(np.asarray(W.sum(axis=1)).ravel() > 0), free)
-    system = (sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W).tocsr()[free]
-    rhs = -(system[:, fixed] @ uv[fixed])
-    uv[free] = spla.splu(system[:, free].tocsc()).solve(np.asarray(rhs))
 
 
 def _boundary_corners(vertices: np.ndarray, loop: np.ndarray) -> np.ndarray:
@@ -425,7 +319,7 @@ def rectangular_conformal_map(
     """
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    loop = _disk_boundary(v, f)
+    loop = disk_boundary(v, f)
     n = len(v)
     if len(loop) < 4:
         raise MeshError(f"boundary has only {len(loop)} vertices, a rectangle needs 4",
@@ -474,7 +368,7 @@ def rectangular_conformal_map(
     ok = used
     b = float(u[ok] @ (L[ok][:, ok] @ u[ok]))  # conformal modulus = Dirichlet energy of u
     uv = np.column_stack([u, b * w])
-    return _scale_to_area(v, f, uv), corners
+    return scale_to_area(v, f, uv), corners
 
 
 def _conformal_parts(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
@@ -577,7 +471,7 @@ def distortion_histogram(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray
     return np.histogram(d[np.isfinite(d)], bins=bins, range=range_deg)
 
 
-def _signed_areas(faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
+def signed_areas(faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """Twice the signed area of each parameter triangle (positive: counter-clockwise)."""
     f = np.asarray(faces, dtype=np.int64)
     q = np.asarray(uv, dtype=float)
@@ -601,7 +495,7 @@ def flipped_faces(faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
     -------
     (k,) int array of face ids.
     """
-    signed = _signed_areas(faces, uv)
+    signed = signed_areas(faces, uv)
     total = np.nansum(signed)
     sign = 1.0 if total >= 0 else -1.0
     return np.flatnonzero(~(signed * sign > 0))

@@ -12,7 +12,7 @@ from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.patch import hole_patch
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import MeshLambdaH
-from surfinpaint.geometry import parameterization
+from surfinpaint.geometry import mean_value, parameterization
 from surfinpaint.geometry.mesh import boundary_halfedges, connected_components
 from surfinpaint.representation.on_mesh import inpaint_on_mesh
 
@@ -155,11 +155,11 @@ def _mapped_patch(vertices, faces, seeds, fill_faces, rings):
     patch, used = hole_patch(faces, seeds, fill_faces, rings)
     ids, local = np.unique(patch, return_inverse=True)
     local = local.reshape(-1, 3)
-    uv = parameterization.untangle(vertices[ids], local,
+    uv = mean_value.untangle(vertices[ids], local,
                                    parameterization.lscm(vertices[ids], local))
     if uv is not None:
         return patch, ids, local, uv, used, "lscm-untangled"
-    uv = parameterization.mean_value_map(vertices[ids], local)
+    uv = mean_value.mean_value_map(vertices[ids], local)
     flipped = parameterization.flipped_faces(local, uv)
     if len(flipped):  # only round-off can do this
         raise FillError(f"the map of the patch folds ({len(flipped)} flipped faces, with "
