@@ -297,6 +297,50 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _add_representation_commands(sub) -> None:
+    """``surfinpaint represent`` and ``rebuild``."""
+    p = sub.add_parser("represent", help="λ-H representation of a disk-like mesh",
+                       description="Conformally map a disk-topology MESH to the plane and "
+                       "store its conformal factor λ and mean curvature H, on the mesh's own "
+                       "parameter triangles (default) or on a grid; then rebuild the mesh "
+                       "from them and print the round-trip error.")
+    p.add_argument("mesh", help="input mesh (a topological disk)")
+    p.add_argument("-o", "--output", required=True, help="output .npz")
+    p.add_argument("--discretization", choices=("mesh", "grid"), default="mesh",
+                   help="λ, H at the mesh's vertices, rebuilt on its triangles (default: "
+                   "exact when the rebuild converges), or the paper's regular grid")
+    p.add_argument("--map", choices=("rectangular", "lscm"), default="lscm",
+                   help="conformal map: free-boundary LSCM (default: 2-4x more accurate "
+                   "round trips, measured) or the paper's rectangular map")
+    p.add_argument("--resolution", type=int,
+                   help="grid nodes along the long side (grid: default 256; --export-grid: "
+                   "default from λ's range)")
+    p.add_argument("--export-grid", metavar="NPZ",
+                   help="also write the grid (image) form of the representation and print "
+                   "its own round trip")
+    p.add_argument("--sampling", choices=("smooth", "pl"),
+                   help="grid: sample the C1 (Clough-Tocher) surface through the vertices "
+                   "(default) or the piecewise-linear mesh")
+    p.add_argument("--subdivide", type=int, metavar="LEVELS",
+                   help="grid: subdivision levels onto the smooth surface before the map "
+                   "(default: automatic, from the mesh's crease angles; 0: none)")
+    p.add_argument("--no-check", action="store_true",
+                   help="do not rebuild and measure the round trip")
+    p.add_argument("--png", help="also write λ and H as images")
+    p.set_defaults(func=cmd_represent)
+
+    p = sub.add_parser("rebuild", help="rebuild a mesh from a λ-H representation",
+                       description="Rebuild the surface from the (λ, H) stored in a .npz "
+                       "written by `surfinpaint represent`, and print its distance to the "
+                       "original stored with it.")
+    p.add_argument("representation", help="a .npz from `surfinpaint represent`")
+    p.add_argument("-o", "--output", required=True, help="output mesh")
+    p.add_argument("--method", choices=("gauss-codazzi", "laplacian"),
+                   help="grid reconstruction (default laplacian: measured better for "
+                   "whole-surface rebuilds)")
+    p.set_defaults(func=cmd_rebuild)
+
+
 def build_parser() -> argparse.ArgumentParser:
     from surfinpaint.fill.pipeline import METHODS
 
@@ -354,46 +398,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
     p.set_defaults(func=cmd_batch)
 
-    p = sub.add_parser("represent", help="λ-H representation of a disk-like mesh",
-                       description="Conformally map a disk-topology MESH to the plane and "
-                       "store its conformal factor λ and mean curvature H, on the mesh's own "
-                       "parameter triangles (default) or on a grid; then rebuild the mesh "
-                       "from them and print the round-trip error.")
-    p.add_argument("mesh", help="input mesh (a topological disk)")
-    p.add_argument("-o", "--output", required=True, help="output .npz")
-    p.add_argument("--discretization", choices=("mesh", "grid"), default="mesh",
-                   help="λ, H at the mesh's vertices, rebuilt on its triangles (default: "
-                   "exact when the rebuild converges), or the paper's regular grid")
-    p.add_argument("--map", choices=("rectangular", "lscm"), default="lscm",
-                   help="conformal map: free-boundary LSCM (default: 2-4x more accurate "
-                   "round trips, measured) or the paper's rectangular map")
-    p.add_argument("--resolution", type=int,
-                   help="grid nodes along the long side (grid: default 256; --export-grid: "
-                   "default from λ's range)")
-    p.add_argument("--export-grid", metavar="NPZ",
-                   help="also write the grid (image) form of the representation and print "
-                   "its own round trip")
-    p.add_argument("--sampling", choices=("smooth", "pl"),
-                   help="grid: sample the C1 (Clough-Tocher) surface through the vertices "
-                   "(default) or the piecewise-linear mesh")
-    p.add_argument("--subdivide", type=int, metavar="LEVELS",
-                   help="grid: subdivision levels onto the smooth surface before the map "
-                   "(default: automatic, from the mesh's crease angles; 0: none)")
-    p.add_argument("--no-check", action="store_true",
-                   help="do not rebuild and measure the round trip")
-    p.add_argument("--png", help="also write λ and H as images")
-    p.set_defaults(func=cmd_represent)
-
-    p = sub.add_parser("rebuild", help="rebuild a mesh from a λ-H representation",
-                       description="Rebuild the surface from the (λ, H) stored in a .npz "
-                       "written by `surfinpaint represent`, and print its distance to the "
-                       "original stored with it.")
-    p.add_argument("representation", help="a .npz from `surfinpaint represent`")
-    p.add_argument("-o", "--output", required=True, help="output mesh")
-    p.add_argument("--method", choices=("gauss-codazzi", "laplacian"),
-                   help="grid reconstruction (default laplacian: measured better for "
-                   "whole-surface rebuilds)")
-    p.set_defaults(func=cmd_rebuild)
+    _add_representation_commands(sub)
 
     p = sub.add_parser("demo", help="fill the bundled default mesh and draw before/after",
                        description="Fill the holes of the bundled snowman and write the "
