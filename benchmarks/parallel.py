@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -24,22 +26,8 @@ from surfinpaint.fill.pipeline import FAIR_NEIGHBOURHOOD_RINGS, _FilledMesh
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
 
-
-def bumpy_sphere(subdivisions: int) -> tuple[np.ndarray, np.ndarray]:
-    import trimesh
-
-    m = trimesh.creation.icosphere(subdivisions=subdivisions)
-    v = np.asarray(m.vertices, dtype=float)
-    v = v * (1 + 0.05 * np.sin(6 * v[:, 0]) * np.cos(5 * v[:, 1]))[:, None]
-    return v, np.asarray(m.faces, dtype=np.int64)
-
-
-def sphere_points(n: int) -> np.ndarray:
-    k = np.arange(n) + 0.5
-    polar = np.arccos(1 - 2 * k / n)
-    azimuth = np.pi * (1 + 5**0.5) * k
-    return np.column_stack([np.cos(azimuth) * np.sin(polar), np.sin(azimuth) * np.sin(polar),
-                            np.cos(polar)])
+sys.path.insert(0, str(Path(__file__).parent))
+from scale import bumpy_sphere, sphere_points  # noqa: E402  (the same surface and centres)
 
 
 def n_independent(vertices, faces, loops, method: str) -> int:

@@ -127,16 +127,6 @@ def _ascii_fast(text: str) -> np.ndarray | None:
     return values.reshape(-1, 3)
 
 
-_NUM = r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|inf(?:inity)?))"
-_FACET = re.compile(
-    r"facet\s+normal" + r"\s+" + r"\s+".join([_NUM] * 3) + r"\s+outer\s+loop"
-    + "".join(r"\s+vertex\s+" + r"\s+".join([_NUM] * 3) for _ in range(3))
-    + r"\s+endloop\s+endfacet(?!\S)",
-    re.IGNORECASE,
-)
-_KEYWORD = re.compile(r"(?i)(?<!\S)(facet|endsolid)(?!\S)")
-
-
 def _ascii_checked(text: str) -> np.ndarray:
     """Facet by facet (several solids, odd spacing), naming the first malformed facet."""
     facets = list(_FACET.finditer(text))
