@@ -430,7 +430,7 @@ def test_cli_fill_writes_inpainted_attributes(holed_sphere, tmp_path, suffix, ca
         attributes["quality"] = v[:, 2].astype(np.float32)
     source, out = tmp_path / f"in{suffix}", tmp_path / f"out{suffix}"
     write_mesh(source, v, f, attributes=attributes)
-    assert main(["fill", str(source), "-o", str(out), "--method", "fair", "-q"]) == 0
+    assert main(["fill", str(source), "-o", str(out), "--method", "fair"]) == 0
     assert "attributes filled in at the new vertices" in capsys.readouterr().err
     back = read_mesh_data(out)
     assert len(back.vertices) > n and set(back.attributes) == set(attributes)

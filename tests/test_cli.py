@@ -209,7 +209,7 @@ def test_bowtie_hole_default_is_skipped_with_a_warning(tmp_path, capsys):
     path = tmp_path / "pinched.ply"
     write_mesh(path, v, f)
     out = tmp_path / "out.ply"
-    code = main(["fill", str(path), "-o", str(out), "--method", "fair", "-q"])
+    code = main(["fill", str(path), "-o", str(out), "--method", "fair"])
     err = capsys.readouterr().err
     assert code == 0, err
     # both holes go untouched, with a warning naming the bow-tie vertex
@@ -322,7 +322,7 @@ def test_closed_mesh_has_nothing_to_fill(tmp_path, capsys):
     path = tmp_path / "closed.obj"
     write_mesh(path, v, f)
     out = tmp_path / "out.obj"
-    assert main(["fill", str(path), "-o", str(out), "-q"]) == 0
+    assert main(["fill", str(path), "-o", str(out)]) == 0
     assert "nothingtofill" in _flat(capsys.readouterr().err)
     v2, f2 = read_mesh(out)
     np.testing.assert_array_equal(v2, v)
@@ -354,7 +354,7 @@ def test_fill_fair_keeps_the_original_vertices(tmp_path, capsys):
     write_mesh(path, v, f)
     before = path.read_bytes()
     out = tmp_path / "filled.ply"
-    assert main(["fill", str(path), "-o", str(out), "--method", "fair", "-q"]) == 0
+    assert main(["fill", str(path), "-o", str(out), "--method", "fair"]) == 0
     err = capsys.readouterr().err
     assert "hole0:" in _flat(err) and "hole1:" in _flat(err)
     assert path.read_bytes() == before
@@ -490,8 +490,7 @@ def test_holes_on_the_bunny_names_the_nonmanifold_edges(bunny, capsys):
 def test_bunny_repaired_and_filled(bunny, tmp_path, capsys):
     source, original = bunny
     out = tmp_path / "bunny.ply"
-    assert main(["fill", str(source), "-o", str(out), "--repair", "--method", "fair",
-                 "-q"]) == 0
+    assert main(["fill", str(source), "-o", str(out), "--repair", "--method", "fair"]) == 0
     err = capsys.readouterr().err
     assert "--repairremoved" in _flat(err)
     assert source.read_bytes() == original
@@ -511,7 +510,7 @@ def test_face_range_map(tmp_path, capsys):
     assert (report.n_components, report.unreferenced_vertices.size,
             report.n_boundary_loops, report.nonmanifold_vertices.size) == (17, 667, 45, 6)
     out = tmp_path / "face.ply"
-    code = main(["fill", str(source), "-o", str(out), "--max-hole-edges", "60", "-q"])
+    code = main(["fill", str(source), "-o", str(out), "--max-hole-edges", "60"])
     err = capsys.readouterr().err
     assert code == 0, err
     assert source.read_bytes() == original

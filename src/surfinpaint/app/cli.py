@@ -44,18 +44,6 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
         yield bar.update if enabled else None
 
 
-def _print_warnings(caught: list[warnings.WarningMessage]) -> None:
-    from rich.markup import escape
-
-    console = _console()
-    seen = set()
-    for w in caught:
-        text = str(w.message)
-        if text not in seen:
-            seen.add(text)
-            console.print(f"[yellow]warning:[/yellow] {escape(text)}")
-
-
 def _holes_table(vertices, faces, title: str) -> None:
     from rich.console import Console
     from rich.table import Table
@@ -91,53 +79,58 @@ def cmd_holes(args: argparse.Namespace) -> int:
 
 
 def cmd_fill(args: argparse.Namespace) -> int:
+    import time
+
+    from surfinpaint.app.fill_report import Summary, tell
     from surfinpaint.fill.objects import fill_mesh_data
     from surfinpaint.io.formats import output_format, read_mesh_data, write_mesh_data
 
     console = _console()
+    say = (lambda text: None) if args.quiet else console.print
     holes = _parse_hole_list(args.holes)
     output_format(args.output)  # an unusable output name fails now, not after the fill
     options = fill_options(args)
     if args.jobs is not None and args.jobs < 1:
         raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
-    mesh = read_mesh_data(args.mesh)
-    vertices, faces = mesh.vertices, mesh.faces
-    with _progress(not args.quiet) as progress:
-        try:
-            result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
-                                            jobs=args.jobs, **options)
-        except MeshError as exc:
-            if args.repair or "non-manifold edges" not in exc.message:
-                raise
-            raise MeshError(exc.message + "; --repair removes the faces around them and fills "
-                            "the holes that leaves", path=str(args.mesh), vertices=exc.vertices,
-                            edges=exc.edges, faces=exc.faces) from None
+    started = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mesh = read_mesh_data(args.mesh)
+        vertices, faces = mesh.vertices, mesh.faces
+        with _progress(not args.quiet) as progress:
+            try:
+                result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
+                                                jobs=args.jobs, **options)
+            except MeshError as exc:
+                if args.repair or "non-manifold edges" not in exc.message:
+                    raise
+                raise MeshError(exc.message + "; --repair removes the faces around them and "
+                                "fills the holes that leaves", path=str(args.mesh),
+                                vertices=exc.vertices, edges=exc.edges,
+                                faces=exc.faces) from None
+        write_mesh_data(args.output, filled)
+    summary = Summary.of(result, time.perf_counter() - started)
     if len(result.removed_faces):
-        console.print(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
-                      "edges; the holes they left were filled too")
-    write_mesh_data(args.output, filled)
+        say(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
+            "edges; the holes they left were filled too")
     if not result.reports:
-        console.print(f"{args.mesh}: nothing to fill (no holes"
-                      f"{'' if args.all else ' apart from the outer border'}); "
-                      f"wrote the mesh unchanged to {args.output}")
-    for r in result.reports:
-        if r.skipped:
-            console.print(f"hole {r.index}: skipped ({r.skipped})")
-        else:
-            extra = f", [yellow]fell back: {r.fallback}[/yellow]" if r.fallback else ""
-            extra += f" ({r.note})" if r.note else ""
-            console.print(f"hole {r.index}: {r.n_edges} edges -> {r.new_vertices} vertices, "
-                          f"{r.new_faces} faces, {r.method}, {r.seconds:.2f} s{extra}")
+        say(f"{args.mesh}: nothing to fill (no holes"
+            f"{'' if args.all else ' apart from the outer border'}); "
+            f"wrote the mesh unchanged to {args.output}")
+    files = {"input": str(args.mesh), "output": str(args.output), "png": args.png}
+    tell(result, summary, caught, console=None if args.quiet else console,
+         verbose=args.verbose, json_path=args.json, files=files,
+         options={**options, "holes": holes, "jobs": args.jobs})
     carried = [*filled.attributes, *(f"{k} (per face)" for k in filled.face_attributes),
                *(f"{k} (per corner)" for k in filled.corner_attributes)]
     if carried and len(result.vertices) > len(vertices):
-        console.print(f"attributes filled in at the new vertices and faces: {', '.join(carried)}")
+        say(f"attributes filled in at the new vertices and faces: {', '.join(carried)}")
     if args.png:
         from surfinpaint.app.figures import before_after
 
         before_after(vertices, faces, result, args.png)
-        console.print(f"wrote {args.png}")
-    console.print(f"wrote {args.output}")
+        say(f"wrote {args.png}")
+    say(f"wrote {args.output}" + (f" and {args.json}" if args.json else ""))
     return EXIT_OK
 
 
@@ -172,13 +165,14 @@ def cmd_batch(args: argparse.Namespace) -> int:
     for row in rows:
         if row.status == "failed":
             console.print(f"[red]error:[/red] {escape(row.message)}")
-        elif row.message and row.status != "skipped":
+        elif row.message and row.status != "skipped" and not args.quiet:
             named = row.message if row.message.startswith(row.path) else \
                 f"{row.path}: {row.message}"
             console.print(f"[yellow]warning:[/yellow] {escape(named)}")
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in STATUSES)
-    console.print(f"{len(rows)} files: {counts}; wrote {Path(args.output) / SUMMARY_CSV} "
-                  "and summary.json")
+    if not args.quiet:
+        console.print(f"{len(rows)} files: {counts}; wrote {Path(args.output) / SUMMARY_CSV} "
+                      "and summary.json")
     return EXIT_FAILURE if any(r.status == "failed" for r in rows) else EXIT_OK
 
 
@@ -269,6 +263,8 @@ def cmd_rebuild(args: argparse.Namespace) -> int:
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
+    from rich.markup import escape
+
     from surfinpaint.data import default_demo_path
     from surfinpaint.fill.pipeline import fill_holes
     from surfinpaint.io.formats import read_mesh, write_mesh
@@ -288,11 +284,11 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
     picture = out / "before_after.png"
     before_after(vertices, faces, result, picture)
+    from surfinpaint.app.fill_report import hole_lines
+
     for r in result.reports:
-        console.print(f"hole {r.index}: {r.n_edges} edges, {r.new_vertices} new vertices, "
-                      f"{r.method}, {r.seconds:.2f} s"
-                      + (f" (fell back: {r.fallback})" if r.fallback else "")
-                      + (f" ({r.note})" if r.note else ""))
+        for line in hole_lines(r):
+            console.print(escape(line))
     console.print(f"wrote {filled} and {picture}")
     return EXIT_OK
 
@@ -373,7 +369,14 @@ def build_parser() -> argparse.ArgumentParser:
                    help="allow -o to name the input file, replacing it (atomically: a "
                    "failed or interrupted fill leaves it as it was)")
     p.add_argument("--png", help="also write a before/after picture")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    p.add_argument("--json", metavar="REPORT",
+                   help="also write the report as JSON: per hole what was written and the "
+                   "self-check's scores, the summary, the warnings, the options and the "
+                   "version (fields: docs/report.md)")
+    p.add_argument("-v", "--verbose", action="store_true",
+                   help="per hole also the scores in mesh units, the time and the notes")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="print nothing but errors (no progress, report or warnings)")
     p.set_defaults(func=cmd_fill)
 
     p = sub.add_parser("batch", help="fill many mesh files, on all cores or a Dask cluster",
@@ -395,7 +398,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true",
                    help="refill files whose output is newer than the input")
     add_fill_options(p)
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="print nothing but the failed files' errors")
     p.set_defaults(func=cmd_batch)
 
     _add_representation_commands(sub)
@@ -419,7 +423,7 @@ def build_parser() -> argparse.ArgumentParser:
 # attributes, and per command its outputs as (attribute, option named in messages, kind).
 _INPUTS = ("mesh", "representation", "truth")
 _OUTPUTS = {
-    "fill": (("output", "-o", "file"), ("png", "--png", "file")),
+    "fill": (("output", "-o", "file"), ("png", "--png", "file"), ("json", "--json", "file")),
     "represent": (("output", "-o", "file"), ("png", "--png", "file")),
     "rebuild": (("output", "-o", "file"),),
     "batch": (("output", "-o", "dir"),),
@@ -514,7 +518,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 code = _run(parser, args, console)
-            _print_warnings(caught)
+            if not getattr(args, "quiet", False):
+                from surfinpaint.app.fill_report import count_warnings, print_warnings
+
+                print_warnings(console, count_warnings(caught))
             return code
         except (Interrupted, KeyboardInterrupt) as exc:
             if not isinstance(exc, Interrupted):  # a Ctrl-C that came before our handler

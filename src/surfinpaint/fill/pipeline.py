@@ -21,12 +21,13 @@ from threadpoolctl import threadpool_limits
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
-from surfinpaint.fill.conformal import ConformalOptions, Verdict
+from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
-from surfinpaint.fill.holes import hole_numbers, select_holes
+from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes
 from surfinpaint.fill.objects import mesh_arrays
-from surfinpaint.fill.results import Fill, LambdaHDiagnostics
+from surfinpaint.fill.results import Fill, FillResult, HoleReport
+from surfinpaint.fill.topology import topology_changes
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
 from surfinpaint.geometry.validation import check_loop, validate_mesh, zero_area_faces
@@ -38,74 +39,6 @@ METHODS = ("conformal", "fair")
 FAIR_NEIGHBOURHOOD_RINGS = 3
 
 ProgressCallback = Callable[[int, int, str], None]
-
-
-@dataclass
-class HoleReport:
-    """What happened to one hole.
-
-    ``method`` is the method whose fill was kept: "fair" when the conformal method fell back
-    after a failure (``fallback`` says why, and a warning is issued) or when its self-check
-    preferred the faired fill (``note`` says so); "none" when the hole was ``skipped``.
-    ``fair_order`` is the fairing order of a faired fill, ``verdict`` the conformal method's
-    self-check, ``crease`` says that a crease crossing the hole was continued across it,
-    and ``diagnostics`` what the λ-H pass used (see :class:`~surfinpaint.fill.results.Fill`).
-    """
-
-    index: int
-    loop: np.ndarray
-    n_edges: int
-    requested: str
-    method: str
-    new_vertices: int = 0
-    new_faces: int = 0
-    seconds: float = 0.0
-    fallback: str | None = None
-    note: str | None = None
-    skipped: str | None = None
-    fair_order: int | None = None
-    verdict: Verdict | None = None
-    crease: str | None = None
-    diagnostics: LambdaHDiagnostics | None = None
-
-
-@dataclass
-class FillResult:
-    """A filled mesh: the original vertices first, unchanged, then the new ones.
-
-    ``faces`` holds the original faces in order (less ``removed_faces``, ids into the input
-    faces, when ``repair=True``), then the new faces.
-    """
-
-    vertices: np.ndarray
-    faces: np.ndarray
-    reports: list[HoleReport]
-    n_original_vertices: int
-    n_original_faces: int
-    removed_faces: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
-    #: per-vertex arrays over ``vertices`` (the new rows inpainted: fill/attributes.py)
-    attributes: dict[str, np.ndarray] = field(default_factory=dict)
-    #: per-face arrays over ``faces`` (the new rows from across the loop)
-    face_attributes: dict[str, np.ndarray] = field(default_factory=dict)
-
-    @property
-    def new_faces(self) -> np.ndarray:
-        """The faces added by the fill (all holes)."""
-        return self.faces[self.n_original_faces :]
-
-    def to_trimesh(self):
-        """A ``trimesh.Trimesh``: colours in ``visual``, the other attributes in
-        ``vertex_attributes`` and ``face_attributes`` (see :mod:`surfinpaint.fill.objects`)."""
-        from surfinpaint.fill.objects import to_trimesh
-
-        return to_trimesh(self.vertices, self.faces, self.attributes, self.face_attributes)
-
-    def to_pyvista(self):
-        """A ``pyvista.PolyData``: the attributes in ``point_data``, the face attributes in
-        ``cell_data``."""
-        from surfinpaint.fill.objects import to_pyvista
-
-        return to_pyvista(self.vertices, self.faces, self.attributes, self.face_attributes)
 
 
 def _vertex_face_csr(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
@@ -382,7 +315,8 @@ def fill_holes(
     # numbered as find_holes numbers them (the outer border counts), whatever was selected
     numbers = hole_numbers(vertices, faces, loops, table=table)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
-                          method=method) for k, loop in zip(numbers, loops, strict=True)]
+                          method=method, diameter=loop_diameter(vertices[loop]))
+               for k, loop in zip(numbers, loops, strict=True)]
     todo = []
     for report in reports:
         if max_hole_edges is not None and report.n_edges > max_hole_edges:
@@ -402,8 +336,12 @@ def fill_holes(
             _fill_hole(mesh, report, run.rings_of(report), explicit=run.explicit,
                        fill=run.fill)
             run.finished(report)
-    return _with_attributes(mesh.result(reports, removed_faces), attributes, face_attributes,
-                            attribute_kinds)
+    result = _with_attributes(mesh.result(reports, removed_faces), attributes,
+                              face_attributes, attribute_kinds)
+    result.topology = topology_changes(result)
+    for change in result.topology:
+        warnings.warn(change.message, stacklevel=2)
+    return result
 
 
 @dataclass(frozen=True)
@@ -456,6 +394,7 @@ def _stitched(mesh: _FilledMesh, report: HoleReport, local: _Local, made: Fill |
     if made is not None:
         _record(report, made)
         problem = mesh.stitch(local, made)
+        report.failed = problem is not None  # a fill was made: it is its failure
     if problem is not None:
         _skip(report, problem)
         return

@@ -1,17 +1,21 @@
-"""Typed results of filling one hole: the :class:`Fill` a method returns and the λ-H data a
-conformal fill leaves for diagnostics and pictures (drawn in :mod:`surfinpaint.app`)."""
+"""Typed results of filling holes: the :class:`Fill` a method returns for one hole, the λ-H
+data a conformal fill leaves for diagnostics and pictures (drawn in :mod:`surfinpaint.app`),
+and what :func:`surfinpaint.fill_holes` returns: a :class:`FillResult` with one
+:class:`HoleReport` per hole (its self-check's scores as :class:`TestScores`) and the
+topology warnings (:class:`TopologyChange`, :mod:`surfinpaint.fill.topology`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
 if TYPE_CHECKING:
     from surfinpaint.fill.conformal.selection import Verdict
 
-__all__ = ["Fill", "GridLambdaH", "LambdaHDiagnostics", "MeshLambdaH"]
+__all__ = ["Fill", "FillResult", "GridLambdaH", "HoleReport", "LambdaHDiagnostics", "MeshLambdaH",
+           "Outcome", "TestScores", "TopologyChange"]
 
 
 @dataclass(frozen=True)
@@ -153,3 +157,171 @@ class Fill:
         """The selection and crease notes in one sentence (None without any)."""
         notes = [n for n in (self.selection, self.crease, self.crease_failure) if n]
         return "; ".join(notes) or None
+
+
+#: What was written for a hole: the λ-H fill, a faired fill, nothing because the hole was
+#: skipped (by ``max_hole_edges``, or a loop that cannot be filled), or nothing because its
+#: fill failed.
+Outcome = Literal["lambda-h", "faired", "skipped", "failed"]
+
+# the self-check's candidate names (:mod:`surfinpaint.fill.conformal.selection`)
+_CANDIDATES = {"conformal": "lambda_h", "fair2": "bilaplacian", "fair3": "trilaplacian"}
+
+
+@dataclass(frozen=True)
+class TestScores:
+    """One test of the conformal method's self-check, scored.
+
+    Each score is the mean distance, in mesh units, from a candidate's fill of the test's
+    hole(s) to the known surface hidden there (:mod:`surfinpaint.fill.selfcheck`): lower is
+    better, ``inf`` where that candidate failed, None where it was not scored.
+
+    Attributes
+    ----------
+    test : {"hidden rings", "sibling holes"}
+        The rings of known surface around the hole, hidden and predicted again; or holes as
+        wide as this one cut from the known surface nearby.
+    lambda_h, bilaplacian, trilaplacian : float or None
+        The λ-H fill's, the bilaplacian (order 2) and the trilaplacian (order 3) faired
+        fill's scores.
+    """
+
+    __test__ = False  # not a pytest test class
+
+    test: str
+    lambda_h: float | None = None
+    bilaplacian: float | None = None
+    trilaplacian: float | None = None
+
+    @classmethod
+    def of(cls, test: str, scores: dict[str, float]) -> TestScores:
+        """From a test's scores by candidate name (as :class:`~surfinpaint.fill.conformal.
+        selection.Verdict` holds them)."""
+        return cls(test, **{_CANDIDATES[name]: float(value) for name, value in scores.items()
+                            if name in _CANDIDATES})
+
+
+@dataclass
+class HoleReport:
+    """What happened to one hole.
+
+    ``index`` numbers the hole as :func:`surfinpaint.find_holes` does (the outer border
+    counts), whatever was selected. ``method`` is the method whose fill was kept: "fair" when
+    the conformal method fell back after a failure (``fallback`` says why, and a warning is
+    issued) or when its self-check preferred the faired fill (``note`` says so); "none" when
+    nothing was written (``skipped`` says why; ``failed`` when it is because the hole's fill
+    failed rather than a choice or a loop that cannot be filled). ``diameter`` is the largest
+    distance between two of the loop's vertices, in mesh units. ``fair_order`` is the fairing
+    order of a faired fill, ``verdict`` the conformal method's self-check, ``crease`` says
+    that a crease crossing the hole was continued across it, and ``diagnostics`` what the
+    λ-H pass used (see :class:`Fill`).
+    """
+
+    index: int
+    loop: np.ndarray
+    n_edges: int
+    requested: str
+    method: str
+    new_vertices: int = 0
+    new_faces: int = 0
+    seconds: float = 0.0
+    fallback: str | None = None
+    note: str | None = None
+    skipped: str | None = None
+    fair_order: int | None = None
+    verdict: Verdict | None = None
+    crease: str | None = None
+    diagnostics: LambdaHDiagnostics | None = None
+    diameter: float = float("nan")
+    failed: bool = False
+
+    @property
+    def outcome(self) -> Outcome:
+        """What was written for the hole (see :data:`Outcome`)."""
+        if self.method == "conformal":
+            return "lambda-h"
+        if self.method == "fair":
+            return "faired"
+        return "failed" if self.failed else "skipped"
+
+    @property
+    def self_check(self) -> tuple[TestScores, ...]:
+        """The self-check's tests that ran, in the order they ran (empty without one)."""
+        if self.verdict is None:
+            return ()
+        return tuple(TestScores.of(name, scores) for name, scores in self.verdict.tests.items())
+
+
+@dataclass(frozen=True)
+class TopologyChange:
+    """Two filled holes that may have changed the surface's topology.
+
+    A disk glued along each loop never changes the genus or the number of pieces of the
+    surface with its holes capped; what it can do is close off a part that was not a disk.
+    Two holes facing each other across a gap narrower than they are wide look like the two
+    ends of a tube cut across (:func:`surfinpaint.fill.topology.topology_changes`): each
+    was closed by a disk where the removed surface may have joined them.
+
+    Attributes
+    ----------
+    holes : tuple of int
+        The two holes (numbered as :func:`surfinpaint.find_holes` numbers them).
+    kind : {"tube ends"}
+    quantity : {"genus", "pieces"}
+        On one piece: its genus; on two pieces: the count of pieces.
+    before, after : int
+        The quantity had the two ends been joined, and now.
+    gap : float
+        The distance between the two fills' centres, in mesh units.
+    message : str
+        The warning in words.
+    """
+
+    holes: tuple[int, ...]
+    kind: str
+    quantity: str
+    before: int
+    after: int
+    gap: float
+    message: str
+
+
+@dataclass
+class FillResult:
+    """A filled mesh: the original vertices first, unchanged, then the new ones.
+
+    ``faces`` holds the original faces in order (less ``removed_faces``, ids into the input
+    faces, when ``repair=True``), then the new faces.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    reports: list[HoleReport]
+    n_original_vertices: int
+    n_original_faces: int
+    removed_faces: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    #: per-vertex arrays over ``vertices`` (the new rows inpainted: fill/attributes.py)
+    attributes: dict[str, np.ndarray] = field(default_factory=dict)
+    #: per-face arrays over ``faces`` (the new rows from across the loop)
+    face_attributes: dict[str, np.ndarray] = field(default_factory=dict)
+    #: fills that changed, or may have changed, the surface's topology (each also a warning)
+    topology: tuple[TopologyChange, ...] = ()
+
+    @property
+    def new_faces(self) -> np.ndarray:
+        """The faces added by the fill (all holes)."""
+        return self.faces[self.n_original_faces :]
+
+    def to_trimesh(self):
+        """A ``trimesh.Trimesh``: colours in ``visual``, the other attributes in
+        ``vertex_attributes`` and ``face_attributes`` (see :mod:`surfinpaint.fill.objects`)."""
+        from surfinpaint.fill.objects import to_trimesh
+
+        return to_trimesh(self.vertices, self.faces, self.attributes, self.face_attributes)
+
+    def to_pyvista(self):
+        """A ``pyvista.PolyData``: the attributes in ``point_data``, the face attributes in
+        ``cell_data``."""
+        from surfinpaint.fill.objects import to_pyvista
+
+        return to_pyvista(self.vertices, self.faces, self.attributes, self.face_attributes)

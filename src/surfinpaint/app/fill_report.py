@@ -1,0 +1,277 @@
+"""What ``surfinpaint fill`` says about its holes: a few plain lines per hole, a closing
+summary, each warning once, and with ``--json REPORT`` the same as a machine-readable file.
+
+Everything here reads the typed results (:class:`~surfinpaint.fill.results.FillResult`,
+:class:`~surfinpaint.fill.results.HoleReport`, :class:`~surfinpaint.fill.results.TestScores`,
+:class:`~surfinpaint.fill.results.TopologyChange`); the example output and the JSON fields
+are in ``docs/report.md``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+import warnings
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from surfinpaint.fill.results import FillResult, HoleReport, TestScores
+from surfinpaint.io.atomic import atomic_open
+
+__all__ = ["FAIRING", "REPORT_VERSION", "Summary", "WarningCount", "count_warnings",
+           "hole_lines", "plain", "print_warnings", "report_document", "summary_lines", "tell",
+           "write_json_report", "written"]
+
+#: The fairing orders by name.
+FAIRING = {1: "harmonic", 2: "bilaplacian", 3: "trilaplacian"}
+#: The version of the ``--json`` report's layout (raised when a field changes meaning).
+REPORT_VERSION = 1
+
+# the candidates of a self-check test, as the report names them
+_CANDIDATES = (("lambda_h", "λ-H"), ("bilaplacian", "bilaplacian"),
+               ("trilaplacian", "trilaplacian"))
+
+
+@dataclass(frozen=True)
+class WarningCount:
+    """One warning's text, its category's name and how many times it was issued."""
+
+    message: str
+    category: str
+    count: int
+
+
+@dataclass(frozen=True)
+class Summary:
+    """The counts of one fill: holes found (selected for filling), filled by the λ-H fill,
+    by a faired fill, skipped and failed; vertices and faces added; wall time in seconds."""
+
+    holes_found: int
+    lambda_h: int
+    faired: int
+    skipped: int
+    failed: int
+    new_vertices: int
+    new_faces: int
+    seconds: float
+
+    @classmethod
+    def of(cls, result: FillResult, seconds: float) -> Summary:
+        outcomes = [r.outcome for r in result.reports]
+        return cls(len(outcomes), outcomes.count("lambda-h"), outcomes.count("faired"),
+                   outcomes.count("skipped"), outcomes.count("failed"),
+                   len(result.vertices) - result.n_original_vertices,
+                   len(result.faces) - result.n_original_faces, seconds)
+
+
+def count_warnings(caught: Iterable[warnings.WarningMessage]) -> list[WarningCount]:
+    """The warnings caught, each text once, in the order they first came, counted."""
+    counts: dict[str, list] = {}
+    for w in caught:
+        text = str(w.message)
+        if text in counts:
+            counts[text][1] += 1
+        else:
+            counts[text] = [w.category.__name__, 1]
+    return [WarningCount(text, category, n) for text, (category, n) in counts.items()]
+
+
+# ------------------------------------------------------------------------------ in words
+
+
+def written(report: HoleReport) -> str:
+    """What was written for the hole, in words: "λ-H fill", "faired fill (bilaplacian)",
+    "skipped: why" or "failed: why"."""
+    outcome = report.outcome
+    if outcome == "lambda-h":
+        return "λ-H fill"
+    if outcome == "faired":
+        return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')})"
+    return f"{outcome}: {report.skipped}"
+
+
+def _percent(score: float | None, diameter: float) -> str:
+    if score is None:
+        return "not scored"
+    if not math.isfinite(score):
+        return "failed"
+    if not diameter > 0:
+        return f"{score:.3g} mesh units"
+    percent = 100.0 * score / diameter
+    return f"{percent:.0f} %" if percent >= 10 else f"{percent:#.2g} %"
+
+
+def _test_line(test: TestScores, diameter: float, verbose: bool) -> str:
+    parts = []
+    for name, word in _CANDIDATES:
+        score = getattr(test, name)
+        if score is None:
+            continue
+        text = f"{word} {_percent(score, diameter)}"
+        if verbose and math.isfinite(score):
+            text += f" ({score:.3g} mesh units)"
+        parts.append(text)
+    return f"self-check on {test.test}: " + ", ".join(parts) + " of the hole diameter"
+
+
+def _verdict(report: HoleReport) -> str:
+    """How the self-check ended, in words."""
+    if report.outcome == "lambda-h":
+        return "λ-H kept"
+    if report.fallback:
+        return f"the λ-H fill failed ({report.fallback})"
+    if not report.self_check:
+        return "no self-check possible here: the faired fill kept"
+    return f"{FAIRING.get(report.fair_order, 'faired')} fill kept"
+
+
+def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
+    """The lines that say what happened to one hole: a first line (number, size, what was
+    written, what it added) and, after a conformal fill, one line per self-check test;
+    ``verbose`` adds the scores in mesh units, the time and the method's notes."""
+    head = (f"hole {report.index}: {report.n_edges} boundary edges, diameter "
+            f"{report.diameter:.3g} mesh units → {written(report)}")
+    if report.outcome in ("lambda-h", "faired"):
+        head += f", {report.new_vertices} new vertices, {report.new_faces} new faces"
+    if verbose:
+        head += f" ({report.seconds:.2f} s)"
+    lines = [head]
+    if report.requested == "conformal" and report.outcome in ("lambda-h", "faired"):
+        tests = [_test_line(t, report.diameter, verbose) for t in report.self_check]
+        if tests:
+            tests[-1] += f" → {_verdict(report)}"
+            lines += ["  " + t for t in tests]
+        else:
+            lines.append(f"  {_verdict(report)}")
+    if verbose:
+        diagnostics = report.diagnostics
+        if diagnostics is not None:
+            lines.append(f"  λ-H pass: {diagnostics.discretization} discretization, "
+                         f"{diagnostics.rings} rings of known surface, damping "
+                         f"{diagnostics.damping:.2g}"
+                         + (f", map {diagnostics.mesh.map}" if diagnostics.mesh else ""))
+        if report.note:
+            lines.append(f"  note: {report.note}")
+    return lines
+
+
+def summary_lines(summary: Summary) -> list[str]:
+    """The closing summary: the counts, what was added, the time."""
+    return [f"{summary.holes_found} holes found: {summary.lambda_h} filled by the λ-H fill, "
+            f"{summary.faired} by a faired fill, {summary.skipped} skipped, "
+            f"{summary.failed} failed; {summary.new_vertices} new vertices, "
+            f"{summary.new_faces} new faces; {summary.seconds:.1f} s"]
+
+
+# ------------------------------------------------------------------------------ as JSON
+
+
+def plain(value: Any) -> Any:
+    """``value`` as JSON types: dataclasses and mappings as objects, sequences as lists,
+    numpy scalars as numbers, non-finite floats as None (the options of a fill, say)."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: plain(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, Mapping):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [plain(v) for v in value]
+    if hasattr(value, "item") and callable(value.item):  # numpy scalars
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if value is None or isinstance(value, bool | int | float | str):
+        return value
+    return str(value)
+
+
+def _score(value: float | None) -> float | None:
+    return value if value is not None and math.isfinite(value) else None
+
+
+def _test_record(test: TestScores) -> dict[str, Any]:
+    names = [name for name, _ in _CANDIDATES]
+    return {"test": test.test, **{name: _score(getattr(test, name)) for name in names},
+            "failed": [name for name in names if getattr(test, name) is not None
+                       and not math.isfinite(getattr(test, name))]}
+
+
+def _hole_record(r: HoleReport) -> dict[str, Any]:
+    filled = r.outcome in ("lambda-h", "faired")
+    return {
+        "index": r.index, "boundary_edges": r.n_edges, "diameter": _score(r.diameter),
+        "outcome": r.outcome, "requested": r.requested,
+        "fairing": FAIRING.get(r.fair_order) if r.outcome == "faired" else None,
+        "fair_order": r.fair_order if r.outcome == "faired" else None,
+        "new_vertices": r.new_vertices, "new_faces": r.new_faces, "seconds": r.seconds,
+        "reason": None if filled else r.skipped,
+        "lambda_h_failure": r.fallback,
+        "self_check": [_test_record(t) for t in r.self_check],
+        "crease": r.crease, "note": r.note,
+    }
+
+
+def report_document(result: FillResult, summary: Summary, *,
+                    warnings_seen: Sequence[WarningCount] = (),
+                    options: Mapping[str, Any] | None = None,
+                    files: Mapping[str, str | None] | None = None) -> dict[str, Any]:
+    """The ``--json`` report as JSON types: the version, the files, the fill options, one
+    record per hole, the summary, the topology warnings and every warning with its count
+    (the fields: ``docs/report.md``). Scores are in mesh units; a candidate that failed a
+    test has a null score and is listed in that test's ``failed``."""
+    from surfinpaint import __version__
+
+    return {
+        "surfinpaint": __version__, "report_version": REPORT_VERSION,
+        "files": dict(files or {}), "options": plain(dict(options or {})),
+        "holes": [_hole_record(r) for r in result.reports],
+        "summary": plain(summary),
+        "topology": [plain(change) for change in result.topology],
+        "warnings": [plain(w) for w in warnings_seen],
+    }
+
+
+def write_json_report(path: str | os.PathLike, document: Mapping[str, Any]) -> None:
+    """Write a report document as JSON, atomically (valid JSON: no NaN or Infinity)."""
+    with atomic_open(path, "w", encoding="utf-8") as handle:
+        json.dump(document, handle, indent=1, ensure_ascii=False, allow_nan=False)
+        handle.write("\n")
+
+
+# ------------------------------------------------------------------------------ telling
+
+
+def print_warnings(console, counted: Iterable[WarningCount]) -> None:
+    """Each warning once on ``console``, with how many times it came when more than once."""
+    from rich.markup import escape
+
+    for w in counted:
+        times = f" (×{w.count})" if w.count > 1 else ""
+        console.print(f"[yellow]warning:[/yellow] {escape(w.message)}{times}")
+
+
+def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.WarningMessage], *,
+         console=None, verbose: bool = False, json_path: str | os.PathLike | None = None,
+         files: Mapping[str, str | None] | None = None,
+         options: Mapping[str, Any] | None = None) -> list[WarningCount]:
+    """Say what a fill did: write the ``--json`` report (``json_path``), and print on
+    ``console`` (None: print nothing) the lines of each hole, the summary and each warning
+    caught once. Returns the warnings counted."""
+    from rich.markup import escape
+
+    seen = count_warnings(caught)
+    if json_path is not None:
+        write_json_report(json_path, report_document(result, summary, warnings_seen=seen,
+                                                     files=files, options=options))
+    if console is None:
+        return seen
+    for r in result.reports:
+        for line in hole_lines(r, verbose=verbose):
+            console.print(escape(line))
+    if result.reports:
+        for line in summary_lines(summary):
+            console.print(escape(line))
+    print_warnings(console, seen)
+    return seen

@@ -1,0 +1,132 @@
+"""Fills that may have changed the surface's topology, found after the fill.
+
+A disk glued along a hole's loop never changes the genus or the number of pieces of the
+surface with its holes capped. What it can do is close a surface whose missing part was not
+a disk: cut a torus's tube across and the two loops left are filled with two disks, giving a
+sphere where the surface had genus 1. Nothing in the mesh with holes tells the two apart (a
+torus with its tube cut across and a sphere with two holes are both cylinders); the geometry
+does: the two loops face each other across a gap narrower than they are wide, each fill's
+outward normal pointing at the other. :func:`topology_changes` finds such pairs of holes;
+the pipeline warns about each.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from surfinpaint.fill.results import FillResult, HoleReport, TopologyChange
+from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.mesh import boundary_loops
+
+__all__ = ["FACING_COSINE", "SIZE_RATIO", "hole_patches", "surface_genus", "topology_changes"]
+
+# each fill's outward normal within 45 degrees of the direction to the other fill
+FACING_COSINE = float(np.cos(np.radians(45.0)))
+# and the smaller of the two holes at least this fraction of the larger's diameter
+SIZE_RATIO = 0.5
+
+
+def hole_patches(result: FillResult) -> list[np.ndarray]:
+    """Each hole's new faces (ids into ``result.vertices``), in the order of the reports:
+    the new faces come after the originals, hole after hole."""
+    counts = [r.new_faces for r in result.reports]
+    starts = result.n_original_faces + np.concatenate([[0], np.cumsum(counts)]).astype(int)
+    return [result.faces[starts[k]:starts[k + 1]] for k in range(len(counts))]
+
+
+def surface_genus(faces: np.ndarray) -> tuple[int, int]:
+    """``(genus, boundary loops)`` of one connected, orientable triangulated surface, from its
+    Euler characteristic: ``V - E + F = 2 - 2 genus - loops``."""
+    table = EdgeTable.build(faces)
+    loops = len(boundary_loops(faces, table))
+    chi = len(np.unique(faces)) - table.n_edges + len(faces)
+    return (2 - chi - loops) // 2, loops
+
+
+def _facing_pairs(vertices: np.ndarray, patches: Sequence[np.ndarray],
+                  filled: Sequence[HoleReport]) -> list[tuple[int, int, float, float]]:
+    """Pairs ``(a, b, gap, sign)`` of positions in ``filled`` whose fills face each other:
+    along the line between their centres, narrower apart than they are wide, of like size.
+    ``sign`` is +1 when the fills' normals (as the faces are oriented) point at each other,
+    -1 when they point away from each other along that line (an inward-oriented surface's
+    tube ends)."""
+    corners = [vertices[p] for p in patches]
+    areas = [0.5 * np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]) for c in corners]
+    normal = np.array([a.sum(0) for a in areas])
+    length = np.linalg.norm(normal, axis=1)
+    weight = [np.linalg.norm(a, axis=1) for a in areas]
+    centre = np.array([(w[:, None] * c.mean(1)).sum(0) / max(w.sum(), 1e-300)
+                       for w, c in zip(weight, corners, strict=True)])
+    diameter = np.array([r.diameter for r in filled])
+    pairs = []
+    for a in range(len(filled)):
+        for b in range(a + 1, len(filled)):
+            gap = float(np.linalg.norm(centre[b] - centre[a]))
+            wide = max(diameter[a], diameter[b])
+            if (gap == 0 or length[a] == 0 or length[b] == 0 or gap >= wide
+                    or min(diameter[a], diameter[b]) < SIZE_RATIO * wide):
+                continue
+            u = (centre[b] - centre[a]) / gap
+            ca, cb = normal[a] @ u / length[a], -(normal[b] @ u) / length[b]
+            if min(ca, cb) > FACING_COSINE or max(ca, cb) < -FACING_COSINE:
+                pairs.append((a, b, gap, 1.0 if ca > 0 else -1.0))
+    return pairs
+
+
+def _outward(vertices: np.ndarray, faces: np.ndarray) -> bool:
+    """Whether the faces of a (nearly) closed piece face outward: positive signed volume."""
+    c = vertices[faces]
+    return float(np.einsum("ij,ij->i", c[:, 0], np.cross(c[:, 1], c[:, 2])).sum()) >= 0
+
+
+def topology_changes(result: FillResult) -> tuple[TopologyChange, ...]:
+    """Pairs of filled holes that look like the two ends of a tube cut across.
+
+    Two holes qualify when their fills face each other (each outward normal, as the
+    surface's own orientation says, within 45 degrees of the direction to the other fill),
+    are closer than the wider one's diameter and of like size (within a factor
+    ``1 / SIZE_RATIO``). Cost: a few operations per new face, and an edge table of the
+    pieces concerned when a pair qualifies.
+
+    Returns
+    -------
+    tuple of TopologyChange
+        Of kind "tube ends": on one piece the genus it has now and the genus it would have
+        with the two ends joined; on two pieces, the count of pieces (two now, one joined).
+    """
+    filled = [r for r in result.reports if r.outcome in ("lambda-h", "faired")]
+    if len(filled) < 2:
+        return ()
+    patches = [p for p, r in zip(hole_patches(result), result.reports, strict=True)
+               if r.outcome in ("lambda-h", "faired")]
+    vertices = np.asarray(result.vertices, float)
+    pairs = _facing_pairs(vertices, patches, filled)
+    if not pairs:
+        return ()
+    _, label = EdgeTable.build(result.faces, len(vertices)).vertex_components
+    face_label = label[result.faces[:, 0]]
+    changes = []
+    for a, b, gap, sign in pairs:
+        ra, rb = filled[a], filled[b]
+        pieces = {int(label[ra.loop[0]]), int(label[rb.loop[0]])}
+        faces = result.faces[np.isin(face_label, list(pieces))]
+        outward = _outward(vertices, faces)
+        if (sign > 0) != outward:  # the normals point away from each other, outside
+            continue
+        holes = (ra.index, rb.index)
+        what = (f"holes {holes[0]} and {holes[1]} face each other {gap:.3g} mesh units apart,"
+                f" closer than they are wide ({max(ra.diameter, rb.diameter):.3g}): if they "
+                "are the two ends of a tube cut across, filling each with a disk")
+        if len(pieces) == 1:
+            genus, _ = surface_genus(faces)
+            change = TopologyChange(holes, "tube ends", "genus", genus + 1, genus, gap,
+                                    f"{what} changed the surface's genus from {genus + 1} to "
+                                    f"{genus} (the tube is closed at both ends, not rejoined)")
+        else:
+            change = TopologyChange(holes, "tube ends", "pieces", 1, 2, gap,
+                                    f"{what} left two pieces where the tube made one (it "
+                                    "is closed at both ends, not rejoined)")
+        changes.append(change)
+    return tuple(changes)
