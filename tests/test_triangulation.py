@@ -7,7 +7,7 @@ import pytest
 import trimesh
 
 from surfinpaint.errors import MeshError
-from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
+from surfinpaint.fill.liepa.triangulation import _planar_cdt, minimum_weight_triangulation
 from surfinpaint.geometry.mesh import boundary_loops, face_areas, face_normals, unique_edges
 
 
@@ -202,9 +202,76 @@ def test_search_spaces():
     d = np.linalg.norm(v - v[9], axis=1)
     faces = f[~(d[f] < 0.6).all(axis=1)]
     loop = boundary_loops(faces)[0]
-    for search in ("delaunay", "all"):
+    for search in ("delaunay", "all", "cdt"):
         tri = minimum_weight_triangulation(v, loop, faces, search=search)
         _, _, count = unique_edges(np.vstack([faces, tri]))
         assert (count == 2).all()
     with pytest.raises(ValueError, match="search"):
         minimum_weight_triangulation(v, loop, faces, search="greedy")
+
+
+def _locally_delaunay(q: np.ndarray, tri: np.ndarray) -> bool:
+    """Every edge shared by two triangles has opposite angles summing to at most π: with
+    the polygon's edges as the constraints, that is the constrained Delaunay property."""
+    opposite: dict = {}
+    for f in tri:
+        for c in range(3):
+            a, b, o = f[c], f[(c + 1) % 3], f[(c + 2) % 3]
+            u, w = q[a] - q[o], q[b] - q[o]
+            angle = np.arctan2(abs(u[0] * w[1] - u[1] * w[0]), u @ w)
+            opposite.setdefault(tuple(sorted((int(a), int(b)))), []).append(angle)
+    return all(sum(x) <= np.pi + 1e-9 for x in opposite.values() if len(x) == 2)
+
+
+@pytest.mark.parametrize("k", [5, 12, 40])
+def test_planar_cdt_of_a_convex_polygon_is_its_delaunay_triangulation(k):
+    from scipy.spatial import Delaunay
+
+    p = _convex_polygon(k, seed=k + 1)
+    tri = _planar_cdt(p, np.zeros((k, k), dtype=bool))
+    assert {tuple(sorted(f)) for f in tri.tolist()} == \
+        {tuple(sorted(f)) for f in Delaunay(p[:, :2]).simplices.tolist()}
+    assert np.allclose(face_normals(p, tri), [0, 0, -1])  # oriented as _solve's faces
+
+
+def test_planar_cdt_of_a_star_polygon_is_inside_and_locally_delaunay():
+    # a non-convex star: the triangles cover exactly its area (none outside it), every
+    # loop edge is used once, and every inner edge is locally Delaunay
+    k = 30
+    t = np.arange(k) * 2 * np.pi / k
+    r = np.where(np.arange(k) % 2 == 0, 1.0, 0.45) * (1 + 0.1 * np.sin(3 * t))
+    p = np.column_stack([r * np.cos(t), r * np.sin(t), 0.05 * np.cos(2 * t)])
+    tri = minimum_weight_triangulation(p, np.arange(k), search="cdt")
+    q = p[:, :2]
+    assert face_areas(np.column_stack([q, np.zeros(k)]), tri).sum() == \
+        pytest.approx(_shoelace(p), rel=1e-9)
+    _, _, count = unique_edges(tri)
+    assert (count == 1).sum() == k
+    assert _locally_delaunay(q, tri)
+    # the dynamic program's (max dihedral, area) triangulation is another one
+    dp = minimum_weight_triangulation(p, np.arange(k))
+    assert {tuple(sorted(f)) for f in dp.tolist()} != {tuple(sorted(f)) for f in tri.tolist()}
+
+
+def test_planar_cdt_declines_a_loop_whose_projection_is_not_simple():
+    # a figure eight with unequal lobes, seen along its area vector (nearly z): it crosses
+    # itself, so the search falls back on the dynamic program
+    t = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    p = np.column_stack([np.cos(t), np.sin(2 * t) * (1 + 0.6 * np.cos(t)), 0.05 * np.sin(t)])
+    assert _planar_cdt(p, np.zeros((24, 24), dtype=bool)) is None
+    tri = minimum_weight_triangulation(p, np.arange(24), search="cdt")
+    assert tri.shape == (22, 3)
+    assert {tuple(sorted(f)) for f in tri.tolist()} == {
+        tuple(sorted(f)) for f in minimum_weight_triangulation(p, np.arange(24)).tolist()}
+
+
+def test_planar_cdt_keeps_off_existing_mesh_edges():
+    # the hexagon of test_avoids_diagonals_that_are_already_mesh_edges: its Delaunay
+    # triangulation uses the bridge (2, 5), so the CDT is declined and the program avoids it
+    t = np.arange(6) * np.pi / 3
+    p = np.column_stack([np.cos(t), np.sin(t), np.zeros(6)])
+    forbidden = np.zeros((6, 6), dtype=bool)
+    forbidden[2, 5] = True
+    free = _planar_cdt(p + [[0.0, 0.01 * i, 0.0] for i in range(6)], np.zeros_like(forbidden))
+    assert (2, 5) in {tuple(e) for e in unique_edges(free)[0].tolist()}
+    assert _planar_cdt(p + [[0.0, 0.01 * i, 0.0] for i in range(6)], forbidden) is None

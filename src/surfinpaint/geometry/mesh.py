@@ -321,17 +321,30 @@ def _cotangents(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return cot
 
 
-def cotangent_laplacian(vertices: np.ndarray, faces: np.ndarray) -> sp.csr_matrix:
+# CGAL's fairing weights (Weights::Secure_cotangent_weight_with_voronoi_area): each
+# corner's cotangent with its cosine clamped to ±0.999, then bounded below by zero
+_CLAMPED_COS = 0.999
+_CLAMPED_COT = _CLAMPED_COS / np.sqrt(1.0 - _CLAMPED_COS**2)
+
+
+def cotangent_laplacian(vertices: np.ndarray, faces: np.ndarray, *,
+                        nonnegative: bool = False) -> sp.csr_matrix:
     """Cotangent Laplacian ``L`` (n, n), symmetric, negative semi-definite.
 
     ``L[i, j] = (cot α_ij + cot β_ij) / 2`` for an edge ij, ``L[i, i] = -Σ_j L[i, j]``; so
     ``M⁻¹ L f`` approximates Δf and ``L x`` (x the positions) approximates ``2 H n A`` times
     the vertex area ``A`` with H the mean curvature (Pinkall–Polthier, Meyer et al. 2003).
     Works for planar (n, 2) vertices as well.
+
+    ``nonnegative``: each corner's cotangent is clamped to [0, cot(2.56°)] first, as CGAL's
+    fairing weights are (an obtuse corner adds nothing, a needle corner a bounded weight):
+    no negative weights, at the cost of linear precision on obtuse triangles.
     """
     f = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
     cot = _cotangents(vertices, faces)
+    if nonnegative:
+        cot = np.clip(cot, 0.0, _CLAMPED_COT)
     i = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
     j = np.concatenate([f[:, 2], f[:, 0], f[:, 1]])
     w = 0.5 * np.concatenate([cot[:, 0], cot[:, 1], cot[:, 2]])

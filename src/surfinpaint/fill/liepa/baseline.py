@@ -29,6 +29,8 @@ def conventional_fill(
     density: float = np.sqrt(2.0),
     order: int = 2,
     fair_iterations: int = 1,
+    search: str = "delaunay",
+    operator: str = "cotan",
 ) -> tuple[np.ndarray, np.ndarray]:
     """Fill one hole by Liepa's triangulate / refine / fair.
 
@@ -55,6 +57,11 @@ def conventional_fill(
         previous result. One (weights of the flat refined patch) is the classic choice;
         two measured 1.5–2× better on regular meshes (icosphere, torus) but 5 % worse on
         average on the irregular bunny (``benchmarks/baseline_vs_cgal.py``).
+    search : {"delaunay", "all"}
+        The triangulation's candidate diagonals
+        (:func:`~surfinpaint.fill.liepa.triangulation.minimum_weight_triangulation`).
+    operator : {"cotan", "clamped", "intrinsic"}
+        The fairing's Laplacian (:func:`~surfinpaint.fill.liepa.fairing.fair`).
 
     Returns
     -------
@@ -97,7 +104,7 @@ def conventional_fill(
     try:
         loop = _orient_loop(loop, faces)
         _check_boundary(faces, loop)
-        patch = minimum_weight_triangulation(v, loop, faces)
+        patch = minimum_weight_triangulation(v, loop, faces, search=search)
         new_v = np.empty((0, 3))
         if refine:
             new_v, patch = refine_patch(v, patch, loop, faces=faces, density=density)
@@ -105,7 +112,7 @@ def conventional_fill(
             allv = np.vstack([v, new_v])
             allf = np.vstack([faces, patch])
             new_v = fair_patch(allv, allf, np.arange(n, n + len(new_v)), order=order,
-                               iterations=fair_iterations)[n:]
+                               iterations=fair_iterations, operator=operator)[n:]
     except MeshError as err:
         raise FillError(f"cannot fill the hole: {err}") from err
     if not np.isfinite(new_v).all():
@@ -134,9 +141,11 @@ def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order
 
 
 def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
-                 orders=(2, 3)) -> dict[int, tuple[np.ndarray, np.ndarray, int]]:
+                 orders=(2, 3), *, search: str = "delaunay", operator: str = "cotan"
+                 ) -> dict[int, tuple[np.ndarray, np.ndarray, int]]:
     """:func:`faired_fill` for several fairing orders, sharing the triangulation and the
-    refinement (those of the order-2 fill).
+    refinement (those of the order-2 fill); ``search`` and ``operator`` as in
+    :func:`conventional_fill`.
 
     Returns
     -------
@@ -150,7 +159,8 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     """
     v = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
-    initial_v, patch = conventional_fill(v, faces, loop, refine=True, fair=False)
+    initial_v, patch = conventional_fill(v, faces, loop, refine=True, fair=False,
+                                         search=search)
     initial_v = np.asarray(initial_v, dtype=float)
     patch = np.asarray(patch, dtype=np.int64)
     n = len(v)
@@ -165,7 +175,8 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                                   max(used - 2, 0))
             try:
                 new_v = fair_patch(np.vstack([v, initial_v]), np.vstack([near, patch]),
-                                   np.arange(n, n + len(initial_v)), order=used)[n:]
+                                   np.arange(n, n + len(initial_v)), order=used,
+                                   operator=operator)[n:]
                 break
             except (MeshError, FillError) as err:
                 if used <= 2:
