@@ -194,3 +194,26 @@ def test_unknown_operator():
     v, f = _grid(6)
     with pytest.raises(ValueError, match="operator"):
         fair(v, f, [7], operator="robust")
+
+
+def test_clamped_cotangent_laplacian():
+    from surfinpaint.geometry.mesh import cotangent_laplacian
+
+    # an acute mesh (equilateral-ish icosphere): clamping changes nothing
+    m = trimesh.creation.icosphere(2)
+    plain = cotangent_laplacian(m.vertices, m.faces)
+    assert abs(cotangent_laplacian(m.vertices, m.faces, nonnegative=True) - plain).max() \
+        < 1e-12
+    # obtuse corners of the jittered grid: negative weights become zero, and the rows
+    # still sum to zero (a lifted plane comes back to z = 0)
+    v, f = _grid(jitter=0.45, seed=1)
+    lap = cotangent_laplacian(v, f).tocoo()
+    clamped = cotangent_laplacian(v, f, nonnegative=True).tocoo()
+    off = lap.row != lap.col
+    assert (lap.data[off] < 0).any()
+    assert (clamped.data[clamped.row != clamped.col] >= 0).all()
+    assert np.abs(np.asarray(clamped.sum(axis=1))).max() < 1e-12
+    free = _central(v, 0.25)
+    lifted = v.copy()
+    lifted[free, 2] = 0.2
+    assert np.abs(fair(lifted, f, free, order=3, operator="clamped")[:, 2]).max() < 1e-12
