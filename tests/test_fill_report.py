@@ -5,6 +5,7 @@ fills close off a tube cut across (the topology of :mod:`surfinpaint.fill.topolo
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
@@ -336,3 +337,53 @@ def test_the_torus_warning_reaches_the_command_line(tmp_path, capsys):
     assert err.count(_flat("changed the surface's genus from 1 to 0")) == 1
     topology = json.loads(report.read_text("utf-8"))["topology"]
     assert [(t["holes"], t["before"], t["after"]) for t in topology] == [([0, 1], 1, 0)]
+
+
+# ----------------------------------------------------------------------- batch
+
+
+def test_batch_summary_carries_each_files_holes(three_holes, tmp_path):
+    from surfinpaint.app.batch import SUMMARY_JSON, fill_files, read_summary
+    from surfinpaint.app.fill_report import HoleRecord
+
+    path, v, f = three_holes
+    sizes = sorted(h.n_edges for h in find_holes(v, f))
+    v2, f2 = _torus_cut()
+    torus_path = tmp_path / "torus.ply"
+    write_mesh(torus_path, v2, f2)
+    rows = fill_files([path, torus_path], tmp_path / "out", jobs=1, method="fair",
+                      max_hole_edges=sizes[1])
+    document = json.loads((tmp_path / "out" / SUMMARY_JSON).read_text("utf-8"))
+    for mesh, row, entry in zip([(v, f), (v2, f2)], rows, document["files"], strict=True):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            result = fill_holes(*mesh, method="fair", max_hole_edges=sizes[1])
+        expected = [HoleRecord.of(r) for r in result.reports]
+        assert [h["index"] for h in entry["holes"]] == [r.index for r in result.reports]
+        assert [h["outcome"] for h in entry["holes"]] == [r.outcome for r in result.reports]
+        assert [h["new_faces"] for h in entry["holes"]] == [r.new_faces for r in result.reports]
+        # read back: the same typed records (the times aside)
+        assert [dataclasses.replace(h, seconds=0.0) for h in row.holes] == \
+            [dataclasses.replace(h, seconds=0.0) for h in expected]
+    assert [h["outcome"] for h in document["files"][0]["holes"]].count("skipped") == 1
+    back = read_summary(tmp_path / "out")
+    assert [r.holes for r in back] == [r.holes for r in rows]
+
+
+def test_hole_record_json_round_trip_keeps_a_failed_candidate():
+    verdict = choose({"conformal": math.inf, "fair2": 0.01, "fair3": 0.02}, {})
+    report = HoleReport(index=4, loop=np.arange(20), n_edges=20, requested="conformal",
+                        method="fair", new_vertices=7, new_faces=24, verdict=verdict,
+                        fair_order=3, diameter=2.0, fallback="the λ-H solve diverged")
+    from surfinpaint.app.fill_report import HoleRecord
+
+    record = HoleRecord.of(report)
+    text = json.dumps(record.to_json(), allow_nan=False)  # valid JSON: no Infinity
+    loaded = json.loads(text)
+    assert loaded["self_check"] == [{"test": "hidden rings", "lambda_h": None,
+                                     "bilaplacian": 0.01, "trilaplacian": 0.02,
+                                     "failed": ["lambda_h"]}]
+    assert (loaded["outcome"], loaded["fairing"], loaded["fair_order"]) == \
+        ("faired", "trilaplacian", 3)
+    assert loaded["lambda_h_failure"] == "the λ-H solve diverged"
+    assert HoleRecord.from_json(loaded) == record

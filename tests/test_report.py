@@ -15,6 +15,7 @@ from surfinpaint.app.report import (
     compare_holes,
     hole_title,
     hole_truths,
+    table_rows,
 )
 from surfinpaint.data import sphere
 from surfinpaint.errors import MeshError
@@ -74,6 +75,11 @@ def test_compare_holes_measures_both_fills(holed_sphere):
                                        truth=truth)
     assert [c.index for c in comparisons] == [0, 1]
     for c, hole in zip(comparisons, cut.holes, strict=True):
+        # the page says what was written in the words of `fill`'s report, no jargon
+        outcome = table_rows([c])[1][0][5]
+        assert outcome.startswith("λ-H fill; self-check on hidden rings: λ-H " if c.kept
+                                  else "faired fill (")
+        assert "fair2" not in outcome and "inf" not in outcome
         assert c.n_edges == len(hole.loop)
         assert c.diameter == pytest.approx(hole.diameter, rel=1e-9)
         assert set(c.errors) == {"fair", "conformal", "conformal raw"}

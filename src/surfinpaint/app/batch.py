@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
@@ -80,7 +81,8 @@ class FileRow:
     whose fill was kept per method (a conformal fill can fall back to, or prefer, "fair"),
     ``seconds`` the wall time of reading, filling and writing the file, and ``message``
     the warnings and notes of the fill, or the error. ``path`` is the input as given,
-    ``output`` the output's path relative to the output folder.
+    ``output`` the output's path relative to the output folder, ``holes`` what happened to
+    each hole (as ``surfinpaint fill --json`` says it; in ``summary.json`` only).
     """
 
     path: str
@@ -92,6 +94,7 @@ class FileRow:
     new_vertices: int | None = None
     seconds: float = 0.0
     message: str = ""
+    holes: tuple[HoleRecord, ...] = ()
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -221,7 +224,8 @@ def _row_of(job: FileJob, result: FillResult, seconds: float, message: str) -> F
     return FileRow(job.name, job.output, "filled" if result.reports else "closed",
                    holes_found=len(result.reports), holes_filled=filled, kept=kept,
                    new_vertices=len(result.vertices) - result.n_original_vertices,
-                   seconds=seconds, message=message)
+                   seconds=seconds, message=message,
+                   holes=tuple(HoleRecord.of(r) for r in result.reports))
 
 
 def _error_text(job: FileJob, exc: Exception) -> str:
@@ -418,19 +422,13 @@ def _csv_columns() -> list[str]:
 
 
 def _csv_record(row: FileRow) -> dict[str, Any]:
-    record = dataclasses.asdict(row)
+    record = dataclasses.asdict(dataclasses.replace(row, holes=()))
+    del record["holes"]  # summary.json only
     kept = record.pop("kept")
     record.update({f"kept_{m}": kept.get(m, 0) if row.holes_found is not None else None
                    for m in METHODS})
     record["seconds"] = f"{row.seconds:.3f}"
     return record
-
-
-def _plain(options: Any) -> Any:
-    if dataclasses.is_dataclass(options) and not isinstance(options, type):
-        return dataclasses.asdict(options)
-    return {k: _plain(v) for k, v in options.items()} if isinstance(options, Mapping) \
-        else options
 
 
 def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
@@ -444,12 +442,13 @@ def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
     writer = csv.DictWriter(text, fieldnames=_csv_columns(), lineterminator="\n")
     writer.writeheader()
     writer.writerows(_csv_record(row) for row in rows)
-    document = {"surfinpaint": __version__, "options": _plain(options or {}),
-                "files": [dataclasses.asdict(row) for row in rows]}
+    document = {"surfinpaint": __version__, "options": plain(dict(options or {})),
+                "files": [{**plain(dataclasses.replace(row, holes=())),
+                           "holes": [h.to_json() for h in row.holes]} for row in rows]}
     with atomic_open(out / SUMMARY_CSV, "w") as handle:
         handle.write(text.getvalue())
     with atomic_open(out / SUMMARY_JSON, "w") as handle:
-        json.dump(document, handle, indent=1, default=str)
+        json.dump(document, handle, indent=1, allow_nan=False)
         handle.write("\n")
     return out / SUMMARY_CSV, out / SUMMARY_JSON
 
@@ -459,7 +458,9 @@ def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
     it is only used to carry the counts of an earlier run into a rerun's skipped rows)."""
     try:
         document = json.loads((Path(out_dir) / SUMMARY_JSON).read_text(encoding="utf-8"))
-        return [FileRow(**entry) for entry in document["files"]]
+        return [FileRow(**{**entry, "holes": tuple(HoleRecord.from_json(h) for h in
+                                                   entry.get("holes", ()))})
+                for entry in document["files"]]
     except (OSError, ValueError, KeyError, TypeError):
         return []
 

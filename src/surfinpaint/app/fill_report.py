@@ -21,7 +21,7 @@ from typing import Any
 from surfinpaint.fill.results import FillResult, HoleReport, TestScores
 from surfinpaint.io.atomic import atomic_open
 
-__all__ = ["FAIRING", "REPORT_VERSION", "Summary", "WarningCount", "count_warnings",
+__all__ = ["FAIRING", "REPORT_VERSION", "HoleRecord", "Summary", "WarningCount", "count_warnings",
            "hole_lines", "plain", "print_warnings", "report_document", "summary_lines", "tell",
            "write_json_report", "written"]
 
@@ -191,26 +191,69 @@ def _score(value: float | None) -> float | None:
     return value if value is not None and math.isfinite(value) else None
 
 
-def _test_record(test: TestScores) -> dict[str, Any]:
+def _test_json(test: TestScores) -> dict[str, Any]:
     names = [name for name, _ in _CANDIDATES]
     return {"test": test.test, **{name: _score(getattr(test, name)) for name in names},
             "failed": [name for name in names if getattr(test, name) is not None
                        and not math.isfinite(getattr(test, name))]}
 
 
-def _hole_record(r: HoleReport) -> dict[str, Any]:
-    filled = r.outcome in ("lambda-h", "faired")
-    return {
-        "index": r.index, "boundary_edges": r.n_edges, "diameter": _score(r.diameter),
-        "outcome": r.outcome, "requested": r.requested,
-        "fairing": FAIRING.get(r.fair_order) if r.outcome == "faired" else None,
-        "fair_order": r.fair_order if r.outcome == "faired" else None,
-        "new_vertices": r.new_vertices, "new_faces": r.new_faces, "seconds": r.seconds,
-        "reason": None if filled else r.skipped,
-        "lambda_h_failure": r.fallback,
-        "self_check": [_test_record(t) for t in r.self_check],
-        "crease": r.crease, "note": r.note,
-    }
+def _test_from_json(record: Mapping[str, Any]) -> TestScores:
+    failed = set(record.get("failed", ()))
+    return TestScores(record["test"], **{
+        name: math.inf if name in failed else record.get(name) for name, _ in _CANDIDATES})
+
+
+@dataclass(frozen=True)
+class HoleRecord:
+    """One hole of the ``--json`` report (and of ``batch``'s ``summary.json``): what a
+    :class:`~surfinpaint.fill.results.HoleReport` says, in JSON types (fields:
+    ``docs/report.md``). ``diameter`` and the self-check's scores are in mesh units;
+    ``reason`` says why a hole was skipped or failed, ``lambda_h_failure`` why the λ-H fill
+    failed where a faired fill was written instead."""
+
+    index: int
+    boundary_edges: int
+    diameter: float | None
+    outcome: str
+    requested: str
+    fairing: str | None
+    fair_order: int | None
+    new_vertices: int
+    new_faces: int
+    seconds: float
+    reason: str | None
+    lambda_h_failure: str | None
+    self_check: tuple[TestScores, ...]
+    crease: str | None
+    note: str | None
+
+    @classmethod
+    def of(cls, r: HoleReport) -> HoleRecord:
+        faired = r.outcome == "faired"
+        return cls(index=int(r.index), boundary_edges=int(r.n_edges),
+                   diameter=_score(float(r.diameter)), outcome=r.outcome,
+                   requested=r.requested,
+                   fairing=FAIRING.get(r.fair_order) if faired else None,
+                   fair_order=int(r.fair_order) if faired and r.fair_order else None,
+                   new_vertices=int(r.new_vertices), new_faces=int(r.new_faces),
+                   seconds=float(r.seconds),
+                   reason=r.skipped if r.outcome in ("skipped", "failed") else None,
+                   lambda_h_failure=r.fallback, self_check=r.self_check, crease=r.crease,
+                   note=r.note)
+
+    def to_json(self) -> dict[str, Any]:
+        """As JSON types: a failed candidate's score is null and named in ``failed``."""
+        record = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        record["self_check"] = [_test_json(t) for t in self.self_check]
+        return record
+
+    @classmethod
+    def from_json(cls, record: Mapping[str, Any]) -> HoleRecord:
+        fields = {f.name for f in dataclasses.fields(cls)}
+        values = {k: v for k, v in record.items() if k in fields}
+        values["self_check"] = tuple(_test_from_json(t) for t in record.get("self_check", ()))
+        return cls(**values)
 
 
 def report_document(result: FillResult, summary: Summary, *,
@@ -226,7 +269,7 @@ def report_document(result: FillResult, summary: Summary, *,
     return {
         "surfinpaint": __version__, "report_version": REPORT_VERSION,
         "files": dict(files or {}), "options": plain(dict(options or {})),
-        "holes": [_hole_record(r) for r in result.reports],
+        "holes": [HoleRecord.of(r).to_json() for r in result.reports],
         "summary": plain(summary),
         "topology": [plain(change) for change in result.topology],
         "warnings": [plain(w) for w in warnings_seen],

@@ -43,6 +43,7 @@ from surfinpaint.app.figures import (
     save_figure,
 )
 from surfinpaint.app.fill_options import hole_list
+from surfinpaint.app.fill_report import hole_lines, written
 from surfinpaint.app.lambda_h_images import lambda_h_images
 from surfinpaint.app.progress import console as make_console
 from surfinpaint.app.progress import progress_bar
@@ -195,6 +196,7 @@ def compare_holes(
             scores={} if rc.verdict is None else {
                 name.replace(" ", "_"): scores for name, scores in rc.verdict.tests.items()},
             fair_order=rc.fair_order,
+            written="; ".join([written(rc), *(line.strip() for line in hole_lines(rc)[1:])]),
         )
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)

@@ -51,6 +51,10 @@ class HoleComparison:
         distance and Hausdorff distance to the truth in % of the hole diameter.
     picture : str or None
         File name of the panel.
+    written : str or None
+        What the conformal method wrote, and its self-check, in the words of ``surfinpaint
+        fill``'s report (:mod:`surfinpaint.app.fill_report`); None: from ``kept`` and
+        ``fallback``.
     """
 
     index: int
@@ -64,6 +68,7 @@ class HoleComparison:
     fair_order: int | None = None
     errors: dict = field(default_factory=dict)
     picture: str | None = None
+    written: str | None = None
 
 
 def _fmt(x: float, digits: int = 3) -> str:
@@ -71,6 +76,8 @@ def _fmt(x: float, digits: int = 3) -> str:
 
 
 def _outcome(c: HoleComparison) -> str:
+    if c.written:
+        return c.written
     if c.kept:
         return "kept" + (f" ({c.fallback})" if c.fallback else "")
     if c.fallback and c.fallback.startswith("self-check"):
