@@ -128,7 +128,9 @@ def test_a_failed_lambda_h_candidate_is_said_failed_not_inf():
     assert "→ the λ-H fill failed (the λ-H solve diverged)" in text
     assert "inf" not in text
     verbose = "\n".join(hole_lines(report, verbose=True))
-    assert "bilaplacian 0.50 % (0.01 mesh units)" in verbose
+    assert ("self-check on hidden rings, mean distance to the hidden surface in mesh units (% "
+            "of the hole diameter): λ-H failed, bilaplacian 0.01 (0.50 %), trilaplacian 0.02 "
+            "(1.0 %) → the λ-H fill failed") in verbose
 
 
 # ----------------------------------------------------------------------- the summary

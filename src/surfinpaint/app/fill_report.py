@@ -110,10 +110,13 @@ def _test_line(test: TestScores, diameter: float, verbose: bool) -> str:
         score = getattr(test, name)
         if score is None:
             continue
-        text = f"{word} {_percent(score, diameter)}"
         if verbose and math.isfinite(score):
-            text += f" ({score:.3g} mesh units)"
-        parts.append(text)
+            parts.append(f"{word} {score:.3g} ({_percent(score, diameter)})")
+        else:
+            parts.append(f"{word} {_percent(score, diameter)}")
+    if verbose:
+        return (f"self-check on {test.test}, mean distance to the hidden surface in mesh "
+                "units (% of the hole diameter): " + ", ".join(parts))
     return f"self-check on {test.test}: " + ", ".join(parts) + " of the hole diameter"
 
 
@@ -131,7 +134,8 @@ def _verdict(report: HoleReport) -> str:
 def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
     """The lines that say what happened to one hole: a first line (number, size, what was
     written, what it added) and, after a conformal fill, one line per self-check test;
-    ``verbose`` adds the scores in mesh units, the time and the method's notes."""
+    ``verbose`` adds the scores in mesh units, the time, what the λ-H pass used and what
+    became of a crease across the hole."""
     head = (f"hole {report.index}: {report.n_edges} boundary edges, diameter "
             f"{report.diameter:.3g} mesh units → {written(report)}")
     if report.outcome in ("lambda-h", "faired"):
@@ -153,8 +157,9 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
                          f"{diagnostics.rings} rings of known surface, damping "
                          f"{diagnostics.damping:.2g}"
                          + (f", map {diagnostics.mesh.map}" if diagnostics.mesh else ""))
-        if report.note:
-            lines.append(f"  note: {report.note}")
+        for note in (report.crease, report.crease_failure):
+            if note:
+                lines.append(f"  crease: {note}")
     return lines
 
 
@@ -226,6 +231,7 @@ class HoleRecord:
     lambda_h_failure: str | None
     self_check: tuple[TestScores, ...]
     crease: str | None
+    crease_failure: str | None
     note: str | None
 
     @classmethod
@@ -240,7 +246,7 @@ class HoleRecord:
                    seconds=float(r.seconds),
                    reason=r.skipped if r.outcome in ("skipped", "failed") else None,
                    lambda_h_failure=r.fallback, self_check=r.self_check, crease=r.crease,
-                   note=r.note)
+                   crease_failure=r.crease_failure, note=r.note)
 
     def to_json(self) -> dict[str, Any]:
         """As JSON types: a failed candidate's score is null and named in ``failed``."""

@@ -192,6 +192,7 @@ def _record(report: HoleReport, fill: Fill) -> None:
     report.fair_order = fill.fair_order
     report.verdict, report.crease, report.diagnostics = (fill.verdict, fill.crease,
                                                           fill.diagnostics)
+    report.crease_failure = fill.crease_failure
     if fill.failure:
         report.fallback = fill.failure
         warnings.warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "

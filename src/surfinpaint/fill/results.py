@@ -213,8 +213,9 @@ class HoleReport:
     failed rather than a choice or a loop that cannot be filled). ``diameter`` is the largest
     distance between two of the loop's vertices, in mesh units. ``fair_order`` is the fairing
     order of a faired fill, ``verdict`` the conformal method's self-check, ``crease`` says
-    that a crease crossing the hole was continued across it, and ``diagnostics`` what the
-    λ-H pass used (see :class:`Fill`).
+    that a crease crossing the hole was continued across it (``crease_failure``: that its crease
+    fill failed and it was filled as smooth), and ``diagnostics`` what the λ-H pass used (see
+    :class:`Fill`).
     """
 
     index: int
@@ -234,6 +235,7 @@ class HoleReport:
     diagnostics: LambdaHDiagnostics | None = None
     diameter: float = float("nan")
     failed: bool = False
+    crease_failure: str | None = None
 
     @property
     def outcome(self) -> Outcome:
