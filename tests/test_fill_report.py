@@ -174,6 +174,10 @@ def test_summary_counts_a_failed_and_a_skipped_hole(three_holes, tmp_path, capsy
     s = document["summary"]
     assert (s["holes_found"], s["lambda_h"], s["faired"], s["skipped"], s["failed"]) == \
         (3, 0, 1, 1, 1)
+    # the failure's warning is said once, in the hole's line, not again at the end; the
+    # JSON lists it
+    assert "warning:" not in err and err.count("zero-area") == 1
+    assert [(w["category"], w["count"]) for w in document["warnings"]] == [("HoleWarning", 1)]
     assert s["new_vertices"] == by_size[sizes[1]]["new_vertices"]
     assert s["new_faces"] == by_size[sizes[1]]["new_faces"] > 0
     failed = by_size[sizes[0]]["index"]
@@ -228,7 +232,7 @@ def test_quiet_prints_nothing_but_errors(three_holes, tmp_path, capsys, monkeypa
     argv = ["fill", str(path), "-o", str(tmp_path / "o.ply"), "--method", "fair",
             "--max-hole-edges", str(sizes[1]), "--jobs", "1"]
     assert main(argv) == 0
-    assert "warning" in capsys.readouterr().err  # there is something to keep quiet
+    assert "failed:" in capsys.readouterr().err  # there is something to keep quiet
     assert main([*argv, "-q"]) == 0
     captured = capsys.readouterr()
     assert captured.err == "" and captured.out == ""

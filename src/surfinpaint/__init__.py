@@ -14,7 +14,7 @@ The main entry points work on plain numpy arrays::
 """
 
 from surfinpaint.app.batch import FileRow, fill_files
-from surfinpaint.errors import FillError, MeshError
+from surfinpaint.errors import FillError, HoleWarning, MeshError
 from surfinpaint.fill.conformal import ConformalOptions, GridOptions, Verdict, choose
 from surfinpaint.fill.holes import Hole, find_holes
 from surfinpaint.fill.liepa.baseline import conventional_fill
@@ -43,6 +43,7 @@ __all__ = [
     "GridOptions",
     "Hole",
     "HoleReport",
+    "HoleWarning",
     "LambdaH",
     "MeshLambdaH",
     "MeshError",

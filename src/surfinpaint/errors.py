@@ -43,6 +43,13 @@ class FillError(RuntimeError):
     """A hole could not be filled by the requested method (the caller may fall back)."""
 
 
+class HoleWarning(UserWarning):
+    """One hole's fill is not what was asked: the hole was skipped, its fill failed, or the
+    λ-H fill fell back to a faired fill. Its :class:`~surfinpaint.fill.results.HoleReport`
+    says the same, so ``surfinpaint fill`` prints it in that hole's lines, not again at the
+    end."""
+
+
 # what a numerical step raises when it fails: FillError is a RuntimeError, MeshError and
 # numpy's LinAlgError are ValueErrors (scipy's singular factorizations raise RuntimeError)
 NUMERICAL_ERRORS = (ValueError, RuntimeError)

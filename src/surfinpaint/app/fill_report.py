@@ -18,6 +18,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from surfinpaint.errors import HoleWarning
 from surfinpaint.fill.results import FillResult, HoleReport, TestScores
 from surfinpaint.io.atomic import atomic_open
 
@@ -307,7 +308,8 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
          options: Mapping[str, Any] | None = None) -> list[WarningCount]:
     """Say what a fill did: write the ``--json`` report (``json_path``), and print on
     ``console`` (None: print nothing) the lines of each hole, the summary and each warning
-    caught once. Returns the warnings counted."""
+    caught once (but a :class:`~surfinpaint.errors.HoleWarning`: the hole's lines say it).
+    Returns the warnings counted (all of them: the ``--json`` report lists them too)."""
     from rich.markup import escape
 
     seen = count_warnings(caught)
@@ -322,5 +324,6 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
     if result.reports:
         for line in summary_lines(summary):
             console.print(escape(line))
-    print_warnings(console, seen)
+    # what the hole lines said already is not said again
+    print_warnings(console, [w for w in seen if w.category != HoleWarning.__name__])
     return seen

@@ -18,7 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import HoleWarning, MeshError
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
@@ -161,7 +161,7 @@ class _FilledMesh:
 def _skip(report: HoleReport, reason: str) -> None:
     report.skipped = reason
     report.method = "none"
-    warnings.warn(f"hole {report.index}: {reason}; skipped", stacklevel=5)
+    warnings.warn(f"hole {report.index}: {reason}; skipped", HoleWarning, stacklevel=5)
 
 
 def _problem(local: _Local, index: int, explicit: bool) -> str | None:
@@ -196,7 +196,8 @@ def _record(report: HoleReport, fill: Fill) -> None:
     if fill.failure:
         report.fallback = fill.failure
         warnings.warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "
-                      f"the faired fill (order {fill.fair_order}) instead", stacklevel=5)
+                      f"the faired fill (order {fill.fair_order}) instead", HoleWarning,
+                      stacklevel=5)
 
 
 def _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings
