@@ -47,10 +47,10 @@ _FORMAT = 2
 # the automatic grid export: nodes along the long side at most / at least
 _MAX_RESOLUTION = 1024
 _MIN_RESOLUTION = 64
-# Newton steps of the mesh rebuild (damped Newton, then pseudo-transient continuation): every
-# benchmark disk that converges does so in at most 10 (benchmarks/represent_speed.py); the
-# rest fail slowly, so a small budget makes the failure quick and says so
-MAX_STEPS = 60
+# sparse factorizations of the mesh rebuild (damped Newton, then pseudo-arclength
+# continuation): the benchmark disks that converge do so within 60
+# (benchmarks/represent_speed.py, docs/representation.md); the budget bounds a failure's time
+MAX_STEPS = 150
 
 
 @dataclass
@@ -246,7 +246,7 @@ def rebuild(rep: MeshLambdaH | LambdaH, method: str = "laplacian", *,
         Mesh only: replace the conformality defect (zeros: the paper's ``Δφ = 2λ²H n``).
     tol, max_iter : float, int, optional
         Tolerance and iteration budget: on the mesh, Newton's (relative to the border's
-        diagonal; default 1e-10 and MAX_STEPS = 60 steps,
+        diagonal; default 1e-10 and MAX_STEPS = 150 factorizations,
         :func:`~surfinpaint.representation.mesh_lambda_h.rebuild_on_mesh`); on the grid,
         the Laplacian iteration's (``reconstruct``'s defaults).
     **options
@@ -277,7 +277,8 @@ def rebuild(rep: MeshLambdaH | LambdaH, method: str = "laplacian", *,
                                 rep.lam if lam is None else lam, rep.H if H is None else H,
                                 rep.defect if defect is None else defect, rep.known,
                                 tol=1e-10 if tol is None else tol,
-                                max_iter=MAX_STEPS if max_iter is None else max_iter)
+                                max_iter=MAX_STEPS if max_iter is None else max_iter,
+                                select_by_area=lam is None and H is None and defect is None)
         out = Rebuilt(solve.points, rep.faces.copy(), solve.converged, solve.iterations,
                       solve.message, solve.seconds)
     if not out.converged:
