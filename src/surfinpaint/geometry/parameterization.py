@@ -25,7 +25,11 @@ import scipy.sparse as sp
 from scipy.sparse import csgraph
 
 from surfinpaint.errors import MeshError, preview
-from surfinpaint.geometry.linalg import factorized_definite
+from surfinpaint.geometry.linalg import (
+    factorized_definite,
+    factorized_definite_ordered,
+    nested_dissection,
+)
 from surfinpaint.geometry.mesh import (
     boundary_halfedges,
     boundary_loops,
@@ -217,10 +221,15 @@ def lscm(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         # SuperLU's complex factorization is slow on large meshes (measured, 20k vertices:
         # 19.7 s complex, 2.9 s for the equivalent real symmetric form in 2n unknowns;
         # 5k: 2.2 s / 0.36 s; 1.3k: 0.03 / 0.06 s): below the threshold, where every fill
-        # patch lies, the complex solve stays (bit-identical results)
+        # patch lies, the complex solve stays (bit-identical results). Nested dissection
+        # over the vertices, u and v of a vertex together, halves the factorization's time
+        # against minimum degree (105k vertices: 2.4 s / 5.0 s of CPU)
         Qr = Qf[:, free]
         real = sp.bmat([[Qr.real, -Qr.imag], [Qr.imag, Qr.real]]).tocsc()
-        x = factorized_definite(real)(np.concatenate([rhs.real, rhs.imag]))
+        m = Qr.shape[0]
+        order = np.repeat(nested_dissection(Qr, v[free]), 2)
+        order[1::2] += m
+        x = factorized_definite_ordered(real, order)(np.concatenate([rhs.real, rhs.imag]))
         z[free] = x[:len(rhs)] + 1j * x[len(rhs):]
     else:
         z[free] = factorized_definite(Qf[:, free])(rhs)
