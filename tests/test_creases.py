@@ -140,7 +140,7 @@ def test_split_fill_of_a_curved_crease_stays_on_the_lens():
 
 
 def test_split_fill_failure_is_a_fill_error(monkeypatch):
-    import surfinpaint.fill.liepa.triangulation as triangulation
+    import surfinpaint.fill.creases as creases
     from surfinpaint.errors import MeshError
 
     cut = _cube_hole()
@@ -149,7 +149,7 @@ def test_split_fill_failure_is_a_fill_error(monkeypatch):
     def broken(*args, **kwargs):
         raise MeshError("no triangulation")
 
-    monkeypatch.setattr(triangulation, "minimum_weight_triangulation", broken)
+    monkeypatch.setattr(creases, "minimum_weight_triangulation", broken)
     with pytest.raises(FillError, match="two sides of the crease"):
         split_fill(cut.vertices, cut.faces, cut.loop, crease)
 

@@ -152,3 +152,22 @@ def test_faces_near_grows_by_rings():
         within = k_ring(f, seeds, rings, len(v))
         assert np.array_equal(near, f[within[f].any(axis=1)])
     assert len(faces_near(f, seeds, 0, len(v))) < len(faces_near(f, seeds, 2, len(v)))
+
+
+def test_orient_loop_accepts_interior_edges_only_when_asked():
+    from surfinpaint.geometry.mesh import orient_loop
+
+    f = np.array([[0, 1, 2], [0, 2, 3]])
+    assert orient_loop(f, [3, 2, 1, 0]).tolist() == [0, 1, 2, 3]
+    assert orient_loop(f, np.array([1, 2, 3, 0])).tolist() == [1, 2, 3, 0]
+    # (2, 0) is the diagonal between the two faces: a mesh edge, not a boundary edge
+    with pytest.raises(MeshError, match="not joined by a boundary edge"):
+        orient_loop(f, [0, 1, 2])
+    assert orient_loop(f, [2, 1, 0], boundary=False).tolist() == [0, 1, 2]
+    with pytest.raises(MeshError, match="not edges of the mesh"):
+        orient_loop(f, [0, 1, 3], boundary=False)
+    with pytest.raises(MeshError, match="repeat"):
+        orient_loop(f, [0, 1, 2, 1])
+    # faces of opposite orientations: the loop runs with one and against the other
+    with pytest.raises(MeshError, match="not consistently oriented"):
+        orient_loop(np.array([[0, 1, 2], [0, 3, 2]]), [0, 1, 2, 3], boundary=False)

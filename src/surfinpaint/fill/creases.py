@@ -27,8 +27,11 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import FillError, MeshError
+from surfinpaint.fill.liepa.fairing import fair
+from surfinpaint.fill.liepa.refinement import boundary_scales, refine_patch
+from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
 from surfinpaint.geometry.edges import edge_keys
-from surfinpaint.geometry.mesh import edge_faces, face_normals, faces_near
+from surfinpaint.geometry.mesh import edge_faces, face_normals, faces_near, orient_loop
 
 __all__ = ["Crease", "crease_curve", "cut_along", "hole_crease", "sharp_edges",
            "split_fill"]
@@ -321,16 +324,12 @@ def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, crease
     FillError
         When a side cannot be triangulated or faired.
     """
-    from surfinpaint.fill.liepa.fairing import fair
-    from surfinpaint.fill.liepa.refinement import boundary_scales, refine_patch
-    from surfinpaint.fill.liepa.triangulation import _orient_loop, minimum_weight_triangulation
-
     v = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     given = np.asarray(loop, dtype=np.int64)
     n = len(v)
     try:
-        loop = _orient_loop(given, faces)
+        loop = orient_loop(faces, given, boundary=False)
     except MeshError as err:
         raise FillError(f"cannot fill the two sides of the crease: {err}") from err
     ia, ib = (int(i) for i in crease.ends)

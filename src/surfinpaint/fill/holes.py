@@ -9,8 +9,10 @@ import numpy as np
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.mesh import boundary_loops, face_areas
+from surfinpaint.geometry.mesh import boundary_loops, face_areas, orient_loop
 
+# orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
+# callers picking holes look for it
 __all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop"]
 
 # A component's longest loop is its outer border when the area the loop spans is at least
@@ -127,39 +129,6 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray,
                  diameter=loop_diameter(points), component=component, is_border=is_border)
         )
     return holes
-
-
-def orient_loop(faces: np.ndarray, loop: Sequence[int]) -> np.ndarray:
-    """A caller's boundary loop (any start, any direction) as the mesh's oriented loop.
-
-    Raises
-    ------
-    MeshError
-        When consecutive ids are not joined by a boundary edge of the mesh, or the loop's
-        edges disagree on the direction.
-    """
-    from surfinpaint.fill.liepa.triangulation import _halfedge_faces
-
-    loop = np.asarray(loop, dtype=np.int64).ravel()
-    if len(loop) < 3:
-        raise MeshError(f"a hole loop needs at least 3 vertices, got {len(loop)}")
-    if len(np.unique(loop)) != len(loop):
-        raise MeshError("a hole loop must not repeat a vertex", vertices=loop.tolist())
-    forward, backward = _halfedge_faces(faces, loop)
-    # a boundary edge has a face on one side only
-    bad = np.flatnonzero((forward >= 0) == (backward >= 0))
-    if len(bad):
-        pairs = [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in bad]
-        raise MeshError(
-            f"vertices {pairs[0][0]} and {pairs[0][1]} of the given loop are not joined by a "
-            "boundary edge of the mesh",
-            edges=pairs[:10],
-        )
-    if (forward >= 0).all():
-        return loop
-    if (backward >= 0).all():
-        return loop[::-1].copy()
-    raise MeshError("the given loop mixes both directions of the boundary")
 
 
 def select_holes(

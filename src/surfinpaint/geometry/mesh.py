@@ -7,10 +7,12 @@ All functions take plain arrays: ``vertices`` is an ``(n, 3)`` float array, ``fa
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import scipy.sparse as sp
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.edges import EdgeTable
 
 __all__ = [
@@ -18,6 +20,8 @@ __all__ = [
     "boundary_loops",
     "edge_faces",
     "faces_near",
+    "halfedge_faces",
+    "orient_loop",
     "connected_components",
     "cotangent_laplacian",
     "edge_lengths",
@@ -187,6 +191,119 @@ def _split_pinched(loop: np.ndarray) -> list[np.ndarray]:
     if stack:
         out.append(np.array(stack, dtype=np.int64))
     return [p for p in out if len(p) >= 3] or [np.asarray(loop, dtype=np.int64)]
+
+
+def halfedge_faces(faces: np.ndarray, loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The faces on either side of each edge of a closed loop of vertices.
+
+    Parameters
+    ----------
+    faces : (f, 3) int array
+    loop : (k,) int array
+        Vertex ids in order; edge ``i`` runs from ``loop[i]`` to ``loop[(i + 1) % k]``.
+
+    Returns
+    -------
+    forward, backward : (k,) int64 arrays
+        For each loop edge: the face holding it as a half-edge in the loop's direction, and
+        the face holding it reversed; -1 where there is none (the last such face where
+        several do, on a non-manifold or inconsistently oriented mesh).
+
+    Examples
+    --------
+    >>> f = np.array([[0, 1, 2], [0, 2, 3]])
+    >>> [side.tolist() for side in halfedge_faces(f, np.array([0, 1, 2, 3]))]
+    [[0, 0, 1, 1], [-1, -1, -1, -1]]
+    """
+    faces = np.asarray(faces, dtype=np.int64)
+    loop = np.asarray(loop, dtype=np.int64)
+    k = len(loop)
+    a, b = loop, np.roll(loop, -1)
+    # only faces touching the loop matter; keeps the search local on big meshes
+    n = int(max(faces.max(initial=-1), loop.max())) + 1
+    on_loop = np.zeros(n, dtype=bool)
+    on_loop[loop] = True
+    near = np.flatnonzero(on_loop[faces].any(axis=1))
+    f = faces[near]
+    tail = f.ravel()
+    head = f[:, [1, 2, 0]].ravel()
+    owner = np.repeat(near, 3)
+    key = tail * n + head
+    order = np.argsort(key, kind="stable")
+    key, owner = key[order], owner[order]
+
+    def lookup(q: np.ndarray) -> np.ndarray:
+        pos = np.clip(np.searchsorted(key, q), 0, max(len(key) - 1, 0))
+        hit = (key[pos] == q) if len(key) else np.zeros(k, dtype=bool)
+        return np.where(hit, owner[pos] if len(key) else -1, -1)
+
+    return lookup(a * n + b), lookup(b * n + a)
+
+
+def orient_loop(faces: np.ndarray, loop: np.ndarray | Sequence[int], *,
+                boundary: bool = True) -> np.ndarray:
+    """A closed loop of vertices (any start, either direction), reversed if needed so that
+    it follows the half-edges of the faces beside it: the orientation
+    :func:`boundary_loops` returns.
+
+    Parameters
+    ----------
+    faces : (f, 3) int array
+    loop : (k,) int sequence
+        Vertex ids in order, k >= 3, none repeated.
+    boundary : bool
+        True (a hole's loop, e.g. one a caller gives): every loop edge must be a boundary
+        edge, with a face on one side only. False: any edge of the mesh will do, for a loop
+        that only needs the direction of the faces along it (the Liepa fill checks the
+        boundary itself, with its own message).
+
+    Returns
+    -------
+    (k,) int64 array
+        ``loop`` itself or a reversed copy.
+
+    Raises
+    ------
+    MeshError
+        When the loop is shorter than 3 or repeats a vertex, when consecutive ids are not
+        joined by an edge of the mesh (by a boundary edge, with ``boundary``), or when the
+        loop's edges disagree on the direction.
+
+    Examples
+    --------
+    >>> f = np.array([[0, 1, 2], [0, 2, 3]])
+    >>> orient_loop(f, [3, 2, 1, 0]).tolist()
+    [0, 1, 2, 3]
+    """
+    loop = np.asarray(loop, dtype=np.int64).ravel()
+    if len(loop) < 3:
+        raise MeshError(f"a hole loop needs at least 3 vertices, got {len(loop)}")
+    if len(np.unique(loop)) != len(loop):
+        raise MeshError("a hole loop must not repeat a vertex", vertices=loop.tolist())
+    forward, backward = halfedge_faces(faces, loop)
+
+    def edges_at(bad: np.ndarray) -> list[tuple[int, int]]:
+        return [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in bad]
+
+    if boundary:
+        # a boundary edge has a face on one side only
+        bad = edges_at(np.flatnonzero((forward >= 0) == (backward >= 0)))
+        if bad:
+            raise MeshError(
+                f"vertices {bad[0][0]} and {bad[0][1]} of the given loop are not joined by a "
+                "boundary edge of the mesh", edges=bad[:10])
+    bad = edges_at(np.flatnonzero((forward < 0) & (backward < 0)))
+    if bad:
+        raise MeshError(f"loop edges {preview(bad)} are not edges of the mesh", edges=bad[:10])
+    if (forward >= 0).all():
+        return loop
+    if (backward >= 0).all():
+        return loop[::-1].copy()
+    bad = edges_at(np.flatnonzero(forward < 0))
+    raise MeshError(
+        f"loop is not consistently oriented with the mesh faces at edges {preview(bad)}",
+        edges=bad[:10],
+    )
 
 
 def vertex_adjacency(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:

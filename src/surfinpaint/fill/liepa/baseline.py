@@ -12,9 +12,9 @@ import numpy as np
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.fill.liepa.fairing import fair as fair_patch
 from surfinpaint.fill.liepa.refinement import refine_patch
-from surfinpaint.fill.liepa.triangulation import _orient_loop, minimum_weight_triangulation
+from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
 from surfinpaint.geometry.edges import edge_keys
-from surfinpaint.geometry.mesh import faces_near
+from surfinpaint.geometry.mesh import faces_near, orient_loop
 
 __all__ = ["conventional_fill", "faired_fill", "faired_fills"]
 
@@ -102,7 +102,7 @@ def conventional_fill(
         raise FillError(f"faces must be an (f, 3) array, got shape {faces.shape}")
     faces = _neighbourhood(faces, loop, n, max(order - 2, 0))
     try:
-        loop = _orient_loop(loop, faces)
+        loop = orient_loop(faces, loop, boundary=False)
         _check_boundary(faces, loop)
         patch = minimum_weight_triangulation(v, loop, faces, search=search)
         new_v = np.empty((0, 3))

@@ -25,6 +25,7 @@ import numpy as np
 
 from surfinpaint.compiled import Kernel
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.mesh import halfedge_faces, orient_loop
 
 __all__ = ["CDT_MAX_EDGES", "SEARCHES", "minimum_weight_triangulation"]
 
@@ -41,62 +42,6 @@ _ANGLE_TIE = 1e-12
 # set above that of any fold (at most 2), so it is used only when nothing else is possible.
 _DEGENERATE = 1e-12
 _DEGENERATE_BEND = 3.0
-
-
-def _halfedge_faces(faces: np.ndarray, loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """For each loop edge (loop[i], loop[i+1]): the face holding it as a half-edge in that
-    direction (-1 if none) and the face holding it reversed (-1 if none)."""
-    faces = np.asarray(faces, dtype=np.int64)
-    k = len(loop)
-    a, b = loop, np.roll(loop, -1)
-    # only faces touching the loop matter; keeps the search local on big meshes
-    n = int(max(faces.max(initial=-1), loop.max())) + 1
-    on_loop = np.zeros(n, dtype=bool)
-    on_loop[loop] = True
-    near = np.flatnonzero(on_loop[faces].any(axis=1))
-    f = faces[near]
-    tail = f.ravel()
-    head = f[:, [1, 2, 0]].ravel()
-    owner = np.repeat(near, 3)
-    key = tail * n + head
-    order = np.argsort(key, kind="stable")
-    key, owner = key[order], owner[order]
-
-    def lookup(q: np.ndarray) -> np.ndarray:
-        pos = np.clip(np.searchsorted(key, q), 0, max(len(key) - 1, 0))
-        hit = (key[pos] == q) if len(key) else np.zeros(k, dtype=bool)
-        return np.where(hit, owner[pos] if len(key) else -1, -1)
-
-    return lookup(a * n + b), lookup(b * n + a)
-
-
-def _orient_loop(loop: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """The loop, reversed if needed so that it follows the half-edges of the faces beside it
-    (the orientation :func:`surfinpaint.geometry.mesh.boundary_loops` returns).
-
-    Raises
-    ------
-    MeshError
-        If some loop edge is not an edge of any face, or the loop's edges disagree on the
-        orientation (the loop is not a boundary of a consistently oriented mesh).
-    """
-    loop = np.asarray(loop, dtype=np.int64)
-    forward, backward = _halfedge_faces(faces, loop)
-    missing = np.flatnonzero((forward < 0) & (backward < 0))
-    if len(missing):
-        bad = [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in missing]
-        raise MeshError(
-            f"loop edges {preview(bad)} are not edges of the mesh", edges=bad[:10]
-        )
-    if (forward >= 0).all():
-        return loop
-    if (backward >= 0).all():
-        return loop[::-1].copy()
-    bad = [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in np.flatnonzero(forward < 0)]
-    raise MeshError(
-        f"loop is not consistently oriented with the mesh faces at edges {preview(bad)}",
-        edges=bad[:10],
-    )
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -178,12 +123,12 @@ def minimum_weight_triangulation(
     forbidden = np.zeros((k, k), dtype=bool)
     if faces is not None:
         faces = np.asarray(faces, dtype=np.int64)
-        loop = _orient_loop(loop, faces)
+        loop = orient_loop(faces, loop, boundary=False)
     # the dynamic program is not invariant under rotating the loop (ties, and the closing
     # edge is special); a canonical start makes the result independent of the caller's
     loop = np.roll(loop, -int(np.argmin(loop)))
     if faces is not None:
-        owner, _ = _halfedge_faces(faces, loop)
+        owner, _ = halfedge_faces(faces, loop)
         f = faces[owner]
         boundary_normal = _unit(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]))
         forbidden = _existing_diagonals(faces, loop, len(v))
