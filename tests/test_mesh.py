@@ -11,6 +11,7 @@ from surfinpaint.geometry.mesh import (
     k_ring,
     mass_matrix,
     mean_edge_length,
+    orient_loop,
     unique_edges,
     vertex_normals,
 )
@@ -155,8 +156,6 @@ def test_faces_near_grows_by_rings():
 
 
 def test_orient_loop_accepts_interior_edges_only_when_asked():
-    from surfinpaint.geometry.mesh import orient_loop
-
     f = np.array([[0, 1, 2], [0, 2, 3]])
     assert orient_loop(f, [3, 2, 1, 0]).tolist() == [0, 1, 2, 3]
     assert orient_loop(f, np.array([1, 2, 3, 0])).tolist() == [1, 2, 3, 0]
