@@ -53,15 +53,20 @@ from surfinpaint.geometry.parameterization import flipped_faces, lscm
 
 __all__ = [
     "ATTRIBUTE_KINDS",
+    "DirichletSolve",
     "HoleDomain",
     "MAX_LABELS",
     "attribute_kind",
+    "attribute_rows",
+    "channel_ranges",
     "check_attributes",
     "fill_hole_attributes",
     "fill_result_attributes",
+    "hole_blocks",
     "hole_domain",
     "inpaint_labels",
     "inpaint_values",
+    "labels_by_indicators",
 ]
 
 ATTRIBUTE_KINDS = ("values", "normal", "label")
@@ -123,7 +128,7 @@ def _operators(domain: np.ndarray, faces: np.ndarray) -> tuple[sp.csr_matrix, sp
     return L, (L @ sp.diags(1.0 / m) @ L).tocsr()
 
 
-class _Dirichlet:
+class DirichletSolve:
     """Solves ``(Q x)_free = 0`` with ``x_known = data`` for any number of right-hand sides,
     ``Q`` factorized once (definite on the free block)."""
 
@@ -203,7 +208,7 @@ def inpaint_values(
         return out
     L, Q = _operators(domain, faces)
     flat = out.reshape(len(out), -1)
-    flat[~known] = _Dirichlet(-L if order == 1 else Q, known)(flat[known])
+    flat[~known] = DirichletSolve(-L if order == 1 else Q, known)(flat[known])
     return flat.reshape(out.shape)
 
 
@@ -245,11 +250,11 @@ def inpaint_labels(
     if known.all():
         return out
     L, _ = _operators(np.asarray(domain, dtype=float), np.asarray(faces, dtype=np.int64))
-    out[~known] = _labels_by_indicators(_Dirichlet(-L, known), [labels[known]])[0]
+    out[~known] = labels_by_indicators(DirichletSolve(-L, known), [labels[known]])[0]
     return out
 
 
-def _labels_by_indicators(harmonic: _Dirichlet, known_labels: list[np.ndarray]
+def labels_by_indicators(harmonic: DirichletSolve, known_labels: list[np.ndarray]
                           ) -> list[np.ndarray]:
     """The unknown rows of each label array (given its known rows) by the largest harmonic
     indicator: the indicator columns of all arrays in one solve."""
@@ -348,7 +353,7 @@ def hole_domain(
     return HoleDomain(ids, local.reshape(-1, 3), vertices[ids], False, rings)
 
 
-def _channel_ranges(values: np.ndarray) -> np.ndarray:
+def channel_ranges(values: np.ndarray) -> np.ndarray:
     """(2, c) per-channel minimum and maximum, NaNs ignored."""
     flat = np.asarray(values, dtype=float).reshape(len(values), -1)
     with warnings.catch_warnings():
@@ -378,7 +383,8 @@ def _resolve_kinds(attributes: Mapping[str, np.ndarray],
             for name, values in attributes.items()}
 
 
-def _rows(name: str, values, counts: tuple[int, ...], what: str = "vertices") -> np.ndarray:
+def attribute_rows(name: str, values, counts: tuple[int, ...], what: str = "vertices"
+                   ) -> np.ndarray:
     """``values`` as an array, checked to have one of ``counts`` rows."""
     a = np.asarray(values)
     if a.ndim == 0 or a.shape[0] not in counts:
@@ -436,7 +442,7 @@ def fill_hole_attributes(
     """
     vertices = np.asarray(vertices, dtype=float)
     new_ids = np.asarray(new_ids, dtype=np.int64)
-    arrays = {name: _rows(name, a, (len(vertices),)) for name, a in attributes.items()}
+    arrays = {name: attribute_rows(name, a, (len(vertices),)) for name, a in attributes.items()}
     kinds = _resolve_kinds(arrays, kinds)
     if len(new_ids) == 0 or not arrays:
         return {name: a[new_ids] for name, a in arrays.items()}
@@ -452,7 +458,7 @@ def fill_hole_attributes(
     if values:
         if ranges is None:
             other = np.setdiff1d(np.arange(len(vertices)), new_ids)
-            ranges = {name: _channel_ranges(arrays[name][other]) for name in values}
+            ranges = {name: channel_ranges(arrays[name][other]) for name in values}
         blocks = [np.asarray(arrays[name][dom.ids], dtype=float).reshape(len(dom.ids), -1)
                   for name in values]
         filled = inpaint_values(dom.domain, dom.faces, known, np.concatenate(blocks, axis=1),
@@ -466,7 +472,7 @@ def fill_hole_attributes(
     labels = [name for name, kind in kinds.items() if kind == "label"]
     if labels:
         L, _ = _operators(dom.domain, dom.faces)
-        found = _labels_by_indicators(_Dirichlet(-L, known),
+        found = labels_by_indicators(DirichletSolve(-L, known),
                                       [arrays[name][dom.ids][known] for name in labels])
         out.update(zip(labels, found, strict=True))
     normals = (vertex_normals(vertices[dom.ids], dom.faces) if "normal" in kinds.values()
@@ -480,7 +486,7 @@ def fill_hole_attributes(
     return {name: out[name] for name in arrays}
 
 
-def _hole_blocks(result, rings: int):
+def hole_blocks(result, rings: int):
     """(report, new vertex ids, new face ids, near) of each hole of a ``FillResult``, in the
     order the fill appended them; ``near`` are the ids of the original faces touching the
     vertices within ``rings - 1`` rings of the loop (all a patch of ``rings`` rings can use),
@@ -534,12 +540,12 @@ def fill_result_attributes(
     """
     n, total = result.n_original_vertices, len(result.vertices)
     originals, kinds = check_attributes(n, attributes, kinds, total)
-    ranges = {name: _channel_ranges(a) for name, a in originals.items()
+    ranges = {name: channel_ranges(a) for name, a in originals.items()
               if kinds[name] == "values"}
     out = {name: np.concatenate([a, np.zeros((total - n, *a.shape[1:]), dtype=a.dtype)])
            for name, a in originals.items()}
     faces = result.faces[: result.n_original_faces]
-    for report, new_ids, face_ids, near in _hole_blocks(result, rings if out else 0):
+    for report, new_ids, face_ids, near in hole_blocks(result, rings if out else 0):
         if len(new_ids) == 0 or not out:
             continue
         try:
@@ -578,6 +584,6 @@ def check_attributes(
         Naming the attribute with the wrong number of rows, or an unknown kind.
     """
     counts = (n_vertices,) if n_filled is None else (n_vertices, n_filled)
-    arrays = {name: _rows(name, a, counts)[:n_vertices]
+    arrays = {name: attribute_rows(name, a, counts)[:n_vertices]
               for name, a in dict(attributes or {}).items()}
     return arrays, _resolve_kinds(arrays, kinds)

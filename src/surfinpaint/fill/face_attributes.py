@@ -21,13 +21,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from surfinpaint.fill.attributes import (
-    _channel_ranges,
-    _Dirichlet,
-    _hole_blocks,
-    _labels_by_indicators,
-    _rows,
+    DirichletSolve,
+    attribute_rows,
+    channel_ranges,
+    hole_blocks,
     hole_domain,
     inpaint_values,
+    labels_by_indicators,
 )
 from surfinpaint.geometry.mesh import edge_faces
 
@@ -66,7 +66,7 @@ def fill_face_attributes(
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     fill_faces = np.asarray(fill_faces, dtype=np.int64).reshape(-1, 3)
-    arrays = {name: _rows(name, a, (len(faces),), "faces")
+    arrays = {name: attribute_rows(name, a, (len(faces),), "faces")
               for name, a in face_attributes.items()}
     if len(fill_faces) == 0 or not arrays:
         return {name: a[:0] for name, a in arrays.items()}
@@ -85,7 +85,7 @@ def fill_face_attributes(
                       shape=(len(local), len(local))).tocsr()
     graph = (sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W).tocsr()
     known = np.arange(len(local)) < len(touching)
-    found = _labels_by_indicators(_Dirichlet(graph, known),
+    found = labels_by_indicators(DirichletSolve(graph, known),
                                   [values[touching] for values in arrays.values()])
     return dict(zip(arrays, found, strict=True))
 
@@ -110,11 +110,11 @@ def fill_result_face_attributes(
     n_input = result.n_original_faces + len(result.removed_faces)
     keep = np.ones(n_input, dtype=bool)
     keep[result.removed_faces] = False
-    originals = {name: _rows(name, a, (n_input,), "faces")[keep]
+    originals = {name: attribute_rows(name, a, (n_input,), "faces")[keep]
                  for name, a in face_attributes.items()}
     faces = result.faces[: result.n_original_faces]
     parts: dict[str, list[np.ndarray]] = {name: [a] for name, a in originals.items()}
-    for report, _, face_ids, near in _hole_blocks(result, 1 if originals else 0):
+    for report, _, face_ids, near in hole_blocks(result, 1 if originals else 0):
         if len(face_ids) == 0 or not originals:
             continue
         filled = fill_face_attributes(result.vertices, faces[near], report.loop,
@@ -153,7 +153,7 @@ def fill_corner_attributes(
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     fill_faces = np.asarray(fill_faces, dtype=np.int64).reshape(-1, 3)
-    arrays = {name: _rows(name, a, (len(faces),), "faces")
+    arrays = {name: attribute_rows(name, a, (len(faces),), "faces")
               for name, a in corner_attributes.items()}
     if not arrays or len(fill_faces) == 0:
         return {name: np.empty((len(fill_faces), 3, a.shape[2])) for name, a in arrays.items()}
@@ -181,7 +181,7 @@ def fill_corner_attributes(
             continue
         low[~known] = 0.0
         filled = inpaint_values(dom.domain, dom.faces, known, low)
-        limits = _channel_ranges(values)
+        limits = channel_ranges(values)
         filled = np.clip(filled, limits[0], limits[1])
         out[name] = filled[np.searchsorted(dom.ids, fill_faces)].astype(a.dtype)
     return out
@@ -208,14 +208,14 @@ def fill_result_corner_attributes(
     keep[result.removed_faces] = False
     originals = {}
     for name, a in corner_attributes.items():
-        a = _rows(name, a, (n_input,), "faces")
+        a = attribute_rows(name, a, (n_input,), "faces")
         if a.ndim != 3 or a.shape[1] != 3 or a.dtype.kind != "f":
             raise ValueError(f"corner attribute {name!r} must be a float (f, 3, k) array, "
                              f"got {a.dtype} {a.shape}")
         originals[name] = a[keep]
     faces = result.faces[: result.n_original_faces]
     parts: dict[str, list[np.ndarray]] = {name: [a] for name, a in originals.items()}
-    for report, new_ids, face_ids, near in _hole_blocks(result, rings if originals else 0):
+    for report, new_ids, face_ids, near in hole_blocks(result, rings if originals else 0):
         if len(face_ids) == 0 or not originals:
             continue
         filled = fill_corner_attributes(result.vertices, faces[near], report.loop,

@@ -15,7 +15,7 @@ import numpy as np
 
 from surfinpaint.errors import NUMERICAL_ERRORS, MeshError
 from surfinpaint.fill.holes import loop_diameter
-from surfinpaint.geometry.cutting import _edge_graph, cut_geodesic_disk, ring_distances, submesh
+from surfinpaint.geometry.cutting import cut_geodesic_disk, edge_graph, ring_distances, submesh
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.metrics import (
     hole_patch_of,
@@ -77,7 +77,7 @@ def sibling_scores(
     radius = 0.5 * loop_diameter(points)
     edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
     gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
-    graph = _edge_graph(faces, len(vertices))
+    graph = edge_graph(faces, len(vertices))
 
     def local_cut(centre):
         """The cut on the faces within ``reach`` rings of the centre, or None when that

@@ -19,8 +19,8 @@ from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, unique_edges
 
-__all__ = ["CutHole", "CutResult", "cut_geodesic_disk", "cut_holes", "ring_distances",
-           "submesh"]
+__all__ = ["CutHole", "CutResult", "cut_geodesic_disk", "cut_holes", "edge_graph",
+           "ring_distances", "submesh"]
 
 
 @dataclass(frozen=True)
@@ -318,9 +318,12 @@ def cut_geodesic_disk(vertices: np.ndarray, faces: np.ndarray, center,
     return cut_holes(vertices, faces, [center], [radius])
 
 
-def _edge_graph(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
-    """Vertex adjacency through the face edges, for unweighted graph searches (entries are
-    edge multiplicities; only the pattern matters). Cheaper than a unique-edge list."""
+def edge_graph(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
+    """Vertex adjacency through the face edges, for unweighted graph searches such as
+    :func:`ring_distances` (pass it as ``graph`` to search one mesh many times). Entries are
+    edge multiplicities, only the pattern matters: cheaper than
+    :func:`surfinpaint.geometry.mesh.vertex_adjacency`, which sorts the edges to count each
+    once."""
     f = np.asarray(faces, dtype=np.int64)
     rows = f[:, [0, 1, 2, 1, 2, 0]].ravel()
     cols = f[:, [1, 2, 0, 0, 1, 2]].ravel()
@@ -337,7 +340,7 @@ def ring_distances(faces: np.ndarray, n_vertices: int, seeds, limit: float = np.
     searches on one mesh.
     """
     if graph is None:
-        graph = _edge_graph(faces, n_vertices)
+        graph = edge_graph(faces, n_vertices)
     seeds = np.atleast_1d(np.asarray(seeds, dtype=np.int64))
     return dijkstra(graph, directed=False, indices=seeds, min_only=True, unweighted=True,
                     limit=limit)

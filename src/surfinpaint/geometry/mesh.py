@@ -26,6 +26,7 @@ __all__ = [
     "cotangent_laplacian",
     "edge_lengths",
     "face_areas",
+    "face_cross",
     "face_normals",
     "k_ring",
     "mass_matrix",
@@ -393,7 +394,9 @@ def _face_cross_columns(vertices: np.ndarray, faces: np.ndarray) -> list[np.ndar
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
-def _face_cross(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def face_cross(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(f, 3) ``(p1 - p0) x (p2 - p0)`` per face: twice the area times the unit normal
+    (the vertex normals' area weights)."""
     return np.column_stack(_face_cross_columns(vertices, faces))
 
 
@@ -405,14 +408,14 @@ def face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(f, 3) unit normals, right-handed with the face order; zero for degenerate faces."""
-    c = _face_cross(vertices, faces)
+    c = face_cross(vertices, faces)
     norm = np.linalg.norm(c, axis=1, keepdims=True)
     return np.divide(c, norm, out=np.zeros_like(c), where=norm > 0)
 
 
 def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(n, 3) area-weighted unit vertex normals; zero at unreferenced vertices."""
-    c = _face_cross(vertices, faces)
+    c = face_cross(vertices, faces)
     f = np.asarray(faces, dtype=np.int64)
     n = np.zeros((len(vertices), 3))
     for k in range(3):

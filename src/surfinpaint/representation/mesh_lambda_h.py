@@ -40,8 +40,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from surfinpaint.geometry.mesh import (
-    _face_cross,
     cotangent_laplacian,
+    face_cross,
     mass_matrix,
     vertex_normals,
 )
@@ -132,7 +132,7 @@ def normals_with_jacobian(points: np.ndarray, faces: np.ndarray
     p = np.asarray(points, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     n = len(p)
-    c = _face_cross(p, f)
+    c = face_cross(p, f)
     N = np.zeros((n, 3))
     for k in range(3):
         np.add.at(N, f[:, k], c)
