@@ -174,12 +174,12 @@ def test_in_place_replaces_the_input_with_the_filled_mesh(tmp_path):
 def test_interrupt_inside_main_returns_130_and_restores_the_handler(tmp_path, capsys,
                                                                      monkeypatch):
     # in-process: a real SIGINT sent to this process once the input has been read
-    import surfinpaint.io.formats as formats
+    import surfinpaint.app.cli as cli
 
     source = _holey(tmp_path)
     out = tmp_path / "out.ply"
     previous = signal.getsignal(signal.SIGINT)
-    real_read = formats.read_mesh_data  # what `fill` reads with (attributes included)
+    real_read = cli.read_mesh_data  # what `fill` reads with (attributes included)
 
     def read_then_interrupt(*args, **kwargs):
         result = real_read(*args, **kwargs)
@@ -187,7 +187,7 @@ def test_interrupt_inside_main_returns_130_and_restores_the_handler(tmp_path, ca
         time.sleep(1.0)  # the handler raises here, at the next bytecode of the main thread
         return result
 
-    monkeypatch.setattr(formats, "read_mesh_data", read_then_interrupt)
+    monkeypatch.setattr(cli, "read_mesh_data", read_then_interrupt)
     assert main(["fill", str(source), "-o", str(out), "-q"]) == 130
     assert capsys.readouterr().err.strip().startswith("surfinpaint: interrupted")
     assert not out.exists()

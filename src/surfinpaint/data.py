@@ -15,13 +15,16 @@ from __future__ import annotations
 
 import importlib
 import importlib.resources
+import tempfile
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
 
+from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import unique_edges, vertex_normals
 from surfinpaint.io.atomic import atomic_open
+from surfinpaint.io.formats import read_mesh
 
 __all__ = [
     "bumpy_disk",
@@ -435,18 +438,8 @@ def _package_root(package: str, purpose: str):
 
 
 def _load_mesh_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    try:
-        from surfinpaint.io.formats import read_mesh
-    except ImportError:
-        read_mesh = None
-    if read_mesh is not None:
-        out = read_mesh(path)
-        v, f = (out[0], out[1]) if isinstance(out, tuple) else (out.vertices, out.faces)
-    else:
-        import trimesh
-
-        mesh = trimesh.load(str(path), process=False, force="mesh")
-        v, f = mesh.vertices, mesh.faces
+    out = read_mesh(path)
+    v, f = (out[0], out[1]) if isinstance(out, tuple) else (out.vertices, out.faces)
     return np.asarray(v, dtype=float), np.asarray(f, dtype=np.int64)
 
 
@@ -547,7 +540,6 @@ def default_demo_path() -> Path:
     path = DATA_DIR / DEMO_FILE
     if path.is_file():
         return path
-    import tempfile
 
     folder = Path(tempfile.gettempdir()) / "surfinpaint-data"
     cached = folder / DEMO_FILE
@@ -557,8 +549,6 @@ def default_demo_path() -> Path:
 
 
 def _make_demo() -> tuple[np.ndarray, np.ndarray]:
-    from surfinpaint.geometry.cutting import cut_holes
-
     v, f = snowman(edge_length=0.07)
     centres, radii = _demo_holes(v)
     cut = cut_holes(v, f, centres, radii)

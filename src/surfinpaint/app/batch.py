@@ -33,6 +33,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+import numpy as np
+from threadpoolctl import threadpool_limits
+
 from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.objects import fill_mesh_data
@@ -243,8 +246,6 @@ def fill_file(job: FileJob, options: Mapping[str, Any]) -> FileRow:
     """Read, fill and write one file; never raises for a bad file (it becomes a "failed"
     row, with nothing written). A top-level function: spawned processes and Dask workers
     import it. Runs with one BLAS thread: the parallelism is over files."""
-    from threadpoolctl import threadpool_limits
-
     started = time.perf_counter()
     with _ONE_FILE_AT_A_TIME, warnings.catch_warnings(record=True) as caught, \
             threadpool_limits(limits=1):
@@ -435,6 +436,7 @@ def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
                   options: Mapping[str, Any] | None = None) -> tuple[Path, Path]:
     """Write ``summary.csv`` and ``summary.json`` (with the fill options and the version)
     into ``out_dir``, each atomically; returns their paths."""
+    # here, not at the top: the package imports this module before it sets __version__
     from surfinpaint import __version__
 
     out = Path(out_dir)
@@ -500,8 +502,6 @@ def _cores() -> int:
 def _check_options(options: Mapping[str, Any]) -> None:
     """Bad fill options are the caller's error before any file is read: ``fill_holes``
     checks them on a closed tetrahedron (no hole, so nothing is filled)."""
-    import numpy as np
-
     for name in ("holes", "progress"):
         if name in options:
             raise TypeError(f"fill_files fills the holes of every file; {name!r} is "

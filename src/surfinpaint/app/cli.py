@@ -13,16 +13,52 @@ import contextlib
 import logging
 import signal
 import sys
+import time
 import warnings
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from surfinpaint import __version__
+from surfinpaint.app.batch import STATUSES, SUMMARY_CSV, fill_files
+from surfinpaint.app.experiments import add_experiments_parser
+from surfinpaint.app.figures import before_after
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import add_fill_options, fill_options, hole_list
+from surfinpaint.app.fill_report import Summary, tell
+from surfinpaint.app.interrupts import Interrupted, signals_raise
+from surfinpaint.app.lambda_h_figures import plot_representation
+from surfinpaint.app.outputs import (
+    OutputError,
+    OutputOverwritesInput,
+    check_output_directory,
+    check_output_file,
+    check_outputs_distinct,
+)
 from surfinpaint.app.progress import console as _console
 from surfinpaint.app.progress import progress_bar
+from surfinpaint.app.report import add_report_parser
+from surfinpaint.data import default_demo_path
 from surfinpaint.errors import MeshError
+from surfinpaint.fill.holes import find_holes
+from surfinpaint.fill.objects import fill_mesh_data
+from surfinpaint.fill.pipeline import METHODS, fill_holes
+from surfinpaint.geometry.repair import remove_nonmanifold_faces
+from surfinpaint.geometry.validation import validate_mesh
+from surfinpaint.io.atomic import remove_unfinished
+from surfinpaint.io.formats import (
+    output_format,
+    read_mesh,
+    read_mesh_data,
+    write_mesh,
+    write_mesh_data,
+)
+from surfinpaint.representation.represent import (
+    grid_export,
+    load_representation,
+    rebuild,
+    represent,
+)
+from surfinpaint.representation.roundtrip import measure_round_trip
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
 
@@ -48,8 +84,6 @@ def _holes_table(vertices, faces, title: str) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    from surfinpaint.fill.holes import find_holes
-
     found = find_holes(vertices, faces)
     table = Table(title=title)
     for name in ("hole", "edges", "perimeter", "diameter", "component", "kind"):
@@ -63,14 +97,9 @@ def _holes_table(vertices, faces, title: str) -> None:
 
 
 def cmd_holes(args: argparse.Namespace) -> int:
-    from surfinpaint.geometry.validation import validate_mesh
-    from surfinpaint.io.formats import read_mesh
-
     vertices, faces = read_mesh(args.mesh)
     title = f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces"
     if args.repair:
-        from surfinpaint.geometry.repair import remove_nonmanifold_faces
-
         faces, removed = remove_nonmanifold_faces(vertices, faces)
         title += f" ({len(removed)} removed by --repair: the numbering `fill --repair` uses)"
     validate_mesh(vertices, faces, path=str(args.mesh))
@@ -79,12 +108,6 @@ def cmd_holes(args: argparse.Namespace) -> int:
 
 
 def cmd_fill(args: argparse.Namespace) -> int:
-    import time
-
-    from surfinpaint.app.fill_report import Summary, tell
-    from surfinpaint.fill.objects import fill_mesh_data
-    from surfinpaint.io.formats import output_format, read_mesh_data, write_mesh_data
-
     console = _console()
     say = (lambda text: None) if args.quiet else console.print
     holes = _parse_hole_list(args.holes)
@@ -126,8 +149,6 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if carried and len(result.vertices) > len(vertices):
         say(f"attributes filled in at the new vertices and faces: {', '.join(carried)}")
     if args.png:
-        from surfinpaint.app.figures import before_after
-
         before_after(vertices, faces, result, args.png)
         say(f"wrote {args.png}")
     say(f"wrote {args.output}" + (f" and {args.json}" if args.json else ""))
@@ -136,9 +157,6 @@ def cmd_fill(args: argparse.Namespace) -> int:
 
 def cmd_batch(args: argparse.Namespace) -> int:
     from rich.markup import escape
-
-    from surfinpaint.app.batch import STATUSES, SUMMARY_CSV, fill_files
-    from surfinpaint.app.interrupts import Interrupted
 
     console = _console()
     options = fill_options(args)
@@ -201,9 +219,6 @@ def _print_round_trip(console, check, what: str) -> None:
 
 
 def cmd_represent(args: argparse.Namespace) -> int:
-    from surfinpaint.io.formats import read_mesh
-    from surfinpaint.representation.represent import grid_export, represent
-
     console = _console()
     vertices, faces = read_mesh(args.mesh)
     grid = _grid_options(args)
@@ -227,8 +242,6 @@ def cmd_represent(args: argparse.Namespace) -> int:
             shape = "×".join(str(n) for n in exported.grid.shape)
             _print_round_trip(console, exported.check, f"grid export {shape}:")
     if args.png:
-        from surfinpaint.app.lambda_h_figures import plot_representation
-
         plot_representation(rep, args.png)
         written.append(str(args.png))
     console.print("wrote " + ", ".join(written))
@@ -236,10 +249,6 @@ def cmd_represent(args: argparse.Namespace) -> int:
 
 
 def cmd_rebuild(args: argparse.Namespace) -> int:
-    from surfinpaint.io.formats import write_mesh
-    from surfinpaint.representation.represent import load_representation, rebuild
-    from surfinpaint.representation.roundtrip import measure_round_trip
-
     console = _console()
     try:
         rep = load_representation(args.representation)
@@ -265,10 +274,6 @@ def cmd_rebuild(args: argparse.Namespace) -> int:
 def cmd_demo(args: argparse.Namespace) -> int:
     from rich.markup import escape
 
-    from surfinpaint.data import default_demo_path
-    from surfinpaint.fill.pipeline import fill_holes
-    from surfinpaint.io.formats import read_mesh, write_mesh
-
     console = _console()
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
@@ -280,7 +285,6 @@ def cmd_demo(args: argparse.Namespace) -> int:
         result = fill_holes(vertices, faces, method=args.method, progress=progress)
     filled = out / "filled.ply"
     write_mesh(filled, result.vertices, result.faces)
-    from surfinpaint.app.figures import before_after
 
     picture = out / "before_after.png"
     before_after(vertices, faces, result, picture)
@@ -338,8 +342,6 @@ def _add_representation_commands(sub) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from surfinpaint.fill.pipeline import METHODS
-
     parser = argparse.ArgumentParser(
         prog="surfinpaint",
         description="Fill holes in triangle meshes by conformal surface inpainting.",
@@ -411,9 +413,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=METHODS, default="conformal")
     p.set_defaults(func=cmd_demo)
 
-    from surfinpaint.app.experiments import add_experiments_parser
-    from surfinpaint.app.report import add_report_parser
-
     add_report_parser(sub)
     add_experiments_parser(sub)
     return parser
@@ -435,12 +434,6 @@ _OUTPUTS = {
 
 def _check_outputs(args: argparse.Namespace) -> None:
     """Refuse, before any work, an output that cannot be written or would replace an input."""
-    from surfinpaint.app.outputs import (
-        check_output_directory,
-        check_output_file,
-        check_outputs_distinct,
-    )
-
     files, folders = {}, {}
     for attribute, option, kind in _OUTPUTS.get(args.command, ()):
         path = getattr(args, attribute, None)
@@ -458,8 +451,6 @@ def _check_outputs(args: argparse.Namespace) -> None:
 def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> int:
     """Run one command, mapping each kind of failure to its exit code and one message."""
     from rich.markup import escape
-
-    from surfinpaint.app.outputs import OutputError, OutputOverwritesInput
 
     source = getattr(args, "mesh", None) or getattr(args, "representation", None)
     try:
@@ -506,8 +497,6 @@ def _show_notices() -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     """The ``surfinpaint`` command. Returns the exit code: 0 success, 1 failure, 2 usage
     error, 130 after Ctrl-C, 143 after SIGTERM (temporary files removed, one line printed)."""
-    from surfinpaint.app.interrupts import Interrupted, signals_raise
-
     with signals_raise():
         try:
             parser = build_parser()
@@ -526,8 +515,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         except (Interrupted, KeyboardInterrupt) as exc:
             if not isinstance(exc, Interrupted):  # a Ctrl-C that came before our handler
                 exc = Interrupted(signal.SIGINT)
-            from surfinpaint.io.atomic import remove_unfinished
-
             remove_unfinished()  # a write interrupted before it could clean up after itself
             print(f"surfinpaint: {exc}; stopped, no partial output left", file=sys.stderr)
             return exc.exit_code

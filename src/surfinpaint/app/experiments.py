@@ -43,6 +43,13 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint import data
+from surfinpaint.app.figures import (
+    before_after,
+    grid_image,
+    render_views,
+    save_figure,
+    view_direction,
+)
 from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.report import (
     LEGEND,
@@ -53,6 +60,10 @@ from surfinpaint.app.report import (
     write_page,
 )
 from surfinpaint.errors import MeshError
+from surfinpaint.geometry.cutting import cut_geodesic_disk, cut_holes
+from surfinpaint.geometry.mesh import boundary_loops, connected_components
+from surfinpaint.geometry.metrics import surface_distance
+from surfinpaint.representation.represent import rebuild, represent
 
 __all__ = ["CASES", "REBUILDS", "Case", "Rebuild", "add_experiments_parser", "face_scan",
            "face_sites", "run_experiments", "run_set"]
@@ -91,8 +102,6 @@ class Rebuild:
 def face_scan() -> tuple[np.ndarray, np.ndarray]:
     """PyMeshLab's face range map (``rangemaps/face000.ply``), its largest connected
     component, unused vertices dropped."""
-    from surfinpaint.geometry.mesh import connected_components
-
     v, f = data.pymeshlab_sample("rangemaps/face000.ply")
     _, label = connected_components(f, len(v))
     f = f[label[f[:, 0]] == np.argmax(np.bincount(label[f[:, 0]]))]
@@ -211,9 +220,6 @@ class CaseResult:
 
 
 def _run_case(case: Case, scale: str, out_dir: Path, step) -> CaseResult:
-    from surfinpaint.app.figures import before_after
-    from surfinpaint.geometry.cutting import cut_holes
-
     started = time.perf_counter()
     result = CaseResult(case.name, case.title, case.note)
     v, f, centres, radii = case.make(scale)
@@ -238,9 +244,6 @@ def _run_case(case: Case, scale: str, out_dir: Path, step) -> CaseResult:
 def rebuild_panel(rep, rebuilt: np.ndarray, path: Path, suptitle: str) -> Path:
     """Original and rebuilt disk from one camera, and λ, H over the parameter domain."""
     from matplotlib.figure import Figure
-
-    from surfinpaint.app.figures import grid_image, render_views, save_figure, view_direction
-    from surfinpaint.geometry.mesh import boundary_loops
 
     v, f = rep.vertices, rep.faces
     loop = boundary_loops(f)[0]
@@ -273,10 +276,6 @@ def rebuild_panel(rep, rebuilt: np.ndarray, path: Path, suptitle: str) -> Path:
 
 
 def _run_rebuild(item: Rebuild, scale: str, out_dir: Path, step) -> CaseResult:
-    from surfinpaint.geometry.cutting import cut_geodesic_disk
-    from surfinpaint.geometry.metrics import surface_distance
-    from surfinpaint.representation.represent import rebuild, represent
-
     started = time.perf_counter()
     result = CaseResult(item.name, item.title, item.note)
     v, f, centre, radius, resolution = item.make(scale)

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
 from surfinpaint.io.atomic import atomic_path
 
 __all__ = ["HoleFrame", "add_legend", "add_scale_bar", "before_after", "close_up",
@@ -33,8 +34,6 @@ def _pv_mesh(vertices: np.ndarray, faces: np.ndarray):
 
 def view_direction(vertices: np.ndarray, faces: np.ndarray, loops) -> np.ndarray:
     """A unit direction from which the given loops are seen from outside the surface."""
-    from surfinpaint.geometry.mesh import vertex_normals
-
     if not loops:
         return np.array([1.0, 0.6, 0.8]) / np.linalg.norm([1.0, 0.6, 0.8])
     normals = vertex_normals(vertices, faces)
@@ -228,8 +227,6 @@ def frame_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     it is), turned to the side the surface's vertex normals at the loop point to; for a loop
     that spans almost no area (a saddle-shaped or slit-like loop) the mean vertex normal.
     """
-    from surfinpaint.geometry.mesh import vertex_normals
-
     vertices = np.asarray(vertices, float)
     loop = np.asarray(loop)
     points = vertices[loop]
@@ -273,8 +270,6 @@ def close_up(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, frame: H
         ``loops``, as :func:`render_views` takes them.
     """
     from matplotlib.path import Path as Outline
-
-    from surfinpaint.geometry.mesh import connected_components, k_ring
 
     vertices = np.asarray(vertices, float)
     faces = np.asarray(faces)

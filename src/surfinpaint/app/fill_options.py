@@ -6,6 +6,9 @@ from __future__ import annotations
 
 import argparse
 
+from surfinpaint.fill.conformal import ConformalOptions, GridOptions
+from surfinpaint.fill.pipeline import METHODS
+
 __all__ = ["UsageError", "add_fill_options", "fill_options", "hole_list"]
 
 
@@ -26,8 +29,6 @@ def hole_list(text: str) -> list[int]:
 def _conformal_options(args: argparse.Namespace):
     """The conformal method's options from the flags of ``fill`` (None with ``--method
     fair``; conformal flags with it are a usage error)."""
-    from surfinpaint.fill.conformal import ConformalOptions, GridOptions
-
     grid_flags = {"inpaint": args.inpaint, "reconstruct": args.reconstruct}
     if args.discretization != "grid" and (args.reconstruct or args.inpaint == "harmonic"):
         raise UsageError("--reconstruct and --inpaint harmonic need --discretization grid "
@@ -63,8 +64,6 @@ def fill_options(args: argparse.Namespace) -> dict:
 def add_fill_options(parser: argparse.ArgumentParser) -> None:
     """The options that say how holes are filled, shared by ``fill`` and ``batch`` (read
     back by :func:`fill_options`)."""
-    from surfinpaint.fill.pipeline import METHODS
-
     p = parser.add_argument_group("fill options")
     p.add_argument("--method", choices=METHODS, default="conformal",
                    help="conformal (default) or the conventional fill 'fair'")

@@ -7,6 +7,7 @@ import os
 
 import numpy as np
 
+from surfinpaint.app.figures import save_figure
 from surfinpaint.geometry.parameterization import angle_distortion, distortion_histogram
 
 __all__ = ["plot_conformality", "plot_representation"]
@@ -54,8 +55,6 @@ def plot_representation(rep, path: str | os.PathLike, *, clip: float = 1.0,
 
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
-
-    from surfinpaint.app.figures import save_figure
 
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.8), constrained_layout=True,
                              gridspec_kw={"width_ratios": [1, 1, 0.8]})

@@ -33,6 +33,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from surfinpaint.app.figures import (
     add_legend,
@@ -227,9 +228,6 @@ def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndar
         When a boundary vertex of a hole is not a vertex of the truth (the truth must be the
         mesh the holes were cut from).
     """
-    from scipy.spatial import cKDTree
-
-
     tv = np.asarray(truth_vertices, float)
     tf = np.asarray(truth_faces, np.int64)
     scale = float(np.ptp(tv, axis=0).max()) or 1.0

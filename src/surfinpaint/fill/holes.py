@@ -6,6 +6,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import ConvexHull, QhullError
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
@@ -54,7 +55,6 @@ def loop_diameter(points: np.ndarray) -> float:
     """Largest distance between two of ``points`` (exact; via the convex hull when many)."""
     if len(points) > 1500:
         # the diameter is attained on the convex hull; fall back to a subsample when flat
-        from scipy.spatial import ConvexHull, QhullError
 
         try:
             points = points[ConvexHull(points).vertices]

@@ -22,6 +22,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from surfinpaint.fill.face_attributes import fill_result_corner_attributes
+from surfinpaint.io import MeshData
+
 __all__ = ["COLOUR_NAMES", "fill_mesh_data", "mesh_arrays", "to_pyvista", "to_trimesh"]
 
 #: Attribute names that ``to_trimesh`` puts in ``visual`` (the first one found) rather than
@@ -186,9 +189,8 @@ def fill_mesh_data(mesh, **fill_options):
         :mod:`surfinpaint.fill.attributes` and :mod:`surfinpaint.fill.face_attributes`) and
         the metadata of ``mesh``.
     """
-    from surfinpaint.fill.face_attributes import fill_result_corner_attributes
+    # here, not at the top: the pipeline imports this module (mesh_arrays, to_trimesh)
     from surfinpaint.fill.pipeline import fill_holes
-    from surfinpaint.io import MeshData
 
     result = fill_holes(mesh.vertices, mesh.faces, attributes=mesh.attributes,
                         face_attributes=mesh.face_attributes, **fill_options)

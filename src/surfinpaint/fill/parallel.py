@@ -23,6 +23,7 @@ import warnings
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from surfinpaint.fill.conformal import ConformalOptions, conformal_fill
 from surfinpaint.fill.liepa.baseline import faired_fill
@@ -66,8 +67,6 @@ def fill_in_worker(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, me
     """:func:`fill_local` in a worker process (top level: picklable), with the warnings it
     raised (for the parent to re-issue in hole order) and the seconds it took. One BLAS
     thread: the parallelism is over holes."""
-    from threadpoolctl import threadpool_limits
-
     started = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
         warnings.simplefilter("always")

@@ -19,6 +19,7 @@ vertex or edge counts. Pairs that share no vertex and merely touch do count.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 __all__ = [
     "intersecting_pairs",
@@ -175,8 +176,6 @@ def _candidates(vertices: np.ndarray, fa: np.ndarray, fb: np.ndarray,
     The k-d tree search radius is set by the largest triangles of each set, so the candidate
     count (and the cost) grows when a few triangles are much larger than the rest.
     """
-    from scipy.spatial import cKDTree
-
     v = np.asarray(vertices, dtype=float)
     pa, pb = v[fa], v[fb]
     ca, cb = pa.mean(axis=1), pb.mean(axis=1)

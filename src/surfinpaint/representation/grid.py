@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from surfinpaint.geometry.edges import edge_keys
 
@@ -351,8 +352,6 @@ def vertex_gradients(uv: np.ndarray, faces: np.ndarray, values: np.ndarray,
         ``[:, 0]`` the u-derivative, ``[:, 1]`` the v-derivative (NaN for unreferenced
         vertices with NaN ``uv``).
     """
-    import scipy.sparse as sp
-
     q = np.asarray(uv, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     vals = np.asarray(values, dtype=float).reshape(len(q), -1)

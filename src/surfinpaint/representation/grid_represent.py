@@ -24,10 +24,13 @@ from pathlib import Path
 import numpy as np
 from scipy import ndimage
 
+from surfinpaint.geometry.mesh import face_normals, unique_edges
 from surfinpaint.geometry.parameterization import flipped_faces, lscm
+from surfinpaint.representation.fields import lambda_h
 from surfinpaint.representation.grid import (
     Grid,
     clough_tocher,
+    face_neighbours,
     grid_over,
     interpolate,
     resample,
@@ -170,9 +173,6 @@ class LambdaH:
 
 def mean_crease_angle(vertices: np.ndarray, faces: np.ndarray) -> float:
     """Mean angle in degrees between the normals of faces sharing an interior edge."""
-    from surfinpaint.geometry.mesh import face_normals
-    from surfinpaint.representation.grid import face_neighbours
-
     f = np.asarray(faces, dtype=np.int64)
     n = face_normals(np.asarray(vertices, dtype=float), f)
     nb = face_neighbours(f)
@@ -226,8 +226,6 @@ def smooth_subdivision(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray,
     faces : (4^levels f, 3) int array
         Same orientation as ``faces``.
     """
-    from surfinpaint.geometry.mesh import unique_edges
-
     v = np.asarray(vertices, dtype=float)
     q = np.asarray(uv, dtype=float)
     f0 = np.asarray(faces, dtype=np.int64)
@@ -356,8 +354,6 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
     >>> rep.lam.shape == rep.grid.shape
     True
     """
-    from surfinpaint.representation.fields import lambda_h
-
     if band < 1:
         raise ValueError(f"band must be at least 1 node, got {band}")
     if sampling not in SAMPLINGS:

@@ -40,6 +40,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from surfinpaint.geometry.mesh import (
+    boundary_loops,
     cotangent_laplacian,
     face_cross,
     mass_matrix,
@@ -174,8 +175,6 @@ def mesh_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
         (α, β): the tangential part of ``M⁻¹ L φ`` is ``P(α φ_u + β φ_v)``; NaN on the
         border.
     """
-    from surfinpaint.geometry.mesh import boundary_loops
-
     p = np.asarray(points, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     L = cotangent_laplacian(uv, f)

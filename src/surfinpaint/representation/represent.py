@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from surfinpaint.geometry.mesh import boundary_loops, unique_edges
 from surfinpaint.representation.grid_represent import LambdaH, rebuild_grid, represent_grid
 from surfinpaint.representation.mapping import MAPS, parameterize
 from surfinpaint.representation.mesh_lambda_h import mesh_lambda_h, rebuild_on_mesh
@@ -215,8 +216,6 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
 
 
 def _represent_on_mesh(v: np.ndarray, f: np.ndarray, map: str, strict: bool) -> MeshLambdaH:
-    from surfinpaint.geometry.mesh import boundary_loops
-
     uv, _ = parameterize(v, f, map, strict=strict)
     lam, H, defect = mesh_lambda_h(v, f, uv)
     known = np.zeros(len(v), dtype=bool)
@@ -320,8 +319,6 @@ def export_resolution(rep: MeshLambdaH) -> int:
     The spacing is the 5th percentile of the parameter edge lengths (the edges where λ is
     large are short in the plane), clipped to 64–1024 nodes.
     """
-    from surfinpaint.geometry.mesh import unique_edges
-
     edges = unique_edges(rep.faces)[0]
     length = np.linalg.norm(rep.uv[edges[:, 0]] - rep.uv[edges[:, 1]], axis=1)
     h = float(np.percentile(length[length > 0], 5))

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import spsolve
 
 from surfinpaint.errors import MeshError, preview
@@ -56,8 +57,6 @@ def _grow(faces: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _check_anchored(f: np.ndarray, is_free: np.ndarray, ids: np.ndarray) -> None:
     """Every connected group of free vertices must have an edge to a fixed vertex, or the
     system is singular (translations of the group are in its null space)."""
-    from scipy.sparse.csgraph import connected_components
-
     e, _, _ = unique_edges(f)
     both = is_free[e].all(axis=1)
     m = len(is_free)

@@ -22,6 +22,7 @@ caller starts it (the program is not rotation invariant: ties, and the special c
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import Delaunay, QhullError
 
 from surfinpaint.compiled import Kernel
 from surfinpaint.errors import MeshError, preview
@@ -159,8 +160,6 @@ def _non_delaunay_diagonals(p: np.ndarray) -> np.ndarray | None:
     """(k, k) mask of loop-vertex pairs that are not edges of the 3D Delaunay
     tetrahedralization of the loop's points (None when it does not exist, e.g. the loop
     is planar)."""
-    from scipy.spatial import Delaunay, QhullError
-
     k = len(p)
     if k < 5:
         return None
