@@ -24,7 +24,7 @@ from surfinpaint.app.experiments import add_experiments_parser
 from surfinpaint.app.figures import before_after
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import add_fill_options, fill_options, hole_list
-from surfinpaint.app.fill_report import Summary, tell
+from surfinpaint.app.fill_report import Summary, count_warnings, hole_lines, print_warnings, tell
 from surfinpaint.app.interrupts import Interrupted, signals_raise
 from surfinpaint.app.lambda_h_figures import plot_representation
 from surfinpaint.app.outputs import (
@@ -288,7 +288,6 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
     picture = out / "before_after.png"
     before_after(vertices, faces, result, picture)
-    from surfinpaint.app.fill_report import hole_lines
 
     for r in result.reports:
         for line in hole_lines(r):
@@ -508,8 +507,6 @@ def main(argv: Sequence[str] | None = None) -> int:
                 warnings.simplefilter("always")
                 code = _run(parser, args, console)
             if not getattr(args, "quiet", False):
-                from surfinpaint.app.fill_report import count_warnings, print_warnings
-
                 print_warnings(console, count_warnings(caught))
             return code
         except (Interrupted, KeyboardInterrupt) as exc:

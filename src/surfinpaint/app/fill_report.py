@@ -271,6 +271,8 @@ def report_document(result: FillResult, summary: Summary, *,
     record per hole, the summary, the topology warnings and every warning with its count
     (the fields: ``docs/report.md``). Scores are in mesh units; a candidate that failed a
     test has a null score and is listed in that test's ``failed``."""
+    # here, not at the top: the package imports this module (through app.batch) before it
+    # sets __version__
     from surfinpaint import __version__
 
     return {

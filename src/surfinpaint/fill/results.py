@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
+from surfinpaint.fill.objects import to_pyvista, to_trimesh
+
 if TYPE_CHECKING:
     from surfinpaint.fill.conformal.selection import Verdict
 
@@ -317,13 +319,9 @@ class FillResult:
     def to_trimesh(self):
         """A ``trimesh.Trimesh``: colours in ``visual``, the other attributes in
         ``vertex_attributes`` and ``face_attributes`` (see :mod:`surfinpaint.fill.objects`)."""
-        from surfinpaint.fill.objects import to_trimesh
-
         return to_trimesh(self.vertices, self.faces, self.attributes, self.face_attributes)
 
     def to_pyvista(self):
         """A ``pyvista.PolyData``: the attributes in ``point_data``, the face attributes in
         ``cell_data``."""
-        from surfinpaint.fill.objects import to_pyvista
-
         return to_pyvista(self.vertices, self.faces, self.attributes, self.face_attributes)
