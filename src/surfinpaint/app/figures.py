@@ -122,11 +122,9 @@ def before_after(vertices: np.ndarray, faces: np.ndarray, result, path, *,
     from matplotlib.figure import Figure
 
     vertices = np.asarray(vertices, float)
-    counts = [r.new_faces for r in result.reports]
-    first = len(result.faces) - sum(counts)  # the new faces come last, hole after hole
-    starts = first + np.concatenate([[0], np.cumsum(counts)]).astype(int)
-    filled = [(r, result.faces[starts[k]:starts[k + 1]])
-              for k, r in enumerate(result.reports) if not r.skipped and counts[k]]
+    first = result.n_original_faces  # the new faces come last, hole after hole
+    filled = [(r, patch) for r, patch in zip(result.reports, result.hole_faces(), strict=True)
+              if not r.skipped and len(patch)]
     frames = [frame_hole(vertices, faces, r.loop) for r, _ in filled]
     direction = _overview_direction(frames)
     centre = vertices.mean(axis=0)

@@ -88,14 +88,6 @@ Step = Callable[..., None]
 # --------------------------------------------------------------------------- fills
 
 
-def _patches(result) -> list[np.ndarray]:
-    """Each hole's new faces (ids into ``result.vertices``), in report order."""
-    counts = [r.new_faces for r in result.reports]
-    # the new faces come last, hole after hole
-    starts = len(result.faces) - sum(counts) + np.concatenate([[0], np.cumsum(counts)])
-    return [result.faces[starts[k]:starts[k + 1]] for k in range(len(counts))]
-
-
 def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     ids, inverse = np.unique(faces, return_inverse=True)
     return vertices[ids], inverse.reshape(-1, 3)
@@ -166,8 +158,8 @@ def compare_holes(
                                validate=False, options=options)
         step("conformal fills done")
         # each fill as (vertices starting with the mesh's, the hole's new faces)
-        filled = {"fair": [(fair.vertices, p) for p in _patches(fair)],
-                  "conformal": [(conformal.vertices, p) for p in _patches(conformal)]}
+        filled = {"fair": [(fair.vertices, p) for p in fair.hole_faces()],
+                  "conformal": [(conformal.vertices, p) for p in conformal.hole_faces()]}
         # the conformal fill before the self-check; None where the conformal method failed
         raw = [fill if r.method == "conformal" else None
                for fill, r in zip(filled["conformal"], conformal.reports, strict=True)]
@@ -179,7 +171,7 @@ def compare_holes(
             again = fill_holes(vertices, faces, holes=[loops[k]], method="conformal",
                                validate=False, options=replace(options, select=False))
             if not again.reports[0].fallback:
-                raw[k] = (again.vertices, _patches(again)[0])
+                raw[k] = (again.vertices, again.hole_faces()[0])
                 diagnostics[k] = again.reports[0].diagnostics
             step(f"hole {k}: conformal fill before the self-check", 0)
     filled["conformal raw"] = raw

@@ -316,6 +316,13 @@ class FillResult:
         """The faces added by the fill (all holes)."""
         return self.faces[self.n_original_faces :]
 
+    def hole_faces(self) -> list[np.ndarray]:
+        """Each hole's new faces (ids into ``vertices``), in the order of ``reports`` (empty
+        for a hole not filled): the new faces come hole after hole."""
+        counts = [r.new_faces for r in self.reports]
+        starts = self.n_original_faces + np.concatenate([[0], np.cumsum(counts)]).astype(int)
+        return [self.faces[starts[k]:starts[k + 1]] for k in range(len(counts))]
+
     def to_trimesh(self):
         """A ``trimesh.Trimesh``: colours in ``visual``, the other attributes in
         ``vertex_attributes`` and ``face_attributes`` (see :mod:`surfinpaint.fill.objects`)."""

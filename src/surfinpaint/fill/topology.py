@@ -12,28 +12,18 @@ the pipeline warns about each.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
 import numpy as np
 
-from surfinpaint.fill.results import FillResult, HoleReport, TopologyChange
+from surfinpaint.fill.results import FillResult, TopologyChange
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops
 
-__all__ = ["FACING_COSINE", "SIZE_RATIO", "hole_patches", "surface_genus", "topology_changes"]
+__all__ = ["FACING_COSINE", "SIZE_RATIO", "surface_genus", "topology_changes"]
 
 # each fill's outward normal within 45 degrees of the direction to the other fill
 FACING_COSINE = float(np.cos(np.radians(45.0)))
 # and the smaller of the two holes at least this fraction of the larger's diameter
 SIZE_RATIO = 0.5
-
-
-def hole_patches(result: FillResult) -> list[np.ndarray]:
-    """Each hole's new faces (ids into ``result.vertices``), in the order of the reports:
-    the new faces come after the originals, hole after hole."""
-    counts = [r.new_faces for r in result.reports]
-    starts = result.n_original_faces + np.concatenate([[0], np.cumsum(counts)]).astype(int)
-    return [result.faces[starts[k]:starts[k + 1]] for k in range(len(counts))]
 
 
 def surface_genus(faces: np.ndarray) -> tuple[int, int]:
@@ -45,34 +35,43 @@ def surface_genus(faces: np.ndarray) -> tuple[int, int]:
     return (2 - chi - loops) // 2, loops
 
 
-def _facing_pairs(vertices: np.ndarray, patches: Sequence[np.ndarray],
-                  filled: Sequence[HoleReport]) -> list[tuple[int, int, float, float]]:
-    """Pairs ``(a, b, gap, sign)`` of positions in ``filled`` whose fills face each other:
-    along the line between their centres, narrower apart than they are wide, of like size.
-    ``sign`` is +1 when the fills' normals (as the faces are oriented) point at each other,
-    -1 when they point away from each other along that line (an inward-oriented surface's
-    tube ends)."""
-    corners = [vertices[p] for p in patches]
-    areas = [0.5 * np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]) for c in corners]
-    normal = np.array([a.sum(0) for a in areas])
+def _facing_pairs(result: FillResult, filled: np.ndarray) -> list[tuple[int, int, float, float]]:
+    """Pairs ``(a, b, gap, sign)`` of reports (positions in ``result.reports``, among
+    ``filled``) whose fills face each other: along the line between their centres, closer
+    than the wider one is wide, of like size. ``sign`` is +1 when the fills' normals (as the
+    faces are oriented) point at each other, -1 when they point away from each other along
+    that line (an inward-oriented surface's tube ends). Vectorized: the fills are contiguous
+    runs of the new faces, the candidate pairs come from a k-d tree."""
+    from scipy.spatial import cKDTree
+
+    counts = np.array([r.new_faces for r in result.reports], dtype=np.int64)
+    corners = np.asarray(result.vertices, float)[result.faces[result.n_original_faces:]]
+    area = 0.5 * np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    weight = np.linalg.norm(area, axis=1)
+    starts = (np.cumsum(counts) - counts)[filled]
+    normal = np.add.reduceat(area, starts, axis=0)
+    total = np.maximum(np.add.reduceat(weight, starts), 1e-300)
+    centre = np.add.reduceat(weight[:, None] * corners.mean(1), starts, axis=0) / total[:, None]
+    diameter = np.array([result.reports[k].diameter for k in filled])
     length = np.linalg.norm(normal, axis=1)
-    weight = [np.linalg.norm(a, axis=1) for a in areas]
-    centre = np.array([(w[:, None] * c.mean(1)).sum(0) / max(w.sum(), 1e-300)
-                       for w, c in zip(weight, corners, strict=True)])
-    diameter = np.array([r.diameter for r in filled])
-    pairs = []
-    for a in range(len(filled)):
-        for b in range(a + 1, len(filled)):
-            gap = float(np.linalg.norm(centre[b] - centre[a]))
-            wide = max(diameter[a], diameter[b])
-            if (gap == 0 or length[a] == 0 or length[b] == 0 or gap >= wide
-                    or min(diameter[a], diameter[b]) < SIZE_RATIO * wide):
-                continue
-            u = (centre[b] - centre[a]) / gap
-            ca, cb = normal[a] @ u / length[a], -(normal[b] @ u) / length[b]
-            if min(ca, cb) > FACING_COSINE or max(ca, cb) < -FACING_COSINE:
-                pairs.append((a, b, gap, 1.0 if ca > 0 else -1.0))
-    return pairs
+    pairs = cKDTree(centre).query_pairs(float(np.nanmax(diameter)), output_type="ndarray")
+    if len(pairs) == 0:
+        return []
+    a, b = pairs[:, 0], pairs[:, 1]
+    offset = centre[b] - centre[a]
+    gap = np.linalg.norm(offset, axis=1)
+    wide = np.maximum(diameter[a], diameter[b])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = offset / gap[:, None]
+        ca = np.einsum("ij,ij->i", normal[a], u) / length[a]
+        cb = -np.einsum("ij,ij->i", normal[b], u) / length[b]
+    facing = (np.minimum(ca, cb) > FACING_COSINE) | (np.maximum(ca, cb) < -FACING_COSINE)
+    keep = ((gap > 0) & (gap < wide) & (np.minimum(diameter[a], diameter[b]) >= SIZE_RATIO * wide)
+            & (length[a] > 0) & (length[b] > 0) & facing)
+    order = np.lexsort((b[keep], a[keep]))
+    return [(int(filled[i]), int(filled[j]), float(g), 1.0 if c > 0 else -1.0)
+            for i, j, g, c in zip(a[keep][order], b[keep][order], gap[keep][order],
+                                  ca[keep][order], strict=True)]
 
 
 def _outward(vertices: np.ndarray, faces: np.ndarray) -> bool:
@@ -96,20 +95,19 @@ def topology_changes(result: FillResult) -> tuple[TopologyChange, ...]:
         Of kind "tube ends": on one piece the genus it has now and the genus it would have
         with the two ends joined; on two pieces, the count of pieces (two now, one joined).
     """
-    filled = [r for r in result.reports if r.outcome in ("lambda-h", "faired")]
+    filled = np.flatnonzero([r.outcome in ("lambda-h", "faired") and r.new_faces > 0
+                             for r in result.reports])
     if len(filled) < 2:
         return ()
-    patches = [p for p, r in zip(hole_patches(result), result.reports, strict=True)
-               if r.outcome in ("lambda-h", "faired")]
     vertices = np.asarray(result.vertices, float)
-    pairs = _facing_pairs(vertices, patches, filled)
+    pairs = _facing_pairs(result, filled)
     if not pairs:
         return ()
     _, label = EdgeTable.build(result.faces, len(vertices)).vertex_components
     face_label = label[result.faces[:, 0]]
     changes = []
     for a, b, gap, sign in pairs:
-        ra, rb = filled[a], filled[b]
+        ra, rb = result.reports[a], result.reports[b]
         pieces = {int(label[ra.loop[0]]), int(label[rb.loop[0]])}
         faces = result.faces[np.isin(face_label, list(pieces))]
         outward = _outward(vertices, faces)
