@@ -13,6 +13,7 @@ the pipeline warns about each.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from surfinpaint.fill.results import FillResult, TopologyChange
 from surfinpaint.geometry.edges import EdgeTable
@@ -42,8 +43,6 @@ def _facing_pairs(result: FillResult, filled: np.ndarray) -> list[tuple[int, int
     faces are oriented) point at each other, -1 when they point away from each other along
     that line (an inward-oriented surface's tube ends). Vectorized: the fills are contiguous
     runs of the new faces, the candidate pairs come from a k-d tree."""
-    from scipy.spatial import cKDTree
-
     counts = np.array([r.new_faces for r in result.reports], dtype=np.int64)
     corners = np.asarray(result.vertices, float)[result.faces[result.n_original_faces:]]
     area = 0.5 * np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
