@@ -54,7 +54,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 import peers  # noqa: E402
 
 ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conformal_smooth",
-               "conformal_grid", "conformal_grid_raw", "conventional", "cgal", "cgal3",
+               "conformal_grid", "conformal_grid_raw", "conformal_cdt", "conformal_cdt_raw",
+               "fair_cdt", "fair3_cdt", "conventional", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # the conformal method's variants: their options
@@ -63,6 +64,9 @@ CONFORMAL_VARIANTS = {
     "conformal_smooth": {"creases": False},  # every hole filled as smooth
     "conformal_grid": {"discretization": "grid"},  # the paper's grid, with the self-check
     "conformal_grid_raw": {"discretization": "grid", "select": False},
+    # S0 and the faired candidates on the planar CDT of the loop (docs/candidates.md)
+    "conformal_cdt": {"s0_search": "cdt"},
+    "conformal_cdt_raw": {"s0_search": "cdt", "select": False},
 }
 
 
@@ -242,6 +246,15 @@ def _run_conventional(vertices, faces, loop):
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
 
+def _run_faired(vertices, faces, loop, order: int, search: str):
+    from surfinpaint.fill.liepa.baseline import faired_fills
+
+    t0 = time.perf_counter()
+    nv, nf, _ = faired_fills(vertices, faces, loop, (order,), search=search)[order]
+    dt = time.perf_counter() - t0
+    return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
+
+
 def run_method(method: str, vertices, faces, loop):
     """Fill one hole: (all vertices, all faces, seconds, note)."""
     if method in ("fair", "conformal"):
@@ -253,6 +266,8 @@ def run_method(method: str, vertices, faces, loop):
         return _run_ours("fair", vertices, faces, loop, fair_order=3)
     if method == "conventional":
         return _run_conventional(vertices, faces, loop)
+    if method in ("fair_cdt", "fair3_cdt"):  # the faired candidates of conformal_cdt
+        return _run_faired(vertices, faces, loop, 3 if method == "fair3_cdt" else 2, "cdt")
     if method in peers.PEERS:
         return _run_peer(peers.PEERS[method], vertices, faces, loop)
     raise ValueError(f"unknown method {method!r}: choose from {', '.join(ALL_METHODS)}")

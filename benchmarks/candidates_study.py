@@ -202,6 +202,8 @@ def replay(rows: list[dict], rules: dict, reference: dict[tuple, float]) -> str:
              "(>2 %) |", "|---|---|---|---|---|---|---|---|---|"]
     today = {}
     for name, rule in rules.items():
+        if not set(getattr(rule, "needs", ())) <= set(rows[0]["truth"]):
+            continue  # a candidate the study did not make
         ratios, faired, regret, best, better, worse = [], [], [], 0, 0, 0
         for r in rows:
             t = r["truth"]
@@ -257,6 +259,7 @@ def _today_with(alternates, order_by="hidden"):
         score = hidden if order_by == "hidden" else s
         faired = min(passing, key=lambda k: score.get(k, np.inf)) if passing else "fair2"
         return ["conformal", faired] if v.keep else [faired]
+    rule.needs = alternates
     return rule
 
 
@@ -271,12 +274,41 @@ def _renamed(two: str, three: str):
             return out
         back = {"fair2": two, "fair3": three, "conformal": "conformal"}
         return [back[k] for k in _plan_rule(sub(hidden), sub(sibling))]
+    rule.needs = (two, three)
+    return rule
+
+
+def _two_lambda_h(alternate: str, faired=("fair3",)):
+    """Today's rule where the λ-H candidate is ``alternate`` instead of "conformal" when
+    it passes the fair3-vs-fair2 test against it (wins the hidden rings, does not lose the
+    siblings); faired fill among fair2 and ``faired``."""
+    from surfinpaint.fill.conformal.selection import _wins
+
+    base = _today_with(faired)
+
+    def rule(hidden, sibling):
+        lh = "conformal"
+        if alternate in hidden and "conformal" in hidden and _wins(
+                hidden, {k: sibling[k] for k in (alternate, "conformal") if k in sibling},
+                alternate, "conformal"):
+            lh = alternate
+        h = dict(hidden)
+        s = dict(sibling)
+        if lh != "conformal":
+            h["conformal"] = hidden[lh]
+            if lh in sibling:
+                s["conformal"] = sibling[lh]
+        return [lh if k == "conformal" else k for k in base(h, s)]
+    rule.needs = (alternate, *faired)
     return rule
 
 
 RULES = {
     "today (choose)": _plan_rule,
     "fair2": lambda h, s: ["fair2"],
+    "today, faired among fair3/tfair2/tfair3": _today_with(("fair3", "tfair2", "tfair3")),
+    "today, λ-H from tfair3 when it wins": _two_lambda_h("lh_tfair3"),
+    "both of the above": _two_lambda_h("lh_tfair3", ("fair3", "tfair2", "tfair3")),
     "today with ifair2 for fair2": _renamed("ifair2", "fair3"),
     "today with ifair3 for fair3": _renamed("fair2", "ifair3"),
     "today with ifair2, ifair3": _renamed("ifair2", "ifair3"),

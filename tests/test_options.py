@@ -47,6 +47,7 @@ def sphere_hole():
     ({"crease_angle": -5.0}, "crease_angle must be between 0 and 180"),
     ({"grid": GridOptions()}, "grid options apply to discretization='grid' only"),
     ({"discretization": "grid", "grid": {"spacing": 0.3}}, "grid must be a GridOptions"),
+    ({"s0_search": "greedy"}, "s0_search must be one of"),
 ])
 def test_bad_conformal_options(kwargs, match):
     with pytest.raises(ValueError, match=match):

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from surfinpaint.fill.creases import CREASE_ANGLE
+from surfinpaint.fill.liepa.triangulation import SEARCHES
 from surfinpaint.representation.inpainting import INPAINT_METHODS
 from surfinpaint.representation.reconstruction import METHODS as RECONSTRUCT_METHODS
 
@@ -155,6 +156,10 @@ class ConformalOptions:
     grid : GridOptions, optional
         Options of the grid discretization; ``GridOptions()`` when ``discretization`` is
         "grid" and None. Given with the mesh discretization, an error.
+    s0_search : {"delaunay", "all", "cdt"}
+        The triangulation of the hole's loop under S0 and the faired candidates
+        (:func:`surfinpaint.fill.liepa.triangulation.minimum_weight_triangulation`'s
+        ``search``; docs/candidates.md).
     """
 
     start: str = "fair"
@@ -170,9 +175,11 @@ class ConformalOptions:
     creases: bool = True
     crease_angle: float = CREASE_ANGLE
     grid: GridOptions | None = None
+    s0_search: str = "delaunay"
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
+        _one_of("s0_search", self.s0_search, SEARCHES)
         _one_of("discretization", self.discretization, tuple(PATCH_RINGS))
         if self.patch_rings is not None:
             # the mesh discretization drops rings where the map flips, down to 3

@@ -1,0 +1,128 @@
+"""Where CGAL's faired fills beat ours: its triangulation, its refinement or its fairing
+weights? (issue 14 item 3, on tuning holes; docs/candidates.md)
+
+Per hole, the mean error (% of the hole diameter, as ``benchmarks/validation.py`` scores)
+of fills that mix CGAL's steps (through the ``cgal`` package's ``triangulate_hole``,
+``triangulate_and_refine_hole`` and ``triangulate_refine_and_fair_hole``) with ours:
+
+- ``cgal`` / ``cgal3``: CGAL's whole pipeline (bi- / trilaplacian);
+- ``fair{k}``: ours (3D-Delaunay-restricted DP, our refinement, cotangent fairing);
+- ``ctri+fair{k}``: CGAL's triangulation, our refinement and fairing;
+- ``cref+fair{k}``: CGAL's triangulation and refinement, our fairing;
+- ``cref+clamped{k}``: the same with CGAL's non-negative clamped cotangents
+  (``operator="clamped"``);
+- ``cdt+fair{k}``: our planar constrained Delaunay triangulation (``search="cdt"``).
+
+Run::
+
+    .venv/bin/python benchmarks/cgal_s0.py --holes bunny#1,cube40#1,pial#0,white#2
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+import accuracy  # noqa: E402
+import holes_manifest  # noqa: E402
+import peers  # noqa: E402
+import validation  # noqa: E402
+import validation_meshes as vm  # noqa: E402
+
+from surfinpaint.fill.liepa.baseline import _neighbourhood, faired_fills  # noqa: E402
+from surfinpaint.fill.liepa.fairing import fair  # noqa: E402
+from surfinpaint.fill.liepa.refinement import refine_patch  # noqa: E402
+from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation  # noqa: E402
+from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
+
+HOLES = ("bunny#1,airplane#5,cube40#1,pial#0,white#2,white#3,face000#3,bunny#0,white#1,"
+         "white#4")
+
+
+def _cgal_step(step: str):
+    """peers.cgal_fill with CGAL's ``step`` in place of triangulate_refine_and_fair_hole."""
+    import CGAL.CGAL_Polygon_mesh_processing as pmp
+
+    def run(v, f, loop):
+        whole = pmp.triangulate_refine_and_fair_hole
+
+        def call(poly, border, out_faces, out_vertices, density, _continuity):
+            if step == "triangulate_hole":
+                return getattr(pmp, step)(poly, border, out_faces)
+            return getattr(pmp, step)(poly, border, out_faces, out_vertices, density)
+        pmp.triangulate_refine_and_fair_hole = call
+        try:
+            return peers.cgal_fill(v, f, loop)
+        finally:
+            pmp.triangulate_refine_and_fair_hole = whole
+    return run
+
+
+def _error(cut, new_v, new_f) -> float:
+    v = np.concatenate([cut.vertices, new_v])
+    f = np.concatenate([cut.faces, new_f])
+    pv, pf = hole_patch_of(v, f, len(cut.vertices), cut.faces)
+    d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=10000)
+    return float(d["mean"] * 100.0 / cut.diameter)
+
+
+def hole_row(cut) -> dict[str, float]:
+    v, f, loop = cut.vertices, cut.faces, cut.loop
+    n, m = len(v), len(f)
+
+    def fair_on(new_v, patch, order, operator="cotan"):
+        near = _neighbourhood(f, loop, n, order - 2)
+        return fair(np.vstack([v, new_v]), np.vstack([near, patch]),
+                    np.arange(n, n + len(new_v)), order=order, operator=operator)[n:]
+
+    out = {}
+    for peer in ("cgal", "cgal3"):
+        cv, cf, _, _ = accuracy._run_peer(peers.PEERS[peer], v, f, loop)
+        out[peer] = _error(cut, cv[n:], cf[m:])
+    _, ctri, _, _ = accuracy._run_peer(_cgal_step("triangulate_hole"), v, f, loop)
+    rv, rf, _, _ = accuracy._run_peer(_cgal_step("triangulate_and_refine_hole"), v, f, loop)
+    tris = {"ctri": ctri[m:], "cdt": minimum_weight_triangulation(v, loop, f, search="cdt")}
+    for order in (2, 3):
+        own = faired_fills(v, f, loop, (order,))[order]
+        out[f"fair{order}"] = _error(cut, own[0], own[1])
+        for name, tri in tris.items():
+            new_v, patch = refine_patch(v, tri, loop, faces=f)
+            out[f"{name}+fair{order}"] = _error(cut, fair_on(new_v, patch, order), patch)
+        out[f"cref+fair{order}"] = _error(cut, fair_on(rv[n:], rf[m:], order), rf[m:])
+        out[f"cref+clamped{order}"] = _error(cut, fair_on(rv[n:], rf[m:], order, "clamped"),
+                                             rf[m:])
+    return out
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--holes", default=HOLES, help="mesh#hole, comma-separated")
+    args = parser.parse_args(argv)
+    manifest = {e["mesh"]: e for e in holes_manifest.read(holes_manifest.MANIFEST)["meshes"]}
+    meshes: dict = {}
+    rows = []
+    for spec in args.holes.split(","):
+        name, k = spec.split("#")
+        if manifest[name]["split"] != "tuning":
+            raise SystemExit(f"{name} is a validation mesh: study the tuning half only")
+        mesh = meshes.setdefault(name, vm.load(name))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            row = hole_row(validation._cut(mesh, manifest[name]["holes"][int(k)]))
+        rows.append((spec, row))
+        print(spec, " ".join(f"{a} {b:.3f}" for a, b in row.items()), file=sys.stderr,
+              flush=True)
+    cols = list(rows[0][1])
+    print("| hole | " + " | ".join(cols) + " |")
+    print("|---|" + "---|" * len(cols))
+    for spec, row in rows:
+        print(f"| {spec} | " + " | ".join(f"{row[c]:.3f}" for c in cols) + " |")
+
+
+if __name__ == "__main__":
+    main()
