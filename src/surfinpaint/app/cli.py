@@ -23,7 +23,13 @@ from surfinpaint.app.batch import STATUSES, SUMMARY_CSV, fill_files
 from surfinpaint.app.experiments import add_experiments_parser
 from surfinpaint.app.figures import before_after
 from surfinpaint.app.fill_options import UsageError as _UsageError
-from surfinpaint.app.fill_options import add_fill_options, fill_options, hole_list
+from surfinpaint.app.fill_options import (
+    add_fill_options,
+    fill_options,
+    hole_list,
+    positive_int,
+    whole_number,
+)
 from surfinpaint.app.fill_report import Summary, count_warnings, hole_lines, print_warnings, tell
 from surfinpaint.app.interrupts import Interrupted, signals_raise
 from surfinpaint.app.lambda_h_figures import plot_representation
@@ -311,7 +317,7 @@ def _add_representation_commands(sub) -> None:
     p.add_argument("--map", choices=("rectangular", "lscm"), default="lscm",
                    help="conformal map: free-boundary LSCM (default: 2-4x more accurate "
                    "round trips, measured) or the paper's rectangular map")
-    p.add_argument("--resolution", type=int,
+    p.add_argument("--resolution", type=positive_int,
                    help="grid nodes along the long side (grid: default 256; --export-grid: "
                    "default from λ's range)")
     p.add_argument("--export-grid", metavar="NPZ",
@@ -320,7 +326,7 @@ def _add_representation_commands(sub) -> None:
     p.add_argument("--sampling", choices=("smooth", "pl"),
                    help="grid: sample the C1 (Clough-Tocher) surface through the vertices "
                    "(default) or the piecewise-linear mesh")
-    p.add_argument("--subdivide", type=int, metavar="LEVELS",
+    p.add_argument("--subdivide", type=whole_number(0), metavar="LEVELS",
                    help="grid: subdivision levels onto the smooth surface before the map "
                    "(default: automatic, from the mesh's crease angles; 0: none)")
     p.add_argument("--no-check", action="store_true",
@@ -471,7 +477,9 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> 
         console.print(f"[red]error:[/red] {escape(str(exc))}")
         return EXIT_FAILURE
     except (OSError, ValueError, RuntimeError) as exc:
-        console.print(f"[red]error:[/red] {type(exc).__name__}: {escape(str(exc))}")
+        named = f"{source}: " if source is not None and str(source) not in str(exc) else ""
+        console.print(f"[red]error:[/red] {escape(named)}{type(exc).__name__}: "
+                      f"{escape(str(exc))}")
         return EXIT_FAILURE
 
 

@@ -9,7 +9,8 @@ import argparse
 from surfinpaint.fill.conformal import ConformalOptions, GridOptions
 from surfinpaint.fill.pipeline import METHODS
 
-__all__ = ["UsageError", "add_fill_options", "fill_options", "hole_list"]
+__all__ = ["UsageError", "add_fill_options", "fill_options", "hole_list", "positive_int",
+           "whole_number"]
 
 
 class UsageError(Exception):
@@ -24,6 +25,25 @@ def hole_list(text: str) -> list[int]:
     except ValueError as exc:
         raise argparse.ArgumentTypeError(
             f"--holes takes comma-separated hole indices, got {text!r}") from exc
+
+
+def whole_number(minimum: int):
+    """An argparse ``type``: a whole number of at least ``minimum`` (else a usage error,
+    exit 2)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum}, got {value}")
+        return value
+
+    return parse
+
+
+positive_int = whole_number(1)
 
 
 def _conformal_options(args: argparse.Namespace):
@@ -58,6 +78,7 @@ def fill_options(args: argparse.Namespace) -> dict:
     (:func:`add_fill_options`) of ``fill`` and ``batch``; usage errors raised."""
     return {"method": args.method, "include_border": args.all,
             "max_hole_edges": args.max_hole_edges, "repair": args.repair,
+            "zip_seams": args.zip_seams,
             "fair_order": args.fair_order, "options": _conformal_options(args)}
 
 
@@ -67,8 +88,13 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
     p = parser.add_argument_group("fill options")
     p.add_argument("--method", choices=METHODS, default="conformal",
                    help="conformal (default) or the conventional fill 'fair'")
-    p.add_argument("--max-hole-edges", type=int, metavar="N",
+    p.add_argument("--max-hole-edges", type=positive_int, metavar="N",
                    help="skip holes with more than N boundary edges")
+    p.add_argument("--zip-seams", action="store_true",
+                   help="close a seam of duplicated coincident vertices (a loop that spans "
+                   "no area, as exporters write along a UV seam) by having its faces use "
+                   "one vertex of each pair; without it such loops are left open with a "
+                   "warning (no loop that spans no area is ever filled)")
     p.add_argument("--all", action="store_true",
                    help="also fill loops that look like the surface's outer border")
     p.add_argument("--repair", action="store_true",

@@ -58,6 +58,8 @@ class Summary:
     new_vertices: int
     new_faces: int
     seconds: float
+    #: seams of duplicated vertices zipped (``--zip-seams``)
+    zipped: int = 0
 
     @classmethod
     def of(cls, result: FillResult, seconds: float) -> Summary:
@@ -65,7 +67,18 @@ class Summary:
         return cls(len(outcomes), outcomes.count("lambda-h"), outcomes.count("faired"),
                    outcomes.count("skipped"), outcomes.count("failed"),
                    len(result.vertices) - result.n_original_vertices,
-                   len(result.faces) - result.n_original_faces, seconds)
+                   len(result.faces) - result.n_original_faces, seconds,
+                   outcomes.count("zipped"))
+
+
+def _hole_warning_names() -> set[str]:
+    """The names of HoleWarning and its subclasses (a slit's SlitWarning)."""
+    names, todo = set(), [HoleWarning]
+    while todo:
+        cls = todo.pop()
+        names.add(cls.__name__)
+        todo.extend(cls.__subclasses__())
+    return names
 
 
 def count_warnings(caught: Iterable[warnings.WarningMessage]) -> list[WarningCount]:
@@ -91,6 +104,8 @@ def written(report: HoleReport) -> str:
         return "λ-H fill"
     if outcome == "faired":
         return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')})"
+    if outcome == "zipped":
+        return f"seam zipped ({len(report.zipped)} duplicate vertices merged)"
     return f"{outcome}: {report.skipped}"
 
 
@@ -167,7 +182,10 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
 def summary_lines(summary: Summary) -> list[str]:
     """The closing summary: the counts, what was added, the time."""
     return [f"{summary.holes_found} holes found: {summary.lambda_h} filled by the λ-H fill, "
-            f"{summary.faired} by a faired fill, {summary.skipped} skipped, "
+            f"{summary.faired} by a faired fill, "
+            + (f"{summary.zipped} seam{'s' * (summary.zipped > 1)} zipped, "
+               if summary.zipped else "")
+            + f"{summary.skipped} skipped, "
             f"{summary.failed} failed; {summary.new_vertices} new vertices, "
             f"{summary.new_faces} new faces; {summary.seconds:.1f} s"]
 
@@ -327,5 +345,6 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
         for line in summary_lines(summary):
             console.print(escape(line))
     # what the hole lines said already is not said again
-    print_warnings(console, [w for w in seen if w.category != HoleWarning.__name__])
+    said = _hole_warning_names()
+    print_warnings(console, [w for w in seen if w.category not in said])
     return seen

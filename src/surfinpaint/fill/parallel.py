@@ -25,12 +25,13 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from surfinpaint.errors import NUMERICAL_ERRORS, FillError, MeshError
 from surfinpaint.fill.conformal import ConformalOptions, conformal_fill
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.fill.results import Fill
 
-__all__ = ["fill_local", "first_loops", "independent", "pool", "reaches_no_earlier_loop",
-           "resolve_jobs", "worth_parallel"]
+__all__ = ["fill_local", "fill_or_failure", "first_loops", "independent", "pool",
+           "reaches_no_earlier_loop", "resolve_jobs", "worth_parallel"]
 
 # fewer holes than this, or fewer boundary edges in all, and the holes are filled in this
 # process: starting workers costs more than such holes take (a faired fill of a 60-edge
@@ -61,18 +62,33 @@ def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method
     return conformal_fill(vertices, faces, loop, options, fair_order=fair_order)
 
 
+def fill_or_failure(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
+                    options: ConformalOptions, fair_order: int | None
+                    ) -> tuple[Fill | None, str | None]:
+    """:func:`fill_local`'s fill and None, or None and why it failed: a numerical failure
+    of this hole's fill (``NUMERICAL_ERRORS``: a ``FillError``, a singular system; the
+    conformal method's faired fallback included) is the hole's, reported so that the other
+    holes are still filled. Bad input (``MeshError``) is raised."""
+    try:
+        return fill_local(vertices, faces, loop, method, options, fair_order), None
+    except MeshError:
+        raise
+    except NUMERICAL_ERRORS as exc:
+        return None, str(exc) if isinstance(exc, FillError) else f"{type(exc).__name__}: {exc}"
+
+
 def fill_in_worker(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
                    options: ConformalOptions, fair_order: int | None
-                   ) -> tuple[Fill, list[WarningRecord], float]:
-    """:func:`fill_local` in a worker process (top level: picklable), with the warnings it
-    raised (for the parent to re-issue in hole order) and the seconds it took. One BLAS
+                   ) -> tuple[Fill | None, str | None, list[WarningRecord], float]:
+    """:func:`fill_or_failure` in a worker process (top level: picklable), with the warnings
+    it raised (for the parent to re-issue in hole order) and the seconds it took. One BLAS
     thread: the parallelism is over holes."""
     started = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
         warnings.simplefilter("always")
-        made = fill_local(vertices, faces, loop, method, options, fair_order)
+        made, failure = fill_or_failure(vertices, faces, loop, method, options, fair_order)
     records = [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
-    return made, records, time.perf_counter() - started
+    return made, failure, records, time.perf_counter() - started
 
 
 def reissue(records: list[WarningRecord]) -> None:

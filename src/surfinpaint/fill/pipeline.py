@@ -18,7 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
-from surfinpaint.errors import HoleWarning, MeshError
+from surfinpaint.errors import HoleWarning, MeshError, preview
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
@@ -27,10 +27,12 @@ from surfinpaint.fill.face_attributes import fill_result_face_attributes
 from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import Fill, FillResult, HoleReport
+from surfinpaint.fill.seams import SlitWarning, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
 from surfinpaint.geometry.validation import check_loop, validate_mesh, zero_area_faces
+from surfinpaint.io.base import MeshWarning
 
 __all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
 
@@ -158,10 +160,55 @@ class _FilledMesh:
                           removed_faces)
 
 
-def _skip(report: HoleReport, reason: str) -> None:
+def _skip(report: HoleReport, reason: str, category: type[Warning] = HoleWarning,
+          stacklevel: int = 5) -> None:
     report.skipped = reason
     report.method = "none"
-    warnings.warn(f"hole {report.index}: {reason}; skipped", HoleWarning, stacklevel=5)
+    warnings.warn(f"hole {report.index}: {reason}; skipped", category, stacklevel=stacklevel)
+
+
+def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
+                zip_seams: bool) -> tuple[np.ndarray, np.ndarray, list[HoleReport]]:
+    """The holes of ``todo`` whose loop spans no area (:func:`find_slit`) taken out of it,
+    before anything is filled: seams zipped with ``zip_seams`` (the faces returned use each
+    kept vertex in place of its duplicate), the others skipped with a SlitWarning.
+
+    Returns the faces, the merged ``(duplicate, kept)`` pairs and the holes left to fill
+    (their loops in the zipped faces' ids).
+    """
+    left, merged = [], []
+    for report in todo:
+        slit = find_slit(vertices, report.loop)
+        if slit is None:
+            left.append(report)
+            continue
+        reason = slit.describe()
+        if slit.is_seam and zip_seams:
+            zipped, problem = zip_faces(faces, slit.merges)
+            if problem is None:
+                faces = zipped
+                report.method, report.zipped = "zipped", slit.merges
+                report.note = (f"seam zipped: {len(slit.merges)} duplicate vertices merged "
+                               "into their coincident partners")
+                merged.append(slit.merges)
+                warnings.warn(f"hole {report.index}: a seam of {len(slit.merges)} coincident "
+                              "vertex pairs zipped (its loop spans no area): the faces use "
+                              f"vertices "
+                              f"{preview(slit.merges[:, 1])} in place of their duplicates "
+                              f"{preview(slit.merges[:, 0])} (left unused)", MeshWarning,
+                              stacklevel=4)
+                continue
+            reason += f"; not zipped: {problem}"
+        elif slit.is_seam:
+            reason += "; left open (zip_seams=True, or --zip-seams, closes it)"
+        _skip(report, reason, SlitWarning, stacklevel=5)
+    pairs = np.concatenate(merged) if merged else np.empty((0, 2), dtype=np.int64)
+    if len(pairs):  # a later loop through a duplicate (a bow-tie there) goes through its partner
+        mapping = np.arange(len(vertices))
+        mapping[pairs[:, 0]] = pairs[:, 1]
+        for report in left:
+            report.loop = mapping[report.loop]
+    return faces, pairs, left
 
 
 def _problem(local: _Local, index: int, explicit: bool) -> str | None:
@@ -234,6 +281,7 @@ def fill_holes(
     neighbourhood_rings: int | None = None,
     repair: bool = False,
     validate: bool = True,
+    zip_seams: bool = False,
     progress: ProgressCallback | None = None,
     jobs: int | None = None,
 ) -> FillResult:
@@ -276,6 +324,14 @@ def fill_holes(
         ``FillResult.removed_faces``.
     validate : bool
         Check the mesh first (:func:`surfinpaint.validate_mesh`).
+    zip_seams : bool
+        A loop that spans no area (a slit, or a seam of duplicated coincident vertices as
+        exporters write along a UV seam) is never filled: no fill of it is a surface. By
+        default it is left open with a :class:`~surfinpaint.MeshWarning`; with
+        ``zip_seams=True`` a seam is zipped instead: the faces use each duplicate's
+        coincident partner (the smaller id) in its place, so the surface comes out closed
+        along the seam. The vertices stay as they are (the duplicates unused); the pairs
+        are in ``FillResult.merged_vertices``. See :mod:`surfinpaint.fill.seams`.
     progress : callable(done, total, message), optional
         Called before and after each hole (in hole order).
     jobs : int, optional
@@ -300,9 +356,19 @@ def fill_holes(
     Raises
     ------
     MeshError
-        Invalid mesh or hole selection (the message names the offending ids).
+        Invalid mesh or hole selection (the message names the offending ids; a problem
+        found at one hole, by the hole's :func:`find_holes` number).
     ValueError
-        An unknown method or a bad argument (an unknown option name is a TypeError).
+        An unknown method or a bad argument value (``MeshError`` is a ``ValueError`` too).
+    TypeError
+        An unknown option name, or a mesh of a kind not taken
+        (:func:`surfinpaint.fill.objects.mesh_arrays`).
+
+    A hole that cannot be filled never stops the others, and is never an exception: its
+    fill's failure (``FillError`` or a singular system, the faired fallback's included) is
+    reported (``HoleReport.failed``, the reason in ``.skipped``) and warned, and the hole is
+    left open; so is a loop
+    that spans no area (see ``zip_seams``).
     """
     vertices, faces, attributes, face_attributes = mesh_arrays(vertices, faces, attributes,
                                                                face_attributes)
@@ -310,10 +376,13 @@ def fill_holes(
     attributes, attribute_kinds = _checked_attributes(len(vertices), len(faces), attributes,
                                                       face_attributes, attribute_kinds)
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
+    for name, flag in (("include_border", include_border), ("repair", repair),
+                       ("validate", validate), ("zip_seams", zip_seams)):
+        if not isinstance(flag, bool | np.bool_):
+            raise ValueError(f"{name} must be True or False, got {flag!r}")
     jobs = parallel.resolve_jobs(jobs)
     vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
     loops = select_holes(vertices, faces, holes, include_border=include_border, table=table)
-    mesh = _FilledMesh(vertices, faces)
     # numbered as find_holes numbers them (the outer border counts), whatever was selected
     numbers = hole_numbers(vertices, faces, loops, table=table)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
@@ -326,6 +395,9 @@ def fill_holes(
             report.method = "none"
         else:
             todo.append(report)
+    # before anything is filled: a zipped seam changes the faces the other holes are cut from
+    faces, merged, todo = _open_seams(vertices, faces, todo, zip_seams)
+    mesh = _FilledMesh(vertices, faces)
     run = _Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
                progress=progress, rings=neighbourhood_rings,
                position={id(r): k for k, r in enumerate(reports)})
@@ -338,8 +410,9 @@ def fill_holes(
             _fill_hole(mesh, report, run.rings_of(report), explicit=run.explicit,
                        fill=run.fill)
             run.finished(report)
-    result = _with_attributes(mesh.result(reports, removed_faces), attributes,
-                              face_attributes, attribute_kinds)
+    result = mesh.result(reports, removed_faces)
+    result.merged_vertices = merged
+    result = _with_attributes(result, attributes, face_attributes, attribute_kinds)
     result.topology = topology_changes(result)
     for change in result.topology:
         warnings.warn(change.message, stacklevel=2)
@@ -365,9 +438,9 @@ class _Run:
         return self.rings or (self.options.neighbourhood_rings(report.n_edges)
                               if self.method == "conformal" else FAIR_NEIGHBOURHOOD_RINGS)
 
-    def fill(self, local: _Local) -> Fill:
-        return parallel.fill_local(local.vertices, local.faces, local.local_loop, self.method,
-                                   self.options, self.fair_order)
+    def fill(self, local: _Local) -> tuple[Fill | None, str | None]:
+        return parallel.fill_or_failure(local.vertices, local.faces, local.local_loop,
+                                        self.method, self.options, self.fair_order)
 
     def starting(self, report: HoleReport) -> None:
         if self.progress:
@@ -381,18 +454,33 @@ class _Run:
 
 
 def _fill_hole(mesh: _FilledMesh, report: HoleReport, rings: int, *,
-               explicit: bool, fill: Callable[[_Local], Fill]) -> None:
+               explicit: bool, fill: Callable[[_Local], tuple[Fill | None, str | None]]
+               ) -> None:
     """One hole: cut its neighbourhood, check its loop, fill it, stitch the fill in, and
     say what happened in ``report`` (skipped, with a warning, when it cannot be filled)."""
     started = time.perf_counter()
     local = mesh.cut(report.loop, rings)
     problem = _problem(local, report.index, explicit)
-    _stitched(mesh, report, local, None if problem else fill(local), problem, started)
+    made, failure = (None, None) if problem else _at_hole(report.index, fill, local)
+    _stitched(mesh, report, local, made, problem, started, failure)
+
+
+def _at_hole(index: int, call: Callable, *args):
+    """``call(*args)`` for hole ``index``: a MeshError raised names the hole."""
+    try:
+        return call(*args)
+    except MeshError as exc:
+        raise MeshError(f"hole {index}: {exc.message}", path=exc.path, vertices=exc.vertices,
+                        edges=exc.edges, faces=exc.faces) from exc
 
 
 def _stitched(mesh: _FilledMesh, report: HoleReport, local: _Local, made: Fill | None,
-              problem: str | None, started: float) -> None:
-    """Stitch ``made`` (None: ``problem`` says why there is no fill) in, and report it."""
+              problem: str | None, started: float, failure: str | None = None) -> None:
+    """Stitch ``made`` (None: ``problem`` says why there is no fill, or ``failure`` why the
+    fill raised) in, and report it."""
+    if failure is not None:  # the fill raised: the hole is left open, the others go on
+        report.failed = True
+        problem = f"the fill failed: {failure}"
     if made is not None:
         _record(report, made)
         problem = mesh.stitch(local, made)
@@ -438,9 +526,10 @@ def _fill_in_parallel(mesh: _FilledMesh, todo: list[HoleReport], run: _Run,
                 _fill_hole(mesh, report, run.rings_of(report), explicit=run.explicit,
                            fill=run.fill)
             elif k in futures:
-                made, records, seconds = futures.pop(k).result()
+                made, failure, records, seconds = _at_hole(k, futures.pop(k).result)
                 parallel.reissue(records)
-                _stitched(mesh, report, cuts[k], made, None, time.perf_counter() - seconds)
+                _stitched(mesh, report, cuts[k], made, None, time.perf_counter() - seconds,
+                          failure)
             elif isinstance(problems[k], MeshError):
                 raise problems[k]
             else:

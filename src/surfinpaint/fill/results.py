@@ -162,9 +162,9 @@ class Fill:
 
 
 #: What was written for a hole: the λ-H fill, a faired fill, nothing because the hole was
-#: skipped (by ``max_hole_edges``, or a loop that cannot be filled), or nothing because its
-#: fill failed.
-Outcome = Literal["lambda-h", "faired", "skipped", "failed"]
+#: skipped (by ``max_hole_edges``, or a loop that cannot be filled), nothing because its
+#: fill failed, or its seam zipped (``zip_seams=True``: :mod:`surfinpaint.fill.seams`).
+Outcome = Literal["lambda-h", "faired", "skipped", "failed", "zipped"]
 
 # the self-check's candidate names (:mod:`surfinpaint.fill.conformal.selection`)
 _CANDIDATES = {"conformal": "lambda_h", "fair2": "bilaplacian", "fair3": "trilaplacian"}
@@ -212,7 +212,10 @@ class HoleReport:
     the conformal method fell back after a failure (``fallback`` says why, and a warning is
     issued) or when its self-check preferred the faired fill (``note`` says so); "none" when
     nothing was written (``skipped`` says why; ``failed`` when it is because the hole's fill
-    failed rather than a choice or a loop that cannot be filled). ``diameter`` is the largest
+    failed rather than a choice or a loop that cannot be filled; a loop that spans no area
+    is skipped with a warning); "zipped" when the loop was a seam of duplicated vertices
+    zipped with ``zip_seams=True`` (``zipped`` holds the merged ``(duplicate, kept)`` vertex
+    pairs; see :mod:`surfinpaint.fill.seams`). ``diameter`` is the largest
     distance between two of the loop's vertices, in mesh units. ``fair_order`` is the fairing
     order of a faired fill, ``verdict`` the conformal method's self-check, ``crease`` says
     that a crease crossing the hole was continued across it (``crease_failure``: that its crease
@@ -238,6 +241,7 @@ class HoleReport:
     diameter: float = float("nan")
     failed: bool = False
     crease_failure: str | None = None
+    zipped: np.ndarray | None = None
 
     @property
     def outcome(self) -> Outcome:
@@ -246,6 +250,8 @@ class HoleReport:
             return "lambda-h"
         if self.method == "fair":
             return "faired"
+        if self.method == "zipped":
+            return "zipped"
         return "failed" if self.failed else "skipped"
 
     @property
@@ -295,7 +301,10 @@ class FillResult:
     """A filled mesh: the original vertices first, unchanged, then the new ones.
 
     ``faces`` holds the original faces in order (less ``removed_faces``, ids into the input
-    faces, when ``repair=True``), then the new faces.
+    faces, when ``repair=True``), then the new faces. Seams zipped with ``zip_seams=True``
+    are the one change to the original faces: ``merged_vertices`` lists the ``(duplicate,
+    kept)`` vertex pairs, and the faces use each kept vertex in place of its duplicate (left
+    in ``vertices``, unused).
     """
 
     vertices: np.ndarray
@@ -304,6 +313,8 @@ class FillResult:
     n_original_vertices: int
     n_original_faces: int
     removed_faces: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    merged_vertices: np.ndarray = field(
+        default_factory=lambda: np.empty((0, 2), dtype=np.int64))
     #: per-vertex arrays over ``vertices`` (the new rows inpainted: fill/attributes.py)
     attributes: dict[str, np.ndarray] = field(default_factory=dict)
     #: per-face arrays over ``faces`` (the new rows from across the loop)
