@@ -27,7 +27,14 @@ from surfinpaint.data import snowman, sphere, torus
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
-from surfinpaint.io.formats import read_mesh, write_mesh
+from surfinpaint.io import MeshData
+from surfinpaint.io.formats import (
+    files_read,
+    read_mesh,
+    read_mesh_data,
+    write_mesh,
+    write_mesh_data,
+)
 
 FAIR = {"method": "fair"}
 
@@ -363,3 +370,129 @@ def test_cli_batch_exit_codes_and_shared_fill_options(tmp_path, capsys):
         sections.append(text[text.index("fill options:"):].split("\n\n")[0])
     assert sections[0] == sections[1]
     assert all(flag in sections[0] for flag in ("--method", "--fair-order", "--repair"))
+
+
+def test_an_overlay_changed_alone_is_filled_again(tmp_path):
+    pytest.importorskip("nibabel")
+    from nibabel.freesurfer import write_morph_data
+
+    v, f = _holey(*sphere(2), 1)
+    thickness = (v[:, 2] + 2).astype(np.float32)
+    scans, newer = tmp_path / "scans", tmp_path / "newer"
+    scans.mkdir()
+    newer.mkdir()
+    write_mesh_data(scans / "lh.pial.gii", MeshData(v, f, {"thickness": thickness}))
+    # FreeSurfer: lh.thickness beside lh.white is read with it too
+    (scans / "surf").mkdir()
+    write_mesh(scans / "surf" / "lh.white", v, f)
+    write_morph_data(scans / "surf" / "lh.thickness", thickness)
+    assert files_read(scans / "surf" / "lh.white") == [scans / "surf" / "lh.white",
+                                                       scans / "surf" / "lh.thickness"]
+    assert files_read(scans / "lh.pial.gii") == [scans / "lh.pial.gii",
+                                                 scans / "lh.pial.thickness.shape.gii"]
+    out = tmp_path / "out"
+    first = fill_files([scans], out, jobs=1, **FAIR)
+    # the GIFTI overlay is read with its surface, not filled as a surface of its own
+    assert [(r.output, r.status) for r in first] == [("lh.pial.gii", "filled"),
+                                                     ("surf/lh.white", "filled")]
+    assert [r.status for r in fill_files([scans], out, jobs=1, **FAIR)] == ["skipped"] * 2
+    # each overlay changes alone, after the outputs were written: both surfaces are refilled
+    write_mesh_data(newer / "lh.pial.gii", MeshData(v, f, {"thickness": 2 * thickness}))
+    later = (out / "lh.pial.gii").stat().st_mtime_ns + 1  # newer, but not in the future
+    for overlay, source in ((scans / "lh.pial.thickness.shape.gii",
+                             newer / "lh.pial.thickness.shape.gii"),
+                            (scans / "surf" / "lh.thickness", None)):
+        if source is None:
+            write_morph_data(overlay, 2 * thickness)
+        else:
+            overlay.write_bytes(source.read_bytes())
+        os.utime(overlay, ns=(later, later))
+    again = fill_files([scans], out, jobs=1, **FAIR)
+    assert [r.status for r in again] == ["filled", "filled"]
+    for name in ("lh.pial.gii", "surf/lh.white"):
+        filled = read_mesh_data(out / name).attributes["thickness"]
+        np.testing.assert_array_equal(filled[:len(v)], 2 * thickness)
+    assert [r.status for r in fill_files([scans], out, jobs=1, **FAIR)] == ["skipped"] * 2
+
+
+def _two_files_of_two_holes(tmp_path) -> Path:
+    scans = tmp_path / "scans"
+    scans.mkdir()
+    write_mesh(scans / "a.ply", *_holey(*sphere(3), 2))
+    write_mesh(scans / "b.ply", *_holey(*sphere(2), 2))
+    return scans
+
+
+def test_progress_names_the_holes_of_the_file_in_this_process(tmp_path):
+    scans = _two_files_of_two_holes(tmp_path)
+    calls = []
+    fill_files([scans], tmp_path / "out", jobs=1, progress=lambda *c: calls.append(c), **FAIR)
+    files = [(done, total, message) for done, total, message in calls if "holes (" not in message]
+    assert files == [(0, 2, "2 files"), (1, 2, f"{scans / 'a.ply'}: filled"),
+                     (2, 2, f"{scans / 'b.ply'}: filled")]
+    holes = [(done, message.split(" (")[0]) for done, total, message in calls
+             if "holes (" in message]
+    # file k/N (the files done), hole i/M: each hole as it starts and once it is filled
+    assert holes == [(0, f"{scans / name}: {i}/2 holes") for name in ["a.ply"]
+                     for i in (0, 1, 1, 2)] + [
+        (1, f"{scans / 'b.ply'}: {i}/2 holes") for i in (0, 1, 1, 2)]
+
+
+def test_progress_names_the_holes_of_the_files_on_local_workers(tmp_path):
+    scans = _two_files_of_two_holes(tmp_path)
+    calls = []
+    rows = fill_files([scans], tmp_path / "out", jobs=2, progress=lambda *c: calls.append(c),
+                      **FAIR)
+    assert [r.status for r in rows] == ["filled", "filled"]
+    holes = [message for _, _, message in calls if "holes (" in message]
+    # the workers send each hole's start and end back: every file is named with its holes
+    for name in ("a.ply", "b.ply"):
+        mine = [part for message in holes for part in message.split(" · ")
+                if part.startswith(f"{scans / name}: ")]
+        assert mine, calls
+        assert all(part.split(": ")[1].split(" (")[0] in ("0/2 holes", "1/2 holes",
+                                                           "2/2 holes") for part in mine)
+    # the count is of files: it never goes back, and hole messages do not move it
+    dones = [done for done, _, _ in calls]
+    assert dones == sorted(dones) and dones[-1] == 2
+
+
+KILLER = '''
+import os
+import signal
+
+if os.environ.get("SURFINPAINT_TEST_KILLER"):
+    import surfinpaint.app.batch as batch
+
+    _read = batch.read_mesh_data
+
+    def read_mesh_data(path, *args, **kwargs):
+        if os.path.basename(path) == os.environ["SURFINPAINT_TEST_KILLER"]:
+            os.kill(os.getpid(), signal.SIGKILL)  # the worker dies on this file, every time
+        return _read(path, *args, **kwargs)
+
+    batch.read_mesh_data = read_mesh_data
+'''
+
+
+def test_a_file_that_kills_its_worker_every_time_ends_as_a_failed_row(tmp_path, monkeypatch):
+    scans = _scans(tmp_path)
+    write_mesh(scans / "killer.ply", *_holey(*sphere(2), 1))
+    out = tmp_path / "out"
+    expected = _expected(scans, **FAIR)
+    # the spawned workers run this sitecustomize: it kills a worker as it reads killer.ply
+    hook = tmp_path / "hook"
+    hook.mkdir()
+    (hook / "sitecustomize.py").write_text(KILLER)
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(
+        [str(hook), *filter(None, [os.environ.get("PYTHONPATH")])]))
+    monkeypatch.setenv("SURFINPAINT_TEST_KILLER", "killer.ply")
+    rows = fill_files([scans], out, jobs=2, **FAIR)
+    killer = rows.pop([Path(r.path).name for r in rows].index("killer.ply"))
+    assert killer.status == "failed"
+    assert killer.message == (f"{scans / 'killer.ply'}: the worker process died while "
+                              "filling it (tried 4 times)")
+    _check_rows(rows, expected)
+    _check_outputs(out, expected)  # the others written, nothing of the killer
+    summary = {r.path: r for r in read_summary(out)}
+    assert summary[killer.path] == killer and len(summary) == 8

@@ -8,7 +8,9 @@ spawned processes and Dask workers can import it), and writes ``summary.csv`` an
 A file that cannot be read or filled becomes a ``failed`` row; the others are still written.
 Every output is written atomically (a complete file or none), so an interrupted run, or a
 worker killed mid-file, leaves no partial output, and a rerun skips the outputs that are
-newer than their input: it picks up where the last run stopped.
+newer than every file their fill reads: it picks up where the last run stopped. The progress
+callback hears of each file done and, from this process and local workers (not from Dask
+workers), of the holes of the files in flight.
 """
 
 from __future__ import annotations
@@ -26,22 +28,24 @@ import time
 import uuid
 import warnings
 from collections import deque
-from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
+from queue import Empty
 from typing import Any, Literal
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from surfinpaint.app.batch_inputs import FileJob, find_inputs, up_to_date
 from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.io.atomic import atomic_open
-from surfinpaint.io.formats import SUPPORTED_FORMATS, read_mesh_data, write_mesh_data
+from surfinpaint.io.formats import read_mesh_data, write_mesh_data
 
 __all__ = ["FileJob", "FileRow", "STATUSES", "fill_file", "fill_files", "find_inputs",
            "read_summary", "write_summary"]
@@ -58,17 +62,11 @@ WORKER_RETRIES = 3
 
 ProgressCallback = Callable[[int, int, str], None]
 
-
-@dataclass(frozen=True)
-class FileJob:
-    """One input file and the output it is filled into (both absolute), and their names
-    as the summary shows them: the input as given (or found under a folder given), the
-    output relative to the output folder."""
-
-    source: Path
-    target: Path
-    name: str
-    output: str
+# The queue a local worker process sends the hole progress of its file through (set by the
+# pool's initializer; None in the calling process and on Dask workers).
+_HOLE_PROGRESS: Any = None
+# How long the parent waits for a file to finish before it shows the holes' progress again.
+_PROGRESS_SECONDS = 0.1
 
 
 @dataclass(frozen=True)
@@ -103,97 +101,6 @@ class FileRow:
         if self.status not in STATUSES:
             raise ValueError(f"status must be one of {', '.join(STATUSES)}, got "
                              f"{self.status!r}")
-
-
-# ------------------------------------------------------------------------- finding inputs
-
-
-def _is_mesh_name(name: str) -> bool:
-    lower = name.lower()
-    return not name.startswith(".") and any(lower.endswith(s) for s in SUPPORTED_FORMATS)
-
-
-def _meshes_under(folder: Path) -> Iterator[Path]:
-    """Mesh files under ``folder`` (recursively; hidden files and folders left out)."""
-    for root, dirs, files in os.walk(folder):
-        dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-        for name in sorted(files):
-            if _is_mesh_name(name):
-                yield Path(root) / name
-
-
-def _glob_base(pattern: str) -> Path:
-    """The folder part of a glob pattern before its first wildcard."""
-    parts = Path(pattern).parts
-    first = next(i for i, part in enumerate(parts) if glob.has_magic(part))
-    return Path(*parts[:first]) if first else Path(".")
-
-
-def _expand(item: str) -> Iterator[tuple[Path, Path]]:
-    """(file, path relative to the output folder) for one input argument."""
-    path = Path(item)
-    if path.is_dir():
-        for found in _meshes_under(path):
-            yield found, found.relative_to(path)
-    elif glob.has_magic(item) and not path.exists():
-        base = _glob_base(item)
-        for match in sorted(glob.glob(item, recursive=True)):
-            found = Path(match)
-            if found.is_dir():
-                for inner in _meshes_under(found):
-                    yield inner, inner.relative_to(base)
-            elif _is_mesh_name(found.name):
-                yield found, found.relative_to(base)
-    else:
-        yield path, Path(path.name)  # a missing file becomes a failed row, not a crash
-
-
-def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike
-                ) -> list[FileJob]:
-    """The files to fill and their outputs: ``out_dir`` mirrors the inputs' layout.
-
-    A file argument is written to ``out_dir/<its name>``; a folder is searched recursively
-    for files with a known mesh extension (:data:`surfinpaint.io.SUPPORTED_FORMATS`), each
-    written to the same relative path under ``out_dir``; a glob pattern (``*``, ``?``,
-    ``[...]``, ``**``) mirrors the matches' paths below the pattern's first wildcard. Files
-    inside ``out_dir`` are never inputs; a file named twice is filled once.
-
-    Raises
-    ------
-    ValueError
-        When an input names no mesh file, two inputs would be written to the same output,
-        or an input would be overwritten by its output.
-    """
-    out = Path(out_dir).absolute()
-    out_real = os.path.realpath(out)
-    jobs: list[FileJob] = []
-    seen: set[str] = set()
-    targets: dict[Path, str] = {}
-    for item in inputs:
-        expanded = list(_expand(os.fspath(item)))
-        if not expanded:
-            raise ValueError(f"{os.fspath(item)}: no mesh files there (known extensions: "
-                             f"{', '.join(SUPPORTED_FORMATS)})")
-        for found, relative in expanded:
-            real = os.path.realpath(found)
-            if real in seen or (found.exists() and Path(real).is_relative_to(out_real)
-                                and os.fspath(found) != os.fspath(item)):
-                continue
-            seen.add(real)
-            target = out / relative
-            if target in targets:
-                raise ValueError(f"{targets[target]} and {found} would both be written to "
-                                 f"{target}; fill them into different output folders or rename one")
-            if os.path.realpath(target) == real:
-                raise ValueError(f"{found} would be overwritten by its output: choose an "
-                                 "output folder other than the input's (inputs are never "
-                                 "modified)")
-            targets[target] = os.fspath(found)
-            jobs.append(FileJob(found.absolute(), target, os.fspath(found),
-                                relative.as_posix()))
-    if not jobs:
-        raise ValueError("no input files given")
-    return jobs
 
 
 # -------------------------------------------------------------------------- one file's fill
@@ -242,10 +149,21 @@ def _error_text(job: FileJob, exc: Exception) -> str:
 _ONE_FILE_AT_A_TIME = threading.Lock()
 
 
-def fill_file(job: FileJob, options: Mapping[str, Any]) -> FileRow:
+def fill_file(job: FileJob, options: Mapping[str, Any],
+              hole_progress: ProgressCallback | None = None) -> FileRow:
     """Read, fill and write one file; never raises for a bad file (it becomes a "failed"
     row, with nothing written). A top-level function: spawned processes and Dask workers
-    import it. Runs with one BLAS thread: the parallelism is over files."""
+    import it. Runs with one BLAS thread: the parallelism is over files.
+
+    ``hole_progress(done, total, message)`` is told of the file's holes (the ``progress``
+    of :func:`surfinpaint.fill_holes`); in a local worker process they go to the parent
+    through the pool's queue instead."""
+    if hole_progress is None and _HOLE_PROGRESS is not None:
+        queue = _HOLE_PROGRESS
+
+        def hole_progress(done: int, total: int, message: str) -> None:
+            queue.put((job.name, done, total, message))
+
     started = time.perf_counter()
     with _ONE_FILE_AT_A_TIME, warnings.catch_warnings(record=True) as caught, \
             threadpool_limits(limits=1):
@@ -253,7 +171,8 @@ def fill_file(job: FileJob, options: Mapping[str, Any]) -> FileRow:
         try:
             # every attribute the file carries, filled in at the new vertices and faces
             # the parallelism is over files: the holes of each are filled one by one
-            result, filled = fill_mesh_data(read_mesh_data(job.source), **options, jobs=1)
+            result, filled = fill_mesh_data(read_mesh_data(job.source), **options, jobs=1,
+                                            progress=hole_progress)
             job.target.parent.mkdir(parents=True, exist_ok=True)
             write_mesh_data(job.target, filled)
         except Exception as exc:  # any failure of one file is that file's row, not the batch's
@@ -280,32 +199,64 @@ def _remove_temporaries(jobs: Iterable[FileJob]) -> None:
 
 
 class _Rows:
-    """The rows of a run as they come in, and the progress callback told of each."""
+    """The rows of a run as they come in, and the progress callback told of each, and of
+    the holes of the files in flight."""
 
     def __init__(self, total: int, progress: ProgressCallback | None) -> None:
         self.total, self.progress = total, progress
         self.by_name: dict[str, FileRow] = {}
+        self.holes: dict[str, str] = {}  # the hole progress of each file in flight
 
     def add(self, row: FileRow, *, quiet: bool = False) -> None:
         self.by_name[row.path] = row
+        self.holes.pop(row.path, None)
         if self.progress is not None and not quiet:
             self.progress(len(self.by_name), self.total, f"{row.path}: {row.status}")
+
+    def hole(self, name: str, done: int, total: int, message: str) -> None:
+        """A file in flight is at hole ``done`` of ``total``: the files done stay the count,
+        the files in flight and their holes the message."""
+        if self.progress is None or name in self.by_name:
+            return  # a late word from a file already recorded
+        self.holes[name] = f"{name}: {done}/{total} holes ({message})"
+        self.progress(len(self.by_name), self.total, " · ".join(self.holes.values()))
+
+    def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:
+        """The ``hole_progress`` of :func:`fill_file` for ``job`` filled in this process."""
+        if self.progress is None:
+            return None
+        return lambda done, total, message: self.hole(job.name, done, total, message)
+
+    def read(self, queue: Any) -> None:
+        """Show what the workers sent through ``queue`` so far."""
+        while True:
+            try:
+                self.hole(*queue.get_nowait())
+            except Empty:
+                return
 
     def ordered(self, jobs: Sequence[FileJob]) -> list[FileRow]:
         """The rows in the inputs' order (files not done, after an interrupt, left out)."""
         return [self.by_name[job.name] for job in jobs if job.name in self.by_name]
 
 
-def _ignore_interrupts() -> None:
-    """Worker initializer: Ctrl-C reaches the whole process group; the parent decides (it
-    lets the files in flight finish, so that their outputs are complete and recorded)."""
+def _start_worker(queue: Any | None) -> None:
+    """Worker initializer. Ctrl-C reaches the whole process group; the parent decides (it
+    lets the files in flight finish, so that their outputs are complete and recorded).
+    ``queue`` takes the hole progress of the worker's files to the parent (None: nobody
+    listens)."""
+    global _HOLE_PROGRESS
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if queue is not None:
+        queue.cancel_join_thread()  # a worker's exit does not wait for the parent to read
+    _HOLE_PROGRESS = queue
 
 
 def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], workers: int,
-           rows: _Rows) -> list[FileJob]:
+           rows: _Rows, holes: Any | None) -> list[FileJob]:
     """Keep ``workers`` files of ``queue`` in flight on ``pool`` until the queue is empty or
-    a worker dies (the pool is then broken); returns the files that were in flight then."""
+    a worker dies (the pool is then broken); returns the files that were in flight then.
+    ``holes``: the queue the workers send their holes' progress through, if any."""
     running: dict[Future, FileJob] = {}
     lost: list[FileJob] = []
     broken = False
@@ -318,7 +269,10 @@ def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], 
                 except BrokenProcessPool:  # an idle worker died: this file never started
                     queue.appendleft(job)
                     broken = True
-            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            done, _ = wait(running, return_when=FIRST_COMPLETED,
+                           timeout=_PROGRESS_SECONDS if rows.progress else None)
+            if holes is not None:
+                rows.read(holes)
             for future in done:
                 # a file leaves `running` once recorded: an interrupt here loses no row
                 if isinstance(future.exception(), BrokenProcessPool):
@@ -353,9 +307,13 @@ def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
     fruitless = 0
     while queue:
         done_before = len(rows.by_name)
-        with ProcessPoolExecutor(workers, mp_context=context,
-                                 initializer=_ignore_interrupts) as pool:
-            lost = _drain(pool, queue, options, workers, rows)
+        # a new queue per pool: a worker killed while it sent may leave one locked
+        holes = context.Queue() if rows.progress is not None else None
+        with ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
+                                 initargs=(holes,)) as pool:
+            lost = _drain(pool, queue, options, workers, rows, holes)
+        if holes is not None:
+            holes.close()
         _remove_temporaries(lost)
         suspects += lost
         fruitless = fruitless + 1 if len(rows.by_name) == done_before else 0
@@ -374,7 +332,7 @@ def _run_local(jobs: Sequence[FileJob], options: Mapping[str, Any], n_jobs: int,
     kills its worker is found), up to :data:`WORKER_RETRIES` times."""
     if n_jobs == 1:
         for job in jobs:
-            rows.add(fill_file(job, options))
+            rows.add(fill_file(job, options, rows.hole_progress_of(job)))
         return
     suspects = _run_pool(jobs, options, min(n_jobs, len(jobs)), rows)
     for _ in range(WORKER_RETRIES):
@@ -470,14 +428,6 @@ def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
 # ------------------------------------------------------------------------- the entry point
 
 
-def _up_to_date(job: FileJob) -> bool:
-    """Whether the output exists and is newer than its input."""
-    try:
-        return job.target.stat().st_mtime_ns > job.source.stat().st_mtime_ns
-    except OSError:
-        return False
-
-
 def _skipped(job: FileJob, earlier: FileRow | None) -> FileRow:
     """The row of a file whose output is up to date, with the counts of the run that wrote
     it when its summary has them."""
@@ -539,7 +489,10 @@ def fill_files(
     overwrite : bool
         Refill files whose output is newer than the input (skipped by default).
     progress : callable(done, total, message), optional
-        Called before the first file and once a file is done (skipped files included).
+        Called before the first file and once a file is done (skipped files included),
+        ``done`` and ``total`` counting files; and, without a Dask client, as the holes of
+        the files in flight start and finish, ``message`` naming each such file with its
+        holes done and found (``done`` still the files done).
     **fill_options
         Passed to :func:`surfinpaint.fill_holes` for every file: ``method``, ``options``
         (a :class:`~surfinpaint.ConformalOptions`), ``fair_order``, ``include_border``,
@@ -573,7 +526,7 @@ def fill_files(
         progress(0, len(todo), f"{len(todo)} files")
     pending = []
     for job in todo:
-        if not overwrite and _up_to_date(job):
+        if not overwrite and up_to_date(job):
             rows.add(_skipped(job, earlier.get(job.name)))
         else:
             pending.append(job)

@@ -27,7 +27,9 @@ _MORPH_MAGIC = b"\xff\xff\xff"
 #: FreeSurfer's per-vertex files beside ``lh.*`` / ``rh.*`` surfaces in a subject's ``surf/``.
 FREESURFER_OVERLAYS = ("curv", "sulc", "thickness", "area", "volume", "jacobian_white",
                        "avg_curv", "curv.pial", "area.pial")
-_GIFTI_DATA = (".shape.gii", ".func.gii", ".label.gii", ".gii.gz", ".gii")
+#: The endings of GIFTI data files (per-vertex overlays, not surfaces).
+OVERLAY_SUFFIXES = (".shape.gii", ".func.gii", ".label.gii")
+_GIFTI_DATA = (*OVERLAY_SUFFIXES, ".gii.gz", ".gii")
 
 
 def _gunzip(data: bytes) -> bytes:

@@ -60,8 +60,8 @@ from surfinpaint.io.off import read_off, unstored_off, write_off
 from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
 from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
 
-__all__ = ["SUPPORTED_FORMATS", "MeshData", "MeshWarning", "output_format", "read_mesh",
-           "read_mesh_data", "write_mesh", "write_mesh_data"]
+__all__ = ["SUPPORTED_FORMATS", "MeshData", "MeshWarning", "files_read", "output_format",
+           "read_mesh", "read_mesh_data", "write_mesh", "write_mesh_data"]
 
 _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
 
@@ -245,13 +245,43 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     check_arrays(parsed.vertices, faces, path=name)
     mesh, seams = _assemble(parsed, corners, owner, faces)
     dropped = list(parsed.dropped)
-    if overlays is not False and fmt in ("gii", "gii.gz", "freesurfer"):
-        files = overlays_beside(p) if overlays is True else [Path(o) for o in overlays]
+    files = _overlay_files(p, fmt, overlays)
+    if files is not None:
         extra, lost = read_overlays(files, len(mesh.vertices), p)
         dropped += lost
         mesh = MeshData(mesh.vertices, mesh.faces, {**mesh.attributes, **extra},
                         mesh.face_attributes, mesh.corner_attributes, mesh.metadata)
     return mesh, dropped, seams
+
+
+def _overlay_files(path: Path, fmt: str, overlays: bool | Sequence) -> list[Path] | None:
+    """The overlay files read with a surface of format ``fmt``: None for a format that has
+    none (or ``overlays=False``)."""
+    if overlays is False or fmt not in ("gii", "gii.gz", "freesurfer"):
+        return None
+    return overlays_beside(path) if overlays is True else [Path(o) for o in overlays]
+
+
+def files_read(path: str | os.PathLike, *,
+               overlays: bool | Sequence[str | os.PathLike] = True) -> list[Path]:
+    """Every file ``read_mesh_data(path, overlays=overlays)`` reads: the mesh file, and the
+    overlays beside a GIFTI or FreeSurfer surface. What an output made from them must be
+    newer than to be up to date.
+
+    Examples
+    --------
+    >>> files_read("scan.ply")
+    [PosixPath('scan.ply')]
+    """
+    p = Path(path)
+    fmt = _format_of(p)
+    if fmt is None:
+        try:
+            with open(p, "rb") as fh:
+                fmt = "freesurfer" if fh.read(3) == FREESURFER_MAGIC else None
+        except OSError:
+            fmt = None
+    return [p, *(_overlay_files(p, fmt, overlays) or [])]
 
 
 def _assemble(parsed: Parsed, corners: np.ndarray, owner: np.ndarray, faces: np.ndarray

@@ -1,0 +1,131 @@
+"""Batch filling's inputs: the mesh files named by files, folders and glob patterns, the
+outputs that mirror their layout, and whether an output is up to date."""
+
+from __future__ import annotations
+
+import glob
+import os
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from surfinpaint.io.brain import OVERLAY_SUFFIXES
+from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read
+
+__all__ = ["FileJob", "find_inputs", "up_to_date"]
+
+
+@dataclass(frozen=True)
+class FileJob:
+    """One input file and the output it is filled into (both absolute), and their names
+    as the summary shows them: the input as given (or found under a folder given), the
+    output relative to the output folder."""
+
+    source: Path
+    target: Path
+    name: str
+    output: str
+
+
+def _is_mesh_name(name: str) -> bool:
+    """A name with a mesh extension, not hidden, and not a GIFTI overlay (an overlay is read
+    with its surface, not filled as one)."""
+    lower = name.lower()
+    return not name.startswith(".") and any(lower.endswith(s) for s in SUPPORTED_FORMATS) \
+        and not lower.endswith(OVERLAY_SUFFIXES)
+
+
+def _meshes_under(folder: Path) -> Iterator[Path]:
+    """Mesh files under ``folder`` (recursively; hidden files and folders left out)."""
+    for root, dirs, files in os.walk(folder):
+        dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+        for name in sorted(files):
+            if _is_mesh_name(name):
+                yield Path(root) / name
+
+
+def _glob_base(pattern: str) -> Path:
+    """The folder part of a glob pattern before its first wildcard."""
+    parts = Path(pattern).parts
+    first = next(i for i, part in enumerate(parts) if glob.has_magic(part))
+    return Path(*parts[:first]) if first else Path(".")
+
+
+def _expand(item: str) -> Iterator[tuple[Path, Path]]:
+    """(file, path relative to the output folder) for one input argument."""
+    path = Path(item)
+    if path.is_dir():
+        for found in _meshes_under(path):
+            yield found, found.relative_to(path)
+    elif glob.has_magic(item) and not path.exists():
+        base = _glob_base(item)
+        for match in sorted(glob.glob(item, recursive=True)):
+            found = Path(match)
+            if found.is_dir():
+                for inner in _meshes_under(found):
+                    yield inner, inner.relative_to(base)
+            elif _is_mesh_name(found.name):
+                yield found, found.relative_to(base)
+    else:
+        yield path, Path(path.name)  # a missing file becomes a failed row, not a crash
+
+
+def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike
+                ) -> list[FileJob]:
+    """The files to fill and their outputs: ``out_dir`` mirrors the inputs' layout.
+
+    A file argument is written to ``out_dir/<its name>``; a folder is searched recursively
+    for files with a known mesh extension (:data:`surfinpaint.io.SUPPORTED_FORMATS`; GIFTI
+    overlays, ``.shape.gii`` and the like, are read with their surface), each written to
+    the same relative path under ``out_dir``; a glob pattern (``*``, ``?``,
+    ``[...]``, ``**``) mirrors the matches' paths below the pattern's first wildcard. Files
+    inside ``out_dir`` are never inputs; a file named twice is filled once.
+
+    Raises
+    ------
+    ValueError
+        When an input names no mesh file, two inputs would be written to the same output,
+        or an input would be overwritten by its output.
+    """
+    out = Path(out_dir).absolute()
+    out_real = os.path.realpath(out)
+    jobs: list[FileJob] = []
+    seen: set[str] = set()
+    targets: dict[Path, str] = {}
+    for item in inputs:
+        expanded = list(_expand(os.fspath(item)))
+        if not expanded:
+            raise ValueError(f"{os.fspath(item)}: no mesh files there (known extensions: "
+                             f"{', '.join(SUPPORTED_FORMATS)})")
+        for found, relative in expanded:
+            real = os.path.realpath(found)
+            if real in seen or (found.exists() and Path(real).is_relative_to(out_real)
+                                and os.fspath(found) != os.fspath(item)):
+                continue
+            seen.add(real)
+            target = out / relative
+            if target in targets:
+                raise ValueError(f"{targets[target]} and {found} would both be written to "
+                                 f"{target}; fill them into different output folders or rename one")
+            if os.path.realpath(target) == real:
+                raise ValueError(f"{found} would be overwritten by its output: choose an "
+                                 "output folder other than the input's (inputs are never "
+                                 "modified)")
+            targets[target] = os.fspath(found)
+            jobs.append(FileJob(found.absolute(), target, os.fspath(found),
+                                relative.as_posix()))
+    if not jobs:
+        raise ValueError("no input files given")
+    return jobs
+
+
+def up_to_date(job: FileJob) -> bool:
+    """Whether the output exists and is newer than every file the fill reads: the input
+    and, for a GIFTI or FreeSurfer surface, the overlays beside it
+    (:func:`surfinpaint.io.formats.files_read`), so that an overlay changed alone is filled
+    again."""
+    try:
+        written = job.target.stat().st_mtime_ns
+        return all(written > source.stat().st_mtime_ns for source in files_read(job.source))
+    except OSError:
+        return False
