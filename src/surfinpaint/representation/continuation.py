@@ -36,7 +36,9 @@ __all__ = ["Continuation", "arclength_continuation"]
 # corrector: chord steps per attempt, the attempts (Δs halved each time) per step, and
 # the step (relative to the border's diagonal) that ends it: the curve needs to be followed
 # only closely enough for the next predictor; Newton's method polishes each crossing
-CHORD_STEPS = 8
+CHORD_STEPS = 12
+# a chord step longer than this times the previous one: the corrector is not contracting
+CONTRACTION = 0.9
 CORRECTED = 1e-6
 ATTEMPTS = 10
 # arclength step in units of (φ / border diagonal, t): first, largest
@@ -175,7 +177,7 @@ def _correct(residual, lu, y, tau, tau_row, ds):
                 break
             d = lu.solve(-r)
             size = float(np.abs(d).max())
-            if size > 0.5 * previous:  # the chord iteration is not contracting
+            if size > CONTRACTION * previous:  # the chord iteration is not contracting
                 break
             z = z + d
             previous = size

@@ -44,7 +44,8 @@ __all__ = [
 ]
 
 DISCRETIZATIONS = ("mesh", "grid")
-_FORMAT = 2
+# 3: the defect in the frame of w = P φ_u − n × φ_v (2: of P φ_u; its rebuild is not exact)
+_FORMAT = 3
 # the automatic grid export: nodes along the long side at most / at least
 _MAX_RESOLUTION = 1024
 _MIN_RESOLUTION = 64
@@ -116,6 +117,11 @@ class MeshLambdaH:
             missing = sorted(needed - set(data.files))
             if missing:
                 raise ValueError(f"{path}: not a mesh λ-H representation (missing {missing})")
+            version = int(data["format"]) if "format" in data.files else 0
+            if version < _FORMAT:
+                raise ValueError(f"{path}: a mesh λ-H representation of format {version}, "
+                                 f"whose defect this version ({_FORMAT}) reads differently: "
+                                 "represent the mesh again")
             return cls(vertices=data["vertices"], faces=data["faces"].astype(np.int64),
                        uv=data["uv"], lam=data["lam"], H=data["H"], defect=data["defect"],
                        known=data["known"].astype(bool), map=str(data["map"]),
