@@ -222,7 +222,8 @@ class MeshSolve:
     converged : bool
         The last Newton step was a full step shorter than ``tol`` times the border's size.
     iterations : int
-        Newton steps taken (each one sparse solve).
+        Sparse factorizations: Newton steps, continuation steps and the Newton steps at
+        the continuation's crossings of t = 1.
     step : float
         Length of the last step relative to the border's bounding-box diagonal.
     residual : float
