@@ -406,6 +406,24 @@ def test_freesurfer_overlays_beside_lh_surface_and_written_beside_output(tmp_pat
     assert read_mesh_data(out / "lh.filled.white", overlays=False).attributes == {}
 
 
+def test_two_overlays_of_one_name_are_both_kept_and_named(tmp_path):
+    # lh.pial.gii picks up lh.pial.thickness.shape.gii and FreeSurfer's lh.thickness: both
+    # would be called "thickness"; the second must not silently replace the first
+    pytest.importorskip("nibabel")
+    from nibabel.freesurfer import write_morph_data
+
+    v, f, thickness, curv = _brain_surface(tmp_path)
+    write_mesh(tmp_path / "s.gii", v, f)
+    write_morph_data(tmp_path / "thickness", curv)
+    write_morph_data(tmp_path / "lh.thickness", thickness)
+    with pytest.warns(MeshWarning, match=r"overlay lh.thickness would be named 'thickness' "
+                                         r"like an earlier overlay; it is kept as 'lh.thickness'"):
+        mesh = read_mesh_data(tmp_path / "s.gii",
+                              overlays=[tmp_path / "thickness", tmp_path / "lh.thickness"])
+    np.testing.assert_array_equal(mesh.attributes["thickness"], curv)
+    np.testing.assert_array_equal(mesh.attributes["lh.thickness"], thickness)
+
+
 def test_explicit_overlay_with_wrong_length_names_the_overlay(tmp_path):
     pytest.importorskip("nibabel")
     from nibabel.freesurfer import write_morph_data

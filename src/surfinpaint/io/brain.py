@@ -172,7 +172,8 @@ def overlay_name(overlay: Path, surface: Path | None = None) -> str:
 def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
                   ) -> tuple[dict[str, np.ndarray], list[str]]:
     """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry files),
-    and what they hold that is not kept (a GIFTI label table).
+    and what they hold that is not kept as read (a GIFTI label table; a second overlay of the
+    same name, kept under its file name).
 
     Raises
     ------
@@ -202,7 +203,17 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
         if values.ndim == 0 or len(values) != n:
             raise MeshError(f"overlay has {len(values) if values.ndim else 0} values, the "
                             f"surface {n} vertices", path=str(p))
-        out[overlay_name(p, surface)] = values
+        name = overlay_name(p, surface)
+        if name in out:
+            # two files map to one name (lh.thickness beside lh.pial.thickness.shape.gii):
+            # keep both, the later under its whole file name, and say so
+            taken, name, k = name, _safe(p.name), 1
+            while name in out:
+                k += 1
+                name = f"{_safe(p.name)}_{k}"
+            dropped.append(f"overlay {p.name} would be named {taken!r} like an earlier "
+                           f"overlay; it is kept as {name!r}")
+        out[name] = values
     return out, dropped
 
 
