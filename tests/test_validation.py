@@ -76,7 +76,9 @@ def test_wrong_shapes_and_dtypes(tetrahedron):
     v, f = tetrahedron
     _rejects(v[:, :2], f, "(n, 3)", "(4, 2)")
     _rejects(v, np.column_stack([f, f[:, :1]]), "(f, 3)", "(4, 4)")
-    _rejects(v, f.astype(float), "integer", "float64")
+    _rejects(v, f.astype(complex), "integer", "complex128")
+    _rejects(v, f + 0.5, "not whole numbers")  # never truncated to other ids
+    validate_mesh(v, f.astype(float))  # whole-number floats are exact: taken
     _rejects(v.ravel(), f, "(n, 3)")
 
 

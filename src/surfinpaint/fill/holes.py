@@ -11,6 +11,7 @@ from scipy.spatial import ConvexHull, QhullError
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_areas, orient_loop
+from surfinpaint.geometry.validation import check_arrays, face_ids, validate_mesh
 
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
@@ -70,8 +71,8 @@ def _spanned_area(points: np.ndarray) -> float:
     return 0.5 * float(np.linalg.norm(np.cross(centred, np.roll(centred, -1, axis=0)).sum(0)))
 
 
-def find_holes(vertices: np.ndarray, faces: np.ndarray,
-               table: EdgeTable | None = None) -> list[Hole]:
+def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None = None, *,
+               validate: bool = True) -> list[Hole]:
     """Boundary loops of a mesh, measured, with the outer borders flagged.
 
     Every boundary loop is returned. In each connected component the longest loop is flagged
@@ -86,6 +87,9 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray,
     table : EdgeTable, optional
         The faces' edge table, if already built (e.g. by the caller that validated the
         mesh): the loops and components are then read from it in O(E).
+    validate : bool
+        Check the mesh first, as :func:`surfinpaint.fill_holes` does
+        (:func:`surfinpaint.validate_mesh`); False when the caller has.
 
     Returns
     -------
@@ -94,7 +98,10 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray,
     Raises
     ------
     MeshError
-        When the boundary does not close into loops (inconsistent orientation).
+        A mesh :func:`surfinpaint.validate_mesh` refuses (the message names the offending
+        ids: out-of-range vertex ids, non-manifold edges, ...), face ids that are not whole
+        numbers (whole-number floats are taken), or a boundary that does not close into
+        loops.
 
     Examples
     --------
@@ -102,8 +109,13 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray,
     >>> [h.n_edges for h in find_holes(v, np.array([[0, 1, 2], [0, 2, 3]]))]
     [4]
     """
+    faces = face_ids(faces)
+    if validate:
+        check_arrays(vertices, faces)  # before the table: it indexes by the ids
+        if table is None:
+            table = EdgeTable.build(faces, len(vertices))
+        validate_mesh(vertices, faces, table=table)
     vertices = np.asarray(vertices, dtype=float)
-    faces = np.asarray(faces, dtype=np.int64)
     if table is None:
         table = EdgeTable.build(faces, len(vertices))
     loops = boundary_loops(faces, table)
@@ -138,6 +150,7 @@ def select_holes(
     *,
     include_border: bool = False,
     table: EdgeTable | None = None,
+    validate: bool = True,
 ) -> list[np.ndarray]:
     """Oriented loops to fill, from a caller's choice.
 
@@ -149,33 +162,40 @@ def select_holes(
         their vertex ids (any start, any direction).
     table : EdgeTable, optional
         The faces' edge table, if already built (passed on to :func:`find_holes`).
+    validate : bool
+        Check the mesh first (as :func:`find_holes`); False when the caller has.
 
     Raises
     ------
     MeshError
-        When an index is out of range or a loop is not a boundary loop of the mesh.
+        When the mesh is refused (as by :func:`find_holes`), an index is out of range or a
+        loop is not a boundary loop of the mesh.
+    ValueError
+        A hole index that is not a whole number.
     """
     if holes is None:
-        return [h.loop for h in find_holes(vertices, faces, table)
+        return [h.loop for h in find_holes(vertices, faces, table, validate=validate)
                 if include_border or not h.is_border]
     holes = list(holes)
-    if all(np.ndim(h) == 0 for h in holes):
-        found = find_holes(vertices, faces, table)
-        chosen = []
-        for index in holes:
-            if int(index) != index:
-                raise ValueError(f"hole indices must be integers, got {index!r}")
-            if not 0 <= int(index) < len(found):
-                raise MeshError(
-                    f"hole index {index} out of range: the mesh has {len(found)} boundary loops"
-                )
-            chosen.append(found[int(index)].loop)
-        return chosen
-    return [orient_loop(faces, loop) for loop in holes]
+    if not all(np.ndim(h) == 0 for h in holes):  # loops given by their vertex ids
+        if validate:
+            find_holes(vertices, faces, table)  # the mesh checked all the same
+        return [orient_loop(faces, loop) for loop in holes]
+    found = find_holes(vertices, faces, table, validate=validate)
+    chosen = []
+    for index in holes:
+        if int(index) != index:
+            raise ValueError(f"hole indices must be integers, got {index!r}")
+        if not 0 <= int(index) < len(found):
+            raise MeshError(
+                f"hole index {index} out of range: the mesh has {len(found)} boundary loops"
+            )
+        chosen.append(found[int(index)].loop)
+    return chosen
 
 
 def hole_numbers(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray], *,
-                 table: EdgeTable | None = None) -> list[int]:
+                 table: EdgeTable | None = None, validate: bool = True) -> list[int]:
     """The number :func:`find_holes` gives each of ``loops``: the one numbering that
     ``surfinpaint holes``, ``--holes``, every report, warning and error use.
 
@@ -183,5 +203,5 @@ def hole_numbers(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.nda
     :func:`find_holes` does not list as one (a piece of a loop pinched at a bow-tie).
     """
     found = {tuple(sorted(map(int, h.loop))): k
-             for k, h in enumerate(find_holes(vertices, faces, table))}
+             for k, h in enumerate(find_holes(vertices, faces, table, validate=validate))}
     return [found.get(tuple(sorted(map(int, loop))), -1) for loop in loops]

@@ -31,7 +31,13 @@ from surfinpaint.fill.seams import SlitWarning, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
-from surfinpaint.geometry.validation import check_loop, validate_mesh, zero_area_faces
+from surfinpaint.geometry.validation import (
+    check_arrays,
+    check_loop,
+    face_ids,
+    validate_mesh,
+    zero_area_faces,
+)
 from surfinpaint.io.base import MeshWarning
 
 __all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
@@ -294,6 +300,7 @@ def fill_holes(
         ``vertex_attributes``, a PolyData's ``point_data``; see
         :mod:`surfinpaint.fill.objects`); ``faces`` is then left out.
     faces : (f, 3) int array
+        Vertex ids (a float array is taken when every id is a whole number).
     holes : None, list of int, or list of loops
         None fills every boundary loop except the outer border of an open surface
         (``include_border=True`` fills those too). Integers index :func:`find_holes`' list;
@@ -357,12 +364,17 @@ def fill_holes(
     ------
     MeshError
         Invalid mesh or hole selection (the message names the offending ids; a problem
-        found at one hole, by the hole's :func:`find_holes` number).
+        found at one hole, by the hole's :func:`find_holes` number), including face ids
+        that are not whole numbers (whole-number floats are taken:
+        :func:`surfinpaint.geometry.validation.face_ids`).
     ValueError
         An unknown method or a bad argument value (``MeshError`` is a ``ValueError`` too).
     TypeError
         An unknown option name, or a mesh of a kind not taken
         (:func:`surfinpaint.fill.objects.mesh_arrays`).
+    RuntimeError
+        A worker process died (``concurrent.futures.process.BrokenProcessPool``, e.g.
+        killed for memory) while ``jobs`` > 1 filled holes.
 
     A hole that cannot be filled never stops the others, and is never an exception: its
     fill's failure (``FillError`` or a singular system, the faired fallback's included) is
@@ -382,9 +394,10 @@ def fill_holes(
             raise ValueError(f"{name} must be True or False, got {flag!r}")
     jobs = parallel.resolve_jobs(jobs)
     vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
-    loops = select_holes(vertices, faces, holes, include_border=include_border, table=table)
+    loops = select_holes(vertices, faces, holes, include_border=include_border, table=table,
+                         validate=False)  # checked by _prepared, as validate says
     # numbered as find_holes numbers them (the outer border counts), whatever was selected
-    numbers = hole_numbers(vertices, faces, loops, table=table)
+    numbers = hole_numbers(vertices, faces, loops, table=table, validate=False)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
                           method=method, diameter=loop_diameter(vertices[loop]))
                for k, loop in zip(numbers, loops, strict=True)]
@@ -556,8 +569,10 @@ def _prepared(vertices, faces, repair: bool, validate: bool):
     """The mesh as arrays, with ``repair`` the faces around non-manifold edges removed
     (and which), with ``validate`` checked; and its edge table when validated (built once:
     the holes are found from it too)."""
+    faces = face_ids(faces)  # whole-number floats taken, never truncated
+    if validate:  # shapes, dtypes and ids first: the repair and the edge table index by them
+        check_arrays(vertices, faces)
     vertices = np.asarray(vertices, dtype=np.float64)
-    faces = np.asarray(faces, dtype=np.int64)
     removed_faces = np.empty(0, dtype=np.int64)
     if repair:
         faces, removed_faces = remove_nonmanifold_faces(vertices, faces)

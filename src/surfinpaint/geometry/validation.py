@@ -17,7 +17,8 @@ from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops
 
-__all__ = ["MeshReport", "check_arrays", "check_loop", "nonmanifold_vertices", "validate_mesh"]
+__all__ = ["MeshReport", "check_arrays", "check_loop", "face_ids", "nonmanifold_vertices",
+           "validate_mesh"]
 
 # A face is degenerate when its area is below this times its longest edge squared, i.e. its
 # height is below 2e-12 of its longest edge: far above float64 round-off (~1e-16) and far
@@ -79,6 +80,39 @@ def _fail(message: str, path: str | None, **ids) -> MeshError:
     return MeshError(message, path=path, **ids)
 
 
+def face_ids(faces, *, path: str | None = None) -> np.ndarray:
+    """``faces`` as an int64 array of vertex ids, never truncated.
+
+    Integer arrays are taken as they are; float arrays (what ``np.loadtxt``, MATLAB or a
+    JSON reader give) when every id is a whole number, which is then exact. Anything else
+    is refused: a float id that is not a whole number would otherwise be truncated to
+    another vertex.
+
+    Raises
+    ------
+    MeshError
+        For ids that are not whole numbers (naming the faces), ids past the int64 range, and
+        booleans, complex numbers or other non-numbers.
+    """
+    f = np.asarray(faces)
+    if np.issubdtype(f.dtype, np.integer):
+        if f.dtype == np.uint64 and f.size and int(f.max()) > np.iinfo(np.int64).max:
+            raise _fail(f"faces use vertex ids past the int64 range (largest {int(f.max())})",
+                        path)
+        return f.astype(np.int64, copy=False)
+    if not np.issubdtype(f.dtype, np.floating):
+        raise _fail(f"faces must be integer vertex ids, got dtype {f.dtype}", path)
+    whole = np.isfinite(f) & (f == np.round(f)) & (np.abs(f) < 2.0**62)
+    rows = whole.reshape(len(f), -1).all(axis=1) if f.ndim else whole.reshape(1)
+    bad = np.flatnonzero(~rows)
+    if bad.size:
+        shown = ", ".join(f"{int(i)} {f[i].tolist()}" for i in bad[:5])
+        more = f" and {bad.size - 5} more" if bad.size > 5 else ""
+        raise _fail(f"{bad.size} faces have vertex ids that are not whole numbers: "
+                    f"{shown}{more}", path, faces=bad[:100].tolist())
+    return f.astype(np.int64)
+
+
 def check_arrays(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = None) -> None:
     """Basic checks every mesh must pass: shapes, emptiness, finite coordinates, index range.
 
@@ -93,7 +127,8 @@ def check_arrays(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = 
     ------
     MeshError
         For wrong shapes or dtypes, no vertices, no faces, NaN/inf coordinates (naming the
-        vertices) and negative or too large face indices (naming the faces).
+        vertices) and negative, too large or non-whole face indices (naming the faces;
+        whole-number floats are taken, see :func:`face_ids`).
     """
     v = np.asarray(vertices)
     f = np.asarray(faces)
@@ -103,8 +138,7 @@ def check_arrays(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = 
         raise _fail(f"faces must be an (f, 3) array of triangles, got shape {f.shape}", path)
     if not np.issubdtype(v.dtype, np.number) or np.issubdtype(v.dtype, np.complexfloating):
         raise _fail(f"vertices must be real numbers, got dtype {v.dtype}", path)
-    if not np.issubdtype(f.dtype, np.integer):
-        raise _fail(f"faces must be integer vertex ids, got dtype {f.dtype}", path)
+    f = face_ids(f, path=path)
     if len(v) == 0:
         raise _fail("mesh has no vertices", path)
     if len(f) == 0:

@@ -22,6 +22,7 @@ from surfinpaint.fill.conformal.selection import Verdict, choose, sibling_test_p
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores
+from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conformal_fill"]
 
@@ -65,9 +66,13 @@ def conformal_fill(
         Only when not even the faired fill can be made.
     ValueError
         For a bad ``fair_order``.
+    MeshError
+        Face ids that are not whole numbers (:func:`surfinpaint.geometry.validation.
+        face_ids`).
     """
     options = ConformalOptions() if options is None else options
     check_fair_order(fair_order)
+    faces = face_ids(faces)  # whole-number floats taken, never truncated
     candidates = Candidates.for_hole(vertices, faces, loop, options, fair_order)
     faired: dict[str, Fill] = {}
     verdict = None

@@ -15,6 +15,7 @@ from surfinpaint.fill.liepa.refinement import refine_patch
 from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import faces_near, orient_loop
+from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conventional_fill", "faired_fill", "faired_fills"]
 
@@ -76,6 +77,9 @@ def conventional_fill(
     FillError
         If the loop is not a boundary loop of the mesh (ids out of range, repeated vertices,
         edges that are not boundary edges) or the fill fails.
+    MeshError
+        Face ids that are not whole numbers (:func:`surfinpaint.geometry.validation.
+        face_ids`).
 
     Examples
     --------
@@ -88,7 +92,7 @@ def conventional_fill(
     ((0, 3), (1, 3))
     """
     v = np.asarray(vertices, dtype=float)
-    faces = np.asarray(faces, dtype=np.int64)
+    faces = face_ids(faces)  # whole-number floats taken, never truncated
     loop = np.asarray(loop, dtype=np.int64).ravel()
     n = len(v)
     if v.ndim != 2 or v.shape[1] != 3:
