@@ -44,8 +44,8 @@ FAMILIES = {"fair": ("delaunay", "cotan"), "ifair": ("delaunay", "intrinsic"),
             "afair": ("all", "cotan"), "cfair": ("delaunay", "clamped"),
             "tfair": ("cdt", "cotan")}
 # λ-H candidates: name -> the faired fill it starts from
-# (measured on bone, cube40: the λ-H fill from fair2 or ifair3 is the one from fair3 within
-# 2 %, so only the default start is studied)
+# (measured on bone #0-#4 and airplane #1: the λ-H fill from fair2 or ifair3 is the one from
+# fair3 within 3 %, so only the default start and the planar CDT's are studied)
 LAMBDA_H = {"conformal": "fair3", "lh_tfair3": "tfair3"}
 
 
