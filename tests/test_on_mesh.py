@@ -130,8 +130,18 @@ def test_free_vertices_at_the_border_are_refused():
 def test_divergence_and_no_settling_are_failures(monkeypatch):
     truth, faces, uv, free = enneper_hole(17)
     start = fair(truth, faces, free, order=2)
+    expected = inpaint_on_mesh(start, faces, uv, free)
     monkeypatch.setattr(mesh_inpainting, "DIVERGED", 1e-6)
+    system = mesh_inpainting._CoupledSystem(start, faces, uv, free)
     with pytest.raises(FillError, match="diverges"):
+        mesh_inpainting._coupled_solve(system, start, 20, 1e-3, 1.0)
+    # where the lagged iteration diverges Newton's method finds its fixed point: the same
+    # fill to the solve's tolerance (1e-3 edge lengths a step)
+    out = inpaint_on_mesh(start, faces, uv, free)
+    assert np.abs(out - expected).max() < 1e-2 * system.scale
+    monkeypatch.setattr(mesh_inpainting, "NEWTON_STEPS", 0)  # without it: a failure
+    monkeypatch.setattr(mesh_inpainting, "SETTLED", 0.0)
+    with pytest.raises(FillError, match="diverges.*does not settle under Newton"):
         inpaint_on_mesh(start, faces, uv, free)
     monkeypatch.setattr(mesh_inpainting, "DIVERGED", 10.0)
     monkeypatch.setattr(mesh_inpainting, "SETTLED", 0.0)

@@ -12,7 +12,7 @@ from surfinpaint.geometry import parameterization
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.parameterization import disk_boundary, scale_to_area, signed_areas
 
-__all__ = ["mean_value_map", "untangle"]
+__all__ = ["bad_faces", "mean_value_map", "untangle"]
 
 
 def mean_value_map(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -61,21 +61,22 @@ def mean_value_map(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 def untangle(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray, *,
              rings: int = 6) -> np.ndarray:
-    """A map with its flipped triangles untangled locally.
+    """A map with its flipped and collapsed triangles untangled locally.
 
-    The vertices of flipped triangles and ``k`` rings around them are placed again by the
-    mean-value weights (:func:`mean_value_map`) with the rest of ``uv`` fixed, for k = 1,
-    2, ... ``rings`` until nothing is flipped: the map stays as it was away from the flips.
+    The vertices of flipped or collapsed triangles (:func:`bad_faces`) and ``k`` rings
+    around them are placed again by the mean-value weights (:func:`mean_value_map`) with
+    the rest of ``uv`` fixed, for k = 1, 2, ... ``rings`` until none is left: the map stays
+    as it was away from them.
 
     Returns
     -------
     uv : (n, 2) float array
-        The map, unchanged where nothing is flipped, or None when ``rings`` rings do not
-        untangle it (or the flips reach the border).
+        The map, unchanged where nothing is flipped or collapsed, or None when ``rings``
+        rings do not untangle it (or the bad triangles reach the border).
     """
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    flipped = parameterization.flipped_faces(f, uv)
+    flipped = bad_faces(v, f, uv)
     if len(flipped) == 0:
         return uv
     W = _mean_value_weights(v, f)
@@ -89,9 +90,17 @@ def untangle(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray, *,
         free = free[~np.isin(free, border)]
         out = uv.copy()
         _mean_value_solve(W, out, free)
-        if len(parameterization.flipped_faces(f, out)) == 0:
+        if len(bad_faces(v, f, out)) == 0:
             return out
     return None
+
+
+def bad_faces(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """Parameter triangles a λ-H fill cannot use: flipped
+    (:func:`~surfinpaint.geometry.parameterization.flipped_faces`) or squashed flat
+    (:func:`~surfinpaint.geometry.parameterization.collapsed_faces`)."""
+    return np.union1d(parameterization.flipped_faces(faces, uv),
+                      parameterization.collapsed_faces(vertices, faces, uv))
 
 
 def _mean_value_weights(v: np.ndarray, f: np.ndarray) -> sp.csr_matrix:

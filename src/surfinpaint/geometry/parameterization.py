@@ -13,7 +13,7 @@ normal is ``φu × φv``, the normal convention of method.md §1.
 
 :func:`conformal_distortion` and :func:`angle_distortion` measure how conformal a map is
 (the paper's Fig. 1(D) histogram is :func:`distortion_histogram`), :func:`flipped_faces` finds
-folded parameter triangles.
+folded parameter triangles and :func:`collapsed_faces` those squashed flat.
 """
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ from surfinpaint.geometry.mesh import (
 __all__ = [
     "angle_distortion",
     "check_disk",
+    "collapsed_faces",
     "conformal_distortion",
     "disk_boundary",
     "distortion_histogram",
@@ -463,6 +464,34 @@ def angle_distortion(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) ->
     triangles count their unsigned angles (use :func:`flipped_faces` to find them).
     """
     return np.degrees(_corner_angles(uv, faces) - _corner_angles(vertices, faces))
+
+
+# a parameter corner below this fraction of its 3D angle is squashed flat: a conformal map
+# keeps angles, and the cotangent of a vanishing angle makes the Laplacian's weights explode
+# (measured: a cube corner's LSCM laid one triangle flat, 1e15 weights, the λ-H fill's
+# first step 1e48 edge lengths)
+COLLAPSED = 0.05
+
+
+def collapsed_faces(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray, *,
+                    ratio: float = COLLAPSED) -> np.ndarray:
+    """Ids of parameter triangles squashed flat: some corner angle in the plane is below
+    ``ratio`` times its angle in 3D (nearly zero area, yet not flipped).
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    faces : (f, 3) int array
+    uv : (n, 2) float array
+    ratio : float
+        See above.
+
+    Returns
+    -------
+    (k,) int array of face ids.
+    """
+    squashed = _corner_angles(uv, faces) < ratio * _corner_angles(vertices, faces)
+    return np.flatnonzero(squashed.any(axis=1))
 
 
 def distortion_histogram(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray,

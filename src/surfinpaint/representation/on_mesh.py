@@ -19,6 +19,9 @@ linear system for (φ, H) on the fill, with the normals and λ lagged and update
 That coupling is what makes the fill continue the surface's curvature across the hole's
 edge; solved one after the other (inpaint, then rebuild) the same discretization is 2-3×
 worse than bilaplacian fairing on the benchmark holes.
+
+Where the lagged iteration diverges, its fixed point is found by Newton–Krylov steps on the
+fixed-point residual, bounded in edge lengths and line-searched (docs/convergence.md).
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ from surfinpaint.geometry.mesh import (
     vertex_normals,
 )
 
-__all__ = ["inpaint_on_mesh", "vertex_lambda_h"]
+__all__ = ["ThinPatchError", "inpaint_on_mesh", "vertex_lambda_h"]
 
 # a step longer than this many mean edge lengths means the lagged iteration diverges (it
 # contracts by a factor of about 0.3-0.7 per step on the benchmark holes); one still longer
@@ -46,6 +49,13 @@ DIVERGED = 10.0
 SETTLED = 1e-2
 # steps mixed by Anderson acceleration (measured: a quarter fewer solves, same fills)
 ANDERSON = 3
+# Newton's method where the lagged iteration fails: each step at most TRUST mean edge
+# lengths, GMRES to NEWTON_RTOL with up to GMRES_RESTART products, LINE_SEARCH halvings
+TRUST = 2.0
+NEWTON_RTOL = 1e-3
+GMRES_RESTART = 60
+LINE_SEARCH = 8
+NEWTON_STEPS = 30
 
 
 def vertex_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
@@ -112,7 +122,10 @@ def inpaint_on_mesh(
     ``iterations`` times; the iteration contracts by about 0.3-0.7 per step). Each new
     solution is taken in full (``relax=1``) or in part; by default (``relax=None``) in
     full, and when that diverges or does not settle, once more from the start by halves
-    with three times the iterations (needed on some folded brain patches).
+    with three times the iterations (needed on some folded brain patches), and when that
+    fails too, the fixed point is found by Newton's method (:func:`_newton_solve`: on
+    strongly curved patches the iteration overshoots although a fixed point lies near
+    the start).
 
     Parameters
     ----------
@@ -154,19 +167,31 @@ def inpaint_on_mesh(
     points = np.asarray(points, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     free = np.asarray(free, dtype=bool)
+    if not free.any():
+        return points.copy()
     attempts = [(relax, iterations)] if relax is not None else [(1.0, iterations),
                                                                  (0.5, 3 * iterations)]
-    for k, (weight, steps) in enumerate(attempts):
+    # the dense products here are small (tied ring × free vertices): OpenBLAS's threads
+    # cost more than they give (measured: a bunny hole's fill 0.45-0.51 s with two
+    # threads, 0.37 s with one)
+    with threadpool_limits(limits=1, user_api="blas"):
+        system = _CoupledSystem(points, faces, uv, free, natural)
+        for weight, steps in attempts:
+            try:
+                return _coupled_solve(system, points, steps, tol, weight)
+            except _Unsettled as exc:
+                failure = exc
+        if relax is not None:
+            raise FillError(str(failure)) from None
         try:
-            # the dense products here are small (tied ring × free vertices): OpenBLAS's
-            # threads cost more than they give (measured: a bunny hole's fill 0.45-0.51 s
-            # with two threads, 0.37 s with one)
-            with threadpool_limits(limits=1, user_api="blas"):
-                return _coupled_solve(points, faces, uv, free, steps, tol, weight, natural)
+            return _newton_solve(system, points, tol, NEWTON_STEPS)
         except _Unsettled as exc:
-            if k == len(attempts) - 1:
-                raise FillError(str(exc)) from None
-    raise AssertionError("unreachable")  # pragma: no cover
+            raise FillError(f"{failure}; {exc}") from None
+
+
+class ThinPatchError(FillError):
+    """The biharmonic stencil around the free vertices reaches the patch's border, which
+    is not a natural one."""
 
 
 class _Unsettled(FillError):
@@ -191,8 +216,8 @@ def _vertex_sets(L, Q, f, border, on_natural):
     stencil = np.setdiff1d(np.unique(Q[U].indices), np.union1d(U, tied))
     outer = border[~on_natural[border]]
     if np.isin(stencil, outer).any() or np.isin(tied, outer).any():
-        raise FillError("the patch is too thin around the hole: the biharmonic stencil "
-                        "reaches its border")
+        raise ThinPatchError("the patch is too thin around the hole: the biharmonic "
+                             "stencil reaches its border")
     return reach, crease, tied, U, stencil
 
 
@@ -220,87 +245,108 @@ class _AndersonMixing:
         return new
 
 
-def _coupled_solve(points, faces, uv, free, iterations, tol, relax, natural=None):
-    f = np.flatnonzero(free)
-    fixed = np.flatnonzero(~free)
-    if len(f) == 0:
-        return points.copy()
-    L = cotangent_laplacian(uv, faces).tocsr()
-    area = mass_matrix(uv, faces).diagonal()
-    if (area <= 0).any():
-        raise FillError("the parameter map has vertices with no area")
-    Q = (L @ sp.diags(1.0 / area) @ L).tocsr()
-    border = _border(faces)
-    on_natural = np.zeros(len(points), dtype=bool)
-    if natural is not None:
-        on_natural[border] = np.asarray(natural, dtype=bool)[border]
-    reach, crease, tied, U, stencil = _vertex_sets(L, Q, f, border, on_natural)
-    Q_f = Q[U]
-    L_ff, L_fk = L[f][:, f].tocsc(), L[f][:, fixed]
-    L_tf, L_tk = L[tied][:, f], L[tied][:, fixed]
-    Q_ff, Q_ft, Q_fs = Q_f[:, U].tocsc(), Q_f[:, tied], Q_f[:, stencil]
-    Q_fk = Q[f][:, fixed]
-    try:
-        L_lu, Q_lu = spla.splu(L_ff), spla.splu(Q_ff)
-        # λ has data on the crease (its one-sided areas): the plain biharmonic over f
-        lam_lu = Q_lu if len(crease) == 0 else spla.splu(Q[f][:, f].tocsc())
-    except RuntimeError as exc:  # SuperLU: exactly singular
-        raise FillError(f"the λ-H system on the patch is singular: {exc}") from exc
-    g = L_lu.solve(-(L_fk @ points[fixed]))
-    Z_t = L_lu.solve(L_tf.T.toarray()).T  # L_tf L_ff⁻¹, (t, m)
-    Y = Q_lu.solve(Q_ft.toarray())  # Q_ff⁻¹ Q_ft, (m, t)
-    L_tk_phi = L_tk @ points[fixed]  # (t, 3)
-    L_tf_g = L_tf @ g  # (t, 3)
-    scale = mean_edge_length(points, faces)
-    phi = points.copy()
-    # λ and the normals change only at the free vertices and the ring around them:
-    # recomputed on the faces around them; H on the rest of the stencil is fixed data
-    lam = np.sqrt(mass_matrix(points, faces).diagonal() / area)
-    natural_data = stencil[on_natural[stencil]]
-    if len(natural_data):
-        # on a crease H has no two-sided Laplacian: there it is the mean H of the
-        # neighbours off the border, which the free vertices move (so it is lagged too)
-        inner = np.ones(len(points))
-        inner[border] = 0.0
-        adjacency = sp.csr_matrix((L != 0).astype(float))[natural_data]
-        weight = np.maximum(adjacency @ inner, 1.0)
+class _CoupledSystem:
+    """The coupled λ-H system of :func:`inpaint_on_mesh` on one patch: its matrices and
+    factorizations, made once, and :meth:`update`, one lagged solve."""
 
-    def stencil_H(phi):
-        lam2 = mass_matrix(phi, faces).diagonal() / area
-        H = np.einsum("ij,ij->i", L @ phi, vertex_normals(phi, faces)) / (2.0 * lam2 * area)
-        out = H[stencil]
-        if len(natural_data):
-            out[on_natural[stencil]] = (adjacency @ np.where(inner > 0, H, 0.0)) / weight
+    def __init__(self, points, faces, uv, free, natural=None):
+        self.points, self.faces = points, faces
+        f = self.f = np.flatnonzero(free)
+        fixed = np.flatnonzero(~free)
+        L = cotangent_laplacian(uv, faces).tocsr()
+        area = self.area = mass_matrix(uv, faces).diagonal()
+        if (area <= 0).any():
+            raise FillError("the parameter map has vertices with no area")
+        Q = (L @ sp.diags(1.0 / area) @ L).tocsr()
+        border = _border(faces)
+        on_natural = np.zeros(len(points), dtype=bool)
+        if natural is not None:
+            on_natural[border] = np.asarray(natural, dtype=bool)[border]
+        reach, crease, self.tied, U, self.stencil = _vertex_sets(L, Q, f, border, on_natural)
+        tied, stencil = self.tied, self.stencil
+        self.n_crease = len(crease)
+        Q_f = Q[U]
+        L_ff, L_fk = L[f][:, f].tocsc(), L[f][:, fixed]
+        L_tf, L_tk = L[tied][:, f], L[tied][:, fixed]
+        Q_ff, self.Q_ft, self.Q_fs = Q_f[:, U].tocsc(), Q_f[:, tied], Q_f[:, stencil]
+        self.Q_fk, self.fixed = Q[f][:, fixed], fixed
+        try:
+            self.L_lu, self.Q_lu = spla.splu(L_ff), spla.splu(Q_ff)
+            # λ has data on the crease (its one-sided areas): the plain biharmonic over f
+            self.lam_lu = self.Q_lu if len(crease) == 0 else spla.splu(Q[f][:, f].tocsc())
+        except RuntimeError as exc:  # SuperLU: exactly singular
+            raise FillError(f"the λ-H system on the patch is singular: {exc}") from exc
+        self.g = self.L_lu.solve(-(L_fk @ points[fixed]))
+        self.Z_t = self.L_lu.solve(L_tf.T.toarray()).T  # L_tf L_ff⁻¹, (t, m)
+        self.Y = self.Q_lu.solve(self.Q_ft.toarray())  # Q_ff⁻¹ Q_ft, (m, t)
+        self.L_t_phi = L_tk @ points[fixed] + L_tf @ self.g  # (t, 3)
+        self.scale = mean_edge_length(points, faces)
+        # λ and the normals change only at the free vertices and the ring around them:
+        # recomputed on the faces around them; H on the rest of the stencil is fixed data
+        self.lam = np.sqrt(mass_matrix(points, faces).diagonal() / area)
+        self.natural_data = stencil[on_natural[stencil]]
+        self.on_natural_stencil = on_natural[stencil]
+        if len(self.natural_data):
+            # on a crease H has no two-sided Laplacian: there it is the mean H of the
+            # neighbours off the border, which the free vertices move (so it is lagged too)
+            self.inner = np.ones(len(points))
+            self.inner[border] = 0.0
+            self.adjacency = sp.csr_matrix((L != 0).astype(float))[self.natural_data]
+            self.weight = np.maximum(self.adjacency @ self.inner, 1.0)
+        self.L = L
+        self.H_stencil = self.stencil_H(points)
+        # λ changes at the vertices whose faces touch a free one, the normals likewise
+        self.moving = np.union1d(f, reach)
+        self.near = faces[np.isin(faces, self.moving).any(axis=1)]
+
+    def stencil_H(self, phi):
+        """H at the stencil's data vertices from the positions ``phi``."""
+        lam2 = mass_matrix(phi, self.faces).diagonal() / self.area
+        H = (np.einsum("ij,ij->i", self.L @ phi, vertex_normals(phi, self.faces))
+             / (2.0 * lam2 * self.area))
+        out = H[self.stencil]
+        if len(self.natural_data):
+            out[self.on_natural_stencil] = ((self.adjacency @ np.where(self.inner > 0, H, 0.0))
+                                            / self.weight)
         return out
 
-    H_stencil = stencil_H(points)
-    # λ changes at the vertices whose faces touch a free one, the normals likewise
-    moving = np.union1d(f, reach)
-    near = faces[np.isin(faces, moving).any(axis=1)]
-    mixing = _AndersonMixing(ANDERSON)
-    step = np.inf
-    for _ in range(iterations):
-        if len(natural_data):
-            H_stencil = stencil_H(phi)
-        normals = vertex_normals(phi, near)
-        lam[moving] = np.sqrt(mass_matrix(phi, near).diagonal()[moving] / area[moving])
-        lam[f] = lam_lu.solve(-(Q_fk @ lam[fixed]))
+    def update(self, phi):
+        """The free positions solved with the normals and λ of the positions ``phi``."""
+        f, tied, area, lam = self.f, self.tied, self.area, self.lam
+        H_stencil = self.stencil_H(phi) if len(self.natural_data) else self.H_stencil
+        normals = vertex_normals(phi, self.near)
+        m = self.moving
+        lam[m] = np.sqrt(mass_matrix(phi, self.near).diagonal()[m] / area[m])
+        lam[f] = self.lam_lu.solve(-(self.Q_fk @ lam[self.fixed]))
         s = 2.0 * lam**2
         w_n = normals[tied] / (area[tied] * s[tied])[:, None]  # (t, 3)
         d_n = normals[f] * (area[f] * s[f])[:, None]  # (m, 3)
         # H at the tied ring = w_n · (L_tk φ_k + L_tf φ_f), φ_f = g + L_ff⁻¹ (d_n H)
-        K = sum(w_n[:, [c]] * Z_t * d_n[:, c] for c in range(3))  # (t, m)
-        K = np.hstack([K, np.zeros((len(tied), len(crease)))])  # H on a crease: no φ
-        b = (-(Q_ft @ np.einsum("ij,ij->i", w_n, L_tk_phi + L_tf_g))
-             - Q_fs @ H_stencil)
-        y = Q_lu.solve(b)
+        K = sum(w_n[:, [c]] * self.Z_t * d_n[:, c] for c in range(3))  # (t, m)
+        K = np.hstack([K, np.zeros((len(tied), self.n_crease))])  # H on a crease: no φ
+        b = (-(self.Q_ft @ np.einsum("ij,ij->i", w_n, self.L_t_phi))
+             - self.Q_fs @ H_stencil)
+        y = self.Q_lu.solve(b)
+        Y = self.Y
         try:
             H_f = (y - Y @ np.linalg.solve(np.eye(len(tied)) + K @ Y, K @ y))[:len(f)]
         except np.linalg.LinAlgError as exc:
             raise FillError(f"the coupled λ-H system is singular: {exc}") from exc
-        new = g + L_lu.solve(d_n * H_f[:, None])
+        new = self.g + self.L_lu.solve(d_n * H_f[:, None])
         if not np.isfinite(new).all():
             raise FillError("the coupled λ-H solve is not finite")
+        return new
+
+
+def _coupled_solve(system, points, iterations, tol, relax):
+    """The lagged iteration of :func:`inpaint_on_mesh` from ``points``, mixed by Anderson
+    (``relax=1``) or relaxed by ``relax``."""
+    f, scale = system.f, system.scale
+    phi = points.copy()
+    mixing = _AndersonMixing(ANDERSON)
+    step = np.inf
+    for _ in range(iterations):
+        new = system.update(phi)
         step = float(np.abs(new - phi[f]).max()) / scale
         if step > DIVERGED:
             raise _Unsettled(f"the λ-H fill diverges: a step of {step:.2g} edge lengths")
@@ -315,3 +361,68 @@ def _coupled_solve(points, faces, uv, free, iterations, tol, relax, natural=None
         raise _Unsettled(f"the λ-H fill does not settle: it still moves by {step:.2g} edge "
                         f"lengths after {iterations} iterations")
     return phi
+
+
+def _newton_solve(system, points, tol, steps):
+    """The fixed point of the lagged iteration found by Newton's method where the iteration
+    itself diverges: the residual ``R(φ_f) = update(φ) − φ_f`` (in mean edge lengths) is
+    driven to zero by Newton–Krylov steps (GMRES on finite-difference products with R's
+    Jacobian), each bounded to ``TRUST`` edge lengths and halved until ``|R|`` decreases.
+
+    Why: on strongly curved patches (a white-matter sulcus, 1-2 edge lengths of curvature
+    radius) the lagged map amplifies the smooth modes, so its first step overshoots by ten
+    edge lengths although a fixed point lies one edge length from the start (measured).
+    """
+    f, h = system.f, system.scale
+    x = points[f].copy()
+
+    def residual(x):
+        phi = points.copy()
+        phi[f] = x
+        return ((system.update(phi) - x) / h).ravel()
+
+    r = residual(x)
+    for _ in range(steps):
+        size = float(np.abs(r).max())
+        if size < tol:
+            break
+        dx, _ = spla.gmres(_jacobian(residual, x, r, h), -r, rtol=NEWTON_RTOL,
+                           restart=GMRES_RESTART, maxiter=1)
+        longest = float(np.abs(dx).max())
+        if longest > TRUST:
+            dx *= TRUST / longest
+        x, r = _line_search(residual, x, r, h * dx.reshape(-1, 3))
+    else:
+        if float(np.abs(r).max()) > SETTLED:
+            raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
+                             f"residual of {np.abs(r).max():.2g} edge lengths after "
+                             f"{steps} steps")
+    phi = points.copy()
+    phi[f] = x
+    return phi
+
+
+def _jacobian(residual, x, r, h):
+    """The Jacobian of ``residual`` at ``x`` (where it is ``r``) as finite-difference
+    products, for steps ``v`` in edge lengths."""
+    eps = 1e-6 * max(1.0, float(np.abs(x).max()) / h)
+    return spla.LinearOperator((r.size, r.size), dtype=float,
+                               matvec=lambda v: (residual(x + eps * h * v.reshape(-1, 3))
+                                                 - r) / eps)
+
+
+def _line_search(residual, x, r, dx):
+    """``x + t dx`` for the largest ``t`` in 1, ½, ¼, ... whose residual is smaller
+    (Armijo), and its residual."""
+    norm = float(np.linalg.norm(r))
+    t = 1.0
+    for _ in range(LINE_SEARCH):
+        try:
+            trial = residual(x + t * dx)
+        except FillError:  # a step so long that the surface it gives is not finite
+            trial = None
+        if trial is not None and np.linalg.norm(trial) <= (1.0 - 1e-4 * t) * norm:
+            return x + t * dx, trial
+        t /= 2.0
+    raise _Unsettled(f"the λ-H fill does not settle under Newton's method: no step "
+                     f"lowers its residual of {np.abs(r).max():.2g} edge lengths")

@@ -3,13 +3,16 @@ no intersection with the surface around it or with itself."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.intersection import patch_intersects_surroundings, self_intersections
 from surfinpaint.geometry.mesh import edge_faces, face_areas, face_normals
 
-__all__ = ["DAMPING_STEPS", "FOLD_ANGLE", "check_patch", "damped_fill", "fold_count"]
+__all__ = ["DAMPING_STEPS", "FOLD_ANGLE", "CrossingError", "Crossings", "check_patch",
+           "crossings", "damped_fill", "fold_count"]
 
 # neighbouring triangles whose normals turn by more than this are a fold-over
 FOLD_ANGLE = 120.0
@@ -41,7 +44,7 @@ def fold_count(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int,
 
 def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
                 self_crossing: bool = True, crease: np.ndarray | None = None,
-                allowed_folds: int = 0) -> None:
+                allowed_folds: int = 0, allowed_crossings: Crossings | None = None) -> None:
     """Reject a filled patch (its first ``n_fill_faces`` faces are the fill).
 
     Raises
@@ -49,7 +52,7 @@ def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int
     FillError
         For non-finite positions, degenerate triangles, more than ``allowed_folds``
         fold-overs (:func:`fold_count`), or intersections with the surrounding rings or
-        (with ``self_crossing``) with itself.
+        (with ``self_crossing``) with itself other than the ``allowed_crossings``.
     """
     fill = patch_faces[:n_fill_faces]
     if not np.isfinite(vertices[np.unique(fill)]).all():
@@ -61,13 +64,53 @@ def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int
     if folds > allowed_folds:
         more = f" (its start has {allowed_folds})" if allowed_folds else ""
         raise FillError(f"the filled patch folds over at {folds} edges{more}")
-    crossing = patch_intersects_surroundings(vertices, fill, patch_faces[n_fill_faces:])
-    if len(crossing):
-        raise FillError(f"the filled patch cuts through the surrounding surface "
-                        f"({len(crossing)} triangle pairs)")
-    crossing = self_intersections(vertices, fill) if self_crossing else ()
-    if len(crossing):
-        raise FillError(f"the filled patch intersects itself ({len(crossing)} triangle pairs)")
+    allowed = allowed_crossings or Crossings.none()
+    found = crossings(vertices, patch_faces, n_fill_faces, self_crossing=self_crossing)
+    around = _new_pairs(found.around, allowed.around)
+    if len(around):
+        raise CrossingError(f"the filled patch cuts through the surrounding surface "
+                            f"({len(around)} triangle pairs)")
+    itself = _new_pairs(found.itself, allowed.itself)
+    if len(itself):
+        raise CrossingError(f"the filled patch intersects itself ({len(itself)} triangle "
+                            "pairs)")
+
+
+class CrossingError(FillError):
+    """A filled patch crosses the surface around it or itself."""
+
+
+@dataclass(frozen=True)
+class Crossings:
+    """Intersecting triangle pairs of a filled patch: ``around`` (fill face, ring face) and
+    ``itself`` (two fill faces), as index rows into the fill and the rings."""
+
+    around: np.ndarray
+    itself: np.ndarray
+
+    @staticmethod
+    def none() -> Crossings:
+        return Crossings(np.zeros((0, 2), np.int64), np.zeros((0, 2), np.int64))
+
+
+def crossings(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
+              self_crossing: bool = True) -> Crossings:
+    """The :class:`Crossings` of a filled patch (``itself`` empty without
+    ``self_crossing``)."""
+    fill = patch_faces[:n_fill_faces]
+    around = patch_intersects_surroundings(vertices, fill, patch_faces[n_fill_faces:])
+    itself = (self_intersections(vertices, fill) if self_crossing
+              else np.zeros((0, 2), np.int64))
+    return Crossings(np.asarray(around, np.int64).reshape(-1, 2),
+                     np.asarray(itself, np.int64).reshape(-1, 2))
+
+
+def _new_pairs(found: np.ndarray, allowed: np.ndarray) -> np.ndarray:
+    """The rows of ``found`` that are not rows of ``allowed``."""
+    if len(found) == 0 or len(allowed) == 0:
+        return found
+    base = int(max(found.max(), allowed.max())) + 1
+    return found[~np.isin(found[:, 0] * base + found[:, 1], allowed[:, 0] * base + allowed[:, 1])]
 
 
 def damped_fill(vertices: np.ndarray, start: np.ndarray, moving: np.ndarray,
@@ -79,7 +122,10 @@ def damped_fill(vertices: np.ndarray, start: np.ndarray, moving: np.ndarray,
     fill ``S0 + t (λH − S0)`` is tried for ``t`` in ``DAMPING_STEPS`` (a line search toward
     the start, which the checks accepted as the faired fill), and the first that passes is
     kept. Fold-overs that the start has too (a brain sulcus's loop can make every smooth
-    fill turn by more than ``FOLD_ANGLE`` against its rim) are not counted against it.
+    fill turn by more than ``FOLD_ANGLE`` against its rim) are not counted against it, nor
+    are the triangle pairs that cross in the start too (at a cube's corner the
+    triangulation of the loop itself can cut the surface, measured: 4 pairs whatever the
+    interior vertices do).
 
     Parameters
     ----------
@@ -107,14 +153,23 @@ def damped_fill(vertices: np.ndarray, start: np.ndarray, moving: np.ndarray,
     at_start = vertices.copy()
     at_start[moving] = start
     allowed = fold_count(at_start, patch_faces, n_fill_faces, crease=crease)
+    crossed = None  # the start's crossings, found only once a trial crosses something
     displacement = vertices[moving] - start
     first_failure = None
     for t in DAMPING_STEPS:
         trial = at_start.copy()
         trial[moving] = start + t * displacement
         try:
-            check_patch(trial, patch_faces, n_fill_faces, self_crossing=self_crossing,
-                        crease=crease, allowed_folds=allowed)
+            try:
+                check_patch(trial, patch_faces, n_fill_faces, self_crossing=self_crossing,
+                            crease=crease, allowed_folds=allowed, allowed_crossings=crossed)
+            except CrossingError:
+                if crossed is not None:
+                    raise
+                crossed = crossings(at_start, patch_faces, n_fill_faces,
+                                    self_crossing=self_crossing)
+                check_patch(trial, patch_faces, n_fill_faces, self_crossing=self_crossing,
+                            crease=crease, allowed_folds=allowed, allowed_crossings=crossed)
         except FillError as exc:
             first_failure = first_failure or exc
             continue

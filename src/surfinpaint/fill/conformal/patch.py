@@ -7,7 +7,7 @@ import numpy as np
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.mesh import boundary_loops, faces_near, unique_edges
 
-__all__ = ["hole_patch", "is_disk"]
+__all__ = ["grown_patch", "hole_patch", "is_disk"]
 
 
 def is_disk(faces: np.ndarray) -> bool:
@@ -32,7 +32,8 @@ def hole_patch(
     ``faces`` around ``loop``.
 
     The rings shrink until the patch is a topological disk (a ring that reaches another hole
-    or the mesh border would break that).
+    or the mesh border would break that); where not even one ring is a disk, the patch is
+    grown unevenly (:func:`grown_patch`).
 
     Returns
     -------
@@ -44,11 +45,90 @@ def hole_patch(
     Raises
     ------
     FillError
-        When not even one ring gives a disk.
+        When not even the unevenly grown patch is a disk.
     """
     n = int(max(faces.max(), fill_faces.max(), np.max(loop))) + 1
     for k in range(rings, 0, -1):
         patch = np.concatenate([fill_faces, faces_near(faces, loop, k - 1, n)])
         if is_disk(patch):
             return patch, k
-    raise FillError("no disk-shaped patch around the hole: its neighbourhood is not a disk")
+    return grown_patch(faces, loop, fill_faces, rings), rings
+
+
+def grown_patch(faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
+                rings: int) -> np.ndarray:
+    """A disk patch grown unevenly: ``fill_faces`` plus the faces within ``rings`` rings
+    of ``loop``, nearest ring first, each added only where it keeps the patch a disk.
+
+    Where full rings close around a thin limb (or reach another hole) the patch grows on
+    regardless, and the fronts that meet on the far side leave a slit instead: the patch
+    keeps its rings near the hole, which the biharmonic stencil needs.
+
+    Returns
+    -------
+    (p, 3) int array
+        The fill's faces first, then the ring faces added.
+
+    Raises
+    ------
+    FillError
+        When the fill is not a disk holding every loop vertex, or the patch grown from it
+        is still not a disk.
+    """
+    if not (is_disk(fill_faces) and np.isin(loop, fill_faces).all()):
+        raise FillError("no disk-shaped patch around the hole: its fill is not a disk "
+                        "on its loop")
+    n = int(max(faces.max(), fill_faces.max(), np.max(loop))) + 1
+    near = faces_near(faces, loop, rings - 1, n)
+    # ring of each face: the vertex rings out from the loop, nearest first
+    depth = np.full(n, rings + 1)
+    mask = np.zeros(n, dtype=bool)
+    mask[np.asarray(loop, dtype=np.int64)] = True
+    depth[mask] = 0
+    for k in range(1, rings + 1):
+        mask[near[mask[near].any(axis=1)].ravel()] = True
+        depth[mask & (depth > k)] = k
+    order = near[np.argsort(depth[near].min(axis=1), kind="stable")]
+    count: dict[tuple[int, int], int] = {}
+    inside = np.zeros(n, dtype=bool)
+    for face in fill_faces:
+        _add(face, count, inside)
+    pending, added, grew = [tuple(t) for t in order.tolist()], [], True
+    # a Python loop over the patch's ring faces, only where the full rings fail: each
+    # face's test is local (its edges and vertices against the patch so far)
+    while grew:
+        grew, rest = False, []
+        for face in pending:
+            if _keeps_disk(face, count, inside):
+                _add(face, count, inside)
+                added.append(face)
+                grew = True
+            else:
+                rest.append(face)
+        pending = rest
+    patch = np.vstack([fill_faces, np.array(added, dtype=np.int64).reshape(-1, 3)])
+    if not is_disk(patch):
+        raise FillError("no disk-shaped patch around the hole: its neighbourhood is not a "
+                        "disk")
+    return patch
+
+
+def _edges_of(face):
+    a, b, c = face
+    return [(min(a, b), max(a, b)), (min(b, c), max(b, c)), (min(c, a), max(c, a))]
+
+
+def _add(face, count, inside):
+    for e in _edges_of(face):
+        count[e] = count.get(e, 0) + 1
+    inside[list(face)] = True
+
+
+def _keeps_disk(face, count, inside) -> bool:
+    """Whether a disk stays one with ``face`` added: glued along one boundary edge with
+    its third vertex new, or along two (a notch filled)."""
+    shared = [count.get(e, 0) for e in _edges_of(face)]
+    if max(shared) > 1:
+        return False
+    glued, touching = sum(shared), int(inside[list(face)].sum())
+    return (glued, touching) in ((1, 2), (2, 3))

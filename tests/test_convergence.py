@@ -1,0 +1,170 @@
+"""The λ-H fill runs where it used to fall back (issue 20): maps squashed flat at a corner,
+crossings its start already has, a lagged iteration that diverges, patches too thin for the
+biharmonic stencil. Each case is a mesh built here that failed before its fix."""
+
+import numpy as np
+import pytest
+
+from surfinpaint import ConformalOptions
+from surfinpaint.data import cube
+from surfinpaint.errors import FillError
+from surfinpaint.fill.conformal import conformal_fill
+from surfinpaint.fill.conformal.checks import check_patch, crossings
+from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.mean_value import bad_faces, untangle
+from surfinpaint.geometry.metrics import hole_patch_of, surface_distance
+from surfinpaint.geometry.parameterization import collapsed_faces, flipped_faces
+
+RAW = ConformalOptions(select=False)
+
+
+def _error(cut, new_v, new_f):
+    vertices = np.vstack([cut.vertices, new_v])
+    pv, pf = hole_patch_of(vertices, np.vstack([cut.faces, new_f]), len(cut.vertices),
+                           cut.faces)
+    d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=4000)
+    return d["mean"] / cut.diameter
+
+
+def _flat_grid(n):
+    u, v = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+    idx = np.arange(n * n).reshape(n, n)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), \
+        idx[:-1, 1:].ravel()
+    faces = np.vstack([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    return np.column_stack([u.ravel(), v.ravel(), np.zeros(n * n)]), faces
+
+
+def test_collapsed_faces_finds_a_triangle_squashed_flat_and_untangle_repairs_it():
+    vertices, faces = _flat_grid(11)
+    uv = vertices[:, :2].copy()
+    assert len(collapsed_faces(vertices, faces, uv)) == 0
+    centre = 5 * 11 + 5  # at (0.5, 0.5); its triangle with (0.6, 0.5) and (0.6, 0.6)
+    # the centre moved next to the far edge of one of its triangles: no triangle flips
+    # (its one-ring is convex), that one is flat up to 1e-9 — what LSCM did at a cube's
+    # corner
+    squashed = uv.copy()
+    squashed[centre] = [0.6 - 1e-9, 0.55]
+    assert len(flipped_faces(faces, squashed)) == 0
+    flat = collapsed_faces(vertices, faces, squashed)
+    assert len(flat) > 0 and np.isin(faces[flat], centre).any(axis=1).all()
+    np.testing.assert_array_equal(bad_faces(vertices, faces, squashed), flat)
+    out = untangle(vertices, faces, squashed)
+    assert out is not None and len(bad_faces(vertices, faces, out)) == 0
+    # the exact map of a flat mesh comes back (linear precision of the mean-value weights)
+    np.testing.assert_allclose(out, uv, atol=1e-12)
+
+
+@pytest.mark.parametrize("n", [20, 24])
+def test_a_hole_at_a_cube_corner_is_filled_by_lambda_h(n):
+    # n=24: LSCM squashed a triangle flat (the solve diverged, a step of 3e44 edge lengths);
+    # n=20: the loop's own triangulation cuts the surface at the corner (4 pairs whatever
+    # the interior does), which the start has too. Both fell back to fairing before.
+    v, f = cube(n)
+    cut = cut_geodesic_disk(v, f, np.array([1.0, 0.85, 1.0]), 7 / n)
+    result = conformal_fill(cut.vertices, cut.faces, cut.loop, RAW)
+    assert result.kind == "conformal" and result.failure is None
+    if n == 24:  # the flat triangle untangled
+        assert result.diagnostics.mesh.map == "lscm-untangled"
+    fair_v, fair_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    # measured 0.023 / 0.018 against fairing's 0.045 / 0.038
+    assert _error(cut, result.vertices, result.faces) < 0.6 * _error(cut, fair_v, fair_f)
+
+
+def test_crossings_the_start_has_are_not_held_against_the_fill():
+    # fill triangle 0 pierces ring triangle 1 in the start already; a fill that keeps that
+    # crossing passes with the start's crossings allowed, one that adds another does not
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0],  # fill
+                         [0.2, 0.2, -0.5], [0.3, 0.2, 0.5], [0.2, 0.3, 0.5],  # ring
+                         [5, 5, 0], [6, 5, 0], [5, 6, 0],  # fill, far away
+                         [5.2, 5.2, 1.0], [5.3, 5.2, 2.0], [5.2, 5.3, 2.0]])  # ring
+    patch = np.array([[0, 1, 2], [6, 7, 8], [3, 4, 5], [9, 10, 11]])
+    start = crossings(vertices, patch, 2)
+    assert len(start.around) == 1
+    with pytest.raises(FillError, match="cuts through"):
+        check_patch(vertices, patch, 2)
+    check_patch(vertices, patch, 2, allowed_crossings=start)
+    lifted = vertices.copy()
+    lifted[[6, 7, 8], 2] = 1.5  # now the far fill triangle pierces its ring triangle too
+    with pytest.raises(FillError, match=r"cuts through the surrounding surface \(1 "):
+        check_patch(lifted, patch, 2, allowed_crossings=start)
+
+
+def _corrugated(n=30, seed=4, period=7, amplitude=2.5, jitter=0.4):
+    """An egg-crate height field of ``period`` edge lengths and ``amplitude`` edge lengths
+    over an n×n grid jittered by ``jitter`` of its spacing: strongly curved (curvature
+    radius ~1.5 edge lengths) and irregular, like a white-matter patch."""
+    h = 1.0 / n
+    v, f = _flat_grid(n + 1)
+    rng = np.random.default_rng(seed)
+    v[:, :2] += jitter * rng.uniform(-1, 1, size=(len(v), 2)) * h
+    wave = 2 * np.pi / (period * h)
+    v[:, 2] = amplitude * h * np.cos(wave * v[:, 0]) * np.cos(wave * v[:, 1])
+    centre = np.argmin(np.linalg.norm(v[:, :2] - 0.5, axis=1))
+    return cut_geodesic_disk(v, f, centre, 6 * h)
+
+
+def test_newton_finds_the_fixed_point_where_the_lagged_iteration_diverges(monkeypatch):
+    # the lagged iteration from S0 overshoots (a first step of ~10 edge lengths, Anderson or
+    # halved alike) although the λ-H fill has a fixed point near S0, as on white #5: Newton's
+    # method on the fixed-point residual finds it; the fill fell back to fairing before
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.representation import on_mesh
+
+    calls = []
+
+    def spy(points, faces, uv, free, **kw):
+        out = on_mesh.inpaint_on_mesh(points, faces, uv, free, **kw)
+        calls.append((points, faces, uv, free, kw, out))
+        return out
+
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", spy)
+    cut = _corrugated()
+    result = conformal_fill(cut.vertices, cut.faces, cut.loop, RAW)
+    assert result.kind == "conformal" and result.failure is None
+    points, faces, uv, free, kw, out = calls[0]
+    system = on_mesh._CoupledSystem(points, faces, uv, free, kw["natural"])
+    with pytest.raises(on_mesh._Unsettled, match="diverges"):
+        on_mesh._coupled_solve(system, points, kw["iterations"], kw["tol"], 1.0)
+    with pytest.raises(on_mesh._Unsettled):
+        on_mesh._coupled_solve(system, points, 3 * kw["iterations"], kw["tol"], 0.5)
+    # what came back is a fixed point of the lagged update, to the solve's tolerance
+    residual = np.abs(system.update(out) - out[system.f]).max() / system.scale
+    assert residual < kw["tol"]
+    assert np.abs(out[~free] - points[~free]).max() == 0.0
+
+
+@pytest.mark.parametrize(("r", "around", "radius", "before"), [
+    (0.15, 10, 0.4, "too thin"),  # 2 full rings close around the tube: 1 ring, too thin
+    (0.1, 8, 0.35, "not a disk"),  # not even 1 full ring is a disk
+])
+def test_a_hole_on_a_thin_limb_is_filled_on_an_unevenly_grown_patch(r, around, radius,
+                                                                     before):
+    # a tube `around` edges around (a torus): full rings around the hole close on the far
+    # side, so the patch used to shrink until the biharmonic stencil reached its border
+    # ("the patch is too thin") or found no disk at all; both fell back to fairing. Grown
+    # unevenly (a slit where the fronts meet), the patch keeps its 4 rings near the hole
+    # and the λ-H fill follows the tube (measured 0.71 % and 2.90 % against the
+    # trilaplacian fill's 3.16 % and 5.50 %)
+    from surfinpaint.data import torus
+    from surfinpaint.fill.conformal.patch import grown_patch, is_disk
+    from surfinpaint.geometry.mesh import faces_near
+
+    v, f = torus(1.0, r, 64, around)
+    cut = cut_geodesic_disk(v, f, 0, radius)
+    fair3_v, fair3_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
+    n = len(cut.vertices) + len(fair3_v)
+    rings = [faces_near(cut.faces, cut.loop, k, n) for k in range(4)]
+    assert not is_disk(np.vstack([fair3_f, rings[3]]))
+    assert is_disk(np.vstack([fair3_f, rings[0]])) == (before == "too thin")
+    grown = grown_patch(cut.faces, cut.loop, fair3_f, 4)
+    assert is_disk(grown) and (grown[:len(fair3_f)] == fair3_f).all()
+    # more surface than the one full ring the old patch could keep, all within 4 rings
+    assert len(grown) - len(fair3_f) > 2 * len(rings[0])
+    within = {tuple(t) for t in rings[3].tolist()}
+    assert all(tuple(t) in within for t in grown[len(fair3_f):].tolist())
+    result = conformal_fill(cut.vertices, cut.faces, cut.loop, RAW)
+    assert result.kind == "conformal" and result.failure is None
+    assert result.diagnostics.rings == 4
+    assert _error(cut, result.vertices, result.faces) < 0.6 * _error(cut, fair3_v, fair3_f)
