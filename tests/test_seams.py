@@ -17,7 +17,7 @@ import surfinpaint.fill.liepa.baseline as baseline
 from surfinpaint import MeshWarning, fill_holes, find_holes, validate_mesh
 from surfinpaint.data import sphere
 from surfinpaint.errors import MeshError
-from surfinpaint.fill.seams import find_slit, zip_faces
+from surfinpaint.fill.seams import find_seam_part, find_slit, zip_faces
 from surfinpaint.geometry.validation import zero_area_faces
 
 METHODS = ["conformal", "fair"]
@@ -179,6 +179,7 @@ def test_ordinary_holes_are_not_slits():
     for centre, radius in (([1, 0, 0], 0.5), ([0, 0, 1], 0.15), ([0, 1, 0], 0.9)):
         g = without_faces_near(v, f, centre, radius)
         assert [find_slit(v, h.loop) for h in find_holes(v, g)] == [None]
+        assert [find_seam_part(v, h.loop) for h in find_holes(v, g)] == [None]
 
 
 @pytest.mark.parametrize(("width", "is_slit"), [(0.0, True), (1e-4, True), (0.01, False),
@@ -320,3 +321,33 @@ def test_command_line_errors_name_the_file(tmp_path, capsys, monkeypatch):
     assert main(["fill", str(source), "-o", str(tmp_path / "out.ply"), "-q"]) == 1
     err = " ".join(capsys.readouterr().err.split())
     assert f"{source}: RuntimeError: a solver gave up" in err
+
+
+def open_tube(n: int = 24, m: int = 10):
+    """An open cylinder whose seam (angle 0 = 2π) has its vertices twice: one boundary
+    loop, the two rims joined by the seam's two sides."""
+    phi, z = np.linspace(0, 2 * np.pi, n + 1), np.linspace(0, 2, m + 1)
+    p, h = np.meshgrid(phi, z, indexing="ij")
+    v = np.stack([np.cos(p), np.sin(p), h], axis=-1)
+    v[-1] = v[0]
+    at = np.arange((n + 1) * (m + 1)).reshape(n + 1, m + 1)
+    a, b, c, d = at[:-1, :-1].ravel(), at[1:, :-1].ravel(), at[1:, 1:].ravel(), at[:-1, 1:].ravel()
+    return v.reshape(-1, 3), np.concatenate([np.column_stack([a, b, c]),
+                                              np.column_stack([a, c, d])])
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_a_seam_along_part_of_a_loop(method):
+    # before: the tube's one loop (rims and seam) was 'filled' with a 384-face sheet
+    v, f = open_tube()
+    (hole,) = find_holes(v, f)
+    result, caught = _run(v, f, method=method)
+    assert result.reports[0].outcome == "skipped" and len(result.faces) == len(f)
+    assert any("runs back along itself" in str(w.message) and "--zip-seams" in str(w.message)
+               and issubclass(w.category, MeshWarning) for w in caught)
+    result, caught = _run(v, f, method=method, zip_seams=True)
+    assert result.reports[0].outcome == "zipped" and len(result.merged_vertices) == 11
+    np.testing.assert_array_equal(result.vertices[:len(v)], v)
+    rims = sorted(h.n_edges for h in find_holes(result.vertices, result.faces))
+    assert rims == [24, 24]  # the seam closed, the rims left open
+    _no_folded_sheet(result)

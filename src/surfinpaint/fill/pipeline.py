@@ -27,7 +27,7 @@ from surfinpaint.fill.face_attributes import fill_result_face_attributes
 from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import Fill, FillResult, HoleReport
-from surfinpaint.fill.seams import SlitWarning, find_slit, zip_faces
+from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
@@ -175,9 +175,10 @@ def _skip(report: HoleReport, reason: str, category: type[Warning] = HoleWarning
 
 def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
                 zip_seams: bool) -> tuple[np.ndarray, np.ndarray, list[HoleReport]]:
-    """The holes of ``todo`` whose loop spans no area (:func:`find_slit`) taken out of it,
-    before anything is filled: seams zipped with ``zip_seams`` (the faces returned use each
-    kept vertex in place of its duplicate), the others skipped with a SlitWarning.
+    """The holes of ``todo`` whose loop spans no area (:func:`find_slit`) or runs back along
+    itself over a seam (:func:`find_seam_part`) taken out of it, before anything is filled:
+    seams zipped with ``zip_seams`` (the faces returned use each kept vertex in place of its
+    duplicate), the others skipped with a SlitWarning.
 
     Returns the faces, the merged ``(duplicate, kept)`` pairs and the holes left to fill
     (their loops in the zipped faces' ids).
@@ -185,24 +186,31 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
     left, merged = [], []
     for report in todo:
         slit = find_slit(vertices, report.loop)
-        if slit is None:
+        part = find_seam_part(vertices, report.loop) if slit is None else None
+        if slit is None and part is None:
             left.append(report)
             continue
-        reason = slit.describe()
+        if slit is None:  # a seam along part of a loop that bounds no disk (an open tube's)
+            slit = Slit(part)
+            reason = (f"the loop runs back along itself: a seam of {len(part)} coincident "
+                      "vertex pairs joins two parts of it (duplicated vertices), so no disk "
+                      "fills it")
+            rest = "; the rest of the loop is left open"
+        else:
+            reason, rest = slit.describe(), ""
         if slit.is_seam and zip_seams:
             zipped, problem = zip_faces(faces, slit.merges)
             if problem is None:
                 faces = zipped
                 report.method, report.zipped = "zipped", slit.merges
                 report.note = (f"seam zipped: {len(slit.merges)} duplicate vertices merged "
-                               "into their coincident partners")
+                               f"into their coincident partners{rest}")
                 merged.append(slit.merges)
                 warnings.warn(f"hole {report.index}: a seam of {len(slit.merges)} coincident "
-                              "vertex pairs zipped (its loop spans no area): the faces use "
-                              f"vertices "
+                              "vertex pairs zipped: the faces use vertices "
                               f"{preview(slit.merges[:, 1])} in place of their duplicates "
-                              f"{preview(slit.merges[:, 0])} (left unused)", MeshWarning,
-                              stacklevel=4)
+                              f"{preview(slit.merges[:, 0])} (left unused){rest}",
+                              MeshWarning, stacklevel=4)
                 continue
             reason += f"; not zipped: {problem}"
         elif slit.is_seam:

@@ -38,7 +38,7 @@ from scipy.spatial import cKDTree
 from surfinpaint.errors import HoleWarning
 from surfinpaint.io.base import MeshWarning
 
-__all__ = ["SLIT_RTOL", "Slit", "SlitWarning", "find_slit", "zip_faces"]
+__all__ = ["SLIT_RTOL", "Slit", "SlitWarning", "find_seam_part", "find_slit", "zip_faces"]
 
 # two loop points closer than this fraction of the neighbouring loop edges' length coincide
 # (an exporter's duplicates are bit-identical; this leaves room for printed decimals)
@@ -111,9 +111,12 @@ def _lies_on_itself(p: np.ndarray, e: np.ndarray, h: np.ndarray, rtol: float) ->
     return bool((d <= rtol * h[owner]).all())
 
 
-def _seam_pairs(p: np.ndarray, h: np.ndarray, rtol: float) -> np.ndarray | None:
-    """For each loop position the position of its coincident partner (-1: none, a tip of
-    the seam), when every loop edge has its reversed copy in the loop; else None."""
+def _glued(p: np.ndarray, h: np.ndarray, rtol: float
+           ) -> tuple[np.ndarray, np.ndarray] | None:
+    """For each loop position the position of its coincident partner (-1: none, e.g. a tip
+    of a seam), and which loop edges have their reversed copy in the loop (between the
+    partners of their ends); None when the partners do not pair up (three coincident
+    vertices, or a partner that pairs elsewhere)."""
     n = len(p)
     dist, nearest = cKDTree(p).query(p, k=2)
     # the nearest point is the vertex itself unless another lies on it exactly
@@ -124,7 +127,7 @@ def _seam_pairs(p: np.ndarray, h: np.ndarray, rtol: float) -> np.ndarray | None:
     partner = np.where(other_dist <= rtol * local, other, -1)
     has = partner >= 0
     if not (partner[partner[has]] == np.flatnonzero(has)).all():
-        return None  # three coincident vertices, or a partner that pairs elsewhere
+        return None
     i = np.arange(n)
     ahead, after = (i + 1) % n, (i + 2) % n
     # edge (i, i+1) reversed: (i+1, i+2) folding back at a tip i+1, or (partner(i+1),
@@ -132,9 +135,42 @@ def _seam_pairs(p: np.ndarray, h: np.ndarray, rtol: float) -> np.ndarray | None:
     folds_back = partner == after
     back = np.where(partner[ahead] >= 0, (partner[ahead] + 1) % n, -2)
     along = (back == i) | ((back == partner) & has)
-    if not (folds_back | along).all():
+    return partner, folds_back | along
+
+
+def _pairs(loop: np.ndarray, partner: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """``(duplicate, kept)`` vertex-id pairs of the partnered ``positions``."""
+    positions = positions[partner[positions] >= 0]
+    pairs = np.column_stack([loop[positions], loop[partner[positions]]])
+    return np.unique(np.column_stack([pairs.max(axis=1), pairs.min(axis=1)]), axis=0)
+
+
+def find_seam_part(vertices: np.ndarray, loop: np.ndarray, rtol: float = SLIT_RTOL
+                   ) -> np.ndarray | None:
+    """The ``(duplicate, kept)`` pairs of a seam that makes up part of a loop (None: none).
+
+    A loop that bounds a surface can still run back along itself over some of its edges: an
+    open tube whose seam has duplicated vertices has one boundary loop, the two rims joined
+    by the seam's two sides. Such a loop is no hole (no disk fills it); zipping its seam
+    leaves the rest of it (the rims) open. At least two consecutive glued edges are asked
+    for, so that a loop merely touching itself at one point is not taken for a seam.
+    """
+    loop = np.asarray(loop, dtype=np.int64)
+    p = np.asarray(vertices, dtype=np.float64)[loop]
+    p = p - p.mean(axis=0)
+    scale = np.abs(p).max()
+    if len(loop) < 4 or scale == 0:
         return None
-    return partner
+    p = p / scale
+    h = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
+    found = _glued(p, h, rtol)
+    if found is None:
+        return None
+    partner, glued = found
+    if glued.all() or not (glued & np.roll(glued, -1)).any():
+        return None  # a whole slit (find_slit), or no run of two glued edges
+    ends = np.flatnonzero(glued)
+    return _pairs(loop, partner, np.unique(np.concatenate([ends, (ends + 1) % len(loop)])))
 
 
 def find_slit(vertices: np.ndarray, loop: np.ndarray, rtol: float = SLIT_RTOL
@@ -168,13 +204,10 @@ def find_slit(vertices: np.ndarray, loop: np.ndarray, rtol: float = SLIT_RTOL
     # a loop whose sides lie within rtol h of each other spans at most that times its length
     if vector_area > rtol * h.max() * h.sum() or not _lies_on_itself(p, e, h, rtol):
         return None
-    partner = _seam_pairs(p, h, rtol)
-    if partner is None:
+    found = _glued(p, h, rtol)
+    if found is None or not found[1].all():
         return Slit(np.empty((0, 2), dtype=np.int64))
-    first = np.flatnonzero(partner >= 0)
-    pairs = np.column_stack([loop[first], loop[partner[first]]])
-    pairs = np.unique(np.column_stack([pairs.max(axis=1), pairs.min(axis=1)]), axis=0)
-    return Slit(pairs)
+    return Slit(_pairs(loop, found[0], np.arange(len(loop))))
 
 
 def zip_faces(faces: np.ndarray, merges: np.ndarray) -> tuple[np.ndarray, str | None]:
