@@ -7,7 +7,12 @@ import pytest
 from conftest import grid_mesh, tetrahedron_mesh
 
 from surfinpaint.errors import MeshError
-from surfinpaint.geometry.validation import check_loop, nonmanifold_vertices, validate_mesh
+from surfinpaint.geometry.validation import (
+    check_loop,
+    nonmanifold_vertices,
+    validate_mesh,
+    zero_area_faces,
+)
 
 
 def _shifted_tetrahedron(offset: float, shift: int) -> tuple[np.ndarray, np.ndarray]:
@@ -260,3 +265,33 @@ def test_check_loop_names_bowtie_vertex():
     with pytest.raises(MeshError, match=r"bow-tie\) vertices 0") as info:
         check_loop(f, [0, 1, 2, 3])
     assert info.value.vertices == [0]
+
+
+def test_check_loop_names_the_given_ids_when_they_are_large():
+    # the same fans as above with vertex ids near 10^7 (a hole's neighbourhood in a large
+    # mesh): the check runs on compact ids and names the caller's ids
+    big = 10_000_000
+    f = np.array([[0, 1, 2], [0, 2, 3], [0, 4, 5], [0, 5, 6]]) + big
+    with pytest.raises(MeshError, match=rf"bow-tie\) vertices {big}") as info:
+        check_loop(f, np.array([0, 1, 2, 3]) + big)
+    assert info.value.vertices == [big]
+    with pytest.raises(MeshError, match="not boundary edges") as info:
+        check_loop(f, np.array([1, 2, 7]) + big)  # (2, 7) and (7, 1) are no edges
+    assert info.value.edges == [(2 + big, 7 + big), (7 + big, 1 + big)]
+
+
+def test_zero_area_faces_block_by_block_equals_all_at_once(monkeypatch):
+    from surfinpaint.geometry import mesh as mesh_module
+    from surfinpaint.geometry.mesh import face_areas
+
+    rng = np.random.default_rng(3)
+    v = rng.normal(size=(60, 3))
+    v[50:] = v[0]  # coincident corners: zero-area faces in several blocks
+    f = rng.integers(0, 60, size=(500, 3))
+    f = f[(f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])]
+    whole_flat, whole_area = zero_area_faces(v, f), face_areas(v, f)
+    assert whole_flat.size > 3
+    monkeypatch.setattr(mesh_module, "FACE_BLOCK", 7)
+    assert len(mesh_module.face_blocks(len(f))) > 10
+    assert np.array_equal(zero_area_faces(v, f), whole_flat)
+    assert np.array_equal(face_areas(v, f), whole_area)  # the same bits

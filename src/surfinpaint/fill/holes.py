@@ -151,6 +151,7 @@ def select_holes(
     include_border: bool = False,
     table: EdgeTable | None = None,
     validate: bool = True,
+    found: list[Hole] | None = None,
 ) -> list[np.ndarray]:
     """Oriented loops to fill, from a caller's choice.
 
@@ -164,6 +165,9 @@ def select_holes(
         The faces' edge table, if already built (passed on to :func:`find_holes`).
     validate : bool
         Check the mesh first (as :func:`find_holes`); False when the caller has.
+    found : list of Hole, optional
+        :func:`find_holes`' answer for this mesh, if already known (not recomputed, and the
+        mesh taken as checked).
 
     Raises
     ------
@@ -174,14 +178,16 @@ def select_holes(
         A hole index that is not a whole number.
     """
     if holes is None:
-        return [h.loop for h in find_holes(vertices, faces, table, validate=validate)
-                if include_border or not h.is_border]
+        if found is None:
+            found = find_holes(vertices, faces, table, validate=validate)
+        return [h.loop for h in found if include_border or not h.is_border]
     holes = list(holes)
     if not all(np.ndim(h) == 0 for h in holes):  # loops given by their vertex ids
-        if validate:
+        if validate and found is None:
             find_holes(vertices, faces, table)  # the mesh checked all the same
         return [orient_loop(faces, loop) for loop in holes]
-    found = find_holes(vertices, faces, table, validate=validate)
+    if found is None:
+        found = find_holes(vertices, faces, table, validate=validate)
     chosen = []
     for index in holes:
         if int(index) != index:
@@ -195,13 +201,16 @@ def select_holes(
 
 
 def hole_numbers(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray], *,
-                 table: EdgeTable | None = None, validate: bool = True) -> list[int]:
+                 table: EdgeTable | None = None, validate: bool = True,
+                 found: list[Hole] | None = None) -> list[int]:
     """The number :func:`find_holes` gives each of ``loops``: the one numbering that
     ``surfinpaint holes``, ``--holes``, every report, warning and error use.
 
     A loop is matched by its vertices (any start, any direction); -1 for a loop that
     :func:`find_holes` does not list as one (a piece of a loop pinched at a bow-tie).
+    ``table`` and ``found`` as for :func:`select_holes`.
     """
-    found = {tuple(sorted(map(int, h.loop))): k
-             for k, h in enumerate(find_holes(vertices, faces, table, validate=validate))}
+    if found is None:
+        found = find_holes(vertices, faces, table, validate=validate)
+    found = {tuple(sorted(map(int, h.loop))): k for k, h in enumerate(found)}
     return [found.get(tuple(sorted(map(int, loop))), -1) for loop in loops]

@@ -24,11 +24,12 @@ from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
-from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes
+from surfinpaint.fill.holes import find_holes, hole_numbers, loop_diameter, select_holes
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import Fill, FillResult, HoleReport
 from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
+from surfinpaint.fill.warmup import KernelWarmup
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
 from surfinpaint.geometry.validation import (
@@ -401,11 +402,19 @@ def fill_holes(
         if not isinstance(flag, bool | np.bool_):
             raise ValueError(f"{name} must be True or False, got {flag!r}")
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
-    loops = select_holes(vertices, faces, holes, include_border=include_border, table=table,
-                         validate=False)  # checked by _prepared, as validate says
-    # numbered as find_holes numbers them (the outer border counts), whatever was selected
-    numbers = hole_numbers(vertices, faces, loops, table=table, validate=False)
+    # the kernels load on the idle core while the whole-mesh passes run (fill/warmup.py)
+    warmup = KernelWarmup.for_mesh(len(faces))
+    try:
+        vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
+        # checked by _prepared, as validate says
+        found = find_holes(vertices, faces, table, validate=False)
+        loops = select_holes(vertices, faces, holes, include_border=include_border,
+                             table=table, validate=False, found=found)
+        del table  # the holes are found: its memory is free for the fills
+        # numbered as find_holes numbers them (the outer border counts), whatever was selected
+        numbers = hole_numbers(vertices, faces, loops, found=found)
+    finally:  # before any hole is filled or worker forked
+        warmup.join()
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
                           method=method, diameter=loop_diameter(vertices[loop]))
                for k, loop in zip(numbers, loops, strict=True)]

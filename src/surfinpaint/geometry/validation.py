@@ -15,7 +15,7 @@ import numpy as np
 
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.mesh import boundary_loops
+from surfinpaint.geometry.mesh import boundary_loops, face_blocks
 
 __all__ = ["MeshReport", "check_arrays", "check_loop", "face_ids", "nonmanifold_vertices",
            "validate_mesh"]
@@ -163,9 +163,16 @@ def zero_area_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     (collinear or coincident corners)."""
     v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
+    columns = [np.ascontiguousarray(v[:, k]) for k in range(3)]
+    found = [np.flatnonzero(_zero_area(columns, f[block])) + block.start
+             for block in face_blocks(len(f))]
+    return np.concatenate(found) if found else np.zeros(0, np.int64)
+
+
+def _zero_area(columns: list[np.ndarray], f: np.ndarray) -> np.ndarray:
+    """Per face of ``f``: whether it has zero area (see :func:`zero_area_faces`)."""
     a, b = [], []
-    for k in range(3):
-        c = np.ascontiguousarray(v[:, k])
+    for c in columns:
         c0 = c[f[:, 0]]
         a.append(c[f[:, 1]] - c0)
         b.append(c[f[:, 2]] - c0)
@@ -179,7 +186,7 @@ def zero_area_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     longest2 = np.maximum(np.maximum(a[0] ** 2 + a[1] ** 2 + a[2] ** 2,
                                      b[0] ** 2 + b[1] ** 2 + b[2] ** 2),
                           (b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2 + (b[2] - a[2]) ** 2)
-    return np.flatnonzero(0.5 * area2 <= ZERO_AREA_RTOL * longest2)
+    return 0.5 * area2 <= ZERO_AREA_RTOL * longest2
 
 
 def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = None,
@@ -455,16 +462,20 @@ def check_loop(faces: np.ndarray, loop: np.ndarray, *, path: str | None = None) 
         twice = values[counts > 1]
         raise _fail(f"boundary loop visits vertices more than once: {preview(twice)}", path,
                     vertices=twice[:100].tolist())
-    table = EdgeTable.build(f, int(loop.max()) + 1)
+    # on compact ids: the cost is that of the faces given (a hole's neighbourhood), not of
+    # the largest vertex id (a large mesh's)
+    ids = np.unique(np.concatenate([f.ravel(), loop]))
+    compact = np.searchsorted(ids, loop)
+    table = EdgeTable.build(np.searchsorted(ids, f), len(ids))
     a, b = loop, np.roll(loop, -1)
-    edge = table.find(a, b)
+    edge = table.find(compact, np.roll(compact, -1))
     on_boundary = (edge >= 0) & (table.count[edge] == 1)
     if not on_boundary.all():
         bad = np.flatnonzero(~on_boundary)
         edges = [(int(a[i]), int(b[i])) for i in bad[:100]]
         raise _fail(f"{bad.size} loop edges are not boundary edges of the mesh: "
                     f"{preview(edges)}", path, edges=edges)
-    bowtie = np.intersect1d(_bowtie(table), loop)
+    bowtie = np.intersect1d(ids[_bowtie(table)], loop)
     if bowtie.size:
         raise _fail(f"hole boundary passes through non-manifold (bow-tie) vertices "
                     f"{preview(bowtie)}: the faces there form several fans, so filling the "

@@ -1,0 +1,97 @@
+"""The compiled kernels loaded in a background thread while the whole-mesh passes run.
+
+The first hole of a process otherwise waits for numba's import and for the kernels' machine
+code to be loaded from the disk cache (about 0.6 s CPU; several seconds when they must be
+compiled after an install). Those kernels are needed by every fill, and while a large mesh
+is read, validated and its holes found one core is idle, so :func:`fill_holes` starts
+:class:`KernelWarmup` before validating a large mesh and joins it before the first hole.
+The workers of a parallel fill are forked after the join and inherit the loaded kernels.
+
+The warm-up fills a small hole of a fixed mesh with the faired fill (the triangulation and
+the edge-flip kernels) and measures a point-to-mesh distance (the conformal self-check's
+kernel), through the same functions a real fill calls, so numba loads exactly the
+specialisations real fills use, not new ones. It only computes: no file, no warning, no
+message besides numba's "compiling" notice.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import threading
+
+import numpy as np
+
+__all__ = ["KernelWarmup", "warm_kernels", "warmup_mesh"]
+
+# below this many faces the whole-mesh passes take too little time to hide the loading
+WARMUP_MIN_FACES = 100_000
+
+_done = threading.Event()
+
+
+def warmup_mesh() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A small bumpy annulus (3 rings of 10 vertices around an 10-edge hole): vertices,
+    consistently oriented faces and the hole's loop."""
+    n, rings = 10, 4
+    angle = 2 * np.pi * np.arange(n) / n
+    radius = np.repeat(1.0 + np.arange(rings), n)
+    theta = np.tile(angle, rings)
+    vertices = np.column_stack([radius * np.cos(theta), radius * np.sin(theta),
+                                0.1 * np.sin(3 * theta) * radius])
+    faces = []
+    for r in range(rings - 1):
+        a = r * n + np.arange(n)
+        b = r * n + (np.arange(n) + 1) % n
+        faces += [np.column_stack([a, a + n, b]), np.column_stack([b, a + n, b + n])]
+    return vertices, np.concatenate(faces).astype(np.int64), np.arange(n)[::-1].copy()
+
+
+def warm_kernels() -> None:
+    """Load (or compile) the kernels a fill uses by running them once on
+    :func:`warmup_mesh`; a no-op after the first call in a process and without numba."""
+    if _done.is_set() or importlib.util.find_spec("numba") is None:
+        _done.set()
+        return
+    from surfinpaint.fill.liepa.baseline import faired_fill
+    from surfinpaint.geometry.metrics import point_mesh_distance
+
+    vertices, faces, loop = warmup_mesh()
+    new_v, new_f, _ = faired_fill(vertices, faces, loop, 2)
+    point_mesh_distance(new_v, vertices, faces)
+    _done.set()
+
+
+class KernelWarmup:
+    """:func:`warm_kernels` in a background thread: :meth:`start`, then :meth:`join` before
+    the kernels are used (and before any worker process is forked)."""
+
+    def __init__(self) -> None:
+        self._thread: threading.Thread | None = None
+
+    @classmethod
+    def for_mesh(cls, n_faces: int) -> KernelWarmup:
+        """Started when the mesh has at least ``WARMUP_MIN_FACES`` faces and the kernels are
+        not loaded yet; otherwise a warm-up that does nothing."""
+        warmup = cls()
+        if n_faces >= WARMUP_MIN_FACES and not _done.is_set():
+            warmup._thread = threading.Thread(target=_quietly, name="surfinpaint-warmup")
+            warmup._thread.start()
+        return warmup
+
+    @property
+    def running(self) -> bool:
+        return self._thread is not None and self._thread.is_alive()
+
+    def join(self) -> None:
+        if self._thread is not None:
+            self._thread.join()
+            self._thread = None
+
+
+def _quietly() -> None:
+    # a failure here is not the caller's: the first hole then loads or compiles the kernels
+    # itself and raises whatever there is to raise
+    try:
+        warm_kernels()
+    except Exception:  # noqa: BLE001
+        pass
