@@ -195,3 +195,76 @@ def test_ring_distances_and_submesh_keep_rings_and_order():
     assert np.array_equal(ids, np.sort(ids)) and np.array_equal(sv, v[ids])
     whole = f[(ring <= 3)[f].all(axis=1)]
     assert np.array_equal(ids[sf], whole)  # the same faces, in the same order
+
+
+def _outcome(v, f, centres, radii):
+    """A cut's arrays, or its error message."""
+    try:
+        cut = cut_holes(v, f, centres, radii)
+    except ValueError as exc:
+        return str(exc)
+    return [cut.vertices, cut.faces, cut.kept] + [
+        a for h in cut.holes for a in (h.loop, h.truth_faces, h.truth_ids)]
+
+
+def _same(a, b):
+    if isinstance(a, str) or isinstance(b, str):
+        return a == b
+    return len(a) == len(b) and all(x.dtype == y.dtype and np.array_equal(x, y)
+                                    for x, y in zip(a, b, strict=True))
+
+
+@pytest.mark.parametrize("name", ["sphere", "torus", "snowman", "jittered"])
+def test_a_cut_cleaned_in_a_window_equals_the_whole_mesh_cleanup(name, monkeypatch):
+    from surfinpaint.geometry import cutting
+
+    v, f = {"sphere": lambda: data.sphere(3), "torus": lambda: data.torus(n_major=48, n_minor=20),
+            "snowman": lambda: data.snowman(0.12), "jittered": jittered_grid}[name]()
+    h = mean_edge_length(v, f)
+    diag = np.linalg.norm(np.ptp(v, axis=0))
+    rng = np.random.default_rng(7)
+    cases = [([int(rng.integers(len(v)))], [rng.uniform(h, max(0.3 * diag, 6 * h))])
+             for _ in range(10)]
+    cases.append((list(rng.integers(len(v), size=3)), list(rng.uniform(2 * h, 5 * h, 3))))
+    if name == "jittered":  # the cuts whose raw removal is pinched
+        cases += [([69], [0.0717]), ([240], [0.0668])]
+    whole_calls = []
+    clean = cutting._clean
+
+    def counted(patch, *args):
+        whole_calls.append(patch.border is None)
+        return clean(patch, *args)
+
+    monkeypatch.setattr(cutting, "_clean", counted)
+    windowed = [_outcome(v, f, c, r) for c, r in cases]
+    assert whole_calls.count(False) >= len(cases)  # the windows did the work ...
+    monkeypatch.setattr(cutting, "WINDOW_RINGS", ())
+    whole = [_outcome(v, f, c, r) for c, r in cases]
+    assert all(_same(a, b) for a, b in zip(windowed, whole, strict=True))
+    # ... and a window too small to decide falls back to the whole mesh, same result (the
+    # faces at the disk's vertices hold a plain cut, not the stars a pinch adds)
+    monkeypatch.setattr(cutting, "WINDOW_RINGS", (0,))
+    whole_calls.clear()
+    narrow = [_outcome(v, f, c, r) for c, r in cases]
+    assert any(whole_calls) == (name == "jittered")
+    assert all(_same(a, b) for a, b in zip(narrow, whole, strict=True))
+
+
+def test_a_band_around_a_tube_is_decided_on_the_whole_mesh(monkeypatch):
+    # a disk as wide as a thin tube's girth cuts the tube in two: which side stays depends
+    # on the pieces' sizes far beyond any window, so the whole mesh decides
+    from surfinpaint.geometry import cutting
+
+    v, f = data.torus(R=1.0, r=0.05, n_major=160, n_minor=8)
+    whole_calls = []
+    clean = cutting._clean
+
+    def counted(patch, *args):
+        whole_calls.append(patch.border is None)
+        return clean(patch, *args)
+
+    monkeypatch.setattr(cutting, "_clean", counted)
+    windowed = _outcome(v, f, [0], [0.3])
+    assert whole_calls[-1]  # the windows could not tell
+    monkeypatch.setattr(cutting, "WINDOW_RINGS", ())
+    assert _same(windowed, _outcome(v, f, [0], [0.3]))

@@ -31,6 +31,7 @@ from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit,
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.fill.warmup import KernelWarmup
 from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.mesh import faces_at, vertex_faces
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
 from surfinpaint.geometry.validation import (
     check_arrays,
@@ -50,31 +51,14 @@ FAIR_NEIGHBOURHOOD_RINGS = 3
 ProgressCallback = Callable[[int, int, str], None]
 
 
-def _vertex_face_csr(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
-    rows = faces.ravel()
-    cols = np.repeat(np.arange(len(faces)), 3)
-    return sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)),
-                         shape=(n_vertices, len(faces)))
-
-
-def _faces_of(vertex_faces: sp.csr_matrix, vertex_ids: np.ndarray) -> np.ndarray:
-    starts = vertex_faces.indptr[vertex_ids]
-    stops = vertex_faces.indptr[vertex_ids + 1]
-    counts = stops - starts
-    if counts.sum() == 0:
-        return np.empty(0, dtype=np.int64)
-    offsets = np.repeat(starts - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
-    return np.unique(vertex_faces.indices[offsets])
-
-
 def _neighbourhood(
-    faces: np.ndarray, vertex_faces: sp.csr_matrix, added: np.ndarray, seeds: np.ndarray,
+    faces: np.ndarray, incidence: sp.csr_matrix, added: np.ndarray, seeds: np.ndarray,
     rings: int,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Faces within ``rings`` vertex rings of ``seeds``: ids into the original faces and into
     the faces added by earlier holes. Cost depends on the neighbourhood, not the mesh (the
     membership mask is allocated lazily, zero pages are never touched)."""
-    n_original = vertex_faces.shape[0]
+    n_original = incidence.shape[0]
     n_all = max(n_original, int(added.max()) + 1 if len(added) else 0, int(np.max(seeds)) + 1)
     in_region = np.zeros(n_all, dtype=bool)
     frontier = np.unique(seeds)
@@ -82,7 +66,7 @@ def _neighbourhood(
     picked, picked_added = [], []
     # grow from the newest ring only: the faces of the older rings are already picked
     for _ in range(rings):
-        new = _faces_of(vertex_faces, frontier[frontier < n_original])
+        new = faces_at(incidence, frontier[frontier < n_original])
         picked.append(new)
         grown = faces[new].ravel()
         if len(added):
@@ -127,7 +111,7 @@ class _FilledMesh:
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
         self.vertices, self.faces = vertices, faces
-        self.vertex_faces = _vertex_face_csr(faces, len(vertices))
+        self.vertex_faces = vertex_faces(faces, len(vertices))
         self.vertex_blocks: list[np.ndarray] = []
         self.face_blocks: list[np.ndarray] = []
         self.n_new = 0

@@ -16,8 +16,8 @@ from scipy.sparse.csgraph import connected_components as _cc
 from scipy.sparse.csgraph import dijkstra
 
 from surfinpaint.errors import MeshError
-from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.mesh import boundary_loops, unique_edges
+from surfinpaint.geometry.edges import EdgeTable, edge_keys
+from surfinpaint.geometry.mesh import boundary_loops, faces_at, unique_edges, vertex_faces
 
 __all__ = ["CutHole", "CutResult", "cut_geodesic_disk", "cut_holes", "edge_graph",
            "ring_distances", "submesh"]
@@ -96,7 +96,7 @@ class CutResult:
 
 
 class _Topology:
-    """Edge graph and face adjacency of a mesh, computed once for several cuts."""
+    """Edge graph, face adjacency and incidences of a mesh, computed once for all its cuts."""
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
         self.n = len(vertices)
@@ -111,25 +111,99 @@ class _Topology:
         length = np.maximum(length, 1e-300)
         self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])),
                                    shape=(self.n, self.n)).tocsr()
-        # the two faces of each interior edge, and the edge as a half-edge of the first face
-        # (the second has it reversed)
-        h1, h2 = table.interior_pairs()
-        self.face_pairs = np.column_stack([h1 // 3, h2 // 3])
-        self.pair_half = np.column_stack([table.tails(h1), table.heads(h1)])
+        self.edge_key, self.edge_count = edge_keys(edges[:, 0], edges[:, 1], self.n), count
+        self.whole = _Patch.of_table(faces, table, np.ones(len(faces), bool))
         self.on_boundary = np.zeros(self.n, bool)
         self.on_boundary[edges[count == 1].ravel()] = True
-        self.face_component = _cc(self._face_graph(np.ones(len(faces), bool)),
+        self.face_component = _cc(self.whole.face_graph(np.ones(len(faces), bool)),
                                   directed=False)[1]
+        self.component_size = np.bincount(self.face_component)
+        self.incidence = vertex_faces(faces, self.n)
+        self.degree = np.diff(self.incidence.indptr)
 
-    def _face_graph(self, mask: np.ndarray) -> sp.csr_matrix:
-        p = self.face_pairs[mask[self.face_pairs].all(axis=1)]
+    def window(self, reached: np.ndarray, rings: int, component: int
+               ) -> tuple[np.ndarray, _Patch]:
+        """The faces within ``rings`` vertex rings of the faces at ``reached`` (sorted ids)
+        and their patch, with what the cleanup needs to know of the mesh beyond it."""
+        ids = faces_at(self.incidence, reached)
+        for _ in range(rings):
+            ids = faces_at(self.incidence, np.unique(self.faces[ids]))
+        faces = self.faces[ids]
+        vertex, local = np.unique(faces, return_inverse=True)
+        local = local.reshape(-1, 3)
+        table = EdgeTable.build(local, len(vertex))
+        same = self.face_component[ids] == component
+        patch = _Patch.of_table(faces, table, same, vertex)
+        # faces beside an interior edge of the mesh whose other face is beyond the window
+        cut = table.halfedges[table.start[:-1][table.count == 1]]
+        key = edge_keys(vertex[table.tails(cut)], vertex[table.heads(cut)], self.n)
+        at = np.searchsorted(self.edge_key, key)
+        patch.border = np.zeros(len(ids), bool)
+        patch.border[cut[self.edge_count[at] == 2] // 3] = True
+        # faces with a vertex some of whose faces are beyond the window
+        patch.open = (np.bincount(local.ravel(), minlength=len(vertex))
+                      < self.degree[vertex])[local].any(axis=1)
+        patch.outside = int(self.component_size[component] - np.count_nonzero(same))
+        return ids, patch
+
+
+@dataclass
+class _Patch:
+    """Faces the cleanup of one hole works on: the whole mesh, or a window of it.
+
+    ``pairs`` are the two faces (patch ids) of each interior edge and ``pair_half`` the edge
+    as a half-edge of the first face (the second has it reversed); ``same`` marks the faces
+    of the centre's component. A window also has ``border`` (faces with an edge whose other
+    face is beyond it), ``open`` (faces with a vertex whose star leaves it) and ``outside``
+    (the centre component's faces beyond it); the whole mesh has none of these.
+    """
+
+    faces: np.ndarray
+    pairs: np.ndarray
+    pair_half: np.ndarray
+    same: np.ndarray
+    border: np.ndarray | None = None
+    open: np.ndarray | None = None
+    outside: int = 0
+
+    @classmethod
+    def of_table(cls, faces: np.ndarray, table: EdgeTable, same: np.ndarray,
+                 vertex: np.ndarray | None = None) -> _Patch:
+        h1, h2 = table.interior_pairs()
+        tails, heads = table.tails(h1), table.heads(h1)
+        if vertex is not None:  # the table is over compact ids
+            tails, heads = vertex[tails], vertex[heads]
+        return cls(faces, np.column_stack([h1 // 3, h2 // 3]), np.column_stack([tails, heads]),
+                   same)
+
+    def face_graph(self, mask: np.ndarray) -> sp.csr_matrix:
+        p = self.pairs[mask[self.pairs].all(axis=1)]
         m = len(self.faces)
         return sp.coo_matrix((np.ones(len(p)), (p[:, 0], p[:, 1])), shape=(m, m)).tocsr()
 
     def face_labels(self, mask: np.ndarray) -> np.ndarray:
         """Edge-connected component label per face of the subset ``mask`` (-1 outside)."""
-        labels = _cc(self._face_graph(mask), directed=False)[1]
+        labels = _cc(self.face_graph(mask), directed=False)[1]
         return np.where(mask, labels, -1)
+
+    def leaves(self, removed: np.ndarray) -> bool:
+        """Whether the faces around ``removed`` may reach beyond the patch (a window too
+        small to clean the hole in: the caller takes a larger one)."""
+        return self.open is not None and bool((removed & self.open).any())
+
+    def largest(self, labels: np.ndarray, kept: np.ndarray) -> int | None:
+        """The label of the largest kept piece of the centre's component (the first of
+        equal ones, as :func:`numpy.argmax` picks), None when a window cannot tell."""
+        sizes = np.bincount(labels[kept])
+        beyond = np.unique(labels[kept & self.border]) if self.border is not None else []
+        if len(beyond) == 0:  # every kept piece lies inside
+            return int(np.argmax(sizes)) if self.outside == 0 else None
+        if len(beyond) > 1:  # pieces that may join beyond the window, or not
+            return None
+        piece = int(beyond[0])
+        others = np.delete(sizes, piece)
+        # inside pieces are whole pieces of the mesh; the outer one goes on beyond
+        return piece if not len(others) or sizes[piece] + self.outside > others.max() else None
 
 
 def _center_vertex(vertices: np.ndarray, center) -> int:
@@ -144,50 +218,79 @@ def _center_vertex(vertices: np.ndarray, center) -> int:
     return int(np.argmin(((vertices - c) ** 2).sum(axis=1)))
 
 
+# vertex rings around the disk a window takes in, tried in turn before the whole mesh
+WINDOW_RINGS = (3, 12)
+
+
 def _region(topo: _Topology, center: int, radius: float) -> np.ndarray:
-    """Mask of the faces to remove for one geodesic disk, cleaned into a topological disk."""
-    faces = topo.faces
+    """Sorted ids of the faces to remove for one geodesic disk, cleaned into a topological
+    disk. The cleanup runs on a window around the disk (the cost follows the hole), and on
+    the whole mesh when no window decides it: the same faces either way."""
     if not radius > 0:
         raise ValueError(f"radius must be positive, got {radius}")
     dist = dijkstra(topo.graph, directed=False, indices=center, limit=radius)
+    reached = np.flatnonzero(dist <= radius)
+    at_center = faces_at(topo.incidence, [center])
+    if not len(at_center):
+        raise ValueError(
+            f"radius {radius:g} around vertex {center} contains no whole face: make it larger")
+    component = topo.face_component[at_center[0]]
+    removed = None
+    for rings in WINDOW_RINGS:
+        ids, patch = topo.window(reached, rings, component)
+        removed = _clean(patch, center, radius, dist)
+        if removed is not None:
+            removed = ids[removed]
+            break
+    if removed is None:
+        removed = np.flatnonzero(_clean(topo.whole, center, radius, dist))
+    touched = np.unique(topo.faces[removed])
+    if topo.on_boundary[touched].any():
+        raise ValueError(
+            f"the hole around vertex {center} with radius {radius:g} reaches the mesh "
+            "boundary: use a smaller radius or another centre")
+    return removed
+
+
+def _clean(patch: _Patch, center: int, radius: float, dist: np.ndarray) -> np.ndarray | None:
+    """Mask over ``patch``'s faces of the faces to remove (None: the window is too small)."""
+    faces = patch.faces
     removed = (dist <= radius)[faces].all(axis=1)
     touching = (faces == center).any(axis=1)
     if not (removed & touching).any():
         raise ValueError(
             f"radius {radius:g} around vertex {center} contains no whole face: make it larger")
-    component = topo.face_component[np.flatnonzero(touching)[0]]
-    same = topo.face_component == component
+    same = patch.same
     for _ in range(100):
+        if patch.leaves(removed):
+            return None
         before = removed.copy()
         # 1. keep only the removed piece that contains the centre
-        labels = topo.face_labels(removed)
+        labels = patch.face_labels(removed)
         centre_labels = np.unique(labels[removed & touching])
         removed = np.isin(labels, centre_labels) & removed
         if len(centre_labels) > 1:  # the centre itself is a pinch: take its whole star
             removed |= touching
         # 2. kept islands (in the centre's connected component) go too
         kept = same & ~removed
-        labels = topo.face_labels(kept)
-        sizes = np.bincount(labels[kept])
-        if len(sizes):
-            removed |= kept & (labels != np.argmax(sizes))
+        labels = patch.face_labels(kept)
+        if kept.any():
+            largest = patch.largest(labels, kept)
+            if largest is None:
+                return None
+            removed |= kept & (labels != largest)
+        if patch.leaves(removed):
+            return None
         # 3. pinched vertices (several hole-boundary edges leave them): remove their star
-        r1, r2 = removed[topo.face_pairs[:, 0]], removed[topo.face_pairs[:, 1]]
-        tails = np.concatenate([topo.pair_half[~r1 & r2, 0], topo.pair_half[r1 & ~r2, 1]])
+        r1, r2 = removed[patch.pairs[:, 0]], removed[patch.pairs[:, 1]]
+        tails = np.concatenate([patch.pair_half[~r1 & r2, 0], patch.pair_half[r1 & ~r2, 1]])
         tails, count = np.unique(tails, return_counts=True)
         pinched = tails[count > 1]
         if len(pinched):
             removed |= np.isin(faces, pinched).any(axis=1)
         if (removed == before).all():
-            break
-    else:  # pragma: no cover - the loop only grows a finite set
-        raise RuntimeError("hole cleanup did not converge")
-    touched = np.unique(faces[removed])
-    if topo.on_boundary[touched].any():
-        raise ValueError(
-            f"the hole around vertex {center} with radius {radius:g} reaches the mesh "
-            "boundary: use a smaller radius or another centre")
-    return removed
+            return removed
+    raise RuntimeError("hole cleanup did not converge")  # pragma: no cover - it only grows
 
 
 def _euler(faces: np.ndarray) -> int:
@@ -241,7 +344,9 @@ def cut_holes(vertices: np.ndarray, faces: np.ndarray, centers: Sequence,
         if _euler(f[reg]) != 1:
             raise ValueError(f"hole {k} (radius {radii_arr[k]:g}) is not a disk (Euler "
                              f"characteristic {_euler(f[reg])}): use a smaller radius")
-    removed = np.any(regions, axis=0) if regions else np.zeros(len(f), bool)
+    removed = np.zeros(len(f), bool)
+    for reg in regions:
+        removed[reg] = True
     kept_faces = f[~removed]
     referenced = np.zeros(len(v), bool)
     referenced[f.ravel()] = True
@@ -261,15 +366,13 @@ def cut_holes(vertices: np.ndarray, faces: np.ndarray, centers: Sequence,
                              "loops instead of one: use a smaller radius")
         loop = mine[0]
         tid = np.unique(f[reg])
-        remap = np.full(len(v), -1)
-        remap[tid] = np.arange(len(tid))
         p = out_v[loop]
         if len(p) > 2000:  # keep the pairwise distances small: the diameter is on the hull
             p = p[:: len(p) // 2000 + 1]
         diameter = float(np.sqrt(((p[:, None] - p[None]) ** 2).sum(-1).max()))
-        holes.append(CutHole(loop=loop, truth_vertices=v[tid], truth_faces=remap[f[reg]],
-                          truth_ids=tid, diameter=diameter, center=ids[k],
-                          radius=float(radii_arr[k])))
+        holes.append(CutHole(loop=loop, truth_vertices=v[tid],
+                             truth_faces=np.searchsorted(tid, f[reg]), truth_ids=tid,
+                             diameter=diameter, center=ids[k], radius=float(radii_arr[k])))
     return CutResult(vertices=out_v, faces=out_f, holes=holes, kept=kept)
 
 

@@ -347,6 +347,33 @@ def faces_near(faces: np.ndarray, seeds: np.ndarray, rings: int, n_vertices: int
     return faces[mask[faces].any(axis=1)]
 
 
+def vertex_faces(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
+    """(n, f) incidence: row ``i`` holds the faces at vertex ``i`` (for :func:`faces_at`)."""
+    f = np.asarray(faces, dtype=np.int64)
+    rows = f.ravel()
+    cols = np.repeat(np.arange(len(f)), 3)
+    return sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)),
+                         shape=(n_vertices, len(f)))
+
+
+def faces_at(incidence: sp.csr_matrix, vertex_ids: np.ndarray) -> np.ndarray:
+    """The faces at any of ``vertex_ids`` (sorted, once each), read from
+    :func:`vertex_faces`' incidence: the cost follows the vertices, not the mesh.
+
+    Examples
+    --------
+    >>> faces_at(vertex_faces(np.array([[0, 1, 2], [1, 3, 2], [3, 4, 2]]), 5), [0, 4])
+    array([0, 2])
+    """
+    vertex_ids = np.asarray(vertex_ids, dtype=np.int64)
+    starts = incidence.indptr[vertex_ids]
+    counts = incidence.indptr[vertex_ids + 1] - starts
+    if counts.sum() == 0:
+        return np.empty(0, dtype=np.int64)
+    offsets = np.repeat(starts - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
+    return np.unique(incidence.indices[offsets]).astype(np.int64, copy=False)
+
+
 def connected_components(faces: np.ndarray, n_vertices: int) -> tuple[int, np.ndarray]:
     """Connected components of the vertices through the edges: ``(count, label per vertex)``.
 
