@@ -537,3 +537,18 @@ def test_nilearn_fsaverage5_gifti_gz():
     assert report.n_components == 1
     # a pial surface spans roughly 70 x 110 x 80 mm
     assert np.all((np.ptp(v, axis=0) > 50) & (np.ptp(v, axis=0) < 250))
+
+
+@pytest.mark.parametrize("suffix", [".ply", ".obj", ".off", ".stl"])
+def test_triangle_faces_read_are_our_own_writable_int64_array(tmp_path, suffix):
+    # all-triangle files take the faces straight from the parsed list (no gathered copy):
+    # they must still be a fresh, writable (f, 3) int64 array, equal to what was written
+    v, f = grid_mesh(4, 3)
+    path = tmp_path / f"grid{suffix}"
+    write_mesh(path, v, f)
+    _, g = read_mesh(path)
+    assert g.dtype == np.int64 and g.shape == f.shape and g.flags.writeable
+    if suffix != ".stl":  # STL stores corners, not shared vertex ids
+        np.testing.assert_array_equal(g, f)
+    g[0] = g[1]
+    assert not np.array_equal(read_mesh(path)[1][0], g[0])

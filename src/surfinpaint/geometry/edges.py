@@ -106,7 +106,10 @@ class EdgeTable:
             n = max(n, int(n_vertices))
         tails, heads = f[:, [1, 2, 0]].ravel(), f[:, [2, 0, 1]].ravel()
         forward = tails < heads
-        key = edge_keys(tails, heads, n)
+        # edge_keys(tails, heads, n), in place: one whole-mesh temporary less
+        key = np.minimum(tails, heads)
+        key *= np.int64(n)
+        key += np.maximum(tails, heads)
         del tails, heads
         # stable, so each edge's half-edges stay in face order (timsort also profits from
         # the runs of a spatially ordered mesh: ~2x faster than the default quicksort)
@@ -120,7 +123,10 @@ class EdgeTable:
         unique = sorted_key[first]
         del sorted_key
         face_edge = np.empty(len(order), dtype=np.int64)
-        face_edge[order] = np.cumsum(new) - 1
+        rank = np.cumsum(new, dtype=np.int64)
+        rank -= 1
+        face_edge[order] = rank
+        del rank
         start = np.append(first, len(order)).astype(np.int64)
         edges = np.column_stack([unique // n, unique % n])
         return cls(faces=f, n_vertices=n, edges=edges, count=np.diff(start),

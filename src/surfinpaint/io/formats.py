@@ -241,7 +241,11 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     except Exception as exc:  # any parser failure means a bad file
         raise MeshError(f"cannot read as {_LABELS[fmt]}: {describe(exc)}", path=name) from None
     corners, owner = triangulate(parsed.counts, name)
-    faces = np.asarray(parsed.flat, dtype=np.int64)[corners]
+    flat = np.asarray(parsed.flat, dtype=np.int64)
+    # all triangles: the corners are the flat list in order (a view, not a gathered copy,
+    # when the parser's list is our own writable array)
+    faces = (flat.reshape(-1, 3) if corners.size == flat.size and flat.flags.writeable
+             else flat[corners])
     check_arrays(parsed.vertices, faces, path=name)
     mesh, seams = _assemble(parsed, corners, owner, faces)
     dropped = list(parsed.dropped)

@@ -111,7 +111,8 @@ def read_ply(data: bytes, path: Path) -> Parsed:
     vertices = np.column_stack([np.asarray(v["x"], np.float64), np.asarray(v["y"], np.float64),
                                 np.asarray(v["z"], np.float64)]).reshape(-1, 3)
     counts, flat = parsed["face"][key]
-    if flat.size and not np.all(np.isfinite(flat) & (flat == np.round(flat))):
+    if flat.dtype.kind == "f" and flat.size and not np.all(np.isfinite(flat)
+                                                            & (flat == np.round(flat))):
         raise MeshError("PLY face list has non-integer vertex indices")
     out = Parsed(vertices, counts, flat.astype(np.int64),
                  metadata={"comments": "\n".join(notes)} if notes else {})
