@@ -100,6 +100,7 @@ class Run:
     wall: float
     peak_mb: float
     load: float
+    cpu: float  # user + system seconds of the child and its workers
 
 
 # Linux counts a process's peak memory from before its exec, so a child forked from this
@@ -110,22 +111,24 @@ import os, resource, subprocess, sys, time
 start = time.perf_counter()
 code = subprocess.call(sys.argv[1:], stdout=subprocess.DEVNULL)
 wall = time.perf_counter() - start
-peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-print(f"\\nscale-run {wall} {peak}", file=sys.stderr)
+usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+cpu = usage.ru_utime + usage.ru_stime
+print(f"\\nscale-run {wall} {usage.ru_maxrss} {cpu}", file=sys.stderr)
 sys.exit(code)
 """
 
 
 def run_child(cmd: list[str]) -> Run:
     """Run ``cmd`` to completion; its wall time, peak resident memory (the child's
-    ``ru_maxrss``, i.e. VmHWM) and the 1-minute load average when it ended."""
+    ``ru_maxrss``, i.e. VmHWM; a worker process's own peak when larger), CPU seconds (user +
+    system, the child's workers included) and the 1-minute load average when it ended."""
     proc = subprocess.run([sys.executable, "-c", LAUNCHER, *cmd], capture_output=True,
                           text=True)
     if proc.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n"
                            f"{proc.stderr[-2000:]}")
-    _, wall, peak_kb = proc.stderr.strip().splitlines()[-1].split()
-    return Run(float(wall), float(peak_kb) / 1024.0, os.getloadavg()[0])
+    _, wall, peak_kb, cpu = proc.stderr.strip().splitlines()[-1].split()
+    return Run(float(wall), float(peak_kb) / 1024.0, os.getloadavg()[0], float(cpu))
 
 
 def tools(case: Case, workdir: Path, with_meshlib: bool) -> dict[str, list[str]]:
@@ -154,13 +157,14 @@ def paired_table(case: Case, runs: dict[str, list[Run]]) -> str:
     lines = [f"**{case.name}**: {case.n_vertices:,} vertices, {case.n_faces:,} faces, "
              f"{len(case.hole_edges)} holes of {min(case.hole_edges)}–{max(case.hole_edges)} "
              "edges, binary PLY", "",
-             "| tool | wall s (median) | runs | × MeshLib | peak MB | load (1 min) |",
-             "|---|---|---|---|---|---|"]
+             "| tool | wall s (median) | runs | × MeshLib | CPU s (median) | peak MB | "
+             "load (1 min) |", "|---|---|---|---|---|---|---|"]
     for name, rs in runs.items():
         wall = statistics.median(r.wall for r in rs)
         ratio = f"{wall / ref_wall:.2f}" if ref_wall else "–"
         lines.append(f"| {name} | {wall:.2f} | {', '.join(f'{r.wall:.2f}' for r in rs)} | "
-                     f"{ratio} | {max(r.peak_mb for r in rs):.0f} | "
+                     f"{ratio} | {statistics.median(r.cpu for r in rs):.2f} | "
+                     f"{max(r.peak_mb for r in rs):.0f} | "
                      f"{', '.join(f'{r.load:.1f}' for r in rs)} |")
     return "\n".join(lines)
 
