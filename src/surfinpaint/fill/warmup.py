@@ -21,6 +21,9 @@ import threading
 
 import numpy as np
 
+from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.geometry.metrics import point_mesh_distance
+
 __all__ = ["KernelWarmup", "warm_kernels", "warmup_mesh"]
 
 # below this many faces the whole-mesh passes take too little time to hide the loading
@@ -52,9 +55,6 @@ def warm_kernels() -> None:
     if _done.is_set() or importlib.util.find_spec("numba") is None:
         _done.set()
         return
-    from surfinpaint.fill.liepa.baseline import faired_fill
-    from surfinpaint.geometry.metrics import point_mesh_distance
-
     vertices, faces, loop = warmup_mesh()
     new_v, new_f, _ = faired_fill(vertices, faces, loop, 2)
     point_mesh_distance(new_v, vertices, faces)
