@@ -131,3 +131,26 @@ def test_one_numbering_for_holes_and_reports():
     assert [r.index for r in by_loop.reports] == [inner]
     assert hole_numbers(v, f, [h.loop for h in found]) == list(range(len(found)))
     assert hole_numbers(v, f, [np.array([0, 1, 2])]) == [-1]
+
+
+def test_select_holes_and_hole_numbers_reuse_a_given_find_holes_answer(monkeypatch):
+    from surfinpaint.data import sphere
+    from surfinpaint.fill import holes as holes_module
+    from surfinpaint.geometry.cutting import cut_holes
+
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [[0, 0, 1.0], [1.0, 0, 0], [0, 1.0, 0]], 0.35)
+    found = holes_module.find_holes(cut.vertices, cut.faces)
+    expected = [holes_module.select_holes(cut.vertices, cut.faces, h) for h in (None, [2, 0])]
+    numbers = holes_module.hole_numbers(cut.vertices, cut.faces, expected[1])
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("find_holes called again")
+
+    monkeypatch.setattr(holes_module, "find_holes", refuse)
+    for h, want in zip((None, [2, 0]), expected, strict=True):
+        got = holes_module.select_holes(cut.vertices, cut.faces, h, found=found)
+        assert len(got) == len(want) and all(np.array_equal(a, b)
+                                             for a, b in zip(got, want, strict=True))
+    assert holes_module.hole_numbers(cut.vertices, cut.faces, expected[1],
+                                     found=found) == numbers == [2, 0]
