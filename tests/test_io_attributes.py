@@ -519,3 +519,25 @@ def test_read_fill_write_keeps_the_original_vertices_and_their_attributes(tmp_pa
     np.testing.assert_array_equal(out.attributes["color"][:n], colour)
     np.testing.assert_array_equal(out.attributes["q"][:n], quality)
     assert out.attributes["color"].dtype == np.uint8 and out.attributes["q"].dtype == np.float32
+
+
+def test_the_attribute_api_is_at_the_top_level(tmp_path):
+    # what a user with colours or overlays needs, reachable as surfinpaint.<name>: a colour
+    # read, filled and written back through the top-level names
+    import trimesh
+
+    import surfinpaint
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+
+    sphere = trimesh.creation.icosphere(subdivisions=3)
+    cut = cut_geodesic_disk(np.asarray(sphere.vertices), np.asarray(sphere.faces), 0, 0.4)
+    v, f = cut.vertices, cut.faces
+    colour = np.tile(np.array([[10, 200, 30]], np.uint8), (len(v), 1))
+    mesh = surfinpaint.MeshData(v, f, {"colour": colour})
+    surfinpaint.write_mesh_data(tmp_path / "in.ply", mesh)
+    again = surfinpaint.read_mesh_data(tmp_path / "in.ply")
+    result, filled = surfinpaint.fill_mesh_data(again, method="fair")
+    assert len(filled.vertices) > len(v)
+    np.testing.assert_array_equal(filled.vertices[: len(v)], v)
+    assert (np.asarray(filled.attributes["colour"]) == [10, 200, 30]).all()
+    assert issubclass(surfinpaint.SlitWarning, surfinpaint.MeshWarning)
