@@ -214,6 +214,21 @@ def _same(a, b):
                                     for x, y in zip(a, b, strict=True))
 
 
+def _count_whole_mesh_cleanups(monkeypatch) -> list[bool]:
+    """Per call of cutting's cleanup from now on: whether it ran on the whole mesh."""
+    from surfinpaint.geometry import cutting
+
+    whole_calls: list[bool] = []
+    clean = cutting._clean
+
+    def counted(patch, *args):
+        whole_calls.append(patch.border is None)
+        return clean(patch, *args)
+
+    monkeypatch.setattr(cutting, "_clean", counted)
+    return whole_calls
+
+
 @pytest.mark.parametrize("name", ["sphere", "torus", "snowman", "jittered"])
 def test_a_cut_cleaned_in_a_window_equals_the_whole_mesh_cleanup(name, monkeypatch):
     from surfinpaint.geometry import cutting
@@ -228,14 +243,7 @@ def test_a_cut_cleaned_in_a_window_equals_the_whole_mesh_cleanup(name, monkeypat
     cases.append((list(rng.integers(len(v), size=3)), list(rng.uniform(2 * h, 5 * h, 3))))
     if name == "jittered":  # the cuts whose raw removal is pinched
         cases += [([69], [0.0717]), ([240], [0.0668])]
-    whole_calls = []
-    clean = cutting._clean
-
-    def counted(patch, *args):
-        whole_calls.append(patch.border is None)
-        return clean(patch, *args)
-
-    monkeypatch.setattr(cutting, "_clean", counted)
+    whole_calls = _count_whole_mesh_cleanups(monkeypatch)
     windowed = [_outcome(v, f, c, r) for c, r in cases]
     assert whole_calls.count(False) >= len(cases)  # the windows did the work ...
     monkeypatch.setattr(cutting, "WINDOW_RINGS", ())
@@ -256,14 +264,7 @@ def test_a_band_around_a_tube_is_decided_on_the_whole_mesh(monkeypatch):
     from surfinpaint.geometry import cutting
 
     v, f = data.torus(R=1.0, r=0.05, n_major=160, n_minor=8)
-    whole_calls = []
-    clean = cutting._clean
-
-    def counted(patch, *args):
-        whole_calls.append(patch.border is None)
-        return clean(patch, *args)
-
-    monkeypatch.setattr(cutting, "_clean", counted)
+    whole_calls = _count_whole_mesh_cleanups(monkeypatch)
     windowed = _outcome(v, f, [0], [0.3])
     assert whole_calls[-1]  # the windows could not tell
     monkeypatch.setattr(cutting, "WINDOW_RINGS", ())
