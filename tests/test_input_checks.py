@@ -112,3 +112,16 @@ def test_conformal_fill_refuses_non_whole_face_ids(holed):
     loop = find_holes(v, f)[0].loop
     with pytest.raises(MeshError, match="not whole numbers"):
         conformal_fill(v, f + 0.5, loop)
+
+
+@pytest.mark.parametrize("entry", ["fill_holes", "find_holes", "validate_mesh"])
+def test_ragged_face_lists_are_refused_naming_the_odd_faces(entry):
+    # a face list whose rows differ in length: numpy's "inhomogeneous shape" ValueError
+    # before; now a MeshError naming the faces that are not triangles
+    import surfinpaint
+
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    faces = [[0, 1, 2], [2, 1], [1, 3, 2], [0, 1, 2, 3]]
+    with pytest.raises(MeshError, match=r"most faces have 3 ids, faces 1 \(2 ids\), "
+                                        r"3 \(4 ids\) do not"):
+        getattr(surfinpaint, entry)(v, faces)

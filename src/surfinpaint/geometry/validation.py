@@ -91,10 +91,16 @@ def face_ids(faces, *, path: str | None = None) -> np.ndarray:
     Raises
     ------
     MeshError
-        For ids that are not whole numbers (naming the faces), ids past the int64 range, and
-        booleans, complex numbers or other non-numbers.
+        For ids that are not whole numbers (naming the faces), ids past the int64 range,
+        rows of different lengths (naming the odd faces), and booleans, complex numbers or
+        other non-numbers.
     """
-    f = np.asarray(faces)
+    try:
+        f = np.asarray(faces)
+    except ValueError:  # rows of different lengths ("inhomogeneous shape")
+        raise _fail(_ragged(faces), path) from None
+    if f.dtype == object:  # numpy < 2 makes an object array of ragged rows
+        raise _fail(_ragged(faces), path)
     if np.issubdtype(f.dtype, np.integer):
         if f.dtype == np.uint64 and f.size and int(f.max()) > np.iinfo(np.int64).max:
             raise _fail(f"faces use vertex ids past the int64 range (largest {int(f.max())})",
@@ -111,6 +117,20 @@ def face_ids(faces, *, path: str | None = None) -> np.ndarray:
         raise _fail(f"{bad.size} faces have vertex ids that are not whole numbers: "
                     f"{shown}{more}", path, faces=bad[:100].tolist())
     return f.astype(np.int64)
+
+
+def _ragged(faces) -> str:
+    """What is wrong with a face list whose rows have different lengths."""
+    try:
+        lengths = [len(row) for row in faces]
+    except TypeError:
+        return "faces must be an (f, 3) array of vertex ids, got rows that are not sequences"
+    common = max(set(lengths), key=lambda n: (lengths.count(n), n == 3))
+    odd = [i for i, n in enumerate(lengths) if n != common]
+    shown = ", ".join(f"{i} ({lengths[i]} ids)" for i in odd[:5])
+    more = f" and {len(odd) - 5} more" if len(odd) > 5 else ""
+    return (f"faces must be an (f, 3) array of vertex ids: most faces have {common} ids, "
+            f"faces {shown}{more} do not")
 
 
 def check_arrays(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = None) -> None:
@@ -131,14 +151,13 @@ def check_arrays(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = 
         whole-number floats are taken, see :func:`face_ids`).
     """
     v = np.asarray(vertices)
-    f = np.asarray(faces)
+    f = face_ids(faces, path=path)  # rows of different lengths are named here
     if v.ndim != 2 or v.shape[1] != 3:
         raise _fail(f"vertices must be an (n, 3) array, got shape {v.shape}", path)
     if f.ndim != 2 or f.shape[1] != 3:
         raise _fail(f"faces must be an (f, 3) array of triangles, got shape {f.shape}", path)
     if not np.issubdtype(v.dtype, np.number) or np.issubdtype(v.dtype, np.complexfloating):
         raise _fail(f"vertices must be real numbers, got dtype {v.dtype}", path)
-    f = face_ids(f, path=path)
     if len(v) == 0:
         raise _fail("mesh has no vertices", path)
     if len(f) == 0:
