@@ -392,8 +392,8 @@ def build_parser() -> argparse.ArgumentParser:
                        "mirroring their layout, and write OUTDIR/summary.csv and "
                        "summary.json (one row per file). A bad file is reported and the "
                        "others still written (exit 1 if any failed). A rerun skips outputs "
-                       "newer than their input, so an interrupted run picks up where it "
-                       "stopped.")
+                       "newer than their input and any overlay beside it, so an interrupted "
+                       "run picks up where it stopped.")
     p.add_argument("inputs", nargs="+", metavar="INPUT", help="mesh file, folder or glob")
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="output folder")
     p.add_argument("--jobs", type=int, metavar="N",
@@ -403,7 +403,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="run every file as a task on this Dask cluster (tcp://host:port; "
                    "its workers must see the files at the same paths)")
     p.add_argument("--overwrite", action="store_true",
-                   help="refill files whose output is newer than the input")
+                   help="refill files whose output is newer than their input")
     add_fill_options(p)
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but the failed files' errors")
