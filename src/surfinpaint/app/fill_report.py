@@ -156,6 +156,8 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
             f"{report.diameter:.3g} mesh units → {written(report)}")
     if report.outcome in ("lambda-h", "faired"):
         head += f", {report.new_vertices} new vertices, {report.new_faces} new faces"
+        if report.crossings:
+            head += f", {report.crossings} of them crossing the surface around the hole"
     if verbose:
         head += f" ({report.seconds:.2f} s)"
     lines = [head]
@@ -252,6 +254,7 @@ class HoleRecord:
     crease: str | None
     crease_failure: str | None
     note: str | None
+    crossings: int = 0
 
     @classmethod
     def of(cls, r: HoleReport) -> HoleRecord:
@@ -265,7 +268,8 @@ class HoleRecord:
                    seconds=float(r.seconds),
                    reason=r.skipped if r.outcome in ("skipped", "failed") else None,
                    lambda_h_failure=r.fallback, self_check=r.self_check, crease=r.crease,
-                   crease_failure=r.crease_failure, note=r.note)
+                   crease_failure=r.crease_failure, note=r.note,
+                   crossings=int(r.crossings))
 
     def to_json(self) -> dict[str, Any]:
         """As JSON types: a failed candidate's score is null and named in ``failed``."""

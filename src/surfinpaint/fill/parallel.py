@@ -15,6 +15,7 @@ warnings and progress are those of the serial run.
 
 from __future__ import annotations
 
+import dataclasses
 import multiprocessing
 import os
 import threading
@@ -29,8 +30,9 @@ from surfinpaint.errors import NUMERICAL_ERRORS, FillError, MeshError
 from surfinpaint.fill.conformal import ConformalOptions, conformal_fill
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.fill.results import Fill
+from surfinpaint.geometry.intersection import patch_intersects_surroundings
 
-__all__ = ["fill_local", "fill_or_failure", "first_loops", "independent", "pool",
+__all__ = ["crossing_faces", "fill_local", "fill_or_failure", "first_loops", "independent", "pool",
            "reaches_no_earlier_loop", "resolve_jobs", "worth_parallel"]
 
 # fewer holes than this, or fewer boundary edges in all, and the holes are filled in this
@@ -53,13 +55,55 @@ def resolve_jobs(jobs) -> int:
     return int(jobs)
 
 
+# the surface around a fill that its triangles are checked against: a fill that crosses the
+# surface does so next to its loop (where the loop folds over), and the whole neighbourhood
+# costs 10-15 ms more per hole for nothing more (measured on the tuning half)
+CROSSING_RINGS = 2
+
+
+def crossing_faces(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                   fill: Fill) -> int:
+    """How many of ``fill``'s triangles pierce or overlap the surface within
+    ``CROSSING_RINGS`` vertex rings of ``loop`` (touching it along the loop does not count).
+
+    Parameters
+    ----------
+    vertices, faces : arrays
+        The surface around the hole (a neighbourhood, local ids).
+    loop : (k,) int array
+        The hole's boundary loop.
+    fill : Fill
+        Its fill, over ``faces``' ids and ``len(vertices) + j`` for new vertex ``j``.
+
+    Returns
+    -------
+    int
+        0 for a clean fill. A folded boundary loop (at a sharp corner, on a folded brain
+        surface) can make any fill of it cross the surface there.
+    """
+    near = np.zeros(len(vertices), dtype=bool)
+    near[loop] = True
+    for _ in range(CROSSING_RINGS):
+        near[faces[near[faces].any(axis=1)]] = True
+    around = faces[near[faces].any(axis=1)]
+    new_f = np.asarray(fill.faces, dtype=np.int64).reshape(-1, 3)
+    if not len(new_f) or not len(around):
+        return 0
+    positions = np.concatenate([vertices, np.asarray(fill.vertices, float).reshape(-1, 3)])
+    pairs = patch_intersects_surroundings(positions, new_f, around)
+    return int(len(np.unique(pairs[:, 0]))) if len(pairs) else 0
+
+
 def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
                options: ConformalOptions, fair_order: int | None) -> Fill:
-    """Fill one hole of a neighbourhood (local ids) with ``method``."""
+    """Fill one hole of a neighbourhood (local ids) with ``method``, with the count of its
+    triangles that cross the surface around it (:func:`crossing_faces`)."""
     if method == "fair":
         new_v, new_f, used = faired_fill(vertices, faces, loop, fair_order or 2)
-        return Fill(new_v, new_f, "fair", fair_order=used)
-    return conformal_fill(vertices, faces, loop, options, fair_order=fair_order)
+        fill = Fill(new_v, new_f, "fair", fair_order=used)
+    else:
+        fill = conformal_fill(vertices, faces, loop, options, fair_order=fair_order)
+    return dataclasses.replace(fill, crossings=crossing_faces(vertices, faces, loop, fill))
 
 
 def fill_or_failure(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,

@@ -239,6 +239,13 @@ def _record(report: HoleReport, fill: Fill) -> None:
     report.verdict, report.crease, report.diagnostics = (fill.verdict, fill.crease,
                                                           fill.diagnostics)
     report.crease_failure = fill.crease_failure
+    report.crossings = fill.crossings
+    if fill.crossings:
+        many = fill.crossings > 1
+        warnings.warn(f"hole {report.index}: {fill.crossings} triangle{'s' * many} of the "
+                      f"fill cross{'es' * (not many)} the surface around the hole (its "
+                      "boundary loop folds over itself there): check the result",
+                      HoleWarning, stacklevel=5)
     if fill.failure:
         report.fallback = fill.failure
         warnings.warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "

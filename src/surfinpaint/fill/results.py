@@ -141,6 +141,9 @@ class Fill:
         The crease fill failed and the hole was filled as smooth.
     diagnostics : LambdaHDiagnostics, optional
         What the λ-H pass used (the λ-H fill).
+    crossings : int
+        The fill's triangles that pierce or overlap the surface around the hole
+        (:func:`surfinpaint.fill.parallel.crossing_faces`; 0 for a clean fill).
     """
 
     vertices: np.ndarray
@@ -153,6 +156,7 @@ class Fill:
     crease: str | None = None
     crease_failure: str | None = None
     diagnostics: LambdaHDiagnostics | None = None
+    crossings: int = 0
 
     @property
     def notes(self) -> str | None:
@@ -219,8 +223,9 @@ class HoleReport:
     distance between two of the loop's vertices, in mesh units. ``fair_order`` is the fairing
     order of a faired fill, ``verdict`` the conformal method's self-check, ``crease`` says
     that a crease crossing the hole was continued across it (``crease_failure``: that its crease
-    fill failed and it was filled as smooth), and ``diagnostics`` what the λ-H pass used (see
-    :class:`Fill`).
+    fill failed and it was filled as smooth), ``diagnostics`` what the λ-H pass used, and
+    ``crossings`` how many of the written fill's triangles cross the surface around the hole
+    (a warning says so; see :class:`Fill`).
     """
 
     index: int
@@ -242,6 +247,7 @@ class HoleReport:
     failed: bool = False
     crease_failure: str | None = None
     zipped: np.ndarray | None = None
+    crossings: int = 0
 
     @property
     def outcome(self) -> Outcome:
