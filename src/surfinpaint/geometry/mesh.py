@@ -14,6 +14,7 @@ import scipy.sparse as sp
 
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.linalg import laplacian_from_weights
 
 __all__ = [
     "boundary_halfedges",
@@ -29,10 +30,12 @@ __all__ = [
     "face_cross",
     "face_normals",
     "k_ring",
+    "laplacian_and_areas",
     "mass_matrix",
     "mean_edge_length",
     "unique_edges",
     "vertex_adjacency",
+    "vertex_areas",
     "vertex_normals",
 ]
 
@@ -510,46 +513,68 @@ def cotangent_laplacian(vertices: np.ndarray, faces: np.ndarray, *,
     fairing weights are (an obtuse corner adds nothing, a needle corner a bounded weight):
     no negative weights, at the cost of linear precision on obtuse triangles.
     """
-    f = np.asarray(faces, dtype=np.int64)
-    n = len(vertices)
+    return _laplacian(len(vertices), faces, _cotangents(vertices, faces), nonnegative)
+
+
+def laplacian_and_areas(vertices: np.ndarray, faces: np.ndarray, *,
+                        nonnegative: bool = False) -> tuple[sp.csr_matrix, np.ndarray]:
+    """``cotangent_laplacian(...)`` and the Voronoi ``vertex_areas(...)`` from one pass
+    over the corners' cotangents (the same bits as the two calls)."""
     cot = _cotangents(vertices, faces)
+    return (_laplacian(len(vertices), faces, cot, nonnegative),
+            _corner_sums(len(vertices), faces, _voronoi_corners(vertices, faces, cot)))
+
+
+def _laplacian(n: int, faces: np.ndarray, cot: np.ndarray, nonnegative: bool) -> sp.csr_matrix:
+    f = np.asarray(faces, dtype=np.int64)
     if nonnegative:
         cot = np.clip(cot, 0.0, _CLAMPED_COT)
     i = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
     j = np.concatenate([f[:, 2], f[:, 0], f[:, 1]])
     w = 0.5 * np.concatenate([cot[:, 0], cot[:, 1], cot[:, 2]])
-    off = sp.coo_matrix((w, (i, j)), shape=(n, n))
-    off = off + off.T
-    diag = np.asarray(off.sum(axis=1)).ravel()
-    return (off - sp.diags(diag)).tocsr()
+    return laplacian_from_weights(i, j, w, n)
 
 
 def mass_matrix(vertices: np.ndarray, faces: np.ndarray, kind: str = "voronoi") -> sp.dia_matrix:
-    """Lumped mass matrix (n, n): the area each vertex stands for.
+    """Lumped mass matrix (n, n): the area each vertex stands for, :func:`vertex_areas` on
+    the diagonal."""
+    return sp.diags(vertex_areas(vertices, faces, kind))
+
+
+def vertex_areas(vertices: np.ndarray, faces: np.ndarray, kind: str = "voronoi") -> np.ndarray:
+    """The area each vertex stands for (n,): the lumped mass matrix's diagonal.
 
     ``kind="barycentric"`` gives a third of each incident face; ``kind="voronoi"`` the mixed
     Voronoi area of Meyer et al. 2003 (obtuse triangles split by halves and quarters).
     """
-    f = np.asarray(faces, dtype=np.int64)
-    n = len(vertices)
-    area = face_areas(vertices, faces)
     if kind == "barycentric":
-        corner = np.repeat(area[:, None] / 3.0, 3, axis=1)
+        corner = np.repeat(face_areas(vertices, faces)[:, None] / 3.0, 3, axis=1)
     elif kind == "voronoi":
-        cot = _cotangents(vertices, faces)
-        length2 = edge_lengths(vertices, faces) ** 2
-        corner = np.empty_like(cot)
-        for k in range(3):
-            # Voronoi share of corner k: edges k->k+1 (opposite k+2) and k->k+2 (opposite k+1)
-            corner[:, k] = (length2[:, (k + 2) % 3] * cot[:, (k + 2) % 3]
-                            + length2[:, (k + 1) % 3] * cot[:, (k + 1) % 3]) / 8.0
-        obtuse = cot < 0
-        any_obtuse = obtuse.any(axis=1)
-        corner[any_obtuse] = np.where(obtuse[any_obtuse], area[any_obtuse, None] / 2,
-                                      area[any_obtuse, None] / 4)
+        corner = _voronoi_corners(vertices, faces, _cotangents(vertices, faces))
     else:
         raise ValueError(f"unknown mass matrix kind {kind!r}: use 'voronoi' or 'barycentric'")
+    return _corner_sums(len(vertices), faces, corner)
+
+
+def _voronoi_corners(vertices: np.ndarray, faces: np.ndarray, cot: np.ndarray) -> np.ndarray:
+    """(f, 3) Voronoi area of each corner, from the corners' cotangents."""
+    area = face_areas(vertices, faces)
+    length2 = edge_lengths(vertices, faces) ** 2
+    corner = np.empty_like(cot)
+    for k in range(3):
+        # Voronoi share of corner k: edges k->k+1 (opposite k+2) and k->k+2 (opposite k+1)
+        corner[:, k] = (length2[:, (k + 2) % 3] * cot[:, (k + 2) % 3]
+                        + length2[:, (k + 1) % 3] * cot[:, (k + 1) % 3]) / 8.0
+    obtuse = cot < 0
+    any_obtuse = obtuse.any(axis=1)
+    corner[any_obtuse] = np.where(obtuse[any_obtuse], area[any_obtuse, None] / 2,
+                                  area[any_obtuse, None] / 4)
+    return corner
+
+
+def _corner_sums(n: int, faces: np.ndarray, corner: np.ndarray) -> np.ndarray:
+    f = np.asarray(faces, dtype=np.int64)
     m = np.zeros(n)
     for k in range(3):
         np.add.at(m, f[:, k], corner[:, k])
-    return sp.diags(m)
+    return m

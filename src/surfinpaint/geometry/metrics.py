@@ -229,7 +229,9 @@ class _TriangleIndex:
         points = np.asarray(points, float)
         if len(points) == 0:
             return np.zeros(0)
-        k = min(8, len(self.centroid))
+        # 12 nearest centroids: fewer points left to the ball query than with 8 (measured
+        # on the self-check's distances: 0.55 against 0.72 s CPU), the same minimum
+        k = min(12, len(self.centroid))
         dist, near = self.tree.query(points, k=k)
         dist, near = dist.reshape(len(points), k), near.reshape(len(points), k)
         best = self._min_exact(points, near.ravel(), np.arange(len(points) + 1) * k)

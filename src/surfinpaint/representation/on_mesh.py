@@ -34,9 +34,9 @@ from threadpoolctl import threadpool_limits
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.mesh import (
     boundary_loops,
-    cotangent_laplacian,
-    mass_matrix,
+    laplacian_and_areas,
     mean_edge_length,
+    vertex_areas,
     vertex_normals,
 )
 
@@ -79,9 +79,8 @@ def vertex_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
         sphere whose normal points inward). H is NaN on the mesh's border, where the
         Laplacian is one-sided.
     """
-    L = cotangent_laplacian(uv, faces)
-    area_uv = mass_matrix(uv, faces).diagonal()
-    lam2 = mass_matrix(points, faces).diagonal() / area_uv
+    L, area_uv = laplacian_and_areas(uv, faces)
+    lam2 = vertex_areas(points, faces) / area_uv
     normals = vertex_normals(points, faces)
     H = np.einsum("ij,ij->i", L @ points, normals) / (2.0 * lam2 * area_uv)
     H[_border(faces)] = np.nan
@@ -253,8 +252,8 @@ class _CoupledSystem:
         self.points, self.faces = points, faces
         f = self.f = np.flatnonzero(free)
         fixed = np.flatnonzero(~free)
-        L = cotangent_laplacian(uv, faces).tocsr()
-        area = self.area = mass_matrix(uv, faces).diagonal()
+        L, area = laplacian_and_areas(uv, faces)
+        self.area = area
         if (area <= 0).any():
             raise FillError("the parameter map has vertices with no area")
         Q = (L @ sp.diags(1.0 / area) @ L).tocsr()
@@ -283,7 +282,7 @@ class _CoupledSystem:
         self.scale = mean_edge_length(points, faces)
         # λ and the normals change only at the free vertices and the ring around them:
         # recomputed on the faces around them; H on the rest of the stencil is fixed data
-        self.lam = np.sqrt(mass_matrix(points, faces).diagonal() / area)
+        self.lam = np.sqrt(vertex_areas(points, faces) / area)
         self.natural_data = stencil[on_natural[stencil]]
         self.on_natural_stencil = on_natural[stencil]
         if len(self.natural_data):
@@ -301,7 +300,7 @@ class _CoupledSystem:
 
     def stencil_H(self, phi):
         """H at the stencil's data vertices from the positions ``phi``."""
-        lam2 = mass_matrix(phi, self.faces).diagonal() / self.area
+        lam2 = vertex_areas(phi, self.faces) / self.area
         H = (np.einsum("ij,ij->i", self.L @ phi, vertex_normals(phi, self.faces))
              / (2.0 * lam2 * self.area))
         out = H[self.stencil]
@@ -316,7 +315,7 @@ class _CoupledSystem:
         H_stencil = self.stencil_H(phi) if len(self.natural_data) else self.H_stencil
         normals = vertex_normals(phi, self.near)
         m = self.moving
-        lam[m] = np.sqrt(mass_matrix(phi, self.near).diagonal()[m] / area[m])
+        lam[m] = np.sqrt(vertex_areas(phi, self.near)[m] / area[m])
         lam[f] = self.lam_lu.solve(-(self.Q_fk @ lam[self.fixed]))
         s = 2.0 * lam**2
         w_n = normals[tied] / (area[tied] * s[tied])[:, None]  # (t, 3)

@@ -15,7 +15,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import spsolve
 
 from surfinpaint.errors import MeshError, preview
-from surfinpaint.geometry.mesh import cotangent_laplacian, mass_matrix, unique_edges
+from surfinpaint.geometry.mesh import laplacian_and_areas, unique_edges
 
 __all__ = ["OPERATORS", "fair", "laplacian_and_mass"]
 
@@ -32,8 +32,7 @@ def laplacian_and_mass(vertices: np.ndarray, faces: np.ndarray, operator: str = 
     """The Laplacian ``L`` (negative semi-definite) and the lumped vertex masses of one of
     :data:`OPERATORS` (see :func:`fair`)."""
     if operator in ("cotan", "clamped"):
-        return (cotangent_laplacian(vertices, faces, nonnegative=operator == "clamped"),
-                mass_matrix(vertices, faces, kind="voronoi").diagonal())
+        return laplacian_and_areas(vertices, faces, nonnegative=operator == "clamped")
     try:  # the intrinsic Delaunay triangulation and its operators (an optional package)
         import robust_laplacian
     except ImportError as exc:

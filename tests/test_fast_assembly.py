@@ -1,0 +1,106 @@
+"""The faster assemblies of the self-check's hot paths give the same bits as the code they
+replaced (issue 15: the self-check's cost; its results must not change)."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import trimesh
+
+from surfinpaint.geometry import mesh
+from surfinpaint.geometry.linalg import laplacian_from_weights
+from surfinpaint.geometry.metrics import _TriangleIndex, closest_point_on_triangles
+
+
+def scipy_chain(i, j, w, n):
+    """The assembly ``cotangent_laplacian`` used before ``laplacian_from_weights``."""
+    off = sp.coo_matrix((w, (i, j)), shape=(n, n))
+    off = off + off.T
+    return (off - sp.diags(np.asarray(off.sum(axis=1)).ravel())).tocsr()
+
+
+def same_csr(a, b):
+    return (a.shape == b.shape and a.indices.dtype == b.indices.dtype
+            and np.array_equal(a.indptr, b.indptr) and np.array_equal(a.indices, b.indices)
+            and np.array_equal(a.data.view(np.int64), b.data.view(np.int64)))
+
+
+def meshes():
+    rng = np.random.default_rng(3)
+    sphere = trimesh.creation.icosphere(3)
+    bumpy = sphere.vertices * (1 + 0.1 * np.sin(5 * sphere.vertices[:, :1]))
+    u, v = np.meshgrid(np.arange(15.0), np.arange(15.0), indexing="ij")
+    grid = np.column_stack([u.ravel(), v.ravel()])
+    idx = np.arange(225).reshape(15, 15)
+    a, b, c, d = idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]
+    tri = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3),
+                          np.stack([a, c, d], -1).reshape(-1, 3)])
+    return [
+        (sphere.vertices, sphere.faces),  # closed
+        (bumpy, sphere.faces[7:]),  # a hole: edges with one face
+        (grid, tri),  # planar (n, 2), right angles: exact zero weights
+        (grid + rng.normal(0, 0.3, grid.shape), tri),  # obtuse corners, negative weights
+        (np.column_stack([grid, np.zeros(len(grid))]), tri),
+    ]
+
+
+def weights(vertices, faces, nonnegative=False):
+    f = np.asarray(faces, dtype=np.int64)
+    cot = mesh._cotangents(vertices, f)
+    if nonnegative:
+        cot = np.clip(cot, 0.0, mesh._CLAMPED_COT)
+    return (np.concatenate([f[:, 1], f[:, 2], f[:, 0]]),
+            np.concatenate([f[:, 2], f[:, 0], f[:, 1]]),
+            0.5 * np.concatenate([cot[:, 0], cot[:, 1], cot[:, 2]]))
+
+
+@pytest.mark.parametrize("case", range(5))
+@pytest.mark.parametrize("nonnegative", [False, True])
+def test_laplacian_from_weights_is_scipys_matrix_bit_for_bit(case, nonnegative):
+    vertices, faces = meshes()[case]
+    i, j, w = weights(vertices, faces, nonnegative)
+    made = laplacian_from_weights(i, j, w, len(vertices))
+    assert same_csr(made, scipy_chain(i, j, w, len(vertices)))
+    assert same_csr(mesh.cotangent_laplacian(vertices, faces, nonnegative=nonnegative), made)
+
+
+def test_laplacian_from_weights_falls_back_on_repeated_and_diagonal_pairs():
+    vertices, faces = meshes()[1]
+    i, j, w = weights(vertices, faces)
+    # a face listed twice repeats its directed edges; a degenerate face puts weights on
+    # the diagonal: both take scipy's chain, whose duplicates are summed its own way
+    for extra in (faces[:1], np.array([[0, 0, 1]])):
+        fi, fj, fw = weights(vertices, np.vstack([faces, extra]))
+        assert same_csr(laplacian_from_weights(fi, fj, fw, len(vertices)),
+                        scipy_chain(fi, fj, fw, len(vertices)))
+
+
+@pytest.mark.parametrize("case", range(5))
+def test_vertex_areas_and_shared_pass_equal_the_separate_calls(case):
+    vertices, faces = meshes()[case]
+    for kind in ("voronoi", "barycentric"):
+        assert np.array_equal(mesh.vertex_areas(vertices, faces, kind),
+                              mesh.mass_matrix(vertices, faces, kind).diagonal())
+    for nonnegative in (False, True):
+        lap, area = mesh.laplacian_and_areas(vertices, faces, nonnegative=nonnegative)
+        assert same_csr(lap, mesh.cotangent_laplacian(vertices, faces,
+                                                       nonnegative=nonnegative))
+        assert np.array_equal(area, mesh.vertex_areas(vertices, faces))
+    with pytest.raises(ValueError, match="unknown mass matrix kind"):
+        mesh.vertex_areas(vertices, faces, "lumped")
+
+
+def test_point_mesh_distance_is_the_brute_force_minimum():
+    # the nearest-centroid count is a speed setting: the answer must stay the exact
+    # minimum over every triangle, whatever it is
+    rng = np.random.default_rng(0)
+    vertices, faces = meshes()[1]
+    points = rng.normal(0, 0.7, (300, 3))
+    index = _TriangleIndex(vertices, faces)
+    tri = vertices[faces]
+    p = np.repeat(points, len(faces), axis=0)
+    t = np.tile(tri, (len(points), 1, 1))
+    q = closest_point_on_triangles(p, t[:, 0], t[:, 1], t[:, 2])
+    brute = np.linalg.norm(q - p, axis=1).reshape(len(points), -1).min(axis=1)
+    assert np.allclose(index.distance(points), brute, rtol=0, atol=1e-12)
+    index.use_numba = False
+    assert np.allclose(index.distance(points), brute, rtol=0, atol=1e-12)
