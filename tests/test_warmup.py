@@ -36,8 +36,13 @@ def test_the_warmup_mesh_is_a_valid_annulus_with_the_hole_given():
                for k in range(len(loop)))
 
 
+def _forget_warmup():
+    for done in warmup._done.values():
+        done.clear()
+
+
 def test_warm_kernels_loads_what_real_fills_use():
-    warmup._done.clear()
+    _forget_warmup()
     warmup.warm_kernels()
     loaded = {name: list(d.signatures) for name, d in _dispatchers().items()}
     assert all(loaded.values()), loaded  # every kernel loaded, none skipped
@@ -64,7 +69,7 @@ def test_fill_holes_with_the_warmup_thread_is_bit_identical_and_leaves_no_thread
 
     monkeypatch.setattr(threading.Thread, "start", start)
     monkeypatch.setattr(warmup, "WARMUP_MIN_FACES", 0)
-    warmup._done.clear()
+    _forget_warmup()
     warmed = fill_holes(cut.vertices, cut.faces, method="fair", jobs=1)
     assert started == ["surfinpaint-warmup"]
     assert not any(t.name == "surfinpaint-warmup" for t in threading.enumerate())
@@ -75,8 +80,22 @@ def test_fill_holes_with_the_warmup_thread_is_bit_identical_and_leaves_no_thread
     assert started == ["surfinpaint-warmup"]
 
 
+def test_a_fair_fill_warms_no_distance_kernel(monkeypatch):
+    # the distance kernel is the conformal self-check's: a fair fill would only pay for it
+    measured = []
+    monkeypatch.setattr(warmup, "point_mesh_distance", lambda *a: measured.append(a))
+    _forget_warmup()
+    warmup.warm_kernels("fair")
+    assert warmup._done["fair"].is_set() and not warmup._done["conformal"].is_set()
+    assert measured == []
+    w = warmup.KernelWarmup.for_mesh(warmup.WARMUP_MIN_FACES, "fair")
+    assert not w.running  # loaded already
+    warmup.warm_kernels("conformal")
+    assert len(measured) == 1 and warmup._done["conformal"].is_set()
+
+
 def test_a_small_mesh_starts_no_warmup():
-    warmup._done.clear()
+    _forget_warmup()
     w = warmup.KernelWarmup.for_mesh(warmup.WARMUP_MIN_FACES - 1)
     assert not w.running
     w.join()  # nothing to wait for

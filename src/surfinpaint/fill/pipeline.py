@@ -36,8 +36,8 @@ from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowti
 from surfinpaint.geometry.validation import (
     check_arrays,
     check_loop,
+    check_topology,
     face_ids,
-    validate_mesh,
     zero_area_faces,
 )
 from surfinpaint.io.base import MeshWarning
@@ -394,7 +394,7 @@ def fill_holes(
             raise ValueError(f"{name} must be True or False, got {flag!r}")
     jobs = parallel.resolve_jobs(jobs)
     # the kernels load on the idle core while the whole-mesh passes run (fill/warmup.py)
-    warmup = KernelWarmup.for_mesh(len(faces))
+    warmup = KernelWarmup.for_mesh(len(faces), method)
     try:
         vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
         # checked by _prepared, as validate says
@@ -587,7 +587,9 @@ def _prepared(vertices, faces, repair: bool, validate: bool):
     table = None
     if validate:
         table = EdgeTable.build(faces, len(vertices))
-        validate_mesh(vertices, faces, table=table)
+        # validate_mesh's errors without its report (bow-ties, components, loops), which
+        # nothing here reads
+        check_topology(vertices, faces, table)
     return vertices, faces, removed_faces, table
 
 

@@ -8,10 +8,10 @@ is read, validated and its holes found one core is idle, so :func:`fill_holes` s
 The workers of a parallel fill are forked after the join and inherit the loaded kernels.
 
 The warm-up fills a small hole of a fixed mesh with the faired fill (the triangulation and
-the edge-flip kernels) and measures a point-to-mesh distance (the conformal self-check's
-kernel), through the same functions a real fill calls, so numba loads exactly the
-specialisations real fills use, not new ones. It only computes: no file, no warning, no
-message besides numba's "compiling" notice.
+the edge-flip kernels) and, for the conformal method only, measures a point-to-mesh distance
+(its self-check's kernel; a ``fair`` fill never uses it), through the same functions a real
+fill calls, so numba loads exactly the specialisations real fills use, not new ones. It only
+computes: no file, no warning, no message besides numba's "compiling" notice.
 """
 
 from __future__ import annotations
@@ -29,7 +29,8 @@ __all__ = ["KernelWarmup", "warm_kernels", "warmup_mesh"]
 # below this many faces the whole-mesh passes take too little time to hide the loading
 WARMUP_MIN_FACES = 100_000
 
-_done = threading.Event()
+# the kernels each method uses, loaded (the conformal method's include the faired fill's)
+_done = {"fair": threading.Event(), "conformal": threading.Event()}
 
 
 def warmup_mesh() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -49,16 +50,20 @@ def warmup_mesh() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return vertices, np.concatenate(faces).astype(np.int64), np.arange(n)[::-1].copy()
 
 
-def warm_kernels() -> None:
-    """Load (or compile) the kernels a fill uses by running them once on
-    :func:`warmup_mesh`; a no-op after the first call in a process and without numba."""
-    if _done.is_set() or importlib.util.find_spec("numba") is None:
-        _done.set()
+def warm_kernels(method: str = "conformal") -> None:
+    """Load (or compile) the kernels a fill by ``method`` ("conformal" or "fair") uses by
+    running them once on :func:`warmup_mesh`; a no-op once they are loaded in this process
+    and without numba."""
+    if _done[method].is_set() or importlib.util.find_spec("numba") is None:
+        _done[method].set()
         return
     vertices, faces, loop = warmup_mesh()
-    new_v, new_f, _ = faired_fill(vertices, faces, loop, 2)
-    point_mesh_distance(new_v, vertices, faces)
-    _done.set()
+    if not _done["fair"].is_set():
+        faired_fill(vertices, faces, loop, 2)
+        _done["fair"].set()
+    if method == "conformal":
+        point_mesh_distance(vertices[:3], vertices, faces)
+    _done[method].set()
 
 
 class KernelWarmup:
@@ -69,12 +74,13 @@ class KernelWarmup:
         self._thread: threading.Thread | None = None
 
     @classmethod
-    def for_mesh(cls, n_faces: int) -> KernelWarmup:
-        """Started when the mesh has at least ``WARMUP_MIN_FACES`` faces and the kernels are
-        not loaded yet; otherwise a warm-up that does nothing."""
+    def for_mesh(cls, n_faces: int, method: str = "conformal") -> KernelWarmup:
+        """Started when the mesh has at least ``WARMUP_MIN_FACES`` faces and the kernels of
+        ``method`` are not loaded yet; otherwise a warm-up that does nothing."""
         warmup = cls()
-        if n_faces >= WARMUP_MIN_FACES and not _done.is_set():
-            warmup._thread = threading.Thread(target=_quietly, name="surfinpaint-warmup")
+        if n_faces >= WARMUP_MIN_FACES and not _done[method].is_set():
+            warmup._thread = threading.Thread(target=_quietly, args=(method,),
+                                              name="surfinpaint-warmup")
             warmup._thread.start()
         return warmup
 
@@ -88,10 +94,10 @@ class KernelWarmup:
             self._thread = None
 
 
-def _quietly() -> None:
+def _quietly(method: str) -> None:
     # a failure here is not the caller's: the first hole then loads or compiles the kernels
     # itself and raises whatever there is to raise
     try:
-        warm_kernels()
+        warm_kernels(method)
     except Exception:  # noqa: BLE001
         pass

@@ -17,8 +17,8 @@ from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_blocks
 
-__all__ = ["MeshReport", "check_arrays", "check_loop", "face_ids", "nonmanifold_vertices",
-           "validate_mesh"]
+__all__ = ["MeshReport", "check_arrays", "check_loop", "check_topology", "face_ids",
+           "nonmanifold_vertices", "validate_mesh"]
 
 # A face is degenerate when its area is below this times its longest edge squared, i.e. its
 # height is below 2e-12 of its longest edge: far above float64 round-off (~1e-16) and far
@@ -248,26 +248,7 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None =
     v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
     n = len(v)
-
-    repeated = np.flatnonzero((f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2])
-                              | (f[:, 2] == f[:, 0]))
-    if repeated.size:
-        raise _fail(f"{repeated.size} faces use the same vertex twice: "
-                    f"{_face_text(repeated, f)}", path, faces=repeated[:100].tolist())
-
-    if table is None:
-        table = EdgeTable.build(f, n)
-    else:
-        table.check_faces(f)
-    _check_duplicates(table, path)
-
-    # per coordinate on 1-D arrays: several times faster than np.cross on (f, 3) gathers
-    flat = zero_area_faces(v, f)
-    if flat.size:
-        raise _fail(f"{flat.size} faces have zero area (collinear or coincident corners): "
-                    f"{_face_text(flat, f)}", path, faces=flat[:100].tolist())
-
-    _check_edges(table, path)
+    table = check_topology(v, f, table, path=path)
 
     referenced = np.zeros(n, dtype=bool)
     referenced[f.ravel()] = True
@@ -294,6 +275,47 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None =
     if bowtie.size:
         report.notes.append(f"{bowtie.size} non-manifold (bow-tie) vertices: {preview(bowtie)}")
     return report
+
+
+def check_topology(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None = None,
+                   *, path: str | None = None) -> EdgeTable:
+    """The checks of :func:`validate_mesh` that follow :func:`check_arrays` (which the
+    caller has run), without the report: a caller that needs only the errors (``fill_holes``)
+    does not pay for the bow-tie walk, the components and the boundary loops.
+
+    Returns
+    -------
+    EdgeTable
+        ``table``, or the one built here.
+
+    Raises
+    ------
+    MeshError
+        As :func:`validate_mesh`, for faces repeating a vertex, duplicate faces, zero-area
+        faces, non-manifold edges and inconsistent orientation, in that order.
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    repeated = np.flatnonzero((f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2])
+                              | (f[:, 2] == f[:, 0]))
+    if repeated.size:
+        raise _fail(f"{repeated.size} faces use the same vertex twice: "
+                    f"{_face_text(repeated, f)}", path, faces=repeated[:100].tolist())
+
+    if table is None:
+        table = EdgeTable.build(f, len(v))
+    else:
+        table.check_faces(f)
+    _check_duplicates(table, path)
+
+    # per coordinate on 1-D arrays: several times faster than np.cross on (f, 3) gathers
+    flat = zero_area_faces(v, f)
+    if flat.size:
+        raise _fail(f"{flat.size} faces have zero area (collinear or coincident corners): "
+                    f"{_face_text(flat, f)}", path, faces=flat[:100].tolist())
+
+    _check_edges(table, path)
+    return table
 
 
 def _listing(shown: list[str], total: int) -> str:
