@@ -104,3 +104,49 @@ def test_point_mesh_distance_is_the_brute_force_minimum():
     assert np.allclose(index.distance(points), brute, rtol=0, atol=1e-12)
     index.use_numba = False
     assert np.allclose(index.distance(points), brute, rtol=0, atol=1e-12)
+
+
+def _bad_meshes():
+    import trimesh as tm
+
+    m = tm.creation.icosphere(2)
+    v, f = np.array(m.vertices), np.array(m.faces)
+    flipped = f.copy()
+    flipped[3] = flipped[3, ::-1]
+    third = np.vstack([f, [[f[0, 0], f[0, 1], len(v)]]])  # an edge in three faces
+    collinear = np.vstack([v, (v[f[0, 0]] + v[f[0, 1]]) / 2])
+    return {
+        "repeated vertex": (v, np.vstack([f, [[0, 0, 1]]])),
+        "duplicate face": (v, np.vstack([f, f[5:6]])),
+        "zero area": (collinear, np.vstack([f, [[f[0, 0], f[0, 1], len(v)]]])),
+        "non-manifold edge": (np.vstack([v, [[2.0, 2.0, 2.0]]]), third),
+        "orientation": (v, flipped),
+    }
+
+
+@pytest.mark.parametrize("case", list(_bad_meshes()))
+def test_check_topology_raises_what_validate_mesh_raises(case):
+    from surfinpaint.errors import MeshError
+    from surfinpaint.geometry.edges import EdgeTable
+    from surfinpaint.geometry.validation import check_topology, validate_mesh
+
+    v, f = _bad_meshes()[case]
+    with pytest.raises(MeshError) as full:
+        validate_mesh(v, f)
+    with pytest.raises(MeshError) as checks:
+        check_topology(v, f, EdgeTable.build(f, len(v)))
+    assert str(checks.value) == str(full.value)
+    assert checks.value.faces == full.value.faces and checks.value.edges == full.value.edges
+
+
+def test_check_topology_passes_a_valid_mesh_and_returns_its_table():
+    from surfinpaint.geometry.validation import check_topology
+
+    v, f = meshes()[1]
+    table = check_topology(v, f)
+    assert table.n_edges == len(unique_edges_of(f))
+
+
+def unique_edges_of(f):
+    e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    return np.unique(e, axis=0)
