@@ -587,9 +587,7 @@ def _prepared(vertices, faces, repair: bool, validate: bool):
     table = None
     if validate:
         table = EdgeTable.build(faces, len(vertices))
-        # validate_mesh's errors without its report (bow-ties, components, loops), which
-        # nothing here reads
-        check_topology(vertices, faces, table)
+        check_topology(vertices, faces, table)  # validate_mesh's errors, not its report
     return vertices, faces, removed_faces, table
 
 
