@@ -1,0 +1,185 @@
+"""The self-check's score table on the validation benchmark's holes, cached, for replaying
+selection rules (``benchmarks/selfcheck_rules.py --manifest``).
+
+For every hole of ``benchmarks/holes_manifest.json`` (cut as ``benchmarks/validation.py``
+cuts it, on the neighbourhood ``fill_holes`` hands the conformal method), each candidate
+(``fair2``: bilaplacian fairing; ``fair3``: trilaplacian; ``conformal``: the raw λ-H fill)
+is made as ``conformal_fill`` makes it with the default options, and scored three ways: its
+true error (two-sided mean distance to the removed truth, % of the hole diameter, as
+``accuracy.score`` measures it), the hidden-ring test and the sibling-hole test (both always
+run, with every candidate). Each row also says whether a crease crosses the hole, whether the
+λ-H fill's patch had to be grown unevenly (``fill/conformal/patch.grown_patch``), and CGAL's
+error and the default fill's error from a saved ``validation.py`` run.
+
+    python benchmarks/selfcheck_table.py --split tuning --cache /tmp/scores.jsonl
+    python benchmarks/selfcheck_table.py --split tuning --option siblings=4 --cache /tmp/s4.jsonl
+
+Rows already in the cache are not computed again: a replay of rules is instant.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+import holes_manifest  # noqa: E402
+import validation  # noqa: E402
+import validation_meshes as vm  # noqa: E402
+
+from surfinpaint.errors import FillError  # noqa: E402
+from surfinpaint.fill.conformal import ConformalOptions  # noqa: E402
+from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
+from surfinpaint.fill.conformal.patch import hole_patch, is_disk  # noqa: E402
+from surfinpaint.fill.pipeline import _FilledMesh  # noqa: E402 - fill_holes' neighbourhood
+from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
+from surfinpaint.geometry.mesh import faces_near  # noqa: E402
+from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
+
+BASELINE = Path("/work/bench_baseline/final2_combined.jsonl")
+INF = float("inf")
+
+
+def _true_error(vertices, faces, fill, truth_vertices, truth_faces, diameter, n_samples):
+    pv, pf = hole_patch_of(np.concatenate([vertices, fill.vertices]),
+                           np.concatenate([faces, fill.faces]), len(vertices), faces)
+    d = surface_distance(pv, pf, truth_vertices, truth_faces, n_samples=n_samples)
+    return 100.0 * d["mean"] / diameter
+
+
+def _patch_shape(faces, loop, fill, rings) -> dict:
+    """How the λ-H fill's patch came out: the rings ``hole_patch`` keeps as a disk, whether
+    none does (then it is grown unevenly), and what the mesh pass used."""
+    n = int(max(faces.max(), fill.faces.max(), np.max(loop))) + 1
+    disk_rings = next((k for k in range(rings, 0, -1) if is_disk(np.concatenate(
+        [fill.faces, faces_near(faces, loop, k - 1, n)]))), 0)
+    d = fill.diagnostics
+    out = {"disk_rings": disk_rings, "used_rings": d.rings if d else None,
+           "map": d.mesh.map if d is not None and d.mesh is not None else None,
+           "damping": d.damping if d else None, "crease": fill.crease is not None}
+    grown = disk_rings == 0
+    if d is not None and d.mesh is not None and not out["crease"] and d.rings:
+        try:
+            shrunk, _ = hole_patch(faces, loop, fill.faces, d.rings)
+            # the mesh pass grew its patch unevenly (a thin patch) when it is not the disk
+            grown |= len(shrunk) != len(d.mesh.faces)
+        except FillError:
+            grown = True
+    out["grown"] = bool(grown)
+    return out
+
+
+def hole_scores(vertices, faces, loop, truth_vertices, truth_faces, diameter,
+                n_samples: int = 10000, options: ConformalOptions | None = None) -> dict:
+    """The candidates as ``conformal_fill`` makes them (its test holes too), their true
+    errors and both tests' scores, every candidate in every test."""
+    o = ConformalOptions() if options is None else options
+    candidates = Candidates.for_hole(vertices, faces, loop, o)
+    fills = candidates.faired(vertices, faces, loop)
+    s0 = candidates.initial(vertices, faces, loop, fills)
+    failure = None
+    started = time.perf_counter()
+    try:
+        fills["conformal"] = candidates.lambda_h(vertices, faces, loop, s0)
+    except FillError as exc:
+        fills["conformal"], failure = exc, str(exc)
+    seconds_lh = time.perf_counter() - started
+    true = {name: INF if isinstance(fill, Exception) else
+            _true_error(vertices, faces, fill, truth_vertices, truth_faces, diameter,
+                        n_samples) for name, fill in fills.items()}
+    shape = ({} if failure else
+             _patch_shape(faces, loop, fills["conformal"], o.rings_in_patch))
+    tests = candidates.for_tests()
+    started = time.perf_counter()
+    hidden = hidden_ring_scores(vertices, faces, loop, tests, hide_rings=o.hide_rings,
+                                patch_rings=o.rings_in_patch)
+    sibling = sibling_scores(vertices, faces, loop, tests, siblings=o.siblings,
+                             gap_rings=o.gap_rings, patch_rings=o.rings_in_patch)
+    return {"true": true, "hidden": hidden, "sibling": sibling,
+            "crossed": candidates.crossed, "failure": failure, **shape,
+            "seconds_lambda_h": seconds_lh, "seconds_tests": time.perf_counter() - started}
+
+
+def baseline_errors(path: Path = BASELINE) -> dict:
+    """{(method, mesh, hole): mean %} of a saved validation run."""
+    rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    return validation._errors(rows)
+
+
+def _manifest_holes(split: str | None, meshes: list[str] | None):
+    manifest = holes_manifest.read()
+    for entry in manifest["meshes"]:
+        if (split and entry["split"] != split) or (meshes and entry["mesh"] not in meshes):
+            continue
+        yield entry
+
+
+def read_cache(path: Path) -> list[dict]:
+    if not path.exists():
+        return []
+    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+
+
+def build(cache: Path, split: str | None, meshes: list[str] | None,
+          baseline: Path = BASELINE, options: ConformalOptions | None = None) -> list[dict]:
+    """The rows of the selected holes: from the cache, the missing ones computed and
+    appended to it (a cache holds the rows of one set of ``options``)."""
+    have = {(r["mesh"], r["hole"]): r for r in read_cache(cache)}
+    base = baseline_errors(baseline) if baseline.exists() else {}
+    options = ConformalOptions() if options is None else options
+    out = []
+    for entry in _manifest_holes(split, meshes):
+        todo = [k for k in range(len(entry["holes"])) if (entry["mesh"], k) not in have]
+        mesh = vm.load(entry["mesh"]) if todo else None
+        for k, hole in enumerate(entry["holes"]):
+            if (entry["mesh"], k) in have:
+                out.append(have[(entry["mesh"], k)])
+                continue
+            cut = validation._cut(mesh, hole)
+            local = _FilledMesh(cut.vertices, cut.faces).cut(
+                cut.loop, options.neighbourhood_rings(len(cut.loop)))
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                row = hole_scores(local.vertices, local.faces, local.local_loop,
+                                  cut.truth_vertices, cut.truth_faces, cut.diameter,
+                                  options=options)
+            row = {"mesh": entry["mesh"], "hole": k, "split": entry["split"],
+                   "kind": entry["kind"], "n_edges": len(cut.loop),
+                   "near_border": hole["near_border"], "on_feature": hole["on_feature"],
+                   **row, "cgal": base.get(("cgal", entry["mesh"], k), float("nan")),
+                   "default_before": base.get(("conformal", entry["mesh"], k), float("nan"))}
+            with cache.open("a") as fh:
+                fh.write(json.dumps(row) + "\n")
+            out.append(row)
+            t = row["true"]
+            print(f"{entry['mesh']} #{k}: fair2 {t['fair2']:.3g} fair3 {t['fair3']:.3g} "
+                  f"λ-H {t['conformal']:.3g} grown {row.get('grown')} "
+                  f"({row['seconds_tests']:.1f} s)", file=sys.stderr, flush=True)
+    return out
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--split", choices=("tuning", "validation"), default=None)
+    parser.add_argument("--meshes", default=None, help="comma-separated mesh ids")
+    parser.add_argument("--cache", required=True, help="JSONL file of rows (appended)")
+    parser.add_argument("--baseline", default=str(BASELINE),
+                        help="a validation.py run (JSONL) for CGAL's errors")
+    parser.add_argument("--option", action="append", default=[], metavar="NAME=INT",
+                        help="a ConformalOptions field of the self-check's tests, e.g. "
+                        "siblings=4 (use a cache of its own)")
+    args = parser.parse_args(argv)
+    meshes = args.meshes.split(",") if args.meshes else None
+    options = ConformalOptions(**{k: int(v) for k, v in (o.split("=", 1)
+                                                          for o in args.option)})
+    return build(Path(args.cache), args.split, meshes, Path(args.baseline), options)
+
+
+if __name__ == "__main__":
+    main()
