@@ -224,6 +224,33 @@ def rule_product(row):
     return pick, faired
 
 
+def margin_rule(hidden_margin: float = 1.0, sibling_tolerance: float = 1.0,
+                decisive: float = 0.5):
+    """The old rule with its thresholds as knobs: the λ-H fill is kept below
+    ``hidden_margin`` × fair2's hidden-ring score, unless its sibling score is above
+    ``sibling_tolerance`` × fair2's; below ``decisive`` × on the hidden rings whatever the
+    siblings say (1, 1, 0.5: the old rule, a sibling tie held)."""
+    def rule(row):
+        h, s = row["hidden"], row["sibling"]
+        hl, sl = _said(h), _said(s)
+        faired = "fair3" if h and _wins(h, s, "fair3", "fair2") else "fair2"
+        if "conformal" in hl and "fair2" in hl:
+            keep = hl["conformal"] < decisive * hl["fair2"] or (
+                hl["conformal"] < hidden_margin * hl["fair2"] and (
+                    "conformal" not in sl or
+                    sl["conformal"] <= sibling_tolerance * sl["fair2"]))
+        else:
+            keep = "conformal" in sl and sl["conformal"] < hidden_margin * sl["fair2"]
+        keep = keep or _crossed_keep(row, h, s)
+        return ("conformal" if keep else faired), faired
+    return rule
+
+
+SCANS = {"hidden margin": [("hidden_margin", m) for m in (0.8, 0.9, 0.95, 1.0, 1.05)],
+         "sibling tolerance": [("sibling_tolerance", t) for t in (0.9, 1.0, 1.1, 1.25, 1.5)],
+         "decisive": [("decisive", d) for d in (0.3, 0.4, 0.5, 0.6, 0.7)]}
+
+
 def _guarded(rule):
     def guarded(row):
         pick, faired = rule(row)
@@ -290,7 +317,7 @@ def measures(rows, chosen) -> dict:
     wh = int(np.nanargmax(vs_faired))
     b = best > 1e-6
     regret = chosen[b] / best[b]
-    return {"over_cgal": float(np.median(chosen[ok] / cgal[ok])),
+    return {"over_cgal": float(np.median(chosen[ok] / cgal[ok])) if ok.any() else np.nan,
             "worst_mesh": (worst_mesh, per_mesh[worst_mesh]),
             "meshes_above_1.1": sum(x > 1.1 for x in per_mesh.values()),
             "worst_hole": (f"{rows[wh]['mesh']} #{rows[wh]['hole']}", float(vs_faired[wh])),
@@ -301,11 +328,12 @@ def measures(rows, chosen) -> dict:
                 np.log(regret)))}
 
 
-def replay(rows) -> str:
+def replay(rows, rules=None) -> str:
+    rules = RULES if rules is None else rules
     out = ["| rule | median / CGAL | worst mesh / fair2 | meshes > 1.1 | worst hole / "
            "better faired | holes > 1.5× | pick-best | median regret | mean log regret |",
            "|---|---|---|---|---|---|---|---|---|"]
-    for label, rule in list(RULES.items()) + [("best candidate (truth: ceiling)", None)]:
+    for label, rule in list(rules.items()) + [("best candidate (truth: ceiling)", None)]:
         m = measures(rows, chosen_errors(rows, rule))
         out.append(f"| {label} | {m['over_cgal']:.3f} | {m['worst_mesh'][1]:.3f} "
                    f"({m['worst_mesh'][0]}) | {m['meshes_above_1.1']} | "
@@ -336,14 +364,21 @@ def _fmt(t):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cache", required=True)
-    parser.add_argument("--split", choices=("tuning", "validation"), required=True)
+    parser.add_argument("--split", required=True, help="tuning, validation (or a probe set "
+                        "of selfcheck_probes.py: random, thin)")
     parser.add_argument("--above", default=None, help="list the holes above 1.5× for "
                         "this rule (a label of the table)")
+    parser.add_argument("--scan", action="store_true",
+                        help="the old rule's thresholds scanned one at a time instead")
     args = parser.parse_args(argv)
     rows = [r for r in selfcheck_table.read_cache(Path(args.cache))
             if r["split"] == args.split]
     print(f"{args.split}: {len(rows)} holes on {len({r['mesh'] for r in rows})} meshes\n")
-    print(replay(rows))
+    rules = None
+    if args.scan:
+        rules = {f"{knob} {value}": margin_rule(**{knob: value})
+                 for scan in SCANS.values() for knob, value in scan}
+    print(replay(rows, rules))
     if args.above:
         print("\n" + holes_above(rows, RULES[args.above]))
 

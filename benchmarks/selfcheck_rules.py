@@ -12,6 +12,9 @@ sibling test left out where :func:`~surfinpaint.fill.conformal.sibling_test_plan
 the others are the rules it was measured against.
 
     python benchmarks/selfcheck_rules.py [--cases torus,bunny] [--json scores.json]
+
+The same replay on the validation benchmark's holes, one half at a time, with issue 14's
+measures: ``selfcheck_table.py`` (the scores, cached) and ``selfcheck_replay.py``.
 """
 
 from __future__ import annotations

@@ -87,3 +87,20 @@ def test_the_library_row_replays_choose():
     assert replay.rule_library(r) == ("fair2", "fair2")  # lost the siblings
     r["hidden"]["conformal"] = 0.4  # decisive: the siblings are not run
     assert replay.rule_library(r) == ("conformal", "fair2")
+
+
+def test_the_scans_default_point_is_the_old_rule():
+    rows = [row("a", 0, 1, 1, 1, 1, hidden=h, sibling=s) for h, s in (
+        ({"fair2": 1, "fair3": 1.2, "conformal": 0.8}, {"fair2": 1, "fair3": 1, "conformal": 1}),
+        ({"fair2": 1, "fair3": 1.2, "conformal": 0.8}, {"fair2": 1, "fair3": 1, "conformal": 1.1}),
+        ({"fair2": 1, "fair3": 1.2, "conformal": 0.4}, {"fair2": 1, "fair3": 1, "conformal": 2}),
+        ({"fair2": 1, "fair3": 0.8, "conformal": 1.1}, {"fair2": 1, "fair3": 0.9}),
+        ({}, {"fair2": 1, "fair3": 1, "conformal": 0.9}),
+        ({"fair2": 1, "fair3": 1, "conformal": INF}, {"fair2": 1, "fair3": 1, "conformal": 1}))]
+    default = replay.margin_rule()
+    picks = [default(r) for r in rows]
+    assert picks == [replay.rule_before(r) for r in rows]
+    assert [p for p, _ in picks] == ["conformal", "fair2", "conformal", "fair3", "conformal",
+                                     "fair2"]
+    # a stricter sibling tolerance turns the sibling tie into a loss
+    assert replay.margin_rule(sibling_tolerance=0.9)(rows[0])[0] == "fair2"

@@ -1,5 +1,7 @@
 """The self-check's rule: keep the λ-H fill or write a faired fill, from truth-free test
-scores (method.md §8, "an honest safety net"; measured in benchmarks/selfcheck_rules.py).
+scores (method.md §8, "an honest safety net"; measured in benchmarks/selfcheck_rules.py on the
+old accuracy set, and replayed against three-way, argmin and guarded rules on the validation
+benchmark's tuning half in benchmarks/selfcheck_replay.py: none did better, docs/selfcheck.md).
 
 Both functions are pure: scores in, decision out. The scores are those of
 :func:`surfinpaint.fill.selfcheck.hidden_ring_scores` (the rings of known surface around the
