@@ -101,15 +101,16 @@ def test_a_fairing_order_asked_for_is_the_reference_and_the_fallback():
 def test_lost_tests_and_the_sentence():
     verdict = choose(s(1, 1.2, 0.8), s(1, 1.2, 1.1))
     assert verdict.lost == ("sibling holes",)
-    assert verdict.scores == ("hidden rings: fair2 1, fair3 1.2, conformal 0.8; "
-                              "sibling holes: fair2 1, fair3 1.2, conformal 1.1")
+    # in the report's words (bilaplacian, trilaplacian, λ-H), mesh units
+    assert verdict.scores == ("hidden rings: bilaplacian 1, trilaplacian 1.2, λ-H 0.8; "
+                              "sibling holes: bilaplacian 1, trilaplacian 1.2, λ-H 1.1")
     text = verdict.sentence(kept=False, failed=False, fair_order=2)
     assert text == ("self-check (sibling holes) preferred the faired fill (order 2) "
                     f"({verdict.scores})")
     assert verdict.sentence(kept=True, failed=False).startswith("self-check kept the "
-                                                                "conformal fill (")
+                                                                "λ-H fill (")
     assert verdict.sentence(kept=False, failed=True, fair_order=3).startswith(
-        "the conformal fill failed, used the faired fill (order 3)")
+        "the λ-H fill failed, used the faired fill (order 3)")
     # a hidden-ring loss is a loss; a sibling tie after a hidden-ring test is not
     assert choose(s(1, 1, 1.2), s(1, 1, 1.0)).lost == ("hidden rings",)
     nothing = choose({}, {})

@@ -26,6 +26,9 @@ DECISIVE = 0.5
 
 Scores = Mapping[str, float]
 
+# the candidates as the report names them (app/fill_report.py, docs/report.md)
+CANDIDATE_WORDS = {"fair2": "bilaplacian", "fair3": "trilaplacian", "conformal": "λ-H"}
+
 
 @dataclass(frozen=True)
 class Verdict:
@@ -69,10 +72,10 @@ class Verdict:
         """The verdict in words, once the λ-H fill was kept, or a faired fill of
         ``fair_order`` written (``failed``: because the λ-H fill failed on this hole)."""
         if kept:
-            return f"self-check kept the conformal fill ({self.scores})"
+            return f"self-check kept the λ-H fill ({self.scores})"
         which = f"the faired fill (order {fair_order})"
         if failed:
-            return f"the conformal fill failed, used {which} ({self.scores})"
+            return f"the λ-H fill failed, used {which} ({self.scores})"
         if not self.tests:
             return f"self-check not possible here, kept {which}"
         return f"self-check ({', '.join(self.lost)}) preferred {which} ({self.scores})"
@@ -166,7 +169,8 @@ def choose(hidden_scores: Scores, sibling_scores: Scores, *, reference: str = "f
     hidden_lh, sibling_lh = _said(hidden), _said(sibling)
     tests = {name: s for name, s in (("hidden rings", hidden), ("sibling holes", sibling))
              if s}
-    scores = "; ".join(f"{name}: " + ", ".join(f"{k} {v:.3g}" for k, v in s.items())
+    scores = "; ".join(f"{name}: " + ", ".join(f"{CANDIDATE_WORDS.get(k, k)} {v:.3g}"
+                                               for k, v in s.items())
                        for name, s in tests.items()) or "no test could be run here"
     keep = _decisive(hidden_lh, reference) or _wins(hidden_lh, sibling_lh, "conformal",
                                                     reference)
