@@ -475,24 +475,27 @@ if os.environ.get("SURFINPAINT_TEST_KILLER"):
 '''
 
 
-def test_a_file_that_kills_its_worker_every_time_ends_as_a_failed_row(tmp_path, monkeypatch):
+def test_a_file_that_kills_its_worker_every_time_ends_as_a_failed_row(tmp_path):
     scans = _scans(tmp_path)
     write_mesh(scans / "killer.ply", *_holey(*sphere(2), 1))
     out = tmp_path / "out"
     expected = _expected(scans, **FAIR)
-    # the spawned workers run this sitecustomize: it kills a worker as it reads killer.ply
+    # the command's process runs this sitecustomize (and so do workers started from a
+    # server or spawned; forked ones inherit it): a worker dies as it reads killer.ply
     hook = tmp_path / "hook"
     hook.mkdir()
     (hook / "sitecustomize.py").write_text(KILLER)
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(
-        [str(hook), *filter(None, [os.environ.get("PYTHONPATH")])]))
-    monkeypatch.setenv("SURFINPAINT_TEST_KILLER", "killer.ply")
-    rows = fill_files([scans], out, jobs=2, **FAIR)
+    env = {**os.environ, "SURFINPAINT_TEST_KILLER": "killer.ply", "PYTHONPATH": os.pathsep.join(
+        [str(hook), *filter(None, [os.environ.get("PYTHONPATH")])])}
+    done = subprocess.run([sys.executable, "-m", "surfinpaint", "batch", str(scans), "-o",
+                           str(out), "--jobs", "2", "--method", "fair", "-q"], env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 1, done.stderr  # the corrupt file and the killer failed
+    rows = read_summary(out)
     killer = rows.pop([Path(r.path).name for r in rows].index("killer.ply"))
     assert killer.status == "failed"
     assert killer.message == (f"{scans / 'killer.ply'}: the worker process died while "
                               "filling it (tried 4 times)")
+    assert killer.message in done.stderr
     _check_rows(rows, expected)
     _check_outputs(out, expected)  # the others written, nothing of the killer
-    summary = {r.path: r for r in read_summary(out)}
-    assert summary[killer.path] == killer and len(summary) == 8

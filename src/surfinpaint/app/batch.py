@@ -2,7 +2,7 @@
 
 :func:`fill_files` finds the mesh files named by files, folders (searched recursively) and
 glob patterns, fills each one in a worker (:func:`fill_file`, a top-level function, so that
-spawned processes and Dask workers can import it), and writes ``summary.csv`` and
+worker processes and Dask workers can import it), and writes ``summary.csv`` and
 ``summary.json`` with one :class:`FileRow` per input file.
 
 A file that cannot be read or filled becomes a ``failed`` row; the others are still written.
@@ -20,7 +20,6 @@ import dataclasses
 import glob
 import io
 import json
-import multiprocessing
 import os
 import signal
 import threading
@@ -43,6 +42,7 @@ from surfinpaint.app.batch_inputs import FileJob, find_inputs, up_to_date
 from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.objects import fill_mesh_data
+from surfinpaint.fill.parallel import start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.io.atomic import atomic_open
 from surfinpaint.io.formats import read_mesh_data, write_mesh_data
@@ -152,7 +152,7 @@ _ONE_FILE_AT_A_TIME = threading.Lock()
 def fill_file(job: FileJob, options: Mapping[str, Any],
               hole_progress: ProgressCallback | None = None) -> FileRow:
     """Read, fill and write one file; never raises for a bad file (it becomes a "failed"
-    row, with nothing written). A top-level function: spawned processes and Dask workers
+    row, with nothing written). A top-level function: worker processes and Dask workers
     import it. Runs with one BLAS thread: the parallelism is over files.
 
     ``hole_progress(done, total, message)`` is told of the file's holes (the ``progress``
@@ -243,10 +243,12 @@ class _Rows:
 def _start_worker(queue: Any | None) -> None:
     """Worker initializer. Ctrl-C reaches the whole process group; the parent decides (it
     lets the files in flight finish, so that their outputs are complete and recorded).
-    ``queue`` takes the hole progress of the worker's files to the parent (None: nobody
-    listens)."""
+    SIGTERM ends the worker (a forked one inherits the command's handler, which would
+    raise in the middle of a file instead). ``queue`` takes the hole progress of the
+    worker's files to the parent (None: nobody listens)."""
     global _HOLE_PROGRESS
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if queue is not None:
         queue.cancel_join_thread()  # a worker's exit does not wait for the parent to read
     _HOLE_PROGRESS = queue
@@ -292,8 +294,11 @@ def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], 
 
 def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
               rows: _Rows) -> list[FileJob]:
-    """Fill ``jobs`` on ``workers`` spawned processes. A dead worker breaks the pool: a new
-    one takes the files not yet started; the files in flight then are returned.
+    """Fill ``jobs`` on ``workers`` processes, forked where this process runs one thread
+    (they start at once, with the modules imported), else started from a server that
+    imported this module once (:func:`surfinpaint.fill.parallel.start_context`). A dead
+    worker breaks the pool: a new one takes the files not yet started; the files in
+    flight then are returned.
 
     Raises
     ------
@@ -301,7 +306,7 @@ def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
         When pools of several workers break :data:`WORKER_RETRIES` times in a row before
         finishing any file: the workers cannot start (or every file kills them).
     """
-    context = multiprocessing.get_context("spawn")
+    context = start_context(__name__)
     queue: deque[FileJob] = deque(jobs)
     suspects: list[FileJob] = []
     fruitless = 0
@@ -321,7 +326,8 @@ def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
             raise RuntimeError(
                 f"the worker processes died {fruitless} times before finishing any file; "
                 "can they start? (a script that calls fill_files needs the "
-                "`if __name__ == '__main__':` guard: workers are spawned and import it)")
+                "`if __name__ == '__main__':` guard where workers are not forked: they "
+                "import it)")
     return suspects
 
 

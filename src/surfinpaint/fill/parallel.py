@@ -33,7 +33,7 @@ from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.intersection import patch_intersects_surroundings
 
 __all__ = ["crossing_faces", "fill_local", "fill_or_failure", "first_loops", "independent", "pool",
-           "reaches_no_earlier_loop", "resolve_jobs", "worth_parallel"]
+           "reaches_no_earlier_loop", "resolve_jobs", "start_context", "worth_parallel"]
 
 # fewer holes than this, or fewer boundary edges in all, and the holes are filled in this
 # process: starting workers costs more than such holes take (a faired fill of a 60-edge
@@ -170,17 +170,23 @@ def worth_parallel(n_edges: list[int], workers: int, method: str) -> bool:
             and sum(n_edges) >= MIN_PARALLEL_EDGES[method])
 
 
-def pool(workers: int) -> ProcessPoolExecutor:
-    """Worker processes: forked where this process runs one thread (no re-import of the
-    caller's script, so it needs no ``if __name__ == "__main__"`` guard, and compiled
-    kernels come along; the mesh's pages are shared, not copied), else started from a
-    server that imported the fill methods once ("forkserver"; "spawn" without fork: the
-    caller's script then needs the guard)."""
+def start_context(preload: str) -> multiprocessing.context.BaseContext:
+    """How worker processes start: forked where this process runs one thread (no re-import
+    of the caller's script, so it needs no ``if __name__ == "__main__"`` guard, and the
+    imported modules and compiled kernels come along; the parent's pages are shared, not
+    copied), else from a server that imported the module ``preload`` once ("forkserver":
+    a fork while other threads run could copy a lock one of them holds), else spawned
+    (no fork: the caller's script then needs the guard)."""
     methods = multiprocessing.get_all_start_methods()
     if "fork" in methods and threading.active_count() == 1:
-        return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"))
+        return multiprocessing.get_context("fork")
     method = "forkserver" if "forkserver" in methods else "spawn"
     context = multiprocessing.get_context(method)
     if method == "forkserver":
-        context.set_forkserver_preload([__name__])
-    return ProcessPoolExecutor(workers, mp_context=context)
+        context.set_forkserver_preload([preload])
+    return context
+
+
+def pool(workers: int) -> ProcessPoolExecutor:
+    """Worker processes for the holes of one mesh, started as :func:`start_context` says."""
+    return ProcessPoolExecutor(workers, mp_context=start_context(__name__))

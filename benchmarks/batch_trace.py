@@ -1,0 +1,171 @@
+"""Where the time of a ``surfinpaint batch`` run goes, by CPU accounting (issue 17): a
+measurement that holds on a shared machine, where wall-clock speed-ups do not.
+
+Runs ``surfinpaint batch FOLDER -o OUT --overwrite -q --jobs N`` through the command line's
+own ``main`` in this process, with :func:`surfinpaint.app.batch.fill_file` wrapped so that
+every file's fill records its process, start and end (wall clock) and its CPU seconds, and
+every process the CPU seconds it spent before its first file (imports, kernel loading comes
+with the first file). Spawned workers import this script as their main module, so the
+wrapper is theirs too. Prints
+
+- the parent's CPU seconds before the files start (imports, listing the inputs, checking
+  the options and the up-to-date outputs), while they run (progress, scheduling) and after
+  (the summary);
+- per worker: its start-up CPU (imports, before its first file), its files' CPU, and the
+  CPU of its first file against the median of its files (the kernels loaded then);
+- the *CPU makespan*: the parent's serial CPU plus the largest worker's start-up and files'
+  CPU, which is the wall time of the run on two free cores if nothing else waits; the work
+  over the makespan is the speed-up those CPU seconds allow, the idle tail the CPU seconds
+  the first worker to finish waits for the last.
+
+    python benchmarks/batch_trace.py FOLDER [--jobs 2] [--out DIR] [--json FILE]
+
+FOLDER: input meshes (e.g. the ``scans`` folder ``benchmarks/batch.py --folder`` made).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import surfinpaint.app.batch as _batch
+
+_TRACE = os.environ.get("SURFINPAINT_TRACE_DIR")
+_original_fill_file = _batch.fill_file
+
+
+def _cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def fill_file(job, options, hole_progress=None):  # noqa: ANN001, ANN201 (the wrapped one's)
+    """:func:`surfinpaint.app.batch.fill_file`, recording its times in the trace folder."""
+    cpu, wall = _cpu(), time.time()
+    row = _original_fill_file(job, options, hole_progress)
+    if _TRACE:
+        record = {"pid": os.getpid(), "file": job.name, "start": wall, "end": time.time(),
+                  "cpu_before": cpu, "cpu": _cpu() - cpu, "status": row.status}
+        with open(Path(_TRACE) / f"{os.getpid()}.jsonl", "a", encoding="utf-8") as handle:
+            handle.write(json.dumps(record) + "\n")
+    return row
+
+
+# spawned workers pickle the function by its module and name: they find this wrapper
+fill_file.__module__, fill_file.__qualname__ = "surfinpaint.app.batch", "fill_file"
+_batch.fill_file = fill_file
+
+
+def _report(trace: Path, parent: dict, jobs: int) -> dict:
+    records = [json.loads(line) for path in trace.glob("*.jsonl")
+               for line in path.read_text().splitlines()]
+    by_pid: dict[int, list[dict]] = {}
+    for record in sorted(records, key=lambda r: r["start"]):
+        by_pid.setdefault(record["pid"], []).append(record)
+    workers = []
+    for pid, files in by_pid.items():
+        cpus = sorted(f["cpu"] for f in files)
+        workers.append({
+            "pid": pid, "files": len(files), "startup_cpu": files[0]["cpu_before"],
+            "files_cpu": sum(cpus), "first_file_cpu": files[0]["cpu"],
+            "median_file_cpu": cpus[len(cpus) // 2],
+            "first_start": files[0]["start"] - parent["t0"],
+            "last_end": files[-1]["end"] - parent["t0"],
+            "busy_wall": sum(f["end"] - f["start"] for f in files)})
+    serial = parent["cpu_before"] + parent["cpu_after"]
+    spans = [w["startup_cpu"] + w["files_cpu"] for w in workers if w["pid"] != parent["pid"]]
+    if not spans:  # --jobs 1: the parent fills
+        spans = [parent["cpu_during"]]
+        serial = parent["cpu_before"] + parent["cpu_after"]
+    makespan = serial + max(spans)
+    one_process = (parent["cpu_before"] + parent["cpu_after"]
+                   + sum(w["files_cpu"] for w in workers))
+    return {"jobs": jobs, "files": len(records), "parent": parent, "workers": workers,
+            "cpu_makespan": makespan, "idle_tail_cpu": max(spans) - min(spans),
+            "work_over_makespan": one_process / makespan,
+            "children_cpu": parent["children_cpu"], "records": records}
+
+
+def main(argv: list[str] | None = None) -> None:
+    import argparse
+
+    from surfinpaint.app.cli import main as cli_main
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("folder")
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--out", help="output folder (default: a temporary one)")
+    parser.add_argument("--json", help="also write the report here")
+    parser.add_argument("batch_options", nargs="*", help="more options of the command")
+    args = parser.parse_args(argv)
+    global _TRACE
+    trace = Path(tempfile.mkdtemp(prefix="surfinpaint-trace-"))
+    os.environ["SURFINPAINT_TRACE_DIR"] = _TRACE = str(trace)
+    out = args.out or tempfile.mkdtemp(prefix="surfinpaint-trace-out-")
+    marks = {}
+    original_run_local = _batch._run_local
+
+    def run_local(*a, **k):  # noqa: ANN002, ANN003, ANN202
+        marks["cpu_start"], marks["t_start"] = _cpu(), time.time()
+        try:
+            return original_run_local(*a, **k)
+        finally:
+            marks["cpu_end"], marks["t_end"] = _cpu(), time.time()
+
+    _batch._run_local = run_local
+    code = cli_main(["batch", args.folder, "-o", out, "--overwrite", "-q",
+                     "--jobs", str(args.jobs), *args.batch_options])
+    cpu_end, t_end = _cpu(), time.time()
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    parent = {"pid": os.getpid(), "t0": T0, "exit": code,
+              "cpu_before": marks["cpu_start"],
+              "cpu_imports": CPU0_IMPORTED,
+              "cpu_during": marks["cpu_end"] - marks["cpu_start"],
+              "cpu_after": cpu_end - marks["cpu_end"],
+              "wall_before": marks["t_start"] - T0, "wall_during": marks["t_end"]
+              - marks["t_start"], "wall_after": t_end - marks["t_end"], "wall": t_end - T0,
+              "children_cpu": children.ru_utime + children.ru_stime}
+    report = _report(trace, parent, args.jobs)
+    if args.json:
+        Path(args.json).write_text(json.dumps(report, indent=1) + "\n")
+    _print(report)
+
+
+def _print(report: dict) -> None:
+    p = report["parent"]
+    print(f"--jobs {report['jobs']}: {report['files']} files; wall {p['wall']:.2f} s "
+          f"(before the files {p['wall_before']:.2f}, files {p['wall_during']:.2f}, after "
+          f"{p['wall_after']:.2f}); load {os.getloadavg()[0]:.1f}")
+    print(f"parent CPU: before the files {p['cpu_before']:.2f} s (of which imports "
+          f"{p['cpu_imports']:.2f}), during {p['cpu_during']:.2f}, after {p['cpu_after']:.2f};"
+          f" workers' CPU (RUSAGE_CHILDREN) {report['children_cpu']:.2f}")
+    for w in report["workers"]:
+        print(f"  pid {w['pid']}: {w['files']} files, start-up CPU {w['startup_cpu']:.2f} s, "
+              f"files CPU {w['files_cpu']:.2f} (first {w['first_file_cpu']:.2f}, median "
+              f"{w['median_file_cpu']:.2f}); first file at {w['first_start']:.2f} s, last "
+              f"done at {w['last_end']:.2f} s (wall)")
+    print(f"CPU makespan {report['cpu_makespan']:.2f} s, idle tail {report['idle_tail_cpu']:.2f}"
+          f" CPU s, one process's work / makespan {report['work_over_makespan']:.2f}x")
+
+
+def _process_start() -> float:
+    """This process's start (wall clock, from /proc: 10 ms steps), or now elsewhere."""
+    try:
+        ticks = int(Path("/proc/self/stat").read_text().rsplit(")", 1)[1].split()[19])
+        boot = next(int(line.split()[1]) for line in Path("/proc/stat").read_text()
+                    .splitlines() if line.startswith("btime"))
+        return boot + ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError, StopIteration):
+        return time.time()
+
+
+T0 = _process_start()
+CPU0_IMPORTED = _cpu()
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
