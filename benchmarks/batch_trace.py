@@ -44,10 +44,10 @@ def _cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def fill_file(job, options, hole_progress=None):  # noqa: ANN001, ANN201 (the wrapped one's)
+def fill_file(job, options, *args, **kwargs):  # noqa: ANN001, ANN002, ANN003, ANN201
     """:func:`surfinpaint.app.batch.fill_file`, recording its times in the trace folder."""
     cpu, wall = _cpu(), time.time()
-    row = _original_fill_file(job, options, hole_progress)
+    row = _original_fill_file(job, options, *args, **kwargs)
     if _TRACE:
         record = {"pid": os.getpid(), "file": job.name, "start": wall, "end": time.time(),
                   "cpu_before": cpu, "cpu": _cpu() - cpu, "status": row.status}

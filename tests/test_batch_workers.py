@@ -1,14 +1,16 @@
 """How ``surfinpaint batch`` starts its local workers and orders their files: the start
-method's rule, the same outputs whichever method starts them."""
+method's rule, the same outputs whichever method starts them; the costliest files first."""
 
 from __future__ import annotations
 
+import json
 import multiprocessing
 
 import pytest
 from test_batch import FAIR, _check_outputs, _check_rows, _expected, _scans
 
 import surfinpaint.app.batch as batch
+from surfinpaint.app.batch_inputs import FileJob, largest_cost_first
 from surfinpaint.fill import parallel
 
 
@@ -38,3 +40,46 @@ def test_every_start_method_fills_the_same_files(tmp_path, monkeypatch, method):
     rows = batch.fill_files([scans], out, jobs=2, **FAIR)
     _check_rows(rows, expected)
     _check_outputs(out, expected)
+
+
+def _jobs(tmp_path, sizes: dict[str, int]) -> list[FileJob]:
+    jobs = []
+    for name, size in sizes.items():
+        source = tmp_path / name
+        if size >= 0:  # a negative size: no such file
+            source.write_bytes(b"x" * size)
+        jobs.append(FileJob(source, tmp_path / "out" / name, name, name))
+    return jobs
+
+
+@pytest.mark.parametrize(("sizes", "measured", "order"), [
+    # nothing measured: the largest file first, ties in the inputs' order, a missing one last
+    ({"a": 10, "b": 30, "c": 20, "d": 30, "e": -1}, {}, "bdcae"),
+    # all measured (a rerun with --overwrite): by the seconds, whatever the sizes
+    ({"a": 10, "b": 30, "c": 20}, {"a": 3.0, "b": 1.0, "c": 2.0}, "acb"),
+    # b unmeasured: 100 bytes at the measured files' 40 ms per byte (6 s over 150 bytes)
+    # is 4 s, between c and a
+    ({"a": 100, "b": 100, "c": 50}, {"a": 1.0, "c": 5.0}, "cba"),
+    # a skipped file's row has 0 seconds: not a measurement (a and c are the 1 s per byte)
+    ({"a": 1, "b": 4, "c": 2}, {"a": 1.0, "b": 0.0, "c": 2.0, "z": 9.0}, "bca"),
+])
+def test_the_costliest_files_start_first(tmp_path, sizes, measured, order):
+    jobs = _jobs(tmp_path, sizes)
+    assert "".join(job.name for job in largest_cost_first(jobs, measured)) == order
+
+
+def test_a_rerun_starts_the_files_that_took_longest_first(tmp_path):
+    scans = _scans(tmp_path)
+    out = tmp_path / "out"
+    batch.fill_files([scans], out, jobs=1, **FAIR)
+    summary = json.loads((out / "summary.json").read_text())
+    names = [row["path"] for row in summary["files"]]
+    # the earlier run's seconds, made up: the inputs' order reversed
+    for i, row in enumerate(summary["files"]):
+        row["seconds"] = float(i + 1)
+    (out / "summary.json").write_text(json.dumps(summary))
+    started = []
+    batch.fill_files([scans], out, jobs=1, overwrite=True, **FAIR,
+                     progress=lambda done, total, message: started.append(message)
+                     if done and "holes (" not in message else None)
+    assert [message.split(": ")[0] for message in started] == names[::-1]

@@ -38,7 +38,7 @@ from typing import Any, Literal
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from surfinpaint.app.batch_inputs import FileJob, find_inputs, up_to_date
+from surfinpaint.app.batch_inputs import FileJob, find_inputs, largest_cost_first, up_to_date
 from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.objects import fill_mesh_data
@@ -421,7 +421,8 @@ def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
 
 def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
     """The rows of ``out_dir/summary.json``; empty when there is none (or it is unreadable:
-    it is only used to carry the counts of an earlier run into a rerun's skipped rows)."""
+    it is only used to carry the counts of an earlier run into a rerun's skipped rows, and
+    its seconds into the order a rerun's files are started in)."""
     try:
         document = json.loads((Path(out_dir) / SUMMARY_JSON).read_text(encoding="utf-8"))
         return [FileRow(**{**entry, "holes": tuple(HoleRecord.from_json(h) for h in
@@ -537,8 +538,9 @@ def fill_files(
         else:
             pending.append(job)
     _remove_temporaries(pending)
-    # the largest files first, so that the workers run out of work at about the same time
-    pending.sort(key=lambda job: -job.source.stat().st_size if job.source.is_file() else 0)
+    # the costliest files first (by the earlier run's seconds, else by size), so that the
+    # workers run out of work at about the same time
+    pending = largest_cost_first(pending, {name: row.seconds for name, row in earlier.items()})
     try:
         if client is not None:
             _run_dask(pending, fill_options, client, rows)

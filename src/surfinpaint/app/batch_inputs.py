@@ -1,18 +1,19 @@
 """Batch filling's inputs: the mesh files named by files, folders and glob patterns, the
-outputs that mirror their layout, and whether an output is up to date."""
+outputs that mirror their layout, whether an output is up to date, and the order the
+workers take the files in."""
 
 from __future__ import annotations
 
 import glob
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from surfinpaint.io.brain import OVERLAY_SUFFIXES
 from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read
 
-__all__ = ["FileJob", "find_inputs", "up_to_date"]
+__all__ = ["FileJob", "find_inputs", "largest_cost_first", "up_to_date"]
 
 
 @dataclass(frozen=True)
@@ -129,3 +130,33 @@ def up_to_date(job: FileJob) -> bool:
         return all(written > source.stat().st_mtime_ns for source in files_read(job.source))
     except OSError:
         return False
+
+
+def _size(job: FileJob) -> int:
+    """The bytes of the input file (0 when it is not a readable file: its fill fails at
+    once)."""
+    try:
+        return job.source.stat().st_size
+    except OSError:
+        return 0
+
+
+def largest_cost_first(jobs: Sequence[FileJob], measured: Mapping[str, float]
+                       ) -> list[FileJob]:
+    """``jobs`` in the order the workers should start them: the costliest first, so that
+    they run out of work at about the same time (the longest-processing-time rule).
+
+    A file's cost is the seconds an earlier run took to fill it (``measured``, by the
+    file's name in the summary; a rerun with ``--overwrite`` knows them all), else its size
+    in bytes times the seconds per byte of the measured files (its size alone when none
+    is measured). The file size is a weak guess: a small mesh with large holes can take
+    longer than a large one with small holes; the measured seconds are not. Ties keep the
+    inputs' order.
+    """
+    sizes = {job.name: _size(job) for job in jobs}
+    known = {job.name: measured[job.name] for job in jobs
+             if measured.get(job.name, 0.0) > 0.0}
+    known_bytes = sum(sizes[name] for name in known)
+    rate = sum(known.values()) / known_bytes if known and known_bytes else 1.0
+    cost = {job.name: known.get(job.name, sizes[job.name] * rate) for job in jobs}
+    return sorted(jobs, key=lambda job: -cost[job.name])
