@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import json
 import multiprocessing
+import threading
 
 import pytest
 from test_batch import FAIR, _check_outputs, _check_rows, _expected, _scans
 
 import surfinpaint.app.batch as batch
 from surfinpaint.app.batch_inputs import FileJob, largest_cost_first
+from surfinpaint.app.cli import main
 from surfinpaint.fill import parallel
 
 
@@ -83,3 +85,21 @@ def test_a_rerun_starts_the_files_that_took_longest_first(tmp_path):
                      progress=lambda done, total, message: started.append(message)
                      if done and "holes (" not in message else None)
     assert [message.split(": ")[0] for message in started] == names[::-1]
+
+
+def test_the_batch_command_with_its_progress_bar_adds_no_thread(tmp_path, monkeypatch, capsys):
+    # workers are forked only from a process of one thread: the bar must not add one
+    scans = _scans(tmp_path)
+    before = threading.active_count()  # pytest-xdist's own threads, if any
+    seen = []
+
+    def start_context(preload):
+        seen.append(threading.active_count())
+        return multiprocessing.get_context("spawn" if "fork" not in
+                                           multiprocessing.get_all_start_methods() else "fork")
+
+    monkeypatch.setattr(batch, "start_context", start_context)
+    assert main(["batch", str(scans), "-o", str(tmp_path / "out"), "--jobs", "2",
+                 "--method", "fair"]) == 1  # the corrupt file
+    assert "7 files: 4 filled, 2 closed, 1 failed" in capsys.readouterr().err
+    assert seen and set(seen) == {before}

@@ -79,10 +79,10 @@ def _parse_hole_list(text: str | None) -> list[int] | None:
 
 
 @contextlib.contextmanager
-def _progress(enabled: bool, what: str = "filling") -> Iterator:
+def _progress(enabled: bool, what: str = "filling", *, thread: bool = True) -> Iterator:
     """The ``progress`` callback of :func:`surfinpaint.fill_holes` moving a progress bar on
-    stderr, or None; ``what`` is its first label."""
-    with progress_bar(enabled, None, what) as bar:
+    stderr, or None; ``what`` is its first label, ``thread`` as for ``progress_bar``."""
+    with progress_bar(enabled, None, what, thread=thread) as bar:
         yield bar.update if enabled else None
 
 
@@ -173,7 +173,9 @@ def cmd_batch(args: argparse.Namespace) -> int:
         raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
     client = _dask_client(args.dask_scheduler) if args.dask_scheduler else None
     try:
-        with _progress(not args.quiet, "files") as progress:
+        # no refresh thread: batch's workers are forked only from a one-thread process
+        # (they then start with everything imported); the bar moves with every hole
+        with _progress(not args.quiet, "files", thread=False) as progress:
             rows = fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
                               overwrite=args.overwrite, progress=progress, **options)
     except (Interrupted, KeyboardInterrupt) as exc:

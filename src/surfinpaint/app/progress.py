@@ -17,26 +17,31 @@ def console():
 
 class _Bar:
     """Moves a progress bar: ``bar(message, advance=1)`` steps it, ``bar.update(done,
-    total, message)`` sets it (the ``progress`` callback of :func:`surfinpaint.fill_holes`)."""
+    total, message)`` sets it (the ``progress`` callback of :func:`surfinpaint.fill_holes`).
+    ``redraw``: draw at each step (a bar without its refresh thread)."""
 
-    def __init__(self, progress=None, task=None):
-        self._progress, self._task = progress, task
+    def __init__(self, progress=None, task=None, redraw: bool = False):
+        self._progress, self._task, self._redraw = progress, task, redraw
 
     def __call__(self, message: str, advance: int = 1) -> None:
         if self._progress is not None:
-            self._progress.update(self._task, advance=advance, description=message)
+            self._progress.update(self._task, advance=advance, description=message,
+                                  refresh=self._redraw)
 
     def update(self, done: int, total: int, message: str) -> None:
         if self._progress is not None:
             self._progress.update(self._task, completed=done, total=total,
-                                  description=message)
+                                  description=message, refresh=self._redraw)
 
 
 @contextlib.contextmanager
-def progress_bar(enabled: bool, total: int | None = None,
-                 description: str = "") -> Iterator[_Bar]:
+def progress_bar(enabled: bool, total: int | None = None, description: str = "", *,
+                 thread: bool = True) -> Iterator[_Bar]:
     """A progress bar on stderr (a no-op one when not ``enabled``) of ``total`` steps (None:
-    set later by ``update``), first labelled ``description``."""
+    set later by ``update``), first labelled ``description``. ``thread``: redrawn by a
+    thread of its own (its clock runs between steps); without, at each step (the process
+    keeps one thread, so that worker processes can be forked:
+    :func:`surfinpaint.fill.parallel.start_context`)."""
     if not enabled:
         yield _Bar()
         return
@@ -44,8 +49,8 @@ def progress_bar(enabled: bool, total: int | None = None,
 
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-                  console=console(), transient=False) as progress:
+                  console=console(), transient=False, auto_refresh=thread) as progress:
         task = progress.add_task(description, total=total)
-        yield _Bar(progress, task)
+        yield _Bar(progress, task, redraw=not thread)
         if total is not None:
             progress.update(task, completed=total)
