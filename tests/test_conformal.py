@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from conftest import grid_mesh
 
-from surfinpaint import ConformalOptions, FillError, GridOptions, fill_holes
+from surfinpaint import ConformalOptions, FillError, GridOptions, MeshError, fill_holes
 from surfinpaint.data import bumpy_disk, sphere, torus
 from surfinpaint.fill.conformal import conformal_fill
 from surfinpaint.fill.conformal.checks import check_patch, damped_fill, fold_count
@@ -126,14 +126,13 @@ def test_faired_fill_falls_back_to_order_2_when_order_3_cannot_be_anchored(spher
     cut = sphere_hole
     real = baseline.conventional_fill
     biharmonic = real(cut.vertices, cut.faces, cut.loop)
-    real_fair = baseline.fair_patch
+    real_fair = baseline.fair_orders
 
-    def no_third_ring(*args, order=2, **kwargs):
-        if order > 2:
-            raise FillError("free vertices are not connected to any fixed vertex")
-        return real_fair(*args, order=order, **kwargs)
+    def no_third_ring(*args, **kwargs):  # every order is faired at once (fair_orders)
+        return {k: MeshError("free vertices are not connected to any fixed vertex") if k > 2
+                else made for k, made in real_fair(*args, **kwargs).items()}
 
-    monkeypatch.setattr(baseline, "fair_patch", no_third_ring)
+    monkeypatch.setattr(baseline, "fair_orders", no_third_ring)
     new_v, new_f, used = faired_fill(cut.vertices, cut.faces, cut.loop)
     assert used == 2
     assert np.array_equal(new_v, biharmonic[0]) and np.array_equal(new_f, biharmonic[1])
@@ -146,7 +145,7 @@ def test_faired_fill_falls_back_to_order_2_when_order_3_cannot_be_anchored(spher
     with pytest.raises(FillError):  # nothing lower to try: the failure is not swallowed
         faired_fill(cut.vertices, cut.faces, cut.loop)
     monkeypatch.setattr(baseline, "conventional_fill", real)
-    monkeypatch.setattr(baseline, "fair_patch", real_fair)
+    monkeypatch.setattr(baseline, "fair_orders", real_fair)
     assert faired_fill(cut.vertices, cut.faces, cut.loop)[2] == 3
 
 

@@ -150,3 +150,92 @@ def test_check_topology_passes_a_valid_mesh_and_returns_its_table():
 def unique_edges_of(f):
     e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
     return np.unique(e, axis=0)
+
+
+def _holes():
+    """Holes with their refined, unfaired patch (vertices, faces, patch, loop, n): two of
+    a bumpy sphere, and one with a single ring of faces left around it."""
+    from surfinpaint.fill.liepa.baseline import conventional_fill
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+
+    out = []
+    m = trimesh.creation.icosphere(4)
+    v = m.vertices * (1 + 0.05 * np.sin(6 * m.vertices[:, :1]) * np.cos(5 * m.vertices[:, 1:2]))
+    for centre, radius in ((0, 0.35), (100, 0.5)):
+        cut = cut_geodesic_disk(v, m.faces, centre, radius)
+        out.append((cut.vertices, cut.faces, cut.loop))
+    # one ring of faces around the hole: the higher orders' stencils reach its border
+    cut = cut_geodesic_disk(v, m.faces, 5, 0.35)
+    keep = faces_within(cut.faces, cut.loop, len(cut.vertices), 0)
+    out.append((cut.vertices, keep, cut.loop))
+    made = []
+    for vv, ff, loop in out:
+        new_v, patch = conventional_fill(vv, ff, loop, refine=True, fair=False)
+        made.append((np.vstack([vv, new_v]), ff, np.asarray(patch), loop, len(vv)))
+    return made
+
+
+def faces_within(faces, loop, n, rings):
+    from surfinpaint.geometry.mesh import faces_near
+
+    return faces_near(faces, loop, rings, n)
+
+
+def old_faired_fills(vertices, faces, loop, orders, operator="cotan"):
+    """faired_fills as it was: one fairing per order, each on its own neighbourhood."""
+    from surfinpaint.errors import FillError, MeshError
+    from surfinpaint.fill.liepa.baseline import _neighbourhood, conventional_fill
+    from surfinpaint.fill.liepa.fairing import fair
+
+    v = np.asarray(vertices, dtype=float)
+    initial_v, patch = conventional_fill(v, faces, loop, refine=True, fair=False)
+    n = len(v)
+    out = {}
+    for order in orders:
+        used = order
+        while True:
+            near = _neighbourhood(faces, np.asarray(loop, dtype=np.int64), n, max(used - 2, 0))
+            try:
+                new_v = fair(np.vstack([v, initial_v]), np.vstack([near, patch]),
+                             np.arange(n, n + len(initial_v)), order=used,
+                             operator=operator)[n:]
+                break
+            except (MeshError, FillError):
+                if used <= 2:
+                    raise
+                used = 2
+        out[order] = (new_v, np.asarray(patch), used)
+    return out
+
+
+def test_faired_fills_share_one_laplacian_and_give_the_fills_of_one_fairing_per_order():
+    from surfinpaint.fill.liepa.baseline import faired_fills
+
+    holes = _holes()
+    for vertices, faces, _, loop, n in holes:
+        v = vertices[:n]
+        for orders in ([2, 3], [3], [1, 2, 3, 4], [2]):
+            for operator in ("cotan", "clamped"):
+                new = faired_fills(v, faces, loop, orders, operator=operator)
+                old = old_faired_fills(v, faces, loop, orders, operator=operator)
+                assert list(new) == list(old)
+                for k in orders:
+                    assert np.array_equal(new[k][0], old[k][0]), (orders, k, operator)
+                    assert np.array_equal(new[k][1], old[k][1]) and new[k][2] == old[k][2]
+    # (the fall-back to order 2 where order 3 cannot be anchored:
+    # tests/test_conformal.py::test_faired_fill_falls_back_to_order_2_...)
+
+
+def test_fair_orders_equals_fair_per_order():
+    from surfinpaint.fill.liepa.fairing import fair, fair_orders
+
+    vertices, faces, patch, _, n = _holes()[0]
+    allf = np.vstack([faces, patch])
+    free = np.arange(n, len(vertices))
+    made = fair_orders(vertices, allf, free, (1, 2, 3))
+    for k in (1, 2, 3):
+        assert np.array_equal(made[k], fair(vertices, allf, free, order=k))
+    # with two iterations each order keeps its own weights: still the same as fair's
+    two = fair_orders(vertices, allf, free, (2, 3), iterations=2)
+    for k in (2, 3):
+        assert np.array_equal(two[k], fair(vertices, allf, free, order=k, iterations=2))

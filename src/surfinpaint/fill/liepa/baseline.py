@@ -11,6 +11,7 @@ import numpy as np
 
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.fill.liepa.fairing import fair as fair_patch
+from surfinpaint.fill.liepa.fairing import fair_orders
 from surfinpaint.fill.liepa.refinement import refine_patch
 from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
 from surfinpaint.geometry.edges import edge_keys
@@ -168,24 +169,21 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     initial_v = np.asarray(initial_v, dtype=float)
     patch = np.asarray(patch, dtype=np.int64)
     n = len(v)
+    if len(initial_v) == 0:
+        return {order: (initial_v, patch, order) for order in orders}
+    # every order on the neighbourhood of the highest (a lower order's submesh is the same
+    # within it) with one Laplacian: the same bits as one fairing per order
+    wanted = sorted(set(orders) | ({2} if max(orders) > 2 else set()))
+    near = _neighbourhood(faces, np.asarray(loop, dtype=np.int64).ravel(), n,
+                          max(max(wanted) - 2, 0))
+    made = fair_orders(np.vstack([v, initial_v]), np.vstack([near, patch]),
+                       np.arange(n, n + len(initial_v)), wanted, operator=operator)
     out = {}
     for order in orders:
-        if len(initial_v) == 0:
-            out[order] = (initial_v, patch, order)
-            continue
-        used = order
-        while True:
-            near = _neighbourhood(faces, np.asarray(loop, dtype=np.int64).ravel(), n,
-                                  max(used - 2, 0))
-            try:
-                new_v = fair_patch(np.vstack([v, initial_v]), np.vstack([near, patch]),
-                                   np.arange(n, n + len(initial_v)), order=used,
-                                   operator=operator)[n:]
-                break
-            except (MeshError, FillError) as err:
-                if used <= 2:
-                    raise FillError(f"cannot fill the hole: {err}") from err
-                used = 2  # too few rings to anchor a higher order
+        used = order if not isinstance(made[order], MeshError) else min(order, 2)
+        if isinstance(made[used], MeshError):  # too few rings to anchor even order 2
+            raise FillError(f"cannot fill the hole: {made[used]}") from made[used]
+        new_v = made[used][n:]
         if not np.isfinite(new_v).all():
             raise FillError("fairing produced non-finite positions")
         out[order] = (new_v, patch, used)

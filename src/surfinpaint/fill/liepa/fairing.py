@@ -17,7 +17,7 @@ from scipy.sparse.linalg import spsolve
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.mesh import laplacian_and_areas, unique_edges
 
-__all__ = ["OPERATORS", "fair", "laplacian_and_mass"]
+__all__ = ["OPERATORS", "fair", "fair_orders", "laplacian_and_mass"]
 
 OPERATORS = ("cotan", "clamped", "intrinsic")
 # rings of faces beyond the operator's rows given to the intrinsic Delaunay triangulation:
@@ -128,11 +128,50 @@ def fair(
     >>> bool(np.abs(x[1:] - m.vertices[1:]).max() == 0)
     True
     """
+    made = fair_orders(vertices, faces, free, (order,), iterations=iterations, cut=cut,
+                       operator=operator)[order]
+    if isinstance(made, MeshError):
+        raise made
+    return made
+
+
+def fair_orders(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    free: np.ndarray,
+    orders=(2,),
+    *,
+    iterations: int = 1,
+    cut: np.ndarray | None = None,
+    operator: str = "cotan",
+) -> dict[int, np.ndarray]:
+    """:func:`fair` of each order in ``orders`` on the same mesh and free vertices, with
+    the Laplacian and masses made once, on the submesh of the highest order.
+
+    The same bits as one :func:`fair` call per order: the rows a fairing of order ``k``
+    uses (the free vertices and ``k - 1`` rings around them) have their whole star in
+    every larger submesh, and a row's entries are summed over the same faces in the same
+    order there. With ``iterations > 1`` (the weights follow each order's own positions)
+    or the intrinsic operator (its Delaunay flips see the whole submesh) each order makes
+    its own.
+
+    Returns
+    -------
+    dict
+        order -> (n, 3) positions, as :func:`fair` returns them, or the ``MeshError``
+        :func:`fair` raises for that order.
+
+    Raises
+    ------
+    MeshError, ValueError
+        As :func:`fair`, for bad arguments (free ids out of range, an unknown operator).
+    """
     v = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     n = len(v)
-    if order < 1:
-        raise ValueError(f"order must be at least 1, got {order}")
+    orders = [int(k) for k in orders]
+    if min(orders) < 1:
+        raise ValueError(f"order must be at least 1, got {min(orders)}")
     if iterations < 1:
         raise ValueError(f"iterations must be at least 1, got {iterations}")
     if operator not in OPERATORS:
@@ -148,53 +187,97 @@ def fair(
         if len(bad):
             raise MeshError(f"free vertex ids {preview(bad.tolist())} are outside 0..{n - 1}",
                             vertices=bad[:10].tolist())
-    out = v.copy()
     if len(free_ids) == 0:
-        return out
-
-    # rings: free = ring 0; L rows are needed complete up to ring order-1, i.e. all faces
-    # touching those vertices; the columns then reach ring `order`
-    mask = np.zeros(n, dtype=bool)
-    mask[free_ids] = True
-    rows_mask = mask
-    for _ in range(order - 1):
-        _, rows_mask = _grow(faces, rows_mask)
-    touching, reach = _grow(faces, rows_mask)
-    for _ in range(INTRINSIC_MARGIN if operator == "intrinsic" else 0):
-        touching, reach = _grow(faces, reach)
-    sub = faces[touching]
-    used = np.zeros(n, dtype=bool)
-    used[sub.ravel()] = True
-    lonely = free_ids[~used[free_ids]]
-    if len(lonely):
-        raise MeshError(f"free vertices {preview(lonely.tolist())} are in no face",
-                        vertices=lonely[:10].tolist())
-    ids = np.flatnonzero(used)
-    local = np.full(n, -1, dtype=np.int64)
-    local[ids] = np.arange(len(ids))
-    f = local[sub]
-    is_free = mask[ids]
-    in_rows = rows_mask[ids]
-    if cut is not None:
-        in_rows = in_rows & ~np.asarray(cut, dtype=bool)[ids]
-    _check_anchored(f, is_free, ids)
-
-    for _ in range(iterations):
-        x = out[ids]
-        # rows of L are exact for vertices whose whole star is in the submesh (rows_mask);
-        # outer vertices only appear as columns
-        lap, mass = laplacian_and_mass(x, f, operator)
-        inv_mass = 1.0 / np.maximum(mass, 1e-300)
-        op = lap[is_free]
-        for _ in range(order - 1):
-            # (L M⁻¹)(…): only rows inside `rows_mask` are used, where L and M are exact
-            op = (op[:, in_rows] @ sp.diags(inv_mass[in_rows]) @ lap[in_rows]).tocsr()
-        op = op.tocsc()
-        a = op[:, is_free]
-        rhs = -(op[:, ~is_free] @ x[~is_free])
-        sol = np.asarray(spsolve(a.tocsc(), rhs)).reshape(-1, 3)
-        if not np.isfinite(sol).all():
-            raise MeshError("fairing system is singular (degenerate triangles around the "
-                            "free vertices?)", vertices=free_ids[:10].tolist())
-        out[ids[is_free]] = sol
+        return {k: v.copy() for k in orders}
+    regions: dict[int, _Region | MeshError] = {}
+    for order in orders:
+        try:
+            regions[order] = _Region(v, faces, free_ids, order, operator, cut)
+        except MeshError as exc:
+            regions[order] = exc
+    top = regions[max(orders)]
+    shared = None
+    if (iterations == 1 and operator != "intrinsic" and len(set(orders)) > 1
+            and isinstance(top, _Region)):
+        shared = (top, *laplacian_and_mass(v[top.ids], top.f, operator))
+    out: dict[int, np.ndarray | MeshError] = {}
+    for order, region in regions.items():
+        if isinstance(region, MeshError):
+            out[order] = region
+            continue
+        try:
+            out[order] = region.solve(v, iterations, operator,
+                                      None if region is top else shared,
+                                      shared[1:] if region is top and shared else None)
+        except MeshError as exc:
+            out[order] = exc
     return out
+
+
+class _Region:
+    """The submesh one fairing of ``order`` works on: the free vertices (ring 0), the rows
+    of ``L`` it needs complete (up to ring ``order - 1``: all faces touching them) and the
+    columns they reach (ring ``order``)."""
+
+    def __init__(self, v, faces, free_ids, order, operator, cut):
+        n = len(v)
+        mask = np.zeros(n, dtype=bool)
+        mask[free_ids] = True
+        rows_mask = mask
+        for _ in range(order - 1):
+            _, rows_mask = _grow(faces, rows_mask)
+        touching, reach = _grow(faces, rows_mask)
+        for _ in range(INTRINSIC_MARGIN if operator == "intrinsic" else 0):
+            touching, reach = _grow(faces, reach)
+        sub = faces[touching]
+        used = np.zeros(n, dtype=bool)
+        used[sub.ravel()] = True
+        lonely = free_ids[~used[free_ids]]
+        if len(lonely):
+            raise MeshError(f"free vertices {preview(lonely.tolist())} are in no face",
+                            vertices=lonely[:10].tolist())
+        self.order, self.free_ids = order, free_ids
+        self.ids = np.flatnonzero(used)
+        local = np.full(n, -1, dtype=np.int64)
+        local[self.ids] = np.arange(len(self.ids))
+        self.f = local[sub]
+        self.is_free = mask[self.ids]
+        self.in_rows = rows_mask[self.ids]
+        if cut is not None:
+            self.in_rows = self.in_rows & ~np.asarray(cut, dtype=bool)[self.ids]
+        _check_anchored(self.f, self.is_free, self.ids)
+
+    def solve(self, v, iterations, operator, shared=None, own=None):
+        """The faired positions (n, 3). For the first solve: ``shared`` = (a larger region,
+        its L, its masses), whose rows this region's rows equal, or ``own`` = (L, masses)
+        already made on this region."""
+        out = v.copy()
+        ids, is_free, in_rows = self.ids, self.is_free, self.in_rows
+        for step in range(iterations):
+            x = out[ids]
+            if step == 0 and own is not None:
+                lap, mass = own
+            elif step == 0 and shared is not None:
+                top, top_lap, top_mass = shared
+                pos = np.searchsorted(top.ids, ids)
+                # rows outside `in_rows` differ from this submesh's own (their stars are
+                # cut off here) but are never used
+                lap, mass = top_lap[pos][:, pos], top_mass[pos]
+            else:
+                # rows of L are exact for vertices whose whole star is in the submesh
+                # (rows_mask); outer vertices only appear as columns
+                lap, mass = laplacian_and_mass(x, self.f, operator)
+            inv_mass = 1.0 / np.maximum(mass, 1e-300)
+            op = lap[is_free]
+            for _ in range(self.order - 1):
+                # (L M⁻¹)(…): only rows inside `rows_mask` are used, where L and M are exact
+                op = (op[:, in_rows] @ sp.diags(inv_mass[in_rows]) @ lap[in_rows]).tocsr()
+            op = op.tocsc()
+            a = op[:, is_free]
+            rhs = -(op[:, ~is_free] @ x[~is_free])
+            sol = np.asarray(spsolve(a.tocsc(), rhs)).reshape(-1, 3)
+            if not np.isfinite(sol).all():
+                raise MeshError("fairing system is singular (degenerate triangles around "
+                                "the free vertices?)", vertices=self.free_ids[:10].tolist())
+            out[ids[is_free]] = sol
+        return out
