@@ -1,0 +1,107 @@
+"""Where the CPU of the 651k case goes, part by part (issue 15; docs/scale.md, third pass).
+
+1. The conformal holes: each of the ten holes' neighbourhoods is cut from the mesh (as
+   ``fill_holes`` cuts it) and filled by ``conformal_fill`` in this process, after one
+   untimed fill (kernels loaded); the CPU seconds of the whole loop and of its parts
+   (the hidden-ring and sibling tests, the faired fills, the λ-H passes, the point-to-mesh
+   distances; each part includes what runs inside it).
+2. The whole-mesh work of ``fill_holes`` before the holes: validation with the edge table
+   (``_prepared``) and ``find_holes``, three calls.
+
+The mesh is the one ``benchmarks/scale.py`` makes (generated here when missing). Run the
+same command on two checkouts, alternated, to compare them:
+
+    PYTHONPATH=src python benchmarks/scale_parts.py [--workdir /tmp/surfinpaint-scale]
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from scale import make_case  # noqa: E402
+
+import surfinpaint.fill.conformal.candidates as candidates  # noqa: E402
+import surfinpaint.fill.conformal.method as method  # noqa: E402
+from surfinpaint.fill import pipeline  # noqa: E402
+from surfinpaint.fill.conformal.options import ConformalOptions  # noqa: E402
+from surfinpaint.fill.holes import find_holes  # noqa: E402
+from surfinpaint.fill.warmup import warm_kernels  # noqa: E402
+from surfinpaint.geometry import metrics  # noqa: E402
+from surfinpaint.io.formats import read_mesh  # noqa: E402
+
+
+def _timed(owner, name: str, label: str, spent: dict[str, float]) -> None:
+    """Wrap ``owner.name`` to add its CPU seconds to ``spent[label]``."""
+    inner = getattr(owner, name)
+
+    @functools.wraps(inner)
+    def wrapper(*args, **kwargs):
+        started = time.process_time()
+        try:
+            return inner(*args, **kwargs)
+        finally:
+            spent[label] = spent.get(label, 0.0) + time.process_time() - started
+
+    setattr(owner, name, wrapper)
+
+
+def hole_parts(vertices: np.ndarray, faces: np.ndarray) -> dict[str, float]:
+    """CPU seconds of the ten conformal holes, in all and by part."""
+    options = ConformalOptions()
+    mesh = pipeline._FilledMesh(vertices, faces)
+    cuts = [mesh.cut(h.loop, options.neighbourhood_rings(h.n_edges))
+            for h in find_holes(vertices, faces)]
+    spent: dict[str, float] = {}
+    for owner, name, label in (
+            (method, "hidden_ring_scores", "hidden-ring test"),
+            (method, "sibling_scores", "sibling test"),
+            (candidates, "faired_fills", "faired fills"),
+            (candidates, "inpaint_patch_on_mesh", "λ-H passes"),
+            (metrics._TriangleIndex, "distance", "distances")):
+        _timed(owner, name, label, spent)
+    warm_kernels()
+    method.conformal_fill(cuts[-1].vertices, cuts[-1].faces, cuts[-1].local_loop)
+    spent.clear()
+    started = time.process_time()
+    for cut in cuts:
+        method.conformal_fill(cut.vertices, cut.faces, cut.local_loop)
+    return {"all holes": time.process_time() - started, **spent}
+
+
+def whole_mesh(vertices: np.ndarray, faces: np.ndarray, calls: int = 3) -> list[tuple]:
+    """CPU seconds of ``fill_holes``' validation and of ``find_holes``, ``calls`` times."""
+    out = []
+    for _ in range(calls):
+        started = time.process_time()
+        v, f, _, table = pipeline._prepared(vertices, faces, False, True)
+        middle = time.process_time()
+        find_holes(v, f, table, validate=False)
+        out.append((middle - started, time.process_time() - middle))
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--workdir", type=Path, default=Path("/tmp/surfinpaint-scale"))
+    args = parser.parse_args(argv)
+    args.workdir.mkdir(parents=True, exist_ok=True)
+    case = make_case(args.workdir, "bumpy-sphere-651k", 8, 10, 12.0)
+    vertices, faces = read_mesh(case.path)[:2]
+    load = lambda: open("/proc/loadavg").read().split()[0]  # noqa: E731
+    parts = hole_parts(vertices, faces)
+    print("holes (CPU s): " + ", ".join(f"{k} {v:.2f}" for k, v in parts.items())
+          + f" (load {load()})")
+    print("validation + find_holes (CPU s): " + ", ".join(
+        f"{a:.2f} + {b:.2f}" for a, b in whole_mesh(vertices, faces)) + f" (load {load()})")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
