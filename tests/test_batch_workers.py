@@ -16,14 +16,15 @@ from surfinpaint.app.cli import main
 from surfinpaint.fill import parallel
 
 
-@pytest.mark.parametrize(("methods", "threads", "expected"), [
-    (["fork", "spawn", "forkserver"], 1, "fork"),        # Linux, one thread: forked
-    (["fork", "spawn", "forkserver"], 2, "forkserver"),  # another thread runs (a bar)
-    (["spawn", "fork", "forkserver"], 1, "fork"),        # macOS lists spawn first
-    (["spawn"], 1, "spawn"),                             # Windows
+@pytest.mark.parametrize(("platform", "methods", "threads", "expected"), [
+    ("linux", ["fork", "spawn", "forkserver"], 1, "fork"),        # one thread: forked
+    ("linux", ["fork", "spawn", "forkserver"], 2, "forkserver"),  # another thread (a bar)
+    ("darwin", ["spawn", "fork", "forkserver"], 1, "forkserver"),  # macOS: never forked
+    ("win32", ["spawn"], 1, "spawn"),                             # Windows
 ])
-def test_workers_are_forked_only_while_one_thread_runs(monkeypatch, methods, threads,
-                                                        expected):
+def test_workers_are_forked_only_on_linux_while_one_thread_runs(monkeypatch, platform,
+                                                                 methods, threads, expected):
+    monkeypatch.setattr(parallel.sys, "platform", platform)
     monkeypatch.setattr(parallel.multiprocessing, "get_all_start_methods", lambda: methods)
     monkeypatch.setattr(parallel.threading, "active_count", lambda: threads)
     context = parallel.start_context("surfinpaint.app.batch")

@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 import multiprocessing
 import os
+import sys
 import threading
 import time
 import warnings
@@ -171,14 +172,16 @@ def worth_parallel(n_edges: list[int], workers: int, method: str) -> bool:
 
 
 def start_context(preload: str) -> multiprocessing.context.BaseContext:
-    """How worker processes start: forked where this process runs one thread (no re-import
+    """How worker processes start: forked on Linux where this process runs one thread (no re-import
     of the caller's script, so it needs no ``if __name__ == "__main__"`` guard, and the
     imported modules and compiled kernels come along; the parent's pages are shared, not
     copied), else from a server that imported the module ``preload`` once ("forkserver":
     a fork while other threads run could copy a lock one of them holds), else spawned
-    (no fork: the caller's script then needs the guard)."""
+    (no fork: the caller's script then needs the guard). Not forked on macOS even with one
+    thread: its system libraries are not safe across fork (why CPython spawns there)."""
     methods = multiprocessing.get_all_start_methods()
-    if "fork" in methods and threading.active_count() == 1:
+    if ("fork" in methods and sys.platform.startswith("linux")
+            and threading.active_count() == 1):
         return multiprocessing.get_context("fork")
     method = "forkserver" if "forkserver" in methods else "spawn"
     context = multiprocessing.get_context(method)
