@@ -55,6 +55,10 @@ from surfinpaint.representation.continuation import arclength_continuation
 
 # damped Newton steps tried from the start before the continuation
 NEWTON_STEPS = 12
+# the softened unit vectors (see soft_unit): the frame's w is cut off below this fraction
+# of its conformal length 2λ, the vertex normal's N below this fraction of 6 λ² A_uv (its
+# length on the original, twice the one-ring's area)
+SOFTENING = 0.01
 # vertex areas within this relative difference of λ²'s: the original, not another solution
 AREA_MATCH = 1e-6
 
@@ -121,13 +125,14 @@ def _blocks(rows: np.ndarray, cols: np.ndarray, blocks: np.ndarray, n: int) -> s
     return sp.csr_matrix((blocks.ravel(), (r.ravel(), c.ravel())), shape=(3 * n, 3 * n))
 
 
-def normals_with_jacobian(points: np.ndarray, faces: np.ndarray
-                          ) -> tuple[np.ndarray, sp.csr_matrix]:
+def normals_with_jacobian(points: np.ndarray, faces: np.ndarray,
+                          eps: np.ndarray | None = None) -> tuple[np.ndarray, sp.csr_matrix]:
     """Area-weighted unit vertex normals and their derivative with respect to the positions.
 
     ``N_i = Σ_f (p1 − p0) × (p2 − p0)`` over the faces of i and ``n_i = N_i / |N_i|``;
     ``∂N_i/∂p_k = [p_{k+2} − p_{k+1}]×`` for corner k of a face of i, and
-    ``dn = (I − n nᵀ) dN / |N|``.
+    ``dn = (I − n nᵀ) dN / |N|``. With ``eps``, ``n_i = soft_unit(N_i, eps_i)`` instead
+    (unit where ``|N_i| ≥ eps_i``; :func:`soft_unit`).
 
     Returns
     -------
@@ -138,14 +143,15 @@ def normals_with_jacobian(points: np.ndarray, faces: np.ndarray
     p = np.asarray(points, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     n = len(p)
-    c = face_cross(p, f)
-    N = np.zeros((n, 3))
-    for k in range(3):
-        np.add.at(N, f[:, k], c)
-    length = np.linalg.norm(N, axis=1)
-    length = np.where(length > 0, length, 1.0)
-    unit = N / length[:, None]
-    P = (np.eye(3)[None] - unit[:, :, None] * unit[:, None, :]) / length[:, None, None]
+    N = _area_vectors(p, f)
+    if eps is None:
+        length = np.linalg.norm(N, axis=1)
+        length = np.where(length > 0, length, 1.0)
+        unit = N / length[:, None]
+        P = (np.eye(3)[None] - unit[:, :, None] * unit[:, None, :]) / length[:, None, None]
+    else:
+        unit, k, k1 = soft_unit(N, eps)
+        P = _soft_jacobian(N, k, k1)
     rows, cols, blocks = [], [], []
     for k in range(3):
         X = _cross_matrices(p[f[:, (k + 2) % 3]] - p[f[:, (k + 1) % 3]])
@@ -190,25 +196,92 @@ def mesh_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
     along = np.einsum("ij,ij->i", lap, normal)
     H = along / (2.0 * lam2)
     G_u, G_v = gradient_operators(uv, f)
-    e1, e2 = _frame(G_u @ p, G_v @ p, normal)
+    lam = np.sqrt(lam2)
+    eps_w, eps_n = softening(lam, area_uv)
+    # the rebuild's (softened) normal; on the original it is the unit one wherever the
+    # one-ring's area vector is longer than eps_n (all vertices but a folded one-ring's)
+    soft = soft_unit(_area_vectors(p, f), eps_n)[0]
+    e1, e2, _, _ = _frame(G_u @ p, G_v @ p, soft, eps_w)
     tangential = lap - along[:, None] * normal
-    defect = np.column_stack([np.einsum("ij,ij->i", tangential, e1),
-                              np.einsum("ij,ij->i", tangential, e2)])
+    length2 = np.einsum("ij,ij->i", e1, e1)  # e1 ⊥ e2, both of this squared length
+    length2 = np.where(length2 > 0, length2, 1.0)
+    defect = np.column_stack([np.einsum("ij,ij->i", tangential, e1) / length2,
+                              np.einsum("ij,ij->i", tangential, e2) / length2])
     border = np.concatenate(boundary_loops(f)) if len(f) else np.zeros(0, np.int64)
     H[border] = np.nan
     defect[border] = np.nan
-    return np.sqrt(lam2), H, defect
+    return lam, H, defect
 
 
-def _frame(g_u: np.ndarray, g_v: np.ndarray, normal: np.ndarray
-           ) -> tuple[np.ndarray, np.ndarray]:
-    """The orthonormal tangent frame ``e1 = w / |w|``, ``e2 = n × e1``,
-    ``w = P φ_u − n × φ_v``."""
-    t = (g_u - np.einsum("ij,ij->i", g_u, normal)[:, None] * normal
+def _area_vectors(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """``N_i = Σ_f (p1 − p0) × (p2 − p0)`` over the faces of each vertex."""
+    c = face_cross(points, faces)
+    N = np.zeros((len(points), 3))
+    for k in range(3):
+        np.add.at(N, faces[:, k], c)
+    return N
+
+
+def soft_unit(x: np.ndarray, eps: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``x / |x|`` softened below ``|x| = ε``: ``x k(|x|)`` with ``k(ρ) = 1 / ρ`` for
+    ρ ≥ ε and ``k(ρ) = (2 − ρ/ε) / ε`` below, so the vector is unit where ``|x| ≥ ε`` and
+    goes smoothly (C¹) to zero with x instead of jumping.
+
+    Why: a rebuild's intermediate surfaces can fold a vertex's one-ring (its area vector N
+    vanishes) or make its map anti-conformal there (the frame's w vanishes); the unit
+    vectors are not continuous there, and the continuation's curve ended at such points
+    (measured: the hoof cap at t = 0.584, |w| = 1e-5 |φ_u|; the 70 mm pial disk at
+    t = 0.188, |N| = 6e-6 of the one-ring's area, docs/representation.md). Softened, the
+    equations are smooth everywhere and unchanged wherever ``|x| ≥ ε``, the original
+    mesh among those points.
+
+    Parameters
+    ----------
+    x : (n, 3) float array
+    eps : (n,) float array
+        Positive.
+
+    Returns
+    -------
+    y : (n, 3) float array
+        The softened unit vectors.
+    k, k1 : (n,) float arrays
+        ``k(|x|)`` and ``k'(|x|) |x|``: ``dy = (k I + k1 x̂ x̂ᵀ) dx``.
+    """
+    rho = np.sqrt(np.einsum("ij,ij->i", x, x))
+    inside = rho < eps
+    safe = np.where(rho > 0, rho, 1.0)
+    k = np.where(inside, (2.0 - rho / eps) / eps, 1.0 / safe)
+    k1 = np.where(inside, -rho / eps**2, -1.0 / safe)
+    return x * k[:, None], k, k1
+
+
+def _soft_jacobian(x: np.ndarray, k: np.ndarray, k1: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) ``k I + k1 x̂ x̂ᵀ`` of :func:`soft_unit`."""
+    rho = np.linalg.norm(x, axis=1)
+    unit = x / np.where(rho > 0, rho, 1.0)[:, None]
+    return (k[:, None, None] * np.eye(3)[None]
+            + k1[:, None, None] * unit[:, :, None] * unit[:, None, :])
+
+
+def softening(lam: np.ndarray, area_uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """ε of :func:`soft_unit` for the frame's w and for the vertex normal's N at each
+    vertex: ``SOFTENING`` times their lengths on a conformal mesh with this λ, 2λ and
+    ``6 λ² A_uv``."""
+    lam = np.where(np.isfinite(lam) & (lam > 0), lam, 1.0)
+    tiny = np.finfo(float).tiny
+    return (np.maximum(SOFTENING * 2.0 * lam, tiny),
+            np.maximum(SOFTENING * 6.0 * lam**2 * area_uv, tiny))
+
+
+def _frame(g_u: np.ndarray, g_v: np.ndarray, normal: np.ndarray, eps: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """The tangent frame ``e1 = soft_unit(w)``, ``e2 = n × e1`` with
+    ``w = g_u − (g_u·n) n − n × g_v``; and w with :func:`soft_unit`'s (k, k1)."""
+    w = (g_u - np.einsum("ij,ij->i", g_u, normal)[:, None] * normal
          - np.cross(normal, g_v))
-    length = np.linalg.norm(t, axis=1, keepdims=True)
-    e1 = t / np.where(length > 0, length, 1.0)
-    return e1, np.cross(normal, e1)
+    e1, k, k1 = soft_unit(w, eps)
+    return e1, np.cross(normal, e1), w, (k, k1)
 
 
 @dataclass(frozen=True)
@@ -263,33 +336,35 @@ class _System:
         self.s = np.where(unknown, 2.0 * lam**2 * H, 0.0)
         self.a = np.where(unknown, defect[:, 0], 0.0)
         self.b = np.where(unknown, defect[:, 1], 0.0)
+        self.eps_w, self.eps_n = softening(lam, self.area)
         self.L3 = sp.kron(self.L, sp.eye(3), format="csr")
         self.G3 = sp.kron(self.G_u, sp.eye(3), format="csr")
         self.G3v = sp.kron(self.G_v, sp.eye(3), format="csr")
         self.idx = np.flatnonzero(np.repeat(unknown, 3))
         self.n = len(uv)
 
+    def normals(self, phi):
+        return soft_unit(_area_vectors(phi, self.faces), self.eps_n)[0]
+
     def force(self, phi, normal):
-        e1, e2 = _frame(self.G_u @ phi, self.G_v @ phi, normal)
+        e1, e2, _, _ = _frame(self.G_u @ phi, self.G_v @ phi, normal, self.eps_w)
         return self.s[:, None] * normal + self.a[:, None] * e1 + self.b[:, None] * e2
 
     def residual(self, phi, t):
-        force = self.force(phi, vertex_normals(phi, self.faces))
+        force = self.force(phi, self.normals(phi))
         return (self.L @ phi - t * self.area[:, None] * force).ravel()[self.idx]
 
     def jacobian(self, phi, t):
         # dF = (B − K C') dn + K P dg_u − K [n]× dg_v with w = P g_u − n × g_v,
-        # de1 = Q dw, dw = P dg_u − [n]× dg_v − C' dn, C' = (g_u·n) I + n g_uᵀ − [g_v]×
-        normal, D = normals_with_jacobian(phi, self.faces)
+        # de1 = Q dw (Q = soft_unit's derivative), dw = P dg_u − [n]× dg_v − C' dn,
+        # P = I − n nᵀ, C' = (g_u·n) I + n g_uᵀ − [g_v]× (n the softened normal)
+        normal, D = normals_with_jacobian(phi, self.faces, self.eps_n)
         g, g_v = self.G_u @ phi, self.G_v @ phi
         ng = np.einsum("ij,ij->i", g, normal)
-        tan = g - ng[:, None] * normal - np.cross(normal, g_v)
-        length = np.linalg.norm(tan, axis=1)
-        length = np.where(length > 0, length, 1.0)
-        e1 = tan / length[:, None]
+        e1, _, w, (k, k1) = _frame(g, g_v, normal, self.eps_w)
         eye = np.eye(3)[None]
         P = eye - normal[:, :, None] * normal[:, None, :]
-        Q = (eye - e1[:, :, None] * e1[:, None, :]) / length[:, None, None]
+        Q = _soft_jacobian(w, k, k1)
         C = (ng[:, None, None] * eye + normal[:, :, None] * g[:, None, :]
              - _cross_matrices(g_v))
         N = _cross_matrices(normal)

@@ -45,7 +45,8 @@ __all__ = [
 
 DISCRETIZATIONS = ("mesh", "grid")
 # 3: the defect in the frame of w = P φ_u − n × φ_v (2: of P φ_u; its rebuild is not exact)
-_FORMAT = 3
+# 4: frame and normal softened where they vanish (mesh_lambda_h.soft_unit)
+_FORMAT = 4
 # the automatic grid export: nodes along the long side at most / at least
 _MAX_RESOLUTION = 1024
 _MIN_RESOLUTION = 64
