@@ -13,7 +13,8 @@ from surfinpaint.fill.conformal.patch import grown_patch, hole_patch
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import MeshLambdaH
 from surfinpaint.geometry import mean_value, parameterization
-from surfinpaint.geometry.mesh import boundary_halfedges, connected_components
+from surfinpaint.geometry.mesh import boundary_halfedges, connected_components, unique_edges
+from surfinpaint.representation.grid_represent import smooth_subdivision
 from surfinpaint.representation.on_mesh import ThinPatchError, inpaint_on_mesh
 
 __all__ = ["inpaint_patch_on_mesh"]
@@ -39,7 +40,9 @@ def inpaint_patch_on_mesh(
 
     The patch is the fill plus ``rings`` face rings of the surface around the hole, mapped by
     LSCM; where that map flips or squashes a triangle the patch loses a ring, down to 3
-    rings, and then its bad triangles are untangled (:func:`_mapped_patch`). With
+    rings, and then its bad triangles are untangled (:func:`_mapped_patch`). Where the
+    coupled solve fails on the patch, it is solved again on the patch split once into four
+    onto its smooth interpolant (:func:`_solve_or_subdivide`). With
     ``cut_edges`` (a crease across the hole, :func:`surfinpaint.fill.creases.split_fill`) the
     mesh is cut open along them first and each side of the crease is a patch of its own,
     the crease its fixed border.
@@ -134,12 +137,12 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
             vertices, faces, seeds, fill_faces, rings, grow=grow)
         free = np.isin(ids, moving)
         points = vertices[ids]
+        # the patch's whole border natural: which it is not, but H near it is left to
+        # the inpainting instead of giving up
+        natural_ids = np.ones(len(ids), dtype=bool) if all_natural else on_border[ids]
         try:
-            # the patch's whole border natural: which it is not, but H near it is left to
-            # the inpainting instead of giving up
-            new_points = inpaint_on_mesh(
-                points, local, uv, free, iterations=iterations, tol=tol,
-                natural=np.ones(len(ids), dtype=bool) if all_natural else on_border[ids])
+            new_points = _solve_or_subdivide(points, local, uv, free, len(fill_faces),
+                                             natural_ids, iterations, tol)
             break
         except ThinPatchError:
             if all_natural:
@@ -147,6 +150,47 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
     lambda_h = MeshLambdaH(uv=uv, faces=local, n_fill_faces=len(fill_faces), free=free,
                            before=points, after=new_points, map=map_name)
     return new_points[np.searchsorted(ids, moving)], patch, used, lambda_h
+
+
+def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, tol):
+    """The coupled solve on the patch, and where it fails (not for want of rings), on the
+    patch split once into four onto its smooth interpolant (:func:`_subdivided`), read back
+    at the patch's own vertices.
+
+    Why: where the surface's curvature radius is 1-2 edge lengths (an egg-crate of period
+    5-8 edges, a white-matter sulcus) the lagged iteration and Newton's method from the
+    start find no fixed point on the patch; with its edges halved the same solve converges
+    on 10 of the 18 such holes of ``benchmarks/eggcrate.py`` (docs/convergence.md). Only
+    tried where the solve failed, so every fill that worked before is unchanged.
+    """
+    try:
+        return inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
+                               natural=natural)
+    except ThinPatchError:
+        raise
+    except FillError as coarse:
+        fine = _subdivided(points, local, uv, free, n_fill, natural)
+        try:
+            out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3], iterations=iterations,
+                                  tol=tol, natural=fine[4])
+        except FillError as exc:
+            raise FillError(f"{coarse}; on the patch subdivided once: {exc}") from None
+        return out[:len(points)]
+
+
+def _subdivided(points, local, uv, free, n_fill, natural):
+    """The patch split once into four (edge midpoints) onto the Clough–Tocher interpolant
+    of its positions over ``uv`` (:func:`smooth_subdivision`): positions, faces, map (the
+    midpoints of the map), free vertices (those off the surface's faces) and natural ones
+    (midpoints of natural border edges)."""
+    fine_points, fine_faces = smooth_subdivision(points, local, uv, 1)
+    edges, face_edge, _ = unique_edges(local)
+    fine_uv = np.vstack([uv, uv[edges].mean(axis=1)])
+    on_surface = np.zeros(len(edges), dtype=bool)
+    on_surface[face_edge[n_fill:].ravel()] = True
+    fine_free = np.concatenate([free, ~on_surface])
+    fine_natural = np.concatenate([natural, natural[edges[:, 0]] & natural[edges[:, 1]]])
+    return fine_points, fine_faces, fine_uv, fine_free, fine_natural
 
 
 def _mapped_patch(vertices, faces, seeds, fill_faces, rings, grow=False):
