@@ -87,7 +87,7 @@ def inpaint_patch_on_mesh(
     moving = np.asarray(moving, dtype=np.int64)
     if cut_edges is None:
         return _inpaint_piece(vertices, faces, loop, fill_faces, moving, rings=rings,
-                              iterations=iterations, tol=tol)
+                              iterations=iterations, tol=tol, subdivide=True)
     cut, parent = cut_along(np.vstack([fill_faces, faces]), cut_edges)
     cut_fill, cut_known = cut[:len(fill_faces)], cut[len(fill_faces):]
     points = vertices[parent]
@@ -116,7 +116,7 @@ def inpaint_patch_on_mesh(
 
 
 def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterations, tol,
-                   natural=None):
+                   natural=None, subdivide=False):
     """:func:`inpaint_patch_on_mesh` of one patch, grown from ``seeds`` over ``faces``.
 
     Where the patch is too thin for the biharmonic stencil (its rings stopped short, e.g.
@@ -142,7 +142,7 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
         natural_ids = np.ones(len(ids), dtype=bool) if all_natural else on_border[ids]
         try:
             new_points = _solve_or_subdivide(points, local, uv, free, len(fill_faces),
-                                             natural_ids, iterations, tol)
+                                             natural_ids, iterations, tol, subdivide)
             break
         except ThinPatchError:
             if all_natural:
@@ -152,7 +152,8 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
     return new_points[np.searchsorted(ids, moving)], patch, used, lambda_h
 
 
-def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, tol):
+def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, tol,
+                        subdivide):
     """The coupled solve on the patch, and where it fails (not for want of rings), on the
     patch split once into four onto its smooth interpolant (:func:`_subdivided`), read back
     at the patch's own vertices.
@@ -161,7 +162,9 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     5-8 edges, a white-matter sulcus) the lagged iteration and Newton's method from the
     start find no fixed point on the patch; with its edges halved the same solve converges
     on 10 of the 18 such holes of ``benchmarks/eggcrate.py`` (docs/convergence.md). Only
-    tried where the solve failed, so every fill that worked before is unchanged.
+    tried where the solve failed and the hole would fall back (``subdivide``): not on the
+    sides of a crease, whose failure has its own fallback (the hole filled as a smooth one),
+    so every fill that worked before is unchanged.
     """
     try:
         return inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
@@ -169,6 +172,8 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     except ThinPatchError:
         raise
     except FillError as coarse:
+        if not subdivide:
+            raise
         fine = _subdivided(points, local, uv, free, n_fill, natural)
         try:
             out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3], iterations=iterations,
