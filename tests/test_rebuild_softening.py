@@ -139,3 +139,38 @@ def test_rebuild_jacobian_matches_finite_differences_where_softened(disk):
     fd = (system.residual(x + h * d, 0.7) - system.residual(x - h * d, 0.7)) / (2 * h)
     J, _ = system.jacobian(x, 0.7)
     assert np.linalg.norm(J @ d.ravel()[system.idx] - fd) < 1e-5 * np.linalg.norm(fd)
+
+
+class _Dense:
+    def __init__(self, M):
+        self.M = np.asarray(M, dtype=float)
+
+    def solve(self, b):
+        return np.linalg.solve(self.M, b)
+
+
+def test_corrector_refactors_where_the_chord_steps_stop_contracting():
+    """On the unit circle x² + t² = 1, a chord matrix from a far point (slope 3× too small,
+    so chord steps overshoot and grow) does not correct; the refactored one does."""
+    from surfinpaint.representation import continuation
+
+    def residual(z):
+        return np.array([z[0] ** 2 + z[1] ** 2 - 1.0])
+
+    def factor(z, row):
+        return _Dense([[2 * z[0], 2 * z[1]], row])
+
+    y = np.array([1.0, 0.0])
+    tau = np.array([0.0, 1.0])
+    stale = _Dense([[2 * y[0] / 3, 0.0], tau])  # the chord matrix of a wrong slope
+    args = (residual, stale, y, tau, tau, 0.2)
+    done, steps, refactored = continuation._correct(
+        *args, lambda z: factor(z, tau), budget=10)
+    assert done is not None and refactored >= 1 and done[1] == 0.2  # the first attempt
+    # on the curve to the corrector's tolerance, at the arclength constraint t = Δs
+    assert abs(residual(done[0])[0]) < continuation.CORRECTED
+    assert abs(done[0][1] - done[1]) < 1e-12
+    chord, _, none = continuation._correct(*args, lambda z: factor(z, tau), budget=0)
+    # without refactoring the chord steps correct only where the predictor is already
+    # within the tolerance: Δs halved six times or more
+    assert none == 0 and (chord is None or chord[1] <= 0.2 / 64)
