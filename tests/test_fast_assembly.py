@@ -239,3 +239,19 @@ def test_fair_orders_equals_fair_per_order():
     two = fair_orders(vertices, allf, free, (2, 3), iterations=2)
     for k in (2, 3):
         assert np.array_equal(two[k], fair(vertices, allf, free, order=k, iterations=2))
+
+
+def test_the_patch_of_a_fill_is_found_from_its_faces_alone():
+    # sibling_scores looks for the patch among the fill's faces only: the cut's own faces
+    # are never part of it, so the patch is the one found among all the faces
+    from surfinpaint.fill.liepa.baseline import faired_fill
+    from surfinpaint.geometry.metrics import hole_patch_of
+
+    for vertices, faces, _, loop, n in _holes():
+        v = vertices[:n]
+        new_v, new_f, _ = faired_fill(v, faces, loop, 2)
+        all_v = np.concatenate([v, new_v])
+        whole = hole_patch_of(all_v, np.concatenate([faces, new_f]), n, faces)
+        alone = hole_patch_of(all_v, new_f, n, faces)
+        assert np.array_equal(whole[0], alone[0]) and np.array_equal(whole[1], alone[1])
+        assert len(alone[1]) == len(new_f)
