@@ -227,3 +227,24 @@ def test_a_crease_fill_that_fails_is_not_retried_subdivided(monkeypatch):
     assert result.crease is None and "forced failure of a side" in result.crease_failure
     assert "subdivided" not in result.crease_failure
     assert len(sides) == 1
+
+
+def test_a_self_check_test_hole_is_not_retried_subdivided(monkeypatch):
+    # the retry is for the hole's own fill: on a test hole a failed λ-H fill only says
+    # nothing (selection._said), and retrying cost 5-8 s a hole (flange #6, pial #6)
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.fill.conformal.candidates import Candidates
+    from surfinpaint.representation import on_mesh
+
+    sizes = []
+
+    def spy(points, faces, uv, free, **kw):
+        sizes.append(len(faces))
+        return on_mesh.inpaint_on_mesh(points, faces, uv, free, **kw)
+
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", spy)
+    cut = _corrugated(n=20, seed=2, period=6, amplitude=2.0, jitter=0.4, radius=5)
+    fills = Candidates.for_hole(cut.vertices, cut.faces, cut.loop, RAW).for_tests()(
+        cut.vertices, cut.faces, cut.loop)
+    assert isinstance(fills["conformal"], FillError)  # it fails there, as on the hole
+    assert len(sizes) == 1  # and is not solved again on the patch split into four

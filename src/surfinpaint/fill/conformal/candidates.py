@@ -104,8 +104,9 @@ class Candidates:
         smooth hole when that fails).
 
         ``test``: a self-check test hole's fill, scored by its distance to the removed
-        surface: its coupled solve stops at a coarser step, and the costly
-        self-intersection check is left to the hole's own fill.
+        surface: its coupled solve stops at a coarser step and is not retried on the
+        subdivided patch where it fails, and the costly self-intersection check is left to
+        the hole's own fill.
 
         Raises
         ------
@@ -175,7 +176,8 @@ class Candidates:
             for _ in range(o.passes):
                 positions, patch, used, mesh = inpaint_patch_on_mesh(
                     all_v, faces, loop, new_f, moving, rings=rings,
-                    iterations=o.solver_iterations, tol=tol, cut_edges=cut_edges)
+                    iterations=o.solver_iterations, tol=tol, cut_edges=cut_edges,
+                    subdivide=not test)
                 all_v[moving] = positions
             diagnostics = LambdaHDiagnostics("mesh", used, mesh=mesh)
         else:
