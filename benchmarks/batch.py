@@ -4,8 +4,10 @@ markdown table.
 
 Each run is the whole command in a fresh process (imports and worker start-up included),
 into its own output folder; the Dask cluster is started before its run and not timed (the
-command is for an existing cluster), its workers start cold (surfinpaint is imported by the
-first task). The outputs of the three runs are checked to be identical file by file. On a shared
+command is for an existing cluster): once with workers that start cold (surfinpaint is
+imported, and its kernels loaded, by the first task), once with workers started with the
+preload ``surfinpaint.app.dask_worker`` (docs/batch.md). The outputs of all runs are
+checked to be identical file by file. On a shared
 machine the table also says how much a second busy process gains there at the time (two
 processes spinning against one): a speed-up cannot exceed it.
 
@@ -109,19 +111,24 @@ def main() -> None:
 
     load_before, spare = os.getloadavg()[0], spare_cores()
     runs: dict[str, list[tuple[float, float]]] = {
-        "--jobs 1": [], "--jobs 2": [], "Dask, 2 workers": []}
+        "--jobs 1": [], "--jobs 2": [], "Dask, 2 workers": [], "Dask, preloaded workers": []}
     for _ in range(args.repeats):  # the modes alternate, so that a change of load hits all
         runs["--jobs 1"].append(timed([*batch, str(work / "jobs1"), "--jobs", "1"]))
         runs["--jobs 2"].append(timed([*batch, str(work / "jobs2"), "--jobs", "2"]))
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                          dashboard_address=":0") as cluster:
-            runs["Dask, 2 workers"].append(timed(
-                [*batch, str(work / "dask"), "--dask-scheduler", cluster.scheduler_address]))
+        # a fresh cluster for each Dask run (not timed): workers that import surfinpaint and
+        # load its kernels in their first task, or at their start with the documented preload
+        for name, folder, preload in (
+                ("Dask, 2 workers", "dask", []),
+                ("Dask, preloaded workers", "dask_preloaded", ["surfinpaint.app.dask_worker"])):
+            with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                              dashboard_address=":0", preload=preload) as cluster:
+                runs[name].append(timed([*batch, str(work / folder), "--dask-scheduler",
+                                         cluster.scheduler_address]))
     load_after = os.getloadavg()[0]
     for path in paths:
         relative = path.relative_to(inputs)
         first = read_mesh(work / "jobs1" / relative)
-        for other in ("jobs2", "dask"):
+        for other in ("jobs2", "dask", "dask_preloaded"):
             again = read_mesh(work / other / relative)
             if not all(np.array_equal(a, b) for a, b in zip(first, again, strict=True)):
                 raise SystemExit(f"{other}/{relative} differs from jobs1/{relative}")

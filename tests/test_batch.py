@@ -25,6 +25,7 @@ from surfinpaint.app.batch import FileRow, fill_files, find_inputs, read_summary
 from surfinpaint.app.cli import main
 from surfinpaint.data import snowman, sphere, torus
 from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.fill.warmup import kernels_loaded
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
 from surfinpaint.io import MeshData
@@ -325,9 +326,13 @@ def test_a_dask_cluster_fills_every_file_even_when_a_worker_dies(tmp_path):
                 marker.write_text(key)
                 os._exit(1)
 
+    # started with the documented preload: its workers have the kernels before any file
     with distributed.LocalCluster(n_workers=2, threads_per_worker=2, processes=True,
-                                  dashboard_address=":0") as cluster, \
+                                  dashboard_address=":0",
+                                  preload=["surfinpaint.app.dask_worker"]) as cluster, \
             distributed.Client(cluster) as client:
+        loaded = client.run(kernels_loaded)
+        assert list(loaded.values()) == [True, True]
         client.register_plugin(KillOnce())
         rows = fill_files([scans], out, client=client, **FAIR)
     assert marker.exists()  # a worker died mid-task, and Dask ran its task again

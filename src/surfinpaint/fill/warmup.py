@@ -24,7 +24,7 @@ import numpy as np
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.metrics import point_mesh_distance
 
-__all__ = ["KernelWarmup", "warm_kernels", "warmup_mesh"]
+__all__ = ["KernelWarmup", "kernels_loaded", "warm_kernels", "warmup_mesh"]
 
 # below this many faces the whole-mesh passes take too little time to hide the loading
 WARMUP_MIN_FACES = 100_000
@@ -48,6 +48,11 @@ def warmup_mesh() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         b = r * n + (np.arange(n) + 1) % n
         faces += [np.column_stack([a, a + n, b]), np.column_stack([b, a + n, b + n])]
     return vertices, np.concatenate(faces).astype(np.int64), np.arange(n)[::-1].copy()
+
+
+def kernels_loaded(method: str = "conformal") -> bool:
+    """Whether :func:`warm_kernels` has loaded ``method``'s kernels in this process."""
+    return _done[method].is_set()
 
 
 def warm_kernels(method: str = "conformal") -> None:
