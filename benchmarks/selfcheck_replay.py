@@ -166,16 +166,22 @@ def _argmin(t, names):
     return min(names, key=t.get) if names else None
 
 
-def rule_argmin_hidden(row):
-    """The candidate with the lowest hidden-ring score (siblings where none, or where the
-    λ-H fill failed on the hidden-ring hole)."""
-    h, s = _said(row["hidden"]), _said(row["sibling"])
-    faired = _argmin(h, FAIRED) or _argmin(s, FAIRED) or "fair2"
-    t = h if "conformal" in h or "conformal" not in s else s
+def _argmin_of(row, first, second):
+    """The candidate with the lowest ``first``-test score (the ``second`` test's where the
+    first did not run, or where the λ-H fill failed on its hole)."""
+    one, other = _said(row[first]), _said(row[second])
+    faired = _argmin(one, FAIRED) or _argmin(other, FAIRED) or "fair2"
+    t = one if "conformal" in one or "conformal" not in other else other
     pick = _argmin(t, CANDIDATES) or faired
     if _crossed_keep(row, row["hidden"], row["sibling"]):
         pick = "conformal"
     return pick, faired
+
+
+def rule_argmin_hidden(row):
+    """The candidate with the lowest hidden-ring score (siblings where none, or where the
+    λ-H fill failed on the hidden-ring hole)."""
+    return _argmin_of(row, "hidden", "sibling")
 
 
 def rule_argmin_hidden_checked(row):
@@ -195,13 +201,7 @@ def rule_argmin_hidden_checked(row):
 def rule_argmin_siblings(row):
     """The candidate with the lowest sibling score (hidden rings where none, or where the
     λ-H fill failed on the sibling holes)."""
-    h, s = _said(row["hidden"]), _said(row["sibling"])
-    faired = _argmin(s, FAIRED) or _argmin(h, FAIRED) or "fair2"
-    t = s if "conformal" in s or "conformal" not in h else h
-    pick = _argmin(t, CANDIDATES) or faired
-    if _crossed_keep(row, row["hidden"], row["sibling"]):
-        pick = "conformal"
-    return pick, faired
+    return _argmin_of(row, "sibling", "hidden")
 
 
 def rule_product(row):
