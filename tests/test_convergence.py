@@ -4,6 +4,7 @@ biharmonic stencil. Each case is a mesh built here that failed before its fix.""
 
 import numpy as np
 import pytest
+from test_conformal import _patch_error as _error
 
 from surfinpaint import ConformalOptions
 from surfinpaint.data import cube
@@ -13,18 +14,9 @@ from surfinpaint.fill.conformal.checks import check_patch, crossings
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mean_value import bad_faces, untangle
-from surfinpaint.geometry.metrics import hole_patch_of, surface_distance
 from surfinpaint.geometry.parameterization import collapsed_faces, flipped_faces
 
 RAW = ConformalOptions(select=False)
-
-
-def _error(cut, new_v, new_f):
-    vertices = np.vstack([cut.vertices, new_v])
-    pv, pf = hole_patch_of(vertices, np.vstack([cut.faces, new_f]), len(cut.vertices),
-                           cut.faces)
-    d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=4000)
-    return d["mean"] / cut.diameter
 
 
 def _flat_grid(n):
