@@ -1,0 +1,62 @@
+"""``benchmarks/validation.py``'s headline numbers, on hand-made rows (no mesh is filled).
+
+The table is what the README's accuracy section quotes, so its measures are pinned here: the
+per-hole ratio to CGAL, the worst mesh against the bilaplacian fill, the holes above 1.5× the
+better faired fill, and a file of our rows only (no peers' rows) giving no peer measures
+instead of stopping the table.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+sys.path.insert(0, str(BENCH))
+validation = pytest.importorskip("validation")
+
+
+def _row(mesh: str, hole: int, method: str, mean: float, status: str = "ok") -> dict:
+    return {"case": mesh, "hole": hole, "radius_h": 3.0, "boundary_edges": 20,
+            "method": method, "status": status, "mean_pct": mean, "seconds": 0.1,
+            "note": "", "extra": {"kind": "organic", "split": "tuning",
+                                  "near_border": hole == 1, "on_feature": False}}
+
+
+# (mesh, hole): errors of fair, fair3, conformal_raw, conformal (the default), cgal
+ERRORS = {("a", 0): (1.0, 2.0, 0.5, 0.5, 1.0),
+          ("a", 1): (1.0, 1.0, 3.0, 3.0, 2.0),   # default 3× the better faired fill
+          ("b", 0): (2.0, 1.0, 0.4, 0.4, 0.8),
+          ("b", 1): (2.0, 1.0, 1.2, 1.2, 1.2)}
+METHODS = ("fair", "fair3", "conformal_raw", "conformal", "cgal")
+
+
+def _rows(with_peers: bool) -> list[dict]:
+    return [_row(m, k, meth, e) for (m, k), errs in ERRORS.items()
+            for meth, e in zip(METHODS, errs, strict=True) if with_peers or meth != "cgal"]
+
+
+def test_headline_measures_on_hand_made_rows():
+    hl = validation.headline(_rows(True), list(METHODS))
+    # per-hole default / cgal: 0.5, 1.5, 0.5, 1.0 -> median 0.75
+    assert hl["default_over_cgal_per_hole"] == pytest.approx(0.75)
+    # per-mesh medians: a: default 1.75, fair 1.0; b: default 0.8, fair 2.0
+    assert hl["worst_mesh_vs_fair"] == ("a", pytest.approx(1.75))
+    assert hl["meshes_above_1.1_fair"] == ["a"]
+    assert hl["worst_hole_vs_better_faired"] == (("a", 1), pytest.approx(3.0))
+    assert hl["holes_above_1.5_faired"] == 1
+    # cgal's per-mesh medians: a 1.5 (default 1.75 loses), b 1.0 (default 0.8 wins)
+    assert hl["default_best_of_peers"] == (1, 2)
+
+
+def test_a_file_without_the_peers_rows_gives_no_peer_measures():
+    rows = _rows(False)
+    hl = validation.headline(rows, [m for m in METHODS if m != "cgal"])
+    assert hl["default_best_of_peers"] is None
+    assert np.isnan(hl["default_over_cgal_per_hole"])
+    assert hl["worst_mesh_vs_fair"] == ("a", pytest.approx(1.75))
+    text = validation.report(rows, [m for m in METHODS if m != "cgal"], "tuning")
+    assert "no peers' rows" in text and "1.750 (a)" in text
