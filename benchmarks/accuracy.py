@@ -55,7 +55,8 @@ import peers  # noqa: E402
 
 ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conformal_smooth",
                "conformal_grid", "conformal_grid_raw", "conformal_cdt", "conformal_cdt_raw",
-               "fair_cdt", "fair3_cdt", "conventional", "cgal", "cgal3",
+               "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
+               "fair_cgalref", "fair3_cgalref", "conventional", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # the conformal method's variants: their options
@@ -67,6 +68,9 @@ CONFORMAL_VARIANTS = {
     # S0 and the faired candidates on the planar CDT of the loop (docs/candidates.md)
     "conformal_cdt": {"s0_search": "cdt"},
     "conformal_cdt_raw": {"s0_search": "cdt", "select": False},
+    # S0 and the faired candidates refined in CGAL's style (docs/candidates.md, session 9)
+    "conformal_cgalref": {"s0_refinement": "cgal"},
+    "conformal_cgalref_raw": {"s0_refinement": "cgal", "select": False},
 }
 
 
@@ -246,11 +250,13 @@ def _run_conventional(vertices, faces, loop):
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
 
-def _run_faired(vertices, faces, loop, order: int, search: str):
+def _run_faired(vertices, faces, loop, order: int, search: str = "delaunay",
+                refinement: str = "liepa"):
     from surfinpaint.fill.liepa.baseline import faired_fills
 
     t0 = time.perf_counter()
-    nv, nf, _ = faired_fills(vertices, faces, loop, (order,), search=search)[order]
+    nv, nf, _ = faired_fills(vertices, faces, loop, (order,), search=search,
+                             refinement=refinement)[order]
     dt = time.perf_counter() - t0
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
@@ -268,6 +274,9 @@ def run_method(method: str, vertices, faces, loop):
         return _run_conventional(vertices, faces, loop)
     if method in ("fair_cdt", "fair3_cdt"):  # the faired candidates of conformal_cdt
         return _run_faired(vertices, faces, loop, 3 if method == "fair3_cdt" else 2, "cdt")
+    if method in ("fair_cgalref", "fair3_cgalref"):  # the faired candidates of conformal_cgalref
+        return _run_faired(vertices, faces, loop, 3 if method == "fair3_cgalref" else 2,
+                           refinement="cgal")
     if method in peers.PEERS:
         return _run_peer(peers.PEERS[method], vertices, faces, loop)
     raise ValueError(f"unknown method {method!r}: choose from {', '.join(ALL_METHODS)}")

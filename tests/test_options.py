@@ -48,6 +48,7 @@ def sphere_hole():
     ({"grid": GridOptions()}, "grid options apply to discretization='grid' only"),
     ({"discretization": "grid", "grid": {"spacing": 0.3}}, "grid must be a GridOptions"),
     ({"s0_search": "greedy"}, "s0_search must be one of"),
+    ({"s0_refinement": "isotropic"}, "s0_refinement must be one of"),
 ])
 def test_bad_conformal_options(kwargs, match):
     with pytest.raises(ValueError, match=match):

@@ -79,7 +79,8 @@ class Candidates:
                ) -> dict[str, Fill]:
         """The faired candidates ``"fair<k>"`` (one triangulation and refinement shared)."""
         made = faired_fills(vertices, faces, loop, sorted(self.orders),
-                            search=self.options.s0_search)
+                            search=self.options.s0_search,
+                            refinement=self.options.s0_refinement)
         return {f"fair{k}": Fill(made[k][0], made[k][1], "fair", fair_order=made[k][2])
                 for k in self.orders}
 
@@ -92,10 +93,13 @@ class Candidates:
                 s0 = faired[f"fair{self.s0_order}"]
                 return s0.vertices, s0.faces
             new_v, new_f, _ = faired_fills(vertices, faces, loop, [self.s0_order],
-                                           search=self.options.s0_search)[self.s0_order]
+                                           search=self.options.s0_search,
+                                           refinement=self.options.s0_refinement
+                                           )[self.s0_order]
             return new_v, new_f
         new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False,
-                                         search=self.options.s0_search)
+                                         search=self.options.s0_search,
+                                         refinement=self.options.s0_refinement)
         return np.asarray(new_v, dtype=float), np.asarray(new_f, dtype=np.int64)
 
     def lambda_h(self, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,

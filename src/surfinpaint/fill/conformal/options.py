@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from surfinpaint.fill.creases import CREASE_ANGLE
+from surfinpaint.fill.liepa.refinement import REFINEMENTS
 from surfinpaint.fill.liepa.triangulation import SEARCHES
 from surfinpaint.representation.inpainting import INPAINT_METHODS
 from surfinpaint.representation.reconstruction import METHODS as RECONSTRUCT_METHODS
@@ -160,6 +161,10 @@ class ConformalOptions:
         The triangulation of the hole's loop under S0 and the faired candidates
         (:func:`surfinpaint.fill.liepa.triangulation.minimum_weight_triangulation`'s
         ``search``; docs/candidates.md).
+    s0_refinement : {"liepa", "cgal"}
+        The refinement under S0 and the faired candidates
+        (:func:`surfinpaint.fill.liepa.refinement.refine_patch`'s ``style``: Liepa's
+        relaxation to convergence, or CGAL's single flip passes; docs/candidates.md).
     """
 
     start: str = "fair"
@@ -176,10 +181,12 @@ class ConformalOptions:
     crease_angle: float = CREASE_ANGLE
     grid: GridOptions | None = None
     s0_search: str = "delaunay"
+    s0_refinement: str = "liepa"
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
         _one_of("s0_search", self.s0_search, SEARCHES)
+        _one_of("s0_refinement", self.s0_refinement, REFINEMENTS)
         _one_of("discretization", self.discretization, tuple(PATCH_RINGS))
         if self.patch_rings is not None:
             # the mesh discretization drops rings where the map flips, down to 3

@@ -33,6 +33,7 @@ def conventional_fill(
     fair_iterations: int = 1,
     search: str = "delaunay",
     operator: str = "cotan",
+    refinement: str = "liepa",
 ) -> tuple[np.ndarray, np.ndarray]:
     """Fill one hole by Liepa's triangulate / refine / fair.
 
@@ -64,6 +65,8 @@ def conventional_fill(
         (:func:`~surfinpaint.fill.liepa.triangulation.minimum_weight_triangulation`).
     operator : {"cotan", "clamped", "intrinsic"}
         The fairing's Laplacian (:func:`~surfinpaint.fill.liepa.fairing.fair`).
+    refinement : {"liepa", "cgal"}
+        The refinement's style (:func:`~surfinpaint.fill.liepa.refinement.refine_patch`).
 
     Returns
     -------
@@ -112,7 +115,8 @@ def conventional_fill(
         patch = minimum_weight_triangulation(v, loop, faces, search=search)
         new_v = np.empty((0, 3))
         if refine:
-            new_v, patch = refine_patch(v, patch, loop, faces=faces, density=density)
+            new_v, patch = refine_patch(v, patch, loop, faces=faces, density=density,
+                                        style=refinement)
         if fair and len(new_v):
             allv = np.vstack([v, new_v])
             allf = np.vstack([faces, patch])
@@ -146,10 +150,10 @@ def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order
 
 
 def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
-                 orders=(2, 3), *, search: str = "delaunay", operator: str = "cotan"
-                 ) -> dict[int, tuple[np.ndarray, np.ndarray, int]]:
+                 orders=(2, 3), *, search: str = "delaunay", operator: str = "cotan",
+                 refinement: str = "liepa") -> dict[int, tuple[np.ndarray, np.ndarray, int]]:
     """:func:`faired_fill` for several fairing orders, sharing the triangulation and the
-    refinement (those of the order-2 fill); ``search`` and ``operator`` as in
+    refinement (those of the order-2 fill); ``search``, ``operator`` and ``refinement`` as in
     :func:`conventional_fill`.
 
     Returns
@@ -165,7 +169,7 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     v = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     initial_v, patch = conventional_fill(v, faces, loop, refine=True, fair=False,
-                                         search=search)
+                                         search=search, refinement=refinement)
     initial_v = np.asarray(initial_v, dtype=float)
     patch = np.asarray(patch, dtype=np.int64)
     n = len(v)

@@ -26,10 +26,19 @@ import numpy as np
 
 from surfinpaint.compiled import kernel
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.fill.liepa.flip_passes import (
+    inside_either_ball,
+    proper_flip,
+    refine_rounds_cgal,
+    sorted_contains,
+)
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import unique_edges
 
-__all__ = ["boundary_scales", "delaunay_flip", "refine_patch"]
+__all__ = ["REFINEMENTS", "boundary_scales", "delaunay_flip", "refine_patch"]
+
+# refine_patch's styles: Liepa's relaxation to convergence, or CGAL's passes
+REFINEMENTS = ("liepa", "cgal")
 
 # A point must be this far inside a diametral ball (relative to its radius) before an edge
 # flips; keeps co-circular quads (e.g. a square) from flipping back and forth.
@@ -62,56 +71,8 @@ def boundary_scales(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -
     return total[loop] / count[loop]
 
 
-def _cross(u: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of (k, 3) arrays: the same arithmetic as ``np.cross`` (so
-    bit-identical results) without its axis handling, which dominates on the small arrays
-    of a flip round."""
-    out = np.empty_like(u)
-    out[:, 0] = u[:, 1] * w[:, 2] - u[:, 2] * w[:, 1]
-    out[:, 1] = u[:, 2] * w[:, 0] - u[:, 0] * w[:, 2]
-    out[:, 2] = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
-    return out
-
-
-def _inside_diametral_ball(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
-                           s: np.ndarray) -> np.ndarray:
-    """How far point s lies inside the smallest ball through triangle (a, b, c): the ball
-    whose equator is the circumcircle. Returns 1 - |s - centre| / radius (> 0 inside); a
-    degenerate triangle has an infinite ball (returns 1)."""
-    pa = p[a]
-    u = p[b] - pa
-    w = p[c] - pa
-    n = _cross(u, w)
-    n2 = np.einsum("ij,ij->i", n, n)
-    uu = np.einsum("ij,ij->i", u, u)
-    ww = np.einsum("ij,ij->i", w, w)
-    num = ww[:, None] * _cross(n, u) + uu[:, None] * _cross(w, n)
-    ok = n2 > 1e-30 * np.maximum(uu, ww) ** 2
-    centre = pa + num / np.where(ok, 2 * n2, 1.0)[:, None]
-    radius = np.linalg.norm(centre - pa, axis=1)
-    dist = np.linalg.norm(p[s] - centre, axis=1)
-    return np.where(ok, 1.0 - dist / np.where(ok, radius, 1.0), 1.0)
-
-
-def _both_balls(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray,
-                d: np.ndarray) -> np.ndarray:
-    """max(inside(a, b, c; d), inside(b, a, d; c)) in one vectorized call (half the calls)."""
-    k = len(a)
-    both = _inside_diametral_ball(p, np.concatenate([a, b]), np.concatenate([b, a]),
-                                  np.concatenate([c, d]), np.concatenate([d, c]))
-    return np.maximum(both[:k], both[k:])
-
-
-def _in_sorted(x: np.ndarray, sorted_keys: np.ndarray) -> np.ndarray:
-    """``np.isin(x, sorted_keys)`` for a sorted key array, by binary search."""
-    if len(sorted_keys) == 0:
-        return np.zeros(len(x), dtype=bool)
-    pos = np.minimum(np.searchsorted(sorted_keys, x), len(sorted_keys) - 1)
-    return sorted_keys[pos] == x
-
-
 def _inside_ball_one(p, a, b, c, s):  # pragma: no cover - compiled
-    """:func:`_inside_diametral_ball` for one (a, b, c; s), the same arithmetic."""
+    """``flip_passes.inside_diametral_ball`` for one (a, b, c; s), the same arithmetic."""
     ux, uy, uz = p[b, 0] - p[a, 0], p[b, 1] - p[a, 1], p[b, 2] - p[a, 2]
     wx, wy, wz = p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2]
     nx, ny, nz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
@@ -374,7 +335,7 @@ def delaunay_flip(
         start = np.flatnonzero(np.r_[True, sorted_flat[1:] != sorted_flat[:-1]])
         keys = sorted_flat[start]  # sorted, unique
         count = np.diff(np.r_[start, len(flat)])
-        inner = np.flatnonzero((count == 2) & ~_in_sorted(keys, fixed))
+        inner = np.flatnonzero((count == 2) & ~sorted_contains(keys, fixed))
         if len(inner) == 0:
             break
         e1, e2 = order[start[inner]], order[start[inner] + 1]
@@ -384,22 +345,16 @@ def delaunay_flip(
         b = f[t1, (k1 + 2) % 3]
         c = f[t1, k1]
         d = f[t2, k2]
-        score = _both_balls(p, a, b, c, d)
+        score = inside_either_ball(p, a, b, c, d)
         # the remaining checks only on the failing edges (few after the first rounds)
         bad = np.flatnonzero((score > _FLIP_SLACK) & (c != d))
         a, b, c, d, t1, t2, score = (x[bad] for x in (a, b, c, d, t1, t2, score))
         new_key = edge_keys(c, d, n)
         # in 3D both diagonals can fail the test; flipping then would cycle
-        ok = _both_balls(p, c, d, a, b) <= _FLIP_SLACK
-        ok &= ~_in_sorted(new_key, keys) & ~_in_sorted(new_key, forbidden)
+        ok = inside_either_ball(p, c, d, a, b) <= _FLIP_SLACK
+        ok &= ~sorted_contains(new_key, keys) & ~sorted_contains(new_key, forbidden)
         # the two new triangles must be proper and not fold against the old pair
-        old_n = _cross(p[b] - p[a], p[c] - p[a]) + _cross(p[a] - p[b], p[d] - p[b])
-        n1 = _cross(p[d] - p[a], p[c] - p[a])
-        n2 = _cross(p[b] - p[d], p[c] - p[d])
-        scale = np.einsum("ij,ij->i", p[c] - p[d], p[c] - p[d])
-        ok &= (np.einsum("ij,ij->i", n1, old_n) > 0) & (np.einsum("ij,ij->i", n2, old_n) > 0)
-        ok &= (np.linalg.norm(n1, axis=1) > 1e-12 * scale)
-        ok &= (np.linalg.norm(n2, axis=1) > 1e-12 * scale)
+        ok &= proper_flip(p, a, b, c, d)
         cand = np.flatnonzero(ok)
         if len(cand) == 0:
             break
@@ -428,6 +383,7 @@ def refine_patch(
     density: float = np.sqrt(2.0),
     max_iterations: int = 50,
     relax_rounds: int = 1000,
+    style: str = "liepa",
 ) -> tuple[np.ndarray, np.ndarray]:
     """Refine a hole's patch to the edge density of the surrounding mesh (Liepa 2003).
 
@@ -457,6 +413,11 @@ def refine_patch(
         round, closer to CGAL's single relax pass, leaves worse triangles (smallest angle 8°
         instead of 18° on a planar 60-gon) for about the same fairing error (mean ratio to
         CGAL 0.88 vs 0.89 over 24 benchmark holes, with the unrestricted triangulation search).
+    style : {"liepa", "cgal"}
+        "liepa": the rounds above (batch splits, flips to convergence). "cgal": CGAL's
+        variant (:mod:`surfinpaint.fill.liepa.flip_passes`: the same split test and scales,
+        each round relaxed by one sequential flip pass, at most 10 rounds, stopping when a
+        pass flips nothing); ``max_iterations`` and ``relax_rounds`` do not apply.
 
     Returns
     -------
@@ -471,7 +432,7 @@ def refine_patch(
     MeshError
         When ``patch_faces`` or ``loop`` reference ids out of range.
     ValueError
-        For a non-positive density or scales that do not match the loop.
+        For a non-positive density, scales that do not match the loop or an unknown style.
     """
     v = np.asarray(vertices, dtype=float)
     patch = np.asarray(patch_faces, dtype=np.int64).reshape(-1, 3)
@@ -479,6 +440,8 @@ def refine_patch(
     n = len(v)
     if not density > 0:
         raise ValueError(f"density must be positive, got {density}")
+    if style not in REFINEMENTS:
+        raise ValueError(f"style must be one of {', '.join(REFINEMENTS)}, got {style!r}")
     for name, ids in (("patch_faces", patch.ravel()), ("loop", loop)):
         bad = ids[(ids < 0) | (ids >= n)]
         if len(bad):
@@ -519,6 +482,20 @@ def refine_patch(
     if faces is not None:
         forbidden = _outside_edges(np.asarray(faces, dtype=np.int64), local)
 
+    if style == "cgal":
+        pos, f, _ = refine_rounds_cgal(pos, f, sigma, fixed, forbidden, density)
+    else:
+        pos, f = _liepa_rounds(pos, f, sigma, fixed, forbidden, density, max_iterations,
+                               relax_rounds)
+
+    # back to global ids: old patch vertices keep theirs, new ones follow n
+    to_global = np.concatenate([ids, n + np.arange(len(pos) - len(ids))])
+    return pos[len(ids):].copy(), to_global[f]
+
+
+def _liepa_rounds(pos, f, sigma, fixed, forbidden, density, max_iterations, relax_rounds):
+    """Liepa's split-and-relax rounds on a patch in local ids (:func:`refine_patch`):
+    returns ``pos`` with the new vertices appended and the refined ``f``."""
     # no relaxation before the first split: flipping the bare triangulation's long diagonals
     # would change its shape, while flips between split pieces (nearly coplanar) do not
     for _ in range(max_iterations):
@@ -541,10 +518,7 @@ def refine_patch(
         ])
         f = delaunay_flip(pos, f, fixed_edges=fixed, forbidden_edges=forbidden,
                           max_rounds=relax_rounds)
-
-    # back to global ids: old patch vertices keep theirs, new ones follow n
-    to_global = np.concatenate([ids, n + np.arange(len(pos) - len(ids))])
-    return pos[len(ids):].copy(), to_global[f]
+    return pos, f
 
 
 def _outside_edges(faces: np.ndarray, local: np.ndarray) -> np.ndarray:
