@@ -13,7 +13,6 @@ import os
 import signal
 import subprocess
 import sys
-import time
 import warnings
 from pathlib import Path
 
@@ -251,46 +250,6 @@ def test_an_interrupted_run_leaves_no_partial_output_and_a_rerun_completes_it(tm
     rows = fill_files([scans], out, jobs=1, **FAIR)
     _check_rows(rows, expected, skipped={r.output for r in done if r.status != "failed"})
     _check_outputs(out, expected)
-
-
-@pytest.mark.slow
-def test_ctrl_c_finishes_the_files_in_flight_and_the_same_command_picks_up_the_rest(tmp_path):
-    # Ctrl-C in a terminal signals the whole process group: the workers as well
-    folder = tmp_path / "scans"
-    folder.mkdir()
-    v, f = _holey(*snowman(0.12), 2)
-    for i in range(10):
-        write_mesh(folder / f"s{i}.ply", v, f)
-    out = tmp_path / "out"
-    command = [sys.executable, "-m", "surfinpaint", "batch", str(folder), "-o", str(out),
-               "--jobs", "2", "-q"]
-    proc = subprocess.Popen(command, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
-    deadline = time.monotonic() + 120
-    while not (out.is_dir() and any(out.glob("s*.ply"))):
-        assert proc.poll() is None, proc.communicate()
-        assert time.monotonic() < deadline, "no output appeared"
-        time.sleep(0.01)
-    os.killpg(proc.pid, signal.SIGINT)
-    try:
-        _, err = proc.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        pytest.fail("Ctrl-C did not stop the batch within 60 s")
-    assert proc.returncode == 130, err
-    assert "picks up the rest" in err and "Traceback" not in err, err
-    _no_temporaries(out)
-    done = read_summary(out)
-    # every output written was finished and recorded; at least one file was left to do
-    assert sorted(p.name for p in out.glob("s*.ply")) == sorted(r.output for r in done)
-    assert 1 <= len(done) < 10 and all(r.status == "filled" for r in done)
-    rows = fill_files([folder], out, jobs=1)
-    assert [r.status for r in rows].count("skipped") == len(done)
-    assert [r.status for r in rows].count("filled") == 10 - len(done)
-    reference = fill_holes(v, f)
-    for i in range(10):
-        np.testing.assert_array_equal(read_mesh(out / f"s{i}.ply")[0], reference.vertices)
-    _no_temporaries(out)
 
 
 def test_a_killed_local_worker_is_replaced_and_its_files_retried(tmp_path):

@@ -242,10 +242,10 @@ class _Rows:
 
 def _start_worker(queue: Any | None) -> None:
     """Worker initializer. Ctrl-C reaches the whole process group; the parent decides (it
-    lets the files in flight finish, so that their outputs are complete and recorded).
-    SIGTERM ends the worker (a forked one inherits the command's handler, which would
-    raise in the middle of a file instead). ``queue`` takes the hole progress of the
-    worker's files to the parent (None: nobody listens)."""
+    records the files done and ends the workers: :func:`_drain`). SIGTERM ends the worker
+    (a forked one inherits the command's handler, which would raise in the middle of a
+    file instead). ``queue`` takes the hole progress of the worker's files to the parent
+    (None: nobody listens)."""
     global _HOLE_PROGRESS
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
@@ -284,12 +284,26 @@ def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], 
                     rows.add(future.result())
                 del running[future]
     except BaseException:
-        # Ctrl-C or a callback's error: the files in flight finish, complete, and are recorded
+        # Ctrl-C, SIGTERM or a callback's error: stop now. The files already done are
+        # recorded; those in flight are dropped with their workers (an output is written
+        # whole or not at all; a killed write leaves a temporary file the run removes), so
+        # that a rerun fills them, and a scheduler's grace period is not spent waiting
         for future in running:
-            if future.exception() is None:
+            if future.done() and future.exception() is None:
                 rows.add(future.result(), quiet=True)
+        _stop_workers(pool)
         raise
     return lost
+
+
+def _stop_workers(pool: ProcessPoolExecutor) -> None:
+    """End the worker processes of ``pool`` at once and wait for them to be gone (Python
+    3.14's ``terminate_workers``; the pool's own list of them before that)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    for process in processes:
+        process.terminate()
+    for process in processes:
+        process.join()
 
 
 def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
@@ -509,8 +523,11 @@ def fill_files(
     -------
     list of FileRow
         One row per input file, in the order of the inputs; also written to the summary.
-        On ``KeyboardInterrupt`` the files in flight are finished, the summary of the files
-        done is written, and the interrupt propagates; a rerun picks up the rest.
+        On ``KeyboardInterrupt`` (or the command line's SIGTERM) the files in flight are
+        stopped, leaving no partial output (local workers are ended; a Dask cluster's
+        tasks are cancelled, and one already running there may still write its output,
+        whole), the summary of the files done is written, and the interrupt propagates; a
+        rerun fills the rest, the files that were in flight included.
 
     Raises
     ------

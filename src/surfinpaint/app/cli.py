@@ -161,6 +161,12 @@ def cmd_fill(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+# what an interrupted batch did with the files in flight (fill_files), locally / on Dask
+_STOPPED = ("the files in flight were stopped unfinished, leaving no partial output",
+            "the files in flight were cancelled on the cluster (a task already running "
+            "there may still write its output, whole; none is left partial)")
+
+
 def cmd_batch(args: argparse.Namespace) -> int:
     from rich.markup import escape
 
@@ -181,9 +187,9 @@ def cmd_batch(args: argparse.Namespace) -> int:
     except (Interrupted, KeyboardInterrupt) as exc:
         if not isinstance(exc, Interrupted):
             exc = Interrupted(signal.SIGINT)
-        console.print(f"surfinpaint: {exc}; the files in flight were finished, the files "
-                      f"done are in {Path(args.output) / SUMMARY_CSV}, and the same command "
-                      "again picks up the rest")
+        console.print(f"surfinpaint: {exc}; {_STOPPED[client is not None]}; the files done "
+                      f"are in {Path(args.output) / SUMMARY_CSV}, and the same command again "
+                      "picks up the rest, the files in flight included")
         return exc.exit_code
     finally:
         if client is not None:
