@@ -284,26 +284,30 @@ def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], 
                     rows.add(future.result())
                 del running[future]
     except BaseException:
-        # Ctrl-C, SIGTERM or a callback's error: stop now. The files already done are
-        # recorded; those in flight are dropped with their workers (an output is written
-        # whole or not at all; a killed write leaves a temporary file the run removes), so
-        # that a rerun fills them, and a scheduler's grace period is not spent waiting
-        for future in running:
-            if future.done() and future.exception() is None:
-                rows.add(future.result(), quiet=True)
+        # Ctrl-C, SIGTERM or a callback's error: stop now, not after the files in flight
+        # (a large one can take minutes, longer than a scheduler's grace before SIGKILL)
         _stop_workers(pool)
+        for future in running:
+            if not future.cancelled() and future.exception() is None:
+                rows.add(future.result(), quiet=True)
         raise
     return lost
 
 
 def _stop_workers(pool: ProcessPoolExecutor) -> None:
-    """End the worker processes of ``pool`` at once and wait for them to be gone (Python
-    3.14's ``terminate_workers``; the pool's own list of them before that)."""
+    """End the worker processes of ``pool`` at once, then shut it down. Their files in
+    flight are dropped (an output is written whole or not at all; a write cut short leaves
+    a temporary file, which the run removes): a rerun fills them. The files whose result
+    reached the pool before its workers ended are done (their futures hold the rows): the
+    pool reads what its workers sent before it finds them gone. A file written in the
+    instant between its last byte and its result sent is complete but not recorded: a
+    rerun keeps it, as an output newer than its input."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
-    for process in processes:
+    for process in processes:  # the pool's own list: Python 3.14 has terminate_workers
         process.terminate()
     for process in processes:
         process.join()
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
