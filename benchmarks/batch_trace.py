@@ -25,9 +25,12 @@ FOLDER: input meshes (e.g. the ``scans`` folder ``benchmarks/batch.py --folder``
 
 from __future__ import annotations
 
+import argparse
 import json
+import logging
 import os
 import resource
+import subprocess
 import sys
 import tempfile
 import time
@@ -36,7 +39,8 @@ from pathlib import Path
 import surfinpaint.app.batch as _batch
 
 _TRACE = os.environ.get("SURFINPAINT_TRACE_DIR")
-_original_fill_file = _batch.fill_file
+# the file may be executed twice in one namespace (a Dask preload is): wrap the original
+_original_fill_file = getattr(_batch.fill_file, "__wrapped__", _batch.fill_file)
 
 
 def _cpu() -> float:
@@ -44,13 +48,18 @@ def _cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
+def _faults() -> int:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+
+
 def fill_file(job, options, *args, **kwargs):  # noqa: ANN001, ANN002, ANN003, ANN201
     """:func:`surfinpaint.app.batch.fill_file`, recording its times in the trace folder."""
-    cpu, wall = _cpu(), time.time()
+    cpu, wall, faults = _cpu(), time.time(), _faults()
     row = _original_fill_file(job, options, *args, **kwargs)
     if _TRACE:
         record = {"pid": os.getpid(), "file": job.name, "start": wall, "end": time.time(),
-                  "cpu_before": cpu, "cpu": _cpu() - cpu, "status": row.status}
+                  "cpu_before": cpu, "cpu": _cpu() - cpu, "status": row.status,
+                  "minor_faults": _faults() - faults}
         with open(Path(_TRACE) / f"{os.getpid()}.jsonl", "a", encoding="utf-8") as handle:
             handle.write(json.dumps(record) + "\n")
     return row
@@ -58,7 +67,18 @@ def fill_file(job, options, *args, **kwargs):  # noqa: ANN001, ANN002, ANN003, A
 
 # spawned workers pickle the function by its module and name: they find this wrapper
 fill_file.__module__, fill_file.__qualname__ = "surfinpaint.app.batch", "fill_file"
+fill_file.__wrapped__ = _original_fill_file
 _batch.fill_file = fill_file
+
+
+def dask_setup(worker=None) -> None:  # noqa: ANN001
+    """As a Dask worker preload (``--dask``): the wrapper above is installed on the worker
+    by importing this file; the kernels are loaded as ``surfinpaint.app.dask_worker`` does,
+    unless the trace is of cold workers."""
+    if not os.environ.get("SURFINPAINT_TRACE_COLD"):
+        from surfinpaint.app.dask_worker import dask_setup as setup
+
+        setup(worker)
 
 
 def _report(trace: Path, parent: dict, jobs: int) -> dict:
@@ -70,8 +90,12 @@ def _report(trace: Path, parent: dict, jobs: int) -> dict:
     workers = []
     for pid, files in by_pid.items():
         cpus = sorted(f["cpu"] for f in files)
+        gaps = [b["start"] - a["end"] for a, b in zip(files, files[1:], strict=False)]
         workers.append({
-            "pid": pid, "files": len(files), "startup_cpu": files[0]["cpu_before"],
+            "pid": pid, "files": len(files),
+            # a Dask worker started before the command: its start-up is not the run's
+            "startup_cpu": 0.0 if parent.get("dask") else files[0]["cpu_before"],
+            "gaps_wall": sum(gaps), "minor_faults": sum(f["minor_faults"] for f in files),
             "files_cpu": sum(cpus), "first_file_cpu": files[0]["cpu"],
             "median_file_cpu": cpus[len(cpus) // 2],
             "first_start": files[0]["start"] - parent["t0"],
@@ -92,37 +116,82 @@ def _report(trace: Path, parent: dict, jobs: int) -> dict:
 
 
 def main(argv: list[str] | None = None) -> None:
-    import argparse
-
-    from surfinpaint.app.cli import main as cli_main
-
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("folder")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--out", help="output folder (default: a temporary one)")
     parser.add_argument("--json", help="also write the report here")
+    parser.add_argument("--dask", action="store_true",
+                        help="on a local Dask cluster of --jobs single-thread workers with "
+                        "this file as their preload, started before the command (which is "
+                        "then a fresh process, as a real run is)")
+    parser.add_argument("--cold", action="store_true",
+                        help="with --dask: the workers do not load the kernels at start")
+    parser.add_argument("--dask-scheduler", help=argparse.SUPPRESS)  # the command's side
     parser.add_argument("batch_options", nargs="*", help="more options of the command")
     args = parser.parse_args(argv)
     global _TRACE
+    if args.dask_scheduler:  # the command of a --dask trace: the trace folder is given
+        _TRACE = os.environ["SURFINPAINT_TRACE_DIR"]
+        report = _trace(args, ["--dask-scheduler", args.dask_scheduler], args.out,
+                        Path(_TRACE), dask=True)
+        Path(args.json).write_text(json.dumps(report, indent=1) + "\n")
+        return
     trace = Path(tempfile.mkdtemp(prefix="surfinpaint-trace-"))
     os.environ["SURFINPAINT_TRACE_DIR"] = _TRACE = str(trace)
+    if args.cold:
+        os.environ["SURFINPAINT_TRACE_COLD"] = "1"
     out = args.out or tempfile.mkdtemp(prefix="surfinpaint-trace-out-")
-    marks = {}
-    original_run_local = _batch._run_local
+    report = _trace_dask(args, out) if args.dask else \
+        _trace(args, ["--jobs", str(args.jobs)], out, trace)
+    if args.json:
+        Path(args.json).write_text(json.dumps(report, indent=1) + "\n")
+    _print(report)
 
-    def run_local(*a, **k):  # noqa: ANN002, ANN003, ANN202
+
+def _trace_dask(args: argparse.Namespace, out: str) -> dict:
+    """The command run as a fresh process (this script, ``--dask-scheduler``) against a
+    local cluster started here and settled before it; adds the CPU of this process
+    meanwhile (the scheduler)."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=args.jobs, threads_per_worker=1, processes=True,
+                      dashboard_address=":0", preload=[str(Path(__file__).resolve())],
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        client.wait_for_workers(args.jobs)
+        time.sleep(1.0)
+        report_file = Path(os.environ["SURFINPAINT_TRACE_DIR"]) / "command.json"
+        before = _cpu()
+        subprocess.run([sys.executable, __file__, args.folder, "--jobs", str(args.jobs),
+                        "--out", out, "--json", str(report_file), "--dask-scheduler",
+                        cluster.scheduler_address, *args.batch_options], check=True)
+        report = json.loads(report_file.read_text())
+        report["scheduler_cpu"] = _cpu() - before
+    return report
+
+
+def _trace(args: argparse.Namespace, how: list[str], out: str, trace: Path,
+           dask: bool = False) -> dict:
+    """Run the command in this process, marking the parent's phases."""
+    from surfinpaint.app.cli import main as cli_main
+
+    marks = {}
+    name = "_run_dask" if dask else "_run_local"
+    original = getattr(_batch, name)
+
+    def run(*a, **k):  # noqa: ANN002, ANN003, ANN202
         marks["cpu_start"], marks["t_start"] = _cpu(), time.time()
         try:
-            return original_run_local(*a, **k)
+            return original(*a, **k)
         finally:
             marks["cpu_end"], marks["t_end"] = _cpu(), time.time()
 
-    _batch._run_local = run_local
-    code = cli_main(["batch", args.folder, "-o", out, "--overwrite", "-q",
-                     "--jobs", str(args.jobs), *args.batch_options])
+    setattr(_batch, name, run)
+    code = cli_main(["batch", args.folder, "-o", out, "--overwrite", "-q", *how,
+                     *args.batch_options])
     cpu_end, t_end = _cpu(), time.time()
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
-    parent = {"pid": os.getpid(), "t0": T0, "exit": code,
+    parent = {"pid": os.getpid(), "t0": T0, "exit": code, "dask": dask,
               "cpu_before": marks["cpu_start"],
               "cpu_imports": CPU0_IMPORTED,
               "cpu_during": marks["cpu_end"] - marks["cpu_start"],
@@ -130,15 +199,13 @@ def main(argv: list[str] | None = None) -> None:
               "wall_before": marks["t_start"] - T0, "wall_during": marks["t_end"]
               - marks["t_start"], "wall_after": t_end - marks["t_end"], "wall": t_end - T0,
               "children_cpu": children.ru_utime + children.ru_stime}
-    report = _report(trace, parent, args.jobs)
-    if args.json:
-        Path(args.json).write_text(json.dumps(report, indent=1) + "\n")
-    _print(report)
+    return _report(trace, parent, args.jobs)
 
 
 def _print(report: dict) -> None:
     p = report["parent"]
-    print(f"--jobs {report['jobs']}: {report['files']} files; wall {p['wall']:.2f} s "
+    how = f"Dask, {report['jobs']} workers" if p.get("dask") else f"--jobs {report['jobs']}"
+    print(f"{how}: {report['files']} files; wall {p['wall']:.2f} s "
           f"(before the files {p['wall_before']:.2f}, files {p['wall_during']:.2f}, after "
           f"{p['wall_after']:.2f}); load {os.getloadavg()[0]:.1f}")
     print(f"parent CPU: before the files {p['cpu_before']:.2f} s (of which imports "
@@ -148,7 +215,10 @@ def _print(report: dict) -> None:
         print(f"  pid {w['pid']}: {w['files']} files, start-up CPU {w['startup_cpu']:.2f} s, "
               f"files CPU {w['files_cpu']:.2f} (first {w['first_file_cpu']:.2f}, median "
               f"{w['median_file_cpu']:.2f}); first file at {w['first_start']:.2f} s, last "
-              f"done at {w['last_end']:.2f} s (wall)")
+              f"done at {w['last_end']:.2f} s (wall), idle between files "
+              f"{w['gaps_wall']:.2f} s; {w['minor_faults']} minor page faults")
+    if "scheduler_cpu" in report:
+        print(f"the scheduler's CPU (the tracing process) {report['scheduler_cpu']:.2f} s")
     print(f"CPU makespan {report['cpu_makespan']:.2f} s, idle tail {report['idle_tail_cpu']:.2f}"
           f" CPU s, one process's work / makespan {report['work_over_makespan']:.2f}x")
 
