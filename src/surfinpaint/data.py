@@ -19,12 +19,14 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
 
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import unique_edges, vertex_normals
 from surfinpaint.io.atomic import atomic_open
 from surfinpaint.io.formats import read_mesh
+from surfinpaint.lazy import lazy_module
+
+optimize = lazy_module("scipy.optimize")  # generating the bundled meshes only
 
 __all__ = [
     "bumpy_disk",
@@ -150,8 +152,8 @@ def _smooth_union_profile(centres, radii, blend: float, n: int = 20000):
 
     lo = (centres - radii).min()
     hi = (centres + radii).max()
-    z0 = brentq(lambda t: g(t)[0], lo - 2 * blend - 1.0, lo + 1e-9) if g(lo)[0] > 0 else lo
-    z1 = brentq(lambda t: g(t)[0], hi - 1e-9, hi + 2 * blend + 1.0) if g(hi)[0] > 0 else hi
+    z0 = optimize.brentq(lambda t: g(t)[0], lo - 2 * blend - 1.0, lo + 1e-9) if g(lo)[0] > 0 else lo
+    z1 = optimize.brentq(lambda t: g(t)[0], hi - 1e-9, hi + 2 * blend + 1.0) if g(hi)[0] > 0 else hi
     # cosine spacing resolves the square-root behaviour at the poles
     z = z0 + (z1 - z0) * 0.5 * (1 - np.cos(np.pi * np.linspace(0, 1, n)))
     rho = np.sqrt(np.maximum(g(z), 0.0))

@@ -12,7 +12,10 @@ fits, so estimates next to them use one-sided windows and never see them.
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
+
+from surfinpaint.lazy import lazy_module
+
+ndimage = lazy_module("scipy.ndimage")  # the grid world only: no mesh fill imports it
 
 __all__ = ["fitted_derivatives", "robust_lambda_h"]
 

@@ -22,10 +22,10 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
-from scipy import ndimage
 
 from surfinpaint.geometry.mesh import face_normals, unique_edges
 from surfinpaint.geometry.parameterization import flipped_faces, lscm
+from surfinpaint.lazy import lazy_module
 from surfinpaint.representation.fields import lambda_h
 from surfinpaint.representation.grid import (
     Grid,
@@ -39,6 +39,8 @@ from surfinpaint.representation.grid import (
 from surfinpaint.representation.mapping import MAPS, FoldedMapWarning, parameterize
 from surfinpaint.representation.reconstruction import ReconstructionInfo, reconstruct
 from surfinpaint.representation.roundtrip import RoundTrip, save_npz
+
+ndimage = lazy_module("scipy.ndimage")  # the grid world only: no mesh fill imports it
 
 __all__ = [
     "FoldedMapWarning",
@@ -61,7 +63,8 @@ _MAX_LEVELS = 4
 _MAX_FACES = 500_000
 
 # the Gauss–Codazzi rebuild closes its stencils with 3 rings (8-neighbour) of known nodes
-_BLOCK = ndimage.generate_binary_structure(2, 2)
+# ndimage.generate_binary_structure(2, 2), spelled out: no import at start-up
+_BLOCK = np.ones((3, 3), dtype=bool)
 _FORMAT = 1
 
 

@@ -18,11 +18,13 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy import ndimage
 from scipy.sparse import csgraph
 
 from surfinpaint.geometry.linalg import factorized_definite
+from surfinpaint.lazy import lazy_module
 from surfinpaint.representation.fields import check_spacing, domain_mask
+
+ndimage = lazy_module("scipy.ndimage")  # the grid world only: no mesh fill imports it
 
 __all__ = ["INPAINT_METHODS", "biharmonic_flow", "inpaint"]
 

@@ -29,10 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy import ndimage
 
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.linalg import factorized_definite
+from surfinpaint.lazy import lazy_module
 from surfinpaint.representation.fields import (
     central_derivatives,
     check_spacing,
@@ -41,6 +41,8 @@ from surfinpaint.representation.fields import (
     lambda_h,
     normals,
 )
+
+ndimage = lazy_module("scipy.ndimage")  # the grid world only: no mesh fill imports it
 
 __all__ = ["METHODS", "NotConvergedWarning", "ReconstructionInfo", "reconstruct"]
 
@@ -74,8 +76,9 @@ class ReconstructionInfo:
     message: str
 
 
-_CROSS = ndimage.generate_binary_structure(2, 1)
-_BLOCK = ndimage.generate_binary_structure(2, 2)
+# ndimage.generate_binary_structure(2, 1) and (2, 2), spelled out: no import at start-up
+_CROSS = np.array([[False, True, False], [True, True, True], [False, True, False]])
+_BLOCK = np.ones((3, 3), dtype=bool)
 _AXES = ((1, 0), (0, 1))  # grid offsets of the u and v directions
 
 
