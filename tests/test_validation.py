@@ -8,6 +8,7 @@ from conftest import grid_mesh, tetrahedron_mesh
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.validation import (
+    check_arrays,
     check_loop,
     nonmanifold_vertices,
     validate_mesh,
@@ -100,6 +101,30 @@ def test_non_finite_coordinates_name_vertices(tetrahedron):
     err = _rejects(v, f, "2 vertices", "NaN or infinite", ": 1, 3")
     assert err.vertices == [1, 3]
 
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_array_checks_name_every_offending_row(seed):
+    # check_arrays reduces each whole array first and masks rows only when that fails:
+    # the rows it names must be those of the per-row masks, whatever the pattern
+    rng = np.random.default_rng(seed)
+    v, f = grid_mesh(14, 14)  # 225 vertices, 392 faces
+    rows = np.sort(rng.choice(len(v), size=int(rng.integers(1, 120)), replace=False))
+    bad_v = v.astype(float).copy()
+    bad_v[rows, rng.integers(0, 3, len(rows))] = rng.choice([np.nan, np.inf, -np.inf],
+                                                            len(rows))
+    with pytest.raises(MeshError, match=f"{len(rows)} vertices have NaN") as err:
+        check_arrays(bad_v, f)
+    assert err.value.vertices == rows[:100].tolist()
+    for value, words in ((-1 - int(rng.integers(0, 5)), "negative vertex ids"),
+                         (len(v) + int(rng.integers(0, 5)), "vertex ids >= the vertex count")):
+        picked = np.sort(rng.choice(len(f), size=int(rng.integers(1, 120)), replace=False))
+        bad_f = f.copy()
+        bad_f[picked, rng.integers(0, 3, len(picked))] = value
+        with pytest.raises(MeshError, match=f"{len(picked)} faces .*{words}") as err:
+            check_arrays(v, bad_f)
+        assert err.value.faces == picked[:100].tolist()
+    check_arrays(v, f)  # and the good mesh passes
 
 def test_index_range_names_faces(tetrahedron):
     v, f = tetrahedron
