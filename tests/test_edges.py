@@ -62,6 +62,25 @@ def test_table_matches_brute_force(name):
     assert table.boundary_halfedges().tolist() == [[a, b] for _, a, b in lonely]
 
 
+
+@pytest.mark.parametrize("name", list(_meshes()))
+def test_packed_and_argsort_orders_agree(name):
+    # build sorts the keys with their half-edge ids packed in the low bits when that fits
+    # in an int64; with a huge vertex count it cannot, and np.argsort(stable) is used: the
+    # two must give the same table (the brute-force test above checks the first)
+    faces = _meshes()[name]
+    huge = 2**62 // (int(np.max(faces)) + 1)  # keys near 2**62: no bits left to pack into
+    packed, argsorted = EdgeTable.build(faces), EdgeTable.build(faces, huge)
+    keys = edge_keys(argsorted.edges[:, 0], argsorted.edges[:, 1], huge)
+    assert int(keys.max()) >= 2 ** (63 - (3 * len(faces) - 1).bit_length())
+    for field in ("halfedges", "start", "count", "face_edge", "forward", "edges"):
+        assert np.array_equal(getattr(packed, field), getattr(argsorted, field)), field
+    f = np.asarray(faces, dtype=np.int64)
+    tails, heads = f[:, [1, 2, 0]].ravel(), f[:, [2, 0, 1]].ravel()
+    n = packed.n_vertices
+    order = np.argsort(edge_keys(tails, heads, n), kind="stable")
+    assert np.array_equal(packed.halfedges, order)
+
 def test_interior_pairs_are_the_two_halfedges_of_each_two_face_edge():
     faces = _meshes()["fin"]
     table = EdgeTable.build(faces)

@@ -45,6 +45,30 @@ def edge_keys(a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
     return np.minimum(a, b) * np.int64(n) + np.maximum(a, b)
 
 
+def _stable_key_sort(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``order = np.argsort(key, kind="stable")`` and ``key[order]``, for non-negative
+    int64 keys.
+
+    Stable, so each edge's half-edges stay in face order. When each key shifted left by the
+    bits of the largest index still fits in an int64, the index is packed into the low bits
+    and the packed values sorted instead: they are distinct, so their order is the stable
+    order of the keys, and sorting values moves less memory than sorting indices (the 651k
+    case's 3.9M half-edges: about 1.5x faster). Otherwise the argsort itself (timsort, which
+    profits from the runs of a spatially ordered mesh: ~2x faster than quicksort).
+    """
+    n = len(key)
+    shift = max(int(n - 1).bit_length(), 1)
+    if n and int(key.max()) < (1 << (63 - shift)):
+        packed = key << shift
+        packed |= np.arange(n, dtype=np.int64)
+        packed.sort(kind="stable")
+        order = packed & ((1 << shift) - 1)
+        packed >>= shift
+        return order, packed
+    order = np.argsort(key, kind="stable")
+    return order, key[order]
+
+
 @dataclass(frozen=True, eq=False)
 class EdgeTable:
     """Sorted unique undirected edges of a triangle mesh and the maps between edges, faces
@@ -111,10 +135,7 @@ class EdgeTable:
         key *= np.int64(n)
         key += np.maximum(tails, heads)
         del tails, heads
-        # stable, so each edge's half-edges stay in face order (timsort also profits from
-        # the runs of a spatially ordered mesh: ~2x faster than the default quicksort)
-        order = np.argsort(key, kind="stable")
-        sorted_key = key[order]
+        order, sorted_key = _stable_key_sort(key)
         del key
         new = np.empty(len(order), dtype=bool)
         new[:1] = True
