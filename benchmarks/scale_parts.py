@@ -7,22 +7,30 @@
    distances; each part includes what runs inside it).
 2. The whole-mesh work of ``fill_holes`` before the holes: validation with the edge table
    (``_prepared``) and ``find_holes``, three calls.
+3. ``--phases``: instead, one whole ``surfinpaint fill`` run in this process (default and
+   ``--method fair``), wall and CPU seconds of each phase: the imports, reading, the array
+   checks, the edge table, the topology checks, ``find_holes``, the holes, assembling the
+   result, the attributes, writing. CPU is the process's (``time.process_time``): the
+   kernels' warm-up thread (fill/warmup.py) runs beside the edge table and is counted there.
 
 The mesh is the one ``benchmarks/scale.py`` makes (generated here when missing). Run the
 same command on two checkouts, alternated, to compare them:
 
-    PYTHONPATH=src python benchmarks/scale_parts.py [--workdir /tmp/surfinpaint-scale]
+    PYTHONPATH=src python benchmarks/scale_parts.py [--workdir /tmp/surfinpaint-scale] [--phases]
 """
 
 from __future__ import annotations
 
-import argparse
-import functools
-import sys
 import time
-from pathlib import Path
 
-import numpy as np
+STARTED = time.perf_counter(), time.process_time()  # before the imports, for --phases
+
+import argparse  # noqa: E402
+import functools  # noqa: E402
+import sys  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
 from scale import make_case  # noqa: E402
@@ -37,19 +45,48 @@ from surfinpaint.geometry import metrics  # noqa: E402
 from surfinpaint.io.formats import read_mesh  # noqa: E402
 
 
-def _timed(owner, name: str, label: str, spent: dict[str, float]) -> None:
-    """Wrap ``owner.name`` to add its CPU seconds to ``spent[label]``."""
+def _timed(owner, name: str, label: str, spent: dict, wall: dict | None = None) -> None:
+    """Wrap ``owner.name`` to add its CPU seconds to ``spent[label]`` (and its wall seconds
+    to ``wall[label]``)."""
     inner = getattr(owner, name)
 
     @functools.wraps(inner)
     def wrapper(*args, **kwargs):
-        started = time.process_time()
+        started, clock = time.process_time(), time.perf_counter()
         try:
             return inner(*args, **kwargs)
         finally:
             spent[label] = spent.get(label, 0.0) + time.process_time() - started
+            if wall is not None:
+                wall[label] = wall.get(label, 0.0) + time.perf_counter() - clock
 
     setattr(owner, name, wrapper)
+
+
+def process_phases(path: Path, out: Path, method: str) -> list[tuple[str, float, float]]:
+    """(phase, wall s, CPU s) of one ``surfinpaint fill path -o out --method method`` run in
+    this process (the first call only: the second method's imports are already done)."""
+    from surfinpaint.app import cli
+    from surfinpaint.fill.objects import fill_mesh_data  # noqa: F401 (imported by the cli)
+
+    spent: dict[str, float] = {}
+    wall: dict[str, float] = {}
+    for owner, name, label in (
+            (cli, "read_mesh_data", "read"), (cli, "write_mesh_data", "write"),
+            (pipeline, "check_arrays", "array checks"),
+            (pipeline.EdgeTable, "build", "edge table (+ warm-up thread)"),
+            (pipeline, "check_topology", "topology checks"),
+            (pipeline, "find_holes", "find_holes"), (pipeline, "vertex_faces", "vertex_faces"),
+            (pipeline, "_fill_in_parallel", "holes"), (pipeline, "_fill_hole", "holes"),
+            (pipeline._FilledMesh, "result", "assembling the result"),
+            (pipeline, "_with_attributes", "attributes"),
+            (pipeline, "topology_changes", "topology changes")):
+        _timed(owner, name, label, spent, wall)
+    clock, started = time.perf_counter(), time.process_time()
+    cli.main(["fill", str(path), "-o", str(out), "-q", "--method", method])
+    rows = [(k, wall[k], spent[k]) for k in spent]
+    return rows + [("whole run (after the imports)", time.perf_counter() - clock,
+                    time.process_time() - started)]
 
 
 def hole_parts(vertices: np.ndarray, faces: np.ndarray) -> dict[str, float]:
@@ -90,9 +127,19 @@ def whole_mesh(vertices: np.ndarray, faces: np.ndarray, calls: int = 3) -> list[
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workdir", type=Path, default=Path("/tmp/surfinpaint-scale"))
+    parser.add_argument("--phases", choices=("conformal", "fair"),
+                        help="one whole fill by this method, by phase (run once a process)")
     args = parser.parse_args(argv)
     args.workdir.mkdir(parents=True, exist_ok=True)
     case = make_case(args.workdir, "bumpy-sphere-651k", 8, 10, 12.0)
+    if args.phases:
+        imports = (time.perf_counter() - STARTED[0], time.process_time() - STARTED[1])
+        rows = process_phases(case.path, args.workdir / f"{case.name}.phases.ply", args.phases)
+        print(f"{args.phases} (load {open('/proc/loadavg').read().split()[0]}): imports of "
+              f"the benchmark and the package {imports[0]:.2f} s wall, {imports[1]:.2f} s CPU")
+        for name, wall, cpu in rows:
+            print(f"  {name:32s} {wall:6.2f} s wall {cpu:6.2f} s CPU")
+        return 0
     vertices, faces = read_mesh(case.path)[:2]
     load = lambda: open("/proc/loadavg").read().split()[0]  # noqa: E731
     parts = hole_parts(vertices, faces)
