@@ -99,10 +99,13 @@ def test_find_edges_either_direction_and_missing():
     assert table.edges[got[:2]].tolist() == [[1, 2], [1, 2]]
 
 
-def test_vertex_components_match_scipy_on_the_adjacency():
+@pytest.mark.parametrize("shuffled", [False, True])
+def test_vertex_components_match_scipy_on_the_adjacency(shuffled):
     v, f = sphere(2)
     faces = np.vstack([f, f + len(v)])  # two spheres
     n = 2 * len(v) + 3  # three unreferenced vertices at the end
+    if shuffled:  # the components' and the lonely vertices' ids interleaved
+        faces = np.random.default_rng(5).permutation(n)[faces]
     table = EdgeTable.build(faces, n)
     count, label = table.vertex_components
     rows = faces[:, [0, 1, 2]].ravel()

@@ -220,8 +220,11 @@ class EdgeTable:
         """Connected components of the vertices through the edges: ``(count, label per
         vertex)``, labels numbered in order of each component's smallest vertex; vertices
         on no edge are components of their own."""
-        e = self.edges
-        graph = sp.csr_matrix((np.ones(len(e), np.int8), (e[:, 0], e[:, 1])),
-                              shape=(self.n_vertices, self.n_vertices))
+        e, n = self.edges, self.n_vertices
+        # the edges are sorted by (smaller, larger) id and distinct: they are the upper
+        # triangle's CSR rows as they stand (scipy's COO conversion would sort them again)
+        indptr = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(np.bincount(e[:, 0], minlength=n), out=indptr[1:])
+        graph = sp.csr_matrix((np.ones(len(e), np.int8), e[:, 1].copy(), indptr), shape=(n, n))
         count, label = connected_components(graph, directed=False)
         return int(count), label
