@@ -6,8 +6,11 @@ of fills that mix CGAL's steps (through the ``cgal`` package's ``triangulate_hol
 ``triangulate_and_refine_hole`` and ``triangulate_refine_and_fair_hole``) with ours:
 
 - ``cgal`` / ``cgal3``: CGAL's whole pipeline (bi- / trilaplacian);
-- ``fair{k}``: ours (3D-Delaunay-restricted DP, our refinement, cotangent fairing);
-- ``ctri+fair{k}``: CGAL's triangulation, our refinement and fairing;
+- ``fair{k}``: ours (3D-Delaunay-restricted DP, our default refinement, cotangent fairing);
+- ``ctri+fair{k}``: CGAL's triangulation, our Liepa-style refinement
+  (``refine_patch(style="liepa")``) and fairing;
+- ``ctri+cstyle+fair{k}``: CGAL's triangulation, our CGAL-style refinement
+  (``style="cgal"``, session 9) and fairing;
 - ``cref+fair{k}``: CGAL's triangulation and refinement, our fairing;
 - ``cref+clamped{k}``: the same with CGAL's non-negative clamped cotangents
   (``operator="clamped"``);
@@ -16,11 +19,17 @@ of fills that mix CGAL's steps (through the ``cgal`` package's ``triangulate_hol
 Run::
 
     .venv/bin/python benchmarks/cgal_s0.py --holes bunny#1,cube40#1,pial#0,white#2
+    .venv/bin/python benchmarks/cgal_s0.py --holes tuning --ratios \
+        cref+fair3/ctri+fair3,ctri+cstyle+fair3/ctri+fair3 --out s0.json
+
+(``--holes tuning``: every hole of the tuning meshes; ``--ratios a/b,...``: per-hole ratios
+of two columns over the holes, as a table; ``--out``: the rows as JSON.)
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import warnings
 from pathlib import Path
@@ -71,7 +80,9 @@ def _error(cut, new_v, new_f) -> float:
     return float(d["mean"] * 100.0 / cut.diameter)
 
 
-def hole_row(cut) -> dict[str, float]:
+def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
+    """The columns of the module docstring for one hole; ``refinement_only``: only CGAL's
+    triangulation refined three ways (ctri, cref, ctri+cstyle), each faired by ours."""
     v, f, loop = cut.vertices, cut.faces, cut.loop
     n, m = len(v), len(f)
 
@@ -81,42 +92,79 @@ def hole_row(cut) -> dict[str, float]:
                     np.arange(n, n + len(new_v)), order=order, operator=operator)[n:]
 
     out = {}
-    for peer in ("cgal", "cgal3"):
-        cv, cf, _, _ = accuracy._run_peer(peers.PEERS[peer], v, f, loop)
-        out[peer] = _error(cut, cv[n:], cf[m:])
+    if not refinement_only:
+        for peer in ("cgal", "cgal3"):
+            cv, cf, _, _ = accuracy._run_peer(peers.PEERS[peer], v, f, loop)
+            out[peer] = _error(cut, cv[n:], cf[m:])
     _, ctri, _, _ = accuracy._run_peer(_cgal_step("triangulate_hole"), v, f, loop)
     rv, rf, _, _ = accuracy._run_peer(_cgal_step("triangulate_and_refine_hole"), v, f, loop)
-    tris = {"ctri": ctri[m:], "cdt": minimum_weight_triangulation(v, loop, f, search="cdt")}
+    tris = {"ctri": ctri[m:]}
+    if not refinement_only:
+        tris["cdt"] = minimum_weight_triangulation(v, loop, f, search="cdt")
     for order in (2, 3):
-        own = faired_fills(v, f, loop, (order,))[order]
-        out[f"fair{order}"] = _error(cut, own[0], own[1])
+        if not refinement_only:
+            own = faired_fills(v, f, loop, (order,))[order]
+            out[f"fair{order}"] = _error(cut, own[0], own[1])
         for name, tri in tris.items():
-            new_v, patch = refine_patch(v, tri, loop, faces=f)
+            new_v, patch = refine_patch(v, tri, loop, faces=f, style="liepa")
             out[f"{name}+fair{order}"] = _error(cut, fair_on(new_v, patch, order), patch)
+        new_v, patch = refine_patch(v, ctri[m:], loop, faces=f, style="cgal")
+        out[f"ctri+cstyle+fair{order}"] = _error(cut, fair_on(new_v, patch, order), patch)
         out[f"cref+fair{order}"] = _error(cut, fair_on(rv[n:], rf[m:], order), rf[m:])
-        out[f"cref+clamped{order}"] = _error(cut, fair_on(rv[n:], rf[m:], order, "clamped"),
-                                             rf[m:])
+        if not refinement_only:
+            out[f"cref+clamped{order}"] = _error(
+                cut, fair_on(rv[n:], rf[m:], order, "clamped"), rf[m:])
     return out
+
+
+def _print_ratios(rows, pairs) -> None:
+    """Per-hole ratios of two columns over the holes: median, geometric mean, holes better
+    / worse by 10 %, worst."""
+    print("| ratio | holes | median | geometric mean | better / worse by 10 % | worst |")
+    print("|---|---|---|---|---|---|")
+    for pair in pairs:
+        a, b = pair.split("/")
+        r = np.array([row[a] / row[b] for _, row in rows if row[b] > 1e-9])
+        specs = [spec for spec, row in rows if row[b] > 1e-9]
+        w = int(np.argmax(r))
+        print(f"| {a} / {b} | {len(r)} | {np.median(r):.3f} | {np.exp(np.log(r).mean()):.3f} | "
+              f"{(r < 1 / 1.1).sum()} / {(r > 1.1).sum()} | {r[w]:.2f} ({specs[w]}) |")
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--holes", default=HOLES, help="mesh#hole, comma-separated")
+    parser.add_argument("--holes", default=HOLES,
+                        help="mesh#hole, comma-separated, or 'tuning' (every tuning hole)")
+    parser.add_argument("--ratios", default="", help="column/column pairs, comma-separated")
+    parser.add_argument("--out", default=None, help="write the rows as JSON here")
+    parser.add_argument("--refinement-only", action="store_true",
+                        help="only CGAL's triangulation refined three ways (ctri, cref, "
+                             "ctri+cstyle), each faired by ours")
     args = parser.parse_args(argv)
     manifest = {e["mesh"]: e for e in holes_manifest.read(holes_manifest.MANIFEST)["meshes"]}
+    specs = args.holes.split(",")
+    if args.holes == "tuning":
+        specs = [f"{e['mesh']}#{k}" for e in manifest.values() if e["split"] == "tuning"
+                 for k in range(len(e["holes"]))]
     meshes: dict = {}
     rows = []
-    for spec in args.holes.split(","):
+    for spec in specs:
         name, k = spec.split("#")
         if manifest[name]["split"] != "tuning":
             raise SystemExit(f"{name} is a validation mesh: study the tuning half only")
         mesh = meshes.setdefault(name, vm.load(name))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            row = hole_row(validation._cut(mesh, manifest[name]["holes"][int(k)]))
+            row = hole_row(validation._cut(mesh, manifest[name]["holes"][int(k)]),
+                           args.refinement_only)
         rows.append((spec, row))
         print(spec, " ".join(f"{a} {b:.3f}" for a, b in row.items()), file=sys.stderr,
               flush=True)
+    if args.out:
+        Path(args.out).write_text(json.dumps(dict(rows), indent=1))
+    if args.ratios:
+        _print_ratios(rows, args.ratios.split(","))
+        return
     cols = list(rows[0][1])
     print("| hole | " + " | ".join(cols) + " |")
     print("|---|" + "---|" * len(cols))
