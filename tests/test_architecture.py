@@ -25,7 +25,7 @@ HEAVY_OPTIONAL = {"pyvista", "vtkmodules", "matplotlib", "numba", "rich", "trime
                   "dask", "distributed"}
 # imports inside a function that break an import cycle, each explained where it stands
 CYCLE_BREAKING = {("fill/objects.py", "surfinpaint.fill.pipeline"),
-                  ("app/batch.py", "surfinpaint"), ("app/fill_report.py", "surfinpaint")}
+                  ("app/batch_summary.py", "surfinpaint"), ("app/fill_report.py", "surfinpaint")}
 
 
 def _modules():

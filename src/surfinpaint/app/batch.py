@@ -15,11 +15,9 @@ workers), of the holes of the files in flight.
 
 from __future__ import annotations
 
-import csv
 import dataclasses
+import gc
 import glob
-import io
-import json
 import os
 import signal
 import threading
@@ -30,31 +28,32 @@ from collections import deque
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass, field
 from pathlib import Path
 from queue import Empty
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
 from surfinpaint.app.batch_inputs import FileJob, find_inputs, largest_cost_first, up_to_date
-from surfinpaint.app.fill_report import HoleRecord, plain
+from surfinpaint.app.batch_summary import (
+    STATUSES,
+    SUMMARY_CSV,
+    SUMMARY_JSON,
+    FileRow,
+    read_summary,
+    write_summary,
+)
+from surfinpaint.app.fill_report import HoleRecord
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.parallel import start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
-from surfinpaint.io.atomic import atomic_open
+from surfinpaint.fill.warmup import warm_kernels
 from surfinpaint.io.formats import read_mesh_data, write_mesh_data
 
-__all__ = ["FileJob", "FileRow", "STATUSES", "fill_file", "fill_files", "find_inputs",
-           "read_summary", "write_summary"]
-
-Status = Literal["filled", "closed", "failed", "skipped"]
-#: The statuses of a :class:`FileRow`, in the order the summary counts them.
-STATUSES: tuple[str, ...] = ("filled", "closed", "failed", "skipped")
-
-SUMMARY_CSV, SUMMARY_JSON = "summary.csv", "summary.json"
+__all__ = ["FileJob", "FileRow", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "fill_file",
+           "fill_files", "find_inputs", "read_summary", "write_summary"]
 
 #: How often a file whose worker process died is tried again (alone) before it is reported
 #: failed: Dask's default ``distributed.scheduler.allowed-failures`` too.
@@ -67,40 +66,6 @@ ProgressCallback = Callable[[int, int, str], None]
 _HOLE_PROGRESS: Any = None
 # How long the parent waits for a file to finish before it shows the holes' progress again.
 _PROGRESS_SECONDS = 0.1
-
-
-@dataclass(frozen=True)
-class FileRow:
-    """What happened to one input file: a row of ``summary.csv`` / ``summary.json``.
-
-    ``status`` is "filled" (the fill ran and the output was written; holes it did not fill
-    are named in ``message``), "closed" (no hole to fill: the mesh was written unchanged),
-    "failed" (nothing written; ``message`` holds the error) or "skipped" (the output was
-    newer than the input and left alone; the counts are those of the run that wrote it,
-    when its summary says). ``holes_found`` counts the holes selected for filling (the
-    outer border of an open surface only with ``include_border``), ``kept`` the holes
-    whose fill was kept per method (a conformal fill can fall back to, or prefer, "fair"),
-    ``seconds`` the wall time of reading, filling and writing the file, and ``message``
-    the warnings and notes of the fill, or the error. ``path`` is the input as given,
-    ``output`` the output's path relative to the output folder, ``holes`` what happened to
-    each hole (as ``surfinpaint fill --json`` says it; in ``summary.json`` only).
-    """
-
-    path: str
-    output: str
-    status: Status
-    holes_found: int | None = None
-    holes_filled: int | None = None
-    kept: Mapping[str, int] = field(default_factory=dict)
-    new_vertices: int | None = None
-    seconds: float = 0.0
-    message: str = ""
-    holes: tuple[HoleRecord, ...] = ()
-
-    def __post_init__(self) -> None:
-        if self.status not in STATUSES:
-            raise ValueError(f"status must be one of {', '.join(STATUSES)}, got "
-                             f"{self.status!r}")
 
 
 # -------------------------------------------------------------------------- one file's fill
@@ -240,18 +205,44 @@ class _Rows:
         return [self.by_name[job.name] for job in jobs if job.name in self.by_name]
 
 
-def _start_worker(queue: Any | None) -> None:
+def _start_worker(queue: Any | None, method: str) -> None:
     """Worker initializer. Ctrl-C reaches the whole process group; the parent decides (it
     records the files done and ends the workers: :func:`_drain`). SIGTERM ends the worker
     (a forked one inherits the command's handler, which would raise in the middle of a
     file instead). ``queue`` takes the hole progress of the worker's files to the parent
-    (None: nobody listens)."""
+    (None: nobody listens). The compiled kernels of ``method`` are loaded now, while the
+    parent still lists and checks the inputs (:func:`_launch`), not in the first file."""
     global _HOLE_PROGRESS
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if queue is not None:
         queue.cancel_join_thread()  # a worker's exit does not wait for the parent to read
     _HOLE_PROGRESS = queue
+    warm_kernels(method)
+
+
+_Launched = tuple[ProcessPoolExecutor, Any]
+
+
+def _launch(workers: int, progress: bool, method: str) -> _Launched:
+    """A pool of ``workers`` processes, started now (how:
+    :func:`surfinpaint.fill.parallel.start_context`), each loading the kernels of
+    ``method`` as it starts; and the queue they send their holes' progress through (None
+    without ``progress``; a new one per pool: a worker killed while it sent may leave one
+    locked)."""
+    context = start_context(__name__)
+    holes = context.Queue() if progress else None
+    # the objects a forked worker inherits are left out of its garbage collections, which
+    # would otherwise write to (and so copy) every page holding them
+    gc.freeze()
+    try:
+        pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
+                                   initargs=(holes, method))
+        for _ in range(workers):  # each task starts a worker (all of them, when forked)
+            pool.submit(os.getpid)
+    finally:
+        gc.unfreeze()
+    return pool, holes
 
 
 def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], workers: int,
@@ -311,12 +302,10 @@ def _stop_workers(pool: ProcessPoolExecutor) -> None:
 
 
 def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
-              rows: _Rows) -> list[FileJob]:
-    """Fill ``jobs`` on ``workers`` processes, forked where this process runs one thread
-    (they start at once, with the modules imported), else started from a server that
-    imported this module once (:func:`surfinpaint.fill.parallel.start_context`). A dead
-    worker breaks the pool: a new one takes the files not yet started; the files in
-    flight then are returned.
+              rows: _Rows, launched: _Launched | None = None) -> list[FileJob]:
+    """Fill ``jobs`` on ``workers`` processes (:func:`_launch`; ``launched``: the first
+    pool, started earlier, which is shut down here in any case). A dead worker breaks the
+    pool: a new one takes the files not yet started; the files in flight then are returned.
 
     Raises
     ------
@@ -324,16 +313,17 @@ def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
         When pools of several workers break :data:`WORKER_RETRIES` times in a row before
         finishing any file: the workers cannot start (or every file kills them).
     """
-    context = start_context(__name__)
     queue: deque[FileJob] = deque(jobs)
     suspects: list[FileJob] = []
     fruitless = 0
+    if launched is not None and not queue:
+        _stop_workers(launched[0])
     while queue:
         done_before = len(rows.by_name)
-        # a new queue per pool: a worker killed while it sent may leave one locked
-        holes = context.Queue() if rows.progress is not None else None
-        with ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
-                                 initargs=(holes,)) as pool:
+        pool, holes = launched or _launch(workers, rows.progress is not None,
+                                          _method(options))
+        launched = None
+        with pool:
             lost = _drain(pool, queue, options, workers, rows, holes)
         if holes is not None:
             holes.close()
@@ -349,16 +339,23 @@ def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
     return suspects
 
 
+def _method(options: Mapping[str, Any]) -> str:
+    """The fill method whose kernels a worker loads (``fill_holes``'s default)."""
+    method = options.get("method", "conformal")
+    return method if method in METHODS else "conformal"
+
+
 def _run_local(jobs: Sequence[FileJob], options: Mapping[str, Any], n_jobs: int,
-               rows: _Rows) -> None:
-    """One file after another in this process (``n_jobs=1``), or on worker processes. The
-    files in flight when a worker died are tried again, each alone (so that the one that
-    kills its worker is found), up to :data:`WORKER_RETRIES` times."""
+               rows: _Rows, launched: _Launched | None = None) -> None:
+    """One file after another in this process (``n_jobs=1``), or on worker processes (the
+    first pool ``launched`` earlier, if given). The files in flight when a worker died are
+    tried again, each alone (so that the one that kills its worker is found), up to
+    :data:`WORKER_RETRIES` times."""
     if n_jobs == 1:
         for job in jobs:
             rows.add(fill_file(job, options, rows.hole_progress_of(job)))
         return
-    suspects = _run_pool(jobs, options, min(n_jobs, len(jobs)), rows)
+    suspects = _run_pool(jobs, options, min(n_jobs, len(jobs)), rows, launched)
     for _ in range(WORKER_RETRIES):
         if not suspects:
             break
@@ -396,60 +393,6 @@ def _run_dask(jobs: Sequence[FileJob], options: Mapping[str, Any], client: Any,
         raise
 
 
-# ------------------------------------------------------------------------- the summary
-
-
-def _csv_columns() -> list[str]:
-    return ["path", "output", "status", "holes_found", "holes_filled",
-            *[f"kept_{m}" for m in METHODS], "new_vertices", "seconds", "message"]
-
-
-def _csv_record(row: FileRow) -> dict[str, Any]:
-    record = dataclasses.asdict(dataclasses.replace(row, holes=()))
-    del record["holes"]  # summary.json only
-    kept = record.pop("kept")
-    record.update({f"kept_{m}": kept.get(m, 0) if row.holes_found is not None else None
-                   for m in METHODS})
-    record["seconds"] = f"{row.seconds:.3f}"
-    return record
-
-
-def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
-                  options: Mapping[str, Any] | None = None) -> tuple[Path, Path]:
-    """Write ``summary.csv`` and ``summary.json`` (with the fill options and the version)
-    into ``out_dir``, each atomically; returns their paths."""
-    # here, not at the top: the package imports this module before it sets __version__
-    from surfinpaint import __version__
-
-    out = Path(out_dir)
-    text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=_csv_columns(), lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(_csv_record(row) for row in rows)
-    document = {"surfinpaint": __version__, "options": plain(dict(options or {})),
-                "files": [{**plain(dataclasses.replace(row, holes=())),
-                           "holes": [h.to_json() for h in row.holes]} for row in rows]}
-    with atomic_open(out / SUMMARY_CSV, "w") as handle:
-        handle.write(text.getvalue())
-    with atomic_open(out / SUMMARY_JSON, "w") as handle:
-        json.dump(document, handle, indent=1, allow_nan=False)
-        handle.write("\n")
-    return out / SUMMARY_CSV, out / SUMMARY_JSON
-
-
-def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
-    """The rows of ``out_dir/summary.json``; empty when there is none (or it is unreadable:
-    it is only used to carry the counts of an earlier run into a rerun's skipped rows, and
-    its seconds into the order a rerun's files are started in)."""
-    try:
-        document = json.loads((Path(out_dir) / SUMMARY_JSON).read_text(encoding="utf-8"))
-        return [FileRow(**{**entry, "holes": tuple(HoleRecord.from_json(h) for h in
-                                                   entry.get("holes", ()))})
-                for entry in document["files"]]
-    except (OSError, ValueError, KeyError, TypeError):
-        return []
-
-
 # ------------------------------------------------------------------------- the entry point
 
 
@@ -484,6 +427,32 @@ def _check_options(options: Mapping[str, Any]) -> None:
     vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
     faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
     fill_holes(vertices, faces, **options)
+
+
+def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
+            out_dir: str | os.PathLike, overwrite: bool, progress: ProgressCallback | None
+            ) -> tuple[list[FileJob], list[FileJob], _Rows]:
+    """The input files (:func:`find_inputs`), those to fill (the others recorded in the
+    rows as skipped), costliest first, and the rows."""
+    paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
+    out = Path(out_dir)
+    todo = find_inputs(paths, out)
+    out.mkdir(parents=True, exist_ok=True)
+    earlier = {row.path: row for row in read_summary(out)}
+    rows = _Rows(len(todo), progress)
+    if progress is not None:
+        progress(0, len(todo), f"{len(todo)} files")
+    pending = []
+    for job in todo:
+        if not overwrite and up_to_date(job):
+            rows.add(_skipped(job, earlier.get(job.name)))
+        else:
+            pending.append(job)
+    _remove_temporaries(pending)
+    # the costliest files first (by the earlier run's seconds, else by size), so that the
+    # workers run out of work at about the same time
+    pending = largest_cost_first(pending, {name: row.seconds for name, row in earlier.items()})
+    return todo, pending, rows
 
 
 def fill_files(
@@ -544,29 +513,22 @@ def fill_files(
     if jobs is not None and (not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 1):
         raise ValueError(f"jobs must be a positive integer, got {jobs!r}")
     _check_options(fill_options)
-    paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
+    n_jobs = jobs or _cores()
+    # the local workers start, and load the kernels, while the inputs are listed and checked
+    launched = _launch(n_jobs, progress is not None, _method(fill_options)) \
+        if client is None and n_jobs > 1 else None
+    try:
+        todo, pending, rows = _listed(inputs, out_dir, overwrite, progress)
+    except BaseException:
+        if launched is not None:
+            _stop_workers(launched[0])
+        raise
     out = Path(out_dir)
-    todo = find_inputs(paths, out)
-    out.mkdir(parents=True, exist_ok=True)
-    earlier = {row.path: row for row in read_summary(out)}
-    rows = _Rows(len(todo), progress)
-    if progress is not None:
-        progress(0, len(todo), f"{len(todo)} files")
-    pending = []
-    for job in todo:
-        if not overwrite and up_to_date(job):
-            rows.add(_skipped(job, earlier.get(job.name)))
-        else:
-            pending.append(job)
-    _remove_temporaries(pending)
-    # the costliest files first (by the earlier run's seconds, else by size), so that the
-    # workers run out of work at about the same time
-    pending = largest_cost_first(pending, {name: row.seconds for name, row in earlier.items()})
     try:
         if client is not None:
             _run_dask(pending, fill_options, client, rows)
-        elif pending:
-            _run_local(pending, fill_options, jobs or _cores(), rows)
+        else:
+            _run_local(pending, fill_options, n_jobs, rows, launched)
     finally:
         if client is None:  # no local worker is left writing: what a killed one left can go
             _remove_temporaries(pending)

@@ -1,0 +1,113 @@
+"""Batch filling's summary: one :class:`FileRow` per input file, written to ``summary.csv``
+and ``summary.json`` (which also records the fill options and the version) and read back
+by a rerun (the counts of the files it skips, the seconds it orders the files by)."""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import io
+import json
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+from surfinpaint.app.fill_report import HoleRecord, plain
+from surfinpaint.fill.pipeline import METHODS
+from surfinpaint.io.atomic import atomic_open
+
+__all__ = ["FileRow", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "read_summary",
+           "write_summary"]
+
+Status = Literal["filled", "closed", "failed", "skipped"]
+#: The statuses of a :class:`FileRow`, in the order the summary counts them.
+STATUSES: tuple[str, ...] = ("filled", "closed", "failed", "skipped")
+
+SUMMARY_CSV, SUMMARY_JSON = "summary.csv", "summary.json"
+
+
+@dataclass(frozen=True)
+class FileRow:
+    """What happened to one input file: a row of ``summary.csv`` / ``summary.json``.
+
+    ``status`` is "filled" (the fill ran and the output was written; holes it did not fill
+    are named in ``message``), "closed" (no hole to fill: the mesh was written unchanged),
+    "failed" (nothing written; ``message`` holds the error) or "skipped" (the output was
+    newer than the input and left alone; the counts are those of the run that wrote it,
+    when its summary says). ``holes_found`` counts the holes selected for filling (the
+    outer border of an open surface only with ``include_border``), ``kept`` the holes
+    whose fill was kept per method (a conformal fill can fall back to, or prefer, "fair"),
+    ``seconds`` the wall time of reading, filling and writing the file, and ``message``
+    the warnings and notes of the fill, or the error. ``path`` is the input as given,
+    ``output`` the output's path relative to the output folder, ``holes`` what happened to
+    each hole (as ``surfinpaint fill --json`` says it; in ``summary.json`` only).
+    """
+
+    path: str
+    output: str
+    status: Status
+    holes_found: int | None = None
+    holes_filled: int | None = None
+    kept: Mapping[str, int] = field(default_factory=dict)
+    new_vertices: int | None = None
+    seconds: float = 0.0
+    message: str = ""
+    holes: tuple[HoleRecord, ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.status not in STATUSES:
+            raise ValueError(f"status must be one of {', '.join(STATUSES)}, got "
+                             f"{self.status!r}")
+
+
+def _csv_columns() -> list[str]:
+    return ["path", "output", "status", "holes_found", "holes_filled",
+            *[f"kept_{m}" for m in METHODS], "new_vertices", "seconds", "message"]
+
+
+def _csv_record(row: FileRow) -> dict[str, Any]:
+    record = dataclasses.asdict(dataclasses.replace(row, holes=()))
+    del record["holes"]  # summary.json only
+    kept = record.pop("kept")
+    record.update({f"kept_{m}": kept.get(m, 0) if row.holes_found is not None else None
+                   for m in METHODS})
+    record["seconds"] = f"{row.seconds:.3f}"
+    return record
+
+
+def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
+                  options: Mapping[str, Any] | None = None) -> tuple[Path, Path]:
+    """Write ``summary.csv`` and ``summary.json`` (with the fill options and the version)
+    into ``out_dir``, each atomically; returns their paths."""
+    # here, not at the top: the package imports this module before it sets __version__
+    from surfinpaint import __version__
+
+    out = Path(out_dir)
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=_csv_columns(), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(_csv_record(row) for row in rows)
+    document = {"surfinpaint": __version__, "options": plain(dict(options or {})),
+                "files": [{**plain(dataclasses.replace(row, holes=())),
+                           "holes": [h.to_json() for h in row.holes]} for row in rows]}
+    with atomic_open(out / SUMMARY_CSV, "w") as handle:
+        handle.write(text.getvalue())
+    with atomic_open(out / SUMMARY_JSON, "w") as handle:
+        json.dump(document, handle, indent=1, allow_nan=False)
+        handle.write("\n")
+    return out / SUMMARY_CSV, out / SUMMARY_JSON
+
+
+def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
+    """The rows of ``out_dir/summary.json``; empty when there is none (or it is unreadable:
+    it is only used to carry the counts of an earlier run into a rerun's skipped rows, and
+    its seconds into the order a rerun's files are started in)."""
+    try:
+        document = json.loads((Path(out_dir) / SUMMARY_JSON).read_text(encoding="utf-8"))
+        return [FileRow(**{**entry, "holes": tuple(HoleRecord.from_json(h) for h in
+                                                   entry.get("holes", ()))})
+                for entry in document["files"]]
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
