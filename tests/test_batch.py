@@ -298,6 +298,10 @@ def test_a_dask_cluster_fills_every_file_even_when_a_worker_dies(tmp_path):
             distributed.Client(cluster) as client:
         loaded = client.run(kernels_loaded)
         assert list(loaded.values()) == [True, True]
+        # nor do they take the file's thread's lock every 10 ms for the profiler
+        callbacks = client.run(lambda dask_worker: sorted(dask_worker.periodic_callbacks))
+        assert all("profile" not in names and "heartbeat" in names
+                   for names in callbacks.values()), callbacks
         client.register_plugin(KillOnce())
         rows = fill_files([scans], out, client=client, **FAIR)
     assert marker.exists()  # a worker died mid-task, and Dask ran its task again

@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import json
 import multiprocessing
+import os
+import subprocess
+import sys
 import threading
 
 import pytest
@@ -104,3 +107,35 @@ def test_the_batch_command_with_its_progress_bar_adds_no_thread(tmp_path, monkey
                  "--method", "fair"]) == 1  # the corrupt file
     assert "7 files: 4 filled, 2 closed, 1 failed" in capsys.readouterr().err
     assert seen and set(seen) == {before}
+
+
+FAULTS = '''
+import resource, sys
+import numpy as np
+from surfinpaint.app.dask_worker import keep_freed_memory
+
+def faults():
+    for _ in range(50):
+        np.ones(2**18).sum()  # 2 MB, allocated and freed
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+    for _ in range(200):
+        np.ones(2**18).sum()
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before
+
+untouched = faults()
+set_here = keep_freed_memory()
+print(untouched, faults(), set_here)
+'''
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's allocator")
+def test_the_dask_preload_makes_glibc_reuse_freed_arrays(tmp_path):
+    # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: every array over
+    # 128 kB is then a fresh mmap, its pages faulted in one by one (512 for 2 MB)
+    env = {**os.environ, "MALLOC_TRIM_THRESHOLD_": "65536"}
+    done = subprocess.run([sys.executable, "-c", FAULTS], env=env, capture_output=True,
+                          text=True, check=True)
+    untouched, kept, set_here = done.stdout.split()
+    assert set_here == "True"
+    assert int(untouched) >= 200 * 500  # each array faulted in afresh
+    assert int(kept) < 2000  # the freed memory reused

@@ -409,7 +409,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "after another in this process)")
     p.add_argument("--dask-scheduler", metavar="ADDRESS",
                    help="run every file as a task on this Dask cluster (tcp://host:port; "
-                   "its workers must see the files at the same paths)")
+                   "its workers must see the files at the same paths; start them with "
+                   "--nthreads 1 --preload surfinpaint.app.dask_worker)")
     p.add_argument("--overwrite", action="store_true",
                    help="refill files whose output is newer than their input")
     add_fill_options(p)
