@@ -14,9 +14,9 @@ existing cluster), fresh for every run: its workers started with the documented 
 and, with ``--cold``, also without it (surfinpaint imported, and its kernels loaded, by the
 first task). CPU seconds: the command and its local workers; for Dask the command and the
 cluster's workers (asked through the client), the scheduler apart. The outputs of all runs
-are checked identical file by file. The table also says how much a second busy process
-gains on this machine at the time (two processes spinning against one, before and after):
-no speed-up can exceed it.
+are checked identical file by file, after every round. The table also says how much a
+second busy process gains on this machine at the time (two processes spinning against one,
+before and after): no speed-up can exceed it.
 
     python benchmarks/batch.py [--files 40] [--rounds 5] [--cold] [--rerun]
         [--method conformal] [--folder DIR] [--json FILE]
@@ -35,6 +35,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -146,9 +147,11 @@ def _spin(seconds: float) -> int:
     return n
 
 
-def _run_rounds(args: argparse.Namespace, work: Path, batch: list[str]) -> list[dict]:
+def _run_rounds(args: argparse.Namespace, work: Path, batch: list[str],
+                check: Callable[[list[str]], None]) -> list[dict]:
     """The paired rounds: per round the load before it and each run's wall, CPU (and, for
-    Dask, the scheduler's CPU)."""
+    Dask, the scheduler's CPU); ``check(modes)`` after each round (not timed: the next
+    round's runs replace the outputs)."""
     modes = [JOBS1, JOBS2, DASK] + ([COLD] if args.cold else [])
     folders = {JOBS1: "jobs1", JOBS2: "jobs2", DASK: "dask", COLD: "dask_cold"}
     rounds = []
@@ -164,6 +167,7 @@ def _run_rounds(args: argparse.Namespace, work: Path, batch: list[str]) -> list[
             else:
                 record[mode] = timed_on_cluster(command, [PRELOAD] if mode == DASK else [])
         rounds.append(record)
+        check(modes)
         print(f"round {r + 1}: load {record['load']:.1f}; " + ", ".join(
             f"{mode} {record[mode][0]:.1f} s" for mode in modes), file=sys.stderr)
     return rounds
@@ -259,10 +263,10 @@ def main() -> None:
            "--jobs", "1"])
     batch = [*command, str(inputs), *options]
     info = {"spare_before": spare_cores()}
-    rounds = _run_rounds(args, work, batch)
+    rounds = _run_rounds(args, work, batch,
+                         lambda modes: _check_identical(work, inputs, paths, modes))
     info.update(spare_after=spare_cores(), load_after=os.getloadavg()[0],
                 vertices=sum(len(read_mesh(p)[0]) for p in paths))
-    _check_identical(work, inputs, paths, [m for m in rounds[0] if m != "load"])
     if args.json:
         Path(args.json).write_text(json.dumps({"info": info, "rounds": rounds}, indent=1))
     print_table(args, rounds, info)
