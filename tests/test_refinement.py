@@ -143,3 +143,41 @@ def test_compiled_flips_match_the_numpy_rounds(monkeypatch):
         plain = delaunay_flip(*args, **kwargs)
         monkeypatch.undo()
         assert np.array_equal(compiled, plain)
+
+
+def _regular_triangulation(seed: int):
+    """A random regular (weighted Delaunay) triangulation of jittered points, lifted off the
+    plane: far from Delaunay in 3D, with co-circular quads when the points sit on a grid."""
+    from scipy.spatial import ConvexHull
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(5, 40))
+    xy = rng.random((n, 2))
+    if seed % 3 == 0:  # near a grid: ties between equal scores
+        xy = np.round(xy * 4) / 4 + 1e-3 * rng.random((n, 2))
+    hull = ConvexHull(np.column_stack([xy, (xy**2).sum(1) + rng.random(n) * (seed % 4)]))
+    low = hull.simplices[hull.equations[:, 2] < 0]
+    a, b, c = (xy[low[:, k]] for k in range(3))
+    ccw = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    faces = np.where(ccw[:, None] > 0, low, low[:, [0, 2, 1]]).astype(np.int64)
+    z = rng.normal(0, [0.0, 0.05, 0.3, 1.0][seed % 4], n)
+    return np.column_stack([xy, z]), faces, rng
+
+
+@pytest.mark.parametrize("seed", range(60))
+def test_compiled_flips_match_the_numpy_rounds_on_random_triangulations(monkeypatch, seed):
+    # the compiled kernel pairs half-edges and picks winners without the numpy rounds' sorts:
+    # random cases with fixed and forbidden edges, round caps, equal scores and winners that
+    # would make the same new edge (about one case in six) must give the same faces
+    import surfinpaint.fill.liepa.refinement as refinement
+
+    p, faces, rng = _regular_triangulation(seed)
+    edges = unique_edges(faces)[0]
+    forbidden = rng.integers(0, len(p), (5, 2))
+    options = {"fixed_edges": edges[rng.random(len(edges)) < 0.2],
+               "forbidden_edges": forbidden[forbidden[:, 0] != forbidden[:, 1]],
+               "max_rounds": [1, 2, 1000][seed % 3]}
+    compiled = delaunay_flip(p, faces, **options)
+    monkeypatch.setattr(refinement, "_FLIP_KERNEL", [None])  # the numpy rounds
+    plain = delaunay_flip(p, faces, **options)
+    assert np.array_equal(compiled, plain)

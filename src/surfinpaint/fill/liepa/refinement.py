@@ -95,6 +95,13 @@ def _inside_ball_one(p, a, b, c, s):  # pragma: no cover - compiled
     return 1.0 - dist / radius
 
 
+def _normal_one(p, a, b, c):  # pragma: no cover - compiled
+    """(p[b] - p[a]) × (p[c] - p[a]), the arithmetic of :func:`_cross`."""
+    ux, uy, uz = p[b, 0] - p[a, 0], p[b, 1] - p[a, 1], p[b, 2] - p[a, 2]
+    wx, wy, wz = p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2]
+    return uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+
+
 def _in_sorted_one(x, keys):  # pragma: no cover - compiled
     """Whether ``x`` is in the sorted ``keys``, by bisection (numba's ``np.searchsorted``
     costs a second of compilation)."""
@@ -108,156 +115,145 @@ def _in_sorted_one(x, keys):  # pragma: no cover - compiled
     return lo < len(keys) and keys[lo] == x
 
 
-def _stable_argsort(x):  # pragma: no cover - compiled
-    """``np.argsort(x, kind="stable")`` for NaN-free ``x`` (a stable order is unique, so the
-    same permutation), as a bottom-up merge sort: numba's own argsort costs over two seconds
-    of compilation per dtype."""
-    n = len(x)
-    idx = np.empty(n, np.int64)
-    for i in range(n):  # not np.arange: its numba implementation compiles slowly
-        idx[i] = i
-    tmp = np.empty(n, np.int64)
-    width = 1
-    while width < n:
-        for lo in range(0, n, 2 * width):
-            mid = min(lo + width, n)
-            hi = min(lo + 2 * width, n)
-            i, j, k = lo, mid, lo
-            while i < mid and j < hi:
-                if x[idx[j]] < x[idx[i]]:  # strict: ties keep the left (earlier) one
-                    tmp[k] = idx[j]
-                    j += 1
-                else:
-                    tmp[k] = idx[i]
-                    i += 1
-                k += 1
-            while i < mid:
-                tmp[k] = idx[i]
-                i += 1
-                k += 1
-            while j < hi:
-                tmp[k] = idx[j]
-                j += 1
-                k += 1
-        idx, tmp = tmp, idx
-        width *= 2
-    return idx
-
-
-def _max(x, y):  # pragma: no cover - compiled
-    """``np.maximum`` of two floats (NaN if either is)."""
-    if x != x or y != y:
-        return np.nan
-    return max(x, y)
-
-
-def _cross_one(ax, ay, az, bx, by, bz):  # pragma: no cover - compiled
-    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-
-
 def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover - compiled
     """The rounds of :func:`delaunay_flip` as plain loops (compiled by numba), flipping
-    ``f`` in place: the same tests, ranks, votes and tie-breaks as the numpy rounds."""
+    ``f`` in place: the same tests, votes and tie-breaks as the numpy rounds.
+
+    Written to compile quickly (it is compiled on a user's first fill): one function of
+    scalar loops over 1-D int64 arrays, no sort. The numpy rounds find each edge's two
+    half-edges by sorting their keys; here each half-edge is put in a list under its
+    smaller vertex (those lists are a few entries long), which gives the same pairs in the
+    same order (the smaller half-edge id first). The numpy rounds rank the candidates by a
+    stable sort of their scores (ties: the smaller edge key ranks lower) and each face votes
+    for its highest rank; here each face keeps its strongest candidate under that same
+    order, (score, edge key). Of two winners making the same new edge the numpy rounds keep
+    the one of smaller edge key; so does this.
+    """
     n = p.shape[0]
     m = f.shape[0]
-    flat = np.empty(3 * m, np.int64)
-    vote = np.empty(m, np.int64)
+    h = 3 * m
+    low = np.empty(h, np.int64)  # half-edge e = 3t + k (opposite corner k of face t)
+    high = np.empty(h, np.int64)
+    nxt = np.empty(h, np.int64)  # the next half-edge under the same smaller vertex
+    head = np.empty(n, np.int64)  # the last half-edge put under each vertex, or -1
+    # the candidates: corners a, b, c, d, faces t1, t2, old and new edge keys, score
+    cand = np.empty((h, 8), np.int64)
+    score = np.empty(h)
+    best = np.empty(m, np.int64)  # per face: its strongest candidate, or -1
     for _ in range(max_rounds):
-        for t in range(m):
-            for k in range(3):
-                x, y = f[t, (k + 1) % 3], f[t, (k + 2) % 3]
-                flat[3 * t + k] = min(x, y) * n + max(x, y)
-        order = _stable_argsort(flat)
-        sorted_flat = flat[order]
-        # the unique keys (sorted) and, per interior edge, its two half-edges
-        keys = np.empty(3 * m, np.int64)
-        first = np.empty(3 * m, np.int64)
-        n_keys = 0
-        for i in range(3 * m):
-            if i == 0 or sorted_flat[i] != sorted_flat[i - 1]:
-                keys[n_keys] = sorted_flat[i]
-                first[n_keys] = i
-                n_keys += 1
-        keys = keys[:n_keys]
-        # candidates, in key order
-        ca = np.empty(n_keys, np.int64)
-        cb = np.empty(n_keys, np.int64)
-        cc = np.empty(n_keys, np.int64)
-        cd = np.empty(n_keys, np.int64)
-        ct1 = np.empty(n_keys, np.int64)
-        ct2 = np.empty(n_keys, np.int64)
-        cscore = np.empty(n_keys)
-        ckey = np.empty(n_keys, np.int64)
+        for v in range(n):
+            head[v] = -1
+        for e in range(h):
+            t = e // 3
+            k = e - 3 * t
+            x = f[t, (k + 1) % 3]
+            y = f[t, (k + 2) % 3]
+            low[e] = min(x, y)
+            high[e] = max(x, y)
+            nxt[e] = head[low[e]]
+            head[low[e]] = e
         n_inner = 0
         n_cand = 0
-        for q in range(n_keys):
-            stop = first[q + 1] if q + 1 < n_keys else 3 * m
-            if stop - first[q] != 2 or _in_sorted_one(keys[q], fixed):
+        for e1 in range(h):
+            # the edge's half-edges: e1 must be its smallest, and it must have two
+            count = 0
+            e2 = -1
+            q = head[low[e1]]
+            while q >= 0:
+                if high[q] == high[e1]:
+                    count += 1
+                    if q < e1:
+                        count = 3  # not the first of its edge: seen there
+                        break
+                    if q > e1:
+                        e2 = q
+                q = nxt[q]
+            key = low[e1] * n + high[e1]
+            if count != 2 or _in_sorted_one(key, fixed):
                 continue
             n_inner += 1
-            e1, e2 = order[first[q]], order[first[q] + 1]
-            t1, k1 = e1 // 3, e1 % 3
-            t2, k2 = e2 // 3, e2 % 3
+            t1 = e1 // 3
+            k1 = e1 - 3 * t1
+            t2 = e2 // 3
+            k2 = e2 - 3 * t2
             a, b, c = f[t1, (k1 + 1) % 3], f[t1, (k1 + 2) % 3], f[t1, k1]
             d = f[t2, k2]
-            score = _max(_inside_ball_one(p, a, b, c, d), _inside_ball_one(p, b, a, d, c))
-            if not (score > slack and c != d):
+            s = _inside_ball_one(p, a, b, c, d)
+            s2 = _inside_ball_one(p, b, a, d, c)
+            if s != s or s2 != s2:  # np.maximum: NaN if either is
                 continue
-            new_key = min(c, d) * n + max(c, d)
-            if not _max(_inside_ball_one(p, c, d, a, b), _inside_ball_one(p, d, c, b, a)) <= slack:
+            s = max(s, s2)
+            if not (s > slack and c != d):
                 continue
-            if _in_sorted_one(new_key, keys) or _in_sorted_one(new_key, forbidden):
+            s1 = _inside_ball_one(p, c, d, a, b)
+            s2 = _inside_ball_one(p, d, c, b, a)
+            if s1 != s1 or s2 != s2 or not max(s1, s2) <= slack:
                 continue
-            o1 = _cross_one(p[b, 0] - p[a, 0], p[b, 1] - p[a, 1], p[b, 2] - p[a, 2],
-                            p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2])
-            o2 = _cross_one(p[a, 0] - p[b, 0], p[a, 1] - p[b, 1], p[a, 2] - p[b, 2],
-                            p[d, 0] - p[b, 0], p[d, 1] - p[b, 1], p[d, 2] - p[b, 2])
-            ox, oy, oz = o1[0] + o2[0], o1[1] + o2[1], o1[2] + o2[2]
-            n1 = _cross_one(p[d, 0] - p[a, 0], p[d, 1] - p[a, 1], p[d, 2] - p[a, 2],
-                            p[c, 0] - p[a, 0], p[c, 1] - p[a, 1], p[c, 2] - p[a, 2])
-            n2 = _cross_one(p[b, 0] - p[d, 0], p[b, 1] - p[d, 1], p[b, 2] - p[d, 2],
-                            p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2])
+            lo_cd = min(c, d)
+            hi_cd = max(c, d)
+            new_key = lo_cd * n + hi_cd
+            if _in_sorted_one(new_key, forbidden):
+                continue
+            q = head[lo_cd]  # is (c, d) an edge already?
+            while q >= 0 and high[q] != hi_cd:
+                q = nxt[q]
+            if q >= 0:
+                continue
+            # the two new triangles must be proper and not fold against the old pair
+            o1x, o1y, o1z = _normal_one(p, a, b, c)
+            o2x, o2y, o2z = _normal_one(p, b, a, d)
+            ox, oy, oz = o1x + o2x, o1y + o2y, o1z + o2z
+            n1x, n1y, n1z = _normal_one(p, a, d, c)
+            n2x, n2y, n2z = _normal_one(p, d, b, c)
             sx, sy, sz = p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2]
             scale = (sx * sx + sz * sz) + sy * sy
-            if not ((n1[0] * ox + n1[2] * oz) + n1[1] * oy > 0):
+            if not ((n1x * ox + n1z * oz) + n1y * oy > 0):
                 continue
-            if not ((n2[0] * ox + n2[2] * oz) + n2[1] * oy > 0):
+            if not ((n2x * ox + n2z * oz) + n2y * oy > 0):
                 continue
-            if not (np.sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]) > 1e-12 * scale):
+            if not (np.sqrt(n1x * n1x + n1y * n1y + n1z * n1z) > 1e-12 * scale):
                 continue
-            if not (np.sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]) > 1e-12 * scale):
+            if not (np.sqrt(n2x * n2x + n2y * n2y + n2z * n2z) > 1e-12 * scale):
                 continue
-            ca[n_cand], cb[n_cand], cc[n_cand], cd[n_cand] = a, b, c, d
-            ct1[n_cand], ct2[n_cand] = t1, t2
-            cscore[n_cand] = score
-            ckey[n_cand] = new_key
+            cand[n_cand, 0], cand[n_cand, 1], cand[n_cand, 2], cand[n_cand, 3] = a, b, c, d
+            cand[n_cand, 4], cand[n_cand, 5] = t1, t2
+            cand[n_cand, 6], cand[n_cand, 7] = key, new_key
+            score[n_cand] = s
             n_cand += 1
         if n_inner == 0 or n_cand == 0:
             break
-        # each face votes for its worst candidate edge; unanimous edges flip together
-        rank = np.empty(n_cand, np.int64)
-        by_score = _stable_argsort(cscore[:n_cand])  # scores passed `> slack`: no NaN
-        for r in range(n_cand):
-            rank[by_score[r]] = r
-        vote[:] = -1
+        # each face votes for its strongest candidate edge; unanimous edges flip together
+        for t in range(m):
+            best[t] = -1
         for j in range(n_cand):
-            vote[ct1[j]] = max(vote[ct1[j]], rank[j])
-            vote[ct2[j]] = max(vote[ct2[j]], rank[j])
-        win = np.empty(n_cand, np.int64)
-        n_win = 0
+            for side in range(4, 6):
+                t = cand[j, side]
+                i = best[t]
+                if i < 0 or score[j] > score[i] or (score[j] == score[i]
+                                                    and cand[j, 6] > cand[i, 6]):
+                    best[t] = j
+        # the winners (no two share a face); of two making the same new edge, the one of
+        # smaller old key flips. head/nxt (done with the half-edges) now list the winners
+        # under the smaller vertex of their new edge
+        for v in range(n):
+            head[v] = -1
         for j in range(n_cand):
-            if vote[ct1[j]] == rank[j] and vote[ct2[j]] == rank[j]:
-                win[n_win] = j
-                n_win += 1
-        # two quads could share the same new diagonal; keep the first
-        win = win[:n_win]
-        by_key = _stable_argsort(ckey[win])
-        for r in range(n_win):
-            j = win[by_key[r]]
-            if r > 0 and ckey[j] == ckey[win[by_key[r - 1]]]:
+            if best[cand[j, 4]] == j and best[cand[j, 5]] == j:
+                lo_cd = min(cand[j, 2], cand[j, 3])
+                nxt[j] = head[lo_cd]
+                head[lo_cd] = j
+        for j in range(n_cand):
+            if best[cand[j, 4]] != j or best[cand[j, 5]] != j:
                 continue
-            f[ct1[j], 0], f[ct1[j], 1], f[ct1[j], 2] = ca[j], cd[j], cc[j]
-            f[ct2[j], 0], f[ct2[j], 1], f[ct2[j], 2] = cd[j], cb[j], cc[j]
+            q = head[min(cand[j, 2], cand[j, 3])]
+            while q >= 0 and not (cand[q, 7] == cand[j, 7] and cand[q, 6] < cand[j, 6]):
+                q = nxt[q]
+            if q >= 0:
+                continue
+            a, b, c, d, t1, t2 = cand[j, 0], cand[j, 1], cand[j, 2], cand[j, 3], cand[j, 4], \
+                cand[j, 5]
+            f[t1, 0], f[t1, 1], f[t1, 2] = a, d, c
+            f[t2, 0], f[t2, 1], f[t2, 2] = d, b, c
     return f
 
 
@@ -271,8 +267,7 @@ def _flip_kernel():
         if flip is not None:
             # _flip_loops calls these by their global names: compile them too
             g = globals()
-            for name in ("_inside_ball_one", "_in_sorted_one", "_max", "_cross_one",
-                         "_stable_argsort"):
+            for name in ("_inside_ball_one", "_in_sorted_one", "_normal_one"):
                 g[name] = kernel(g[name])
         _FLIP_KERNEL.append(flip)
     return _FLIP_KERNEL[0]
