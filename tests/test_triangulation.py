@@ -161,6 +161,31 @@ def test_numpy_fallback_matches_compiled_kernel(monkeypatch):
     assert np.array_equal(compiled, plain)
 
 
+@pytest.mark.parametrize("seed", range(24))
+def test_numpy_fallback_matches_compiled_kernel_on_random_holes(monkeypatch, seed):
+    # bumpy holes with and without the surrounding faces (no normal across the loop: NaN),
+    # forbidden diagonals, both searches; a grid's straight borders give degenerate triangles
+    from surfinpaint.fill.liepa import triangulation
+
+    rng = np.random.default_rng(seed)
+    if seed % 4 == 3:
+        v, f = _tilted_grid(7)
+        v = v + [0, 0, 1e-3] * rng.random((len(v), 1))
+    else:
+        m = trimesh.creation.icosphere(3)
+        v, f = np.asarray(m.vertices) * (1 + 0.05 * rng.random((len(m.vertices), 1))), m.faces
+    d = np.linalg.norm(v - v[rng.integers(len(v))], axis=1)
+    faces = f[~(d[f] < rng.uniform(0.3, 0.8)).all(axis=1)]
+    loop = max(boundary_loops(faces), key=len)
+    pairs = loop[rng.integers(0, len(loop), (4, 2))]
+    args = (v, loop, faces if seed % 2 else None)
+    kwargs = {"search": ("all", "delaunay")[seed % 3 == 0], "avoid": pairs}
+    compiled = minimum_weight_triangulation(*args, **kwargs)
+    monkeypatch.setattr(triangulation, "_compiled_dp", lambda: None)
+    plain = minimum_weight_triangulation(*args, **kwargs)
+    assert np.array_equal(compiled, plain)
+
+
 def _tilted_grid(n: int = 9):
     x, y = np.meshgrid(np.linspace(-1, 1, n), np.linspace(-1, 1, n), indexing="ij")
     v = np.column_stack([x.ravel(), y.ravel(), 0.5 * x.ravel() - 0.2 * y.ravel()])

@@ -285,13 +285,21 @@ def _dp_loops(p, boundary_normal, forbidden):  # pragma: no cover - compiled
     """
     k = p.shape[0]
     inf = np.inf
-    worst_r = np.full((k, k), inf)  # [i, j] for sub-polygon i..j
-    worst_c = np.full((k, k), inf)  # [j, i], the same values
-    area_r = np.full((k, k), inf)
-    area_c = np.full((k, k), inf)
-    norm_r = np.full((k, k, 3), np.nan)
-    norm_c = np.full((k, k, 3), np.nan)
-    apex = np.full((k, k), -1, dtype=np.int64)
+    # np.empty and plain loops, not np.full: each np.full signature costs its own
+    # compilation. Only the worst angles need a value everywhere (inf: no triangulation);
+    # an area or normal is read only where its worst angle is finite, i.e. once it is set
+    worst_r = np.empty((k, k))  # [i, j] for sub-polygon i..j
+    worst_c = np.empty((k, k))  # [j, i], the same values
+    area_r = np.empty((k, k))
+    area_c = np.empty((k, k))
+    norm_r = np.empty((k, k, 3))
+    norm_c = np.empty((k, k, 3))
+    apex = np.empty((k, k), np.int64)
+    for i in range(k):
+        for j in range(k):
+            worst_r[i, j] = inf
+            worst_c[i, j] = inf
+            apex[i, j] = -1
     for i in range(k - 1):
         worst_r[i, i + 1] = 0.0
         worst_c[i + 1, i] = 0.0
@@ -301,7 +309,7 @@ def _dp_loops(p, boundary_normal, forbidden):  # pragma: no cover - compiled
             norm_r[i, i + 1, c] = boundary_normal[i, c]
             norm_c[i + 1, i, c] = boundary_normal[i, c]
     closing = boundary_normal[k - 1]
-    has_closing = not np.isnan(closing[0])
+    has_closing = closing[0] == closing[0]  # not NaN
     for d in range(2, k):
         for i in range(k - d):
             j = i + d
@@ -333,10 +341,10 @@ def _dp_loops(p, boundary_normal, forbidden):  # pragma: no cover - compiled
                                           + vz * vz):
                     w = max(w, _DEGENERATE_BEND)
                 sx = norm_r[i, m, 0]
-                if not np.isnan(sx):  # NaN: no neighbour across, counts as flat
+                if sx == sx:  # NaN: no neighbour across, counts as flat
                     w = max(w, 1.0 - (nx * sx + ny * norm_r[i, m, 1] + nz * norm_r[i, m, 2]))
                 sx = norm_c[j, m, 0]
-                if not np.isnan(sx):
+                if sx == sx:
                     w = max(w, 1.0 - (nx * sx + ny * norm_c[j, m, 1] + nz * norm_c[j, m, 2]))
                 if d == k - 1 and has_closing:  # closing loop edge (0, k-1) borders a face
                     w = max(w, 1.0 - (nx * closing[0] + ny * closing[1] + nz * closing[2]))
