@@ -115,12 +115,14 @@ def _in_sorted_one(x, keys):  # pragma: no cover - compiled
     return lo < len(keys) and keys[lo] == x
 
 
-def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover - compiled
+def _flip_loops(p, f, fixed, forbidden, max_rounds, slack, low, high, nxt, head, cand, score,
+                best):  # pragma: no cover - compiled
     """The rounds of :func:`delaunay_flip` as plain loops (compiled by numba), flipping
     ``f`` in place: the same tests, votes and tie-breaks as the numpy rounds.
 
-    Written to compile quickly (it is compiled on a user's first fill): one function of
-    scalar loops over 1-D int64 arrays, no sort. The numpy rounds find each edge's two
+    Written to compile quickly (it is compiled on a user's first fill): scalar loops over
+    int64 arrays allocated by the caller (:func:`_flip_workspace`: each ``np.empty``
+    signature would be compiled too), no sort. The numpy rounds find each edge's two
     half-edges by sorting their keys; here each half-edge is put in a list under its
     smaller vertex (those lists are a few entries long), which gives the same pairs in the
     same order (the smaller half-edge id first). The numpy rounds rank the candidates by a
@@ -132,14 +134,6 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover 
     n = p.shape[0]
     m = f.shape[0]
     h = 3 * m
-    low = np.empty(h, np.int64)  # half-edge e = 3t + k (opposite corner k of face t)
-    high = np.empty(h, np.int64)
-    nxt = np.empty(h, np.int64)  # the next half-edge under the same smaller vertex
-    head = np.empty(n, np.int64)  # the last half-edge put under each vertex, or -1
-    # the candidates: corners a, b, c, d, faces t1, t2, old and new edge keys, score
-    cand = np.empty((h, 8), np.int64)
-    score = np.empty(h)
-    best = np.empty(m, np.int64)  # per face: its strongest candidate, or -1
     for _ in range(max_rounds):
         for v in range(n):
             head[v] = -1
@@ -257,6 +251,17 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack):  # pragma: no cover 
     return f
 
 
+def _flip_workspace(n: int, m: int) -> tuple[np.ndarray, ...]:
+    """The arrays :func:`_flip_loops` works in, for ``n`` vertices and ``m`` faces: per
+    half-edge (e = 3t + k, opposite corner k of face t) its smaller and larger vertex and
+    the next half-edge under the same smaller vertex; per vertex the last half-edge put
+    under it (-1: none); per candidate its corners a, b, c, d, faces t1, t2, old and new
+    edge keys, and its score; per face its strongest candidate (-1: none)."""
+    h = 3 * m
+    return (np.empty(h, np.int64), np.empty(h, np.int64), np.empty(h, np.int64),
+            np.empty(n, np.int64), np.empty((h, 8), np.int64), np.empty(h), np.empty(m, np.int64))
+
+
 _FLIP_KERNEL: list = []  # compiled on first use (numba imports slowly)
 
 
@@ -318,7 +323,7 @@ def delaunay_flip(
     kernel = _flip_kernel()
     if kernel is not None:  # the same rounds, compiled (the numpy rounds are call-bound)
         return kernel(np.ascontiguousarray(p), f, fixed, forbidden, int(max_rounds),
-                      _FLIP_SLACK)
+                      _FLIP_SLACK, *_flip_workspace(n, len(f)))
     for _ in range(max_rounds):
         # one stable sort of the half-edge keys gives the edges, their face counts and the
         # two half-edges of each interior edge (entry 3t + k: opposite corner k of face t)
