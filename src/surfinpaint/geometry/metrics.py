@@ -117,10 +117,10 @@ def _min_distance_numpy(points: np.ndarray, tri: np.ndarray, cand: np.ndarray,
     return np.minimum.reduceat(np.linalg.norm(q - p, axis=1), start[:-1])
 
 
-def _min_distance_loops(points, tri, cand, start):  # pragma: no cover - compiled
-    """Plain-loop version of :func:`_min_distance_numpy`, compiled by numba when present."""
+def _min_distance_loops(points, tri, cand, start, out):  # pragma: no cover - compiled
+    """Plain-loop version of :func:`_min_distance_numpy`, compiled by numba when present,
+    written into ``out`` (an ``np.empty`` in the kernel would be one more compilation)."""
     m = len(points)
-    out = np.empty(m)
     for i in range(m):
         px, py, pz = points[i, 0], points[i, 1], points[i, 2]
         best = np.inf
@@ -222,7 +222,7 @@ class _TriangleIndex:
     def _min_exact(self, p: np.ndarray, cand: np.ndarray, start: np.ndarray) -> np.ndarray:
         kernel = _numba_kernel() if self.use_numba else None
         if kernel is not None:
-            return kernel(p, self.tri, cand, start)
+            return kernel(p, self.tri, cand, start, np.empty(len(p)))
         return _min_distance_numpy(p, self.tri, cand, start)
 
     def distance(self, points: np.ndarray) -> np.ndarray:

@@ -135,56 +135,38 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack, low, high, nxt, head,
     m = f.shape[0]
     h = 3 * m
     for _ in range(max_rounds):
-        for v in range(n):
-            head[v] = -1
+        head[:] = -1
         for e in range(h):
-            t = e // 3
-            k = e - 3 * t
-            x = f[t, (k + 1) % 3]
-            y = f[t, (k + 2) % 3]
-            low[e] = min(x, y)
-            high[e] = max(x, y)
+            t, k = e // 3, e % 3
+            x, y = f[t, (k + 1) % 3], f[t, (k + 2) % 3]
+            low[e], high[e] = min(x, y), max(x, y)
             nxt[e] = head[low[e]]
             head[low[e]] = e
-        n_inner = 0
-        n_cand = 0
+        n_inner, n_cand = 0, 0
         for e1 in range(h):
-            # the edge's half-edges: e1 must be its smallest, and it must have two
-            count = 0
-            e2 = -1
-            q = head[low[e1]]
-            while q >= 0:
+            # the edge's half-edges: e1 must be its first (smallest), and it must have two
+            count, e2, q = 0, -1, head[low[e1]]
+            while q >= 0 and count < 3:
                 if high[q] == high[e1]:
-                    count += 1
-                    if q < e1:
-                        count = 3  # not the first of its edge: seen there
-                        break
-                    if q > e1:
-                        e2 = q
+                    count += 1 if q >= e1 else 3  # a smaller one: the edge was seen there
+                    e2 = q if q > e1 else e2
                 q = nxt[q]
             key = low[e1] * n + high[e1]
             if count != 2 or _in_sorted_one(key, fixed):
                 continue
             n_inner += 1
-            t1 = e1 // 3
-            k1 = e1 - 3 * t1
-            t2 = e2 // 3
-            k2 = e2 - 3 * t2
+            t1, k1, t2, k2 = e1 // 3, e1 % 3, e2 // 3, e2 % 3
             a, b, c = f[t1, (k1 + 1) % 3], f[t1, (k1 + 2) % 3], f[t1, k1]
             d = f[t2, k2]
-            s = _inside_ball_one(p, a, b, c, d)
-            s2 = _inside_ball_one(p, b, a, d, c)
-            if s != s or s2 != s2:  # np.maximum: NaN if either is
+            s, s2 = _inside_ball_one(p, a, b, c, d), _inside_ball_one(p, b, a, d, c)
+            # np.maximum of the two: NaN if either is
+            if s != s or s2 != s2 or not (max(s, s2) > slack and c != d):
                 continue
             s = max(s, s2)
-            if not (s > slack and c != d):
-                continue
-            s1 = _inside_ball_one(p, c, d, a, b)
-            s2 = _inside_ball_one(p, d, c, b, a)
+            s1, s2 = _inside_ball_one(p, c, d, a, b), _inside_ball_one(p, d, c, b, a)
             if s1 != s1 or s2 != s2 or not max(s1, s2) <= slack:
                 continue
-            lo_cd = min(c, d)
-            hi_cd = max(c, d)
+            lo_cd, hi_cd = min(c, d), max(c, d)
             new_key = lo_cd * n + hi_cd
             if _in_sorted_one(new_key, forbidden):
                 continue
@@ -201,13 +183,9 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack, low, high, nxt, head,
             n2x, n2y, n2z = _normal_one(p, d, b, c)
             sx, sy, sz = p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2]
             scale = (sx * sx + sz * sz) + sy * sy
-            if not ((n1x * ox + n1z * oz) + n1y * oy > 0):
-                continue
-            if not ((n2x * ox + n2z * oz) + n2y * oy > 0):
-                continue
-            if not (np.sqrt(n1x * n1x + n1y * n1y + n1z * n1z) > 1e-12 * scale):
-                continue
-            if not (np.sqrt(n2x * n2x + n2y * n2y + n2z * n2z) > 1e-12 * scale):
+            if not ((n1x * ox + n1z * oz) + n1y * oy > 0 and (n2x * ox + n2z * oz) + n2y * oy > 0
+                    and np.sqrt(n1x * n1x + n1y * n1y + n1z * n1z) > 1e-12 * scale
+                    and np.sqrt(n2x * n2x + n2y * n2y + n2z * n2z) > 1e-12 * scale):
                 continue
             cand[n_cand, 0], cand[n_cand, 1], cand[n_cand, 2], cand[n_cand, 3] = a, b, c, d
             cand[n_cand, 4], cand[n_cand, 5] = t1, t2
@@ -217,8 +195,7 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack, low, high, nxt, head,
         if n_inner == 0 or n_cand == 0:
             break
         # each face votes for its strongest candidate edge; unanimous edges flip together
-        for t in range(m):
-            best[t] = -1
+        best[:] = -1
         for j in range(n_cand):
             for side in range(4, 6):
                 t = cand[j, side]
@@ -229,8 +206,7 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack, low, high, nxt, head,
         # the winners (no two share a face); of two making the same new edge, the one of
         # smaller old key flips. head/nxt (done with the half-edges) now list the winners
         # under the smaller vertex of their new edge
-        for v in range(n):
-            head[v] = -1
+        head[:] = -1
         for j in range(n_cand):
             if best[cand[j, 4]] == j and best[cand[j, 5]] == j:
                 lo_cd = min(cand[j, 2], cand[j, 3])

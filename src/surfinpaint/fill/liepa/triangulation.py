@@ -202,7 +202,8 @@ def _solve(p: np.ndarray, boundary_normal: np.ndarray,
     kernel = _compiled_dp()
     args = (np.ascontiguousarray(p, dtype=float),
             np.ascontiguousarray(boundary_normal, dtype=float), np.ascontiguousarray(forbidden))
-    apex, finite = kernel(*args) if kernel is not None else _dp_numpy(*args)
+    apex, finite = (kernel(*args, *_dp_tables(k)) if kernel is not None
+                    else _dp_numpy(*args))
     if not finite:
         return None
     out = np.empty((k - 2, 3), dtype=np.int64)
@@ -273,8 +274,22 @@ def _dp_numpy(p, boundary_normal, forbidden):
     return apex, bool(np.isfinite(worst[0, k - 1]))
 
 
-def _dp_loops(p, boundary_normal, forbidden):  # pragma: no cover - compiled
-    """Barequet–Sharir O(k³) table with Liepa's (max dihedral, area) weight.
+def _dp_tables(k: int) -> tuple[np.ndarray, ...]:
+    """The tables :func:`_dp_loops` fills for a loop of ``k`` vertices, made here (each
+    ``np.full``/``np.empty`` signature in the kernel would be compiled too): the worst angle
+    by rows and by columns (inf: no triangulation yet), the area and the normal by rows and
+    by columns (unset: read only where the worst angle is finite, i.e. once set), the apex
+    (-1: none)."""
+    return (np.full((k, k), np.inf), np.full((k, k), np.inf), np.empty((k, k)),
+            np.empty((k, k)), np.empty((k, k, 3)), np.empty((k, k, 3)),
+            np.full((k, k), -1, dtype=np.int64))
+
+
+def _dp_loops(p, boundary_normal, forbidden, worst_r, worst_c, area_r, area_c, norm_r, norm_c,
+              apex):  # pragma: no cover - compiled
+    """Barequet–Sharir O(k³) table with Liepa's (max dihedral, area) weight, in the tables
+    of :func:`_dp_tables` (``worst_r[i, j]`` for sub-polygon i..j, ``worst_c[j, i]`` the
+    same value, and so on).
 
     Sub-polygon (i, j) is the loop from i to j closed by segment (i, j); its triangle on
     (i, j) is (j, m, i) in output orientation (the loop runs i -> m -> j along existing
@@ -285,21 +300,6 @@ def _dp_loops(p, boundary_normal, forbidden):  # pragma: no cover - compiled
     """
     k = p.shape[0]
     inf = np.inf
-    # np.empty and plain loops, not np.full: each np.full signature costs its own
-    # compilation. Only the worst angles need a value everywhere (inf: no triangulation);
-    # an area or normal is read only where its worst angle is finite, i.e. once it is set
-    worst_r = np.empty((k, k))  # [i, j] for sub-polygon i..j
-    worst_c = np.empty((k, k))  # [j, i], the same values
-    area_r = np.empty((k, k))
-    area_c = np.empty((k, k))
-    norm_r = np.empty((k, k, 3))
-    norm_c = np.empty((k, k, 3))
-    apex = np.empty((k, k), np.int64)
-    for i in range(k):
-        for j in range(k):
-            worst_r[i, j] = inf
-            worst_c[i, j] = inf
-            apex[i, j] = -1
     for i in range(k - 1):
         worst_r[i, i + 1] = 0.0
         worst_c[i + 1, i] = 0.0
