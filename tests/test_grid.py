@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from test_parameterization import grid_mesh
 
-from surfinpaint.representation.grid import Grid, grid_over, interpolate, resample
+from surfinpaint.representation.grid import Grid, grid_over, interpolate, locate_nodes, resample
 
 
 def test_grid_over_resolution_and_spacing():
@@ -201,3 +201,35 @@ def test_clough_tocher_is_c1_across_edges_and_converges_as_h_cubed():
         errors.append(np.abs(smooth - exact)[inside].max())
         assert errors[-1] < np.abs(linear - exact)[inside].max() / 5
     assert errors[0] / errors[1] > 5 and errors[1] / errors[2] > 5  # ~8: O(h³)
+
+
+def test_located_nodes_are_the_barycentric_combinations_of_their_triangles():
+    # random triangles in node units, some overlapping, some off the grid, one degenerate
+    rng = np.random.default_rng(3)
+    t = rng.uniform(-3, 14, size=(30, 2))
+    faces = rng.integers(0, 30, size=(25, 3))
+    faces[0] = [0, 0, 1]
+    index, weights = locate_nodes(t, faces, (12, 10))
+    ii, jj = np.divmod(np.arange(120), 10)
+    nodes = np.column_stack([ii, jj]).astype(float)
+    hit = index >= 0
+    # inside: weights sum to one, are non-negative and give back the node
+    tri = t[faces[index[hit]]]
+    np.testing.assert_allclose(weights[hit].sum(1), 1.0, atol=1e-12)
+    assert (weights[hit] >= -1e-10).all()
+    np.testing.assert_allclose(np.einsum("ij,ijk->ik", weights[hit], tri), nodes[hit],
+                               atol=1e-9)
+    assert np.isnan(weights[~hit]).all()
+    # a node is missed exactly when no non-degenerate triangle contains it (brute force)
+    a, b, c = (t[faces[:, k]][None] for k in range(3))
+    p = nodes[:, None]
+
+    def cross(u, v):
+        return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+    area = cross(b - a, c - a)
+    s1, s2, s3 = cross(b - a, p - a), cross(c - b, p - b), cross(a - c, p - c)
+    inside = (area != 0) & (((s1 >= 0) & (s2 >= 0) & (s3 >= 0))
+                            | ((s1 <= 0) & (s2 <= 0) & (s3 <= 0)))
+    np.testing.assert_array_equal(hit, inside.any(1))
+    assert 0 < hit.sum() < 120

@@ -21,6 +21,7 @@ __all__ = [
     "face_neighbours",
     "grid_over",
     "interpolate",
+    "locate_nodes",
     "resample",
     "vertex_gradients",
 ]
@@ -167,7 +168,55 @@ def resample(uv: np.ndarray, faces: np.ndarray, values: np.ndarray,
     scalar = vals.ndim == 1
     vals = vals.reshape(len(vals), -1)
     N, M = grid.shape
-    t = grid.to_index(q)  # vertex positions in node units
+    face_index, weights = locate_nodes(grid.to_index(q), f, grid.shape)
+    out = np.full((N * M, vals.shape[1]), np.nan)
+    node = np.flatnonzero(face_index >= 0)
+    tv = f[face_index[node]]
+    w = weights[node]
+    out[node] = (w[:, 0, None] * vals[tv[:, 0]] + w[:, 1, None] * vals[tv[:, 1]]
+                 + w[:, 2, None] * vals[tv[:, 2]])
+    inside = (face_index >= 0).reshape(N, M)
+    if interpolant == "clough-tocher":
+        U, V = grid.nodes()
+        points = np.column_stack([U.ravel()[node], V.ravel()[node]])
+        if gradients is None:
+            gradients = vertex_gradients(q, f, vals)
+        out[node] = clough_tocher(q, f, vals, gradients, face_index[node], points)
+    elif interpolant != "linear":
+        raise ValueError(f"unknown interpolant {interpolant!r}; choose 'linear' or "
+                         "'clough-tocher'")
+    sampled = out.reshape(N, M, -1)
+    if scalar:
+        sampled = sampled[..., 0]
+    return sampled, inside, face_index.reshape(N, M)
+
+
+def locate_nodes(t: np.ndarray, faces: np.ndarray,
+                 shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """The triangle each grid node falls in, and its barycentric weights there.
+
+    Each triangle's bounding box of nodes is tested at once (vectorized, in chunks of about
+    ``_CHUNK`` candidate nodes), so the cost is about the number of grid nodes plus the
+    number of faces.
+
+    Parameters
+    ----------
+    t : (n, 2) float array
+        Vertex positions in node units (:meth:`Grid.to_index`); NaN rows are never hit.
+    faces : (f, 3) int array
+    shape : (N, M)
+        The grid's number of nodes along each axis.
+
+    Returns
+    -------
+    face_index : (N·M,) int array
+        The triangle of each node (row-major), −1 outside every triangle. A node on a shared
+        edge takes the last triangle that contains it (the values agree there).
+    weights : (N·M, 3) float array
+        The node's barycentric weights on its triangle's three vertices (NaN outside).
+    """
+    N, M = shape
+    f = faces
     tri = t[f]  # (f, 3, 2)
     lo = np.ceil(np.nanmin(tri, axis=1) - 1e-9).astype(np.int64)
     hi = np.floor(np.nanmax(tri, axis=1) + 1e-9).astype(np.int64)
@@ -177,16 +226,14 @@ def resample(uv: np.ndarray, faces: np.ndarray, values: np.ndarray,
     ni = np.where(valid, hi[:, 0] - lo[:, 0] + 1, 0).clip(min=0)
     nj = np.where(valid, hi[:, 1] - lo[:, 1] + 1, 0).clip(min=0)
     count = ni * nj
-
-    out = np.full((N * M, vals.shape[1]), np.nan)
     face_index = np.full(N * M, -1, dtype=np.int64)
+    weights = np.full((N * M, 3), np.nan)
     cum = np.cumsum(count)
     start = 0
     while start < len(f):
         # faces [start, stop) hold about _CHUNK candidate nodes
         base = cum[start - 1] if start else 0
-        stop = int(np.searchsorted(cum, base + _CHUNK, side="right"))
-        stop = max(stop, start + 1)
+        stop = max(int(np.searchsorted(cum, base + _CHUNK, side="right")), start + 1)
         ids = np.arange(start, stop)
         c = count[ids]
         fid = np.repeat(ids, c)
@@ -202,28 +249,11 @@ def resample(uv: np.ndarray, faces: np.ndarray, values: np.ndarray,
             l2 = (e1[:, 0] * p[:, 1] - e1[:, 1] * p[:, 0]) / det
         l0 = 1.0 - l1 - l2
         hit = (l0 >= -_BARY_TOL) & (l1 >= -_BARY_TOL) & (l2 >= -_BARY_TOL) & (det != 0)
-        fid, ii, jj, l0, l1, l2 = fid[hit], ii[hit], jj[hit], l0[hit], l1[hit], l2[hit]
-        tv = f[fid]
-        node = ii * M + jj
-        out[node] = (l0[:, None] * vals[tv[:, 0]] + l1[:, None] * vals[tv[:, 1]]
-                     + l2[:, None] * vals[tv[:, 2]])
-        face_index[node] = fid
+        node = ii[hit] * M + jj[hit]
+        face_index[node] = fid[hit]
+        weights[node] = np.column_stack([l0[hit], l1[hit], l2[hit]])
         start = stop
-    inside = (face_index >= 0).reshape(N, M)
-    if interpolant == "clough-tocher":
-        node = np.flatnonzero(face_index >= 0)
-        U, V = grid.nodes()
-        points = np.column_stack([U.ravel()[node], V.ravel()[node]])
-        if gradients is None:
-            gradients = vertex_gradients(q, f, vals)
-        out[node] = clough_tocher(q, f, vals, gradients, face_index[node], points)
-    elif interpolant != "linear":
-        raise ValueError(f"unknown interpolant {interpolant!r}; choose 'linear' or "
-                         "'clough-tocher'")
-    sampled = out.reshape(N, M, -1)
-    if scalar:
-        sampled = sampled[..., 0]
-    return sampled, inside, face_index.reshape(N, M)
+    return face_index, weights
 
 
 def _cubic_weights(x: np.ndarray) -> np.ndarray:

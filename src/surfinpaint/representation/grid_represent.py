@@ -369,13 +369,8 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
     levels = subdivision_levels(v, f) if subdivide is None else int(subdivide)
     sample_uv, sample_f, sample_v = uv, f, v
     if levels:
-        # the smooth surface is built over the LSCM map, which folds fewer triangles; the
-        # original vertices keep their ids in the refined mesh, so their (u, v) are read
-        # from its map (with the coarse map's corners for the rectangular map)
-        base_uv = uv if map == "lscm" else lscm(v, f)
-        sample_v, sample_f = smooth_subdivision(v, f, base_uv, levels)
-        sample_uv, _ = parameterize(sample_v, sample_f, map, strict=strict,
-                                    corners=corners if len(corners) else None)
+        sample_uv, sample_f, sample_v = _subdivided_map(v, f, uv, corners, map, levels,
+                                                        strict)
         uv = sample_uv[:len(v)]
     # with subdivision the refined border may bulge out of the original vertices' box
     over = sample_uv[np.unique(sample_f)] if levels else uv
@@ -388,6 +383,19 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
                    vertices=v.copy(), faces=f.copy(), map=map, band=band,
                    corners=np.asarray(corners, dtype=np.int64), sampling=sampling,
                    subdivide=levels)
+
+
+def _subdivided_map(v: np.ndarray, f: np.ndarray, uv: np.ndarray, corners, map: str,
+                    levels: int, strict: bool):
+    """The mesh subdivided ``levels`` times onto its smooth interpolant and mapped again:
+    (uv, faces, vertices) of the refined mesh, whose first ``len(v)`` vertices are the
+    original ones. The smooth surface is built over the LSCM map, which folds fewer
+    triangles; the rectangular map keeps the coarse map's corners."""
+    base_uv = uv if map == "lscm" else lscm(v, f)
+    sample_v, sample_f = smooth_subdivision(v, f, base_uv, levels)
+    sample_uv, _ = parameterize(sample_v, sample_f, map, strict=strict,
+                                corners=corners if len(corners) else None)
+    return sample_uv, sample_f, sample_v
 
 
 def rebuild_grid(rep: LambdaH, method: str = "laplacian", *, order: int = 3,

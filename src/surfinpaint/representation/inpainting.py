@@ -89,34 +89,44 @@ def inpaint(
     >>> bool(np.allclose(g, f))
     True
     """
+    rings = _fidelity_options(method, fidelity, options)
+    f, region, domain, squeeze = _check(values, region, domain, h)
+    fidelity = None if fidelity is None else float(fidelity)
+    region = region & domain
+    out = f.copy()
+    if region.any():
+        if fidelity is None:
+            free = region
+        else:
+            near = ndimage.binary_dilation(region, np.ones((3, 3), bool), iterations=rings)
+            free = near & domain
+        rows = _laplacian_rows if method == "biharmonic" else _edge_rows
+        out[free] = _least_squares_fill(f, rows(domain, free), region, domain, free, fidelity)
+    return out[..., 0] if squeeze else out
+
+
+def _fidelity_options(method: str, fidelity: float | None, options: dict) -> int:
+    """Check :func:`inpaint`'s method and soft-fit options; the annulus width ``rings``."""
     rings = int(options.pop("rings", 4))
     if options:
         raise ValueError(f"unknown inpainting options: {sorted(options)}")
     if method not in INPAINT_METHODS:
         raise ValueError(f"unknown inpainting method {method!r}; choose from {INPAINT_METHODS}")
-    f, region, domain, squeeze = _check(values, region, domain, h)
     if fidelity is not None:
-        fidelity = float(fidelity)
-        if not (np.isfinite(fidelity) and fidelity > 0):
+        if not (np.isfinite(float(fidelity)) and float(fidelity) > 0):
             raise ValueError(f"fidelity must be a positive number, got {fidelity}")
         if rings < 1:
             raise ValueError(f"rings must be >= 1, got {rings}")
-    region = region & domain
-    out = f.copy()
-    if not region.any():
-        return out[..., 0] if squeeze else out
-    if fidelity is None:
-        free = region
-    else:
-        near = ndimage.binary_dilation(region, np.ones((3, 3), bool), iterations=rings)
-        free = near & domain
+    return rings
+
+
+def _least_squares_fill(f: np.ndarray, D, region: np.ndarray, domain: np.ndarray,
+                        free: np.ndarray, fidelity: float | None) -> np.ndarray:
+    """The values at the ``free`` nodes minimising ``|D x|²`` (plus ``fidelity`` times the
+    squared distance to the known values at the free nodes outside ``region``), the other
+    nodes of ``domain`` held at ``f``: (free nodes, k)."""
     soft = free & ~region
     fixed = domain & ~free
-
-    if method == "biharmonic":
-        D = _laplacian_rows(domain, free)
-    else:
-        D = _edge_rows(domain, free)
     idx = np.full(region.shape, -1, dtype=np.int64)
     idx[free] = np.arange(free.sum())
     flat = np.flatnonzero(free.ravel())
@@ -142,9 +152,8 @@ def inpaint(
     except RuntimeError as err:  # singular: a part of the region left unconstrained
         raise ValueError(f"inpainting system is singular ({err}); the region needs known "
                          "data around it inside the domain") from err
-    x = np.column_stack([solve(np.ascontiguousarray(rhs[:, k])) for k in range(rhs.shape[1])])
-    out[free] = x
-    return out[..., 0] if squeeze else out
+    return np.column_stack([solve(np.ascontiguousarray(rhs[:, k]))
+                            for k in range(rhs.shape[1])])
 
 
 def biharmonic_flow(

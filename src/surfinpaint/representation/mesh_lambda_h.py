@@ -477,19 +477,8 @@ def rebuild_on_mesh(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, lam: 
     started = time.perf_counter()
     p = np.asarray(points, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    known = np.asarray(known, dtype=bool)
-    n = len(p)
-    if known.shape != (n,) or not known.any():
-        raise ValueError("known must be an (n,) boolean mask with at least one vertex")
+    known, lam, H, defect = _rebuild_inputs(len(p), known, lam, H, defect)
     unknown = ~known
-    lam = np.asarray(lam, dtype=float)
-    H = np.asarray(H, dtype=float)
-    defect = np.zeros((n, 2)) if defect is None else np.asarray(defect, dtype=float)
-    for name, a in (("lam", lam), ("H", H), ("defect", defect)):
-        bad = np.flatnonzero(unknown & ~np.isfinite(a.reshape(n, -1)).all(axis=1))
-        if len(bad):
-            raise ValueError(f"{name} is not finite at {len(bad)} unknown vertices, e.g. "
-                             f"{bad[:5].tolist()}")
     phi = p.copy()
     if not unknown.any():
         return MeshSolve(phi, True, 0, 0.0, 0.0, "newton", 0.0, "nothing to rebuild",
@@ -503,25 +492,15 @@ def rebuild_on_mesh(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, lam: 
     first = phi if start is None else np.where(unknown[:, None], start, p)
     x, ok, used, step = _newton(system, first, 1.0, tol, min(NEWTON_STEPS, max_iter), scale)
     mismatch = area_mismatch(x, f, uv, lam) if ok else np.inf
-    method = "newton"
+    method, note = "newton", ""
     if (not ok or (select_by_area and mismatch > AREA_MATCH)) and max_iter > used:
-        def newton(y):
-            y, converged, k, _ = _newton(system, y, 1.0, tol, NEWTON_STEPS, scale)
-            return y, converged, k
-
-        def score(y):
-            return area_mismatch(y, f, uv, lam) if select_by_area else 0.0
-
-        arc = arclength_continuation(system, phi, scale, newton, score,
-                                     AREA_MATCH if select_by_area else np.inf,
-                                     max_iter - used)
+        arc = _continuation(system, phi, scale, tol, max_iter - used,
+                            (f, uv, lam) if select_by_area else None)
         used += arc.steps
         if arc.score < mismatch or not ok:
             x, ok, method = arc.points, np.isfinite(arc.score), "continuation"
             step = tol if ok else np.nan
         note = arc.message
-    else:
-        note = ""
     mismatch = area_mismatch(x, f, uv, lam)
     r = system.residual(x, 1.0)
     size = np.linalg.norm((system.L @ x).ravel()[system.idx]) or 1.0
@@ -533,3 +512,36 @@ def rebuild_on_mesh(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, lam: 
                 + (f" ({note})" if note else ""))
     return MeshSolve(x, ok, used, float(step), float(np.linalg.norm(r) / size), method,
                      mismatch, message, time.perf_counter() - started)
+
+
+def _rebuild_inputs(n: int, known, lam, H, defect):
+    """:func:`rebuild_on_mesh`'s data as arrays, checked: ``known`` an (n,) mask with a
+    vertex, λ, H and the defect (zeros when None) finite at every unknown vertex."""
+    known = np.asarray(known, dtype=bool)
+    if known.shape != (n,) or not known.any():
+        raise ValueError("known must be an (n,) boolean mask with at least one vertex")
+    lam = np.asarray(lam, dtype=float)
+    H = np.asarray(H, dtype=float)
+    defect = np.zeros((n, 2)) if defect is None else np.asarray(defect, dtype=float)
+    for name, a in (("lam", lam), ("H", H), ("defect", defect)):
+        bad = np.flatnonzero(~known & ~np.isfinite(a.reshape(n, -1)).all(axis=1))
+        if len(bad):
+            raise ValueError(f"{name} is not finite at {len(bad)} unknown vertices, e.g. "
+                             f"{bad[:5].tolist()}")
+    return known, lam, H, defect
+
+
+def _continuation(system, harmonic: np.ndarray, scale: float, tol: float, budget: int,
+                  area_data: tuple | None):
+    """The arclength continuation from the harmonic surface to t = 1, Newton's method at
+    its crossings; scored by the vertex areas' mismatch with λ's when ``area_data`` (faces,
+    uv, λ) is given, else it stops at the first crossing."""
+    def newton(y):
+        y, converged, k, _ = _newton(system, y, 1.0, tol, NEWTON_STEPS, scale)
+        return y, converged, k
+
+    def score(y):
+        return 0.0 if area_data is None else area_mismatch(y, *area_data)
+
+    return arclength_continuation(system, harmonic, scale, newton, score,
+                                  np.inf if area_data is None else AREA_MATCH, budget)
