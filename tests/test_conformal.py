@@ -385,6 +385,15 @@ def test_self_checks_on_the_local_part_give_the_same_scores(check):
     local = score(cut.vertices, cut.faces, cut.loop, both, patch_rings=10)
     whole = score(cut.vertices, cut.faces, cut.loop, both)
     assert len(whole) == 3 and local == whole
+    if check == "siblings":
+        # each sibling's own scores, as the self-check's veto and vote read them: their
+        # mean is the sibling test's score
+        from surfinpaint.fill.selfcheck import mean_scores
+
+        each = sibling_scores(cut.vertices, cut.faces, cut.loop, both, patch_rings=10,
+                              each=True)
+        assert len(each) == 2 and mean_scores(each) == whole
+        assert each[0] != each[1]
 
 
 def test_mesh_pass_gives_the_report_its_pictures(sphere_hole):

@@ -24,7 +24,7 @@ from surfinpaint.geometry.metrics import (
     sample_surface,
 )
 
-__all__ = ["hidden_ring_scores", "sibling_scores"]
+__all__ = ["hidden_ring_scores", "mean_scores", "sibling_scores"]
 
 
 def _sibling_centres(vertices, faces, loop, gap_rings, count, graph=None):
@@ -53,7 +53,8 @@ def sibling_scores(
     gap_rings: int = 3,
     n_samples: int = 2000,
     patch_rings: int | None = None,
-) -> dict[str, float]:
+    each: bool = False,
+) -> dict[str, float] | list[dict[str, float]]:
     """How well each filler does on holes like this one cut from the known surface nearby.
 
     Geodesic disks as wide as the hole are cut ``gap_rings`` rings beyond it (``siblings``
@@ -69,8 +70,10 @@ def sibling_scores(
 
     Returns
     -------
-    dict
-        Mean score per filler over the siblings that could be cut (empty if none could).
+    dict or list of dict
+        Mean score per filler over the siblings that could be cut (empty if none could);
+        with ``each``, the scores of every sibling that could be cut, in the order they were
+        placed (:func:`mean_scores` of them is the mean).
     """
 
     points = vertices[loop]
@@ -122,10 +125,18 @@ def sibling_scores(
             patches, cut.truth_vertices, cut.truth_faces, n_samples=n_samples), strict=True))
         return results
 
+    found = [score(centre) for centre in
+             _sibling_centres(vertices, faces, loop, gap, siblings, graph=graph)]
+    found = [results for results in found if results]
+    return found if each else mean_scores(found)
+
+
+def mean_scores(each: list[dict[str, float]]) -> dict[str, float]:
+    """The mean score per filler over test holes (each filler over the holes it was scored
+    on), as :func:`sibling_scores` reports it."""
     scores: dict[str, list[float]] = {}
-    for centre in _sibling_centres(vertices, faces, loop, gap, siblings, graph=graph):
-        results = score(centre)
-        for name, value in (results or {}).items():
+    for results in each:
+        for name, value in results.items():
             scores.setdefault(name, []).append(value)
     return {name: float(np.mean(v)) for name, v in scores.items() if v}
 
