@@ -6,8 +6,15 @@ The helper functions are importable too (``from conftest import grid_mesh``).
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
+
+# the kernels' tests compare them with their numpy versions: compiled in the test processes
+# (and their subprocesses), never stood in for by the numpy versions while a background
+# process compiles them (surfinpaint/compiled.py; tests/test_compiled.py tests that mode)
+os.environ["SURFINPAINT_COMPILE"] = "foreground"
 
 
 def grid_mesh(nx: int = 4, ny: int = 3) -> tuple[np.ndarray, np.ndarray]:

@@ -1,12 +1,16 @@
 """Numba kernels: cached on disk across processes, the first compilation announced once,
-and a kernel without any cache location still compiled (surfinpaint/compiled.py)."""
+a kernel without any cache location still compiled, and a first run that uses the numpy
+versions while one background process compiles (surfinpaint/compiled.py)."""
 
 from __future__ import annotations
 
+import fcntl
+import logging
 import os
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +18,14 @@ import pytest
 
 pytest.importorskip("numba")
 
-from surfinpaint.compiled import COMPILING_MESSAGE, Kernel, kernel  # noqa: E402
+from surfinpaint import compiled  # noqa: E402
+from surfinpaint.compiled import (  # noqa: E402
+    BACKGROUND_MESSAGE,
+    COMPILING_MESSAGE,
+    MODE_VARIABLE,
+    Kernel,
+    kernel,
+)
 
 SRC = str(Path(__file__).resolve().parents[1] / "src")
 
@@ -72,8 +83,27 @@ def test_kernel_is_built_once():
     assert k.get() is k.get()
 
 
-def test_the_command_line_says_once_that_it_compiles(tmp_path):
-    # a fresh numba cache: the first fill compiles (and says so once), the second does not
+def _wait_for_background(env: dict, timeout: float = 600.0) -> None:
+    """Until the background compilation started under ``env`` has released its lock."""
+    path = subprocess.run([sys.executable, "-c", "from surfinpaint.compiled import lock_path; "
+                           "print(lock_path())"], env=env, capture_output=True, text=True,
+                          check=True).stdout.strip()
+    assert Path(path).exists(), "no background compilation was started"
+    with open(path) as lock:
+        deadline = time.monotonic() + timeout
+        while True:
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                return
+            except BlockingIOError:
+                assert time.monotonic() < deadline, "the background compilation hangs"
+                time.sleep(0.2)
+
+
+def test_a_first_run_fills_with_the_numpy_versions_while_one_process_compiles(tmp_path):
+    # a fresh numba cache: the first fill uses the numpy versions (says so once, compiles
+    # nothing itself) while one background process fills the cache; the second fill loads
+    # every kernel from it (says nothing: nothing compiled, nothing stood in); the same bytes
     from surfinpaint.data import sphere
     from surfinpaint.geometry.cutting import cut_geodesic_disk
     from surfinpaint.io import write_mesh
@@ -82,11 +112,115 @@ def test_the_command_line_says_once_that_it_compiles(tmp_path):
     cut = cut_geodesic_disk(v, f, 0, 0.5)
     source = tmp_path / "holed.ply"
     write_mesh(source, cut.vertices, cut.faces)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=SRC,
+               TMPDIR=str(tmp_path), SURFINPAINT_COMPILE="background")
+    runs = []
+    for k in range(2):
+        command = [sys.executable, "-m", "surfinpaint", "fill", str(source), "-o",
+                   str(tmp_path / f"out{k}.ply")]  # the conformal fill: all three kernels
+        runs.append(subprocess.run(command, env=env, capture_output=True, text=True,
+                                   timeout=600))
+        assert runs[-1].returncode == 0, runs[-1].stderr
+        if k == 0:
+            _wait_for_background(env)
+    assert runs[0].stderr.count(BACKGROUND_MESSAGE) == 1, runs[0].stderr
+    assert COMPILING_MESSAGE not in runs[0].stderr, runs[0].stderr
+    assert not list(tmp_path.glob("*.failed"))
+    names = {p.name.split("-")[0] for p in (tmp_path / "cache").rglob("*.nbi")}
+    assert {"triangulation._dp_loops", "refinement._flip_loops",
+            "metrics._min_distance_loops"} <= names, names
+    assert BACKGROUND_MESSAGE not in runs[1].stderr and COMPILING_MESSAGE not in runs[1].stderr
+    assert (tmp_path / "out0.ply").read_bytes() == (tmp_path / "out1.ply").read_bytes()
+
+
+PROBE = """
+import sys
+sys.path.insert(0, {moddir!r})
+from surfinpaint import compiled
+import kernels
+launched = []
+compiled.compile_in_background = lambda: launched.append(1) or True
+twice, add = compiled.Kernel(kernels.twice).get(), compiled.Kernel(kernels.add).get()
+# twice: within the budget, so loaded from the cache or stood in for; add: over it, compiled
+values = [compiled.run(twice, lambda k: k(21), lambda: -1, cost=0.1, budget=1.0),
+          compiled.run(add, lambda k: k(1, 2), lambda: -1, cost=2.0, budget=1.0)]
+print(*values, len(launched), *[sum(k.stats.cache_hits.values()) for k in (twice, add)])
+"""
+
+
+def test_run_stands_in_for_a_kernel_missing_from_the_cache_and_loads_it_once_there(tmp_path):
+    # numba's dispatcher looks a call up in its disk cache before it compiles, and says
+    # "numba:compile" before compiling anything: run() relies on both (compiled.py)
+    moddir = tmp_path / "mods"
+    moddir.mkdir()
+    (moddir / "kernels.py").write_text(textwrap.dedent("""
+        def twice(x):
+            return 2 * x
+
+        def add(a, b):
+            return a + b
+    """))
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=SRC)
-    command = [sys.executable, "-m", "surfinpaint", "fill", str(source), "-o",
-               str(tmp_path / "out.ply"), "--method", "fair"]
-    runs = [subprocess.run(command, env=env, capture_output=True, text=True, timeout=600)
-            for _ in range(2)]
-    assert [r.returncode for r in runs] == [0, 0], runs[0].stderr
-    assert runs[0].stderr.count(COMPILING_MESSAGE) == 1, runs[0].stderr
-    assert COMPILING_MESSAGE not in runs[1].stderr, runs[1].stderr
+
+    def probe(mode: str) -> list[str]:
+        return subprocess.run([sys.executable, "-c", PROBE.format(moddir=str(moddir))],
+                              env=dict(env, SURFINPAINT_COMPILE=mode), capture_output=True,
+                              text=True, timeout=300, check=True).stdout.split()
+
+    # a fresh cache: twice stood in for (the compilation asked for), add compiled here
+    assert probe("background") == ["-1", "3", "1", "0", "0"]
+    assert not list((tmp_path / "cache").rglob("kernels.twice-*.nbi"))  # nothing compiled
+    assert probe("foreground") == ["42", "3", "0", "0", "1"]  # compiles twice, loads add
+    assert probe("background") == ["42", "3", "0", "1", "1"]  # both loaded, none stood in
+
+
+def test_a_kernel_numba_cannot_cache_is_compiled_in_the_process(monkeypatch):
+    namespace: dict = {}
+    exec(compile("def thrice(x):\n    return 3 * x\n", "<no file>", "exec"), namespace)
+    fn = kernel(namespace["thrice"])
+    monkeypatch.setenv(MODE_VARIABLE, "background")
+    monkeypatch.setattr(compiled, "compile_in_background", lambda: pytest.fail("launched"))
+    assert compiled.run(fn, lambda k: k(np.int64(5)), lambda: -1) == 15
+
+
+def _fresh_launch(monkeypatch, tmp_path: Path) -> list:
+    """compile_in_background as in a new process, its lock in ``tmp_path``, spawning
+    nothing: returns the (fd, path) of each spawn it would have made."""
+    spawned: list = []
+    monkeypatch.setattr(compiled, "_state", dict(compiled._state, launched=None))
+    monkeypatch.setattr(compiled, "lock_path", lambda: str(tmp_path / "k.lock"))
+    monkeypatch.setattr(compiled, "_spawn_builder", lambda fd, path: spawned.append(path))
+    return spawned
+
+
+def test_one_background_compilation_at_a_time_and_none_after_a_failed_one(monkeypatch,
+                                                                          tmp_path, caplog):
+    caplog.set_level(logging.DEBUG, logger="surfinpaint")
+    spawned = _fresh_launch(monkeypatch, tmp_path)
+    (tmp_path / "k.lock").touch()
+    with open(tmp_path / "k.lock") as held:  # another process compiles
+        fcntl.flock(held, fcntl.LOCK_EX)
+        assert compiled.compile_in_background() is True
+    assert spawned == [] and BACKGROUND_MESSAGE not in caplog.text
+    assert compiled.compile_in_background() is True and spawned == []  # once per process
+    spawned = _fresh_launch(monkeypatch, tmp_path)  # the lock is free: this one starts it
+    assert compiled.compile_in_background() is True
+    assert spawned == [str(tmp_path / "k.lock")] and caplog.text.count(BACKGROUND_MESSAGE) == 1
+    (tmp_path / "k.lock.failed").write_text("MemoryError\n")
+    spawned = _fresh_launch(monkeypatch, tmp_path)  # it failed once: compile in the process
+    assert compiled.compile_in_background() is False and spawned == []
+
+
+def test_a_failed_background_compilation_leaves_its_marker_and_the_lock(monkeypatch, tmp_path):
+    from surfinpaint.fill import warmup
+
+    def broken():
+        raise MemoryError("no room")
+
+    monkeypatch.setattr(warmup, "compile_kernels", broken)
+    fd = os.open(tmp_path / "k.lock", os.O_RDONLY | os.O_CREAT)
+    with pytest.raises(MemoryError):
+        warmup.main([str(fd), str(tmp_path / "k.lock")])
+    assert (tmp_path / "k.lock.failed").read_text() == "MemoryError: no room\n"
+    with pytest.raises(OSError):
+        os.close(fd)  # closed by main

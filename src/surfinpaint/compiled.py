@@ -1,41 +1,84 @@
-"""Numba kernels, compiled on first use and cached on disk for every later process.
+"""Numba kernels, compiled once into numba's disk cache and loaded from it by later processes.
 
 numba writes a kernel's machine code next to its source (``__pycache__``) or, where that is
 not writable (a read-only or system-wide install), to the user's cache directory
-(``~/.cache/numba``); ``NUMBA_CACHE_DIR`` overrides both. Only the first run after an
-install (or an upgrade) compiles, a few seconds in all; the first compilation in a process
-is announced once, at INFO level on the ``surfinpaint`` logger, so a command line can tell its
-user why the first fill waits. Without numba, :func:`kernel` gives None and callers use their
-numpy versions.
+(``~/.cache/numba``); ``NUMBA_CACHE_DIR`` overrides both. Each kernel has a numpy version
+that gives the same results bit for bit; callers go through :func:`run`.
+
+The first run after an install (or an upgrade) finds the cache empty. Compiling the
+kernels costs about 4 s CPU, more than the numpy versions cost on most fills, so by default
+(``SURFINPAINT_COMPILE=background``) that run does not wait: a kernel missing from the cache
+is replaced by its numpy version, and one detached, low-priority process
+(:data:`BUILDER`) compiles every kernel into the cache for the later runs; the run says so
+once (:data:`BACKGROUND_MESSAGE`, INFO on the ``surfinpaint`` logger). A lock file makes
+concurrent first runs, and the workers of a parallel fill, share that one process; a kernel
+that appears in the cache meanwhile is picked up at its next call. Where the numpy version
+would cost more than compiling (a long hole's triangulation: its dynamic program is ~100×
+slower in numpy), or once it has cost a process ``budget`` seconds, the kernel is compiled
+in the process, as when there is no disk cache at all (a kernel numba cannot cache), when the
+background compilation failed once, or with ``SURFINPAINT_COMPILE=foreground``; the first
+such compilation in a process is announced once (:data:`COMPILING_MESSAGE`). Without numba,
+:func:`kernel` gives None and callers use their numpy versions.
+
+Whether a kernel is in the cache is numba's own decision: its dispatcher looks the call's
+signature up in memory, then on disk, and only on a miss starts compiling, with a
+``numba:compile`` event (numba's public event API) before any work. :func:`run` calls the
+kernel with a listener that raises :class:`NotCompiled` on that event, so nothing is
+compiled and nothing is left half-made.
 """
 
 from __future__ import annotations
 
+import hashlib
 import logging
+import os
+import sys
+import tempfile
+import threading
 from collections.abc import Callable
 
-__all__ = ["COMPILING_MESSAGE", "Kernel", "kernel"]
+__all__ = ["BACKGROUND_MESSAGE", "BUILDER", "COMPILING_MESSAGE", "MODE_VARIABLE", "Kernel",
+           "NotCompiled", "kernel", "lock_path", "run"]
 
 logger = logging.getLogger("surfinpaint")
 
 COMPILING_MESSAGE = ("compiling surfinpaint's numba kernels (first run after an install only; "
                      "a few seconds, cached for later runs)")
+BACKGROUND_MESSAGE = ("surfinpaint's numba kernels are not compiled yet (first run after an "
+                      "install): this run uses their numpy versions (the same results) while a "
+                      "background process compiles them for later runs")
+MODE_VARIABLE = "SURFINPAINT_COMPILE"  # "background" (the default) or "foreground"
+BUILDER = "surfinpaint.fill.warmup"  # its main(lock_fd, lock_path) compiles every kernel
 
-_state = {"listening": False, "told": False}
+_state: dict = {"listening": False, "told": False, "launched": None}
 _OURS: set = set()  # the Python functions handed to kernel()
+_UNCACHED: set = set()  # kernels numba has no disk cache for
+_spent: dict = {}  # kernel -> estimated seconds its numpy version has cost this process
+_local = threading.local()  # .cached_only: the current call may load a kernel, not compile
+_launch_lock = threading.Lock()
 
 
-def _announce_first_compilation() -> None:
-    """Log :data:`COMPILING_MESSAGE` when numba starts compiling one of our kernels for the
-    first time in this process (loading one from the disk cache raises no compile event)."""
+class NotCompiled(Exception):
+    """Raised inside a kernel call that would have to compile the kernel (see :func:`run`)."""
+
+
+def _listen() -> None:
+    """Register the ``numba:compile`` listener once: it stops a compilation of one of our
+    kernels during a cache-only call, and logs :data:`COMPILING_MESSAGE` at the first
+    compilation of one of them in this process (loading one from the disk cache raises no
+    compile event)."""
     if _state["listening"]:
         return
     from numba.core import event
 
     class _Notice(event.Listener):
         def on_start(self, ev) -> None:
-            if not _state["told"] and getattr((ev.data or {}).get("dispatcher"), "py_func",
-                                              None) in _OURS:
+            func = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
+            if func not in _OURS:
+                return
+            if getattr(_local, "cached_only", False):
+                raise NotCompiled(func.__qualname__)
+            if not _state["told"]:
                 _state["told"] = True
                 logger.info(COMPILING_MESSAGE)
 
@@ -50,7 +93,7 @@ def kernel(func: Callable, **options) -> Callable | None:
     """``func`` compiled by ``numba.njit(cache=True, **options)``, or None without numba.
 
     Where numba finds no writable cache location at all, the kernel is compiled without a
-    disk cache (every process then compiles it once) rather than failing.
+    disk cache (every process then compiles it once, in the process) rather than failing.
     """
     try:
         import numba
@@ -58,12 +101,117 @@ def kernel(func: Callable, **options) -> Callable | None:
         return None
     func = getattr(func, "py_func", func)
     _OURS.add(func)
-    _announce_first_compilation()
+    _listen()
     try:
         return numba.njit(cache=True, **options)(func)
     except RuntimeError as exc:  # "cannot cache function ...: no locator available"
         logger.debug("numba cannot cache %s (%s): compiling it in memory", func.__name__, exc)
-        return numba.njit(**options)(func)
+        compiled = numba.njit(**options)(func)
+        _UNCACHED.add(compiled)
+        return compiled
+
+
+def run(compiled, call: Callable, fallback: Callable, cost: float = 0.0,
+        budget: float = 2.0):
+    """``call(compiled)``, or ``fallback()`` (the same results) while the kernel is not in
+    numba's cache and compiling it here would cost more than the fallback.
+
+    Parameters
+    ----------
+    compiled : numba dispatcher or None
+        The kernel (None without numba: the fallback runs).
+    call, fallback : callables
+        The kernel's call, given the kernel, and its numpy version.
+    cost : float
+        What ``fallback()`` costs, estimated in seconds from the size of the call (a
+        deterministic count, not a clock).
+    budget : float
+        Estimated seconds of fallbacks of this kernel a process may spend before it compiles
+        the kernel itself rather than wait for the background compilation.
+    """
+    if compiled is None:
+        return fallback()
+    if compiled in _UNCACHED or os.environ.get(MODE_VARIABLE) == "foreground":
+        return call(compiled)
+    spent = _spent.get(compiled, 0.0) + cost
+    if spent > budget:
+        return call(compiled)
+    _local.cached_only = True
+    try:
+        return call(compiled)
+    except NotCompiled:
+        pass
+    finally:
+        _local.cached_only = False
+    if not compile_in_background():
+        return call(compiled)
+    _spent[compiled] = spent
+    return fallback()
+
+
+def lock_path() -> str:
+    """The lock file held by the background compilation, one per user, interpreter, source
+    tree and ``NUMBA_CACHE_DIR`` (``lock_path() + ".failed"`` says it failed)."""
+    key = "|".join([str(os.getuid() if hasattr(os, "getuid") else ""), sys.executable,
+                    os.path.dirname(os.path.abspath(__file__)),
+                    os.environ.get("NUMBA_CACHE_DIR", "")])
+    digest = hashlib.sha1(key.encode()).hexdigest()[:16]
+    return os.path.join(tempfile.gettempdir(), f"surfinpaint-kernels-{digest}.lock")
+
+
+def compile_in_background() -> bool:
+    """Start the background compilation, once per process, unless another process (a
+    concurrent run, another worker of this one) runs it already; the process that starts
+    it says so (:data:`BACKGROUND_MESSAGE`). False when it cannot run: no ``fcntl``
+    (Windows) or ``posix_spawn``, an unusable lock file, or an earlier background
+    compilation failed; the caller then compiles in its process."""
+    with _launch_lock:
+        if _state["launched"] is None:
+            _state["launched"] = _launch()
+        return _state["launched"]
+
+
+def _launch() -> bool:
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - Windows
+        return False
+    path = lock_path()
+    if not hasattr(os, "posix_spawn") or os.path.exists(path + ".failed"):
+        return False
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_CREAT, 0o600)
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:  # held: another process compiles them now
+        os.close(fd)
+        logger.debug("another process compiles the kernels: their numpy versions meanwhile")
+        return True
+    try:
+        _spawn_builder(fd, path)
+    except OSError:
+        return False
+    finally:
+        os.close(fd)  # the child holds the lock now (its copy of the descriptor)
+    logger.info(BACKGROUND_MESSAGE)
+    return True
+
+
+def _spawn_builder(fd: int, path: str) -> None:
+    """Start :data:`BUILDER` detached (its own session, no terminal, lowest priority),
+    handing it the locked descriptor ``fd``."""
+    code = (f"import os, runpy, sys; os.nice(19); sys.argv[1:] = [{str(fd)!r}, {path!r}]; "
+            f"runpy.run_module({BUILDER!r}, run_name='__main__', alter_sys=True)")
+    env = dict(os.environ, **{MODE_VARIABLE: "foreground"})
+    devnull = [(os.POSIX_SPAWN_OPEN, i, os.devnull, os.O_RDWR, 0) for i in range(3)]
+    os.set_inheritable(fd, True)
+    try:
+        os.posix_spawn(sys.executable, [sys.executable, "-c", code], env,
+                       file_actions=devnull, setsid=True)
+    finally:
+        os.set_inheritable(fd, False)
 
 
 class Kernel:

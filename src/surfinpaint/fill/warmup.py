@@ -12,11 +12,16 @@ the edge-flip kernels) and, for the conformal method only, measures a point-to-m
 (its self-check's kernel; a ``fair`` fill never uses it), through the same functions a real
 fill calls, so numba loads exactly the specialisations real fills use, not new ones. It only
 computes: no file, no warning, no message besides numba's "compiling" notice.
+
+Run as a program (``surfinpaint.compiled``'s background compilation, :func:`main`), it
+compiles every kernel into numba's disk cache.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import os
+import sys
 import threading
 
 import numpy as np
@@ -24,7 +29,8 @@ import numpy as np
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.metrics import point_mesh_distance
 
-__all__ = ["KernelWarmup", "kernels_loaded", "warm_kernels", "warmup_mesh"]
+__all__ = ["KernelWarmup", "compile_kernels", "kernels_loaded", "main", "warm_kernels",
+           "warmup_mesh"]
 
 # below this many faces the whole-mesh passes take too little time to hide the loading
 WARMUP_MIN_FACES = 100_000
@@ -106,3 +112,32 @@ def _quietly(method: str) -> None:
         warm_kernels(method)
     except Exception:  # noqa: BLE001
         pass
+
+
+def compile_kernels() -> None:
+    """Compile (or load) every kernel, in the order the fallbacks of a first run cost most
+    per second of compilation: the distances (conformal self-checks), the triangulation's
+    dynamic program, the edge flips."""
+    vertices, faces, loop = warmup_mesh()
+    point_mesh_distance(vertices[:3], vertices, faces)
+    faired_fill(vertices, faces, loop, 2)
+
+
+def main(argv: list[str]) -> int:
+    """The background compilation started by ``surfinpaint.compiled``: ``argv`` is the
+    inherited descriptor holding the lock and the lock's path. A failure leaves
+    ``path + ".failed"`` (later runs then compile in their own process)."""
+    fd, path = int(argv[0]), argv[1]
+    try:
+        compile_kernels()
+    except Exception as exc:  # noqa: BLE001 - reported through the marker, then raised
+        with open(path + ".failed", "w") as marker:
+            marker.write(f"{type(exc).__name__}: {exc}\n")
+        raise
+    finally:
+        os.close(fd)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))

@@ -7,7 +7,7 @@ import itertools
 import numpy as np
 from scipy.spatial import cKDTree
 
-from surfinpaint.compiled import Kernel
+from surfinpaint.compiled import Kernel, run
 from surfinpaint.geometry.mesh import face_areas
 
 __all__ = ["closest_point_on_triangles", "hole_patch_of", "point_mesh_distance",
@@ -220,10 +220,10 @@ class _TriangleIndex:
         self.use_numba = True
 
     def _min_exact(self, p: np.ndarray, cand: np.ndarray, start: np.ndarray) -> np.ndarray:
-        kernel = _numba_kernel() if self.use_numba else None
-        if kernel is not None:
-            return kernel(p, self.tri, cand, start, np.empty(len(p)))
-        return _min_distance_numpy(p, self.tri, cand, start)
+        return run(_numba_kernel() if self.use_numba else None,
+                   lambda kernel: kernel(p, self.tri, cand, start, np.empty(len(p))),
+                   lambda: _min_distance_numpy(p, self.tri, cand, start),
+                   cost=4e-7 * len(cand) + 5e-4)  # numpy's seconds, estimated
 
     def distance(self, points: np.ndarray) -> np.ndarray:
         points = np.asarray(points, float)
