@@ -154,3 +154,41 @@ def test_select_holes_and_hole_numbers_reuse_a_given_find_holes_answer(monkeypat
                                              for a, b in zip(got, want, strict=True))
     assert holes_module.hole_numbers(cut.vertices, cut.faces, expected[1],
                                      found=found) == numbers == [2, 0]
+
+
+def _borders_by_whole_sum(v, f):
+    """The outer-border flags as one sum of every face's area per component (the rule)."""
+    from surfinpaint.fill.holes import BORDER_SPAN_FRACTION, _spanned_area
+    from surfinpaint.geometry.edges import EdgeTable
+    from surfinpaint.geometry.mesh import face_areas
+
+    _, label = EdgeTable.build(f, len(v)).vertex_components
+    area = np.bincount(label[f[:, 0]], weights=face_areas(v, f), minlength=label.max() + 1)
+    flags, seen = [], set()
+    for loop in sorted(boundary_loops(f), key=lambda l: (label[l[0]], -len(l))):
+        c = int(label[loop[0]])
+        flags.append(c not in seen
+                     and bool(_spanned_area(v[loop]) >= BORDER_SPAN_FRACTION * area[c]))
+        seen.add(c)
+    return flags
+
+
+@pytest.mark.parametrize("block", [7, 50, 1 << 16])
+def test_border_flags_from_partial_areas_match_the_whole_sum(monkeypatch, block):
+    # find_holes stops summing a component's face areas once part of them exceeds what its
+    # longest loop spans; in small blocks, the stop comes early (sphere), late or never
+    # (disk: a border), and components of both kinds decided together
+    import surfinpaint.geometry.mesh as mesh
+
+    monkeypatch.setattr(mesh, "FACE_BLOCK", block)
+    sv, sf = sphere_with_caps([(0, 0, 1), (1, 0, 0)])
+    dv, df = disk(16)
+    third = trimesh.creation.icosphere(3)
+    tv, tf = np.asarray(third.vertices), np.asarray(third.faces)
+    tf = tf[tv[tf].mean(axis=1)[:, 2] < 1 / 3]
+    both_v = np.vstack([dv, sv + 5, tv - 5])
+    both_f = np.vstack([df, sf + len(dv), tf + len(dv) + len(sv)])
+    for v, f in ((sv, sf), (dv, df), (tv, tf), (both_v, both_f), (both_v, both_f[::-1])):
+        holes = find_holes(v, f)
+        assert [h.is_border for h in holes] == _borders_by_whole_sum(v, f)
+    assert [h.is_border for h in find_holes(both_v, both_f)].count(True) == 1

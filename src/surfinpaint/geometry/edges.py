@@ -47,7 +47,8 @@ def edge_keys(a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
 
 def _stable_key_sort(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``order = np.argsort(key, kind="stable")`` and ``key[order]``, for non-negative
-    int64 keys.
+    int64 keys. ``key`` is consumed: its memory may hold the sorted keys (one whole-mesh
+    array less).
 
     Stable, so each edge's half-edges stay in face order. When each key shifted left by the
     bits of the largest index still fits in an int64, the index is packed into the low bits
@@ -59,7 +60,8 @@ def _stable_key_sort(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n = len(key)
     shift = max(int(n - 1).bit_length(), 1)
     if n and int(key.max()) < (1 << (63 - shift)):
-        packed = key << shift
+        packed = key
+        packed <<= shift
         packed |= np.arange(n, dtype=np.int64)
         packed.sort(kind="stable")
         order = packed & ((1 << shift) - 1)
@@ -128,13 +130,17 @@ class EdgeTable:
         n = int(f.max()) + 1 if f.size else 1
         if n_vertices is not None:
             n = max(n, int(n_vertices))
-        tails, heads = f[:, [1, 2, 0]].ravel(), f[:, [2, 0, 1]].ravel()
+        # take, not f[:, [1, 2, 0]]: that gives a column-major copy which ravel copies again
+        tails = np.take(f, [1, 2, 0], axis=1).ravel()
+        heads = np.take(f, [2, 0, 1], axis=1).ravel()
         forward = tails < heads
-        # edge_keys(tails, heads, n), in place: one whole-mesh temporary less
+        # edge_keys(tails, heads, n), in place: no whole-mesh temporaries
         key = np.minimum(tails, heads)
+        np.maximum(tails, heads, out=heads)
+        del tails
         key *= np.int64(n)
-        key += np.maximum(tails, heads)
-        del tails, heads
+        key += heads
+        del heads
         order, sorted_key = _stable_key_sort(key)
         del key
         new = np.empty(len(order), dtype=bool)
@@ -142,10 +148,11 @@ class EdgeTable:
         np.not_equal(sorted_key[1:], sorted_key[:-1], out=new[1:])
         first = np.flatnonzero(new)
         unique = sorted_key[first]
+        # each half-edge's edge, in sorted order, in the sorted keys' memory (used up)
+        rank = np.cumsum(new, dtype=np.int64, out=sorted_key)
         del sorted_key
-        face_edge = np.empty(len(order), dtype=np.int64)
-        rank = np.cumsum(new, dtype=np.int64)
         rank -= 1
+        face_edge = np.empty(len(order), dtype=np.int64)
         face_edge[order] = rank
         del rank
         start = np.append(first, len(order)).astype(np.int64)
