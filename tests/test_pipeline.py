@@ -123,3 +123,38 @@ def test_progress_callback_sees_every_hole(sphere_with_three_holes):
     seen = []
     fill_holes(v, f, method="fair", progress=lambda done, total, msg: seen.append((done, total)))
     assert (3, 3) in seen and all(total == 3 for _, total in seen)
+
+
+def _rings_brute_force(faces, seeds, rings):
+    """The faces within ``rings`` vertex rings of ``seeds``, ring by ring over all faces."""
+    region = set(np.asarray(seeds).tolist())
+    picked: set[int] = set()
+    for _ in range(rings):
+        new = {t for t, face in enumerate(faces.tolist()) if region & set(face)}
+        picked |= new
+        region |= {v for t in new for v in faces[t].tolist()}
+    return sorted(picked)
+
+
+@pytest.mark.parametrize("rings", [1, 2, 5, 40])
+def test_hole_neighbourhoods_are_the_faces_within_the_rings(rings):
+    # the cut of a hole, the faces added by an earlier hole included, against a brute-force
+    # ring growth over the original and added faces together
+    from surfinpaint.fill.pipeline import _FilledMesh
+    from surfinpaint.fill.results import Fill
+
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [v[0], v[len(v) // 2]], 0.3)
+    mesh = _FilledMesh(cut.vertices, cut.faces)
+    first, second = cut.holes[0].loop, cut.holes[1].loop
+    local = mesh.cut(first, 2)
+    centre = local.vertices[local.local_loop].mean(axis=0)
+    n = len(local.local_loop)  # a fan from a new centre vertex
+    fan = np.column_stack([local.local_loop, np.roll(local.local_loop, -1),
+                           np.full(n, len(local.vertices))])
+    assert mesh.stitch(local, Fill(centre[None], fan, "fair")) is None
+    everything = np.concatenate([cut.faces, *mesh.face_blocks])
+    for seeds in (second, first, np.r_[first[:3], second[:2]]):
+        got = mesh.cut(seeds, rings)
+        want = _rings_brute_force(everything, seeds, rings)
+        np.testing.assert_array_equal(got.faces_global, everything[want])

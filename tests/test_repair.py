@@ -242,3 +242,48 @@ def test_unjoined_bowties_rejects_non_boundary_edges():
     v, f = sphere(1)
     with pytest.raises(MeshError, match="not boundary edges"):
         unjoined_bowties(f, f[0])
+
+
+def _problem_on_whole_neighbourhood(local, explicit=False):
+    """pipeline._problem as it was: the loop checked against every face of the cut."""
+    from surfinpaint.geometry.validation import check_loop
+
+    try:
+        check_loop(local.faces_global, local.loop)
+    except MeshError as exc:
+        if "bow-tie" not in exc.message or unjoined_bowties(local.faces_global,
+                                                            local.loop).size:
+            return exc.message
+    touching = local.faces_global[np.isin(local.faces_global, local.loop).any(axis=1)]
+    return "lone sheet" if np.isin(touching, local.loop).all() else None
+
+
+def test_hole_problems_from_the_loops_faces_match_the_whole_neighbourhood():
+    # _problem checks a loop on the faces at its vertices only: the same answers as on the
+    # whole cut for a plain hole, a pinched loop, a surface touching at a loop vertex, a
+    # lone triangle, and a loop that is not a boundary
+    from surfinpaint.fill.pipeline import _FilledMesh, _problem
+
+    v, f = sphere(2)
+    plain = np.delete(f, [0, 1, 2, 3], axis=0)
+    pv, pinched, _ = _pinched_sphere()
+    gv, gf = grid_mesh(3, 3)
+    fan_v, fan_f = _fan(5)
+    fan_v = fan_v * 0.3 + [-0.4, -0.4, 0]
+    fan_v[0] = gv[0]
+    touching = np.vstack([gf, np.r_[0, len(gv) + np.arange(5)][fan_f]])
+    lone = np.array([[0, 1, 2]])
+    cases = [(v, plain, None), (pv, pinched, None), (np.vstack([gv, fan_v[1:]]), touching, None),
+             (v[:3], lone, None), (v, f, f[0])]
+    seen = set()
+    for vertices, faces, given in cases:
+        mesh = _FilledMesh(vertices, faces)
+        for loop in [given] if given is not None else boundary_loops(faces):
+            local = mesh.cut(np.asarray(loop), 3)
+            got = _problem(local, 0, explicit=False)
+            want = _problem_on_whole_neighbourhood(local)
+            assert (got is None) == (want is None), (got, want)
+            if got is not None:
+                assert got == want or (want == "lone sheet" and "lone sheet" in got)
+            seen.add(None if got is None else got.split(":")[0][:20])
+    assert len(seen) >= 3  # a fillable loop and at least two kinds of problems

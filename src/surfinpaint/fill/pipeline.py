@@ -15,7 +15,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
 from surfinpaint.errors import HoleWarning, MeshError, preview
@@ -25,13 +24,14 @@ from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
 from surfinpaint.fill.holes import find_holes, hole_numbers, loop_diameter, select_holes
+from surfinpaint.fill.neighbourhood import gather_positions, neighbourhood_faces
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import Fill, FillResult, HoleReport
 from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.fill.warmup import KernelWarmup
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.mesh import faces_at, vertex_faces
+from surfinpaint.geometry.mesh import vertex_faces
 from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
 from surfinpaint.geometry.validation import (
     check_arrays,
@@ -49,48 +49,6 @@ METHODS = ("conformal", "fair")
 FAIR_NEIGHBOURHOOD_RINGS = 3
 
 ProgressCallback = Callable[[int, int, str], None]
-
-
-def _neighbourhood(
-    faces: np.ndarray, incidence: sp.csr_matrix, added: np.ndarray, seeds: np.ndarray,
-    rings: int,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Faces within ``rings`` vertex rings of ``seeds``: ids into the original faces and into
-    the faces added by earlier holes. Cost depends on the neighbourhood, not the mesh (the
-    membership mask is allocated lazily, zero pages are never touched)."""
-    n_original = incidence.shape[0]
-    n_all = max(n_original, int(added.max()) + 1 if len(added) else 0, int(np.max(seeds)) + 1)
-    in_region = np.zeros(n_all, dtype=bool)
-    frontier = np.unique(seeds)
-    in_region[frontier] = True
-    picked, picked_added = [], []
-    # grow from the newest ring only: the faces of the older rings are already picked
-    for _ in range(rings):
-        new = faces_at(incidence, frontier[frontier < n_original])
-        picked.append(new)
-        grown = faces[new].ravel()
-        if len(added):
-            new_added = np.flatnonzero(in_region[added].any(axis=1))
-            picked_added.append(new_added)
-            grown = np.concatenate([grown, added[new_added].ravel()])
-        frontier = np.unique(grown[~in_region[grown]])
-        if len(frontier) == 0:
-            break
-        in_region[frontier] = True
-    empty = np.empty(0, dtype=np.int64)
-    return (np.unique(np.concatenate(picked)) if picked else empty,
-            np.unique(np.concatenate(picked_added)) if picked_added else empty)
-
-
-def _gather(vertices: np.ndarray, blocks: list[np.ndarray], ids: np.ndarray) -> np.ndarray:
-    """Positions of ``ids`` among the original vertices followed by the added blocks."""
-    n = len(vertices)
-    out = np.empty((len(ids), 3))
-    original = ids < n
-    out[original] = vertices[ids[original]]
-    if (~original).any():
-        out[~original] = np.concatenate(blocks)[ids[~original] - n]
-    return out
 
 
 @dataclass
@@ -121,11 +79,12 @@ class _FilledMesh:
         (the cost stays with the hole)."""
         added = (np.concatenate(self.face_blocks) if self.face_blocks
                  else np.empty((0, 3), dtype=np.int64))
-        picked, picked_added = _neighbourhood(self.faces, self.vertex_faces, added, loop, rings)
+        picked, picked_added = neighbourhood_faces(self.faces, self.vertex_faces, added, loop,
+                                                   rings)
         faces_global = np.concatenate([self.faces[picked], added[picked_added]])
         ids, local_faces = np.unique(faces_global, return_inverse=True)
         return _Local(loop=loop, ids=ids, faces_global=faces_global,
-                      vertices=_gather(self.vertices, self.vertex_blocks, ids),
+                      vertices=gather_positions(self.vertices, self.vertex_blocks, ids),
                       faces=local_faces.reshape(-1, 3), local_loop=np.searchsorted(ids, loop))
 
     def stitch(self, local: _Local, fill: Fill) -> str | None:
@@ -211,20 +170,24 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
 
 
 def _problem(local: _Local, index: int, explicit: bool) -> str | None:
-    """Why the hole cannot be filled (None: it can); a hole the caller named is an error."""
+    """Why the hole cannot be filled (None: it can); a hole the caller named is an error.
+
+    The loop is checked on the faces at its vertices only: whether its edges are boundary
+    edges and its vertices bow-ties is decided there (the same answer and message as on the
+    whole neighbourhood, at the cost of the loop's faces, not of the many rings around)."""
+    on_loop = np.isin(local.faces_global, local.loop)
+    touching = local.faces_global[on_loop.any(axis=1)]
     try:
-        check_loop(local.faces_global, local.loop)
+        check_loop(touching, local.loop)
     except MeshError as exc:
         # a loop pinched at a bow-tie (split into pieces): filling each piece joins the
         # fans there, so the result is manifold once all pieces are filled
-        if "bow-tie" not in exc.message or unjoined_bowties(local.faces_global,
-                                                            local.loop).size:
+        if "bow-tie" not in exc.message or unjoined_bowties(touching, local.loop).size:
             if explicit:
                 raise MeshError(f"hole {index}: {exc.message}", vertices=exc.vertices,
                                 edges=exc.edges) from None
             return exc.message
-    touching = local.faces_global[np.isin(local.faces_global, local.loop).any(axis=1)]
-    if np.isin(touching, local.loop).all():
+    if on_loop[on_loop.any(axis=1)].all():
         # a lone triangle or a strip one face wide: the loop bounds nothing but the faces
         # along it, and a fill would lay a second sheet on them (duplicate faces)
         return "the loop bounds only the faces along it (a lone sheet)"
