@@ -20,7 +20,7 @@ from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.metrics import (
     hole_patch_of,
     mean_surface_distances,
-    point_mesh_distance,
+    point_mesh_distances,
     sample_surface,
 )
 
@@ -190,12 +190,13 @@ def hidden_ring_scores(
         except NUMERICAL_ERRORS:
             return {}
         samples = sample_surface(vertices, faces[hidden], n_samples, seed=0)
-        return {
-            name: np.inf if isinstance(c, Exception) else  # failed on a hole like this one
-            float(point_mesh_distance(samples, np.concatenate([vertices, c.vertices]),
-                                      c.faces).mean())
-            for name, c in candidates.items()
-        }
+        made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
+        found = dict(zip(made, point_mesh_distances(samples, [
+            (np.concatenate([vertices, c.vertices]), c.faces) for c in made.values()]),
+            strict=True))
+        return {name: float(found[name].mean()) if name in found else
+                np.inf  # failed on a hole like this one
+                for name in candidates}
 
     if patch_rings is not None:
         reach = hide_rings + patch_rings + 3

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from threadpoolctl import threadpool_limits
+from threadpoolctl import ThreadpoolController
 
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.mesh import (
@@ -173,7 +173,7 @@ def inpaint_on_mesh(
     # the dense products here are small (tied ring × free vertices): OpenBLAS's threads
     # cost more than they give (measured: a bunny hole's fill 0.45-0.51 s with two
     # threads, 0.37 s with one)
-    with threadpool_limits(limits=1, user_api="blas"):
+    with _blas_controller().limit(limits=1, user_api="blas"):
         system = _CoupledSystem(points, faces, uv, free, natural)
         for weight, steps in attempts:
             try:
@@ -186,6 +186,18 @@ def inpaint_on_mesh(
             return _newton_solve(system, points, tol, NEWTON_STEPS)
         except _Unsettled as exc:
             raise FillError(f"{failure}; {exc}") from None
+
+
+_CONTROLLER: list[ThreadpoolController] = []
+
+
+def _blas_controller() -> ThreadpoolController:
+    """The process's thread-pool controller, made at the first λ-H solve (making one lists
+    the loaded libraries: 1-7 ms, which a ``threadpool_limits`` call paid on every solve;
+    the BLAS libraries are loaded by then, with numpy and scipy.sparse.linalg)."""
+    if not _CONTROLLER:
+        _CONTROLLER.append(ThreadpoolController())
+    return _CONTROLLER[0]
 
 
 class ThinPatchError(FillError):
@@ -264,15 +276,17 @@ class _CoupledSystem:
         reach, crease, self.tied, U, self.stencil = _vertex_sets(L, Q, f, border, on_natural)
         tied, stencil = self.tied, self.stencil
         self.n_crease = len(crease)
-        Q_f = Q[U]
-        L_ff, L_fk = L[f][:, f].tocsc(), L[f][:, fixed]
-        L_tf, L_tk = L[tied][:, f], L[tied][:, fixed]
+        Q_f, L_f, L_t = Q[U], L[f], L[tied]  # row slices, each made once
+        Q_rows_f = Q_f if len(crease) == 0 else Q[f]  # U is f without a crease
+        L_ff, L_fk = L_f[:, f].tocsc(), L_f[:, fixed]
+        L_tf, L_tk = L_t[:, f], L_t[:, fixed]
         Q_ff, self.Q_ft, self.Q_fs = Q_f[:, U].tocsc(), Q_f[:, tied], Q_f[:, stencil]
-        self.Q_fk, self.fixed = Q[f][:, fixed], fixed
+        self.Q_fk, self.fixed = Q_rows_f[:, fixed], fixed
         try:
             self.L_lu, self.Q_lu = spla.splu(L_ff), spla.splu(Q_ff)
             # λ has data on the crease (its one-sided areas): the plain biharmonic over f
-            self.lam_lu = self.Q_lu if len(crease) == 0 else spla.splu(Q[f][:, f].tocsc())
+            self.lam_lu = self.Q_lu if len(crease) == 0 else spla.splu(
+                Q_rows_f[:, f].tocsc())
         except RuntimeError as exc:  # SuperLU: exactly singular
             raise FillError(f"the λ-H system on the patch is singular: {exc}") from exc
         self.g = self.L_lu.solve(-(L_fk @ points[fixed]))
@@ -282,7 +296,8 @@ class _CoupledSystem:
         self.scale = mean_edge_length(points, faces)
         # λ and the normals change only at the free vertices and the ring around them:
         # recomputed on the faces around them; H on the rest of the stencil is fixed data
-        self.lam = np.sqrt(vertex_areas(points, faces) / area)
+        areas = vertex_areas(points, faces)
+        self.lam = np.sqrt(areas / area)
         self.natural_data = stencil[on_natural[stencil]]
         self.on_natural_stencil = on_natural[stencil]
         if len(self.natural_data):
@@ -293,14 +308,16 @@ class _CoupledSystem:
             self.adjacency = sp.csr_matrix((L != 0).astype(float))[self.natural_data]
             self.weight = np.maximum(self.adjacency @ self.inner, 1.0)
         self.L = L
-        self.H_stencil = self.stencil_H(points)
+        self.H_stencil = self.stencil_H(points, areas)
         # λ changes at the vertices whose faces touch a free one, the normals likewise
         self.moving = np.union1d(f, reach)
         self.near = faces[np.isin(faces, self.moving).any(axis=1)]
 
-    def stencil_H(self, phi):
-        """H at the stencil's data vertices from the positions ``phi``."""
-        lam2 = vertex_areas(phi, self.faces) / self.area
+    def stencil_H(self, phi, areas=None):
+        """H at the stencil's data vertices from the positions ``phi`` (``areas``: their
+        :func:`vertex_areas`, when already made)."""
+        areas = vertex_areas(phi, self.faces) if areas is None else areas
+        lam2 = areas / self.area
         H = (np.einsum("ij,ij->i", self.L @ phi, vertex_normals(phi, self.faces))
              / (2.0 * lam2 * self.area))
         out = H[self.stencil]
