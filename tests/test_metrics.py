@@ -12,6 +12,7 @@ from surfinpaint.geometry.metrics import (
     closest_point_on_triangles,
     hole_patch_of,
     point_mesh_distance,
+    point_mesh_distances,
     sample_surface,
     surface_distance,
 )
@@ -72,6 +73,21 @@ def test_point_mesh_distance_numba_and_numpy_agree_with_all_triangles():
     np.testing.assert_allclose(fast, full, atol=1e-12)
     np.testing.assert_allclose(slow, full, atol=1e-12)
     np.testing.assert_allclose(point_mesh_distance(p, v, f), full, atol=1e-12)
+
+
+@pytest.mark.parametrize("move", [0.0, 1e-3, 0.05, 0.5])
+def test_distances_to_meshes_of_one_triangulation_equal_one_search_each(move):
+    """Meshes with the faces of the first are searched from its nearest triangles: the same
+    bits as a search of their own, from barely moved (no query) to far moved (every point
+    queried again), and a mesh of other faces in between."""
+    v, f = data.sphere(2)
+    rng = np.random.default_rng(3)
+    p = v[rng.integers(len(v), size=500)] * rng.uniform(0.9, 1.1, size=(500, 1))
+    meshes = [(v, f), (v + move * rng.normal(size=v.shape), f), (v, f[::2]),
+              (v * (1 + move), f)]
+    got = point_mesh_distances(p, meshes)
+    for (mv, mf), d in zip(meshes, got, strict=True):
+        assert np.array_equal(d, point_mesh_distance(p, mv, mf))
 
 
 def test_triangles_with_a_zero_length_edge_give_the_segment_distance():
