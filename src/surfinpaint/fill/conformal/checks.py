@@ -24,11 +24,11 @@ DAMPING_STEPS = (1.0, 0.8, 0.6, 0.45, 0.3, 0.15)
 
 
 def fold_count(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
-               crease: np.ndarray | None = None) -> int:
+               crease: np.ndarray | None = None, edges: tuple | None = None) -> int:
     """Fold-overs of a filled patch: pairs of neighbouring triangles, in the fill or a fill
     triangle and the surface next to it, whose normals turn by more than ``FOLD_ANGLE``,
-    except across the ``crease`` edges."""
-    edges, owner, count = edge_faces(patch_faces)
+    except across the ``crease`` edges (``edges``: ``edge_faces(patch_faces)``, when made)."""
+    edges, owner, count = edge_faces(patch_faces) if edges is None else edges
     normals = face_normals(vertices, patch_faces)
     two = count == 2
     checked = two & ((owner[:, 0] < n_fill_faces) | (owner[:, 1] < n_fill_faces))
@@ -44,8 +44,10 @@ def fold_count(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int,
 
 def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int, *,
                 self_crossing: bool = True, crease: np.ndarray | None = None,
-                allowed_folds: int = 0, allowed_crossings: Crossings | None = None) -> None:
-    """Reject a filled patch (its first ``n_fill_faces`` faces are the fill).
+                allowed_folds: int = 0, allowed_crossings: Crossings | None = None,
+                edges: tuple | None = None) -> None:
+    """Reject a filled patch (its first ``n_fill_faces`` faces are the fill; ``edges``:
+    ``edge_faces(patch_faces)``, when made).
 
     Raises
     ------
@@ -60,7 +62,7 @@ def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int
     area = face_areas(vertices, fill)
     if (area <= 1e-12 * max(float(np.median(area)), 1e-300)).any():
         raise FillError("the filled patch has degenerate triangles")
-    folds = fold_count(vertices, patch_faces, n_fill_faces, crease=crease)
+    folds = fold_count(vertices, patch_faces, n_fill_faces, crease=crease, edges=edges)
     if folds > allowed_folds:
         more = f" (its start has {allowed_folds})" if allowed_folds else ""
         raise FillError(f"the filled patch folds over at {folds} edges{more}")
@@ -152,7 +154,8 @@ def damped_fill(vertices: np.ndarray, start: np.ndarray, moving: np.ndarray,
     """
     at_start = vertices.copy()
     at_start[moving] = start
-    allowed = fold_count(at_start, patch_faces, n_fill_faces, crease=crease)
+    edges = edge_faces(patch_faces)  # one topology for the start and every trial
+    allowed = fold_count(at_start, patch_faces, n_fill_faces, crease=crease, edges=edges)
     crossed = None  # the start's crossings, found only once a trial crosses something
     displacement = vertices[moving] - start
     first_failure = None
@@ -162,14 +165,16 @@ def damped_fill(vertices: np.ndarray, start: np.ndarray, moving: np.ndarray,
         try:
             try:
                 check_patch(trial, patch_faces, n_fill_faces, self_crossing=self_crossing,
-                            crease=crease, allowed_folds=allowed, allowed_crossings=crossed)
+                            crease=crease, allowed_folds=allowed, allowed_crossings=crossed,
+                            edges=edges)
             except CrossingError:
                 if crossed is not None:
                     raise
                 crossed = crossings(at_start, patch_faces, n_fill_faces,
                                     self_crossing=self_crossing)
                 check_patch(trial, patch_faces, n_fill_faces, self_crossing=self_crossing,
-                            crease=crease, allowed_folds=allowed, allowed_crossings=crossed)
+                            crease=crease, allowed_folds=allowed, allowed_crossings=crossed,
+                            edges=edges)
         except FillError as exc:
             first_failure = first_failure or exc
             continue

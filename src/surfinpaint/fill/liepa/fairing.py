@@ -190,9 +190,12 @@ def fair_orders(
     if len(free_ids) == 0:
         return {k: v.copy() for k in orders}
     regions: dict[int, _Region | MeshError] = {}
+    anchored = False  # the free vertices' anchoring is checked once (it is every order's)
     for order in orders:
         try:
-            regions[order] = _Region(v, faces, free_ids, order, operator, cut)
+            regions[order] = _Region(v, faces, free_ids, order, operator, cut,
+                                     check=not anchored)
+            anchored = True
         except MeshError as exc:
             regions[order] = exc
     top = regions[max(orders)]
@@ -217,9 +220,13 @@ def fair_orders(
 class _Region:
     """The submesh one fairing of ``order`` works on: the free vertices (ring 0), the rows
     of ``L`` it needs complete (up to ring ``order - 1``: all faces touching them) and the
-    columns they reach (ring ``order``)."""
+    columns they reach (ring ``order``).
 
-    def __init__(self, v, faces, free_ids, order, operator, cut):
+    ``check``: whether every group of free vertices has an edge to a fixed one
+    (:func:`_check_anchored`). Its answer is the same for every order: the faces around the
+    free vertices, which hold all their edges, are in every region."""
+
+    def __init__(self, v, faces, free_ids, order, operator, cut, check=True):
         n = len(v)
         mask = np.zeros(n, dtype=bool)
         mask[free_ids] = True
@@ -245,7 +252,8 @@ class _Region:
         self.in_rows = rows_mask[self.ids]
         if cut is not None:
             self.in_rows = self.in_rows & ~np.asarray(cut, dtype=bool)[self.ids]
-        _check_anchored(self.f, self.is_free, self.ids)
+        if check:
+            _check_anchored(self.f, self.is_free, self.ids)
 
     def solve(self, v, iterations, operator, shared=None, own=None):
         """The faired positions (n, 3). For the first solve: ``shared`` = (a larger region,
