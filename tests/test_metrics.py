@@ -90,6 +90,20 @@ def test_distances_to_meshes_of_one_triangulation_equal_one_search_each(move):
         assert np.array_equal(d, point_mesh_distance(p, mv, mf))
 
 
+@pytest.mark.parametrize("move", [0.0, 1e-3, 0.05, 0.5])
+def test_distances_of_moved_samples_equal_one_search_each(move):
+    """Point sets searched from the nearest centroids of the first (the samples of one
+    triangulation's candidate fills): the same bits as a search of their own, from barely
+    moved to far moved points, and a set of another size in between."""
+    v, f = data.sphere(2)
+    rng = np.random.default_rng(4)
+    p = v[rng.integers(len(v), size=500)] * rng.uniform(0.9, 1.1, size=(500, 1))
+    sets = [p, p + move * rng.normal(size=p.shape), p[:300], p * (1 + move)]
+    index = metrics._TriangleIndex(v, f)
+    for points, d in zip(sets, index.distances_moving(sets), strict=True):
+        assert np.array_equal(d, point_mesh_distance(points, v, f))
+
+
 def test_triangles_with_a_zero_length_edge_give_the_segment_distance():
     """A fill may contain a triangle with two equal corners (seen from a peer's fill in the
     validation benchmark): the compiled kernel divided 0 by 0 there and raised."""

@@ -397,10 +397,15 @@ def edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     )
 
 
-def mean_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
-    """Mean length of the undirected edges."""
+def mean_edge_length(vertices: np.ndarray, faces: np.ndarray,
+                     table: EdgeTable | None = None) -> float:
+    """Mean length of the undirected edges (``table``: the faces' edge table, if built)."""
     v = np.asarray(vertices, dtype=float)
-    edges, _, _ = unique_edges(faces)
+    if table is None:
+        edges, _, _ = unique_edges(faces)
+    else:
+        table.check_faces(faces)
+        edges = table.edges
     if len(edges) == 0:
         return 0.0
     return float(np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1).mean())

@@ -260,30 +260,53 @@ class _TriangleIndex:
             best[todo] = np.minimum(best[todo], self._min_exact(points[todo], cand, start))
         return best, dist, near
 
-    def distance_after(self, points: np.ndarray, other: _TriangleIndex, dist: np.ndarray,
-                       near: np.ndarray) -> np.ndarray:
-        """:meth:`distance` of ``points`` from their nearest centroids ``(dist, near)`` in
-        ``other`` (:meth:`nearest`), an index of the same faces on moved vertices (the
-        candidate fills of one triangulation): the same numbers, mostly without a query.
+    def distance_after(self, points: np.ndarray, dist: np.ndarray, near: np.ndarray,
+                       slack) -> np.ndarray:
+        """:meth:`distance` of ``points`` from nearest centroids ``(dist, near)`` found
+        before (:meth:`nearest`, for other points or on another index of the same faces):
+        the same numbers, mostly without a query.
 
-        A triangle ``T`` outside a point's ``near`` has its centroid at least
-        ``dist[:, -1]`` from it in ``other``, so here at least ``dist[:, -1] − |Δg_T|`` and
-        ``dist(p, T) >= dist[:, -1] − (|Δg_T| + ρ_T)``; where that exceeds the closest of
-        ``near`` no triangle outside them can be closer. The other points are queried here.
+        ``slack`` (scalar or per point) bounds how much closer than ``dist[:, -1]`` a
+        triangle outside a point's ``near`` can be here; where the closest of ``near`` is
+        nearer than ``dist[:, -1] − slack`` no other triangle can be closer. The other
+        points are queried here.
         """
         points = np.asarray(points, float)
         k = near.shape[1]
         best = self._min_exact(points, near.ravel(), np.arange(len(points) + 1) * k)
         if k == len(self.centroid):
             return best
-        moved = np.sqrt(((self.centroid - other.centroid) ** 2).sum(axis=1))
-        rho = np.sqrt(((self.tri - self.centroid[:, None]) ** 2).sum(-1).max(axis=1))
-        slack = float((moved + rho).max())
         # a margin far above the round-off of these sums
         todo = np.flatnonzero(dist[:, -1] - slack <= best + 1e-9 * (dist[:, -1] + slack))
         if len(todo):
             best[todo] = self.distance(points[todo])
         return best
+
+    def slack_after(self, other: _TriangleIndex) -> float:
+        """The ``slack`` of :meth:`distance_after` for centroids found in ``other``, an index
+        of the same faces on moved vertices: a triangle ``T`` outside a point's ``near`` has
+        its centroid at least ``dist[:, -1] − |Δg_T|`` from it here, so
+        ``dist(p, T) >= dist[:, -1] − (|Δg_T| + ρ_T)``."""
+        moved = np.sqrt(((self.centroid - other.centroid) ** 2).sum(axis=1))
+        rho = np.sqrt(((self.tri - self.centroid[:, None]) ** 2).sum(-1).max(axis=1))
+        return float((moved + rho).max())
+
+    def distances_moving(self, samples) -> list[np.ndarray]:
+        """:meth:`distance` of each point set in ``samples`` (of equal sizes; the samples
+        of candidate fills of one triangulation, which barely move from one to the next),
+        each searched from the nearest centroids of the first: a triangle outside a point's
+        ``near`` is at least ``dist[:, -1] − |Δp| − ρ`` from it."""
+        out, first = [], None
+        for points in samples:
+            points = np.asarray(points, float)
+            if first is None or len(points) != len(first[0]):
+                best, dist, near = self.nearest(points)
+                first = first or (points, dist, near)
+                out.append(best)
+                continue
+            shift = np.sqrt(((points - first[0]) ** 2).sum(axis=1))
+            out.append(self.distance_after(points, *first[1:], shift + self.rho))
+        return out
 
 
 def point_mesh_distances(points: np.ndarray, meshes) -> list[np.ndarray]:
@@ -296,7 +319,7 @@ def point_mesh_distances(points: np.ndarray, meshes) -> list[np.ndarray]:
             raise ValueError("the mesh has no faces")
         index = _TriangleIndex(vertices, faces)
         if first is not None and np.array_equal(index.faces, first[0].faces):
-            out.append(index.distance_after(points, *first))
+            out.append(index.distance_after(points, *first[1:], index.slack_after(first[0])))
             continue
         best, dist, near = index.nearest(points)
         first = first or (index, dist, near)
@@ -420,8 +443,8 @@ def mean_surface_distances(patches, truth_vertices: np.ndarray, truth_faces: np.
     patches = list(patches)
     samples = [sample_surface(vertices, faces, n_samples, seed) for vertices, faces in patches]
     ba = point_mesh_distances(truth_samples, patches)
-    return [float(0.5 * (truth_index.distance(p).mean() + to_patch.mean()))
-            for p, to_patch in zip(samples, ba, strict=True)]
+    ab = truth_index.distances_moving(samples)
+    return [float(0.5 * (a.mean() + b.mean())) for a, b in zip(ab, ba, strict=True)]
 
 
 def hole_patch_of(result_vertices: np.ndarray, result_faces: np.ndarray, n_original: int,

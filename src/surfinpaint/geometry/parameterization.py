@@ -25,6 +25,7 @@ import scipy.sparse as sp
 from scipy.sparse import csgraph
 
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import (
     factorized_definite,
     factorized_definite_ordered,
@@ -35,7 +36,6 @@ from surfinpaint.geometry.mesh import (
     boundary_loops,
     cotangent_laplacian,
     face_areas,
-    unique_edges,
 )
 
 __all__ = [
@@ -76,8 +76,7 @@ def check_disk(vertices: np.ndarray, faces: np.ndarray) -> None:
 
 
 def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """:func:`check_disk`, returning the boundary loop (the edge table is built once here
-    and once in ``boundary_loops``, which matters at 100k faces)."""
+    """:func:`check_disk`, returning the boundary loop (one edge table for both)."""
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     if f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
@@ -86,14 +85,16 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         bad = np.flatnonzero((f < 0).any(axis=1) | (f >= len(v)).any(axis=1))
         raise MeshError(f"faces {preview(bad)} refer to missing vertices", faces=bad)
     area = face_areas(v, f)
-    scale = max(float(np.ptp(v[np.unique(f)], axis=0).max()), 1e-300)
+    used = np.unique(f)
+    scale = max(float(np.ptp(v[used], axis=0).max()), 1e-300)
     degenerate = np.flatnonzero(area <= 1e-14 * scale**2)
     if len(degenerate):
         raise MeshError(
             f"{len(degenerate)} degenerate (zero-area) triangles: faces {preview(degenerate)}",
             faces=degenerate,
         )
-    edges, face_edge, count = unique_edges(f)
+    table = EdgeTable.build(f)  # one edge table for the checks and the loop
+    edges, face_edge, count = table.edges, table.face_edge, table.count
     nonmanifold = np.flatnonzero(count > 2)
     if len(nonmanifold):
         e = [tuple(map(int, edges[k])) for k in nonmanifold[:10]]
@@ -110,14 +111,13 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
             f"loops touch: vertices {preview(pinched)}",
             vertices=pinched,
         )
-    used = np.unique(f)
     graph = sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
                           shape=(len(v), len(v)))
     _, label = csgraph.connected_components(graph, directed=False)
     n_comp = len(np.unique(label[used]))
     if n_comp > 1:
         raise MeshError(f"mesh has {n_comp} connected components, a disk has one")
-    loops = boundary_loops(f)
+    loops = boundary_loops(f, table=table)
     chi = len(used) - len(edges) + len(f)
     n_loops = len(loops)
     if n_loops == 0:

@@ -32,6 +32,7 @@ import scipy.sparse.linalg as spla
 from threadpoolctl import ThreadpoolController
 
 from surfinpaint.errors import FillError
+from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import (
     boundary_loops,
     laplacian_and_areas,
@@ -87,8 +88,8 @@ def vertex_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
     return np.sqrt(lam2), H
 
 
-def _border(faces: np.ndarray) -> np.ndarray:
-    loops = boundary_loops(faces)
+def _border(faces: np.ndarray, table: EdgeTable | None = None) -> np.ndarray:
+    loops = boundary_loops(faces, table)
     return np.concatenate(loops) if loops else np.zeros(0, dtype=np.int64)
 
 
@@ -219,17 +220,30 @@ def _vertex_sets(L, Q, f, border, on_natural):
     border. On a natural border (a crease, the surface's own border) H near the free
     vertices is unknown instead.
     """
-    reach = np.setdiff1d(np.flatnonzero(np.diff(L[:, f].tocsr().indptr) > 0), f)
-    crease = np.setdiff1d(np.unique(Q[f].indices), f)
-    crease = crease[on_natural[crease]]
+    # sets of vertex ids as masks over the patch (the same sorted ids as set operations)
+    n = L.shape[0]
+    in_f = np.zeros(n, dtype=bool)
+    in_f[f] = True
+    reach = np.flatnonzero((np.diff(L[:, f].tocsr().indptr) > 0) & ~in_f)
+    crease = _ids(n, Q[f].indices, Q.indices.dtype, ~in_f & on_natural)
     tied = reach[~on_natural[reach]]
     U = np.concatenate([f, crease])
-    stencil = np.setdiff1d(np.unique(Q[U].indices), np.union1d(U, tied))
-    outer = border[~on_natural[border]]
-    if np.isin(stencil, outer).any() or np.isin(tied, outer).any():
+    known = in_f.copy()
+    known[crease] = known[tied] = True  # U and tied
+    stencil = _ids(n, Q[U].indices, Q.indices.dtype, ~known)
+    outer = np.zeros(n, dtype=bool)
+    outer[border[~on_natural[border]]] = True
+    if outer[stencil].any() or outer[tied].any():
         raise ThinPatchError("the patch is too thin around the hole: the biharmonic "
                              "stencil reaches its border")
     return reach, crease, tied, U, stencil
+
+
+def _ids(n: int, ids: np.ndarray, dtype, where: np.ndarray) -> np.ndarray:
+    """The distinct ``ids`` (below ``n``) at which ``where`` holds, sorted, as ``dtype``."""
+    mask = np.zeros(n, dtype=bool)
+    mask[ids] = True
+    return np.flatnonzero(mask & where).astype(dtype, copy=False)
 
 
 class _AndersonMixing:
@@ -269,7 +283,8 @@ class _CoupledSystem:
         if (area <= 0).any():
             raise FillError("the parameter map has vertices with no area")
         Q = (L @ sp.diags(1.0 / area) @ L).tocsr()
-        border = _border(faces)
+        table = EdgeTable.build(faces)  # for the border and the edge length
+        border = _border(faces, table)
         on_natural = np.zeros(len(points), dtype=bool)
         if natural is not None:
             on_natural[border] = np.asarray(natural, dtype=bool)[border]
@@ -293,7 +308,7 @@ class _CoupledSystem:
         self.Z_t = self.L_lu.solve(L_tf.T.toarray()).T  # L_tf L_ff⁻¹, (t, m)
         self.Y = self.Q_lu.solve(self.Q_ft.toarray())  # Q_ff⁻¹ Q_ft, (m, t)
         self.L_t_phi = L_tk @ points[fixed] + L_tf @ self.g  # (t, 3)
-        self.scale = mean_edge_length(points, faces)
+        self.scale = mean_edge_length(points, faces, table)
         # λ and the normals change only at the free vertices and the ring around them:
         # recomputed on the faces around them; H on the rest of the stencil is fixed data
         areas = vertex_areas(points, faces)
