@@ -4,7 +4,8 @@
    ``fill_holes`` cuts it) and filled by ``conformal_fill`` in this process, after one
    untimed fill (kernels loaded); the CPU seconds of the whole loop and of its parts
    (the hidden-ring and sibling tests, the faired fills, the λ-H passes, the point-to-mesh
-   distances; each part includes what runs inside it).
+   distances of the tests' scores with their sampling; each part includes what runs
+   inside it).
 2. The whole-mesh work of ``fill_holes`` before the holes: validation with the edge table
    (``_prepared``) and ``find_holes``, three calls.
 3. ``--phases``: instead, one whole ``surfinpaint fill`` run in this process (default and
@@ -37,11 +38,10 @@ from scale import make_case  # noqa: E402
 
 import surfinpaint.fill.conformal.candidates as candidates  # noqa: E402
 import surfinpaint.fill.conformal.method as method  # noqa: E402
-from surfinpaint.fill import pipeline  # noqa: E402
+from surfinpaint.fill import pipeline, selfcheck  # noqa: E402
 from surfinpaint.fill.conformal.options import ConformalOptions  # noqa: E402
 from surfinpaint.fill.holes import find_holes  # noqa: E402
 from surfinpaint.fill.warmup import warm_kernels  # noqa: E402
-from surfinpaint.geometry import metrics  # noqa: E402
 from surfinpaint.io.formats import read_mesh  # noqa: E402
 
 
@@ -101,7 +101,10 @@ def hole_parts(vertices: np.ndarray, faces: np.ndarray) -> dict[str, float]:
             (method, "sibling_scores", "sibling test"),
             (candidates, "faired_fills", "faired fills"),
             (candidates, "inpaint_patch_on_mesh", "λ-H passes"),
-            (metrics._TriangleIndex, "distance", "distances")):
+            # the self-check's scores: every point-to-mesh search and its sampling (the
+            # searches of candidates after the first bypass _TriangleIndex.distance)
+            (selfcheck, "mean_surface_distances", "distances"),
+            (selfcheck, "point_mesh_distances", "distances")):
         _timed(owner, name, label, spent)
     warm_kernels()
     method.conformal_fill(cuts[-1].vertices, cuts[-1].faces, cuts[-1].local_loop)
