@@ -224,3 +224,41 @@ def test_a_failed_background_compilation_leaves_its_marker_and_the_lock(monkeypa
     assert (tmp_path / "k.lock.failed").read_text() == "MemoryError: no room\n"
     with pytest.raises(OSError):
         os.close(fd)  # closed by main
+
+
+def test_the_background_process_runs_detached_at_the_lowest_priority_holding_the_lock(
+        monkeypatch, tmp_path):
+    # a stand-in builder reports its session, niceness and scheduling group, and whether
+    # the descriptor it was handed holds the lock
+    moddir = tmp_path / "mods"
+    moddir.mkdir()
+    (moddir / "fake_builder.py").write_text(textwrap.dedent("""
+        import fcntl, os, sys
+        fd, path = int(sys.argv[1]), sys.argv[2]
+        try:
+            group = open("/proc/self/autogroup").read().split()[-1]
+        except OSError:
+            group = "19"  # no autogroup: nothing to lower
+        other = os.open(path, os.O_RDONLY)
+        try:
+            fcntl.flock(other, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            held = "free"
+        except OSError:
+            held = "held"
+        with open(path + ".out", "w") as out:
+            out.write(f"{os.getsid(0)} {os.nice(0)} {group} {held}")
+    """))
+    monkeypatch.setattr(compiled, "BUILDER", "fake_builder")
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(moddir), SRC]))
+    path = tmp_path / "k.lock"
+    fd = os.open(path, os.O_RDONLY | os.O_CREAT)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    compiled._spawn_builder(fd, str(path))
+    os.close(fd)  # the child's copy holds the lock now
+    report = tmp_path / "k.lock.out"
+    deadline = time.monotonic() + 120
+    while not report.exists() or not report.read_text():
+        assert time.monotonic() < deadline, "the background process did not start"
+        time.sleep(0.05)
+    sid, nice, group, held = report.read_text().split()
+    assert int(sid) != os.getsid(0) and nice == "19" and group == "19" and held == "held"

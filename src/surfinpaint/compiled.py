@@ -201,9 +201,18 @@ def _launch() -> bool:
 
 def _spawn_builder(fd: int, path: str) -> None:
     """Start :data:`BUILDER` detached (its own session, no terminal, lowest priority),
-    handing it the locked descriptor ``fd``."""
-    code = (f"import os, runpy, sys; os.nice(19); sys.argv[1:] = [{str(fd)!r}, {path!r}]; "
-            f"runpy.run_module({BUILDER!r}, run_name='__main__', alter_sys=True)")
+    handing it the locked descriptor ``fd``. Linux schedules a session's processes as one
+    group ("autogroup") with a niceness of its own, so the child lowers its group's too:
+    ``os.nice`` alone would leave it an equal share against the run that started it."""
+    code = ("import os, runpy, sys\n"
+            "os.nice(19)\n"
+            "try:\n"
+            "    with open('/proc/self/autogroup', 'w') as group:\n"
+            "        group.write('19')\n"
+            "except OSError:\n"
+            "    pass\n"
+            f"sys.argv[1:] = [{str(fd)!r}, {path!r}]\n"
+            f"runpy.run_module({BUILDER!r}, run_name='__main__', alter_sys=True)\n")
     env = dict(os.environ, **{MODE_VARIABLE: "foreground"})
     devnull = [(os.POSIX_SPAWN_OPEN, i, os.devnull, os.O_RDWR, 0) for i in range(3)]
     os.set_inheritable(fd, True)
