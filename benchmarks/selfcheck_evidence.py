@@ -13,21 +13,16 @@ placed in farthest-point order, so the first two are the default test's two).
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
-import warnings
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
 import selfcheck_table  # noqa: E402
-import validation  # noqa: E402
-import validation_meshes as vm  # noqa: E402
 
 from surfinpaint.fill import selfcheck  # noqa: E402
 from surfinpaint.fill.conformal import ConformalOptions  # noqa: E402
 from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
-from surfinpaint.fill.pipeline import _FilledMesh  # noqa: E402
 
 HIDE = (1, 2, 3)
 
@@ -54,30 +49,14 @@ def hole_evidence(vertices, faces, loop, options: ConformalOptions, siblings: in
 
 
 def build(cache: Path, split: str | None, meshes, siblings: int) -> list[dict]:
-    have = {(r["mesh"], r["hole"]): r for r in selfcheck_table.read_cache(cache)}
+    def compute(entry, k, hole, cut, local):
+        row = hole_evidence(local.vertices, local.faces, local.local_loop, options, siblings)
+        print(f"{entry['mesh']} #{k}: {len(row['siblings_each'])} siblings "
+              f"({row['seconds']:.1f} s)", file=sys.stderr, flush=True)
+        return {"mesh": entry["mesh"], "hole": k, "split": entry["split"], **row}
+
     options = ConformalOptions()
-    out = []
-    for entry in selfcheck_table._manifest_holes(split, meshes):
-        todo = [k for k in range(len(entry["holes"])) if (entry["mesh"], k) not in have]
-        mesh = vm.load(entry["mesh"]) if todo else None
-        for k, hole in enumerate(entry["holes"]):
-            if (entry["mesh"], k) in have:
-                out.append(have[(entry["mesh"], k)])
-                continue
-            cut = validation._cut(mesh, hole)
-            local = _FilledMesh(cut.vertices, cut.faces).cut(
-                cut.loop, options.neighbourhood_rings(len(cut.loop)))
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                row = hole_evidence(local.vertices, local.faces, local.local_loop,
-                                    options, siblings)
-            row = {"mesh": entry["mesh"], "hole": k, "split": entry["split"], **row}
-            with cache.open("a") as fh:
-                fh.write(json.dumps(row) + "\n")
-            out.append(row)
-            print(f"{entry['mesh']} #{k}: {len(row['siblings_each'])} siblings "
-                  f"({row['seconds']:.1f} s)", file=sys.stderr, flush=True)
-    return out
+    return selfcheck_table.cached_rows(cache, split, meshes, options, compute)
 
 
 def main(argv=None):

@@ -14,24 +14,19 @@ hole with ``k`` rings hidden (k = 1, 2), in % of the hole diameter.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
-import warnings
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 import selfcheck_table  # noqa: E402
-import validation  # noqa: E402
-import validation_meshes as vm  # noqa: E402
 
 from surfinpaint.errors import NUMERICAL_ERRORS, MeshError  # noqa: E402
 from surfinpaint.fill.conformal import ConformalOptions  # noqa: E402
 from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
 from surfinpaint.fill.holes import loop_diameter  # noqa: E402
-from surfinpaint.fill.pipeline import _FilledMesh  # noqa: E402
 from surfinpaint.geometry.cutting import ring_distances  # noqa: E402
 from surfinpaint.geometry.mesh import boundary_loops  # noqa: E402
 from surfinpaint.geometry.metrics import point_mesh_distance, sample_surface  # noqa: E402
@@ -85,31 +80,17 @@ def stability(vertices, faces, loop, options: ConformalOptions, n_samples=2000) 
 
 
 def build(cache: Path, split, meshes) -> list[dict]:
-    have = {(r["mesh"], r["hole"]): r for r in selfcheck_table.read_cache(cache)}
+    def compute(entry, k, hole, cut, local):
+        started = time.perf_counter()
+        s = stability(local.vertices, local.faces, local.local_loop, options)
+        row = {"mesh": entry["mesh"], "hole": k, "split": entry["split"],
+               "stability": s, "seconds": time.perf_counter() - started}
+        print(f"{entry['mesh']} #{k}: {s} ({row['seconds']:.1f} s)", file=sys.stderr,
+              flush=True)
+        return row
+
     options = ConformalOptions()
-    out = []
-    for entry in selfcheck_table._manifest_holes(split, meshes):
-        todo = [k for k in range(len(entry["holes"])) if (entry["mesh"], k) not in have]
-        mesh = vm.load(entry["mesh"]) if todo else None
-        for k, hole in enumerate(entry["holes"]):
-            if (entry["mesh"], k) in have:
-                out.append(have[(entry["mesh"], k)])
-                continue
-            cut = validation._cut(mesh, hole)
-            local = _FilledMesh(cut.vertices, cut.faces).cut(
-                cut.loop, options.neighbourhood_rings(len(cut.loop)))
-            started = time.perf_counter()
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                s = stability(local.vertices, local.faces, local.local_loop, options)
-            row = {"mesh": entry["mesh"], "hole": k, "split": entry["split"],
-                   "stability": s, "seconds": time.perf_counter() - started}
-            with cache.open("a") as fh:
-                fh.write(json.dumps(row) + "\n")
-            out.append(row)
-            print(f"{entry['mesh']} #{k}: {s} ({row['seconds']:.1f} s)", file=sys.stderr,
-                  flush=True)
-    return out
+    return selfcheck_table.cached_rows(cache, split, meshes, options, compute)
 
 
 def main(argv=None):

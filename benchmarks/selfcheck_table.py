@@ -130,9 +130,33 @@ def build(cache: Path, split: str | None, meshes: list[str] | None,
           baseline: Path = BASELINE, options: ConformalOptions | None = None) -> list[dict]:
     """The rows of the selected holes: from the cache, the missing ones computed and
     appended to it (a cache holds the rows of one set of ``options``)."""
-    have = {(r["mesh"], r["hole"]): r for r in read_cache(cache)}
     base = baseline_errors(baseline) if baseline.exists() else {}
     options = ConformalOptions() if options is None else options
+
+    def compute(entry, k, hole, cut, local):
+        row = hole_scores(local.vertices, local.faces, local.local_loop, cut.truth_vertices,
+                          cut.truth_faces, cut.diameter, options=options)
+        row = {"mesh": entry["mesh"], "hole": k, "split": entry["split"],
+               "kind": entry["kind"], "n_edges": len(cut.loop),
+               "near_border": hole["near_border"], "on_feature": hole["on_feature"],
+               **row, "cgal": base.get(("cgal", entry["mesh"], k), float("nan")),
+               "default_before": base.get(("conformal", entry["mesh"], k), float("nan"))}
+        t = row["true"]
+        print(f"{entry['mesh']} #{k}: fair2 {t['fair2']:.3g} fair3 {t['fair3']:.3g} "
+              f"λ-H {t['conformal']:.3g} grown {row.get('grown')} "
+              f"({row['seconds_tests']:.1f} s)", file=sys.stderr, flush=True)
+        return row
+
+    return cached_rows(cache, split, meshes, options, compute)
+
+
+def cached_rows(cache: Path, split: str | None, meshes: list[str] | None,
+                options: ConformalOptions, compute) -> list[dict]:
+    """The rows of the selected holes of the manifest: those in ``cache`` read, the others
+    made by ``compute(entry, k, hole, cut, local)`` (``local``: the hole's neighbourhood as
+    :func:`surfinpaint.fill_holes` cuts it with ``options``' rings; warnings silenced) and
+    appended to the cache."""
+    have = {(r["mesh"], r["hole"]): r for r in read_cache(cache)}
     out = []
     for entry in _manifest_holes(split, meshes):
         todo = [k for k in range(len(entry["holes"])) if (entry["mesh"], k) not in have]
@@ -146,21 +170,10 @@ def build(cache: Path, split: str | None, meshes: list[str] | None,
                 cut.loop, options.neighbourhood_rings(len(cut.loop)))
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                row = hole_scores(local.vertices, local.faces, local.local_loop,
-                                  cut.truth_vertices, cut.truth_faces, cut.diameter,
-                                  options=options)
-            row = {"mesh": entry["mesh"], "hole": k, "split": entry["split"],
-                   "kind": entry["kind"], "n_edges": len(cut.loop),
-                   "near_border": hole["near_border"], "on_feature": hole["on_feature"],
-                   **row, "cgal": base.get(("cgal", entry["mesh"], k), float("nan")),
-                   "default_before": base.get(("conformal", entry["mesh"], k), float("nan"))}
+                row = compute(entry, k, hole, cut, local)
             with cache.open("a") as fh:
                 fh.write(json.dumps(row) + "\n")
             out.append(row)
-            t = row["true"]
-            print(f"{entry['mesh']} #{k}: fair2 {t['fair2']:.3g} fair3 {t['fair3']:.3g} "
-                  f"λ-H {t['conformal']:.3g} grown {row.get('grown')} "
-                  f"({row['seconds_tests']:.1f} s)", file=sys.stderr, flush=True)
     return out
 
 
