@@ -87,8 +87,11 @@ if os.environ.get("SURFINPAINT_TEST_STALL"):
 
     def read_mesh_data(path, *args, **kwargs):
         if os.path.basename(path) == os.environ["SURFINPAINT_TEST_STALL"]:
-            with open(os.environ["SURFINPAINT_TEST_MARKER"], "w") as marker:
-                marker.write(str(os.getpid()))
+            # written whole, then renamed: the test reads the pid as soon as the file exists
+            marker = os.environ["SURFINPAINT_TEST_MARKER"]
+            with open(marker + ".part", "w") as part:
+                part.write(str(os.getpid()))
+            os.replace(marker + ".part", marker)
             time.sleep(300)  # a file that takes long: the interrupt must not wait for it
         return _read(path, *args, **kwargs)
 
@@ -118,7 +121,9 @@ def test_sigterm_to_the_command_ends_its_workers_and_leaves_the_files_in_flight(
         assert proc.poll() is None, proc.communicate()
         assert time.monotonic() < deadline, "the stalled file was never started"
         time.sleep(0.01)
-    stalled_worker = int(marker.read_text() or 0)
+    # a pid, never 0: os.kill(0, 0) would signal this test's own process group
+    stalled_worker = int(marker.read_text())
+    assert stalled_worker > 0
     proc.send_signal(signal.SIGTERM)
     try:
         _, err = proc.communicate(timeout=60)
