@@ -48,7 +48,9 @@ def _run(tmp_path: Path, cache: Path) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, timeout=300, check=True)
 
 
-def test_kernels_are_cached_across_processes_and_the_compile_is_told_once(tmp_path):
+def _kernel_module(tmp_path):
+    """A folder holding ``kernels.py`` with two plain functions to compile, ``twice`` and
+    ``add`` (outside the package: their cache starts empty)."""
     moddir = tmp_path / "mods"
     moddir.mkdir()
     (moddir / "kernels.py").write_text(textwrap.dedent("""
@@ -58,6 +60,11 @@ def test_kernels_are_cached_across_processes_and_the_compile_is_told_once(tmp_pa
         def add(a, b):
             return a + b
     """))
+    return moddir
+
+
+def test_kernels_are_cached_across_processes_and_the_compile_is_told_once(tmp_path):
+    _kernel_module(tmp_path)  # _run imports it from tmp_path / "mods"
     cache = tmp_path / "cache"
     first = _run(tmp_path, cache)
     out = first.stdout.split()
@@ -151,15 +158,7 @@ print(*values, len(launched), *[sum(k.stats.cache_hits.values()) for k in (twice
 def test_run_stands_in_for_a_kernel_missing_from_the_cache_and_loads_it_once_there(tmp_path):
     # numba's dispatcher looks a call up in its disk cache before it compiles, and says
     # "numba:compile" before compiling anything: run() relies on both (compiled.py)
-    moddir = tmp_path / "mods"
-    moddir.mkdir()
-    (moddir / "kernels.py").write_text(textwrap.dedent("""
-        def twice(x):
-            return 2 * x
-
-        def add(a, b):
-            return a + b
-    """))
+    moddir = _kernel_module(tmp_path)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=SRC)
 
     def probe(mode: str) -> list[str]:
