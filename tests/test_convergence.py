@@ -240,3 +240,72 @@ def test_a_self_check_test_hole_is_not_retried_subdivided(monkeypatch):
         cut.vertices, cut.faces, cut.loop)
     assert isinstance(fills["conformal"], FillError)  # it fails there, as on the hole
     assert len(sizes) == 1  # and is not solved again on the patch split into four
+
+
+def test_a_hole_with_no_fixed_point_is_filled_by_the_least_squares_stage(monkeypatch):
+    # on this egg-crate hole (period 7, amplitude 2.5 edge lengths) the coupled solve fails
+    # on the patch and on the patch subdivided once (lagged, halved, Newton: "no step lowers
+    # its residual"): it fell back to fairing on main. The last stage's continuation in the
+    # curvature weight stops short of 1, and least squares from there ends 0.35 edge lengths
+    # from a fixed point: 2.9 % against the bilaplacian fill's 6.3 % (measured), undamped;
+    # the stage runs once, on the patch itself
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.fill.conformal import mesh_pass
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+    from eggcrate import error as egg_error
+
+    calls = []
+
+    def spy(points, faces, uv, free, **kw):
+        calls.append(len(faces))
+        return on_mesh.least_squares_on_mesh(points, faces, uv, free, **kw)
+
+    from surfinpaint.representation import on_mesh
+    monkeypatch.setattr(mesh_pass, "least_squares_on_mesh", spy)
+    cut = egg_crate(20, 3, 7, 2.5, 0.4, 6)
+    result = conformal_fill(cut.vertices, cut.faces, cut.loop, RAW)
+    assert result.kind == "conformal" and result.failure is None
+    stage = result.diagnostics.mesh.least_squares
+    assert 0 < stage.residual <= mesh_pass.LEAST_SQUARES_RESIDUAL and stage.weight < 1
+    assert "Newton" in stage.unsolved and "subdivided once" in stage.unsolved
+    assert len(calls) == 1 and calls[0] == len(result.diagnostics.mesh.faces)
+    assert result.diagnostics.damping == 1.0
+    fair_v, fair_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    assert egg_error(cut, result.vertices, result.faces) < 0.6 * egg_error(cut, fair_v, fair_f)
+
+
+@pytest.mark.parametrize("solves", [60, 0])
+def test_the_least_squares_stage_reaches_the_fixed_point_where_there_is_one(monkeypatch,
+                                                                           solves):
+    # a mild egg-crate hole, where the lagged iteration converges: from the same start the
+    # stage ends at the same fixed point (a consistent system: its root), by continuation
+    # to the full curvature weight, and with no continuation (from the harmonic fill) by
+    # Levenberg-Marquardt steps alone
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.fill.conformal.mesh_pass import _mapped_patch
+    from surfinpaint.representation import on_mesh
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+
+    monkeypatch.setattr(on_mesh, "CONTINUATION_SOLVES", solves)
+    cut = egg_crate(20, 0, 8, 0.8, 0.2, 3)
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    n = len(cut.vertices)
+    vertices = np.vstack([cut.vertices, new_v])
+    _, ids, local, uv, _, _ = _mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
+    free = ids >= n
+    points = vertices[ids]
+    fixed_point = on_mesh.inpaint_on_mesh(points, local, uv, free, tol=1e-9, iterations=200)
+    out, residual, weight = on_mesh.least_squares_on_mesh(points, local, uv, free, tol=1e-3)
+    assert weight == (1.0 if solves else 0.0)
+    assert residual < 1e-5
+    h = np.median(np.linalg.norm(points[local[:, 0]] - points[local[:, 1]], axis=1))
+    assert np.abs(out - fixed_point).max() < 1e-4 * h
+    assert np.abs(fixed_point - points).max() > 0.05 * h  # it moved: not the start

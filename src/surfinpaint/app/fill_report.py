@@ -168,8 +168,11 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
             lines += ["  " + t for t in tests]
         else:
             lines.append(f"  {_verdict(report)}")
+    diagnostics = report.diagnostics
+    least_squares = diagnostics.mesh.least_squares if diagnostics and diagnostics.mesh else None
+    if least_squares is not None:
+        lines.append(f"  λ-H fill: {least_squares.sentence()}")
     if verbose:
-        diagnostics = report.diagnostics
         if diagnostics is not None:
             lines.append(f"  λ-H pass: {diagnostics.discretization} discretization, "
                          f"{diagnostics.rings} rings of known surface, damping "

@@ -16,8 +16,8 @@ from surfinpaint.fill.objects import to_pyvista, to_trimesh
 if TYPE_CHECKING:
     from surfinpaint.fill.conformal.selection import Verdict
 
-__all__ = ["Fill", "FillResult", "GridLambdaH", "HoleReport", "LambdaHDiagnostics", "MeshLambdaH",
-           "Outcome", "TestScores", "TopologyChange"]
+__all__ = ["Fill", "FillResult", "GridLambdaH", "HoleReport", "LambdaHDiagnostics",
+           "LeastSquaresFill", "MeshLambdaH", "Outcome", "TestScores", "TopologyChange"]
 
 
 @dataclass(frozen=True)
@@ -51,6 +51,40 @@ class GridLambdaH:
 
 
 @dataclass(frozen=True)
+class LeastSquaresFill:
+    """The λ-H fill's last stage was used: the coupled solve found no fixed point, and the
+    fill is the patch's positions nearest to one
+    (:func:`surfinpaint.representation.on_mesh.least_squares_on_mesh`: continuation in the
+    curvature weight, then least squares).
+
+    Attributes
+    ----------
+    residual : float
+        How far the λ-H update still moves them, in mean edge lengths (largest entry).
+    weight : float
+        The largest weight of the curvature term its continuation reached from the
+        harmonic fill (1: it reached a fixed point, which Newton's method from the start
+        did not).
+    unsolved : str
+        Why the coupled solve failed before (its lagged, halved and Newton attempts, on the
+        patch and on the patch subdivided once).
+    """
+
+    residual: float
+    weight: float
+    unsolved: str
+
+    def sentence(self) -> str:
+        """The stage in words, for the hole's report."""
+        if self.weight >= 1.0:
+            return (f"no fixed point found from the start; one found by continuation in the "
+                    f"curvature weight (a residual of {self.residual:.2g} edge lengths)")
+        return (f"no fixed point of the coupled solve; the least-squares fill (from the "
+                f"curvature weight {self.weight:.2g} its continuation reached), a residual "
+                f"of {self.residual:.2g} edge lengths")
+
+
+@dataclass(frozen=True)
 class MeshLambdaH:
     """The mesh discretization's patch, from which λ and H before and after are drawn.
 
@@ -71,6 +105,9 @@ class MeshLambdaH:
         The patch's map: LSCM; where LSCM flips triangles at every patch size, LSCM with
         the flips untangled locally, or the mean-value map of the patch
         (:mod:`surfinpaint.geometry.mean_value`).
+    least_squares : LeastSquaresFill, optional
+        Set when the coupled solve found no fixed point (lagged, halved, Newton, on the
+        subdivided patch) and the fill is the least-squares stage's.
     """
 
     uv: np.ndarray
@@ -81,6 +118,7 @@ class MeshLambdaH:
     after: np.ndarray
     one_side: bool = False
     map: str = "lscm"
+    least_squares: LeastSquaresFill | None = None
 
 
 @dataclass(frozen=True)

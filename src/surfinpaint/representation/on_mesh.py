@@ -40,8 +40,9 @@ from surfinpaint.geometry.mesh import (
     vertex_areas,
     vertex_normals,
 )
+from surfinpaint.representation.least_squares import levenberg_marquardt
 
-__all__ = ["ThinPatchError", "inpaint_on_mesh", "vertex_lambda_h"]
+__all__ = ["ThinPatchError", "inpaint_on_mesh", "least_squares_on_mesh", "vertex_lambda_h"]
 
 # a step longer than this many mean edge lengths means the lagged iteration diverges (it
 # contracts by a factor of about 0.3-0.7 per step on the benchmark holes); one still longer
@@ -57,6 +58,17 @@ NEWTON_RTOL = 1e-3
 GMRES_RESTART = 60
 LINE_SEARCH = 8
 NEWTON_STEPS = 30
+# the least-squares stage where Newton's method fails too (least_squares_on_mesh):
+# Levenberg-Marquardt steps of at most LSQ_TRUST edge lengths, at most LSQ_STEPS of them
+# and LSQ_JACOBIANS Jacobians
+LSQ_TRUST = 2.0
+LSQ_STEPS = 30
+LSQ_JACOBIANS = 12
+# its continuation in the curvature weight (least_squares_on_mesh, stage 1)
+CONTINUATION_STEP = 0.125
+CONTINUATION_SMALLEST = 1e-3
+CONTINUATION_SOLVES = 60
+CONTINUATION_NEWTON = 10
 
 
 def vertex_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
@@ -189,6 +201,97 @@ def inpaint_on_mesh(
             raise FillError(f"{failure}; {exc}") from None
 
 
+def least_squares_on_mesh(
+    points: np.ndarray,
+    faces: np.ndarray,
+    uv: np.ndarray,
+    free: np.ndarray,
+    *,
+    natural: np.ndarray | None = None,
+    tol: float = 1e-3,
+) -> tuple[np.ndarray, float, float]:
+    """The positions nearest to a fixed point of :func:`inpaint_on_mesh`'s coupled system,
+    where its solves find none: a local minimum of the fixed-point residual
+    ``R(φ) = update(φ) − φ_f`` (in mean edge lengths), reached in two stages.
+
+    1. Continuation in the curvature term's weight w (the rebuild ``L φ = w M 2λ²H n``):
+       from the harmonic fill (w = 0) w is raised towards 1 in steps (first
+       ``CONTINUATION_STEP``, doubled after a step Newton's method corrects, halved after
+       one it cannot, down to ``CONTINUATION_SMALLEST``; at most ``CONTINUATION_SOLVES``
+       corrections of ``CONTINUATION_NEWTON`` Newton steps each). Where the path reaches
+       w = 1 that is a fixed point Newton's method from the start did not reach.
+    2. Otherwise Levenberg–Marquardt steps on ``R`` at w = 1 from the surface at the largest
+       w reached (:func:`~surfinpaint.representation.least_squares.levenberg_marquardt`;
+       dense forward-difference Jacobians, each step at most ``LSQ_TRUST`` edge lengths,
+       ``LSQ_STEPS`` steps and ``LSQ_JACOBIANS`` Jacobians at most).
+
+    Where the coupled system has no root near the start (the inpainted λ and H are not the
+    data of a surface there: docs/convergence.md) this is the surface nearest to being one.
+
+    Parameters are those of :func:`inpaint_on_mesh`.
+
+    Returns
+    -------
+    positions : (n, 3) float array
+    residual : float
+        ``R``'s largest entry at them, in mean edge lengths (at w = 1).
+    weight : float
+        The largest w the continuation reached.
+    """
+    points = np.asarray(points, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    free = np.asarray(free, dtype=bool)
+    with _blas_controller().limit(limits=1, user_api="blas"):
+        system = _CoupledSystem(points, faces, uv, free, natural)
+        phi, weight = _continuation(system, points, tol)
+        f, h = system.f, system.scale
+        start = phi[f].copy()
+
+        def residual(y):
+            trial = phi.copy()
+            trial[f] = start + h * y.reshape(-1, 3)
+            try:
+                return ((system.update(trial) - trial[f]) / h).ravel()
+            except FillError:
+                return np.full(y.size, np.nan)
+
+        n = 3 * len(f)
+        if weight >= 1.0:
+            size = float(np.abs(residual(np.zeros(n))).max())
+            return phi, size, weight
+        out = levenberg_marquardt(residual, np.zeros(n), steps=LSQ_STEPS,
+                                  evaluations=LSQ_JACOBIANS * (n + 1), max_step=LSQ_TRUST,
+                                  tol=tol * 1e-2)
+    phi = phi.copy()
+    phi[f] = start + h * out.x.reshape(-1, 3)
+    return phi, out.size, weight
+
+
+def _continuation(system, points, tol):
+    """Stage 1 of :func:`least_squares_on_mesh`: the surface at the largest curvature
+    weight reached from the harmonic fill, and that weight (``system.curvature`` is 1 again
+    after it)."""
+    try:
+        system.curvature = 0.0
+        phi = points.copy()
+        phi[system.f] = system.update(phi)  # the harmonic fill: no curvature term
+        weight, step, solves = 0.0, CONTINUATION_STEP, 0
+        while weight < 1.0 and step >= CONTINUATION_SMALLEST and solves < CONTINUATION_SOLVES:
+            trial = min(1.0, weight + step)
+            system.curvature = trial
+            solves += 1
+            try:
+                phi = _newton_solve(system, phi, tol, CONTINUATION_NEWTON)
+            except FillError:
+                step /= 2.0
+                continue
+            weight = trial
+            step *= 2.0
+        return phi, weight
+    finally:
+        system.curvature = 1.0
+
+
 _CONTROLLER: list[ThreadpoolController] = []
 
 
@@ -274,6 +377,9 @@ class _CoupledSystem:
     """The coupled λ-H system of :func:`inpaint_on_mesh` on one patch: its matrices and
     factorizations, made once, and :meth:`update`, one lagged solve."""
 
+    # the curvature term's weight: the rebuild solves L φ = curvature · M 2λ²H n
+    curvature = 1.0
+
     def __init__(self, points, faces, uv, free, natural=None):
         self.points, self.faces = points, faces
         f = self.f = np.flatnonzero(free)
@@ -352,6 +458,8 @@ class _CoupledSystem:
         s = 2.0 * lam**2
         w_n = normals[tied] / (area[tied] * s[tied])[:, None]  # (t, 3)
         d_n = normals[f] * (area[f] * s[f])[:, None]  # (m, 3)
+        if self.curvature != 1.0:  # the curvature term scaled (least_squares_on_mesh)
+            d_n = self.curvature * d_n
         # H at the tied ring = w_n · (L_tk φ_k + L_tf φ_f), φ_f = g + L_ff⁻¹ (d_n H)
         K = sum(w_n[:, [c]] * self.Z_t * d_n[:, c] for c in range(3))  # (t, m)
         K = np.hstack([K, np.zeros((len(tied), self.n_crease))])  # H on a crease: no φ

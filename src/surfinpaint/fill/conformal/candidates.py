@@ -191,7 +191,15 @@ class Candidates:
                                                              o.grid)
                 all_v[moving] = positions
             diagnostics = LambdaHDiagnostics("grid", used, reconstruct=reconstruct, grid=grid)
-        all_v, damping = damped_fill(all_v, start, moving, patch, len(new_f),
-                                     self_crossing=not test, crease=cut_edges)
+        try:
+            all_v, damping = damped_fill(all_v, start, moving, patch, len(new_f),
+                                         self_crossing=not test, crease=cut_edges)
+        except FillError as exc:
+            least_squares = diagnostics.mesh and diagnostics.mesh.least_squares
+            if not least_squares:
+                raise
+            # the fallback's reason says that the coupled solve failed first
+            raise type(exc)(f"{least_squares.unsolved}; {least_squares.sentence()}, "
+                            f"fails: {exc}") from None
         return Fill(all_v[n:], new_f, "conformal", diagnostics=replace(diagnostics,
                                                                         damping=damping))

@@ -11,16 +11,24 @@ import numpy as np
 from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.patch import grown_patch, hole_patch
 from surfinpaint.fill.creases import cut_along
-from surfinpaint.fill.results import MeshLambdaH
+from surfinpaint.fill.results import LeastSquaresFill, MeshLambdaH
 from surfinpaint.geometry import mean_value, parameterization
 from surfinpaint.geometry.mesh import boundary_halfedges, connected_components, unique_edges
 from surfinpaint.representation.grid_represent import smooth_subdivision
-from surfinpaint.representation.on_mesh import ThinPatchError, inpaint_on_mesh
+from surfinpaint.representation.on_mesh import (
+    ThinPatchError,
+    inpaint_on_mesh,
+    least_squares_on_mesh,
+)
 
 __all__ = ["inpaint_patch_on_mesh"]
 
 # the fewest rings of surface a patch keeps where the conformal map flips triangles
 MIN_RINGS = 3
+# the least-squares stage's fill is kept only where the λ-H update moves it by at most this
+# many mean edge lengths (the bound on one of its steps, on_mesh.LSQ_TRUST): further from a
+# fixed point it is not a λ-H fill (docs/convergence.md, session 11)
+LEAST_SQUARES_RESIDUAL = 2.0
 
 
 def inpaint_patch_on_mesh(
@@ -43,8 +51,9 @@ def inpaint_patch_on_mesh(
     LSCM; where that map flips or squashes a triangle the patch loses a ring, down to 3
     rings, and then its bad triangles are untangled (:func:`_mapped_patch`). Where the
     coupled solve fails on the patch, it is solved again on the patch split once into four
-    onto its smooth interpolant (:func:`_solve_or_subdivide`; not with ``subdivide=False``).
-    With
+    onto its smooth interpolant, and where that fails too, the positions nearest a fixed
+    point are taken if they are near enough (:func:`_solve_or_subdivide`; neither with
+    ``subdivide=False``). With
     ``cut_edges`` (a crease across the hole, :func:`surfinpaint.fill.creases.split_fill`) the
     mesh is cut open along them first and each side of the crease is a patch of its own,
     the crease its fixed border.
@@ -146,14 +155,16 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
         # the inpainting instead of giving up
         natural_ids = np.ones(len(ids), dtype=bool) if all_natural else on_border[ids]
         try:
-            new_points = _solve_or_subdivide(points, local, uv, free, len(fill_faces),
-                                             natural_ids, iterations, tol, subdivide)
+            new_points, least_squares = _solve_or_subdivide(
+                points, local, uv, free, len(fill_faces), natural_ids, iterations, tol,
+                subdivide)
             break
         except ThinPatchError:
             if all_natural:
                 raise
     lambda_h = MeshLambdaH(uv=uv, faces=local, n_fill_faces=len(fill_faces), free=free,
-                           before=points, after=new_points, map=map_name)
+                           before=points, after=new_points, map=map_name,
+                           least_squares=least_squares)
     return new_points[np.searchsorted(ids, moving)], patch, used, lambda_h
 
 
@@ -170,10 +181,26 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     tried where the solve failed and the hole would fall back (``subdivide``): not on the
     sides of a crease, whose failure has its own fallback (the hole filled as a smooth one),
     so every fill that worked before is unchanged.
+
+    Where that fails too, the last stage before a fallback: the patch's positions nearest to
+    a fixed point (:func:`~surfinpaint.representation.on_mesh.least_squares_on_mesh`: a
+    continuation in the curvature weight from the harmonic fill, then least squares at full
+    weight, on the patch itself), kept where their residual is at most
+    ``LEAST_SQUARES_RESIDUAL`` edge lengths. Measured (docs/convergence.md, session 11):
+    the coupled system has no root near the start on most such holes (the inpainted λ and
+    H are no surface's data there); this fills the 8 egg-crate holes that fell back (0.45-
+    1.76 of the bilaplacian fill's error, median 0.78) and halves the fallbacks on the
+    coarse quadruped and the brain probes.
+
+    Returns
+    -------
+    positions : (n, 3) float array
+    least_squares : LeastSquaresFill or None
+        Set when the positions are the least-squares stage's.
     """
     try:
         return inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
-                               natural=natural)
+                               natural=natural), None
     except ThinPatchError:
         raise
     except FillError as coarse:
@@ -184,8 +211,16 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
             out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3], iterations=iterations,
                                   tol=tol, natural=fine[4])
         except FillError as exc:
-            raise FillError(f"{coarse}; on the patch subdivided once: {exc}") from None
-        return out[:len(points)]
+            failure = f"{coarse}; on the patch subdivided once: {exc}"
+        else:
+            return out[:len(points)], None
+    positions, residual, weight = least_squares_on_mesh(points, local, uv, free,
+                                                        natural=natural, tol=tol)
+    if not residual <= LEAST_SQUARES_RESIDUAL:
+        raise FillError(f"{failure}; the least-squares stage ends at a residual of "
+                        f"{residual:.2g} edge lengths (curvature weight {weight:.2g} "
+                        "reached)")
+    return positions, LeastSquaresFill(residual, weight, failure)
 
 
 def _subdivided(points, local, uv, free, n_fill, natural):
