@@ -641,3 +641,44 @@ def test_represent_and_rebuild_bad_input(tmp_path, capsys):
     assert main(["rebuild", str(junk), "-o", str(tmp_path / "x.ply")]) == 1
     assert "representation" in _flat(capsys.readouterr().err)
     assert not (tmp_path / "x.ply").exists()
+
+
+# ------------------------------------------------- the program: python -m surfinpaint, the script
+
+
+def _program(argv: list[str]) -> tuple[int, int]:
+    """(exit code, objects frozen) of ``cli.program()`` run on ``argv`` in a fresh process."""
+    probe = ("import gc, sys\n"
+             f"sys.argv = ['surfinpaint', *{argv!r}]\n"
+             "from surfinpaint.app.cli import program\n"
+             "code = program()\n"
+             "print(code, gc.get_freeze_count())\n")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         timeout=120, check=True).stdout.split()
+    return int(out[-2]), int(out[-1])
+
+
+def test_the_program_returns_mains_code_and_freezes_the_objects_left(tmp_path, capsys):
+    v, f = _holey_sphere(2)
+    path = tmp_path / "holey.ply"
+    write_mesh(path, v, f)
+    assert main(["fill", str(path), "-o", str(tmp_path / "in_process.ply"), "-q"]) == 0
+    code, frozen = _program(["fill", str(path), "-o", str(tmp_path / "program.ply"), "-q"])
+    assert code == 0 and frozen > 10_000  # the modules' objects at least
+    assert ((tmp_path / "program.ply").read_bytes()
+            == (tmp_path / "in_process.ply").read_bytes())
+    assert _program(["fill", str(tmp_path / "missing.ply"), "-o",
+                     str(tmp_path / "x.ply"), "-q"])[0] == 1
+
+
+def test_python_m_surfinpaint_runs_the_program(tmp_path):
+    v, f = _holey_sphere(1)
+    path, out = tmp_path / "holey.ply", tmp_path / "out.ply"
+    write_mesh(path, v, f)
+    run = subprocess.run([sys.executable, "-m", "surfinpaint", "fill", str(path), "-o",
+                          str(out), "-q"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert len(read_mesh(out)[1]) > len(f)
+    bad = subprocess.run([sys.executable, "-m", "surfinpaint", "fill", str(tmp_path / "no.ply"),
+                          "-o", str(out), "-q"], capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 1

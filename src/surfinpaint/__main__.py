@@ -1,6 +1,6 @@
 """``python -m surfinpaint``: the command line."""
 
-from surfinpaint.app.cli import main
+from surfinpaint.app.cli import program
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(program())
