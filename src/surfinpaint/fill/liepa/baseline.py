@@ -95,6 +95,29 @@ def conventional_fill(
     >>> new_v.shape, new_f.shape
     ((0, 3), (1, 3))
     """
+    v, faces, loop = _checked_input(vertices, faces, loop)
+    n = len(v)
+    faces = _neighbourhood(faces, loop, n, max(order - 2, 0))
+    try:
+        loop = orient_loop(faces, loop, boundary=False)
+        _check_boundary(faces, loop)
+        patch = minimum_weight_triangulation(v, loop, faces, search=search)
+        new_v = np.empty((0, 3))
+        if refine:
+            new_v, patch = refine_patch(v, patch, loop, faces=faces, density=density,
+                                        style=refinement)
+        if fair and len(new_v):
+            new_v = _faired(v, faces, new_v, patch, order=order, iterations=fair_iterations,
+                            operator=operator)
+    except MeshError as err:
+        raise FillError(f"cannot fill the hole: {err}") from err
+    return _finite(new_v), patch
+
+
+def _checked_input(vertices, faces, loop) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`conventional_fill`'s arrays as float vertices, int64 faces and loop, or a
+    :class:`FillError` naming what is wrong with them (a :class:`MeshError` for face ids that
+    are not whole numbers)."""
     v = np.asarray(vertices, dtype=float)
     faces = face_ids(faces)  # whole-number floats taken, never truncated
     loop = np.asarray(loop, dtype=np.int64).ravel()
@@ -108,25 +131,26 @@ def conventional_fill(
         raise FillError(f"loop vertex ids {bad[:10].tolist()} are out of range 0..{n - 1}")
     if faces.ndim != 2 or faces.shape[1] != 3:
         raise FillError(f"faces must be an (f, 3) array, got shape {faces.shape}")
-    faces = _neighbourhood(faces, loop, n, max(order - 2, 0))
-    try:
-        loop = orient_loop(faces, loop, boundary=False)
-        _check_boundary(faces, loop)
-        patch = minimum_weight_triangulation(v, loop, faces, search=search)
-        new_v = np.empty((0, 3))
-        if refine:
-            new_v, patch = refine_patch(v, patch, loop, faces=faces, density=density,
-                                        style=refinement)
-        if fair and len(new_v):
-            allv = np.vstack([v, new_v])
-            allf = np.vstack([faces, patch])
-            new_v = fair_patch(allv, allf, np.arange(n, n + len(new_v)), order=order,
-                               iterations=fair_iterations, operator=operator)[n:]
-    except MeshError as err:
-        raise FillError(f"cannot fill the hole: {err}") from err
-    if not np.isfinite(new_v).all():
+    return v, faces, loop
+
+
+def _faired(vertices: np.ndarray, faces: np.ndarray, new_vertices: np.ndarray,
+            patch: np.ndarray, **fairing) -> np.ndarray:
+    """The positions of ``new_vertices`` (appended after ``vertices``) faired over the mesh
+    ``faces`` closed by ``patch``, everything else fixed (``fairing``: the options of
+    :func:`~surfinpaint.fill.liepa.fairing.fair`)."""
+    n = len(vertices)
+    allv = np.vstack([vertices, new_vertices])
+    allf = np.vstack([faces, patch])
+    return fair_patch(allv, allf, np.arange(n, n + len(new_vertices)), **fairing)[n:]
+
+
+def _finite(new_vertices: np.ndarray) -> np.ndarray:
+    """``new_vertices``, checked: a fairing whose system was singular in floating point
+    gives non-finite positions rather than an error, and they must not reach a mesh."""
+    if not np.isfinite(new_vertices).all():
         raise FillError("fairing produced non-finite positions")
-    return new_v, patch
+    return new_vertices
 
 
 def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order: int = 3
@@ -187,10 +211,7 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
         used = order if not isinstance(made[order], MeshError) else min(order, 2)
         if isinstance(made[used], MeshError):  # too few rings to anchor even order 2
             raise FillError(f"cannot fill the hole: {made[used]}") from made[used]
-        new_v = made[used][n:]
-        if not np.isfinite(new_v).all():
-            raise FillError("fairing produced non-finite positions")
-        out[order] = (new_v, patch, used)
+        out[order] = (_finite(made[used][n:]), patch, used)
     return out
 
 

@@ -105,55 +105,87 @@ def minimum_weight_triangulation(
     if search not in SEARCHES:
         raise ValueError(f"unknown search {search!r}: use one of {', '.join(SEARCHES)}")
     v = np.asarray(vertices, dtype=float)
-    loop = np.asarray(loop, dtype=np.int64).ravel()
-    k = len(loop)
-    if k < 3:
-        raise MeshError(f"a hole loop needs at least 3 vertices, got {k}",
-                        vertices=loop.tolist())
-    bad = loop[(loop < 0) | (loop >= len(v))]
-    if len(bad):
-        raise MeshError(f"loop vertex ids {preview(bad.tolist())} are out of range "
-                        f"0..{len(v) - 1}", vertices=bad[:10].tolist())
-    uniq, counts = np.unique(loop, return_counts=True)
-    if (counts > 1).any():
-        rep = uniq[counts > 1]
-        raise MeshError(f"loop visits vertices {preview(rep.tolist())} more than once",
-                        vertices=rep[:10].tolist())
-
-    boundary_normal = np.full((k, 3), np.nan)
-    forbidden = np.zeros((k, k), dtype=bool)
+    loop = _checked_loop(np.asarray(loop, dtype=np.int64).ravel(), len(v))
     if faces is not None:
         faces = np.asarray(faces, dtype=np.int64)
         loop = orient_loop(faces, loop, boundary=False)
     # the dynamic program is not invariant under rotating the loop (ties, and the closing
     # edge is special); a canonical start makes the result independent of the caller's
     loop = np.roll(loop, -int(np.argmin(loop)))
-    if faces is not None:
-        owner, _ = halfedge_faces(faces, loop)
-        f = faces[owner]
-        boundary_normal = _unit(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]))
-        forbidden = _existing_diagonals(faces, loop, len(v))
+    boundary_normal, forbidden = _surroundings(v, loop, faces)
     if avoid is not None and len(avoid):
-        position = np.full(len(v), -1)
-        position[loop] = np.arange(k)
-        pairs = position[np.asarray(avoid, dtype=np.int64).reshape(-1, 2)]
-        pairs = np.sort(pairs[(pairs >= 0).all(axis=1)], axis=1)
-        forbidden = forbidden.copy()
-        forbidden[pairs[:, 0], pairs[:, 1]] = True
+        forbidden = forbidden | _avoided_diagonals(loop, np.asarray(avoid, dtype=np.int64),
+                                                   len(v))
+    return loop[_triangulated(v[loop], boundary_normal, forbidden, search)]
 
+
+def _checked_loop(loop: np.ndarray, n: int) -> np.ndarray:
+    """``loop``, or a MeshError when it has fewer than 3 vertices, ids outside ``0..n - 1``
+    or a vertex twice (a loop through a vertex twice bounds no disk)."""
+    k = len(loop)
+    if k < 3:
+        raise MeshError(f"a hole loop needs at least 3 vertices, got {k}",
+                        vertices=loop.tolist())
+    bad = loop[(loop < 0) | (loop >= n)]
+    if len(bad):
+        raise MeshError(f"loop vertex ids {preview(bad.tolist())} are out of range "
+                        f"0..{n - 1}", vertices=bad[:10].tolist())
+    uniq, counts = np.unique(loop, return_counts=True)
+    if (counts > 1).any():
+        rep = uniq[counts > 1]
+        raise MeshError(f"loop visits vertices {preview(rep.tolist())} more than once",
+                        vertices=rep[:10].tolist())
+    return loop
+
+
+def _surroundings(v: np.ndarray, loop: np.ndarray, faces: np.ndarray | None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """What the surrounding mesh ``faces`` tells the dynamic program about the (oriented)
+    loop: the unit normal of the face across each loop edge (i, i + 1) (NaN without faces:
+    no fold to avoid there) and the (k, k) mask of diagonals that are mesh edges already."""
+    k = len(loop)
+    if faces is None:
+        return np.full((k, 3), np.nan), np.zeros((k, k), dtype=bool)
+    owner, _ = halfedge_faces(faces, loop)
+    f = faces[owner]
+    boundary_normal = _unit(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]))
+    return boundary_normal, _existing_diagonals(faces, loop, len(v))
+
+
+def _avoided_diagonals(loop: np.ndarray, avoid: np.ndarray, n: int) -> np.ndarray:
+    """(k, k) mask (i < j) of the pairs of ``avoid`` that are both on the loop, by loop
+    position."""
+    k = len(loop)
+    position = np.full(n, -1)
+    position[loop] = np.arange(k)
+    pairs = position[avoid.reshape(-1, 2)]
+    pairs = np.sort(pairs[(pairs >= 0).all(axis=1)], axis=1)
+    mask = np.zeros((k, k), dtype=bool)
+    mask[pairs[:, 0], pairs[:, 1]] = True
+    return mask
+
+
+def _triangulated(p: np.ndarray, boundary_normal: np.ndarray, forbidden: np.ndarray,
+                  search: str) -> np.ndarray:
+    """The triangulation of the loop at positions ``p``, faces in loop positions, by the
+    first that succeeds of: the planar CDT (``search="cdt"``, loops up to
+    :data:`CDT_MAX_EDGES` edges), the search among Delaunay diagonals ("delaunay", "cdt"),
+    the search among all diagonals, and last the search allowed to reuse a mesh edge (a
+    non-manifold fill rather than none)."""
+    k = len(p)
     tri = None
     if search == "cdt" and k <= CDT_MAX_EDGES:
-        tri = _planar_cdt(v[loop], forbidden)
+        tri = _planar_cdt(p, forbidden)
     if tri is None and search in ("delaunay", "cdt"):
-        outside = _non_delaunay_diagonals(v[loop])
+        outside = _non_delaunay_diagonals(p)
         if outside is not None:
-            tri = _solve(v[loop], boundary_normal, forbidden | outside)
+            tri = _solve(p, boundary_normal, forbidden | outside)
     if tri is None:
-        tri = _solve(v[loop], boundary_normal, forbidden)
+        tri = _solve(p, boundary_normal, forbidden)
     if tri is None:
         # every triangulation reuses an existing edge; accept that rather than fail
-        tri = _solve(v[loop], boundary_normal, np.zeros((k, k), dtype=bool))
-    return loop[tri]
+        tri = _solve(p, boundary_normal, np.zeros((k, k), dtype=bool))
+    return tri
 
 
 def _non_delaunay_diagonals(p: np.ndarray) -> np.ndarray | None:
