@@ -43,10 +43,11 @@ import peers  # noqa: E402
 import validation  # noqa: E402
 import validation_meshes as vm  # noqa: E402
 
-from surfinpaint.fill.liepa.baseline import _neighbourhood, faired_fills  # noqa: E402
+from surfinpaint.fill.liepa.baseline import faired_fills  # noqa: E402
 from surfinpaint.fill.liepa.fairing import fair  # noqa: E402
 from surfinpaint.fill.liepa.refinement import refine_patch  # noqa: E402
 from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation  # noqa: E402
+from surfinpaint.geometry.mesh import faces_near  # noqa: E402
 from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
 
 HOLES = ("bunny#1,airplane#5,cube40#1,pial#0,white#2,white#3,face000#3,bunny#0,white#1,"
@@ -87,7 +88,7 @@ def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
     n, m = len(v), len(f)
 
     def fair_on(new_v, patch, order, operator="cotan"):
-        near = _neighbourhood(f, loop, n, order - 2)
+        near = faces_near(f, loop, order - 2, n)  # what conventional_fill fairs on
         return fair(np.vstack([v, new_v]), np.vstack([near, patch]),
                     np.arange(n, n + len(new_v)), order=order, operator=operator)[n:]
 

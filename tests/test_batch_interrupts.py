@@ -174,3 +174,17 @@ def test_ctrl_c_stops_the_files_in_flight_and_the_same_command_picks_up_the_rest
     assert {r.output for r in done} <= written
     assert 1 <= len(written) < 10 and all(r.status == "filled" for r in done)
     _resumed(folder, out, mesh, 10, written)
+
+
+def test_stopping_a_pool_without_its_process_list_waits_for_the_files_in_flight():
+    # _stop_workers ends the workers through the pool's private list of its processes; a
+    # pool without it (another Python's) is shut down waiting, with the queued files
+    # cancelled, rather than failing
+    calls = []
+
+    class Pool:
+        def shutdown(self, wait=True, *, cancel_futures=False):
+            calls.append((wait, cancel_futures))
+
+    batch._stop_workers(Pool())
+    assert calls == [(True, True)]
