@@ -59,16 +59,21 @@ def boundary_scales(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -
     loop = np.asarray(loop, dtype=np.int64)
     on_loop = np.zeros(len(v), dtype=bool)
     on_loop[loop] = True
-    near = faces[on_loop[faces].any(axis=1)]
-    edges, _, _ = unique_edges(near)
-    length = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1)
-    total = np.bincount(edges.ravel(), weights=np.repeat(length, 2), minlength=len(v))
-    count = np.bincount(edges.ravel(), minlength=len(v))
+    total, count = _edge_length_sums(v, faces[on_loop[faces].any(axis=1)])
     if (count[loop] == 0).any():
         lonely = loop[count[loop] == 0]
         raise MeshError(f"loop vertices {preview(lonely.tolist())} have no edges in the mesh",
                         vertices=lonely[:10].tolist())
     return total[loop] / count[loop]
+
+
+def _edge_length_sums(v: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per vertex of ``v``: the summed length of its (undirected) edges in ``faces``, and
+    their number."""
+    edges, _, _ = unique_edges(faces)
+    length = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1)
+    total = np.bincount(edges.ravel(), weights=np.repeat(length, 2), minlength=len(v))
+    return total, np.bincount(edges.ravel(), minlength=len(v))
 
 
 def _inside_ball_one(p, a, b, c, s):  # pragma: no cover - compiled
@@ -546,11 +551,8 @@ def _patch_scales(pos: np.ndarray, f: np.ndarray, loop: np.ndarray,
     sigma[loop] = sigma_loop
     unset = np.isnan(sigma)
     if unset.any():
-        e, _, _ = unique_edges(f)
-        length = np.linalg.norm(pos[e[:, 0]] - pos[e[:, 1]], axis=1)
-        tot = np.bincount(e.ravel(), weights=np.repeat(length, 2), minlength=len(pos))
-        cnt = np.bincount(e.ravel(), minlength=len(pos))
-        sigma[unset] = tot[unset] / np.maximum(cnt[unset], 1)
+        total, count = _edge_length_sums(pos, f)
+        sigma[unset] = total[unset] / np.maximum(count[unset], 1)
     return sigma
 
 
