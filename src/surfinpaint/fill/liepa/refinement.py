@@ -226,7 +226,7 @@ def _put_candidate(p, f, e1, e2, key, forbidden, slack, high, nxt, head, cand, s
 
 def _proper_flip_one(p, a, b, c, d):  # pragma: no cover - compiled
     """``flip_passes.proper_flip`` for one quad: whether the two new triangles are proper
-    and do not fold against the old pair, the same arithmetic."""
+    and do not fold against the old pair."""
     o1x, o1y, o1z = _normal_one(p, a, b, c)
     o2x, o2y, o2z = _normal_one(p, b, a, d)
     ox, oy, oz = o1x + o2x, o1y + o2y, o1z + o2z
@@ -289,7 +289,7 @@ def _flip_workspace(n: int, m: int) -> tuple[np.ndarray, ...]:
 
 _FLIP_KERNEL: list = []  # compiled on first use (numba imports slowly)
 # _flip_loops's steps, inlined into it by numba. As kernels of their own, called in the inner
-# loops, they made the rounds about a quarter slower and the compilation ~1.8 s CPU longer
+# loops, they made the rounds a quarter to a third slower and the compilation ~1.8 s CPU longer
 # than one function's; inlined, the compilation takes ~0.5 s longer (2.8 -> 3.3 s) and the
 # rounds run as fast (docs/architecture.md, session 11)
 _FLIP_STEPS = ("_list_half_edges", "_second_half_edge", "_flip_candidates", "_put_candidate",

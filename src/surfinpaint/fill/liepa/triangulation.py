@@ -170,8 +170,8 @@ def _triangulated(p: np.ndarray, boundary_normal: np.ndarray, forbidden: np.ndar
     """The triangulation of the loop at positions ``p``, faces in loop positions, by the
     first that succeeds of: the planar CDT (``search="cdt"``, loops up to
     :data:`CDT_MAX_EDGES` edges), the search among Delaunay diagonals ("delaunay", "cdt"),
-    the search among all diagonals, and last the search allowed to reuse a mesh edge (a
-    non-manifold fill rather than none)."""
+    the search among all diagonals not ``forbidden``, and last the search among all (a fill
+    that reuses a mesh edge rather than none)."""
     k = len(p)
     tri = None
     if search == "cdt" and k <= CDT_MAX_EDGES:
