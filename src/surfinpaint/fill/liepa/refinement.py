@@ -289,9 +289,9 @@ def _flip_workspace(n: int, m: int) -> tuple[np.ndarray, ...]:
 
 _FLIP_KERNEL: list = []  # compiled on first use (numba imports slowly)
 # _flip_loops's steps, inlined into it by numba. As kernels of their own, called in the inner
-# loops, they made the rounds a quarter to a third slower and the compilation ~1.8 s CPU longer
-# than one function's; inlined, the compilation takes ~0.5 s longer (2.8 -> 3.3 s) and the
-# rounds run as fast (docs/architecture.md, session 11)
+# loops, they made the rounds a quarter to a third slower and the compilation ~1.8 s CPU
+# longer than one function's; inlined, the compilation takes ~0.5 s longer (median 2.8 ->
+# 3.3 s) and the rounds are not measurably slower (docs/architecture.md, session 11)
 _FLIP_STEPS = ("_list_half_edges", "_second_half_edge", "_flip_candidates", "_put_candidate",
                "_proper_flip_one", "_vote", "_flip_winners")
 _FLIP_HELPERS = ("_inside_ball_one", "_in_sorted_one", "_normal_one")  # kernels of their own
