@@ -161,3 +161,27 @@ def test_typed_results_of_the_raw_and_the_faired_fill(sphere_hole):
                  crease_failure="b")
     assert notes.notes == "a; b"
     assert Fill(np.zeros((0, 3)), np.zeros((0, 3), int), "fair").notes is None
+
+
+@pytest.mark.parametrize("s0", [{"s0_search": "cdt"}, {"s0_refinement": "cgal"},
+                                {"s0_search": "delaunay"}])
+def test_the_raw_fill_falls_back_on_the_triangulation_its_options_ask_for(sphere_hole, s0,
+                                                                          monkeypatch):
+    # without a verdict (select=False) a failed λ-H fill is replaced by the bilaplacian fill
+    # of the options' own S0 search and refinement, as the faired candidates are made
+    from surfinpaint.errors import FillError
+    from surfinpaint.fill.conformal.candidates import Candidates
+    from surfinpaint.fill.liepa.baseline import faired_fills
+
+    def fails(self, *args, **kwargs):
+        raise FillError("made to fail")
+
+    monkeypatch.setattr(Candidates, "lambda_h", fails)
+    cut = sphere_hole
+    options = ConformalOptions(select=False, **s0)
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop, options=options)
+    want_v, want_f, _ = faired_fills(cut.vertices, cut.faces, cut.loop, (2,),
+                                     search=options.s0_search,
+                                     refinement=options.s0_refinement)[2]
+    assert fill.kind == "fair" and fill.failure == "FillError: made to fail"
+    assert np.array_equal(fill.vertices, want_v) and np.array_equal(fill.faces, want_f)

@@ -19,7 +19,7 @@ from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
 from surfinpaint.fill.conformal.selection import Verdict, choose, sibling_test_plan
-from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.fill.liepa.baseline import faired_fills
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores
 from surfinpaint.geometry.validation import face_ids
@@ -90,7 +90,8 @@ def conformal_fill(
                 return replace(own, verdict=verdict,
                                selection=verdict.sentence(kept=True, failed=False))
     except FillError as exc:
-        return _fall_back(vertices, faces, loop, faired, verdict, exc, fair_order)
+        return _fall_back(vertices, faces, loop, faired, verdict, exc, fair_order,
+                          options)
     return _faired_choice(faired, verdict)
 
 
@@ -125,11 +126,15 @@ def _faired_choice(faired: dict[str, Fill], verdict: Verdict,
 
 
 def _fall_back(vertices, faces, loop, faired, verdict, exc: FillError,
-               fair_order: int | None) -> Fill:
+               fair_order: int | None, options: ConformalOptions) -> Fill:
     """The faired fill written when the λ-H fill (or a step before the verdict) failed: the
-    one the verdict prefers, or without a verdict the order asked for (2 by default)."""
+    one the verdict prefers, or without a verdict the order asked for (2 by default), on
+    the triangulation and refinement the options ask for (those of the faired candidates)."""
     failure = f"{type(exc).__name__}: {exc}"
     if verdict is not None:
         return _faired_choice(faired, verdict, failure)
-    new_v, new_f, used = faired_fill(vertices, faces, loop, fair_order or 2)
+    order = fair_order or 2
+    new_v, new_f, used = faired_fills(vertices, faces, loop, (order,),
+                                      search=options.s0_search,
+                                      refinement=options.s0_refinement)[order]
     return Fill(new_v, new_f, "fair", fair_order=used, failure=failure)
