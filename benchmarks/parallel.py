@@ -4,7 +4,12 @@ bumped ``icosphere(subdivisions)`` (``1 + 0.05 sin(6x) cos(5y)``, as benchmarks/
 interleaved (jobs=1, jobs=2, jobs=1, ...) in one run, best of ``--repeat``; after one untimed
 warm-up call per method (the compiled kernels). The hole phase is the whole call less the
 same call with every hole skipped (``max_hole_edges=1``: validation and hole finding). The
-results of the two are checked bit-identical. Prints a markdown table and the load.
+results of the two are checked bit-identical. Prints a markdown table and the load, then,
+per method and jobs, the medians over the repeats of the parent's CPU in the call and, for
+jobs=2, the workers' CPU (``os.times()``: the workers are reaped when the pool shuts down),
+their busy time (wall inside each task, recorded in the worker) and their idle time: workers ×
+the pool's life (created to shut down) less the busy time. CPU and idle time are less noisy
+than the wall on a shared machine.
 
     python benchmarks/parallel.py [--subdivisions 6] [--holes 10] [--radius 11] [--repeat 3]
 """
@@ -13,8 +18,10 @@ from __future__ import annotations
 
 import argparse
 import os
+import statistics
 import sys
 import time
+from concurrent.futures import Future
 from pathlib import Path
 
 import numpy as np
@@ -39,10 +46,72 @@ def n_independent(vertices, faces, loops, method: str) -> int:
     return len(parallel.independent(reach, dict(enumerate(loops)), len(vertices)))
 
 
-def timed(vertices, faces, **kw) -> tuple[float, object]:
-    started = time.perf_counter()
+def _timed_task(fn, *args, **kwargs):
+    """A worker's task with its wall seconds (run in the worker: forked, it sees this module)."""
+    started = time.monotonic()
+    result = fn(*args, **kwargs)
+    return result, time.monotonic() - started
+
+
+class _PoolLog:
+    """Wraps ``parallel.pool``: each pool's life and its tasks' wall seconds."""
+
+    def __init__(self) -> None:
+        self.pool = parallel.pool
+        self.lives: list[tuple[int, float]] = []  # (workers, seconds from creation to shut down)
+        self.busy: list[float] = []
+
+    def __call__(self, workers, *args, **kwargs):
+        executor = self.pool(workers, *args, **kwargs)
+        created = time.monotonic()
+        submit, shutdown = executor.submit, executor.shutdown
+
+        def timed_submit(fn, *a, **kw):
+            outer = Future()
+
+            def done(inner):
+                if inner.cancelled():
+                    outer.cancel()
+                elif inner.exception() is not None:
+                    outer.set_exception(inner.exception())
+                else:
+                    result, seconds = inner.result()
+                    self.busy.append(seconds)
+                    outer.set_result(result)
+
+            submit(_timed_task, fn, *a, **kw).add_done_callback(done)
+            return outer
+
+        def timed_shutdown(*a, **kw):
+            shutdown(*a, **kw)
+            self.lives.append((workers, time.monotonic() - created))
+
+        executor.submit, executor.shutdown = timed_submit, timed_shutdown
+        return executor
+
+    def take(self) -> tuple[float, float]:
+        """(busy, idle) seconds of the workers since the last call."""
+        busy = sum(self.busy)
+        idle = sum(w * life for w, life in self.lives) - busy
+        self.lives, self.busy = [], []
+        return busy, idle
+
+
+LOG = _PoolLog()
+parallel.pool = LOG
+
+
+def timed(vertices, faces, **kw) -> tuple[float, object, dict]:
+    """Wall seconds, the result, and the CPU of the parent and of the workers."""
+    before, started = os.times(), time.perf_counter()
     result = fill_holes(vertices, faces, **kw)
-    return time.perf_counter() - started, result
+    seconds, after = time.perf_counter() - started, os.times()
+    busy, idle = LOG.take()
+    cpu = {"parent": after.user + after.system - before.user - before.system,
+           "workers": (after.children_user + after.children_system
+                       - before.children_user - before.children_system),
+           "busy": busy, "idle": idle}
+    return seconds, result, cpu
 
 
 def main() -> None:
@@ -63,17 +132,22 @@ def main() -> None:
     print("| method | independent holes | jobs=1 call (s) | jobs=2 call (s) | prep (s) "
           "| hole phase jobs=1 (s) | jobs=2 (s) | speed-up (hole phase) | whole call |")
     print("|---|---|---|---|---|---|---|---|---|")
-    all_runs = []
+    all_runs, cpu_rows = [], []
     for method in args.methods.split(","):
         timed(V, F, method=method, jobs=1)  # warm-up: compiled kernels
         best = {1: np.inf, 2: np.inf, "prep": np.inf}
         results, runs = {}, {1: [], 2: []}
+        cpus = {1: [], 2: [], "prep": []}
         for _ in range(args.repeat):
-            best["prep"] = min(best["prep"], timed(V, F, method=method, max_hole_edges=1)[0])
+            seconds, _, cpu = timed(V, F, method=method, max_hole_edges=1)
+            best["prep"] = min(best["prep"], seconds)
+            cpus["prep"].append(cpu)
             for jobs in (1, 2):
-                seconds, results[jobs] = timed(V, F, method=method, jobs=jobs)
+                seconds, results[jobs], cpu = timed(V, F, method=method, jobs=jobs)
                 runs[jobs].append(f"{seconds:.2f}")
+                cpus[jobs].append(cpu)
                 best[jobs] = min(best[jobs], seconds)
+        cpu_rows.append((method, cpus))
         same = (np.array_equal(results[1].vertices, results[2].vertices)
                 and np.array_equal(results[1].faces, results[2].faces))
         assert same, f"{method}: jobs=2 differs from jobs=1"
@@ -84,6 +158,19 @@ def main() -> None:
         all_runs.append(f"{method}: jobs=1 {', '.join(runs[1])}; jobs=2 {', '.join(runs[2])}")
     print("\nevery call (s): " + " | ".join(all_runs))
     print(f"load after {os.getloadavg()[0]:.1f}; results bit-identical (np.array_equal)")
+    print("\nCPU and idle seconds, medians over the repeats (every call in brackets):\n")
+    print("| method | call | parent CPU | workers' CPU | workers busy | workers idle |")
+    print("|---|---|---|---|---|---|")
+    for method, cpus in cpu_rows:
+        for key in ("prep", 1, 2):
+            cells = []
+            for part in ("parent", "workers", "busy", "idle"):
+                values = [c[part] for c in cpus[key]]
+                cells.append(f"{statistics.median(values):.2f} "
+                             f"[{', '.join(f'{x:.2f}' for x in values)}]"
+                             if key == 2 or part == "parent" else "")
+            name = "prep" if key == "prep" else f"jobs={key}"
+            print(f"| {method} | {name} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":
