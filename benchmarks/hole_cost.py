@@ -34,10 +34,10 @@ from scale import make_case  # noqa: E402
 
 from surfinpaint import fill_holes  # noqa: E402
 from surfinpaint.data import torus  # noqa: E402
-from surfinpaint.fill import pipeline  # noqa: E402
 from surfinpaint.fill.conformal.method import conformal_fill  # noqa: E402
 from surfinpaint.fill.conformal.options import ConformalOptions  # noqa: E402
 from surfinpaint.fill.holes import find_holes  # noqa: E402
+from surfinpaint.fill.neighbourhood import FilledMesh  # noqa: E402
 from surfinpaint.fill.warmup import warm_kernels  # noqa: E402
 from surfinpaint.geometry.cutting import cut_geodesic_disk  # noqa: E402
 from surfinpaint.geometry.mesh import mean_edge_length  # noqa: E402
@@ -57,7 +57,7 @@ def big_holes(workdir: Path) -> list:
     case = make_case(workdir, "bumpy-sphere-651k", 8, 10, 12.0)
     vertices, faces = read_mesh(case.path)[:2]
     options = ConformalOptions()
-    mesh = pipeline._FilledMesh(vertices, faces)
+    mesh = FilledMesh(vertices, faces)
     return [mesh.cut(h.loop, options.neighbourhood_rings(h.n_edges))
             for h in find_holes(vertices, faces)]
 

@@ -29,7 +29,8 @@ import numpy as np
 from surfinpaint import fill_holes
 from surfinpaint.fill import parallel
 from surfinpaint.fill.conformal import ConformalOptions
-from surfinpaint.fill.pipeline import FAIR_NEIGHBOURHOOD_RINGS, _FilledMesh
+from surfinpaint.fill.hole_steps import FAIR_NEIGHBOURHOOD_RINGS
+from surfinpaint.fill.neighbourhood import FilledMesh
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
 
@@ -39,11 +40,11 @@ from scale import bumpy_sphere, sphere_points  # noqa: E402  (the same surface a
 
 def n_independent(vertices, faces, loops, method: str) -> int:
     """How many holes the parallel run can send to workers at once."""
-    mesh = _FilledMesh(vertices, faces)
+    mesh = FilledMesh(vertices, faces)
     rings = [ConformalOptions().neighbourhood_rings(len(loop)) if method == "conformal"
              else FAIR_NEIGHBOURHOOD_RINGS for loop in loops]
-    reach = {k: mesh.cut(loop, r).ids for k, (loop, r) in enumerate(zip(loops, rings, strict=True))}
-    return len(parallel.independent(reach, dict(enumerate(loops)), len(vertices)))
+    reach = [mesh.cut(loop, r).ids for loop, r in zip(loops, rings, strict=True)]
+    return len(parallel.independent(reach, loops))
 
 
 def _timed_task(fn, *args, **kwargs):

@@ -38,7 +38,7 @@ from scale import make_case  # noqa: E402
 
 import surfinpaint.fill.conformal.candidates as candidates  # noqa: E402
 import surfinpaint.fill.conformal.method as method  # noqa: E402
-from surfinpaint.fill import pipeline, selfcheck  # noqa: E402
+from surfinpaint.fill import neighbourhood, pipeline, selfcheck  # noqa: E402
 from surfinpaint.fill.conformal.options import ConformalOptions  # noqa: E402
 from surfinpaint.fill.holes import find_holes  # noqa: E402
 from surfinpaint.fill.warmup import warm_kernels  # noqa: E402
@@ -76,9 +76,9 @@ def process_phases(path: Path, out: Path, method: str) -> list[tuple[str, float,
             (pipeline, "check_arrays", "array checks"),
             (pipeline.EdgeTable, "build", "edge table (+ warm-up thread)"),
             (pipeline, "check_topology", "topology checks"),
-            (pipeline, "find_holes", "find_holes"), (pipeline, "vertex_faces", "vertex_faces"),
-            (pipeline, "_fill_in_parallel", "holes"), (pipeline, "_fill_hole", "holes"),
-            (pipeline._FilledMesh, "result", "assembling the result"),
+            (pipeline, "find_holes", "find_holes"), (neighbourhood, "vertex_faces", "vertex_faces"),
+            (pipeline, "fill_in_parallel", "holes"), (pipeline, "fill_hole", "holes"),
+            (neighbourhood.FilledMesh, "result", "assembling the result"),
             (pipeline, "_with_attributes", "attributes"),
             (pipeline, "topology_changes", "topology changes")):
         _timed(owner, name, label, spent, wall)
@@ -92,7 +92,7 @@ def process_phases(path: Path, out: Path, method: str) -> list[tuple[str, float,
 def hole_parts(vertices: np.ndarray, faces: np.ndarray) -> dict[str, float]:
     """CPU seconds of the ten conformal holes, in all and by part."""
     options = ConformalOptions()
-    mesh = pipeline._FilledMesh(vertices, faces)
+    mesh = neighbourhood.FilledMesh(vertices, faces)
     cuts = [mesh.cut(h.loop, options.neighbourhood_rings(h.n_edges))
             for h in find_holes(vertices, faces)]
     spent: dict[str, float] = {}

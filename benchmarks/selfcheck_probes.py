@@ -33,7 +33,7 @@ from surfinpaint import data  # noqa: E402
 from surfinpaint.fill.conformal import ConformalOptions  # noqa: E402
 from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
 from surfinpaint.fill.conformal.patch import is_disk  # noqa: E402
-from surfinpaint.fill.pipeline import _FilledMesh  # noqa: E402 - fill_holes' neighbourhood
+from surfinpaint.fill.neighbourhood import FilledMesh  # noqa: E402 - fill_holes' neighbourhood
 from surfinpaint.geometry.cutting import cut_geodesic_disk  # noqa: E402
 from surfinpaint.geometry.mesh import faces_near, mean_edge_length  # noqa: E402
 
@@ -48,7 +48,7 @@ def _disk_rings(faces, loop, fill_faces, rings) -> int:
 
 
 def _scored(cut, options, name, hole, r_h, split, only_thin: bool) -> dict | None:
-    local = _FilledMesh(cut.vertices, cut.faces).cut(
+    local = FilledMesh(cut.vertices, cut.faces).cut(
         cut.loop, options.neighbourhood_rings(len(cut.loop)))
     v, f, loop = local.vertices, local.faces, local.local_loop
     with warnings.catch_warnings():

@@ -37,7 +37,7 @@ from surfinpaint.errors import FillError  # noqa: E402
 from surfinpaint.fill.conformal import ConformalOptions  # noqa: E402
 from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
 from surfinpaint.fill.conformal.patch import hole_patch, is_disk  # noqa: E402
-from surfinpaint.fill.pipeline import _FilledMesh  # noqa: E402 - fill_holes' neighbourhood
+from surfinpaint.fill.neighbourhood import FilledMesh  # noqa: E402 - fill_holes' neighbourhood
 from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
 from surfinpaint.geometry.mesh import faces_near  # noqa: E402
 from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
@@ -166,7 +166,7 @@ def cached_rows(cache: Path, split: str | None, meshes: list[str] | None,
                 out.append(have[(entry["mesh"], k)])
                 continue
             cut = validation._cut(mesh, hole)
-            local = _FilledMesh(cut.vertices, cut.faces).cut(
+            local = FilledMesh(cut.vertices, cut.faces).cut(
                 cut.loop, options.neighbourhood_rings(len(cut.loop)))
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")

@@ -4,6 +4,7 @@ another, bit for bit, with the holes that depend on earlier ones filled after th
 from __future__ import annotations
 
 import multiprocessing
+import os
 import re
 import warnings
 from concurrent.futures import ProcessPoolExecutor
@@ -13,10 +14,13 @@ import pytest
 
 from surfinpaint.app.cli import main
 from surfinpaint.data import sphere
-from surfinpaint.errors import MeshError
-from surfinpaint.fill import parallel
+from surfinpaint.errors import FillError, MeshError
+from surfinpaint.fill import parallel, scheduler
 from surfinpaint.fill.conformal import ConformalOptions
-from surfinpaint.fill.pipeline import _FilledMesh, _Run, fill_holes
+from surfinpaint.fill.hole_steps import Run
+from surfinpaint.fill.holes import find_holes
+from surfinpaint.fill.neighbourhood import FilledMesh
+from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.io.formats import read_mesh, write_mesh
 
@@ -62,15 +66,10 @@ def filled(holed):
 
 
 def _independent(vertices, faces, loops, method):
-    mesh = _FilledMesh(vertices, faces)
-    run = _Run(method, ConformalOptions(), None, False, len(loops), None, None)
-
-    class Hole:
-        def __init__(self, loop):
-            self.n_edges = len(loop)
-
-    reach = {k: mesh.cut(loop, run.rings_of(Hole(loop))).ids for k, loop in enumerate(loops)}
-    return parallel.independent(reach, dict(enumerate(loops)), len(vertices))
+    mesh = FilledMesh(vertices, faces)
+    run = Run(method, ConformalOptions(), None, False, len(loops), None, None)
+    reach = [mesh.cut(loop, run.rings_for(len(loop))).ids for loop in loops]
+    return parallel.independent(reach, loops)
 
 
 def _summary(result):
@@ -121,12 +120,12 @@ def test_dependent_hole_sees_the_earlier_fill(holed, filled):
 def test_independent_rule():
     """A hole is independent when its reach holds no vertex of an earlier hole's loop (a
     later loop does not count)."""
-    loops = {0: np.array([0, 1, 2]), 1: np.array([10, 11, 12]), 2: np.array([20, 21, 22])}
-    reaches = {0: np.array([0, 1, 2, 3, 10]), 1: np.array([10, 11, 12, 13]),
-               2: np.array([12, 20, 21, 22])}
-    assert parallel.independent(reaches, loops, 30) == {0, 1}
+    loops = [np.array([0, 1, 2]), np.array([10, 11, 12]), np.array([20, 21, 22])]
+    reaches = [np.array([0, 1, 2, 3, 10]), np.array([10, 11, 12, 13]),
+               np.array([12, 20, 21, 22])]
+    assert parallel.independent(reaches, loops) == {0, 1}
     # an added vertex (id past the original ones) in a reach is ignored
-    assert parallel.independent({0: np.array([0, 1, 2, 40])}, {0: loops[0]}, 30) == {0}
+    assert parallel.independent([np.array([0, 1, 2, 40])], loops[:1]) == {0}
 
 
 def test_warnings_and_progress_in_hole_order(holed, forked, monkeypatch):
@@ -214,3 +213,143 @@ def test_cli_jobs(tmp_path, holed):
     assert np.array_equal(outs[0][0], outs[1][0]) and np.array_equal(outs[0][1], outs[1][1])
     assert len(outs[0][1]) > len(faces)
     assert main(["fill", str(path), "-o", str(tmp_path / "x.ply"), "--jobs", "0", "-q"]) == 2
+
+
+# ------------------------------------------------------- where the work runs, in what order
+
+# eight holes, six of them in a cluster around the north pole: conformal neighbourhoods
+# reach each other's loops, and with 9 rings so do the faired fill's
+CLUSTER = [(1, 0, 0), (0, 0, 1), (0.45, 0.0, 0.9), (0.0, 0.45, 0.9), (-0.45, 0, 0.9),
+           (0, -0.45, 0.9), (0, 0, -1), (0.9, 0, 0.45)]
+CLUSTER_RUNS = {"conformal": {}, "fair": {"neighbourhood_rings": 9}}
+
+
+@pytest.fixture(scope="module")
+def clustered():
+    vertices, faces = sphere(4)
+    cut = cut_holes(vertices, faces, [np.array(c) / np.linalg.norm(c) for c in CLUSTER], 0.18)
+    return cut.vertices, cut.faces
+
+
+@pytest.fixture(scope="module")
+def clustered_serial(clustered):
+    """(method, holes) -> the serial fill of the cluster."""
+    return {}
+
+
+def _forked_pool(monkeypatch, inherit: bool):
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
+    context = multiprocessing.get_context("fork")
+    monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
+        workers, mp_context=context))
+    monkeypatch.setattr(parallel, "forks", lambda: inherit)
+
+
+@pytest.mark.parametrize("method", ["conformal", "fair"])
+@pytest.mark.parametrize("holes", [None, (1, 3, 0, 5, 2, 7, 4, 6)])
+@pytest.mark.parametrize("inherit", [True, False], ids=["workers-cut", "parent-cuts"])
+def test_clustered_holes_in_any_order_bit_identical(clustered, clustered_serial, monkeypatch,
+                                                    method, holes, inherit):
+    """Holes whose neighbourhoods reach each other, filled in the serial order given
+    (find_holes', shuffled): the workers cutting the holes from the mesh they
+    inherited, or this process cutting each from the mesh as filled so far (forkserver,
+    spawn) give the serial run's bytes and reports."""
+    vertices, faces = clustered
+    key = (method, holes)
+    if key not in clustered_serial:
+        clustered_serial[key] = fill_holes(vertices, faces, holes=holes, method=method,
+                                           jobs=1, **CLUSTER_RUNS[method])
+    serial = clustered_serial[key]
+    _forked_pool(monkeypatch, inherit)
+    both = fill_holes(vertices, faces, holes=holes, method=method, jobs=2,
+                      **CLUSTER_RUNS[method])
+    assert all(r.new_faces > 0 for r in serial.reports)
+    assert np.array_equal(serial.vertices, both.vertices)
+    assert np.array_equal(serial.faces, both.faces)
+    assert _summary(serial) == _summary(both)
+    assert [r.index for r in both.reports] == [r.index for r in serial.reports]
+
+
+def test_the_cluster_has_a_cut_that_reaches_further_through_a_fill(clustered):
+    """The case the parallel loop must wait on twice: hole 2's faired cut (9 rings) in the
+    original mesh reaches hole 0's loop only; once hole 0 is filled, it reaches hole 1's
+    loop too (through hole 0's fill), so it waits for hole 1 as well."""
+    vertices, faces = clustered
+    loops = [h.loop for h in find_holes(vertices, faces)]
+    original = FilledMesh(vertices, faces).cut(loops[2], 9).ids
+    assert [k for k in (0, 1) if np.isin(loops[k], original).any()] == [0]
+    first = fill_holes(vertices, faces, holes=[0], method="fair", jobs=1)
+    after = FilledMesh(first.vertices, first.faces).cut(loops[2], 9).ids
+    assert [k for k in (0, 1) if np.isin(loops[k], after).any()] == [0, 1]
+
+
+def test_forked_workers_cut_and_fill_every_hole_but_dependent_ones_cut_here(
+        holed, filled, monkeypatch):
+    """With forked workers this process cuts only the dependent hole (from the mesh as
+    filled so far) and fills none: the workers cut, check and fill the others themselves;
+    the result is the serial one."""
+    vertices, faces, _ = holed
+    loops = [h.loop for h in find_holes(vertices, faces)]  # in the order they are filled
+    dependent = set(range(len(loops))) - _independent(vertices, faces, loops, "conformal")
+    assert dependent == {3, 4}
+    _forked_pool(monkeypatch, True)
+    parent = os.getpid()
+    calls = {"cut": set(), "fill": 0}
+    cut, fill_local = FilledMesh.cut, parallel.fill_local
+
+    def counted_cut(self, loop, *args):
+        if os.getpid() == parent:
+            calls["cut"].update(k for k, other in enumerate(loops)
+                                if np.array_equal(loop, other))
+        return cut(self, loop, *args)
+
+    def counted_fill(*args):
+        calls["fill"] += os.getpid() == parent
+        return fill_local(*args)
+
+    monkeypatch.setattr(FilledMesh, "cut", counted_cut)
+    monkeypatch.setattr(parallel, "fill_local", counted_fill)
+    both = fill_holes(vertices, faces, method="conformal", jobs=2)
+    assert calls == {"cut": dependent, "fill": 0}
+    assert np.array_equal(both.vertices, filled["conformal"][0].vertices)
+    assert np.array_equal(both.faces, filled["conformal"][0].faces)
+
+
+def test_workers_without_the_mesh_fall_back_to_cuts_made_here(holed, filled, monkeypatch):
+    """A worker that did not inherit the mesh (told it would, but started by a forkserver)
+    answers so, and the hole is cut here instead: the same result."""
+    vertices, faces, _ = holed
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
+    monkeypatch.setattr(parallel, "forks", lambda: True)
+    context = multiprocessing.get_context("forkserver")
+    monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
+        workers, mp_context=context))
+    served = fill_holes(vertices, faces, method="fair", jobs=2)
+    assert np.array_equal(served.vertices, filled["fair"][0].vertices)
+    assert np.array_equal(served.faces, filled["fair"][0].faces)
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_hole_warnings_point_at_the_caller(holed, forked, monkeypatch, jobs):
+    """A hole's warning (here: its fill failed) names the line that called fill_holes,
+    in the serial loop and in the parallel one."""
+    vertices, faces, _ = holed
+
+    def failing_fill(*args):
+        raise FillError("no fill today")
+
+    monkeypatch.setattr(parallel, "fill_local", failing_fill)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fill_holes(vertices, faces, method="fair", jobs=jobs)
+    failed = [w for w in caught if "the fill failed: no fill today" in str(w.message)]
+    assert len(failed) == 6
+    assert {w.filename for w in failed} == {__file__}
+
+
+def test_reached_loops():
+    ids = np.array([2, 5, 9, 40])
+    loops = [np.array([0, 1]), np.array([1, 5]), np.array([41, 42]), np.array([40])]
+    assert scheduler.reached(ids, loops).tolist() == [1, 3]
+    assert scheduler.reached(ids, []).tolist() == []
+    assert scheduler.reached(np.array([], dtype=np.int64), loops).tolist() == []

@@ -140,12 +140,12 @@ def _rings_brute_force(faces, seeds, rings):
 def test_hole_neighbourhoods_are_the_faces_within_the_rings(rings):
     # the cut of a hole, the faces added by an earlier hole included, against a brute-force
     # ring growth over the original and added faces together
-    from surfinpaint.fill.pipeline import _FilledMesh
+    from surfinpaint.fill.neighbourhood import FilledMesh
     from surfinpaint.fill.results import Fill
 
     v, f = sphere(3)
     cut = cut_holes(v, f, [v[0], v[len(v) // 2]], 0.3)
-    mesh = _FilledMesh(cut.vertices, cut.faces)
+    mesh = FilledMesh(cut.vertices, cut.faces)
     first, second = cut.holes[0].loop, cut.holes[1].loop
     local = mesh.cut(first, 2)
     centre = local.vertices[local.local_loop].mean(axis=0)

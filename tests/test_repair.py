@@ -245,7 +245,7 @@ def test_unjoined_bowties_rejects_non_boundary_edges():
 
 
 def _problem_on_whole_neighbourhood(local, explicit=False):
-    """pipeline._problem as it was: the loop checked against every face of the cut."""
+    """hole_steps.loop_problem as it was: the loop checked against every face of the cut."""
     from surfinpaint.geometry.validation import check_loop
 
     try:
@@ -259,10 +259,11 @@ def _problem_on_whole_neighbourhood(local, explicit=False):
 
 
 def test_hole_problems_from_the_loops_faces_match_the_whole_neighbourhood():
-    # _problem checks a loop on the faces at its vertices only: the same answers as on the
+    # loop_problem checks a loop on the faces at its vertices only: the same answers as on the
     # whole cut for a plain hole, a pinched loop, a surface touching at a loop vertex, a
     # lone triangle, and a loop that is not a boundary
-    from surfinpaint.fill.pipeline import _FilledMesh, _problem
+    from surfinpaint.fill.hole_steps import loop_problem
+    from surfinpaint.fill.neighbourhood import FilledMesh
 
     v, f = sphere(2)
     plain = np.delete(f, [0, 1, 2, 3], axis=0)
@@ -277,10 +278,10 @@ def test_hole_problems_from_the_loops_faces_match_the_whole_neighbourhood():
              (v[:3], lone, None), (v, f, f[0])]
     seen = set()
     for vertices, faces, given in cases:
-        mesh = _FilledMesh(vertices, faces)
+        mesh = FilledMesh(vertices, faces)
         for loop in [given] if given is not None else boundary_loops(faces):
             local = mesh.cut(np.asarray(loop), 3)
-            got = _problem(local, 0, explicit=False)
+            got = loop_problem(local, 0, explicit=False)
             want = _problem_on_whole_neighbourhood(local)
             assert (got is None) == (want is None), (got, want)
             if got is not None:

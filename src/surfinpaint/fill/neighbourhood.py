@@ -1,14 +1,21 @@
 """The neighbourhood of a hole in a mesh being filled: the faces within some vertex rings of
 its loop, among the original faces and those added by earlier holes (the cut that
 :mod:`surfinpaint.fill.pipeline` hands to a hole's filler), at a cost that follows the
-neighbourhood, not the mesh."""
+neighbourhood, not the mesh; and the mesh as its holes are filled (:class:`FilledMesh`: cut,
+stitch, result)."""
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["gather_positions", "neighbourhood_faces"]
+from surfinpaint.fill.results import Fill, FillResult, HoleReport
+from surfinpaint.geometry.mesh import vertex_faces
+from surfinpaint.geometry.validation import zero_area_faces
+
+__all__ = ["FilledMesh", "Local", "gather_positions", "neighbourhood_faces", "zero_area_reason"]
 
 
 def _distinct(ids: np.ndarray, stamp: np.ndarray) -> np.ndarray:
@@ -79,3 +86,74 @@ def gather_positions(vertices: np.ndarray, blocks: list[np.ndarray], ids: np.nda
     if (~original).any():
         out[~original] = np.concatenate(blocks)[ids[~original] - n]
     return out
+
+
+@dataclass
+class Local:
+    """The neighbourhood of one hole, cut out of the mesh filled so far."""
+
+    loop: np.ndarray  # the hole's loop, global ids
+    ids: np.ndarray  # global ids of the local vertices (sorted)
+    faces_global: np.ndarray
+    vertices: np.ndarray
+    faces: np.ndarray  # over local ids
+    local_loop: np.ndarray
+
+
+def zero_area_reason(local_vertices: np.ndarray, fill: Fill) -> str | None:
+    """Why ``fill`` (over the ids of a neighbourhood of ``local_vertices``) cannot be
+    stitched in: it would add zero-area triangles; None when it can."""
+    new_v = np.asarray(fill.vertices, dtype=np.float64).reshape(-1, 3)
+    new_f = np.asarray(fill.faces, dtype=np.int64)
+    degenerate = len(zero_area_faces(np.concatenate([local_vertices, new_v]), new_f))
+    if degenerate:
+        return (f"the fill would add {degenerate} zero-area triangles (the loop spans no "
+                "area: a slit or a T-junction)")
+    return None
+
+
+class FilledMesh:
+    """The mesh as its holes are filled: the original arrays, unchanged, and the blocks of
+    new vertices and faces appended hole by hole."""
+
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
+        self.vertices, self.faces = vertices, faces
+        self.vertex_faces = vertex_faces(faces, len(vertices))
+        self.vertex_blocks: list[np.ndarray] = []
+        self.face_blocks: list[np.ndarray] = []
+        self.n_new = 0
+
+    def cut(self, loop: np.ndarray, rings: int) -> Local:
+        """The faces within ``rings`` vertex rings of ``loop``, the earlier fills included
+        (the cost stays with the hole)."""
+        added = (np.concatenate(self.face_blocks) if self.face_blocks
+                 else np.empty((0, 3), dtype=np.int64))
+        picked, picked_added = neighbourhood_faces(self.faces, self.vertex_faces, added, loop,
+                                                   rings)
+        faces_global = np.concatenate([self.faces[picked], added[picked_added]])
+        ids, local_faces = np.unique(faces_global, return_inverse=True)
+        return Local(loop=loop, ids=ids, faces_global=faces_global,
+                     vertices=gather_positions(self.vertices, self.vertex_blocks, ids),
+                     faces=local_faces.reshape(-1, 3), local_loop=np.searchsorted(ids, loop))
+
+    def stitch(self, local: Local, fill: Fill) -> str | None:
+        """Append ``fill`` (over ``local``'s ids); the reason when it cannot be."""
+        return zero_area_reason(local.vertices, fill) or self.append(local.ids, fill)
+
+    def append(self, ids: np.ndarray, fill: Fill) -> None:
+        """Append ``fill``, made over a neighbourhood whose vertices have the global ``ids``
+        (:func:`zero_area_reason` checked)."""
+        new_v = np.asarray(fill.vertices, dtype=np.float64).reshape(-1, 3)
+        new_f = np.asarray(fill.faces, dtype=np.int64)
+        n_local = len(ids)
+        mapped = np.where(new_f < n_local, ids[np.minimum(new_f, n_local - 1)],
+                          len(self.vertices) + self.n_new + (new_f - n_local))
+        self.vertex_blocks.append(new_v)
+        self.face_blocks.append(mapped)
+        self.n_new += len(new_v)
+
+    def result(self, reports: list[HoleReport], removed_faces: np.ndarray) -> FillResult:
+        vertices = np.concatenate([self.vertices, *self.vertex_blocks])
+        faces = np.concatenate([self.faces, *self.face_blocks])
+        return FillResult(vertices, faces, reports, len(self.vertices), len(self.faces),
+                          removed_faces)

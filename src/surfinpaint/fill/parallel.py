@@ -1,14 +1,16 @@
-"""Holes filled in worker processes, bit-identical to one after another.
+"""Holes filled in worker processes, bit-identical to one after another: the rule, and
+what runs in a worker.
 
 A hole's fill depends only on its neighbourhood (the faces within the method's rings of its
 loop). In the serial loop, a later hole's neighbourhood takes in the faces an earlier hole
 added when it reaches that hole's loop; otherwise it is the same cut of the original mesh.
 So a hole whose neighbourhood in the original mesh holds no vertex of an earlier hole's
 loop is *independent*: its fill can be made at once, anywhere, from that cut. The others
-are *dependent* and are filled in order, after the holes before them are stitched in.
+are *dependent*: they are cut once the holes they reach are stitched in. The schedule is in
+:mod:`surfinpaint.fill.scheduler`.
 
-A worker gets only the hole's neighbourhood arrays and the options (memory bounded by the
-neighbourhood, not the mesh) and returns the :class:`~surfinpaint.fill.results.Fill` and
+A worker gets the hole's neighbourhood arrays and the options, or (forked: it inherited the
+mesh) only the hole's number, and returns the :class:`~surfinpaint.fill.results.Fill` and
 the warnings it raised; the parent stitches the fills in hole order, so vertex numbering,
 warnings and progress are those of the serial run.
 """
@@ -20,12 +22,10 @@ import multiprocessing
 import os
 import sys
 import threading
-import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
 from surfinpaint.errors import NUMERICAL_ERRORS, FillError, MeshError
 from surfinpaint.fill.conformal import ConformalOptions, conformal_fill
@@ -33,8 +33,8 @@ from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.intersection import patch_intersects_surroundings
 
-__all__ = ["crossing_faces", "fill_local", "fill_or_failure", "first_loops", "independent", "pool",
-           "reaches_no_earlier_loop", "resolve_jobs", "start_context", "worth_parallel"]
+__all__ = ["crossing_faces", "fill_local", "fill_or_failure", "forks", "independent", "pool",
+           "reissue", "resolve_jobs", "start_context", "worth_parallel"]
 
 # fewer holes than this, or fewer boundary edges in all, and the holes are filled in this
 # process: starting workers costs more than such holes take (a faired fill of a 60-edge
@@ -122,53 +122,30 @@ def fill_or_failure(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, m
         return None, str(exc) if isinstance(exc, FillError) else f"{type(exc).__name__}: {exc}"
 
 
-def fill_in_worker(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
-                   options: ConformalOptions, fair_order: int | None
-                   ) -> tuple[Fill | None, str | None, list[WarningRecord], float]:
-    """:func:`fill_or_failure` in a worker process (top level: picklable), with the warnings
-    it raised (for the parent to re-issue in hole order) and the seconds it took. One BLAS
-    thread: the parallelism is over holes."""
-    started = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
-        warnings.simplefilter("always")
-        made, failure = fill_or_failure(vertices, faces, loop, method, options, fair_order)
-    records = [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
-    return made, failure, records, time.perf_counter() - started
-
-
 def reissue(records: list[WarningRecord]) -> None:
     """The warnings a worker raised, issued here (the parent's filters apply)."""
     for message, category, filename, lineno in records:
         warnings.warn_explicit(message, category, filename, lineno)
 
 
-def first_loops(loops: dict[int, np.ndarray], n_vertices: int) -> np.ndarray:
-    """For each vertex, the first hole (of ``loops``: the holes that will be filled) whose
-    loop holds it; past the last hole for the others."""
-    first = np.full(n_vertices, np.iinfo(np.int64).max, dtype=np.int64)
-    for k in sorted(loops, reverse=True):  # a vertex of several loops: the earliest wins
-        first[loops[k]] = k
-    return first
-
-
-def reaches_no_earlier_loop(k: int, reach: np.ndarray, first: np.ndarray) -> bool:
-    """Whether hole ``k``'s neighbourhood in the original mesh (``reach``: its vertex ids)
-    holds no vertex of an earlier hole's loop (``first``: :func:`first_loops`)."""
-    return not (first[reach[reach < len(first)]] < k).any()
-
-
-def independent(reaches: dict[int, np.ndarray], loops: dict[int, np.ndarray],
-                n_vertices: int) -> set[int]:
-    """The holes whose neighbourhood in the original mesh (``reaches[k]``) holds no vertex
-    of an earlier hole's loop."""
-    first = first_loops(loops, n_vertices)
-    return {k for k, reach in reaches.items() if reaches_no_earlier_loop(k, reach, first)}
+def independent(reaches: list[np.ndarray], loops: list[np.ndarray]) -> set[int]:
+    """The holes (positions in the serial order) whose neighbourhood in the original mesh
+    (``reaches[k]``: its vertex ids, sorted) holds no vertex of an earlier hole's loop."""
+    return {k for k, reach in enumerate(reaches)
+            if not np.isin(np.concatenate(loops[:k]) if k else [], reach).any()}
 
 
 def worth_parallel(n_edges: list[int], workers: int, method: str) -> bool:
     """Whether holes of these sizes are worth starting ``workers`` processes for."""
     return (workers > 1 and len(n_edges) >= MIN_PARALLEL_HOLES
             and sum(n_edges) >= MIN_PARALLEL_EDGES[method])
+
+
+def forks() -> bool:
+    """Whether :func:`start_context` forks the workers (then they inherit this process's
+    memory: Linux, one thread)."""
+    return ("fork" in multiprocessing.get_all_start_methods()
+            and sys.platform.startswith("linux") and threading.active_count() == 1)
 
 
 def start_context(preload: str) -> multiprocessing.context.BaseContext:
@@ -180,8 +157,7 @@ def start_context(preload: str) -> multiprocessing.context.BaseContext:
     (no fork: the caller's script then needs the guard). Not forked on macOS even with one
     thread: its system libraries are not safe across fork (why CPython spawns there)."""
     methods = multiprocessing.get_all_start_methods()
-    if ("fork" in methods and sys.platform.startswith("linux")
-            and threading.active_count() == 1):
+    if forks():
         return multiprocessing.get_context("fork")
     method = "forkserver" if "forkserver" in methods else "spawn"
     context = multiprocessing.get_context(method)

@@ -9,112 +9,39 @@ the new faces follow them.
 
 from __future__ import annotations
 
-import time
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
-from surfinpaint.errors import HoleWarning, MeshError, preview
+from surfinpaint.errors import preview
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
+from surfinpaint.fill.hole_steps import Run, fill_hole, skip
 from surfinpaint.fill.holes import find_holes, hole_numbers, loop_diameter, select_holes
-from surfinpaint.fill.neighbourhood import gather_positions, neighbourhood_faces
+from surfinpaint.fill.neighbourhood import FilledMesh
 from surfinpaint.fill.objects import mesh_arrays
-from surfinpaint.fill.results import Fill, FillResult, HoleReport
+from surfinpaint.fill.results import FillResult, HoleReport
+from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.fill.warmup import KernelWarmup
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.mesh import vertex_faces
-from surfinpaint.geometry.repair import remove_nonmanifold_faces, unjoined_bowties
+from surfinpaint.geometry.repair import remove_nonmanifold_faces
 from surfinpaint.geometry.validation import (
     check_arrays,
-    check_loop,
     check_topology,
     face_ids,
-    zero_area_faces,
 )
 from surfinpaint.io.base import MeshWarning
 
 __all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
 
 METHODS = ("conformal", "fair")
-# vertex rings of the surface handed to the faired fill (its fairing needs up to 2)
-FAIR_NEIGHBOURHOOD_RINGS = 3
-
 ProgressCallback = Callable[[int, int, str], None]
-
-
-@dataclass
-class _Local:
-    """The neighbourhood of one hole, cut out of the mesh filled so far."""
-
-    loop: np.ndarray  # the hole's loop, global ids
-    ids: np.ndarray  # global ids of the local vertices (sorted)
-    faces_global: np.ndarray
-    vertices: np.ndarray
-    faces: np.ndarray  # over local ids
-    local_loop: np.ndarray
-
-
-class _FilledMesh:
-    """The mesh as its holes are filled: the original arrays, unchanged, and the blocks of
-    new vertices and faces appended hole by hole."""
-
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
-        self.vertices, self.faces = vertices, faces
-        self.vertex_faces = vertex_faces(faces, len(vertices))
-        self.vertex_blocks: list[np.ndarray] = []
-        self.face_blocks: list[np.ndarray] = []
-        self.n_new = 0
-
-    def cut(self, loop: np.ndarray, rings: int) -> _Local:
-        """The faces within ``rings`` vertex rings of ``loop``, the earlier fills included
-        (the cost stays with the hole)."""
-        added = (np.concatenate(self.face_blocks) if self.face_blocks
-                 else np.empty((0, 3), dtype=np.int64))
-        picked, picked_added = neighbourhood_faces(self.faces, self.vertex_faces, added, loop,
-                                                   rings)
-        faces_global = np.concatenate([self.faces[picked], added[picked_added]])
-        ids, local_faces = np.unique(faces_global, return_inverse=True)
-        return _Local(loop=loop, ids=ids, faces_global=faces_global,
-                      vertices=gather_positions(self.vertices, self.vertex_blocks, ids),
-                      faces=local_faces.reshape(-1, 3), local_loop=np.searchsorted(ids, loop))
-
-    def stitch(self, local: _Local, fill: Fill) -> str | None:
-        """Append ``fill`` (over ``local``'s ids); the reason when it cannot be."""
-        new_v = np.asarray(fill.vertices, dtype=np.float64).reshape(-1, 3)
-        new_f = np.asarray(fill.faces, dtype=np.int64)
-        degenerate = len(zero_area_faces(np.concatenate([local.vertices, new_v]), new_f))
-        if degenerate:
-            return (f"the fill would add {degenerate} zero-area triangles (the loop spans no "
-                    "area: a slit or a T-junction)")
-        n_local = len(local.vertices)
-        mapped = np.where(new_f < n_local, local.ids[np.minimum(new_f, n_local - 1)],
-                          len(self.vertices) + self.n_new + (new_f - n_local))
-        self.vertex_blocks.append(new_v)
-        self.face_blocks.append(mapped)
-        self.n_new += len(new_v)
-        return None
-
-    def result(self, reports: list[HoleReport], removed_faces: np.ndarray) -> FillResult:
-        vertices = np.concatenate([self.vertices, *self.vertex_blocks])
-        faces = np.concatenate([self.faces, *self.face_blocks])
-        return FillResult(vertices, faces, reports, len(self.vertices), len(self.faces),
-                          removed_faces)
-
-
-def _skip(report: HoleReport, reason: str, category: type[Warning] = HoleWarning,
-          stacklevel: int = 5) -> None:
-    report.skipped = reason
-    report.method = "none"
-    warnings.warn(f"hole {report.index}: {reason}; skipped", category, stacklevel=stacklevel)
 
 
 def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
@@ -159,7 +86,7 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
             reason += f"; not zipped: {problem}"
         elif slit.is_seam:
             reason += "; left open (zip_seams=True, or --zip-seams, closes it)"
-        _skip(report, reason, SlitWarning, stacklevel=5)
+        skip(report, reason, SlitWarning, stacklevel=5)
     pairs = np.concatenate(merged) if merged else np.empty((0, 2), dtype=np.int64)
     if len(pairs):  # a later loop through a duplicate (a bow-tie there) goes through its partner
         mapping = np.arange(len(vertices))
@@ -167,53 +94,6 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
         for report in left:
             report.loop = mapping[report.loop]
     return faces, pairs, left
-
-
-def _problem(local: _Local, index: int, explicit: bool) -> str | None:
-    """Why the hole cannot be filled (None: it can); a hole the caller named is an error.
-
-    The loop is checked on the faces at its vertices only: whether its edges are boundary
-    edges and its vertices bow-ties is decided there (the same answer and message as on the
-    whole neighbourhood, at the cost of the loop's faces, not of the many rings around)."""
-    on_loop = np.isin(local.faces_global, local.loop)
-    touching = local.faces_global[on_loop.any(axis=1)]
-    try:
-        check_loop(touching, local.loop)
-    except MeshError as exc:
-        # a loop pinched at a bow-tie (split into pieces): filling each piece joins the
-        # fans there, so the result is manifold once all pieces are filled
-        if "bow-tie" not in exc.message or unjoined_bowties(touching, local.loop).size:
-            if explicit:
-                raise MeshError(f"hole {index}: {exc.message}", vertices=exc.vertices,
-                                edges=exc.edges) from None
-            return exc.message
-    if on_loop[on_loop.any(axis=1)].all():
-        # a lone triangle or a strip one face wide: the loop bounds nothing but the faces
-        # along it, and a fill would lay a second sheet on them (duplicate faces)
-        return "the loop bounds only the faces along it (a lone sheet)"
-    return None
-
-
-def _record(report: HoleReport, fill: Fill) -> None:
-    """What the method did with the hole, in its report (a fallback also as a warning)."""
-    report.method = fill.kind
-    report.note = fill.notes
-    report.fair_order = fill.fair_order
-    report.verdict, report.crease, report.diagnostics = (fill.verdict, fill.crease,
-                                                          fill.diagnostics)
-    report.crease_failure = fill.crease_failure
-    report.crossings = fill.crossings
-    if fill.crossings:
-        many = fill.crossings > 1
-        warnings.warn(f"hole {report.index}: {fill.crossings} triangle{'s' * many} of the "
-                      f"fill cross{'es' * (not many)} the surface around the hole (its "
-                      "boundary loop folds over itself there): check the result",
-                      HoleWarning, stacklevel=5)
-    if fill.failure:
-        report.fallback = fill.failure
-        warnings.warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "
-                      f"the faired fill (order {fill.fair_order}) instead", HoleWarning,
-                      stacklevel=5)
 
 
 def _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings
@@ -351,49 +231,23 @@ def fill_holes(
     attributes, attribute_kinds = _checked_attributes(len(vertices), len(faces), attributes,
                                                       face_attributes, attribute_kinds)
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
-    for name, flag in (("include_border", include_border), ("repair", repair),
-                       ("validate", validate), ("zip_seams", zip_seams)):
-        if not isinstance(flag, bool | np.bool_):
-            raise ValueError(f"{name} must be True or False, got {flag!r}")
+    _check_flags(include_border=include_border, repair=repair, validate=validate,
+                 zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
-    # the kernels load on the idle core while the whole-mesh passes run (fill/warmup.py)
-    warmup = KernelWarmup.for_mesh(len(faces), method)
-    try:
-        vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
-        # checked by _prepared, as validate says
-        found = find_holes(vertices, faces, table, validate=False)
-        loops = select_holes(vertices, faces, holes, include_border=include_border,
-                             table=table, validate=False, found=found)
-        del table  # the holes are found: its memory is free for the fills
-        # numbered as find_holes numbers them (the outer border counts), whatever was selected
-        numbers = hole_numbers(vertices, faces, loops, found=found)
-    finally:  # before any hole is filled or worker forked
-        warmup.join()
+    vertices, faces, removed_faces, loops, numbers = _found_holes(
+        vertices, faces, holes, method, include_border=include_border, repair=repair,
+        validate=validate)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
                           method=method, diameter=loop_diameter(vertices[loop]))
                for k, loop in zip(numbers, loops, strict=True)]
-    todo = []
-    for report in reports:
-        if max_hole_edges is not None and report.n_edges > max_hole_edges:
-            report.skipped = f"{report.n_edges} boundary edges > max_hole_edges={max_hole_edges}"
-            report.method = "none"
-        else:
-            todo.append(report)
+    todo = _within_size(reports, max_hole_edges)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
     faces, merged, todo = _open_seams(vertices, faces, todo, zip_seams)
-    mesh = _FilledMesh(vertices, faces)
-    run = _Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
-               progress=progress, rings=neighbourhood_rings,
-               position={id(r): k for k, r in enumerate(reports)})
-    workers = min(jobs, len(todo))
-    if parallel.worth_parallel([r.n_edges for r in todo], workers, method):
-        _fill_in_parallel(mesh, todo, run, workers)
-    else:
-        for report in todo:
-            run.starting(report)
-            _fill_hole(mesh, report, run.rings_of(report), explicit=run.explicit,
-                       fill=run.fill)
-            run.finished(report)
+    mesh = FilledMesh(vertices, faces)
+    run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
+              progress=progress, rings=neighbourhood_rings,
+              position={id(r): k for k, r in enumerate(reports)})
+    _fill_all(mesh, todo, run, jobs)
     result = mesh.result(reports, removed_faces)
     result.merged_vertices = merged
     result = _with_attributes(result, attributes, face_attributes, attribute_kinds)
@@ -403,126 +257,55 @@ def fill_holes(
     return result
 
 
-@dataclass(frozen=True)
-class _Run:
-    """How the holes of one call are filled, and whom to tell."""
-
-    method: str
-    options: ConformalOptions
-    fair_order: int | None
-    explicit: bool
-    n_holes: int
-    progress: ProgressCallback | None
-    rings: int | None
-    # a report's place among the selected holes, for the progress count
-    position: dict[int, int] = field(default_factory=dict)
-
-    def rings_of(self, report: HoleReport) -> int:
-        """The vertex rings cut out around the hole: what its method looks at."""
-        return self.rings or (self.options.neighbourhood_rings(report.n_edges)
-                              if self.method == "conformal" else FAIR_NEIGHBOURHOOD_RINGS)
-
-    def fill(self, local: _Local) -> tuple[Fill | None, str | None]:
-        return parallel.fill_or_failure(local.vertices, local.faces, local.local_loop,
-                                        self.method, self.options, self.fair_order)
-
-    def starting(self, report: HoleReport) -> None:
-        if self.progress:
-            self.progress(self.position.get(id(report), 0), self.n_holes,
-                          f"hole {report.index}: {report.n_edges} edges, {self.method}")
-
-    def finished(self, report: HoleReport) -> None:
-        if self.progress and not report.skipped:
-            self.progress(self.position.get(id(report), 0) + 1, self.n_holes,
-                          f"hole {report.index}: done in {report.seconds:.2f} s")
+def _check_flags(**flags) -> None:
+    """The flag arguments are True or False."""
+    for name, flag in flags.items():
+        if not isinstance(flag, bool | np.bool_):
+            raise ValueError(f"{name} must be True or False, got {flag!r}")
 
 
-def _fill_hole(mesh: _FilledMesh, report: HoleReport, rings: int, *,
-               explicit: bool, fill: Callable[[_Local], tuple[Fill | None, str | None]]
-               ) -> None:
-    """One hole: cut its neighbourhood, check its loop, fill it, stitch the fill in, and
-    say what happened in ``report`` (skipped, with a warning, when it cannot be filled)."""
-    started = time.perf_counter()
-    local = mesh.cut(report.loop, rings)
-    problem = _problem(local, report.index, explicit)
-    made, failure = (None, None) if problem else _at_hole(report.index, fill, local)
-    _stitched(mesh, report, local, made, problem, started, failure)
-
-
-def _at_hole(index: int, call: Callable, *args):
-    """``call(*args)`` for hole ``index``: a MeshError raised names the hole."""
+def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, repair: bool,
+                 validate: bool):
+    """The mesh prepared (:func:`_prepared`), the loops to fill and their :func:`find_holes`
+    numbers (the outer border counts, whatever was selected); the kernels load on the idle
+    core meanwhile (fill/warmup.py)."""
+    warmup = KernelWarmup.for_mesh(len(faces), method)
     try:
-        return call(*args)
-    except MeshError as exc:
-        raise MeshError(f"hole {index}: {exc.message}", path=exc.path, vertices=exc.vertices,
-                        edges=exc.edges, faces=exc.faces) from exc
+        vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
+        # checked by _prepared, as validate says
+        found = find_holes(vertices, faces, table, validate=False)
+        loops = select_holes(vertices, faces, holes, include_border=include_border,
+                             table=table, validate=False, found=found)
+        del table  # the holes are found: its memory is free for the fills
+        numbers = hole_numbers(vertices, faces, loops, found=found)
+    finally:  # before any hole is filled or worker forked
+        warmup.join()
+    return vertices, faces, removed_faces, loops, numbers
 
 
-def _stitched(mesh: _FilledMesh, report: HoleReport, local: _Local, made: Fill | None,
-              problem: str | None, started: float, failure: str | None = None) -> None:
-    """Stitch ``made`` (None: ``problem`` says why there is no fill, or ``failure`` why the
-    fill raised) in, and report it."""
-    if failure is not None:  # the fill raised: the hole is left open, the others go on
-        report.failed = True
-        problem = f"the fill failed: {failure}"
-    if made is not None:
-        _record(report, made)
-        problem = mesh.stitch(local, made)
-        report.failed = problem is not None  # a fill was made: it is its failure
-    if problem is not None:
-        _skip(report, problem)
+def _within_size(reports: list[HoleReport], max_hole_edges: int | None) -> list[HoleReport]:
+    """The holes to fill: those over ``max_hole_edges`` reported skipped."""
+    todo = []
+    for report in reports:
+        if max_hole_edges is not None and report.n_edges > max_hole_edges:
+            report.skipped = f"{report.n_edges} boundary edges > max_hole_edges={max_hole_edges}"
+            report.method = "none"
+        else:
+            todo.append(report)
+    return todo
+
+
+def _fill_all(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int) -> None:
+    """The holes of ``todo`` filled and stitched into ``mesh`` in their order: in worker
+    processes when worth it (:mod:`surfinpaint.fill.scheduler`), else one after another."""
+    workers = min(jobs, len(todo))
+    if parallel.worth_parallel([r.n_edges for r in todo], workers, run.method):
+        fill_in_parallel(mesh, todo, run, workers)
         return
-    report.new_vertices, report.new_faces = len(made.vertices), len(made.faces)
-    report.seconds = time.perf_counter() - started
-
-
-def _fill_in_parallel(mesh: _FilledMesh, todo: list[HoleReport], run: _Run,
-                      workers: int) -> None:
-    """The holes of ``todo``, the independent ones in ``workers`` processes, stitched in hole
-    order; the dependent ones filled here when their turn comes (see
-    :mod:`surfinpaint.fill.parallel`)."""
-    first_loop = parallel.first_loops({r.index: r.loop for r in todo}, len(mesh.vertices))
-    cuts: dict[int, _Local] = {}
-    problems: dict[int, str | MeshError | None] = {}
-    futures = {}
-    executor = parallel.pool(workers)
-    # one BLAS thread here too: a dependent hole filled here shares the cores with workers
-    blas = threadpool_limits(limits=1)
-    try:
-        for report in todo:  # nothing is stitched yet: these are cuts of the original mesh
-            k = report.index
-            cut = mesh.cut(report.loop, run.rings_of(report))
-            if not parallel.reaches_no_earlier_loop(k, cut.ids, first_loop):
-                continue
-            cuts[k] = cut
-            try:
-                problems[k] = _problem(cut, k, run.explicit)
-            except MeshError as exc:  # raised when its turn comes, as the serial loop would
-                problems[k] = exc
-            if problems[k] is None:  # sent at once: the workers start while we cut on
-                futures[k] = executor.submit(parallel.fill_in_worker, cut.vertices, cut.faces,
-                                             cut.local_loop, run.method, run.options,
-                                             run.fair_order)
-        for report in todo:
-            k = report.index
-            run.starting(report)
-            if k not in cuts:  # its neighbourhood takes in earlier fills: cut it now
-                _fill_hole(mesh, report, run.rings_of(report), explicit=run.explicit,
-                           fill=run.fill)
-            elif k in futures:
-                made, failure, records, seconds = _at_hole(k, futures.pop(k).result)
-                parallel.reissue(records)
-                _stitched(mesh, report, cuts[k], made, None, time.perf_counter() - seconds,
-                          failure)
-            elif isinstance(problems[k], MeshError):
-                raise problems[k]
-            else:
-                _stitched(mesh, report, cuts[k], None, problems[k], time.perf_counter())
-            cuts.pop(k, None)
-            run.finished(report)
-    finally:
-        executor.shutdown(wait=True, cancel_futures=True)
-        blas.restore_original_limits()
+    for report in todo:
+        run.starting(report)
+        fill_hole(mesh, report, run)
+        run.finished(report)
 
 
 def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds):

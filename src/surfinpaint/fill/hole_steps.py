@@ -1,0 +1,179 @@
+"""One hole, start to end: cut its neighbourhood, check its loop, fill it, stitch the fill in
+and say what happened in its report. The serial loop of :mod:`surfinpaint.fill.pipeline` runs
+these steps one hole after another; :mod:`surfinpaint.fill.parallel` runs the cut, the check
+and the fill in worker processes and the rest here, in hole order.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from surfinpaint.errors import HoleWarning, MeshError
+from surfinpaint.fill import parallel
+from surfinpaint.fill.conformal import ConformalOptions
+from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
+from surfinpaint.fill.results import Fill, HoleReport
+from surfinpaint.geometry.repair import unjoined_bowties
+from surfinpaint.geometry.validation import check_loop
+
+__all__ = ["FAIR_NEIGHBOURHOOD_RINGS", "Run", "at_hole", "fill_hole", "loop_problem", "record",
+           "skip", "stitched"]
+
+# vertex rings of the surface handed to the faired fill (its fairing needs up to 2)
+FAIR_NEIGHBOURHOOD_RINGS = 3
+
+ProgressCallback = Callable[[int, int, str], None]
+
+
+def _warn(message: str, category: type[Warning]) -> None:
+    """``warnings.warn`` pointed at the first caller outside ``surfinpaint.fill`` (the line
+    that called ``fill_holes``), whichever loop (serial, parallel) this runs in."""
+    frame, level = sys._getframe(1), 2  # the frame stacklevel=2 names
+    while frame is not None and frame.f_globals.get("__name__", "").startswith(
+            "surfinpaint.fill."):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, category, stacklevel=level)
+
+
+def skip(report: HoleReport, reason: str, category: type[Warning] = HoleWarning,
+         stacklevel: int | None = None) -> None:
+    """Report the hole as skipped for ``reason``, with a warning (at ``stacklevel``; None:
+    at the caller of ``fill_holes``)."""
+    report.skipped = reason
+    report.method = "none"
+    message = f"hole {report.index}: {reason}; skipped"
+    if stacklevel is None:
+        _warn(message, category)
+    else:
+        warnings.warn(message, category, stacklevel=stacklevel)
+
+
+def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
+    """Why the hole cannot be filled (None: it can); a hole the caller named is an error.
+
+    The loop is checked on the faces at its vertices only: whether its edges are boundary
+    edges and its vertices bow-ties is decided there (the same answer and message as on the
+    whole neighbourhood, at the cost of the loop's faces, not of the many rings around)."""
+    on_loop = np.isin(local.faces_global, local.loop)
+    touching = local.faces_global[on_loop.any(axis=1)]
+    try:
+        check_loop(touching, local.loop)
+    except MeshError as exc:
+        # a loop pinched at a bow-tie (split into pieces): filling each piece joins the
+        # fans there, so the result is manifold once all pieces are filled
+        if "bow-tie" not in exc.message or unjoined_bowties(touching, local.loop).size:
+            if explicit:
+                raise MeshError(f"hole {index}: {exc.message}", vertices=exc.vertices,
+                                edges=exc.edges) from None
+            return exc.message
+    if on_loop[on_loop.any(axis=1)].all():
+        # a lone triangle or a strip one face wide: the loop bounds nothing but the faces
+        # along it, and a fill would lay a second sheet on them (duplicate faces)
+        return "the loop bounds only the faces along it (a lone sheet)"
+    return None
+
+
+def record(report: HoleReport, fill: Fill) -> None:
+    """What the method did with the hole, in its report (a fallback also as a warning)."""
+    report.method = fill.kind
+    report.note = fill.notes
+    report.fair_order = fill.fair_order
+    report.verdict, report.crease, report.diagnostics = (fill.verdict, fill.crease,
+                                                          fill.diagnostics)
+    report.crease_failure = fill.crease_failure
+    report.crossings = fill.crossings
+    if fill.crossings:
+        many = fill.crossings > 1
+        _warn(f"hole {report.index}: {fill.crossings} triangle{'s' * many} of the "
+              f"fill cross{'es' * (not many)} the surface around the hole (its "
+              "boundary loop folds over itself there): check the result", HoleWarning)
+    if fill.failure:
+        report.fallback = fill.failure
+        _warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "
+              f"the faired fill (order {fill.fair_order}) instead", HoleWarning)
+
+
+@dataclass(frozen=True)
+class Run:
+    """How the holes of one call are filled, and whom to tell."""
+
+    method: str
+    options: ConformalOptions
+    fair_order: int | None
+    explicit: bool
+    n_holes: int
+    progress: ProgressCallback | None
+    rings: int | None
+    # a report's place among the selected holes, for the progress count
+    position: dict[int, int] = field(default_factory=dict)
+
+    def rings_of(self, report: HoleReport) -> int:
+        """The vertex rings cut out around the hole: what its method looks at."""
+        return self.rings_for(report.n_edges)
+
+    def rings_for(self, n_edges: int) -> int:
+        """The vertex rings cut out around a hole of ``n_edges`` boundary edges."""
+        return self.rings or (self.options.neighbourhood_rings(n_edges)
+                              if self.method == "conformal" else FAIR_NEIGHBOURHOOD_RINGS)
+
+    def fill(self, local: Local) -> tuple[Fill | None, str | None]:
+        return parallel.fill_or_failure(local.vertices, local.faces, local.local_loop, self.method,
+                               self.options, self.fair_order)
+
+    def starting(self, report: HoleReport) -> None:
+        if self.progress:
+            self.progress(self.position.get(id(report), 0), self.n_holes,
+                          f"hole {report.index}: {report.n_edges} edges, {self.method}")
+
+    def finished(self, report: HoleReport) -> None:
+        if self.progress and not report.skipped:
+            self.progress(self.position.get(id(report), 0) + 1, self.n_holes,
+                          f"hole {report.index}: done in {report.seconds:.2f} s")
+
+
+def at_hole(index: int, call: Callable, *args):
+    """``call(*args)`` for hole ``index``: a MeshError raised names the hole."""
+    try:
+        return call(*args)
+    except MeshError as exc:
+        raise MeshError(f"hole {index}: {exc.message}", path=exc.path, vertices=exc.vertices,
+                        edges=exc.edges, faces=exc.faces) from exc
+
+
+def stitched(mesh: FilledMesh, report: HoleReport, ids: np.ndarray | None, made: Fill | None,
+             problem: str | None, started: float, failure: str | None = None,
+             unstitchable: str | None = None) -> None:
+    """Stitch ``made`` (over a neighbourhood with the global ``ids``; ``unstitchable``:
+    :func:`zero_area_reason` for it) in and report it; None: ``problem`` says why there is
+    no fill, or ``failure`` why the fill raised."""
+    if failure is not None:  # the fill raised: the hole is left open, the others go on
+        report.failed = True
+        problem = f"the fill failed: {failure}"
+    if made is not None:
+        record(report, made)
+        problem = unstitchable
+        if problem is None:
+            mesh.append(ids, made)
+        report.failed = problem is not None  # a fill was made: it is its failure
+    if problem is not None:
+        skip(report, problem)
+        return
+    report.new_vertices, report.new_faces = len(made.vertices), len(made.faces)
+    report.seconds = time.perf_counter() - started
+
+
+def fill_hole(mesh: FilledMesh, report: HoleReport, run: Run) -> None:
+    """One hole: cut its neighbourhood, check its loop, fill it, stitch the fill in, and
+    say what happened in ``report`` (skipped, with a warning, when it cannot be filled)."""
+    started = time.perf_counter()
+    local = mesh.cut(report.loop, run.rings_of(report))
+    problem = loop_problem(local, report.index, run.explicit)
+    made, failure = (None, None) if problem else at_hole(report.index, run.fill, local)
+    stitched(mesh, report, local.ids, made, problem, started, failure,
+             None if made is None else zero_area_reason(local.vertices, made))
