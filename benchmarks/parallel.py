@@ -8,7 +8,8 @@ results of the two are checked bit-identical. Prints a markdown table and the lo
 per method and jobs, the medians over the repeats of the parent's CPU in the call and, for
 jobs=2, the workers' CPU (``os.times()``: the workers are reaped when the pool shuts down),
 their busy time (wall inside each task, recorded in the worker) and their idle time: workers ×
-the pool's life (created to shut down) less the busy time. CPU and idle time are less noisy
+the pool's life (created to shut down) less the busy time, and that idle time before each
+worker's first task, between its tasks and after its last. CPU and idle time are less noisy
 than the wall on a shared machine.
 
     python benchmarks/parallel.py [--subdivisions 6] [--holes 10] [--radius 11] [--repeat 3]
@@ -51,7 +52,7 @@ def _timed_task(fn, *args, **kwargs):
     """A worker's task with its wall seconds (run in the worker: forked, it sees this module)."""
     started = time.monotonic()
     result = fn(*args, **kwargs)
-    return result, time.monotonic() - started
+    return result, (os.getpid(), started, time.monotonic())
 
 
 class _PoolLog:
@@ -59,8 +60,8 @@ class _PoolLog:
 
     def __init__(self) -> None:
         self.pool = parallel.pool
-        self.lives: list[tuple[int, float]] = []  # (workers, seconds from creation to shut down)
-        self.busy: list[float] = []
+        self.lives: list[tuple[int, float, float]] = []  # (workers, created, shut down)
+        self.tasks: list[tuple[int, float, float]] = []  # (worker's pid, started, ended)
 
     def __call__(self, workers, *args, **kwargs):
         executor = self.pool(workers, *args, **kwargs)
@@ -76,8 +77,8 @@ class _PoolLog:
                 elif inner.exception() is not None:
                     outer.set_exception(inner.exception())
                 else:
-                    result, seconds = inner.result()
-                    self.busy.append(seconds)
+                    result, task = inner.result()
+                    self.tasks.append(task)
                     outer.set_result(result)
 
             submit(_timed_task, fn, *a, **kw).add_done_callback(done)
@@ -85,17 +86,29 @@ class _PoolLog:
 
         def timed_shutdown(*a, **kw):
             shutdown(*a, **kw)
-            self.lives.append((workers, time.monotonic() - created))
+            self.lives.append((workers, created, time.monotonic()))
 
         executor.submit, executor.shutdown = timed_submit, timed_shutdown
         return executor
 
-    def take(self) -> tuple[float, float]:
-        """(busy, idle) seconds of the workers since the last call."""
-        busy = sum(self.busy)
-        idle = sum(w * life for w, life in self.lives) - busy
-        self.lives, self.busy = [], []
-        return busy, idle
+    def take(self) -> dict[str, float]:
+        """The workers' busy and idle seconds since the last call, the idle split into
+        before a worker's first task (from the pool's creation: the forks included),
+        between its tasks, and after its last (to the pool's shut-down)."""
+        busy = sum(end - start for _, start, end in self.tasks)
+        parts = {"busy": busy, "idle": sum(w * (end - start) for w, start, end in self.lives)
+                 - busy, "first": 0.0, "between": 0.0, "last": 0.0}
+        for _, created, shut in self.lives:
+            for pid in {t[0] for t in self.tasks}:
+                mine = sorted((s, e) for p, s, e in self.tasks
+                              if p == pid and created <= s <= shut)
+                if mine:
+                    parts["first"] += mine[0][0] - created
+                    parts["last"] += shut - mine[-1][1]
+                    parts["between"] += sum(b[0] - a[1] for a, b in
+                                            zip(mine[:-1], mine[1:], strict=True))
+        self.lives, self.tasks = [], []
+        return parts
 
 
 LOG = _PoolLog()
@@ -107,11 +120,9 @@ def timed(vertices, faces, **kw) -> tuple[float, object, dict]:
     before, started = os.times(), time.perf_counter()
     result = fill_holes(vertices, faces, **kw)
     seconds, after = time.perf_counter() - started, os.times()
-    busy, idle = LOG.take()
     cpu = {"parent": after.user + after.system - before.user - before.system,
            "workers": (after.children_user + after.children_system
-                       - before.children_user - before.children_system),
-           "busy": busy, "idle": idle}
+                       - before.children_user - before.children_system), **LOG.take()}
     return seconds, result, cpu
 
 
@@ -160,12 +171,13 @@ def main() -> None:
     print("\nevery call (s): " + " | ".join(all_runs))
     print(f"load after {os.getloadavg()[0]:.1f}; results bit-identical (np.array_equal)")
     print("\nCPU and idle seconds, medians over the repeats (every call in brackets):\n")
-    print("| method | call | parent CPU | workers' CPU | workers busy | workers idle |")
-    print("|---|---|---|---|---|---|")
+    print("| method | call | parent CPU | workers' CPU | workers busy | workers idle "
+          "| idle before the first task | between tasks | after the last |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for method, cpus in cpu_rows:
         for key in ("prep", 1, 2):
             cells = []
-            for part in ("parent", "workers", "busy", "idle"):
+            for part in ("parent", "workers", "busy", "idle", "first", "between", "last"):
                 values = [c[part] for c in cpus[key]]
                 cells.append(f"{statistics.median(values):.2f} "
                              f"[{', '.join(f'{x:.2f}' for x in values)}]"

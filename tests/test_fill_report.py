@@ -304,6 +304,8 @@ def test_a_torus_cut_across_its_tube_warns_that_the_genus_changed(flip):
     assert 0.25 < change.gap < 0.35  # the cut's width at the tube's centre line: 2 * 0.2 * R
     texts = [str(w.message) for w in caught]
     assert texts.count(change.message) == 1
+    # at the line that called fill_holes
+    assert [w.filename for w in caught if str(w.message) == change.message] == [__file__]
     assert "holes 0 and 1" in change.message and "genus from 1 to 0" in change.message
 
 

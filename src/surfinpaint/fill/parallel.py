@@ -168,4 +168,5 @@ def start_context(preload: str) -> multiprocessing.context.BaseContext:
 
 def pool(workers: int) -> ProcessPoolExecutor:
     """Worker processes for the holes of one mesh, started as :func:`start_context` says."""
-    return ProcessPoolExecutor(workers, mp_context=start_context(__name__))
+    # a forkserver preloads the module of the tasks (it imports this one)
+    return ProcessPoolExecutor(workers, mp_context=start_context("surfinpaint.fill.scheduler"))

@@ -248,13 +248,8 @@ def fill_holes(
               progress=progress, rings=neighbourhood_rings,
               position={id(r): k for k, r in enumerate(reports)})
     _fill_all(mesh, todo, run, jobs)
-    result = mesh.result(reports, removed_faces)
-    result.merged_vertices = merged
-    result = _with_attributes(result, attributes, face_attributes, attribute_kinds)
-    result.topology = topology_changes(result)
-    for change in result.topology:
-        warnings.warn(change.message, stacklevel=2)
-    return result
+    return _result(mesh, reports, removed_faces, merged,
+                   (attributes, face_attributes, attribute_kinds))
 
 
 def _check_flags(**flags) -> None:
@@ -306,6 +301,19 @@ def _fill_all(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int) -> 
         run.starting(report)
         fill_hole(mesh, report, run)
         run.finished(report)
+
+
+def _result(mesh: FilledMesh, reports: list[HoleReport], removed_faces: np.ndarray,
+            merged: np.ndarray, attributes: tuple) -> FillResult:
+    """The filled mesh with its reports, merged seam vertices, attributes (vertex, face,
+    kinds) and topology changes (each also a warning, at the caller of ``fill_holes``)."""
+    result = mesh.result(reports, removed_faces)
+    result.merged_vertices = merged
+    result = _with_attributes(result, *attributes)
+    result.topology = topology_changes(result)
+    for change in result.topology:
+        warnings.warn(change.message, stacklevel=3)
+    return result
 
 
 def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds):

@@ -34,7 +34,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field
 
 import numpy as np
-from threadpoolctl import threadpool_limits
+from threadpoolctl import ThreadpoolController, threadpool_limits
 
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import parallel
@@ -87,10 +87,17 @@ def reached(ids: np.ndarray, loops: list[np.ndarray]) -> np.ndarray:
     return np.unique(owner[ids[at] == flat])
 
 
+_CONTROLLER: list[ThreadpoolController] = []
+
+
 def _recorded(call, *args) -> tuple[object, list[parallel.WarningRecord]]:
     """``call(*args)`` with one BLAS thread (the parallelism is over holes), and the
-    warnings it raised, for the parent to issue again in hole order."""
-    with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
+    warnings it raised, for the parent to issue again in hole order. The thread-pool
+    controller is made once a worker (making one lists the loaded libraries: ~2 ms, which
+    a ``threadpool_limits`` call paid on every hole)."""
+    if not _CONTROLLER:
+        _CONTROLLER.append(ThreadpoolController())
+    with warnings.catch_warnings(record=True) as caught, _CONTROLLER[0].limit(limits=1):
         warnings.simplefilter("always")
         answer = call(*args)
     return answer, [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
