@@ -600,7 +600,7 @@ def test_represent_and_rebuild_round_trip(tmp_path, capsys):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rep = MeshLambdaH.load(rep_path)
     grid = LambdaH.load(grid_path)
-    assert max(grid.grid.shape) == 48 and grid.sampling == "smooth" and grid.map == "lscm"
+    assert max(grid.grid.shape) == 48 and grid.sampling == "smooth" and grid.map == "rectangular"
     # the self-checks are printed as stored: mesh units and % of the diagonal
     for check in (rep.check, grid.check):
         assert _flat(f"mean {check.mean:.3g} ({check.mean_percent:.3g} % of the diagonal") in err

@@ -157,14 +157,17 @@ def test_round_trip_gauss_codazzi():
     assert mean < 1e-3 and hausdorff < 1e-2
 
 
-def test_rebuild_keeps_band_vertices_and_uses_given_lambda_h():
+@pytest.mark.parametrize("method", ["newton", "laplacian"])
+def test_rebuild_keeps_band_vertices_and_uses_given_lambda_h(method):
     v, f = bumpy_disk(12)
     rep = represent_grid(v, f, 40, map="lscm")
-    v2, _ = rebuild(rep)
-    v3, _ = rebuild(rep, lam=rep.lam.copy(), H=rep.H.copy())
+    # the newton rebuild's λ, H are the ones on the grid's triangles
+    lam, H = (rep.levels[0].lam, rep.levels[0].H) if method == "newton" else (rep.lam, rep.H)
+    v2, _ = rebuild(rep, method)
+    v3, _ = rebuild(rep, method, lam=lam.copy(), H=H.copy())
     assert np.array_equal(v2, v3)
     # with H = 0 inside the surface comes out different (flatter)
-    v4, _ = rebuild(rep, H=np.where(rep.unknown, 0.0, rep.H))
+    v4, _ = rebuild(rep, method, H=np.where(rep.unknown, 0.0, H))
     assert np.abs(v4 - v2).max() > 1e-3
     # vertices whose cell touches no rebuilt node are exactly the originals
     from surfinpaint.representation.grid import interpolate
@@ -225,10 +228,12 @@ def test_round_trip_pial_disk_within_targets(resolution):
     assert moved.mean() > 0.3  # not passed by leaving the vertices alone
     mean, hausdorff = relative_distance(v2, f2, v, f)
     assert mean < 1e-3 and hausdorff < 1e-2
-    # without the subdivision (the map of the piecewise-linear mesh) it misses the target
-    # at 128 (0.17 %), and so does the previous default (PL sampling) at 64 (0.13 %)
+    # the paper's Laplacian rebuild without the subdivision (the map of the piecewise-linear
+    # mesh) misses the target at 128 (0.17 %), and so does the previous default (PL
+    # sampling) at 64 (0.13 %)
     sampling = "pl" if resolution == 64 else "smooth"
-    v3, _ = rebuild(represent_grid(v, f, resolution, map="lscm", sampling=sampling, subdivide=0))
+    v3, _ = rebuild(represent_grid(v, f, resolution, map="lscm", sampling=sampling, subdivide=0),
+                    "laplacian")
     assert relative_distance(v3, f, v, f)[0] > 1e-3
 
 

@@ -271,7 +271,7 @@ def cmd_rebuild(args: argparse.Namespace) -> int:
         raise MeshError(f"not a λ-H representation file ({exc})",
                         path=str(args.representation)) from exc
     if rep.discretization == "grid":
-        out = rebuild(rep, method=args.method or "laplacian")
+        out = rebuild(rep, method=args.method)
     elif args.method not in (None, "laplacian"):
         raise _UsageError("--method is for grid representations; a mesh representation is "
                           "rebuilt on its triangles")
@@ -349,9 +349,9 @@ def _add_representation_commands(sub) -> None:
                        "original stored with it.")
     p.add_argument("representation", help="a .npz from `surfinpaint represent`")
     p.add_argument("-o", "--output", required=True, help="output mesh")
-    p.add_argument("--method", choices=("gauss-codazzi", "laplacian"),
-                   help="grid reconstruction (default laplacian: measured better for "
-                   "whole-surface rebuilds)")
+    p.add_argument("--method", choices=("newton", "laplacian", "gauss-codazzi"),
+                   help="grid reconstruction (default newton: the mesh form on the grid's "
+                   "own triangles, coarse to fine; laplacian for grid files of format 1)")
     p.set_defaults(func=cmd_rebuild)
 
 

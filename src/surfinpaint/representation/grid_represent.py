@@ -36,6 +36,7 @@ from surfinpaint.representation.grid import (
     resample,
     vertex_gradients,
 )
+from surfinpaint.representation.grid_newton import GridLevel, rebuild_nested, triangle_levels
 from surfinpaint.representation.mapping import MAPS, FoldedMapWarning, parameterize
 from surfinpaint.representation.reconstruction import ReconstructionInfo, reconstruct
 from surfinpaint.representation.roundtrip import RoundTrip, save_npz
@@ -65,7 +66,10 @@ _MAX_FACES = 500_000
 # the Gauss–Codazzi rebuild closes its stencils with 3 rings (8-neighbour) of known nodes
 # ndimage.generate_binary_structure(2, 2), spelled out: no import at start-up
 _BLOCK = np.ones((3, 3), dtype=bool)
-_FORMAT = 1
+# 2: the levels of the nested rebuild on the grid's triangles (grid_newton) are stored
+_FORMAT = 2
+# rebuild methods: the mesh form on the grid's triangles (default), the paper's two
+GRID_METHODS = ("newton", "laplacian", "gauss-codazzi")
 
 
 @dataclass
@@ -102,6 +106,10 @@ class LambdaH:
     check : RoundTrip or None
         The round trip measured by :func:`~surfinpaint.representation.represent.represent`
         (``check=True``): the mesh rebuilt from this grid against ``vertices``.
+    levels : tuple of GridLevel
+        λ, H and the conformality defect on the triangles of the grid and of its subgrids
+        (:func:`~surfinpaint.representation.grid_newton.triangle_levels`), for the default
+        ``"newton"`` rebuild; empty in files of format 1.
     """
 
     grid: Grid
@@ -119,6 +127,7 @@ class LambdaH:
     sampling: str = "pl"
     subdivide: int = 0
     check: RoundTrip | None = None
+    levels: tuple[GridLevel, ...] = ()
 
     discretization = "grid"
 
@@ -131,7 +140,11 @@ class LambdaH:
         """Write to ``path`` as ``.npz``, atomically (temporary file, then rename)."""
         path = Path(path)
         arrays = {f.name: getattr(self, f.name) for f in fields(self)
-                  if f.name not in ("grid", "check")}
+                  if f.name not in ("grid", "check", "levels")}
+        arrays["level_steps"] = np.array([lv.step for lv in self.levels], dtype=np.int64)
+        for k, lv in enumerate(self.levels):
+            arrays.update({f"level{k}_lam": lv.lam, f"level{k}_H": lv.H,
+                           f"level{k}_defect": lv.defect})
         arrays["discretization"] = np.array("grid")
         if self.check is not None:
             arrays.update(self.check.to_arrays())
@@ -162,6 +175,9 @@ class LambdaH:
                 raise ValueError(f"{path}: not a λ-H representation (missing {missing})")
             grid = Grid(tuple(float(x) for x in data["grid_origin"]), float(data["grid_h"]),
                         tuple(int(x) for x in data["grid_shape"]))
+            steps = data["level_steps"] if "level_steps" in data.files else ()
+            levels = tuple(GridLevel(int(step), data[f"level{k}_lam"], data[f"level{k}_H"],
+                                     data[f"level{k}_defect"]) for k, step in enumerate(steps))
             return cls(
                 grid=grid, domain=data["domain"].astype(bool), lam=data["lam"], H=data["H"],
                 phi=data["phi"], known=data["known"].astype(bool), uv=data["uv"],
@@ -170,7 +186,7 @@ class LambdaH:
                 corners=data["corners"] if "corners" in data.files else np.zeros(0, np.int64),
                 sampling=str(data["sampling"]) if "sampling" in data.files else "pl",
                 subdivide=int(data["subdivide"]) if "subdivide" in data.files else 0,
-                check=RoundTrip.from_arrays(data),
+                check=RoundTrip.from_arrays(data), levels=levels,
             )
 
 
@@ -382,7 +398,7 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
     return LambdaH(grid=grid, domain=domain, lam=lam, H=H, phi=phi, known=known, uv=uv,
                    vertices=v.copy(), faces=f.copy(), map=map, band=band,
                    corners=np.asarray(corners, dtype=np.int64), sampling=sampling,
-                   subdivide=levels)
+                   subdivide=levels, levels=triangle_levels(phi, domain, known, grid.h))
 
 
 def _subdivided_map(v: np.ndarray, f: np.ndarray, uv: np.ndarray, corners, map: str,
@@ -398,7 +414,7 @@ def _subdivided_map(v: np.ndarray, f: np.ndarray, uv: np.ndarray, corners, map: 
     return sample_uv, sample_f, sample_v
 
 
-def rebuild_grid(rep: LambdaH, method: str = "laplacian", *, order: int = 3,
+def rebuild_grid(rep: LambdaH, method: str = "newton", *, order: int = 3,
             lam: np.ndarray | None = None, H: np.ndarray | None = None,
             **options) -> tuple[np.ndarray, np.ndarray, ReconstructionInfo]:
     """The mesh rebuilt from its λ-H representation on the grid.
@@ -412,18 +428,23 @@ def rebuild_grid(rep: LambdaH, method: str = "laplacian", *, order: int = 3,
     Parameters
     ----------
     rep : LambdaH
-    method : {"laplacian", "gauss-codazzi"}
-        The reconstruction (:func:`surfinpaint.representation.reconstruction.reconstruct`). The
-        Laplacian
-        form measured 2–10x lower round-trip error and 4–10x faster here (bumpy disk,
-        ``benchmarks/represent_speed.py``).
+    method : {"newton", "laplacian", "gauss-codazzi"}
+        ``"newton"`` (the default): the mesh form's equations on the grid's own triangles,
+        solved coarse to fine from the stored levels
+        (:func:`~surfinpaint.representation.grid_newton.rebuild_nested`), exact (to the
+        solver's tolerance) where it converges; measured within the grid export's targets
+        on the distorted benchmark disks where the paper's Laplacian iteration is not
+        (docs/representation.md, session 11). Or the paper's reconstructions
+        (:func:`surfinpaint.representation.reconstruction.reconstruct`): the Laplacian
+        form measured 2–10x lower round-trip error and 4–10x faster than Gauss–Codazzi
+        (bumpy disk, ``benchmarks/represent_speed.py``).
     order : {1, 3}
         Bilinear or bicubic interpolation of the reconstructed φ at the vertices (bicubic
         falls back to bilinear where its 4×4 stencil leaves the domain).
     lam, H : (N, M) arrays, optional
         Replace the representation's λ and H (e.g. inpainted or edited ones).
     **options
-        Passed on to ``reconstruct``.
+        Passed on to ``reconstruct`` (``tol``, ``max_iter`` also to ``rebuild_nested``).
 
     Returns
     -------
@@ -434,14 +455,30 @@ def rebuild_grid(rep: LambdaH, method: str = "laplacian", *, order: int = 3,
         Whether the reconstruction converged.
     """
 
-    lam = rep.lam if lam is None else np.asarray(lam, dtype=float)
-    H = rep.H if H is None else np.asarray(H, dtype=float)
-    phi, info = reconstruct(lam, H, rep.phi, rep.known, rep.grid.h, method=method,
-                            domain=rep.domain, return_info=True, **options)
+    if method not in GRID_METHODS:
+        raise ValueError(f"unknown method {method!r}; choose from {GRID_METHODS}")
+    known = rep.known
+    if method == "newton":
+        if not rep.levels:
+            raise ValueError("this grid representation (format 1) has no levels for the "
+                             "'newton' rebuild: represent the mesh again, or rebuild with "
+                             "method='laplacian'")
+        solve = rebuild_nested(rep.levels, rep.phi, rep.domain, rep.known, rep.grid.h,
+                               lam=lam, H=H, **options)
+        phi = solve.phi
+        info = ReconstructionInfo(solve.converged, solve.iterations, 0.0, solve.message)
+        # nodes on no triangle keep their data: the band
+        on = np.isfinite(rep.levels[0].lam)
+        known = rep.known | (rep.domain & ~on) | (on & ~np.isfinite(rep.levels[0].H))
+    else:
+        lam = rep.lam if lam is None else np.asarray(lam, dtype=float)
+        H = rep.H if H is None else np.asarray(H, dtype=float)
+        phi, info = reconstruct(lam, H, rep.phi, rep.known, rep.grid.h, method=method,
+                                domain=rep.domain, return_info=True, **options)
     out = np.array(rep.vertices, dtype=float, copy=True)
     used = np.zeros(len(out), dtype=bool)
     used[rep.faces.ravel()] = True
-    touches = interpolate(rep.unknown.astype(float), rep.grid, rep.uv, order=1)
+    touches = interpolate((rep.domain & ~known).astype(float), rep.grid, rep.uv, order=1)
     moved = used & np.isfinite(touches) & (touches > 0)
     values = interpolate(phi, rep.grid, rep.uv[moved], order=order)
     ok = np.isfinite(values).all(axis=1)
