@@ -34,10 +34,10 @@ from surfinpaint.geometry.mesh import cotangent_laplacian
 from surfinpaint.representation.grid import Grid, interpolate
 from surfinpaint.representation.mesh_lambda_h import (
     NEWTON_STEPS,
-    _System,
     area_mismatch,
     mesh_lambda_h,
     rebuild_on_mesh,
+    relative_residual,
 )
 
 __all__ = ["GridLevel", "GridSolve", "grid_triangles", "prolong", "rebuild_nested",
@@ -225,10 +225,8 @@ def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.nd
                                    tol=tol, max_iter=NEWTON_STEPS, start=start,
                                    select_by_area=False)
             x, ok, steps = held.points, held.converged, held.iterations
-            system = _System(f, uv, lv_lam, lv_H, defect, ~lv_known)
-            r = system.residual(x, 1.0)
-            size = np.linalg.norm((system.L @ x).ravel()[system.idx]) or 1.0
-            if not ok or np.linalg.norm(r) > RESIDUAL_DONE * size:
+            residual = relative_residual(x, f, uv, lv_lam, lv_H, defect, lv_known)
+            if not ok or residual > RESIDUAL_DONE:
                 free = rebuild_on_mesh(x, f, uv, lv_lam, lv_H, defect, lv_known, tol=tol,
                                        max_iter=NEWTON_STEPS, start=x, select_by_area=False)
                 x, ok, steps = free.points, free.converged, steps + free.iterations
