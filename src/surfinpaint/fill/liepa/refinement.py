@@ -120,6 +120,8 @@ def _in_sorted_one(x, keys):  # pragma: no cover - compiled
     return lo < len(keys) and keys[lo] == x
 
 
+# One long function on purpose: split into steps (inlined or as kernels of their own) it
+# compiled 0.7-1.8 s CPU slower, on every user's first run (docs/architecture.md, session 11)
 def _flip_loops(p, f, fixed, forbidden, max_rounds, slack, low, high, nxt, head, cand, score,
                 best):  # pragma: no cover - compiled
     """The rounds of :func:`delaunay_flip` as plain loops (compiled by numba), flipping
@@ -136,144 +138,100 @@ def _flip_loops(p, f, fixed, forbidden, max_rounds, slack, low, high, nxt, head,
     order, (score, edge key). Of two winners making the same new edge the numpy rounds keep
     the one of smaller edge key; so does this.
     """
+    n = p.shape[0]
+    m = f.shape[0]
+    h = 3 * m
     for _ in range(max_rounds):
-        _list_half_edges(f, low, high, nxt, head)
-        n_inner, n_cand = _flip_candidates(p, f, fixed, forbidden, slack, low, high, nxt, head,
-                                           cand, score)
+        head[:] = -1
+        for e in range(h):
+            t, k = e // 3, e % 3
+            x, y = f[t, (k + 1) % 3], f[t, (k + 2) % 3]
+            low[e], high[e] = min(x, y), max(x, y)
+            nxt[e] = head[low[e]]
+            head[low[e]] = e
+        n_inner, n_cand = 0, 0
+        for e1 in range(h):
+            # the edge's half-edges: e1 must be its first (smallest), and it must have two
+            count, e2, q = 0, -1, head[low[e1]]
+            while q >= 0 and count < 3:
+                if high[q] == high[e1]:
+                    count += 1 if q >= e1 else 3  # a smaller one: the edge was seen there
+                    e2 = q if q > e1 else e2
+                q = nxt[q]
+            key = low[e1] * n + high[e1]
+            if count != 2 or _in_sorted_one(key, fixed):
+                continue
+            n_inner += 1
+            t1, k1, t2, k2 = e1 // 3, e1 % 3, e2 // 3, e2 % 3
+            a, b, c = f[t1, (k1 + 1) % 3], f[t1, (k1 + 2) % 3], f[t1, k1]
+            d = f[t2, k2]
+            s, s2 = _inside_ball_one(p, a, b, c, d), _inside_ball_one(p, b, a, d, c)
+            # np.maximum of the two: NaN if either is
+            if s != s or s2 != s2 or not (max(s, s2) > slack and c != d):
+                continue
+            s = max(s, s2)
+            s1, s2 = _inside_ball_one(p, c, d, a, b), _inside_ball_one(p, d, c, b, a)
+            if s1 != s1 or s2 != s2 or not max(s1, s2) <= slack:
+                continue
+            lo_cd, hi_cd = min(c, d), max(c, d)
+            new_key = lo_cd * n + hi_cd
+            if _in_sorted_one(new_key, forbidden):
+                continue
+            q = head[lo_cd]  # is (c, d) an edge already?
+            while q >= 0 and high[q] != hi_cd:
+                q = nxt[q]
+            if q >= 0:
+                continue
+            # the two new triangles must be proper and not fold against the old pair
+            o1x, o1y, o1z = _normal_one(p, a, b, c)
+            o2x, o2y, o2z = _normal_one(p, b, a, d)
+            ox, oy, oz = o1x + o2x, o1y + o2y, o1z + o2z
+            n1x, n1y, n1z = _normal_one(p, a, d, c)
+            n2x, n2y, n2z = _normal_one(p, d, b, c)
+            sx, sy, sz = p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2]
+            scale = (sx * sx + sz * sz) + sy * sy
+            if not ((n1x * ox + n1z * oz) + n1y * oy > 0 and (n2x * ox + n2z * oz) + n2y * oy > 0
+                    and np.sqrt(n1x * n1x + n1y * n1y + n1z * n1z) > 1e-12 * scale
+                    and np.sqrt(n2x * n2x + n2y * n2y + n2z * n2z) > 1e-12 * scale):
+                continue
+            cand[n_cand, 0], cand[n_cand, 1], cand[n_cand, 2], cand[n_cand, 3] = a, b, c, d
+            cand[n_cand, 4], cand[n_cand, 5] = t1, t2
+            cand[n_cand, 6], cand[n_cand, 7] = key, new_key
+            score[n_cand] = s
+            n_cand += 1
         if n_inner == 0 or n_cand == 0:
             break
-        _vote(cand, score, n_cand, best)
-        _flip_winners(f, cand, n_cand, best, nxt, head)
+        # each face votes for its strongest candidate edge; unanimous edges flip together
+        best[:] = -1
+        for j in range(n_cand):
+            for side in range(4, 6):
+                t = cand[j, side]
+                i = best[t]
+                if i < 0 or score[j] > score[i] or (score[j] == score[i]
+                                                    and cand[j, 6] > cand[i, 6]):
+                    best[t] = j
+        # the winners (no two share a face); of two making the same new edge, the one of
+        # smaller old key flips. head/nxt (done with the half-edges) now list the winners
+        # under the smaller vertex of their new edge
+        head[:] = -1
+        for j in range(n_cand):
+            if best[cand[j, 4]] == j and best[cand[j, 5]] == j:
+                lo_cd = min(cand[j, 2], cand[j, 3])
+                nxt[j] = head[lo_cd]
+                head[lo_cd] = j
+        for j in range(n_cand):
+            if best[cand[j, 4]] != j or best[cand[j, 5]] != j:
+                continue
+            q = head[min(cand[j, 2], cand[j, 3])]
+            while q >= 0 and not (cand[q, 7] == cand[j, 7] and cand[q, 6] < cand[j, 6]):
+                q = nxt[q]
+            if q >= 0:
+                continue
+            a, b, c, d, t1, t2 = cand[j, 0], cand[j, 1], cand[j, 2], cand[j, 3], cand[j, 4], \
+                cand[j, 5]
+            f[t1, 0], f[t1, 1], f[t1, 2] = a, d, c
+            f[t2, 0], f[t2, 1], f[t2, 2] = d, b, c
     return f
-
-
-def _list_half_edges(f, low, high, nxt, head):  # pragma: no cover - compiled
-    """Half-edge e = 3t + k (opposite corner k of face t) as its smaller and larger vertex
-    (``low``, ``high``), put in a list under its smaller vertex: ``head[v]`` the last put
-    there, ``nxt[e]`` the one put before e (-1 ends a list)."""
-    head[:] = -1
-    for e in range(3 * f.shape[0]):
-        t, k = e // 3, e % 3
-        x, y = f[t, (k + 1) % 3], f[t, (k + 2) % 3]
-        low[e], high[e] = min(x, y), max(x, y)
-        nxt[e] = head[low[e]]
-        head[low[e]] = e
-
-
-def _second_half_edge(e1, low, high, nxt, head):  # pragma: no cover - compiled
-    """The other half-edge of an interior edge whose first (smallest) half-edge is ``e1``;
-    -1 when e1 is not the first, or the edge is not in exactly two faces."""
-    count, e2, q = 0, -1, head[low[e1]]
-    while q >= 0 and count < 3:
-        if high[q] == high[e1]:
-            count += 1 if q >= e1 else 3  # a smaller one: the edge was seen there
-            e2 = q if q > e1 else e2
-        q = nxt[q]
-    return e2 if count == 2 else -1
-
-
-def _flip_candidates(p, f, fixed, forbidden, slack, low, high, nxt, head, cand,
-                     score):  # pragma: no cover - compiled
-    """The interior edges that may flip, in ``cand`` and ``score`` (rows as
-    :func:`_flip_workspace` says), in half-edge order; returns the number of interior edges
-    not fixed and the number of candidates."""
-    n = p.shape[0]
-    n_inner, n_cand = 0, 0
-    for e1 in range(3 * f.shape[0]):
-        e2 = _second_half_edge(e1, low, high, nxt, head)
-        key = low[e1] * n + high[e1]
-        if e2 < 0 or _in_sorted_one(key, fixed):
-            continue
-        n_inner += 1
-        if _put_candidate(p, f, e1, e2, key, forbidden, slack, high, nxt, head, cand, score,
-                          n_cand):
-            n_cand += 1
-    return n_inner, n_cand
-
-
-def _put_candidate(p, f, e1, e2, key, forbidden, slack, high, nxt, head, cand, score,
-                   j):  # pragma: no cover - compiled
-    """Whether the edge ``key`` of half-edges e1 < e2 should flip (the tests of
-    :func:`_numpy_rounds`); if so it is written as candidate ``j``."""
-    n = p.shape[0]
-    t1, k1, t2, k2 = e1 // 3, e1 % 3, e2 // 3, e2 % 3
-    a, b, c = f[t1, (k1 + 1) % 3], f[t1, (k1 + 2) % 3], f[t1, k1]
-    d = f[t2, k2]
-    s, s2 = _inside_ball_one(p, a, b, c, d), _inside_ball_one(p, b, a, d, c)
-    # np.maximum of the two: NaN if either is
-    if s != s or s2 != s2 or not (max(s, s2) > slack and c != d):
-        return False
-    s = max(s, s2)
-    # in 3D both diagonals can fail the test; flipping then would cycle
-    s1, s2 = _inside_ball_one(p, c, d, a, b), _inside_ball_one(p, d, c, b, a)
-    if s1 != s1 or s2 != s2 or not max(s1, s2) <= slack:
-        return False
-    lo_cd, hi_cd = min(c, d), max(c, d)
-    new_key = lo_cd * n + hi_cd
-    if _in_sorted_one(new_key, forbidden):
-        return False
-    q = head[lo_cd]  # is (c, d) an edge already?
-    while q >= 0 and high[q] != hi_cd:
-        q = nxt[q]
-    if q >= 0 or not _proper_flip_one(p, a, b, c, d):
-        return False
-    cand[j, 0], cand[j, 1], cand[j, 2], cand[j, 3] = a, b, c, d
-    cand[j, 4], cand[j, 5] = t1, t2
-    cand[j, 6], cand[j, 7] = key, new_key
-    score[j] = s
-    return True
-
-
-def _proper_flip_one(p, a, b, c, d):  # pragma: no cover - compiled
-    """``flip_passes.proper_flip`` for one quad: whether the two new triangles are proper
-    and do not fold against the old pair."""
-    o1x, o1y, o1z = _normal_one(p, a, b, c)
-    o2x, o2y, o2z = _normal_one(p, b, a, d)
-    ox, oy, oz = o1x + o2x, o1y + o2y, o1z + o2z
-    n1x, n1y, n1z = _normal_one(p, a, d, c)
-    n2x, n2y, n2z = _normal_one(p, d, b, c)
-    sx, sy, sz = p[c, 0] - p[d, 0], p[c, 1] - p[d, 1], p[c, 2] - p[d, 2]
-    scale = (sx * sx + sz * sz) + sy * sy
-    return ((n1x * ox + n1z * oz) + n1y * oy > 0 and (n2x * ox + n2z * oz) + n2y * oy > 0
-            and np.sqrt(n1x * n1x + n1y * n1y + n1z * n1z) > 1e-12 * scale
-            and np.sqrt(n2x * n2x + n2y * n2y + n2z * n2z) > 1e-12 * scale)
-
-
-def _vote(cand, score, n_cand, best):  # pragma: no cover - compiled
-    """Each face's vote, in ``best``: its strongest candidate edge by (score, edge key),
-    the order in which the numpy rounds rank them (-1: none)."""
-    best[:] = -1
-    for j in range(n_cand):
-        for side in range(4, 6):
-            t = cand[j, side]
-            i = best[t]
-            if i < 0 or score[j] > score[i] or (score[j] == score[i] and cand[j, 6] > cand[i, 6]):
-                best[t] = j
-
-
-def _flip_winners(f, cand, n_cand, best, nxt, head):  # pragma: no cover - compiled
-    """Flip, in ``f``, the candidates both of whose faces voted for them (no two share a
-    face); of two making the same new edge, the one of smaller old key flips. ``head`` and
-    ``nxt`` (done with the half-edges) list the winners under the smaller vertex of their
-    new edge."""
-    head[:] = -1
-    for j in range(n_cand):
-        if best[cand[j, 4]] == j and best[cand[j, 5]] == j:
-            lo_cd = min(cand[j, 2], cand[j, 3])
-            nxt[j] = head[lo_cd]
-            head[lo_cd] = j
-    for j in range(n_cand):
-        if best[cand[j, 4]] != j or best[cand[j, 5]] != j:
-            continue
-        q = head[min(cand[j, 2], cand[j, 3])]
-        while q >= 0 and not (cand[q, 7] == cand[j, 7] and cand[q, 6] < cand[j, 6]):
-            q = nxt[q]
-        if q >= 0:
-            continue
-        a, b, c, d, t1, t2 = cand[j, 0], cand[j, 1], cand[j, 2], cand[j, 3], cand[j, 4], \
-            cand[j, 5]
-        f[t1, 0], f[t1, 1], f[t1, 2] = a, d, c
-        f[t2, 0], f[t2, 1], f[t2, 2] = d, b, c
 
 
 def _flip_workspace(n: int, m: int) -> tuple[np.ndarray, ...]:
@@ -288,13 +246,6 @@ def _flip_workspace(n: int, m: int) -> tuple[np.ndarray, ...]:
 
 
 _FLIP_KERNEL: list = []  # compiled on first use (numba imports slowly)
-# _flip_loops's steps, inlined into it by numba. As kernels of their own, called in the inner
-# loops, they made the rounds a quarter to a third slower and the compilation ~1.8 s CPU
-# longer than one function's; inlined, the compilation takes ~0.5 s longer (median 2.8 ->
-# 3.3 s) and the rounds are not measurably slower (docs/architecture.md, session 11)
-_FLIP_STEPS = ("_list_half_edges", "_second_half_edge", "_flip_candidates", "_put_candidate",
-               "_proper_flip_one", "_vote", "_flip_winners")
-_FLIP_HELPERS = ("_inside_ball_one", "_in_sorted_one", "_normal_one")  # kernels of their own
 
 
 def _flip_kernel():
@@ -304,9 +255,7 @@ def _flip_kernel():
         if flip is not None:
             # _flip_loops calls these by their global names: compile them too
             g = globals()
-            for name in _FLIP_STEPS:
-                g[name] = kernel(g[name], inline="always")
-            for name in _FLIP_HELPERS:
+            for name in ("_inside_ball_one", "_in_sorted_one", "_normal_one"):
                 g[name] = kernel(g[name])
         _FLIP_KERNEL.append(flip)
     return _FLIP_KERNEL[0]
