@@ -44,14 +44,8 @@ def egg_holes():
 def quad_holes():
     import built_meshes
     v, f = built_meshes.quadruped()
-    h = mean_edge_length(v, f)
-    for centre in np.random.default_rng(0).choice(len(v), 40, replace=False):
-        for radius in (2.0, 3.5):
-            try:
-                cut = cut_geodesic_disk(v, f, int(centre), radius * h)
-            except ValueError:
-                continue
-            yield f"quad v{centre} r{radius}", lambda cut=cut: cut
+    for centre, radius, cut in built_meshes.holes(v, f):
+        yield f"quad v{centre} r{radius}", lambda cut=cut: cut
 
 
 def brain_holes():
