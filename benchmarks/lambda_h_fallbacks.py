@@ -9,6 +9,8 @@ bilaplacian fill's (two-sided mean distance, % of the hole's diameter, as
 
     PYTHONPATH=src .venv/bin/python benchmarks/lambda_h_fallbacks.py egg|quad|brain OUT.jsonl
         [--only ROWS.jsonl]   # only the holes that fell back in an earlier run's rows
+    Rows also carry the least-squares stage's CPU seconds and lagged updates, per part
+    (cpu_cont, cpu_lm, updates_cont, updates_lm; zero where the stage did not run).
 """
 import argparse
 import hashlib
@@ -62,6 +64,44 @@ def brain_holes():
             yield f"brain {surface} #{k}", lambda cut=cut: cut
 
 
+class StageClock:
+    """CPU seconds and lagged updates of the least-squares stage's two parts (the
+    continuation and Levenberg–Marquardt), per hole: ``on_mesh``'s functions wrapped."""
+
+    def __init__(self):
+        from surfinpaint.representation import on_mesh
+        self.reset()
+        self.part = None
+        update = on_mesh._CoupledSystem.update
+
+        def counted(system, phi):
+            if self.part is not None:
+                self.updates[self.part] += 1
+            return update(system, phi)
+
+        on_mesh._CoupledSystem.update = counted
+        for name, part in (("_continuation", "cont"), ("levenberg_marquardt", "lm")):
+            setattr(on_mesh, name, self.timed(getattr(on_mesh, name), part))
+
+    def reset(self):
+        self.seconds = {"cont": 0.0, "lm": 0.0}
+        self.updates = {"cont": 0, "lm": 0}
+
+    def timed(self, function, part):
+        def wrapper(*args, **kwargs):
+            self.part, t0 = part, time.process_time()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                self.seconds[part] += time.process_time() - t0
+                self.part = None
+        return wrapper
+
+    def row(self):
+        return {f"cpu_{k}": round(v, 3) for k, v in self.seconds.items()} | {
+            f"updates_{k}": v for k, v in self.updates.items()}
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("family")
@@ -75,12 +115,14 @@ def main():
     gen = {"egg": egg_holes, "quad": quad_holes, "brain": brain_holes}[a.family]
     raw = ConformalOptions(select=False)
     out = open(a.out, "w")
+    clock = StageClock()
     for key, make in gen():
         if only is not None and key not in only:
             continue
         if a.keys and not any(s in key for s in a.keys.split(",")):
             continue
         cut = make()
+        clock.reset()
         t0 = time.process_time()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -89,6 +131,7 @@ def main():
         row = dict(key=key, kind=result.kind, failure=result.failure, cpu=round(cpu, 3),
                    edges=len(cut.loop),
                    hash=hashlib.sha1(np.ascontiguousarray(result.vertices).tobytes()).hexdigest()[:12])
+        row |= clock.row()  # the least-squares stage's parts (zero where it did not run)
         row["error"] = eggcrate.error(cut, result.vertices, result.faces)
         fv, ff, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
         row["fair2"] = eggcrate.error(cut, fv, ff)

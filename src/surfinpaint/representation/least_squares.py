@@ -10,8 +10,8 @@ instead: the root where there is one, and otherwise the point whose residual is 
 IMM-REP-1999-05): after a step that lowers ``‖r‖²`` by a fraction ρ of what the linear
 model predicts, ``μ ← μ · max(1/3, 1 − (2ρ − 1)³)``; after one that does not, ``μ ← μ ν``,
 ``ν ← 2ν``. Each step is at most ``max_step`` long (max-norm), scaled down otherwise. The
-Jacobian is dense (forward differences by default: one residual a column); the systems are
-the fill's free coordinates, a few hundred unknowns.
+Jacobian is dense, the caller's or forward differences (one residual a column); the
+systems are the fill's free coordinates, a few hundred unknowns.
 """
 
 from __future__ import annotations
@@ -74,6 +74,7 @@ def levenberg_marquardt(
     jacobian: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
     steps: int = 30,
     evaluations: int | None = None,
+    jacobians: int | None = None,
     max_step: float = np.inf,
     tol: float = 1e-8,
     eps: float = 1e-6,
@@ -92,7 +93,11 @@ def levenberg_marquardt(
     steps : int
         Accepted steps at most.
     evaluations : int, optional
-        Residual evaluations at most (the Jacobians' included): a bound on the cost.
+        Residual evaluations at most (forward-difference Jacobians' included): a bound on
+        the cost.
+    jacobians : int, optional
+        Jacobians at most (the first included): the solver stops at the accepted step that
+        would need one more.
     max_step : float
         The longest step (max-norm); longer ones are scaled down.
     tol : float
@@ -110,10 +115,13 @@ def levenberg_marquardt(
     count = 1
     budget = np.inf if evaluations is None else evaluations
     jac = jacobian or (lambda x, r: forward_jacobian(residual, x, r, eps))
+    made = 0
+    most = np.inf if jacobians is None else jacobians
 
     def jacobian_at(x, r):
-        nonlocal count
+        nonlocal count, made
         count += 0 if jacobian else x.size
+        made += 1
         return jac(x, r)
 
     J = jacobian_at(x, r)
@@ -149,7 +157,8 @@ def levenberg_marquardt(
             accepted += 1
             mu *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
             nu = 2.0
-            if accepted < steps and count + x.size < budget:
+            if accepted < steps and made < most and \
+                    count + (0 if jacobian else x.size) < budget:
                 J = jacobian_at(x, r)
                 A, g = J.T @ J, J.T @ r
             else:
