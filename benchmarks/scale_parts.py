@@ -11,8 +11,8 @@
 3. ``--phases``: instead, one whole ``surfinpaint fill`` run in this process (default and
    ``--method fair``), wall and CPU seconds of each phase: the imports, reading, the array
    checks, the edge table, the topology checks, ``find_holes``, the holes, assembling the
-   result, the attributes, writing. CPU is the process's (``time.process_time``): the
-   kernels' warm-up thread (fill/warmup.py) runs beside the edge table and is counted there.
+   result, the attributes, writing. CPU is the process's (``time.process_time``; the
+   kernels' loading before the workers fork, fill/warmup.py, is counted in the holes).
 
 The mesh is the one ``benchmarks/scale.py`` makes (generated here when missing). Run the
 same command on two checkouts, alternated, to compare them:
@@ -74,7 +74,7 @@ def process_phases(path: Path, out: Path, method: str) -> list[tuple[str, float,
     for owner, name, label in (
             (cli, "read_mesh_data", "read"), (cli, "write_mesh_data", "write"),
             (pipeline, "check_arrays", "array checks"),
-            (pipeline.EdgeTable, "build", "edge table (+ warm-up thread)"),
+            (pipeline.EdgeTable, "build", "edge table"),
             (pipeline, "check_topology", "topology checks"),
             (pipeline, "find_holes", "find_holes"), (neighbourhood, "vertex_faces", "vertex_faces"),
             (pipeline, "fill_in_parallel", "holes"), (pipeline, "fill_hole", "holes"),

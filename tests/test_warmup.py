@@ -1,16 +1,18 @@
-"""The kernels loaded in a background thread while the whole-mesh passes run
-(fill/warmup.py)."""
+"""The kernels loaded once before a parallel fill's workers fork, no thread beside the
+whole-mesh passes (fill/warmup.py)."""
 
 from __future__ import annotations
 
+import multiprocessing
 import threading
+from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 import pytest
 
 from surfinpaint import fill_holes
 from surfinpaint.data import sphere
-from surfinpaint.fill import warmup
+from surfinpaint.fill import parallel, pipeline, warmup
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
 from surfinpaint.geometry.validation import validate_mesh
@@ -54,13 +56,75 @@ def test_warm_kernels_loads_what_real_fills_use():
     assert {name: list(d.signatures) for name, d in _dispatchers().items()} == loaded
 
 
-def test_fill_holes_with_the_warmup_thread_is_bit_identical_and_leaves_no_thread(
-        monkeypatch):
+@pytest.fixture(scope="module")
+def two_holes():
     v, f = sphere(3)
     h = mean_edge_length(v, f)
-    cut = cut_holes(v, f, [np.array([0.0, 0, 1]), np.array([1.0, 0, 0])], 3 * h)
-    plain = fill_holes(cut.vertices, cut.faces, method="fair", jobs=1)
-    started = []
+    cut = cut_holes(v, f, [np.array([0.0, 0, 1]), np.array([1.0, 0, 0]),
+                           np.array([0.0, -1, 0])], 3 * h)
+    return cut.vertices, cut.faces
+
+
+def _forked_workers(monkeypatch):
+    """Workers on forked processes for any hole (a test process may run threads)."""
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
+    monkeypatch.setattr(parallel, "forks", lambda: True)
+    context = multiprocessing.get_context("fork")
+    monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
+        workers, mp_context=context))
+
+
+@pytest.mark.parametrize("method", ["fair", "conformal"])
+def test_a_parallel_fill_loads_the_kernels_before_its_workers_fork(two_holes, method,
+                                                                   monkeypatch):
+    plain = fill_holes(*two_holes, method=method, jobs=1)
+    _forked_workers(monkeypatch)
+    loaded_at_fork = []
+    original = pipeline.fill_in_parallel
+
+    def fill_in_parallel(mesh, todo, run, workers):
+        loaded_at_fork.append({m: warmup.kernels_loaded(m) for m in ("fair", "conformal")})
+        return original(mesh, todo, run, workers)
+
+    monkeypatch.setattr(pipeline, "fill_in_parallel", fill_in_parallel)
+    _forget_warmup()
+    both = fill_holes(*two_holes, method=method, jobs=2)
+    # loaded once, here, and only what the method uses (a fair fill needs no distance)
+    assert loaded_at_fork == [{"fair": True, "conformal": method == "conformal"}]
+    assert np.array_equal(both.vertices, plain.vertices)
+    assert np.array_equal(both.faces, plain.faces)
+
+
+def test_kernels_are_not_loaded_for_workers_that_are_not_forked(monkeypatch):
+    called = []
+    monkeypatch.setattr(warmup, "warm_kernels", called.append)
+    monkeypatch.setattr(parallel, "forks", lambda: False)
+    warmup.load_for_workers("conformal")
+    assert called == []  # a forkserver's or spawned worker loads its own
+    monkeypatch.setattr(parallel, "forks", lambda: True)
+    warmup.load_for_workers("conformal")
+    assert called == ["conformal"]
+
+
+def test_a_failed_warmup_leaves_the_fill_to_its_holes(two_holes, monkeypatch):
+    plain = fill_holes(*two_holes, method="fair", jobs=1)
+    _forked_workers(monkeypatch)
+
+    def broken(method):
+        raise RuntimeError("no kernels")
+
+    monkeypatch.setattr(warmup, "warm_kernels", broken)
+    both = fill_holes(*two_holes, method="fair", jobs=2)
+    assert np.array_equal(both.vertices, plain.vertices)
+
+
+def test_a_large_fill_starts_no_thread_and_a_serial_one_loads_nothing_ahead(monkeypatch):
+    # a thread loading numba beside a large mesh's edge table kept its memory resident at
+    # the peak (479 instead of 394 MB on the 651k case, docs/scale.md session 13)
+    v, f = sphere(7)  # 327,680 faces: large enough for the thread there was
+    cut = cut_holes(v, f, [np.array([0.0, 0, 1])], 3 * mean_edge_length(v, f))
+    _forget_warmup()
+    started, warmed = [], []
     original = threading.Thread.start
 
     def start(self):
@@ -68,16 +132,10 @@ def test_fill_holes_with_the_warmup_thread_is_bit_identical_and_leaves_no_thread
         original(self)
 
     monkeypatch.setattr(threading.Thread, "start", start)
-    monkeypatch.setattr(warmup, "WARMUP_MIN_FACES", 0)
-    _forget_warmup()
-    warmed = fill_holes(cut.vertices, cut.faces, method="fair", jobs=1)
-    assert started == ["surfinpaint-warmup"]
-    assert not any(t.name == "surfinpaint-warmup" for t in threading.enumerate())
-    assert np.array_equal(warmed.vertices, plain.vertices)
-    assert np.array_equal(warmed.faces, plain.faces)
-    # once loaded, later calls start no thread
-    fill_holes(cut.vertices, cut.faces, method="fair", jobs=1)
-    assert started == ["surfinpaint-warmup"]
+    monkeypatch.setattr(warmup, "warm_kernels", warmed.append)
+    plain = fill_holes(cut.vertices, cut.faces, method="fair", jobs=1)
+    assert started == [] and warmed == []  # the first hole loads what it uses
+    assert plain.reports[0].new_faces > 0
 
 
 def test_a_fair_fill_warms_no_distance_kernel(monkeypatch):
@@ -88,14 +146,5 @@ def test_a_fair_fill_warms_no_distance_kernel(monkeypatch):
     warmup.warm_kernels("fair")
     assert warmup._done["fair"].is_set() and not warmup._done["conformal"].is_set()
     assert measured == []
-    w = warmup.KernelWarmup.for_mesh(warmup.WARMUP_MIN_FACES, "fair")
-    assert not w.running  # loaded already
     warmup.warm_kernels("conformal")
     assert len(measured) == 1 and warmup._done["conformal"].is_set()
-
-
-def test_a_small_mesh_starts_no_warmup():
-    _forget_warmup()
-    w = warmup.KernelWarmup.for_mesh(warmup.WARMUP_MIN_FACES - 1)
-    assert not w.running
-    w.join()  # nothing to wait for

@@ -1,17 +1,21 @@
-"""The compiled kernels loaded in a background thread while the whole-mesh passes run.
+"""The compiled kernels loaded once before a parallel fill's workers are forked.
 
-The first hole of a process otherwise waits for numba's import and for the kernels' machine
-code to be loaded from the disk cache (about 0.6 s CPU; several seconds when they must be
-compiled after an install). Those kernels are needed by every fill, and while a large mesh
-is read, validated and its holes found one core is idle, so :func:`fill_holes` starts
-:class:`KernelWarmup` before validating a large mesh and joins it before the first hole.
-The workers of a parallel fill are forked after the join and inherit the loaded kernels.
+A process's first fill waits for numba's import and for the kernels' machine code to be
+loaded from the disk cache (about 0.3 s CPU; several seconds when they must be compiled
+after an install). Forked workers inherit what their parent has loaded, so before it forks
+them :func:`fill_holes` loads the kernels once (:func:`load_for_workers`) instead of each
+worker loading them itself (measured on the 651k case: workers +0.5 s CPU without it). A
+serial fill loads them at its first hole, as any call would. They are loaded after the
+whole-mesh passes, not beside them in a thread: numba's and LLVM's memory then is not
+resident beside the edge table (peak 479 -> 394 MB on the 651k case, the same CPU and,
+at the load measured, the same wall for both methods; docs/scale.md, session 13).
 
-The warm-up fills a small hole of a fixed mesh with the faired fill (the triangulation and
-the edge-flip kernels) and, for the conformal method only, measures a point-to-mesh distance
-(its self-check's kernel; a ``fair`` fill never uses it), through the same functions a real
-fill calls, so numba loads exactly the specialisations real fills use, not new ones. It only
-computes: no file, no warning, no message besides numba's "compiling" notice.
+:func:`warm_kernels` fills a small hole of a fixed mesh with the faired fill (the
+triangulation and the edge-flip kernels) and, for the conformal method only, measures a
+point-to-mesh distance (its self-check's kernel; a ``fair`` fill never uses it), through the
+same functions a real fill calls, so numba loads exactly the specialisations real fills
+use, not new ones. It only computes: no file, no warning, no message besides numba's
+"compiling" notice. The batch command and the dask workers call it too.
 
 Run as a program (``surfinpaint.compiled``'s background compilation, :func:`main`), it
 compiles every kernel into numba's disk cache.
@@ -26,14 +30,12 @@ import threading
 
 import numpy as np
 
+from surfinpaint.fill import parallel
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.metrics import point_mesh_distance
 
-__all__ = ["KernelWarmup", "compile_kernels", "kernels_loaded", "main", "warm_kernels",
+__all__ = ["compile_kernels", "kernels_loaded", "load_for_workers", "main", "warm_kernels",
            "warmup_mesh"]
-
-# below this many faces the whole-mesh passes take too little time to hide the loading
-WARMUP_MIN_FACES = 100_000
 
 # the kernels each method uses, loaded (the conformal method's include the faired fill's)
 _done = {"fair": threading.Event(), "conformal": threading.Event()}
@@ -77,35 +79,12 @@ def warm_kernels(method: str = "conformal") -> None:
     _done[method].set()
 
 
-class KernelWarmup:
-    """:func:`warm_kernels` in a background thread: :meth:`start`, then :meth:`join` before
-    the kernels are used (and before any worker process is forked)."""
-
-    def __init__(self) -> None:
-        self._thread: threading.Thread | None = None
-
-    @classmethod
-    def for_mesh(cls, n_faces: int, method: str = "conformal") -> KernelWarmup:
-        """Started when the mesh has at least ``WARMUP_MIN_FACES`` faces and the kernels of
-        ``method`` are not loaded yet; otherwise a warm-up that does nothing."""
-        warmup = cls()
-        if n_faces >= WARMUP_MIN_FACES and not _done[method].is_set():
-            warmup._thread = threading.Thread(target=_quietly, args=(method,),
-                                              name="surfinpaint-warmup")
-            warmup._thread.start()
-        return warmup
-
-    @property
-    def running(self) -> bool:
-        return self._thread is not None and self._thread.is_alive()
-
-    def join(self) -> None:
-        if self._thread is not None:
-            self._thread.join()
-            self._thread = None
-
-
-def _quietly(method: str) -> None:
+def load_for_workers(method: str) -> None:
+    """:func:`warm_kernels` before a parallel fill's workers are forked (they inherit the
+    loaded kernels); nothing where they are not forked (:func:`~surfinpaint.fill.parallel.
+    forks`: each worker process loads its own)."""
+    if not parallel.forks():
+        return
     # a failure here is not the caller's: the first hole then loads or compiles the kernels
     # itself and raises whatever there is to raise
     try:
