@@ -1,8 +1,10 @@
 """The λ-H fill on meshes built as real ones are (issue 20): a coarse quadruped and a
 genus-6 plate, boolean unions from manifold3d (a CAD tessellation: slivers with corners
-down to 0.02°, sharp junctions). Cuts geodesic disks of radius 2h and 3.5h at 40 seeded
-random vertices (holes the cutter refuses are skipped), fills each with the λ-H fill
-(``select=False``) and prints every fallback with its reason, then the count.
+down to 0.02°, sharp junctions); also a leg with a hoof (:func:`foot`, for the λ-H
+representation's benchmark, benchmarks/represent_speed.py). Cuts geodesic disks of
+radius 2h and 3.5h at 40 seeded random vertices (holes the cutter refuses are skipped),
+fills each with the λ-H fill (``select=False``) and prints every fallback with its reason,
+then the count.
 
     PYTHONPATH=src .venv/bin/python benchmarks/built_meshes.py [quadruped|plate] [--refine L]
 
@@ -56,6 +58,21 @@ def plate(refine: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     solid = (m3.Manifold.cube([6.0, 2.0, 0.5], True)
              - m3.Manifold.batch_boolean(holes, m3.OpType.Add))
     return _mesh(solid.refine_to_length(refine) if refine else solid)
+
+
+def foot(refine: float = 0.03, segments: int = 32) -> tuple[np.ndarray, np.ndarray]:
+    """A leg ending in a hoof: a cylinder of radius 0.1 and length 1 (z from 0 to 1)
+    united with a sphere of radius 0.13 flattened to half its height at its foot, edges
+    split to at most ``refine`` (a CAD tessellation: slivers along the leg, a sharp
+    junction). A geodesic cap around its lowest vertex is a long sack behind a small
+    opening: cut at 0.85 (2589 vertices at the defaults) its LSCM map's λ varies 1712×,
+    docs/representation.md session 13."""
+    import manifold3d as m3
+
+    leg = m3.Manifold.cylinder(1.0, 0.1, 0.1, segments)
+    hoof = m3.Manifold.sphere(0.13, segments).scale([1.0, 1.0, 0.5])
+    solid = m3.Manifold.batch_boolean([leg, hoof], m3.OpType.Add)
+    return _mesh(solid.refine_to_length(refine))
 
 
 def holes(v: np.ndarray, f: np.ndarray):

@@ -2,7 +2,8 @@
 equations stay continuous where an intermediate surface folds a vertex's one-ring (its
 area vector N vanishes) or is locally anti-conformal (the frame's w vanishes). With unit
 vectors the residual jumps there and the continuation's curve ended at such points (the
-hoof cap at t = 0.584, docs/representation.md)."""
+cow's hoof cap at t = 0.584, docs/representation.md; PyMeshLab's cow is a validation mesh
+and no longer benchmarked: the tests here are built cases)."""
 
 from __future__ import annotations
 

@@ -43,7 +43,11 @@ CORRECTED = 1e-6
 # refactorizations of the bordered matrix per corrector attempt (see _correct)
 REFACTOR = 2
 ATTEMPTS = 10
-# arclength step in units of (φ / border diagonal, t): first, largest
+# arclength step in units of (φ / border diagonal, t): first, and largest per unknown
+# vertex (the cap is LARGEST_STEP √(unknown vertices) in the 2-norm over all of them, a
+# root-mean-square motion of half the diagonal per vertex: an absolute cap of 0.5 held a
+# 2589-vertex foot cap, whose tube travels ~2.5 diagonals, at the cap for 400 steps;
+# benchmarks/represent_speed.py, docs/representation.md session 13)
 FIRST_STEP = 0.05
 LARGEST_STEP = 0.5
 
@@ -126,6 +130,7 @@ def arclength_continuation(system, start: np.ndarray, scale: float,
     tau = np.zeros_like(y)
     tau[-1] = 1.0
     ds, used, crossings = FIRST_STEP, 0, 0
+    largest = LARGEST_STEP * np.sqrt(len(idx) / 3)
     best, best_score = None, np.inf
     e_last = np.zeros(len(y))
     e_last[-1] = 1.0
@@ -170,7 +175,7 @@ def arclength_continuation(system, start: np.ndarray, scale: float,
                     return Continuation(solution, True, used, crossings, 1.0, s,
                                         f"crossing {crossings} of t = 1 accepted")
         y = y_new
-        ds = min(ds * 1.5, LARGEST_STEP) if chords <= 4 else ds / 1.5 if chords >= 7 else ds
+        ds = min(ds * 1.5, largest) if chords <= 4 else ds / 1.5 if chords >= 7 else ds
     return _end(best, best_score, point(y), y, used, crossings, "the step budget ran out")
 
 
@@ -180,7 +185,8 @@ def _correct(residual, lu, y, tau, tau_row, ds, factor, budget):
     ``REFACTOR`` times per attempt and ``budget`` times in all; Δs halved on failure.
 
     Returns ((point, Δs), steps, refactorizations), or (None, 0, refactorizations).
-    Why the refactorization: on the hoof cap the predictor lands within 3e-5 of the curve
+    Why the refactorization: on the cow's hoof cap (PyMeshLab's cow, a validation mesh
+    since dropped from the benchmark) the predictor lands within 3e-5 of the curve
     (in φ / diagonal) and yet the chord steps grow, so the chord corrector alone held Δs
     near 0.05 (800 factorizations reached t = 0.6); Newton steps from the same predictor
     converge (measured, docs/representation.md).

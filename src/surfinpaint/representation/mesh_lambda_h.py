@@ -231,7 +231,7 @@ def soft_unit(x: np.ndarray, eps: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     Why: a rebuild's intermediate surfaces can fold a vertex's one-ring (its area vector N
     vanishes) or make its map anti-conformal there (the frame's w vanishes); the unit
     vectors are not continuous there, and the continuation's curve ended at such points
-    (measured: the hoof cap at t = 0.584, |w| = 1e-5 |φ_u|; the 70 mm pial disk at
+    (measured: the cow's hoof cap at t = 0.584, |w| = 1e-5 |φ_u|; the 70 mm pial disk at
     t = 0.188, |N| = 6e-6 of the one-ring's area, docs/representation.md). Softened, the
     equations are smooth everywhere and unchanged wherever ``|x| ≥ ε``, the original
     mesh among those points.

@@ -51,8 +51,9 @@ _FORMAT = 4
 _MAX_RESOLUTION = 1024
 _MIN_RESOLUTION = 64
 # sparse factorizations of the mesh rebuild (damped Newton, then pseudo-arclength
-# continuation): the benchmark disks that converge do so within 60
-# (benchmarks/represent_speed.py, docs/representation.md); the budget bounds a failure's time
+# continuation): the benchmark disks converge within 101 (the built foot cap; the others
+# within 50, benchmarks/represent_speed.py, docs/representation.md session 13); the budget
+# bounds a failure's time
 MAX_STEPS = 150
 
 
@@ -177,7 +178,7 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         mesh back to ~1e-13 of the diagonal where its rebuild converges to the original;
         the grid export (:func:`grid_export`, rectangular map, nested Newton rebuild) at
         512² to its sampling floor, 0.0002–0.003 % mean, 0.01–0.4 % Hausdorff, on the
-        distorted benchmark disks but the hoof (session 11).
+        distorted benchmark disks (session 11).
     map : {"lscm", "rectangular"}
         The conformal map (:func:`~surfinpaint.representation.mapping.parameterize`).
     check : bool
