@@ -70,21 +70,34 @@ def _feature_vertices(v: np.ndarray, f: np.ndarray) -> np.ndarray:
 
 
 def _holes_of(mesh_id: str, index: int) -> dict:
+    from surfinpaint.geometry.mesh import mean_edge_length
+
+    m = vm.load(mesh_id)
+    v, f = m.vertices, m.faces
+    kind = vm.SOURCES[mesh_id].kind
+    holes = plan_holes(v, f, kind, 1000 + index, mesh_id)
+    split = next(s for s, ids in SPLIT.items() if mesh_id in ids)
+    return {"mesh": mesh_id, "kind": kind, "source": vm.SOURCES[mesh_id].source,
+            "split": split, "n_vertices": len(v), "n_faces": len(f),
+            "h": mean_edge_length(v, f), "holes": holes}
+
+
+def plan_holes(v: np.ndarray, f: np.ndarray, kind: str, seed: int, name: str = "mesh"
+               ) -> list[dict]:
+    """The manifest's holes of one mesh (module docstring): one per radius of ``RADII_H``,
+    ``{"centre", "radius", "radius_h", "near_border", "on_feature"}``."""
     from scipy.sparse.csgraph import dijkstra
 
     from surfinpaint.geometry.cutting import _Topology, cut_geodesic_disk
     from surfinpaint.geometry.mesh import mean_edge_length
 
-    m = vm.load(mesh_id)
-    v, f = m.vertices, m.faces
     h = mean_edge_length(v, f)
     topo = _Topology(v, f)
     border = np.flatnonzero(topo.on_boundary)
     to_border = (dijkstra(topo.graph, directed=False, indices=border, min_only=True)
                  if len(border) else np.full(len(v), np.inf))
-    kind = vm.SOURCES[mesh_id].kind
     features = _feature_vertices(v, f) if kind == "cad" else np.zeros(0, np.int64)
-    rng = np.random.default_rng(1000 + index)
+    rng = np.random.default_rng(seed)
     holes, centres = [], []
     for k, r_h in enumerate(RADII_H):
         r = r_h * h
@@ -110,10 +123,8 @@ def _holes_of(mesh_id: str, index: int) -> dict:
                           "near_border": bool(near), "on_feature": bool(on_feature)})
             break
         else:
-            print(f"{mesh_id}: no hole of radius {r_h} h could be cut", file=sys.stderr)
-    split = next(s for s, ids in SPLIT.items() if mesh_id in ids)
-    return {"mesh": mesh_id, "kind": kind, "source": vm.SOURCES[mesh_id].source,
-            "split": split, "n_vertices": len(v), "n_faces": len(f), "h": h, "holes": holes}
+            print(f"{name}: no hole of radius {r_h} h could be cut", file=sys.stderr)
+    return holes
 
 
 def write(path: Path = MANIFEST, only: list[str] | None = None) -> dict:
