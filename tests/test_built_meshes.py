@@ -98,3 +98,32 @@ def test_where_the_lambda_h_fill_falls_back_on_the_quadruped_the_report_says_why
     assert any(f"the λ-H fill failed ({report.fallback})" in line
                for line in hole_lines(report))
     assert len(result.faces) > len(cut.faces)
+
+
+def test_a_quadruped_fold_over_rejects_a_fill_worse_than_the_faired_one(monkeypatch):
+    # vertex 8 at 2h (25 edges, one new vertex): the λ-H fill folds over at 2 edges (its
+    # start at 1) and the bilaplacian fill is written. The rejection is right: the rejected
+    # fill measured 30.8 % against the written fill's 0.80 %, and no blend of the two, nor
+    # the fill nearest it without the fold, beat the written one (docs/convergence.md,
+    # session 13; benchmarks/fold_overs.py) — a fold-over here is a bad fill, not a local
+    # defect of a good one, so it must keep falling back.
+    from surfinpaint.errors import FillError
+    from surfinpaint.fill.conformal import candidates
+
+    rejected, damped = [], candidates.damped_fill
+
+    def keep(vertices, start, moving, patch, n_fill, **kw):
+        try:
+            return damped(vertices, start, moving, patch, n_fill, **kw)
+        except FillError:
+            rejected.append((vertices.copy(), patch[:n_fill].copy()))
+            raise
+
+    monkeypatch.setattr(candidates, "damped_fill", keep)
+    v, f = quadruped()
+    cut = cut_geodesic_disk(v, f, 8, 2.0 * mean_edge_length(v, f))
+    result = conformal_fill(cut.vertices, cut.faces, cut.loop, RAW)
+    assert result.kind == "fair" and "folds over" in result.failure
+    (lambda_h, fill_faces), = rejected
+    written = _error(cut, result.vertices, result.faces)
+    assert _error(cut, lambda_h[len(cut.vertices):], fill_faces) > 5 * written
