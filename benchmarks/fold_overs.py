@@ -26,9 +26,10 @@ the hole's diameter, as ``eggcrate.error``) of
 - with ``--default``, the error of what the default (``select=True``) writes.
 
     PYTHONPATH=src .venv/bin/python benchmarks/fold_overs.py quad|brain|egg OUT.jsonl
-        (--keys "quad v8 r2.0,..." | --only ROWS.jsonl) [--default]
+        (--keys "quad v8 r2.0,..." | --only ROWS.jsonl | --all) [--default] [--seed S]
     --only: the holes whose row in a lambda_h_fallbacks.py run fell back folding over or
-    cutting through the surface.
+    cutting through the surface; --all: every hole (a row with only its outcome where no
+    fill was rejected); --seed: the brain probes or quadruped holes of another seed.
 """
 
 import argparse
@@ -51,6 +52,25 @@ from surfinpaint.fill.liepa.baseline import faired_fills  # noqa: E402
 from surfinpaint.geometry.mesh import edge_faces, face_normals, mean_edge_length  # noqa: E402
 
 REASONS = ("folds over", "cuts through", "intersects itself")
+
+
+def quad_holes(seed):
+    """The quadruped's holes (``built_meshes.holes``) around the centres of another seed."""
+    import built_meshes
+
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+    if seed == 1:  # the family's own (built_meshes.holes: seed 0)
+        yield from lambda_h_fallbacks.quad_holes()
+        return
+    v, f = built_meshes.quadruped()
+    h = mean_edge_length(v, f)
+    for centre in np.random.default_rng(seed).choice(len(v), 40, replace=False):
+        for radius in (2.0, 3.5):
+            try:
+                cut = cut_geodesic_disk(v, f, int(centre), radius * h)
+            except ValueError:
+                continue
+            yield f"quad s{seed} v{centre} r{radius}", lambda cut=cut: cut
 
 
 def capture_rejections():
@@ -110,15 +130,26 @@ def nearest_fold_free(vertices, moving, start, target, patch, n_fill, h):
     return out, found.message
 
 
+def blend_of(fill):
+    """Whether the fill written is a blend of a rejected λ-H fill with a faired one
+    (``method._blended``): with which, and the λ-H fill's share."""
+    d = fill.diagnostics
+    blended = d is not None and d.blended_with is not None
+    return dict(blended_with=d.blended_with if blended else None,
+                blend_t=d.damping if blended else None)
+
+
 def study(key, cut, rejected, default):
     rejected.clear()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         result = conformal_fill(cut.vertices, cut.faces, cut.loop,
                                 ConformalOptions(select=False))
-    row = dict(key=key, kind=result.kind, failure=result.failure)
-    if not rejected or result.kind == "conformal":
-        return row
+    row = dict(key=key, kind=result.kind, failure=result.failure, selection=result.selection,
+               **blend_of(result))
+    if not rejected or row["blended_with"] is None and result.kind == "conformal":
+        return row | dict(damping=getattr(result.diagnostics, "damping", None))
+    row["written"] = round(eggcrate.error(cut, result.vertices, result.faces), 3)
     lam, s0, moving, patch, n_fill, kw = rejected[-1]
     n = len(cut.vertices)
     fill_faces = patch[:n_fill]
@@ -166,7 +197,9 @@ def study(key, cut, rejected, default):
             warnings.simplefilter("ignore")
             chosen = conformal_fill(cut.vertices, cut.faces, cut.loop)
         row |= dict(default_kind=chosen.kind, default_order=chosen.fair_order,
-                    default_failed=chosen.failure is not None,
+                    default_failed=chosen.failure is not None or
+                    blend_of(chosen)["blended_with"] is not None,
+                    default_blend=blend_of(chosen),
                     default=round(eggcrate.error(cut, chosen.vertices, chosen.faces), 3))
     return row
 
@@ -178,17 +211,19 @@ def main():
     p.add_argument("--keys", default="")
     p.add_argument("--only")
     p.add_argument("--default", action="store_true")
+    p.add_argument("--all", action="store_true")
+    p.add_argument("--seed", type=int, default=1)
     a = p.parse_args()
     keys = set(filter(None, a.keys.split(",")))
     if a.only:
         keys |= {r["key"] for r in map(json.loads, open(a.only))
                  if r["kind"] != "conformal" and any(s in r["failure"][-90:] for s in REASONS)}
-    gen = {"egg": lambda_h_fallbacks.egg_holes, "quad": lambda_h_fallbacks.quad_holes,
-           "brain": lambda_h_fallbacks.brain_holes}[a.family]
+    gen = {"egg": lambda_h_fallbacks.egg_holes, "quad": lambda x=None: quad_holes(a.seed),
+           "brain": lambda x=None: lambda_h_fallbacks.brain_holes(a.seed)}[a.family]
     rejected = capture_rejections()
     with open(a.out, "w") as out:
         for key, make in gen():
-            if key in keys:
+            if a.all or key in keys:
                 row = study(key, make(), rejected, a.default)
                 out.write(json.dumps(row) + "\n")
                 out.flush()

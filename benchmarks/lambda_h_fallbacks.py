@@ -50,18 +50,21 @@ def quad_holes():
         yield f"quad v{centre} r{radius}", lambda cut=cut: cut
 
 
-def brain_holes():
+def brain_holes(seed=1):
+    """The brain probes; ``seed`` 1 is the family's (other seeds: more holes of the same
+    kind, ``fold_overs.py --seed``; keyed with the seed when it is not 1)."""
     from surfinpaint.data import fsaverage5
     for surface in ("pial", "white"):
         v, f = fsaverage5(surface, "left")
         h = mean_edge_length(v, f)
-        rng = np.random.default_rng(1)
+        rng = np.random.default_rng(seed)
+        tag = "" if seed == 1 else f" s{seed}"
         for k, centre in enumerate(rng.integers(len(v), size=25)):
             try:
                 cut = cut_geodesic_disk(v, f, int(centre), 8 * h)
             except Exception:  # noqa: BLE001
                 continue
-            yield f"brain {surface} #{k}", lambda cut=cut: cut
+            yield f"brain{tag} {surface} #{k}", lambda cut=cut: cut
 
 
 class StageClock:

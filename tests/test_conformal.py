@@ -7,7 +7,14 @@ from conftest import grid_mesh
 from surfinpaint import ConformalOptions, FillError, GridOptions, MeshError, fill_holes
 from surfinpaint.data import bumpy_disk, sphere, torus
 from surfinpaint.fill.conformal import conformal_fill
-from surfinpaint.fill.conformal.checks import check_patch, damped_fill, fold_count
+from surfinpaint.fill.conformal.checks import (
+    BLEND_HALVINGS,
+    DAMPING_STEPS,
+    blended_fill,
+    check_patch,
+    damped_fill,
+    fold_count,
+)
 from surfinpaint.fill.conformal.patch import hole_patch
 from surfinpaint.fill.liepa.baseline import conventional_fill, faired_fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
@@ -482,6 +489,31 @@ def test_damped_fill_raises_the_undamped_failure_when_no_step_passes():
     moved, patch, n_fill, moving, start = _pushed_fan(np.array([np.nan, 0.0, 0.0]))
     with pytest.raises(FillError, match="non-finite"):
         damped_fill(moved, start, moving, patch, n_fill)
+
+
+def test_a_fill_no_damping_step_lets_pass_is_blended_by_the_largest_step_that_does():
+    # pushed 24 edge lengths sideways, the fan folds until t·3 < 1/8, below every damping
+    # step: damped_fill rejects it and keeps it on its error; blended_fill finds the
+    # largest blend with the start that passes, to the halvings' resolution
+    moved, patch, n_fill, moving, start = _pushed_fan(np.array([3.0, 0.0, 0.0]))
+    with pytest.raises(FillError, match="folds over") as caught:
+        damped_fill(moved, start, moving, patch, n_fill)
+    rejected = caught.value.rejected
+    np.testing.assert_array_equal(rejected.positions, moved)
+    positions, t = blended_fill(rejected, start)
+    assert 0 < t < min(DAMPING_STEPS)
+    np.testing.assert_allclose(positions[moving], start + t * (moved[moving] - start))
+    check_patch(positions, patch, n_fill)  # what is returned passes
+    further = moved.copy()
+    further[moving] = start + (t + min(DAMPING_STEPS) / 2 ** BLEND_HALVINGS) * (
+        moved[moving] - start)
+    with pytest.raises(FillError, match="folds over"):
+        check_patch(further, patch, n_fill)  # one resolution step more does not
+    # a fill that no blend lets pass (non-finite) gives none
+    bad = _pushed_fan(np.array([np.nan, 0.0, 0.0]))
+    with pytest.raises(FillError) as caught:
+        damped_fill(bad[0], bad[4], bad[3], bad[1], bad[2])
+    assert blended_fill(caught.value.rejected, bad[4]) is None
 
 
 def test_folds_the_start_has_too_are_not_counted_against_the_fill():

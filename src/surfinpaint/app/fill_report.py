@@ -100,6 +100,9 @@ def written(report: HoleReport) -> str:
     """What was written for the hole, in words: "λ-H fill", "faired fill (bilaplacian)",
     "skipped: why" or "failed: why"."""
     outcome = report.outcome
+    blend = _blend(report)
+    if blend:
+        return blend
     if outcome == "lambda-h":
         return "λ-H fill"
     if outcome == "faired":
@@ -136,8 +139,21 @@ def _test_line(test: TestScores, diameter: float, verbose: bool) -> str:
     return f"self-check on {test.test}: " + ", ".join(parts) + " of the hole diameter"
 
 
+def _blend(report: HoleReport) -> str | None:
+    """A λ-H fill rejected by its checks, written as its largest blend with a faired fill
+    that passes them (:class:`~surfinpaint.fill.results.LambdaHDiagnostics`
+    ``blended_with``), in words; None otherwise."""
+    d = report.diagnostics
+    if report.outcome != "lambda-h" or d is None or not d.blended_with:
+        return None
+    return (f"blend of the λ-H fill ({d.damping:.2g}) with the {d.blended_with} fill "
+            f"({1 - d.damping:.2g})")
+
+
 def _verdict(report: HoleReport) -> str:
     """How the self-check ended, in words."""
+    if _blend(report):
+        return f"the λ-H fill failed its checks, {_blend(report)} written ({report.note})"
     if report.outcome == "lambda-h":
         return "λ-H kept"
     if report.fallback:

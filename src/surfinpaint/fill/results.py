@@ -140,7 +140,12 @@ class LambdaHDiagnostics:
         E.g. that the fill had no interior vertices to move.
     damping : float
         The fraction of the λ-H displacement from the initial fill that was kept to pass the
-        checks (1: undamped; :func:`surfinpaint.fill.conformal.checks.damped_fill`).
+        checks (1: undamped; :func:`surfinpaint.fill.conformal.checks.damped_fill`); with
+        ``blended_with``, the λ-H fill's share of the blend.
+    blended_with : str, optional
+        The λ-H fill failed its checks at every damping step, and what was written is its
+        largest blend with this faired fill ("bilaplacian", "trilaplacian") that passes them
+        (:func:`surfinpaint.fill.conformal.checks.blended_fill`).
     """
 
     discretization: str
@@ -150,6 +155,7 @@ class LambdaHDiagnostics:
     mesh: MeshLambdaH | None = None
     note: str | None = None
     damping: float = 1.0
+    blended_with: str | None = None
 
 
 @dataclass(frozen=True)

@@ -195,11 +195,15 @@ class Candidates:
             all_v, damping = damped_fill(all_v, start, moving, patch, len(new_f),
                                          self_crossing=not test, crease=cut_edges)
         except FillError as exc:
+            if getattr(exc, "rejected", None) is not None:  # for a blended fallback
+                exc.rejected = replace(exc.rejected, diagnostics=diagnostics)
             least_squares = diagnostics.mesh and diagnostics.mesh.least_squares
             if not least_squares:
                 raise
             # the fallback's reason says that the coupled solve failed first
-            raise type(exc)(f"{least_squares.unsolved}; {least_squares.sentence()}, "
-                            f"fails: {exc}") from None
+            said = type(exc)(f"{least_squares.unsolved}; {least_squares.sentence()}, "
+                             f"fails: {exc}")
+            said.rejected = getattr(exc, "rejected", None)  # for a blended fallback
+            raise said from None
         return Fill(all_v[n:], new_f, "conformal", diagnostics=replace(diagnostics,
                                                                         damping=damping))

@@ -17,6 +17,7 @@ import numpy as np
 
 from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
+from surfinpaint.fill.conformal.checks import blended_fill
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
 from surfinpaint.fill.conformal.selection import Verdict, choose, sibling_test_plan
 from surfinpaint.fill.liepa.baseline import faired_fills
@@ -129,12 +130,49 @@ def _fall_back(vertices, faces, loop, faired, verdict, exc: FillError,
                fair_order: int | None, options: ConformalOptions) -> Fill:
     """The faired fill written when the λ-H fill (or a step before the verdict) failed: the
     one the verdict prefers, or without a verdict the order asked for (2 by default), on
-    the triangulation and refinement the options ask for (those of the faired candidates)."""
+    the triangulation and refinement the options ask for (those of the faired candidates);
+    where the λ-H fill was made and only its checks rejected it, its largest blend with that
+    faired fill that passes them (:func:`_blended`)."""
     failure = f"{type(exc).__name__}: {exc}"
     if verdict is not None:
-        return _faired_choice(faired, verdict, failure)
-    order = fair_order or 2
-    new_v, new_f, used = faired_fills(vertices, faces, loop, (order,),
-                                      search=options.s0_search,
-                                      refinement=options.s0_refinement)[order]
-    return Fill(new_v, new_f, "fair", fair_order=used, failure=failure)
+        fallback = _faired_choice(faired, verdict, failure)
+    else:
+        order = fair_order or 2
+        new_v, new_f, used = faired_fills(vertices, faces, loop, (order,),
+                                          search=options.s0_search,
+                                          refinement=options.s0_refinement)[order]
+        fallback = Fill(new_v, new_f, "fair", fair_order=used, failure=failure)
+    return _blended(len(vertices), fallback, getattr(exc, "rejected", None)) or fallback
+
+
+def _blended(n: int, fallback: Fill, rejected) -> Fill | None:
+    """The largest blend of the rejected λ-H fill with the faired ``fallback`` that passes
+    the λ-H fill's checks (:func:`~surfinpaint.fill.conformal.checks.blended_fill`), as a
+    conformal fill whose ``damping`` is the blend's share of the λ-H fill and whose notes
+    say that it is a blend and why; None without a rejected fill of the same triangles
+    (``n``: the mesh's vertex count) or without a blend that passes.
+
+    Measured on the tuning-side families (docs/convergence.md, session 13): on the 25
+    holes where the default made the λ-H fill and its checks rejected it, the blend (a
+    share of the λ-H fill of 0.002-0.45) is 0.66-1.05× the faired fill's error, median
+    0.999, better by more than 5 % on 5 and worse by more on none; a blend is reported as
+    one (``LambdaHDiagnostics.blended_with``, the notes)."""
+    if rejected is None or rejected.diagnostics is None:
+        return None
+    fill_faces = rejected.patch_faces[:rejected.n_fill_faces]
+    new = np.arange(n, n + len(fallback.vertices))
+    if not (np.array_equal(fill_faces, fallback.faces)
+            and np.array_equal(np.sort(rejected.moving), new)):
+        return None
+    made = blended_fill(rejected, fallback.vertices[rejected.moving - n])
+    if made is None:
+        return None
+    positions, t = made
+    name = {2: "bilaplacian", 3: "trilaplacian"}.get(fallback.fair_order,
+                                                     f"order-{fallback.fair_order}")
+    blend = (f"{fallback.failure}; written instead: the largest blend of the λ-H fill with "
+             f"the {name} fill that passes the checks, {t:.2g} of the λ-H fill")
+    notes = "; ".join(n for n in (blend, fallback.selection) if n)
+    return Fill(positions[n:], fallback.faces, "conformal", verdict=fallback.verdict,
+                selection=notes, diagnostics=replace(rejected.diagnostics, damping=t,
+                                                     blended_with=name))
