@@ -234,8 +234,12 @@ def _run_ours(method, vertices, faces, loop, **kwargs):
     dt = time.perf_counter() - t0
     note = ""
     for r in res.reports:
+        d = r.diagnostics
         if r.fallback:
             note = f"failed, used {r.method}: {r.fallback}"
+        elif d is not None and d.blended_with:  # counted as a fallback: the λ-H fill failed
+            note = (f"failed, used a blend of {d.damping:.2g} λ-H with {d.blended_with}: "
+                    f"{r.note}")
         elif r.method != method:
             note = f"self-check kept {r.method}"
     return np.asarray(res.vertices), np.asarray(res.faces), dt, note

@@ -172,7 +172,8 @@ def _blended(n: int, fallback: Fill, rejected) -> Fill | None:
                                                      f"order-{fallback.fair_order}")
     blend = (f"{fallback.failure}; written instead: the largest blend of the λ-H fill with "
              f"the {name} fill that passes the checks, {t:.2g} of the λ-H fill")
-    notes = "; ".join(n for n in (blend, fallback.selection) if n)
+    if fallback.verdict is not None:  # it chose the λ-H fill; its scores are the evidence
+        blend += f" (self-check: {fallback.verdict.scores})"
     return Fill(positions[n:], fallback.faces, "conformal", verdict=fallback.verdict,
-                selection=notes, diagnostics=replace(rejected.diagnostics, damping=t,
+                selection=blend, diagnostics=replace(rejected.diagnostics, damping=t,
                                                      blended_with=name))
