@@ -127,6 +127,38 @@ def test_newton_finds_the_fixed_point_where_the_lagged_iteration_diverges(monkey
     assert np.abs(out[~free] - points[~free]).max() == 0.0
 
 
+def test_newton_s_steps_converge_quadratically_on_the_analytic_jacobian(monkeypatch):
+    # the Newton stage solves with the update's exact Jacobian (on_mesh.NEWTON_JACOBIAN):
+    # near the fixed point each residual is of the order of the last one squared. Measured
+    # on this patch: 4.3e-3, 1.2e-5, 4.5e-11 (r_next / r^2 = 0.65, 0.31); with GMRES on
+    # finite-difference products (rtol 1e-3) the same steps gave 1.2e-5 -> 6.4e-9 (44 r^2)
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.representation import on_mesh
+
+    calls, sizes = [], []
+    spied = on_mesh.inpaint_on_mesh
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", lambda *a, **kw: (
+        calls.append((a, kw)), spied(*a, **kw))[1])
+    cut = _corrugated()
+    conformal_fill(cut.vertices, cut.faces, cut.loop, RAW)
+    (points, faces, uv, free), kw = calls[0]
+    line_search = on_mesh._line_search
+
+    def recorded(*args):
+        x, r = line_search(*args)
+        sizes.append(float(np.abs(r).max()))
+        return x, r
+
+    monkeypatch.setattr(on_mesh, "_line_search", recorded)
+    system = on_mesh._CoupledSystem(points, faces, uv, free, kw["natural"])
+    on_mesh._newton_solve(system, points, 1e-12, 12)
+    assert sizes[-1] < 1e-12
+    near = [(a, b) for a, b in zip(sizes, sizes[1:], strict=False) if 1e-12 < a < 1e-2]
+    assert len(near) >= 2
+    for before, after in near:
+        assert after <= 10.0 * before**2 + 1e-13
+
+
 @pytest.mark.parametrize(("r", "around", "radius", "before"), [
     (0.15, 10, 0.4, "too thin"),  # 2 full rings close around the tube: 1 ring, too thin
     (0.1, 8, 0.35, "not a disk"),  # not even 1 full ring is a disk

@@ -11,7 +11,7 @@ import scipy.sparse as sp
 from surfinpaint.geometry.mesh import vertex_areas
 from surfinpaint.representation.mesh_lambda_h import normals_with_jacobian
 
-__all__ = ["lagged_update_jacobian", "voronoi_area_derivative"]
+__all__ = ["lagged_update_jacobian", "newton_step", "voronoi_area_derivative"]
 
 
 def lagged_update_jacobian(system, phi):
@@ -60,6 +60,21 @@ def lagged_update_jacobian(system, phi):
     d_H = y - system.Y @ np.linalg.solve(np.eye(len(tied)) + K @ system.Y, K @ y)
     rhs = d_dn * H_f[:, None, None] + d_n[:, :, None] * d_H[:n_free][:, None, :]
     return system.L_lu.solve(rhs.reshape(n_free, 3 * P)).reshape(P, P)
+
+def newton_step(system, points, x, r):
+    """The Newton step ``−(J − I)⁻¹ r`` on the fixed-point residual ``r`` (in edge lengths)
+    at the free positions ``x`` (the rest of ``points`` fixed), with ``J`` the update's
+    analytic Jacobian (:func:`lagged_update_jacobian`), solved densely (by least squares
+    where ``J − I`` is singular)."""
+    phi = points.copy()
+    phi[system.f] = x
+    J = lagged_update_jacobian(system, phi)
+    J[np.diag_indices_from(J)] -= 1.0
+    try:
+        return np.linalg.solve(J, -r)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(J, -r, rcond=None)[0]
+
 
 def _d_stencil_H(system, phi, normals, d_normals, d_area):
     """The derivative of :meth:`_CoupledSystem.stencil_H` in the free positions (on a natural border

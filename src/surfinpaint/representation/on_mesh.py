@@ -40,7 +40,7 @@ from surfinpaint.geometry.mesh import (
     vertex_areas,
     vertex_normals,
 )
-from surfinpaint.representation.coupled_jacobian import lagged_update_jacobian
+from surfinpaint.representation.coupled_jacobian import lagged_update_jacobian, newton_step
 from surfinpaint.representation.least_squares import levenberg_marquardt
 
 __all__ = ["ThinPatchError", "inpaint_on_mesh", "least_squares_on_mesh", "vertex_lambda_h"]
@@ -58,6 +58,12 @@ TRUST = 2.0
 NEWTON_RTOL = 1e-3
 GMRES_RESTART = 60
 LINE_SEARCH = 8
+# Newton's steps solve with the update's analytic Jacobian up to this many free vertices,
+# GMRES on finite-difference products above: the Jacobian's cost grows faster than an
+# update's (measured on the tuning-side families, CPU s a Jacobian: 0.007 at 60 free
+# vertices, 0.017 at 131, 0.056 at 249, 0.39 at 584, where a GMRES step takes at most
+# GMRES_RESTART updates; docs/convergence.md session 13)
+NEWTON_ANALYTIC_MAX = 200
 NEWTON_STEPS = 30
 # the least-squares stage where Newton's method fails too (least_squares_on_mesh):
 # Levenberg-Marquardt steps of at most LSQ_TRUST edge lengths, at most LSQ_STEPS of them
@@ -525,8 +531,10 @@ def _coupled_solve(system, points, iterations, tol, relax):
 def _newton_solve(system, points, tol, steps):
     """The fixed point of the lagged iteration found by Newton's method where the iteration
     itself diverges: the residual ``R(φ_f) = update(φ) − φ_f`` (in mean edge lengths) is
-    driven to zero by Newton–Krylov steps (GMRES on finite-difference products with R's
-    Jacobian), each bounded to ``TRUST`` edge lengths and halved until ``|R|`` decreases.
+    driven to zero by Newton steps, each bounded to ``TRUST`` edge lengths and halved until
+    ``|R|`` decreases: solved exactly with R's analytic Jacobian on patches of at most
+    ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by GMRES
+    on finite-difference products with it on larger ones (Newton–Krylov).
 
     Why: on strongly curved patches (a white-matter sulcus, 1-2 edge lengths of curvature
     radius) the lagged map amplifies the smooth modes, so its first step overshoots by ten
@@ -545,8 +553,11 @@ def _newton_solve(system, points, tol, steps):
         size = float(np.abs(r).max())
         if size < tol:
             break
-        dx, _ = spla.gmres(_jacobian(residual, x, r, h), -r, rtol=NEWTON_RTOL,
-                           restart=GMRES_RESTART, maxiter=1)
+        if len(f) <= NEWTON_ANALYTIC_MAX:
+            dx = newton_step(system, points, x, r)
+        else:
+            dx, _ = spla.gmres(_jacobian(residual, x, r, h), -r, rtol=NEWTON_RTOL,
+                               restart=GMRES_RESTART, maxiter=1)
         longest = float(np.abs(dx).max())
         if longest > TRUST:
             dx *= TRUST / longest
