@@ -118,24 +118,32 @@ def test_a_failed_warmup_leaves_the_fill_to_its_holes(two_holes, monkeypatch):
     assert np.array_equal(both.vertices, plain.vertices)
 
 
-def test_a_large_fill_starts_no_thread_and_a_serial_one_loads_nothing_ahead(monkeypatch):
+@pytest.mark.parametrize(("method", "thread"), [("conformal", False), ("fair", True)])
+def test_only_a_large_faired_fill_loads_its_kernels_beside_the_whole_mesh_passes(
+        monkeypatch, method, thread):
     # a thread loading numba beside a large mesh's edge table kept its memory resident at
-    # the peak (479 instead of 394 MB on the 651k case, docs/scale.md session 13)
-    v, f = sphere(7)  # 327,680 faces: large enough for the thread there was
+    # the peak (479 instead of 394 MB on the 651k case, docs/scale.md session 13), so the
+    # conformal fill loads nothing ahead (a serial one at its first hole, a parallel one
+    # before forking); the faired fill is serial and its first hole would wait for the
+    # load, so it loads beside the passes, in a thread joined before the first hole
+    v, f = sphere(7)  # 327,680 faces: above BESIDE_MIN_FACES
+    assert len(f) >= warmup.BESIDE_MIN_FACES
     cut = cut_holes(v, f, [np.array([0.0, 0, 1])], 3 * mean_edge_length(v, f))
     _forget_warmup()
-    started, warmed = [], []
-    original = threading.Thread.start
-
-    def start(self):
-        started.append(self.name)
-        original(self)
-
-    monkeypatch.setattr(threading.Thread, "start", start)
-    monkeypatch.setattr(warmup, "warm_kernels", warmed.append)
-    plain = fill_holes(cut.vertices, cut.faces, method="fair", jobs=1)
-    assert started == [] and warmed == []  # the first hole loads what it uses
-    assert plain.reports[0].new_faces > 0
+    warmed, holes_started = [], []
+    monkeypatch.setattr(warmup, "warm_kernels", lambda m: warmed.append(
+        (m, threading.current_thread().name, len(holes_started))))
+    fill_hole = pipeline.fill_hole
+    monkeypatch.setattr(pipeline, "fill_hole", lambda *a: (holes_started.append(
+        [t.name for t in threading.enumerate() if t.name == "surfinpaint-warmup"]),
+        fill_hole(*a))[1])
+    result = fill_holes(cut.vertices, cut.faces, method=method, jobs=1)
+    assert result.reports[0].new_faces > 0
+    if thread:  # loaded in the thread, before the hole, which starts once it has ended
+        assert warmed == [("fair", "surfinpaint-warmup", 0)]
+        assert holes_started == [[]]
+    else:
+        assert warmed == []
 
 
 def test_a_fair_fill_warms_no_distance_kernel(monkeypatch):

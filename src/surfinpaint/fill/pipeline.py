@@ -28,7 +28,7 @@ from surfinpaint.fill.results import FillResult, HoleReport
 from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
-from surfinpaint.fill.warmup import load_for_workers
+from surfinpaint.fill.warmup import load_for_workers, loading_beside
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.repair import remove_nonmanifold_faces
 from surfinpaint.geometry.validation import (
@@ -262,14 +262,16 @@ def _check_flags(**flags) -> None:
 def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, repair: bool,
                  validate: bool):
     """The mesh prepared (:func:`_prepared`), the loops to fill and their :func:`find_holes`
-    numbers (the outer border counts, whatever was selected)."""
-    vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
-    # checked by _prepared, as validate says
-    found = find_holes(vertices, faces, table, validate=False)
-    loops = select_holes(vertices, faces, holes, include_border=include_border,
-                         table=table, validate=False, found=found)
-    del table  # the holes are found: its memory is free for the fills
-    numbers = hole_numbers(vertices, faces, loops, found=found)
+    numbers (the outer border counts, whatever was selected); a faired fill's kernels load
+    on the idle core meanwhile (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
+    with loading_beside(len(faces), method):
+        vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
+        # checked by _prepared, as validate says
+        found = find_holes(vertices, faces, table, validate=False)
+        loops = select_holes(vertices, faces, holes, include_border=include_border,
+                             table=table, validate=False, found=found)
+        del table  # the holes are found: its memory is free for the fills
+        numbers = hole_numbers(vertices, faces, loops, found=found)
     return vertices, faces, removed_faces, loops, numbers
 
 

@@ -7,8 +7,10 @@ them :func:`fill_holes` loads the kernels once (:func:`load_for_workers`) instea
 worker loading them itself (measured on the 651k case: workers +0.5 s CPU without it). A
 serial fill loads them at its first hole, as any call would. They are loaded after the
 whole-mesh passes, not beside them in a thread: numba's and LLVM's memory then is not
-resident beside the edge table (peak 479 -> 394 MB on the 651k case, the same CPU and,
-at the load measured, the same wall for both methods; docs/scale.md, session 13).
+resident beside the edge table (peak 479 -> 394 MB on the 651k case, the same CPU;
+docs/scale.md, session 13). The exception is the faired fill of a large mesh
+(:func:`loading_beside`), which is serial: its first hole would wait for the load, and the
+whole-mesh passes leave a core idle to do it on.
 
 :func:`warm_kernels` fills a small hole of a fixed mesh with the faired fill (the
 triangulation and the edge-flip kernels) and, for the conformal method only, measures a
@@ -27,6 +29,7 @@ import importlib.util
 import os
 import sys
 import threading
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -34,8 +37,11 @@ from surfinpaint.fill import parallel
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.metrics import point_mesh_distance
 
-__all__ = ["compile_kernels", "kernels_loaded", "load_for_workers", "main", "warm_kernels",
-           "warmup_mesh"]
+__all__ = ["BESIDE_MIN_FACES", "compile_kernels", "kernels_loaded", "load_for_workers",
+           "loading_beside", "main", "warm_kernels", "warmup_mesh"]
+
+# below this many faces the whole-mesh passes take too little time to hide the loading
+BESIDE_MIN_FACES = 100_000
 
 # the kernels each method uses, loaded (the conformal method's include the faired fill's)
 _done = {"fair": threading.Event(), "conformal": threading.Event()}
@@ -83,8 +89,36 @@ def load_for_workers(method: str) -> None:
     """:func:`warm_kernels` before a parallel fill's workers are forked (they inherit the
     loaded kernels); nothing where they are not forked (:func:`~surfinpaint.fill.parallel.
     forks`: each worker process loads its own)."""
-    if not parallel.forks():
-        return
+    if parallel.forks():
+        _quietly(method)
+
+
+@contextmanager
+def loading_beside(n_faces: int, method: str):
+    """While the block runs (the whole-mesh passes), :func:`warm_kernels` in a background
+    thread, joined when the block ends (before any hole is filled or worker forked): for a
+    faired fill (``method="fair"``) of at least ``BESIDE_MIN_FACES`` faces whose kernels
+    are not loaded yet; otherwise nothing.
+
+    Why only the faired fill: it fills one hole after another, so without the thread its
+    first hole waits for the load (651k case, quiet, paired with MeshLib: 1.69 and 1.72 s
+    of wall with the thread, 1.97 and 2.08 s without; docs/scale.md, session 13). The
+    conformal fill of a large mesh is parallel and loads once before forking
+    (:func:`load_for_workers`); beside the passes numba's memory would sit at the peak with
+    the edge table (344 -> 431 MB on the same case).
+    """
+    thread = None
+    if method == "fair" and n_faces >= BESIDE_MIN_FACES and not _done[method].is_set():
+        thread = threading.Thread(target=_quietly, args=(method,), name="surfinpaint-warmup")
+        thread.start()
+    try:
+        yield
+    finally:
+        if thread is not None:
+            thread.join()
+
+
+def _quietly(method: str) -> None:
     # a failure here is not the caller's: the first hole then loads or compiles the kernels
     # itself and raises whatever there is to raise
     try:
