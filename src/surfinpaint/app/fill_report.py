@@ -152,8 +152,9 @@ def _blend(report: HoleReport) -> str | None:
 
 def _verdict(report: HoleReport) -> str:
     """How the self-check ended, in words."""
-    if _blend(report):
-        return f"the λ-H fill failed its checks, {_blend(report)} written ({report.note})"
+    blend = _blend(report)
+    if blend:
+        return f"the λ-H fill failed its checks, {blend} written ({report.note})"
     if report.outcome == "lambda-h":
         return "λ-H kept"
     if report.fallback:
