@@ -6,12 +6,15 @@ Voronoi areas it needs. Checked against central differences in tests/test_conver
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from surfinpaint.geometry.mesh import vertex_areas
 from surfinpaint.representation.mesh_lambda_h import normals_with_jacobian
 
-__all__ = ["lagged_update_jacobian", "newton_step", "voronoi_area_derivative"]
+__all__ = ["UpdateDerivative", "lagged_update_jacobian", "newton_step",
+           "voronoi_area_derivative"]
 
 
 def lagged_update_jacobian(system, phi):
@@ -25,41 +28,90 @@ def lagged_update_jacobian(system, phi):
     right-hand sides. Forward differences cost one update per column (3m updates a
     Jacobian, 2/3 of the least-squares stage's time: docs/convergence.md, session 12).
     """
-    f, tied, area, lam, m = system.f, system.tied, system.area, system.lam, system.moving
-    _, (normals, s, w_n, d_n, K, H) = system._lagged(phi)
-    n_free, P = len(f), 3 * len(f)
-    H_f = H[:n_free]
-    columns = (3 * f[:, None] + np.arange(3)).ravel()
-    d_unit = normals_with_jacobian(phi, system.near)[1][:, columns].tocsr()  # (3n, P)
-    d_area = voronoi_area_derivative(phi, system.near, f)  # (n, P)
+    return UpdateDerivative(system, phi).apply(None)
 
-    def d_normals(ids):  # (len(ids), 3, P)
-        rows = (3 * ids[:, None] + np.arange(3)).ravel()
-        return d_unit[rows].toarray().reshape(len(ids), 3, P)
 
-    # λ: sqrt(area_3D / area) at the moving vertices, biharmonic over the free ones
-    d_lam = np.zeros((len(phi), P))
-    ring = np.setdiff1d(m, f)
-    d_lam[ring] = d_area[ring].toarray() / (2.0 * lam[ring] * area[ring])[:, None]
-    d_lam[f] = system.lam_lu.solve(-(system.Q_fk @ d_lam[system.fixed]))
-    d_s = 4.0 * lam[:, None] * d_lam
-    dn_t, dn_f = d_normals(tied), d_normals(f)
-    a_t = area[tied] * s[tied]
-    d_st = d_s[tied] / (a_t**2 / area[tied])[:, None]  # ds / (area s²)
-    d_wn = dn_t / a_t[:, None, None] - normals[tied][:, :, None] * d_st[:, None, :]
-    d_dn = system.curvature * (dn_f * (area[f] * s[f])[:, None, None]
-                             + normals[f][:, :, None] * (area[f][:, None] * d_s[f])[:, None, :])
-    d_b = -(system.Q_ft @ np.einsum("tc,tcp->tp", system.L_t_phi, d_wn))
-    if len(system.natural_data):
-        d_b -= system.Q_fs @ _d_stencil_H(system, phi, normals, d_normals, d_area)
-    # d(K H) = Σ_c dw_n,c ∘ Z_t (d_n,c H_f) + w_n,c ∘ Z_t (dd_n,c H_f)
-    d_KH = sum(d_wn[:, c, :] * (system.Z_t @ (d_n[:, c] * H_f))[:, None]
-               + w_n[:, [c]] * (system.Z_t @ (d_dn[:, c, :] * H_f[:, None]))
-               for c in range(3))
-    y = system.Q_lu.solve(d_b - system.Q_ft @ d_KH)  # (Q_ff + Q_ft K)⁻¹ by Woodbury
-    d_H = y - system.Y @ np.linalg.solve(np.eye(len(tied)) + K @ system.Y, K @ y)
-    rhs = d_dn * H_f[:, None, None] + d_n[:, :, None] * d_H[:n_free][:, None, :]
-    return system.L_lu.solve(rhs.reshape(n_free, 3 * P)).reshape(P, P)
+class UpdateDerivative:
+    """The lagged update's derivative at ``phi``, made once: :meth:`apply` gives its products
+    with any block of directions, :meth:`operator` the matrix-free product Newton–Krylov
+    steps use on large patches.
+
+    Why: the dense Jacobian's cost is its ``(3n, 3m)`` intermediates (0.39 s at 584 free
+    vertices, docs/convergence.md session 13), so above ``on_mesh.NEWTON_ANALYTIC_MAX`` free
+    vertices Newton's steps took GMRES on finite-difference products (one lagged update
+    each, 1e-3 relative); a product here is the same chain rule with one right-hand side,
+    exact, for a fraction of an update (session 14)."""
+
+    def __init__(self, system, phi):
+        self.system, self.phi = system, phi
+        self.state = system._lagged(phi)[1]
+        f, m = system.f, system.moving
+        self.P = 3 * len(f)
+        columns = (3 * f[:, None] + np.arange(3)).ravel()
+        rows = (3 * m[:, None] + np.arange(3)).ravel()
+        self.d_unit = normals_with_jacobian(phi, system.near)[1][:, columns].tocsr()[rows]
+        self.d_area = voronoi_area_derivative(phi, system.near, f)[m].tocsr()  # (len m, P)
+        self.where = np.full(len(phi), -1)
+        self.where[m] = np.arange(len(m))  # a vertex's row among the moving ones
+        self._woodbury = None
+
+    def operator(self):
+        """The residual's Jacobian ``J − I`` as a ``LinearOperator`` on the free positions."""
+        P = self.P
+        return spla.LinearOperator((P, P), dtype=float,
+                                   matvec=lambda v: self.apply(v.reshape(P, 1)).ravel() - v.ravel())
+
+    def apply(self, V):
+        """``J V`` for directions ``V`` (P, k) (rows ``3 i + c``), or ``J`` itself for
+        ``None`` (the same operations as a product with the identity, on sparse columns)."""
+        system, phi = self.system, self.phi
+        f, tied, area, lam, m = system.f, system.tied, system.area, system.lam, system.moving
+        normals, s, w_n, d_n, K, H = self.state
+        n_free = len(f)
+        k = self.P if V is None else V.shape[1]
+        H_f = H[:n_free]
+        if V is None:
+            d_unit, d_area = self.d_unit.toarray(), self.d_area.toarray()
+        else:
+            d_unit, d_area = self.d_unit @ V, self.d_area @ V
+        where = self.where
+
+        def d_normals(ids):  # (len(ids), 3, k)
+            return d_unit.reshape(len(m), 3, k)[where[ids]]
+
+        # λ: sqrt(area_3D / area) at the moving vertices, biharmonic over the free ones
+        d_lam = np.zeros((len(phi), k))
+        ring = np.setdiff1d(m, f)
+        d_lam[ring] = d_area[where[ring]] / (2.0 * lam[ring] * area[ring])[:, None]
+        d_lam[f] = system.lam_lu.solve(-(system.Q_fk @ d_lam[system.fixed]))
+        d_s = 4.0 * lam[:, None] * d_lam
+        dn_t, dn_f = d_normals(tied), d_normals(f)
+        a_t = area[tied] * s[tied]
+        d_st = d_s[tied] / (a_t**2 / area[tied])[:, None]  # ds / (area s²)
+        d_wn = dn_t / a_t[:, None, None] - normals[tied][:, :, None] * d_st[:, None, :]
+        d_dn = system.curvature * (dn_f * (area[f] * s[f])[:, None, None]
+                                 + normals[f][:, :, None] * (area[f][:, None] * d_s[f])[:, None, :])
+        d_b = -(system.Q_ft @ np.einsum("tc,tcp->tp", system.L_t_phi, d_wn))
+        if len(system.natural_data):
+            d_b -= system.Q_fs @ _d_stencil_H(system, phi, normals, d_normals, d_area, V)
+        # d(K H) = Σ_c dw_n,c ∘ Z_t (d_n,c H_f) + w_n,c ∘ Z_t (dd_n,c H_f)
+        d_KH = sum(d_wn[:, c, :] * (system.Z_t @ (d_n[:, c] * H_f))[:, None]
+                   + w_n[:, [c]] * (system.Z_t @ (d_dn[:, c, :] * H_f[:, None]))
+                   for c in range(3))
+        y = system.Q_lu.solve(d_b - system.Q_ft @ d_KH)  # (Q_ff + Q_ft K)⁻¹ by Woodbury
+        d_H = y - system.Y @ self._capacitance(K, y, V is None)
+        rhs = d_dn * H_f[:, None, None] + d_n[:, :, None] * d_H[:n_free][:, None, :]
+        return system.L_lu.solve(rhs.reshape(n_free, 3 * k)).reshape(3 * n_free, k)
+
+    def _capacitance(self, K, y, dense):
+        """``(I + K Y)⁻¹ K y``: a dense solve for the Jacobian, one LU for the products."""
+        system = self.system
+        if dense:
+            return np.linalg.solve(np.eye(len(system.tied)) + K @ system.Y, K @ y)
+        if self._woodbury is None:
+            self._woodbury = sla.lu_factor(np.eye(len(system.tied)) + K @ system.Y)
+        return sla.lu_solve(self._woodbury, K @ y)
+
 
 def newton_step(system, points, x, r):
     """The Newton step ``−(J − I)⁻¹ r`` on the fixed-point residual ``r`` (in edge lengths)
@@ -76,18 +128,24 @@ def newton_step(system, points, x, r):
         return np.linalg.lstsq(J, -r, rcond=None)[0]
 
 
-def _d_stencil_H(system, phi, normals, d_normals, d_area):
+def _d_stencil_H(system, phi, normals, d_normals, d_area, V):
     """The derivative of :meth:`_CoupledSystem.stencil_H` in the free positions (on a natural border
-    its H is the mean of inner neighbours', some of which the free vertices move)."""
+    its H is the mean of inner neighbours', some of which the free vertices move), applied to
+    the directions ``V`` (None: all; ``d_area`` the moving vertices' area derivative, applied)."""
     m, P = system.moving, 3 * len(system.f)
     areas = vertex_areas(phi, system.near)[m]
     Lphi = (system.L[m] @ phi)
     H = np.einsum("ij,ij->i", Lphi, normals[m]) / (2.0 * areas)
-    L_mf = system.L[m][:, system.f].toarray()
-    d_Lphi_n = (L_mf[:, :, None] * normals[m][:, None, :]).reshape(len(m), P)
+    if V is None:
+        L_mf = system.L[m][:, system.f].toarray()
+        d_Lphi_n = (L_mf[:, :, None] * normals[m][:, None, :]).reshape(len(m), P)
+    else:  # d(L φ)·n = n · L_mf V
+        k = V.shape[1]
+        moved = (system.L[m][:, system.f] @ V.reshape(len(system.f), 3 * k)).reshape(-1, 3, k)
+        d_Lphi_n = np.einsum("ic,ick->ik", normals[m], moved)
     d_H = ((np.einsum("ic,icp->ip", Lphi, d_normals(m)) + d_Lphi_n) / (2.0 * areas)[:, None]
-           - H[:, None] * d_area[m].toarray() / areas[:, None])
-    out = np.zeros((len(system.stencil), P))
+           - H[:, None] * d_area / areas[:, None])
+    out = np.zeros((len(system.stencil), d_H.shape[1]))
     out[system.on_natural_stencil] = (system.adjacency[:, m] @ (system.inner[m][:, None] * d_H)
                                     / system.weight[:, None])
     return out

@@ -12,6 +12,8 @@ model predicts, ``μ ← μ · max(1/3, 1 − (2ρ − 1)³)``; after one that d
 ``ν ← 2ν``. Each step is at most ``max_step`` long (max-norm), scaled down otherwise. The
 Jacobian is dense, the caller's or forward differences (one residual a column); the
 systems are the fill's free coordinates, a few hundred unknowns.
+
+Also here: :class:`AndersonMixing`, the acceleration of the λ-H fill's lagged iteration.
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LeastSquares", "forward_jacobian", "levenberg_marquardt"]
+__all__ = ["AndersonMixing", "LeastSquares", "forward_jacobian", "levenberg_marquardt"]
 
 
 @dataclass(frozen=True)
@@ -168,3 +170,27 @@ def levenberg_marquardt(
             nu *= 2.0
     return LeastSquares(x=x, residual=r, steps=accepted, evaluations=count,
                         converged=converged)
+
+
+class AndersonMixing:
+    """Anderson mixing of the last ``depth`` steps of a fixed-point iteration: the lagged
+    iteration is nearly linear near its fixed point, and this takes it there in fewer
+    solves."""
+
+    def __init__(self, depth: int):
+        self.depth = depth
+        self.previous = None  # (residual, solution) of the last step
+        self.d_res: list = []
+        self.d_new: list = []
+
+    def mix(self, new: np.ndarray, current: np.ndarray) -> np.ndarray:
+        """The next iterate from the iteration's ``new`` one and the ``current`` one."""
+        residual, flat = (new - current).ravel(), new.ravel()
+        if self.previous is not None:
+            self.d_res.append(residual - self.previous[0])
+            self.d_new.append(flat - self.previous[1])
+            del self.d_res[:-self.depth], self.d_new[:-self.depth]
+            gamma = np.linalg.lstsq(np.column_stack(self.d_res), residual, rcond=None)[0]
+            new = (flat - np.column_stack(self.d_new) @ gamma).reshape(new.shape)
+        self.previous = (residual, flat)
+        return new

@@ -40,8 +40,12 @@ from surfinpaint.geometry.mesh import (
     vertex_areas,
     vertex_normals,
 )
-from surfinpaint.representation.coupled_jacobian import lagged_update_jacobian, newton_step
-from surfinpaint.representation.least_squares import levenberg_marquardt
+from surfinpaint.representation.coupled_jacobian import (
+    UpdateDerivative,
+    lagged_update_jacobian,
+    newton_step,
+)
+from surfinpaint.representation.least_squares import AndersonMixing, levenberg_marquardt
 
 __all__ = ["ThinPatchError", "inpaint_on_mesh", "least_squares_on_mesh", "vertex_lambda_h"]
 
@@ -58,11 +62,10 @@ TRUST = 2.0
 NEWTON_RTOL = 1e-3
 GMRES_RESTART = 60
 LINE_SEARCH = 8
-# Newton's steps solve with the update's analytic Jacobian up to this many free vertices,
-# GMRES on finite-difference products above: the Jacobian's cost grows faster than an
-# update's (measured on the tuning-side families, CPU s a Jacobian: 0.007 at 60 free
-# vertices, 0.017 at 131, 0.056 at 249, 0.39 at 584, where a GMRES step takes at most
-# GMRES_RESTART updates; docs/convergence.md session 13)
+# Newton's steps solve with the update's dense analytic Jacobian up to this many free
+# vertices, by GMRES on its exact matrix-free products above (the dense Jacobian's cost
+# grows faster than an update's: CPU s 0.007 at 60 free vertices, 0.056 at 249, 0.39 at
+# 584; docs/convergence.md sessions 13, 14)
 NEWTON_ANALYTIC_MAX = 200
 NEWTON_STEPS = 30
 # the least-squares stage where Newton's method fails too (least_squares_on_mesh):
@@ -364,30 +367,6 @@ def _ids(n: int, ids: np.ndarray, dtype, where: np.ndarray) -> np.ndarray:
     return np.flatnonzero(mask & where).astype(dtype, copy=False)
 
 
-class _AndersonMixing:
-    """Anderson mixing of the last ``depth`` steps of a fixed-point iteration: the lagged
-    iteration is nearly linear near its fixed point, and this takes it there in fewer
-    solves."""
-
-    def __init__(self, depth: int):
-        self.depth = depth
-        self.previous = None  # (residual, solution) of the last step
-        self.d_res: list = []
-        self.d_new: list = []
-
-    def mix(self, new: np.ndarray, current: np.ndarray) -> np.ndarray:
-        """The next iterate from the iteration's ``new`` one and the ``current`` one."""
-        residual, flat = (new - current).ravel(), new.ravel()
-        if self.previous is not None:
-            self.d_res.append(residual - self.previous[0])
-            self.d_new.append(flat - self.previous[1])
-            del self.d_res[:-self.depth], self.d_new[:-self.depth]
-            gamma = np.linalg.lstsq(np.column_stack(self.d_res), residual, rcond=None)[0]
-            new = (flat - np.column_stack(self.d_new) @ gamma).reshape(new.shape)
-        self.previous = (residual, flat)
-        return new
-
-
 class _CoupledSystem:
     """The coupled λ-H system of :func:`inpaint_on_mesh` on one patch: its matrices and
     factorizations, made once, and :meth:`update`, one lagged solve."""
@@ -466,9 +445,22 @@ class _CoupledSystem:
         """The free positions solved with the normals and λ of the positions ``phi``."""
         return self._lagged(phi)[0]
 
+    _last = None  # (curvature, positions, result) of the last _lagged
+
     def _lagged(self, phi):
         """:meth:`update` and its intermediates (for :meth:`jacobian`): the new free
-        positions, the normals, s = 2λ², w_n, d_n, K and H on ``U``."""
+        positions, the normals, s = 2λ², w_n, d_n, K and H on ``U``. The last call's again
+        at its ``phi`` and curvature weight (Newton's steps and the least-squares stage take
+        the Jacobian where the residual was just evaluated; λ is then in its state already:
+        nothing else sets it). Callers must not change the arrays returned."""
+        last = self._last
+        if last is not None and last[0] == self.curvature and np.array_equal(last[1], phi):
+            return last[2]
+        out = self._lagged_solve(phi)
+        self._last = (self.curvature, phi.copy(), out)
+        return out
+
+    def _lagged_solve(self, phi):
         f, tied, area, lam = self.f, self.tied, self.area, self.lam
         H_stencil = self.stencil_H(phi) if len(self.natural_data) else self.H_stencil
         normals = vertex_normals(phi, self.near)
@@ -508,7 +500,7 @@ def _coupled_solve(system, points, iterations, tol, relax):
     (``relax=1``) or relaxed by ``relax``."""
     f, scale = system.f, system.scale
     phi = points.copy()
-    mixing = _AndersonMixing(ANDERSON)
+    mixing = AndersonMixing(ANDERSON)
     step = np.inf
     for _ in range(iterations):
         new = system.update(phi)
@@ -534,7 +526,7 @@ def _newton_solve(system, points, tol, steps):
     driven to zero by Newton steps, each bounded to ``TRUST`` edge lengths and halved until
     ``|R|`` decreases: solved exactly with R's analytic Jacobian on patches of at most
     ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by GMRES
-    on finite-difference products with it on larger ones (Newton–Krylov).
+    on its exact products on larger ones (Newton–Krylov, :class:`.UpdateDerivative`).
 
     Why: on strongly curved patches (a white-matter sulcus, 1-2 edge lengths of curvature
     radius) the lagged map amplifies the smooth modes, so its first step overshoots by ten
@@ -556,8 +548,10 @@ def _newton_solve(system, points, tol, steps):
         if len(f) <= NEWTON_ANALYTIC_MAX:
             dx = newton_step(system, points, x, r)
         else:
-            dx, _ = spla.gmres(_jacobian(residual, x, r, h), -r, rtol=NEWTON_RTOL,
-                               restart=GMRES_RESTART, maxiter=1)
+            phi = points.copy()
+            phi[f] = x
+            dx, _ = spla.gmres(UpdateDerivative(system, phi).operator(), -r,
+                               rtol=NEWTON_RTOL, restart=GMRES_RESTART, maxiter=1)
         longest = float(np.abs(dx).max())
         if longest > TRUST:
             dx *= TRUST / longest
@@ -570,15 +564,6 @@ def _newton_solve(system, points, tol, steps):
     phi = points.copy()
     phi[f] = x
     return phi
-
-
-def _jacobian(residual, x, r, h):
-    """The Jacobian of ``residual`` at ``x`` (where it is ``r``) as finite-difference
-    products, for steps ``v`` in edge lengths."""
-    eps = 1e-6 * max(1.0, float(np.abs(x).max()) / h)
-    return spla.LinearOperator((r.size, r.size), dtype=float,
-                               matvec=lambda v: (residual(x + eps * h * v.reshape(-1, 3))
-                                                 - r) / eps)
 
 
 def _line_search(residual, x, r, dx):

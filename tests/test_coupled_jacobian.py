@@ -1,0 +1,114 @@
+"""The lagged update's exact derivative on large patches (docs/convergence.md, session 14):
+its matrix-free products against central differences and against the dense Jacobian, the
+Newton–Krylov steps that use them, and the Jacobian taken without a second lagged solve."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.representation import on_mesh
+from surfinpaint.representation.coupled_jacobian import (
+    UpdateDerivative,
+    lagged_update_jacobian,
+)
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from eggcrate import egg_crate  # noqa: E402
+
+
+def _system(n, radius, rings=3, perturb=0.1, subdivided=False, period=7, amplitude=2.5):
+    """A coupled system on an egg-crate patch (``subdivided``: split once into four, as
+    the retry of mesh_pass does) and a point near its start."""
+    from surfinpaint.fill.conformal.mesh_pass import _mapped_patch, _subdivided
+
+    cut = egg_crate(n, 3, period, amplitude, 0.4, radius)
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    vertices = np.vstack([cut.vertices, new_v])
+    _, ids, local, uv, _, _ = _mapped_patch(vertices, cut.faces, cut.loop, new_f, rings)
+    points = vertices[ids]
+    free = ids >= len(cut.vertices)
+    if subdivided:
+        points, local, uv, free, _ = _subdivided(points, local, uv, free, len(new_f),
+                                                 np.zeros(len(points), dtype=bool))
+    system = on_mesh._CoupledSystem(points, local, uv, free)
+    phi = points.copy()
+    phi[system.f] += perturb * system.scale * np.random.default_rng(0).standard_normal(
+        (len(system.f), 3))
+    return system, points, phi, (local, uv, free)
+
+
+@pytest.fixture(scope="module")
+def large():
+    # 213 free vertices: above on_mesh.NEWTON_ANALYTIC_MAX, where Newton's steps took GMRES
+    # on finite-difference products (1e-3 relative) before
+    system, points, phi, _ = _system(40, 11, subdivided=True)
+    assert len(system.f) > on_mesh.NEWTON_ANALYTIC_MAX
+    return system, points, phi
+
+
+def test_the_update_s_exact_products_match_central_differences_on_a_large_patch(large):
+    system, _, phi = large
+    f = system.f
+    V = np.random.default_rng(1).standard_normal((3 * len(f), 4))
+    JV = UpdateDerivative(system, phi).apply(V)
+    e = 1e-5 * system.scale
+    for k in range(V.shape[1]):
+        plus, minus = phi.copy(), phi.copy()
+        plus[f] += e * V[:, k].reshape(-1, 3)
+        minus[f] -= e * V[:, k].reshape(-1, 3)
+        central = ((system.update(plus) - system.update(minus)) / (2 * e)).ravel()
+        # measured: 1e-9 relative (central differences' own error)
+        assert np.linalg.norm(JV[:, k] - central) < 1e-7 * np.linalg.norm(central)
+
+
+def test_the_products_are_the_dense_jacobian_s():
+    # the same chain rule with other right-hand sides; and J itself unchanged by the refactor
+    system, _, phi, _ = _system(30, 6)
+    J = lagged_update_jacobian(system, phi)
+    V = np.random.default_rng(2).standard_normal((J.shape[1], 3))
+    derivative = UpdateDerivative(system, phi)
+    np.testing.assert_allclose(derivative.apply(V), J @ V, rtol=0, atol=1e-10 * np.abs(J).max())
+    v = V[:, 0]
+    np.testing.assert_allclose(derivative.operator().matvec(v), J @ v - v, rtol=0,
+                               atol=1e-10 * np.abs(J).max())
+
+
+def test_the_jacobian_takes_no_second_lagged_solve_where_the_residual_was_evaluated(monkeypatch):
+    # Newton's steps and the least-squares stage evaluate the residual, then take the
+    # Jacobian at the same point: the lagged solve there was made twice before
+    system, points, phi, patch = _system(30, 6)
+    solves = []
+    normals = on_mesh.vertex_normals
+    monkeypatch.setattr(on_mesh, "vertex_normals", lambda *a: (solves.append(1), normals(*a))[1])
+    new = system.update(phi)
+    J = system.jacobian(phi)
+    assert len(solves) == 1
+    system.update(points)  # another point: solved again
+    assert len(solves) == 2
+    # and the cached state is the one a fresh system gives
+    fresh = on_mesh._CoupledSystem(points, *patch)
+    np.testing.assert_array_equal(fresh.update(phi), new)
+    np.testing.assert_array_equal(fresh.jacobian(phi), J)
+
+
+def test_newton_krylov_on_exact_products_converges_on_a_large_patch():
+    # the Newton stage on a patch above NEWTON_ANALYTIC_MAX free vertices: GMRES on the
+    # exact products reaches the fixed point to 1e-10 edge lengths
+    system, points, _, _ = _system(40, 8, subdivided=True, period=14, amplitude=2.0)
+    assert len(system.f) > on_mesh.NEWTON_ANALYTIC_MAX
+    sizes = []
+    line_search = on_mesh._line_search
+
+    def recorded(*args):
+        x, r = line_search(*args)
+        sizes.append(float(np.abs(r).max()))
+        return x, r
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(on_mesh, "_line_search", recorded)
+        out = on_mesh._newton_solve(system, points, 1e-10, 12)
+    residual = np.abs(system.update(out) - out[system.f]).max() / system.scale
+    assert residual < 1e-10 and len(sizes) <= 6
