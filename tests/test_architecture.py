@@ -59,6 +59,19 @@ def _surfinpaint_imports(tree: ast.AST):
                     yield node, alias.name
 
 
+def _imported_later(tree: ast.AST):
+    """(call node, module) of every module of the package's own imported at first use:
+    ``lazy_module("surfinpaint.x")``, ``importlib.import_module("surfinpaint.x")``."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and node.args and isinstance(node.args[0], ast.Constant):
+            name = node.func.id if isinstance(node.func, ast.Name) else getattr(
+                node.func, "attr", None)
+            module = node.args[0].value
+            if name in ("lazy_module", "import_module") and isinstance(module, str) \
+                    and module.split(".")[0] == "surfinpaint":
+                yield node, module
+
+
 def _optional(tree: ast.AST) -> set[int]:
     """The ids of the imports tried for an optional package (``except ImportError``)."""
     guarded = set()
@@ -103,7 +116,8 @@ def test_layers_import_only_downwards():
     for path in _modules():
         importer = _layer("surfinpaint." + _name(path).removesuffix(".py").replace("/", "."))
         assert importer in RANK, f"{_name(path)}: no layer for {importer!r}"
-        for node, module in _surfinpaint_imports(ast.parse(path.read_text())):
+        tree = ast.parse(path.read_text())
+        for node, module in [*_surfinpaint_imports(tree), *_imported_later(tree)]:
             if module == "surfinpaint":
                 continue  # the version string, not the package's code
             imported = _layer(module)
@@ -117,6 +131,11 @@ def test_the_layer_check_sees_an_upward_import():
     tree = ast.parse("def f():\n    from surfinpaint.app.cli import main\n")
     assert [m for _, m in _surfinpaint_imports(tree)] == ["surfinpaint.app.cli"]
     assert RANK[_layer("surfinpaint.app.cli")] > RANK[_layer("surfinpaint.geometry.mesh")]
+    # and the imports made at first use
+    tree = ast.parse('cli = lazy_module("surfinpaint.app.cli")\n'
+                     'm = importlib.import_module("surfinpaint.app.report")\n')
+    assert [m for _, m in _imported_later(tree)] == ["surfinpaint.app.cli",
+                                                     "surfinpaint.app.report"]
 
 
 def test_nothing_below_app_draws():

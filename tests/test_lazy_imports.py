@@ -60,3 +60,92 @@ def test_the_spelled_out_structures_are_ndimages():
     for block in (reconstruction._BLOCK, grid_represent._BLOCK):
         assert block.dtype == bool
         np.testing.assert_array_equal(block, scipy.ndimage.generate_binary_structure(2, 2))
+
+
+# what a faired fill from the command line never uses (session 14: ~0.1 s CPU of its start):
+# the λ-H fill and its self-check, the representation under it, the batch runner, and the
+# report's, experiments' and representation commands' modules
+NOT_IN_A_FAIRED_FILL = ("surfinpaint.fill.conformal.method", "surfinpaint.fill.selfcheck",
+                        "surfinpaint.representation.on_mesh",
+                        "surfinpaint.representation.represent", "surfinpaint.app.batch",
+                        "surfinpaint.app.report", "surfinpaint.app.experiments",
+                        "surfinpaint.app.figures", "surfinpaint.geometry.metrics")
+
+
+def _modules_after(code: str, names) -> set[str]:
+    probe = code + f"\nimport sys\nprint(' '.join(m for m in {tuple(names)!r} if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True).stdout
+    return set(out.split())
+
+
+def test_a_faired_fill_from_the_command_line_imports_only_what_it_uses(tmp_path):
+    mesh, out = tmp_path / "holed.ply", tmp_path / "out.ply"
+    code = ("import warnings; warnings.simplefilter('ignore')\n"
+            "from surfinpaint.app import cli\n"
+            f"assert cli.main(['fill', {str(mesh)!r}, '-o', {str(out)!r}, '-q', '--method', "
+            "'fair']) == 0\n")
+    _modules_after("from surfinpaint import data, write_mesh\n"
+                   "from surfinpaint.geometry.cutting import cut_holes\n"
+                   "v, f = data.sphere(3)\n"
+                   "cut = cut_holes(v, f, [v[0]], 0.4)\n"
+                   f"write_mesh({str(mesh)!r}, cut.vertices, cut.faces)", ())
+    assert _modules_after(code, NOT_IN_A_FAIRED_FILL) == set()
+    assert out.stat().st_size > mesh.stat().st_size
+    # the probe sees them when they are imported: the default fill uses the first three
+    conformal = code.replace("'--method', 'fair'", "'--method', 'conformal'")
+    assert set(NOT_IN_A_FAIRED_FILL[:3]) <= _modules_after(conformal, NOT_IN_A_FAIRED_FILL)
+
+
+def test_the_package_names_every_export_at_first_use():
+    import surfinpaint
+
+    for name in surfinpaint.__all__:
+        assert getattr(surfinpaint, name) is not None, name
+        assert name in dir(surfinpaint)
+    from surfinpaint.fill.pipeline import fill_holes
+    from surfinpaint.representation.represent import represent
+
+    assert surfinpaint.fill_holes is fill_holes and surfinpaint.represent is represent
+    try:
+        surfinpaint.no_such_name  # noqa: B018
+    except AttributeError as exc:
+        assert "no_such_name" in str(exc)
+    else:
+        raise AssertionError("an unknown name must raise AttributeError")
+    assert _modules_after("import surfinpaint", NOT_IN_A_FAIRED_FILL) == set()
+    assert _modules_after("from surfinpaint import represent",
+                          NOT_IN_A_FAIRED_FILL) >= {"surfinpaint.representation.represent"}
+
+
+def test_the_fill_parser_leaves_the_report_and_experiments_commands_out():
+    from surfinpaint.app import cli
+
+    assert cli._command_word(["fill", "a.ply", "-o", "b.ply"]) == "fill"
+    assert cli._command_word(["--version"]) is None
+    assert _modules_after("from surfinpaint.app import cli; cli.build_parser('fill')",
+                          NOT_IN_A_FAIRED_FILL) == set()
+    # without a command named (help, a usage error) every command is listed
+    full = cli.build_parser().format_help()
+    assert "report" in full and "experiments" in full
+    assert cli.build_parser("report").parse_args(["report", "m.ply", "-o", "d"]).func
+
+
+def test_conformal_fill_is_the_methods_own():
+    from surfinpaint.fill import conformal
+    from surfinpaint.fill.conformal.method import conformal_fill
+
+    assert conformal.conformal_fill is conformal_fill
+    try:
+        conformal.no_such_name  # noqa: B018
+    except AttributeError:
+        pass
+    else:
+        raise AssertionError("an unknown name must raise AttributeError")
+
+
+def test_loading_the_conformal_kernels_imports_the_lambda_h_fill():
+    # forked workers inherit what the parent imported before the fork
+    code = "from surfinpaint.fill import warmup; warmup.warm_kernels('conformal')"
+    assert "surfinpaint.fill.conformal.method" in _modules_after(
+        code, ("surfinpaint.fill.conformal.method",))

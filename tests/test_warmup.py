@@ -13,6 +13,7 @@ import pytest
 from surfinpaint import fill_holes
 from surfinpaint.data import sphere
 from surfinpaint.fill import parallel, pipeline, warmup
+from surfinpaint.geometry import metrics
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
 from surfinpaint.geometry.validation import validate_mesh
@@ -149,7 +150,7 @@ def test_only_a_large_faired_fill_loads_its_kernels_beside_the_whole_mesh_passes
 def test_a_fair_fill_warms_no_distance_kernel(monkeypatch):
     # the distance kernel is the conformal self-check's: a fair fill would only pay for it
     measured = []
-    monkeypatch.setattr(warmup, "point_mesh_distance", lambda *a: measured.append(a))
+    monkeypatch.setattr(metrics, "point_mesh_distance", lambda *a: measured.append(a))
     _forget_warmup()
     warmup.warm_kernels("fair")
     assert warmup._done["fair"].is_set() and not warmup._done["conformal"].is_set()

@@ -19,32 +19,53 @@ With the file's colours, normals, UVs and overlays carried to the new vertices::
     >>> surfinpaint.write_mesh_data("filled.ply", filled)                  # doctest: +SKIP
 """
 
-from surfinpaint.app.batch import FileRow, fill_files
-from surfinpaint.errors import FillError, HoleWarning, MeshError
-from surfinpaint.fill.conformal import ConformalOptions, GridOptions, Verdict, choose
-from surfinpaint.fill.holes import Hole, find_holes
-from surfinpaint.fill.liepa.baseline import conventional_fill
-from surfinpaint.fill.objects import fill_mesh_data
-from surfinpaint.fill.pipeline import METHODS, FillResult, HoleReport, fill_holes
-from surfinpaint.fill.results import Fill
-from surfinpaint.fill.seams import SlitWarning
-from surfinpaint.geometry.metrics import surface_distance
-from surfinpaint.geometry.parameterization import lscm, rectangular_conformal_map
-from surfinpaint.geometry.validation import MeshReport, validate_mesh
-from surfinpaint.io.formats import (
-                                   SUPPORTED_FORMATS,
-                                   MeshWarning,
-                                   read_mesh,
-                                   read_mesh_data,
-                                   write_mesh,
-                                   write_mesh_data,
-)
-from surfinpaint.io.meshdata import MeshData
-from surfinpaint.representation.estimation import robust_lambda_h
-from surfinpaint.representation.fields import lambda_h
-from surfinpaint.representation.inpainting import inpaint
-from surfinpaint.representation.reconstruction import reconstruct
-from surfinpaint.representation.represent import LambdaH, MeshLambdaH, rebuild, represent
+import importlib
+
+# the public names, imported at their first use (PEP 562): `import surfinpaint` alone then
+# costs no submodule, and a fill run from the CLI imports only what it uses (a faired fill
+# none of the representation, the λ-H fill or the batch runner; docs/scale.md, session 14)
+_EXPORTS = {
+    "FileRow": "surfinpaint.app.batch",
+    "fill_files": "surfinpaint.app.batch",
+    "FillError": "surfinpaint.errors",
+    "HoleWarning": "surfinpaint.errors",
+    "MeshError": "surfinpaint.errors",
+    "ConformalOptions": "surfinpaint.fill.conformal",
+    "GridOptions": "surfinpaint.fill.conformal",
+    "Verdict": "surfinpaint.fill.conformal",
+    "choose": "surfinpaint.fill.conformal",
+    "Hole": "surfinpaint.fill.holes",
+    "find_holes": "surfinpaint.fill.holes",
+    "conventional_fill": "surfinpaint.fill.liepa.baseline",
+    "fill_mesh_data": "surfinpaint.fill.objects",
+    "METHODS": "surfinpaint.fill.pipeline",
+    "FillResult": "surfinpaint.fill.pipeline",
+    "HoleReport": "surfinpaint.fill.pipeline",
+    "fill_holes": "surfinpaint.fill.pipeline",
+    "Fill": "surfinpaint.fill.results",
+    "SlitWarning": "surfinpaint.fill.seams",
+    "surface_distance": "surfinpaint.geometry.metrics",
+    "lscm": "surfinpaint.geometry.parameterization",
+    "rectangular_conformal_map": "surfinpaint.geometry.parameterization",
+    "MeshReport": "surfinpaint.geometry.validation",
+    "validate_mesh": "surfinpaint.geometry.validation",
+    "SUPPORTED_FORMATS": "surfinpaint.io.formats",
+    "MeshWarning": "surfinpaint.io.formats",
+    "read_mesh": "surfinpaint.io.formats",
+    "read_mesh_data": "surfinpaint.io.formats",
+    "write_mesh": "surfinpaint.io.formats",
+    "write_mesh_data": "surfinpaint.io.formats",
+    "MeshData": "surfinpaint.io.meshdata",
+    "robust_lambda_h": "surfinpaint.representation.estimation",
+    "lambda_h": "surfinpaint.representation.fields",
+    "inpaint": "surfinpaint.representation.inpainting",
+    "reconstruct": "surfinpaint.representation.reconstruction",
+    "LambdaH": "surfinpaint.representation.represent",
+    "MeshLambdaH": "surfinpaint.representation.represent",
+    "rebuild": "surfinpaint.representation.represent",
+    "represent": "surfinpaint.representation.represent",
+}
+
 
 __version__ = "0.1.0"
 
@@ -90,3 +111,16 @@ __all__ = [
     "write_mesh",
     "write_mesh_data",
 ]
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'surfinpaint' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # once: the next look-up is a plain attribute
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -20,9 +20,6 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from surfinpaint import __version__
-from surfinpaint.app.batch import STATUSES, SUMMARY_CSV, fill_files
-from surfinpaint.app.experiments import add_experiments_parser
-from surfinpaint.app.figures import before_after
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import (
     add_fill_options,
@@ -33,7 +30,6 @@ from surfinpaint.app.fill_options import (
 )
 from surfinpaint.app.fill_report import Summary, count_warnings, hole_lines, print_warnings, tell
 from surfinpaint.app.interrupts import Interrupted, signals_raise
-from surfinpaint.app.lambda_h_figures import plot_representation
 from surfinpaint.app.outputs import (
     OutputError,
     OutputOverwritesInput,
@@ -43,8 +39,6 @@ from surfinpaint.app.outputs import (
 )
 from surfinpaint.app.progress import console as _console
 from surfinpaint.app.progress import progress_bar
-from surfinpaint.app.report import add_report_parser
-from surfinpaint.data import default_demo_path
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.holes import find_holes
 from surfinpaint.fill.objects import fill_mesh_data
@@ -59,13 +53,18 @@ from surfinpaint.io.formats import (
     write_mesh,
     write_mesh_data,
 )
-from surfinpaint.representation.represent import (
-    grid_export,
-    load_representation,
-    rebuild,
-    represent,
-)
-from surfinpaint.representation.roundtrip import measure_round_trip
+from surfinpaint.lazy import lazy_module
+
+# imported at their first use (surfinpaint.lazy): a fill never needs them (docs/scale.md,
+# session 14: a faired fill's start 0.65 -> 0.56 s CPU)
+batch = lazy_module("surfinpaint.app.batch")
+data = lazy_module("surfinpaint.data")
+experiments = lazy_module("surfinpaint.app.experiments")
+figures = lazy_module("surfinpaint.app.figures")
+lambda_h_figures = lazy_module("surfinpaint.app.lambda_h_figures")
+report = lazy_module("surfinpaint.app.report")
+representation = lazy_module("surfinpaint.representation.represent")
+roundtrip = lazy_module("surfinpaint.representation.roundtrip")
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
 
@@ -156,7 +155,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if carried and len(result.vertices) > len(vertices):
         say(f"attributes filled in at the new vertices and faces: {', '.join(carried)}")
     if args.png:
-        before_after(vertices, faces, result, args.png)
+        figures.before_after(vertices, faces, result, args.png)
         say(f"wrote {args.png}")
     say(f"wrote {args.output}" + (f" and {args.json}" if args.json else ""))
     return EXIT_OK
@@ -183,13 +182,13 @@ def cmd_batch(args: argparse.Namespace) -> int:
         # no refresh thread: batch's workers are forked only from a one-thread process
         # (they then start with everything imported); the bar moves with every hole
         with _progress(not args.quiet, "files", thread=False) as progress:
-            rows = fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
+            rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
                               overwrite=args.overwrite, progress=progress, **options)
     except (Interrupted, KeyboardInterrupt) as exc:
         if not isinstance(exc, Interrupted):
             exc = Interrupted(signal.SIGINT)
         console.print(f"surfinpaint: {exc}; {_STOPPED[client is not None]}; the files done "
-                      f"are in {Path(args.output) / SUMMARY_CSV}, and the same command again "
+                      f"are in {Path(args.output) / batch.SUMMARY_CSV}, and the same command again "
                       "picks up the rest, the files in flight included")
         return exc.exit_code
     finally:
@@ -202,9 +201,9 @@ def cmd_batch(args: argparse.Namespace) -> int:
             named = row.message if row.message.startswith(row.path) else \
                 f"{row.path}: {row.message}"
             console.print(f"[yellow]warning:[/yellow] {escape(named)}")
-    counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in STATUSES)
+    counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     if not args.quiet:
-        console.print(f"{len(rows)} files: {counts}; wrote {Path(args.output) / SUMMARY_CSV} "
+        console.print(f"{len(rows)} files: {counts}; wrote {Path(args.output) / batch.SUMMARY_CSV} "
                       "and summary.json")
     return EXIT_FAILURE if any(r.status == "failed" for r in rows) else EXIT_OK
 
@@ -243,21 +242,22 @@ def cmd_represent(args: argparse.Namespace) -> int:
         if not args.export_grid:
             raise _UsageError("--resolution, --sampling and --subdivide are for "
                               "--discretization grid or --export-grid")
-    rep = represent(vertices, faces, discretization=args.discretization, map=args.map,
-                    check=not args.no_check, **(grid if args.discretization == "grid" else {}))
+    rep = representation.represent(
+        vertices, faces, discretization=args.discretization, map=args.map,
+        check=not args.no_check, **(grid if args.discretization == "grid" else {}))
     rep.save(args.output)
     written = [str(args.output)]
     if rep.check is not None:
         _print_round_trip(console, rep.check, f"{args.discretization} representation:")
     if args.export_grid:
-        exported = grid_export(rep, args.resolution, check=not args.no_check, **grid)
+        exported = representation.grid_export(rep, args.resolution, check=not args.no_check, **grid)
         exported.save(args.export_grid)
         written.append(str(args.export_grid))
         if exported.check is not None:
             shape = "×".join(str(n) for n in exported.grid.shape)
             _print_round_trip(console, exported.check, f"grid export {shape}:")
     if args.png:
-        plot_representation(rep, args.png)
+        lambda_h_figures.plot_representation(rep, args.png)
         written.append(str(args.png))
     console.print("wrote " + ", ".join(written))
     return EXIT_OK
@@ -266,21 +266,21 @@ def cmd_represent(args: argparse.Namespace) -> int:
 def cmd_rebuild(args: argparse.Namespace) -> int:
     console = _console()
     try:
-        rep = load_representation(args.representation)
+        rep = representation.load_representation(args.representation)
     except (OSError, KeyError, ValueError) as exc:
         raise MeshError(f"not a λ-H representation file ({exc})",
                         path=str(args.representation)) from exc
     if rep.discretization == "grid":
-        out = rebuild(rep, method=args.method)
+        out = representation.rebuild(rep, method=args.method)
     elif args.method not in (None, "laplacian"):
         raise _UsageError("--method is for grid representations; a mesh representation is "
                           "rebuilt on its triangles")
     else:
-        out = rebuild(rep)
+        out = representation.rebuild(rep)
     write_mesh(args.output, out.vertices, out.faces)
-    check = measure_round_trip(rep.vertices, out.vertices, rep.faces, converged=out.converged,
-                               iterations=out.iterations, message=out.message,
-                               seconds=out.seconds)
+    check = roundtrip.measure_round_trip(rep.vertices, out.vertices, rep.faces,
+                                         converged=out.converged, iterations=out.iterations,
+                                         message=out.message, seconds=out.seconds)
     _print_round_trip(console, check, "against the stored original:")
     console.print(f"wrote {args.output}")
     return EXIT_OK
@@ -289,10 +289,11 @@ def cmd_rebuild(args: argparse.Namespace) -> int:
 def cmd_demo(args: argparse.Namespace) -> int:
     from rich.markup import escape
 
+
     console = _console()
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
-    source = default_demo_path()
+    source = data.default_demo_path()
     vertices, faces = read_mesh(source)
     console.print(f"demo mesh: {source} ({len(vertices)} vertices, {len(faces)} faces)")
     _holes_table(vertices, faces, "holes of the demo mesh")
@@ -302,7 +303,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
     write_mesh(filled, result.vertices, result.faces)
 
     picture = out / "before_after.png"
-    before_after(vertices, faces, result, picture)
+    figures.before_after(vertices, faces, result, picture)
 
     for r in result.reports:
         for line in hole_lines(r):
@@ -355,7 +356,21 @@ def _add_representation_commands(sub) -> None:
     p.set_defaults(func=cmd_rebuild)
 
 
-def build_parser() -> argparse.ArgumentParser:
+# the commands whose parsers need nothing beyond this module: with one of them named first,
+# the report's and the experiments' parsers (whose modules import the λ-H representation,
+# the figures and the page, ~0.1 s CPU) are not built (docs/scale.md, session 14)
+_LIGHT_COMMANDS = frozenset({"holes", "fill", "batch", "represent", "rebuild", "demo"})
+
+
+def _command_word(argv: Sequence[str] | None) -> str | None:
+    """The command the arguments name: their first word that is not an option."""
+    words = sys.argv[1:] if argv is None else argv
+    return next((w for w in words if not w.startswith("-")), None)
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The ``surfinpaint`` parser; with ``command`` one of the commands defined here, the
+    ``report`` and ``experiments`` parsers are left out (their modules are not imported)."""
     parser = argparse.ArgumentParser(
         prog="surfinpaint",
         description="Fill holes in triangle meshes by conformal surface inpainting.",
@@ -428,8 +443,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=METHODS, default="conformal")
     p.set_defaults(func=cmd_demo)
 
-    add_report_parser(sub)
-    add_experiments_parser(sub)
+    if command not in _LIGHT_COMMANDS:
+        report.add_report_parser(sub)
+        experiments.add_experiments_parser(sub)
     return parser
 
 
@@ -516,7 +532,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     error, 130 after Ctrl-C, 143 after SIGTERM (temporary files removed, one line printed)."""
     with signals_raise():
         try:
-            parser = build_parser()
+            parser = build_parser(_command_word(argv))
             args = parser.parse_args(argv)
             console = _console()
             if not getattr(args, "quiet", False):

@@ -28,10 +28,15 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from surfinpaint.errors import NUMERICAL_ERRORS, FillError, MeshError
-from surfinpaint.fill.conformal import ConformalOptions, conformal_fill
+from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.intersection import patch_intersects_surroundings
+from surfinpaint.lazy import lazy_module
+
+# the λ-H fill at its first use: a faired fill never imports it (a forked worker finds it
+# imported by warmup.warm_kernels("conformal"); docs/scale.md, session 14)
+conformal_method = lazy_module("surfinpaint.fill.conformal.method")
 
 __all__ = ["crossing_faces", "fill_local", "fill_or_failure", "forks", "independent", "pool",
            "reissue", "resolve_jobs", "start_context", "worth_parallel"]
@@ -103,7 +108,8 @@ def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method
         new_v, new_f, used = faired_fill(vertices, faces, loop, fair_order or 2)
         fill = Fill(new_v, new_f, "fair", fair_order=used)
     else:
-        fill = conformal_fill(vertices, faces, loop, options, fair_order=fair_order)
+        fill = conformal_method.conformal_fill(vertices, faces, loop, options,
+                                               fair_order=fair_order)
     return dataclasses.replace(fill, crossings=crossing_faces(vertices, faces, loop, fill))
 
 

@@ -35,7 +35,10 @@ import numpy as np
 
 from surfinpaint.fill import parallel
 from surfinpaint.fill.liepa.baseline import faired_fill
-from surfinpaint.geometry.metrics import point_mesh_distance
+from surfinpaint.lazy import lazy_module
+
+# the conformal self-check's distances: a faired fill never imports them
+metrics = lazy_module("surfinpaint.geometry.metrics")
 
 __all__ = ["BESIDE_MIN_FACES", "compile_kernels", "kernels_loaded", "load_for_workers",
            "loading_beside", "main", "warm_kernels", "warmup_mesh"]
@@ -72,7 +75,10 @@ def kernels_loaded(method: str = "conformal") -> bool:
 def warm_kernels(method: str = "conformal") -> None:
     """Load (or compile) the kernels a fill by ``method`` ("conformal" or "fair") uses by
     running them once on :func:`warmup_mesh`; a no-op once they are loaded in this process
-    and without numba."""
+    and without numba. For "conformal" the λ-H fill's modules are imported too (a faired fill
+    never imports them), so that forked workers inherit them as they inherit the kernels."""
+    if method == "conformal":
+        parallel.conformal_method.module  # noqa: B018  (imported now)
     if _done[method].is_set() or importlib.util.find_spec("numba") is None:
         _done[method].set()
         return
@@ -81,7 +87,7 @@ def warm_kernels(method: str = "conformal") -> None:
         faired_fill(vertices, faces, loop, 2)
         _done["fair"].set()
     if method == "conformal":
-        point_mesh_distance(vertices[:3], vertices, faces)
+        metrics.point_mesh_distance(vertices[:3], vertices, faces)
     _done[method].set()
 
 
@@ -132,7 +138,7 @@ def compile_kernels() -> None:
     per second of compilation: the distances (conformal self-checks), the triangulation's
     dynamic program, the edge flips."""
     vertices, faces, loop = warmup_mesh()
-    point_mesh_distance(vertices[:3], vertices, faces)
+    metrics.point_mesh_distance(vertices[:3], vertices, faces)
     faired_fill(vertices, faces, loop, 2)
 
 

@@ -13,9 +13,20 @@ surface rebuilt from them, measured against the faired fills by a truth-free sel
 | ``checks`` | finite, degenerate, fold-over and intersection checks of a fill |
 """
 
-from surfinpaint.fill.conformal.method import conformal_fill
+import importlib
+
 from surfinpaint.fill.conformal.options import ConformalOptions, GridOptions
 from surfinpaint.fill.conformal.selection import Verdict, choose, sibling_test_plan
 
 __all__ = ["ConformalOptions", "GridOptions", "Verdict", "choose", "conformal_fill",
            "sibling_test_plan"]
+
+
+def __getattr__(name: str):
+    # ``conformal_fill`` at its first use: the faired fill's pipeline needs the options, not
+    # the λ-H fill and the representation under it (docs/scale.md, session 14)
+    if name != "conformal_fill":
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = importlib.import_module("surfinpaint.fill.conformal.method").conformal_fill
+    globals()[name] = value
+    return value
