@@ -17,6 +17,12 @@ arclength continuation) and then each finer level from the level below: its solu
 prolonged (:func:`prolong`, bicubic), the nodes the two levels share are held at the coarse
 solution while Newton's method solves for the others, then all the level's unknown nodes are
 released (one Newton check, a full solve only if the residual is not at rounding level).
+Where the held-node Newton fails or (the level's own data) finds a solution whose vertex
+areas do not match λ's, the held level is solved again from the prolonged start by
+Gauss–Newton with the vertex areas appended
+(:func:`~surfinpaint.representation.area_newton.rebuild_with_areas`; session 14: the
+prolongation misses the sampled φ by 1–4 % of the diagonal where the coarse grid
+under-resolves the surface, and Newton there went to another solution or none).
 Measured (docs/representation.md, session 11): Newton from the prolonged start with every
 node free went to another solution of the same equations on the 50 mm pial disk at 256²
 (0.82 % of the diagonal away, its first step 1.2 % long from a start 0.36 % off); with the
@@ -31,8 +37,10 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from surfinpaint.geometry.mesh import cotangent_laplacian
+from surfinpaint.representation.area_newton import rebuild_with_areas
 from surfinpaint.representation.grid import Grid, interpolate
 from surfinpaint.representation.mesh_lambda_h import (
+    AREA_MATCH,
     NEWTON_STEPS,
     area_mismatch,
     mesh_lambda_h,
@@ -48,6 +56,8 @@ MIN_LEVEL = 48
 # a level whose residual is below this (relative to |L φ|) after the held-node solve is
 # taken as solved without a full Newton step
 RESIDUAL_DONE = 1e-9
+# factorizations for a held level's Gauss–Newton with the vertex areas, where Newton fails
+AREA_STEPS = 30
 
 
 @dataclass(frozen=True)
@@ -163,6 +173,24 @@ def _harmonic_fill(x: np.ndarray, gap: np.ndarray, uv: np.ndarray, f: np.ndarray
     x[gap] = spla.splu(L[gap][:, gap].tocsc()).solve(-(L[gap][:, rest] @ x[rest]))
 
 
+def _solve_held(start: np.ndarray, data: tuple, held: np.ndarray, tol: float,
+                own: bool) -> tuple[np.ndarray, bool, int]:
+    """A finer level with the nodes it shares with the coarser one held: Newton from the
+    prolonged ``start``; where it fails, or (``own`` data) its solution's vertex areas do
+    not match λ's, Gauss–Newton with the areas appended (:func:`rebuild_with_areas`) from
+    the same start. Returns (φ, converged, factorizations)."""
+    f, uv, lam, _, _ = data
+    held_solve = rebuild_on_mesh(start, *data, held, tol=tol, max_iter=NEWTON_STEPS,
+                                 start=start, select_by_area=False)
+    x, ok, steps = held_solve.points, held_solve.converged, held_solve.iterations
+    if ok and (not own or area_mismatch(x, f, uv, lam) <= AREA_MATCH):
+        return x, ok, steps
+    y, y_ok, more = rebuild_with_areas(start, *data, held, tol=tol, budget=AREA_STEPS)
+    if y_ok or not ok:
+        return y, y_ok, steps + more
+    return x, ok, steps + more
+
+
 def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.ndarray,
                    known: np.ndarray, h: float, *, lam: np.ndarray | None = None,
                    H: np.ndarray | None = None, tol: float = 1e-10,
@@ -221,10 +249,8 @@ def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.nd
             start[shared] = coarse[gi[shared] // ratio, gj[shared] // ratio]
             start[lv_known] = p[lv_known]
             _harmonic_fill(start, ~np.isfinite(start).all(axis=1), uv, f)
-            held = rebuild_on_mesh(start, f, uv, lv_lam, lv_H, defect, lv_known | shared,
-                                   tol=tol, max_iter=NEWTON_STEPS, start=start,
-                                   select_by_area=False)
-            x, ok, steps = held.points, held.converged, held.iterations
+            data = (f, uv, lv_lam, lv_H, defect)
+            x, ok, steps = _solve_held(start, data, lv_known | shared, tol, not edited)
             residual = relative_residual(x, f, uv, lv_lam, lv_H, defect, lv_known)
             if not ok or residual > RESIDUAL_DONE:
                 free = rebuild_on_mesh(x, f, uv, lv_lam, lv_H, defect, lv_known, tol=tol,

@@ -64,6 +64,7 @@ AREA_MATCH = 1e-6
 
 __all__ = [
     "MeshSolve",
+    "RebuildSystem",
     "area_mismatch",
     "gradient_operators",
     "mesh_lambda_h",
@@ -325,7 +326,7 @@ class MeshSolve:
     seconds: float
 
 
-class _System:
+class RebuildSystem:
     """The rebuild equations (data scaled by t), restricted to the unknown vertices:
     ``R(φ) = L φ − t M (s n + a e1 + b e2)`` with s = 2λ²H and (a, b) the defect."""
 
@@ -431,8 +432,8 @@ def relative_residual(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, lam
     """``|R| / |L φ|`` of the rebuild equations at the unknown vertices (as
     :attr:`MeshSolve.residual`): ~1e-13 for a solution."""
     known, lam, H, defect = _rebuild_inputs(len(points), known, lam, H, defect)
-    system = _System(np.asarray(faces, dtype=np.int64), np.asarray(uv, dtype=float), lam, H,
-                     defect, ~known)
+    system = RebuildSystem(np.asarray(faces, dtype=np.int64), np.asarray(uv, dtype=float),
+                           lam, H, defect, ~known)
     x = np.asarray(points, dtype=float)
     size = np.linalg.norm((system.L @ x).ravel()[system.idx]) or 1.0
     return float(np.linalg.norm(system.residual(x, 1.0)) / size)
@@ -497,7 +498,7 @@ def rebuild_on_mesh(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, lam: 
         return MeshSolve(phi, True, 0, 0.0, 0.0, "newton", 0.0, "nothing to rebuild",
                          time.perf_counter() - started)
     uv = np.asarray(uv, dtype=float)
-    system = _System(f, uv, lam, H, defect, unknown)
+    system = RebuildSystem(f, uv, lam, H, defect, unknown)
     scale = float(np.linalg.norm(np.ptp(p[known], axis=0))) or 1.0
     L = system.L
     lu = spla.splu(L[unknown][:, unknown].tocsc(), permc_spec="MMD_AT_PLUS_A")
