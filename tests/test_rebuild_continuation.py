@@ -123,11 +123,11 @@ def test_large_folded_pial_disk_comes_back_exactly_not_as_its_twin():
 
 
 def test_rebuild_jacobian_matches_finite_differences():
-    from surfinpaint.representation.mesh_lambda_h import _System
+    from surfinpaint.representation.mesh_lambda_h import RebuildSystem
 
     v, f = finger(1.0, rings=8)
     rep = represent(v, f, check=False)
-    system = _System(f, rep.uv, rep.lam, rep.H, rep.defect, ~rep.known)
+    system = RebuildSystem(f, rep.uv, rep.lam, rep.H, rep.defect, ~rep.known)
     rng = np.random.default_rng(0)
     x = v + 0.01 * rng.normal(size=v.shape)
     d = np.where(rep.known[:, None], 0.0, rng.normal(size=v.shape))

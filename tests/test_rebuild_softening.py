@@ -13,7 +13,7 @@ import pytest
 from surfinpaint.data import bumpy_disk
 from surfinpaint.representation.mesh_lambda_h import (
     SOFTENING,
-    _System,
+    RebuildSystem,
     soft_unit,
     softening,
 )
@@ -47,7 +47,7 @@ def test_soft_unit_is_the_unit_vector_above_eps_and_smooth_through_zero():
 def disk():
     v, f = bumpy_disk(8)
     rep = represent(v, f, check=False)
-    system = _System(f, rep.uv, rep.lam, rep.H, rep.defect, ~rep.known)
+    system = RebuildSystem(f, rep.uv, rep.lam, rep.H, rep.defect, ~rep.known)
     centre = int(np.argmin(np.linalg.norm(v[:, :2], axis=1)))
     ring_faces = f[(f == centre).any(axis=1)]
     return v, f, rep, system, centre, ring_faces
