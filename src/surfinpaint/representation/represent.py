@@ -179,8 +179,9 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         the grid export (:func:`grid_export`, rectangular map, nested Newton rebuild) at
         512² to its sampling floor, 0.0002–0.003 % mean, 0.01–0.4 % Hausdorff, on the
         50 mm pial disk, the bunny-ear cap and the finger h = 1 (session 11), but not
-        converged on the 70 mm pial disk and the finger h = 2 (session 13,
-        docs/representation.md).
+        converged on the 70 mm pial disk and the finger h = 2 (session 13; session 14
+        solves the pial disk's failing level with the vertex areas appended, not the
+        finger's: docs/representation.md).
     map : {"lscm", "rectangular"}
         The conformal map (:func:`~surfinpaint.representation.mapping.parameterize`).
     check : bool
