@@ -14,11 +14,12 @@ cut to r = 40 mm and whole (its nose included, inner holes closed by the convent
 fsaverage5 LEFT pial geodesic disks of r = 25, 50 and 70 mm; a cap over the bunny's ear
 (PyMeshLab's bunny); a cap over a built foot (benchmarks/built_meshes.py ``foot``: a leg
 with a hoof from manifold3d, cut at geodesic radius 0.85 around its lowest vertex; λ varies
-1712× on its LSCM map). The cow's hoof cap of sessions 10-12 is gone: PyMeshLab's cow is a
+1712× on its LSCM map); a cap over the built quadruped's leg (radius 1.2, an LSCM map
+that flips one sliver). The cow's hoof cap of sessions 10-12 is gone: PyMeshLab's cow is a
 validation mesh of the accuracy benchmark, so the rebuild is not tuned on it.
 
 Run: ``.venv/bin/python benchmarks/represent_speed.py [--quick] [--speed-only]
-[--meshes bumpy,finger,finger2,face40,face,pial25,pial50,pial70,ear,foot] [--no-grid]
+[--meshes bumpy,finger,finger2,face40,face,pial25,pial50,pial70,ear,foot,legcap] [--no-grid]
 [--no-speed-check]``
 """
 
@@ -88,6 +89,16 @@ def foot_cap(radius: float = 0.85, refine: float = 0.03, segments: int = 32):
     return cut.truth_vertices, cut.truth_faces
 
 
+def leg_cap(radius: float = 1.2, refine: float = 0.05):
+    """A geodesic cap around the lowest vertex of the built quadruped (``built_meshes.py``):
+    its LSCM map flips one sliver, which ``represent`` untangles (session 14)."""
+    from built_meshes import quadruped
+
+    v, f = quadruped(refine)
+    cut = cut_geodesic_disk(v, f, int(np.argmin(v[:, 2])), radius)
+    return cut.truth_vertices, cut.truth_faces
+
+
 def finger(height: float = 1.0, width: float = 0.3, rings: int = 16):
     """A disk with a tall Gaussian bump."""
     v, f = bumpy_disk(rings)
@@ -106,6 +117,7 @@ MAKERS = {
     "pial70": ("pial r=70mm", lambda: pial_disk(70.0)),
     "ear": ("bunny ear cap", lambda: cap("bunny.obj", 0.15)),
     "foot": ("built foot cap", foot_cap),
+    "legcap": ("quadruped leg cap", lambda: leg_cap()),
 }
 
 

@@ -102,11 +102,41 @@ def test_cap_over_a_built_foot_comes_back_exactly_within_the_budget():
     assert np.abs(out.points - v).max() < 1e-9 * diagonal(v)
 
 
+def test_cap_over_the_quadruped_s_leg_whose_lscm_map_folds_comes_back_exactly():
+    """The built quadruped's leg (refined to 0.05), capped 1.2 up from its lowest vertex:
+    1079 vertices, λ ~970× over the map. LSCM flips one sliver (face 307) there; on that
+    map the rebuild crossed t = 1 to another solution and stopped at the budget, 2.9 % /
+    13 % of the diagonal off (measured). ``represent`` untangles the fold first."""
+    pytest.importorskip("manifold3d")
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.geometry.parameterization import flipped_faces, lscm
+    from surfinpaint.representation.mapping import FoldedMapWarning
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from built_meshes import quadruped
+
+    v, f = quadruped(0.05)
+    cut = cut_geodesic_disk(v, f, int(np.argmin(v[:, 2])), 1.2)
+    v, f = cut.truth_vertices, cut.truth_faces
+    assert len(flipped_faces(f, lscm(v, f))) > 0
+    with pytest.warns(FoldedMapWarning, match="untangled locally"):
+        rep = represent(v, f, check=False)
+    assert len(flipped_faces(f, rep.uv)) == 0
+    out = solve(rep, max_iter=MAX_STEPS)
+    assert out.converged and out.area_mismatch < AREA_MATCH
+    assert np.abs(out.points - v).max() < 1e-9 * diagonal(v)
+
+
 def test_large_folded_pial_disk_comes_back_exactly_not_as_its_twin():
     """fsaverage5's LEFT pial surface, 70 mm geodesic disk: the continuation's first
     crossing of t = 1 is another solution of the same equations (areas off); the vertex
-    areas send it on to the original."""
+    areas send it on to the original. On LSCM's own map, which flips one triangle there
+    (``represent`` untangles it since session 14, and its continuation then meets no twin)."""
     from surfinpaint.data import fsaverage5
+    from surfinpaint.geometry.parameterization import flipped_faces, lscm
+    from surfinpaint.representation.mesh_lambda_h import mesh_lambda_h
 
     try:
         v, f = fsaverage5("pial", "left")
@@ -115,7 +145,10 @@ def test_large_folded_pial_disk_comes_back_exactly_not_as_its_twin():
     cut = cut_geodesic_disk(v, f, 5000, 70.0)
     v, f = cut.truth_vertices, cut.truth_faces
     rep = represent(v, f, check=False)
-    out = solve(rep, max_iter=150)
+    uv = lscm(v, f)
+    assert len(flipped_faces(f, uv)) == 1
+    lam, H, defect = mesh_lambda_h(v, f, uv)
+    out = rebuild_on_mesh(v, f, uv, lam, H, defect, rep.known, max_iter=150)
     assert out.converged and out.method == "continuation"
     assert "crossing 2" in out.message  # the first crossing was the twin
     assert out.area_mismatch < AREA_MATCH

@@ -114,6 +114,33 @@ def test_mesh_round_trip_is_exact(surface):
     assert np.abs(out.vertices - v).max() < 1e-9 * diagonal(v)
 
 
+def test_a_map_that_folds_is_untangled_and_the_round_trip_stays_exact(monkeypatch):
+    # the quadruped's leg cap (benchmarks/represent_speed.py "legcap") has one sliver that
+    # LSCM flips; here one interior vertex of the map is pushed across its neighbours
+    import surfinpaint.representation.mapping as mapping
+    from surfinpaint.geometry.parameterization import flipped_faces
+
+    v, f = bumpy_disk(12)
+    uv = lscm(v, f)
+    interior = np.setdiff1d(np.arange(len(v)), np.concatenate(boundary_loops(f)))
+    moved = int(interior[len(interior) // 2])
+    neighbours = np.unique(f[np.any(f == moved, axis=1)])
+    folded = uv.copy()
+    folded[moved] += 2.5 * (uv[neighbours].mean(axis=0) - uv[moved] + 0.3 * np.ptp(
+        uv[neighbours], axis=0))
+    assert len(flipped_faces(f, folded)) > 0
+    monkeypatch.setattr(mapping, "lscm", lambda *_: folded.copy())
+    with pytest.warns(mapping.FoldedMapWarning, match="untangled locally"):
+        rep = represent(v, f)
+    assert len(flipped_faces(f, rep.uv)) == 0
+    far = np.ones(len(v), dtype=bool)
+    far[np.unique(f[np.isin(f, neighbours).any(axis=1)])] = False
+    assert np.array_equal(rep.uv[far][:10], folded[far][:10])  # the map is kept away from it
+    assert rep.check.converged and rep.check.vertex_max < 1e-9 * diagonal(v)
+    with pytest.raises(surfinpaint.MeshError, match="folds"):
+        represent(v, f, strict=True)
+
+
 def test_the_defect_is_what_makes_the_round_trip_exact():
     v, f = finger()
     rep = represent(v, f, check=False)
@@ -258,3 +285,20 @@ def test_lscm_real_form_for_large_meshes_matches_the_complex_solve(monkeypatch):
     monkeypatch.setattr(parameterization, "_REAL_FORM_ABOVE", 0)
     real_uv = parameterization.lscm(v, f)
     assert np.abs(real_uv - complex_uv).max() < 1e-9 * np.ptp(complex_uv)
+
+
+def test_large_rebuild_jacobians_in_nested_dissection_order_give_the_same_surface(monkeypatch):
+    import surfinpaint.representation.mesh_lambda_h as mesh_lambda_h
+
+    v, f = finger()
+    rep = represent(v, f, check=False)
+    plain = rebuild(rep)
+    calls = []
+    ordered = mesh_lambda_h.factorized_ordered
+    monkeypatch.setattr(mesh_lambda_h, "ORDERED_ABOVE", 0)
+    monkeypatch.setattr(mesh_lambda_h, "factorized_ordered",
+                        lambda J, order: calls.append(order) or ordered(J, order))
+    out = rebuild(rep)
+    assert calls and all(np.array_equal(np.sort(o), np.arange(len(o))) for o in calls)
+    assert out.converged and out.iterations == plain.iterations
+    assert np.abs(out.vertices - plain.vertices).max() < 1e-12 * diagonal(v)

@@ -188,7 +188,8 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         Rebuild the mesh from the representation and store the round-trip error in
         ``check`` (:class:`~surfinpaint.representation.roundtrip.RoundTrip`).
     strict : bool
-        Raise instead of warning when the map folds triangles over.
+        Raise instead of warning when the map folds triangles over (without it the mesh
+        form untangles them first: ``parameterize(..., untangle=True)``).
     **grid_options
         For ``discretization="grid"`` only.
 
@@ -229,7 +230,7 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
 
 
 def _represent_on_mesh(v: np.ndarray, f: np.ndarray, map: str, strict: bool) -> MeshLambdaH:
-    uv, _ = parameterize(v, f, map, strict=strict)
+    uv, _ = parameterize(v, f, map, strict=strict, untangle=True)
     lam, H, defect = mesh_lambda_h(v, f, uv)
     known = np.zeros(len(v), dtype=bool)
     known[np.concatenate(boundary_loops(f))] = True
