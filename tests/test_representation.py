@@ -286,19 +286,3 @@ def test_lscm_real_form_for_large_meshes_matches_the_complex_solve(monkeypatch):
     real_uv = parameterization.lscm(v, f)
     assert np.abs(real_uv - complex_uv).max() < 1e-9 * np.ptp(complex_uv)
 
-
-def test_large_rebuild_jacobians_in_nested_dissection_order_give_the_same_surface(monkeypatch):
-    import surfinpaint.representation.mesh_lambda_h as mesh_lambda_h
-
-    v, f = finger()
-    rep = represent(v, f, check=False)
-    plain = rebuild(rep)
-    calls = []
-    ordered = mesh_lambda_h.factorized_ordered
-    monkeypatch.setattr(mesh_lambda_h, "ORDERED_ABOVE", 0)
-    monkeypatch.setattr(mesh_lambda_h, "factorized_ordered",
-                        lambda J, order: calls.append(order) or ordered(J, order))
-    out = rebuild(rep)
-    assert calls and all(np.array_equal(np.sort(o), np.arange(len(o))) for o in calls)
-    assert out.converged and out.iterations == plain.iterations
-    assert np.abs(out.vertices - plain.vertices).max() < 1e-12 * diagonal(v)

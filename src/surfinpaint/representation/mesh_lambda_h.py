@@ -44,7 +44,6 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from surfinpaint.geometry.linalg import factorized_ordered, nested_dissection
 from surfinpaint.geometry.mesh import (
     boundary_loops,
     cotangent_laplacian,
@@ -62,9 +61,6 @@ NEWTON_STEPS = 12
 SOFTENING = 0.01
 # vertex areas within this relative difference of λ²'s: the original, not another solution
 AREA_MATCH = 1e-6
-# Newton's Jacobians of more unknown vertices than this are factored in nested-dissection
-# order (as LSCM's real form, geometry/parameterization.py)
-ORDERED_ABOVE = 20000
 
 __all__ = [
     "MeshSolve",
@@ -348,21 +344,6 @@ class RebuildSystem:
         self.G3v = sp.kron(self.G_v, sp.eye(3), format="csr")
         self.idx = np.flatnonzero(np.repeat(unknown, 3))
         self.n = len(uv)
-        self.uv = uv
-        self._order = None
-
-    def factorized(self, J):
-        """A solver for the Jacobian ``J`` (restricted to the unknowns): SuperLU's minimum
-        degree order, or above ``ORDERED_ABOVE`` unknown vertices nested dissection over the
-        vertices, a vertex's three coordinates together (1.8× less CPU at 105k vertices;
-        smaller disks keep their bit-identical solves)."""
-        if len(self.idx) <= 3 * ORDERED_ABOVE:
-            return spla.splu(J, permc_spec="MMD_AT_PLUS_A").solve
-        if self._order is None:
-            unknown = self.idx[::3] // 3
-            vertex_order = nested_dissection(self.L[unknown][:, unknown], self.uv[unknown])
-            self._order = (3 * vertex_order[:, None] + np.arange(3)).ravel()
-        return factorized_ordered(J, self._order)
 
     def normals(self, phi):
         return soft_unit(_area_vectors(phi, self.faces), self.eps_n)[0]
@@ -408,7 +389,7 @@ def _newton(system, phi, t, tol, budget, scale):
     for k in range(budget):
         J, _ = system.jacobian(x, t)
         try:
-            dx = system.factorized(J)(-r)
+            dx = spla.splu(J, permc_spec="MMD_AT_PLUS_A").solve(-r)
         except RuntimeError:  # exactly singular
             return x, False, k + 1, last
         step = float(np.abs(dx).max()) / scale
