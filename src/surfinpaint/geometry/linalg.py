@@ -8,8 +8,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["factorized_definite", "factorized_definite_ordered", "laplacian_from_weights",
-           "nested_dissection"]
+__all__ = ["factorized_definite", "factorized_definite_ordered", "factorized_ordered",
+           "laplacian_from_weights", "nested_dissection"]
 
 
 def factorized_definite(A: sp.spmatrix) -> Callable[[np.ndarray], np.ndarray]:
@@ -99,9 +99,32 @@ def factorized_definite_ordered(A: sp.spmatrix, order: np.ndarray
                                 ) -> Callable[[np.ndarray], np.ndarray]:
     """:func:`factorized_definite` with a given elimination ``order`` (for example
     :func:`nested_dissection`'s) instead of SuperLU's minimum degree."""
+    return _factorized_in_order(A, order, diag_pivot_thresh=0.0,
+                                options={"SymmetricMode": True})
+
+
+def factorized_ordered(A: sp.spmatrix, order: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """A solver for a general sparse square matrix with a structurally symmetric pattern,
+    factored in a given elimination ``order`` (for example :func:`nested_dissection`'s)
+    with SuperLU's partial pivoting (diagonal pivots preferred where they are large enough).
+
+    Measured on the Newton Jacobian of a 105k-vertex disk's rebuild (310k unknowns, a
+    vertex's three coordinates kept together): 5.4 s of CPU against 9.6 s with SuperLU's
+    minimum degree on A + Aᵀ, the same solutions to 5e-14 (docs/representation.md,
+    session 14).
+
+    Raises
+    ------
+    RuntimeError
+        From SuperLU, when the matrix is exactly singular.
+    """
+    return _factorized_in_order(A, order, options={"SymmetricMode": True})
+
+
+def _factorized_in_order(A, order, **splu_options):
     order = np.asarray(order)
     lu = spla.splu(sp.csc_matrix(A)[order][:, order].tocsc(), permc_spec="NATURAL",
-                   diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+                   **splu_options)
     inverse = np.empty_like(order)
     inverse[order] = np.arange(len(order))
 

@@ -295,7 +295,8 @@ def rebuild(rep: MeshLambdaH | LambdaH, method: str | None = None, *,
                                 rep.defect if defect is None else defect, rep.known,
                                 tol=1e-10 if tol is None else tol,
                                 max_iter=MAX_STEPS if max_iter is None else max_iter,
-                                select_by_area=lam is None and H is None and defect is None)
+                                select_by_area=lam is None and H is None and defect is None,
+                                nested_dissection=True)
         out = Rebuilt(solve.points, rep.faces.copy(), solve.converged, solve.iterations,
                       solve.message, solve.seconds)
     if not out.converged:
