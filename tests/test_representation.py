@@ -287,7 +287,6 @@ def test_lscm_real_form_for_large_meshes_matches_the_complex_solve(monkeypatch):
     assert np.abs(real_uv - complex_uv).max() < 1e-9 * np.ptp(complex_uv)
 
 
-
 def _spy_on_ordered_factorizations(monkeypatch):
     """With every Jacobian 'large', the orders of the ordered factorizations made, and how
     many Jacobians were factored in all."""

@@ -359,17 +359,18 @@ class RebuildSystem:
         vertices, :func:`~surfinpaint.geometry.linalg.nested_dissection` over the vertices
         (a vertex's three coordinates together), its separators taken from J's own pattern.
 
-        Why per discretization: on an irregular mesh's disk the order cost 1.8x less CPU a
-        factorization (105k vertices: 9.6 -> 5.4 s); on the grid export's levels minimum
-        degree is the faster one (docs/representation.md, sessions 14 and 16)."""
+        Why per discretization: on an irregular mesh's disk the order costs ~1.6x less CPU
+        a factorization (104,635 vertices: 11.9-16.6 -> 7.2-10.0 s); on the grid export's
+        levels minimum degree is the faster one (docs/representation.md, sessions 14, 16)."""
         if not self.nested_dissection or len(self.idx) <= 3 * ORDERED_ABOVE:
             return spla.splu(J, permc_spec="MMD_AT_PLUS_A").solve
         if self._order is None:
-            # J's pattern collapsed to its vertices: the separators separate J itself (L's
-            # pattern misses the edges whose cotangent weight vanishes)
+            # J's pattern collapsed to its vertices (sums of |J|: nothing cancels), so the
+            # separators separate J itself (L's pattern misses the edges whose cotangent
+            # weight vanishes)
             m = len(self.idx) // 3
             collapse = sp.kron(sp.eye(m, format="csr"), np.ones((1, 3)), format="csr")
-            adjacency = collapse @ (abs(sp.csr_matrix(J)) != 0).astype(np.int8) @ collapse.T
+            adjacency = collapse @ abs(sp.csr_matrix(J)) @ collapse.T
             vertex_order = dissection_order(adjacency, self.uv[self.idx[::3] // 3])
             self._order = (3 * vertex_order[:, None] + np.arange(3)).ravel()
         return factorized_ordered(J, self._order)
