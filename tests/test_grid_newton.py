@@ -15,10 +15,15 @@ from surfinpaint.representation.grid_newton import (
     rebuild_nested,
     triangle_levels,
 )
-from surfinpaint.representation.grid_represent import LambdaH, rebuild_grid, represent_grid
+from surfinpaint.representation.grid_represent import (
+    LambdaH,
+    rebuild_grid,
+    represent_grid,
+    sampled_vertices,
+)
 from surfinpaint.representation.mapping import FoldedMapWarning
 from surfinpaint.representation.represent import grid_export, rebuild, represent
-from surfinpaint.representation.roundtrip import measure_round_trip
+from surfinpaint.representation.roundtrip import RoundTrip, measure_round_trip
 
 
 def sphere_grid(n: int):
@@ -118,3 +123,65 @@ def test_grid_export_of_a_distorted_disk_meets_its_target():
     old = measure_round_trip(v, out.vertices, f, converged=out.converged,
                              iterations=out.iterations, message=out.message, seconds=0.0)
     assert old.mean_percent > 3 * c.mean_percent
+
+
+def test_a_converged_grid_rebuild_comes_back_to_its_sampling_floor():
+    # a converged rebuild returns the sampled φ at the nodes (the levels' equations hold for
+    # it exactly), so its round trip is the floor: the grid's error, not the solver's
+    rep = represent(*bumpy_disk(16))
+    grid = grid_export(rep, 48)
+    c = grid.check
+    assert c.converged
+    assert abs(c.mean - c.floor_mean) < 1e-9 * c.diagonal
+    assert abs(c.hausdorff - c.floor_hausdorff) < 1e-9 * c.diagonal
+    assert c.floor_mean > 1e-6 * c.diagonal  # 48 nodes do not sample the disk exactly
+    assert f"samples alone (no rebuild can be closer): mean {c.floor_mean:.3g}" in c.summary()
+    # the mesh form stores the mesh's own triangles: no floor to report
+    assert rep.check.floor_mean is None and "samples alone" not in rep.check.summary()
+
+
+def test_the_sampling_floor_falls_at_second_order_with_the_resolution():
+    # measured on bumpy_disk(8) and (16): the floor's mean 1.97e-4 -> 9.2e-6 and
+    # 8.9e-5 -> 6.1e-6 from 24 to 96 nodes (orders 2.2 and 1.9; Clough–Tocher samples,
+    # bicubic back at the vertices)
+    rep = represent(*bumpy_disk(16), check=False)
+    v, f = rep.vertices, rep.faces
+    means = []
+    for n in (24, 96):
+        floor = sampled_vertices(grid_export(rep, n, check=False))
+        means.append(measure_round_trip(v, floor, f, converged=True, iterations=0,
+                                        message="", seconds=0.0).mean)
+    assert np.log2(means[0] / means[1]) / 2 > 1.7
+
+
+def test_round_trips_stored_without_a_floor_load_it_as_unknown():
+    check = RoundTrip(mean=1.0, hausdorff=2.0, diagonal=10.0, vertex_max=2.0, converged=True,
+                      iterations=3, message="m", seconds=0.5, floor_mean=0.5,
+                      floor_hausdorff=1.5)
+    arrays = check.to_arrays()
+    assert RoundTrip.from_arrays(arrays) == check
+    old = {k: v for k, v in arrays.items() if "floor" not in k}  # a file of session 16
+    back = RoundTrip.from_arrays(old)
+    assert back.mean == 1.0 and back.iterations == 3 and back.floor_mean is None
+    assert "samples alone" not in back.summary()
+    assert RoundTrip.from_arrays({k: v for k, v in old.items() if k != "check_mean"}) is None
+
+
+def test_a_grid_that_under_resolves_the_surface_says_so():
+    from surfinpaint.representation.represent import COARSE_FLOOR, CoarseGridWarning
+
+    # a tall bump (the finger of test_representation.py) on 24 nodes: the rebuild converges
+    # to its samples, which miss the bump's top by 9.5 % of the diagonal (measured)
+    v, f = bumpy_disk(10)
+    v[:, 2] = np.exp(-(v[:, 0] ** 2 + v[:, 1] ** 2) / 0.3**2)
+    rep = represent(v, f, check=False)
+    with pytest.warns(CoarseGridWarning, match="24×24 grid under-resolves") as caught:
+        grid = grid_export(rep, 24)
+    c = grid.check
+    assert c.converged and c.floor_hausdorff > COARSE_FLOOR / 100 * c.diagonal
+    assert f"{100 * c.floor_hausdorff / c.diagonal:.3g} % of the diagonal" in \
+        str(caught[0].message)
+    # the bumpy disk at 48 nodes is resolved (floor 0.05 % at worst): no warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CoarseGridWarning)
+        grid_export(represent(*bumpy_disk(16), check=False), 48)

@@ -64,7 +64,6 @@ figures = lazy_module("surfinpaint.app.figures")
 lambda_h_figures = lazy_module("surfinpaint.app.lambda_h_figures")
 report = lazy_module("surfinpaint.app.report")
 representation = lazy_module("surfinpaint.representation.represent")
-roundtrip = lazy_module("surfinpaint.representation.roundtrip")
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
 
@@ -278,10 +277,8 @@ def cmd_rebuild(args: argparse.Namespace) -> int:
     else:
         out = representation.rebuild(rep)
     write_mesh(args.output, out.vertices, out.faces)
-    check = roundtrip.measure_round_trip(rep.vertices, out.vertices, rep.faces,
-                                         converged=out.converged, iterations=out.iterations,
-                                         message=out.message, seconds=out.seconds)
-    _print_round_trip(console, check, "against the stored original:")
+    _print_round_trip(console, representation.round_trip(rep, out),
+                      "against the stored original:")
     console.print(f"wrote {args.output}")
     return EXIT_OK
 

@@ -52,6 +52,7 @@ __all__ = [
     "parameterize",
     "rebuild_grid",
     "represent_grid",
+    "sampled_vertices",
     "smooth_subdivision",
     "subdivision_levels",
 ]
@@ -467,14 +468,41 @@ def rebuild_grid(rep: LambdaH, method: str = "newton", *, order: int = 3,
                                lam=lam, H=H, **options)
         phi = solve.phi
         info = ReconstructionInfo(solve.converged, solve.iterations, 0.0, solve.message)
-        # nodes on no triangle keep their data: the band
-        on = np.isfinite(rep.levels[0].lam)
-        known = rep.known | (rep.domain & ~on) | (on & ~np.isfinite(rep.levels[0].H))
+        known = _newton_known(rep)
     else:
         lam = rep.lam if lam is None else np.asarray(lam, dtype=float)
         H = rep.H if H is None else np.asarray(H, dtype=float)
         phi, info = reconstruct(lam, H, rep.phi, rep.known, rep.grid.h, method=method,
                                 domain=rep.domain, return_info=True, **options)
+    return _vertices_from(rep, phi, known, order), rep.faces.copy(), info
+
+
+def sampled_vertices(rep: LambdaH, *, order: int = 3) -> np.ndarray:
+    """The mesh's vertices as an exact ``"newton"`` rebuild gives them back: each vertex
+    that :func:`rebuild_grid` moves, moved to the *sampled* φ interpolated at its (u, v).
+
+    A converged rebuild returns the sampled φ at the grid's nodes (it solves equations the
+    sampled φ satisfies exactly), so these vertices are the closest that any rebuild of this
+    grid can come to the mesh: the grid's *sampling floor*. Where the map squeezes part of
+    the surface into a few cells (λ small: a finger's tip, a leg's hoof), the grid misses it
+    whatever the solver does (docs/representation.md, session 17).
+    """
+    return _vertices_from(rep, rep.phi, _newton_known(rep), order)
+
+
+def _newton_known(rep: LambdaH) -> np.ndarray:
+    """The nodes the ``"newton"`` rebuild keeps: the band, and the nodes on no triangle of
+    the finest level (or without its H) that keep their data (the band without levels)."""
+    if not rep.levels:
+        return rep.known
+    on = np.isfinite(rep.levels[0].lam)
+    return rep.known | (rep.domain & ~on) | (on & ~np.isfinite(rep.levels[0].H))
+
+
+def _vertices_from(rep: LambdaH, phi: np.ndarray, known: np.ndarray, order: int
+                   ) -> np.ndarray:
+    """``rep``'s vertices, those whose interpolation cell touches a node off ``known``
+    moved to ``phi`` interpolated at their (u, v) (``order`` 1 or 3)."""
     out = np.array(rep.vertices, dtype=float, copy=True)
     used = np.zeros(len(out), dtype=bool)
     used[rep.faces.ravel()] = True
@@ -484,4 +512,4 @@ def rebuild_grid(rep: LambdaH, method: str = "newton", *, order: int = 3,
     ok = np.isfinite(values).all(axis=1)
     idx = np.flatnonzero(moved)[ok]
     out[idx] = values[ok]
-    return out, rep.faces.copy(), info
+    return out

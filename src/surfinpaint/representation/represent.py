@@ -25,14 +25,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from surfinpaint.geometry.mesh import boundary_loops, unique_edges
-from surfinpaint.representation.grid_represent import LambdaH, rebuild_grid, represent_grid
+from surfinpaint.representation.grid_represent import (
+    LambdaH,
+    rebuild_grid,
+    represent_grid,
+    sampled_vertices,
+)
 from surfinpaint.representation.mapping import MAPS, parameterize
 from surfinpaint.representation.mesh_lambda_h import mesh_lambda_h, rebuild_on_mesh
 from surfinpaint.representation.reconstruction import NotConvergedWarning
 from surfinpaint.representation.roundtrip import RoundTrip, measure_round_trip, save_npz
 
 __all__ = [
+    "COARSE_FLOOR",
     "DISCRETIZATIONS",
+    "CoarseGridWarning",
     "MeshLambdaH",
     "Rebuilt",
     "check_representation",
@@ -41,9 +48,21 @@ __all__ = [
     "load_representation",
     "rebuild",
     "represent",
+    "round_trip",
 ]
 
 DISCRETIZATIONS = ("mesh", "grid")
+# a grid whose samples alone miss the mesh by more than this (% of the diagonal, Hausdorff)
+# somewhere is reported (CoarseGridWarning): the grid export's target is 1 % at 512²
+COARSE_FLOOR = 1.0
+
+
+class CoarseGridWarning(UserWarning):
+    """A grid representation's sampling floor (its samples alone, no rebuild) misses the
+    mesh by more than ``COARSE_FLOOR`` % of the diagonal (measured: the foot cap, the tall
+    finger and the quadruped's leg cap at 512² and 1024², docs/representation.md,
+    session 17)."""
+
 # 3: the defect in the frame of w = P φ_u − n × φ_v (2: of P φ_u; its rebuild is not exact)
 # 4: frame and normal softened where they vanish (mesh_lambda_h.soft_unit)
 _FORMAT = 4
@@ -226,7 +245,23 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         rep = _represent_on_mesh(v, f, map, strict)
     if check:
         rep.check = check_representation(rep)
+        _warn_if_coarse(rep)
     return rep
+
+
+def _warn_if_coarse(rep: MeshLambdaH | LambdaH) -> None:
+    """A :class:`CoarseGridWarning` when a grid's samples alone miss the mesh by more than
+    ``COARSE_FLOOR`` % of the diagonal somewhere: then no rebuild can give it back."""
+    c = rep.check
+    if c.floor_hausdorff is None or c.floor_hausdorff <= COARSE_FLOOR / 100 * c.diagonal:
+        return
+    shape = "×".join(str(n) for n in rep.grid.shape)
+    warnings.warn(
+        f"the {shape} grid under-resolves this surface where the map squeezes it: its "
+        f"samples alone miss the mesh by {100 * c.floor_hausdorff / c.diagonal:.3g} % of the "
+        f"diagonal at worst ({100 * c.floor_mean / c.diagonal:.3g} % mean), and no rebuild "
+        f"of it can be closer; a finer grid, or the mesh form (the default), which stores "
+        f"the mesh's own triangles", CoarseGridWarning, stacklevel=3)
 
 
 def _represent_on_mesh(v: np.ndarray, f: np.ndarray, map: str, strict: bool) -> MeshLambdaH:
@@ -310,9 +345,17 @@ def check_representation(rep: MeshLambdaH | LambdaH) -> RoundTrip:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NotConvergedWarning)  # it is in the result
         out = rebuild(rep)
+    return round_trip(rep, out)
+
+
+def round_trip(rep: MeshLambdaH | LambdaH, out: Rebuilt) -> RoundTrip:
+    """The round-trip error of ``out`` (:func:`rebuild`'s result) against the original that
+    ``rep`` stores; for a grid, with its sampling floor (the error of an exact rebuild of
+    that grid, :func:`~surfinpaint.representation.grid_represent.sampled_vertices`)."""
+    floor = sampled_vertices(rep) if rep.discretization == "grid" else None
     return measure_round_trip(rep.vertices, out.vertices, rep.faces, converged=out.converged,
                               iterations=out.iterations, message=out.message,
-                              seconds=out.seconds)
+                              seconds=out.seconds, floor=floor)
 
 
 def load_representation(path: str | os.PathLike) -> MeshLambdaH | LambdaH:
@@ -365,6 +408,12 @@ def grid_export(rep: MeshLambdaH, resolution: int | None = None, *, check: bool 
         rectangular map).
     **grid_options
         Passed on to :func:`~surfinpaint.representation.grid_represent.represent_grid`.
+
+    Warns
+    -----
+    CoarseGridWarning
+        With ``check``, when the grid's samples alone (its sampling floor, in ``check``)
+        miss the mesh by more than ``COARSE_FLOOR`` % of the diagonal somewhere.
     """
     n = export_resolution(rep) if resolution is None else int(resolution)
     return represent(rep.vertices, rep.faces, discretization="grid", map=map,

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import math
 import os
-from dataclasses import asdict, dataclass
+from dataclasses import MISSING, asdict, dataclass, fields
 
 import numpy as np
 
@@ -37,6 +38,12 @@ class RoundTrip:
         The rebuild's own account.
     seconds : float
         Time of the rebuild.
+    floor_mean, floor_hausdorff : float
+        A grid representation's *sampling floor*, mesh units: the same distances for the
+        mesh as an exact rebuild of its grid gives it back
+        (:func:`~surfinpaint.representation.grid_represent.sampled_vertices`), the least
+        error any rebuild of that grid can have. None for the mesh form (its floor is 0: it
+        stores the mesh's own triangles) and in files written before it was measured.
     """
 
     mean: float
@@ -47,6 +54,8 @@ class RoundTrip:
     iterations: int
     message: str
     seconds: float
+    floor_mean: float | None = None
+    floor_hausdorff: float | None = None
 
     @property
     def mean_percent(self) -> float:
@@ -61,47 +70,69 @@ class RoundTrip:
     def summary(self) -> str:
         """One line for people: both distances in mesh units and in % of the diagonal."""
         state = "converged" if self.converged else "DID NOT CONVERGE"
-        return (f"round trip: mean {self.mean:.3g} ({self.mean_percent:.3g} % of the "
+        line = (f"round trip: mean {self.mean:.3g} ({self.mean_percent:.3g} % of the "
                 f"diagonal {self.diagonal:.3g}), Hausdorff {self.hausdorff:.3g} "
                 f"({self.hausdorff_percent:.3g} %); rebuild {state}: {self.message}")
+        if self.floor_mean is not None:
+            line += (f"; the grid's samples alone (no rebuild can be closer): mean "
+                     f"{self.floor_mean:.3g} ({100 * self.floor_mean / self.diagonal:.3g} %), "
+                     f"Hausdorff {self.floor_hausdorff:.3g} "
+                     f"({100 * self.floor_hausdorff / self.diagonal:.3g} %)")
+        return line
 
     def to_arrays(self, prefix: str = "check_") -> dict[str, np.ndarray]:
-        """The fields as 0-d arrays for an ``.npz``."""
-        return {prefix + k: np.array(v) for k, v in asdict(self).items()}
+        """The fields as 0-d arrays for an ``.npz`` (a floor that is None left out)."""
+        return {prefix + k: np.array(v) for k, v in asdict(self).items() if v is not None}
 
     @classmethod
     def from_arrays(cls, data, prefix: str = "check_") -> RoundTrip | None:
         """Read what :meth:`to_arrays` wrote; ``None`` when it is not there."""
-        names = [prefix + k for k in cls.__dataclass_fields__]
-        if not all(name in data for name in names):
+        # the fields with defaults (the floor) are absent from older files
+        required = [f.name for f in fields(cls) if f.default is MISSING]
+        if not all(prefix + name in data for name in required):
             return None
-        values = {k: data[prefix + k][()] for k in cls.__dataclass_fields__}
-        return cls(mean=float(values["mean"]), hausdorff=float(values["hausdorff"]),
-                   diagonal=float(values["diagonal"]), vertex_max=float(values["vertex_max"]),
-                   converged=bool(values["converged"]), iterations=int(values["iterations"]),
-                   message=str(values["message"]), seconds=float(values["seconds"]))
+        values = {f.name: data[prefix + f.name][()] for f in fields(cls)
+                  if prefix + f.name in data}
+        return cls(**{f.name: _typed(f.type, values[f.name]) for f in fields(cls)
+                      if f.name in values})
+
+
+def _typed(kind: str, value):
+    return {"float": float, "float | None": float, "bool": bool, "int": int, "str": str}[kind](
+        value)
 
 
 def measure_round_trip(original: np.ndarray, rebuilt: np.ndarray, faces: np.ndarray, *,
                        converged: bool, iterations: int, message: str, seconds: float,
-                       samples: int = SAMPLES) -> RoundTrip:
+                       samples: int = SAMPLES, floor: np.ndarray | None = None) -> RoundTrip:
     """The :class:`RoundTrip` of a rebuilt mesh with the original's faces.
 
-    ``samples`` surface points on each mesh (fixed seed) for the two-sided distance.
+    ``samples`` surface points on each mesh (fixed seed) for the two-sided distance;
+    ``floor``: the vertices as an exact rebuild gives them back (a grid representation's
+    :func:`~surfinpaint.representation.grid_represent.sampled_vertices`), measured the same
+    way into ``floor_mean`` and ``floor_hausdorff``.
     """
     v = np.asarray(original, dtype=float)
-    w = np.asarray(rebuilt, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     diagonal = float(np.linalg.norm(np.ptp(v[np.unique(f)], axis=0)))
-    if np.isfinite(w).all():
-        d = surface_distance(w, f, v, f, n_samples=samples)
-        mean, hausdorff = float(d["mean"]), float(d["hausdorff"])
-        vertex_max = float(np.linalg.norm(w - v, axis=1).max())
-    else:
-        mean = hausdorff = vertex_max = float("inf")
+    mean, hausdorff, vertex_max = _distances(v, np.asarray(rebuilt, dtype=float), f, samples)
+    floor_mean = floor_hausdorff = None
+    if floor is not None:
+        floor_mean, floor_hausdorff, _ = _distances(v, np.asarray(floor, dtype=float), f,
+                                                    samples)
     return RoundTrip(mean=mean, hausdorff=hausdorff, diagonal=diagonal, vertex_max=vertex_max,
                      converged=converged, iterations=iterations, message=message,
-                     seconds=seconds)
+                     seconds=seconds, floor_mean=floor_mean, floor_hausdorff=floor_hausdorff)
+
+
+def _distances(v: np.ndarray, w: np.ndarray, f: np.ndarray, samples: int
+               ) -> tuple[float, float, float]:
+    """Two-sided mean and Hausdorff distance between ``w`` and ``v`` on the faces ``f``,
+    and the largest vertex displacement (all infinite when ``w`` is not finite)."""
+    if not np.isfinite(w).all():
+        return math.inf, math.inf, math.inf
+    d = surface_distance(w, f, v, f, n_samples=samples)
+    return float(d["mean"]), float(d["hausdorff"]), float(np.linalg.norm(w - v, axis=1).max())
 
 
 def save_npz(path: str | os.PathLike, arrays: dict[str, np.ndarray]) -> None:
