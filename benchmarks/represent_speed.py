@@ -4,8 +4,8 @@
    on them by Newton's method): its self-check, the round trip represent → rebuild as the
    two-sided surface distance in % of the bounding-box diagonal (targets: mean < 0.05 %,
    Hausdorff < 0.5 %), whether the rebuild converged and in how many steps.
-2. The grid export (the paper's images) at 512² and at the resolution chosen from λ's range
-   (targets at 512²: mean < 0.1 %, Hausdorff < 1 %).
+2. The grid export (the paper's images) at 512² and at the resolution ``grid_export`` chooses
+   (targets at 512²: mean < 0.1 %, Hausdorff < 1 %), with its sampling floor.
 3. Speed: a ~100k-vertex disk represented (target < 5 s on 2 cores), without and with the
    self-check.
 
@@ -38,16 +38,14 @@ from surfinpaint.data import bumpy_disk, fsaverage5, pymeshlab_sample
 from surfinpaint.fill.disk import disk_from_mesh
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mesh import connected_components
-from surfinpaint.representation.grid_represent import sampled_vertices
 from surfinpaint.representation.mapping import FoldedMapWarning
 from surfinpaint.representation.reconstruction import NotConvergedWarning
 from surfinpaint.representation.represent import (
     check_representation,
-    export_resolution,
     grid_export,
     represent,
+    sampling_floor,
 )
-from surfinpaint.representation.roundtrip import measure_round_trip
 
 
 def face_scan_disk(radius: float | None = 40.0):
@@ -155,24 +153,22 @@ def grid_table(reps, resolutions, floor_only: bool = False) -> None:
     """The grid export per disk and resolution: its round trip and its sampling floor (the
     round trip of an exact rebuild of that grid, ``sampled_vertices``: no rebuild can be
     closer). ``floor_only``: the floor alone, without the (costly) rebuild."""
-    print("\n## Grid export (targets at 512²: mean < 0.1 %, Hausdorff < 1 %); 'auto' = the "
-          "resolution from λ's range; floor = the grid's samples alone")
+    print("\n## Grid export (targets at 512²: mean < 0.1 %, Hausdorff < 1 %); "
+          "'auto' = grid_export's choice; floor = the grid's samples alone")
     print(f"{'mesh':<16}{'res':>6}{'grid':>11}{'export s':>10}{'converged':>10}"
           f"{'iterations':>11}{'mean %':>10}{'Hausdorff %':>12}{'floor mean %':>13}"
           f"{'floor H %':>10}")
     for label, rep in reps.items():
         for res in resolutions:
-            n = export_resolution(rep) if res == "auto" else res
+            n = None if res == "auto" else res  # auto: grid_export's own choice
             t0 = time.perf_counter()
             try:
                 grid = grid_export(rep, n, check=not floor_only)
             except Exception as err:  # report and go on with the table
-                print(f"{label:<16}{n:>6}  failed: {type(err).__name__}: {err}")
+                print(f"{label:<16}{res!s:>6}  failed: {type(err).__name__}: {err}")
                 continue
             dt = time.perf_counter() - t0
-            c = grid.check if not floor_only else measure_round_trip(
-                grid.vertices, grid.vertices, grid.faces, converged=False, iterations=0,
-                message="", seconds=0.0, floor=sampled_vertices(grid))
+            c = sampling_floor(grid) if floor_only else grid.check
             d = c.diagonal / 100
             shape = f"{grid.grid.shape[0]}×{grid.grid.shape[1]}"
             if floor_only:
@@ -184,7 +180,7 @@ def grid_table(reps, resolutions, floor_only: bool = False) -> None:
                 flag = _flag(c.mean_percent, c.hausdorff_percent, (0.1, 1.0))
             print(f"{label:<16}{str(res):>6}{shape:>11}{dt:>10.2f}{done}"
                   f"{c.floor_mean / d:>13.3g}{c.floor_hausdorff / d:>10.3g}"
-                  f"{flag if n == 512 else ''}", flush=True)
+                  f"{flag if res == 512 else ''}", flush=True)
 
 
 def speed_table(rings: int, skip_check: bool = False) -> None:

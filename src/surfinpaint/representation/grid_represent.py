@@ -484,8 +484,8 @@ def sampled_vertices(rep: LambdaH, *, order: int = 3) -> np.ndarray:
     A converged rebuild returns the sampled φ at the grid's nodes (it solves equations the
     sampled φ satisfies exactly), so these vertices are the closest that any rebuild of this
     grid can come to the mesh: the grid's *sampling floor*. Where the map squeezes part of
-    the surface into a few cells (λ small: a finger's tip, a leg's hoof), the grid misses it
-    whatever the solver does (docs/representation.md, session 17).
+    the surface into a few cells (λ, the stretch, large: a finger's tip, a leg's hoof), the
+    grid misses it whatever the solver does (docs/representation.md, session 17).
     """
     return _vertices_from(rep, rep.phi, _newton_known(rep), order)
 
