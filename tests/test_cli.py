@@ -629,8 +629,14 @@ def test_represent_and_rebuild_round_trip(tmp_path, capsys):
                  "rectangular", "--no-check"]) == 0
     rep = LambdaH.load(rep_path)
     assert (rep.sampling, rep.subdivide, rep.map, rep.check) == ("pl", 0, "rectangular", None)
+    assert not rep.grid.graded
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--discretization", "grid",
+                 "--resolution", "32", "--spacing", "graded", "--no-check"]) == 0
+    rep = LambdaH.load(rep_path)
+    assert rep.grid.graded and max(rep.grid.shape) == 32
     # grid options without a grid are a usage error
     assert main(["represent", str(mesh), "-o", str(rep_path), "--resolution", "32"]) == 2
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--spacing", "graded"]) == 2
 
 
 def test_represent_and_rebuild_bad_input(tmp_path, capsys):

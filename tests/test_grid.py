@@ -132,7 +132,7 @@ def _locate(uv, f, points):
 
 
 def test_vertex_gradients_and_clough_tocher_reproduce_quadratics():
-    from surfinpaint.representation.grid import clough_tocher, vertex_gradients
+    from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 
     uv, f = grid_mesh(12, extent=(0.0, 1.0, 0.0, 1.0), jitter=0.3)
     value, grad = _quadratic(uv)
@@ -159,13 +159,13 @@ def test_vertex_gradients_and_clough_tocher_reproduce_quadratics():
 
 
 def test_clough_tocher_is_c1_across_edges_and_converges_as_h_cubed():
-    from surfinpaint.representation.grid import clough_tocher, vertex_gradients
+    from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 
     fun = lambda p: np.sin(3 * p[:, 0]) * np.cos(2 * p[:, 1])  # noqa: E731
     uv, f = grid_mesh(9, extent=(0.0, 1.0, 0.0, 1.0), jitter=0.3)
     grads = vertex_gradients(uv, f, fun(uv))
     # derivative across interior edges, one-sided on both sides of the edge's midpoint
-    from surfinpaint.representation.grid import face_neighbours
+    from surfinpaint.representation.clough_tocher import face_neighbours
 
     interior = np.flatnonzero(face_neighbours(f)[:, 2] >= 0)  # edge (f[t, 0], f[t, 1])
     assert len(interior) > 50

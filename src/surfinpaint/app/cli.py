@@ -220,7 +220,8 @@ def _dask_client(address: str):
 
 
 def _grid_options(args: argparse.Namespace) -> dict:
-    options = {"sampling": args.sampling, "subdivide": args.subdivide}
+    options = {"sampling": args.sampling, "subdivide": args.subdivide,
+               "spacing": args.spacing}
     return {k: v for k, v in options.items() if v is not None}
 
 
@@ -239,7 +240,7 @@ def cmd_represent(args: argparse.Namespace) -> int:
         grid["resolution"] = args.resolution or 256
     elif grid or args.resolution:
         if not args.export_grid:
-            raise _UsageError("--resolution, --sampling and --subdivide are for "
+            raise _UsageError("--resolution, --spacing, --sampling and --subdivide are for "
                               "--discretization grid or --export-grid")
     rep = representation.represent(
         vertices, faces, discretization=args.discretization, map=args.map,
@@ -331,6 +332,9 @@ def _add_representation_commands(sub) -> None:
     p.add_argument("--export-grid", metavar="NPZ",
                    help="also write the grid (image) form of the representation and print "
                    "its own round trip")
+    p.add_argument("--spacing", choices=("uniform", "graded"),
+                   help="grid: the paper's square grid (default) or a graded one, densest "
+                   "where the map squeezes the surface (a tall finger or a limb's tip)")
     p.add_argument("--sampling", choices=("smooth", "pl"),
                    help="grid: sample the C1 (Clough-Tocher) surface through the vertices "
                    "(default) or the piecewise-linear mesh")

@@ -74,11 +74,15 @@ def plot_representation(rep, path: str | os.PathLike, *, clip: float = 1.0,
         g = rep.grid
         extent = (g.origin[0] - g.h / 2, g.origin[0] + (g.shape[0] - 0.5) * g.h,
                   g.origin[1] - g.h / 2, g.origin[1] + (g.shape[1] - 0.5) * g.h)
-        size = f"{g.shape[0]}×{g.shape[1]}"
+        size = f"{g.shape[0]}×{g.shape[1]}{' graded' if g.graded else ''}"
         for ax, data, name, cmap, symmetric in panels:
             # arrays are [i, j] = (u, v): transpose so u runs along x and v along y
-            im = ax.imshow(data.T, origin="lower", extent=extent, interpolation="nearest",
-                           cmap=cmap, **_range(data, clip, symmetric))
+            if g.graded:  # cells of unequal size, drawn where they are
+                im = ax.pcolormesh(g.u, g.v, data.T, shading="nearest", cmap=cmap,
+                                   **_range(data, clip, symmetric))
+            else:
+                im = ax.imshow(data.T, origin="lower", extent=extent, interpolation="nearest",
+                               cmap=cmap, **_range(data, clip, symmetric))
             _decorate(fig, ax, im, name)
     distortion = np.abs(angle_distortion(rep.vertices, rep.faces, rep.uv))
     plot_conformality(axes[2], rep.vertices, rep.faces, rep.uv)

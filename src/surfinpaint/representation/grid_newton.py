@@ -122,15 +122,24 @@ def grid_triangles(domain: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return nodes, f, border
 
 
-def _node_uv(nodes: np.ndarray, M: int, h: float) -> np.ndarray:
-    return np.column_stack([nodes // M, nodes % M]).astype(float) * h
+def _node_uv(nodes: np.ndarray, M: int, spacing: float | Grid, step: int) -> np.ndarray:
+    """Parameter coordinates (from the first node) of the flat ``nodes`` of the subgrid
+    ``[::step, ::step]`` (``M`` columns), on a square grid of spacing ``spacing`` (a float
+    or a :class:`Grid`) or on a graded :class:`Grid`."""
+    i, j = nodes // M, nodes % M
+    if isinstance(spacing, Grid) and spacing.graded:
+        u, v = spacing.u[::step], spacing.v[::step]
+        return np.column_stack([u[i] - u[0], v[j] - v[0]])
+    h = spacing.h if isinstance(spacing, Grid) else spacing
+    return np.column_stack([i, j]).astype(float) * (step * h)
 
 
 def triangle_levels(phi: np.ndarray, domain: np.ndarray, known: np.ndarray,
-                    h: float) -> tuple[GridLevel, ...]:
+                    spacing: float | Grid) -> tuple[GridLevel, ...]:
     """The levels of :func:`rebuild_nested`: steps 1, 2, 4, ... while the level has at
     least ``MIN_LEVEL`` nodes along its long side and its triangles' border nodes are all
-    ``known`` (the rebuild's boundary data)."""
+    ``known`` (the rebuild's boundary data). ``spacing``: as :func:`rebuild_nested`
+    takes it."""
     levels = []
     step = 1
     while True:
@@ -142,7 +151,7 @@ def triangle_levels(phi: np.ndarray, domain: np.ndarray, known: np.ndarray,
             break
         N, M = dom.shape
         p = phi[::step, ::step].reshape(-1, 3)[nodes]
-        lam, H, defect = mesh_lambda_h(p, f, _node_uv(nodes, M, step * h))
+        lam, H, defect = mesh_lambda_h(p, f, _node_uv(nodes, M, spacing, step))
         out = np.full((N * M, 4), np.nan)
         out[nodes, 0], out[nodes, 1], out[nodes, 2:] = lam, H, defect
         out = out.reshape(N, M, 4)
@@ -192,7 +201,8 @@ def _solve_held(start: np.ndarray, data: tuple, held: np.ndarray, tol: float,
 
 
 def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.ndarray,
-                   known: np.ndarray, h: float, *, lam: np.ndarray | None = None,
+                   known: np.ndarray, spacing: float | Grid, *,
+                   lam: np.ndarray | None = None,
                    H: np.ndarray | None = None, tol: float = 1e-10,
                    max_iter: int = 150) -> GridSolve:
     """φ on the grid from the levels' λ, H and defect with ``phi[known]`` as boundary data.
@@ -204,7 +214,10 @@ def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.nd
     phi : (N, M, 3) float array
         Only read at ``known`` nodes.
     domain, known : (N, M) bool arrays
-    h : float
+    spacing : float or Grid
+        The square grid's spacing, or the grid itself (a graded one: its triangles are
+        the cells of its unequal spacing; the prolongation between levels stays bicubic in
+        node indices, only a start for the finer level's Newton).
     lam, H : (N, M) float arrays, optional
         Replace the finest level's λ and H (e.g. edited ones); the coarser levels then take
         them at their nodes (an approximate start only).
@@ -223,7 +236,7 @@ def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.nd
         dom = domain[::s, ::s]
         Ns, Ms = dom.shape
         nodes, f, border = grid_triangles(dom)
-        uv = _node_uv(nodes, Ms, s * h)
+        uv = _node_uv(nodes, Ms, spacing, s)
         lv_known = border | known[::s, ::s].ravel()[nodes]
         p = phi[::s, ::s].reshape(-1, 3)[nodes].copy()
         p[~lv_known] = np.nan  # only the boundary data are read

@@ -257,12 +257,14 @@ def _warn_if_coarse(rep: MeshLambdaH | LambdaH) -> None:
     if c.floor_hausdorff is None or c.floor_hausdorff <= COARSE_FLOOR / 100 * c.diagonal:
         return
     shape = "×".join(str(n) for n in rep.grid.shape)
+    finer = "a finer grid" if rep.grid.graded else "a finer or graded grid (spacing='graded')"
     warnings.warn(
-        f"the {shape} grid under-resolves this surface where the map squeezes it: its "
-        f"samples alone miss the mesh by {100 * c.floor_hausdorff / c.diagonal:.3g} % of the "
-        f"diagonal at worst ({100 * c.floor_mean / c.diagonal:.3g} % mean), and no rebuild "
-        f"of it can be closer; a finer grid, or the mesh form (the default), which stores "
-        f"the mesh's own triangles", CoarseGridWarning, stacklevel=3)
+        f"the {shape} {'graded ' if rep.grid.graded else ''}grid under-resolves this surface "
+        f"where the map squeezes it: its samples alone miss the mesh by "
+        f"{100 * c.floor_hausdorff / c.diagonal:.3g} % of the diagonal at worst "
+        f"({100 * c.floor_mean / c.diagonal:.3g} % mean), and no rebuild of it can be "
+        f"closer; {finer}, or the mesh form (the default), which stores the mesh's own "
+        f"triangles", CoarseGridWarning, stacklevel=3)
 
 
 def _represent_on_mesh(v: np.ndarray, f: np.ndarray, map: str, strict: bool) -> MeshLambdaH:
