@@ -634,6 +634,13 @@ def test_represent_and_rebuild_round_trip(tmp_path, capsys):
                  "--resolution", "32", "--spacing", "graded", "--no-check"]) == 0
     rep = LambdaH.load(rep_path)
     assert rep.grid.graded and max(rep.grid.shape) == 32
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--discretization", "grid",
+                 "--resolution", "32", "--spacing", "graded", "--grading", "0", "--no-check"]) == 0
+    rep = LambdaH.load(rep_path)  # no grading: equal spacing on the graded code path
+    step = np.diff(rep.grid.u)
+    assert rep.grid.graded and np.allclose(step, step[0], rtol=1e-9)
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--discretization", "grid",
+                 "--grading", "0.5", "--no-check"]) == 2
     # grid options without a grid are a usage error
     assert main(["represent", str(mesh), "-o", str(rep_path), "--resolution", "32"]) == 2
     assert main(["represent", str(mesh), "-o", str(rep_path), "--spacing", "graded"]) == 2

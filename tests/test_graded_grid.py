@@ -125,3 +125,20 @@ def test_a_graded_grid_is_drawn_with_its_cells_where_they_are(tmp_path):
         warnings.simplefilter("error")  # headless, and pcolormesh takes the node axes as given
         plot_representation(rep, path)
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_grading_reaches_the_grid_and_is_refused_without_a_graded_one():
+    v, f = tall_bump(6)
+    ratios = []
+    for grading in (0.0, 0.3, 0.8):
+        rep = represent(v, f, discretization="grid", resolution=32, spacing="graded",
+                        grading=grading, check=False)
+        step = np.diff(rep.grid.u)
+        ratios.append(step.max() / step.min())
+    # measured: spacing ratios 1, 3.1 and 8.9 (0: equal spacing on the graded code path)
+    assert ratios[0] < 1 + 1e-9 and 2 < ratios[1] < ratios[2] - 3
+    with pytest.raises(ValueError, match="grading is for spacing='graded'"):
+        represent(v, f, discretization="grid", resolution=32, grading=0.3, check=False)
+    with pytest.raises(ValueError, match="grading must be in"):
+        represent(v, f, discretization="grid", resolution=32, spacing="graded", grading=1.0,
+                  check=False)

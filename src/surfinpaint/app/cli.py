@@ -221,7 +221,7 @@ def _dask_client(address: str):
 
 def _grid_options(args: argparse.Namespace) -> dict:
     options = {"sampling": args.sampling, "subdivide": args.subdivide,
-               "spacing": args.spacing}
+               "spacing": args.spacing, "grading": args.grading}
     return {k: v for k, v in options.items() if v is not None}
 
 
@@ -236,12 +236,14 @@ def cmd_represent(args: argparse.Namespace) -> int:
     console = _console()
     vertices, faces = read_mesh(args.mesh)
     grid = _grid_options(args)
+    if args.grading is not None and args.spacing != "graded":
+        raise _UsageError("--grading is for --spacing graded")
     if args.discretization == "grid":
         grid["resolution"] = args.resolution or 256
     elif grid or args.resolution:
         if not args.export_grid:
-            raise _UsageError("--resolution, --spacing, --sampling and --subdivide are for "
-                              "--discretization grid or --export-grid")
+            raise _UsageError("--resolution, --spacing, --grading, --sampling and --subdivide "
+                              "are for --discretization grid or --export-grid")
     rep = representation.represent(
         vertices, faces, discretization=args.discretization, map=args.map,
         check=not args.no_check, **(grid if args.discretization == "grid" else {}))
@@ -335,6 +337,9 @@ def _add_representation_commands(sub) -> None:
     p.add_argument("--spacing", choices=("uniform", "graded"),
                    help="grid: the paper's square grid (default) or a graded one, densest "
                    "where the map squeezes the surface (a tall finger or a limb's tip)")
+    p.add_argument("--grading", type=float, metavar="G",
+                   help="graded grid: the share of nodes crowded where the map squeezes, in "
+                   "[0, 1) (default 0.8; lower gives squarer cells, which rebuild better)")
     p.add_argument("--sampling", choices=("smooth", "pl"),
                    help="grid: sample the C1 (Clough-Tocher) surface through the vertices "
                    "(default) or the piecewise-linear mesh")
