@@ -327,3 +327,39 @@ def test_the_grid_export_factors_its_levels_in_minimum_degree_order(monkeypatch)
     grid = grid_export(rep, 48)
     assert grid.check.converged
     assert len(factored) > 0 and orders == []
+
+
+def test_represent_and_the_grid_export_say_each_stage_as_it_starts():
+    from surfinpaint.representation.represent import grid_export
+
+    said = []
+    rep = represent(*bumpy_disk(6), progress=said.append)
+    assert said == [f"mapping {len(rep.vertices)} vertices and computing λ, H",
+                    f"self-check: rebuilding the {len(rep.vertices)} vertices from λ and H"]
+    said.clear()
+    grid = grid_export(rep, 24, progress=said.append)
+    shape = "×".join(str(n) for n in grid.grid.shape)
+    assert said == ["sampling the surface on a grid of 24 nodes along its long side",
+                    f"self-check: rebuilding the {shape} grid from its λ and H"]
+    said.clear()
+    represent(*bumpy_disk(6), check=False, progress=said.append)
+    assert len(said) == 1  # no self-check, no second stage
+
+
+def test_the_stages_show_one_line_each_on_a_terminal_and_nothing_elsewhere():
+    import io
+
+    from rich.console import Console
+
+    from surfinpaint.app.progress import stages
+
+    for terminal in (True, False):
+        out = io.StringIO()
+        with stages(Console(file=out, force_terminal=terminal, width=80)) as stage:
+            stage("mapping 10 vertices")
+            stage("self-check: rebuilding")
+        text = out.getvalue()
+        if terminal:
+            assert "mapping 10 vertices" in text and "self-check: rebuilding" in text
+        else:
+            assert text == ""

@@ -39,6 +39,7 @@ from surfinpaint.app.outputs import (
 )
 from surfinpaint.app.progress import console as _console
 from surfinpaint.app.progress import progress_bar
+from surfinpaint.app.progress import stages as _stages
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.holes import find_holes
 from surfinpaint.fill.objects import fill_mesh_data
@@ -244,15 +245,20 @@ def cmd_represent(args: argparse.Namespace) -> int:
         if not args.export_grid:
             raise _UsageError("--resolution, --spacing, --grading, --sampling and --subdivide "
                               "are for --discretization grid or --export-grid")
-    rep = representation.represent(
-        vertices, faces, discretization=args.discretization, map=args.map,
-        check=not args.no_check, **(grid if args.discretization == "grid" else {}))
+    with _stages(console) as stage:
+        rep = representation.represent(
+            vertices, faces, discretization=args.discretization, map=args.map,
+            check=not args.no_check, progress=stage,
+            **(grid if args.discretization == "grid" else {}))
     rep.save(args.output)
     written = [str(args.output)]
     if rep.check is not None:
         _print_round_trip(console, rep.check, f"{args.discretization} representation:")
     if args.export_grid:
-        exported = representation.grid_export(rep, args.resolution, check=not args.no_check, **grid)
+        with _stages(console) as stage:
+            exported = representation.grid_export(rep, args.resolution,
+                                                  check=not args.no_check, progress=stage,
+                                                  **grid)
         exported.save(args.export_grid)
         written.append(str(args.export_grid))
         if exported.check is not None:
@@ -272,13 +278,15 @@ def cmd_rebuild(args: argparse.Namespace) -> int:
     except (OSError, KeyError, ValueError) as exc:
         raise MeshError(f"not a λ-H representation file ({exc})",
                         path=str(args.representation)) from exc
-    if rep.discretization == "grid":
-        out = representation.rebuild(rep, method=args.method)
-    elif args.method not in (None, "laplacian"):
+    if rep.discretization != "grid" and args.method not in (None, "laplacian"):
         raise _UsageError("--method is for grid representations; a mesh representation is "
                           "rebuilt on its triangles")
-    else:
-        out = representation.rebuild(rep)
+    with _stages(console) as stage:
+        stage(f"rebuilding from λ and H ({args.representation})")
+        if rep.discretization == "grid":
+            out = representation.rebuild(rep, method=args.method)
+        else:
+            out = representation.rebuild(rep)
     write_mesh(args.output, out.vertices, out.faces)
     _print_round_trip(console, representation.round_trip(rep, out),
                       "against the stored original:")

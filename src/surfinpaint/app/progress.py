@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 from collections.abc import Iterator
 
-__all__ = ["console", "progress_bar"]
+__all__ = ["console", "progress_bar", "stages"]
 
 
 def console():
@@ -54,3 +54,28 @@ def progress_bar(enabled: bool, total: int | None = None, description: str = "",
         yield _Bar(progress, task, redraw=not thread)
         if total is not None:
             progress.update(task, completed=total)
+
+
+@contextlib.contextmanager
+def stages(out) -> Iterator:
+    """A ``progress`` callback of :func:`surfinpaint.representation.represent` and
+    :func:`~surfinpaint.representation.represent.grid_export` (a sentence as each stage
+    starts), shown on the console ``out`` one line per stage with a spinner while it runs
+    and its time; on a console that is not a terminal (a log, a pipe), nothing."""
+    if not out.is_terminal:
+        yield lambda message: None
+        return
+    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    with Progress(SpinnerColumn(finished_text="·"), TextColumn("{task.description}"),
+                  TimeElapsedColumn(), console=out) as progress:
+        running = []
+
+        def stage(message: str) -> None:
+            if running:  # its clock stops
+                progress.update(running.pop(), total=1, completed=1)
+            running.append(progress.add_task(message, total=None))
+
+        yield stage
+        if running:
+            progress.update(running.pop(), total=1, completed=1)
