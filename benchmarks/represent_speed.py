@@ -20,7 +20,7 @@ validation mesh of the accuracy benchmark, so the rebuild is not tuned on it.
 
 Run: ``.venv/bin/python benchmarks/represent_speed.py [--quick] [--speed-only]
 [--meshes bumpy,finger,finger2,face40,face,pial25,pial50,pial70,ear,foot,legcap] [--no-grid]
-[--no-speed-check] [--floor-only]``
+[--no-speed-check] [--floor-only] [--spacing graded]``
 """
 
 from __future__ import annotations
@@ -149,12 +149,13 @@ def mesh_table(meshes) -> dict:
     return reps
 
 
-def grid_table(reps, resolutions, floor_only: bool = False) -> None:
+def grid_table(reps, resolutions, floor_only: bool = False, spacing: str = "uniform") -> None:
     """The grid export per disk and resolution: its round trip and its sampling floor (the
     round trip of an exact rebuild of that grid, ``sampled_vertices``: no rebuild can be
-    closer). ``floor_only``: the floor alone, without the (costly) rebuild."""
-    print("\n## Grid export (targets at 512²: mean < 0.1 %, Hausdorff < 1 %); "
-          "'auto' = grid_export's choice; floor = the grid's samples alone")
+    closer). ``floor_only``: the floor alone, without the (costly) rebuild; ``spacing``:
+    the square grid or a graded one."""
+    print(f"\n## Grid export, {spacing} spacing (targets at 512²: mean < 0.1 %, Hausdorff "
+          "< 1 %); 'auto' = grid_export's choice; floor = the grid's samples alone")
     print(f"{'mesh':<16}{'res':>6}{'grid':>11}{'export s':>10}{'converged':>10}"
           f"{'iterations':>11}{'mean %':>10}{'Hausdorff %':>12}{'floor mean %':>13}"
           f"{'floor H %':>10}")
@@ -163,7 +164,7 @@ def grid_table(reps, resolutions, floor_only: bool = False) -> None:
             n = None if res == "auto" else res  # auto: grid_export's own choice
             t0 = time.perf_counter()
             try:
-                grid = grid_export(rep, n, check=not floor_only)
+                grid = grid_export(rep, n, check=not floor_only, spacing=spacing)
             except Exception as err:  # report and go on with the table
                 print(f"{label:<16}{res!s:>6}  failed: {type(err).__name__}: {err}")
                 continue
@@ -215,6 +216,8 @@ def main() -> None:
                         help="grid table: the sampling floor only, no rebuild")
     parser.add_argument("--no-speed-check", action="store_true",
                         help="speed line: skip the self-check of the 100k disk (minutes)")
+    parser.add_argument("--spacing", choices=("uniform", "graded"), default="uniform",
+                        help="grid table: the square grid (default) or a graded one")
     parser.add_argument("--meshes", default=None,
                         help=f"comma-separated subset of: {', '.join(MAKERS)}")
     args = parser.parse_args()
@@ -230,7 +233,8 @@ def main() -> None:
     meshes = [(MAKERS[k][0], MAKERS[k][1]()) for k in keys]
     reps = mesh_table(meshes)
     if not args.no_grid:
-        grid_table(reps, (256, "auto") if args.quick else (512, "auto"), args.floor_only)
+        grid_table(reps, (256, "auto") if args.quick else (512, "auto"), args.floor_only,
+                   args.spacing)
 
 
 if __name__ == "__main__":

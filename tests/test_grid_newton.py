@@ -209,3 +209,23 @@ def test_the_automatic_export_resolution_doubles_until_the_grid_holds_the_surfac
     # a disk the first guess holds keeps it
     flat = represent(*bumpy_disk(16), check=False)
     assert max(grid_export(flat, check=False).grid.shape) == export_resolution(flat)
+
+
+def test_a_nested_rebuild_whose_areas_miss_lambdas_is_not_called_converged():
+    # λ·1.1 with H/1.21 leaves the equations (which take λ only as 2λ²H) and so their root,
+    # the sphere, as they were; its vertex areas then miss λ's by 21 %: the root is not the
+    # surface that λ describes, and the rebuild must not say it converged
+    from surfinpaint.representation.grid_newton import GridLevel
+
+    phi, h = sphere_grid(97)
+    domain = np.ones(phi.shape[:2], dtype=bool)
+    known = np.zeros_like(domain)
+    known[:4], known[-4:], known[:, :4], known[:, -4:] = True, True, True, True
+    data = np.where(known[..., None], phi, np.nan)
+    levels = triangle_levels(phi, domain, known, h)
+    scaled = tuple(GridLevel(lv.step, 1.1 * lv.lam, lv.H / 1.21, lv.defect) for lv in levels)
+    solve = rebuild_nested(scaled, data, domain, known, h)
+    assert not solve.converged and "converged to another solution" in solve.message
+    assert np.abs(solve.phi - phi).max() < 1e-9  # the equations' own root
+    # the same levels as they are: converged
+    assert rebuild_nested(levels, data, domain, known, h).converged

@@ -238,9 +238,9 @@ def graded_grid_over(uv: np.ndarray, faces: np.ndarray, resolution: int, *,
     Along each axis, a share ``grading`` of the nodes is spread by the density 1 / (the
     finest parameter edge length across the domain at that coordinate, widened and
     smoothed), the rest uniformly. Measured at 512 nodes (docs/representation.md, session
-    18), the sampled surface then misses a built foot cap by 0.0025 % / 0.078 % of the
+    18), the sampled surface then misses a built foot cap by 0.0025 % / 0.079 % of the
     diagonal (mean / Hausdorff), against 1.14 % / 12.1 % on the square grid of the same
-    size; a finger of height 2 by 0.0008 % / 0.66 % (0.23 % / 14.6 %). Weaker grading
+    size; a finger of height 2 by 0.0009 % / 0.77 % (0.23 % / 14.6 %). Weaker grading
     (0.5, 0.3) leaves the finger's top at 1.2 % and 2.2 %; the default 0.8 is the weakest
     of the three that holds all three tall disks under 1 %.
 

@@ -195,7 +195,8 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
     discretization : {"mesh", "grid"}
         λ and H at the vertices of the mesh's parameter triangles (default), or on a
         regular grid (:func:`~surfinpaint.representation.grid_represent.represent_grid`,
-        which takes ``resolution``, ``h``, ``band``, ``sampling``, ``subdivide``). Measured
+        which takes ``resolution``, ``h``, ``band``, ``sampling``, ``subdivide``,
+        ``spacing``, ``grading``). Measured
         (``benchmarks/represent_speed.py``, docs/representation.md): the mesh form gives the
         mesh back to ~1e-13 of the diagonal where its rebuild converges to the original;
         the grid export (:func:`grid_export`, rectangular map, nested Newton rebuild) at
