@@ -33,6 +33,7 @@ from surfinpaint.representation.clough_tocher import (
 )
 from surfinpaint.representation.fields import lambda_h
 from surfinpaint.representation.grid import (
+    GRADING,
     Grid,
     graded_grid_over,
     grid_over,
@@ -395,18 +396,7 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
     >>> rep.lam.shape == rep.grid.shape
     True
     """
-    if band < 1:
-        raise ValueError(f"band must be at least 1 node, got {band}")
-    if sampling not in SAMPLINGS:
-        raise ValueError(f"unknown sampling {sampling!r}; choose from {SAMPLINGS}")
-    if spacing not in SPACINGS:
-        raise ValueError(f"unknown spacing {spacing!r}; choose from {SPACINGS}")
-    if spacing == "graded" and h is not None:
-        raise ValueError("a graded grid takes a resolution, not a spacing h")
-    if grading is not None and spacing != "graded":
-        raise ValueError("grading is for spacing='graded'")
-    if subdivide is not None and subdivide < 0:
-        raise ValueError(f"subdivide must be at least 0, got {subdivide}")
+    _check_grid_options(band, sampling, spacing, grading, h, subdivide)
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     uv, corners = parameterize(v, f, map, strict=strict)
@@ -416,12 +406,12 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
         sample_uv, sample_f, sample_v = _subdivided_map(v, f, uv, corners, map, levels,
                                                         strict)
         uv = sample_uv[:len(v)]
-    # with subdivision the refined border may bulge out of the original vertices' box
-    over = sample_uv[np.unique(sample_f)] if levels else uv
     if spacing == "graded":
         grid = graded_grid_over(sample_uv, sample_f, resolution,
-                                **({} if grading is None else {"grading": grading}))
+                                grading=GRADING if grading is None else grading)
     else:
+        # with subdivision the refined border may bulge out of the original vertices' box
+        over = sample_uv[np.unique(sample_f)] if levels else uv
         grid = grid_over(over, h=h) if h is not None else grid_over(over, resolution=resolution)
     interpolant = "clough-tocher" if sampling == "smooth" else "linear"
     phi, domain, _ = resample(sample_uv, sample_f, sample_v, grid, interpolant=interpolant)
@@ -435,6 +425,23 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
                    vertices=v.copy(), faces=f.copy(), map=map, band=band,
                    corners=np.asarray(corners, dtype=np.int64), sampling=sampling,
                    subdivide=levels, levels=on_triangles)
+
+
+def _check_grid_options(band: int, sampling: str, spacing: str, grading: float | None,
+                        h: float | None, subdivide: int | None) -> None:
+    """:func:`represent_grid`'s options, or a ValueError naming the one that is wrong."""
+    if band < 1:
+        raise ValueError(f"band must be at least 1 node, got {band}")
+    if sampling not in SAMPLINGS:
+        raise ValueError(f"unknown sampling {sampling!r}; choose from {SAMPLINGS}")
+    if spacing not in SPACINGS:
+        raise ValueError(f"unknown spacing {spacing!r}; choose from {SPACINGS}")
+    if spacing == "graded" and h is not None:
+        raise ValueError("a graded grid takes a resolution, not a spacing h")
+    if grading is not None and spacing != "graded":
+        raise ValueError("grading is for spacing='graded'")
+    if subdivide is not None and subdivide < 0:
+        raise ValueError(f"subdivide must be at least 0, got {subdivide}")
 
 
 def _subdivided_map(v: np.ndarray, f: np.ndarray, uv: np.ndarray, corners, map: str,
