@@ -48,8 +48,8 @@ from surfinpaint.representation.mesh_lambda_h import (
     relative_residual,
 )
 
-__all__ = ["GridLevel", "GridSolve", "grid_triangles", "prolong", "rebuild_nested",
-           "triangle_levels"]
+__all__ = ["GridLevel", "GridSolve", "grid_triangles", "harmonic_fill", "prolong",
+           "rebuild_nested", "solve_held", "triangle_levels"]
 
 # the coarsest level has at least this many nodes along its long side
 MIN_LEVEL = 48
@@ -173,7 +173,7 @@ def prolong(coarse: np.ndarray, ratio: int, shape: tuple[int, int],
     return interpolate(coarse, grid, ij, order=3)
 
 
-def _harmonic_fill(x: np.ndarray, gap: np.ndarray, uv: np.ndarray, f: np.ndarray) -> None:
+def harmonic_fill(x: np.ndarray, gap: np.ndarray, uv: np.ndarray, f: np.ndarray) -> None:
     """Fill ``x[gap]`` with the harmonic extension of the rest (in place)."""
     if not gap.any():
         return
@@ -182,7 +182,7 @@ def _harmonic_fill(x: np.ndarray, gap: np.ndarray, uv: np.ndarray, f: np.ndarray
     x[gap] = spla.splu(L[gap][:, gap].tocsc()).solve(-(L[gap][:, rest] @ x[rest]))
 
 
-def _solve_held(start: np.ndarray, data: tuple, held: np.ndarray, tol: float,
+def solve_held(start: np.ndarray, data: tuple, held: np.ndarray, tol: float,
                 own: bool) -> tuple[np.ndarray, bool, int]:
     """A finer level with the nodes it shares with the coarser one held: Newton from the
     prolonged ``start``; where it fails, or (``own`` data) its solution's vertex areas do
@@ -261,9 +261,9 @@ def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.nd
             shared &= np.isfinite(coarse[gi // ratio, gj // ratio]).all(axis=1)
             start[shared] = coarse[gi[shared] // ratio, gj[shared] // ratio]
             start[lv_known] = p[lv_known]
-            _harmonic_fill(start, ~np.isfinite(start).all(axis=1), uv, f)
+            harmonic_fill(start, ~np.isfinite(start).all(axis=1), uv, f)
             data = (f, uv, lv_lam, lv_H, defect)
-            x, ok, steps = _solve_held(start, data, lv_known | shared, tol, not edited)
+            x, ok, steps = solve_held(start, data, lv_known | shared, tol, not edited)
             residual = relative_residual(x, f, uv, lv_lam, lv_H, defect, lv_known)
             if not ok or residual > RESIDUAL_DONE:
                 free = rebuild_on_mesh(x, f, uv, lv_lam, lv_H, defect, lv_known, tol=tol,

@@ -58,6 +58,7 @@ __all__ = [
     "represent_grid",
     "sampled_vertices",
     "smooth_subdivision",
+    "subdivided_map",
     "subdivision_levels",
 ]
 
@@ -403,7 +404,7 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
     levels = subdivision_levels(v, f) if subdivide is None else int(subdivide)
     sample_uv, sample_f, sample_v = uv, f, v
     if levels:
-        sample_uv, sample_f, sample_v = _subdivided_map(v, f, uv, corners, map, levels,
+        sample_uv, sample_f, sample_v = subdivided_map(v, f, uv, corners, map, levels,
                                                         strict)
         uv = sample_uv[:len(v)]
     if spacing == "graded":
@@ -444,7 +445,7 @@ def _check_grid_options(band: int, sampling: str, spacing: str, grading: float |
         raise ValueError(f"subdivide must be at least 0, got {subdivide}")
 
 
-def _subdivided_map(v: np.ndarray, f: np.ndarray, uv: np.ndarray, corners, map: str,
+def subdivided_map(v: np.ndarray, f: np.ndarray, uv: np.ndarray, corners, map: str,
                     levels: int, strict: bool):
     """The mesh subdivided ``levels`` times onto its smooth interpolant and mapped again:
     (uv, faces, vertices) of the refined mesh, whose first ``len(v)`` vertices are the
