@@ -16,7 +16,8 @@ the mesh-form equations exactly, and the rebuild is the mesh form's Newton metho
 - default: coarse to fine over the trees of the given targets (their nodes nest): the
   coarsest as ``--direct``, each finer one from the coarser solution interpolated at its
   nodes, the nodes the two share held while Newton solves for the others, then released
-  (the grid export's scheme, :func:`~surfinpaint.representation.grid_newton.solve_held`).
+  (the grid export's scheme, :func:`~surfinpaint.representation.grid_newton.
+  solve_finer_level`).
 
 The round trip is measured as the grid export's: the rebuilt nodes interpolated
 (Clough–Tocher over the tree's triangles) at the mesh's vertices, against the mesh, two-sided
@@ -40,14 +41,14 @@ from scipy.spatial import cKDTree
 
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
-from surfinpaint.representation.grid_newton import RESIDUAL_DONE, harmonic_fill, solve_held
+from surfinpaint.representation.grid_newton import harmonic_fill, solve_finer_level
 from surfinpaint.representation.grid_represent import subdivided_map, subdivision_levels
 from surfinpaint.representation.mapping import parameterize
 from surfinpaint.representation.mesh_lambda_h import (
-    NEWTON_STEPS,
+    AREA_MATCH,
+    area_mismatch,
     mesh_lambda_h,
     rebuild_on_mesh,
-    relative_residual,
 )
 from surfinpaint.representation.quadtree import CELL_PROBES, quadtree_triangulation
 from surfinpaint.representation.roundtrip import measure_round_trip
@@ -206,16 +207,13 @@ def run(name: str, targets: list[tuple[float, int | None]], depth: int, map: str
             else:
                 start, shared = interpolated_start(previous, uv, keys, border, phi)
                 harmonic_fill(start, ~np.isfinite(start).all(axis=1), uv, faces)
-                x, ok, steps = solve_held(start, (faces, uv, lam, H, defect),
-                                          border | shared, 1e-10, True)
-                how = f"{shared.sum()} nodes held: {'converged' if ok else 'failed'}"
-                if not ok or relative_residual(x, faces, uv, lam, H, defect,
-                                               border) > RESIDUAL_DONE:
-                    free = rebuild_on_mesh(x, faces, uv, lam, H, defect, border, tol=1e-10,
-                                           max_iter=NEWTON_STEPS, start=x,
-                                           select_by_area=False)
-                    x, ok, steps = free.points, free.converged, steps + free.iterations
-                    how += f"; released: {free.message}"
+                x, ok, steps = solve_finer_level(start, (faces, uv, lam, H, defect), border,
+                                                 shared, 1e-10, True)
+                how = f"{shared.sum()} nodes held, then released"
+            if ok and area_mismatch(x, faces, uv, lam) > AREA_MATCH:
+                # the tree's own data: a root whose vertex areas miss λ's is another
+                # solution of the equations (as rebuild_nested reports it)
+                ok, how = False, how + "; another root: vertex areas off λ's"
             previous = (uv, faces, keys, x)
         c = measure_round_trip(v, disk.at_vertices(uv, faces, border, x), f, converged=ok,
                                iterations=steps, message=how, seconds=0.0, floor=floor)

@@ -49,7 +49,7 @@ from surfinpaint.representation.mesh_lambda_h import (
 )
 
 __all__ = ["GridLevel", "GridSolve", "grid_triangles", "harmonic_fill", "prolong",
-           "rebuild_nested", "solve_held", "triangle_levels"]
+           "rebuild_nested", "solve_finer_level", "solve_held", "triangle_levels"]
 
 # the coarsest level has at least this many nodes along its long side
 MIN_LEVEL = 48
@@ -200,6 +200,22 @@ def solve_held(start: np.ndarray, data: tuple, held: np.ndarray, tol: float,
     return x, ok, steps + more
 
 
+def solve_finer_level(start: np.ndarray, data: tuple, known: np.ndarray, shared: np.ndarray,
+                      tol: float, own: bool) -> tuple[np.ndarray, bool, int]:
+    """A finer level from the coarser solution ``start`` (prolonged to its nodes): the
+    ``shared`` nodes held (:func:`solve_held`), then all the unknown nodes released for a
+    Newton check, a full solve only where the residual is not at rounding level
+    (``RESIDUAL_DONE``). ``data`` = (faces, uv, λ, H, defect); ``known``: the boundary
+    data. Returns (φ, converged, factorizations)."""
+    f, uv, lam, H, defect = data
+    x, ok, steps = solve_held(start, data, known | shared, tol, own)
+    if not ok or relative_residual(x, f, uv, lam, H, defect, known) > RESIDUAL_DONE:
+        free = rebuild_on_mesh(x, f, uv, lam, H, defect, known, tol=tol,
+                               max_iter=NEWTON_STEPS, start=x, select_by_area=False)
+        x, ok, steps = free.points, free.converged, steps + free.iterations
+    return x, ok, steps
+
+
 def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.ndarray,
                    known: np.ndarray, spacing: float | Grid, *,
                    lam: np.ndarray | None = None,
@@ -262,13 +278,8 @@ def rebuild_nested(levels: tuple[GridLevel, ...], phi: np.ndarray, domain: np.nd
             start[shared] = coarse[gi[shared] // ratio, gj[shared] // ratio]
             start[lv_known] = p[lv_known]
             harmonic_fill(start, ~np.isfinite(start).all(axis=1), uv, f)
-            data = (f, uv, lv_lam, lv_H, defect)
-            x, ok, steps = solve_held(start, data, lv_known | shared, tol, not edited)
-            residual = relative_residual(x, f, uv, lv_lam, lv_H, defect, lv_known)
-            if not ok or residual > RESIDUAL_DONE:
-                free = rebuild_on_mesh(x, f, uv, lv_lam, lv_H, defect, lv_known, tol=tol,
-                                       max_iter=NEWTON_STEPS, start=x, select_by_area=False)
-                x, ok, steps = free.points, free.converged, steps + free.iterations
+            x, ok, steps = solve_finer_level(start, (f, uv, lv_lam, lv_H, defect), lv_known,
+                                             shared, tol, not edited)
         used += steps
         ok_all &= bool(ok)
         mismatch = area_mismatch(x, f, uv, lv_lam)
