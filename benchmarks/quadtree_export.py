@@ -4,10 +4,10 @@ Per disk, the parameter domain (LSCM by default, as the default representation; 
 paper's rectangle) is covered by a 2:1-balanced quadtree
 (:mod:`surfinpaint.representation.quadtree`) whose cells are split while a cell's side on
 the surface, (side in the plane) × σ (σ = √(surface area / parameter area) of the mesh's
-triangles, the largest at the cell's 9 probe points), exceeds TARGET × the diagonal; with
-LSCM's free border, the triangles with a corner outside the mesh's parameter triangles are
-dropped. φ is sampled at the nodes by the Clough–Tocher interpolant that the grid export
-uses, λ, H and the defect are those of the tree's own triangles
+triangles, the median at each vertex, the largest at the cell's 9 probe points), exceeds
+TARGET × the diagonal; with LSCM's free border, the triangles with a corner outside the
+mesh's parameter triangles are dropped. φ is sampled at the nodes by the Clough–Tocher
+interpolant that the grid export uses, λ, H and the defect are those of the tree's own triangles
 (:func:`~surfinpaint.representation.mesh_lambda_h.mesh_lambda_h`), so the sampled φ solves
 the mesh-form equations exactly, and the rebuild is the mesh form's Newton method:
 
@@ -106,8 +106,13 @@ class Disk:
         area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
         e1, e2 = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
         plane = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+        per_face = np.repeat(np.sqrt(area / plane), 3)
+        order = np.lexsort((per_face, self.sf.ravel()))
+        vid, val = self.sf.ravel()[order], per_face[order]
+        start = np.r_[0, np.flatnonzero(np.diff(vid)) + 1]
+        count = np.diff(np.r_[start, len(vid)])
         sigma = np.zeros(len(self.sv))
-        np.maximum.at(sigma, self.sf.ravel(), np.repeat(np.sqrt(area / plane), 3))
+        sigma[vid[start]] = val[start + count // 2]  # the median of a vertex's triangles
         self.sigma = sigma
         self._near = cKDTree(self.suv)
         self.gradients = vertex_gradients(self.suv, self.sf, self.sv)
