@@ -6,8 +6,11 @@ paper's rectangle) is covered by a 2:1-balanced quadtree
 the surface, (side in the plane) × σ (σ = √(surface area / parameter area) of the mesh's
 triangles, the median at each vertex, the largest at the cell's 9 probe points), exceeds
 TARGET × the diagonal; with LSCM's free border, the triangles with a corner outside the
-mesh's parameter triangles are dropped. φ is sampled at the nodes by the Clough–Tocher
-interpolant that the grid export uses, λ, H and the defect are those of the tree's own triangles
+mesh's parameter triangles are dropped. φ is sampled at the nodes from the mesh itself
+(piecewise linear, ``--sampling pl``, the default) or from the Clough–Tocher interpolant
+that the grid export uses (``smooth``: on the tall finger that interpolant folds, 279 folded
+edges of the sampled 0.1 tree, and no rebuild of it converges; docs/representation.md,
+session 19); λ, H and the defect are those of the tree's own triangles
 (:func:`~surfinpaint.representation.mesh_lambda_h.mesh_lambda_h`), so the sampled φ solves
 the mesh-form equations exactly, and the rebuild is the mesh form's Newton method:
 
@@ -26,7 +29,7 @@ surface distance in % of the diagonal (targets of the 512² export: mean < 0.1 %
 
 Run: ``PYTHONPATH=src python benchmarks/quadtree_export.py [--meshes foot,legcap,finger2]
 [--targets 0.1@6,0.1@8,0.1,0.05,0.02] [--depth 14] [--map lscm|rectangular]
-[--floor-only] [--direct]``
+[--floor-only] [--direct] [--sampling pl|smooth]``
 """
 
 from __future__ import annotations
@@ -73,6 +76,16 @@ def held_out_cap(name: str):
 _INSIDE = -1e-9
 
 
+def barycentric(corners: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(p, 3) weights of ``points`` in the triangles ``corners`` (p, 3, 2)."""
+    e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    r = points - corners[:, 0]
+    det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    w1 = (r[:, 0] * e2[:, 1] - r[:, 1] * e2[:, 0]) / det
+    w2 = (e1[:, 0] * r[:, 1] - e1[:, 1] * r[:, 0]) / det
+    return np.column_stack([1 - w1 - w2, w1, w2])
+
+
 def locate(uv: np.ndarray, faces: np.ndarray, points: np.ndarray, k: int = 24):
     """The triangle of ``faces`` best holding each point among its ``k`` nearest by
     centroid, and whether it holds it (smallest barycentric weight ≥ ``_INSIDE``)."""
@@ -93,8 +106,8 @@ def locate(uv: np.ndarray, faces: np.ndarray, points: np.ndarray, k: int = 24):
 class Disk:
     """A disk's (subdivided) mesh over its conformal map and the scale σ of its triangles."""
 
-    def __init__(self, vertices, faces, map):
-        self.v, self.f = vertices, faces
+    def __init__(self, vertices, faces, map, sampling="pl"):
+        self.v, self.f, self.sampling = vertices, faces, sampling
         uv, corners = parameterize(vertices, faces, map)
         levels = subdivision_levels(vertices, faces)
         self.suv, self.sf, self.sv = (uv, faces, vertices) if levels == 0 else \
@@ -149,7 +162,11 @@ class Disk:
         where, inside = locate(self.suv, self.sf, points)
         if not inside.all():  # a folded sliver of the map, or k too small: the nearest
             self.missed = int((~inside).sum())  # triangle's extension samples them
-        phi = clough_tocher(self.suv, self.sf, self.sv, self.gradients, where, points)
+        if self.sampling == "pl":
+            weights = barycentric(self.suv[self.sf[where]], points)
+            phi = np.einsum("pk,pkd->pd", weights, self.sv[self.sf[where]])
+        else:
+            phi = clough_tocher(self.suv, self.sf, self.sv, self.gradients, where, points)
         edges = np.sort(np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), 1)
         once, count = np.unique(edges, axis=0, return_counts=True)
         border = np.zeros(len(uv), dtype=bool)
@@ -165,6 +182,20 @@ class Disk:
         keep = ~inside | border[faces[where]].all(axis=1)
         out[keep] = self.v[keep]
         return out
+
+
+def folded_edges(points: np.ndarray, faces: np.ndarray) -> int:
+    """Interior edges whose two triangles' normals differ by more than 90°."""
+    p = points[faces]
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    edges = np.sort(np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    owner = np.tile(np.arange(len(faces)), 3)
+    order = np.argsort(edges[:, 0] * len(points) + edges[:, 1], kind="stable")
+    key = (edges[:, 0] * len(points) + edges[:, 1])[order]
+    pair = np.flatnonzero(key[1:] == key[:-1])
+    a, b = owner[order][pair], owner[order][pair + 1]
+    return int(((normal[a] * normal[b]).sum(axis=1) < 0).sum())
 
 
 def interpolated_start(previous, uv, keys, border, phi):
@@ -183,16 +214,17 @@ def interpolated_start(previous, uv, keys, border, phi):
 
 
 def run(name: str, targets: list[tuple[float, int | None]], depth: int, map: str,
-        floor_only: bool, direct: bool) -> None:
+        floor_only: bool, direct: bool, sampling: str = "pl") -> None:
     if name in HELD_OUT:
         title, v, f = held_out_cap(name)
     else:
         title, (v, f) = MAKERS[name][0], MAKERS[name][1]()
-    disk = Disk(v, f, map)
-    print(f"\n**{title}** ({len(v)} vertices, map {map}, depth ≤ {depth})\n")
-    print("| target × diag | nodes | floor mean / Hausdorff % | rebuild mean / Hausdorff % "
-          "| converged | factorizations | s | how |")
-    print("|---|---|---|---|---|---|---|---|")
+    disk = Disk(v, f, map, sampling)
+    print(f"\n**{title}** ({len(v)} vertices, map {map}, depth ≤ {depth}, sampling "
+          f"{sampling})\n")
+    print("| target × diag | nodes | folded edges | floor mean / Hausdorff % "
+          "| rebuild mean / Hausdorff % | converged | factorizations | s | how |")
+    print("|---|---|---|---|---|---|---|---|---|")
     previous = None
     for target, deepest in targets:
         started = time.perf_counter()
@@ -225,7 +257,9 @@ def run(name: str, targets: list[tuple[float, int | None]], depth: int, map: str
         d = c.diagonal / 100
         label = f"{target:g}" + (f" (depth ≤ {deepest})" if deepest else "")
         nodes = f"{len(uv)}" + (f" ({disk.missed} outside)" if disk.missed else "")
-        print(f"| {label} | {nodes} | {c.floor_mean / d:.3g} / {c.floor_hausdorff / d:.3g} "
+        folded = folded_edges(phi, faces)
+        print(f"| {label} | {nodes} | {folded} "
+              f"| {c.floor_mean / d:.3g} / {c.floor_hausdorff / d:.3g} "
               f"| {c.mean / d:.3g} / {c.hausdorff / d:.3g} | {ok} | {steps} "
               f"| {time.perf_counter() - started:.1f} | {how} |", flush=True)
 
@@ -240,6 +274,9 @@ def main() -> None:
     parser.add_argument("--depth", type=int, default=14)
     parser.add_argument("--map", choices=("lscm", "rectangular"), default="lscm")
     parser.add_argument("--floor-only", action="store_true")
+    parser.add_argument("--sampling", choices=("pl", "smooth"), default="pl",
+                        help="φ at the nodes from the mesh itself (default) or from its "
+                             "Clough–Tocher interpolant")
     parser.add_argument("--direct", action="store_true",
                         help="rebuild each tree alone from the harmonic surface")
     args = parser.parse_args()
@@ -247,7 +284,7 @@ def main() -> None:
     targets = [(float(t.split("@")[0]), int(t.split("@")[1]) if "@" in t else None)
                for t in args.targets.split(",")]
     for name in args.meshes.split(","):
-        run(name, targets, args.depth, args.map, args.floor_only, args.direct)
+        run(name, targets, args.depth, args.map, args.floor_only, args.direct, args.sampling)
 
 
 if __name__ == "__main__":
