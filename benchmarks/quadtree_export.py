@@ -43,6 +43,7 @@ from represent_speed import MAKERS, pymeshlab_sample
 from scipy.spatial import cKDTree
 
 from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.point_location import locate_points
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 from surfinpaint.representation.grid_newton import harmonic_fill, solve_finer_level
 from surfinpaint.representation.grid_represent import subdivided_map, subdivision_levels
@@ -72,37 +73,6 @@ def held_out_cap(name: str):
         cut.truth_vertices, cut.truth_faces
 
 
-# a point is in a triangle when its smallest barycentric weight is at least this
-_INSIDE = -1e-9
-
-
-def barycentric(corners: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """(p, 3) weights of ``points`` in the triangles ``corners`` (p, 3, 2)."""
-    e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-    r = points - corners[:, 0]
-    det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-    w1 = (r[:, 0] * e2[:, 1] - r[:, 1] * e2[:, 0]) / det
-    w2 = (e1[:, 0] * r[:, 1] - e1[:, 1] * r[:, 0]) / det
-    return np.column_stack([1 - w1 - w2, w1, w2])
-
-
-def locate(uv: np.ndarray, faces: np.ndarray, points: np.ndarray, k: int = 24):
-    """The triangle of ``faces`` best holding each point among its ``k`` nearest by
-    centroid, and whether it holds it (smallest barycentric weight ≥ ``_INSIDE``)."""
-    _, idx = cKDTree(uv[faces].mean(axis=1)).query(points, k=k)
-    a, b, c = uv[faces[idx, 0]], uv[faces[idx, 1]], uv[faces[idx, 2]]
-    e1, e2, r = b - a, c - a, points[:, None, :] - a
-    det = e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0]
-    with np.errstate(all="ignore"):
-        w1 = (r[..., 0] * e2[..., 1] - r[..., 1] * e2[..., 0]) / det
-        w2 = (e1[..., 0] * r[..., 1] - e1[..., 1] * r[..., 0]) / det
-    least = np.minimum(np.minimum(w1, w2), 1 - w1 - w2)
-    least = np.where(np.isfinite(least), least, -np.inf)
-    best = np.argmax(least, axis=1)
-    rows = np.arange(len(points))
-    return idx[rows, best], least[rows, best] >= _INSIDE
-
-
 class Disk:
     """A disk's (subdivided) mesh over its conformal map and the scale σ of its triangles."""
 
@@ -129,7 +99,6 @@ class Disk:
         self.sigma = sigma
         self._near = cKDTree(self.suv)
         self.gradients = vertex_gradients(self.suv, self.sf, self.sv)
-        self.missed = 0
 
     def to_plane(self, unit: np.ndarray) -> np.ndarray:
         return self.lo + unit * (self.hi - self.lo)
@@ -151,7 +120,7 @@ class Disk:
         t = quadtree_triangulation(wants_split, depth)
         faces, uv = t.faces, self.to_plane(t.points)
         if clip:
-            _, inside = locate(self.suv, self.sf, uv)
+            inside = locate_points(self.suv, self.sf, uv)[0] >= 0
             faces = faces[inside[faces].all(axis=1)]
         used = np.unique(faces)
         remap = np.full(len(uv), -1)
@@ -159,11 +128,10 @@ class Disk:
         faces, uv, keys = remap[faces], uv[used], t.keys[used]
         shrink = 1e-9 * (self.hi - self.lo)
         points = np.clip(uv, self.lo + shrink, self.hi - shrink)
-        where, inside = locate(self.suv, self.sf, points)
-        if not inside.all():  # a folded sliver of the map, or k too small: the nearest
-            self.missed = int((~inside).sum())  # triangle's extension samples them
+        where, weights = locate_points(self.suv, self.sf, points)
+        if (where < 0).any():
+            raise RuntimeError(f"{(where < 0).sum()} tree nodes in no triangle of the map")
         if self.sampling == "pl":
-            weights = barycentric(self.suv[self.sf[where]], points)
             phi = np.einsum("pk,pkd->pd", weights, self.sv[self.sf[where]])
         else:
             phi = clough_tocher(self.suv, self.sf, self.sv, self.gradients, where, points)
@@ -176,9 +144,11 @@ class Disk:
     def at_vertices(self, uv, faces, border, nodes):
         """The mesh's vertices from node positions: Clough–Tocher over the tree's
         triangles; those outside them or on a triangle of known nodes only stay put."""
-        where, inside = locate(uv, faces, self.uv)
-        out = clough_tocher(uv, faces, nodes, vertex_gradients(uv, faces, nodes), where,
-                            self.uv)
+        where = locate_points(uv, faces, self.uv)[0]
+        inside = where >= 0
+        out = self.v.copy()
+        out[inside] = clough_tocher(uv, faces, nodes, vertex_gradients(uv, faces, nodes),
+                                    where[inside], self.uv[inside])
         keep = ~inside | border[faces[where]].all(axis=1)
         out[keep] = self.v[keep]
         return out
@@ -202,7 +172,8 @@ def interpolated_start(previous, uv, keys, border, phi):
     """The coarser tree's solution at the finer tree's nodes (Clough–Tocher; the nodes it
     does not cover filled harmonically), the nodes the two share, and those."""
     p_uv, p_faces, p_keys, p_x = previous
-    where, inside = locate(p_uv, p_faces, uv)
+    where = locate_points(p_uv, p_faces, uv)[0]
+    inside = where >= 0
     start = np.full_like(phi, np.nan)
     start[inside] = clough_tocher(p_uv, p_faces, p_x, vertex_gradients(p_uv, p_faces, p_x),
                                   where[inside], uv[inside])
@@ -256,7 +227,7 @@ def run(name: str, targets: list[tuple[float, int | None]], depth: int, map: str
                                iterations=steps, message=how, seconds=0.0, floor=floor)
         d = c.diagonal / 100
         label = f"{target:g}" + (f" (depth ≤ {deepest})" if deepest else "")
-        nodes = f"{len(uv)}" + (f" ({disk.missed} outside)" if disk.missed else "")
+        nodes = f"{len(uv)}"
         folded = folded_edges(phi, faces)
         print(f"| {label} | {nodes} | {folded} "
               f"| {c.floor_mean / d:.3g} / {c.floor_hausdorff / d:.3g} "
