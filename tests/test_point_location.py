@@ -50,3 +50,17 @@ def test_degenerate_triangles_and_empty_input_hold_nothing():
     assert face.tolist() == [-1] and np.isnan(w).all()
     face, w = locate_points(uv, np.zeros((0, 3), int), np.array([[0.5, 0.0]]))
     assert face.tolist() == [-1]
+
+
+@pytest.mark.parametrize("chunk", [1, 3, 7, 1000])
+def test_chunked_pairs_enumerate_every_pair_once_in_order(chunk):
+    from surfinpaint.geometry.point_location import chunked_pairs
+
+    count = np.array([2, 0, 5, 1, 0, 3])
+    owner, offset = map(np.concatenate, zip(*chunked_pairs(count, chunk), strict=True))
+    np.testing.assert_array_equal(owner, np.repeat(np.arange(6), count))
+    np.testing.assert_array_equal(offset, [0, 1, 0, 1, 2, 3, 4, 0, 0, 1, 2])
+    chunks = list(chunked_pairs(count, chunk))
+    # no id split across chunks; no chunk much above the size asked (one id at least)
+    assert all(len(np.intersect1d(a[0], b[0])) == 0 for a, b in zip(chunks, chunks[1:], strict=False))
+    assert all(len(o) <= max(chunk, count.max()) + count.max() for o, _ in chunks)

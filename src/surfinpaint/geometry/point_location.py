@@ -12,10 +12,30 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["locate_points"]
+__all__ = ["chunked_pairs", "locate_points"]
 
 # candidate (point, triangle) pairs tested at once
 _CHUNK = 2_000_000
+
+
+def chunked_pairs(count: np.ndarray, chunk: int):
+    """Enumerate ``count[i]`` pairs for each ``i``, in chunks of about ``chunk`` pairs.
+
+    Yields ``(owner, offset)`` int arrays: each pair's ``i`` (in order, each ``i`` in one
+    chunk only) and its index ``0 … count[i] − 1`` among that ``i``'s pairs. For
+    vectorized tests of many candidates each (points in a triangle's box, triangles in a
+    point's bucket) without holding all of them at once.
+    """
+    count = np.asarray(count, dtype=np.int64)
+    cum = np.cumsum(count)
+    start = 0
+    while start < len(count):
+        base = cum[start - 1] if start else 0
+        stop = max(int(np.searchsorted(cum, base + chunk, side="right")), start + 1)
+        ids = np.arange(start, stop)
+        c = count[ids]
+        yield np.repeat(ids, c), np.arange(c.sum()) - np.repeat(np.cumsum(c) - c, c)
+        start = stop
 
 
 def _bucket_range(lo: np.ndarray, hi: np.ndarray, origin: np.ndarray, size: np.ndarray,
@@ -94,15 +114,7 @@ def locate_points(uv: np.ndarray, faces: np.ndarray, points: np.ndarray, *,
     pb = cell[:, 0] * n + cell[:, 1]
     pairs = np.where(on, starts[pb + 1] - starts[pb], 0)
     best = np.full(len(pts), -np.inf)
-    cum = np.cumsum(pairs)
-    first = 0
-    while first < len(pts):
-        base = cum[first - 1] if first else 0
-        stop = max(int(np.searchsorted(cum, base + _CHUNK, side="right")), first + 1)
-        ids = np.arange(first, stop)
-        c = pairs[ids]
-        pid = np.repeat(ids, c)
-        offset = np.arange(len(pid)) - np.repeat(np.cumsum(c) - c, c)
+    for pid, offset in chunked_pairs(pairs, _CHUNK):
         cand = tri[starts[pb[pid]] + offset]
         w = _barycentric(q[cand], pts[pid])
         least = np.where(np.isfinite(w).all(axis=1), w.min(axis=1), -np.inf)
@@ -114,7 +126,6 @@ def locate_points(uv: np.ndarray, faces: np.ndarray, points: np.ndarray, *,
         best[target] = least[head][better]
         face_index[target] = cand[head][better]
         weights[target] = w[head][better]
-        first = stop
     outside = best < -tolerance
     face_index[outside] = -1
     weights[outside] = np.nan

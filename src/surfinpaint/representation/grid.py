@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from surfinpaint.geometry.point_location import chunked_pairs
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 
 __all__ = [
@@ -346,16 +347,8 @@ def locate_nodes(t: np.ndarray, faces: np.ndarray, shape: tuple[int, int], *,
     count = ni * nj
     face_index = np.full(N * M, -1, dtype=np.int64)
     weights = np.full((N * M, 3), np.nan)
-    cum = np.cumsum(count)
-    start = 0
-    while start < len(f):
-        # faces [start, stop) hold about _CHUNK candidate nodes
-        base = cum[start - 1] if start else 0
-        stop = max(int(np.searchsorted(cum, base + _CHUNK, side="right")), start + 1)
-        ids = np.arange(start, stop)
-        c = count[ids]
-        fid = np.repeat(ids, c)
-        k = np.arange(c.sum()) - np.repeat(np.cumsum(c) - c, c)
+    # the faces' candidate nodes, about _CHUNK at a time
+    for fid, k in chunked_pairs(count, _CHUNK):
         ii = lo[fid, 0] + k // nj[fid]
         jj = lo[fid, 1] + k % nj[fid]
         corners = tri_uv if graded else tri
@@ -372,7 +365,6 @@ def locate_nodes(t: np.ndarray, faces: np.ndarray, shape: tuple[int, int], *,
         node = ii[hit] * M + jj[hit]
         face_index[node] = fid[hit]
         weights[node] = np.column_stack([l0[hit], l1[hit], l2[hit]])
-        start = stop
     return face_index, weights
 
 
