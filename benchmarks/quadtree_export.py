@@ -43,6 +43,7 @@ from represent_speed import MAKERS, pymeshlab_sample
 from scipy.spatial import cKDTree
 
 from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.point_location import locate_points
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 from surfinpaint.representation.grid_newton import harmonic_fill, solve_finer_level
@@ -135,10 +136,9 @@ class Disk:
             phi = np.einsum("pk,pkd->pd", weights, self.sv[self.sf[where]])
         else:
             phi = clough_tocher(self.suv, self.sf, self.sv, self.gradients, where, points)
-        edges = np.sort(np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), 1)
-        once, count = np.unique(edges, axis=0, return_counts=True)
+        table = EdgeTable.build(faces, len(uv))
         border = np.zeros(len(uv), dtype=bool)
-        border[once[count == 1].ravel()] = True
+        border[table.edges[table.count == 1].ravel()] = True
         return uv, faces, keys, border, phi
 
     def at_vertices(self, uv, faces, border, nodes):
@@ -159,12 +159,8 @@ def folded_edges(points: np.ndarray, faces: np.ndarray) -> int:
     p = points[faces]
     normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    edges = np.sort(np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-    owner = np.tile(np.arange(len(faces)), 3)
-    order = np.argsort(edges[:, 0] * len(points) + edges[:, 1], kind="stable")
-    key = (edges[:, 0] * len(points) + edges[:, 1])[order]
-    pair = np.flatnonzero(key[1:] == key[:-1])
-    a, b = owner[order][pair], owner[order][pair + 1]
+    table = EdgeTable.build(faces, len(points))
+    a, b = table.owners[table.count == 2].T
     return int(((normal[a] * normal[b]).sum(axis=1) < 0).sum())
 
 

@@ -118,14 +118,12 @@ def locate_points(uv: np.ndarray, faces: np.ndarray, points: np.ndarray, *,
         cand = tri[starts[pb[pid]] + offset]
         w = _barycentric(q[cand], pts[pid])
         least = np.where(np.isfinite(w).all(axis=1), w.min(axis=1), -np.inf)
-        # per point, the candidate with the largest smallest weight
+        # per point (each in one chunk only), the candidate with the largest smallest weight
         pick = np.lexsort((-least, pid))
         head = pick[np.r_[True, pid[pick][1:] != pid[pick][:-1]]] if len(pick) else pick
-        better = least[head] > best[pid[head]]
-        target = pid[head][better]
-        best[target] = least[head][better]
-        face_index[target] = cand[head][better]
-        weights[target] = w[head][better]
+        best[pid[head]] = least[head]
+        face_index[pid[head]] = cand[head]
+        weights[pid[head]] = w[head]
     outside = best < -tolerance
     face_index[outside] = -1
     weights[outside] = np.nan
