@@ -618,7 +618,7 @@ def test_represent_and_rebuild_round_trip(tmp_path, capsys):
     err = _flat(capsys.readouterr().err)
     # a grid's rebuild is measured with its sampling floor, as the export's self-check was
     assert _flat("against the stored original") in err
-    assert _flat(f"the grid's samples alone (no rebuild can be closer): mean "
+    assert _flat(f"its samples alone (no rebuild can be closer): mean "
                  f"{grid.check.floor_mean:.3g}") in err
     v3, _ = read_mesh(out)
     assert np.abs(v3 - v).max() > 0  # rebuilt from the grid, not copied

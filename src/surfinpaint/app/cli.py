@@ -25,8 +25,6 @@ from surfinpaint.app.fill_options import (
     add_fill_options,
     fill_options,
     hole_list,
-    positive_int,
-    whole_number,
 )
 from surfinpaint.app.fill_report import Summary, count_warnings, hole_lines, print_warnings, tell
 from surfinpaint.app.interrupts import Interrupted, signals_raise
@@ -39,7 +37,7 @@ from surfinpaint.app.outputs import (
 )
 from surfinpaint.app.progress import console as _console
 from surfinpaint.app.progress import progress_bar
-from surfinpaint.app.progress import stages as _stages
+from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.holes import find_holes
 from surfinpaint.fill.objects import fill_mesh_data
@@ -62,9 +60,7 @@ batch = lazy_module("surfinpaint.app.batch")
 data = lazy_module("surfinpaint.data")
 experiments = lazy_module("surfinpaint.app.experiments")
 figures = lazy_module("surfinpaint.app.figures")
-lambda_h_figures = lazy_module("surfinpaint.app.lambda_h_figures")
 report = lazy_module("surfinpaint.app.report")
-representation = lazy_module("surfinpaint.representation.represent")
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
 
@@ -220,80 +216,6 @@ def _dask_client(address: str):
         raise OSError(f"cannot reach the Dask scheduler at {address}: {exc}") from exc
 
 
-def _grid_options(args: argparse.Namespace) -> dict:
-    options = {"sampling": args.sampling, "subdivide": args.subdivide,
-               "spacing": args.spacing, "grading": args.grading}
-    return {k: v for k, v in options.items() if v is not None}
-
-
-def _print_round_trip(console, check, what: str) -> None:
-    from rich.markup import escape
-
-    colour = "green" if check.converged else "red"
-    console.print(f"{what} [{colour}]{escape(check.summary())}[/{colour}]")
-
-
-def cmd_represent(args: argparse.Namespace) -> int:
-    console = _console()
-    vertices, faces = read_mesh(args.mesh)
-    grid = _grid_options(args)
-    if args.grading is not None and args.spacing != "graded":
-        raise _UsageError("--grading is for --spacing graded")
-    if args.discretization == "grid":
-        grid["resolution"] = args.resolution or 256
-    elif grid or args.resolution:
-        if not args.export_grid:
-            raise _UsageError("--resolution, --spacing, --grading, --sampling and --subdivide "
-                              "are for --discretization grid or --export-grid")
-    with _stages(console) as stage:
-        rep = representation.represent(
-            vertices, faces, discretization=args.discretization, map=args.map,
-            check=not args.no_check, progress=stage,
-            **(grid if args.discretization == "grid" else {}))
-    rep.save(args.output)
-    written = [str(args.output)]
-    if rep.check is not None:
-        _print_round_trip(console, rep.check, f"{args.discretization} representation:")
-    if args.export_grid:
-        with _stages(console) as stage:
-            exported = representation.grid_export(rep, args.resolution,
-                                                  check=not args.no_check, progress=stage,
-                                                  **grid)
-        exported.save(args.export_grid)
-        written.append(str(args.export_grid))
-        if exported.check is not None:
-            shape = "×".join(str(n) for n in exported.grid.shape)
-            _print_round_trip(console, exported.check, f"grid export {shape}:")
-    if args.png:
-        lambda_h_figures.plot_representation(rep, args.png)
-        written.append(str(args.png))
-    console.print("wrote " + ", ".join(written))
-    return EXIT_OK
-
-
-def cmd_rebuild(args: argparse.Namespace) -> int:
-    console = _console()
-    try:
-        rep = representation.load_representation(args.representation)
-    except (OSError, KeyError, ValueError) as exc:
-        raise MeshError(f"not a λ-H representation file ({exc})",
-                        path=str(args.representation)) from exc
-    if rep.discretization != "grid" and args.method not in (None, "laplacian"):
-        raise _UsageError("--method is for grid representations; a mesh representation is "
-                          "rebuilt on its triangles")
-    with _stages(console) as stage:
-        stage(f"rebuilding from λ and H ({args.representation})")
-        if rep.discretization == "grid":
-            out = representation.rebuild(rep, method=args.method)
-        else:
-            out = representation.rebuild(rep)
-    write_mesh(args.output, out.vertices, out.faces)
-    _print_round_trip(console, representation.round_trip(rep, out),
-                      "against the stored original:")
-    console.print(f"wrote {args.output}")
-    return EXIT_OK
-
-
 def cmd_demo(args: argparse.Namespace) -> int:
     from rich.markup import escape
 
@@ -318,57 +240,6 @@ def cmd_demo(args: argparse.Namespace) -> int:
             console.print(escape(line))
     console.print(f"wrote {filled} and {picture}")
     return EXIT_OK
-
-
-def _add_representation_commands(sub) -> None:
-    """``surfinpaint represent`` and ``rebuild``."""
-    p = sub.add_parser("represent", help="λ-H representation of a disk-like mesh",
-                       description="Conformally map a disk-topology MESH to the plane and "
-                       "store its conformal factor λ and mean curvature H, on the mesh's own "
-                       "parameter triangles (default) or on a grid; then rebuild the mesh "
-                       "from them and print the round-trip error.")
-    p.add_argument("mesh", help="input mesh (a topological disk)")
-    p.add_argument("-o", "--output", required=True, help="output .npz")
-    p.add_argument("--discretization", choices=("mesh", "grid"), default="mesh",
-                   help="λ, H at the mesh's vertices, rebuilt on its triangles (default: "
-                   "exact when the rebuild converges), or the paper's regular grid")
-    p.add_argument("--map", choices=("rectangular", "lscm"), default="lscm",
-                   help="conformal map: free-boundary LSCM (default: 2-4x more accurate "
-                   "round trips, measured) or the paper's rectangular map")
-    p.add_argument("--resolution", type=positive_int,
-                   help="grid nodes along the long side (grid: default 256; --export-grid: "
-                   "default from λ's range, doubled up to 1024 while the grid's samples "
-                   "alone miss the mesh by more than 1 %% of the diagonal)")
-    p.add_argument("--export-grid", metavar="NPZ",
-                   help="also write the grid (image) form of the representation and print "
-                   "its own round trip")
-    p.add_argument("--spacing", choices=("uniform", "graded"),
-                   help="grid: the paper's square grid (default) or a graded one, densest "
-                   "where the map squeezes the surface (a tall finger or a limb's tip)")
-    p.add_argument("--grading", type=float, metavar="G",
-                   help="graded grid: the share of nodes crowded where the map squeezes, in "
-                   "[0, 1) (default 0.8; lower gives squarer cells, which rebuild better)")
-    p.add_argument("--sampling", choices=("smooth", "pl"),
-                   help="grid: sample the C1 (Clough-Tocher) surface through the vertices "
-                   "(default) or the piecewise-linear mesh")
-    p.add_argument("--subdivide", type=whole_number(0), metavar="LEVELS",
-                   help="grid: subdivision levels onto the smooth surface before the map "
-                   "(default: automatic, from the mesh's crease angles; 0: none)")
-    p.add_argument("--no-check", action="store_true",
-                   help="do not rebuild and measure the round trip")
-    p.add_argument("--png", help="also write λ and H as images")
-    p.set_defaults(func=cmd_represent)
-
-    p = sub.add_parser("rebuild", help="rebuild a mesh from a λ-H representation",
-                       description="Rebuild the surface from the (λ, H) stored in a .npz "
-                       "written by `surfinpaint represent`, and print its distance to the "
-                       "original stored with it.")
-    p.add_argument("representation", help="a .npz from `surfinpaint represent`")
-    p.add_argument("-o", "--output", required=True, help="output mesh")
-    p.add_argument("--method", choices=("newton", "laplacian", "gauss-codazzi"),
-                   help="grid reconstruction (default newton: the mesh form on the grid's "
-                   "own triangles, coarse to fine; laplacian for grid files of format 1)")
-    p.set_defaults(func=cmd_rebuild)
 
 
 # the commands whose parsers need nothing beyond this module: with one of them named first,
@@ -449,7 +320,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    help="print nothing but the failed files' errors")
     p.set_defaults(func=cmd_batch)
 
-    _add_representation_commands(sub)
+    add_representation_parsers(sub)
 
     p = sub.add_parser("demo", help="fill the bundled default mesh and draw before/after",
                        description="Fill the holes of the bundled snowman and write the "
@@ -469,7 +340,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 _INPUTS = ("mesh", "representation", "truth")
 _OUTPUTS = {
     "fill": (("output", "-o", "file"), ("png", "--png", "file"), ("json", "--json", "file")),
-    "represent": (("output", "-o", "file"), ("png", "--png", "file")),
+    "represent": (("output", "-o", "file"), ("png", "--png", "file"),
+                  ("export_grid", "--export-grid", "file"),
+                  ("export_quadtree", "--export-quadtree", "file")),
     "rebuild": (("output", "-o", "file"),),
     "batch": (("output", "-o", "dir"),),
     "demo": (("output", "-o", "dir"),),

@@ -1,5 +1,5 @@
 """Pictures of λ-H representations: λ and H over the parameter domain (the paper's Figs.
-2–4) and the map's angle distortion (Fig. 1(D)), for both discretizations."""
+2–4) and the map's angle distortion (Fig. 1(D)), for each discretization."""
 
 from __future__ import annotations
 
@@ -42,9 +42,10 @@ def plot_representation(rep, path: str | os.PathLike, *, clip: float = 1.0,
 
     Parameters
     ----------
-    rep : MeshLambdaH or LambdaH
+    rep : MeshLambdaH, LambdaH or QuadtreeLambdaH
         On the mesh, λ and H are drawn on the parameter triangles (Gouraud shading of the
-        vertex values); on the grid, as images.
+        vertex values); on the grid, as images; on quadtrees, on the finest tree's
+        triangles, with their edges.
     path : str or PathLike
     clip : float
         The colour ranges are clipped to the ``clip``/``100 − clip`` percentiles (H of a
@@ -60,15 +61,22 @@ def plot_representation(rep, path: str | os.PathLike, *, clip: float = 1.0,
                              gridspec_kw={"width_ratios": [1, 1, 0.8]})
     panels = ((axes[0], rep.lam, "conformal factor λ", "viridis", False),
               (axes[1], rep.H, "mean curvature H", "RdBu_r", True))
-    if rep.discretization == "mesh":
+    if rep.discretization in ("mesh", "quadtree"):
         import matplotlib.tri as mtri
 
-        triangulation = mtri.Triangulation(rep.uv[:, 0], rep.uv[:, 1], rep.faces)
-        size = f"{len(rep.vertices)} vertices"
+        if rep.discretization == "mesh":
+            uv, faces = rep.uv, rep.faces
+            size = f"{len(rep.vertices)} vertices"
+        else:  # the finest tree, its cells drawn: where the map squeezes, they are small
+            uv, faces = rep.finest.uv, rep.finest.faces
+            size = f"finest tree of {len(uv)} nodes"
+        triangulation = mtri.Triangulation(uv[:, 0], uv[:, 1], faces)
         for ax, data, name, cmap, symmetric in panels:
             values = np.where(np.isfinite(data), data, np.nanmedian(data))  # border: no H
             im = ax.tripcolor(triangulation, values, shading="gouraud", cmap=cmap,
                               **_range(data, clip, symmetric))
+            if rep.discretization == "quadtree":
+                ax.triplot(triangulation, color="k", linewidth=0.1, alpha=0.3)
             _decorate(fig, ax, im, name)
     else:
         g = rep.grid

@@ -43,7 +43,7 @@ from surfinpaint.representation.grid import (
 from surfinpaint.representation.grid_newton import GridLevel, rebuild_nested, triangle_levels
 from surfinpaint.representation.mapping import MAPS, FoldedMapWarning, parameterize
 from surfinpaint.representation.reconstruction import ReconstructionInfo, reconstruct
-from surfinpaint.representation.roundtrip import RoundTrip, save_npz
+from surfinpaint.representation.roundtrip import RoundTrip, require_arrays, save_npz
 
 ndimage = lazy_module("scipy.ndimage")  # the grid world only: no mesh fill imports it
 
@@ -153,8 +153,6 @@ class LambdaH:
             arrays.update({f"level{k}_lam": lv.lam, f"level{k}_H": lv.H,
                            f"level{k}_defect": lv.defect})
         arrays["discretization"] = np.array("grid")
-        if self.check is not None:
-            arrays.update(self.check.to_arrays())
         arrays["map"] = np.array(self.map)
         arrays["band"] = np.array(self.band)
         arrays["sampling"] = np.array(self.sampling)
@@ -165,7 +163,7 @@ class LambdaH:
         if self.grid.graded:
             arrays["grid_u"], arrays["grid_v"] = self.grid.u, self.grid.v
         arrays["format"] = np.array(_FORMAT)
-        save_npz(path, arrays)
+        save_npz(path, arrays, self.check)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> LambdaH:
@@ -177,11 +175,9 @@ class LambdaH:
             When the file is not a λ-H representation (names what is missing).
         """
         with np.load(path, allow_pickle=False) as data:
-            needed = {"grid_origin", "grid_h", "grid_shape", "domain", "lam", "H", "phi",
-                      "known", "uv", "vertices", "faces", "map"}
-            missing = sorted(needed - set(data.files))
-            if missing:
-                raise ValueError(f"{path}: not a λ-H representation (missing {missing})")
+            require_arrays(data, ("grid_origin", "grid_h", "grid_shape", "domain", "lam", "H",
+                                  "phi", "known", "uv", "vertices", "faces", "map"), path,
+                           "a λ-H representation")
             axes = None
             if "grid_u" in data.files:  # a graded grid
                 axes = (tuple(data["grid_u"].tolist()), tuple(data["grid_v"].tolist()))

@@ -1,7 +1,9 @@
 """Balanced quadtree triangulations of the unit square: cells as small as they must be
 where they must be, every triangle a right isosceles one.
 
-A candidate for an adaptive form of the grid export (issue 18): the graded grid of
+The triangulations of the quadtree form of the λ-H representation
+(:mod:`~surfinpaint.representation.quadtree_represent`, ``represent --export-quadtree``;
+issue 18): the graded grid of
 :func:`~surfinpaint.representation.grid.graded_grid_over` crowds whole rows and columns, so
 its cells away from the crowded spot are thin (aspect up to 128 on the benchmark's foot cap
 at 128², where its rebuild fails), while a quadtree refines only where the map squeezes the
@@ -12,7 +14,7 @@ interpolant to 0.0009–0.005 % mean / 0.1–0.67 % Hausdorff of the diagonal, w
 512² grid takes about 200 thousand nodes for 0.0009–0.005 % / 0.08–0.77 %; sampled from the
 mesh itself, the foot and leg caps are rebuilt exactly by the mesh form's Newton method,
 coarse to fine over three such trees (0.016 % / 0.15–0.23 %; the graded grid's rebuild does
-not converge on them), the finger is not. Not yet an export format.
+not converge on them), the finger is not.
 
 The tree is *2:1 balanced* (cells sharing an edge differ by at most one level), so a
 cell's side carries at most one hanging node, its midpoint; each leaf is triangulated as a

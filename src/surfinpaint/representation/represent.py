@@ -10,6 +10,11 @@ Two discretizations (method.md §3, §8):
 - ``"grid"``: the paper's images, φ resampled on a regular grid over the parameter domain
   (:mod:`~surfinpaint.representation.grid_represent`). :func:`grid_export` makes it from a
   mesh representation, with a resolution that follows λ's range.
+- ``"quadtree"``: φ resampled at the nodes of balanced quadtrees over the parameter domain,
+  refined where the map squeezes the surface, coarse to fine
+  (:mod:`~surfinpaint.representation.quadtree_represent`); :func:`quadtree_export` makes
+  it from a mesh representation. It holds disks whose λ varies by 10³–10⁴ (a tall finger,
+  a limb's tip) with tens of thousands of nodes where a grid needs hundreds of thousands.
 
 :func:`represent` checks itself by default: it rebuilds the mesh from the representation
 and stores the round-trip error (:class:`~surfinpaint.representation.roundtrip.RoundTrip`).
@@ -34,8 +39,19 @@ from surfinpaint.representation.grid_represent import (
 )
 from surfinpaint.representation.mapping import MAPS, parameterize
 from surfinpaint.representation.mesh_lambda_h import mesh_lambda_h, rebuild_on_mesh
+from surfinpaint.representation.quadtree_represent import (
+    QuadtreeLambdaH,
+    rebuild_quadtree,
+    represent_quadtree,
+    sampled_tree_vertices,
+)
 from surfinpaint.representation.reconstruction import NotConvergedWarning
-from surfinpaint.representation.roundtrip import RoundTrip, measure_round_trip, save_npz
+from surfinpaint.representation.roundtrip import (
+    RoundTrip,
+    measure_round_trip,
+    require_arrays,
+    save_npz,
+)
 
 __all__ = [
     "COARSE_FLOOR",
@@ -47,22 +63,23 @@ __all__ = [
     "export_resolution",
     "grid_export",
     "load_representation",
+    "quadtree_export",
     "rebuild",
     "represent",
     "round_trip",
     "sampling_floor",
 ]
 
-DISCRETIZATIONS = ("mesh", "grid")
+DISCRETIZATIONS = ("mesh", "grid", "quadtree")
 # a grid whose samples alone miss the mesh by more than this (% of the diagonal, Hausdorff)
 # somewhere is reported (CoarseGridWarning): the grid export's target is 1 % at 512²
 COARSE_FLOOR = 1.0
 
 
 class CoarseGridWarning(UserWarning):
-    """A grid representation's sampling floor (its samples alone, no rebuild) misses the
-    mesh by more than ``COARSE_FLOOR`` % of the diagonal (measured: the foot cap, the tall
-    finger and the quadruped's leg cap at 512² and 1024², docs/representation.md,
+    """A grid or quadtree representation's sampling floor (its samples alone, no rebuild)
+    misses the mesh by more than ``COARSE_FLOOR`` % of the diagonal (measured: the foot cap,
+    the tall finger and the quadruped's leg cap at 512² and 1024², docs/representation.md,
     session 17)."""
 
 # 3: the defect in the frame of w = P φ_u − n × φ_v (2: of P φ_u; its rebuild is not exact)
@@ -122,9 +139,7 @@ class MeshLambdaH:
                   ("vertices", "faces", "uv", "lam", "H", "defect", "known")}
         arrays.update(discretization=np.array("mesh"), map=np.array(self.map),
                       format=np.array(_FORMAT))
-        if self.check is not None:
-            arrays.update(self.check.to_arrays())
-        save_npz(path, arrays)
+        save_npz(path, arrays, self.check)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> MeshLambdaH:
@@ -136,10 +151,9 @@ class MeshLambdaH:
             When the file is not a mesh λ-H representation (names what is missing).
         """
         with np.load(path, allow_pickle=False) as data:
-            needed = {"vertices", "faces", "uv", "lam", "H", "defect", "known", "map"}
-            missing = sorted(needed - set(data.files))
-            if missing:
-                raise ValueError(f"{path}: not a mesh λ-H representation (missing {missing})")
+            require_arrays(data, ("vertices", "faces", "uv", "lam", "H", "defect", "known",
+                                  "map"), path,
+                           "a mesh λ-H representation")
             version = int(data["format"]) if "format" in data.files else 0
             if version < _FORMAT:
                 raise ValueError(f"{path}: a mesh λ-H representation of format {version}, "
@@ -184,7 +198,7 @@ class Rebuilt:
 def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = "mesh",
               map: str = "lscm", check: bool = True, strict: bool = False,
               progress: Callable[[str], None] | None = None,
-              **grid_options) -> MeshLambdaH | LambdaH:
+              **grid_options) -> MeshLambdaH | LambdaH | QuadtreeLambdaH:
     """The λ-H representation of a disk-topology mesh, checked by its round trip.
 
     Parameters
@@ -192,11 +206,13 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
     vertices : (n, 3) float array
     faces : (f, 3) int array
         A topological disk, consistently oriented; H's sign follows its orientation.
-    discretization : {"mesh", "grid"}
-        λ and H at the vertices of the mesh's parameter triangles (default), or on a
+    discretization : {"mesh", "grid", "quadtree"}
+        λ and H at the vertices of the mesh's parameter triangles (default), on a
         regular grid (:func:`~surfinpaint.representation.grid_represent.represent_grid`,
         which takes ``resolution``, ``h``, ``band``, ``sampling``, ``subdivide``,
-        ``spacing``, ``grading``). Measured
+        ``spacing``, ``grading``), or on quadtrees refined where the map squeezes the
+        surface (:func:`~surfinpaint.representation.quadtree_represent.represent_quadtree`,
+        which takes ``targets``, ``max_depth``, ``sampling``). Measured
         (``benchmarks/represent_speed.py``, docs/representation.md): the mesh form gives the
         mesh back to ~1e-13 of the diagonal where its rebuild converges to the original;
         the grid export (:func:`grid_export`, rectangular map, nested Newton rebuild) at
@@ -217,12 +233,12 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         Called with a sentence as each stage starts (the map and λ, H; the self-check's
         rebuild, which takes most of the time on large or strongly distorted disks).
     **grid_options
-        For ``discretization="grid"`` only (``spacing="graded"`` among them: a grid denser
-        where the map squeezes the surface).
+        For ``discretization="grid"`` or ``"quadtree"`` only (``spacing="graded"`` among
+        the grid's: a grid denser where the map squeezes the surface).
 
     Returns
     -------
-    MeshLambdaH or LambdaH
+    MeshLambdaH, LambdaH or QuadtreeLambdaH
 
     Raises
     ------
@@ -247,12 +263,15 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
     f = np.asarray(faces, dtype=np.int64)
     say = progress or (lambda message: None)
     say(f"mapping {len(v)} vertices and computing λ, H"
-        + (" on the grid" if discretization == "grid" else ""))
+        + {"mesh": "", "grid": " on the grid", "quadtree": " on the quadtrees"}[discretization])
     if discretization == "grid":
         rep = represent_grid(v, f, map=map, strict=strict, **grid_options)
+    elif discretization == "quadtree":
+        rep = represent_quadtree(v, f, map=map, strict=strict, **grid_options)
     else:
         if grid_options:
-            raise ValueError(f"options {sorted(grid_options)} are for discretization='grid'")
+            raise ValueError(f"options {sorted(grid_options)} are for discretization='grid' "
+                             "or 'quadtree'")
         rep = _represent_on_mesh(v, f, map, strict)
     if check:
         say(_rebuilding(rep))
@@ -261,16 +280,24 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
     return rep
 
 
-def _warn_if_coarse(rep: MeshLambdaH | LambdaH) -> None:
-    """A :class:`CoarseGridWarning` when a grid's samples alone miss the mesh by more than
-    ``COARSE_FLOOR`` % of the diagonal somewhere: then no rebuild can give it back."""
+def _warn_if_coarse(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> None:
+    """A :class:`CoarseGridWarning` when a grid's or quadtree's samples alone miss the mesh
+    by more than ``COARSE_FLOOR`` % of the diagonal somewhere: then no rebuild can give it
+    back."""
     c = rep.check
     if c.floor_hausdorff is None or c.floor_hausdorff <= COARSE_FLOOR / 100 * c.diagonal:
         return
-    shape = "×".join(str(n) for n in rep.grid.shape)
-    finer = "a finer grid" if rep.grid.graded else "a finer or graded grid (spacing='graded')"
+    if rep.discretization == "quadtree":
+        what = (f"the finest quadtree ({len(rep.finest.uv)} nodes, cells of "
+                f"{rep.finest.target:g} × the diagonal)")
+        finer = "a smaller last target or a larger max_depth"
+    else:
+        shape = "×".join(str(n) for n in rep.grid.shape)
+        what = f"the {shape} {'graded ' if rep.grid.graded else ''}grid"
+        finer = "a finer grid" if rep.grid.graded else \
+            "a finer or graded grid (spacing='graded')"
     warnings.warn(
-        f"the {shape} {'graded ' if rep.grid.graded else ''}grid under-resolves this surface "
+        f"{what} under-resolves this surface "
         f"where the map squeezes it: its samples alone miss the mesh by "
         f"{100 * c.floor_hausdorff / c.diagonal:.3g} % of the diagonal at worst "
         f"({100 * c.floor_mean / c.diagonal:.3g} % mean), and no rebuild of it can be "
@@ -290,7 +317,7 @@ def _represent_on_mesh(v: np.ndarray, f: np.ndarray, map: str, strict: bool) -> 
                        defect=defect, known=known, map=map)
 
 
-def rebuild(rep: MeshLambdaH | LambdaH, method: str | None = None, *,
+def rebuild(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH, method: str | None = None, *,
             lam: np.ndarray | None = None, H: np.ndarray | None = None,
             defect: np.ndarray | None = None, tol: float | None = None,
             max_iter: int | None = None, **options) -> Rebuilt:
@@ -298,23 +325,27 @@ def rebuild(rep: MeshLambdaH | LambdaH, method: str | None = None, *,
 
     Parameters
     ----------
-    rep : MeshLambdaH or LambdaH
+    rep : MeshLambdaH, LambdaH or QuadtreeLambdaH
     method : {"newton", "laplacian", "gauss-codazzi"}, optional
         The grid reconstruction (grid representations only;
         :func:`~surfinpaint.representation.grid_represent.rebuild_grid`): default
         ``"newton"`` (the mesh form on the grid's own triangles, coarse to fine), or
         ``"laplacian"`` for grid files of format 1, which lack its data.
     lam, H : arrays, optional
-        Replace the representation's λ and H (e.g. inpainted ones), shaped like them.
+        Replace the representation's λ and H (e.g. inpainted ones), shaped like them (a
+        quadtree's: at its finest tree's nodes).
     defect : (n, 2) array, optional
         Mesh only: replace the conformality defect (zeros: the paper's ``Δφ = 2λ²H n``).
     tol, max_iter : float, int, optional
-        Tolerance and iteration budget: on the mesh, Newton's (relative to the border's
-        diagonal; default 1e-10 and MAX_STEPS = 150 factorizations,
-        :func:`~surfinpaint.representation.mesh_lambda_h.rebuild_on_mesh`); on the grid,
-        the Laplacian iteration's (``reconstruct``'s defaults).
+        Tolerance and iteration budget: on the mesh and the quadtrees, Newton's (relative
+        to the border's diagonal; default 1e-10 and MAX_STEPS = 150 factorizations,
+        :func:`~surfinpaint.representation.mesh_lambda_h.rebuild_on_mesh`; the quadtrees'
+        budget is the coarsest tree's); on the grid, the Laplacian iteration's
+        (``reconstruct``'s defaults).
     **options
-        Grid only: passed on to ``rebuild_grid``.
+        Grid: passed on to ``rebuild_grid``; quadtree: ``direct`` (each tree alone, not
+        coarse to fine) for
+        :func:`~surfinpaint.representation.quadtree_represent.level_solves`.
 
     Returns
     -------
@@ -336,6 +367,16 @@ def rebuild(rep: MeshLambdaH | LambdaH, method: str | None = None, *,
             v, f, info = rebuild_grid(rep, method, lam=lam, H=H, **options)
         out = Rebuilt(v, f, info.converged, info.iterations, info.message,
                       time.perf_counter() - started)
+    elif isinstance(rep, QuadtreeLambdaH):
+        if method is not None or defect is not None:
+            raise ValueError("method and defect are not for quadtree representations (the "
+                             "mesh form's Newton method on each tree's own triangles)")
+        started = time.perf_counter()
+        v, f, info = rebuild_quadtree(rep, lam=lam, H=H, tol=1e-10 if tol is None else tol,
+                                      max_iter=MAX_STEPS if max_iter is None else max_iter,
+                                      **options)
+        out = Rebuilt(v, f, info.converged, info.iterations, info.message,
+                      time.perf_counter() - started)
     else:
         if options or method is not None:
             raise ValueError("method and reconstruction options are for grid representations")
@@ -354,7 +395,7 @@ def rebuild(rep: MeshLambdaH | LambdaH, method: str | None = None, *,
     return out
 
 
-def check_representation(rep: MeshLambdaH | LambdaH) -> RoundTrip:
+def check_representation(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> RoundTrip:
     """Rebuild the mesh from ``rep`` and measure it against the original it stores."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NotConvergedWarning)  # it is in the result
@@ -362,19 +403,22 @@ def check_representation(rep: MeshLambdaH | LambdaH) -> RoundTrip:
     return round_trip(rep, out)
 
 
-def round_trip(rep: MeshLambdaH | LambdaH, out: Rebuilt) -> RoundTrip:
+def round_trip(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH, out: Rebuilt) -> RoundTrip:
     """The round-trip error of ``out`` (:func:`rebuild`'s result) against the original that
-    ``rep`` stores; for a grid, with its sampling floor (the error of an exact rebuild of
-    that grid, :func:`~surfinpaint.representation.grid_represent.sampled_vertices`)."""
-    floor = sampled_vertices(rep) if rep.discretization == "grid" else None
+    ``rep`` stores; for a grid or quadtree, with its sampling floor (the error of an exact
+    rebuild of it, :func:`~surfinpaint.representation.grid_represent.sampled_vertices`,
+    :func:`~surfinpaint.representation.quadtree_represent.sampled_tree_vertices`)."""
+    floor = {"grid": sampled_vertices, "quadtree": sampled_tree_vertices,
+             "mesh": lambda rep: None}[rep.discretization](rep)
     return measure_round_trip(rep.vertices, out.vertices, rep.faces, converged=out.converged,
                               iterations=out.iterations, message=out.message,
                               seconds=out.seconds, floor=floor)
 
 
-def load_representation(path: str | os.PathLike) -> MeshLambdaH | LambdaH:
-    """Read either kind of representation file (:meth:`MeshLambdaH.save`,
-    :meth:`LambdaH.save`).
+def load_representation(path: str | os.PathLike
+                        ) -> MeshLambdaH | LambdaH | QuadtreeLambdaH:
+    """Read any kind of representation file (:meth:`MeshLambdaH.save`,
+    :meth:`LambdaH.save`, :meth:`QuadtreeLambdaH.save`).
 
     Raises
     ------
@@ -385,6 +429,8 @@ def load_representation(path: str | os.PathLike) -> MeshLambdaH | LambdaH:
         kind = str(data["discretization"]) if "discretization" in data.files else "grid"
     if kind == "mesh":
         return MeshLambdaH.load(path)
+    if kind == "quadtree":
+        return QuadtreeLambdaH.load(path)
     return LambdaH.load(path)
 
 
@@ -473,9 +519,52 @@ def grid_export(rep: MeshLambdaH, resolution: int | None = None, *, check: bool 
     return grid
 
 
-def _rebuilding(rep: MeshLambdaH | LambdaH) -> str:
+def _rebuilding(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> str:
     """The self-check's stage, for a ``progress`` callback."""
+    if rep.discretization == "quadtree":
+        nodes = ", ".join(str(len(level.uv)) for level in rep.levels)
+        return f"self-check: rebuilding the quadtrees ({nodes} nodes) coarse to fine"
     if rep.discretization == "grid":
         shape = "×".join(str(n) for n in rep.grid.shape)
         return f"self-check: rebuilding the {shape} grid from its λ and H"
     return f"self-check: rebuilding the {len(rep.vertices)} vertices from λ and H"
+
+
+def quadtree_export(rep: MeshLambdaH, *, check: bool = True, map: str = "lscm",
+                    progress: Callable[[str], None] | None = None,
+                    **quadtree_options) -> QuadtreeLambdaH:
+    """The quadtree form of a mesh representation, with its own round-trip error.
+
+    Parameters
+    ----------
+    rep : MeshLambdaH
+    check : bool
+        Rebuild the mesh from the trees, coarse to fine, and store the round trip in
+        ``check`` with the sampling floor (an exact rebuild of the finest tree).
+    map : {"lscm", "rectangular"}
+        The trees' conformal map. LSCM by default: the rectangle's corners squeeze the
+        surface too, and no rectangular-map tree of the tuning disks was rebuilt
+        (docs/representation.md, session 19).
+    progress : callable, optional
+        Called with a sentence as each stage starts.
+    **quadtree_options
+        ``targets``, ``max_depth``, ``sampling``
+        (:func:`~surfinpaint.representation.quadtree_represent.represent_quadtree`).
+
+    Warns
+    -----
+    CoarseGridWarning
+        With ``check``, when the finest tree's samples alone miss the mesh by more than
+        ``COARSE_FLOOR`` % of the diagonal somewhere.
+    NotConvergedWarning
+        Never: a rebuild that does not converge is reported in ``check`` (converged False).
+
+    Examples
+    --------
+    >>> from surfinpaint.data import bumpy_disk
+    >>> tree = quadtree_export(represent(*bumpy_disk(8), check=False), targets=(0.1, 0.05))
+    >>> tree.check.converged, tree.check.mean == tree.check.floor_mean
+    (True, True)
+    """
+    return represent(rep.vertices, rep.faces, discretization="quadtree", map=map,
+                     check=check, progress=progress, **quadtree_options)

@@ -11,7 +11,7 @@ import numpy as np
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.io.atomic import atomic_open
 
-__all__ = ["RoundTrip", "measure_round_trip", "save_npz"]
+__all__ = ["RoundTrip", "measure_round_trip", "require_arrays", "save_npz"]
 
 # surface samples for the two-sided distance of the self-check
 SAMPLES = 20000
@@ -39,10 +39,11 @@ class RoundTrip:
     seconds : float
         Time of the rebuild.
     floor_mean, floor_hausdorff : float
-        A grid representation's *sampling floor*, mesh units: the same distances for the
-        mesh as an exact rebuild of its grid gives it back
-        (:func:`~surfinpaint.representation.grid_represent.sampled_vertices`), the least
-        error any rebuild of that grid can have. None for the mesh form (its floor is 0: it
+        A grid or quadtree representation's *sampling floor*, mesh units: the same
+        distances for the mesh as an exact rebuild of its grid (or finest tree) gives it
+        back (:func:`~surfinpaint.representation.grid_represent.sampled_vertices`,
+        :func:`~surfinpaint.representation.quadtree_represent.sampled_tree_vertices`), the
+        least error any rebuild of it can have. None for the mesh form (its floor is 0: it
         stores the mesh's own triangles) and in files written before it was measured.
     """
 
@@ -74,7 +75,7 @@ class RoundTrip:
                 f"diagonal {self.diagonal:.3g}), Hausdorff {self.hausdorff:.3g} "
                 f"({self.hausdorff_percent:.3g} %); rebuild {state}: {self.message}")
         if self.floor_mean is not None:
-            line += (f"; the grid's samples alone (no rebuild can be closer): mean "
+            line += (f"; its samples alone (no rebuild can be closer): mean "
                      f"{self.floor_mean:.3g} ({100 * self.floor_mean / self.diagonal:.3g} %), "
                      f"Hausdorff {self.floor_hausdorff:.3g} "
                      f"({100 * self.floor_hausdorff / self.diagonal:.3g} %)")
@@ -135,8 +136,21 @@ def _distances(v: np.ndarray, w: np.ndarray, f: np.ndarray, samples: int
     return float(d["mean"]), float(d["hausdorff"]), float(np.linalg.norm(w - v, axis=1).max())
 
 
-def save_npz(path: str | os.PathLike, arrays: dict[str, np.ndarray]) -> None:
-    """Write ``arrays`` to ``path`` as a compressed ``.npz`` through the one atomic writer
+def save_npz(path: str | os.PathLike, arrays: dict[str, np.ndarray],
+             check: RoundTrip | None = None) -> None:
+    """Write ``arrays`` (and ``check``'s fields, :meth:`RoundTrip.to_arrays`, when given) to
+    ``path`` as a compressed ``.npz`` through the one atomic writer
     (:func:`~surfinpaint.io.atomic.atomic_open`): a failed write leaves no partial file."""
+    if check is not None:
+        arrays = {**arrays, **check.to_arrays()}
     with atomic_open(path) as handle:
         np.savez_compressed(handle, **arrays)
+
+
+def require_arrays(data, needed, path: str | os.PathLike, what: str) -> None:
+    """Raise ``ValueError`` naming the arrays of ``needed`` that the loaded ``.npz``
+    ``data`` lacks: the file at ``path`` is then not ``what`` (e.g. "a mesh λ-H
+    representation")."""
+    missing = sorted(set(needed) - set(data.files))
+    if missing:
+        raise ValueError(f"{path}: not {what} (missing {missing})")

@@ -1,0 +1,287 @@
+"""The λ-H representation on quadtrees: trees refined where the map squeezes the surface,
+their round trip down to the sampling floor, files, edits, failures reported, the CLI."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from test_representation import finger
+
+from surfinpaint.app.cli import main
+from surfinpaint.data import bumpy_disk
+from surfinpaint.geometry.metrics import surface_distance
+from surfinpaint.io.formats import read_mesh, write_mesh
+from surfinpaint.representation.quadtree_represent import (
+    QuadtreeLambdaH,
+    level_solves,
+    represent_quadtree,
+    sampled_tree_vertices,
+)
+from surfinpaint.representation.reconstruction import NotConvergedWarning
+from surfinpaint.representation.represent import (
+    CoarseGridWarning,
+    load_representation,
+    quadtree_export,
+    rebuild,
+    represent,
+)
+
+
+def diagonal(v: np.ndarray) -> float:
+    return float(np.linalg.norm(np.ptp(v, axis=0)))
+
+
+def tree_edges_on_the_surface(level) -> np.ndarray:
+    """Every triangle side of a tree, measured between its sampled nodes in space."""
+    p = level.phi[level.faces]
+    return np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2).ravel()
+
+
+@pytest.fixture(scope="module")
+def tall_finger():
+    """λ varies ~60× over it: a uniform grid or tree resolving its tip is ~60² too dense
+    elsewhere."""
+    return finger(height=1.5, rings=12)
+
+
+# ---------------------------------------------------------------------------- the trees
+
+
+@pytest.mark.parametrize("target", [0.2, 0.1, 0.05])
+def test_every_tree_triangle_is_at_most_its_target_long_on_the_surface(tall_finger, target):
+    v, f = tall_finger
+    rep = represent_quadtree(v, f, targets=(target,))
+    sides = tree_edges_on_the_surface(rep.finest)
+    # the refinement test: a cell's side in the plane × σ ≤ target × diagonal, so its
+    # triangles' sides (half a diagonal to a side of the cell) are no longer in space
+    assert sides.max() <= target * diagonal(v)
+    # and the tree is adaptive: a uniform tree this fine everywhere would have far more nodes
+    finest_cell = sides.min() * np.sqrt(2)  # the shortest side: half a cell's diagonal
+    uniform_nodes = (np.ptp(rep.finest.uv, axis=0) / (
+        finest_cell / _sigma_range(rep.finest))).prod()
+    assert len(rep.finest.uv) < uniform_nodes / 4
+
+
+def _sigma_range(level) -> float:
+    """The largest stretch σ (space / plane) of a tree's triangle sides."""
+    p, q = level.phi[level.faces], level.uv[level.faces]
+    space = np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2)
+    plane = np.linalg.norm(q - np.roll(q, 1, axis=1), axis=2)
+    return float((space / plane).max())
+
+
+def test_a_uniform_tree_would_break_the_side_bound_at_the_fingertip(tall_finger):
+    """The bound above fails without refinement where the map squeezes: the check has
+    teeth."""
+    v, f = tall_finger
+    shallow = represent_quadtree(v, f, targets=(0.05,), max_depth=4)  # at most 16² cells
+    assert tree_edges_on_the_surface(shallow.finest).max() > 0.05 * diagonal(v)
+
+
+def test_the_finer_trees_keep_every_node_of_the_coarser_ones(tall_finger):
+    v, f = tall_finger
+    rep = represent_quadtree(v, f, targets=(0.2, 0.1, 0.05))
+    sizes = [len(level.keys) for level in rep.levels]
+    assert sizes == sorted(sizes) and sizes[0] < sizes[-1]
+    for coarse, fine in zip(rep.levels, rep.levels[1:], strict=False):
+        assert np.isin(coarse.keys, fine.keys).all()
+        # a shared node is the same point of the plane, with the same sampled φ
+        pos = np.searchsorted(fine.keys, coarse.keys)
+        np.testing.assert_array_equal(fine.uv[pos], coarse.uv)
+        np.testing.assert_allclose(fine.phi[pos], coarse.phi, atol=1e-12)
+
+
+def test_the_border_nodes_are_the_known_ones_and_h_is_not_defined_there(tall_finger):
+    v, f = tall_finger
+    level = represent_quadtree(v, f, targets=(0.1,)).finest
+    counts = np.zeros(len(level.uv), dtype=int)
+    sides = np.sort(np.stack([level.faces, np.roll(level.faces, 1, axis=1)], axis=2)
+                    .reshape(-1, 2), axis=1)
+    _, index, once = np.unique(sides, axis=0, return_index=True, return_counts=True)
+    np.add.at(counts, sides[index[once == 1]].ravel(), 1)
+    np.testing.assert_array_equal(level.known, counts > 0)
+    assert np.isnan(level.H[level.known]).all() and np.isfinite(level.H[~level.known]).all()
+    assert np.isfinite(level.lam).all() and (level.lam > 0).all()
+
+
+# ------------------------------------------------------------------------- the round trip
+
+
+def test_the_round_trip_is_the_sampling_floor_and_the_floor_falls_with_the_target(
+        tall_finger):
+    v, f = tall_finger
+    floors = []
+    for targets in ((0.2,), (0.2, 0.1), (0.2, 0.1, 0.05)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", CoarseGridWarning)  # tested below
+            rep = represent(v, f, discretization="quadtree", targets=targets)
+        c = rep.check
+        assert isinstance(rep, QuadtreeLambdaH) and c.converged
+        # the rebuild gives the trees' own samples back: it adds nothing to the floor
+        assert c.mean == pytest.approx(c.floor_mean, rel=1e-6)
+        assert c.hausdorff == pytest.approx(c.floor_hausdorff, rel=1e-6)
+        floors.append(c.floor_mean / c.diagonal)
+    assert floors[1] < 0.7 * floors[0] and floors[2] < 0.7 * floors[1]
+    assert floors[2] < 2e-4  # 0.011 % of the diagonal, measured
+
+
+def test_coarse_to_fine_and_direct_rebuilds_meet(tall_finger):
+    v, f = tall_finger
+    rep = represent_quadtree(v, f, targets=(0.2, 0.1))
+    staged = list(level_solves(rep))
+    direct = list(level_solves(rep, direct=True))
+    assert all(s.converged for s in staged + direct)
+    assert "held, then released" in staged[1].message
+    np.testing.assert_allclose(staged[-1].points, direct[-1].points, atol=1e-8 * diagonal(v))
+    np.testing.assert_allclose(staged[-1].points, rep.finest.phi, atol=1e-8 * diagonal(v))
+
+
+def test_edited_lambda_and_h_give_another_surface_and_wrong_shapes_are_refused(tall_finger):
+    v, f = tall_finger
+    rep = represent_quadtree(v, f, targets=(0.2, 0.1))
+    same = rebuild(rep)
+    flatter = rebuild(rep, H=0.5 * rep.H)
+    assert flatter.converged
+    moved = np.linalg.norm(flatter.vertices - same.vertices, axis=1)
+    assert moved.max() > 0.05 * diagonal(v)  # the finger is lower with half its curvature
+    assert flatter.vertices[:, 2].max() < same.vertices[:, 2].max()
+    with pytest.raises(ValueError, match="finest tree's"):
+        rebuild(rep, lam=rep.lam[:-1])
+    with pytest.raises(ValueError, match="not for quadtree"):
+        rebuild(rep, method="laplacian")
+
+
+def test_a_rebuild_that_does_not_converge_says_so_and_stops_at_that_tree(tall_finger):
+    v, f = tall_finger
+    rep = represent_quadtree(v, f, targets=(0.2, 0.1))
+    with pytest.warns(NotConvergedWarning, match="did not converge"):
+        out = rebuild(rep, max_iter=1)
+    assert not out.converged
+    assert f"{len(rep.levels[0].uv)} nodes: 1 (not converged)" in out.message
+    assert f"{len(rep.finest.uv)} nodes" not in out.message  # the finer tree is not tried
+
+
+def test_a_coarse_finest_tree_is_reported(tall_finger):
+    v, f = tall_finger
+    with pytest.warns(CoarseGridWarning, match="a smaller last target"):
+        represent(v, f, discretization="quadtree", targets=(0.2,))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CoarseGridWarning)
+        represent(v, f, discretization="quadtree", targets=(0.2, 0.1, 0.05))
+
+
+# ------------------------------------------------------------------------------ the files
+
+
+def test_save_and_load_give_the_same_representation_and_rebuild(tmp_path, tall_finger):
+    v, f = tall_finger
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoarseGridWarning)
+        rep = quadtree_export(represent(v, f, check=False), targets=(0.2, 0.1))
+    rep.save(tmp_path / "tree.npz")
+    back = load_representation(tmp_path / "tree.npz")
+    assert isinstance(back, QuadtreeLambdaH) and back.check == rep.check
+    assert (back.map, back.sampling, back.max_depth) == (rep.map, rep.sampling, rep.max_depth)
+    for a, b in zip(rep.levels, back.levels, strict=True):
+        for name in ("keys", "uv", "faces", "phi", "known", "lam", "H", "defect"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+    np.testing.assert_array_equal(rebuild(back).vertices, rebuild(rep).vertices)
+    np.testing.assert_array_equal(sampled_tree_vertices(back), sampled_tree_vertices(rep))
+
+
+def test_a_file_missing_a_tree_is_refused_by_name(tmp_path, tall_finger):
+    v, f = tall_finger
+    rep = represent_quadtree(v, f, targets=(0.2, 0.1))
+    rep.save(tmp_path / "tree.npz")
+    with np.load(tmp_path / "tree.npz") as data:
+        arrays = {k: data[k] for k in data.files if k != "level1_phi"}
+    np.savez(tmp_path / "cut.npz", **arrays)
+    with pytest.raises(ValueError, match="level1_phi"):
+        load_representation(tmp_path / "cut.npz")
+
+
+@pytest.mark.parametrize("options, match", [
+    ({"targets": (0.05, 0.1)}, "decreasing"),
+    ({"targets": (0.1, 0.0)}, "positive"),
+    ({"targets": ()}, "positive"),
+    ({"map": "sphere"}, "conformal map"),
+    ({"sampling": "cubic"}, "sampling"),
+    ({"max_depth": 0}, "max_depth"),
+    ({"max_depth": 21}, "max_depth"),
+])
+def test_bad_options_are_refused(options, match):
+    v, f = bumpy_disk(4)
+    with pytest.raises(ValueError, match=match):
+        represent_quadtree(v, f, **options)
+
+
+def test_stages_are_said_as_they_start():
+    said = []
+    represent(*bumpy_disk(6), discretization="quadtree", targets=(0.2, 0.1),
+              progress=said.append)
+    assert said[0].startswith("mapping") and "quadtrees" in said[0]
+    assert said[1].startswith("self-check: rebuilding the quadtrees (")
+
+
+# -------------------------------------------------------------------------------- the CLI
+
+
+def test_cli_exports_and_rebuilds_a_quadtree(tmp_path, capsys, tall_finger):
+    v, f = tall_finger
+    mesh, rep_path, tree_path = tmp_path / "finger.ply", tmp_path / "rep.npz", \
+        tmp_path / "tree.npz"
+    write_mesh(mesh, v, f)
+    assert main(["represent", str(mesh), "-o", str(rep_path), "--export-quadtree",
+                 str(tree_path), "--targets", "0.2,0.1", "--png",
+                 str(tmp_path / "rep.png")]) == 0
+    err = " ".join(capsys.readouterr().err.split())
+    tree = load_representation(tree_path)
+    assert [level.target for level in tree.levels] == [0.2, 0.1]
+    nodes = "/".join(str(len(level.uv)) for level in tree.levels)
+    assert f"quadtree export ({nodes} nodes): round trip" in err
+    out = tmp_path / "back.ply"
+    assert main(["rebuild", str(tree_path), "-o", str(out)]) == 0
+    err = " ".join(capsys.readouterr().err.split())
+    assert "coarse-to-fine Newton on the quadtrees converged" in err
+    assert f"its samples alone (no rebuild can be closer): mean {tree.check.floor_mean:.3g}" \
+        in err
+    w, g = read_mesh(out)
+    np.testing.assert_array_equal(g, f)
+    assert surface_distance(w, f, v, f, n_samples=4000)["mean"] < 1e-3 * diagonal(v)
+    # the quadtree as the representation itself, drawn on its finest tree
+    png = tmp_path / "tree.png"
+    assert main(["represent", str(mesh), "-o", str(tmp_path / "q.npz"), "--discretization",
+                 "quadtree", "--targets", "0.2", "--no-check", "--png", str(png)]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert main(["rebuild", str(tree_path), "-o", str(out), "--method", "newton"]) == 2
+
+
+@pytest.mark.parametrize("extra, says", [
+    (["--targets", "0.1"], "--targets is for --discretization quadtree"),
+    (["--export-quadtree", "T", "--targets", "0.05,0.1"], "decreasing numbers"),
+    (["--export-quadtree", "T", "--targets", "0.1,x"], "decreasing numbers"),
+    (["--export-quadtree", "T", "--resolution", "64"], "--resolution: for --discretization grid"),
+    (["--sampling", "pl"], "--sampling is for a grid or quadtree"),
+])
+def test_cli_refuses_options_nothing_reads(tmp_path, capsys, extra, says):
+    mesh = tmp_path / "disk.ply"
+    write_mesh(mesh, *bumpy_disk(4))
+    extra = [str(tmp_path / "t.npz") if x == "T" else x for x in extra]
+    try:
+        code = main(["represent", str(mesh), "-o", str(tmp_path / "r.npz"), *extra])
+    except SystemExit as exc:  # argparse's own refusal of a value
+        code = exc.code
+    assert code == 2
+    assert says in " ".join(capsys.readouterr().err.split())
+    assert not (tmp_path / "r.npz").exists() and not (tmp_path / "t.npz").exists()
+
+
+def test_cli_refuses_an_export_that_would_replace_the_input(tmp_path, capsys):
+    mesh = tmp_path / "disk.ply"
+    write_mesh(mesh, *bumpy_disk(4))
+    before = mesh.read_bytes()
+    assert main(["represent", str(mesh), "-o", str(tmp_path / "r.npz"), "--export-quadtree",
+                 str(mesh)]) == 2
+    assert mesh.read_bytes() == before and not (tmp_path / "r.npz").exists()
