@@ -7,15 +7,15 @@ from scipy.spatial import Delaunay
 from surfinpaint.geometry.point_location import locate_points
 
 
-@pytest.mark.parametrize("crowded", [False, True])
+@pytest.mark.parametrize("crowded", [0.0, 1e-4, 1e-7])
 def test_finds_the_triangle_scipy_finds(crowded):
     rng = np.random.default_rng(4)
     uv = rng.random((2000, 2))
-    if crowded:  # most vertices in a tiny spot, as a map squeezes a fingertip
-        uv[:600] = 0.3 + 1e-4 * rng.random((600, 2))
+    if crowded:  # many vertices in a tiny spot, as a map squeezes a fingertip
+        uv[:600] = 0.3 + crowded * rng.random((600, 2))
     tri = Delaunay(uv)
     points = np.vstack([rng.random((5000, 2)) * 1.2 - 0.1,
-                        0.3 + 1e-4 * rng.random((1000, 2))])
+                        0.3 + (crowded or 1e-4) * rng.random((1000, 2))])
     expected = tri.find_simplex(points)
     face, w = locate_points(uv, tri.simplices, points, tolerance=0.0)
     inside = expected >= 0
