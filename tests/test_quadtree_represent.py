@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from test_representation import finger
 
+import surfinpaint
 from surfinpaint.app.cli import main
 from surfinpaint.data import bumpy_disk
 from surfinpaint.geometry.metrics import surface_distance
@@ -104,6 +105,34 @@ def test_the_border_nodes_are_the_known_ones_and_h_is_not_defined_there(tall_fin
     np.testing.assert_array_equal(level.known, counts > 0)
     assert np.isnan(level.H[level.known]).all() and np.isfinite(level.H[~level.known]).all()
     assert np.isfinite(level.lam).all() and (level.lam > 0).all()
+
+
+def test_a_map_that_folds_is_untangled_before_the_trees_sample_it(monkeypatch):
+    """A folded map sampled piecewise linearly gives one sheet where the mesh has two: the
+    trees fold with it (a 72-vertex cow cap: 1,816 folded edges at 0.1 before)."""
+    import surfinpaint.representation.mapping as mapping
+    from surfinpaint.geometry.mesh import boundary_loops
+    from surfinpaint.geometry.parameterization import flipped_faces, lscm
+
+    v, f = bumpy_disk(12)
+    uv = lscm(v, f)
+    interior = np.setdiff1d(np.arange(len(v)), np.concatenate(boundary_loops(f)))
+    moved = int(interior[len(interior) // 3])
+    neighbours = np.unique(f[np.any(f == moved, axis=1)])
+    folded = uv.copy()
+    folded[moved] += 2.5 * (uv[neighbours].mean(axis=0) - uv[moved] + 0.3 * np.ptp(
+        uv[neighbours], axis=0))
+    assert len(flipped_faces(f, folded)) > 0
+    monkeypatch.setattr(mapping, "lscm", lambda *_: folded.copy())
+    with pytest.warns(mapping.FoldedMapWarning, match="untangled locally"):
+        rep = represent_quadtree(v, f, targets=(0.1,))
+    assert len(flipped_faces(f, rep.uv)) == 0
+    level = rep.finest
+    p = level.phi[level.faces]
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    assert (normal[:, 2] > 0).all()  # the bumpy disk is a graph over z: no sampled fold
+    with pytest.raises(surfinpaint.MeshError, match="folds"):
+        represent_quadtree(v, f, targets=(0.1,), strict=True)
 
 
 # ------------------------------------------------------------------------- the round trip

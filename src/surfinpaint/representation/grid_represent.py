@@ -442,14 +442,16 @@ def _check_grid_options(band: int, sampling: str, spacing: str, grading: float |
 
 
 def subdivided_map(v: np.ndarray, f: np.ndarray, uv: np.ndarray, corners, map: str,
-                    levels: int, strict: bool):
+                    levels: int, strict: bool, *, untangle: bool = False):
     """The mesh subdivided ``levels`` times onto its smooth interpolant and mapped again:
     (uv, faces, vertices) of the refined mesh, whose first ``len(v)`` vertices are the
     original ones. The smooth surface is built over the LSCM map, which folds fewer
-    triangles; the rectangular map keeps the coarse map's corners."""
+    triangles; the rectangular map keeps the coarse map's corners. ``untangle``: the
+    refined map's folds untangled where they can be
+    (:func:`~surfinpaint.representation.mapping.parameterize`)."""
     base_uv = uv if map == "lscm" else lscm(v, f)
     sample_v, sample_f = smooth_subdivision(v, f, base_uv, levels)
-    sample_uv, _ = parameterize(sample_v, sample_f, map, strict=strict,
+    sample_uv, _ = parameterize(sample_v, sample_f, map, strict=strict, untangle=untangle,
                                 corners=corners if len(corners) else None)
     return sample_uv, sample_f, sample_v
 
