@@ -8,7 +8,7 @@ import pytest
 from surfinpaint.data import bumpy_disk, sphere, torus
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.mean_value import mean_value_map, untangle
-from surfinpaint.geometry.mesh import face_areas
+from surfinpaint.geometry.mesh import boundary_loops, face_areas
 from surfinpaint.geometry.parameterization import (
     angle_distortion,
     check_disk,
@@ -269,3 +269,27 @@ def test_untangle_repairs_a_flip_locally():
     assert np.abs(uv[moved] - uv[centre]).max() <= 6.5 / 20
     # a map with nothing flipped comes back as it is
     np.testing.assert_array_equal(untangle(vertices, faces, start), start)
+
+
+def coiled_strip(turn: float, n: int = 40):
+    """A strip bent round by ``turn`` × 2π in the plane: its ends overlap past one turn,
+    and no triangle is flipped either way."""
+    uv, f = grid_mesh(n, 5)
+    theta, r = turn * 2 * np.pi * uv[:, 0], 1.0 + 0.3 * uv[:, 1]
+    return np.column_stack([r * np.cos(theta), r * np.sin(theta)]), f
+
+
+@pytest.mark.parametrize("turn, crossing", [(0.5, False), (0.95, False), (1.2, True),
+                                            (1.6, True)])
+def test_border_crossings_tell_a_map_that_overlaps_itself(turn, crossing):
+    from surfinpaint.geometry.parameterization import border_crossings
+
+    uv, f = coiled_strip(turn)
+    assert len(flipped_faces(f, uv)) == 0
+    found = border_crossings(f, uv, chunk=50)  # small chunks: the rows are split
+    assert (len(found) > 0) == crossing
+    if crossing:  # each crossing pair is of two edges that share no vertex
+        loop = boundary_loops(f)[0]
+        n = len(loop)
+        assert ((found[:, 1] - found[:, 0]) % n > 1).all()
+        assert ((found[:, 0] - found[:, 1]) % n > 1).all()

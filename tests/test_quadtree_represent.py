@@ -135,6 +135,26 @@ def test_a_map_that_folds_is_untangled_before_the_trees_sample_it(monkeypatch):
         represent_quadtree(v, f, targets=(0.1,), strict=True)
 
 
+def test_a_map_that_overlaps_itself_gives_way_to_the_rectangle(monkeypatch):
+    """LSCM's border can curl over itself with no triangle flipped (a 50 mm pial disk's
+    crosses 3 times): trees over it would sample one sheet where the mesh has two."""
+    from test_parameterization import coiled_strip
+
+    import surfinpaint.representation.mapping as mapping
+
+    uv, f = coiled_strip(1.3)
+    v = np.column_stack([uv, 0.1 * uv[:, 0] ** 2])
+    monkeypatch.setattr(mapping, "lscm", lambda *_: uv.copy())
+    with pytest.warns(mapping.FoldedMapWarning, match="overlaps itself .* rectangular map"):
+        rep = represent_quadtree(v, f, targets=(0.2,))
+    assert rep.map == "rectangular"
+    assert np.ptp(rep.uv, axis=0).max() > 0 and rep.finest.known.any()
+    with pytest.raises(surfinpaint.MeshError, match="overlaps itself"):
+        represent_quadtree(v, f, targets=(0.2,), strict=True)
+    monkeypatch.undo()
+    assert represent_quadtree(*bumpy_disk(6), targets=(0.2,)).map == "lscm"
+
+
 # ------------------------------------------------------------------------- the round trip
 
 

@@ -37,13 +37,16 @@ diagonal) from trees of 12–14 thousand nodes; the tall finger (h = 2) does not
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial import cKDTree
 
+from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.parameterization import border_crossings
 from surfinpaint.geometry.point_location import locate_points
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 from surfinpaint.representation.grid_newton import harmonic_fill, solve_finer_level
@@ -52,7 +55,7 @@ from surfinpaint.representation.grid_represent import (
     subdivided_map,
     subdivision_levels,
 )
-from surfinpaint.representation.mapping import MAPS, parameterize
+from surfinpaint.representation.mapping import MAPS, FoldedMapWarning, parameterize
 from surfinpaint.representation.mesh_lambda_h import (
     AREA_MATCH,
     area_mismatch,
@@ -218,6 +221,20 @@ class _MappedDisk:
         # folds (a 72-vertex cow cap: 18 flipped triangles, 236 of the subdivided map's;
         # 10 with the coarse map untangled)
         uv, corners = parameterize(vertices, faces, map, strict=strict, untangle=True)
+        crossing = border_crossings(faces, uv) if map == "lscm" else ()
+        if len(crossing):
+            # LSCM's free border curls over itself (large folded disks: a 50 mm pial disk,
+            # a whole face scan): a point of the plane lies on two sheets there, and the
+            # trees would sample one of them; the rectangle's border cannot cross
+            message = (f"the LSCM map overlaps itself ({len(crossing)} crossings of its "
+                       "border)")
+            if strict:
+                raise MeshError(message)
+            warnings.warn(message + ": the quadtrees are built over the rectangular map",
+                          FoldedMapWarning, stacklevel=4)
+            map = "rectangular"
+            uv, corners = parameterize(vertices, faces, map, strict=strict, untangle=True)
+        self.map = map
         levels = subdivision_levels(vertices, faces)
         # the fine mesh (the smooth surface through the vertices, as the grid export's)
         self.uv, self.faces, self.points = (uv, faces, vertices) if levels == 0 else \
@@ -298,7 +315,11 @@ def represent_quadtree(vertices: np.ndarray, faces: np.ndarray, *,
         (coarse to fine; the rebuild goes through them in this order).
     map : {"lscm", "rectangular"}
         The conformal map. LSCM by default: the rectangle's corners squeeze the surface
-        too, and no rectangular-map tree of the tuning disks was rebuilt (session 19).
+        too, and no rectangular-map tree of the tuning disks was rebuilt (session 19). Where
+        LSCM's image overlaps itself (its border crosses itself,
+        :func:`~surfinpaint.geometry.parameterization.border_crossings`), the rectangle
+        instead, with a :class:`~surfinpaint.representation.mapping.FoldedMapWarning`; the
+        map used is the representation's ``map``.
     max_depth : int
         The deepest leaves: cells of ``2**-max_depth`` of the map's long side.
     sampling : {"pl", "smooth"}
@@ -316,7 +337,8 @@ def represent_quadtree(vertices: np.ndarray, faces: np.ndarray, *,
     Raises
     ------
     MeshError
-        When the mesh is not a topological disk, or (``strict``) the map folds.
+        When the mesh is not a topological disk, or (``strict``) the map folds or LSCM's
+        image overlaps itself.
     ValueError
         For bad parameters.
     """
@@ -335,10 +357,10 @@ def represent_quadtree(vertices: np.ndarray, faces: np.ndarray, *,
     f = np.asarray(faces, dtype=np.int64)
     disk = _MappedDisk(v, f, map, strict)
     diagonal = float(np.linalg.norm(np.ptp(v, axis=0)))
-    levels = tuple(_tree_level(disk, t, diagonal, int(max_depth), map == "lscm", sampling)
+    levels = tuple(_tree_level(disk, t, diagonal, int(max_depth), disk.map == "lscm", sampling)
                    for t in targets)
     return QuadtreeLambdaH(vertices=v.copy(), faces=f.copy(), uv=disk.uv[:len(v)].copy(),
-                           levels=levels, map=map, sampling=sampling,
+                           levels=levels, map=disk.map, sampling=sampling,
                            max_depth=int(max_depth))
 
 

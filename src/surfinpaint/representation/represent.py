@@ -544,7 +544,8 @@ def quadtree_export(rep: MeshLambdaH, *, check: bool = True, map: str = "lscm",
     map : {"lscm", "rectangular"}
         The trees' conformal map. LSCM by default: the rectangle's corners squeeze the
         surface too, and no rectangular-map tree of the tuning disks was rebuilt
-        (docs/representation.md, session 19).
+        (docs/representation.md, session 19); where LSCM's image overlaps itself, the
+        rectangle, with a warning (the map used is the result's ``map``).
     progress : callable, optional
         Called with a sentence as each stage starts.
     **quadtree_options
