@@ -84,7 +84,7 @@ def run(name: str, targets: tuple[float, ...], depth: int, map: str, floor_only:
     started = time.perf_counter()
     rep = represent_quadtree(v, f, targets=targets, map=map, max_depth=depth,
                              sampling=sampling)
-    print(f"\n**{title}** ({len(v)} vertices, map {map}, depth ≤ {depth}, sampling "
+    print(f"\n**{title}** ({len(v)} vertices, map {rep.map}, depth ≤ {depth}, sampling "
           f"{sampling}; trees sampled in {time.perf_counter() - started:.1f} s)\n")
     print("| target × diag | nodes | folded edges | floor mean / Hausdorff % "
           "| rebuild mean / Hausdorff % | converged | factorizations | s | how |")

@@ -18,14 +18,17 @@ triangles, ``"pl"``, the default; or its Clough–Tocher interpolant, ``"smooth"
 on the tall finger: docs/representation.md, session 19); λ, H and the conformality defect
 are those of the tree's own triangles
 (:func:`~surfinpaint.representation.mesh_lambda_h.mesh_lambda_h`), so the sampled φ solves
-the mesh form's equations on them exactly. With LSCM's free border, triangles with a corner
-outside the map are dropped; the tree's border nodes are the boundary data.
+the mesh form's equations on them exactly. Triangles with a corner outside the map (LSCM's
+free border, or where a rectangular map folds at its border) are dropped; the tree's border
+nodes are the boundary data. A map that folds is untangled first, and where LSCM's image
+overlaps itself the rectangle is used instead.
 
 The rebuild (:func:`rebuild_quadtree`) solves the coarsest tree from the harmonic surface
 (Newton, then the continuation,
 :func:`~surfinpaint.representation.mesh_lambda_h.rebuild_on_mesh`) and each finer one from
 the coarser solution interpolated at its nodes, the nodes the two share held, then released
-(:func:`~surfinpaint.representation.grid_newton.solve_finer_level`). The mesh's vertices are
+(:func:`~surfinpaint.representation.grid_newton.solve_finer_level`); a finer tree that does
+not converge so is solved alone from the harmonic surface. The mesh's vertices are
 the finest solution interpolated at their (u, v) (Clough–Tocher over the tree's triangles).
 
 Measured (``benchmarks/quadtree_export.py``, docs/representation.md, session 19; targets
@@ -258,11 +261,16 @@ class _MappedDisk:
     def sigma_at(self, points: np.ndarray) -> np.ndarray:
         return self.sigma[self._near.query(points, k=3)[1]].max(axis=1)
 
-    def sample(self, points: np.ndarray, sampling: str) -> np.ndarray:
-        """The surface at ``points`` of the plane (each inside the map)."""
+    def locate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(triangle, weights, the points moved 1e-9 of the box inside it) of each point:
+        the tree's border nodes lie on the box, where a rectangular map's border is."""
         points = np.clip(points, self.lo + 1e-9 * (self.hi - self.lo),
                          self.hi - 1e-9 * (self.hi - self.lo))
-        where, weights = locate_points(self.uv, self.faces, points)
+        return *locate_points(self.uv, self.faces, points), points
+
+    def sample(self, points: np.ndarray, sampling: str) -> np.ndarray:
+        """The surface at ``points`` of the plane (each inside the map)."""
+        where, weights, points = self.locate(points)
         if (where < 0).any():
             raise RuntimeError(f"{int((where < 0).sum())} tree nodes lie in no triangle of "
                                "the map")
@@ -273,7 +281,7 @@ class _MappedDisk:
 
 
 def _tree_level(disk: _MappedDisk, target: float, diagonal: float, max_depth: int,
-                clip: bool, sampling: str) -> TreeLevel:
+                sampling: str) -> TreeLevel:
     side = float(np.max(disk.hi - disk.lo))
 
     def wants_split(d, i, j):
@@ -284,9 +292,11 @@ def _tree_level(disk: _MappedDisk, target: float, diagonal: float, max_depth: in
 
     tree = quadtree_triangulation(wants_split, max_depth)
     faces, uv = tree.faces, disk.lo + tree.points * (disk.hi - disk.lo)
-    if clip:  # LSCM's free border: only the triangles inside the map
-        inside = locate_points(disk.uv, disk.faces, uv)[0] >= 0
-        faces = faces[inside[faces].all(axis=1)]
+    # only the triangles inside the map: LSCM's free border, or a rectangular map whose
+    # border leaves the rectangle where it folds (the whole face scan's: 248 flipped
+    # triangles, 735 of its 2,476 border vertices off the rectangle's sides)
+    inside = disk.locate(uv)[0] >= 0
+    faces = faces[inside[faces].all(axis=1)]
     used = np.unique(faces)
     remap = np.full(len(uv), -1)
     remap[used] = np.arange(len(used))
@@ -357,7 +367,7 @@ def represent_quadtree(vertices: np.ndarray, faces: np.ndarray, *,
     f = np.asarray(faces, dtype=np.int64)
     disk = _MappedDisk(v, f, map, strict)
     diagonal = float(np.linalg.norm(np.ptp(v, axis=0)))
-    levels = tuple(_tree_level(disk, t, diagonal, int(max_depth), disk.map == "lscm", sampling)
+    levels = tuple(_tree_level(disk, t, diagonal, int(max_depth), sampling)
                    for t in targets)
     return QuadtreeLambdaH(vertices=v.copy(), faces=f.copy(), uv=disk.uv[:len(v)].copy(),
                            levels=levels, map=disk.map, sampling=sampling,
@@ -393,7 +403,9 @@ def level_solves(rep: QuadtreeLambdaH, *, lam: np.ndarray | None = None,
         budget of factorizations.
     direct : bool
         Solve each tree alone from the harmonic surface (as the coarsest), not from the
-        coarser solution (measured: only the foot cap converges so, session 19).
+        coarser solution (measured: only the foot cap converges so, session 19). Without
+        it, a finer tree that does not converge from the coarser solution is solved alone
+        too (with ``max_iter`` more factorizations).
     """
     edited = lam is not None or H is not None
     previous = None
@@ -401,21 +413,42 @@ def level_solves(rep: QuadtreeLambdaH, *, lam: np.ndarray | None = None,
         lv_lam, lv_H = _edited(level, rep.finest, lam, H)
         data = (level.faces, level.uv, lv_lam, lv_H, level.defect)
         if previous is None or direct:
-            solve = rebuild_on_mesh(level.phi, *data, level.known, tol=tol, max_iter=max_iter,
-                                    select_by_area=not edited)
-            x, ok, steps, how = solve.points, solve.converged, solve.iterations, solve.message
+            x, ok, steps, how = _alone(level, data, edited, tol, max_iter)
         else:
             start, shared = _interpolated_start(previous, level)
             harmonic_fill(start, ~np.isfinite(start).all(axis=1), level.uv, level.faces)
             x, ok, steps = solve_finer_level(start, data, level.known, shared, tol,
                                              not edited)
-            how = f"{int(shared.sum())} nodes held, then released"
-        if ok and not edited and area_mismatch(x, level.faces, level.uv, lv_lam) > AREA_MATCH:
-            # the tree's own data: a root whose vertex areas miss λ's is another solution
-            # of the equations (as rebuild_nested reports it)
-            ok, how = False, how + "; another root: vertex areas off λ's"
+            x, ok, steps, how = _checked(x, ok, steps, f"{int(shared.sum())} nodes held, "
+                                         "then released", level, lv_lam, edited)
+            if not ok:
+                # the coarser solution is no start for this tree (the 50 mm pial disk's
+                # 0.05 tree, session 21): the tree alone, from the harmonic surface
+                y, y_ok, more, y_how = _alone(level, data, edited, tol, max_iter)
+                steps += more
+                if y_ok:
+                    x, ok = y, True
+                how += f"; not converged, then alone: {y_how}"
         previous = (level, x)
         yield LevelSolve(level, x, bool(ok), int(steps), how)
+
+
+def _alone(level: TreeLevel, data: tuple, edited: bool, tol: float, max_iter: int
+           ) -> tuple[np.ndarray, bool, int, str]:
+    """A tree solved alone, from the harmonic surface (Newton, then the continuation)."""
+    solve = rebuild_on_mesh(level.phi, *data, level.known, tol=tol, max_iter=max_iter,
+                            select_by_area=not edited)
+    return _checked(solve.points, solve.converged, solve.iterations, solve.message, level,
+                    data[2], edited)
+
+
+def _checked(x: np.ndarray, ok: bool, steps: int, how: str, level: TreeLevel,
+             lam: np.ndarray, edited: bool) -> tuple[np.ndarray, bool, int, str]:
+    """A tree's solve, not converged when (the tree's own data) its vertex areas miss λ's:
+    that root is another solution of the equations (as rebuild_nested reports it)."""
+    if ok and not edited and area_mismatch(x, level.faces, level.uv, lam) > AREA_MATCH:
+        ok, how = False, how + "; another root: vertex areas off λ's"
+    return x, bool(ok), int(steps), how
 
 
 def _edited(level: TreeLevel, finest: TreeLevel, lam, H) -> tuple[np.ndarray, np.ndarray]:
