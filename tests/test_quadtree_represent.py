@@ -187,6 +187,22 @@ def test_coarse_to_fine_and_direct_rebuilds_meet(tall_finger):
     np.testing.assert_allclose(staged[-1].points, rep.finest.phi, atol=1e-8 * diagonal(v))
 
 
+def test_a_finer_tree_the_coarser_solution_does_not_lead_to_is_solved_alone(
+        monkeypatch, tall_finger):
+    """(The 50 mm pial disk's 0.05 tree: its held-then-released Newton from the 0.1 tree
+    fails, the tree alone converges by continuation.)"""
+    import surfinpaint.representation.quadtree_represent as qr
+
+    v, f = tall_finger
+    rep = represent_quadtree(v, f, targets=(0.2, 0.1))
+    monkeypatch.setattr(qr, "solve_finer_level",
+                        lambda start, *_: (start, False, 7))  # a start that leads nowhere
+    coarse, fine = level_solves(rep)
+    assert coarse.converged and fine.converged
+    assert "not converged, then alone" in fine.message and fine.iterations > 7
+    np.testing.assert_allclose(fine.points, rep.finest.phi, atol=1e-8 * diagonal(v))
+
+
 def test_edited_lambda_and_h_give_another_surface_and_wrong_shapes_are_refused(tall_finger):
     v, f = tall_finger
     rep = represent_quadtree(v, f, targets=(0.2, 0.1))
