@@ -18,8 +18,9 @@ solves the mesh-form equations exactly. The rebuild
   as :func:`~surfinpaint.representation.represent.rebuild` of a mesh representation);
 - default: coarse to fine (the library's rebuild): the coarsest as ``--direct``, each finer
   one from the coarser solution interpolated at its nodes, the nodes the two share held
-  while Newton solves for the others, then released. Unlike the library, which stops at
-  the first tree that fails, this goes on to the finer trees from it.
+  while Newton solves for the others, then released; a finer tree that does not converge
+  so, alone as ``--direct``. As in the library, the trees after one that fails are not
+  tried (their floors are still measured).
 
 The round trip is measured as the library's self-check: the rebuilt nodes interpolated
 (Clough–Tocher over the tree's triangles) at the mesh's vertices, against the mesh,
@@ -90,19 +91,22 @@ def run(name: str, targets: tuple[float, ...], depth: int, map: str, floor_only:
           "| rebuild mean / Hausdorff % | converged | factorizations | s | how |")
     print("|---|---|---|---|---|---|---|---|---|")
     solves = iter(()) if floor_only else level_solves(rep, direct=direct)
+    failed = False
     for level in rep.levels:
         started = time.perf_counter()
-        solve = next(solves, None)
-        x, ok, steps, how = (level.phi, False, 0, "not rebuilt") if solve is None else \
-            (solve.points, solve.converged, solve.iterations, solve.message)
+        solve = None if failed else next(solves, None)
+        x, ok, steps, how = (level.phi, False, 0, "not tried" if failed else "not rebuilt") \
+            if solve is None else (solve.points, solve.converged, solve.iterations,
+                                   solve.message)
+        failed |= solve is not None and not solve.converged
         c = measure_round_trip(v, tree_vertices(rep, level, x), f, converged=ok,
                                iterations=steps, message=how, seconds=0.0,
                                floor=tree_vertices(rep, level, level.phi))
         d = c.diagonal / 100
+        rebuilt = "–" if solve is None else f"{c.mean / d:.3g} / {c.hausdorff / d:.3g}"
         print(f"| {level.target:g} | {len(level.uv)} | {folded_edges(level.phi, level.faces)} "
-              f"| {c.floor_mean / d:.3g} / {c.floor_hausdorff / d:.3g} "
-              f"| {c.mean / d:.3g} / {c.hausdorff / d:.3g} | {ok} | {steps} "
-              f"| {time.perf_counter() - started:.1f} | {how} |", flush=True)
+              f"| {c.floor_mean / d:.3g} / {c.floor_hausdorff / d:.3g} | {rebuilt} | {ok} "
+              f"| {steps} | {time.perf_counter() - started:.1f} | {how} |", flush=True)
 
 
 def main() -> None:
