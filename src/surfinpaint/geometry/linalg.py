@@ -8,6 +8,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from surfinpaint.geometry.edges import stable_key_sort
+
 __all__ = ["factorized_definite", "factorized_definite_ordered", "factorized_ordered",
            "laplacian_from_weights", "nested_dissection"]
 
@@ -159,24 +161,27 @@ def laplacian_from_weights(i: np.ndarray, j: np.ndarray, w: np.ndarray, n: int
     i = np.asarray(i, dtype=np.int64)
     j = np.asarray(j, dtype=np.int64)
     w = np.asarray(w, dtype=float)
+    e = len(i)
     key = i * n + j
-    order = np.argsort(key, kind="stable")
-    sorted_key = key[order]
-    if (i == j).any() or (sorted_key[1:] == sorted_key[:-1]).any():
-        off = sp.coo_matrix((w, (i, j)), shape=(n, n))
-        off = off + off.T
-        return (off - sp.diags(np.asarray(off.sum(axis=1)).ravel())).tocsr()
     # W + Wᵀ: each key once or twice (w_ij and w_ji); a + b == b + a, so the order of the
     # two does not matter; zero sums are left out as scipy's addition leaves them out
     both = np.concatenate([key, j * n + i])
     value = np.concatenate([w, w])
-    pair = np.argsort(both, kind="stable")
-    both, value = both[pair], value[pair]
+    pair, both = stable_key_sort(both)  # the stable argsort and the sorted keys
+    value = value[pair]
     first = np.ones(len(both), dtype=bool)
     first[1:] = both[1:] != both[:-1]
     start = np.flatnonzero(first)
-    total = value[start].copy()
     twin = np.flatnonzero(~first)
+    # a repeated (i, j) shows as a key whose two entries come from the same half of
+    # `both` (one sort for the check and the sums), or as a key more than twice
+    from_w = pair < e
+    if ((i == j).any() or (from_w[twin] == from_w[twin - 1]).any()
+            or (len(twin) and (np.diff(twin) == 1).any())):
+        off = sp.coo_matrix((w, (i, j)), shape=(n, n))
+        off = off + off.T
+        return (off - sp.diags(np.asarray(off.sum(axis=1)).ravel())).tocsr()
+    total = value[start].copy()
     total[np.searchsorted(start, twin, side="right") - 1] += value[twin]
     keys = both[start]
     kept = total != 0
@@ -189,10 +194,10 @@ def laplacian_from_weights(i: np.ndarray, j: np.ndarray, w: np.ndarray, n: int
     # the row sums as scipy makes them (the same call on the same matrix: same bits)
     diag = np.asarray(sym.sum(axis=1)).ravel()
     on = np.flatnonzero(diag != 0)
-    keys = np.concatenate([keys, on * (n + 1)])
-    value = np.concatenate([total, -diag[on]])
-    pos = np.argsort(keys, kind="stable")
-    keys, value = keys[pos], value[pos]
+    # the diagonal merged into the sorted keys (no off-diagonal key equals one)
+    at = np.searchsorted(keys, on * (n + 1))
+    keys = np.insert(keys, at, on * (n + 1))
+    value = np.insert(total, at, -diag[on])
     rows = keys // n
     np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
     return sp.csr_matrix((value, (keys % n).astype(index), indptr), shape=(n, n))
