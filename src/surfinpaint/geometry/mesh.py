@@ -142,29 +142,33 @@ def boundary_loops(faces: np.ndarray, table: EdgeTable | None = None) -> list[np
     # successors per tail; a vertex can start several boundary edges (pinched loops)
     order = np.argsort(half[:, 0], kind="stable")
     half = half[order]
-    tails = half[:, 0]
-    used = np.zeros(len(half), dtype=bool)
-    first_of = dict(zip(*np.unique(tails, return_index=True), strict=True))
+    # the walk on Python ints and lists: numpy scalars cost several times more per step
+    tails, heads = half[:, 0].tolist(), half[:, 1].tolist()
+    m = len(tails)
+    used = [False] * m
+    first_of: dict[int, int] = {}
+    for k, tail in enumerate(tails):  # sorted: the first edge leaving each vertex
+        first_of.setdefault(tail, k)
     loops: list[np.ndarray] = []
-    for e0 in range(len(half)):
+    for e0 in range(m):
         if used[e0]:
             continue
         chain = [e0]
         used[e0] = True
         while True:
-            head = half[chain[-1], 1]
-            if head == half[chain[0], 0]:
+            head = heads[chain[-1]]
+            if head == tails[chain[0]]:
                 break
             k = first_of.get(head)
             if k is None:
                 raise MeshError(
-                    f"boundary edge ({half[chain[-1], 0]}, {head}) does not continue: "
+                    f"boundary edge ({tails[chain[-1]]}, {head}) does not continue: "
                     "faces around this boundary are not consistently oriented",
-                    edges=[(int(half[chain[-1], 0]), int(head))],
+                    edges=[(int(tails[chain[-1]]), int(head))],
                 )
-            while k < len(half) and tails[k] == head and used[k]:
+            while k < m and tails[k] == head and used[k]:
                 k += 1
-            if k >= len(half) or tails[k] != head:
+            if k >= m or tails[k] != head:
                 raise MeshError(
                     f"boundary at vertex {head} does not close into a loop",
                     vertices=[int(head)],

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from surfinpaint.errors import FillError
-from surfinpaint.geometry.mesh import boundary_loops, faces_near, unique_edges
+from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.mesh import boundary_loops, faces_near
 
 __all__ = ["grown_patch", "hole_patch", "is_disk"]
 
@@ -13,14 +14,15 @@ __all__ = ["grown_patch", "hole_patch", "is_disk"]
 def is_disk(faces: np.ndarray) -> bool:
     """Whether ``faces`` form a topological disk: edge-manifold, Euler characteristic 1, one
     boundary loop."""
-    _, _, count = unique_edges(faces)
+    table = EdgeTable.build(faces)  # one edge sort for the counts and the loops
+    count = table.count
     if (count > 2).any():
         return False
     n_vertices = len(np.unique(faces))
     if n_vertices - len(count) + len(faces) != 1:
         return False
     try:
-        return len(boundary_loops(faces)) == 1
+        return len(boundary_loops(faces, table=table)) == 1
     except ValueError:
         return False
 
