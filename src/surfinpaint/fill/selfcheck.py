@@ -54,6 +54,7 @@ def sibling_scores(
     n_samples: int = 2000,
     patch_rings: int | None = None,
     each: bool = False,
+    graph=None,
 ) -> dict[str, float] | list[dict[str, float]]:
     """How well each filler does on holes like this one cut from the known surface nearby.
 
@@ -68,6 +69,9 @@ def sibling_scores(
     sibling is cut and filled on the part of the mesh around it that can matter, when that
     provably gives the same cut (else on the whole mesh): the same scores, less work.
 
+    ``graph``: the mesh's :func:`~surfinpaint.geometry.cutting.edge_graph`, when already
+    made (the hidden-ring test of the same hole uses it too).
+
     Returns
     -------
     dict or list of dict
@@ -80,7 +84,8 @@ def sibling_scores(
     radius = 0.5 * loop_diameter(points)
     edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
     gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
-    graph = edge_graph(faces, len(vertices))
+    if graph is None:
+        graph = edge_graph(faces, len(vertices))
 
     def local_cut(centre):
         """The cut on the faces within ``reach`` rings of the centre, or None when that
@@ -150,6 +155,7 @@ def hidden_ring_scores(
     hide_rings: int = 2,
     n_samples: int = 2000,
     patch_rings: int | None = None,
+    graph=None,
 ) -> dict[str, float]:
     """How well each filler predicts known surface hidden around the hole.
 
@@ -161,6 +167,9 @@ def hidden_ring_scores(
     test runs on the faces within ``hide_rings + patch_rings + 3`` rings of the loop when
     that provably gives the same enlarged hole (else on the whole mesh): the same scores,
     less work.
+
+    ``graph``: the mesh's :func:`~surfinpaint.geometry.cutting.edge_graph`, when already
+    made (made here otherwise).
 
     Returns
     -------
@@ -198,14 +207,16 @@ def hidden_ring_scores(
                 np.inf  # failed on a hole like this one
                 for name in candidates}
 
+    if graph is None:  # one adjacency for both searches below
+        graph = edge_graph(faces, len(vertices))
     if patch_rings is not None:
         reach = hide_rings + patch_rings + 3
-        ring = ring_distances(faces, len(vertices), loop, reach + 1)
+        ring = ring_distances(faces, len(vertices), loop, reach + 1, graph=graph)
         keep = ring <= reach
         if not keep[faces].all():
             sv, sf, ids = submesh(vertices, faces, keep)
             scores = run(sv, sf, np.searchsorted(ids, loop), ring[ids], ring[ids] >= reach)
             if scores is not None:
                 return scores
-    ring = ring_distances(faces, len(vertices), loop, hide_rings + 0.5)
+    ring = ring_distances(faces, len(vertices), loop, hide_rings + 0.5, graph=graph)
     return run(vertices, faces, loop, ring, None)

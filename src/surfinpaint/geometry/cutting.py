@@ -439,13 +439,15 @@ def ring_distances(faces: np.ndarray, n_vertices: int, seeds, limit: float = np.
     """Edge-ring distance of every vertex from ``seeds`` (0 on the seeds, ``inf`` beyond
     ``limit`` or unreachable): the ``k``-ring of the seeds is ``distance <= k``.
 
-    ``graph`` may pass a precomputed adjacency (from an earlier call's mesh) for repeated
-    searches on one mesh.
+    ``graph`` may pass a precomputed adjacency (:func:`edge_graph` of the mesh) for repeated
+    searches on one mesh; it must be symmetric, as :func:`edge_graph`'s is.
     """
     if graph is None:
         graph = edge_graph(faces, n_vertices)
     seeds = np.atleast_1d(np.asarray(seeds, dtype=np.int64))
-    return dijkstra(graph, directed=False, indices=seeds, min_only=True, unweighted=True,
+    # the graph holds both directions of every edge: searched as directed, the same
+    # distances without scipy transposing it for an undirected search on each call
+    return dijkstra(graph, directed=True, indices=seeds, min_only=True, unweighted=True,
                     limit=limit)
 
 

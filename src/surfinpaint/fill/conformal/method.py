@@ -23,6 +23,7 @@ from surfinpaint.fill.conformal.selection import Verdict, choose, sibling_test_p
 from surfinpaint.fill.liepa.baseline import faired_fills
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores
+from surfinpaint.geometry.cutting import edge_graph
 from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conformal_fill"]
@@ -104,8 +105,10 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     o = candidates.options
     reference = f"fair{candidates.orders[0]}"
     choose_faired = len(candidates.orders) > 1
+    graph = edge_graph(faces, len(vertices))  # one adjacency for both tests' searches
     hidden = hidden_ring_scores(vertices, faces, loop, candidates.for_tests(),
-                                hide_rings=o.hide_rings, patch_rings=o.rings_in_patch)
+                                hide_rings=o.hide_rings, patch_rings=o.rings_in_patch,
+                                graph=graph)
     run, with_lambda_h = sibling_test_plan(hidden, reference=reference,
                                            choose_faired=choose_faired)
     sibling = {}
@@ -113,7 +116,7 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
         sibling = sibling_scores(vertices, faces, loop,
                                  candidates.for_tests(with_lambda_h=with_lambda_h),
                                  siblings=o.siblings, gap_rings=o.gap_rings,
-                                 patch_rings=o.rings_in_patch)
+                                 patch_rings=o.rings_in_patch, graph=graph)
     return choose(hidden, sibling, reference=reference, choose_faired=choose_faired,
                   crossed=candidates.crossed)
 
