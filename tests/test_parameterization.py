@@ -7,12 +7,14 @@ import pytest
 
 from surfinpaint.data import bumpy_disk, sphere, torus
 from surfinpaint.errors import MeshError
+from surfinpaint.fill.conformal.patch import disk_loop
 from surfinpaint.geometry.mean_value import mean_value_map, untangle
 from surfinpaint.geometry.mesh import boundary_loops, face_areas
 from surfinpaint.geometry.parameterization import (
     angle_distortion,
     check_disk,
     conformal_distortion,
+    disk_boundary,
     distortion_histogram,
     flipped_faces,
     lscm,
@@ -293,3 +295,16 @@ def test_border_crossings_tell_a_map_that_overlaps_itself(turn, crossing):
         n = len(loop)
         assert ((found[:, 1] - found[:, 0]) % n > 1).all()
         assert ((found[:, 0] - found[:, 1]) % n > 1).all()
+
+
+def test_lscm_with_the_known_boundary_is_the_same_map_and_still_refuses_slivers():
+    # a caller that found the patch a disk hands its boundary over: the same map, bit for
+    # bit, without the topology checks; degenerate triangles are still refused
+    v, f = bumpy_disk(12)
+    loop = disk_loop(f)
+    assert np.array_equal(loop, disk_boundary(v, f))
+    assert np.array_equal(lscm(v, f, boundary=loop), lscm(v, f))
+    flat = v.copy()
+    flat[f[0, 2]] = 0.5 * (flat[f[0, 0]] + flat[f[0, 1]])  # face 0 collinear
+    with pytest.raises(MeshError, match="degenerate"):
+        lscm(flat, f, boundary=loop)

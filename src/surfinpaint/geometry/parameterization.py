@@ -80,20 +80,7 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """:func:`check_disk`, returning the boundary loop (one edge table for both)."""
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    if f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
-        raise MeshError(f"a disk needs at least one triangle; faces have shape {f.shape}")
-    if f.min() < 0 or f.max() >= len(v):
-        bad = np.flatnonzero((f < 0).any(axis=1) | (f >= len(v)).any(axis=1))
-        raise MeshError(f"faces {preview(bad)} refer to missing vertices", faces=bad)
-    area = face_areas(v, f)
-    used = np.unique(f)
-    scale = max(float(np.ptp(v[used], axis=0).max()), 1e-300)
-    degenerate = np.flatnonzero(area <= 1e-14 * scale**2)
-    if len(degenerate):
-        raise MeshError(
-            f"{len(degenerate)} degenerate (zero-area) triangles: faces {preview(degenerate)}",
-            faces=degenerate,
-        )
+    used = _check_triangles(v, f)
     table = EdgeTable.build(f)  # one edge table for the checks and the loop
     edges, face_edge, count = table.edges, table.face_edge, table.count
     nonmanifold = np.flatnonzero(count > 2)
@@ -141,6 +128,26 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return loops[0]
 
 
+def _check_triangles(v: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """The checks of :func:`disk_boundary` before its topology (faces, ids, degenerate
+    triangles, in that order); the vertices the faces use."""
+    if f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
+        raise MeshError(f"a disk needs at least one triangle; faces have shape {f.shape}")
+    if f.min() < 0 or f.max() >= len(v):
+        bad = np.flatnonzero((f < 0).any(axis=1) | (f >= len(v)).any(axis=1))
+        raise MeshError(f"faces {preview(bad)} refer to missing vertices", faces=bad)
+    area = face_areas(v, f)
+    used = np.unique(f)
+    scale = max(float(np.ptp(v[used], axis=0).max()), 1e-300)
+    degenerate = np.flatnonzero(area <= 1e-14 * scale**2)
+    if len(degenerate):
+        raise MeshError(
+            f"{len(degenerate)} degenerate (zero-area) triangles: faces {preview(degenerate)}",
+            faces=degenerate,
+        )
+    return used
+
+
 def pinched_vertices(faces: np.ndarray) -> np.ndarray:
     """Boundary vertices with more than one outgoing boundary edge (two boundary loops, or
     two parts of one loop, touch there): the mesh is not a manifold at them."""
@@ -170,7 +177,8 @@ def scale_to_area(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np
 _REAL_FORM_ABOVE = 20000
 
 
-def lscm(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def lscm(vertices: np.ndarray, faces: np.ndarray, *, boundary: np.ndarray | None = None
+         ) -> np.ndarray:
     """Least-squares conformal map (Lévy et al. 2002) with a free boundary.
 
     Minimizes the conformal energy ``E_C = ½∫|∇u|² + ½∫|∇v|² − Area(u, v)``, which is zero
@@ -183,6 +191,12 @@ def lscm(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     vertices : (n, 3) float array
     faces : (f, 3) int array
         A topological disk (see :func:`check_disk`), consistently oriented.
+    boundary : (k,) int array, optional
+        The disk's boundary loop as :func:`disk_boundary` gives it, from a caller that has
+        made sure the faces form a disk (one edge-manifold, connected piece with one
+        boundary loop, e.g. :func:`surfinpaint.fill.conformal.patch.disk_loop`): the
+        topology is then not checked again (the faces, their ids and degenerate triangles
+        are).
 
     Returns
     -------
@@ -198,7 +212,11 @@ def lscm(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    loop = disk_boundary(v, f)
+    if boundary is None:
+        loop = disk_boundary(v, f)
+    else:
+        _check_triangles(v, f)
+        loop = np.asarray(boundary, dtype=np.int64)
     n = len(v)
     L = cotangent_laplacian(v, f)
     # In z = u + iv the energy is (up to a factor 2) the Hermitian form z^H (−L + i A) z:

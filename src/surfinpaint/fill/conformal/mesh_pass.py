@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from surfinpaint.errors import FillError
-from surfinpaint.fill.conformal.patch import grown_patch, hole_patch
+from surfinpaint.fill.conformal.patch import grown_patch, hole_patch, hole_patch_and_boundary
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import LeastSquaresFill, MeshLambdaH
 from surfinpaint.geometry import mean_value, parameterization
@@ -250,12 +250,14 @@ def _mapped_patch(vertices, faces, seeds, fill_faces, rings, grow=False):
     patch, ids, local, uv, rings used, map name ("lscm", "lscm-untangled" or "mean-value")
     """
     for k in range(rings, MIN_RINGS - 1, -1):
-        patch, used = ((grown_patch(faces, seeds, fill_faces, k), k) if grow
-                       else hole_patch(faces, seeds, fill_faces, k))
+        patch, used, boundary = ((grown_patch(faces, seeds, fill_faces, k), k, None) if grow
+                                 else hole_patch_and_boundary(faces, seeds, fill_faces, k))
         ids, local = np.unique(patch, return_inverse=True)
         local = local.reshape(-1, 3)
-        # through the module: tests stand in for the flip test
-        uv = parameterization.lscm(vertices[ids], local)
+        # a patch of full rings was found a disk with this boundary: LSCM need not check
+        # its topology again (through the module: tests stand in for the flip test)
+        uv = parameterization.lscm(vertices[ids], local, boundary=None if boundary is None
+                                   else np.searchsorted(ids, boundary))
         if len(mean_value.bad_faces(vertices[ids], local, uv)) == 0:
             return patch, ids, local, uv, used, "lscm"
     patch, used = ((grown_patch(faces, seeds, fill_faces, rings), rings) if grow

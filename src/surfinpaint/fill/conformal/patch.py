@@ -8,23 +8,30 @@ from surfinpaint.errors import FillError
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, faces_near
 
-__all__ = ["grown_patch", "hole_patch", "is_disk"]
+__all__ = ["disk_loop", "grown_patch", "hole_patch", "hole_patch_and_boundary", "is_disk"]
 
 
 def is_disk(faces: np.ndarray) -> bool:
     """Whether ``faces`` form a topological disk: edge-manifold, Euler characteristic 1, one
     boundary loop."""
+    return disk_loop(faces) is not None
+
+
+def disk_loop(faces: np.ndarray) -> np.ndarray | None:
+    """The boundary loop of ``faces`` (as :func:`~surfinpaint.geometry.mesh.boundary_loops`
+    gives it) when they form a topological disk (:func:`is_disk`), else None."""
     table = EdgeTable.build(faces)  # one edge sort for the counts and the loops
     count = table.count
     if (count > 2).any():
-        return False
+        return None
     n_vertices = len(np.unique(faces))
     if n_vertices - len(count) + len(faces) != 1:
-        return False
+        return None
     try:
-        return len(boundary_loops(faces, table=table)) == 1
+        loops = boundary_loops(faces, table=table)
     except ValueError:
-        return False
+        return None
+    return loops[0] if len(loops) == 1 else None
 
 
 def hole_patch(
@@ -49,12 +56,22 @@ def hole_patch(
     FillError
         When not even the unevenly grown patch is a disk.
     """
+    patch, k, _ = hole_patch_and_boundary(faces, loop, fill_faces, rings)
+    return patch, k
+
+
+def hole_patch_and_boundary(faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
+                            rings: int) -> tuple[np.ndarray, int, np.ndarray | None]:
+    """:func:`hole_patch` and the patch's boundary loop (:func:`disk_loop`) where its rings
+    made a disk (None where it was grown unevenly). Such a patch is also connected: its ring
+    faces are reached from the loop, and the fill spans the loop."""
     n = int(max(faces.max(), fill_faces.max(), np.max(loop))) + 1
     for k in range(rings, 0, -1):
         patch = np.concatenate([fill_faces, faces_near(faces, loop, k - 1, n)])
-        if is_disk(patch):
-            return patch, k
-    return grown_patch(faces, loop, fill_faces, rings), rings
+        boundary = disk_loop(patch)
+        if boundary is not None:
+            return patch, k, boundary
+    return grown_patch(faces, loop, fill_faces, rings), rings, None
 
 
 def grown_patch(faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
