@@ -195,7 +195,9 @@ class EdgeTable:
         """The two half-edges ``(h1, h2)``, ``h1 < h2``, of each edge with exactly two faces,
         in edge order."""
         inner = self.start[:-1][self.count == 2]
-        return self.halfedges[inner], self.halfedges[inner + 1]
+        first = self.halfedges[inner]
+        inner += 1  # in place: one whole-mesh array less
+        return first, self.halfedges[inner]
 
     def edge_faces(self, e: int) -> np.ndarray:
         """The faces on edge ``e``, in increasing order."""

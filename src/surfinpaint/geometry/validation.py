@@ -308,7 +308,8 @@ def check_topology(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | N
         table = EdgeTable.build(f, len(v))
     else:
         table.check_faces(f)
-    _check_duplicates(table, path)
+    pairs = table.interior_pairs()  # for both edge checks
+    _check_duplicates(table, path, pairs)
 
     # per coordinate on 1-D arrays: several times faster than np.cross on (f, 3) gathers
     flat = zero_area_faces(v, f)
@@ -316,7 +317,7 @@ def check_topology(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | N
         raise _fail(f"{flat.size} faces have zero area (collinear or coincident corners): "
                     f"{_face_text(flat, f)}", path, faces=flat[:100].tolist())
 
-    _check_edges(table, path)
+    _check_edges(table, path, pairs)
     return table
 
 
@@ -330,14 +331,15 @@ def _face_text(ids: np.ndarray, f: np.ndarray) -> str:
     return _listing([f"{int(i)} {tuple(int(x) for x in f[i])}" for i in ids[:10]], len(ids))
 
 
-def _check_duplicates(table: EdgeTable, path: str | None) -> None:
+def _check_duplicates(table: EdgeTable, path: str | None, pairs=None) -> None:
     """Raise for faces with the same three vertices as another, naming each later copy with
-    the face it repeats (in the order of the faces' sorted vertex triples)."""
+    the face it repeats (in the order of the faces' sorted vertex triples). ``pairs``: the
+    table's ``interior_pairs()``, when made."""
     # Two such faces share every edge and have the same vertex opposite it, so comparing the
     # opposite corners (corner k of face t is opposite half-edge 3 t + k) of the faces on
     # each edge finds them all in O(E); only edges with three or more faces need a sort.
     corner_vertex = table.faces.ravel()
-    h1, h2 = table.interior_pairs()
+    h1, h2 = table.interior_pairs() if pairs is None else pairs
     twin = corner_vertex[h1] == corner_vertex[h2]
     suspects = [h1[twin] // 3, h2[twin] // 3]
     crowded = np.flatnonzero(table.count > 2)
@@ -362,9 +364,10 @@ def _check_duplicates(table: EdgeTable, path: str | None) -> None:
     raise _fail(f"{dup.size} duplicate faces: {text}", path, faces=dup[:100].tolist())
 
 
-def _check_edges(table: EdgeTable, path: str | None) -> None:
+def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
     """Raise for non-manifold edges and for interior edges whose two faces traverse them
-    in the same direction (inconsistent orientation), naming the edges and faces."""
+    in the same direction (inconsistent orientation), naming the edges and faces.
+    ``pairs``: the table's ``interior_pairs()``, when made."""
     count = table.count
     nonmanifold = np.flatnonzero(count > 2)
     if nonmanifold.size:
@@ -375,7 +378,7 @@ def _check_edges(table: EdgeTable, path: str | None) -> None:
         raise _fail(f"{nonmanifold.size} non-manifold edges (shared by more than two faces): "
                     f"{text}", path, edges=edges)
     # interior edge: its two half-edges must run in opposite directions
-    h1, h2 = table.interior_pairs()
+    h1, h2 = table.interior_pairs() if pairs is None else pairs
     clash = np.flatnonzero(table.forward[h1] == table.forward[h2])
     if clash.size:
         h1, h2 = h1[clash], h2[clash]
