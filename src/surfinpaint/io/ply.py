@@ -383,7 +383,7 @@ def write_ply(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
             rec = np.empty(len(cols[0][1]), dtype=fields)
             for n, a in cols:
                 rec[n] = a
-            fh.write(rec.tobytes())
+            fh.write(rec.view(np.uint8))  # its bytes, without a copy of them
 
 
 def _ascii_rows(fh, cols: list[tuple[str, np.ndarray]]) -> None:
