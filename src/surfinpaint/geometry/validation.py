@@ -340,7 +340,11 @@ def _check_duplicates(table: EdgeTable, path: str | None, pairs=None) -> None:
     # each edge finds them all in O(E); only edges with three or more faces need a sort.
     corner_vertex = table.faces.ravel()
     h1, h2 = table.interior_pairs() if pairs is None else pairs
-    twin = corner_vertex[h1] == corner_vertex[h2]
+    # compared block by block: the gathers' temporaries stay small (whole-mesh ones would
+    # each be fresh memory)
+    twin = np.empty(len(h1), dtype=bool)
+    for block in face_blocks(len(h1)):
+        np.equal(corner_vertex[h1[block]], corner_vertex[h2[block]], out=twin[block])
     suspects = [h1[twin] // 3, h2[twin] // 3]
     crowded = np.flatnonzero(table.count > 2)
     if crowded.size:
