@@ -128,9 +128,8 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return loops[0]
 
 
-def _check_triangles(v: np.ndarray, f: np.ndarray) -> np.ndarray:
-    """The checks of :func:`disk_boundary` before its topology (faces, ids, degenerate
-    triangles, in that order); the vertices the faces use."""
+def _check_triangles(v: np.ndarray, f: np.ndarray, out=None) -> np.ndarray:
+    """:func:`disk_boundary`'s checks before the topology; ``out``, or the vertices used."""
     if f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
         raise MeshError(f"a disk needs at least one triangle; faces have shape {f.shape}")
     if f.min() < 0 or f.max() >= len(v):
@@ -145,7 +144,7 @@ def _check_triangles(v: np.ndarray, f: np.ndarray) -> np.ndarray:
             f"{len(degenerate)} degenerate (zero-area) triangles: faces {preview(degenerate)}",
             faces=degenerate,
         )
-    return used
+    return used if out is None else out
 
 
 def pinched_vertices(faces: np.ndarray) -> np.ndarray:
@@ -192,11 +191,8 @@ def lscm(vertices: np.ndarray, faces: np.ndarray, *, boundary: np.ndarray | None
     faces : (f, 3) int array
         A topological disk (see :func:`check_disk`), consistently oriented.
     boundary : (k,) int array, optional
-        The disk's boundary loop as :func:`disk_boundary` gives it, from a caller that has
-        made sure the faces form a disk (one edge-manifold, connected piece with one
-        boundary loop, e.g. :func:`surfinpaint.fill.conformal.patch.disk_loop`): the
-        topology is then not checked again (the faces, their ids and degenerate triangles
-        are).
+        Its boundary loop as :func:`disk_boundary` gives it, from a caller that knows the
+        faces form a disk: their topology is then not checked again (degenerate ones are).
 
     Returns
     -------
@@ -212,11 +208,8 @@ def lscm(vertices: np.ndarray, faces: np.ndarray, *, boundary: np.ndarray | None
     """
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    if boundary is None:
-        loop = disk_boundary(v, f)
-    else:
-        _check_triangles(v, f)
-        loop = np.asarray(boundary, dtype=np.int64)
+    loop = (disk_boundary(v, f) if boundary is None
+            else _check_triangles(v, f, np.asarray(boundary, dtype=np.int64)))
     n = len(v)
     L = cotangent_laplacian(v, f)
     # In z = u + iv the energy is (up to a factor 2) the Hermitian form z^H (−L + i A) z:
