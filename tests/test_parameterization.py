@@ -284,7 +284,7 @@ def coiled_strip(turn: float, n: int = 40):
 @pytest.mark.parametrize("turn, crossing", [(0.5, False), (0.95, False), (1.2, True),
                                             (1.6, True)])
 def test_border_crossings_tell_a_map_that_overlaps_itself(turn, crossing):
-    from surfinpaint.geometry.parameterization import border_crossings
+    from surfinpaint.geometry.overlap import border_crossings
 
     uv, f = coiled_strip(turn)
     assert len(flipped_faces(f, uv)) == 0

@@ -40,7 +40,6 @@ from surfinpaint.geometry.mesh import (
 
 __all__ = [
     "angle_distortion",
-    "border_crossings",
     "check_disk",
     "collapsed_faces",
     "conformal_distortion",
@@ -128,8 +127,8 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return loops[0]
 
 
-def _check_triangles(v: np.ndarray, f: np.ndarray, out=None) -> np.ndarray:
-    """:func:`disk_boundary`'s checks before the topology; ``out``, or the vertices used."""
+def _check_triangles(v: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """:func:`disk_boundary`'s checks before the topology; the vertices used."""
     if f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
         raise MeshError(f"a disk needs at least one triangle; faces have shape {f.shape}")
     if f.min() < 0 or f.max() >= len(v):
@@ -144,7 +143,7 @@ def _check_triangles(v: np.ndarray, f: np.ndarray, out=None) -> np.ndarray:
             f"{len(degenerate)} degenerate (zero-area) triangles: faces {preview(degenerate)}",
             faces=degenerate,
         )
-    return used if out is None else out
+    return used
 
 
 def pinched_vertices(faces: np.ndarray) -> np.ndarray:
@@ -208,8 +207,11 @@ def lscm(vertices: np.ndarray, faces: np.ndarray, *, boundary: np.ndarray | None
     """
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    loop = (disk_boundary(v, f) if boundary is None
-            else _check_triangles(v, f, np.asarray(boundary, dtype=np.int64)))
+    if boundary is None:
+        loop = disk_boundary(v, f)
+    else:
+        _check_triangles(v, f)
+        loop = np.asarray(boundary, dtype=np.int64)
     n = len(v)
     L = cotangent_laplacian(v, f)
     # In z = u + iv the energy is (up to a factor 2) the Hermitian form z^H (−L + i A) z:
@@ -527,55 +529,6 @@ def signed_areas(faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
     q = np.asarray(uv, dtype=float)
     d1, d2 = q[f[:, 1]] - q[f[:, 0]], q[f[:, 2]] - q[f[:, 0]]
     return d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-
-
-def border_crossings(faces: np.ndarray, uv: np.ndarray, *, chunk: int = 1_000_000
-                     ) -> np.ndarray:
-    """Pairs of border edges of a disk's map that cross each other.
-
-    A map with no flipped triangle can still overlap itself as a whole: LSCM's free border
-    curls over itself on a large folded disk (a 50 mm pial disk's map crosses its border 3
-    times), and a point of the plane there lies on two sheets of the surface. The map is an
-    embedding exactly when its border is a simple polygon, so this is the test.
-
-    Parameters
-    ----------
-    faces : (f, 3) int array
-        A topological disk.
-    uv : (n, 2) float array
-    chunk : int
-        Edge pairs tested at once.
-
-    Returns
-    -------
-    (k, 2) int array
-        Positions along the border loop (``boundary_loops(faces)[0]``) of the first edge
-        of each crossing pair; edges that share a vertex never count.
-    """
-    loop = boundary_loops(np.asarray(faces, dtype=np.int64))[0]
-    q = np.asarray(uv, dtype=float)
-    a, b = q[loop], q[np.roll(loop, -1)]
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    n = len(loop)
-    found = []
-    rows = max(1, chunk // max(n, 1))
-    for start in range(0, n, rows):
-        i, j = np.nonzero(np.arange(start, min(start + rows, n))[:, None]
-                          < np.arange(n)[None, :] - 1)
-        i += start
-        keep = ~((i == 0) & (j == n - 1))  # the loop's last edge meets its first
-        keep &= (lo[i] <= hi[j]).all(axis=1) & (lo[j] <= hi[i]).all(axis=1)
-        i, j = i[keep], j[keep]
-        d1, d2 = _orientation(a[i], b[i], a[j]), _orientation(a[i], b[i], b[j])
-        d3, d4 = _orientation(a[j], b[j], a[i]), _orientation(a[j], b[j], b[i])
-        cross = (d1 * d2 < 0) & (d3 * d4 < 0)
-        found.append(np.column_stack([i[cross], j[cross]]))
-    return np.vstack(found) if found else np.zeros((0, 2), dtype=np.int64)
-
-
-def _orientation(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
-    return np.sign((q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1])
-                   - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0]))
 
 
 def flipped_faces(faces: np.ndarray, uv: np.ndarray) -> np.ndarray:

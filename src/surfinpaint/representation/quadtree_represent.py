@@ -49,7 +49,7 @@ from scipy.spatial import cKDTree
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.parameterization import border_crossings
+from surfinpaint.geometry.overlap import border_crossings
 from surfinpaint.geometry.point_location import locate_points
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 from surfinpaint.representation.grid_newton import harmonic_fill, solve_finer_level
@@ -327,7 +327,7 @@ def represent_quadtree(vertices: np.ndarray, faces: np.ndarray, *,
         The conformal map. LSCM by default: the rectangle's corners squeeze the surface
         too, and no rectangular-map tree of the tuning disks was rebuilt (session 19). Where
         LSCM's image overlaps itself (its border crosses itself,
-        :func:`~surfinpaint.geometry.parameterization.border_crossings`), the rectangle
+        :func:`~surfinpaint.geometry.overlap.border_crossings`), the rectangle
         instead, with a :class:`~surfinpaint.representation.mapping.FoldedMapWarning`; the
         map used is the representation's ``map``.
     max_depth : int
