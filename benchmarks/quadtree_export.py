@@ -28,7 +28,7 @@ two-sided surface distance in % of the diagonal (targets of the 512² export: me
 Hausdorff < 1 %); the *floor* is the same with the sampled φ (an exact rebuild).
 
 Run: ``PYTHONPATH=src python benchmarks/quadtree_export.py [--meshes foot,legcap,finger2]
-[--targets 0.1,0.05,0.02] [--depth 14] [--map lscm|rectangular] [--floor-only] [--direct]
+[--targets 0.4,0.2,0.1,0.05,0.02] [--depth 14] [--map lscm|rectangular] [--floor-only] [--direct]
 [--sampling pl|smooth]``
 """
 
@@ -44,6 +44,7 @@ from represent_speed import MAKERS, pymeshlab_sample
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.representation.quadtree_represent import (
+    DEFAULT_TARGETS,
     level_solves,
     represent_quadtree,
     tree_vertices,
@@ -113,7 +114,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--meshes", default="foot,legcap,finger2",
                         help=f"of {', '.join(MAKERS)}, or held out: {', '.join(HELD_OUT)}")
-    parser.add_argument("--targets", default="0.1,0.05,0.02",
+    parser.add_argument("--targets", default=",".join(map(str, DEFAULT_TARGETS)),
                         help="the trees' cell sides × the diagonal, coarse to fine")
     parser.add_argument("--depth", type=int, default=14)
     parser.add_argument("--map", choices=("lscm", "rectangular"), default="lscm")

@@ -176,6 +176,21 @@ def test_the_round_trip_is_the_sampling_floor_and_the_floor_falls_with_the_targe
     assert floors[2] < 2e-4  # 0.011 % of the diagonal, measured
 
 
+@pytest.mark.slow
+def test_the_default_chain_gives_the_tallest_benchmark_finger_back():
+    """The finger h = 2 of ``benchmarks/represent_speed.py`` (λ varies ~1000-fold): from
+    the old default's first tree (0.1) the continuation stalls at t = 0.06; from 0.4, each
+    tree at most twice finer than the last, every tree converges to its own samples."""
+    from surfinpaint.representation.quadtree_represent import DEFAULT_TARGETS
+
+    v, f = finger(height=2.0)
+    rep = represent_quadtree(v, f)
+    assert [level.target for level in rep.levels] == list(DEFAULT_TARGETS)
+    for solve in level_solves(rep):
+        assert solve.converged, solve.message
+        np.testing.assert_allclose(solve.points, solve.level.phi, atol=1e-9 * diagonal(v))
+
+
 def test_coarse_to_fine_and_direct_rebuilds_meet(tall_finger):
     v, f = tall_finger
     rep = represent_quadtree(v, f, targets=(0.2, 0.1))

@@ -169,7 +169,7 @@ def add_representation_parsers(sub) -> None:
                    "round trip")
     p.add_argument("--targets", type=target_list, metavar="T1,T2,...",
                    help="quadtree: its trees' cell sides on the surface, × the bounding-box "
-                   "diagonal, coarse to fine (default 0.1,0.05,0.02); the rebuild goes "
+                   "diagonal, coarse to fine (default 0.4,0.2,0.1,0.05,0.02); the rebuild goes "
                    "through them in order")
     p.add_argument("--spacing", choices=("uniform", "graded"),
                    help="grid: the paper's square grid (default) or a graded one, densest "

@@ -73,9 +73,11 @@ __all__ = ["DEFAULT_TARGETS", "LevelSolve", "QuadtreeLambdaH", "TreeLevel", "lev
            "rebuild_quadtree", "represent_quadtree", "sampled_tree_vertices",
            "tree_vertices"]
 
-# cell sides on the surface, × the diagonal, of the trees, coarse to fine (chosen on the
-# three tuning disks of benchmarks/quadtree_export.py, session 19)
-DEFAULT_TARGETS = (0.1, 0.05, 0.02)
+# cell sides on the surface, × the diagonal, of the trees, coarse to fine: each at most
+# twice finer than the one before, from a coarse start (chosen on the three tuning disks of
+# benchmarks/quadtree_export.py, session 21: from 0.1 or 0.2 the tall finger's coarsest tree
+# does not converge, from 0.4 the chain converges exactly on all three)
+DEFAULT_TARGETS = (0.4, 0.2, 0.1, 0.05, 0.02)
 # the deepest leaves: cells of 2⁻¹⁴ of the domain's long side (the finger's tip needs 13)
 DEFAULT_DEPTH = 14
 _FORMAT = 1
