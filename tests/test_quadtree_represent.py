@@ -94,6 +94,15 @@ def test_the_finer_trees_keep_every_node_of_the_coarser_ones(tall_finger):
         np.testing.assert_allclose(fine.phi[pos], coarse.phi, atol=1e-12)
 
 
+def test_a_tree_with_nothing_to_solve_for_is_left_out():
+    """A nearly flat disk's 0.4 tree is a few cells, all cut by LSCM's free border."""
+    rep = represent_quadtree(*bumpy_disk(12), targets=(0.9, 0.4, 0.1))
+    assert [level.target for level in rep.levels] == [0.1]
+    assert all((~level.known).any() for level in rep.levels)
+    with pytest.raises(ValueError, match="no tree of targets"):
+        represent_quadtree(*bumpy_disk(12), targets=(0.9,))
+
+
 def test_the_border_nodes_are_the_known_ones_and_h_is_not_defined_there(tall_finger):
     v, f = tall_finger
     level = represent_quadtree(v, f, targets=(0.1,)).finest

@@ -324,7 +324,8 @@ def represent_quadtree(vertices: np.ndarray, faces: np.ndarray, *,
         A topological disk, consistently oriented.
     targets : tuple of float
         The trees' cell sides on the surface, × the bounding-box diagonal, decreasing
-        (coarse to fine; the rebuild goes through them in this order).
+        (coarse to fine; the rebuild goes through them in this order). A tree with no node
+        inside the map to solve for (too coarse for the disk) is left out.
     map : {"lscm", "rectangular"}
         The conformal map. LSCM by default: the rectangle's corners squeeze the surface
         too, and no rectangular-map tree of the tuning disks was rebuilt (session 19). Where
@@ -371,6 +372,12 @@ def represent_quadtree(vertices: np.ndarray, faces: np.ndarray, *,
     diagonal = float(np.linalg.norm(np.ptp(v, axis=0)))
     levels = tuple(_tree_level(disk, t, diagonal, int(max_depth), sampling)
                    for t in targets)
+    # a tree too coarse to have a node to solve for inside the map (a flat disk's 0.4 tree:
+    # a few cells, all cut by LSCM's free border) is left out of the chain
+    levels = tuple(level for level in levels if not level.known.all())
+    if not levels:
+        raise ValueError(f"no tree of targets {targets} has a node inside the map to solve "
+                         "for: give smaller targets")
     return QuadtreeLambdaH(vertices=v.copy(), faces=f.copy(), uv=disk.uv[:len(v)].copy(),
                            levels=levels, map=disk.map, sampling=sampling,
                            max_depth=int(max_depth))
