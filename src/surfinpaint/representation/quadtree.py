@@ -12,9 +12,9 @@ surface and keeps every cell square. Measured on the three tall disks of
 docs/representation.md, session 19): trees of 12–16 thousand nodes sample their smooth
 interpolant to 0.0009–0.005 % mean / 0.1–0.67 % Hausdorff of the diagonal, where the graded
 512² grid takes about 200 thousand nodes for 0.0009–0.005 % / 0.08–0.77 %; sampled from the
-mesh itself, the foot and leg caps are rebuilt exactly by the mesh form's Newton method,
-coarse to fine over three such trees (0.016 % / 0.15–0.23 %; the graded grid's rebuild does
-not converge on them), the finger is not.
+mesh itself, all three are rebuilt exactly by the mesh form's Newton method, coarse to fine
+over such trees (0.013–0.016 % / 0.15–0.99 %; the graded grid's rebuild does not converge on
+them; session 21).
 
 The tree is *2:1 balanced* (cells sharing an edge differ by at most one level), so a
 cell's side carries at most one hanging node, its midpoint; each leaf is triangulated as a

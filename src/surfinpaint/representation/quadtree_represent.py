@@ -31,10 +31,13 @@ the coarser solution interpolated at its nodes, the nodes the two share held, th
 not converge so is solved alone from the harmonic surface. The mesh's vertices are
 the finest solution interpolated at their (u, v) (Clough–Tocher over the tree's triangles).
 
-Measured (``benchmarks/quadtree_export.py``, docs/representation.md, session 19; targets
-0.1, 0.05, 0.02): the foot and leg caps, whose graded 512² rebuild did not converge, come
-back exactly (to their sampling floors, 0.016 % mean / 0.15–0.23 % Hausdorff of the
-diagonal) from trees of 12–14 thousand nodes; the tall finger (h = 2) does not converge.
+Measured (``benchmarks/quadtree_export.py``, docs/representation.md, session 21; the
+default trees 0.4, 0.2, 0.1, 0.05, 0.02): 9 of the 11 disks of
+``benchmarks/represent_speed.py`` come back exactly to their sampling floors, under 0.1 %
+mean / 1 % Hausdorff of the diagonal, from finest trees of 5–16 thousand nodes, the tall
+finger, foot and leg cap that no 512² grid holds among them; the 70 mm pial disk (a finer
+tree does not converge) and the whole face scan (its trees' samples miss it by 6.7 % over
+the rectangle) do not.
 """
 
 from __future__ import annotations
