@@ -7,7 +7,7 @@ import warnings
 
 import numpy as np
 import pytest
-from test_representation import finger
+from test_representation import finger, pushed_over
 
 import surfinpaint
 from surfinpaint.app.cli import main
@@ -120,17 +120,10 @@ def test_a_map_that_folds_is_untangled_before_the_trees_sample_it(monkeypatch):
     """A folded map sampled piecewise linearly gives one sheet where the mesh has two: the
     trees fold with it (a 72-vertex cow cap: 1,816 folded edges at 0.1 before)."""
     import surfinpaint.representation.mapping as mapping
-    from surfinpaint.geometry.mesh import boundary_loops
-    from surfinpaint.geometry.parameterization import flipped_faces, lscm
+    from surfinpaint.geometry.parameterization import flipped_faces
 
     v, f = bumpy_disk(12)
-    uv = lscm(v, f)
-    interior = np.setdiff1d(np.arange(len(v)), np.concatenate(boundary_loops(f)))
-    moved = int(interior[len(interior) // 3])
-    neighbours = np.unique(f[np.any(f == moved, axis=1)])
-    folded = uv.copy()
-    folded[moved] += 2.5 * (uv[neighbours].mean(axis=0) - uv[moved] + 0.3 * np.ptp(
-        uv[neighbours], axis=0))
+    folded, _ = pushed_over(v, f, part=3)
     assert len(flipped_faces(f, folded)) > 0
     monkeypatch.setattr(mapping, "lscm", lambda *_: folded.copy())
     with pytest.warns(mapping.FoldedMapWarning, match="untangled locally"):

@@ -56,6 +56,20 @@ def finger(height: float = 1.0, width: float = 0.3, rings: int = 16):
     return v, f
 
 
+def pushed_over(v, f, part: int = 2):
+    """The LSCM map of a disk with one interior vertex (the ``1/part``-th) pushed across its
+    neighbours, so that the map folds there (as LSCM flips a sliver of the quadruped's leg
+    cap); and that vertex's neighbours."""
+    uv = lscm(v, f)
+    interior = np.setdiff1d(np.arange(len(v)), np.concatenate(boundary_loops(f)))
+    moved = int(interior[len(interior) // part])
+    neighbours = np.unique(f[np.any(f == moved, axis=1)])
+    folded = uv.copy()
+    folded[moved] += 2.5 * (uv[neighbours].mean(axis=0) - uv[moved] + 0.3 * np.ptp(
+        uv[neighbours], axis=0))
+    return folded, neighbours
+
+
 def diagonal(v):
     return float(np.linalg.norm(np.ptp(v, axis=0)))
 
@@ -121,13 +135,7 @@ def test_a_map_that_folds_is_untangled_and_the_round_trip_stays_exact(monkeypatc
     from surfinpaint.geometry.parameterization import flipped_faces
 
     v, f = bumpy_disk(12)
-    uv = lscm(v, f)
-    interior = np.setdiff1d(np.arange(len(v)), np.concatenate(boundary_loops(f)))
-    moved = int(interior[len(interior) // 2])
-    neighbours = np.unique(f[np.any(f == moved, axis=1)])
-    folded = uv.copy()
-    folded[moved] += 2.5 * (uv[neighbours].mean(axis=0) - uv[moved] + 0.3 * np.ptp(
-        uv[neighbours], axis=0))
+    folded, neighbours = pushed_over(v, f)
     assert len(flipped_faces(f, folded)) > 0
     monkeypatch.setattr(mapping, "lscm", lambda *_: folded.copy())
     with pytest.warns(mapping.FoldedMapWarning, match="untangled locally"):
