@@ -46,6 +46,7 @@ import os
 import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -273,16 +274,19 @@ class _MappedDisk:
                          self.hi - 1e-9 * (self.hi - self.lo))
         return *locate_points(self.uv, self.faces, points), points
 
-    def sample(self, points: np.ndarray, sampling: str) -> np.ndarray:
-        """The surface at ``points`` of the plane (each inside the map)."""
-        where, weights, points = self.locate(points)
-        if (where < 0).any():
-            raise RuntimeError(f"{int((where < 0).sum())} tree nodes lie in no triangle of "
-                               "the map")
+    @cached_property
+    def gradients(self) -> np.ndarray:
+        """The surface's gradients at the vertices, for its Clough–Tocher interpolant."""
+        return vertex_gradients(self.uv, self.faces, self.points)
+
+    def sample(self, located: tuple[np.ndarray, np.ndarray, np.ndarray],
+               sampling: str) -> np.ndarray:
+        """The surface at points of the plane, each in a triangle of the map (``located``:
+        :meth:`locate`'s answer for them)."""
+        where, weights, points = located
         if sampling == "pl":
             return np.einsum("pk,pkd->pd", weights, self.points[self.faces[where]])
-        gradients = vertex_gradients(self.uv, self.faces, self.points)
-        return clough_tocher(self.uv, self.faces, self.points, gradients, where, points)
+        return clough_tocher(self.uv, self.faces, self.points, self.gradients, where, points)
 
 
 def _tree_level(disk: _MappedDisk, target: float, diagonal: float, max_depth: int,
@@ -300,13 +304,14 @@ def _tree_level(disk: _MappedDisk, target: float, diagonal: float, max_depth: in
     # only the triangles inside the map: LSCM's free border, or a rectangular map whose
     # border leaves the rectangle where it folds (the whole face scan's: 248 flipped
     # triangles, 735 of its 2,476 border vertices off the rectangle's sides)
-    inside = disk.locate(uv)[0] >= 0
+    located = disk.locate(uv)
+    inside = located[0] >= 0
     faces = faces[inside[faces].all(axis=1)]
     used = np.unique(faces)
     remap = np.full(len(uv), -1)
     remap[used] = np.arange(len(used))
     faces, uv, keys = remap[faces], uv[used], tree.keys[used]
-    phi = disk.sample(uv, sampling)
+    phi = disk.sample(tuple(a[used] for a in located), sampling)
     table = EdgeTable.build(faces, len(uv))
     known = np.zeros(len(uv), dtype=bool)
     known[table.edges[table.count == 1].ravel()] = True
