@@ -262,6 +262,22 @@ def test_plot_representation_of_a_mesh_writes_png(tmp_path):
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+@pytest.mark.parametrize("lam, logged", [
+    ([1.0, 2.0, 50.0], False),
+    ([1.0, 2.0, 101.0], True),
+    ([0.01, 1.0, np.nan], False),
+    ([0.001, 1.0, np.nan], True),
+    ([np.nan, np.nan], False),
+])
+def test_lambda_is_drawn_on_a_log_scale_where_it_varies_more_than_100_fold(lam, logged):
+    from surfinpaint.app.lambda_h_figures import lambda_panel
+
+    values, title = lambda_panel(np.array(lam))
+    assert ("log" in title) == logged
+    expected = np.log10(lam) if logged else np.array(lam)
+    np.testing.assert_array_equal(values, expected)
+
+
 # --------------------------------------------------------------------------------- layering
 
 

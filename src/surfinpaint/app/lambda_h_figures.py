@@ -35,6 +35,21 @@ def _range(values: np.ndarray, clip: float, symmetric: bool) -> dict:
     return {"vmin": lo, "vmax": hi}
 
 
+# λ drawn on a log scale when its largest value is this many times its smallest
+_LOG_RANGE = 100.0
+
+
+def lambda_panel(lam: np.ndarray) -> tuple[np.ndarray, str]:
+    """λ as drawn, and its panel's title: log₁₀ λ where λ varies more than ``_LOG_RANGE``-
+    fold (a map that squeezes a limb's tip 1000-fold: on a linear scale all but the tip is
+    one colour), else λ itself."""
+    lam = np.asarray(lam, dtype=float)
+    finite = lam[np.isfinite(lam) & (lam > 0)]
+    if len(finite) and finite.max() > _LOG_RANGE * finite.min():
+        return np.log10(np.where(lam > 0, lam, np.nan)), "conformal factor log₁₀ λ"
+    return lam, "conformal factor λ"
+
+
 def plot_representation(rep, path: str | os.PathLike, *, clip: float = 1.0,
                         title: str | None = None) -> None:
     """Write a PNG of λ and H over the parameter domain with colour bars and the histogram
@@ -49,7 +64,8 @@ def plot_representation(rep, path: str | os.PathLike, *, clip: float = 1.0,
     path : str or PathLike
     clip : float
         The colour ranges are clipped to the ``clip``/``100 − clip`` percentiles (H of a
-        mesh has outliers on slivers, λ near a rectangle's corners).
+        mesh has outliers on slivers, λ near a rectangle's corners). λ is drawn as
+        log₁₀ λ where it varies more than 100-fold.
     title : str, optional
     """
     import matplotlib
@@ -59,7 +75,8 @@ def plot_representation(rep, path: str | os.PathLike, *, clip: float = 1.0,
 
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.8), constrained_layout=True,
                              gridspec_kw={"width_ratios": [1, 1, 0.8]})
-    panels = ((axes[0], rep.lam, "conformal factor λ", "viridis", False),
+    lam, lam_name = lambda_panel(rep.lam)
+    panels = ((axes[0], lam, lam_name, "viridis", False),
               (axes[1], rep.H, "mean curvature H", "RdBu_r", True))
     if rep.discretization in ("mesh", "quadtree"):
         import matplotlib.tri as mtri
@@ -94,7 +111,7 @@ def plot_representation(rep, path: str | os.PathLike, *, clip: float = 1.0,
             _decorate(fig, ax, im, name)
     distortion = np.abs(angle_distortion(rep.vertices, rep.faces, rep.uv))
     plot_conformality(axes[2], rep.vertices, rep.faces, rep.uv)
-    axes[2].set_title(f"conformality: angle distortion (median {np.median(distortion):.2f}°)")
+    axes[2].set_title(f"angle distortion, median {np.median(distortion):.2f}°")
     fig.suptitle(title or f"λ-H representation ({rep.discretization}, {rep.map} map, {size})")
     try:
         save_figure(fig, path, dpi=120)
