@@ -305,6 +305,10 @@ def test_stages_are_said_as_they_start():
               progress=said.append)
     assert said[0].startswith("mapping") and "quadtrees" in said[0]
     assert said[1].startswith("self-check: rebuilding the quadtrees (")
+    # then each tree's solve as it starts, coarse to fine
+    assert [line.split(" (")[0] for line in said[2:]] == ["rebuilding tree 1 of 2",
+                                                          "rebuilding tree 2 of 2"]
+    assert "cells of 0.2 × the diagonal" in said[2]
 
 
 # -------------------------------------------------------------------------------- the CLI

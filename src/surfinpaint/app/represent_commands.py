@@ -132,7 +132,7 @@ def run_rebuild(args: argparse.Namespace) -> int:
         if rep.discretization == "grid":
             out = representation.rebuild(rep, method=args.method)
         else:
-            out = representation.rebuild(rep)
+            out = representation.rebuild(rep, progress=stage)
     write_mesh(args.output, out.vertices, out.faces)
     _print_round_trip(console, representation.round_trip(rep, out),
                       "against the stored original:")

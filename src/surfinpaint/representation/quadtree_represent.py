@@ -44,7 +44,7 @@ from __future__ import annotations
 
 import os
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -529,10 +529,12 @@ def sampled_tree_vertices(rep: QuadtreeLambdaH) -> np.ndarray:
     return tree_vertices(rep, rep.finest, rep.finest.phi)
 
 
-def rebuild_quadtree(rep: QuadtreeLambdaH, **options
+def rebuild_quadtree(rep: QuadtreeLambdaH, *,
+                     progress: Callable[[str], None] | None = None, **options
                      ) -> tuple[np.ndarray, np.ndarray, ReconstructionInfo]:
     """The mesh rebuilt from its quadtree representation, coarse to fine
-    (:func:`level_solves`, which takes ``options``).
+    (:func:`level_solves`, which takes ``options``); ``progress`` is called with a sentence
+    as each tree's solve starts.
 
     Returns
     -------
@@ -545,10 +547,13 @@ def rebuild_quadtree(rep: QuadtreeLambdaH, **options
         Whether every tree converged, the sparse factorizations in all, and per tree its
         nodes and factorizations.
     """
-    solves = []
-    for solve in level_solves(rep, **options):
-        solves.append(solve)
-        if not solve.converged:
+    say = progress or (lambda message: None)
+    solves, trees = [], level_solves(rep, **options)
+    for k, level in enumerate(rep.levels):
+        say(f"rebuilding tree {k + 1} of {len(rep.levels)} ({len(level.uv)} nodes, cells of "
+            f"{level.target:g} × the diagonal)")
+        solves.append(next(trees))
+        if not solves[-1].converged:
             break  # a finer tree from an unconverged start only repeats the failure
     converged = all(s.converged for s in solves) and len(solves) == len(rep.levels)
     parts = ", ".join(f"{len(s.level.uv)} nodes: {s.iterations}"

@@ -275,7 +275,7 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         rep = _represent_on_mesh(v, f, map, strict)
     if check:
         say(_rebuilding(rep))
-        rep.check = check_representation(rep)
+        rep.check = check_representation(rep, progress=progress)
         _warn_if_coarse(rep)
     return rep
 
@@ -320,7 +320,8 @@ def _represent_on_mesh(v: np.ndarray, f: np.ndarray, map: str, strict: bool) -> 
 def rebuild(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH, method: str | None = None, *,
             lam: np.ndarray | None = None, H: np.ndarray | None = None,
             defect: np.ndarray | None = None, tol: float | None = None,
-            max_iter: int | None = None, **options) -> Rebuilt:
+            max_iter: int | None = None, progress: Callable[[str], None] | None = None,
+            **options) -> Rebuilt:
     """The mesh rebuilt from its λ-H representation.
 
     Parameters
@@ -342,6 +343,9 @@ def rebuild(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH, method: str | None = N
         :func:`~surfinpaint.representation.mesh_lambda_h.rebuild_on_mesh`; the quadtrees'
         budget is the coarsest tree's); on the grid, the Laplacian iteration's
         (``reconstruct``'s defaults).
+    progress : callable, optional
+        Quadtrees: called with a sentence as each tree's solve starts (the others are one
+        solve).
     **options
         Grid: passed on to ``rebuild_grid``; quadtree: ``direct`` (each tree alone, not
         coarse to fine) for
@@ -374,7 +378,7 @@ def rebuild(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH, method: str | None = N
         started = time.perf_counter()
         v, f, info = rebuild_quadtree(rep, lam=lam, H=H, tol=1e-10 if tol is None else tol,
                                       max_iter=MAX_STEPS if max_iter is None else max_iter,
-                                      **options)
+                                      progress=progress, **options)
         out = Rebuilt(v, f, info.converged, info.iterations, info.message,
                       time.perf_counter() - started)
     else:
@@ -395,11 +399,13 @@ def rebuild(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH, method: str | None = N
     return out
 
 
-def check_representation(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> RoundTrip:
-    """Rebuild the mesh from ``rep`` and measure it against the original it stores."""
+def check_representation(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH, *,
+                         progress: Callable[[str], None] | None = None) -> RoundTrip:
+    """Rebuild the mesh from ``rep`` and measure it against the original it stores
+    (``progress``: as :func:`rebuild`'s)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NotConvergedWarning)  # it is in the result
-        out = rebuild(rep)
+        out = rebuild(rep, progress=progress)
     return round_trip(rep, out)
 
 
