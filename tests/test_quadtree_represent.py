@@ -341,7 +341,8 @@ def test_cli_exports_and_rebuilds_a_quadtree(tmp_path, capsys, tall_finger):
     assert main(["represent", str(mesh), "-o", str(tmp_path / "q.npz"), "--discretization",
                  "quadtree", "--targets", "0.2", "--no-check", "--png", str(png)]) == 0
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert main(["rebuild", str(tree_path), "-o", str(out), "--method", "newton"]) == 2
+    for method in ("newton", "laplacian"):
+        assert main(["rebuild", str(tree_path), "-o", str(out), "--method", method]) == 2
 
 
 @pytest.mark.parametrize("extra, says", [

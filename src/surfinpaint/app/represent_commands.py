@@ -124,7 +124,11 @@ def run_rebuild(args: argparse.Namespace) -> int:
     except (OSError, KeyError, ValueError) as exc:
         raise MeshError(f"not a λ-H representation file ({exc})",
                         path=str(args.representation)) from exc
-    if rep.discretization != "grid" and args.method not in (None, "laplacian"):
+    # the methods a file of each kind takes (a mesh file has taken --method laplacian, once
+    # the default, as a no-op)
+    methods = {"grid": None, "mesh": (None, "laplacian"), "quadtree": (None,)}
+    if methods[rep.discretization] is not None and args.method not in methods[
+            rep.discretization]:
         raise _UsageError(f"--method is for grid representations; a {rep.discretization} "
                           "representation is rebuilt on its own triangles")
     with _stages(console) as stage:
