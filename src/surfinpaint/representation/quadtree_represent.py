@@ -220,6 +220,24 @@ def _typed_level(level: TreeLevel) -> TreeLevel:
                      level.lam, level.H, level.defect)
 
 
+def _vertex_stretch(points: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """σ at each vertex: √(surface area / parameter area) of its triangles, the median of
+    them (the largest gave 25–50 % more nodes for the same floors on the tuning disks: its
+    slivers)."""
+    p, q = points[faces], uv[faces]
+    area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    e1, e2 = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
+    plane = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    per_corner = np.repeat(np.sqrt(area / np.maximum(plane, np.finfo(float).tiny)), 3)
+    order = np.lexsort((per_corner, faces.ravel()))
+    vid, val = faces.ravel()[order], per_corner[order]
+    start = np.r_[0, np.flatnonzero(np.diff(vid)) + 1]
+    count = np.diff(np.r_[start, len(vid)])
+    sigma = np.zeros(len(points))
+    sigma[vid[start]] = val[start + count // 2]
+    return sigma
+
+
 class _MappedDisk:
     """A disk's (subdivided) mesh over its conformal map, the scale σ of its triangles at
     the vertices, and its surface sampled at points of the plane."""
@@ -249,19 +267,7 @@ class _MappedDisk:
         self.uv, self.faces, self.points = (uv, faces, vertices) if levels == 0 else \
             subdivided_map(vertices, faces, uv, corners, map, levels, strict, untangle=True)
         self.lo, self.hi = self.uv.min(axis=0), self.uv.max(axis=0)
-        p, q = self.points[self.faces], self.uv[self.faces]
-        area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
-        e1, e2 = q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]
-        plane = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-        per_corner = np.repeat(np.sqrt(area / np.maximum(plane, np.finfo(float).tiny)), 3)
-        # the median of each vertex's triangles: the largest gave 25–50 % more nodes for the
-        # same floors on the tuning disks (its slivers)
-        order = np.lexsort((per_corner, self.faces.ravel()))
-        vid, val = self.faces.ravel()[order], per_corner[order]
-        start = np.r_[0, np.flatnonzero(np.diff(vid)) + 1]
-        count = np.diff(np.r_[start, len(vid)])
-        self.sigma = np.zeros(len(self.points))
-        self.sigma[vid[start]] = val[start + count // 2]
+        self.sigma = _vertex_stretch(self.points, self.faces, self.uv)
         self._near = cKDTree(self.uv)
 
     def sigma_at(self, points: np.ndarray) -> np.ndarray:
