@@ -181,7 +181,8 @@ def test_a_grid_that_under_resolves_the_surface_says_so():
     assert c.converged and c.floor_hausdorff > COARSE_FLOOR / 100 * c.diagonal
     assert f"{100 * c.floor_hausdorff / c.diagonal:.3g} % of the diagonal" in \
         str(caught[0].message)
-    assert "spacing='graded'" in str(caught[0].message)  # the way out is named
+    assert "spacing='graded'" in str(caught[0].message)  # the ways out are named
+    assert "quadtree_export" in str(caught[0].message)
     # the bumpy disk at 48 nodes is resolved (floor 0.05 % at worst): no warning
     with warnings.catch_warnings():
         warnings.simplefilter("error", CoarseGridWarning)

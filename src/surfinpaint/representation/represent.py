@@ -294,8 +294,10 @@ def _warn_if_coarse(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> None:
     else:
         shape = "×".join(str(n) for n in rep.grid.shape)
         what = f"the {shape} {'graded ' if rep.grid.graded else ''}grid"
-        finer = "a finer grid" if rep.grid.graded else \
-            "a finer or graded grid (spacing='graded')"
+        finer = ("a finer grid" if rep.grid.graded else
+                 "a finer or graded grid (spacing='graded')") + \
+            ", the quadtree export (quadtree_export, --export-quadtree), whose cells follow " \
+            "the squeeze"
     warnings.warn(
         f"{what} under-resolves this surface "
         f"where the map squeezes it: its samples alone miss the mesh by "
