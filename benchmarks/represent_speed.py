@@ -38,14 +38,10 @@ from surfinpaint.data import bumpy_disk, fsaverage5, pymeshlab_sample
 from surfinpaint.fill.disk import disk_from_mesh
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mesh import connected_components
+from surfinpaint.representation.exports import grid_export, sampling_floor
 from surfinpaint.representation.mapping import FoldedMapWarning
 from surfinpaint.representation.reconstruction import NotConvergedWarning
-from surfinpaint.representation.represent import (
-    check_representation,
-    grid_export,
-    represent,
-    sampling_floor,
-)
+from surfinpaint.representation.represent import check_representation, represent
 
 
 def face_scan_disk(radius: float | None = 40.0):

@@ -9,15 +9,10 @@ import numpy as np
 import pytest
 
 from surfinpaint.data import bumpy_disk
+from surfinpaint.representation.exports import grid_export, sampling_floor
 from surfinpaint.representation.grid import Grid, graded_grid_over, grid_over, interpolate, resample
 from surfinpaint.representation.grid_represent import LambdaH, rebuild_grid
-from surfinpaint.representation.represent import (
-    CoarseGridWarning,
-    grid_export,
-    load_representation,
-    represent,
-    sampling_floor,
-)
+from surfinpaint.representation.represent import CoarseGridWarning, load_representation, represent
 
 
 def tall_bump(rings: int = 10):

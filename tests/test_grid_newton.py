@@ -9,6 +9,7 @@ import pytest
 
 from surfinpaint.data import bumpy_disk
 from surfinpaint.representation.analytic import stereographic_sphere
+from surfinpaint.representation.exports import grid_export
 from surfinpaint.representation.grid_newton import (
     grid_triangles,
     prolong,
@@ -22,7 +23,7 @@ from surfinpaint.representation.grid_represent import (
     sampled_vertices,
 )
 from surfinpaint.representation.mapping import FoldedMapWarning
-from surfinpaint.representation.represent import grid_export, rebuild, represent
+from surfinpaint.representation.represent import rebuild, represent
 from surfinpaint.representation.roundtrip import RoundTrip, measure_round_trip
 
 
@@ -190,11 +191,8 @@ def test_a_grid_that_under_resolves_the_surface_says_so():
 
 
 def test_the_automatic_export_resolution_doubles_until_the_grid_holds_the_surface():
-    from surfinpaint.representation.represent import (
-        COARSE_FLOOR,
-        export_resolution,
-        sampling_floor,
-    )
+    from surfinpaint.representation.exports import export_resolution, sampling_floor
+    from surfinpaint.representation.represent import COARSE_FLOOR
 
     # the tall bump: λ's range alone asks for 64 nodes, where the samples miss the bump's
     # top by 4.2 % of the diagonal; doubled to 512 they miss it by 0.51 % (measured)

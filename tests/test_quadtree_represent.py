@@ -14,6 +14,7 @@ from surfinpaint.app.cli import main
 from surfinpaint.data import bumpy_disk
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.io.formats import read_mesh, write_mesh
+from surfinpaint.representation.exports import quadtree_export
 from surfinpaint.representation.quadtree_represent import (
     QuadtreeLambdaH,
     level_solves,
@@ -24,7 +25,6 @@ from surfinpaint.representation.reconstruction import NotConvergedWarning
 from surfinpaint.representation.represent import (
     CoarseGridWarning,
     load_representation,
-    quadtree_export,
     rebuild,
     represent,
 )

@@ -17,6 +17,7 @@ from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.geometry.parameterization import lscm
 from surfinpaint.representation.analytic import enneper, stereographic_sphere
+from surfinpaint.representation.exports import export_resolution, grid_export
 from surfinpaint.representation.grid_represent import LambdaH
 from surfinpaint.representation.mesh_lambda_h import (
     mesh_lambda_h,
@@ -26,8 +27,6 @@ from surfinpaint.representation.mesh_lambda_h import (
 from surfinpaint.representation.reconstruction import NotConvergedWarning
 from surfinpaint.representation.represent import (
     MeshLambdaH,
-    export_resolution,
-    grid_export,
     load_representation,
     rebuild,
     represent,
@@ -354,7 +353,7 @@ def test_the_grid_export_factors_its_levels_in_minimum_degree_order(monkeypatch)
 
 
 def test_represent_and_the_grid_export_say_each_stage_as_it_starts():
-    from surfinpaint.representation.represent import grid_export
+    from surfinpaint.representation.exports import grid_export
 
     said = []
     rep = represent(*bumpy_disk(6), progress=said.append)

@@ -63,10 +63,11 @@ _EXPORTS = {
     "LambdaH": "surfinpaint.representation.represent",
     "MeshLambdaH": "surfinpaint.representation.represent",
     "QuadtreeLambdaH": "surfinpaint.representation.represent",
-    "grid_export": "surfinpaint.representation.represent",
+    "grid_export": "surfinpaint.representation.exports",
     "load_representation": "surfinpaint.representation.represent",
-    "quadtree_export": "surfinpaint.representation.represent",
+    "quadtree_export": "surfinpaint.representation.exports",
     "rebuild": "surfinpaint.representation.represent",
+    "resampled_export": "surfinpaint.representation.exports",
     "represent": "surfinpaint.representation.represent",
 }
 
@@ -113,6 +114,7 @@ __all__ = [
     "reconstruct",
     "rectangular_conformal_map",
     "represent",
+    "resampled_export",
     "robust_lambda_h",
     "surface_distance",
     "validate_mesh",

@@ -341,7 +341,7 @@ _INPUTS = ("mesh", "representation", "truth")
 _OUTPUTS = {
     "fill": (("output", "-o", "file"), ("png", "--png", "file"), ("json", "--json", "file")),
     "represent": (("output", "-o", "file"), ("png", "--png", "file"),
-                  ("export_grid", "--export-grid", "file"),
+                  ("export", "--export", "file"), ("export_grid", "--export-grid", "file"),
                   ("export_quadtree", "--export-quadtree", "file")),
     "rebuild": (("output", "-o", "file"),),
     "batch": (("output", "-o", "dir"),),

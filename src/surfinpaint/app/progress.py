@@ -59,7 +59,7 @@ def progress_bar(enabled: bool, total: int | None = None, description: str = "",
 @contextlib.contextmanager
 def stages(out) -> Iterator:
     """A ``progress`` callback of :func:`surfinpaint.representation.represent` and
-    :func:`~surfinpaint.representation.represent.grid_export` (a sentence as each stage
+    :func:`~surfinpaint.representation.exports.grid_export` (a sentence as each stage
     starts), shown on the console ``out`` one line per stage with a spinner while it runs
     and its time; on a console that is not a terminal (a log, a pipe), nothing."""
     if not out.is_terminal:

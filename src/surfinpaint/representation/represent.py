@@ -8,12 +8,14 @@ Two discretizations (method.md §3, §8):
   triangles with the border fixed, by Newton's method. Exact (to the solver's tolerance)
   when λ and H are the mesh's own, on any disk the map does not fold.
 - ``"grid"``: the paper's images, φ resampled on a regular grid over the parameter domain
-  (:mod:`~surfinpaint.representation.grid_represent`). :func:`grid_export` makes it from a
-  mesh representation, with a resolution that follows λ's range.
+  (:mod:`~surfinpaint.representation.grid_represent`).
+  :func:`~surfinpaint.representation.exports.grid_export` makes it from a mesh
+  representation, with a resolution that follows λ's range.
 - ``"quadtree"``: φ resampled at the nodes of balanced quadtrees over the parameter domain,
   refined where the map squeezes the surface, coarse to fine
-  (:mod:`~surfinpaint.representation.quadtree_represent`); :func:`quadtree_export` makes
-  it from a mesh representation. It holds disks whose λ varies by 10³–10⁴ (a tall finger,
+  (:mod:`~surfinpaint.representation.quadtree_represent`);
+  :func:`~surfinpaint.representation.exports.quadtree_export` makes it from a mesh
+  representation. It holds disks whose λ varies by 10³–10⁴ (a tall finger,
   a limb's tip) with tens of thousands of nodes where a grid needs hundreds of thousands.
 
 :func:`represent` checks itself by default: it rebuilds the mesh from the representation
@@ -30,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from surfinpaint.geometry.mesh import boundary_loops, unique_edges
+from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.representation.grid_represent import (
     LambdaH,
     rebuild_grid,
@@ -60,14 +62,13 @@ __all__ = [
     "MeshLambdaH",
     "Rebuilt",
     "check_representation",
-    "export_resolution",
-    "grid_export",
     "load_representation",
-    "quadtree_export",
     "rebuild",
     "represent",
+    "rebuild_stage",
     "round_trip",
-    "sampling_floor",
+    "sampled_floor",
+    "warn_if_coarse",
 ]
 
 DISCRETIZATIONS = ("mesh", "grid", "quadtree")
@@ -85,9 +86,6 @@ class CoarseGridWarning(UserWarning):
 # 3: the defect in the frame of w = P φ_u − n × φ_v (2: of P φ_u; its rebuild is not exact)
 # 4: frame and normal softened where they vanish (mesh_lambda_h.soft_unit)
 _FORMAT = 4
-# the automatic grid export: nodes along the long side at most / at least
-_MAX_RESOLUTION = 1024
-_MIN_RESOLUTION = 64
 # sparse factorizations of the mesh rebuild (damped Newton, then pseudo-arclength
 # continuation): the benchmark disks converge within 101 (the built foot cap; the others
 # within 50, benchmarks/represent_speed.py, docs/representation.md session 13); the budget
@@ -198,7 +196,7 @@ class Rebuilt:
 def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = "mesh",
               map: str = "lscm", check: bool = True, strict: bool = False,
               progress: Callable[[str], None] | None = None,
-              **grid_options) -> MeshLambdaH | LambdaH | QuadtreeLambdaH:
+              **resampling_options) -> MeshLambdaH | LambdaH | QuadtreeLambdaH:
     """The λ-H representation of a disk-topology mesh, checked by its round trip.
 
     Parameters
@@ -213,14 +211,11 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         ``spacing``, ``grading``), or on quadtrees refined where the map squeezes the
         surface (:func:`~surfinpaint.representation.quadtree_represent.represent_quadtree`,
         which takes ``targets``, ``max_depth``, ``sampling``). Measured
-        (``benchmarks/represent_speed.py``, docs/representation.md): the mesh form gives the
-        mesh back to ~1e-13 of the diagonal where its rebuild converges to the original;
-        the grid export (:func:`grid_export`, rectangular map, nested Newton rebuild) at
-        512² to its sampling floor, 0.0002–0.003 % mean, 0.01–0.4 % Hausdorff, on the
-        50 mm pial disk, the bunny-ear cap and the finger h = 1 (session 11), but not
-        converged on the 70 mm pial disk and the finger h = 2 (session 13; session 14
-        solves the pial disk's failing level with the vertex areas appended, not the
-        finger's: docs/representation.md).
+        (``benchmarks/represent_speed.py``, ``benchmarks/quadtree_export.py``,
+        docs/representation.md): the mesh form gives each benchmark disk back to ~1e-8 %
+        of the diagonal; a resampled form at best to its sampling floor, and
+        :func:`~surfinpaint.representation.exports.resampled_export` picks the one (trees
+        or grid) that gives the disk back within 0.1 % mean / 1 % Hausdorff.
     map : {"lscm", "rectangular"}
         The conformal map (:func:`~surfinpaint.representation.mapping.parameterize`).
     check : bool
@@ -232,7 +227,7 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
     progress : callable, optional
         Called with a sentence as each stage starts (the map and λ, H; the self-check's
         rebuild, which takes most of the time on large or strongly distorted disks).
-    **grid_options
+    **resampling_options
         For ``discretization="grid"`` or ``"quadtree"`` only (``spacing="graded"`` among
         the grid's: a grid denser where the map squeezes the surface).
 
@@ -265,22 +260,22 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
     say(f"mapping {len(v)} vertices and computing λ, H"
         + {"mesh": "", "grid": " on the grid", "quadtree": " on the quadtrees"}[discretization])
     if discretization == "grid":
-        rep = represent_grid(v, f, map=map, strict=strict, **grid_options)
+        rep = represent_grid(v, f, map=map, strict=strict, **resampling_options)
     elif discretization == "quadtree":
-        rep = represent_quadtree(v, f, map=map, strict=strict, **grid_options)
+        rep = represent_quadtree(v, f, map=map, strict=strict, **resampling_options)
     else:
-        if grid_options:
-            raise ValueError(f"options {sorted(grid_options)} are for discretization='grid' "
+        if resampling_options:
+            raise ValueError(f"options {sorted(resampling_options)} are for discretization='grid' "
                              "or 'quadtree'")
         rep = _represent_on_mesh(v, f, map, strict)
     if check:
-        say(_rebuilding(rep))
+        say(rebuild_stage(rep))
         rep.check = check_representation(rep, progress=progress)
-        _warn_if_coarse(rep)
+        warn_if_coarse(rep)
     return rep
 
 
-def _warn_if_coarse(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> None:
+def warn_if_coarse(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> None:
     """A :class:`CoarseGridWarning` when a grid's or quadtree's samples alone miss the mesh
     by more than ``COARSE_FLOOR`` % of the diagonal somewhere: then no rebuild can give it
     back."""
@@ -416,11 +411,16 @@ def round_trip(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH, out: Rebuilt) -> Ro
     ``rep`` stores; for a grid or quadtree, with its sampling floor (the error of an exact
     rebuild of it, :func:`~surfinpaint.representation.grid_represent.sampled_vertices`,
     :func:`~surfinpaint.representation.quadtree_represent.sampled_tree_vertices`)."""
-    floor = {"grid": sampled_vertices, "quadtree": sampled_tree_vertices,
-             "mesh": lambda rep: None}[rep.discretization](rep)
     return measure_round_trip(rep.vertices, out.vertices, rep.faces, converged=out.converged,
                               iterations=out.iterations, message=out.message,
-                              seconds=out.seconds, floor=floor)
+                              seconds=out.seconds, floor=sampled_floor(rep))
+
+
+def sampled_floor(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> np.ndarray | None:
+    """The original's vertices as an exact rebuild of a grid or quadtree gives them back
+    (its sampling floor's vertices); None for the mesh form, whose floor is 0."""
+    return {"grid": sampled_vertices, "quadtree": sampled_tree_vertices,
+            "mesh": lambda rep: None}[rep.discretization](rep)
 
 
 def load_representation(path: str | os.PathLike
@@ -442,92 +442,7 @@ def load_representation(path: str | os.PathLike
     return LambdaH.load(path)
 
 
-def export_resolution(rep: MeshLambdaH) -> int:
-    """The first grid resolution (nodes along the long side) :func:`grid_export` tries: the
-    spacing follows λ's range, so that the grid resolves the mesh where the map shrinks it
-    most.
-
-    The spacing is the 5th percentile of the parameter edge lengths (the edges where λ is
-    large are short in the plane), clipped to 64–1024 nodes.
-    """
-    edges = unique_edges(rep.faces)[0]
-    length = np.linalg.norm(rep.uv[edges[:, 0]] - rep.uv[edges[:, 1]], axis=1)
-    h = float(np.percentile(length[length > 0], 5))
-    extent = float(np.ptp(rep.uv[np.unique(rep.faces)], axis=0).max())
-    return int(np.clip(np.ceil(extent / h), _MIN_RESOLUTION, _MAX_RESOLUTION))
-
-
-def sampling_floor(grid: LambdaH) -> RoundTrip:
-    """The round trip of an exact rebuild of ``grid`` (no rebuild is run): ``floor_mean``
-    and ``floor_hausdorff`` are set (the other distances are those of the original itself,
-    zero)."""
-    return measure_round_trip(grid.vertices, grid.vertices, grid.faces, converged=False,
-                              iterations=0, message="not rebuilt", seconds=0.0,
-                              floor=sampled_vertices(grid))
-
-
-def grid_export(rep: MeshLambdaH, resolution: int | None = None, *, check: bool = True,
-                map: str = "rectangular", progress: Callable[[str], None] | None = None,
-                **grid_options) -> LambdaH:
-    """The grid (image) form of a mesh representation, with its own round-trip error.
-
-    Parameters
-    ----------
-    rep : MeshLambdaH
-    resolution : int, optional
-        Nodes along the long side. Default: :func:`export_resolution`, doubled (up to 1024)
-        while the grid's sampling floor (:func:`sampling_floor`) misses the mesh by more
-        than ``COARSE_FLOOR`` % of the diagonal somewhere.
-    check : bool
-        Measure the grid's own round trip (stored in ``check``) with its sampling floor.
-    map : {"rectangular", "lscm"}
-        The grid's conformal map. The rectangular map (the paper's) by default: LSCM's
-        free border lets the image of a large folded disk overlap itself, and the grid
-        then samples one sheet where the mesh has two (measured, docs/representation.md,
-        session 11: the sampled φ itself misses the vertices by 0.33 % / 6.9 % of the
-        diagonal, mean / max, on the 50 mm pial disk at 512², 0.00016 % / 0.011 % with the
-        rectangular map).
-    progress : callable, optional
-        Called with a sentence as each stage starts (each resolution sampled, the
-        self-check's rebuild: minutes at 512² on a strongly distorted disk).
-    **grid_options
-        Passed on to :func:`~surfinpaint.representation.grid_represent.represent_grid`.
-
-    Warns
-    -----
-    CoarseGridWarning
-        With ``check``, when the grid's samples alone (its sampling floor, in ``check``)
-        miss the mesh by more than ``COARSE_FLOOR`` % of the diagonal somewhere.
-    """
-    say = progress or (lambda message: None)
-
-    def sampled(n: int) -> LambdaH:
-        say(f"sampling the surface on a grid of {n} nodes along its long side")
-        return represent(rep.vertices, rep.faces, discretization="grid", map=map,
-                         check=False, resolution=n, **grid_options)
-
-    if resolution is not None:
-        grid = sampled(int(resolution))
-    else:
-        # the first guess from λ's range, doubled while the samples alone miss the mesh
-        # (session 17: λ's range alone chose 64 nodes for a finger whose floor there is
-        # 5.2 % of the diagonal, 0.3 % at 512)
-        n = export_resolution(rep)
-        grid = sampled(n)
-        while n < _MAX_RESOLUTION:
-            floor = sampling_floor(grid)
-            if floor.floor_hausdorff <= COARSE_FLOOR / 100 * floor.diagonal:
-                break
-            n = min(2 * n, _MAX_RESOLUTION)
-            grid = sampled(n)
-    if check:
-        say(_rebuilding(grid))
-        grid.check = check_representation(grid)
-        _warn_if_coarse(grid)
-    return grid
-
-
-def _rebuilding(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> str:
+def rebuild_stage(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> str:
     """The self-check's stage, for a ``progress`` callback."""
     if rep.discretization == "quadtree":
         nodes = ", ".join(str(len(level.uv)) for level in rep.levels)
@@ -536,44 +451,3 @@ def _rebuilding(rep: MeshLambdaH | LambdaH | QuadtreeLambdaH) -> str:
         shape = "×".join(str(n) for n in rep.grid.shape)
         return f"self-check: rebuilding the {shape} grid from its λ and H"
     return f"self-check: rebuilding the {len(rep.vertices)} vertices from λ and H"
-
-
-def quadtree_export(rep: MeshLambdaH, *, check: bool = True, map: str = "lscm",
-                    progress: Callable[[str], None] | None = None,
-                    **quadtree_options) -> QuadtreeLambdaH:
-    """The quadtree form of a mesh representation, with its own round-trip error.
-
-    Parameters
-    ----------
-    rep : MeshLambdaH
-    check : bool
-        Rebuild the mesh from the trees, coarse to fine, and store the round trip in
-        ``check`` with the sampling floor (an exact rebuild of the finest tree).
-    map : {"lscm", "rectangular"}
-        The trees' conformal map. LSCM by default: the rectangle's corners squeeze the
-        surface too, and no rectangular-map tree of the tuning disks was rebuilt
-        (docs/representation.md, session 19); where LSCM's image overlaps itself, the
-        rectangle, with a warning (the map used is the result's ``map``).
-    progress : callable, optional
-        Called with a sentence as each stage starts.
-    **quadtree_options
-        ``targets``, ``max_depth``, ``sampling``
-        (:func:`~surfinpaint.representation.quadtree_represent.represent_quadtree`).
-
-    Warns
-    -----
-    CoarseGridWarning
-        With ``check``, when the finest tree's samples alone miss the mesh by more than
-        ``COARSE_FLOOR`` % of the diagonal somewhere.
-    NotConvergedWarning
-        Never: a rebuild that does not converge is reported in ``check`` (converged False).
-
-    Examples
-    --------
-    >>> from surfinpaint.data import bumpy_disk
-    >>> tree = quadtree_export(represent(*bumpy_disk(8), check=False), targets=(0.1, 0.05))
-    >>> tree.check.converged, tree.check.mean == tree.check.floor_mean
-    (True, True)
-    """
-    return represent(rep.vertices, rep.faces, discretization="quadtree", map=map,
-                     check=check, progress=progress, **quadtree_options)
