@@ -4,7 +4,7 @@ Per disk, the library's :func:`~surfinpaint.representation.exports.resampled_exp
 (``surfinpaint represent DISK -o rep.npz --export images.npz``): the quadtrees (default
 targets 0.4 … 0.02 × the diagonal) where their rebuild gives the disk back within the
 target (mean < 0.1 %, Hausdorff < 1 % of the bounding-box diagonal), else the square grid
-at its automatic resolution; a candidate whose samples alone miss the target is not
+at 512 nodes along its long side; a candidate whose samples alone miss the target is not
 rebuilt. Printed per disk: the form written, its size, its own round trip (two-sided
 surface distance, % of the diagonal) and sampling floor, whether it meets the target, the
 stages the export said (why a candidate was passed), and the seconds.

@@ -82,8 +82,11 @@ def fake_exports(monkeypatch, table: dict) -> list[str]:
         return trip(*table[form.discretization][1])
 
     monkeypatch.setattr(exports, "quadtree_export", functools.partial(make, "quadtree"))
-    monkeypatch.setattr(exports, "grid_export",
-                        lambda rep, check, progress: make("grid", rep, check, progress))
+    def grid(rep, resolution, check, progress):
+        assert resolution == exports.EXPORT_GRID
+        return make("grid", rep, check, progress)
+
+    monkeypatch.setattr(exports, "grid_export", grid)
     monkeypatch.setattr(exports, "sampling_floor", floor)
     monkeypatch.setattr(exports, "check_representation", check)
     return rebuilt
@@ -139,6 +142,7 @@ def test_where_the_quadtrees_miss_the_grid_is_exported(disk_rep, monkeypatch):
     # one coarse tree of 21 nodes: its samples alone miss the bumps by 1.9 % of the diagonal
     coarse = functools.partial(exports.quadtree_export, targets=(0.2,), max_depth=2)
     monkeypatch.setattr(exports, "quadtree_export", coarse)
+    monkeypatch.setattr(exports, "EXPORT_GRID", 48)  # 512² takes 90 s to rebuild
     said = []
     form = resampled_export(disk_rep, progress=said.append)
     assert any(line.startswith("the quadtrees (") and "not rebuilt" in line for line in said)
@@ -154,10 +158,10 @@ def test_where_neither_holds_the_closest_is_returned_checked_with_a_warning(monk
                                           max_depth=3))
     real_grid_export = exports.grid_export
     monkeypatch.setattr(exports, "grid_export",
-                        lambda rep, **kw: real_grid_export(rep, 16, **kw))
-    floors = {kind: exports.sampling_floor(make(rep, check=False, progress=None))
-              for kind, make in (("quadtree", exports.quadtree_export),
-                                 ("grid", exports.grid_export))}
+                        lambda rep, resolution, **kw: real_grid_export(rep, 16, **kw))
+    floors = {kind: exports.sampling_floor(make(rep, exports.EXPORT_GRID, check=False))
+              for kind, make in (("quadtree", lambda rep, _, **kw: exports.quadtree_export(
+                  rep, **kw)), ("grid", exports.grid_export))}
     assert not any(within_target(floor, floor=True) for floor in floors.values())
     with pytest.warns(ExportTargetWarning, match="no resampled form gives this surface back"):
         form = resampled_export(rep)
