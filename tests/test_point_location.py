@@ -1,5 +1,7 @@
 """locate_points (geometry/point_location.py) against scipy's Delaunay point location."""
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.spatial import Delaunay
@@ -50,6 +52,11 @@ def test_degenerate_triangles_and_empty_input_hold_nothing():
     assert face.tolist() == [-1] and np.isnan(w).all()
     face, w = locate_points(uv, np.zeros((0, 3), int), np.array([[0.5, 0.0]]))
     assert face.tolist() == [-1]
+    # off its line the weights are ±inf, and their sum no number: nothing to warn about
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        face, w = locate_points(uv, np.array([[0, 1, 2]]), np.array([[0.5, 0.5]]))
+    assert face.tolist() == [-1] and np.isnan(w).all()
 
 
 @pytest.mark.parametrize("chunk", [1, 3, 7, 1000])

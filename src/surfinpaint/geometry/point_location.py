@@ -50,10 +50,11 @@ def _barycentric(corners: np.ndarray, points: np.ndarray) -> np.ndarray:
     e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
     r = points - corners[:, 0]
     det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    # a triangle of zero area gives non-finite weights, which its callers read as outside
     with np.errstate(divide="ignore", invalid="ignore"):
         w1 = (r[:, 0] * e2[:, 1] - r[:, 1] * e2[:, 0]) / det
         w2 = (e1[:, 0] * r[:, 1] - e1[:, 1] * r[:, 0]) / det
-    return np.column_stack([1.0 - w1 - w2, w1, w2])
+        return np.column_stack([1.0 - w1 - w2, w1, w2])
 
 
 def locate_points(uv: np.ndarray, faces: np.ndarray, points: np.ndarray, *,
