@@ -372,3 +372,78 @@ def test_cli_refuses_an_export_that_would_replace_the_input(tmp_path, capsys):
     assert main(["represent", str(mesh), "-o", str(tmp_path / "r.npz"), "--export-quadtree",
                  str(mesh)]) == 2
     assert mesh.read_bytes() == before and not (tmp_path / "r.npz").exists()
+
+
+# ------------------------------------------------- the default: the mesh form or the trees
+
+
+def glove_finger(length=2.0, radius=0.2, around=8, rings=6, cap_rings=2):
+    """A coarse closed-ended tube, open at the top (a cap over a limb's tip): λ varies
+    ~8000-fold over its 65 vertices and the mesh form's rebuild does not converge on it
+    (its continuation stalls), where the quadtrees' coarse-to-fine rebuild does."""
+    t = np.linspace(0, 2 * np.pi, around, endpoint=False)
+    a = (np.pi / 2) * np.arange(1, cap_rings + 1) / cap_rings
+    z = np.r_[-radius * np.cos(a), length * np.arange(1, rings + 1) / rings]
+    r = np.r_[radius * np.sin(a), np.full(rings, radius)]
+    v = np.vstack([[0.0, 0.0, -radius],
+                   np.column_stack([np.outer(r, np.cos(t)).ravel(),
+                                    np.outer(r, np.sin(t)).ravel(),
+                                    np.repeat(z, around)])])
+    k = np.arange(around)
+    fan = np.column_stack([np.zeros(around, int), 1 + k, 1 + (k + 1) % around])
+    lower = 1 + np.arange(len(z) - 1)[:, None] * around
+    a0, a1 = (lower + k).ravel(), (lower + (k + 1) % around).ravel()
+    quads = np.vstack([np.column_stack([a0, a0 + around, a1 + around]),
+                       np.column_stack([a0, a1 + around, a1])])
+    return v, np.vstack([fan, quads])
+
+
+def test_the_default_takes_the_quadtrees_where_the_mesh_forms_rebuild_does_not_converge():
+    v, f = glove_finger()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        mesh_form = represent(v, f, discretization="mesh")
+        said = []
+        rep = represent(v, f, progress=said.append)
+    assert not mesh_form.check.converged and mesh_form.check.hausdorff_percent > 50
+    assert rep.discretization == "quadtree" and rep.check.converged
+    assert rep.check.hausdorff < 0.05 * mesh_form.check.hausdorff
+    assert "the mesh form's rebuild did not converge; trying the quadtrees" in said
+
+
+def test_the_default_is_the_mesh_form_wherever_its_rebuild_converges(tall_finger):
+    rep = represent(*tall_finger, progress=(said := []).append)
+    assert rep.discretization == "mesh" and rep.check.converged
+    np.testing.assert_array_equal(rep.lam, represent(*tall_finger, discretization="mesh").lam)
+    assert not any("quadtrees" in line for line in said)
+
+
+@pytest.mark.parametrize("mesh_trip, trees_trip, check, kind", [
+    ((True, 1e-9), None, True, "mesh"),           # converged: the trees never made
+    ((False, 50.0), (True, 1.0), True, "quadtree"),
+    ((False, 50.0), (True, 60.0), True, "mesh"),  # converged, but farther from the mesh
+    ((False, 50.0), (False, 1.0), True, "mesh"),  # the trees' rebuild failed as well
+    ((False, 50.0), "error", True, "mesh"),       # the trees could not be made
+    ((False, 50.0), None, False, "mesh"),         # no check, nothing to choose by
+])
+def test_the_defaults_rule(monkeypatch, mesh_trip, trees_trip, check, kind):
+    import types
+
+    from surfinpaint.errors import MeshError
+    from surfinpaint.representation import represent as module
+
+    made = []
+
+    def fake(v, f, *, discretization, check=True, **kw):
+        made.append(discretization)
+        trip = {"mesh": mesh_trip, "quadtree": trees_trip}[discretization]
+        if trip == "error":
+            raise MeshError("no tree has a node to solve for")
+        checked = types.SimpleNamespace(converged=trip[0], hausdorff=trip[1])
+        return types.SimpleNamespace(discretization=discretization,
+                                     check=checked if check else None)
+
+    monkeypatch.setattr(module, "represent", fake)
+    rep = module._mesh_form_or_quadtrees(None, None, "lscm", check, False, None)
+    assert rep.discretization == kind
+    assert made == (["mesh"] if trees_trip is None else ["mesh", "quadtree"])

@@ -93,7 +93,7 @@ def run_represent(args: argparse.Namespace) -> int:
     grid = _grid_options(args)
     if args.discretization == "grid":
         grid["resolution"] = args.resolution or 256
-    options = {"mesh": {}, "grid": grid,
+    options = {"auto": {}, "mesh": {}, "grid": grid,
                "quadtree": _quadtree_options(args)}[args.discretization]
     with _stages(console) as stage:
         rep = representation.represent(
@@ -102,7 +102,7 @@ def run_represent(args: argparse.Namespace) -> int:
     rep.save(args.output)
     written = [str(args.output)]
     if rep.check is not None:
-        _print_round_trip(console, rep.check, f"{args.discretization} representation:")
+        _print_round_trip(console, rep.check, f"{rep.discretization} representation:")
     if args.export_grid:
         with _stages(console) as stage:
             exported = exports.grid_export(rep, args.resolution,
@@ -168,10 +168,13 @@ def add_representation_parsers(sub) -> None:
                        "from them and print the round-trip error.")
     p.add_argument("mesh", help="input mesh (a topological disk)")
     p.add_argument("-o", "--output", required=True, help="output .npz")
-    p.add_argument("--discretization", choices=("mesh", "grid", "quadtree"), default="mesh",
-                   help="λ, H at the mesh's vertices, rebuilt on its triangles (default: "
-                   "exact when the rebuild converges), the paper's regular grid, or "
-                   "quadtrees refined where the map squeezes the surface")
+    p.add_argument("--discretization", choices=("auto", "mesh", "grid", "quadtree"),
+                   default="auto",
+                   help="auto (default): λ, H at the mesh's vertices, rebuilt on its triangles "
+                   "(exact when the rebuild converges), or the quadtrees where that rebuild "
+                   "does not converge and theirs does; mesh: always the former; grid: the "
+                   "paper's regular grid; quadtree: trees refined where the map squeezes the "
+                   "surface")
     p.add_argument("--map", choices=("rectangular", "lscm"), default="lscm",
                    help="conformal map: free-boundary LSCM (default: 2-4x more accurate "
                    "round trips, measured) or the paper's rectangular map")

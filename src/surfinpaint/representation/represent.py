@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from surfinpaint.errors import NUMERICAL_ERRORS, MeshError
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.representation.grid_represent import (
     LambdaH,
@@ -39,7 +40,7 @@ from surfinpaint.representation.grid_represent import (
     represent_grid,
     sampled_vertices,
 )
-from surfinpaint.representation.mapping import MAPS, parameterize
+from surfinpaint.representation.mapping import MAPS, FoldedMapWarning, parameterize
 from surfinpaint.representation.mesh_lambda_h import mesh_lambda_h, rebuild_on_mesh
 from surfinpaint.representation.quadtree_represent import (
     QuadtreeLambdaH,
@@ -71,7 +72,7 @@ __all__ = [
     "warn_if_coarse",
 ]
 
-DISCRETIZATIONS = ("mesh", "grid", "quadtree")
+DISCRETIZATIONS = ("auto", "mesh", "grid", "quadtree")
 # a grid whose samples alone miss the mesh by more than this (% of the diagonal, Hausdorff)
 # somewhere is reported (CoarseGridWarning): the grid export's target is 1 % at 512²
 COARSE_FLOOR = 1.0
@@ -193,7 +194,7 @@ class Rebuilt:
         return iter((self.vertices, self.faces))
 
 
-def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = "mesh",
+def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = "auto",
               map: str = "lscm", check: bool = True, strict: bool = False,
               progress: Callable[[str], None] | None = None,
               **resampling_options) -> MeshLambdaH | LambdaH | QuadtreeLambdaH:
@@ -204,8 +205,11 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
     vertices : (n, 3) float array
     faces : (f, 3) int array
         A topological disk, consistently oriented; H's sign follows its orientation.
-    discretization : {"mesh", "grid", "quadtree"}
-        λ and H at the vertices of the mesh's parameter triangles (default), on a
+    discretization : {"auto", "mesh", "grid", "quadtree"}
+        ``"auto"`` (default): the mesh form, or, where its rebuild does not converge (a
+        coarse cap over a limb's tip), the quadtrees when theirs does and gives the mesh
+        back closer (without ``check`` there is nothing to choose by: the mesh form).
+        ``"mesh"``: λ and H at the vertices of the mesh's parameter triangles; on a
         regular grid (:func:`~surfinpaint.representation.grid_represent.represent_grid`,
         which takes ``resolution``, ``h``, ``band``, ``sampling``, ``subdivide``,
         ``spacing``, ``grading``), or on quadtrees refined where the map squeezes the
@@ -256,6 +260,11 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         raise ValueError(f"unknown conformal map {map!r}; choose from {MAPS}")
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
+    if discretization == "auto":
+        if resampling_options:
+            raise ValueError(f"options {sorted(resampling_options)} are for "
+                             "discretization='grid' or 'quadtree'")
+        return _mesh_form_or_quadtrees(v, f, map, check, strict, progress)
     say = progress or (lambda message: None)
     say(f"mapping {len(v)} vertices and computing λ, H"
         + {"mesh": "", "grid": " on the grid", "quadtree": " on the quadtrees"}[discretization])
@@ -272,6 +281,38 @@ def represent(vertices: np.ndarray, faces: np.ndarray, *, discretization: str = 
         say(rebuild_stage(rep))
         rep.check = check_representation(rep, progress=progress)
         warn_if_coarse(rep)
+    return rep
+
+
+def _mesh_form_or_quadtrees(v: np.ndarray, f: np.ndarray, map: str, check: bool, strict: bool,
+                            progress: Callable[[str], None] | None
+                            ) -> MeshLambdaH | QuadtreeLambdaH:
+    """``discretization="auto"``: the mesh form, or the quadtrees where the mesh form's
+    rebuild does not converge and theirs does, closer to the mesh.
+
+    Measured (docs/representation.md, session 22): on a coarse cap over a cow's hoof (86
+    vertices, λ varying 670-fold, 10 border vertices) the mesh form's continuation stalls at
+    t ≈ 0.25 whatever its budget (150-1500 factorizations) or one or two midpoint
+    subdivisions, and the quadtrees, refined where the map squeezes the hoof, converge
+    coarse to fine to their floor.
+    """
+    rep = represent(v, f, discretization="mesh", map=map, check=check, strict=strict,
+                    progress=progress)
+    if not check or rep.check.converged:
+        return rep
+    if progress is not None:
+        progress("the mesh form's rebuild did not converge; trying the quadtrees")
+    try:
+        with warnings.catch_warnings():
+            # a tree that does not hold this surface is not kept: nothing to warn about
+            warnings.simplefilter("ignore", CoarseGridWarning)
+            warnings.simplefilter("ignore", FoldedMapWarning)
+            trees = represent(v, f, discretization="quadtree", map=map, strict=strict,
+                              progress=progress)
+    except (MeshError, *NUMERICAL_ERRORS):
+        return rep
+    if trees.check.converged and trees.check.hausdorff < rep.check.hausdorff:
+        return trees
     return rep
 
 
