@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from test_parameterization import grid_mesh
@@ -209,7 +211,11 @@ def test_located_nodes_are_the_barycentric_combinations_of_their_triangles():
     t = rng.uniform(-3, 14, size=(30, 2))
     faces = rng.integers(0, 30, size=(25, 3))
     faces[0] = [0, 0, 1]
-    index, weights = locate_nodes(t, faces, (12, 10))
+    t[2:5] = [[0.0, 0.0], [8.0, 4.0], [4.0, 2.0]]  # exactly on a line: weights ±inf off it
+    faces[1] = [2, 3, 4]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)  # read as outside, not warned about
+        index, weights = locate_nodes(t, faces, (12, 10))
     ii, jj = np.divmod(np.arange(120), 10)
     nodes = np.column_stack([ii, jj]).astype(float)
     hit = index >= 0

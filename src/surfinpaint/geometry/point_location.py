@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["chunked_pairs", "locate_points"]
+__all__ = ["barycentric", "chunked_pairs", "locate_points"]
 
 # candidate (point, triangle) pairs tested at once
 _CHUNK = 2_000_000
@@ -46,7 +46,9 @@ def chunked_pairs(count: np.ndarray, chunk: int):
         start = stop
 
 
-def _barycentric(corners: np.ndarray, points: np.ndarray) -> np.ndarray:
+def barycentric(corners: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(k, 3) barycentric weights of ``points`` (k, 2) in the triangles ``corners``
+    (k, 3, 2), one point per triangle; non-finite for a triangle of zero area."""
     e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
     r = points - corners[:, 0]
     det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
@@ -126,7 +128,7 @@ def locate_points(uv: np.ndarray, faces: np.ndarray, points: np.ndarray, *,
             if len(owner) == 0:
                 continue
             pid, cand = on[owner], tri[start[owner] + offset]
-            w = _barycentric(q[cand], pts[pid])
+            w = barycentric(q[cand], pts[pid])
             least = np.where(np.isfinite(w).all(axis=1), w.min(axis=1), -np.inf)
             # per point (each in one chunk only), the candidate with the largest smallest
             # weight, the lowest index among equals

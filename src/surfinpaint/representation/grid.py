@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from surfinpaint.geometry.point_location import chunked_pairs
+from surfinpaint.geometry.point_location import barycentric, chunked_pairs
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 
 __all__ = [
@@ -351,20 +351,14 @@ def locate_nodes(t: np.ndarray, faces: np.ndarray, shape: tuple[int, int], *,
     for fid, k in chunked_pairs(count, _CHUNK):
         ii = lo[fid, 0] + k // nj[fid]
         jj = lo[fid, 1] + k % nj[fid]
-        corners = tri_uv if graded else tri
-        a, b, cc = corners[fid, 0], corners[fid, 1], corners[fid, 2]
-        e1, e2 = b - a, cc - a
-        p = (np.column_stack([node_u[ii], node_v[jj]]) if graded
-             else np.column_stack([ii, jj])) - a
-        det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            l1 = (p[:, 0] * e2[:, 1] - p[:, 1] * e2[:, 0]) / det
-            l2 = (e1[:, 0] * p[:, 1] - e1[:, 1] * p[:, 0]) / det
-        l0 = 1.0 - l1 - l2
-        hit = (l0 >= -_BARY_TOL) & (l1 >= -_BARY_TOL) & (l2 >= -_BARY_TOL) & (det != 0)
+        corners = (tri_uv if graded else tri)[fid]
+        w = barycentric(corners, np.column_stack([node_u[ii], node_v[jj]]) if graded
+                        else np.column_stack([ii, jj]).astype(float))
+        # a triangle of zero area has non-finite weights: it holds no node
+        hit = np.isfinite(w).all(axis=1) & (w >= -_BARY_TOL).all(axis=1)
         node = ii[hit] * M + jj[hit]
         face_index[node] = fid[hit]
-        weights[node] = np.column_stack([l0[hit], l1[hit], l2[hit]])
+        weights[node] = w[hit]
     return face_index, weights
 
 
