@@ -447,3 +447,15 @@ def test_the_defaults_rule(monkeypatch, mesh_trip, trees_trip, check, kind):
     rep = module._mesh_form_or_quadtrees(None, None, "lscm", check, False, None)
     assert rep.discretization == kind
     assert made == (["mesh"] if trees_trip is None else ["mesh", "quadtree"])
+
+
+def test_cli_represent_names_the_form_the_default_took(tmp_path, capsys):
+    mesh, out = tmp_path / "glove.ply", tmp_path / "rep.npz"
+    write_mesh(mesh, *glove_finger())
+    assert main(["represent", str(mesh), "-o", str(out)]) == 0
+    err = " ".join(capsys.readouterr().err.split())
+    assert "quadtree representation: round trip" in err and "converged" in err
+    assert load_representation(out).discretization == "quadtree"
+    assert main(["represent", str(mesh), "-o", str(out), "--discretization", "mesh"]) == 0
+    err = " ".join(capsys.readouterr().err.split())
+    assert "mesh representation: round trip" in err and "DID NOT CONVERGE" in err

@@ -54,12 +54,16 @@ EXPORT_TARGET = (0.1, 1.0)
 EXPORT_GRID = 512
 
 
+# what represent() returns by default: the mesh form, or the quadtrees where its rebuild fails
+Represented = MeshLambdaH | QuadtreeLambdaH
+
+
 class ExportTargetWarning(UserWarning):
     """No resampled form gives the mesh back within ``EXPORT_TARGET``: the one written is
     the closest, and its ``check`` says by how much it misses."""
 
 
-def export_resolution(rep: MeshLambdaH) -> int:
+def export_resolution(rep: Represented) -> int:
     """The first grid resolution (nodes along the long side) :func:`grid_export` tries: the
     spacing follows λ's range, so that the grid resolves the mesh where the map shrinks it
     most.
@@ -83,14 +87,16 @@ def sampling_floor(form: LambdaH | QuadtreeLambdaH) -> RoundTrip:
                               floor=sampled_floor(form))
 
 
-def grid_export(rep: MeshLambdaH, resolution: int | None = None, *, check: bool = True,
+def grid_export(rep: Represented, resolution: int | None = None, *, check: bool = True,
                 map: str = "rectangular", progress: Callable[[str], None] | None = None,
                 **grid_options) -> LambdaH:
     """The grid (image) form of a mesh representation, with its own round-trip error.
 
     Parameters
     ----------
-    rep : MeshLambdaH
+    rep : MeshLambdaH or QuadtreeLambdaH
+        What :func:`~surfinpaint.representation.represent.represent` returned by default;
+        its mesh (and for the grid's first resolution, its map) is what is resampled.
     resolution : int, optional
         Nodes along the long side. Default: :func:`export_resolution`, doubled (up to 1024)
         while the grid's sampling floor (:func:`sampling_floor`) misses the mesh by more
@@ -145,14 +151,16 @@ def grid_export(rep: MeshLambdaH, resolution: int | None = None, *, check: bool 
 
 
 
-def quadtree_export(rep: MeshLambdaH, *, check: bool = True, map: str = "lscm",
+def quadtree_export(rep: Represented, *, check: bool = True, map: str = "lscm",
                     progress: Callable[[str], None] | None = None,
                     **quadtree_options) -> QuadtreeLambdaH:
     """The quadtree form of a mesh representation, with its own round-trip error.
 
     Parameters
     ----------
-    rep : MeshLambdaH
+    rep : MeshLambdaH or QuadtreeLambdaH
+        What :func:`~surfinpaint.representation.represent.represent` returned by default;
+        its mesh (and for the grid's first resolution, its map) is what is resampled.
     check : bool
         Rebuild the mesh from the trees, coarse to fine, and store the round trip in
         ``check`` with the sampling floor (an exact rebuild of the finest tree).
@@ -205,7 +213,7 @@ def _named(form: LambdaH | QuadtreeLambdaH) -> str:
     return f"{'×'.join(str(n) for n in form.grid.shape)} grid"
 
 
-def resampled_export(rep: MeshLambdaH, *, check: bool = True,
+def resampled_export(rep: Represented, *, check: bool = True,
                      progress: Callable[[str], None] | None = None
                      ) -> LambdaH | QuadtreeLambdaH:
     """The resampled form of a mesh representation that gives the mesh back within
@@ -220,7 +228,9 @@ def resampled_export(rep: MeshLambdaH, *, check: bool = True,
 
     Parameters
     ----------
-    rep : MeshLambdaH
+    rep : MeshLambdaH or QuadtreeLambdaH
+        What :func:`~surfinpaint.representation.represent.represent` returned by default;
+        its mesh (and for the grid's first resolution, its map) is what is resampled.
     check : bool
         Rebuild the candidates. Without it the choice is made on the floors alone (the
         first whose floor meets the target), and ``check`` is left None.
