@@ -67,3 +67,21 @@ def tetrahedron() -> tuple[np.ndarray, np.ndarray]:
 @pytest.fixture
 def shuffled() -> tuple[np.ndarray, np.ndarray]:
     return shuffled_mesh()
+
+
+# five holes far apart and a sixth next to the fifth (0.53 rad from it: inside the
+# conformal method's neighbourhood of a 12-edge hole, outside the faired fill's 3 rings)
+SIX_HOLES = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0.5, 0.0, 0.85)]
+
+
+@pytest.fixture(scope="module")
+def holed():
+    """A sphere (``sphere(4)``) with the holes of ``SIX_HOLES``: vertices, faces, loops
+    (the parallel fills' tests: the sixth hole is filled after the fifth)."""
+    from surfinpaint.data import sphere
+    from surfinpaint.geometry.cutting import cut_holes
+
+    vertices, faces = sphere(4)
+    centers = [np.array(c) / np.linalg.norm(c) for c in SIX_HOLES]
+    cut = cut_holes(vertices, faces, centers, 0.2)
+    return cut.vertices, cut.faces, [h.loop for h in cut.holes]

@@ -6,6 +6,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import re
+import threading
 import warnings
 from concurrent.futures import ProcessPoolExecutor
 
@@ -24,17 +25,7 @@ from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.io.formats import read_mesh, write_mesh
 
-# five holes far apart and a sixth next to the fifth (0.53 rad from it: inside the
-# conformal method's neighbourhood of a 12-edge hole, outside the faired fill's 3 rings)
-CENTERS = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0.5, 0.0, 0.85)]
-
-
-@pytest.fixture(scope="module")
-def holed():
-    vertices, faces = sphere(4)
-    centers = [np.array(c) / np.linalg.norm(c) for c in CENTERS]
-    cut = cut_holes(vertices, faces, centers, 0.2)
-    return cut.vertices, cut.faces, [h.loop for h in cut.holes]
+# ``holed`` (conftest.py): six holes on a sphere, the sixth dependent on the fifth
 
 
 @pytest.fixture
@@ -213,6 +204,29 @@ def test_cli_jobs(tmp_path, holed):
     assert np.array_equal(outs[0][0], outs[1][0]) and np.array_equal(outs[0][1], outs[1][1])
     assert len(outs[0][1]) > len(faces)
     assert main(["fill", str(path), "-o", str(tmp_path / "x.ply"), "--jobs", "0", "-q"]) == 2
+
+
+def test_the_fill_command_with_its_progress_bar_adds_no_thread(tmp_path, holed, monkeypatch,
+                                                              capsys):
+    # the holes' workers are forked only from a process of one thread (else a forkserver
+    # starts them, and each imports and loads everything again): the bar must not add one
+    vertices, faces, _ = holed
+    path = tmp_path / "holed.ply"
+    write_mesh(path, vertices, faces)
+    before = threading.active_count()  # pytest-xdist's own threads, if any
+    seen = []
+    forks = parallel.forks
+
+    def counted():
+        seen.append(threading.active_count())
+        return forks()
+
+    monkeypatch.setattr(parallel, "forks", counted)
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
+    assert main(["fill", str(path), "-o", str(tmp_path / "out.ply"), "--method", "fair",
+                 "--jobs", "2"]) == 0
+    assert "6 holes found" in capsys.readouterr().err
+    assert seen and set(seen) == {before}
 
 
 # ------------------------------------------------------- where the work runs, in what order

@@ -75,10 +75,14 @@ def _parse_hole_list(text: str | None) -> list[int] | None:
 
 
 @contextlib.contextmanager
-def _progress(enabled: bool, what: str = "filling", *, thread: bool = True) -> Iterator:
+def _progress(enabled: bool, what: str = "filling") -> Iterator:
     """The ``progress`` callback of :func:`surfinpaint.fill_holes` moving a progress bar on
-    stderr, or None; ``what`` is its first label, ``thread`` as for ``progress_bar``."""
-    with progress_bar(enabled, None, what, thread=thread) as bar:
+    stderr, or None; ``what`` is its first label. The bar is redrawn at each step, without
+    rich's refresh thread: the holes' (and batch's files') workers are forked only from a
+    one-thread process (:func:`surfinpaint.fill.parallel.start_context`); with the thread
+    they came from a forkserver and imported and loaded everything again (the 651k case's
+    ``fill`` without ``-q``: 4.9 against 3.9 s at load 2; docs/scale.md, session 22)."""
+    with progress_bar(enabled, None, what, thread=False) as bar:
         yield bar.update if enabled else None
 
 
@@ -175,9 +179,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
         raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
     client = _dask_client(args.dask_scheduler) if args.dask_scheduler else None
     try:
-        # no refresh thread: batch's workers are forked only from a one-thread process
-        # (they then start with everything imported); the bar moves with every hole
-        with _progress(not args.quiet, "files", thread=False) as progress:
+        with _progress(not args.quiet, "files") as progress:
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
                               overwrite=args.overwrite, progress=progress, **options)
     except (Interrupted, KeyboardInterrupt) as exc:
