@@ -119,32 +119,65 @@ def test_a_failed_warmup_leaves_the_fill_to_its_holes(two_holes, monkeypatch):
     assert np.array_equal(both.vertices, plain.vertices)
 
 
-@pytest.mark.parametrize(("method", "thread"), [("conformal", False), ("fair", True)])
-def test_only_a_large_faired_fill_loads_its_kernels_beside_the_whole_mesh_passes(
-        monkeypatch, method, thread):
-    # a thread loading numba beside a large mesh's edge table kept its memory resident at
-    # the peak (479 instead of 394 MB on the 651k case, docs/scale.md session 13), so the
-    # conformal fill loads nothing ahead (a serial one at its first hole, a parallel one
-    # before forking); the faired fill is serial and its first hole would wait for the
-    # load, so it loads beside the passes, in a thread joined before the first hole
+@pytest.mark.parametrize("method", ["conformal", "fair"])
+@pytest.mark.parametrize("large", [True, False])
+def test_a_large_fill_loads_its_kernels_beside_the_whole_mesh_passes(monkeypatch, method,
+                                                                     large):
+    # the passes of a large mesh leave a core idle: its kernels load meanwhile, in a thread
+    # joined before the first hole is filled (or the workers forked); a small mesh's
+    # passes are too short to hide anything, and its first hole loads them
     v, f = sphere(7)  # 327,680 faces: above BESIDE_MIN_FACES
     assert len(f) >= warmup.BESIDE_MIN_FACES
+    if not large:
+        monkeypatch.setattr(warmup, "BESIDE_MIN_FACES", 2 * len(f))
     cut = cut_holes(v, f, [np.array([0.0, 0, 1])], 3 * mean_edge_length(v, f))
     _forget_warmup()
     warmed, holes_started = [], []
-    monkeypatch.setattr(warmup, "warm_kernels", lambda m: warmed.append(
-        (m, threading.current_thread().name, len(holes_started))))
+    warm = warmup.warm_kernels
+    monkeypatch.setattr(warmup, "warm_kernels", lambda m: (warmed.append(
+        (m, threading.current_thread().name, len(holes_started))), warm(m)))
     fill_hole = pipeline.fill_hole
     monkeypatch.setattr(pipeline, "fill_hole", lambda *a: (holes_started.append(
         [t.name for t in threading.enumerate() if t.name == "surfinpaint-warmup"]),
         fill_hole(*a))[1])
     result = fill_holes(cut.vertices, cut.faces, method=method, jobs=1)
     assert result.reports[0].new_faces > 0
-    if thread:  # loaded in the thread, before the hole, which starts once it has ended
-        assert warmed == [("fair", "surfinpaint-warmup", 0)]
+    if large:  # loaded in the thread, before the hole, which starts once it has ended
+        assert warmed == [(method, "surfinpaint-warmup", 0)]
         assert holes_started == [[]]
     else:
         assert warmed == []
+
+
+def test_a_large_parallel_fill_forks_its_workers_after_the_thread_loaded_the_kernels(
+        monkeypatch):
+    # the workers inherit what the thread loaded (no load of their own, none here after
+    # the passes) and fill the holes as one after another would, bit for bit
+    v, f = sphere(7)
+    h = mean_edge_length(v, f)
+    cut = cut_holes(v, f, [np.array([0.0, 0, 1]), np.array([1.0, 0, 0]),
+                           np.array([0.0, -1, 0])], 3 * h)
+    plain = fill_holes(cut.vertices, cut.faces, method="conformal", jobs=1)
+    _forked_workers(monkeypatch)
+    _forget_warmup()
+    warmed = []
+    warm = warmup.warm_kernels
+    monkeypatch.setattr(warmup, "warm_kernels", lambda m: (warmed.append(
+        (m, threading.current_thread().name)), warm(m)))
+    at_fork = []
+    original = pipeline.fill_in_parallel
+
+    def fill_in_parallel(mesh, todo, run, workers):
+        at_fork.append((threading.active_count(), warmup.kernels_loaded("conformal")))
+        return original(mesh, todo, run, workers)
+
+    monkeypatch.setattr(pipeline, "fill_in_parallel", fill_in_parallel)
+    before = threading.active_count()
+    both = fill_holes(cut.vertices, cut.faces, method="conformal", jobs=2)
+    assert warmed[0] == ("conformal", "surfinpaint-warmup")
+    assert at_fork == [(before, True)]  # the thread has ended, the kernels are loaded
+    assert np.array_equal(both.vertices, plain.vertices)
+    assert np.array_equal(both.faces, plain.faces)
 
 
 def test_a_fair_fill_warms_no_distance_kernel(monkeypatch):

@@ -262,7 +262,7 @@ def _check_flags(**flags) -> None:
 def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, repair: bool,
                  validate: bool):
     """The mesh prepared (:func:`_prepared`), the loops to fill and their :func:`find_holes`
-    numbers (the outer border counts, whatever was selected); a faired fill's kernels load
+    numbers (the outer border counts, whatever was selected); a large mesh's kernels load
     on the idle core meanwhile (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
     with loading_beside(len(faces), method):
         vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)

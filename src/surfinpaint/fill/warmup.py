@@ -5,12 +5,15 @@ loaded from the disk cache (about 0.3 s CPU; several seconds when they must be c
 after an install). Forked workers inherit what their parent has loaded, so before it forks
 them :func:`fill_holes` loads the kernels once (:func:`load_for_workers`) instead of each
 worker loading them itself (measured on the 651k case: workers +0.5 s CPU without it). A
-serial fill loads them at its first hole, as any call would. They are loaded after the
-whole-mesh passes, not beside them in a thread: numba's and LLVM's memory then is not
-resident beside the edge table (peak 479 -> 394 MB on the 651k case, the same CPU;
-docs/scale.md, session 13). The exception is the faired fill of a large mesh
-(:func:`loading_beside`), which is serial: its first hole would wait for the load, and the
-whole-mesh passes leave a core idle to do it on.
+small mesh's serial fill loads them at its first hole, as any call would.
+
+A large mesh's whole-mesh passes (edge table, topology check, holes) run one after another
+in one thread and leave a core idle: the kernels are loaded meanwhile, in a thread beside
+them (:func:`loading_beside`), whatever the method, so that neither the first hole nor the
+fork of the workers waits for them (651k case, default method on 2 workers, 8 alternated
+runs: 2.88 -> 2.58 s). The price is memory: numba's and LLVM's (about 100 MB) is then
+resident beside the edge table, at the peak (319 -> 422 MB on that case; the faired fill
+peaks there already: docs/scale.md, sessions 13 and 22).
 
 :func:`warm_kernels` fills a small hole of a fixed mesh with the faired fill (the
 triangulation and the edge-flip kernels) and, for the conformal method only, measures a
@@ -101,20 +104,20 @@ def load_for_workers(method: str) -> None:
 
 @contextmanager
 def loading_beside(n_faces: int, method: str):
-    """While the block runs (the whole-mesh passes), :func:`warm_kernels` in a background
-    thread, joined when the block ends (before any hole is filled or worker forked): for a
-    faired fill (``method="fair"``) of at least ``BESIDE_MIN_FACES`` faces whose kernels
-    are not loaded yet; otherwise nothing.
+    """While the block runs (the whole-mesh passes), :func:`warm_kernels` for ``method`` in
+    a background thread, joined when the block ends (before any hole is filled or worker
+    forked: a fork copies one thread), for a mesh of at least ``BESIDE_MIN_FACES`` faces
+    whose kernels are not loaded yet; otherwise nothing.
 
-    Why only the faired fill: it fills one hole after another, so without the thread its
-    first hole waits for the load (651k case, quiet, paired with MeshLib: 1.69 and 1.72 s
-    of wall with the thread, 1.97 and 2.08 s without; docs/scale.md, session 13). The
-    conformal fill of a large mesh is parallel and loads once before forking
-    (:func:`load_for_workers`); beside the passes numba's memory would sit at the peak with
-    the edge table (344 -> 431 MB on the same case).
+    Measured on the 651k case, alternated runs (docs/scale.md): the faired fill (serial: its
+    first hole waited for the load) 1.97-2.08 -> 1.69-1.72 s of wall, quiet (session 13);
+    the default method (parallel: the workers were forked after a load here) 2.88 -> 2.58 s
+    median of 8 at load 1.8-2.2, and 4.21 -> 4.11 s with other processes on the cores
+    (load 3), the CPU unchanged (session 22). The numpy work of the passes releases the
+    GIL; the loading's Python holds it meanwhile.
     """
     thread = None
-    if method == "fair" and n_faces >= BESIDE_MIN_FACES and not _done[method].is_set():
+    if n_faces >= BESIDE_MIN_FACES and not _done[method].is_set():
         thread = threading.Thread(target=_quietly, args=(method,), name="surfinpaint-warmup")
         thread.start()
     try:
