@@ -367,3 +367,18 @@ def test_reached_loops():
     assert scheduler.reached(ids, loops).tolist() == [1, 3]
     assert scheduler.reached(ids, []).tolist() == []
     assert scheduler.reached(np.array([], dtype=np.int64), loops).tolist() == []
+
+
+@pytest.mark.parametrize("total", [None, 3])
+def test_no_progress_bar_runs_a_thread_of_its_own(total, capsys):
+    # every command's bar (fill, batch, report, experiments, demo): a second thread would make
+    # the fills' workers come from a forkserver, each importing and loading everything again
+    from surfinpaint.app.progress import progress_bar
+
+    before = threading.active_count()
+    with progress_bar(True, total, "filling") as bar:
+        assert threading.active_count() == before
+        bar("hole 1")
+        bar.update(2, 3, "hole 2")
+        assert threading.active_count() == before
+    assert "hole 2" in capsys.readouterr().err

@@ -77,12 +77,9 @@ def _parse_hole_list(text: str | None) -> list[int] | None:
 @contextlib.contextmanager
 def _progress(enabled: bool, what: str = "filling") -> Iterator:
     """The ``progress`` callback of :func:`surfinpaint.fill_holes` moving a progress bar on
-    stderr, or None; ``what`` is its first label. The bar is redrawn at each step, without
-    rich's refresh thread: the holes' (and batch's files') workers are forked only from a
-    one-thread process (:func:`surfinpaint.fill.parallel.start_context`); with the thread
-    they came from a forkserver and imported and loaded everything again (the 651k case's
-    ``fill`` without ``-q``: 4.9 against 3.9 s at load 2; docs/scale.md, session 22)."""
-    with progress_bar(enabled, None, what, thread=False) as bar:
+    stderr (:func:`~surfinpaint.app.progress.progress_bar`: no thread of its own, so the
+    holes' workers are forked), or None; ``what`` is its first label."""
+    with progress_bar(enabled, None, what) as bar:
         yield bar.update if enabled else None
 
 

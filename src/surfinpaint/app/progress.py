@@ -17,31 +17,34 @@ def console():
 
 class _Bar:
     """Moves a progress bar: ``bar(message, advance=1)`` steps it, ``bar.update(done,
-    total, message)`` sets it (the ``progress`` callback of :func:`surfinpaint.fill_holes`).
-    ``redraw``: draw at each step (a bar without its refresh thread)."""
+    total, message)`` sets it (the ``progress`` callback of :func:`surfinpaint.fill_holes`),
+    and either redraws it (a bar without rich's refresh thread)."""
 
-    def __init__(self, progress=None, task=None, redraw: bool = False):
-        self._progress, self._task, self._redraw = progress, task, redraw
+    def __init__(self, progress=None, task=None):
+        self._progress, self._task = progress, task
 
     def __call__(self, message: str, advance: int = 1) -> None:
         if self._progress is not None:
             self._progress.update(self._task, advance=advance, description=message,
-                                  refresh=self._redraw)
+                                  refresh=True)
 
     def update(self, done: int, total: int, message: str) -> None:
         if self._progress is not None:
             self._progress.update(self._task, completed=done, total=total,
-                                  description=message, refresh=self._redraw)
+                                  description=message, refresh=True)
 
 
 @contextlib.contextmanager
-def progress_bar(enabled: bool, total: int | None = None, description: str = "", *,
-                 thread: bool = True) -> Iterator[_Bar]:
+def progress_bar(enabled: bool, total: int | None = None, description: str = ""
+                 ) -> Iterator[_Bar]:
     """A progress bar on stderr (a no-op one when not ``enabled``) of ``total`` steps (None:
-    set later by ``update``), first labelled ``description``. ``thread``: redrawn by a
-    thread of its own (its clock runs between steps); without, at each step (the process
-    keeps one thread, so that worker processes can be forked:
-    :func:`surfinpaint.fill.parallel.start_context`)."""
+    set later by ``update``), first labelled ``description``.
+
+    Redrawn at each step, not by rich's refresh thread: worker processes (the holes', batch's
+    files') are forked only from a process of one thread
+    (:func:`surfinpaint.fill.parallel.start_context`); from two they come from a forkserver
+    and each imports and loads everything again (the 651k case's ``fill``: 4.9 against 3.9 s,
+    docs/scale.md, session 22). So no command's bar can slow its fills down."""
     if not enabled:
         yield _Bar()
         return
@@ -49,9 +52,9 @@ def progress_bar(enabled: bool, total: int | None = None, description: str = "",
 
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-                  console=console(), transient=False, auto_refresh=thread) as progress:
+                  console=console(), transient=False, auto_refresh=False) as progress:
         task = progress.add_task(description, total=total)
-        yield _Bar(progress, task, redraw=not thread)
+        yield _Bar(progress, task)
         if total is not None:
             progress.update(task, completed=total)
 
