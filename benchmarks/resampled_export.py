@@ -27,7 +27,7 @@ import warnings
 from quadtree_export import HELD_OUT, held_out_cap
 from represent_speed import MAKERS
 
-from surfinpaint.representation.exports import resampled_export, within_target
+from surfinpaint.representation.exports import form_size, resampled_export, within_target
 from surfinpaint.representation.represent import represent
 
 
@@ -50,8 +50,7 @@ def run(name: str) -> None:
     seconds = time.perf_counter() - started
     c = form.check
     d = c.diagonal / 100
-    size = ("/".join(str(len(level.uv)) for level in form.levels)
-            if form.discretization == "quadtree" else "×".join(map(str, form.grid.shape)))
+    size = form_size(form)
     passed = [line for line in said if line.startswith("the ")]
     warned = sorted({w.category.__name__ for w in caught})
     print(f"| {title} | {len(v)} | {default} | {form.discretization} ({form.map}) | {size} | "

@@ -58,12 +58,9 @@ def _print_export(console, form) -> None:
     """A resampled form's own round trip, named by its kind and size."""
     if form.check is None:
         return
-    if form.discretization == "quadtree":
-        nodes = "/".join(str(len(level.uv)) for level in form.levels)
-        _print_round_trip(console, form.check, f"quadtree export ({nodes} nodes):")
-    else:
-        shape = "×".join(str(n) for n in form.grid.shape)
-        _print_round_trip(console, form.check, f"grid export {shape}:")
+    size = exports.form_size(form)
+    _print_round_trip(console, form.check, f"quadtree export ({size}):"
+                      if form.discretization == "quadtree" else f"grid export {size}:")
 
 
 def _check_represent_options(args: argparse.Namespace) -> None:

@@ -38,7 +38,7 @@ from surfinpaint.representation.represent import (
 from surfinpaint.representation.roundtrip import RoundTrip, measure_round_trip
 
 __all__ = ["EXPORT_GRID", "EXPORT_TARGET", "ExportTargetWarning", "export_resolution",
-           "grid_export", "quadtree_export", "resampled_export", "sampling_floor",
+           "form_size", "grid_export", "quadtree_export", "resampled_export", "sampling_floor",
            "within_target"]
 
 # the automatic grid export: nodes along the long side at most / at least
@@ -160,7 +160,7 @@ def quadtree_export(rep: Represented, *, check: bool = True, map: str = "lscm",
     ----------
     rep : MeshLambdaH or QuadtreeLambdaH
         What :func:`~surfinpaint.representation.represent.represent` returned by default;
-        its mesh (and for the grid's first resolution, its map) is what is resampled.
+        its mesh is what is resampled.
     check : bool
         Rebuild the mesh from the trees, coarse to fine, and store the round trip in
         ``check`` with the sampling floor (an exact rebuild of the finest tree).
@@ -207,10 +207,18 @@ def within_target(check: RoundTrip, *, floor: bool = False) -> bool:
                 and 100 * hausdorff / check.diagonal < EXPORT_TARGET[1])
 
 
+def form_size(form: LambdaH | QuadtreeLambdaH) -> str:
+    """A resampled form's size, as its messages and tables give it: the nodes of each tree,
+    coarse to fine (``"37/153/573 nodes"``), or the grid's shape (``"341×512"``)."""
+    if form.discretization == "quadtree":
+        return f"{'/'.join(str(len(level.uv)) for level in form.levels)} nodes"
+    return "×".join(str(n) for n in form.grid.shape)
+
+
 def _named(form: LambdaH | QuadtreeLambdaH) -> str:
     if form.discretization == "quadtree":
-        return f"quadtrees ({'/'.join(str(len(level.uv)) for level in form.levels)} nodes)"
-    return f"{'×'.join(str(n) for n in form.grid.shape)} grid"
+        return f"quadtrees ({form_size(form)})"
+    return f"{form_size(form)} grid"
 
 
 def resampled_export(rep: Represented, *, check: bool = True,
@@ -230,7 +238,7 @@ def resampled_export(rep: Represented, *, check: bool = True,
     ----------
     rep : MeshLambdaH or QuadtreeLambdaH
         What :func:`~surfinpaint.representation.represent.represent` returned by default;
-        its mesh (and for the grid's first resolution, its map) is what is resampled.
+        its mesh is what is resampled.
     check : bool
         Rebuild the candidates. Without it the choice is made on the floors alone (the
         first whose floor meets the target), and ``check`` is left None.
