@@ -118,12 +118,23 @@ sys.exit(code)
 """
 
 
-def run_child(cmd: list[str]) -> Run:
+def child_environment(workdir: Path) -> dict[str, str]:
+    """The children's environment: this one, with Python's compiled bytecode cached under
+    ``workdir`` (``PYTHONPYCACHEPREFIX``) even where ``PYTHONDONTWRITEBYTECODE`` is set, so
+    every tool's imports read ``.pyc`` files as an installed package's do (these sessions'
+    environment sets that variable: surfinpaint's own modules were compiled from source in
+    every run, about 0.07 s; docs/scale.md, session 22)."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["PYTHONPYCACHEPREFIX"] = str(workdir / "pycache")
+    return env
+
+
+def run_child(cmd: list[str], env: dict[str, str] | None = None) -> Run:
     """Run ``cmd`` to completion; its wall time, peak resident memory (the child's
     ``ru_maxrss``, i.e. VmHWM; a worker process's own peak when larger), CPU seconds (user +
     system, the child's workers included) and the 1-minute load average when it ended."""
     proc = subprocess.run([sys.executable, "-c", LAUNCHER, *cmd], capture_output=True,
-                          text=True)
+                          text=True, env=env)
     if proc.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n"
                            f"{proc.stderr[-2000:]}")
@@ -142,12 +153,16 @@ def tools(case: Case, workdir: Path, with_meshlib: bool) -> dict[str, list[str]]
 
 
 def paired(case: Case, workdir: Path, repeat: int, with_meshlib: bool) -> dict[str, list[Run]]:
-    """Every tool once per round, rounds interleaved so load changes hit all alike."""
+    """Every tool once per round, rounds interleaved so load changes hit all alike, after
+    one untimed round (bytecode written, files and kernels in the caches for every tool)."""
     commands = tools(case, workdir, with_meshlib)
+    env = child_environment(workdir)
+    for cmd in commands.values():
+        run_child(cmd, env)
     runs: dict[str, list[Run]] = {name: [] for name in commands}
     for _ in range(repeat):
         for name, cmd in commands.items():
-            runs[name].append(run_child(cmd))
+            runs[name].append(run_child(cmd, env))
     return runs
 
 

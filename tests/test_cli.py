@@ -688,6 +688,35 @@ def test_the_program_returns_mains_code_and_freezes_the_objects_left(tmp_path, c
                      str(tmp_path / "x.ply"), "-q"])[0] == 1
 
 
+def _pages_after_program(env_value: str | None) -> tuple[str, str]:
+    """(numpy's huge-page switch, the variable a child process sees) after ``cli.program()``
+    ran ``--version`` in a fresh process whose ``NUMPY_MADVISE_HUGEPAGE`` is
+    ``env_value`` (None: unset)."""
+    probe = ("import os, subprocess, sys\n"
+             "sys.argv = ['surfinpaint', '--version']\n"
+             "from numpy._core.multiarray import _get_madvise_hugepage\n"
+             "from surfinpaint.app.cli import program\n"
+             "try:\n    program()\nexcept SystemExit:\n    pass\n"
+             "child = subprocess.run([sys.executable, '-c', 'import os; print(os.environ.get("
+             "\"NUMPY_MADVISE_HUGEPAGE\", \"unset\"))'], capture_output=True, text=True)\n"
+             "print(_get_madvise_hugepage(), child.stdout.strip())\n")
+    env = {k: v for k, v in os.environ.items() if k != "NUMPY_MADVISE_HUGEPAGE"}
+    if env_value is not None:
+        env["NUMPY_MADVISE_HUGEPAGE"] = env_value
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         timeout=120, check=True, env=env).stdout.split()
+    return out[-2], out[-1]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="numpy's switch is Linux's")
+def test_the_program_asks_for_small_pages_unless_the_user_chose():
+    # numpy marks large arrays MADV_HUGEPAGE; the program turns that off for itself and for
+    # the processes it starts (docs/scale.md, session 23), and keeps a value the user set
+    assert _pages_after_program(None) == ("False", "0")
+    assert _pages_after_program("1") == ("True", "1")
+    assert _pages_after_program("0") == ("False", "0")
+
+
 def test_python_m_surfinpaint_runs_the_program(tmp_path):
     v, f = _holey_sphere(1)
     path, out = tmp_path / "holey.ply", tmp_path / "out.ply"
