@@ -17,6 +17,11 @@ import pytest
 
 from surfinpaint import ConformalOptions, GridOptions
 from surfinpaint.app.cli import main
+from surfinpaint.app.program import (
+    BLAS_THREAD_VARIABLES,
+    HUGEPAGE_VARIABLE,
+    process_settings,
+)
 from surfinpaint.data import sphere
 from surfinpaint.fill.holes import find_holes
 from surfinpaint.fill.pipeline import fill_holes
@@ -664,12 +669,13 @@ def test_represent_and_rebuild_bad_input(tmp_path, capsys):
 
 
 def _program(argv: list[str]) -> tuple[int, int]:
-    """(exit code, objects frozen) of ``cli.program()`` run on ``argv`` in a fresh process."""
+    """(exit code, objects frozen) of ``program()`` run on ``argv`` in a fresh process (-1
+    frozen: the garbage collector was left disabled)."""
     probe = ("import gc, sys\n"
              f"sys.argv = ['surfinpaint', *{argv!r}]\n"
-             "from surfinpaint.app.cli import program\n"
+             "from surfinpaint.app.program import program\n"
              "code = program()\n"
-             "print(code, gc.get_freeze_count())\n")
+             "print(code, gc.get_freeze_count() if gc.isenabled() else -1)\n")
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
                          timeout=120, check=True).stdout.split()
     return int(out[-2]), int(out[-1])
@@ -688,33 +694,48 @@ def test_the_program_returns_mains_code_and_freezes_the_objects_left(tmp_path, c
                      str(tmp_path / "x.ply"), "-q"])[0] == 1
 
 
-def _pages_after_program(env_value: str | None) -> tuple[str, str]:
-    """(numpy's huge-page switch, the variable a child process sees) after ``cli.program()``
-    ran ``--version`` in a fresh process whose ``NUMPY_MADVISE_HUGEPAGE`` is
-    ``env_value`` (None: unset)."""
-    probe = ("import os, subprocess, sys\n"
+def _settings_after_program(env: dict[str, str]) -> tuple[str, int, str]:
+    """(numpy's huge-page switch, OpenBLAS's threads, what a child process sees of
+    ``OPENBLAS_NUM_THREADS``) after ``program()`` ran ``--version`` in a fresh process whose
+    environment has ``env`` added (and none of the settings' variables otherwise)."""
+    probe = ("import subprocess, sys\n"
              "sys.argv = ['surfinpaint', '--version']\n"
-             "from numpy._core.multiarray import _get_madvise_hugepage\n"
-             "from surfinpaint.app.cli import program\n"
+             "from surfinpaint.app.program import program\n"
              "try:\n    program()\nexcept SystemExit:\n    pass\n"
+             "from numpy._core.multiarray import _get_madvise_hugepage\n"
+             "from threadpoolctl import threadpool_info\n"
+             "blas = [i['num_threads'] for i in threadpool_info() if i['user_api'] == 'blas']\n"
              "child = subprocess.run([sys.executable, '-c', 'import os; print(os.environ.get("
-             "\"NUMPY_MADVISE_HUGEPAGE\", \"unset\"))'], capture_output=True, text=True)\n"
-             "print(_get_madvise_hugepage(), child.stdout.strip())\n")
-    env = {k: v for k, v in os.environ.items() if k != "NUMPY_MADVISE_HUGEPAGE"}
-    if env_value is not None:
-        env["NUMPY_MADVISE_HUGEPAGE"] = env_value
+             "\"OPENBLAS_NUM_THREADS\", \"unset\"))'], capture_output=True, text=True)\n"
+             "print(_get_madvise_hugepage(), blas[0], child.stdout.strip())\n")
+    names = (*BLAS_THREAD_VARIABLES, HUGEPAGE_VARIABLE)
+    clean = {k: v for k, v in os.environ.items() if k not in names}
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
-                         timeout=120, check=True, env=env).stdout.split()
-    return out[-2], out[-1]
+                         timeout=120, check=True, env={**clean, **env}).stdout.split()
+    return out[-3], int(out[-2]), out[-1]
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="numpy's switch is Linux's")
-def test_the_program_asks_for_small_pages_unless_the_user_chose():
-    # numpy marks large arrays MADV_HUGEPAGE; the program turns that off for itself and for
-    # the processes it starts (docs/scale.md, session 23), and keeps a value the user set
-    assert _pages_after_program(None) == ("False", "0")
-    assert _pages_after_program("1") == ("True", "1")
-    assert _pages_after_program("0") == ("False", "0")
+def test_the_program_sets_small_pages_and_one_blas_thread_before_numpy_is_imported():
+    # numpy reads both when it is imported, so they must be set before: a program whose
+    # settings came after its imports fails the first line (docs/scale.md, session 23)
+    assert _settings_after_program({}) == ("False", 1, "1")
+    # the user's choices are kept, and the one BLAS thread is not forced on them
+    assert _settings_after_program({"NUMPY_MADVISE_HUGEPAGE": "1",
+                                    "OMP_NUM_THREADS": "2"}) == ("True", 2, "unset")
+
+
+@pytest.mark.parametrize("environ, settings", [
+    ({}, {"NUMPY_MADVISE_HUGEPAGE": "0", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}),
+    ({"NUMPY_MADVISE_HUGEPAGE": "1"}, {"OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}),
+    ({"OMP_NUM_THREADS": "4"}, {"NUMPY_MADVISE_HUGEPAGE": "0"}),
+    ({"GOTO_NUM_THREADS": "4"}, {"NUMPY_MADVISE_HUGEPAGE": "0"}),
+    ({"MKL_NUM_THREADS": "8", "NUMPY_MADVISE_HUGEPAGE": "0"}, {}),
+])
+def test_process_settings_set_only_what_the_user_left_unset(environ, settings):
+    env = dict(environ)
+    assert process_settings(env) == settings
+    assert env == {**environ, **settings}
 
 
 def test_python_m_surfinpaint_runs_the_program(tmp_path):

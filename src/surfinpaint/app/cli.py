@@ -10,9 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import gc
 import logging
-import os
 import signal
 import sys
 import time
@@ -439,52 +437,5 @@ def main(argv: Sequence[str] | None = None) -> int:
             return exc.exit_code
 
 
-def program() -> int:
-    """The ``surfinpaint`` program (the console script and ``python -m surfinpaint``):
-    :func:`main` on ``sys.argv``, its exit code returned for ``sys.exit``.
-
-    The process ends right after, so the objects alive then (the modules' and numba's:
-    ~120k of them after a fill) are frozen out of the cyclic garbage collector
-    (``gc.freeze``), once after the imports and once after the command: the interpreter's
-    exit otherwise walks all of them in each of its collections, 0.3-0.9 s of a large fill
-    (docs/scale.md, session 11). Nothing is skipped: the atexit handlers, the streams'
-    flush and the freeing by reference counts run as before; only garbage in reference
-    cycles among the frozen objects is left to the operating system."""
-    small_pages()
-    gc.freeze()
-    code = main()
-    gc.freeze()
-    return code
-
-
-# numpy's own switch (its "global state" documentation); a value the user set is kept
-HUGEPAGE_VARIABLE = "NUMPY_MADVISE_HUGEPAGE"
-
-
-def small_pages() -> bool:
-    """Stop numpy from asking Linux for transparent huge pages in this process and the
-    processes it starts (its ``NUMPY_MADVISE_HUGEPAGE`` switch set to 0), unless the user
-    set that variable. Returns whether it was switched off here.
-
-    numpy marks each array of 4 MB or more ``MADV_HUGEPAGE``. Where the kernel's THP
-    ``defrag`` setting is ``madvise`` (the usual default) a page fault in such an array may
-    stall on a synchronous compaction instead of taking a small page (numpy issue 31590),
-    and in a virtual machine each huge page is first made resident by the host. A fill
-    touches each of its whole-mesh arrays about once, so it pays those faults and never
-    gains the TLB's later savings: on the 651k-vertex case, 6 alternated runs back to back
-    (another process on one core), mean wall 3.71 -> 3.44 s, system time 0.67 -> 0.36 s;
-    the first edge table in a process 0.56 -> 0.21 s (docs/scale.md, session 23). Only the
-    command line does this; the library leaves the caller's numpy as it is."""
-    if HUGEPAGE_VARIABLE in os.environ:
-        return False
-    os.environ[HUGEPAGE_VARIABLE] = "0"  # read by numpy in the processes started from here
-    try:
-        from numpy._core.multiarray import _set_madvise_hugepage
-    except ImportError:  # pragma: no cover - numpy < 2
-        from numpy.core.multiarray import _set_madvise_hugepage
-    _set_madvise_hugepage(False)
-    return True
-
-
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(program())
+    sys.exit(main())
