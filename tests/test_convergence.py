@@ -400,3 +400,48 @@ def test_the_coupled_update_s_analytic_jacobian_matches_central_differences(near
     J = system.jacobian(phi)
     assert np.linalg.norm(J - central) < 1e-7 * np.linalg.norm(J)
     assert np.abs(update(x) - system.update(phi).ravel()).max() == 0.0  # state unchanged
+
+
+def test_the_lattice_of_a_patch_s_map_lies_on_the_known_surface_s_interpolant():
+    # the last stage's resampling (fill/conformal/lattice.py) on a quadric over a jittered
+    # grid: the lattice is a disk, its vertices lie on the surface (the Clough-Tocher
+    # interpolant reproduces quadratics; its gradients on the known side are fitted on the
+    # known triangles only), the free ones are those inside the fill's triangles, and
+    # the free vertices read back from it sit on its triangles (O(spacing²) off the quadric)
+    from surfinpaint.fill.conformal.lattice import lattice_patch
+    from surfinpaint.geometry.mesh import boundary_loops
+
+    vertices, faces = _flat_grid(17)
+    rng = np.random.default_rng(3)
+    uv = 2.0 * vertices[:, :2] - 1.0
+    inner = (np.abs(uv) < 0.99).all(axis=1)
+    uv[inner] += 0.02 * rng.standard_normal((inner.sum(), 2))
+
+    def quadric(q):
+        return np.column_stack([q, 0.3 * q[:, 0] ** 2 + 0.2 * q[:, 1] ** 2
+                                + 0.1 * q[:, 0] * q[:, 1]])
+
+    points = quadric(uv)
+    in_fill = np.linalg.norm(uv[faces].mean(axis=1), axis=1) < 0.4
+    faces = np.vstack([faces[in_fill], faces[~in_fill]])
+    n_fill = int(in_fill.sum())
+    free = np.zeros(len(uv), dtype=bool)
+    free[np.unique(faces[:n_fill])] = True
+    free[np.unique(faces[n_fill:])] = False
+    lattice = lattice_patch(points, faces, uv, free, n_fill, 2.0)
+    assert len(boundary_loops(lattice.faces)) == 1
+    np.testing.assert_allclose(lattice.points, quadric(lattice.uv), atol=1e-7)
+    assert lattice.free.sum() > 4 * free.sum()
+    assert (np.linalg.norm(lattice.uv[lattice.free], axis=1) < 0.6).all()
+    # the start inside the hole does not enter the known side's positions
+    moved = points.copy()
+    moved[free] += 0.05 * rng.standard_normal((free.sum(), 3))
+    again = lattice_patch(moved, faces, uv, free, n_fill, 2.0)
+    np.testing.assert_array_equal(again.faces, lattice.faces)
+    known = np.linalg.norm(lattice.uv, axis=1) > 0.6
+    np.testing.assert_array_equal(again.points[known], lattice.points[known])
+    assert np.abs(again.points[lattice.free] - lattice.points[lattice.free]).max() > 1e-3
+    read = lattice.read_back(lattice.points, points)
+    np.testing.assert_array_equal(read[~free], points[~free])
+    off = np.abs(read[free] - points[free]).max()
+    assert 0 < off < lattice.spacing ** 2

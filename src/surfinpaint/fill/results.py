@@ -68,14 +68,23 @@ class LeastSquaresFill:
     unsolved : str
         Why the coupled solve failed before (its lagged, halved and Newton attempts, on the
         patch and on the patch subdivided once).
+    lattice : int
+        Where the least-squares fill was not near enough either: the free vertices of the
+        regular lattice of the patch's map on which the coupled solve found a fixed point
+        (:func:`surfinpaint.fill.conformal.mesh_pass._on_lattice`); 0 when not used.
     """
 
     residual: float
     weight: float
     unsolved: str
+    lattice: int = 0
 
     def sentence(self) -> str:
         """The stage in words, for the hole's report."""
+        if self.lattice:
+            return (f"no fixed point on the patch (the least-squares fill's residual "
+                    f"{self.residual:.2g} edge lengths); one found on a regular lattice of "
+                    f"its map ({self.lattice} free vertices), read back at the fill's")
         if self.weight >= 1.0:
             return (f"no fixed point found from the start; one found by continuation in the "
                     f"curvature weight (a residual of {self.residual:.2g} edge lengths)")

@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from surfinpaint.errors import FillError
+from surfinpaint.fill.conformal.lattice import lattice_patch
 from surfinpaint.fill.conformal.patch import grown_patch, hole_patch, hole_patch_and_boundary
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import LeastSquaresFill, MeshLambdaH
@@ -29,6 +30,9 @@ MIN_RINGS = 3
 # many mean edge lengths (the bound on one of its steps, on_mesh.LSQ_TRUST): further from a
 # fixed point it is not a λ-H fill (docs/convergence.md, session 11)
 LEAST_SQUARES_RESIDUAL = 2.0
+# where that fails too, the patch resampled on a regular lattice of its map, of these
+# spacings (per mean map edge of the fill) in turn (:func:`_on_lattice`)
+LATTICE_PER_EDGE = (2.0, 1.0, 4.0)
 
 
 def inpaint_patch_on_mesh(
@@ -182,21 +186,24 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     sides of a crease, whose failure has its own fallback (the hole filled as a smooth one),
     so every fill that worked before is unchanged.
 
-    Where that fails too, the last stage before a fallback: the patch's positions nearest to
-    a fixed point (:func:`~surfinpaint.representation.on_mesh.least_squares_on_mesh`: a
-    continuation in the curvature weight from the harmonic fill, then least squares at full
-    weight, on the patch itself), kept where their residual is at most
+    Where that fails too, the next stage: the patch's positions nearest to a fixed point
+    (:func:`~surfinpaint.representation.on_mesh.least_squares_on_mesh`: a continuation in
+    the curvature weight from the harmonic fill, then least squares at full weight, on the
+    patch itself), kept where their residual is at most
     ``LEAST_SQUARES_RESIDUAL`` edge lengths. Measured (docs/convergence.md, session 11):
     the coupled system has no root near the start on most such holes (the inpainted λ and
     H are no surface's data there); this fills the 8 egg-crate holes that fell back (0.45-
     1.76 of the bilaplacian fill's error, median 0.78) and halves the fallbacks on the
-    coarse quadruped and the brain probes.
+    coarse quadruped and the brain probes. Where their residual is larger, the last stage
+    before a fallback: the coupled solve on the patch resampled on a regular lattice of its
+    map (:func:`_on_lattice`).
 
     Returns
     -------
     positions : (n, 3) float array
     least_squares : LeastSquaresFill or None
-        Set when the positions are the least-squares stage's.
+        Set when the positions are the least-squares stage's or the lattice's
+        (``lattice`` set).
     """
     try:
         return inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
@@ -216,11 +223,50 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
             return out[:len(points)], None
     positions, residual, weight = least_squares_on_mesh(points, local, uv, free,
                                                         natural=natural, tol=tol)
-    if not residual <= LEAST_SQUARES_RESIDUAL:
-        raise FillError(f"{failure}; the least-squares stage ends at a residual of "
-                        f"{residual:.2g} edge lengths (curvature weight {weight:.2g} "
-                        "reached)")
-    return positions, LeastSquaresFill(residual, weight, failure)
+    if residual <= LEAST_SQUARES_RESIDUAL:
+        return positions, LeastSquaresFill(residual, weight, failure)
+    failure = (f"{failure}; the least-squares stage ends at a residual of {residual:.2g} "
+               f"edge lengths (curvature weight {weight:.2g} reached)")
+    positions, lattice = _on_lattice(points, local, uv, free, n_fill, natural, iterations,
+                                     tol, failure)
+    return positions, LeastSquaresFill(residual, weight, failure, lattice=lattice)
+
+
+def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failure):
+    """The coupled solve on the patch resampled on an equilateral lattice of its map
+    (:func:`~surfinpaint.fill.conformal.lattice.lattice_patch`), of the spacings
+    ``LATTICE_PER_EDGE`` in turn, read back at the patch's free vertices; and the number of
+    the lattice's free vertices.
+
+    Why: on a coarse CAD tessellation (the built quadruped) the patch's triangles are
+    slivers (parameter angles 0.01-179°, negative cotangent weights on 10-20 % of the
+    edges), their subdivision keeps their shapes, and the coupled system on either has no
+    root near the start (docs/convergence.md, session 14). On the lattice it converges on
+    7 of the quadruped's 8 such holes (session 23). Not on a patch with a natural border
+    (a crease, the surface's own border), which the lattice does not carry.
+
+    Raises
+    ------
+    FillError
+        ``failure`` and why the lattice failed too.
+    """
+    if natural is not None and np.asarray(natural).any():
+        raise FillError(f"{failure}; no lattice on a patch with a natural border")
+    reasons, spacings = [], []
+    for per_edge in LATTICE_PER_EDGE:
+        try:
+            lattice = lattice_patch(points, local, uv, free, n_fill, per_edge)
+            if lattice.spacing in spacings:  # bounded by the border or MAX_FREE: tried
+                continue
+            spacings.append(lattice.spacing)
+            fine = inpaint_on_mesh(lattice.points, lattice.faces, lattice.uv, lattice.free,
+                                   iterations=iterations, tol=tol)
+        except FillError as exc:
+            reasons.append(f"{per_edge:g} per edge: {exc}")
+            continue
+        return lattice.read_back(fine, points), int(lattice.free.sum())
+    raise FillError(f"{failure}; on a regular lattice of its map, "
+                    + "; ".join(reasons))
 
 
 def _subdivided(points, local, uv, free, n_fill, natural):
