@@ -23,6 +23,7 @@ from scipy.spatial import cKDTree
 
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.mesh import boundary_loops, connected_components, unique_edges
+from surfinpaint.geometry.point_location import locate_points
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 
 __all__ = ["LatticePatch", "lattice_patch"]
@@ -33,10 +34,9 @@ __all__ = ["LatticePatch", "lattice_patch"]
 BAND = 6
 # the lattice is no finer than this many free vertices would make it
 MAX_FREE = 600
-# points located in a triangle up to this (negative) barycentric coordinate
-INSIDE = -1e-9
-# points located per block (a block's barycentric coordinates are points × faces)
-BLOCK = 256
+# points are located in a triangle up to this barycentric coordinate outside it, and a
+# lattice vertex is free when it lies this far inside a fill triangle
+INSIDE = 1e-9
 
 
 @dataclass(frozen=True)
@@ -106,13 +106,14 @@ def lattice_patch(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: n
     candidates = np.flatnonzero(cKDTree(uv[fill_ids]).query(centre)[0] <= reach + radius)
     holder = np.full(len(lattice_uv), -1)
     depth = np.full(len(lattice_uv), -np.inf)
-    found, _, how_deep = _locate(uv, faces[candidates], lattice_uv[near])
+    found, weights = locate_points(uv, faces[candidates], lattice_uv[near], tolerance=INSIDE)
     holder[near] = np.where(found >= 0, candidates[found], -1)
-    depth[near] = how_deep
+    depth[near] = np.where(found >= 0, np.nan_to_num(weights, nan=-np.inf).min(axis=1),
+                           -np.inf)
     kept = lattice_faces[(holder >= 0)[lattice_faces].all(axis=1)]
     ids, kept = np.unique(kept, return_inverse=True)
     kept = kept.reshape(-1, 3)
-    lat_free = (holder[ids] < n_fill) & (depth[ids] > -INSIDE)
+    lat_free = (holder[ids] < n_fill) & (depth[ids] > INSIDE)
     count, label = connected_components(kept, len(ids))
     if count > 1 and lat_free.any():  # the piece around the hole
         piece = kept[label[kept[:, 0]] == np.bincount(label[lat_free]).argmax()]
@@ -131,7 +132,7 @@ def lattice_patch(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: n
         on_known]
     lat_points = clough_tocher(uv, faces, points, gradients, holder[ids], lattice_uv[ids])
     moving = np.flatnonzero(free)
-    where, bary, _ = _locate(lattice_uv[ids], kept, uv[moving])
+    where, bary = locate_points(lattice_uv[ids], kept, uv[moving], tolerance=INSIDE)
     if (where < 0).any():
         raise FillError("a vertex of the fill lies outside the lattice around the hole")
     return LatticePatch(lat_points, kept, lattice_uv[ids], lat_free, spacing,
@@ -156,28 +157,3 @@ def _lattice(low: np.ndarray, high: np.ndarray, spacing: float
     first = np.where(even[..., None], np.stack([a, b, c], -1), np.stack([a, b, d], -1))
     second = np.where(even[..., None], np.stack([b, d, c], -1), np.stack([a, d, c], -1))
     return points, np.vstack([first.reshape(-1, 3), second.reshape(-1, 3)])
-
-
-def _locate(uv: np.ndarray, faces: np.ndarray, at: np.ndarray
-            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The triangle holding each point (−1 where none does, to ``INSIDE``), its barycentric
-    coordinates there and their smallest (the deepest triangle's, for each point)."""
-    corner = uv[faces]
-    a, b, c = corner[:, 0], corner[:, 1], corner[:, 2]
-    det = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (b[:, 1] - a[:, 1])
-    face = np.full(len(at), -1)
-    bary = np.zeros((len(at), 3))
-    depth = np.full(len(at), -np.inf)
-    for s in range(0, len(at), BLOCK):
-        x, y = at[s:s + BLOCK, None, 0], at[s:s + BLOCK, None, 1]
-        l1 = ((b[:, 0] - x) * (c[:, 1] - y) - (c[:, 0] - x) * (b[:, 1] - y)) / det
-        l2 = ((c[:, 0] - x) * (a[:, 1] - y) - (a[:, 0] - x) * (c[:, 1] - y)) / det
-        l3 = 1.0 - l1 - l2
-        least = np.minimum(np.minimum(l1, l2), l3)
-        k = np.argmax(least, axis=1)
-        r = np.arange(len(k))
-        depth[s:s + BLOCK] = least[r, k]
-        face[s:s + BLOCK] = k
-        bary[s:s + BLOCK] = np.column_stack([l1[r, k], l2[r, k], l3[r, k]])
-    face[depth < INSIDE] = -1
-    return face, bary, depth
