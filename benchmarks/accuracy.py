@@ -56,7 +56,7 @@ import peers  # noqa: E402
 ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conformal_smooth",
                "conformal_grid", "conformal_grid_raw", "conformal_cdt", "conformal_cdt_raw",
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
-               "fair_cgalref", "fair3_cgalref", "conventional", "cgal", "cgal3",
+               "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conventional", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # the conformal method's variants: their options
@@ -71,6 +71,8 @@ CONFORMAL_VARIANTS = {
     # S0 and the faired candidates refined in CGAL's style (docs/candidates.md, session 9)
     "conformal_cgalref": {"s0_refinement": "cgal"},
     "conformal_cgalref_raw": {"s0_refinement": "cgal", "select": False},
+    # the self-check with one sibling hole instead of two (docs/scale.md, session 23)
+    "conformal_sib1": {"siblings": 1},
 }
 
 

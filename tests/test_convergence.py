@@ -445,3 +445,55 @@ def test_the_lattice_of_a_patch_s_map_lies_on_the_known_surface_s_interpolant():
     np.testing.assert_array_equal(read[~free], points[~free])
     off = np.abs(read[free] - points[free]).max()
     assert 0 < off < lattice.spacing ** 2
+
+
+def test_a_lattice_fill_read_back_at_folded_map_positions_is_read_again_at_tutte_s():
+    # where the start's triangles fold (a fill vertex pushed across its neighbours, in the
+    # map and in 3D) the read-back at their map positions inherits the fold; read back at
+    # the Tutte positions of the fill's free vertices the same lattice surface folds nowhere
+    # and stays on it (fill/conformal/mesh_pass.py, _read_back; session 23)
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.fill.conformal.checks import fold_count
+    from surfinpaint.fill.conformal.lattice import lattice_patch, tutte_positions
+
+    vertices, faces = _flat_grid(17)
+    uv = 2.0 * vertices[:, :2] - 1.0
+
+    def quadric(q):
+        return np.column_stack([q, 0.3 * q[:, 0] ** 2 + 0.2 * q[:, 1] ** 2])
+
+    in_fill = np.linalg.norm(uv[faces].mean(axis=1), axis=1) < 0.4
+    faces = np.vstack([faces[in_fill], faces[~in_fill]])
+    n_fill = int(in_fill.sum())
+    free = np.zeros(len(uv), dtype=bool)
+    free[np.unique(faces[:n_fill])] = True
+    free[np.unique(faces[n_fill:])] = False
+    moving = np.flatnonzero(free)
+    # one free vertex pushed past its neighbour: its triangles flip in the map and fold
+    centre = moving[np.argmin(np.linalg.norm(uv[moving], axis=1))]
+    folded_uv = uv.copy()
+    folded_uv[centre] += np.array([0.2, 0.0])
+    start = quadric(folded_uv)
+    assert fold_count(start, faces, n_fill) > 0
+    lattice = lattice_patch(quadric(uv), faces, uv, free, n_fill, 2.0)
+    solution = quadric(lattice.uv)  # a λ-H solution that folds nowhere: the quadric
+    at_start = lattice.relocated(folded_uv[moving]).read_back(solution, start)
+    assert fold_count(at_start, faces, n_fill) > 0  # the start's fold, inherited
+    relaxed = tutte_positions(folded_uv, faces[:n_fill], moving)
+    again = lattice.relocated(relaxed).read_back(solution, start)
+    assert fold_count(again, faces, n_fill) == 0
+    np.testing.assert_allclose(again[moving], quadric(relaxed), atol=0.02 ** 2)
+    np.testing.assert_array_equal(again[~free], start[~free])
+    # the stage's own read-back: the relaxed one where the plain one folds more than the
+    # start (a start that does not fold, its map flipped), the plain one where it folds no
+    # more (the start above, folded as much)
+    unfolded = quadric(uv)
+    read = mesh_pass._read_back(lattice.relocated(folded_uv[moving]), solution, unfolded,
+                                faces, folded_uv, free, n_fill)
+    assert fold_count(read, faces, n_fill) == 0
+    np.testing.assert_allclose(read[moving], again[moving])
+    kept = mesh_pass._read_back(lattice.relocated(folded_uv[moving]), solution, start, faces,
+                                folded_uv, free, n_fill)
+    np.testing.assert_array_equal(kept, at_start)
+    plain = mesh_pass._read_back(lattice, solution, quadric(uv), faces, uv, free, n_fill)
+    np.testing.assert_array_equal(plain, lattice.read_back(solution, quadric(uv)))

@@ -12,7 +12,7 @@ from surfinpaint.geometry import parameterization
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.parameterization import disk_boundary, scale_to_area, signed_areas
 
-__all__ = ["bad_faces", "mean_value_map", "untangle"]
+__all__ = ["bad_faces", "convex_combination", "mean_value_map", "untangle"]
 
 
 def mean_value_map(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -52,7 +52,7 @@ def mean_value_map(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     angle = 2.0 * np.pi * np.concatenate([[0.0], np.cumsum(lengths)[:-1]]) / lengths.sum()
     uv = np.full((n, 2), np.nan)
     uv[loop] = np.column_stack([np.cos(angle), np.sin(angle)])
-    _mean_value_solve(W, uv, np.setdiff1d(np.unique(f), loop))
+    convex_combination(W, uv, np.setdiff1d(np.unique(f), loop))
     if np.nansum(signed_areas(f, uv)) < 0:  # the boundary loop ran clockwise
         uv[:, 1] = -uv[:, 1]
     uv = scale_to_area(v, f, uv)
@@ -89,7 +89,7 @@ def untangle(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray, *,
         free = np.flatnonzero(seeds)
         free = free[~np.isin(free, border)]
         out = uv.copy()
-        _mean_value_solve(W, out, free)
+        convex_combination(W, out, free)
         if len(bad_faces(v, f, out)) == 0:
             return out
     return None
@@ -120,8 +120,12 @@ def _mean_value_weights(v: np.ndarray, f: np.ndarray) -> sp.csr_matrix:
                          shape=(len(v), len(v)))
 
 
-def _mean_value_solve(W: sp.csr_matrix, uv: np.ndarray, free: np.ndarray) -> None:
-    """Place ``uv[free]`` at the mean-value combination of their neighbours (in place)."""
+def convex_combination(W: sp.csr_matrix, uv: np.ndarray, free: np.ndarray) -> None:
+    """Place ``uv[free]`` at the combination of their neighbours with the weights of ``W``
+    (row ``i``: vertex ``i``'s positive weights on its neighbours), the other vertices
+    fixed, in place: Floater's mean-value map with :func:`mean_value_map`'s weights, Tutte's
+    embedding with a 0/1 adjacency. Inside a convex fixed border such a map folds no
+    triangle (Floater 2003)."""
     if len(free) == 0:
         return
     fixed = np.setdiff1d(np.flatnonzero(np.asarray(W.sum(axis=1)).ravel() > 0), free)

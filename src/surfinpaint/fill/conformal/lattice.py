@@ -16,17 +16,23 @@ their own map positions (barycentric in the lattice triangle that holds them).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from surfinpaint.errors import FillError
-from surfinpaint.geometry.mesh import boundary_loops, connected_components, unique_edges
+from surfinpaint.geometry.mean_value import convex_combination
+from surfinpaint.geometry.mesh import (
+    boundary_loops,
+    connected_components,
+    unique_edges,
+    vertex_adjacency,
+)
 from surfinpaint.geometry.point_location import locate_points
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 
-__all__ = ["LatticePatch", "lattice_patch"]
+__all__ = ["LatticePatch", "lattice_patch", "tutte_positions"]
 
 # lattice spacings of known surface kept around the hole (the coupled solve's stencil
 # reaches three rings out from the free vertices), and the fewest spacings between the
@@ -71,6 +77,31 @@ class LatticePatch:
         out = np.array(points, dtype=float, copy=True)
         out[ids] = np.einsum("ij,ijk->ik", bary, positions[self.faces[face]])
         return out
+
+    def relocated(self, uv: np.ndarray) -> LatticePatch:
+        """The same lattice, read back at the map positions ``uv`` of the free vertices
+        instead of their own.
+
+        Raises
+        ------
+        FillError
+            When one of them lies outside the lattice.
+        """
+        where, bary = locate_points(self.uv, self.faces, uv, tolerance=INSIDE)
+        if (where < 0).any():
+            raise FillError("a vertex of the fill, placed again, lies outside the lattice")
+        return replace(self, _read=(self._read[0], where, bary))
+
+
+def tutte_positions(uv: np.ndarray, fill_faces: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """Map positions of the ``free`` vertices (ids) of the fill's triangles ``fill_faces``
+    at the mean of their neighbours' (Tutte's embedding), the fill's other vertices where
+    ``uv`` has them: a triangulation that flips no triangle in the map where the fill's loop
+    is convex there, whatever the start's triangles did."""
+    out = np.array(uv, dtype=float, copy=True)
+    convex_combination(vertex_adjacency(fill_faces, len(uv)).astype(float).tocsr(), out,
+                       np.asarray(free))
+    return out[free]
 
 
 def lattice_patch(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: np.ndarray,

@@ -9,7 +9,8 @@ from dataclasses import replace
 import numpy as np
 
 from surfinpaint.errors import FillError
-from surfinpaint.fill.conformal.lattice import lattice_patch
+from surfinpaint.fill.conformal.checks import fold_count
+from surfinpaint.fill.conformal.lattice import lattice_patch, tutte_positions
 from surfinpaint.fill.conformal.patch import grown_patch, hole_patch, hole_patch_and_boundary
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import LeastSquaresFill, MeshLambdaH
@@ -264,9 +265,35 @@ def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failu
         except FillError as exc:
             reasons.append(f"{per_edge:g} per edge: {exc}")
             continue
-        return lattice.read_back(fine, points), int(lattice.free.sum())
+        return _read_back(lattice, fine, points, local, uv, free, n_fill), int(
+            lattice.free.sum())
     raise FillError(f"{failure}; on a regular lattice of its map, "
                     + "; ".join(reasons))
+
+
+def _read_back(lattice, fine, points, local, uv, free, n_fill):
+    """The lattice's solution ``fine`` read back at the fill's free vertices; where that
+    folds the fill over at more edges than its start ``points`` does, read back instead at
+    their Tutte positions in the map (:func:`~surfinpaint.fill.conformal.lattice.
+    tutte_positions`) if that folds it less.
+
+    Why: on a thin part the start's own triangles can fold in 3D (4-5 edges on two of the
+    built animals' holes, docs/convergence.md, session 23) while the lattice's solution
+    folds nowhere; read back at the start's map positions the fill inherits their folds
+    and more (9, 13 edges), and the checks then write a blend with the faired fill. The
+    fill's vertices only slide on the λ-H surface: its triangles change, not its surface.
+    """
+    read = lattice.read_back(fine, points)
+    folds = fold_count(read, local, n_fill)
+    if folds <= fold_count(points, local, n_fill):
+        return read
+    moving = np.flatnonzero(free)
+    try:
+        relaxed = lattice.relocated(tutte_positions(uv, local[:n_fill], moving)).read_back(
+            fine, points)
+    except FillError:
+        return read
+    return relaxed if fold_count(relaxed, local, n_fill) < folds else read
 
 
 def _subdivided(points, local, uv, free, n_fill, natural):
