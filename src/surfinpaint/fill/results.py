@@ -72,15 +72,25 @@ class LeastSquaresFill:
         Where the least-squares fill was not near enough either: the free vertices of the
         regular lattice of the patch's map on which the coupled solve found a fixed point
         (:func:`surfinpaint.fill.conformal.mesh_pass._on_lattice`); 0 when not used.
+    folded : str
+        Set when the lattice was used because the fill made on the patch's own triangles
+        folded over or cut through the surface at every damping step (why), not because
+        the solve failed; ``residual`` and ``weight`` are then NaN (the least-squares stage
+        did not run).
     """
 
     residual: float
     weight: float
     unsolved: str
     lattice: int = 0
+    folded: str = ""
 
     def sentence(self) -> str:
         """The stage in words, for the hole's report."""
+        if self.folded:
+            return (f"the fill on the patch's own triangles was rejected ({self.folded}); "
+                    f"the coupled solve on a regular lattice of its map ({self.lattice} free "
+                    f"vertices), read back at the fill's")
         if self.lattice:
             return (f"no fixed point on the patch (the least-squares fill's residual "
                     f"{self.residual:.2g} edge lengths); one found on a regular lattice of "

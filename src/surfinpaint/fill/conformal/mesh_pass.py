@@ -48,6 +48,7 @@ def inpaint_patch_on_mesh(
     tol: float = 1e-3,
     cut_edges: np.ndarray | None = None,
     subdivide: bool = True,
+    lattice_after: str = "",
 ) -> tuple[np.ndarray, np.ndarray, int, MeshLambdaH]:
     """λ-H inpainting of a filled hole on its patch's own triangles
     (:func:`surfinpaint.representation.on_mesh.inpaint_on_mesh`).
@@ -85,6 +86,12 @@ def inpaint_patch_on_mesh(
     subdivide : bool
         Retry a failed solve on the subdivided patch (False for a self-check test hole: a
         fill that fails there says nothing, and the retry cost 5-8 s a hole, measured).
+    lattice_after : str, optional
+        Solve on the regular lattice of the patch's map straight away (:func:`_on_lattice`),
+        because the fill made on the patch's own triangles was rejected for this reason
+        (a fold-over at every damping step: the caller's retry,
+        :meth:`surfinpaint.fill.conformal.candidates.Candidates.lambda_h`). Not on the
+        sides of a crease.
 
     Returns
     -------
@@ -106,7 +113,10 @@ def inpaint_patch_on_mesh(
     moving = np.asarray(moving, dtype=np.int64)
     if cut_edges is None:
         return _inpaint_piece(vertices, faces, loop, fill_faces, moving, rings=rings,
-                              iterations=iterations, tol=tol, subdivide=subdivide)
+                              iterations=iterations, tol=tol, subdivide=subdivide,
+                              lattice_after=lattice_after)
+    if lattice_after:
+        raise FillError(f"{lattice_after}; no lattice on the sides of a crease")
     cut, parent = cut_along(np.vstack([fill_faces, faces]), cut_edges)
     cut_fill, cut_known = cut[:len(fill_faces)], cut[len(fill_faces):]
     points = vertices[parent]
@@ -135,7 +145,7 @@ def inpaint_patch_on_mesh(
 
 
 def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterations, tol,
-                   natural=None, subdivide=False):
+                   natural=None, subdivide=False, lattice_after=""):
     """:func:`inpaint_patch_on_mesh` of one patch, grown from ``seeds`` over ``faces``.
 
     Where the patch is too thin for the biharmonic stencil (its rings stopped short, e.g.
@@ -160,9 +170,15 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
         # the inpainting instead of giving up
         natural_ids = np.ones(len(ids), dtype=bool) if all_natural else on_border[ids]
         try:
-            new_points, least_squares = _solve_or_subdivide(
-                points, local, uv, free, len(fill_faces), natural_ids, iterations, tol,
-                subdivide)
+            if lattice_after:
+                new_points, lattice = _on_lattice(points, local, uv, free, len(fill_faces),
+                                                  natural_ids, iterations, tol, lattice_after)
+                least_squares = LeastSquaresFill(np.nan, np.nan, lattice_after,
+                                                 lattice=lattice, folded=lattice_after)
+            else:
+                new_points, least_squares = _solve_or_subdivide(
+                    points, local, uv, free, len(fill_faces), natural_ids, iterations, tol,
+                    subdivide)
             break
         except ThinPatchError:
             if all_natural:
