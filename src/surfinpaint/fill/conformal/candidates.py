@@ -180,9 +180,8 @@ class Candidates:
         if (test or not mesh or self.options.discretization != "mesh"
                 or (mesh.least_squares and mesh.least_squares.lattice)):
             raise exc
-        reason = str(exc).split("; written instead")[0]
         try:
-            return self._passes(vertices, faces, loop, *s0, test=test, lattice_after=reason)
+            return self._passes(vertices, faces, loop, *s0, test=test, lattice_after=str(exc))
         except NUMERICAL_ERRORS:
             raise exc from None
 
