@@ -15,7 +15,12 @@ from surfinpaint.fill.conformal.patch import grown_patch, hole_patch, hole_patch
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import LeastSquaresFill, MeshLambdaH
 from surfinpaint.geometry import mean_value, parameterization
-from surfinpaint.geometry.mesh import boundary_halfedges, connected_components, unique_edges
+from surfinpaint.geometry.mesh import (
+    boundary_halfedges,
+    connected_components,
+    edge_faces,
+    unique_edges,
+)
 from surfinpaint.representation.grid_represent import smooth_subdivision
 from surfinpaint.representation.on_mesh import (
     ThinPatchError,
@@ -299,9 +304,10 @@ def _read_back(lattice, fine, points, local, uv, free, n_fill):
     and more (9, 13 edges), and the checks then write a blend with the faired fill. The
     fill's vertices only slide on the λ-H surface: its triangles change, not its surface.
     """
+    edges = edge_faces(local)  # one topology for every fold count here
     read = lattice.read_back(fine, points)
-    folds = fold_count(read, local, n_fill)
-    if folds <= fold_count(points, local, n_fill):
+    folds = fold_count(read, local, n_fill, edges=edges)
+    if folds <= fold_count(points, local, n_fill, edges=edges):
         return read
     moving = np.flatnonzero(free)
     try:
@@ -309,7 +315,7 @@ def _read_back(lattice, fine, points, local, uv, free, n_fill):
             fine, points)
     except FillError:
         return read
-    return relaxed if fold_count(relaxed, local, n_fill) < folds else read
+    return relaxed if fold_count(relaxed, local, n_fill, edges=edges) < folds else read
 
 
 def _subdivided(points, local, uv, free, n_fill, natural):
