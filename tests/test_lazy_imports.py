@@ -25,6 +25,16 @@ def test_importing_the_package_and_the_cli_leaves_them_unloaded():
     assert _loaded_after("import surfinpaint, surfinpaint.app.cli") == set()
 
 
+def test_the_pipeline_imports_threadpoolctl_at_its_first_parallel_fill():
+    # 9-17 ms of every start; a parallel default fill imports it on the thread that loads
+    # the kernels (the λ-H modules use it), beside the whole-mesh passes
+    start = "import surfinpaint.app.cli, surfinpaint.fill.pipeline"
+    assert _modules_after(start, ("threadpoolctl",)) == set()
+    assert _modules_after(start + "\nfrom surfinpaint.fill import scheduler\n"
+                          "scheduler.threadpoolctl.threadpool_limits",
+                          ("threadpoolctl",)) == {"threadpoolctl"}
+
+
 def test_a_fill_of_each_method_leaves_them_unloaded():
     # the parallel workers are forked from this process: what a fill loads they load each
     code = ("import warnings; warnings.simplefilter('ignore')\n"

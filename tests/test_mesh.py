@@ -13,6 +13,7 @@ from surfinpaint.geometry.mesh import (
     mean_edge_length,
     orient_loop,
     unique_edges,
+    vertex_faces,
     vertex_normals,
 )
 
@@ -170,3 +171,15 @@ def test_orient_loop_accepts_interior_edges_only_when_asked():
     # faces of opposite orientations: the loop runs with one and against the other
     with pytest.raises(MeshError, match="not consistently oriented"):
         orient_loop(np.array([[0, 1, 2], [0, 3, 2]]), [0, 1, 2, 3], boundary=False)
+
+
+@pytest.mark.parametrize("dtype", [np.int64, np.int32, np.uint16])
+def test_vertex_faces_is_the_incidence_with_each_rows_faces_in_order(dtype):
+    rng = np.random.default_rng(3)
+    faces = np.stack([rng.permutation(40)[:3] for _ in range(90)]).astype(dtype)
+    incidence = vertex_faces(faces, 45)  # 5 vertices on no face: empty rows
+    dense = np.zeros((45, 90), dtype=np.int8)
+    dense[faces.astype(np.int64).ravel(), np.repeat(np.arange(90), 3)] = 1
+    np.testing.assert_array_equal(incidence.toarray(), dense)
+    assert incidence.has_canonical_format  # faces_at reads each row's ids as they stand
+    assert incidence.indices.dtype == np.int32 and incidence.shape == (45, 90)

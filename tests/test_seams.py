@@ -361,3 +361,25 @@ def test_a_seam_along_part_of_a_loop(method):
     rims = sorted(h.n_edges for h in find_holes(result.vertices, result.faces))
     assert rims == [24, 24]  # the seam closed, the rims left open
     _no_folded_sheet(result)
+
+
+def test_a_zipped_seam_makes_its_own_incidence(seamed_sphere, monkeypatch):
+    # a large mesh's vertex-face incidence is made beside its edge table, from the faces
+    # before any seam is zipped: a zipped mesh makes its own (a stale one would cut the
+    # wrong faces around the other holes)
+    from surfinpaint.fill import pipeline, warmup
+
+    v, f = seamed_sphere
+    plain, _ = _run(v, f, method="fair", zip_seams=True)
+    monkeypatch.setattr(warmup, "BESIDE_MIN_FACES", 1)
+    given = []
+    filled_mesh = pipeline.FilledMesh
+    monkeypatch.setattr(pipeline, "FilledMesh",
+                        lambda *a: given.append(a[2]) or filled_mesh(*a))
+    result, _ = _run(v, f, method="fair", zip_seams=True)
+    assert given == [None]
+    np.testing.assert_array_equal(result.faces, plain.faces)
+    np.testing.assert_array_equal(result.vertices, plain.vertices)
+    unzipped, _ = _run(v, f, method="fair")  # no seam zipped: the incidence is used
+    assert given[1] is not None
+    assert unzipped.reports[0].new_faces + unzipped.reports[1].new_faces > 0

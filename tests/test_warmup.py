@@ -10,7 +10,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pytest
 
-from surfinpaint import fill_holes
+from surfinpaint import MeshError, fill_holes
 from surfinpaint.data import sphere
 from surfinpaint.fill import parallel, pipeline, warmup
 from surfinpaint.geometry import metrics
@@ -190,3 +190,86 @@ def test_a_fair_fill_warms_no_distance_kernel(monkeypatch):
     assert measured == []
     warmup.warm_kernels("conformal")
     assert len(measured) == 1 and warmup._done["conformal"].is_set()
+
+
+def _made_on(monkeypatch, name):
+    """Record the thread that runs ``pipeline.<name>`` (vertex_faces, find_holes)."""
+    threads = []
+    inner = getattr(pipeline, name)
+    monkeypatch.setattr(pipeline, name, lambda *a, **k: (threads.append(
+        threading.current_thread().name), inner(*a, **k))[1])
+    return threads
+
+
+@pytest.mark.parametrize("large", [True, False])
+@pytest.mark.parametrize("validate", [True, False])
+def test_a_large_mesh_passes_run_beside_its_edge_table_and_checks(monkeypatch, large,
+                                                                    validate):
+    # find_holes and the vertex-face incidence run on a thread while the mesh is checked
+    # (from the edge table); the thread is joined before the first hole; the same fill,
+    # bit for bit
+    v, f = sphere(4)
+    cut = cut_holes(v, f, [np.array([0.0, 0, 1]), np.array([1.0, 0, 0])],
+                    3 * mean_edge_length(v, f))
+    plain = fill_holes(cut.vertices, cut.faces, method="fair", jobs=1)
+    monkeypatch.setattr(warmup, "BESIDE_MIN_FACES", 1 if large else 10**9)
+    incidence = _made_on(monkeypatch, "vertex_faces")
+    holes_found = _made_on(monkeypatch, "find_holes")
+    threads_at_holes = []
+    fill_hole = pipeline.fill_hole
+    monkeypatch.setattr(pipeline, "fill_hole", lambda *a: (threads_at_holes.append(
+        threading.active_count()), fill_hole(*a))[1])
+    before = threading.active_count()
+    result = fill_holes(cut.vertices, cut.faces, method="fair", jobs=1, validate=validate)
+    beside = "surfinpaint-passes_0" if large else "MainThread"
+    assert incidence == [beside] and holes_found == [beside]
+    assert threads_at_holes == [before, before]  # the thread has ended before the holes
+    np.testing.assert_array_equal(result.vertices, plain.vertices)
+    np.testing.assert_array_equal(result.faces, plain.faces)
+
+
+def _zero_area_face(v, f):
+    """A sliver: face 5's first corner moved onto its opposite edge's midpoint."""
+    v = v.copy()
+    a, b, c = f[5]
+    v = np.vstack([v, 0.5 * (v[b] + v[c])])
+    f = f.copy()
+    f[5, 0] = len(v) - 1
+    return v, f
+
+
+def _fin(v, f):
+    """A third face on the edge of face 0 opposite its first corner, over a new vertex."""
+    a, b = f[0][1], f[0][2]
+    return np.vstack([v, 2 * v[a]]), np.vstack([f, [b, a, len(v)]])
+
+
+def _flipped(v, f):
+    """Face 7 turned over: its edges run as its neighbours' do."""
+    f = f.copy()
+    f[7] = f[7, ::-1]
+    return v, f
+
+
+@pytest.mark.parametrize("large", [True, False])
+@pytest.mark.parametrize(("broken", "match", "ids"), [
+    # find_holes runs beside the checks on meshes they refuse: their errors are raised,
+    # in their order (a duplicate before a zero-area face, as validate_mesh names them)
+    (lambda v, f: _zero_area_face(v, f), "1 faces have zero area", [5]),
+    (lambda v, f: _zero_area_face(v, np.vstack([f, f[9:10]])), "1 duplicate faces", None),
+    (lambda v, f: _zero_area_face(*_fin(v, f)), "1 faces have zero area", [5]),
+    (_fin, "non-manifold edges", None),
+    (_flipped, "inconsistent face orientation: 3 shared edges", None),
+])
+def test_the_passes_beside_the_table_keep_the_errors_and_their_order(monkeypatch, large,
+                                                                     broken, match, ids):
+    v, f = broken(*sphere(3))
+    monkeypatch.setattr(warmup, "BESIDE_MIN_FACES", 1 if large else 10**9)
+    with pytest.raises(MeshError, match=match) as info:
+        fill_holes(v, f, method="fair", jobs=1)
+    with pytest.raises(MeshError, match=match):
+        validate_mesh(v, f)
+    if ids is not None:
+        assert info.value.faces == ids
+    assert not any(t.name.startswith("surfinpaint-passes") for t in threading.enumerate())
+

@@ -116,9 +116,12 @@ class FilledMesh:
     """The mesh as its holes are filled: the original arrays, unchanged, and the blocks of
     new vertices and faces appended hole by hole."""
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray,
+                 incidence: sp.csr_matrix | None = None) -> None:
+        """``incidence``: ``vertex_faces(faces, len(vertices))`` when already made."""
         self.vertices, self.faces = vertices, faces
-        self.vertex_faces = vertex_faces(faces, len(vertices))
+        self.vertex_faces = (vertex_faces(faces, len(vertices)) if incidence is None
+                             else incidence)
         self.vertex_blocks: list[np.ndarray] = []
         self.face_blocks: list[np.ndarray] = []
         self.n_new = 0

@@ -28,8 +28,9 @@ from surfinpaint.fill.results import FillResult, HoleReport
 from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
-from surfinpaint.fill.warmup import load_for_workers, loading_beside
+from surfinpaint.fill.warmup import Beside, load_for_workers, loading_beside
 from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.mesh import vertex_faces
 from surfinpaint.geometry.repair import remove_nonmanifold_faces
 from surfinpaint.geometry.validation import (
     check_arrays,
@@ -234,7 +235,7 @@ def fill_holes(
     _check_flags(include_border=include_border, repair=repair, validate=validate,
                  zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, removed_faces, loops, numbers = _found_holes(
+    vertices, faces, removed_faces, loops, numbers, incidence = _found_holes(
         vertices, faces, holes, method, include_border=include_border, repair=repair,
         validate=validate)
     reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
@@ -242,8 +243,9 @@ def fill_holes(
                for k, loop in zip(numbers, loops, strict=True)]
     todo = _within_size(reports, max_hole_edges)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
+    prepared = faces
     faces, merged, todo = _open_seams(vertices, faces, todo, zip_seams)
-    mesh = FilledMesh(vertices, faces)
+    mesh = FilledMesh(vertices, faces, incidence if faces is prepared else None)
     run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
               progress=progress, rings=neighbourhood_rings,
               position={id(r): k for k, r in enumerate(reports)})
@@ -261,18 +263,21 @@ def _check_flags(**flags) -> None:
 
 def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, repair: bool,
                  validate: bool):
-    """The mesh prepared (:func:`_prepared`), the loops to fill and their :func:`find_holes`
-    numbers (the outer border counts, whatever was selected); a large mesh's kernels load
-    on the idle core meanwhile (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
-    with loading_beside(len(faces), method):
-        vertices, faces, removed_faces, table = _prepared(vertices, faces, repair, validate)
-        # checked by _prepared, as validate says
-        found = find_holes(vertices, faces, table, validate=False)
+    """The mesh prepared (:func:`_prepared`), the loops to fill, their :func:`find_holes`
+    numbers (the outer border counts, whatever was selected) and the faces' ``vertex_faces``
+    incidence; a large mesh's kernels load on the idle core meanwhile, and the passes that
+    need only the edge table run there while the mesh is checked
+    (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
+    with loading_beside(len(faces), method) as beside:
+        vertices, faces, removed_faces, table, found, incidence = _prepared(
+            vertices, faces, repair, validate, beside)
+        found = found()  # after the checks: their errors come first
         loops = select_holes(vertices, faces, holes, include_border=include_border,
                              table=table, validate=False, found=found)
         del table  # the holes are found: its memory is free for the fills
         numbers = hole_numbers(vertices, faces, loops, found=found)
-    return vertices, faces, removed_faces, loops, numbers
+        incidence = incidence()  # before the thread is joined
+    return vertices, faces, removed_faces, loops, numbers, incidence
 
 
 def _within_size(reports: list[HoleReport], max_hole_edges: int | None) -> list[HoleReport]:
@@ -325,10 +330,18 @@ def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds)
     return attributes, kinds
 
 
-def _prepared(vertices, faces, repair: bool, validate: bool):
+def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     """The mesh as arrays, with ``repair`` the faces around non-manifold edges removed
-    (and which), with ``validate`` checked; and its edge table when validated (built once:
-    the holes are found from it too)."""
+    (and which), with ``validate`` checked; its edge table when validated (built once:
+    the holes are found from it too); and the collectors of its :func:`find_holes` list and
+    its ``vertex_faces`` incidence.
+
+    ``find_holes`` and the incidence are handed to ``beside`` once the table is built: its
+    thread makes them while this one checks the mesh (651k case: docs/scale.md, session
+    24; started before the table, beside the kernels' loading, they waited for the GIL and
+    the peak memory grew by their temporaries and the table's together). The holes found
+    are collected after the checks, so that a mesh the checks refuse raises their error,
+    not one of ``find_holes``."""
     faces = face_ids(faces)  # whole-number floats taken, never truncated
     if validate:  # shapes, dtypes and ids first: the repair and the edge table index by them
         check_arrays(vertices, faces)
@@ -336,11 +349,12 @@ def _prepared(vertices, faces, repair: bool, validate: bool):
     removed_faces = np.empty(0, dtype=np.int64)
     if repair:
         faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
-    table = None
-    if validate:
-        table = EdgeTable.build(faces, len(vertices))
-        check_topology(vertices, faces, table)  # validate_mesh's errors, not its report
-    return vertices, faces, removed_faces, table
+    table = EdgeTable.build(faces, len(vertices)) if validate else None
+    found = beside.submit(find_holes, vertices, faces, table, validate=False)
+    incidence = beside.submit(vertex_faces, faces, len(vertices))
+    if validate:  # validate_mesh's errors, not its report
+        check_topology(vertices, faces, table)
+    return vertices, faces, removed_faces, table, found, incidence
 
 
 def _with_attributes(result: FillResult, attributes, face_attributes, kinds) -> FillResult:

@@ -34,7 +34,6 @@ from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field
 
 import numpy as np
-from threadpoolctl import ThreadpoolController, threadpool_limits
 
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import parallel
@@ -42,6 +41,11 @@ from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.hole_steps import Run, at_hole, loop_problem, stitched
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
 from surfinpaint.fill.results import Fill, HoleReport
+from surfinpaint.lazy import lazy_module
+
+# imported at the first parallel fill (9-17 ms of every process's start otherwise; the
+# conformal method's modules import it too, on the thread that loads the kernels)
+threadpoolctl = lazy_module("threadpoolctl")
 
 __all__ = ["Outcome", "fill_cut_here", "fill_in_parallel", "fill_sent", "reached"]
 
@@ -87,7 +91,7 @@ def reached(ids: np.ndarray, loops: list[np.ndarray]) -> np.ndarray:
     return np.unique(owner[ids[at] == flat])
 
 
-_CONTROLLER: list[ThreadpoolController] = []
+_CONTROLLER: list = []  # the worker's threadpoolctl.ThreadpoolController
 
 
 def _recorded(call, *args) -> tuple[object, list[parallel.WarningRecord]]:
@@ -96,7 +100,7 @@ def _recorded(call, *args) -> tuple[object, list[parallel.WarningRecord]]:
     controller is made once a worker (making one lists the loaded libraries: ~2 ms, which
     a ``threadpool_limits`` call paid on every hole)."""
     if not _CONTROLLER:
-        _CONTROLLER.append(ThreadpoolController())
+        _CONTROLLER.append(threadpoolctl.ThreadpoolController())
     with warnings.catch_warnings(record=True) as caught, _CONTROLLER[0].limit(limits=1):
         warnings.simplefilter("always")
         answer = call(*args)
@@ -243,7 +247,7 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
                                  [run.rings_of(r) for r in todo], run)
     schedule = _Schedule(mesh, todo, run, workers, token)
     # one BLAS thread here too: the cuts and checks made here share the cores with workers
-    blas = threadpool_limits(limits=1)
+    blas = threadpoolctl.threadpool_limits(limits=1)
     executor = parallel.pool(workers)
     try:
         announced = 0  # progress: the holes whose start was announced

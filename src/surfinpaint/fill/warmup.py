@@ -28,11 +28,15 @@ compiles every kernel into numba's disk cache.
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import os
 import sys
 import threading
+from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
+from typing import TypeVar
 
 import numpy as np
 
@@ -43,11 +47,13 @@ from surfinpaint.lazy import lazy_module
 # the conformal self-check's distances: a faired fill never imports them
 metrics = lazy_module("surfinpaint.geometry.metrics")
 
-__all__ = ["BESIDE_MIN_FACES", "compile_kernels", "kernels_loaded", "load_for_workers",
+__all__ = ["BESIDE_MIN_FACES", "Beside", "compile_kernels", "kernels_loaded", "load_for_workers",
            "loading_beside", "main", "warm_kernels", "warmup_mesh"]
 
 # below this many faces the whole-mesh passes take too little time to hide the loading
 BESIDE_MIN_FACES = 100_000
+
+T = TypeVar("T")
 
 # the kernels each method uses, loaded (the conformal method's include the faired fill's)
 _done = {"fair": threading.Event(), "conformal": threading.Event()}
@@ -102,12 +108,39 @@ def load_for_workers(method: str) -> None:
         _quietly(method)
 
 
+class Beside:
+    """Whole-mesh work started early and collected where it is needed: on one thread beside
+    the caller's passes for a large mesh (``threaded``), else done when collected, where
+    the passes would have done it.
+
+    :meth:`submit` returns the collector, a function that waits for the work and returns
+    its result or raises what it raised. The thread runs the work in the order submitted.
+    """
+
+    def __init__(self, threaded: bool) -> None:
+        self._executor = (ThreadPoolExecutor(max_workers=1, thread_name_prefix="surfinpaint-passes")
+                          if threaded else None)
+
+    def submit(self, function: Callable[..., T], *args, **kwargs) -> Callable[[], T]:
+        if self._executor is None:
+            return functools.partial(function, *args, **kwargs)
+        return self._executor.submit(function, *args, **kwargs).result
+
+    def join(self) -> None:
+        """Wait for the work under way and drop the rest (the thread ends)."""
+        if self._executor is not None:
+            self._executor.shutdown(wait=True, cancel_futures=True)
+
+
 @contextmanager
-def loading_beside(n_faces: int, method: str):
-    """While the block runs (the whole-mesh passes), :func:`warm_kernels` for ``method`` in
-    a background thread, joined when the block ends (before any hole is filled or worker
-    forked: a fork copies one thread), for a mesh of at least ``BESIDE_MIN_FACES`` faces
-    whose kernels are not loaded yet; otherwise nothing.
+def loading_beside(n_faces: int, method: str) -> Iterator[Beside]:
+    """While the block runs (the whole-mesh passes), for a mesh of at least
+    ``BESIDE_MIN_FACES`` faces, :func:`warm_kernels` for ``method`` in a background thread
+    (unless the kernels are loaded), and the block's own work handed to the yielded
+    :class:`Beside` on another; both joined when the block ends, before any hole is filled
+    or worker forked (a fork copies one thread). A smaller mesh's passes are too short to
+    hide anything: its first hole loads the kernels, and its ``Beside`` does the work where
+    it is collected.
 
     Measured on the 651k case, alternated runs (docs/scale.md): the faired fill (serial: its
     first hole waited for the load) 1.97-2.08 -> 1.69-1.72 s of wall, quiet (session 13);
@@ -116,13 +149,16 @@ def loading_beside(n_faces: int, method: str):
     (load 3), the CPU unchanged (session 22). The numpy work of the passes releases the
     GIL; the loading's Python holds it meanwhile.
     """
+    large = n_faces >= BESIDE_MIN_FACES
     thread = None
-    if n_faces >= BESIDE_MIN_FACES and not _done[method].is_set():
+    if large and not _done[method].is_set():
         thread = threading.Thread(target=_quietly, args=(method,), name="surfinpaint-warmup")
         thread.start()
+    beside = Beside(large)
     try:
-        yield
+        yield beside
     finally:
+        beside.join()
         if thread is not None:
             thread.join()
 
