@@ -63,9 +63,9 @@ def _scored(cut, options, name, hole, r_h, split, only_thin: bool) -> dict | Non
             "n_edges": len(cut.loop), **row}
 
 
-def random_holes(per_mesh: int, options: ConformalOptions, checked: list):
-    """The thin holes among ``per_mesh`` random ones per tuning mesh; ``checked`` gets the
-    number of holes cut and checked on each mesh."""
+def random_cuts(per_mesh: int, checked: list):
+    """``per_mesh`` random holes per tuning mesh, those that can be cut: (mesh id, centre
+    vertex, radius in h, cut); ``checked`` gets the number cut on each mesh."""
     tuning = [e["mesh"] for e in holes_manifest.read()["meshes"] if e["split"] == "tuning"]
     for mesh_id in tuning:
         checked.append(0)
@@ -79,12 +79,25 @@ def random_holes(per_mesh: int, options: ConformalOptions, checked: list):
             except ValueError:
                 continue
             checked[-1] += 1
-            row = _scored(cut, options, mesh_id, int(c), r_h, "random", only_thin=True)
-            if row is not None:
-                yield row
+            yield mesh_id, int(c), r_h, cut
 
 
-def thin_holes(options: ConformalOptions):
+def random_holes(per_mesh: int, options: ConformalOptions, checked: list,
+                 keys: set[str] | None = None):
+    """The thin holes among ``per_mesh`` random ones per tuning mesh (with ``keys``, the
+    holes named "mesh vCENTRE rRADIUS" instead, thin or not); ``checked`` gets the number
+    of holes cut and checked on each mesh."""
+    for mesh_id, c, r_h, cut in random_cuts(per_mesh, checked):
+        if keys is not None and f"{mesh_id} v{c} r{r_h}" not in keys:
+            continue
+        row = _scored(cut, options, mesh_id, c, r_h, "random", only_thin=keys is None)
+        if row is not None:
+            yield row
+
+
+def thin_cuts():
+    """The holes on the thin tori that can be cut: (torus name, hole number, radius in h,
+    cut)."""
     for name, (r, n_minor) in THIN_TORI.items():
         v, f = data.torus(R=1.0, r=r, n_major=160, n_minor=n_minor)
         h = mean_edge_length(v, f)
@@ -95,7 +108,12 @@ def thin_holes(options: ConformalOptions):
                 cut = cut_geodesic_disk(v, f, int(centres[i]), r_h * h)
             except ValueError:
                 continue
-            yield _scored(cut, options, name, i, r_h, "thin", only_thin=False)
+            yield name, i, r_h, cut
+
+
+def thin_holes(options: ConformalOptions):
+    for name, i, r_h, cut in thin_cuts():
+        yield _scored(cut, options, name, i, r_h, "thin", only_thin=False)
 
 
 def main(argv=None):
@@ -103,10 +121,14 @@ def main(argv=None):
     parser.add_argument("--set", choices=("random", "thin"), required=True)
     parser.add_argument("--per-mesh", type=int, default=40)
     parser.add_argument("--cache", required=True)
+    parser.add_argument("--keys", default=None, help="random set: score only these holes "
+                        "(a file of keys 'mesh vCENTRE rRADIUS', one a line, as "
+                        "selfcheck_coverage.py names them)")
     args = parser.parse_args(argv)
     options = ConformalOptions()
     checked: list[int] = []
-    rows = (random_holes(args.per_mesh, options, checked) if args.set == "random"
+    keys = set(Path(args.keys).read_text().splitlines()) if args.keys else None
+    rows = (random_holes(args.per_mesh, options, checked, keys) if args.set == "random"
             else thin_holes(options))
     n = 0
     with Path(args.cache).open("a") as fh:

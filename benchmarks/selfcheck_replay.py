@@ -361,6 +361,36 @@ def _fmt(t):
     return ", ".join(f"{k} {v:.3g}" for k, v in t.items()) or "—"
 
 
+def changed_holes(before, after, rule) -> str:
+    """The holes where ``rule`` writes another fill on the ``after`` table than on the
+    ``before`` table of the same holes (two builds of the tests, the same candidates): the
+    error it writes on each, and both tests' scores on the after table."""
+    old = {(r["mesh"], r["hole"]): r for r in before}
+    out = ["| hole | fair2 | fair3 | λ-H | before | after | after / before | after / better "
+           "faired | hidden (after) | siblings (after, found) |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
+    ratios = []
+    for r in after:
+        b = old.get((r["mesh"], r["hole"]))
+        if b is None:
+            continue
+        t = r["true"]
+        was, now = chosen_errors([b], rule)[0], chosen_errors([r], rule)[0]
+        ratios.append(now / max(was, 1e-300))
+        if rule(b)[0] == rule(r)[0] and was == now:
+            continue
+        better = min(t["fair2"], t["fair3"])
+        out.append(f"| {r['mesh']} #{r['hole']} | {t['fair2']:.3g} | {t['fair3']:.3g} | "
+                   f"{t['conformal']:.3g} | {rule(b)[0]} {was:.3g} | {rule(r)[0]} {now:.3g} | "
+                   f"{now / was:.2f} | {now / better:.2f} | {_fmt(r['hidden'])} | "
+                   f"{_fmt(r['sibling'])} ({r.get('siblings_found', '?')}) |")
+    ratios = np.asarray(ratios)
+    out.append(f"\n{len(ratios)} holes, {len(out) - 2} changed; after / before: geometric mean "
+               f"{np.exp(np.log(ratios).mean()):.3f}, better by 10 % "
+               f"{int((ratios < 1 / 1.1).sum())}, worse by 10 % {int((ratios > 1.1).sum())}")
+    return "\n".join(out)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cache", required=True)
@@ -370,9 +400,17 @@ def main(argv=None):
                         "this rule (a label of the table)")
     parser.add_argument("--scan", action="store_true",
                         help="the old rule's thresholds scanned one at a time instead")
+    parser.add_argument("--against", default=None, help="a cache of the same holes built "
+                        "before a change of the tests: list the holes where the library's "
+                        "rule writes another fill")
     args = parser.parse_args(argv)
     rows = [r for r in selfcheck_table.read_cache(Path(args.cache))
             if r["split"] == args.split]
+    if args.against:
+        before = [r for r in selfcheck_table.read_cache(Path(args.against))
+                  if r["split"] == args.split]
+        print(changed_holes(before, rows, rule_library))
+        return
     print(f"{args.split}: {len(rows)} holes on {len({r['mesh'] for r in rows})} meshes\n")
     rules = None
     if args.scan:

@@ -9,7 +9,8 @@ true error (two-sided mean distance to the removed truth, % of the hole diameter
 ``accuracy.score`` measures it), the hidden-ring test and the sibling-hole test (both always
 run, with every candidate). Each row also says whether a crease crosses the hole, whether the
 λ-H fill's patch had to be grown unevenly (``fill/conformal/patch.grown_patch``), and CGAL's
-error and the default fill's error from a saved ``validation.py`` run.
+error and the default fill's error from a saved ``validation.py`` run, and how many sibling
+holes could be cut and filled (``siblings_found``, of ``siblings`` asked for).
 
     python benchmarks/selfcheck_table.py --split tuning --cache /tmp/scores.jsonl
     python benchmarks/selfcheck_table.py --split tuning --option siblings=4 --cache /tmp/s4.jsonl
@@ -38,7 +39,11 @@ from surfinpaint.fill.conformal import ConformalOptions  # noqa: E402
 from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
 from surfinpaint.fill.conformal.patch import hole_patch, is_disk  # noqa: E402
 from surfinpaint.fill.neighbourhood import FilledMesh  # noqa: E402 - fill_holes' neighbourhood
-from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores  # noqa: E402
+from surfinpaint.fill.selfcheck import (  # noqa: E402
+    hidden_ring_scores,
+    mean_scores,
+    sibling_scores,
+)
 from surfinpaint.geometry.mesh import faces_near  # noqa: E402
 from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
 
@@ -99,9 +104,10 @@ def hole_scores(vertices, faces, loop, truth_vertices, truth_faces, diameter,
     started = time.perf_counter()
     hidden = hidden_ring_scores(vertices, faces, loop, tests, hide_rings=o.hide_rings,
                                 patch_rings=o.rings_in_patch)
-    sibling = sibling_scores(vertices, faces, loop, tests, siblings=o.siblings,
-                             gap_rings=o.gap_rings, patch_rings=o.rings_in_patch)
-    return {"true": true, "hidden": hidden, "sibling": sibling,
+    each = sibling_scores(vertices, faces, loop, tests, siblings=o.siblings,
+                          gap_rings=o.gap_rings, patch_rings=o.rings_in_patch, each=True)
+    return {"true": true, "hidden": hidden, "sibling": mean_scores(each),
+            "siblings_found": len(each),
             "crossed": candidates.crossed, "failure": failure, **shape,
             "seconds_lambda_h": seconds_lh, "seconds_tests": time.perf_counter() - started}
 

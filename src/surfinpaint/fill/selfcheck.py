@@ -11,6 +11,8 @@ the faired fills (:func:`surfinpaint.fill.conformal.choose`).
 
 from __future__ import annotations
 
+from itertools import islice
+
 import numpy as np
 
 from surfinpaint.errors import NUMERICAL_ERRORS, MeshError
@@ -24,23 +26,44 @@ from surfinpaint.geometry.metrics import (
     sample_surface,
 )
 
-__all__ = ["hidden_ring_scores", "mean_scores", "sibling_scores"]
+__all__ = ["hidden_band", "hidden_ring_scores", "mean_scores", "sibling_reach", "sibling_scores"]
 
 
-def _sibling_centres(vertices, faces, loop, gap_rings, count, graph=None):
-    """Vertices ``gap_rings`` edge rings away from the hole, spread around it."""
-
+def _spread_centres(vertices, faces, loop, gap_rings, graph=None):
+    """Vertices ``gap_rings`` edge rings away from the hole, spread around it: each next one
+    the farthest from all before it, until every vertex of the ring has been given."""
     rings = ring_distances(faces, len(vertices), loop, gap_rings + 0.5, graph=graph)
     candidates = np.flatnonzero(rings == gap_rings)
     if len(candidates) == 0:
-        return []
-    centre = vertices[loop].mean(axis=0)
-    chosen = [int(candidates[np.argmax(np.linalg.norm(vertices[candidates] - centre, 1))])]
-    while len(chosen) < count:
-        d = np.min(np.linalg.norm(vertices[candidates][:, None] - vertices[chosen][None], axis=2),
-                   axis=1)
-        chosen.append(int(candidates[np.argmax(d)]))
-    return chosen
+        return
+    points = vertices[candidates]
+    # the first is the ring's lowest vertex id, as before the fallbacks (session 24): the
+    # sibling holes of a hole that was scored then are the same holes now
+    first = 0
+    nearest = np.linalg.norm(points - points[first], axis=1)
+    yield int(candidates[first])
+    for _ in range(len(candidates) - 1):
+        k = int(np.argmax(nearest))
+        if nearest[k] == 0.0:
+            return
+        yield int(candidates[k])
+        nearest = np.minimum(nearest, np.linalg.norm(points - points[k], axis=1))
+
+
+def _sibling_centres(vertices, faces, loop, gap_rings, count, graph=None):
+    """The first ``count`` of :func:`_spread_centres` (fewer when the ring has fewer)."""
+    return list(islice(_spread_centres(vertices, faces, loop, gap_rings, graph=graph),
+                       count))
+
+
+def sibling_reach(vertices: np.ndarray, loop: np.ndarray, gap_rings: int) -> tuple[float, int]:
+    """The sibling holes' geodesic radius (half the hole's diameter) and the edge ring of
+    the hole their centres are placed on (``gap_rings`` beyond the hole's radius in edge
+    lengths of its loop)."""
+    points = vertices[loop]
+    radius = 0.5 * loop_diameter(points)
+    edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
+    return radius, gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
 
 
 def sibling_scores(
@@ -55,6 +78,7 @@ def sibling_scores(
     patch_rings: int | None = None,
     each: bool = False,
     graph=None,
+    tries: int = 8,
 ) -> dict[str, float] | list[dict[str, float]]:
     """How well each filler does on holes like this one cut from the known surface nearby.
 
@@ -72,6 +96,11 @@ def sibling_scores(
     ``graph``: the mesh's :func:`~surfinpaint.geometry.cutting.edge_graph`, when already
     made (the hidden-ring test of the same hole uses it too).
 
+    ``tries``: the most centres tried on the ring (spread around it, each the farthest from
+    those before) until ``siblings`` holes could be cut and filled; a centre whose hole
+    cannot be cut (near a border) or filled gives no score and the next one is tried. Where
+    the first ``siblings`` centres all give a score, no other is tried.
+
     Returns
     -------
     dict or list of dict
@@ -80,10 +109,7 @@ def sibling_scores(
         placed (:func:`mean_scores` of them is the mean).
     """
 
-    points = vertices[loop]
-    radius = 0.5 * loop_diameter(points)
-    edge = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).mean())
-    gap = gap_rings + int(np.ceil(radius / max(edge, 1e-300)))
+    radius, gap = sibling_reach(vertices, loop, gap_rings)
     if graph is None:
         graph = edge_graph(faces, len(vertices))
 
@@ -130,9 +156,17 @@ def sibling_scores(
             patches, cut.truth_vertices, cut.truth_faces, n_samples=n_samples), strict=True))
         return results
 
-    found = [score(centre) for centre in
-             _sibling_centres(vertices, faces, loop, gap, siblings, graph=graph)]
-    found = [results for results in found if results]
+    found = []
+    centres = _spread_centres(vertices, faces, loop, gap, graph=graph)
+    # a centre whose hole cannot be cut (it reaches the border, or is not a disk) gives no
+    # evidence: the next centre of the ring, farthest from those tried, is tried instead,
+    # up to ``tries`` centres in all (the first ``siblings`` are those tried before)
+    for centre in islice(centres, max(tries, siblings)):
+        if len(found) == siblings:
+            break
+        results = score(centre)
+        if results:
+            found.append(results)
     return found if each else mean_scores(found)
 
 
@@ -144,6 +178,39 @@ def mean_scores(each: list[dict[str, float]]) -> dict[str, float]:
         for name, value in results.items():
             scores.setdefault(name, []).append(value)
     return {name: float(np.mean(v)) for name, v in scores.items() if v}
+
+
+def hidden_band(faces: np.ndarray, ring: np.ndarray, hide_rings: int):
+    """The faces hidden by the hidden-ring test and the loops they leave.
+
+    Parameters
+    ----------
+    faces : (f, 3) int array
+    ring : (n,) float array
+        Each vertex's edge-ring distance from the hole's loop (at least up to
+        ``hide_rings``; :func:`~surfinpaint.geometry.cutting.ring_distances`).
+    hide_rings : int
+
+    Returns
+    -------
+    hidden : (f,) bool array
+        The faces with a vertex within ``hide_rings - 1`` rings of the loop.
+    kept : (k, 3) int array
+        The other faces.
+    border : (n,) bool array
+        The vertices ``hide_rings`` rings out: the enlarged hole's loop runs through them.
+    loops : list of int arrays or None
+        The boundary loops of ``kept`` (None when they do not close).
+    """
+    near = ring <= hide_rings - 1
+    hidden = near[faces].any(axis=1)
+    kept = faces[~hidden]
+    border = (ring <= hide_rings) & ~near
+    try:
+        loops = boundary_loops(kept)
+    except MeshError:
+        loops = None
+    return hidden, kept, border, loops
 
 
 def hidden_ring_scores(
@@ -171,23 +238,23 @@ def hidden_ring_scores(
     ``graph``: the mesh's :func:`~surfinpaint.geometry.cutting.edge_graph`, when already
     made (made here otherwise).
 
+    Where the ``hide_rings`` rings do not leave one simple hole (on a thin part the hidden
+    band can wrap around it; near a border it can reach the border) or ``fill`` raises
+    there, one ring fewer is hidden, down to one: the test's hole is then shallower, but it
+    scores where the deeper one would give nothing. Where ``hide_rings`` rings score,
+    nothing else is tried.
+
     Returns
     -------
     dict
-        Score per filler (empty when the hidden rings do not leave one simple hole or
-        ``fill`` raises).
+        Score per filler (empty when no depth leaves one simple hole that ``fill`` fills).
     """
 
-    def run(vertices, faces, loop, ring, rim):
-        """The test; None when a loop next to the hidden faces reaches the ``rim`` vertices
-        (then it is not the loop of the whole mesh)."""
-        near = ring <= hide_rings - 1
-        hidden = near[faces].any(axis=1)
-        kept = faces[~hidden]
-        border = (ring <= hide_rings) & ~near
-        try:
-            loops = boundary_loops(kept)
-        except MeshError:
+    def run(vertices, faces, loop, ring, rim, depth):
+        """The test with ``depth`` rings hidden; None when a loop next to the hidden faces
+        reaches the ``rim`` vertices (then it is not the loop of the whole mesh)."""
+        hidden, kept, border, loops = hidden_band(faces, ring, depth)
+        if loops is None:
             return None if rim is not None else {}
         if rim is not None and any(border[l].any() and rim[l].any() for l in loops):
             return None
@@ -207,16 +274,27 @@ def hidden_ring_scores(
                 np.inf  # failed on a hole like this one
                 for name in candidates}
 
-    if graph is None:  # one adjacency for both searches below
+    def at_depth(depth):
+        if patch_rings is not None:
+            reach = depth + patch_rings + 3
+            ring = ring_distances(faces, len(vertices), loop, reach + 1, graph=graph)
+            keep = ring <= reach
+            if not keep[faces].all():
+                sv, sf, ids = submesh(vertices, faces, keep)
+                scores = run(sv, sf, np.searchsorted(ids, loop), ring[ids],
+                             ring[ids] >= reach, depth)
+                if scores is not None:
+                    return scores
+        ring = ring_distances(faces, len(vertices), loop, depth + 0.5, graph=graph)
+        return run(vertices, faces, loop, ring, None, depth)
+
+    if graph is None:  # one adjacency for all searches below
         graph = edge_graph(faces, len(vertices))
-    if patch_rings is not None:
-        reach = hide_rings + patch_rings + 3
-        ring = ring_distances(faces, len(vertices), loop, reach + 1, graph=graph)
-        keep = ring <= reach
-        if not keep[faces].all():
-            sv, sf, ids = submesh(vertices, faces, keep)
-            scores = run(sv, sf, np.searchsorted(ids, loop), ring[ids], ring[ids] >= reach)
-            if scores is not None:
-                return scores
-    ring = ring_distances(faces, len(vertices), loop, hide_rings + 0.5, graph=graph)
-    return run(vertices, faces, loop, ring, None)
+    # fewer rings hidden where ``hide_rings`` leave no one simple hole (the hidden band
+    # wraps around a thin part, or reaches a border) or a fill fails on it: a shallower test
+    # hole still gives evidence, where the deeper one gives none
+    for depth in range(hide_rings, 0, -1):
+        scores = at_depth(depth)
+        if scores:
+            return scores
+    return {}
