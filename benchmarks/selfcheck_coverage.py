@@ -18,6 +18,7 @@ Sets (tuning-side only):
 - ``quad``: the built quadruped's holes (``built_meshes.holes``, as ``thin_parts.py quad``).
 
     python benchmarks/selfcheck_coverage.py --set tuning --out /tmp/coverage_tuning.jsonl
+    python benchmarks/selfcheck_coverage.py --set tuning --fallbacks --out /tmp/fb.jsonl
     python benchmarks/selfcheck_coverage.py --table /tmp/coverage_tuning.jsonl
 """
 
@@ -82,19 +83,22 @@ def _sibling_why(vertices, faces, loop, options, graph) -> list[str]:
     return why
 
 
-def coverage_row(vertices, faces, loop, options: ConformalOptions) -> dict:
-    """Both tests' coverage of one hole, with the faired candidates."""
+def coverage_row(vertices, faces, loop, options: ConformalOptions,
+                 fallbacks: bool = False) -> dict:
+    """Both tests' coverage of one hole, with the faired candidates (``fallbacks``: with
+    the tests' fallbacks, ``min_hide_rings=1`` and ``tries=8``)."""
     tests = Candidates.for_hole(vertices, faces, loop, options).for_tests(
         with_lambda_h=False)
     graph = edge_graph(faces, len(vertices))
     started = time.process_time()
     hidden = hidden_ring_scores(vertices, faces, loop, tests, hide_rings=options.hide_rings,
-                                patch_rings=options.rings_in_patch, graph=graph)
+                                patch_rings=options.rings_in_patch, graph=graph,
+                                min_hide_rings=1 if fallbacks else None)
     seconds_hidden = time.process_time() - started
     started = time.process_time()
     found = sibling_scores(vertices, faces, loop, tests, siblings=options.siblings,
                            gap_rings=options.gap_rings, patch_rings=options.rings_in_patch,
-                           each=True, graph=graph)
+                           each=True, graph=graph, tries=8 if fallbacks else None)
     seconds_sibling = time.process_time() - started
     return {"n_edges": len(loop), "hidden": bool(hidden),
             "hidden_why": _hidden_why(vertices, faces, loop, options.hide_rings, graph),
@@ -154,6 +158,8 @@ def main(argv=None):
     parser.add_argument("--per-mesh", type=int, default=40)
     parser.add_argument("--out", help="JSONL file of rows (overwritten)")
     parser.add_argument("--table", nargs="+", help="coverage tables of JSONL files")
+    parser.add_argument("--fallbacks", action="store_true", help="the tests with their "
+                        "fallbacks (min_hide_rings=1, tries=8), not the default")
     args = parser.parse_args(argv)
     if args.table:
         print(table([Path(p) for p in args.table]))
@@ -164,7 +170,8 @@ def main(argv=None):
             v, f, loop = _local(cut, options)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                row = {"set": args.set, "key": key, **coverage_row(v, f, loop, options)}
+                row = {"set": args.set, "key": key,
+                       **coverage_row(v, f, loop, options, args.fallbacks)}
             fh.write(json.dumps(row) + "\n")
             fh.flush()
             if not row["hidden"] or row["siblings"] < options.siblings:

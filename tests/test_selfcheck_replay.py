@@ -104,3 +104,20 @@ def test_the_scans_default_point_is_the_old_rule():
                                      "fair2"]
     # a stricter sibling tolerance turns the sibling tie into a loss
     assert replay.margin_rule(sibling_tolerance=0.9)(rows[0])[0] == "fair2"
+
+
+def test_changed_holes_lists_the_holes_whose_written_fill_moved():
+    # the same two holes, tested twice: on the second table the first hole's hidden-ring
+    # test speaks (the λ-H fill wins decisively), the second's scores are the same
+    scores = {"fair2": 1.0, "fair3": 2.0, "conformal": 0.1}
+    before = [row("a", 0, 1.0, 2.0, 4.0, 1.0), row("a", 1, 1.0, 2.0, 0.5, 1.0, hidden=scores)]
+    after = [row("a", 0, 1.0, 2.0, 4.0, 1.0, hidden=scores, siblings_found=0),
+             row("a", 1, 1.0, 2.0, 0.5, 1.0, hidden=scores)]
+    text = replay.changed_holes(before, after, replay.rule_library)
+    lines = [line for line in text.splitlines() if line.startswith("| a #")]
+    # no test before: fair2 (1.0); after: the λ-H fill (4.0), 4× the better faired fill
+    assert lines == ["| a #0 | 1 | 2 | 4 | fair2 1 | conformal 4 | 4.00 | 4.00 | fair2 1, "
+                     "fair3 2, conformal 0.1 | — (0) |"]
+    # geometric mean of 4 and 1
+    assert text.endswith("2 holes, 1 changed; after / before: geometric mean 2.000, better "
+                         "by 10 % 0, worse by 10 % 1")

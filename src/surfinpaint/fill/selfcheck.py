@@ -78,7 +78,7 @@ def sibling_scores(
     patch_rings: int | None = None,
     each: bool = False,
     graph=None,
-    tries: int = 8,
+    tries: int | None = None,
 ) -> dict[str, float] | list[dict[str, float]]:
     """How well each filler does on holes like this one cut from the known surface nearby.
 
@@ -99,7 +99,10 @@ def sibling_scores(
     ``tries``: the most centres tried on the ring (spread around it, each the farthest from
     those before) until ``siblings`` holes could be cut and filled; a centre whose hole
     cannot be cut (near a border) or filled gives no score and the next one is tried. Where
-    the first ``siblings`` centres all give a score, no other is tried.
+    the first ``siblings`` centres all give a score, no other is tried. None (default): the
+    first ``siblings`` centres only. Measured on the tuning side (docs/selfcheck.md, session
+    24), ``tries=8`` finds more siblings near borders but the fills chosen with them are not
+    better, so it is not the default.
 
     Returns
     -------
@@ -159,9 +162,9 @@ def sibling_scores(
     found = []
     centres = _spread_centres(vertices, faces, loop, gap, graph=graph)
     # a centre whose hole cannot be cut (it reaches the border, or is not a disk) gives no
-    # evidence: the next centre of the ring, farthest from those tried, is tried instead,
-    # up to ``tries`` centres in all (the first ``siblings`` are those tried before)
-    for centre in islice(centres, max(tries, siblings)):
+    # evidence: with ``tries``, the next centre of the ring, farthest from those tried, is
+    # tried instead (the first ``siblings`` are the centres tried without)
+    for centre in islice(centres, max(tries or 0, siblings)):
         if len(found) == siblings:
             break
         results = score(centre)
@@ -223,6 +226,7 @@ def hidden_ring_scores(
     n_samples: int = 2000,
     patch_rings: int | None = None,
     graph=None,
+    min_hide_rings: int | None = None,
 ) -> dict[str, float]:
     """How well each filler predicts known surface hidden around the hole.
 
@@ -238,16 +242,20 @@ def hidden_ring_scores(
     ``graph``: the mesh's :func:`~surfinpaint.geometry.cutting.edge_graph`, when already
     made (made here otherwise).
 
-    Where the ``hide_rings`` rings do not leave one simple hole (on a thin part the hidden
-    band can wrap around it; near a border it can reach the border) or ``fill`` raises
-    there, one ring fewer is hidden, down to one: the test's hole is then shallower, but it
-    scores where the deeper one would give nothing. Where ``hide_rings`` rings score,
-    nothing else is tried.
+    ``min_hide_rings``: where the ``hide_rings`` rings do not leave one simple hole (on a
+    thin part the hidden band can wrap around it; near a border it can reach the border)
+    or ``fill`` raises there, one ring fewer is hidden, down to ``min_hide_rings``: the
+    test's hole is then shallower, but it scores where the deeper one gives nothing. Where
+    ``hide_rings`` rings score, nothing else is tried. None (default): ``hide_rings`` only.
+    Measured on the tuning side (docs/selfcheck.md, session 24), ``min_hide_rings=1``
+    scores on thin limbs and near borders but the fills chosen with it are not better, so
+    it is not the default.
 
     Returns
     -------
     dict
-        Score per filler (empty when no depth leaves one simple hole that ``fill`` fills).
+        Score per filler (empty when no depth tried leaves one simple hole that ``fill``
+        fills).
     """
 
     def run(vertices, faces, loop, ring, rim, depth):
@@ -293,7 +301,8 @@ def hidden_ring_scores(
     # fewer rings hidden where ``hide_rings`` leave no one simple hole (the hidden band
     # wraps around a thin part, or reaches a border) or a fill fails on it: a shallower test
     # hole still gives evidence, where the deeper one gives none
-    for depth in range(hide_rings, 0, -1):
+    shallowest = hide_rings if min_hide_rings is None else max(min_hide_rings, 1)
+    for depth in range(hide_rings, shallowest - 1, -1):
         scores = at_depth(depth)
         if scores:
             return scores
