@@ -273,3 +273,43 @@ def test_the_passes_beside_the_table_keep_the_errors_and_their_order(monkeypatch
         assert info.value.faces == ids
     assert not any(t.name.startswith("surfinpaint-passes") for t in threading.enumerate())
 
+
+
+@pytest.mark.parametrize("ahead", [True, False])
+def test_the_fill_command_loads_the_kernels_while_it_reads_a_large_file(tmp_path, monkeypatch,
+                                                                       ahead):
+    # the loading starts before the read (a large file); the fill's passes join it, so no
+    # thread is left at the fork of the workers or after the command
+    from surfinpaint import write_mesh
+    from surfinpaint.app import cli
+
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [np.array([0.0, 0, 1])], 3 * mean_edge_length(v, f))
+    mesh, out = tmp_path / "holed.ply", tmp_path / "out.ply"
+    write_mesh(mesh, cut.vertices, cut.faces)
+    monkeypatch.setattr(cli, "LOAD_AHEAD_MIN_BYTES", 0 if ahead else 10**12)
+    _forget_warmup()
+    loading_at_read = []
+    read = cli.read_mesh_data
+    monkeypatch.setattr(cli, "read_mesh_data", lambda *a: (loading_at_read.append(
+        [t.name for t in threading.enumerate() if t.name == "surfinpaint-warmup"]),
+        read(*a))[1])
+    assert cli.main(["fill", str(mesh), "-o", str(out), "-q", "--method", "fair"]) == 0
+    assert loading_at_read == [["surfinpaint-warmup"] if ahead else []]
+    assert warmup.kernels_loaded("fair") == ahead  # a small mesh loads none beside
+    assert not any(t.name == "surfinpaint-warmup" for t in threading.enumerate())
+    assert warmup._ahead == []
+
+
+def test_a_load_started_ahead_is_started_once_and_joined_by_the_next_fill(monkeypatch):
+    _forget_warmup()
+    started = []
+    monkeypatch.setattr(warmup, "warm_kernels", lambda m: (started.append(m),
+                                                           warmup._done[m].set()))
+    warmup.load_ahead("fair")
+    warmup.load_ahead("fair")  # loading: nothing more
+    with warmup.loading_beside(10, "fair"):  # a small mesh: no thread of its own
+        pass
+    assert started == ["fair"] and warmup._ahead == []
+    warmup.load_ahead("fair")  # loaded: nothing
+    assert started == ["fair"] and warmup._ahead == []

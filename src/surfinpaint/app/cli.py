@@ -38,6 +38,7 @@ from surfinpaint.app.progress import console as _console
 from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
+from surfinpaint.fill import warmup
 from surfinpaint.fill.holes import find_holes
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
@@ -62,6 +63,18 @@ figures = lazy_module("surfinpaint.app.figures")
 report = lazy_module("surfinpaint.app.report")
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
+
+# a file this large holds a mesh whose kernels fill_holes would load beside its passes
+# (about warmup.BESIDE_MIN_FACES faces in a binary PLY): they start loading before the read
+LOAD_AHEAD_MIN_BYTES = 2_000_000
+
+
+def _file_size(path) -> int:
+    """The size of ``path`` in bytes; 0 when it cannot be read (the reader says why)."""
+    try:
+        return Path(path).stat().st_size
+    except OSError:
+        return 0
 
 
 def _parse_hole_list(text: str | None) -> list[int] | None:
@@ -118,6 +131,8 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if args.jobs is not None and args.jobs < 1:
         raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
     started = time.perf_counter()
+    if _file_size(args.mesh) >= LOAD_AHEAD_MIN_BYTES:  # the kernels load while it is read
+        warmup.load_ahead(options["method"])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         mesh = read_mesh_data(args.mesh)

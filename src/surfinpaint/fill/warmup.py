@@ -47,8 +47,8 @@ from surfinpaint.lazy import lazy_module
 # the conformal self-check's distances: a faired fill never imports them
 metrics = lazy_module("surfinpaint.geometry.metrics")
 
-__all__ = ["BESIDE_MIN_FACES", "Beside", "compile_kernels", "kernels_loaded", "load_for_workers",
-           "loading_beside", "main", "warm_kernels", "warmup_mesh"]
+__all__ = ["BESIDE_MIN_FACES", "Beside", "compile_kernels", "kernels_loaded", "load_ahead",
+           "load_for_workers", "loading_beside", "main", "warm_kernels", "warmup_mesh"]
 
 # below this many faces the whole-mesh passes take too little time to hide the loading
 BESIDE_MIN_FACES = 100_000
@@ -132,6 +132,24 @@ class Beside:
             self._executor.shutdown(wait=True, cancel_futures=True)
 
 
+# the loading thread started ahead of a fill (load_ahead); loading_beside joins it
+_ahead: list[threading.Thread] = []
+
+
+def load_ahead(method: str) -> None:
+    """Start loading ``method``'s kernels in a background thread now, for a caller with
+    other work to do before it fills a large mesh (the command line reads the file
+    meanwhile); the next :func:`loading_beside` joins it when its passes end. Nothing when
+    they are loaded or loading. The thread is a daemon: a process that fails before the
+    fill does not wait for it."""
+    if _done[method].is_set() or _ahead:
+        return
+    thread = threading.Thread(target=_quietly, args=(method,), name="surfinpaint-warmup",
+                              daemon=True)
+    thread.start()
+    _ahead.append(thread)
+
+
 @contextmanager
 def loading_beside(n_faces: int, method: str) -> Iterator[Beside]:
     """While the block runs (the whole-mesh passes), for a mesh of at least
@@ -150,17 +168,17 @@ def loading_beside(n_faces: int, method: str) -> Iterator[Beside]:
     GIL; the loading's Python holds it meanwhile.
     """
     large = n_faces >= BESIDE_MIN_FACES
-    thread = None
-    if large and not _done[method].is_set():
+    if large and not _done[method].is_set() and not _ahead:
         thread = threading.Thread(target=_quietly, args=(method,), name="surfinpaint-warmup")
         thread.start()
+        _ahead.append(thread)
     beside = Beside(large)
     try:
         yield beside
     finally:
         beside.join()
-        if thread is not None:
-            thread.join()
+        while _ahead:
+            _ahead.pop().join()
 
 
 def _quietly(method: str) -> None:

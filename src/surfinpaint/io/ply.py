@@ -108,13 +108,14 @@ def read_ply(data: bytes, path: Path) -> Parsed:
         raise MeshError(f"trailing data: {trailing} after the last element (the header "
                         f"announces {announced}; more records than announced?)")
     v = parsed["vertex"]
-    vertices = np.column_stack([np.asarray(v["x"], np.float64), np.asarray(v["y"], np.float64),
-                                np.asarray(v["z"], np.float64)]).reshape(-1, 3)
+    vertices = np.empty((len(v["x"]), 3))
+    for k, axis in enumerate("xyz"):  # one pass a column, no float64 temporaries
+        vertices[:, k] = v[axis]
     counts, flat = parsed["face"][key]
     if flat.dtype.kind == "f" and flat.size and not np.all(np.isfinite(flat)
                                                             & (flat == np.round(flat))):
         raise MeshError("PLY face list has non-integer vertex indices")
-    out = Parsed(vertices, counts, flat.astype(np.int64),
+    out = Parsed(vertices, counts, flat.astype(np.int64).reshape(-1),
                  metadata={"comments": "\n".join(notes)} if notes else {})
     _ply_data(out, elements, parsed, key)
     return out
@@ -193,7 +194,9 @@ class _PlyBinary:
                 self.offset += count * dtype.itemsize
                 out = {p: rec[p] for p, _, c in props if c is None}
                 for p, _, _ in lists:
-                    out[p] = (np.full(count, sizes[p], np.int64), rec[p].ravel())
+                    # the (count, size) field as it lies in the records: the reader's one
+                    # conversion copies it (a ravel here would copy it once more)
+                    out[p] = (np.full(count, sizes[p], np.int64), rec[p])
                 return out
         return self._slow(name, count, props)
 

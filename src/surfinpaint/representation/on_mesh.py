@@ -33,6 +33,7 @@ from threadpoolctl import ThreadpoolController
 
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.linalg import definite_lu
 from surfinpaint.geometry.mesh import (
     boundary_loops,
     laplacian_and_areas,
@@ -398,10 +399,11 @@ class _CoupledSystem:
         Q_ff, self.Q_ft, self.Q_fs = Q_f[:, U].tocsc(), Q_f[:, tied], Q_f[:, stencil]
         self.Q_fk, self.fixed = Q_rows_f[:, fixed], fixed
         try:
-            self.L_lu, self.Q_lu = spla.splu(L_ff), spla.splu(Q_ff)
+            # L_ff (the stiffness matrix with the fixed vertices out) and Q's blocks are
+            # definite: factored without pivoting (geometry.linalg.definite_lu)
+            self.L_lu, self.Q_lu = definite_lu(L_ff), definite_lu(Q_ff)
             # λ has data on the crease (its one-sided areas): the plain biharmonic over f
-            self.lam_lu = self.Q_lu if len(crease) == 0 else spla.splu(
-                Q_rows_f[:, f].tocsc())
+            self.lam_lu = self.Q_lu if len(crease) == 0 else definite_lu(Q_rows_f[:, f])
         except RuntimeError as exc:  # SuperLU: exactly singular
             raise FillError(f"the λ-H system on the patch is singular: {exc}") from exc
         self.g = self.L_lu.solve(-(L_fk @ points[fixed]))

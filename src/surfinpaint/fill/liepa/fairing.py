@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
-from scipy.sparse.linalg import spsolve
 
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import laplacian_and_areas, unique_edges
 
 __all__ = ["OPERATORS", "fair", "fair_orders", "laplacian_and_mass"]
@@ -283,7 +283,10 @@ class _Region:
             op = op.tocsc()
             a = op[:, is_free]
             rhs = -(op[:, ~is_free] @ x[~is_free])
-            sol = np.asarray(spsolve(a.tocsc(), rhs)).reshape(-1, 3)
+            try:  # L M⁻¹ L (M⁻¹ L) is definite, as L is: no pivoting (definite_lu)
+                sol = factorized_definite(a)(np.asarray(rhs)).reshape(-1, 3)
+            except RuntimeError:  # SuperLU: exactly singular
+                sol = np.full((int(is_free.sum()), 3), np.nan)
             if not np.isfinite(sol).all():
                 raise MeshError("fairing system is singular (degenerate triangles around "
                                 "the free vertices?)", vertices=self.free_ids[:10].tolist())
