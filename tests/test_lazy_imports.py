@@ -25,11 +25,16 @@ def test_importing_the_package_and_the_cli_leaves_them_unloaded():
     assert _loaded_after("import surfinpaint, surfinpaint.app.cli") == set()
 
 
-def test_the_pipeline_imports_threadpoolctl_at_its_first_parallel_fill():
-    # 9-17 ms of every start; a parallel default fill imports it on the thread that loads
-    # the kernels (the λ-H modules use it), beside the whole-mesh passes
+def test_the_pipeline_imports_threadpoolctl_and_scipy_spatial_at_their_first_use():
+    # 9-17 and 50-60 ms of every start; a large default fill imports both on the thread
+    # that loads the kernels (the λ-H modules and the distances use them), beside the
+    # whole-mesh passes
     start = "import surfinpaint.app.cli, surfinpaint.fill.pipeline"
-    assert _modules_after(start, ("threadpoolctl",)) == set()
+    assert _modules_after(start, ("threadpoolctl", "scipy.spatial")) == set()
+    assert _modules_after(start + "\nfrom surfinpaint.fill import warmup\n"
+                          "warmup.warm_kernels('conformal')",
+                          ("threadpoolctl", "scipy.spatial")) == {"threadpoolctl",
+                                                                  "scipy.spatial"}
     assert _modules_after(start + "\nfrom surfinpaint.fill import scheduler\n"
                           "scheduler.threadpoolctl.threadpool_limits",
                           ("threadpoolctl",)) == {"threadpoolctl"}

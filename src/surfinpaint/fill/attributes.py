@@ -44,12 +44,15 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.spatial import cKDTree
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import cotangent_laplacian, faces_near, mass_matrix, vertex_normals
 from surfinpaint.geometry.parameterization import flipped_faces, lscm
+from surfinpaint.lazy import lazy_module
+
+# imported at its first use (see fill/holes.py)
+spatial = lazy_module("scipy.spatial")
 
 __all__ = [
     "ATTRIBUTE_KINDS",
@@ -556,7 +559,7 @@ def fill_result_attributes(
             # a singular patch system: the geometry is filled, its attributes must not be lost
             warnings.warn(f"hole {report.index}: attributes not inpainted ({exc}); the new "
                           "vertices copy the nearest original vertex's values", stacklevel=2)
-            _, nearest = cKDTree(result.vertices[:n]).query(result.vertices[new_ids])
+            _, nearest = spatial.cKDTree(result.vertices[:n]).query(result.vertices[new_ids])
             filled = {name: a[nearest] for name, a in originals.items()}
         for name, values in filled.items():
             out[name][new_ids] = values

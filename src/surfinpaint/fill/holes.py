@@ -6,12 +6,16 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_areas, face_blocks, orient_loop
 from surfinpaint.geometry.validation import check_arrays, face_ids, validate_mesh
+from surfinpaint.lazy import lazy_module
+
+# imported at its first use: scipy.spatial (with scipy.special) is 50-60 ms of a start,
+# and a large fill's kernels import it on their loading thread, beside the passes
+spatial = lazy_module("scipy.spatial")
 
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
@@ -58,8 +62,8 @@ def loop_diameter(points: np.ndarray) -> float:
         # the diameter is attained on the convex hull; fall back to a subsample when flat
 
         try:
-            points = points[ConvexHull(points).vertices]
-        except QhullError:
+            points = points[spatial.ConvexHull(points).vertices]
+        except spatial.QhullError:
             points = points[:: max(1, len(points) // 1500)]
     d = points[:, None, :] - points[None, :, :]
     return float(np.sqrt((d * d).sum(-1)).max())

@@ -33,10 +33,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from surfinpaint.errors import HoleWarning
 from surfinpaint.io.base import MeshWarning
+from surfinpaint.lazy import lazy_module
+
+# imported at its first use (see fill/holes.py)
+spatial = lazy_module("scipy.spatial")
 
 __all__ = ["SLIT_RTOL", "Slit", "SlitWarning", "find_seam_part", "find_slit", "zip_faces"]
 
@@ -97,7 +100,7 @@ def _lies_on_itself(p: np.ndarray, e: np.ndarray, h: np.ndarray, rtol: float) ->
     samples = (p[:, None, :] + _SAMPLES[None, :, None] * e[:, None, :]).reshape(-1, 3)
     owner = np.repeat(np.arange(n), len(_SAMPLES))
     # an edge within rtol h of a sample has its midpoint within half the longest edge of it
-    tree = cKDTree(p + 0.5 * e)
+    tree = spatial.cKDTree(p + 0.5 * e)
     near = tree.query_ball_point(samples, 0.5 * h.max() * (1 + 2 * rtol))
     counts = np.fromiter((len(c) for c in near), dtype=np.int64, count=len(samples))
     if (counts == 0).any():
@@ -118,7 +121,7 @@ def _glued(p: np.ndarray, h: np.ndarray, rtol: float
     partners of their ends); None when the partners do not pair up (three coincident
     vertices, or a partner that pairs elsewhere)."""
     n = len(p)
-    dist, nearest = cKDTree(p).query(p, k=2)
+    dist, nearest = spatial.cKDTree(p).query(p, k=2)
     # the nearest point is the vertex itself unless another lies on it exactly
     itself = nearest[:, 0] == np.arange(n)
     other = np.where(itself, nearest[:, 1], nearest[:, 0])

@@ -13,11 +13,14 @@ the pipeline warns about each.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from surfinpaint.fill.results import FillResult, TopologyChange
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops
+from surfinpaint.lazy import lazy_module
+
+# imported at its first use (see fill/holes.py)
+spatial = lazy_module("scipy.spatial")
 
 __all__ = ["FACING_COSINE", "SIZE_RATIO", "surface_genus", "topology_changes"]
 
@@ -53,7 +56,7 @@ def _facing_pairs(result: FillResult, filled: np.ndarray) -> list[tuple[int, int
     centre = np.add.reduceat(weight[:, None] * corners.mean(1), starts, axis=0) / total[:, None]
     diameter = np.array([result.reports[k].diameter for k in filled])
     length = np.linalg.norm(normal, axis=1)
-    pairs = cKDTree(centre).query_pairs(float(np.nanmax(diameter)), output_type="ndarray")
+    pairs = spatial.cKDTree(centre).query_pairs(float(np.nanmax(diameter)), output_type="ndarray")
     if len(pairs) == 0:
         return []
     a, b = pairs[:, 0], pairs[:, 1]

@@ -19,7 +19,11 @@ vertex or edge counts. Pairs that share no vertex and merely touch do count.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
+
+from surfinpaint.lazy import lazy_module
+
+# imported at its first use (see fill/holes.py)
+spatial = lazy_module("scipy.spatial")
 
 __all__ = [
     "intersecting_pairs",
@@ -183,8 +187,8 @@ def _candidates(vertices: np.ndarray, fa: np.ndarray, fb: np.ndarray,
     rb = np.linalg.norm(pb - cb[:, None], axis=2).max(axis=1)
     # a little slack so that touching spheres are kept
     reach = 1.0 + 1e-9
-    tree_a = cKDTree(ca)
-    tree_b = tree_a if same else cKDTree(cb)
+    tree_a = spatial.cKDTree(ca)
+    tree_b = tree_a if same else spatial.cKDTree(cb)
     found = tree_a.sparse_distance_matrix(tree_b, max_distance=reach * (ra.max() + rb.max()),
                                           output_type="ndarray")
     i = found["i"].astype(np.int64)

@@ -22,11 +22,14 @@ caller starts it (the program is not rotation invariant: ties, and the special c
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import Delaunay, QhullError
 
 from surfinpaint.compiled import Kernel, run
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.mesh import halfedge_faces, orient_loop
+from surfinpaint.lazy import lazy_module
+
+# imported at its first use (see fill/holes.py)
+spatial = lazy_module("scipy.spatial")
 
 __all__ = ["CDT_MAX_EDGES", "SEARCHES", "minimum_weight_triangulation"]
 
@@ -196,8 +199,8 @@ def _non_delaunay_diagonals(p: np.ndarray) -> np.ndarray | None:
     if k < 5:
         return None
     try:
-        tets = Delaunay(p).simplices
-    except (QhullError, ValueError):
+        tets = spatial.Delaunay(p).simplices
+    except (spatial.QhullError, ValueError):
         return None
     ok = np.zeros((k, k), dtype=bool)
     for a in range(4):
