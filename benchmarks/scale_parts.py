@@ -11,8 +11,10 @@
 3. ``--phases``: instead, one whole ``surfinpaint fill`` run in this process (default and
    ``--method fair``), wall and CPU seconds of each phase: the imports, reading, the array
    checks, the edge table, the topology checks, ``find_holes``, the holes, assembling the
-   result, the attributes, writing. CPU is the process's (``time.process_time``; the
-   kernels' loading before the workers fork, fill/warmup.py, is counted in the holes).
+   result, the attributes, writing. CPU is the process's (``time.process_time``, every
+   thread's: a phase's CPU counts what ran beside it). A large mesh's ``find_holes`` and
+   ``vertex_faces`` run on a thread beside the topology checks (session 24): their wall
+   overlaps the checks'; the kernels load on another from before the read.
 
 The mesh is the one ``benchmarks/scale.py`` makes (generated here when missing). Run the
 same command on two checkouts, alternated, to compare them:
@@ -76,7 +78,7 @@ def process_phases(path: Path, out: Path, method: str) -> list[tuple[str, float,
             (pipeline, "check_arrays", "array checks"),
             (pipeline.EdgeTable, "build", "edge table"),
             (pipeline, "check_topology", "topology checks"),
-            (pipeline, "find_holes", "find_holes"), (neighbourhood, "vertex_faces", "vertex_faces"),
+            (pipeline, "find_holes", "find_holes"), (pipeline, "vertex_faces", "vertex_faces"),
             (pipeline, "fill_in_parallel", "holes"), (pipeline, "fill_hole", "holes"),
             (neighbourhood.FilledMesh, "result", "assembling the result"),
             (pipeline, "_with_attributes", "attributes"),
