@@ -289,13 +289,12 @@ def test_the_fill_command_loads_the_kernels_while_it_reads_a_large_file(tmp_path
     write_mesh(mesh, cut.vertices, cut.faces)
     monkeypatch.setattr(cli, "LOAD_AHEAD_MIN_BYTES", 0 if ahead else 10**12)
     _forget_warmup()
-    loading_at_read = []
+    started_at_read = []  # the loading threads started and not yet joined (they may end)
     read = cli.read_mesh_data
-    monkeypatch.setattr(cli, "read_mesh_data", lambda *a: (loading_at_read.append(
-        [t.name for t in threading.enumerate() if t.name == "surfinpaint-warmup"]),
-        read(*a))[1])
+    monkeypatch.setattr(cli, "read_mesh_data", lambda *a: (started_at_read.append(
+        [t.name for t in warmup._ahead]), read(*a))[1])
     assert cli.main(["fill", str(mesh), "-o", str(out), "-q", "--method", "fair"]) == 0
-    assert loading_at_read == [["surfinpaint-warmup"] if ahead else []]
+    assert started_at_read == [["surfinpaint-warmup"] if ahead else []]
     assert warmup.kernels_loaded("fair") == ahead  # a small mesh loads none beside
     assert not any(t.name == "surfinpaint-warmup" for t in threading.enumerate())
     assert warmup._ahead == []

@@ -137,11 +137,12 @@ _ahead: list[threading.Thread] = []
 
 
 def load_ahead(method: str) -> None:
-    """Start loading ``method``'s kernels in a background thread now, for a caller with
-    other work to do before it fills a large mesh (the command line reads the file
-    meanwhile); the next :func:`loading_beside` joins it when its passes end. Nothing when
-    they are loaded or loading. The thread is a daemon: a process that fails before the
-    fill does not wait for it."""
+    """Start loading ``method``'s kernels in a background thread now (the one
+    :func:`loading_beside` starts for a large mesh), for a caller with other work to do
+    before it fills one (the command line reads the file meanwhile); the next
+    :func:`loading_beside` joins it when its passes end. Nothing when they are loaded or
+    loading. The thread is a daemon: a process that fails before the fill does not wait
+    for it."""
     if _done[method].is_set() or _ahead:
         return
     thread = threading.Thread(target=_quietly, args=(method,), name="surfinpaint-warmup",
@@ -168,10 +169,8 @@ def loading_beside(n_faces: int, method: str) -> Iterator[Beside]:
     GIL; the loading's Python holds it meanwhile.
     """
     large = n_faces >= BESIDE_MIN_FACES
-    if large and not _done[method].is_set() and not _ahead:
-        thread = threading.Thread(target=_quietly, args=(method,), name="surfinpaint-warmup")
-        thread.start()
-        _ahead.append(thread)
+    if large:
+        load_ahead(method)
     beside = Beside(large)
     try:
         yield beside
