@@ -88,14 +88,14 @@ class EdgeTable:
         The vertex-id bound used for the keys (at least ``faces.max() + 1``).
     edges : (e, 2) int64 array
         Each undirected edge once as (smaller id, larger id), sorted lexicographically.
-    count : (e,) int64 array
+    count : (e,) int32 array (int64 past 2**31 half-edges)
         Faces on each edge: 1 on the boundary, 2 inside, more where non-manifold.
-    face_edge : (f, 3) int64 array
+    face_edge : (f, 3) int32 array (int64 past 2**31 half-edges)
         ``face_edge[t, k]``: the edge opposite corner ``k`` of face ``t``.
-    halfedges : (3 f,) int64 array
+    halfedges : (3 f,) int32 array (int64 past 2**31 half-edges)
         Half-edge ids grouped by edge (``halfedges[start[e]:start[e + 1]]`` are edge ``e``'s,
         in increasing id, hence increasing face, order).
-    start : (e + 1,) int64 array
+    start : (e + 1,) int32 array (int64 past 2**31 half-edges)
         Offsets of each edge's group in ``halfedges``.
     forward : (3 f,) bool array
         Whether half-edge ``h`` runs from the smaller vertex id to the larger: two
@@ -158,16 +158,22 @@ class EdgeTable:
         rank = np.cumsum(new[:m], dtype=np.int64, out=sorted_key)
         del sorted_key
         rank -= 1
-        face_edge = np.empty(m, dtype=np.int64)
+        # half-edge and edge ids in int32 where they fit: the table's four largest arrays
+        # at half the memory (651k case: 129 -> 82 MB resident beside the checks)
+        ids = np.int32 if m < 2**31 else np.int64
+        face_edge = np.empty(m, dtype=ids)
         face_edge[order] = rank
         del rank
+        halfedges = order.astype(ids)
+        del order
         # (smaller, larger) written in place: no whole-mesh temporaries (a fresh process
         # pays for each new array's pages)
         edges = np.empty((len(unique), 2), dtype=np.int64)
         np.divmod(unique, n, out=(edges[:, 0], edges[:, 1]))
         del unique
+        start = start.astype(ids)
         return cls(faces=f, n_vertices=n, edges=edges, count=np.diff(start),
-                   face_edge=face_edge.reshape(-1, 3), halfedges=order, start=start,
+                   face_edge=face_edge.reshape(-1, 3), halfedges=halfedges, start=start,
                    forward=forward)
 
     @property
