@@ -107,6 +107,9 @@ def test_a_faired_fill_from_the_command_line_imports_only_what_it_uses(tmp_path)
                    f"write_mesh({str(mesh)!r}, cut.vertices, cut.faces)", ())
     assert _modules_after(code, NOT_IN_A_FAIRED_FILL) == set()
     assert out.stat().st_size > mesh.stat().st_size
+    # a quiet run that prints nothing never makes its console (rich: 13-40 ms of a start)
+    assert _modules_after(code, ("rich", "rich.console")) == set()
+    assert "rich" in _modules_after(code.replace("'-q', ", ""), ("rich",))
     # the probe sees them when they are imported: the default fill uses the first three
     conformal = code.replace("'--method', 'fair'", "'--method', 'conformal'")
     assert set(NOT_IN_A_FAIRED_FILL[:3]) <= _modules_after(conformal, NOT_IN_A_FAIRED_FILL)

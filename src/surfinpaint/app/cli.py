@@ -34,8 +34,8 @@ from surfinpaint.app.outputs import (
     check_output_file,
     check_outputs_distinct,
 )
+from surfinpaint.app.progress import LazyConsole, progress_bar
 from surfinpaint.app.progress import console as _console
-from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import warmup
@@ -123,8 +123,8 @@ def cmd_holes(args: argparse.Namespace) -> int:
 
 
 def cmd_fill(args: argparse.Namespace) -> int:
-    console = _console()
-    say = (lambda text: None) if args.quiet else console.print
+    console = None if args.quiet else _console()
+    say = (lambda text: None) if console is None else console.print
     holes = _parse_hole_list(args.holes)
     output_format(args.output)  # an unusable output name fails now, not after the fill
     options = fill_options(args)
@@ -158,7 +158,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
             f"{'' if args.all else ' apart from the outer border'}); "
             f"wrote the mesh unchanged to {args.output}")
     files = {"input": str(args.mesh), "output": str(args.output), "png": args.png}
-    tell(result, summary, caught, console=None if args.quiet else console,
+    tell(result, summary, caught, console=console,
          verbose=args.verbose, json_path=args.json, files=files,
          options={**options, "holes": holes, "jobs": args.jobs})
     carried = [*filled.attributes, *(f"{k} (per face)" for k in filled.face_attributes),
@@ -382,32 +382,38 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> int:
     """Run one command, mapping each kind of failure to its exit code and one message."""
-    from rich.markup import escape
-
     source = getattr(args, "mesh", None) or getattr(args, "representation", None)
     try:
         _check_outputs(args)
         return args.func(args)
     except (_UsageError, OutputOverwritesInput) as exc:
         parser.print_usage(sys.stderr)
-        console.print(f"surfinpaint: error: {escape(str(exc))}")
+        console.print(f"surfinpaint: error: {_escape(str(exc))}")
         return EXIT_USAGE
     except OutputError as exc:
-        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        console.print(f"[red]error:[/red] {_escape(str(exc))}")
         return EXIT_FAILURE
     except MeshError as exc:
         if exc.path is None and source is not None:
             exc = exc.with_path(source)  # problems found after reading: name the file
-        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        console.print(f"[red]error:[/red] {_escape(str(exc))}")
         return EXIT_FAILURE
     except NotImplementedError as exc:
-        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        console.print(f"[red]error:[/red] {_escape(str(exc))}")
         return EXIT_FAILURE
     except (OSError, ValueError, RuntimeError) as exc:
         named = f"{source}: " if source is not None and str(source) not in str(exc) else ""
-        console.print(f"[red]error:[/red] {escape(named)}{type(exc).__name__}: "
-                      f"{escape(str(exc))}")
+        console.print(f"[red]error:[/red] {_escape(named)}{type(exc).__name__}: "
+                      f"{_escape(str(exc))}")
         return EXIT_FAILURE
+
+
+def _escape(text: str) -> str:
+    """rich's markup escape, imported when a message is printed (a quiet run that succeeds
+    never imports rich)."""
+    from rich.markup import escape
+
+    return escape(text)
 
 
 class _Notices(logging.Handler):
@@ -435,7 +441,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         try:
             parser = build_parser(_command_word(argv))
             args = parser.parse_args(argv)
-            console = _console()
+            console = LazyConsole()  # made at its first line: a quiet run may print none
             if not getattr(args, "quiet", False):
                 _show_notices()
             with warnings.catch_warnings(record=True) as caught:

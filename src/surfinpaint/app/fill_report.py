@@ -354,14 +354,14 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
     ``console`` (None: print nothing) the lines of each hole, the summary and each warning
     caught once (but a :class:`~surfinpaint.errors.HoleWarning`: the hole's lines say it).
     Returns the warnings counted (all of them: the ``--json`` report lists them too)."""
-    from rich.markup import escape
-
     seen = count_warnings(caught)
     if json_path is not None:
         write_json_report(json_path, report_document(result, summary, warnings_seen=seen,
                                                      files=files, options=options))
     if console is None:
         return seen
+    from rich.markup import escape  # only when printing: a quiet run never imports rich
+
     for r in result.reports:
         for line in hole_lines(r, verbose=verbose):
             console.print(escape(line))
