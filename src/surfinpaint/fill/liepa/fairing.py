@@ -283,7 +283,8 @@ class _Region:
             op = op.tocsc()
             a = op[:, is_free]
             rhs = -(op[:, ~is_free] @ x[~is_free])
-            try:  # L M⁻¹ L (M⁻¹ L) is definite, as L is: no pivoting (definite_lu)
+            try:  # L M⁻¹ L (and L M⁻¹ L M⁻¹ L), the fixed vertices out, is definite as L
+                # is: factored without pivoting (definite_lu)
                 sol = factorized_definite(a)(np.asarray(rhs)).reshape(-1, 3)
             except RuntimeError:  # SuperLU: exactly singular
                 sol = np.full((int(is_free.sum()), 3), np.nan)
