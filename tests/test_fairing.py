@@ -217,3 +217,39 @@ def test_clamped_cotangent_laplacian():
     lifted = v.copy()
     lifted[free, 2] = 0.2
     assert np.abs(fair(lifted, f, free, order=3, operator="clamped")[:, 2]).max() < 1e-12
+
+
+@pytest.mark.parametrize("order", [2, 3])
+def test_an_exactly_singular_fairing_system_is_a_mesh_error(order, monkeypatch):
+    # SuperLU raises on an exactly singular system (no pivoting: geometry.linalg.definite_lu);
+    # the caller gets the MeshError a singular system always gave, naming free vertices
+    import surfinpaint.fill.liepa.fairing as fairing
+
+    def singular(a):
+        raise RuntimeError("Factor is exactly singular")
+
+    monkeypatch.setattr(fairing, "factorized_definite", singular)
+    v, f = _grid(6)
+    with pytest.raises(MeshError, match="fairing system is singular") as info:
+        fair(v, f, [7, 8], order=order)
+    assert info.value.vertices == [7, 8]
+
+
+@pytest.mark.parametrize("order", [1, 2, 3])
+def test_fairing_without_pivoting_is_the_pivoted_solve_to_round_off(order, monkeypatch):
+    # the systems are definite (the stiffness matrix, and L M⁻¹ L, L M⁻¹ L M⁻¹ L with the
+    # fixed vertices out), so SuperLU without pivoting gives what partial pivoting gives
+    import scipy.sparse.linalg as spla
+
+    import surfinpaint.fill.liepa.fairing as fairing
+
+    v, f = _grid(12, jitter=0.3)  # slivers: negative cotangent weights
+    v[:, 2] = 0.2 * np.sin(3 * v[:, 0]) * np.cos(2 * v[:, 1])  # curved: fairing moves it
+    free = np.flatnonzero(np.linalg.norm(v[:, :2] - 0.5, axis=1) < 0.3)
+    v[free, 2] = 0.0
+    plain = fair(v, f, free, order=order)
+    monkeypatch.setattr(fairing, "factorized_definite",
+                        lambda a: lambda b: spla.spsolve(a.tocsc(), b))
+    pivoted = fair(v, f, free, order=order)
+    assert np.abs(plain[free] - v[free]).max() > 1e-3  # the free vertices did move
+    np.testing.assert_allclose(plain, pivoted, rtol=0, atol=1e-12)
