@@ -180,3 +180,21 @@ def test_sphere_next_to_a_natural_border_is_rebuilt_closely():
     error = np.linalg.norm(filled - truth, axis=1)[free].max()
     # measured 0.0024 against 0.11 for the faired start (radius-1 sphere)
     assert error < 0.05 * start_error
+
+
+def test_the_patch_systems_without_pivoting_give_the_pivoted_fill(monkeypatch):
+    # L_ff and Q_ff are definite (the stiffness matrix and L M⁻¹ L with the fixed vertices
+    # out): SuperLU without pivoting (geometry.linalg.definite_lu) gives the fill that
+    # partial pivoting gives, to round-off
+    import scipy.sparse.linalg as spla
+
+    u, v, uv, faces = grid_mesh(25)
+    phi, _, _ = stereographic_sphere(u, v)
+    truth = phi.reshape(-1, 3)
+    free = np.linalg.norm(uv, axis=1) < 0.5
+    start = fair(truth, faces, free, order=2)
+    plain = inpaint_on_mesh(start, faces, uv, free)
+    monkeypatch.setattr(mesh_inpainting, "definite_lu", lambda a: spla.splu(a.tocsc()))
+    pivoted = inpaint_on_mesh(start, faces, uv, free)
+    assert np.abs(plain - start)[free].max() > 1e-3  # the λ-H fill moved the start
+    np.testing.assert_allclose(plain, pivoted, rtol=0, atol=1e-11)
