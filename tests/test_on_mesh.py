@@ -90,13 +90,19 @@ def test_enneper_hole_is_rebuilt_exactly():
         assert np.array_equal(filled[~free], truth[~free])
 
 
-def test_sphere_hole_closer_than_fairing():
-    # λ = 2/(1 + r²) is not biharmonic, H = 1 is: close, not exact
+def sphere_hole():
+    """A hole of radius 0.5 in the stereographic sphere's grid: the truth, the faces, the
+    map, the free vertices and the bilaplacian fill as the start."""
     u, v, uv, faces = grid_mesh(25)
     phi, _, _ = stereographic_sphere(u, v)
     truth = phi.reshape(-1, 3)
     free = np.linalg.norm(uv, axis=1) < 0.5
-    start = fair(truth, faces, free, order=2)
+    return truth, faces, uv, free, fair(truth, faces, free, order=2)
+
+
+def test_sphere_hole_closer_than_fairing():
+    # λ = 2/(1 + r²) is not biharmonic, H = 1 is: close, not exact
+    truth, faces, uv, free, start = sphere_hole()
     filled = inpaint_on_mesh(start, faces, uv, free)
     error = np.linalg.norm(filled - truth, axis=1)[free].max()
     assert error < 0.2 * np.linalg.norm(start - truth, axis=1)[free].max()
@@ -188,11 +194,7 @@ def test_the_patch_systems_without_pivoting_give_the_pivoted_fill(monkeypatch):
     # partial pivoting gives, to round-off
     import scipy.sparse.linalg as spla
 
-    u, v, uv, faces = grid_mesh(25)
-    phi, _, _ = stereographic_sphere(u, v)
-    truth = phi.reshape(-1, 3)
-    free = np.linalg.norm(uv, axis=1) < 0.5
-    start = fair(truth, faces, free, order=2)
+    _, faces, uv, free, start = sphere_hole()
     plain = inpaint_on_mesh(start, faces, uv, free)
     monkeypatch.setattr(mesh_inpainting, "definite_lu", lambda a: spla.splu(a.tocsc()))
     pivoted = inpaint_on_mesh(start, faces, uv, free)
