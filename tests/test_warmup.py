@@ -1,5 +1,6 @@
-"""The kernels loaded once before a parallel fill's workers fork, no thread beside the
-whole-mesh passes (fill/warmup.py)."""
+"""The kernels loaded once before a parallel fill's workers fork, and a large mesh's work
+beside its whole-mesh passes (the kernels' loading, find_holes, the incidence), every
+thread joined before a hole is filled (fill/warmup.py)."""
 
 from __future__ import annotations
 

@@ -159,7 +159,8 @@ class EdgeTable:
         del sorted_key
         rank -= 1
         # half-edge and edge ids in int32 where they fit: the table's four largest arrays
-        # at half the memory (651k case: 129 -> 82 MB resident beside the checks)
+        # at half the memory (651k case: 129 -> 82 MB by their sizes; the fill's peak
+        # 475 -> 446 MB, docs/scale.md session 24)
         ids = np.int32 if m < 2**31 else np.int64
         face_edge = np.empty(m, dtype=ids)
         face_edge[order] = rank
