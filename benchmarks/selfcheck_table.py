@@ -10,7 +10,9 @@ true error (two-sided mean distance to the removed truth, % of the hole diameter
 run, with every candidate). Each row also says whether a crease crosses the hole, whether the
 λ-H fill's patch had to be grown unevenly (``fill/conformal/patch.grown_patch``), and CGAL's
 error and the default fill's error from a saved ``validation.py`` run, and how many sibling
-holes could be cut and filled (``siblings_found``, of ``siblings`` asked for).
+holes could be cut and filled (``siblings_found``, of ``siblings`` asked for). ``between``
+holds the candidates' distances from each other (the same two-sided mean distance, between
+their patches, % of the hole diameter): evidence that needs no truth and no test hole.
 
     python benchmarks/selfcheck_table.py --split tuning --cache /tmp/scores.jsonl
     python benchmarks/selfcheck_table.py --split tuning --option siblings=4 --cache /tmp/s4.jsonl
@@ -33,6 +35,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 import holes_manifest  # noqa: E402
 import validation  # noqa: E402
 import validation_meshes as vm  # noqa: E402
+from variant_rows import read_rows  # noqa: E402
 
 from surfinpaint.errors import FillError  # noqa: E402
 from surfinpaint.fill.conformal import ConformalOptions  # noqa: E402
@@ -47,15 +50,31 @@ from surfinpaint.fill.selfcheck import (  # noqa: E402
 from surfinpaint.geometry.mesh import faces_near  # noqa: E402
 from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
 
-BASELINE = Path("/work/bench_baseline/final2_combined.jsonl")
 INF = float("inf")
 
 
+def _patch(vertices, faces, new_vertices, new_faces):
+    """The fill's patch (its faces and the mesh's faces around the hole), as the true
+    error measures it."""
+    return hole_patch_of(np.concatenate([vertices, new_vertices]),
+                         np.concatenate([faces, new_faces]), len(vertices), faces)
+
+
 def _true_error(vertices, faces, fill, truth_vertices, truth_faces, diameter, n_samples):
-    pv, pf = hole_patch_of(np.concatenate([vertices, fill.vertices]),
-                           np.concatenate([faces, fill.faces]), len(vertices), faces)
-    d = surface_distance(pv, pf, truth_vertices, truth_faces, n_samples=n_samples)
+    d = surface_distance(*_patch(vertices, faces, fill.vertices, fill.faces),
+                         truth_vertices, truth_faces, n_samples=n_samples)
     return 100.0 * d["mean"] / diameter
+
+
+def _between(vertices, faces, fills, diameter, n_samples) -> dict:
+    """{"a|b": distance between candidates a and b (% of the hole diameter)}, the pairs
+    of candidates that were made."""
+    made = {k: _patch(vertices, faces, f.vertices, f.faces) for k, f in fills.items()
+            if not isinstance(f, Exception)}
+    names = sorted(made)
+    return {f"{a}|{b}": 100.0 * surface_distance(*made[a], *made[b],
+                                                 n_samples=n_samples)["mean"] / diameter
+            for i, a in enumerate(names) for b in names[i + 1:]}
 
 
 def _patch_shape(faces, loop, fill, rings) -> dict:
@@ -80,12 +99,10 @@ def _patch_shape(faces, loop, fill, rings) -> dict:
     return out
 
 
-def hole_scores(vertices, faces, loop, truth_vertices, truth_faces, diameter,
-                n_samples: int = 10000, options: ConformalOptions | None = None) -> dict:
-    """The candidates as ``conformal_fill`` makes them (its test holes too), their true
-    errors and both tests' scores, every candidate in every test."""
-    o = ConformalOptions() if options is None else options
-    candidates = Candidates.for_hole(vertices, faces, loop, o)
+def made_candidates(vertices, faces, loop, options: ConformalOptions):
+    """The candidates as ``conformal_fill`` makes them: ``(candidates, fills, failure,
+    seconds of the λ-H fill)``; ``fills["conformal"]`` is the FillError where it failed."""
+    candidates = Candidates.for_hole(vertices, faces, loop, options)
     fills = candidates.faired(vertices, faces, loop)
     s0 = candidates.initial(vertices, faces, loop, fills)
     failure = None
@@ -94,7 +111,18 @@ def hole_scores(vertices, faces, loop, truth_vertices, truth_faces, diameter,
         fills["conformal"] = candidates.lambda_h(vertices, faces, loop, s0)
     except FillError as exc:
         fills["conformal"], failure = exc, str(exc)
-    seconds_lh = time.perf_counter() - started
+    return candidates, fills, failure, time.perf_counter() - started
+
+
+def hole_scores(vertices, faces, loop, truth_vertices, truth_faces, diameter,
+                n_samples: int = 10000, options: ConformalOptions | None = None,
+                extra=None) -> dict:
+    """The candidates as ``conformal_fill`` makes them (its test holes too), their true
+    errors and both tests' scores, every candidate in every test. ``extra``, if given,
+    adds its dict to the row: a study's measures of the same candidates, called as
+    ``extra(vertices, faces, fills, truth_vertices, truth_faces, diameter, n_samples)``."""
+    o = ConformalOptions() if options is None else options
+    candidates, fills, failure, seconds_lh = made_candidates(vertices, faces, loop, o)
     true = {name: INF if isinstance(fill, Exception) else
             _true_error(vertices, faces, fill, truth_vertices, truth_faces, diameter,
                         n_samples) for name, fill in fills.items()}
@@ -106,16 +134,19 @@ def hole_scores(vertices, faces, loop, truth_vertices, truth_faces, diameter,
                                 patch_rings=o.rings_in_patch)
     each = sibling_scores(vertices, faces, loop, tests, siblings=o.siblings,
                           gap_rings=o.gap_rings, patch_rings=o.rings_in_patch, each=True)
-    return {"true": true, "hidden": hidden, "sibling": mean_scores(each),
+    between = _between(vertices, faces, fills, diameter, n_samples)
+    return {"true": true, "hidden": hidden, "sibling": mean_scores(each), "between": between,
             "siblings_found": len(each),
             "crossed": candidates.crossed, "failure": failure, **shape,
-            "seconds_lambda_h": seconds_lh, "seconds_tests": time.perf_counter() - started}
+            "seconds_lambda_h": seconds_lh, "seconds_tests": time.perf_counter() - started,
+            **(extra(vertices, faces, fills, truth_vertices, truth_faces, diameter,
+                     n_samples) if extra else {})}
 
 
-def baseline_errors(path: Path = BASELINE) -> dict:
-    """{(method, mesh, hole): mean %} of a saved validation run."""
-    rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
-    return validation._errors(rows)
+def baseline_errors(path: Path | None) -> dict:
+    """{(method, mesh, hole): mean %} of a saved validation run (``.json`` or ``.jsonl``);
+    empty without one."""
+    return validation._errors(read_rows([str(path)])) if path else {}
 
 
 def _manifest_holes(split: str | None, meshes: list[str] | None):
@@ -133,15 +164,17 @@ def read_cache(path: Path) -> list[dict]:
 
 
 def build(cache: Path, split: str | None, meshes: list[str] | None,
-          baseline: Path = BASELINE, options: ConformalOptions | None = None) -> list[dict]:
+          baseline: Path | None = None, options: ConformalOptions | None = None,
+          extra=None) -> list[dict]:
     """The rows of the selected holes: from the cache, the missing ones computed and
-    appended to it (a cache holds the rows of one set of ``options``)."""
-    base = baseline_errors(baseline) if baseline.exists() else {}
+    appended to it (a cache holds the rows of one set of ``options`` and ``extra``, see
+    :func:`hole_scores`)."""
+    base = baseline_errors(baseline)
     options = ConformalOptions() if options is None else options
 
     def compute(entry, k, hole, cut, local):
         row = hole_scores(local.vertices, local.faces, local.local_loop, cut.truth_vertices,
-                          cut.truth_faces, cut.diameter, options=options)
+                          cut.truth_faces, cut.diameter, options=options, extra=extra)
         row = {"mesh": entry["mesh"], "hole": k, "split": entry["split"],
                "kind": entry["kind"], "n_edges": len(cut.loop),
                "near_border": hole["near_border"], "on_feature": hole["on_feature"],
@@ -188,8 +221,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--split", choices=("tuning", "validation"), default=None)
     parser.add_argument("--meshes", default=None, help="comma-separated mesh ids")
     parser.add_argument("--cache", required=True, help="JSONL file of rows (appended)")
-    parser.add_argument("--baseline", default=str(BASELINE),
-                        help="a validation.py run (JSONL) for CGAL's errors")
+    parser.add_argument("--baseline", default=None,
+                        help="a validation.py run (its --out .json or .jsonl) for CGAL's and "
+                        "the default's errors (else NaN)")
     parser.add_argument("--option", action="append", default=[], metavar="NAME=INT",
                         help="a ConformalOptions field of the self-check's tests, e.g. "
                         "siblings=4 (use a cache of its own)")
@@ -197,7 +231,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     meshes = args.meshes.split(",") if args.meshes else None
     options = ConformalOptions(**{k: int(v) for k, v in (o.split("=", 1)
                                                           for o in args.option)})
-    return build(Path(args.cache), args.split, meshes, Path(args.baseline), options)
+    return build(Path(args.cache), args.split, meshes,
+                 Path(args.baseline) if args.baseline else None, options)
 
 
 if __name__ == "__main__":
