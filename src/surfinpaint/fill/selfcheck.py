@@ -116,49 +116,6 @@ def sibling_scores(
     if graph is None:
         graph = edge_graph(faces, len(vertices))
 
-    def local_cut(centre):
-        """The cut on the faces within ``reach`` rings of the centre, or None when that
-        could differ from the cut of the whole mesh. Dijkstra distances are at least
-        Euclidean, so the disk lies among the vertices within ``radius`` of the centre
-        (ring <= r0) and, with the rim beyond r0, its distances are those of the whole
-        mesh; the cleanup and the fill's patch must stay ``patch_rings + 2`` rings inside."""
-        ring = ring_distances(faces, len(vertices), centre, graph=graph)
-        close = (np.linalg.norm(vertices - vertices[centre], axis=1) <= radius)
-        close &= np.isfinite(ring)
-        r0 = float(ring[close].max())
-        reach = r0 + patch_rings + 4
-        keep = ring <= reach
-        if keep[faces].all():
-            return None
-        sv, sf, ids = submesh(vertices, faces, keep)
-        try:
-            cut = cut_geodesic_disk(sv, sf, int(np.searchsorted(ids, centre)), radius)
-        except (ValueError, MeshError):
-            return None
-        if ring[ids[cut.holes[0].truth_ids]].max() > reach - patch_rings - 2:
-            return None
-        return cut
-
-    def score(centre) -> dict[str, float] | None:
-        try:
-            cut = local_cut(centre) if patch_rings is not None else None
-            if cut is None:
-                cut = cut_geodesic_disk(vertices, faces, centre, radius)
-            candidates = fill(cut.vertices, cut.faces, cut.loop)
-        except NUMERICAL_ERRORS:
-            return None
-        # a candidate that failed on a hole like this one scores infinity
-        results = {name: np.inf for name, c in candidates.items() if isinstance(c, Exception)}
-        made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
-        # the fill's faces alone: the cut's own faces are never part of the patch, and
-        # leaving them out of the test spares sorting them once per candidate
-        patches = [hole_patch_of(np.concatenate([cut.vertices, new_v]), new_f,
-                                 len(cut.vertices), cut.faces) for new_v, new_f in
-                   ((c.vertices, c.faces) for c in made.values())]
-        results.update(zip(made, mean_surface_distances(
-            patches, cut.truth_vertices, cut.truth_faces, n_samples=n_samples), strict=True))
-        return results
-
     found = []
     centres = _spread_centres(vertices, faces, loop, gap, graph=graph)
     # a centre whose hole cannot be cut (it reaches the border, or is not a disk) gives no
@@ -167,10 +124,60 @@ def sibling_scores(
     for centre in islice(centres, max(tries or 0, siblings)):
         if len(found) == siblings:
             break
-        results = score(centre)
+        results = _sibling_score(vertices, faces, centre, radius, fill, n_samples=n_samples,
+                                 patch_rings=patch_rings, graph=graph)
         if results:
             found.append(results)
     return found if each else mean_scores(found)
+
+
+def _local_cut(vertices, faces, centre, radius, patch_rings, graph):
+    """The sibling hole at ``centre`` cut from the faces within ``reach`` rings of it, or
+    None when that could differ from the cut of the whole mesh. Dijkstra distances are at
+    least Euclidean, so the disk lies among the vertices within ``radius`` of the centre
+    (ring <= r0) and, with the rim beyond r0, its distances are those of the whole mesh;
+    the cleanup and the fill's patch must stay ``patch_rings + 2`` rings inside."""
+    ring = ring_distances(faces, len(vertices), centre, graph=graph)
+    close = (np.linalg.norm(vertices - vertices[centre], axis=1) <= radius)
+    close &= np.isfinite(ring)
+    r0 = float(ring[close].max())
+    reach = r0 + patch_rings + 4
+    keep = ring <= reach
+    if keep[faces].all():
+        return None
+    sv, sf, ids = submesh(vertices, faces, keep)
+    try:
+        cut = cut_geodesic_disk(sv, sf, int(np.searchsorted(ids, centre)), radius)
+    except (ValueError, MeshError):
+        return None
+    if ring[ids[cut.holes[0].truth_ids]].max() > reach - patch_rings - 2:
+        return None
+    return cut
+
+
+def _sibling_score(vertices, faces, centre, radius, fill, *, n_samples, patch_rings, graph
+                   ) -> dict[str, float] | None:
+    """The candidates' scores on the sibling hole at ``centre`` (:func:`sibling_scores`),
+    or None when it cannot be cut or filled."""
+    try:
+        cut = (_local_cut(vertices, faces, centre, radius, patch_rings, graph)
+               if patch_rings is not None else None)
+        if cut is None:
+            cut = cut_geodesic_disk(vertices, faces, centre, radius)
+        candidates = fill(cut.vertices, cut.faces, cut.loop)
+    except NUMERICAL_ERRORS:
+        return None
+    # a candidate that failed on a hole like this one scores infinity
+    results = {name: np.inf for name, c in candidates.items() if isinstance(c, Exception)}
+    made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
+    # the fill's faces alone: the cut's own faces are never part of the patch, and
+    # leaving them out of the test spares sorting them once per candidate
+    patches = [hole_patch_of(np.concatenate([cut.vertices, new_v]), new_f,
+                             len(cut.vertices), cut.faces) for new_v, new_f in
+               ((c.vertices, c.faces) for c in made.values())]
+    results.update(zip(made, mean_surface_distances(
+        patches, cut.truth_vertices, cut.truth_faces, n_samples=n_samples), strict=True))
+    return results
 
 
 def mean_scores(each: list[dict[str, float]]) -> dict[str, float]:
