@@ -122,6 +122,16 @@ def inpaint_patch_on_mesh(
                               lattice_after=lattice_after)
     if lattice_after:
         raise FillError(f"{lattice_after}; no lattice on the sides of a crease")
+    return _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, rings=rings,
+                                 iterations=iterations, tol=tol)
+
+
+def _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, *, rings,
+                          iterations, tol):
+    """:func:`inpaint_patch_on_mesh` with ``cut_edges``: the mesh cut open along the crease
+    and each side of it inpainted as a patch of its own (:func:`_inpaint_piece`, the larger
+    fill first), the crease a natural border. The patch returned is the fill's faces and
+    every side's rings of surface (each face once, in the order first met)."""
     cut, parent = cut_along(np.vstack([fill_faces, faces]), cut_edges)
     cut_fill, cut_known = cut[:len(fill_faces)], cut[len(fill_faces):]
     points = vertices[parent]
