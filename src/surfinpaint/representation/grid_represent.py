@@ -311,10 +311,10 @@ def boundary_band(domain: np.ndarray, band: int = 4) -> np.ndarray:
 
 
 def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 256, *,
-              map: str = "lscm", band: int = 4, h: float | None = None,
-              strict: bool = False, sampling: str = "smooth",
-              subdivide: int | None = None, spacing: str = "uniform",
-              grading: float | None = None) -> LambdaH:
+                   map: str = "lscm", band: int = 4, h: float | None = None,
+                   strict: bool = False, sampling: str = "smooth",
+                   subdivide: int | None = None, spacing: str = "uniform",
+                   grading: float | None = None) -> LambdaH:
     """The λ-H representation of a disk-topology mesh.
 
     Parameters
@@ -403,25 +403,40 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
         sample_uv, sample_f, sample_v = subdivided_map(v, f, uv, corners, map, levels,
                                                         strict)
         uv = sample_uv[:len(v)]
-    if spacing == "graded":
-        grid = graded_grid_over(sample_uv, sample_f, resolution,
-                                grading=GRADING if grading is None else grading)
-    else:
-        # with subdivision the refined border may bulge out of the original vertices' box
-        over = sample_uv[np.unique(sample_f)] if levels else uv
-        grid = grid_over(over, h=h) if h is not None else grid_over(over, resolution=resolution)
+    grid = _sampling_grid(uv, sample_uv, sample_f, levels, resolution=resolution, h=h,
+                          spacing=spacing, grading=grading)
     interpolant = "clough-tocher" if sampling == "smooth" else "linear"
     phi, domain, _ = resample(sample_uv, sample_f, sample_v, grid, interpolant=interpolant)
     known = boundary_band(domain, band)
     on_triangles = triangle_levels(phi, domain, known, grid)
-    if grid.graded:  # no finite differences on unequal spacing: the triangles' λ, H
-        lam, H = on_triangles[0].lam, on_triangles[0].H
-    else:
-        lam, H = lambda_h(phi, grid.h)
+    lam, H = _nodes_lambda_h(phi, grid, on_triangles)
     return LambdaH(grid=grid, domain=domain, lam=lam, H=H, phi=phi, known=known, uv=uv,
                    vertices=v.copy(), faces=f.copy(), map=map, band=band,
                    corners=np.asarray(corners, dtype=np.int64), sampling=sampling,
                    subdivide=levels, levels=on_triangles)
+
+
+def _sampling_grid(uv: np.ndarray, sample_uv: np.ndarray, sample_f: np.ndarray, levels: int, *,
+                   resolution: int, h: float | None, spacing: str, grading: float | None
+                   ) -> Grid:
+    """The grid :func:`represent_grid` samples φ on, over the map ``uv`` of the mesh's
+    vertices and ``sample_uv`` of the mesh sampled (``sample_f``, subdivided ``levels``
+    times): graded by where the map squeezes the sampled mesh, or square."""
+    if spacing == "graded":
+        return graded_grid_over(sample_uv, sample_f, resolution,
+                                grading=GRADING if grading is None else grading)
+    # with subdivision the refined border may bulge out of the original vertices' box
+    over = sample_uv[np.unique(sample_f)] if levels else uv
+    return grid_over(over, h=h) if h is not None else grid_over(over, resolution=resolution)
+
+
+def _nodes_lambda_h(phi: np.ndarray, grid: Grid, on_triangles: tuple[GridLevel, ...]
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """λ and H at the grid's nodes: by finite differences of φ on a square grid, those of
+    the first level's triangles (:func:`triangle_levels`) on a graded one."""
+    if grid.graded:  # no finite differences on unequal spacing: the triangles' λ, H
+        return on_triangles[0].lam, on_triangles[0].H
+    return lambda_h(phi, grid.h)
 
 
 def _check_grid_options(band: int, sampling: str, spacing: str, grading: float | None,
