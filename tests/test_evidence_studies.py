@@ -1,7 +1,9 @@
-"""The hedging study's pieces (``benchmarks/hedge_study.py``) and the score table's
-distances between candidates (``benchmarks/selfcheck_table.py``): the simplex grid, the
-weights put on it, the tests' evidence per candidate, and the true error of a convex
-combination of fills, on a planar hole whose errors are known."""
+"""Session 25's studies of the self-check's evidence: the hedging study
+(``benchmarks/hedge_study.py``: the simplex grid, the weights put on it, the tests' evidence
+per candidate, the true error of a convex combination of fills on a planar hole whose errors
+are known), the score table's distances between candidates
+(``benchmarks/selfcheck_table.py``) and the mesh-wide prior
+(``benchmarks/mesh_prior_study.py``: where probes are cut, the prior, the veto)."""
 
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ table = pytest.importorskip("selfcheck_table")
 from surfinpaint.fill.pipeline import fill_holes  # noqa: E402
 from surfinpaint.fill.results import Fill  # noqa: E402
 from surfinpaint.geometry.cutting import cut_geodesic_disk  # noqa: E402
+from surfinpaint.geometry.mesh import mean_edge_length  # noqa: E402
 
 INF = np.inf
 
@@ -123,3 +126,47 @@ def test_distances_between_candidates(planar_hole):
     # the same surface outside it
     assert set(between) == {"fair2|fair3"}
     assert 0 < between["fair2|fair3"] < 100 * 0.01 / hole.diameter
+
+
+# --------------------------------------------------------------------------- the mesh prior
+
+prior_study = pytest.importorskip("mesh_prior_study")
+
+
+def test_probe_sites_keep_clear_of_every_benchmark_hole():
+    v, f = grid_mesh(20, 20)
+    mesh = type("Mesh", (), {"vertices": v, "faces": f})()
+    entry = {"holes": [{"centre": [0.5, 0.5, 0.0], "radius": 0.1},
+                       {"centre": [0.2, 0.8, 0.0], "radius": 0.05}]}
+    sites = prior_study.probe_sites(mesh, entry, 10, np.random.default_rng(0))
+    h = mean_edge_length(v, f)
+    assert len(sites) == 10
+    for s in sites:
+        for hole in entry["holes"]:
+            gap = np.linalg.norm(np.subtract(s["centre"], hole["centre"]))
+            assert gap > hole["radius"] + s["radius"] + prior_study.GAP * h
+        assert s["radius"] in (0.1, 0.05)
+        assert np.allclose(v[s["vertex"]], s["centre"])
+
+
+def test_the_prior_is_each_candidates_median_over_the_probes_best():
+    probes = [{"mesh": "m", "fair2": 2.0, "fair3": 1.0, "conformal": 1.5},
+              {"mesh": "m", "fair2": 1.0, "fair3": 3.0, "conformal": 1.0},
+              {"mesh": "m", "fair2": 4.0, "fair3": 2.0, "conformal": INF},
+              {"mesh": "m", "fair2": 0.0, "fair3": 0.0, "conformal": 0.0}]  # exact: left out
+    prior = prior_study.priors(probes)["m"]
+    # relative: (2, 1, 1.5), (1, 3, 1), (2, 1, inf)
+    assert prior == pytest.approx({"fair2": 2.0, "fair3": 1.0, "conformal": 1.5})
+
+
+def test_the_prior_veto():
+    kept = {"hidden": {"fair2": 1.0, "fair3": 1.0, "conformal": 0.8},
+            "sibling": {"fair2": 1.0, "fair3": 1.0, "conformal": 0.9}, "crossed": False}
+    assert prior_study.replay.rule_library(kept)[0] == "conformal"
+    veto = prior_study.prior_veto(1.1)
+    assert veto(kept, {"fair2": 1.0, "fair3": 1.0, "conformal": 1.05})[0] == "conformal"
+    assert veto(kept, {"fair2": 1.0, "fair3": 1.0, "conformal": 1.2})[0] == "fair2"
+    decisive = {**kept, "hidden": {"fair2": 1.0, "fair3": 1.0, "conformal": 0.4}}
+    assert veto(decisive, {"fair2": 1.0, "fair3": 1.0, "conformal": 1.2})[0] == "conformal"
+    assert prior_study.prior_veto(1.1, decisive=False)(
+        decisive, {"fair2": 1.0, "fair3": 1.0, "conformal": 1.2})[0] == "fair2"
