@@ -187,8 +187,8 @@ def quadtree_export(rep: Represented, *, check: bool = True, map: str = "lscm",
     --------
     >>> from surfinpaint.data import bumpy_disk
     >>> tree = quadtree_export(represent(*bumpy_disk(8), check=False), targets=(0.1, 0.05))
-    >>> tree.check.converged, tree.check.mean == tree.check.floor_mean
-    (True, True)
+    >>> tree.check.converged, round(tree.check.mean / tree.check.floor_mean, 6)  # at its floor
+    (True, 1.0)
     """
     return represent(rep.vertices, rep.faces, discretization="quadtree", map=map,
                      check=check, progress=progress, **quadtree_options)

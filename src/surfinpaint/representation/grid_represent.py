@@ -388,8 +388,9 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
 
     Examples
     --------
+    >>> from surfinpaint import represent
     >>> from surfinpaint.data import bumpy_disk
-    >>> rep = represent(*bumpy_disk(8), resolution=32)
+    >>> rep = represent(*bumpy_disk(8), discretization="grid", resolution=32)
     >>> rep.lam.shape == rep.grid.shape
     True
     """
@@ -472,8 +473,8 @@ def subdivided_map(v: np.ndarray, f: np.ndarray, uv: np.ndarray, corners, map: s
 
 
 def rebuild_grid(rep: LambdaH, method: str = "newton", *, order: int = 3,
-            lam: np.ndarray | None = None, H: np.ndarray | None = None,
-            **options) -> tuple[np.ndarray, np.ndarray, ReconstructionInfo]:
+                 lam: np.ndarray | None = None, H: np.ndarray | None = None,
+                 **options) -> tuple[np.ndarray, np.ndarray, ReconstructionInfo]:
     """The mesh rebuilt from its λ-H representation on the grid.
 
     φ is reconstructed on the unknown nodes (the domain minus its boundary band) from
