@@ -53,7 +53,7 @@ from surfinpaint.geometry.metrics import hole_patch_of, surface_distance
 sys.path.insert(0, str(Path(__file__).parent))
 import peers  # noqa: E402
 
-ALL_METHODS = ("fair", "fair3", "conformal", "conformal_raw", "conformal_smooth",
+ALL_METHODS = ("fair", "fair1", "fair3", "conformal", "conformal_raw", "conformal_smooth",
                "conformal_grid", "conformal_grid_raw", "conformal_cdt", "conformal_cdt_raw",
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conventional", "cgal", "cgal3",
@@ -276,6 +276,8 @@ def run_method(method: str, vertices, faces, loop):
                          options=ConformalOptions(**CONFORMAL_VARIANTS[method]))
     if method == "fair3":  # triharmonic fairing: the conformal method's S0 and fallback
         return _run_ours("fair", vertices, faces, loop, fair_order=3)
+    if method == "fair1":  # harmonic (membrane) fairing: positions only, no ring slopes
+        return _run_ours("fair", vertices, faces, loop, fair_order=1)
     if method == "conventional":
         return _run_conventional(vertices, faces, loop)
     if method in ("fair_cdt", "fair3_cdt"):  # the faired candidates of conformal_cdt

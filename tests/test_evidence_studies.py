@@ -170,3 +170,21 @@ def test_the_prior_veto():
     assert veto(decisive, {"fair2": 1.0, "fair3": 1.0, "conformal": 1.2})[0] == "conformal"
     assert prior_study.prior_veto(1.1, decisive=False)(
         decisive, {"fair2": 1.0, "fair3": 1.0, "conformal": 1.2})[0] == "fair2"
+
+
+# --------------------------------------------------------------------------- the gallery
+
+gallery = pytest.importorskip("failure_gallery")
+
+
+def test_the_gallery_draws_the_holes_the_library_writes_above_1_5_times_worst_first():
+    decisive = {"fair2": 1.0, "fair3": 1.0, "conformal": 0.1}  # the λ-H fill is kept
+    rows = [{"mesh": "a", "hole": 0, "true": {"fair2": 1.0, "fair3": 2.0, "conformal": 1.6},
+             "hidden": decisive, "sibling": {}, "crossed": False},
+            {"mesh": "a", "hole": 1, "true": {"fair2": 1.0, "fair3": 0.5, "conformal": 2.0},
+             "hidden": decisive, "sibling": {}, "crossed": False},
+            {"mesh": "b", "hole": 0, "true": {"fair2": 1.0, "fair3": 2.0, "conformal": 1.4},
+             "hidden": decisive, "sibling": {}, "crossed": False}]
+    holes = gallery.losing_holes(rows)
+    assert [(r["mesh"], r["hole"]) for r in holes] == [("a", 1), ("a", 0)]
+    assert [r["ratio"] for r in holes] == pytest.approx([4.0, 1.6])
