@@ -14,6 +14,10 @@ scans) holes 1, 3 and 5 lie 1-2.5 edge lengths from the border; on CAD parts hol
 and 6 are centred on a sharp edge or corner. A candidate whose cut fails (reaches the
 border, not a disk) is skipped. Centres are stored as points (snapped to the nearest vertex
 when cutting) with the radius in mesh units, so the holes do not depend on this code.
+
+A third set, the holdout (``benchmarks/holdout_manifest.json``, ``--write --holdout``): 11
+fresh meshes (``validation_meshes.HOLDOUT_SOURCES``), holes planned the same way, made
+after session 25's choices and run once. Reported after the validation half.
 """
 
 from __future__ import annotations
@@ -29,6 +33,9 @@ sys.path.insert(0, str(Path(__file__).parent))
 import validation_meshes as vm  # noqa: E402
 
 MANIFEST = Path(__file__).parent / "holes_manifest.json"
+# a third set, fresh meshes run once after session 25's choices (validation_meshes.
+# HOLDOUT_SOURCES): its own file, so the two halves' manifest stays as it was
+HOLDOUT_MANIFEST = Path(__file__).parent / "holdout_manifest.json"
 RADII_H = (3, 4, 5, 6, 7, 8, 10)
 NEAR_BORDER = (1, 3, 5)
 ON_FEATURE = (0, 2, 4, 6)
@@ -41,6 +48,7 @@ SPLIT = {
     "validation": ["scan_cow", "scan_wuson", "scan_lblock", "cow", "blob_b", "blob_c", "nut",
                    "flange", "lblock", "inflated", "midthickness", "molar5", "incisor",
                    "ellipsoid", "fs_sphere", "peanut"],
+    "holdout": list(vm.HOLDOUT_SOURCES),
 }
 
 
@@ -127,12 +135,15 @@ def plan_holes(v: np.ndarray, f: np.ndarray, kind: str, seed: int, name: str = "
     return holes
 
 
-def write(path: Path = MANIFEST, only: list[str] | None = None) -> dict:
-    """Build the manifest from :data:`SPLIT` and :mod:`validation_meshes` and write it;
-    meshes whose source is not installed are skipped with a note."""
+def write(path: Path = MANIFEST, only: list[str] | None = None,
+          splits: tuple[str, ...] = ("tuning", "validation")) -> dict:
+    """Build the manifest of ``splits`` from :data:`SPLIT` and :mod:`validation_meshes` and
+    write it; meshes whose source is not installed are skipped with a note. The holes'
+    seeds follow each mesh's place in the list (the holdout's start at 100)."""
     meshes = []
-    ids = [i for s in ("tuning", "validation") for i in SPLIT[s]]
-    for index, mesh_id in enumerate(ids):
+    ids = [i for s in splits for i in SPLIT[s]]
+    first = 100 if splits == ("holdout",) else 0
+    for index, mesh_id in enumerate(ids, start=first):
         if only and mesh_id not in only:
             continue
         try:
@@ -150,8 +161,13 @@ def write(path: Path = MANIFEST, only: list[str] | None = None) -> dict:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="write benchmarks/holes_manifest.json")
     parser.add_argument("--write", action="store_true")
-    parser.add_argument("--out", default=str(MANIFEST))
+    parser.add_argument("--out", default=None)
+    parser.add_argument("--holdout", action="store_true",
+                        help="the holdout set instead (default --out: holdout_manifest.json)")
     args = parser.parse_args()
     if not args.write:
         parser.error("pass --write to (re)write the manifest")
-    write(Path(args.out))
+    if args.holdout:
+        write(Path(args.out or HOLDOUT_MANIFEST), splits=("holdout",))
+    else:
+        write(Path(args.out or MANIFEST))

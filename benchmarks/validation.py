@@ -14,6 +14,8 @@ Run (one hole at a time, nothing parallel)::
     .venv/bin/python benchmarks/validation.py --out validation.json      # all 224 holes
     .venv/bin/python benchmarks/validation.py --quick                     # 6 holes, smoke
     .venv/bin/python benchmarks/validation.py --tables validation.json    # tables again
+    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout_manifest.json \
+        --out holdout.json                                                 # the holdout set
 
 Every row is also appended to ``<out>.partial.jsonl`` as it is made, so the tables of a run
 that was stopped can be printed with ``--tables <out>.partial.jsonl``.
@@ -48,6 +50,9 @@ METHODS = OURS + PEERS
 DEFAULT = "conformal"
 CANDIDATES = ("fair", "fair3", "conformal_raw")  # what the self-check chooses among
 FILLED = ("ok", "selected", "fallback")
+# reported in this order: the validation half first, then the holdout set (fresh meshes,
+# benchmarks/holdout_manifest.json), then the tuning half every rule was chosen on
+SPLITS = ("validation", "holdout", "tuning")
 
 
 def _cut(mesh: vm.BenchMesh, hole: dict):
@@ -200,11 +205,12 @@ def headline(rows: list[dict], methods: list[str]) -> dict:
 
 def report(rows: list[dict], methods: list[str], split: str) -> str:
     part = [r for r in rows if r["extra"]["split"] == split]
+    name = f"{split.capitalize()} {'set' if split == 'holdout' else 'half'}"
     if not part:
-        return f"## {split} half: no rows\n"
+        return f"## {name}: no rows\n"
     hl = headline(part, methods)
     kinds = {r["case"]: r["extra"]["kind"] for r in part}
-    lines = [f"## {split.capitalize()} half: {hl['meshes']} meshes, {hl['holes']} holes\n"]
+    lines = [f"## {name}: {hl['meshes']} meshes, {hl['holes']} holes\n"]
     best_of_peers = hl["default_best_of_peers"]
     wins = (f"{best_of_peers[0]} / {best_of_peers[1]} "
             f"({100 * best_of_peers[0] / max(best_of_peers[1], 1):.0f} %)" if best_of_peers
@@ -266,8 +272,9 @@ def tables(rows: list[dict], methods: list[str]) -> str:
     methods = [m for m in methods if any(r["method"] == m for r in rows)]
     head = ("Per-mesh cells: median over the mesh's holes of the two-sided mean distance, % of "
             "the hole diameter; bold: the best method of the row.\n")
-    return head + "\n" + report(rows, methods, "validation") + "\n" + report(
-        rows, methods, "tuning")
+    present = [s for s in SPLITS if any(r["extra"]["split"] == s for r in rows)]
+    return head + "\n" + "\n".join(report(rows, methods, s)
+                                    for s in present or ["validation", "tuning"])
 
 
 def main(argv: list[str] | None = None) -> list[dict]:
@@ -277,7 +284,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--methods", default=",".join(METHODS))
     parser.add_argument("--meshes", default=None, help="comma-separated mesh ids")
     parser.add_argument("--samples", type=int, default=10000)
-    parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST))
+    parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST),
+                        help="the holes (default: both halves; benchmarks/"
+                        "holdout_manifest.json: the holdout set)")
     parser.add_argument("--out", default=None, help="write all rows as JSON here")
     parser.add_argument("--tables", default=None,
                         help="print the tables of a saved run (.json or .partial.jsonl)")

@@ -83,3 +83,28 @@ def test_reserved_sources_are_never_used():
     assert "libcgal" not in code and "cgal-demo" not in code and "/cgal" not in code
     assert "right" not in code
     assert '"left"' in code
+
+
+@pytest.fixture(scope="module")
+def holdout():
+    return holes_manifest.read(holes_manifest.HOLDOUT_MANIFEST)
+
+
+def test_the_holdout_set_is_fresh_and_well_formed(manifest, holdout):
+    """The holdout set (run once after session 25's choices): its own meshes, from sources
+    the two halves do not use, every kind but brain surfaces, 7 holes a mesh."""
+    ids = [e["mesh"] for e in holdout["meshes"]]
+    assert ids == holes_manifest.SPLIT["holdout"] == list(validation_meshes.HOLDOUT_SOURCES)
+    halves = {e["mesh"] for e in manifest["meshes"]}
+    assert not halves & set(ids)
+    sources = {e["source"] for e in manifest["meshes"]}
+    for entry in holdout["meshes"]:
+        assert entry["split"] == "holdout" and entry["source"] not in sources, entry["mesh"]
+        source = validation_meshes.SOURCES[entry["mesh"]]
+        assert (source.kind, source.source) == (entry["kind"], entry["source"])
+        assert [h["radius_h"] for h in entry["holes"]] == list(holes_manifest.RADII_H)
+        for hole in entry["holes"]:
+            assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
+    assert {e["kind"] for e in holdout["meshes"]} == KINDS - {"brain"}
+    holes = [h for e in holdout["meshes"] for h in e["holes"]]
+    assert sum(h["near_border"] for h in holes) >= 6 and sum(h["on_feature"] for h in holes) >= 3
