@@ -134,11 +134,12 @@ def hole_scores(vertices, faces, loop, truth_vertices, truth_faces, diameter,
                                 patch_rings=o.rings_in_patch)
     each = sibling_scores(vertices, faces, loop, tests, siblings=o.siblings,
                           gap_rings=o.gap_rings, patch_rings=o.rings_in_patch, each=True)
+    seconds_tests = time.perf_counter() - started
     between = _between(vertices, faces, fills, diameter, n_samples)
     return {"true": true, "hidden": hidden, "sibling": mean_scores(each), "between": between,
             "siblings_found": len(each),
             "crossed": candidates.crossed, "failure": failure, **shape,
-            "seconds_lambda_h": seconds_lh, "seconds_tests": time.perf_counter() - started,
+            "seconds_lambda_h": seconds_lh, "seconds_tests": seconds_tests,
             **(extra(vertices, faces, fills, truth_vertices, truth_faces, diameter,
                      n_samples) if extra else {})}
 
