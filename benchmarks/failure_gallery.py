@@ -15,6 +15,7 @@ tuning on it.
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 import warnings
 from pathlib import Path
@@ -43,6 +44,7 @@ from surfinpaint.fill.neighbourhood import FilledMesh  # noqa: E402
 PANELS = (("truth", "truth"), ("fair2", "bilaplacian"), ("fair3", "trilaplacian"),
           ("conformal", "λ-H"))
 SIZE = (260, 200)
+_load = functools.lru_cache(maxsize=None)(vm.load)  # a mesh with several losing holes: once
 
 
 def losing_holes(rows, limit: float = 1.5) -> list[dict]:
@@ -78,8 +80,7 @@ def side_views(vertices, faces, frame: HoleFrame, fills) -> list[np.ndarray]:
 def hole_fills(entry, k: int, options: ConformalOptions):
     """The hole's neighbourhood and its panels' fills: (vertices, faces, loop, {name:
     (all vertices, new faces) or None})."""
-    mesh = vm.load(entry["mesh"])
-    cut = validation._cut(mesh, entry["holes"][k])
+    cut = validation._cut(_load(entry["mesh"]), entry["holes"][k])
     local = FilledMesh(cut.vertices, cut.faces).cut(
         cut.loop, options.neighbourhood_rings(len(cut.loop)))
     v, f, loop = local.vertices, local.faces, local.local_loop
