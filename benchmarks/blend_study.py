@@ -79,7 +79,7 @@ def measure(out: Path, split: str, samples: int) -> None:
     for entry in manifest["meshes"]:
         if entry["split"] != split:
             continue
-        mesh = vm.load(entry["mesh"])
+        mesh = vm.load_entry(entry)
         for k, hole in enumerate(entry["holes"]):
             if (entry["mesh"], k) in done:
                 continue

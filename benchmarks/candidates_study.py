@@ -135,7 +135,7 @@ def run(meshes: list[str], samples: int, out: Path, families=FAMILIES, lambda_h=
     for entry in manifest["meshes"]:
         if entry["mesh"] not in meshes:
             continue
-        mesh = vm.load(entry["mesh"])
+        mesh = vm.load_entry(entry)
         for k, hole in enumerate(entry["holes"]):
             cut = validation._cut(mesh, hole)
             with warnings.catch_warnings():

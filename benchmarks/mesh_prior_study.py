@@ -85,7 +85,7 @@ def measure(out: Path, split: str, probes: int) -> None:
     for entry in holes_manifest.read()["meshes"]:
         if entry["split"] != split or entry["mesh"] in done:
             continue
-        mesh = vm.load(entry["mesh"])
+        mesh = vm.load_entry(entry)
         rng = np.random.default_rng(SEED)
         rows = []
         for site in probe_sites(mesh, entry, probes, rng):

@@ -32,7 +32,7 @@ def main() -> None:
     for entry in holes_manifest.read(holes_manifest.MANIFEST)["meshes"]:
         if entry["split"] != "tuning":
             continue
-        mesh = vm.load(entry["mesh"])
+        mesh = vm.load_entry(entry)
         for hole in entry["holes"]:
             cut = validation._cut(mesh, hole)
             f = faces_near(cut.faces, cut.loop, 1, len(cut.vertices))

@@ -117,7 +117,7 @@ def holes(name: str, options: ConformalOptions, per_mesh: int):
     """(key, cut) of every hole of set ``name``."""
     if name == "tuning":
         for entry in selfcheck_table._manifest_holes("tuning", None):
-            mesh = vm.load(entry["mesh"])
+            mesh = vm.load_entry(entry)
             for k, hole in enumerate(entry["holes"]):
                 yield f"{entry['mesh']} #{k}", validation._cut(mesh, hole)
     elif name == "thin":

@@ -200,7 +200,7 @@ def cached_rows(cache: Path, split: str | None, meshes: list[str] | None,
     out = []
     for entry in _manifest_holes(split, meshes):
         todo = [k for k in range(len(entry["holes"])) if (entry["mesh"], k) not in have]
-        mesh = vm.load(entry["mesh"]) if todo else None
+        mesh = vm.load_entry(entry) if todo else None
         for k, hole in enumerate(entry["holes"]):
             if (entry["mesh"], k) in have:
                 out.append(have[(entry["mesh"], k)])

@@ -74,7 +74,7 @@ def tuning_rows(out: Path) -> None:
         for entry in holes_manifest.read()["meshes"]:
             if entry["split"] != "tuning":
                 continue
-            mesh = vm.load(entry["mesh"])
+            mesh = vm.load_entry(entry)
             for k, hole in enumerate(entry["holes"]):
                 cut = validation._cut(mesh, hole)
                 local = FilledMesh(cut.vertices, cut.faces).cut(

@@ -59,7 +59,7 @@ def main(argv: list[str] | None = None) -> int:
             continue
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            cut, n_cut = _cut_together(vm.load(entry["mesh"]), entry["holes"])
+            cut, n_cut = _cut_together(vm.load_entry(entry), entry["holes"])
             result = fill_holes(cut.vertices, cut.faces, method="fair")
             started = time.perf_counter()
             changes = topology_changes(result)

@@ -29,7 +29,6 @@ import platform
 import sys
 import time
 import traceback
-import warnings
 from dataclasses import asdict, replace
 from pathlib import Path
 
@@ -73,14 +72,10 @@ def run(manifest: dict, methods: list[str], samples: int, partial: Path | None,
         if meshes and entry["mesh"] not in meshes:
             continue
         try:
-            mesh = vm.load(entry["mesh"])
-        except (FileNotFoundError, ModuleNotFoundError) as exc:
+            mesh = vm.load_entry(entry)  # checked against the manifest's counts
+        except (FileNotFoundError, ModuleNotFoundError, RuntimeError) as exc:
             print(f"note: skipping {entry['mesh']}: {exc}", file=sys.stderr)
             continue
-        if (len(mesh.vertices), len(mesh.faces)) != (entry["n_vertices"], entry["n_faces"]):
-            warnings.warn(f"{entry['mesh']} has {len(mesh.vertices)} vertices and "
-                          f"{len(mesh.faces)} faces, the manifest says {entry['n_vertices']} "
-                          f"and {entry['n_faces']}: its source changed", stacklevel=1)
         h = mean_edge_length(mesh.vertices, mesh.faces)
         for k, hole in enumerate(entry["holes"][:max_holes]):
             cut = _cut(mesh, hole)

@@ -64,3 +64,37 @@ def test_split_bowties_gives_one_vertex_per_fan():
     sv, sf = data.sphere(2)
     same, none = validation_meshes.split_bowties(validation_meshes.BenchMesh(sv, sf))
     assert len(none) == 0 and same.faces is sf
+
+
+def _entry(mesh):
+    return {"mesh": "sphere", "n_vertices": len(mesh.vertices), "n_faces": len(mesh.faces)}
+
+
+def test_a_mesh_made_in_a_fresh_process_is_the_same_mesh():
+    mesh = validation_meshes.load("sphere")
+    fresh = validation_meshes._load_in_fresh_process("sphere")
+    assert np.array_equal(fresh.vertices, mesh.vertices)
+    assert np.array_equal(fresh.faces, mesh.faces) and fresh.truth is None
+
+
+@pytest.mark.parametrize(("fresh_matches", "outcome"), [
+    (True, "the fresh mesh, with a warning"),
+    (False, "RuntimeError naming the mesh"),
+])
+def test_a_mesh_that_differs_from_its_manifest_entry_is_made_again(monkeypatch,
+                                                                  fresh_matches, outcome):
+    good = validation_meshes.BenchMesh(np.zeros((4, 3)), np.array([[0, 1, 2], [0, 2, 3]]))
+    bad = validation_meshes.BenchMesh(np.zeros((5, 3)), good.faces)
+    made = []
+    monkeypatch.setattr(validation_meshes, "load", lambda mesh_id: bad)
+    monkeypatch.setattr(validation_meshes, "_load_in_fresh_process",
+                        lambda mesh_id: made.append(mesh_id) or (good if fresh_matches else bad))
+    if fresh_matches:
+        with pytest.warns(UserWarning, match="sphere has 5 vertices .* made again"):
+            assert validation_meshes.load_entry(_entry(good)) is good
+        assert made == ["sphere"]
+    else:
+        with pytest.warns(UserWarning), pytest.raises(RuntimeError,
+                                                      match="sphere .* source changed"):
+            validation_meshes.load_entry(_entry(good))
+        assert made == ["sphere", "sphere"]
