@@ -163,7 +163,7 @@ def holes(which: str):
                 continue
             yield "tuning", e["mesh"], e["kind"], (lambda e=e: vm.load(e["mesh"])), e["holes"]
     else:
-        for index, name in enumerate(EXTRA):
+        for name in EXTRA:
             def load(name=name):
                 return extra_mesh(name)
             yield "extra", name, "range_scan", load, None
