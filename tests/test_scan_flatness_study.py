@@ -18,43 +18,51 @@ from surfinpaint.fill.liepa.baseline import faired_fills  # noqa: E402
 from surfinpaint.geometry.cutting import cut_geodesic_disk  # noqa: E402
 
 
-def annulus(n: int, seed: int) -> np.ndarray:
-    """``n`` points (u, v) in the annulus 0.5 <= r <= 1 (a ring of known surface)."""
-    rng = np.random.default_rng(seed)
-    r = np.sqrt(rng.uniform(0.25, 1.0, n))
-    t = rng.uniform(0, 2 * np.pi, n)
-    return np.column_stack([r * np.cos(t), r * np.sin(t)])
-
-
-def tilted(uvw: np.ndarray) -> np.ndarray:
-    """The points in a rotated and shifted frame: the test must not depend on the axes."""
+def annulus(seed: int, height, noise: float = 0.01) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices of a 41 x 41 grid over [-1, 1]^2 in the annulus 0.5 <= r <= 1 (a ring of
+    known surface around a hole), lifted to ``height(u, v)`` plus Gaussian noise, tilted and
+    shifted (the test must not depend on the axes), and the grid edges between them."""
+    v, f = grid_mesh(40, 40)
+    uv = 2.0 * v[:, :2] - 1.0
+    r = np.linalg.norm(uv, axis=1)
+    keep = (r >= 0.5) & (r <= 1.0)
+    local = np.full(len(v), -1)
+    local[keep] = np.arange(keep.sum())
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    e = np.unique(np.sort(e[keep[e].all(axis=1)], axis=1), axis=0)
+    w = height(uv[keep, 0], uv[keep, 1])
+    w = w + np.random.default_rng(seed).normal(0, noise, len(w))
     a = np.radians(35.0)
     rot = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
-    return uvw @ rot.T + np.array([3.0, -1.0, 2.0])
+    points = np.column_stack([uv[keep], w]) @ rot.T + np.array([3.0, -1.0, 2.0])
+    return points, local[e]
 
 
 @pytest.mark.parametrize("seed", range(5))
 def test_a_noisy_plane_is_flat(seed):
-    uv = annulus(300, seed)
-    w = 0.2 * uv[:, 0] - 0.1 * uv[:, 1] + np.random.default_rng(seed + 50).normal(0, 0.01, 300)
-    t = study.flatness_test(tilted(np.column_stack([uv, w])))
-    assert t["flat"] and t["p"] >= study.ALPHA
-    assert t["sigma"] == pytest.approx(0.01, rel=0.3)  # the noise, from the residual
+    t = study.flatness_test(*annulus(seed, lambda u, v: 0.2 * u - 0.1 * v))
+    assert t["flat"] and t["flat_F"] and t["p"] >= study.ALPHA
+    assert t["sigma"] == pytest.approx(0.01, rel=0.2)  # the noise, from the residual
 
 
 @pytest.mark.parametrize("seed", range(5))
 def test_a_noisy_sphere_patch_is_curved(seed):
-    uv = annulus(300, seed)
     radius = 4.0  # sagitta at the rim 1/8 of a unit: 12 noise levels
-    w = radius - np.sqrt(radius ** 2 - (uv ** 2).sum(axis=1))
-    w = w + np.random.default_rng(seed + 50).normal(0, 0.01, 300)
-    t = study.flatness_test(tilted(np.column_stack([uv, w])))
-    assert not t["flat"] and t["p"] < 1e-6
+    t = study.flatness_test(*annulus(seed, lambda u, v: radius - np.sqrt(
+        radius ** 2 - u * u - v * v)))
+    assert not t["flat"] and not t["flat_F"] and t["p"] < 1e-6
+
+
+def test_folds_no_quadric_fits_are_not_flat():
+    # ripples: the quadric fits no better than the plane (F-test alone: flat), but the
+    # plane's residuals are alike between neighbours (Moran's I: not noise)
+    t = study.flatness_test(*annulus(0, lambda u, v: 0.05 * np.sin(9 * u) * np.cos(9 * v),
+                                     noise=0.0))
+    assert t["flat_F"] and not t["flat"] and t["p_moran"] < 1e-6
 
 
 def test_an_exact_plane_is_flat():
-    uv = annulus(50, 0)
-    t = study.flatness_test(tilted(np.column_stack([uv, np.zeros(50)])))
+    t = study.flatness_test(*annulus(0, lambda u, v: 0.0 * u, noise=0.0))
     assert t["flat"] and t["F"] == 0.0
 
 
