@@ -62,7 +62,7 @@ OURS = ("fair", "fair3", "conformal")
 PEERS = ("pymeshlab", "pymeshfix", "meshlib")
 
 # extra simulated scans of TUNING-half sources: (source id, view, seed[, noise in pixels,
-# default 0.05 as the manifest's scans]); the noisier ones are their own set, "extra_noisy"
+# default 0.05 as the manifest's scans]); the noisier ones are their own sets
 EXTRA = {
     "xscan_cube40_a": ("cube40", (0.5, 0.3, 1.0), 111),
     "xscan_cube40_b": ("cube40", (0.15, 0.1, 1.0), 112),
@@ -89,6 +89,12 @@ EXTRA = {
     "nscan_blob_a": ("blob_a", (0.5, -0.4, 1.0), 135, 0.15),
     "nscan_bunny": ("bunny", (0.3, 0.2, 1.0), 136, 0.15),
     "nscan_bone": ("bone", (0.2, 1.0, 0.3), 137, 0.15),
+    # six times the noise: where the test stops seeing curvature
+    "n6scan_cube40": ("cube40", (0.5, 0.3, 1.0), 141, 0.3),
+    "n6scan_sphere": ("sphere", (0.2, 0.1, 1.0), 143, 0.3),
+    "n6scan_torus": ("torus", (0.3, 0.4, 1.0), 144, 0.3),
+    "n6scan_blob_a": ("blob_a", (0.5, -0.4, 1.0), 145, 0.3),
+    "n6scan_bunny": ("bunny", (0.3, 0.2, 1.0), 146, 0.3),
 }
 
 
@@ -224,7 +230,8 @@ def holes(which: str):
         for name in EXTRA:
             def load(name=name):
                 return extra_mesh(name)
-            set_name = "extra_noisy" if len(EXTRA[name]) > 3 else "extra"
+            noise = EXTRA[name][3] if len(EXTRA[name]) > 3 else 0.05
+            set_name = {0.05: "extra", 0.15: "extra_noisy", 0.3: "extra_noisy6"}[noise]
             yield set_name, name, "range_scan", load, None
 
 
@@ -349,10 +356,11 @@ def flagged(rows: list[dict], k: int) -> str:
 
 def tables(paths: list[Path], k_detail: int | None = None) -> str:
     rows = [json.loads(line) for p in paths for line in Path(p).read_text().splitlines()]
-    rows = [r for r in rows if r["set"] in ("tuning", "extra", "extra_noisy")]  # nothing else
+    rows = [r for r in rows if r["set"] in ("tuning", "extra", "extra_noisy", "extra_noisy6")]
     out = []
     groups = [("extra scans", [r for r in rows if r["set"] == "extra"]),
               ("extra scans, 3x noise", [r for r in rows if r["set"] == "extra_noisy"]),
+              ("extra scans, 6x noise", [r for r in rows if r["set"] == "extra_noisy6"]),
               ("tuning half, scans", [r for r in rows if r["set"] == "tuning"
                                       and r["kind"] == "range_scan"]),
               ("tuning half, not scans", [r for r in rows if r["set"] == "tuning"
