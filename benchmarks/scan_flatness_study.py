@@ -29,9 +29,10 @@ the noise-free scan).
     taskset -c 1 .venv/bin/python benchmarks/scan_flatness_study.py --set tuning \\
         --out /tmp/s26_tuning.jsonl
     .venv/bin/python benchmarks/scan_flatness_study.py --tables /tmp/s26_extra.jsonl \\
-        /tmp/s26_tuning.jsonl
+        /tmp/s26_tuning.jsonl --k 2
 
-Rows already in ``--out`` are not computed again.
+Rows already in ``--out`` are not computed again. k = 2 rings was chosen on these (tuning
+side) holes; results in docs/candidates.md, "Session 26".
 """
 
 from __future__ import annotations
