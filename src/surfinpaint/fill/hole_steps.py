@@ -88,6 +88,7 @@ def record(report: HoleReport, fill: Fill) -> None:
                                                           fill.diagnostics)
     report.crease_failure = fill.crease_failure
     report.crossings = fill.crossings
+    report.plane = fill.plane
     if fill.crossings:
         many = fill.crossings > 1
         _warn(f"hole {report.index}: {fill.crossings} triangle{'s' * many} of the "

@@ -15,6 +15,7 @@ from surfinpaint.fill.objects import to_pyvista, to_trimesh
 
 if TYPE_CHECKING:
     from surfinpaint.fill.conformal.selection import Verdict
+    from surfinpaint.geometry.flatness import PlaneTest
 
 __all__ = ["Fill", "FillResult", "GridLambdaH", "HoleReport", "LambdaHDiagnostics",
            "LeastSquaresFill", "MeshLambdaH", "Outcome", "TestScores", "TopologyChange"]
@@ -207,6 +208,9 @@ class Fill:
     crossings : int
         The fill's triangles that pierce or overlap the surface around the hole
         (:func:`surfinpaint.fill.parallel.crossing_faces`; 0 for a clean fill).
+    plane : PlaneTest, optional
+        The known surface around the hole was a plane within its noise (the conformal
+        method's ``plane_test``), and this faired fill was laid on it.
     """
 
     vertices: np.ndarray
@@ -220,6 +224,7 @@ class Fill:
     crease_failure: str | None = None
     diagnostics: LambdaHDiagnostics | None = None
     crossings: int = 0
+    plane: PlaneTest | None = None
 
     @property
     def notes(self) -> str | None:
@@ -288,7 +293,8 @@ class HoleReport:
     that a crease crossing the hole was continued across it (``crease_failure``: that its crease
     fill failed and it was filled as smooth), ``diagnostics`` what the λ-H pass used, and
     ``crossings`` how many of the written fill's triangles cross the surface around the hole
-    (a warning says so; see :class:`Fill`).
+    (a warning says so; see :class:`Fill`), ``plane`` the plane test's verdict where the
+    faired fill was laid on the plane of the surface around the hole (``note`` says so).
     """
 
     index: int
@@ -311,6 +317,7 @@ class HoleReport:
     crease_failure: str | None = None
     zipped: np.ndarray | None = None
     crossings: int = 0
+    plane: PlaneTest | None = None
 
     @property
     def outcome(self) -> Outcome:

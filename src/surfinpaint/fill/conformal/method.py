@@ -20,13 +20,22 @@ from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.conformal.checks import blended_fill
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
 from surfinpaint.fill.conformal.selection import Verdict, choose, sibling_test_plan
-from surfinpaint.fill.liepa.baseline import faired_fills
+from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores
 from surfinpaint.geometry.cutting import edge_graph
+from surfinpaint.geometry.flatness import PlaneTest, plane_test
+from surfinpaint.geometry.mesh import k_ring, unique_edges
 from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conformal_fill"]
+
+# the plane test (ConformalOptions.plane_test) looks at the known vertices within
+# PLANE_RINGS rings of the loop, at the significance level PLANE_ALPHA: the level fixed
+# before any run, the rings chosen on tuning-side scans (2, 3, 4, 6 compared: 2 gave the
+# most flat verdicts and none worse; docs/candidates.md, "Session 26")
+PLANE_RINGS = 2
+PLANE_ALPHA = 0.01
 
 
 def conformal_fill(
@@ -84,6 +93,11 @@ def conformal_fill(
             return candidates.lambda_h(vertices, faces, loop, s0)
         # the faired fills are cheap; the λ-H fill of the hole is made once it has won
         faired = candidates.faired(vertices, faces, loop)
+        if options.plane_test:
+            plane = known_plane(vertices, faces, loop)
+            if plane.flat:
+                return _on_plane(vertices, faces, faired[f"fair{candidates.orders[0]}"],
+                                 plane)
         verdict = self_check(vertices, faces, loop, candidates)
         if verdict.make:
             s0 = candidates.initial(vertices, faces, loop, faired)
@@ -119,6 +133,27 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                                  patch_rings=o.rings_in_patch, graph=graph)
     return choose(hidden, sibling, reference=reference, choose_faired=choose_faired,
                   crossed=candidates.crossed)
+
+
+def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -> PlaneTest:
+    """:func:`~surfinpaint.geometry.flatness.plane_test` of the known vertices within
+    ``PLANE_RINGS`` rings of the loop (the loop's included), with the mesh edges between
+    them."""
+    near = k_ring(faces, loop, PLANE_RINGS, len(vertices))
+    local = np.full(len(vertices), -1)
+    local[near] = np.arange(int(near.sum()))
+    edges = unique_edges(faces[near[faces].all(axis=1)])[0]
+    return plane_test(vertices[near], local[edges], alpha=PLANE_ALPHA)
+
+
+def _on_plane(vertices, faces, faired: Fill, plane: PlaneTest) -> Fill:
+    """The faired fill laid on the known surface's plane
+    (:func:`~surfinpaint.fill.liepa.baseline.laid_on_plane`), with the verdict in words."""
+    new = laid_on_plane(vertices, faces, faired.vertices, faired.faces, plane.centre,
+                        plane.normal)
+    return replace(faired, vertices=new, plane=plane,
+                   selection=f"{plane.sentence()}: the faired fill (order "
+                             f"{faired.fair_order}) laid on it, no self-check")
 
 
 def _faired_choice(faired: dict[str, Fill], verdict: Verdict,

@@ -165,6 +165,14 @@ class ConformalOptions:
         The refinement under S0 and the faired candidates
         (:func:`surfinpaint.fill.liepa.refinement.refine_patch`'s ``style``: Liepa's
         relaxation to convergence, or CGAL's single flip passes; docs/candidates.md).
+    plane_test : bool
+        With ``select``: where the known surface within 2 rings of the loop is a plane
+        within its noise (neither a quadric's curvature nor a pattern in the plane's
+        residuals significant at 1 %: :func:`surfinpaint.geometry.flatness.plane_test`),
+        the faired fill is laid on that plane (its heights the harmonic extension of the
+        loop's, :func:`surfinpaint.fill.liepa.baseline.laid_on_plane`) and no self-check
+        runs: on a range scan's flat face the faired fills carry the rim's noise into the
+        hole (docs/candidates.md, "Session 26"). False: never.
     """
 
     start: str = "fair"
@@ -182,6 +190,7 @@ class ConformalOptions:
     grid: GridOptions | None = None
     s0_search: str = "delaunay"
     s0_refinement: str = "liepa"
+    plane_test: bool = True
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
@@ -199,7 +208,7 @@ class ConformalOptions:
         _positive_int("hide_rings", self.hide_rings)
         _positive_int("siblings", self.siblings, minimum=0)
         _positive_int("gap_rings", self.gap_rings, minimum=0)
-        for name in ("select", "creases"):
+        for name in ("select", "creases", "plane_test"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
         if isinstance(self.crease_angle, bool) or not isinstance(

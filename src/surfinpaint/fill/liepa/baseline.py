@@ -18,7 +18,7 @@ from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import faces_near, orient_loop
 from surfinpaint.geometry.validation import face_ids
 
-__all__ = ["conventional_fill", "faired_fill", "faired_fills"]
+__all__ = ["conventional_fill", "faired_fill", "faired_fills", "laid_on_plane"]
 
 
 def conventional_fill(
@@ -213,6 +213,48 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
             raise FillError(f"cannot fill the hole: {made[used]}") from made[used]
         out[order] = (_finite(made[used][n:]), patch, used)
     return out
+
+
+def laid_on_plane(vertices: np.ndarray, faces: np.ndarray, new_vertices: np.ndarray,
+                  patch: np.ndarray, centre: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """A fill laid on a plane: the new vertices keep their positions along the plane, and
+    their heights above it are the harmonic extension of the loop's heights over the patch.
+
+    Why: on a range scan's flat face a faired fill takes its slopes from the noisy rings
+    around the loop and extrapolates that noise across the hole; the harmonic heights only
+    average the loop's (docs/candidates.md, "Session 26"). The loop and every other
+    original vertex stay where they are.
+
+    Parameters
+    ----------
+    vertices, faces : arrays
+        The mesh with the hole.
+    new_vertices, patch : arrays
+        A fill of the hole (as :func:`faired_fills` gives: ``patch`` over the mesh's ids and
+        ``n + j`` for new vertex ``j``).
+    centre, normal : (3,) float arrays
+        The plane (e.g. :func:`surfinpaint.geometry.flatness.plane_test`'s); ``normal`` of
+        unit length.
+
+    Returns
+    -------
+    (m, 3) float array
+        The new vertices' positions.
+
+    Raises
+    ------
+    FillError
+        When the harmonic extension cannot be solved (no fixed vertex in the patch).
+    """
+    new_vertices = np.asarray(new_vertices, dtype=float)
+    if len(new_vertices) == 0:
+        return new_vertices
+    centre, normal = np.asarray(centre, dtype=float), np.asarray(normal, dtype=float)
+    membrane = _faired(np.asarray(vertices, dtype=float), np.asarray(faces, dtype=np.int64),
+                       new_vertices, np.asarray(patch, dtype=np.int64), order=1)
+    height = (membrane - centre) @ normal
+    along = new_vertices - np.outer((new_vertices - centre) @ normal, normal)
+    return _finite(along + np.outer(height, normal))
 
 
 def _neighbourhood(faces: np.ndarray, loop: np.ndarray, n: int, rings: int) -> np.ndarray:

@@ -1,0 +1,155 @@
+"""Is a piece of surface a plane under noise? Two significance tests on its vertices, with no
+distance threshold: the noise level is estimated from the points themselves.
+
+Used by the conformal fill (:func:`surfinpaint.fill.conformal.conformal_fill`) on the known
+vertices around a hole: on a range scan's flat face the faired fills take their slopes from
+the noisy ring around the loop and carry that noise into the fill, while a fill laid on the
+fitted plane averages it (docs/candidates.md, "Session 26").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["PlaneTest", "morans_i", "plane_test"]
+
+
+@dataclass(frozen=True)
+class PlaneTest:
+    """The verdict of :func:`plane_test`.
+
+    Attributes
+    ----------
+    flat : bool
+        Neither test is significant at the level asked for: no curvature and no shape in the
+        plane's residuals can be told from independent noise.
+    p_curvature : float
+        The F-test's p-value: a quadric height field against the plane.
+    p_pattern : float
+        Moran's I's one-sided p-value: the plane's residuals alike between neighbours.
+    centre, normal : (3,) float arrays
+        The least-squares plane (a point on it and its unit normal).
+    noise : float
+        The noise level (standard deviation, mesh units) the quadric's residual gives.
+    points : int
+        How many points were tested.
+    """
+
+    flat: bool
+    p_curvature: float
+    p_pattern: float
+    centre: np.ndarray
+    normal: np.ndarray
+    noise: float
+    points: int
+
+    def sentence(self) -> str:
+        """The verdict in words, for a hole's report."""
+        return (f"the known surface around the hole is a plane within its noise "
+                f"(σ = {self.noise:.3g}; curvature p = {self.p_curvature:.2g}, pattern "
+                f"p = {self.p_pattern:.2g}, {self.points} vertices)")
+
+
+def morans_i(values: np.ndarray, edges: np.ndarray) -> tuple[float, float]:
+    """Moran's I of ``values`` on a graph, and its one-sided p-value for positive
+    autocorrelation.
+
+    Parameters
+    ----------
+    values : (n,) float array
+    edges : (e, 2) int array
+        The graph's edges (each once; weights 1 both ways).
+
+    Returns
+    -------
+    I, p : float
+        ``p`` is small when neighbours' values are alike, as a smooth shape's are and
+        independent noise's are not (normal approximation under the normality null, Cliff &
+        Ord 1981). ``(0, 1)`` for constant values or no edges.
+    """
+    from scipy.stats import norm
+
+    values = np.asarray(values, dtype=float)
+    edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    n = len(values)
+    z = values - values.mean()
+    weight = 2.0 * len(edges)  # both directions
+    if weight == 0 or not np.any(z):
+        return 0.0, 1.0
+    degree = np.bincount(edges.ravel(), minlength=n).astype(float)
+    moran = (n / weight) * 2.0 * np.sum(z[edges[:, 0]] * z[edges[:, 1]]) / np.sum(z * z)
+    expected = -1.0 / (n - 1)
+    s1, s2 = 2.0 * weight, float(np.sum((2.0 * degree) ** 2))
+    variance = ((n * n * s1 - n * s2 + 3.0 * weight * weight)
+                / ((n * n - 1.0) * weight * weight) - expected**2)
+    score = (moran - expected) / np.sqrt(max(variance, 1e-300))
+    return float(moran), float(norm.sf(score))
+
+
+def plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
+               alpha: float = 0.01) -> PlaneTest:
+    """Test whether ``points`` lie on a plane up to independent noise.
+
+    In the points' principal frame a plane and a quadric height field are fitted by least
+    squares. Two tests at level ``alpha``:
+
+    - an F-test of the quadric's three extra terms, ``F = ((RSS_plane − RSS_quadric) / 3) /
+      (RSS_quadric / (n − 6))`` against F(3, n − 6): curvature above the noise, whose level
+      is the quadric's own residual;
+    - with ``edges``, Moran's I of the plane's residuals (:func:`morans_i`): a shape that no
+      quadric fits (a crease, folds) leaves residuals alike between neighbours, which the
+      F-test would take for noise.
+
+    Parameters
+    ----------
+    points : (n, 3) float array
+    edges : (e, 2) int array, optional
+        Mesh edges between the points (ids into ``points``); without them only the F-test.
+    alpha : float
+        Significance level of both tests, in (0, 1).
+
+    Returns
+    -------
+    PlaneTest
+        ``flat`` when neither test is significant; points on a plane to rounding are flat;
+        6 points or fewer are not (nothing to test: the p-values are NaN).
+
+    Raises
+    ------
+    ValueError
+        For ``alpha`` outside (0, 1) or points that are not (n, 3).
+    """
+    from scipy.stats import f as fisher
+
+    points = np.asarray(points, dtype=float)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise ValueError(f"points must be an (n, 3) array, got shape {points.shape}")
+    if not 0.0 < alpha < 1.0:
+        raise ValueError(f"alpha must be in (0, 1), got {alpha!r}")
+    n = len(points)
+    if n == 0:
+        raise ValueError("no points to test")
+    centroid = points.mean(axis=0)
+    axes = np.linalg.svd(points - centroid, full_matrices=False)[2]  # in-plane, in-plane, normal
+    u, v, w = ((points - centroid) @ axes.T).T
+    plane = np.column_stack([np.ones(n), u, v])
+    quadric = np.column_stack([plane, u * u, u * v, v * v])
+    coefficients = np.linalg.lstsq(plane, w, rcond=None)[0]
+    residual = w - plane @ coefficients
+    rss_plane = float(residual @ residual)
+    rss_quadric = float(np.sum((w - quadric @ np.linalg.lstsq(quadric, w, rcond=None)[0])**2))
+    normal = axes[2] - coefficients[1] * axes[0] - coefficients[2] * axes[1]
+    normal /= np.linalg.norm(normal)
+    centre = centroid + coefficients[0] * axes[2]
+    if n <= 6:  # as many unknowns as points: nothing to test
+        return PlaneTest(False, float("nan"), float("nan"), centre, normal, float("nan"), n)
+    if rss_plane <= (1e-12 * float(np.ptp(u) + np.ptp(v))) ** 2 * n:  # a plane to rounding
+        return PlaneTest(True, 1.0, 1.0, centre, normal, 0.0, n)
+    dof = n - 6
+    F = ((rss_plane - rss_quadric) / 3.0) / max(rss_quadric / dof, 1e-300)
+    p_curvature = float(fisher.sf(F, 3, dof))
+    p_pattern = morans_i(residual, edges)[1] if edges is not None else 1.0
+    return PlaneTest(bool(p_curvature >= alpha and p_pattern >= alpha), p_curvature,
+                     p_pattern, centre, normal, float(np.sqrt(rss_quadric / dof)), n)
