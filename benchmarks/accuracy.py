@@ -56,9 +56,11 @@ import peers  # noqa: E402
 ALL_METHODS = ("fair", "fair1", "fair3", "conformal", "conformal_raw", "conformal_smooth",
                "conformal_grid", "conformal_grid_raw", "conformal_cdt", "conformal_cdt_raw",
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
-               "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conventional", "cgal", "cgal3",
-               "meshlib", "pymeshlab", "pymeshfix")
+               "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
+               "conventional", "cgal", "cgal3", "meshlib", "pymeshlab", "pymeshfix")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
+# a row's note where the plane test laid the faired fill on the plane (no self-check ran)
+PLANE_NOTE = "plane test: the faired fill laid on the known surface's plane"
 # the conformal method's variants: their options
 CONFORMAL_VARIANTS = {
     "conformal_raw": {"select": False},  # the λ-H fill itself, without the self-check
@@ -73,6 +75,8 @@ CONFORMAL_VARIANTS = {
     "conformal_cgalref_raw": {"s0_refinement": "cgal", "select": False},
     # the self-check with one sibling hole instead of two (docs/scale.md, session 23)
     "conformal_sib1": {"siblings": 1},
+    # the default before session 26: no plane test (docs/candidates.md, session 26)
+    "conformal_noplane": {"plane_test": False},
 }
 
 
@@ -242,6 +246,8 @@ def _run_ours(method, vertices, faces, loop, **kwargs):
         elif d is not None and d.blended_with:  # counted as a fallback: the λ-H fill failed
             note = (f"failed, used a blend of {d.damping:.2g} λ-H with {d.blended_with}: "
                     f"{r.note}")
+        elif r.plane is not None:  # no self-check ran: not a choice among candidates
+            note = PLANE_NOTE
         elif r.method != method:
             note = f"self-check kept {r.method}"
     return np.asarray(res.vertices), np.asarray(res.faces), dt, note

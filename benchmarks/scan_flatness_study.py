@@ -5,17 +5,18 @@ PyMeshFix) beat the bilaplacian fill: fair2 takes its slopes from the noisy ring
 loop and carries the noise into the fill. This study measures a rule that needs no tuned
 distance threshold:
 
-- the **flatness test** (:func:`flatness_test`): in the principal frame of the known
-  vertices within ``k`` rings of the loop, fit a plane and a quadric height field by least
-  squares and compare them with an F-test, ``F = ((RSS_plane - RSS_quadric) / 3) /
-  (RSS_quadric / (n - 6))`` against ``F(3, n - 6)``; the noise level is the quadric's own
-  residual. "Flat" when the quadric's three extra terms are not significant at ``alpha``
-  (1 %, fixed a priori), i.e. no curvature is detectable above the noise;
-- the **flat candidate** (:func:`plane_fill`): the fair2 fill's vertices keep their positions
-  along the fitted plane, and their heights above it are the harmonic extension of the loop's
-  heights (a membrane against the plane: the loop's noise is averaged, not extrapolated as a
+- the **flatness test** (``geometry.flatness.plane_test``, through the default fill's
+  ``fill.conformal.method.known_plane``): in the principal frame of the known vertices
+  within ``k`` rings of the loop, a plane and a quadric height field fitted by least
+  squares and compared by an F-test (the noise level is the quadric's own residual), and
+  Moran's I of the plane's residuals (noise is independent between neighbours, a shape is
+  not). "Flat" when neither is significant at ``alpha`` (1 %, fixed a priori);
+- the **flat candidate** (``fill.liepa.baseline.laid_on_plane``): the fair2 fill's vertices
+  keep their positions along the fitted plane, and their heights above it are the harmonic
+  extension of the loop's heights (the loop's noise is averaged, not extrapolated as a
   slope). The loop and every original vertex stay where they are.
-- the rule: flat verdict → flat candidate, else the default fill (``conformal``).
+- the rule: flat verdict → flat candidate, else the default fill as it was before
+  (``conformal_noplane``). Adopted in session 26 with k = 2: today's ``conformal``.
 
 Holes: the manifest's tuning half (``benchmarks/holes_manifest.json``, split "tuning" only)
 and extra simulated scans of tuning-half sources (:data:`EXTRA`: new views and seeds), their
@@ -52,14 +53,15 @@ import holes_manifest  # noqa: E402
 import validation  # noqa: E402
 import validation_meshes as vm  # noqa: E402
 
-from surfinpaint.fill.liepa.baseline import faired_fills  # noqa: E402
-from surfinpaint.fill.liepa.fairing import fair  # noqa: E402
-from surfinpaint.geometry.mesh import k_ring, mean_edge_length  # noqa: E402
+from surfinpaint.fill.conformal.method import PLANE_ALPHA, known_plane  # noqa: E402
+from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane  # noqa: E402
+from surfinpaint.geometry.mesh import mean_edge_length  # noqa: E402
 from surfinpaint.geometry.metrics import hole_patch_of, surface_distance  # noqa: E402
 
-ALPHA = 0.01  # the flatness test's significance level, fixed before any run
+ALPHA = PLANE_ALPHA  # the tests' significance level, fixed before any run
 RINGS = (2, 3, 4, 6)  # the k compared on the tuning side
-OURS = ("fair", "fair3", "conformal")
+# "conformal_noplane" is the default before the plane test was adopted; "conformal" today's
+OURS = ("fair", "fair3", "conformal_noplane", "conformal")
 PEERS = ("pymeshlab", "pymeshfix", "meshlib")
 
 # extra simulated scans of TUNING-half sources: (source id, view, seed[, noise in pixels,
@@ -102,112 +104,13 @@ EXTRA = {
 # --------------------------------------------------------------------------- the test
 
 
-def _frame(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Centre and principal axes (rows: two in-plane directions, then the normal)."""
-    c = points.mean(axis=0)
-    _, _, vt = np.linalg.svd(points - c, full_matrices=False)
-    return c, vt
-
-
-def morans_i(values: np.ndarray, edges: np.ndarray) -> tuple[float, float]:
-    """Moran's I of ``values`` over the graph ``edges`` (binary symmetric weights) and its
-    one-sided p-value for positive spatial autocorrelation (normal approximation under the
-    normality null, Cliff & Ord 1981): small when neighbours' values are alike, as a smooth
-    shape's are and independent noise's are not."""
-    from scipy.stats import norm
-
-    n = len(values)
-    z = values - values.mean()
-    deg = np.bincount(edges.ravel(), minlength=n).astype(float)
-    W = 2.0 * len(edges)  # both directions
-    if W == 0 or not np.any(z):
-        return 0.0, 1.0
-    I = (n / W) * 2.0 * np.sum(z[edges[:, 0]] * z[edges[:, 1]]) / np.sum(z * z)
-    expected = -1.0 / (n - 1)
-    S1, S2 = 2.0 * W, float(np.sum((2.0 * deg) ** 2))
-    var = (n * n * S1 - n * S2 + 3.0 * W * W) / ((n * n - 1.0) * W * W) - expected ** 2
-    score = (I - expected) / np.sqrt(max(var, 1e-300))
-    return float(I), float(norm.sf(score))
-
-
-def flatness_test(points: np.ndarray, edges: np.ndarray | None = None,
-                  alpha: float = ALPHA) -> dict:
-    """Is the known surface around a hole (``points``) a plane under noise? Two tests at
-    level ``alpha``, fixed a priori:
-
-    - an F-test of a quadric height field against a plane (principal frame of the points):
-      the quadric's three extra terms significant means curvature above the noise, whose
-      level is the quadric's own residual;
-    - with ``edges`` (the mesh edges between the points, local ids), Moran's I of the
-      plane's residuals: noise is independent from vertex to vertex, a shape the plane
-      misses (a crease, folds, anything no quadric fits) is not.
-
-    Returns ``{"flat", "flat_F", "F", "p", "moran", "p_moran", "n", "rss_plane",
-    "rss_quadric", "sigma", "centre", "normal"}``: ``flat_F`` is the F-test's verdict alone,
-    ``flat`` both tests' (neither significant); a plane that fits to rounding is flat;
-    ``centre`` and ``normal`` are the least-squares plane's; ``sigma`` the noise level from
-    the quadric's residual.
-    """
-    from scipy.stats import f as fisher
-
-    points = np.asarray(points, dtype=float)
-    n = len(points)
-    c, axes = _frame(points)
-    u, v, w = ((points - c) @ axes.T).T
-    plane = np.column_stack([np.ones(n), u, v])
-    quad = np.column_stack([plane, u * u, u * v, v * v])
-    coef0, *_ = np.linalg.lstsq(plane, w, rcond=None)
-    coef1, *_ = np.linalg.lstsq(quad, w, rcond=None)
-    residual = w - plane @ coef0
-    rss0 = float(np.sum(residual ** 2))
-    rss1 = float(np.sum((w - quad @ coef1) ** 2))
-    normal = axes[2] - coef0[1] * axes[0] - coef0[2] * axes[1]
-    normal /= np.linalg.norm(normal)
-    centre = c + coef0[0] * axes[2]
-    out = {"n": n, "rss_plane": rss0, "rss_quadric": rss1, "centre": centre.tolist(),
-           "normal": normal.tolist()}
-    size = float(np.ptp(u) + np.ptp(v))
-    if n <= 6 or rss0 <= (1e-12 * size) ** 2 * n:  # a plane to rounding (or too few points)
-        return {**out, "flat": True, "flat_F": True, "F": 0.0, "p": 1.0, "moran": 0.0,
-                "p_moran": 1.0, "sigma": 0.0}
-    dof = n - 6
-    F = ((rss0 - rss1) / 3.0) / max(rss1 / dof, 1e-300)
-    p = float(fisher.sf(F, 3, dof))
-    moran, p_moran = (morans_i(residual, np.asarray(edges)) if edges is not None
-                      else (0.0, 1.0))
-    return {**out, "flat": bool(p >= alpha and p_moran >= alpha), "flat_F": bool(p >= alpha),
-            "F": float(F), "p": p, "moran": moran, "p_moran": p_moran,
-            "sigma": float(np.sqrt(rss1 / dof))}
-
-
-def ring_points(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, rings: int
-                ) -> tuple[np.ndarray, np.ndarray]:
-    """The known vertices within ``rings`` rings of the loop (the loop included) and the mesh
-    edges between them (local ids)."""
-    from surfinpaint.geometry.mesh import unique_edges
-
-    mask = k_ring(faces, np.asarray(loop), rings, len(vertices))
-    local = np.full(len(vertices), -1)
-    local[mask] = np.arange(int(mask.sum()))
-    edges = unique_edges(faces[mask[faces].all(axis=1)])[0]
-    return vertices[mask], local[edges]
-
-
-def plane_fill(vertices: np.ndarray, faces: np.ndarray, new_vertices: np.ndarray,
-               patch: np.ndarray, centre, normal) -> np.ndarray:
-    """The flat candidate: ``new_vertices`` (a fill's, e.g. fair2's) keep their positions
-    along the plane (``centre``, ``normal``); their heights above it become the harmonic
-    extension of the loop's heights over the patch (cotangent weights of the given fill).
-    Original vertices do not move; returns the new vertices' positions."""
-    n = len(vertices)
-    allv = np.vstack([vertices, new_vertices])
-    allf = np.vstack([faces, patch])
-    free = np.arange(n, len(allv))
-    membrane = fair(allv, allf, free, order=1)[n:]
-    normal = np.asarray(normal, dtype=float)
-    height = (membrane - centre) @ normal
-    along = new_vertices - np.outer((new_vertices - centre) @ normal, normal)
-    return along + np.outer(height, normal)
+def plane_verdict(cut, k: int):
+    """The plane test of the known vertices within ``k`` rings of the cut's loop (the
+    default fill's own, :func:`surfinpaint.fill.conformal.method.known_plane`), as a row's
+    record: ``flat`` both tests' verdict, ``flat_F`` the F-test's alone."""
+    t = known_plane(cut.vertices, cut.faces, cut.loop, rings=k)
+    return t, {"flat": t.flat, "flat_F": bool(t.p_curvature >= ALPHA), "p": t.p_curvature,
+               "p_moran": t.p_pattern, "n": t.points, "sigma": t.noise}
 
 
 # --------------------------------------------------------------------------- the holes
@@ -255,11 +158,9 @@ def hole_row(cut, methods, n_samples: int) -> dict:
         nv, patch, _ = faired_fills(cut.vertices, cut.faces, cut.loop, (2,))[2]
     row["errors"]["fair2_ref"] = _error(cut, nv, patch, n_samples)
     for k in RINGS:
-        t = flatness_test(*ring_points(cut.vertices, cut.faces, cut.loop, k))
-        flat_v = plane_fill(cut.vertices, cut.faces, nv, patch, t["centre"], t["normal"])
+        t, row["tests"][str(k)] = plane_verdict(cut, k)
+        flat_v = laid_on_plane(cut.vertices, cut.faces, nv, patch, t.centre, t.normal)
         row["errors"][f"plane{k}"] = _error(cut, flat_v, patch, n_samples)
-        row["tests"][str(k)] = {a: t[a] for a in ("flat", "flat_F", "F", "p", "moran",
-                                                  "p_moran", "n", "sigma")}
     return row
 
 
@@ -302,9 +203,15 @@ def run(which: str, out: Path, methods, n_samples: int, only=None) -> None:
 VERDICTS = {"flat": "F-test and Moran's I", "flat_F": "F-test alone"}
 
 
-def _rule(row: dict, k: int, verdict: str = "flat", default: str = "conformal") -> float:
+def _default(row: dict) -> float:
+    """The default fill without the plane test (rows made before it was adopted: their
+    "conformal")."""
     e = row["errors"]
-    return e[f"plane{k}"] if row["tests"][str(k)][verdict] else e[default]
+    return e["conformal_noplane"] if "conformal_noplane" in e else e["conformal"]
+
+
+def _rule(row: dict, k: int, verdict: str = "flat") -> float:
+    return row["errors"][f"plane{k}"] if row["tests"][str(k)][verdict] else _default(row)
 
 
 def summary(rows: list[dict], label: str) -> str:
@@ -312,7 +219,7 @@ def summary(rows: list[dict], label: str) -> str:
              "| test | k | flat verdicts | rule / default (median) | worse > 10 % "
              "| better > 10 % | > 1.5x best faired: default, rule | median % default, rule |",
              "|---|---|---|---|---|---|---|---|"]
-    dflt = np.array([r["errors"]["conformal"] for r in rows])
+    dflt = np.array([_default(r) for r in rows])
     best = np.array([min(r["errors"]["fair"], r["errors"]["fair3"]) for r in rows])
     for verdict, k in [(a, k) for a in VERDICTS for k in RINGS]:
         rule = np.array([_rule(r, k, verdict) for r in rows])
@@ -328,7 +235,8 @@ def summary(rows: list[dict], label: str) -> str:
 
 
 def per_mesh(rows: list[dict], k: int) -> str:
-    methods = [m for m in ("fair", "fair3", "conformal", *PEERS, f"plane{k}")
+    methods = [m for m in ("fair", "fair3", "conformal_noplane", "conformal", *PEERS,
+                           f"plane{k}")
                if m in rows[0]["errors"]]
     lines = [f"per mesh, median % (k = {k}; flat = holes with a flat verdict)", "",
              "| mesh | flat | " + " | ".join(methods) + " | rule |",
@@ -350,7 +258,7 @@ def flagged(rows: list[dict], k: int) -> str:
         if t["flat_F"]:
             e = r["errors"]
             lines.append(f"  {'*' if t['flat'] else ' '} {r['mesh']} #{r['hole']}: "
-                         f"{e['conformal']:.3f} {e[f'plane{k}']:.3f} {e['fair']:.3f} "
+                         f"{_default(r):.3f} {e[f'plane{k}']:.3f} {e['fair']:.3f} "
                          f"{e['fair3']:.3f}  p={t['p']:.3g} p_moran={t['p_moran']:.3g}")
     return "\n".join(lines)
 

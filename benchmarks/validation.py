@@ -169,9 +169,15 @@ def headline(rows: list[dict], methods: list[str]) -> dict:
             key = note[:100]
             reasons[key] = reasons.get(key, 0) + 1
         out[f"{meth}_fallback"] = (len(fell), len(mine), reasons)
-    # the self-check as a chooser among its candidates
+    # the self-check as a chooser among its candidates, where it ran (not where the plane
+    # test laid the faired fill on the plane)
+    planar = {(r["case"], r["hole"]) for r in rows
+              if r["method"] == DEFAULT and r["note"] == accuracy.PLANE_NOTE}
+    out["plane_holes"] = len(planar)
     chosen_best, regret = 0, []
     for k in holes:
+        if k in planar:
+            continue
         cands = [err[(m, *k)] for m in CANDIDATES if (m, *k) in err]
         if (DEFAULT, *k) not in err or len(cands) < len(CANDIDATES):
             continue
@@ -236,6 +242,8 @@ def report(rows: list[dict], methods: list[str], split: str) -> str:
         lines.append(f"| {meth}: λ-H failed, fell back | {k} / {t} "
                      f"({100 * k / max(t, 1):.1f} %) | ≤ 2 % |")
     lines += [
+        f"| holes laid on their plane by the plane test (no self-check) | "
+        f"{hl['plane_holes']} | |",
         f"| self-check picks the best of fair/fair3/conformal_raw (within 1 %) | {cb} / {cn} "
         f"({100 * cb / max(cn, 1):.0f} %) | ≥ 70 % |",
         f"| self-check median regret (chosen / best candidate) | "

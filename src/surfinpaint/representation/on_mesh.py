@@ -57,22 +57,18 @@ DIVERGED = 10.0
 SETTLED = 1e-2
 # steps mixed by Anderson acceleration (measured: a quarter fewer solves, same fills)
 ANDERSON = 3
-# Newton's method where the lagged iteration fails: each step at most TRUST mean edge
-# lengths, LINE_SEARCH halvings. GMRES (large patches) solves a step to the relative
-# tolerance min(NEWTON_FORCING, max(|R|, NEWTON_RTOL)), |R| the residual in edge lengths,
-# with up to GMRES_RESTART products: an inexact Newton method (Dembo, Eisenstat & Steihaug
-# 1982) whose forcing term falls with the residual, so it converges as fast as the exact one
-# near a root. Far from it, a step is cut to TRUST edge lengths anyway, and solving it to
-# 1e-3 took 47 of the 60 products a step (cow #3's Newton stages: 2821 products, 2.6 s)
+# Newton's method where the lagged iteration fails: steps of at most TRUST mean edge
+# lengths, LINE_SEARCH halvings; on large patches GMRES (≤ GMRES_RESTART products) to the
+# relative tolerance min(NEWTON_FORCING, max(|R|, NEWTON_RTOL)), |R| the residual in edge
+# lengths: inexact Newton (Dembo, Eisenstat & Steihaug 1982), as fast as exact near a root;
+# far from one a step is cut to TRUST anyway (to 1e-3 throughout: 47 products a step).
+# It stops where a step leaves |R| above NEWTON_STALL of what it was NEWTON_STALL_STEPS
+# steps before (no stage that stalled so went on to converge; docs/convergence.md, s. 26)
 TRUST = 2.0
 NEWTON_RTOL = 1e-3
 NEWTON_FORCING = 0.1
 GMRES_RESTART = 60
 LINE_SEARCH = 8
-# Newton's method gives up when a step leaves the residual above NEWTON_STALL of what it
-# was NEWTON_STALL_STEPS steps before: stalled (a local minimum of |R| that is not a root).
-# On the tuning half's Newton stages no stage that stalled so went on to converge; pial #6's
-# stage crept from 0.49 to 0.48 edge lengths in its last 20 steps (session 26)
 NEWTON_STALL = 0.99
 NEWTON_STALL_STEPS = 3
 # Newton's steps solve with the update's dense analytic Jacobian up to this many free
@@ -540,10 +536,9 @@ def _newton_solve(system, points, tol, steps):
     driven to zero by Newton steps, each bounded to ``TRUST`` edge lengths and halved until
     ``|R|`` decreases: solved exactly with R's analytic Jacobian on patches of at most
     ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by GMRES
-    on its exact products on larger ones (Newton–Krylov, :class:`.UpdateDerivative`, to a
-    relative tolerance that falls with the residual). It stops at ``tol``, after ``steps``
-    steps, or where the residual stalls (``NEWTON_STALL``); it fails where the residual is
-    then above ``SETTLED``.
+    on its exact products (:class:`.UpdateDerivative`) to ``NEWTON_FORCING`` on larger ones.
+    It stops at ``tol``, after ``steps`` steps, or where the residual stalls; it fails where
+    the residual is then above ``SETTLED``.
 
     Why: on strongly curved patches (a white-matter sulcus, 1-2 edge lengths of curvature
     radius) the lagged map amplifies the smooth modes, so its first step overshoots by ten
@@ -562,8 +557,7 @@ def _newton_solve(system, points, tol, steps):
     ended, converged = f"after {steps} steps", False
     for step in range(steps):
         size = sizes[-1]
-        if size < tol:
-            converged = True
+        if converged := size < tol:
             break
         if step >= NEWTON_STALL_STEPS and size > NEWTON_STALL * sizes[-1 - NEWTON_STALL_STEPS]:
             ended = f"where it stalls, after {step} steps"

@@ -135,11 +135,12 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                   crossed=candidates.crossed)
 
 
-def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -> PlaneTest:
-    """:func:`~surfinpaint.geometry.flatness.plane_test` of the known vertices within
-    ``PLANE_RINGS`` rings of the loop (the loop's included), with the mesh edges between
-    them."""
-    near = k_ring(faces, loop, PLANE_RINGS, len(vertices))
+def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
+                rings: int = PLANE_RINGS) -> PlaneTest:
+    """:func:`~surfinpaint.geometry.flatness.plane_test` (at ``PLANE_ALPHA``) of the known
+    vertices within ``rings`` rings of the loop (the loop's included), with the mesh edges
+    between them."""
+    near = k_ring(faces, loop, rings, len(vertices))
     local = np.full(len(vertices), -1)
     local[near] = np.arange(int(near.sum()))
     edges = unique_edges(faces[near[faces].all(axis=1)])[0]

@@ -1,0 +1,139 @@
+"""The plane test (``geometry.flatness``) on analytic cases, the fill laid on a plane
+(``fill.liepa.baseline.laid_on_plane``), and the conformal fill's use of both
+(``ConformalOptions.plane_test``, docs/candidates.md "Session 26")."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import grid_mesh
+
+from surfinpaint import ConformalOptions
+from surfinpaint.fill.conformal import conformal_fill
+from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.flatness import morans_i, plane_test
+
+ALPHA = 0.01
+
+
+def annulus(seed: int, height, noise: float = 0.01) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices of a 41 x 41 grid over [-1, 1]^2 in the annulus 0.5 <= r <= 1 (a ring of
+    known surface around a hole), lifted to ``height(u, v)`` plus Gaussian noise, tilted and
+    shifted (the test must not depend on the axes), and the grid edges between them."""
+    v, f = grid_mesh(40, 40)
+    uv = 2.0 * v[:, :2] - 1.0
+    r = np.linalg.norm(uv, axis=1)
+    keep = (r >= 0.5) & (r <= 1.0)
+    local = np.full(len(v), -1)
+    local[keep] = np.arange(keep.sum())
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    e = np.unique(np.sort(e[keep[e].all(axis=1)], axis=1), axis=0)
+    w = height(uv[keep, 0], uv[keep, 1])
+    w = w + np.random.default_rng(seed).normal(0, noise, len(w))
+    a = np.radians(35.0)
+    rot = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+    points = np.column_stack([uv[keep], w]) @ rot.T + np.array([3.0, -1.0, 2.0])
+    return points, local[e]
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_noisy_plane_is_flat(seed):
+    t = plane_test(*annulus(seed, lambda u, v: 0.2 * u - 0.1 * v), alpha=ALPHA)
+    assert t.flat and t.p_curvature >= ALPHA and t.p_pattern >= ALPHA
+    assert t.noise == pytest.approx(0.01, rel=0.2)  # the noise, from the residual
+    # the plane: the tilted z = 0.2 u - 0.1 v through (3, -1, 2)
+    a = np.radians(35.0)
+    rot = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+    expected = rot @ np.array([-0.2, 0.1, 1.0])
+    expected /= np.linalg.norm(expected)
+    assert abs(t.normal @ expected) == pytest.approx(1.0, abs=1e-4)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_noisy_sphere_patch_is_curved(seed):
+    radius = 4.0  # sagitta at the rim 1/8 of a unit: 12 noise levels
+    t = plane_test(*annulus(seed, lambda u, v: radius - np.sqrt(radius**2 - u * u - v * v)),
+                   alpha=ALPHA)
+    assert not t.flat and t.p_curvature < 1e-6
+
+
+def test_folds_no_quadric_fits_are_not_flat():
+    # ripples: the quadric fits no better than the plane (the F-test alone says flat), but
+    # the plane's residuals are alike between neighbours (Moran's I: not noise)
+    points, edges = annulus(0, lambda u, v: 0.05 * np.sin(9 * u) * np.cos(9 * v), noise=0.0)
+    t = plane_test(points, edges, alpha=ALPHA)
+    assert t.p_curvature >= ALPHA and not t.flat and t.p_pattern < 1e-6
+    assert plane_test(points, alpha=ALPHA).flat  # without the edges: the F-test alone
+
+
+@pytest.mark.parametrize(("case", "flat"), [
+    ("an exact plane", True),  # a plane to rounding: flat, noise 0
+    ("six points", False),  # as many unknowns as points: nothing to test
+])
+def test_degenerate_inputs(case, flat):
+    if case == "an exact plane":
+        t = plane_test(*annulus(0, lambda u, v: 0.0 * u, noise=0.0))
+        assert t.noise == 0.0
+    else:
+        t = plane_test(np.random.default_rng(0).random((6, 3)))
+        assert np.isnan(t.p_curvature)
+    assert t.flat is flat
+
+
+@pytest.mark.parametrize("bad", [0.0, 1.0, -0.5])
+def test_a_significance_level_outside_0_1_is_an_error(bad):
+    with pytest.raises(ValueError, match="alpha"):
+        plane_test(np.zeros((10, 3)), alpha=bad)
+
+
+def test_moran_s_i_tells_a_smooth_field_from_noise():
+    points, edges = annulus(0, lambda u, v: 0.0 * u, noise=0.0)
+    smooth = points[:, 0]  # a linear field: neighbours alike
+    noise = np.random.default_rng(1).standard_normal(len(points))
+    assert morans_i(smooth, edges)[1] < 1e-12
+    assert morans_i(noise, edges)[1] > 0.01
+    assert morans_i(np.ones(len(points)), edges) == (0.0, 1.0)
+
+
+def _noisy_plane_hole(noise: float, bump: float = 0.0, seed: int = 0):
+    """A hole in a tilted 31 x 31 grid with noise normal to it (and a bump of height
+    ``bump`` over the whole grid): the cut, and the plane's unit normal."""
+    v, f = grid_mesh(30, 30)
+    u, w = 2.0 * v[:, 0] - 1.0, 2.0 * v[:, 1] - 1.0
+    z = bump * (1.0 - u * u - w * w) + np.random.default_rng(seed).normal(0, noise, len(v))
+    v = np.column_stack([u, w, 0.3 * u + z])
+    cut = cut_geodesic_disk(v, f, np.array([0.0, 0.0, 0.0]), 0.3)
+    normal = np.array([-0.3, 0.0, 1.0]) / np.linalg.norm([-0.3, 0.0, 1.0])
+    return cut, normal
+
+
+def test_the_fill_laid_on_a_plane_keeps_the_loop_and_follows_its_heights():
+    v, f = grid_mesh(16, 16)
+    cut = cut_geodesic_disk(v, f, np.array([0.5, 0.5, 0.0]), 0.3)
+    w = cut.vertices.copy()
+    w[cut.loop, 2] = 0.01  # the loop raised: the membrane is the plane z = 0.01
+    nv, patch, _ = faired_fills(w, cut.faces, cut.loop, (2,))[2]
+    out = laid_on_plane(w, cut.faces, nv, patch, np.zeros(3), np.array([0.0, 0.0, 1.0]))
+    assert len(out) == len(nv) > 0
+    np.testing.assert_allclose(out[:, 2], 0.01, atol=1e-12)
+    np.testing.assert_allclose(out[:, :2], nv[:, :2], atol=1e-12)  # along the plane: fair2's
+
+
+@pytest.mark.parametrize(("noise", "bump", "laid"), [
+    (0.004, 0.0, True),  # a noisy plane: the faired fill laid on it
+    (0.004, 0.3, False),  # a noisy dome: curved, the self-check decides as before
+])
+def test_the_conformal_fill_lays_a_noisy_flat_hole_on_its_plane(noise, bump, laid):
+    cut, normal = _noisy_plane_hole(noise, bump)
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop)
+    off = conformal_fill(cut.vertices, cut.faces, cut.loop, ConformalOptions(plane_test=False))
+    assert (fill.plane is not None) is laid and off.plane is None
+    if laid:
+        assert fill.kind == "fair" and fill.plane.flat and "plane" in fill.selection
+        # closer to the noise-free plane than the faired fill the self-check writes
+        height = np.abs(fill.vertices @ normal)  # the noise-free plane: z = 0.3 x
+        height_off = np.abs(off.vertices @ normal)
+        assert height.mean() < height_off.mean()
+    else:
+        np.testing.assert_array_equal(fill.vertices, off.vertices)
