@@ -350,7 +350,7 @@ def score(cut: CutResult, method: str, case: str, hole: int, radius_h: float,
         traceback.print_exc(limit=2, file=sys.stderr)
         return row
     row.seconds, row.note = dt, note
-    if note.startswith("self-check"):
+    if note.startswith("self-check") or note == PLANE_NOTE:  # another fill chosen: no failure
         row.status = "selected"
     elif note:
         row.status = "fallback"

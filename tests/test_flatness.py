@@ -137,3 +137,32 @@ def test_the_conformal_fill_lays_a_noisy_flat_hole_on_its_plane(noise, bump, lai
         assert height.mean() < height_off.mean()
     else:
         np.testing.assert_array_equal(fill.vertices, off.vertices)
+
+
+def test_the_command_line_lays_a_flat_hole_on_its_plane_unless_told_not_to(tmp_path, capsys):
+    import json
+
+    from surfinpaint.app.cli import main
+    from surfinpaint.fill.pipeline import fill_holes
+    from surfinpaint.io.formats import read_mesh, write_mesh
+
+    cut, _ = _noisy_plane_hole(0.004)
+    path = tmp_path / "scan.ply"
+    write_mesh(path, cut.vertices, cut.faces)
+    written = {}
+    for flags, options in (([], ConformalOptions()),
+                           (["--no-plane-test"], ConformalOptions(plane_test=False))):
+        out, report = tmp_path / "out.ply", tmp_path / "report.json"
+        assert main(["fill", str(path), "-o", str(out), "-q", "--json", str(report),
+                     *flags]) == 0
+        expected = fill_holes(cut.vertices, cut.faces, options=options).vertices
+        written[bool(flags)] = read_mesh(out)[0]
+        np.testing.assert_allclose(written[bool(flags)], expected, rtol=0, atol=1e-6)
+        (hole,) = json.loads(report.read_text())["holes"]
+        assert (hole["plane"] is None) is bool(flags)
+        if not flags:
+            assert hole["plane"]["p_curvature"] >= ALPHA and hole["outcome"] == "faired"
+    assert not np.allclose(written[False], written[True])
+    assert main(["fill", str(path), "-o", str(tmp_path / "x.ply"), "--method", "fair",
+                 "--no-plane-test"]) == 2
+    assert "--no-plane-test" in capsys.readouterr().err

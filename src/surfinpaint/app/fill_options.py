@@ -61,11 +61,13 @@ def _conformal_options(args: argparse.Namespace):
         given = [flag for flag, value in (
             ("--discretization grid", args.discretization == "grid"),
             ("--no-creases", args.no_creases), ("--crease-angle", args.crease_angle),
+            ("--no-plane-test", args.no_plane_test),
             ("--inpaint", args.inpaint), ("--reconstruct", args.reconstruct)) if value]
         if given:
             raise UsageError(f"{', '.join(given)}: options of --method conformal")
         return None
-    kw = {"discretization": args.discretization, "creases": not args.no_creases}
+    kw = {"discretization": args.discretization, "creases": not args.no_creases,
+          "plane_test": not args.no_plane_test}
     if args.crease_angle is not None:
         kw["crease_angle"] = args.crease_angle
     if args.discretization == "grid":
@@ -107,6 +109,10 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
     p.add_argument("--no-creases", action="store_true",
                    help="fill every hole as smooth (by default a sharp crease that crosses a "
                    "hole is continued across it and each side filled on its own)")
+    p.add_argument("--no-plane-test", action="store_true",
+                   help="never lay a hole's faired fill on the plane of the surface around "
+                   "it (by default, where that surface is a plane within its noise, as on "
+                   "a range scan's flat face, it is, and no self-check runs)")
     p.add_argument("--crease-angle", type=float, metavar="DEG",
                    help="turn between neighbouring faces (degrees) above which an edge is "
                    "part of a crease (default 60)")

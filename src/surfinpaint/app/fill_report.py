@@ -159,6 +159,8 @@ def _verdict(report: HoleReport) -> str:
         return "λ-H kept"
     if report.fallback:
         return f"the λ-H fill failed ({report.fallback})"
+    if report.plane is not None:
+        return report.note or "the faired fill laid on the plane of the surface around it"
     if not report.self_check:
         return "no self-check possible here: the faired fill kept"
     return f"{FAIRING.get(report.fair_order, 'faired')} fill kept"
@@ -275,6 +277,7 @@ class HoleRecord:
     crease_failure: str | None
     note: str | None
     crossings: int = 0
+    plane: dict[str, float] | None = None
 
     @classmethod
     def of(cls, r: HoleReport) -> HoleRecord:
@@ -289,7 +292,11 @@ class HoleRecord:
                    reason=r.skipped if r.outcome in ("skipped", "failed") else None,
                    lambda_h_failure=r.fallback, self_check=r.self_check, crease=r.crease,
                    crease_failure=r.crease_failure, note=r.note,
-                   crossings=int(r.crossings))
+                   crossings=int(r.crossings),
+                   plane=None if r.plane is None else {
+                       "p_curvature": float(r.plane.p_curvature),
+                       "p_pattern": float(r.plane.p_pattern), "noise": float(r.plane.noise),
+                       "vertices": int(r.plane.points)})
 
     def to_json(self) -> dict[str, Any]:
         """As JSON types: a failed candidate's score is null and named in ``failed``."""
