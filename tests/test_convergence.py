@@ -15,7 +15,6 @@ from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mean_value import bad_faces, untangle
 from surfinpaint.geometry.parameterization import collapsed_faces, flipped_faces
-from surfinpaint.representation import on_mesh
 
 RAW = ConformalOptions(select=False)
 
@@ -499,53 +498,3 @@ def test_a_lattice_fill_read_back_at_folded_map_positions_is_read_again_at_tutte
     np.testing.assert_array_equal(kept, at_start)
     plain = mesh_pass._read_back(lattice, solution, quadric(uv), faces, uv, free, n_fill)
     np.testing.assert_array_equal(plain, lattice.read_back(solution, quadric(uv)))
-
-
-class _ScalarFixedPoint:
-    """A stand-in for the coupled system: one free vertex whose fixed-point residual is
-    ``R(x) = x − target`` in every coordinate (``update(φ) = 2 φ_f − target``)."""
-
-    f = np.array([0])
-    scale = 1.0
-
-    def __init__(self, target):
-        self.target = target
-
-    def update(self, phi):
-        return 2.0 * phi[self.f] - self.target
-
-
-@pytest.mark.parametrize(("contraction", "floor", "ends"), [
-    (0.5, 0.0, "converges"),  # a slow Newton: half its step each time, still converges
-    (0.996, 0.0, "runs out of steps"),  # creeping (0.988 over three steps): not a stall
-    (0.998, 0.0, "stalls"),  # 0.994 over three steps: above NEWTON_STALL
-    (0.5, 0.5, "stalls"),  # the residual's minimum is 0.5 edge lengths: no root
-    (0.5, 5e-3, "converges"),  # stalls below SETTLED: near enough, as after the last step
-])
-def test_newton_s_method_gives_up_where_its_residual_stalls(monkeypatch, contraction, floor,
-                                                            ends):
-    # Newton's steps that cut the residual by ``contraction`` each (towards ``floor``,
-    # where it has a minimum that is not a root): it stops where three steps leave it above
-    # NEWTON_STALL of what it was; a residual that is still falling runs to its last step
-    assert on_mesh.NEWTON_STALL_STEPS == 3 and on_mesh.NEWTON_STALL == 0.99
-    system = _ScalarFixedPoint(target=0.0)
-    steps = []
-
-    def step(system, points, x, r):
-        steps.append(float(np.abs(r).max()))
-        size = np.abs(r)
-        return -np.sign(r) * (1.0 - contraction) * np.maximum(size - floor, 0.0)
-
-    monkeypatch.setattr(on_mesh, "newton_step", step)
-    points = np.full((1, 3), 1.0)
-    if ends == "converges":
-        out = on_mesh._newton_solve(system, points, 1e-3, 30)
-        residual = np.abs(system.update(out) - out[0]).max()
-        assert residual < (1e-3 if floor == 0.0 else on_mesh.SETTLED)
-        return
-    with pytest.raises(FillError, match="does not settle under Newton") as caught:
-        on_mesh._newton_solve(system, points, 1e-3, 30)
-    if ends == "stalls":
-        assert "stalls" in str(caught.value) and len(steps) < 30
-    else:
-        assert "after 30 steps" in str(caught.value) and len(steps) == 30
