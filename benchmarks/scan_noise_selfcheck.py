@@ -62,8 +62,8 @@ from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
 from surfinpaint.fill.conformal.method import known_plane  # noqa: E402
 from surfinpaint.fill.conformal.selection import _said, choose, sibling_test_plan  # noqa: E402
 from surfinpaint.fill.selfcheck import (  # noqa: E402
+    advantages_over,
     hidden_ring_scores,
-    paired_advantage,
     sibling_scores,
 )
 from surfinpaint.geometry.cutting import edge_graph  # noqa: E402
@@ -75,27 +75,6 @@ METHODS = ("fair", "fair3", "conformal")
 
 
 # --------------------------------------------------------------------------- the replay
-
-
-def _advantages(hidden_detail: dict, sibling_detail: list) -> dict:
-    """Each candidate's advantage over fair2 and its standard error, per test."""
-    out = {}
-    if hidden_detail:
-        d, g = hidden_detail["distances"], hidden_detail["groups"]
-        out["adv_hidden"] = {name: paired_advantage(d["fair2"], d[name], g)
-                         for name in d if name != "fair2" and "fair2" in d}
-        out["hidden_faces"] = int(len(np.unique(g)))
-    if sibling_detail:
-        per = {}
-        for rec in sibling_detail:
-            d, g = rec["distances"], rec["groups"]
-            for name in d:
-                if name != "fair2" and "fair2" in d:
-                    per.setdefault(name, []).append(paired_advantage(d["fair2"], d[name], g))
-        out["adv_sibling"] = {name: (float(np.mean([a for a, _ in v])),
-                                 float(np.sqrt(sum(s * s for _, s in v)) / len(v)))
-                          for name, v in per.items()}
-    return out
 
 
 def replay(cut) -> dict:
@@ -125,13 +104,13 @@ def replay(cut) -> dict:
                      crossed=candidates.crossed)
     rec.update(hidden=hidden, sibling=sibling, keep=bool(verdict.keep),
                faired=verdict.faired, hidden_said=bool(_said(hidden)),
-               **_advantages(hd, sd))
+               **{"adv_" + k: v for k, v in advantages_over(hd, sd).items()})
     return rec
 
 
-def hole_row(cut, n_samples: int) -> dict:
+def hole_row(cut, n_samples: int, also=()) -> dict:
     row = {"errors": {}, "status": {}, "note": {}}
-    for m in METHODS:
+    for m in (*METHODS, *also):
         r = accuracy.score(cut, m, "x", 0, 0.0, n_samples)
         row["errors"][m] = r.mean_pct if r.status in validation.FILLED else float("nan")
         row["status"][m], row["note"][m] = r.status, r.note
@@ -148,7 +127,7 @@ def holes(which: str):
         yield from sfs.holes("extra")
 
 
-def run(which: str, out: Path, n_samples: int, only=None) -> None:
+def run(which: str, out: Path, n_samples: int, only=None, also=()) -> None:
     done = set()
     if out.exists():
         done = {(r["mesh"], r["hole"]) for r in map(json.loads, out.read_text().splitlines())}
@@ -169,7 +148,7 @@ def run(which: str, out: Path, n_samples: int, only=None) -> None:
             t0 = time.perf_counter()
             cut = validation._cut(mesh, hole)
             row = {"set": set_name, "mesh": mesh_id, "hole": k, "kind": kind,
-                   "radius_h": hole["radius"] / h, **hole_row(cut, n_samples)}
+                   "radius_h": hole["radius"] / h, **hole_row(cut, n_samples, also)}
             row["seconds"] = time.perf_counter() - t0
             with out.open("a") as fh:
                 fh.write(json.dumps(row, default=float) + "\n")
@@ -352,13 +331,16 @@ def main(argv=None) -> None:
     parser.add_argument("--out", default="/tmp/s26noise.jsonl")
     parser.add_argument("--meshes", default=None)
     parser.add_argument("--samples", type=int, default=10000)
+    parser.add_argument("--also", default="", help="more accuracy.py methods to score, "
+                        "comma-separated (e.g. conformal_signif: the rule run for real)")
     parser.add_argument("--tables", nargs="+", default=None)
     args = parser.parse_args(argv)
     if args.tables:
         print(tables([Path(p) for p in args.tables]))
         return
     run(args.set, Path(args.out), args.samples,
-        args.meshes.split(",") if args.meshes else None)
+        args.meshes.split(",") if args.meshes else None,
+        tuple(m for m in args.also.split(",") if m))
 
 
 if __name__ == "__main__":

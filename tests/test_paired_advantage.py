@@ -1,6 +1,7 @@
-"""The self-check's per-sample record and the paired advantage of a candidate over the
-reference (session 26, a noise-aware self-check on scans: measured on the tuning side,
-benchmarks/scan_noise_selfcheck.py, not the default)."""
+"""The self-check's per-sample record, the paired advantage of a candidate over the
+reference, and the opt-in rule that keeps a choice only when its advantage is significant
+(session 26, a noise-aware self-check on scans: measured on the tuning side,
+benchmarks/scan_noise_selfcheck.py; not the default)."""
 
 import numpy as np
 import pytest
@@ -8,7 +9,13 @@ import pytest
 from surfinpaint.data import torus
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.candidates import Candidates
-from surfinpaint.fill.selfcheck import hidden_ring_scores, paired_advantage, sibling_scores
+from surfinpaint.fill.conformal.selection import choose, demoted
+from surfinpaint.fill.selfcheck import (
+    advantages_over,
+    hidden_ring_scores,
+    paired_advantage,
+    sibling_scores,
+)
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mesh import mean_edge_length
 from surfinpaint.geometry.metrics import (
@@ -74,3 +81,52 @@ def test_surface_distance_samples_give_the_mean_surface_distances():
     both = surface_distance_samples([(moved, f)], v, f, n_samples=300)
     assert 0.5 * (both[0][0].mean() + both[0][1].mean()) == \
         pytest.approx(mean_surface_distances([(moved, f)], v, f, n_samples=300)[0])
+
+
+def test_advantages_over_the_reference_in_each_test():
+    g = np.repeat(np.arange(10), 5)
+    ref = np.linspace(1.0, 2.0, 50)
+    hidden = {"distances": {"fair2": ref, "fair3": ref - 0.1, "conformal": ref + 0.2},
+              "groups": g}
+    siblings = [{"distances": {"fair2": ref, "fair3": ref - 0.3}, "groups": g}] * 2
+    adv = advantages_over(hidden, siblings)
+    assert adv["hidden"]["fair3"] == (pytest.approx(0.1), pytest.approx(0.0, abs=1e-12))
+    assert adv["hidden"]["conformal"][0] == pytest.approx(-0.2)
+    assert set(adv["sibling"]) == {"fair3"}
+    assert adv["sibling"]["fair3"][0] == pytest.approx(0.3)
+    assert advantages_over({}, []) == {}
+
+
+def _verdict(hidden, sibling):
+    return choose(hidden, sibling, reference="fair2", choose_faired=True)
+
+
+def test_demoted_keeps_only_significant_choices():
+    kept = _verdict({"fair2": 1.0, "fair3": 0.9, "conformal": 0.8}, {})
+    assert kept.keep and kept.faired == "fair3"
+    # clearly ahead: unchanged (the same object)
+    strong = {"hidden": {"conformal": (0.2, 0.01), "fair3": (0.1, 0.01)}}
+    assert demoted(kept, strong, 2.326) is kept
+    # the λ-H fill within the noise, fair3 ahead: fair3 written
+    weak = {"hidden": {"conformal": (0.2, 0.1), "fair3": (0.1, 0.01)}}
+    v = demoted(kept, weak, 2.326)
+    assert (v.keep, v.make, v.faired) == (False, False, "fair3")
+    assert "not significant" in v.scores
+    # both within the noise: fair2
+    v = demoted(kept, {"hidden": {"conformal": (0.2, 0.1), "fair3": (0.1, 0.1)}}, 2.326)
+    assert (v.keep, v.faired) == (False, "fair2")
+    # no hidden-ring test: the sibling test weighs the λ-H fill
+    by_siblings = _verdict({}, {"fair2": 1.0, "fair3": 1.1, "conformal": 0.8})
+    assert by_siblings.keep
+    assert demoted(by_siblings, {"sibling": {"conformal": (0.2, 0.01)}}, 2.326).keep
+    assert not demoted(by_siblings, {"sibling": {"conformal": (0.2, 0.1)}}, 2.326).keep
+    # a crease fill kept where no test spoke is left
+    crossed = choose({}, {}, reference="fair2", crossed=True)
+    assert demoted(crossed, {}, 2.326, crossed=True).keep
+
+
+def test_significance_option_is_off_by_default_and_checked():
+    assert ConformalOptions().significance is None
+    assert ConformalOptions(significance=2.326).significance == 2.326
+    with pytest.raises(ValueError):
+        ConformalOptions(significance=-1.0)

@@ -28,7 +28,7 @@ from surfinpaint.geometry.metrics import (
 )
 
 __all__ = ["hidden_band", "hidden_ring_scores", "mean_scores", "paired_advantage",
-           "sibling_reach", "sibling_scores"]
+           "sibling_reach", "sibling_scores", "advantages_over"]
 
 
 def _spread_centres(vertices, faces, loop, gap_rings, graph=None):
@@ -379,3 +379,28 @@ def paired_advantage(reference: np.ndarray, candidate: np.ndarray, groups: np.nd
         return mean, np.inf
     residual = np.bincount(g, weights=d) - count * mean  # each cluster's sum of residuals
     return mean, float(np.sqrt(k / (k - 1) * np.sum(residual ** 2)) / n)
+
+
+def advantages_over(hidden_detail: dict, sibling_detail: list, reference: str = "fair2"
+                    ) -> dict[str, dict[str, tuple[float, float]]]:
+    """Each candidate's :func:`paired_advantage` over ``reference`` in the tests whose
+    ``detail`` was recorded: ``{"hidden": {name: (advantage, se)}, "sibling": {...}}``
+    (over several siblings, the mean of the advantages with the standard errors added in
+    quadrature and divided by their number; a test without a record: no entry)."""
+    out: dict[str, dict[str, tuple[float, float]]] = {}
+    if hidden_detail and reference in hidden_detail["distances"]:
+        d, g = hidden_detail["distances"], hidden_detail["groups"]
+        out["hidden"] = {name: paired_advantage(d[reference], d[name], g)
+                         for name in d if name != reference}
+    per: dict[str, list[tuple[float, float]]] = {}
+    for rec in sibling_detail or ():
+        d, g = rec["distances"], rec["groups"]
+        if reference in d:
+            for name in d:
+                if name != reference:
+                    per.setdefault(name, []).append(paired_advantage(d[reference], d[name], g))
+    if per:
+        out["sibling"] = {name: (float(np.mean([a for a, _ in v])),
+                                 float(np.sqrt(sum(s * s for _, s in v)) / len(v)))
+                          for name, v in per.items()}
+    return out
