@@ -21,12 +21,14 @@ from surfinpaint.geometry.cutting import cut_geodesic_disk, edge_graph, ring_dis
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.metrics import (
     hole_patch_of,
-    mean_surface_distances,
     point_mesh_distances,
+    sample_faces,
     sample_surface,
+    surface_distance_samples,
 )
 
-__all__ = ["hidden_band", "hidden_ring_scores", "mean_scores", "sibling_reach", "sibling_scores"]
+__all__ = ["hidden_band", "hidden_ring_scores", "mean_scores", "paired_advantage",
+           "sibling_reach", "sibling_scores", "advantages_over"]
 
 
 def _spread_centres(vertices, faces, loop, gap_rings, graph=None):
@@ -79,6 +81,7 @@ def sibling_scores(
     each: bool = False,
     graph=None,
     tries: int | None = None,
+    detail: list | None = None,
 ) -> dict[str, float] | list[dict[str, float]]:
     """How well each filler does on holes like this one cut from the known surface nearby.
 
@@ -104,6 +107,12 @@ def sibling_scores(
     24), ``tries=8`` finds more siblings near borders but the fills chosen with them are not
     better, so it is not the default.
 
+    ``detail``: a list, to which each scored sibling's per-sample record is appended
+    (``{"distances": name -> (n_samples,) array, "groups": (n_samples,) int array}``: sample
+    ``i``'s distance is the mean of the ``i``-th distances of both sides, so a candidate's
+    score on the sibling is its mean; ``groups`` is the truth face of the ``i``-th truth
+    sample; for :func:`paired_advantage`). None (default): nothing is recorded.
+
     Returns
     -------
     dict or list of dict
@@ -124,10 +133,13 @@ def sibling_scores(
     for centre in islice(centres, max(tries or 0, siblings)):
         if len(found) == siblings:
             break
+        record = {} if detail is not None else None
         results = _sibling_score(vertices, faces, centre, radius, fill, n_samples=n_samples,
-                                 patch_rings=patch_rings, graph=graph)
+                                 patch_rings=patch_rings, graph=graph, record=record)
         if results:
             found.append(results)
+            if record is not None:
+                detail.append(record)
     return found if each else mean_scores(found)
 
 
@@ -155,8 +167,8 @@ def _local_cut(vertices, faces, centre, radius, patch_rings, graph):
     return cut
 
 
-def _sibling_score(vertices, faces, centre, radius, fill, *, n_samples, patch_rings, graph
-                   ) -> dict[str, float] | None:
+def _sibling_score(vertices, faces, centre, radius, fill, *, n_samples, patch_rings, graph,
+                   record=None) -> dict[str, float] | None:
     """The candidates' scores on the sibling hole at ``centre`` (:func:`sibling_scores`),
     or None when it cannot be cut or filled."""
     try:
@@ -175,8 +187,14 @@ def _sibling_score(vertices, faces, centre, radius, fill, *, n_samples, patch_ri
     patches = [hole_patch_of(np.concatenate([cut.vertices, new_v]), new_f,
                              len(cut.vertices), cut.faces) for new_v, new_f in
                ((c.vertices, c.faces) for c in made.values())]
-    results.update(zip(made, mean_surface_distances(
-        patches, cut.truth_vertices, cut.truth_faces, n_samples=n_samples), strict=True))
+    both = surface_distance_samples(patches, cut.truth_vertices, cut.truth_faces,
+                                    n_samples=n_samples)
+    results.update(zip(made, (float(0.5 * (ab.mean() + ba.mean())) for ab, ba in both),
+                       strict=True))
+    if record is not None:
+        record["distances"] = {name: 0.5 * (ab + ba) for name, (ab, ba) in
+                               zip(made, both, strict=True)}
+        record["groups"] = sample_faces(cut.truth_vertices, cut.truth_faces, n_samples)
     return results
 
 
@@ -234,6 +252,7 @@ def hidden_ring_scores(
     patch_rings: int | None = None,
     graph=None,
     min_hide_rings: int | None = None,
+    detail: dict | None = None,
 ) -> dict[str, float]:
     """How well each filler predicts known surface hidden around the hole.
 
@@ -257,6 +276,11 @@ def hidden_ring_scores(
     Measured on the tuning side (docs/selfcheck.md, session 24), ``min_hide_rings=1``
     scores on thin limbs and near borders but the fills chosen with it are not better, so
     it is not the default.
+
+    ``detail``: a dict, filled (when the test scores) with ``"distances"`` (name ->
+    (n_samples,) array, each sample's distance; a candidate's score is their mean) and
+    ``"groups"`` (the hidden face each sample lies on), for :func:`paired_advantage`.
+    None (default): nothing is recorded.
 
     Returns
     -------
@@ -285,6 +309,9 @@ def hidden_ring_scores(
         found = dict(zip(made, point_mesh_distances(samples, [
             (np.concatenate([vertices, c.vertices]), c.faces) for c in made.values()]),
             strict=True))
+        if detail is not None:
+            detail["distances"] = found
+            detail["groups"] = sample_faces(vertices, faces[hidden], n_samples, seed=0)
         return {name: float(found[name].mean()) if name in found else
                 np.inf  # failed on a hole like this one
                 for name in candidates}
@@ -314,3 +341,66 @@ def hidden_ring_scores(
         if scores:
             return scores
     return {}
+
+
+def paired_advantage(reference: np.ndarray, candidate: np.ndarray, groups: np.ndarray
+                     ) -> tuple[float, float]:
+    """How much closer a candidate is than the reference on one test's samples, and the
+    standard error of that advantage.
+
+    The samples are paired (the same points, or the same truth points, measured to both
+    fills), so the advantage is the mean of the per-sample differences ``reference -
+    candidate``. Samples on one face share its (noisy) vertices: the standard error is
+    the cluster-robust one with the faces (``groups``) as clusters, not the naive
+    ``std / sqrt(n)`` of thousands of dependent samples.
+
+    Parameters
+    ----------
+    reference, candidate : (n,) float arrays
+        Per-sample distances (``detail`` of :func:`hidden_ring_scores` or
+        :func:`sibling_scores`).
+    groups : (n,) int array
+        The cluster (face) of each sample.
+
+    Returns
+    -------
+    advantage : float
+        ``mean(reference) - mean(candidate)`` (positive: the candidate is closer).
+    standard_error : float
+        Of ``advantage`` (infinite with fewer than two clusters).
+    """
+    d = np.asarray(reference, float) - np.asarray(candidate, float)
+    n = len(d)
+    mean = float(d.mean())
+    _, g = np.unique(np.asarray(groups), return_inverse=True)
+    count = np.bincount(g)
+    k = len(count)
+    if k < 2:
+        return mean, np.inf
+    residual = np.bincount(g, weights=d) - count * mean  # each cluster's sum of residuals
+    return mean, float(np.sqrt(k / (k - 1) * np.sum(residual ** 2)) / n)
+
+
+def advantages_over(hidden_detail: dict, sibling_detail: list, reference: str = "fair2"
+                    ) -> dict[str, dict[str, tuple[float, float]]]:
+    """Each candidate's :func:`paired_advantage` over ``reference`` in the tests whose
+    ``detail`` was recorded: ``{"hidden": {name: (advantage, se)}, "sibling": {...}}``
+    (over several siblings, the mean of the advantages with the standard errors added in
+    quadrature and divided by their number; a test without a record: no entry)."""
+    out: dict[str, dict[str, tuple[float, float]]] = {}
+    if hidden_detail and reference in hidden_detail["distances"]:
+        d, g = hidden_detail["distances"], hidden_detail["groups"]
+        out["hidden"] = {name: paired_advantage(d[reference], d[name], g)
+                         for name in d if name != reference}
+    per: dict[str, list[tuple[float, float]]] = {}
+    for rec in sibling_detail or ():
+        d, g = rec["distances"], rec["groups"]
+        if reference in d:
+            for name in d:
+                if name != reference:
+                    per.setdefault(name, []).append(paired_advantage(d[reference], d[name], g))
+    if per:
+        out["sibling"] = {name: (float(np.mean([a for a, _ in v])),
+                                 float(np.sqrt(sum(s * s for _, s in v)) / len(v)))
+                          for name, v in per.items()}
+    return out

@@ -369,6 +369,18 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
             + (r1 * r2)[:, None] * tri[:, 2])
 
 
+def sample_faces(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
+                 seed: int = 0) -> np.ndarray:
+    """The face each point of :func:`sample_surface` (same arguments) lies on.
+
+    Returns
+    -------
+    (n_samples,) int array
+    """
+    area = face_areas(np.asarray(vertices, float), np.asarray(faces, np.int64))
+    return np.random.default_rng(seed).choice(len(area), size=n_samples, p=area / area.sum())
+
+
 def surface_distance(patch_vertices: np.ndarray, patch_faces: np.ndarray,
                      truth_vertices: np.ndarray, truth_faces: np.ndarray,
                      n_samples: int = 20000, seed: int = 0) -> dict[str, float]:
@@ -438,13 +450,28 @@ def mean_surface_distances(patches, truth_vertices: np.ndarray, truth_faces: np.
     -------
     list of float
     """
+    return [float(0.5 * (a.mean() + b.mean())) for a, b in
+            surface_distance_samples(patches, truth_vertices, truth_faces, n_samples, seed)]
+
+
+def surface_distance_samples(patches, truth_vertices: np.ndarray, truth_faces: np.ndarray,
+                             n_samples: int = 20000, seed: int = 0
+                             ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The per-sample distances behind :func:`mean_surface_distances`: for each patch,
+    ``(ab, ba)``, the distances of the patch's samples to the truth and of the truth's
+    samples (the same for every patch; their faces: :func:`sample_faces`) to the patch.
+
+    Returns
+    -------
+    list of (ab, ba) pairs of (n_samples,) float arrays
+    """
     truth_index = _TriangleIndex(truth_vertices, truth_faces)
     truth_samples = sample_surface(truth_vertices, truth_faces, n_samples, seed)
     patches = list(patches)
     samples = [sample_surface(vertices, faces, n_samples, seed) for vertices, faces in patches]
     ba = point_mesh_distances(truth_samples, patches)
     ab = truth_index.distances_moving(samples)
-    return [float(0.5 * (a.mean() + b.mean())) for a, b in zip(ab, ba, strict=True)]
+    return list(zip(ab, ba, strict=True))
 
 
 def hole_patch_of(result_vertices: np.ndarray, result_faces: np.ndarray, n_original: int,

@@ -19,10 +19,10 @@ from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.conformal.checks import blended_fill
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
-from surfinpaint.fill.conformal.selection import Verdict, choose, sibling_test_plan
+from surfinpaint.fill.conformal.selection import Verdict, choose, demoted, sibling_test_plan
 from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane
 from surfinpaint.fill.results import Fill
-from surfinpaint.fill.selfcheck import hidden_ring_scores, sibling_scores
+from surfinpaint.fill.selfcheck import advantages_over, hidden_ring_scores, sibling_scores
 from surfinpaint.geometry.cutting import edge_graph
 from surfinpaint.geometry.flatness import PlaneTest, plane_test
 from surfinpaint.geometry.mesh import k_ring, unique_edges
@@ -120,9 +120,12 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     reference = f"fair{candidates.orders[0]}"
     choose_faired = len(candidates.orders) > 1
     graph = edge_graph(faces, len(vertices))  # one adjacency for both tests' searches
+    weigh = o.significance is not None  # opt-in: per-sample records for the advantages
+    hidden_detail: dict | None = {} if weigh else None
+    sibling_detail: list | None = [] if weigh else None
     hidden = hidden_ring_scores(vertices, faces, loop, candidates.for_tests(),
                                 hide_rings=o.hide_rings, patch_rings=o.rings_in_patch,
-                                graph=graph)
+                                graph=graph, detail=hidden_detail)
     run, with_lambda_h = sibling_test_plan(hidden, reference=reference,
                                            choose_faired=choose_faired)
     sibling = {}
@@ -130,9 +133,14 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
         sibling = sibling_scores(vertices, faces, loop,
                                  candidates.for_tests(with_lambda_h=with_lambda_h),
                                  siblings=o.siblings, gap_rings=o.gap_rings,
-                                 patch_rings=o.rings_in_patch, graph=graph)
-    return choose(hidden, sibling, reference=reference, choose_faired=choose_faired,
-                  crossed=candidates.crossed)
+                                 patch_rings=o.rings_in_patch, graph=graph,
+                                 detail=sibling_detail)
+    verdict = choose(hidden, sibling, reference=reference, choose_faired=choose_faired,
+                     crossed=candidates.crossed)
+    if weigh:
+        verdict = demoted(verdict, advantages_over(hidden_detail, sibling_detail, reference),
+                          o.significance, crossed=candidates.crossed)
+    return verdict
 
 
 def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,

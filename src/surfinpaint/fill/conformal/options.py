@@ -173,6 +173,14 @@ class ConformalOptions:
         loop's, :func:`surfinpaint.fill.liepa.baseline.laid_on_plane`) and no self-check
         runs: on a range scan's flat face the faired fills carry the rim's noise into the
         hole (docs/candidates.md, "Session 26"). False: never.
+    significance : float, optional
+        With ``select``: a λ-H fill or fair3 that the self-check prefers is written only
+        when its advantage over fair2 in the test that decided (the hidden rings; the
+        sibling holes where no hidden-ring test speaks for the λ-H fill) exceeds this many
+        standard errors of the paired per-sample differences
+        (:func:`surfinpaint.fill.conformal.selection.demoted`); else the next choice down.
+        None (default): the scores alone decide (docs/selfcheck.md, "Session 26: a
+        noise-aware self-check on scans": measured on the tuning side, not adopted).
     """
 
     start: str = "fair"
@@ -191,6 +199,7 @@ class ConformalOptions:
     s0_search: str = "delaunay"
     s0_refinement: str = "liepa"
     plane_test: bool = True
+    significance: float | None = None
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
@@ -205,6 +214,8 @@ class ConformalOptions:
         _positive_int("solver_iterations", self.solver_iterations)
         if self.solver_tol is not None:
             _positive_number("solver_tol", self.solver_tol)
+        if self.significance is not None:
+            _positive_number("significance", self.significance)
         _positive_int("hide_rings", self.hide_rings)
         _positive_int("siblings", self.siblings, minimum=0)
         _positive_int("gap_rings", self.gap_rings, minimum=0)

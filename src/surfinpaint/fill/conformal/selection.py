@@ -14,11 +14,11 @@ candidate failed; an empty dict when the test could not run.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-__all__ = ["DECISIVE", "Verdict", "choose", "sibling_test_plan"]
+__all__ = ["DECISIVE", "Verdict", "choose", "demoted", "sibling_test_plan"]
 
 # a λ-H fill this many times closer than the faired fill on the hidden rings is kept
 # without the sibling test (on the benchmark the sibling test never overturned one)
@@ -190,3 +190,50 @@ def choose(hidden_scores: Scores, sibling_scores: Scores, *, reference: str = "f
     return Verdict(keep=keep, make=keep or failed_on_a_test, faired=faired,
                    reference=reference, hidden=hidden, sibling=sibling, lost=lost,
                    scores=scores)
+
+
+def demoted(verdict: Verdict, advantages: Mapping[str, Mapping[str, tuple[float, float]]],
+            z: float, *, crossed: bool = False) -> Verdict:
+    """The verdict with a choice other than the reference kept only where the test that
+    decided it sees it closer than the reference by more than ``z`` standard errors
+    (opt-in, ``ConformalOptions.significance``; docs/selfcheck.md, session 26).
+
+    A kept λ-H fill is weighed in the hidden-ring test (the sibling test where the
+    hidden-ring test says nothing for it); if its advantage there is not significant the
+    faired choice is written instead; fair3 is weighed in the hidden-ring test, and if not
+    significant the reference is written. A crease fill kept where no test spoke is left.
+
+    Parameters
+    ----------
+    verdict : Verdict
+        :func:`choose`'s.
+    advantages : dict
+        ``{"hidden": {name: (advantage, standard error)}, "sibling": {...}}`` over the
+        reference (:func:`surfinpaint.fill.selfcheck.advantages_over`).
+    z : float
+        Standard errors an advantage must exceed.
+    crossed : bool
+        A crease crosses the hole (as for :func:`choose`).
+
+    Returns
+    -------
+    Verdict
+    """
+
+    def significant(name: str, test: str) -> bool:
+        adv, se = advantages.get(test, {}).get(name, (np.nan, np.inf))
+        return bool(adv > z * se)
+
+    keep, faired = verdict.keep, verdict.faired
+    hidden_lh, sibling_lh = _said(verdict.hidden), _said(verdict.sibling)
+    if keep and not (crossed and not hidden_lh and not sibling_lh):
+        keep = significant("conformal", "hidden" if hidden_lh else "sibling")
+    if faired == "fair3" and verdict.reference == "fair2" and not significant("fair3",
+                                                                             "hidden"):
+        faired = verdict.reference
+    if (keep, faired) == (verdict.keep, verdict.faired):
+        return verdict
+    failed_on_a_test = any(np.isinf(s.get("conformal", 0.0)) for s in verdict.tests.values())
+    return replace(verdict, keep=keep, make=keep or failed_on_a_test, faired=faired,
+                   scores=verdict.scores + f"; not significant at {z:g} standard errors, "
+                   f"{'the λ-H fill' if verdict.keep and not keep else 'fair3'} not kept")
