@@ -57,8 +57,8 @@ ALL_METHODS = ("fair", "fair1", "fair3", "conformal", "conformal_raw", "conforma
                "conformal_grid", "conformal_grid_raw", "conformal_cdt", "conformal_cdt_raw",
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
-               "conformal_signif", "conventional", "cgal", "cgal3", "meshlib", "pymeshlab",
-               "pymeshfix")
+               "conformal_signif", "conformal_nosignif", "conventional", "cgal", "cgal3",
+               "meshlib", "pymeshlab", "pymeshfix")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # a row's note where the plane test laid the faired fill on the plane (no self-check ran)
 PLANE_NOTE = "plane test: the faired fill laid on the known surface's plane"
@@ -79,8 +79,10 @@ CONFORMAL_VARIANTS = {
     # the default before session 26: no plane test (docs/candidates.md, session 26)
     "conformal_noplane": {"plane_test": False},
     # the self-check's choice kept only when significant at one-sided 1 % (z = 2.326) over
-    # fair2 (docs/selfcheck.md, "Session 26: a noise-aware self-check on scans")
+    # fair2 (docs/selfcheck.md, "Session 26: a noise-aware self-check on scans"): the
+    # default since session 26; "conformal_nosignif" the scores alone, as before
     "conformal_signif": {"significance": 2.326},
+    "conformal_nosignif": {"significance": None},
 }
 
 

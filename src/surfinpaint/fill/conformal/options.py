@@ -18,11 +18,16 @@ from surfinpaint.fill.liepa.triangulation import SEARCHES
 from surfinpaint.representation.inpainting import INPAINT_METHODS
 from surfinpaint.representation.reconstruction import METHODS as RECONSTRUCT_METHODS
 
-__all__ = ["ConformalOptions", "GridOptions", "PATCH_RINGS", "S0_ORDER", "TEST_SOLVER_TOL",
+__all__ = ["ConformalOptions", "GridOptions", "PATCH_RINGS", "S0_ORDER", "SIGNIFICANCE",
+           "TEST_SOLVER_TOL",
            "check_fair_order"]
 
 # rings of surface in a hole's patch, per discretization (measured: docs/accuracy.md)
 PATCH_RINGS = {"mesh": 4, "grid": 10}
+# the self-check's choice of a fill other than fair2 stands only where its advantage in the
+# test that decided exceeds this many standard errors: one-sided 1 %, the plane test's
+# level, fixed before any run (docs/selfcheck.md, "Session 26: a noise-aware self-check")
+SIGNIFICANCE = 2.326
 # fairing order of the initial fill S0 (without ``fair_order``): measured, the λ-H fill
 # from the trilaplacian S0 is closer (benchmarks/selfcheck_rules.py, README)
 S0_ORDER = 3
@@ -179,8 +184,8 @@ class ConformalOptions:
         sibling holes where no hidden-ring test speaks for the λ-H fill) exceeds this many
         standard errors of the paired per-sample differences
         (:func:`surfinpaint.fill.conformal.selection.demoted`); else the next choice down.
-        None (default): the scores alone decide (docs/selfcheck.md, "Session 26: a
-        noise-aware self-check on scans": measured on the tuning side, not adopted).
+        Default ``SIGNIFICANCE`` = 2.326 (one-sided 1 %; docs/selfcheck.md, "Session 26: a
+        noise-aware self-check on scans"). None: the scores alone decide.
     """
 
     start: str = "fair"
@@ -199,7 +204,7 @@ class ConformalOptions:
     s0_search: str = "delaunay"
     s0_refinement: str = "liepa"
     plane_test: bool = True
-    significance: float | None = None
+    significance: float | None = SIGNIFICANCE
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
