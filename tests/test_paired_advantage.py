@@ -125,8 +125,17 @@ def test_demoted_keeps_only_significant_choices():
     assert demoted(crossed, {}, 2.326, crossed=True).keep
 
 
-def test_significance_option_is_off_by_default_and_checked():
-    assert ConformalOptions().significance is None
-    assert ConformalOptions(significance=2.326).significance == 2.326
-    with pytest.raises(ValueError):
-        ConformalOptions(significance=-1.0)
+@pytest.mark.parametrize(("given", "expected"), [
+    ("default", 2.326),  # one-sided 1 %, the default since session 26
+    (None, None),  # the scores alone decide, as before
+    (1.645, 1.645),
+])
+def test_significance_option_defaults_to_one_sided_one_percent(given, expected):
+    options = ConformalOptions() if given == "default" else ConformalOptions(significance=given)
+    assert options.significance == expected
+
+
+@pytest.mark.parametrize("bad", [-1.0, 0.0, float("nan")])
+def test_a_significance_that_is_not_positive_is_an_error(bad):
+    with pytest.raises(ValueError, match="significance"):
+        ConformalOptions(significance=bad)
