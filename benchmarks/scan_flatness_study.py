@@ -164,7 +164,9 @@ def hole_row(cut, methods, n_samples: int) -> dict:
     return row
 
 
-def run(which: str, out: Path, methods, n_samples: int, only=None) -> None:
+def pending_holes(which: str, out: Path, only=None):
+    """The holes of ``which`` (:func:`holes`) whose rows are not in ``out`` yet, as (set, mesh
+    id, kind, mean edge length, hole number, planned hole, its cut)."""
     done = set()
     if out.exists():
         done = {(r["mesh"], r["hole"]) for r in map(json.loads, out.read_text().splitlines())}
@@ -181,20 +183,23 @@ def run(which: str, out: Path, methods, n_samples: int, only=None) -> None:
         print(f"{mesh_id}: {len(mesh.vertices)} vertices, {len(planned)} holes",
               file=sys.stderr, flush=True)
         for k, hole in enumerate(planned):
-            if (mesh_id, k) in done:
-                continue
-            t0 = time.perf_counter()
-            cut = validation._cut(mesh, hole)
-            row = {"set": set_name, "mesh": mesh_id, "hole": k, "kind": kind,
-                   "radius_h": hole["radius"] / h, "near_border": hole["near_border"],
-                   "on_feature": hole["on_feature"], **hole_row(cut, methods, n_samples)}
-            row["seconds"] = time.perf_counter() - t0
-            with out.open("a") as fh:
-                fh.write(json.dumps(row, default=float) + "\n")
-            e = row["errors"]
-            print(f"{mesh_id} #{k}: " + " ".join(f"{a} {b:.3f}" for a, b in e.items())
-                  + " flat " + "".join("F" if row["tests"][str(r)]["flat"] else "c"
-                                       for r in RINGS), file=sys.stderr, flush=True)
+            if (mesh_id, k) not in done:
+                yield set_name, mesh_id, kind, h, k, hole, validation._cut(mesh, hole)
+
+
+def run(which: str, out: Path, methods, n_samples: int, only=None) -> None:
+    for set_name, mesh_id, kind, h, k, hole, cut in pending_holes(which, out, only):
+        t0 = time.perf_counter()
+        row = {"set": set_name, "mesh": mesh_id, "hole": k, "kind": kind,
+               "radius_h": hole["radius"] / h, "near_border": hole["near_border"],
+               "on_feature": hole["on_feature"], **hole_row(cut, methods, n_samples)}
+        row["seconds"] = time.perf_counter() - t0
+        with out.open("a") as fh:
+            fh.write(json.dumps(row, default=float) + "\n")
+        e = row["errors"]
+        print(f"{mesh_id} #{k}: " + " ".join(f"{a} {b:.3f}" for a, b in e.items())
+              + " flat " + "".join("F" if row["tests"][str(r)]["flat"] else "c"
+                                   for r in RINGS), file=sys.stderr, flush=True)
 
 
 # --------------------------------------------------------------------------- tables

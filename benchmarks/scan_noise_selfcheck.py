@@ -53,7 +53,6 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402
-import holes_manifest  # noqa: E402
 import scan_flatness_study as sfs  # noqa: E402
 import validation  # noqa: E402
 
@@ -67,7 +66,6 @@ from surfinpaint.fill.selfcheck import (  # noqa: E402
     sibling_scores,
 )
 from surfinpaint.geometry.cutting import edge_graph  # noqa: E402
-from surfinpaint.geometry.mesh import mean_edge_length  # noqa: E402
 
 Z_RULE = 2.326  # one-sided 1 %: the plane test's level, fixed before any run
 Z_SHOWN = (1.645, Z_RULE)
@@ -120,41 +118,17 @@ def hole_row(cut, n_samples: int, also=()) -> dict:
     return row
 
 
-def holes(which: str):
-    if which == "tuning":
-        yield from sfs.holes("tuning")
-    else:
-        yield from sfs.holes("extra")
-
-
 def run(which: str, out: Path, n_samples: int, only=None, also=()) -> None:
-    done = set()
-    if out.exists():
-        done = {(r["mesh"], r["hole"]) for r in map(json.loads, out.read_text().splitlines())}
-    for set_name, mesh_id, kind, load, planned in holes(which):
-        if only and mesh_id not in only:
-            continue
-        if planned is not None and all((mesh_id, k) in done for k in range(len(planned))):
-            continue
-        mesh = load()
-        h = mean_edge_length(mesh.vertices, mesh.faces)
-        if planned is None:
-            planned = holes_manifest.plan_holes(mesh.vertices, mesh.faces, kind,
-                                                2000 + list(sfs.EXTRA).index(mesh_id),
-                                                mesh_id)
-        for k, hole in enumerate(planned):
-            if (mesh_id, k) in done:
-                continue
-            t0 = time.perf_counter()
-            cut = validation._cut(mesh, hole)
-            row = {"set": set_name, "mesh": mesh_id, "hole": k, "kind": kind,
-                   "radius_h": hole["radius"] / h, **hole_row(cut, n_samples, also)}
-            row["seconds"] = time.perf_counter() - t0
-            with out.open("a") as fh:
-                fh.write(json.dumps(row, default=float) + "\n")
-            e, rp = row["errors"], row["replay"]
-            print(f"{mesh_id} #{k}: " + " ".join(f"{a} {b:.3f}" for a, b in e.items())
-                  + f" flat {rp['flat']} kept {_pick(rp)}", file=sys.stderr, flush=True)
+    for set_name, mesh_id, kind, h, k, hole, cut in sfs.pending_holes(which, out, only):
+        t0 = time.perf_counter()
+        row = {"set": set_name, "mesh": mesh_id, "hole": k, "kind": kind,
+               "radius_h": hole["radius"] / h, **hole_row(cut, n_samples, also)}
+        row["seconds"] = time.perf_counter() - t0
+        with out.open("a") as fh:
+            fh.write(json.dumps(row, default=float) + "\n")
+        e, rp = row["errors"], row["replay"]
+        print(f"{mesh_id} #{k}: " + " ".join(f"{a} {b:.3f}" for a, b in e.items())
+              + f" flat {rp['flat']} kept {_pick(rp)}", file=sys.stderr, flush=True)
 
 
 # --------------------------------------------------------------------------- the rule
