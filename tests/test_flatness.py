@@ -166,3 +166,16 @@ def test_the_command_line_lays_a_flat_hole_on_its_plane_unless_told_not_to(tmp_p
     assert main(["fill", str(path), "-o", str(tmp_path / "x.ply"), "--method", "fair",
                  "--no-plane-test"]) == 2
     assert "--no-plane-test" in capsys.readouterr().err
+
+
+def test_the_text_report_says_the_fill_was_laid_on_its_plane():
+    from surfinpaint.app.fill_report import hole_lines, written
+    from surfinpaint.fill.pipeline import fill_holes
+
+    cut, _ = _noisy_plane_hole(0.004)
+    (report,) = fill_holes(cut.vertices, cut.faces).reports
+    assert written(report) == "faired fill (bilaplacian, laid on its plane)"
+    assert "a plane within its noise" in hole_lines(report)[1]
+    (off,) = fill_holes(cut.vertices, cut.faces,
+                        options=ConformalOptions(plane_test=False)).reports
+    assert "plane" not in written(off)

@@ -106,7 +106,8 @@ def written(report: HoleReport) -> str:
     if outcome == "lambda-h":
         return "λ-H fill"
     if outcome == "faired":
-        return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')})"
+        on_plane = ", laid on its plane" if report.plane is not None else ""
+        return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')}{on_plane})"
     if outcome == "zipped":
         return f"seam zipped ({len(report.zipped)} duplicate vertices merged)"
     return f"{outcome}: {report.skipped}"
