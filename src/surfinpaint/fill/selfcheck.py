@@ -27,8 +27,8 @@ from surfinpaint.geometry.metrics import (
     surface_distance_samples,
 )
 
-__all__ = ["hidden_band", "hidden_ring_scores", "mean_scores", "paired_advantage",
-           "sibling_reach", "sibling_scores", "advantages_over"]
+__all__ = ["advantages_over", "hidden_band", "hidden_ring_scores", "mean_scores",
+           "paired_advantage", "sibling_reach", "sibling_scores"]
 
 
 def _spread_centres(vertices, faces, loop, gap_rings, graph=None):

@@ -354,6 +354,23 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
     -------
     (n_samples, 3) float array
     """
+    return _area_samples(vertices, faces, n_samples, seed)[1]
+
+
+def sample_faces(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
+                 seed: int = 0) -> np.ndarray:
+    """The face each point of :func:`sample_surface` (same arguments) lies on.
+
+    Returns
+    -------
+    (n_samples,) int array
+    """
+    return _area_samples(vertices, faces, n_samples, seed)[0]
+
+
+def _area_samples(vertices, faces, n_samples: int, seed: int
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`sample_faces` and :func:`sample_surface` from one draw."""
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)
     area = face_areas(v, f)
@@ -365,20 +382,8 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
     r1 = np.sqrt(rng.random(n_samples))
     r2 = rng.random(n_samples)
     tri = v[f[t]]
-    return ((1 - r1)[:, None] * tri[:, 0] + (r1 * (1 - r2))[:, None] * tri[:, 1]
-            + (r1 * r2)[:, None] * tri[:, 2])
-
-
-def sample_faces(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
-                 seed: int = 0) -> np.ndarray:
-    """The face each point of :func:`sample_surface` (same arguments) lies on.
-
-    Returns
-    -------
-    (n_samples,) int array
-    """
-    area = face_areas(np.asarray(vertices, float), np.asarray(faces, np.int64))
-    return np.random.default_rng(seed).choice(len(area), size=n_samples, p=area / area.sum())
+    return t, ((1 - r1)[:, None] * tri[:, 0] + (r1 * (1 - r2))[:, None] * tri[:, 1]
+               + (r1 * r2)[:, None] * tri[:, 2])
 
 
 def surface_distance(patch_vertices: np.ndarray, patch_faces: np.ndarray,

@@ -19,8 +19,7 @@ from surfinpaint.representation.inpainting import INPAINT_METHODS
 from surfinpaint.representation.reconstruction import METHODS as RECONSTRUCT_METHODS
 
 __all__ = ["ConformalOptions", "GridOptions", "PATCH_RINGS", "S0_ORDER", "SIGNIFICANCE",
-           "TEST_SOLVER_TOL",
-           "check_fair_order"]
+           "TEST_SOLVER_TOL", "check_fair_order"]
 
 # rings of surface in a hole's patch, per discretization (measured: docs/accuracy.md)
 PATCH_RINGS = {"mesh": 4, "grid": 10}
