@@ -2,9 +2,11 @@
 fairing without any truth of the hole.
 
 Per hole: the candidates (:mod:`.candidates`: the faired fills, and the λ-H fill made only
-when needed) → the truth-free test scores (:mod:`surfinpaint.fill.selfcheck`) → the verdict
-(:func:`.selection.choose`, pure) → the winner, made and checked → a typed
-:class:`~surfinpaint.fill.results.Fill`. A failure of the λ-H fill is a ``FillError``,
+when needed) → the plane test (a surface around the hole that is a plane within its noise:
+the faired fill laid on it, :func:`known_plane`) → the truth-free test scores
+(:mod:`surfinpaint.fill.selfcheck`) → the verdict (:func:`.selection.choose`, pure; then
+:func:`.selection.demoted` where its evidence is not significant) → the winner, made and
+checked → a typed :class:`~surfinpaint.fill.results.Fill`. A failure of the λ-H fill is a ``FillError``,
 caught here and only here: the faired fill the verdict prefers is written instead, and the
 ``Fill`` says why. The original vertices never move.
 """
@@ -120,7 +122,7 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     reference = f"fair{candidates.orders[0]}"
     choose_faired = len(candidates.orders) > 1
     graph = edge_graph(faces, len(vertices))  # one adjacency for both tests' searches
-    weigh = o.significance is not None  # opt-in: per-sample records for the advantages
+    weigh = o.significance is not None  # the weighed verdict needs per-sample records
     hidden_detail: dict | None = {} if weigh else None
     sibling_detail: list | None = [] if weigh else None
     hidden = hidden_ring_scores(vertices, faces, loop, candidates.for_tests(),
