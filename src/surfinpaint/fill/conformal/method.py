@@ -6,9 +6,9 @@ when needed) → the plane test (a surface around the hole that is a plane withi
 the faired fill laid on it, :func:`known_plane`) → the truth-free test scores
 (:mod:`surfinpaint.fill.selfcheck`) → the verdict (:func:`.selection.choose`, pure; then
 :func:`.selection.demoted` where its evidence is not significant) → the winner, made and
-checked → a typed :class:`~surfinpaint.fill.results.Fill`. A failure of the λ-H fill is a ``FillError``,
-caught here and only here: the faired fill the verdict prefers is written instead, and the
-``Fill`` says why. The original vertices never move.
+checked → a typed :class:`~surfinpaint.fill.results.Fill`. A failure of the λ-H fill is a
+``FillError``, caught here and only here: the faired fill the verdict prefers is written
+instead, and the ``Fill`` says why. The original vertices never move.
 """
 
 from __future__ import annotations
