@@ -179,3 +179,16 @@ def test_the_text_report_says_the_fill_was_laid_on_its_plane():
     (off,) = fill_holes(cut.vertices, cut.faces,
                         options=ConformalOptions(plane_test=False)).reports
     assert "plane" not in written(off)
+
+
+def test_the_report_page_says_a_hole_was_laid_on_its_plane():
+    from surfinpaint.app.report_page import HoleComparison, hole_title
+
+    laid = HoleComparison(index=1, n_edges=24, diameter=0.58, kept=False, fair_order=2,
+                          fallback="the known surface around the hole is a plane ...",
+                          on_plane=True)
+    assert "plane within its noise" in hole_title(laid)
+    assert "failed" not in hole_title(laid) and "rejected" not in hole_title(laid)
+    failed = HoleComparison(index=1, n_edges=24, diameter=0.58, kept=False, fair_order=2,
+                            fallback="FillError: the λ-H fill diverges")
+    assert "the λ-H fill failed" in hole_title(failed)

@@ -190,6 +190,7 @@ def compare_holes(
                 name.replace(" ", "_"): scores for name, scores in rc.verdict.tests.items()},
             fair_order=rc.fair_order,
             written="; ".join([written(rc), *(line.strip() for line in hole_lines(rc)[1:])]),
+            on_plane=rc.plane is not None,
         )
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
@@ -373,6 +374,8 @@ def panels_for(vertices, faces, comparisons, fills, out_dir, prefix="hole",
         titles = {}
         if filled["conformal raw"][k] is None:
             titles["C"] = "(C) conformal fill (failed)"
+        elif c.on_plane:
+            titles["C"] = "(C) conformal fill (not used: the surface is a plane)"
         elif not c.kept:
             titles["C"] = "(C) conformal fill (rejected by the self-check)"
         picture = f"{prefix}{c.index}.png"

@@ -55,6 +55,9 @@ class HoleComparison:
         What the conformal method wrote, and its self-check, in the words of ``surfinpaint
         fill``'s report (:mod:`surfinpaint.app.fill_report`); None: from ``kept`` and
         ``fallback``.
+    on_plane : bool
+        The conformal method laid the faired fill on the plane of the surface around the
+        hole (its plane test; no self-check ran).
     """
 
     index: int
@@ -69,6 +72,7 @@ class HoleComparison:
     errors: dict = field(default_factory=dict)
     picture: str | None = None
     written: str | None = None
+    on_plane: bool = False
 
 
 def _fmt(x: float, digits: int = 3) -> str:
@@ -199,9 +203,13 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
         written = "the λ-H fill (C) is written"
     else:
         order = f" (order {c.fair_order})" if c.fair_order else ""
-        why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith("self-check")
-               else "the self-check rejected the λ-H fill")
-        written = f"{why}; the faired fill{order} is written"
+        if c.on_plane:
+            written = (f"the surface around it is a plane within its noise; the faired "
+                       f"fill{order} laid on it is written")
+        else:
+            why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith(
+                "self-check") else "the self-check rejected the λ-H fill")
+            written = f"{why}; the faired fill{order} is written"
     text = (f"{name + ': ' if name else ''}hole {c.index}, {c.n_edges} boundary edges, "
             f"diameter {_fmt(c.diameter)}; {written}")
     if c.errors:
