@@ -20,7 +20,6 @@ from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mesh import mean_edge_length
 from surfinpaint.geometry.metrics import (
     mean_surface_distances,
-    sample_faces,
     sample_surface,
     surface_distance_samples,
 )
@@ -43,10 +42,10 @@ def test_paired_advantage_is_the_mean_difference_with_a_cluster_robust_error():
     assert paired_advantage(ref[:20], ref[:20], groups[:20])[1] == np.inf
 
 
-def test_sample_faces_are_those_of_sample_surface():
+def test_sample_surface_s_faces_are_those_its_points_lie_on():
     v, f = torus(R=1.0, r=0.3, n_major=24, n_minor=12)
-    pts = sample_surface(v, f, 500, seed=3)
-    t = sample_faces(v, f, 500, seed=3)
+    pts, t = sample_surface(v, f, 500, seed=3, return_faces=True)
+    np.testing.assert_array_equal(pts, sample_surface(v, f, 500, seed=3))  # the same draw
     a, b, c = (v[f[t, i]] for i in range(3))
     # each point lies in the plane of its face
     normal = np.cross(b - a, c - a)

@@ -22,7 +22,6 @@ from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.metrics import (
     hole_patch_of,
     point_mesh_distances,
-    sample_faces,
     sample_surface,
     surface_distance_samples,
 )
@@ -194,7 +193,8 @@ def _sibling_score(vertices, faces, centre, radius, fill, *, n_samples, patch_ri
     if record is not None:
         record["distances"] = {name: 0.5 * (ab + ba) for name, (ab, ba) in
                                zip(made, both, strict=True)}
-        record["groups"] = sample_faces(cut.truth_vertices, cut.truth_faces, n_samples)
+        record["groups"] = sample_surface(cut.truth_vertices, cut.truth_faces, n_samples,
+                                          return_faces=True)[1]
     return results
 
 
@@ -304,14 +304,15 @@ def hidden_ring_scores(
             candidates = fill(vertices, kept, enlarged[0])
         except NUMERICAL_ERRORS:
             return {}
-        samples = sample_surface(vertices, faces[hidden], n_samples, seed=0)
+        samples, sampled = sample_surface(vertices, faces[hidden], n_samples, seed=0,
+                                          return_faces=True)
         made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
         found = dict(zip(made, point_mesh_distances(samples, [
             (np.concatenate([vertices, c.vertices]), c.faces) for c in made.values()]),
             strict=True))
         if detail is not None:
             detail["distances"] = found
-            detail["groups"] = sample_faces(vertices, faces[hidden], n_samples, seed=0)
+            detail["groups"] = sampled
         return {name: float(found[name].mean()) if name in found else
                 np.inf  # failed on a hole like this one
                 for name in candidates}

@@ -10,8 +10,9 @@ from scipy.spatial import cKDTree
 from surfinpaint.compiled import Kernel, run
 from surfinpaint.geometry.mesh import face_areas
 
-__all__ = ["closest_point_on_triangles", "hole_patch_of", "point_mesh_distance",
-           "point_mesh_distances", "sample_surface", "surface_distance"]
+__all__ = ["closest_point_on_triangles", "hole_patch_of", "mean_surface_distances",
+           "point_mesh_distance", "point_mesh_distances", "sample_surface", "surface_distance",
+           "surface_distance_samples"]
 
 
 _FLAT = 1e-20  # |ab × ac|² / (|ab|² |ac|²) below this: a degenerate triangle
@@ -347,30 +348,15 @@ def point_mesh_distance(points: np.ndarray, vertices: np.ndarray,
 
 
 def sample_surface(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
-                   seed: int = 0) -> np.ndarray:
+                   seed: int = 0, *, return_faces: bool = False):
     """Area-uniform random points on a triangle mesh (fixed seed: reproducible).
 
     Returns
     -------
     (n_samples, 3) float array
+        The points; with ``return_faces``, also the (n_samples,) int array of the face each
+        lies on (the same draw).
     """
-    return _area_samples(vertices, faces, n_samples, seed)[1]
-
-
-def sample_faces(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
-                 seed: int = 0) -> np.ndarray:
-    """The face each point of :func:`sample_surface` (same arguments) lies on.
-
-    Returns
-    -------
-    (n_samples,) int array
-    """
-    return _area_samples(vertices, faces, n_samples, seed)[0]
-
-
-def _area_samples(vertices, faces, n_samples: int, seed: int
-                  ) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`sample_faces` and :func:`sample_surface` from one draw."""
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)
     area = face_areas(v, f)
@@ -382,8 +368,9 @@ def _area_samples(vertices, faces, n_samples: int, seed: int
     r1 = np.sqrt(rng.random(n_samples))
     r2 = rng.random(n_samples)
     tri = v[f[t]]
-    return t, ((1 - r1)[:, None] * tri[:, 0] + (r1 * (1 - r2))[:, None] * tri[:, 1]
-               + (r1 * r2)[:, None] * tri[:, 2])
+    points = ((1 - r1)[:, None] * tri[:, 0] + (r1 * (1 - r2))[:, None] * tri[:, 1]
+              + (r1 * r2)[:, None] * tri[:, 2])
+    return (points, t) if return_faces else points
 
 
 def surface_distance(patch_vertices: np.ndarray, patch_faces: np.ndarray,
@@ -464,7 +451,8 @@ def surface_distance_samples(patches, truth_vertices: np.ndarray, truth_faces: n
                              ) -> list[tuple[np.ndarray, np.ndarray]]:
     """The per-sample distances behind :func:`mean_surface_distances`: for each patch,
     ``(ab, ba)``, the distances of the patch's samples to the truth and of the truth's
-    samples (the same for every patch; their faces: :func:`sample_faces`) to the patch.
+    samples (the same for every patch; their faces: :func:`sample_surface` with
+    ``return_faces``) to the patch.
 
     Returns
     -------
