@@ -192,3 +192,55 @@ def test_the_report_page_says_a_hole_was_laid_on_its_plane():
     failed = HoleComparison(index=1, n_edges=24, diameter=0.58, kept=False, fair_order=2,
                             fallback="FillError: the λ-H fill diverges")
     assert "the λ-H fill failed" in hole_title(failed)
+
+
+def test_the_report_draws_the_fill_laid_on_its_plane_as_written(tmp_path, monkeypatch):
+    # `surfinpaint report`: panel (C) of a hole laid on its plane draws the fill `fill`
+    # writes (not the λ-H fill the plane test made unnecessary), the titles say so, and
+    # the page's "conformal" error is the laid fill's
+    monkeypatch.delenv("DISPLAY", raising=False)
+    from surfinpaint.app import report
+    from surfinpaint.app.report_page import table_rows
+    from surfinpaint.fill.pipeline import fill_holes
+    from surfinpaint.geometry.metrics import surface_distance
+
+    cut, _ = _noisy_plane_hole(0.004)
+    truth = (cut.truth_vertices, cut.truth_faces)
+    (c,), fills = report.compare_holes(cut.vertices, cut.faces, [cut.loop], truth=[truth])
+    assert c.on_plane and not c.kept
+    written = fill_holes(cut.vertices, cut.faces, method="conformal")
+    n = len(cut.vertices)
+    shown_v, shown_f = report.panel_c_fill(c, fills, 0)
+    np.testing.assert_array_equal(shown_v[n:], written.vertices[n:])
+    np.testing.assert_array_equal(shown_f, written.new_faces)
+    raw_v, _ = fills["filled"]["conformal raw"][0]  # the λ-H fill, still made for (E)/(G)
+    assert not np.allclose(raw_v[n:], written.vertices[n:])
+    assert fills["diagnostics"][0] is not None
+    # the error of what is written: the laid fill against the removed patch
+    ids, inverse = np.unique(written.new_faces, return_inverse=True)
+    d = surface_distance(written.vertices[ids], inverse.reshape(-1, 3), *truth,
+                         n_samples=10000)
+    assert c.errors["conformal"]["mean"] == pytest.approx(100 * d["mean"] / c.diameter)
+    assert c.errors["conformal"] != c.errors["conformal raw"]
+    header, (row,) = table_rows([c])
+    assert "laid on its plane" in row[header.index("conformal outcome")]
+
+    drawn = []
+    hole_panel = report.hole_panel
+
+    def spy(*args, **kwargs):  # draws, and records what it was given
+        drawn.append((args, kwargs))
+        return hole_panel(*args, **kwargs)
+
+    monkeypatch.setattr(report, "hole_panel", spy)
+    report.panels_for(cut.vertices, cut.faces, [c], fills, tmp_path)
+    ((args, kwargs),) = drawn
+    assert args[4] is fills["filled"]["conformal"][0]  # (C): the written fill
+    titles = kwargs["titles"]
+    assert titles["C"] == "(C) conformal: faired fill laid on its plane"
+    assert "not written" in titles["E"] and "not written" in titles["G"]
+    title = kwargs["suptitle"]
+    assert "plane within its noise; the faired fill (order 2) laid on it is written" in title
+    # the error (C) is labelled with: the page's "conformal" one, the written fill's
+    assert f"(C, written) {row[header.index('conformal mean / Hd %')]}," in title
+    assert (tmp_path / c.picture).is_file()

@@ -15,6 +15,7 @@ from surfinpaint.app.report import (
     compare_holes,
     hole_title,
     hole_truths,
+    panel_c_fill,
     table_rows,
 )
 from surfinpaint.data import sphere
@@ -95,6 +96,9 @@ def test_compare_holes_measures_both_fills(holed_sphere):
     for c, hole, report in zip(comparisons, cut.holes, written.reports, strict=True):
         new = written.vertices[offset: offset + report.new_vertices]
         offset += report.new_vertices
+        # not on a plane: (C) draws the λ-H fill, kept or rejected by the self-check
+        assert not c.on_plane
+        assert panel_c_fill(c, fills, c.index) is fills["filled"]["conformal raw"][c.index]
         if c.kept:
             assert c.errors["conformal"] == c.errors["conformal raw"]
         else:

@@ -14,9 +14,15 @@ hole's patch, with the hole (solid) and the inpainted region (dashed) outlined.
 with ``discretization="grid"``; the part that sees the initial fill is grey, since the
 initial fill's own λ, H are not data the method uses.
 
-When the conformal method's self-check kept the faired fill for a hole (``fallback``), panel
-(C) shows the conformal fill it rejected (computed again with ``select=False``), so the two
-fills can still be compared; the page says which one ``surfinpaint fill`` would write.
+Panel (C) draws the fill ``surfinpaint fill`` writes (:func:`panel_c_fill`), with one
+exception. When the conformal method's self-check kept the faired fill for a hole
+(``fallback``), (C) shows the conformal fill it rejected (computed again with
+``select=False``), so the two fills can still be compared; the title says which one
+``surfinpaint fill`` would write. When the surface around a hole is a plane within its
+noise (the method's plane test, ``HoleComparison.on_plane``), what is written is the faired
+fill laid on that plane, and (C) draws it; the λ-H fill the plane test made unnecessary is
+still computed (with ``select=False``) for (E)/(G), whose titles say that it was not
+written, and for the page's ``conformal raw`` errors.
 
 A page (``index.md`` and ``index.html``) lists the holes with their sizes, times, the
 self-check scores and, given the ground truth, each method's distance to it.
@@ -72,6 +78,7 @@ __all__ = [
     "compare_holes",
     "hole_panel",
     "hole_truths",
+    "panel_c_fill",
     "run_report",
     "table_rows",
     "write_page",
@@ -136,10 +143,11 @@ def compare_holes(
         ``"fair"`` and ``"conformal"``: the :class:`~surfinpaint.fill.pipeline.FillResult` of each
         method; ``"filled"``: per method (``"fair"``, ``"conformal"``, ``"conformal raw"``)
         each hole's fill as ``(vertices, faces)`` (the vertices start with the mesh's, the
-        faces are the hole's new ones; ``"conformal raw"`` is None where the conformal
-        method failed); ``"loops"``: the oriented loops; ``"diagnostics"``: each hole's
-        :class:`~surfinpaint.fill.results.LambdaHDiagnostics` of the conformal fill (None
-        when it failed).
+        faces are the hole's new ones; ``"conformal"`` is what ``surfinpaint fill`` writes,
+        ``"conformal raw"`` the λ-H fill before the self-check and the plane test, None
+        where the conformal method failed); ``"loops"``: the oriented loops;
+        ``"diagnostics"``: each hole's :class:`~surfinpaint.fill.results.LambdaHDiagnostics`
+        of the λ-H fill (None when it failed).
     """
 
     vertices = np.asarray(vertices, dtype=float)
@@ -164,7 +172,8 @@ def compare_holes(
         raw = [fill if r.method == "conformal" else None
                for fill, r in zip(filled["conformal"], conformal.reports, strict=True)]
         diagnostics = [r.diagnostics for r in conformal.reports]
-        # the self-check does not make the λ-H fill of a hole it rejects: make it here
+        # the λ-H fill of a hole is not made where the self-check rejects it, nor where the
+        # plane test lays the faired fill on the plane: make it here
         rejected = [k for k, r in enumerate(conformal.reports)
                     if r.method == "fair" and not r.fallback and not r.skipped]
         for k in rejected:
@@ -363,25 +372,54 @@ def hole_panel(
     return save_figure(fig, path, dpi=_DPI)
 
 
+def panel_c_fill(comparison: HoleComparison, fills: dict,
+                 k: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """The fill panel (C) of a hole draws (see the module docstring).
+
+    Parameters
+    ----------
+    comparison : HoleComparison
+        The hole's comparison.
+    fills : dict
+        As :func:`compare_holes` returns it.
+    k : int
+        The hole's position in ``fills`` (not its ``index``).
+
+    Returns
+    -------
+    (vertices, faces) or None
+        What ``surfinpaint fill`` writes for the hole where that is the λ-H fill or the
+        faired fill laid on the surface's plane; else the λ-H fill the self-check
+        rejected, None where it failed.
+    """
+    filled = fills["filled"]
+    # a rejected λ-H fill is drawn so that it can be judged (the written faired fill is
+    # much like (B)); a hole laid on its plane is drawn as written, since the laid fill
+    # is like neither (B) nor the λ-H fill
+    return filled["conformal" if comparison.on_plane else "conformal raw"][k]
+
+
 def panels_for(vertices, faces, comparisons, fills, out_dir, prefix="hole",
                name: str = "", step: Step | None = None) -> None:
     """Draw the panel of every compared hole into ``out_dir`` as ``<prefix><index>.png``
     (sets ``.picture``); ``comparisons`` and ``fills`` as :func:`compare_holes` returns
     them."""
     out_dir = Path(out_dir)
-    filled = fills["filled"]
     for k, c in enumerate(comparisons):
         titles = {}
-        if filled["conformal raw"][k] is None:
+        if c.on_plane:
+            titles["C"] = "(C) conformal: faired fill laid on its plane"
+            if fills["diagnostics"][k] is not None:
+                # (E)/(G) are of the λ-H fill, which (C) does not draw
+                titles["E"] = "(E) inpainted λ (λ-H fill, not written)"
+                titles["G"] = "(G) inpainted H (λ-H fill, not written)"
+        elif fills["filled"]["conformal raw"][k] is None:
             titles["C"] = "(C) conformal fill (failed)"
-        elif c.on_plane:
-            titles["C"] = "(C) conformal fill (not used: the surface is a plane)"
         elif not c.kept:
             titles["C"] = "(C) conformal fill (rejected by the self-check)"
         picture = f"{prefix}{c.index}.png"
-        # panel C: the raw conformal fill when it was rejected (see the module docstring)
-        hole_panel(vertices, faces, fills["loops"][k], filled["fair"][k],
-                   filled["conformal raw"][k], fills["diagnostics"][k], out_dir / picture,
+        hole_panel(vertices, faces, fills["loops"][k], fills["filled"]["fair"][k],
+                   panel_c_fill(c, fills, k), fills["diagnostics"][k], out_dir / picture,
                    titles=titles, suptitle=hole_title(c, name))
         c.picture = picture
         if step:

@@ -47,8 +47,9 @@ class HoleComparison:
         Fairing order of the faired fill the conformal method wrote (None: it kept its own).
     errors : dict
         With a ground truth: per fill (``"fair"``, ``"conformal"`` = what ``fill`` writes,
-        ``"conformal raw"`` = the conformal fill before the self-check) the two-sided mean
-        distance and Hausdorff distance to the truth in % of the hole diameter.
+        ``"conformal raw"`` = the λ-H fill before the self-check and the plane test) the
+        two-sided mean distance and Hausdorff distance to the truth in % of the hole
+        diameter.
     picture : str or None
         File name of the panel.
     written : str or None
@@ -57,7 +58,8 @@ class HoleComparison:
         ``fallback``.
     on_plane : bool
         The conformal method laid the faired fill on the plane of the surface around the
-        hole (its plane test; no self-check ran).
+        hole (its plane test; no self-check ran): that laid fill is written, and panel (C)
+        draws it.
     """
 
     index: int
@@ -140,10 +142,12 @@ LEGEND = (
     "keeps its fill where it beats the bilaplacian faired fill on two tests that use no "
     "truth (hidden rings of known surface around the hole, and sibling holes of the same "
     "size cut from the known surface nearby); when it kept a faired fill, (C) shows the "
-    "conformal fill it rejected. Errors: "
-    "two-sided mean and Hausdorff distance to the removed truth, in % of the hole "
-    "diameter; 'conformal' is what `surfinpaint fill` writes, 'conformal raw' the conformal "
-    "fill before the self-check."
+    "conformal fill it rejected. Where the known surface around the hole is a plane within "
+    "its noise, the method writes the bilaplacian faired fill laid on that plane and runs "
+    "no self-check: (C) shows that laid fill, (E)/(G) the λ-H fill, which is not written. "
+    "Errors: two-sided mean and Hausdorff distance to the removed truth, in % of the hole "
+    "diameter; 'conformal' is what `surfinpaint fill` writes, 'conformal raw' the λ-H fill "
+    "before the self-check and the plane test."
 )
 
 
@@ -213,7 +217,11 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
     text = (f"{name + ': ' if name else ''}hole {c.index}, {c.n_edges} boundary edges, "
             f"diameter {_fmt(c.diameter)}; {written}")
     if c.errors:
-        text += (f"\nerror (mean / Hausdorff, % of diameter): (B) {_error_text(c, 'fair')}, "
-                 f"(C) {_error_text(c, 'conformal raw')}, written "
-                 f"{_error_text(c, 'conformal')}")
+        if c.on_plane:  # (C) draws the written fill; the λ-H fill is not drawn
+            shown = (f"(C, written) {_error_text(c, 'conformal')}, λ-H fill (not written) "
+                     f"{_error_text(c, 'conformal raw')}")
+        else:
+            shown = (f"(C) {_error_text(c, 'conformal raw')}, written "
+                     f"{_error_text(c, 'conformal')}")
+        text += f"\nerror (mean / Hausdorff, % of diameter): (B) {_error_text(c, 'fair')}, {shown}"
     return text
