@@ -200,3 +200,66 @@ def test_the_patch_systems_without_pivoting_give_the_pivoted_fill(monkeypatch):
     pivoted = inpaint_on_mesh(start, faces, uv, free)
     assert np.abs(plain - start)[free].max() > 1e-3  # the λ-H fill moved the start
     np.testing.assert_allclose(plain, pivoted, rtol=0, atol=1e-11)
+
+
+class _ScriptedSystem:
+    """A stand-in for the coupled system whose Newton stage follows a given residual
+    trajectory: the start's residual is ``trajectory[0]`` (in edge lengths, scale 1), and
+    the scripted line search returns the next one after every step."""
+
+    def __init__(self, trajectory):
+        self.f = np.arange(4)
+        self.scale = 1.0
+        self.trajectory = list(trajectory)
+        self.steps = 0
+
+    def update(self, phi):
+        return phi[self.f] + self.trajectory[0]
+
+
+@pytest.mark.parametrize("name, trajectory, given_up_after", [
+    # stages that converged on the tuning-side families (docs/convergence.md, session 27)
+    # keep going: a long linear descent of about TRUST a step (quadruped v-95), a brain
+    # stage from 87 edge lengths, a plateau of four steps before converging at step 30
+    ("linear descent", [24.7, 24.5, 22.5, 22.1, 20.1, 18.0, 15.9, 13.8, 11.6, 9.4, 7.2, 4.9,
+                        2.5, 0.26, 0.02, 0.0], None),
+    ("from far", [87.5, 58.5, 37.1, 35.1, 28.8, 16.9, 13.7, 10.4, 6.2, 6.2, 6.0, 3.8, 1.5,
+                  1.3, 1.3, 0.67, 0.36, 0.13, 0.0], None),
+    ("late plateau", [5.0] + [4.0] * 20 + [1.363, 1.363, 1.364, 1.361, 1.19, 0.80, 0.63,
+                                          0.35, 0.005, 0.0], None),
+    # stages whose residual stays above 180 · 0.85^k after step k are given up there
+    ("far at step 1", [1130.0, 620.0, 584.0], 1),
+    ("just above at step 2", [140.0, 150.0, 131.0, 100.0], 2),
+    ("just below all along", [179.0, 152.0, 130.0, 110.0, 93.0, 79.0, 67.0, 57.0, 48.0,
+                              41.0, 35.0, 30.0, 25.0, 21.0, 18.0, 15.0, 13.0, 11.0, 9.0,
+                              8.0, 6.9, 5.9, 5.0, 4.2, 3.6, 3.0, 2.6, 2.2, 1.8, 1.6, 1.3],
+     None),
+    ("slow descent", [91.0, 49.3, 44.1, 43.9, 39.0, 33.9, 29.1, 29.2, 28.0, 27.0, 20.2, 20.2,
+                      19.0, 18.0, 17.0, 16.0], 15),
+])
+def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajectory,
+                                                       given_up_after):
+    system = _ScriptedSystem(trajectory)
+
+    def scripted_line_search(residual, x, r, dx):
+        system.steps += 1
+        size = system.trajectory[min(system.steps, len(system.trajectory) - 1)]
+        return x + dx, np.full(r.shape, size)
+
+    monkeypatch.setattr(mesh_inpainting, "newton_step", lambda s, p, x, r: np.zeros_like(x))
+    monkeypatch.setattr(mesh_inpainting, "_line_search", scripted_line_search)
+    points = np.zeros((4, 3))
+    steps = mesh_inpainting.NEWTON_STEPS
+    if given_up_after is None:
+        if trajectory[-1] < 1e-3:
+            mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+            assert system.steps == len(trajectory) - 1
+        else:  # it runs to its last step and fails there, as before the envelope
+            with pytest.raises(FillError, match=f"after {steps} steps"):
+                mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+            assert system.steps == steps
+    else:
+        with pytest.raises(FillError, match=f"after {given_up_after} steps, more than a "
+                                            "converging stage has"):
+            mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+        assert system.steps == given_up_after

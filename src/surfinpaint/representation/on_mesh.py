@@ -69,6 +69,13 @@ LINE_SEARCH = 8
 # 584; docs/convergence.md sessions 13, 14)
 NEWTON_ANALYTIC_MAX = 200
 NEWTON_STEPS = 30
+# a Newton stage whose residual after its k-th step is still above
+# NEWTON_ENVELOPE * NEWTON_ENVELOPE_RATE**k edge lengths is given up: every stage that
+# converged on the tuning-side families (209 of 814 stages) stayed below 81.7 * 0.85**k,
+# and this is 2.2 times that; the stages it stops would fail after their last step
+# (docs/convergence.md, session 27)
+NEWTON_ENVELOPE = 180.0
+NEWTON_ENVELOPE_RATE = 0.85
 # the least-squares stage where Newton's method fails too (least_squares_on_mesh):
 # Levenberg-Marquardt steps of at most LSQ_TRUST edge lengths, at most LSQ_STEPS of them
 # and LSQ_JACOBIANS Jacobians
@@ -526,7 +533,9 @@ def _newton_solve(system, points, tol, steps):
     """The fixed point of the lagged iteration found by Newton's method where the iteration
     itself diverges: the residual ``R(φ_f) = update(φ) − φ_f`` (in mean edge lengths) is
     driven to zero by Newton steps, each bounded to ``TRUST`` edge lengths and halved until
-    ``|R|`` decreases: solved exactly with R's analytic Jacobian on patches of at most
+    ``|R|`` decreases, and given up where ``|R|`` after step k is above
+    ``NEWTON_ENVELOPE * NEWTON_ENVELOPE_RATE**k`` (no converging stage was). Each step is
+    solved exactly with R's analytic Jacobian on patches of at most
     ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by GMRES
     on its exact products on larger ones (Newton–Krylov, :class:`.UpdateDerivative`).
 
@@ -543,10 +552,14 @@ def _newton_solve(system, points, tol, steps):
         return ((system.update(phi) - x) / h).ravel()
 
     r = residual(x)
-    for _ in range(steps):
+    for k in range(steps):
         size = float(np.abs(r).max())
         if size < tol:
             break
+        if k and size > NEWTON_ENVELOPE * NEWTON_ENVELOPE_RATE**k:
+            raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
+                             f"residual of {size:.2g} edge lengths after {k} steps, more "
+                             f"than a converging stage has")
         if len(f) <= NEWTON_ANALYTIC_MAX:
             dx = newton_step(system, points, x, r)
         else:
