@@ -200,7 +200,7 @@ def test_the_report_draws_the_fill_laid_on_its_plane_as_written(tmp_path, monkey
     # the page's "conformal" error is the laid fill's
     monkeypatch.delenv("DISPLAY", raising=False)
     from surfinpaint.app import report
-    from surfinpaint.app.report_page import table_rows
+    from surfinpaint.app.report_page import WRITTEN_ERROR, table_rows
     from surfinpaint.fill.pipeline import fill_holes
     from surfinpaint.geometry.metrics import surface_distance
 
@@ -210,7 +210,9 @@ def test_the_report_draws_the_fill_laid_on_its_plane_as_written(tmp_path, monkey
     assert c.on_plane and not c.kept
     written = fill_holes(cut.vertices, cut.faces, method="conformal")
     n = len(cut.vertices)
-    shown_v, shown_f = report.panel_c_fill(c, fills, 0)
+    drawn = report.panel_fills(fills, 0)
+    assert c.written_panel == drawn.written_in == "C" and drawn.written is None
+    shown_v, shown_f = drawn.conformal
     np.testing.assert_array_equal(shown_v[n:], written.vertices[n:])
     np.testing.assert_array_equal(shown_f, written.new_faces)
     raw_v, _ = fills["filled"]["conformal raw"][0]  # the λ-H fill, still made for (E)/(G)
@@ -237,10 +239,10 @@ def test_the_report_draws_the_fill_laid_on_its_plane_as_written(tmp_path, monkey
     ((args, kwargs),) = drawn
     assert args[4] is fills["filled"]["conformal"][0]  # (C): the written fill
     titles = kwargs["titles"]
-    assert titles["C"] == "(C) conformal: faired fill laid on its plane"
+    assert titles["C"] == "(C) conformal: faired fill laid on its plane (written)"
     assert "not written" in titles["E"] and "not written" in titles["G"]
     title = kwargs["suptitle"]
     assert "plane within its noise; the faired fill (order 2) laid on it is written" in title
     # the error (C) is labelled with: the page's "conformal" one, the written fill's
-    assert f"(C, written) {row[header.index('conformal mean / Hd %')]}," in title
+    assert f"(C, written) {row[header.index(WRITTEN_ERROR)]}," in title
     assert (tmp_path / c.picture).is_file()

@@ -15,10 +15,11 @@ from surfinpaint.app.report import (
     compare_holes,
     hole_title,
     hole_truths,
-    panel_c_fill,
+    panel_fills,
     table_rows,
 )
-from surfinpaint.data import sphere
+from surfinpaint.app.report_page import WRITTEN_ERROR
+from surfinpaint.data import lens, sphere
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
@@ -58,15 +59,20 @@ def test_hole_title_says_which_fill_is_written():
               for name, m in (("fair", 0.3), ("conformal", 0.2), ("conformal raw", 0.5))}
     rejected = HoleComparison(index=2, n_edges=40, diameter=1.5, kept=False,
                               fallback="self-check (hidden rings) preferred ...", fair_order=3,
-                              errors=errors)
+                              errors=errors, written_panel="W")
     title = hole_title(rejected, "snowman")
     assert title.startswith("snowman: hole 2, 40 boundary edges")
-    assert "rejected the λ-H fill; the faired fill (order 3) is written" in title
-    assert "(B) 0.3 / 0.6, (C) 0.5 / 1, written 0.2 / 0.4" in title
+    assert "rejected the λ-H fill; the faired fill (order 3) is written (W)" in title
+    assert "(B) 0.3 / 0.6, (C) 0.5 / 1, (W, written) 0.2 / 0.4" in title
+    bilaplacian = HoleComparison(index=2, n_edges=40, diameter=1.5, kept=False, fair_order=2,
+                                 fallback=rejected.fallback, errors=errors, written_panel="B")
+    assert "(B, written) 0.3 / 0.6, (C) 0.5 / 1" in hole_title(bilaplacian)
     failed = HoleComparison(index=0, n_edges=9, diameter=1.0, kept=False,
                             fallback="FillError: folds", fair_order=2)
     assert "the λ-H fill failed; the faired fill (order 2) is written" in hole_title(failed)
     assert "(C) is written" in hole_title(HoleComparison(index=0, n_edges=9, diameter=1.0))
+    kept = HoleComparison(index=0, n_edges=9, diameter=1.0, errors=errors)
+    assert "(B) 0.3 / 0.6, (C, written) 0.5 / 1" in hole_title(kept)
 
 
 def test_compare_holes_measures_both_fills(holed_sphere):
@@ -98,9 +104,10 @@ def test_compare_holes_measures_both_fills(holed_sphere):
         offset += report.new_vertices
         # not on a plane: (C) draws the λ-H fill, kept or rejected by the self-check
         assert not c.on_plane
-        assert panel_c_fill(c, fills, c.index) is fills["filled"]["conformal raw"][c.index]
+        assert panel_fills(fills, c.index).conformal is fills["filled"]["conformal raw"][c.index]
         if c.kept:
             assert c.errors["conformal"] == c.errors["conformal raw"]
+            assert c.written_panel == "C" and panel_fills(fills, c.index).written is None
         else:
             alone = fill_holes(cut.vertices, cut.faces, holes=[hole.loop], method="fair",
                                fair_order=3)
@@ -110,6 +117,89 @@ def test_compare_holes_measures_both_fills(holed_sphere):
         for fill_v, fill_f in fills["filled"][name]:
             assert np.array_equal(fill_v[: len(cut.vertices)], cut.vertices)
             assert fill_f.max() < len(fill_v)
+
+
+@pytest.fixture(scope="module")
+def lens_holes():
+    """Three holes in the lens where the self-check wrote, in turn, the λ-H fill, the
+    trilaplacian fill and the bilaplacian fill (measured; asserted where used)."""
+    from surfinpaint.geometry.mesh import mean_edge_length
+
+    v, f = lens()
+    h = mean_edge_length(v, f)
+    cut = cut_holes(v, f, [15, 872, 2762], [5.0 * h, 3.1 * h, 3.135 * h])
+    truth = [(x.truth_vertices, x.truth_faces) for x in cut.holes]
+    comparisons, fills = compare_holes(cut.vertices, cut.faces, [x.loop for x in cut.holes],
+                                       truth=truth)
+    return cut, comparisons, fills
+
+
+def _patch(vertices, faces):
+    """A fill's new faces over its own vertices only (as the report measures it)."""
+    ids, inverse = np.unique(faces, return_inverse=True)
+    return vertices[ids], inverse.reshape(-1, 3)
+
+
+def test_every_hole_panel_draws_the_written_fill(lens_holes, tmp_path, monkeypatch):
+    # `surfinpaint report`: the fill `fill` writes is drawn in a panel titled "written":
+    # (C) where the λ-H fill is kept, (B) where it is exactly the conventional fill, a
+    # fourth panel (W) where it is neither (the trilaplacian fill); (C) keeps the rejected
+    # λ-H fill, for comparison
+    monkeypatch.delenv("DISPLAY", raising=False)
+    from surfinpaint.app import report
+
+    cut, comparisons, fills = lens_holes
+    outcomes = [(r.method, r.fair_order, r.fallback) for r in fills["conformal"].reports]
+    assert outcomes == [("conformal", None, None), ("fair", 3, None), ("fair", 2, None)]
+    written = fill_holes(cut.vertices, cut.faces, holes=[x.loop for x in cut.holes],
+                         method="conformal")
+    drawn = [panel_fills(fills, k) for k in range(3)]
+    assert [c.written_panel for c in comparisons] == [d.written_in for d in drawn] == \
+        ["C", "W", "B"]
+    for k, d in enumerate(drawn):
+        shown = {"B": d.fair, "C": d.conformal, "W": d.written}[d.written_in]
+        # the panel that says "written" draws what `fill` writes, face for face
+        want_v, want_f = _patch(written.vertices, written.hole_faces()[k])
+        got_v, got_f = _patch(*shown)
+        np.testing.assert_array_equal(got_f, want_f)
+        np.testing.assert_array_equal(got_v, want_v)
+    # λ-H fill written: as before, (C) draws it, no fourth panel
+    assert drawn[0].conformal is fills["filled"]["conformal raw"][0]
+    assert drawn[0].written is None and drawn[0].titles == {"C": "(C) conformal fill (written)"}
+    # trilaplacian fill written: (B) and (C) draw other fills, (W) draws it
+    assert not np.array_equal(_patch(*drawn[1].fair)[0], _patch(*drawn[1].written)[0])
+    assert drawn[1].conformal is fills["filled"]["conformal raw"][1]
+    assert drawn[1].titles == {"C": "(C) conformal fill (rejected by the self-check)",
+                               "W": "(W) written: faired fill (order 3)"}
+    # bilaplacian fill written: it is (B)'s, titled so
+    assert drawn[2].written is None
+    assert drawn[2].titles["B"] == "(B) conventional fill (faired, written)"
+    # the page's written column and the title's written panel give the written fill's error
+    header, rows = table_rows(comparisons)
+    for c, row, panel in zip(comparisons, rows, "CWB", strict=True):
+        assert f"({panel}, written) {row[header.index(WRITTEN_ERROR)]}" in hole_title(c)
+    assert comparisons[2].errors["conformal"] == comparisons[2].errors["fair"]
+
+    given = []
+    hole_panel = report.hole_panel
+
+    def spy(*args, **kwargs):  # draws, and records what it was given
+        given.append(kwargs)
+        return hole_panel(*args, **kwargs)
+
+    monkeypatch.setattr(report, "hole_panel", spy)
+    report.panels_for(cut.vertices, cut.faces, comparisons, fills, tmp_path)
+    assert [g["written"] is d.written for g, d in zip(given, drawn, strict=True)] == [True] * 3
+    import matplotlib.image
+
+    for c, panels in zip(comparisons, (3, 4, 3), strict=True):
+        top = matplotlib.image.imread(tmp_path / c.picture)[:PANEL_SIZE[1] // 2, :, :3]
+        orange = (top[..., 0] > 0.6) & (top[..., 1] > 0.25) & (top[..., 1] < 0.6) & (
+            top[..., 2] < 0.35)
+        # the top row's panels: A without a fill (only its border's antialiased edge is
+        # orange-ish), then one fill each
+        hole, *filled = [int(part.sum()) for part in np.array_split(orange, panels, axis=1)]
+        assert min(filled) > 10 * hole, (hole, filled)
 
 
 def test_report_runs_headless_and_indexes_its_pictures(holed_sphere, tmp_path, monkeypatch):
@@ -151,6 +241,7 @@ def test_report_runs_headless_and_indexes_its_pictures(holed_sphere, tmp_path, m
         assert f"({name})" in md
         assert f'src="{name}"' in page
     assert "fair mean / Hd %" in md and "conformal raw mean / Hd %" in md
+    assert WRITTEN_ERROR in md
 
 
 def test_report_cli_rejects_bad_hole_list(tmp_path):

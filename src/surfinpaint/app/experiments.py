@@ -59,6 +59,7 @@ from surfinpaint.app.report import (
     panels_for,
     write_page,
 )
+from surfinpaint.app.report_page import WRITTEN_ERROR
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.cutting import cut_geodesic_disk, cut_holes
 from surfinpaint.geometry.mesh import boundary_loops, connected_components
@@ -315,7 +316,7 @@ def _pair(error: dict) -> str:
 
 
 def _summary(results: list[CaseResult]) -> tuple[list[str], list[list[str]]]:
-    header = ["case", "hole", "edges", "fair mean / Hd %", "conformal mean / Hd %",
+    header = ["case", "hole", "edges", "fair mean / Hd %", WRITTEN_ERROR,
               "conformal raw mean / Hd %", "conformal kept", "s (fair, conformal)"]
     rows = []
     for r in results:

@@ -4,25 +4,30 @@ Every hole is filled twice, by the conventional fill (Liepa: triangulate, refine
 the conformal λ-H inpainting (Lui, Wen, Gu), and drawn as one panel in the layout of the
 paper's figures:
 
-(A) the surface with the hole, (B) the conventional fill, (C) the conformal fill, seen from
-one camera facing the hole; (D)/(E) the conformal factor λ before and after inpainting and
-(F)/(G) the mean curvature H before and after, over the conformal parameter domain of the
-hole's patch, with the hole (solid) and the inpainted region (dashed) outlined.
+(A) the surface with the hole, (B) the conventional fill, (C) the conformal fill (and (W) the
+written fill where neither (B) nor (C) draws it), seen from one camera facing the hole;
+(D)/(E) the conformal factor λ before and after inpainting and (F)/(G) the mean curvature H
+before and after, over the conformal parameter domain of the hole's patch, with the hole
+(solid) and the inpainted region (dashed) outlined.
 
 "Before" is what the known surface says (:func:`surfinpaint.app.lambda_h_images.lambda_h_images`):
 λ, H of the surface around the hole on its patch's triangles, or the robust grid estimate
 with ``discretization="grid"``; the part that sees the initial fill is grey, since the
 initial fill's own λ, H are not data the method uses.
 
-Panel (C) draws the fill ``surfinpaint fill`` writes (:func:`panel_c_fill`), with one
-exception. When the conformal method's self-check kept the faired fill for a hole
-(``fallback``), (C) shows the conformal fill it rejected (computed again with
-``select=False``), so the two fills can still be compared; the title says which one
-``surfinpaint fill`` would write. When the surface around a hole is a plane within its
-noise (the method's plane test, ``HoleComparison.on_plane``), what is written is the faired
-fill laid on that plane, and (C) draws it; the λ-H fill the plane test made unnecessary is
-still computed (with ``select=False``) for (E)/(G), whose titles say that it was not
-written, and for the page's ``conformal raw`` errors.
+Every hole's panel draws the fill ``surfinpaint fill`` writes, titled "written", and the
+λ-H fill, so that the two can be compared (:func:`panel_fills` decides what each panel
+draws). (C) draws the conformal method's own fill: the λ-H fill, kept or rejected by the
+self-check (computed again with ``select=False`` where it was rejected), or, where the
+surface around the hole is a plane within its noise (the method's plane test,
+``HoleComparison.on_plane``), the faired fill laid on that plane that is written there (the
+λ-H fill the plane test made unnecessary is still computed, with ``select=False``, for
+(E)/(G), whose titles say that it was not written, and for the page's ``conformal raw``
+errors). Where the written fill is not (C)'s, it is the faired fill the self-check (or a
+failure of the λ-H fill) chose: (B) is titled "written" when it draws exactly that fill
+(the same faces over the same positions: the bilaplacian fill, as a rule), and otherwise
+(W), a fourth 3D panel from the same camera, draws it (the trilaplacian fill, or a faired
+fill the method's ``s0_search``/``s0_refinement`` made unlike (B)'s).
 
 A page (``index.md`` and ``index.html``) lists the holes with their sizes, times, the
 self-check scores and, given the ground truth, each method's distance to it.
@@ -35,7 +40,7 @@ import os
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +62,7 @@ from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.report_page import (
     LEGEND,
     HoleComparison,
+    WrittenPanel,
     hole_title,
     table_rows,
     write_page,
@@ -74,11 +80,12 @@ from surfinpaint.io.formats import read_mesh
 __all__ = [
     "LEGEND",
     "HoleComparison",
+    "PanelFills",
     "add_report_parser",
     "compare_holes",
     "hole_panel",
     "hole_truths",
-    "panel_c_fill",
+    "panel_fills",
     "run_report",
     "table_rows",
     "write_page",
@@ -90,6 +97,8 @@ _DPI = 100
 
 # a progress hook: step(message, advance=1)
 Step = Callable[..., None]
+# one hole's fill: (vertices starting with the mesh's, the hole's new faces)
+Patch = tuple[np.ndarray, np.ndarray]
 
 
 # --------------------------------------------------------------------------- fills
@@ -186,6 +195,8 @@ def compare_holes(
     filled["conformal raw"] = raw
     patches = {name: [None if p is None else _compact(*p) for p in fills]
                for name, fills in filled.items()}
+    made = {"fair": fair, "conformal": conformal, "filled": filled,
+            "diagnostics": diagnostics, "loops": loops}
 
     out = []
     for k, loop in enumerate(loops):
@@ -200,14 +211,14 @@ def compare_holes(
             fair_order=rc.fair_order,
             written="; ".join([written(rc), *(line.strip() for line in hole_lines(rc)[1:])]),
             on_plane=rc.plane is not None,
+            written_panel=panel_fills(made, k).written_in,
         )
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
                            for name in ("fair", "conformal", "conformal raw")}
         out.append(comp)
         step(f"hole {k}: measured")
-    return out, {"fair": fair, "conformal": conformal, "filled": filled,
-                 "diagnostics": diagnostics, "loops": loops}
+    return out, made
 
 
 def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray],
@@ -291,6 +302,7 @@ def hole_panel(
     diagnostics: LambdaHDiagnostics | None,
     path: str | os.PathLike,
     *,
+    written: Patch | None = None,
     titles: dict | None = None,
     suptitle: str = "",
 ) -> Path:
@@ -311,8 +323,11 @@ def hole_panel(
         What the conformal fill's λ-H pass left (:attr:`surfinpaint.HoleReport.diagnostics`);
         panels D–G say "no data" without it.
     path : path
+    written : (vertices, faces), optional
+        The fill ``surfinpaint fill`` writes, as ``fair``, where neither ``fair`` nor
+        ``conformal`` is it: drawn as a fourth 3D panel (W) beside (C).
     titles : dict, optional
-        Replacement titles for panels ``"A"``–``"G"``.
+        Replacement titles for panels ``"A"``–``"G"`` and ``"W"``.
     suptitle : str
     """
     from matplotlib.figure import Figure
@@ -322,7 +337,7 @@ def hole_panel(
     loop = np.asarray(loop)
     names = {
         "A": "(A) surface with the hole", "B": "(B) conventional fill (faired)",
-        "C": "(C) conformal fill", "D": "(D) initial λ (known part)",
+        "C": "(C) conformal fill", "W": "(W) written fill", "D": "(D) initial λ (known part)",
         "E": "(E) inpainted λ", "F": "(F) initial H (known part)", "G": "(G) inpainted H",
     }
     if diagnostics is not None and diagnostics.mesh is not None and diagnostics.mesh.one_side:
@@ -330,15 +345,18 @@ def hole_panel(
         for key in "DEFG":
             names[key] += ", one side"
     names.update(titles or {})
+    drawn = (fair, conformal) if written is None else (fair, conformal, written)
     fills = [None if fill is None else (np.asarray(fill[0], float), np.asarray(fill[1]))
-             for fill in (fair, conformal)]
+             for fill in drawn]
+    # every 3D panel from one camera, so that the fills compare by eye
     images, units_per_pixel = render_hole(vertices, faces, loop, fills, size=(520, 440))
     images = crop_to_ink(images)
     fig = Figure(figsize=(PANEL_SIZE[0] / _DPI, PANEL_SIZE[1] / _DPI), dpi=_DPI,
                  layout="constrained")
     grid = fig.add_gridspec(2, 12, height_ratios=[1.0, 1.0])
-    for k, (key, image) in enumerate(zip("ABC", images, strict=True)):
-        ax = fig.add_subplot(grid[0, 4 * k:4 * k + 4])
+    width = 12 // len(images)  # 3 or 4 panels share the top row
+    for k, (key, image) in enumerate(zip("ABCW"[:len(images)], images, strict=True)):
+        ax = fig.add_subplot(grid[0, width * k:width * (k + 1)])
         ax.imshow(image)
         ax.set_axis_off()
         ax.set_title(names[key], fontsize=11)
@@ -372,14 +390,54 @@ def hole_panel(
     return save_figure(fig, path, dpi=_DPI)
 
 
-def panel_c_fill(comparison: HoleComparison, fills: dict,
-                 k: int) -> tuple[np.ndarray, np.ndarray] | None:
-    """The fill panel (C) of a hole draws (see the module docstring).
+@dataclass(frozen=True)
+class PanelFills:
+    """What the 3D panels of one hole draw, and their titles (:func:`panel_fills`).
+
+    Each fill is ``(vertices, faces)`` as :func:`hole_panel` takes it.
+
+    Attributes
+    ----------
+    fair : (vertices, faces)
+        (B): the conventional fill.
+    conformal : (vertices, faces) or None
+        (C): the conformal method's own fill (the λ-H fill, or the fill laid on the plane);
+        None where the λ-H fill failed.
+    written : (vertices, faces) or None
+        (W): the fill ``surfinpaint fill`` writes, where neither (B) nor (C) draws it; None
+        otherwise.
+    written_in : {"B", "C", "W"} or None
+        The panel that draws the written fill; None where nothing is written.
+    titles : dict
+        The panels' titles that differ from :func:`hole_panel`'s.
+    """
+
+    fair: Patch
+    conformal: Patch | None
+    written: Patch | None
+    written_in: WrittenPanel
+    titles: dict[str, str]
+
+
+def _same_fill(a: Patch | None, b: Patch | None) -> bool:
+    """Whether two fills are the same faces over the same positions. Each lies in its own
+    result's vertex ids (which new vertices come first depends on the holes before it), so
+    they are compared compacted. Exactly: the conformal method's bilaplacian candidate is
+    made bit for bit as the "fair" method's fill is, and were they ever to differ in the
+    last bits, (W) would draw a copy of (B), a panel too many but never the written fill
+    missing."""
+    if a is None or b is None:
+        return False
+    (av, af), (bv, bf) = _compact(*a), _compact(*b)
+    return np.array_equal(af, bf) and np.array_equal(av, bv)
+
+
+def panel_fills(fills: dict, k: int) -> PanelFills:
+    """What each 3D panel of a hole draws, and which draws the written fill (see the module
+    docstring).
 
     Parameters
     ----------
-    comparison : HoleComparison
-        The hole's comparison.
     fills : dict
         As :func:`compare_holes` returns it.
     k : int
@@ -387,16 +445,38 @@ def panel_c_fill(comparison: HoleComparison, fills: dict,
 
     Returns
     -------
-    (vertices, faces) or None
-        What ``surfinpaint fill`` writes for the hole where that is the λ-H fill or the
-        faired fill laid on the surface's plane; else the λ-H fill the self-check
-        rejected, None where it failed.
+    PanelFills
     """
+    report = fills["conformal"].reports[k]
     filled = fills["filled"]
-    # a rejected λ-H fill is drawn so that it can be judged (the written faired fill is
-    # much like (B)); a hole laid on its plane is drawn as written, since the laid fill
-    # is like neither (B) nor the λ-H fill
-    return filled["conformal" if comparison.on_plane else "conformal raw"][k]
+    on_plane = report.plane is not None
+    # the fill laid on the plane is the conformal method's own, like neither (B) nor the
+    # λ-H fill: (C) draws it; elsewhere (C) draws the λ-H fill, kept or not, so that a
+    # rejected one can be judged
+    conformal = filled["conformal" if on_plane else "conformal raw"][k]
+    written = filled["conformal"][k] if report.outcome in ("lambda-h", "faired") else None
+    # the written fill is drawn once, in the first panel that draws exactly it: one more
+    # panel only where it is new to the eye (the trilaplacian fill, as a rule)
+    written_in: WrittenPanel = None
+    if written is not None:
+        written_in = ("C" if _same_fill(written, conformal)
+                      else "B" if _same_fill(written, filled["fair"][k]) else "W")
+    titles = {}
+    if written_in == "B":
+        titles["B"] = "(B) conventional fill (faired, written)"
+    state = ("written" if written_in == "C" else "failed" if conformal is None
+             else "rejected by the self-check")
+    titles["C"] = (f"(C) conformal: faired fill laid on its plane ({state})" if on_plane
+                   else f"(C) conformal fill ({state})")
+    if written_in == "W":
+        titles["W"] = f"(W) written: faired fill (order {report.fair_order})"
+    if on_plane and fills["diagnostics"][k] is not None:
+        # (E)/(G) are of the λ-H fill, which (C) does not draw
+        titles["E"] = "(E) inpainted λ (λ-H fill, not written)"
+        titles["G"] = "(G) inpainted H (λ-H fill, not written)"
+    return PanelFills(fair=filled["fair"][k], conformal=conformal,
+                      written=written if written_in == "W" else None, written_in=written_in,
+                      titles=titles)
 
 
 def panels_for(vertices, faces, comparisons, fills, out_dir, prefix="hole",
@@ -406,21 +486,11 @@ def panels_for(vertices, faces, comparisons, fills, out_dir, prefix="hole",
     them."""
     out_dir = Path(out_dir)
     for k, c in enumerate(comparisons):
-        titles = {}
-        if c.on_plane:
-            titles["C"] = "(C) conformal: faired fill laid on its plane"
-            if fills["diagnostics"][k] is not None:
-                # (E)/(G) are of the λ-H fill, which (C) does not draw
-                titles["E"] = "(E) inpainted λ (λ-H fill, not written)"
-                titles["G"] = "(G) inpainted H (λ-H fill, not written)"
-        elif fills["filled"]["conformal raw"][k] is None:
-            titles["C"] = "(C) conformal fill (failed)"
-        elif not c.kept:
-            titles["C"] = "(C) conformal fill (rejected by the self-check)"
+        drawn = panel_fills(fills, k)
         picture = f"{prefix}{c.index}.png"
-        hole_panel(vertices, faces, fills["loops"][k], fills["filled"]["fair"][k],
-                   panel_c_fill(c, fills, k), fills["diagnostics"][k], out_dir / picture,
-                   titles=titles, suptitle=hole_title(c, name))
+        hole_panel(vertices, faces, fills["loops"][k], drawn.fair, drawn.conformal,
+                   fills["diagnostics"][k], out_dir / picture, written=drawn.written,
+                   titles=drawn.titles, suptitle=hole_title(c, name))
         c.picture = picture
         if step:
             step(f"hole {c.index}: panel drawn")

@@ -9,12 +9,19 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 
 from surfinpaint.io.atomic import atomic_open
 
-__all__ = ["LEGEND", "HoleComparison", "hole_title", "table_rows", "write_page"]
+__all__ = ["LEGEND", "WRITTEN_ERROR", "HoleComparison", "WrittenPanel", "hole_title",
+           "table_rows", "write_page"]
+
+#: The 3D panel of a hole that draws the fill ``surfinpaint fill`` writes: (B) the
+#: conventional fill, (C) the conformal method's own, (W) a panel of its own; None where
+#: nothing is written.
+WrittenPanel = Literal["B", "C", "W"] | None
 
 
 @dataclass
@@ -60,6 +67,10 @@ class HoleComparison:
         The conformal method laid the faired fill on the plane of the surface around the
         hole (its plane test; no self-check ran): that laid fill is written, and panel (C)
         draws it.
+    written_panel : {"B", "C", "W"} or None
+        The panel that draws the written fill (:func:`surfinpaint.app.report.panel_fills`):
+        (C) where it is the conformal method's own, (B) where it is exactly the
+        conventional fill, else (W); None where nothing is written.
     """
 
     index: int
@@ -75,6 +86,7 @@ class HoleComparison:
     picture: str | None = None
     written: str | None = None
     on_plane: bool = False
+    written_panel: WrittenPanel = "C"
 
 
 def _fmt(x: float, digits: int = 3) -> str:
@@ -101,13 +113,17 @@ def _error_text(c: HoleComparison, method: str) -> str:
     return f"{_fmt(e['mean'])} / {_fmt(e['hausdorff'])}"
 
 
+# the error column of the fill `surfinpaint fill` writes (the "conformal" errors)
+WRITTEN_ERROR = "written (conformal) mean / Hd %"
+
+
 def table_rows(comparisons: Sequence[HoleComparison]) -> tuple[list[str], list[list[str]]]:
     """Header and rows of the per-hole table (strings), errors included when measured."""
     with_truth = any(c.errors for c in comparisons)
     header = ["hole", "edges", "diameter", "fair: new v, s", "conformal: new v, s",
               "conformal outcome"]
     if with_truth:
-        header += ["fair mean / Hd %", "conformal mean / Hd %", "conformal raw mean / Hd %"]
+        header += ["fair mean / Hd %", WRITTEN_ERROR, "conformal raw mean / Hd %"]
     rows = []
     for c in comparisons:
         row = [str(c.index), str(c.n_edges), _fmt(c.diameter),
@@ -145,9 +161,12 @@ LEGEND = (
     "conformal fill it rejected. Where the known surface around the hole is a plane within "
     "its noise, the method writes the bilaplacian faired fill laid on that plane and runs "
     "no self-check: (C) shows that laid fill, (E)/(G) the λ-H fill, which is not written. "
+    "The panel that draws the fill `surfinpaint fill` writes is titled 'written': (C), or "
+    "(B) where the written faired fill is exactly the conventional fill, or else (W), a "
+    "fourth panel (the trilaplacian faired fill, as a rule). "
     "Errors: two-sided mean and Hausdorff distance to the removed truth, in % of the hole "
-    "diameter; 'conformal' is what `surfinpaint fill` writes, 'conformal raw' the λ-H fill "
-    "before the self-check and the plane test."
+    "diameter; 'written (conformal)' is what `surfinpaint fill` writes, 'conformal raw' "
+    "the λ-H fill before the self-check and the plane test."
 )
 
 
@@ -214,14 +233,18 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
             why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith(
                 "self-check") else "the self-check rejected the λ-H fill")
             written = f"{why}; the faired fill{order} is written"
+        if c.written_panel in ("B", "W"):  # where (C) does not draw it
+            written += f" ({c.written_panel})"
     text = (f"{name + ': ' if name else ''}hole {c.index}, {c.n_edges} boundary edges, "
             f"diameter {_fmt(c.diameter)}; {written}")
     if c.errors:
-        if c.on_plane:  # (C) draws the written fill; the λ-H fill is not drawn
-            shown = (f"(C, written) {_error_text(c, 'conformal')}, λ-H fill (not written) "
-                     f"{_error_text(c, 'conformal raw')}")
-        else:
-            shown = (f"(C) {_error_text(c, 'conformal raw')}, written "
-                     f"{_error_text(c, 'conformal')}")
-        text += f"\nerror (mean / Hausdorff, % of diameter): (B) {_error_text(c, 'fair')}, {shown}"
+        # each 3D panel's error, the written fill's labelled so: its panel draws it
+        drawn = [("B", "fair"), ("C", "conformal" if c.on_plane else "conformal raw")]
+        if c.written_panel == "W":
+            drawn.append(("W", "conformal"))
+        shown = ", ".join(f"({panel}{', written' if panel == c.written_panel else ''}) "
+                          f"{_error_text(c, method)}" for panel, method in drawn)
+        if c.on_plane:  # the λ-H fill, drawn in no 3D panel
+            shown += f", λ-H fill (not written) {_error_text(c, 'conformal raw')}"
+        text += f"\nerror (mean / Hausdorff, % of diameter): {shown}"
     return text
