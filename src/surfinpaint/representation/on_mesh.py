@@ -71,9 +71,10 @@ NEWTON_ANALYTIC_MAX = 200
 NEWTON_STEPS = 30
 # a Newton stage whose residual after its k-th step is still above
 # NEWTON_ENVELOPE * NEWTON_ENVELOPE_RATE**k edge lengths is given up: every stage that
-# converged on the tuning-side families (209 of 814 stages) stayed below 81.7 * 0.85**k,
-# and this is 2.2 times that; the stages it stops would fail after their last step
-# (docs/convergence.md, session 27)
+# converged on the tuning side (the λ-H families and the tuning half: 209 of 814 stages)
+# stayed below 81.7 * 0.85**k, and this is 2.2 times that. A failed stage changes nothing
+# after it (the next stage starts where it started), so only time is saved where the
+# stage would have failed anyway (docs/convergence.md, session 27)
 NEWTON_ENVELOPE = 180.0
 NEWTON_ENVELOPE_RATE = 0.85
 # the least-squares stage where Newton's method fails too (least_squares_on_mesh):
