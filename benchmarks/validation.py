@@ -293,7 +293,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--samples", type=int, default=10000)
     parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST),
                         help="the holes (default: both halves; benchmarks/"
-                        "holdout_manifest.json: the holdout set)")
+                        "holdout_manifest.json, holdout2_manifest.json: the holdout sets)")
     parser.add_argument("--out", default=None, help="write all rows as JSON here")
     parser.add_argument("--tables", default=None,
                         help="print the tables of a saved run (.json or .partial.jsonl)")
