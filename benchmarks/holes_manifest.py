@@ -18,6 +18,10 @@ when cutting) with the radius in mesh units, so the holes do not depend on this 
 A third set, the holdout (``benchmarks/holdout_manifest.json``, ``--write --holdout``): 11
 fresh meshes (``validation_meshes.HOLDOUT_SOURCES``), holes planned the same way, made
 after session 25's choices and run once. Reported after the validation half.
+
+A fourth set, the second holdout (``benchmarks/holdout2_manifest.json``, ``--write
+--holdout2``): 12 fresh meshes (``validation_meshes.HOLDOUT2_SOURCES``), holes planned the
+same way (seeds from 200), made after session 26's defaults and run once.
 """
 
 from __future__ import annotations
@@ -36,6 +40,8 @@ MANIFEST = Path(__file__).parent / "holes_manifest.json"
 # a third set, fresh meshes run once after session 25's choices (validation_meshes.
 # HOLDOUT_SOURCES): its own file, so the two halves' manifest stays as it was
 HOLDOUT_MANIFEST = Path(__file__).parent / "holdout_manifest.json"
+# a fourth set, fresh meshes run once after session 26's defaults (HOLDOUT2_SOURCES)
+HOLDOUT2_MANIFEST = Path(__file__).parent / "holdout2_manifest.json"
 RADII_H = (3, 4, 5, 6, 7, 8, 10)
 NEAR_BORDER = (1, 3, 5)
 ON_FEATURE = (0, 2, 4, 6)
@@ -49,6 +55,7 @@ SPLIT = {
                    "flange", "lblock", "inflated", "midthickness", "molar5", "incisor",
                    "ellipsoid", "fs_sphere", "peanut"],
     "holdout": list(vm.HOLDOUT_SOURCES),
+    "holdout2": list(vm.HOLDOUT2_SOURCES),
 }
 
 
@@ -139,10 +146,11 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
           splits: tuple[str, ...] = ("tuning", "validation")) -> dict:
     """Build the manifest of ``splits`` from :data:`SPLIT` and :mod:`validation_meshes` and
     write it; meshes whose source is not installed are skipped with a note. The holes'
-    seeds follow each mesh's place in the list (the holdout's start at 100)."""
+    seeds follow each mesh's place in the list (the holdout's start at 100, the second
+    holdout's at 200)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
-    first = 100 if splits == ("holdout",) else 0
+    first = {("holdout",): 100, ("holdout2",): 200}.get(tuple(splits), 0)
     for index, mesh_id in enumerate(ids, start=first):
         if only and mesh_id not in only:
             continue
@@ -164,10 +172,15 @@ if __name__ == "__main__":
     parser.add_argument("--out", default=None)
     parser.add_argument("--holdout", action="store_true",
                         help="the holdout set instead (default --out: holdout_manifest.json)")
+    parser.add_argument("--holdout2", action="store_true",
+                        help="the second holdout set instead (default --out: "
+                        "holdout2_manifest.json)")
     args = parser.parse_args()
     if not args.write:
         parser.error("pass --write to (re)write the manifest")
     if args.holdout:
         write(Path(args.out or HOLDOUT_MANIFEST), splits=("holdout",))
+    elif args.holdout2:
+        write(Path(args.out or HOLDOUT2_MANIFEST), splits=("holdout2",))
     else:
         write(Path(args.out or MANIFEST))

@@ -16,6 +16,8 @@ Run (one hole at a time, nothing parallel)::
     .venv/bin/python benchmarks/validation.py --tables validation.json    # tables again
     .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout_manifest.json \
         --out holdout.json                                                 # the holdout set
+    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout2_manifest.json \
+        --out holdout2.json                                           # the second holdout
 
 Every row is also appended to ``<out>.partial.jsonl`` as it is made, so the tables of a run
 that was stopped can be printed with ``--tables <out>.partial.jsonl``.
@@ -49,9 +51,11 @@ METHODS = OURS + PEERS
 DEFAULT = "conformal"
 CANDIDATES = ("fair", "fair3", "conformal_raw")  # what the self-check chooses among
 FILLED = ("ok", "selected", "fallback")
-# reported in this order: the validation half first, then the holdout set (fresh meshes,
-# benchmarks/holdout_manifest.json), then the tuning half every rule was chosen on
-SPLITS = ("validation", "holdout", "tuning")
+# reported in this order: the validation half first, then the holdout sets (fresh meshes,
+# benchmarks/holdout_manifest.json and holdout2_manifest.json), then the tuning half every
+# rule was chosen on
+SPLITS = ("validation", "holdout", "holdout2", "tuning")
+SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2"}
 
 
 def _cut(mesh: vm.BenchMesh, hole: dict):
@@ -206,7 +210,7 @@ def headline(rows: list[dict], methods: list[str]) -> dict:
 
 def report(rows: list[dict], methods: list[str], split: str) -> str:
     part = [r for r in rows if r["extra"]["split"] == split]
-    name = f"{split.capitalize()} {'set' if split == 'holdout' else 'half'}"
+    name = SPLIT_NAMES.get(split, f"{split.capitalize()} half")
     if not part:
         return f"## {name}: no rows\n"
     hl = headline(part, methods)
@@ -289,7 +293,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--samples", type=int, default=10000)
     parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST),
                         help="the holes (default: both halves; benchmarks/"
-                        "holdout_manifest.json: the holdout set)")
+                        "holdout_manifest.json, holdout2_manifest.json: the holdout sets)")
     parser.add_argument("--out", default=None, help="write all rows as JSON here")
     parser.add_argument("--tables", default=None,
                         help="print the tables of a saved run (.json or .partial.jsonl)")
