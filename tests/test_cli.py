@@ -29,7 +29,8 @@ from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length, unique_edges
 from surfinpaint.geometry.repair import unjoined_bowties
 from surfinpaint.geometry.validation import nonmanifold_vertices, validate_mesh
-from surfinpaint.io.formats import read_mesh, write_mesh
+from surfinpaint.io.formats import read_mesh, write_mesh, write_mesh_data
+from surfinpaint.io.meshdata import MeshData
 
 EXE = Path(sys.executable).parent / "surfinpaint"
 
@@ -351,6 +352,18 @@ def test_holes_table(tmp_path, capsys):
     assert [r[:2] for r in rows] == [[str(i), str(h.n_edges)] for i, h in enumerate(found)]
     assert [r[-1] for r in rows] == ["hole", "hole"]
     assert "edges" in out and "perimeter" in out
+
+
+def test_holes_does_not_warn_about_data_it_writes_nowhere(tmp_path, capsys):
+    # listing the holes of a coloured scan loses nothing: no "not returned by read_mesh"
+    v, f = _holey_sphere()
+    path = tmp_path / "coloured.ply"
+    write_mesh_data(path, MeshData(v, f, attributes={
+        "color": np.tile(np.array([200, 120, 40], np.uint8), (len(v), 1))}))
+    assert main(["holes", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert "hole" in captured.out
+    assert "not returned" not in captured.err + captured.out
 
 
 def test_fill_fair_keeps_the_original_vertices(tmp_path, capsys):

@@ -12,6 +12,7 @@ from conftest import grid_mesh
 
 from surfinpaint.errors import MeshError
 from surfinpaint.io import (
+    DataNotReturnedWarning,
     MeshData,
     MeshWarning,
     read_mesh,
@@ -150,6 +151,36 @@ def test_read_mesh_keeps_its_pair_and_names_what_it_does_not_return(tmp_path):
     mesh = read_mesh_data(path)
     vertices, faces = mesh  # unpacks like read_mesh
     np.testing.assert_array_equal(vertices, got_v)
+
+
+def test_read_mesh_without_the_data_warning_keeps_the_others(tmp_path):
+    blob, v, f, *_ = _ply_with_every_type("little")
+    path = tmp_path / "every.ply"
+    path.write_bytes(blob)
+    # its own category, a MeshWarning, so that a caller that writes no mesh can leave it out
+    with pytest.warns(DataNotReturnedWarning):
+        loud_v, loud_f = read_mesh(path)
+    assert issubclass(DataNotReturnedWarning, MeshWarning)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        quiet_v, quiet_f = read_mesh(path, data_warning=False)
+    np.testing.assert_array_equal(quiet_v, loud_v)
+    np.testing.assert_array_equal(quiet_f, f)
+    # what no reader carries is still said: quads triangulated, with colours
+    quads = tmp_path / "quads.ply"
+    quads.write_text("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                     "property float y\nproperty float z\nproperty uchar red\n"
+                     "property uchar green\nproperty uchar blue\nelement face 1\n"
+                     "property list uchar int vertex_indices\nend_header\n"
+                     "0 0 0 255 0 0\n1 0 0 0 255 0\n1 1 0 0 0 255\n0 1 0 9 9 9\n"
+                     "4 0 1 2 3\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        _, two = read_mesh(quads, data_warning=False)
+    assert len(two) == 2
+    assert [type(w.message) for w in caught] == [MeshWarning]
+    assert "1 polygon face(s) with more than three corners were fan-triangulated" in str(
+        caught[0].message)
 
 
 def test_ply_seam_in_a_corner_list_is_kept_per_corner_with_a_warning(tmp_path):

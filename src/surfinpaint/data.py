@@ -440,7 +440,7 @@ def _package_root(package: str, purpose: str):
 
 
 def _load_mesh_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    out = read_mesh(path)
+    out = read_mesh(path, data_warning=False)  # the loaders return geometry by design
     v, f = (out[0], out[1]) if isinstance(out, tuple) else (out.vertices, out.faces)
     return np.asarray(v, dtype=float), np.asarray(f, dtype=np.int64)
 

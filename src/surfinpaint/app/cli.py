@@ -112,7 +112,7 @@ def _holes_table(vertices, faces, title: str) -> None:
 
 
 def cmd_holes(args: argparse.Namespace) -> int:
-    vertices, faces = read_mesh(args.mesh)
+    vertices, faces = read_mesh(args.mesh, data_warning=False)  # it only lists the holes
     title = f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces"
     if args.repair:
         faces, removed = remove_nonmanifold_faces(vertices, faces)

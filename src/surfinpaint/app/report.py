@@ -573,9 +573,10 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
 def run_report(args: argparse.Namespace) -> int:
     """``surfinpaint report``: returns the exit code (0 on success)."""
     console = make_console()
-    vertices, faces = read_mesh(args.mesh)
+    # pictures and a page: the file's colours, normals, UVs are not lost, only not drawn
+    vertices, faces = read_mesh(args.mesh, data_warning=False)
     validate_mesh(vertices, faces, path=str(args.mesh))
-    truth = read_mesh(args.truth) if args.truth else None
+    truth = read_mesh(args.truth, data_warning=False) if args.truth else None
     loops = select_holes(vertices, faces, args.holes)
     if not loops:
         console.print(f"{args.mesh}: no holes to fill (apart from the outer border)")

@@ -5,6 +5,7 @@ Knows nothing of geometry algorithms beyond checking what it reads.
 
 from surfinpaint.io.formats import (
     SUPPORTED_FORMATS,
+    DataNotReturnedWarning,
     MeshWarning,
     read_mesh,
     read_mesh_data,
@@ -13,5 +14,5 @@ from surfinpaint.io.formats import (
 )
 from surfinpaint.io.meshdata import MeshData
 
-__all__ = ["SUPPORTED_FORMATS", "MeshData", "MeshWarning", "read_mesh", "read_mesh_data",
-           "write_mesh", "write_mesh_data"]
+__all__ = ["SUPPORTED_FORMATS", "DataNotReturnedWarning", "MeshData", "MeshWarning", "read_mesh",
+           "read_mesh_data", "write_mesh", "write_mesh_data"]

@@ -10,11 +10,18 @@ import numpy as np
 
 from surfinpaint.errors import MeshError, preview
 
-__all__ = ["MeshWarning"]
+__all__ = ["DataNotReturnedWarning", "MeshWarning"]
 
 
 class MeshWarning(UserWarning):
     """Something about a mesh file worth knowing that does not stop reading or writing it."""
+
+
+class DataNotReturnedWarning(MeshWarning):
+    """:func:`~surfinpaint.io.formats.read_mesh` read per-vertex, per-face or per-corner data
+    (colours, normals, UVs, ...) that it does not return (``read_mesh_data`` does). Its own
+    category so that a caller that writes no mesh (listing holes, drawing pictures) can
+    ignore it while other warnings about the file still show."""
 
 
 def describe(exc: BaseException) -> str:

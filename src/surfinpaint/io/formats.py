@@ -40,7 +40,14 @@ import numpy as np
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.validation import check_arrays
 from surfinpaint.io.atomic import atomic_open
-from surfinpaint.io.base import MeshWarning, Parsed, describe, ids, triangulate
+from surfinpaint.io.base import (
+    DataNotReturnedWarning,
+    MeshWarning,
+    Parsed,
+    describe,
+    ids,
+    triangulate,
+)
 from surfinpaint.io.brain import (
     FREESURFER_MAGIC,
     overlay_outputs,
@@ -60,8 +67,8 @@ from surfinpaint.io.off import read_off, unstored_off, write_off
 from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
 from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
 
-__all__ = ["SUPPORTED_FORMATS", "MeshData", "MeshWarning", "files_read", "output_format",
-           "read_mesh", "read_mesh_data", "write_mesh", "write_mesh_data"]
+__all__ = ["SUPPORTED_FORMATS", "DataNotReturnedWarning", "MeshData", "MeshWarning",
+           "files_read", "output_format", "read_mesh", "read_mesh_data", "write_mesh", "write_mesh_data"]
 
 _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
 
@@ -118,7 +125,8 @@ def _unknown_format(path: Path) -> MeshError:
 # --------------------------------------------------------------------------------- reading
 
 
-def read_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
+def read_mesh(path: str | os.PathLike, *,
+              data_warning: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Read a triangle mesh, vertices exactly as stored in the file and in its order.
 
     Parameters
@@ -126,6 +134,11 @@ def read_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
     path : str or path-like
         A file with one of the extensions in :data:`SUPPORTED_FORMATS`. FreeSurfer surfaces
         are also recognised by their magic bytes whatever their name.
+    data_warning : bool, optional
+        Warn (:class:`DataNotReturnedWarning`) naming the per-vertex, per-face or per-corner
+        data the file carries, which this function does not return. False for a caller that
+        writes no mesh from what it reads (listing holes, drawing pictures), where nothing
+        is lost; the other warnings stay.
 
     Returns
     -------
@@ -146,9 +159,12 @@ def read_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
     Warns
     -----
     MeshWarning
-        When polygons with more than three corners were triangulated, and naming the
-        per-vertex, per-face or per-corner data the file carries, which this function does not
-        return (:func:`read_mesh_data` does).
+        When polygons with more than three corners were triangulated, or the file holds what
+        no reader carries.
+    DataNotReturnedWarning
+        A :class:`MeshWarning` naming the per-vertex, per-face or per-corner data the file
+        carries, which this function does not return (:func:`read_mesh_data` does); not with
+        ``data_warning=False``.
 
     Examples
     --------
@@ -158,11 +174,11 @@ def read_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
     carried = [f"{kind} {', '.join(arrays)}" for kind, arrays in (
         ("per-vertex", mesh.attributes), ("per-face", mesh.face_attributes),
         ("per-corner", mesh.corner_attributes)) if arrays]
-    if carried:
-        dropped.append(f"{'; '.join(carried)} not returned by read_mesh (read_mesh_data keeps "
-                       "them)")
     for message in dropped:
         warnings.warn(f"{path}: {message}", MeshWarning, stacklevel=2)
+    if carried and data_warning:
+        warnings.warn(f"{path}: {'; '.join(carried)} not returned by read_mesh "
+                      "(read_mesh_data keeps them)", DataNotReturnedWarning, stacklevel=2)
     return mesh.vertices, mesh.faces
 
 
