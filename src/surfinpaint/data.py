@@ -16,6 +16,7 @@ from __future__ import annotations
 import importlib
 import importlib.resources
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,7 @@ import numpy as np
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import unique_edges, vertex_normals
 from surfinpaint.io.atomic import atomic_open
-from surfinpaint.io.formats import read_mesh
+from surfinpaint.io.formats import MeshWarning, read_mesh
 from surfinpaint.lazy import lazy_module
 
 optimize = lazy_module("scipy.optimize")  # generating the bundled meshes only
@@ -440,7 +441,11 @@ def _package_root(package: str, purpose: str):
 
 
 def _load_mesh_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    out = read_mesh(path, data_warning=False)  # the loaders return geometry by design
+    # the loaders return the geometry of files known to load: what else a sample file holds
+    # (a scanner's camera record, colours) is nothing a caller can act on
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MeshWarning)
+        out = read_mesh(path)
     v, f = (out[0], out[1]) if isinstance(out, tuple) else (out.vertices, out.faces)
     return np.asarray(v, dtype=float), np.asarray(f, dtype=np.int64)
 
