@@ -68,7 +68,8 @@ from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
 from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
 
 __all__ = ["SUPPORTED_FORMATS", "DataNotReturnedWarning", "MeshData", "MeshWarning",
-           "files_read", "output_format", "read_mesh", "read_mesh_data", "write_mesh", "write_mesh_data"]
+           "files_read", "output_format", "read_mesh", "read_mesh_data", "write_mesh",
+           "write_mesh_data"]
 
 _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
 
