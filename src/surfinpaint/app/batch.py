@@ -35,7 +35,13 @@ from typing import Any
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from surfinpaint.app.batch_inputs import FileJob, find_inputs, largest_cost_first, up_to_date
+from surfinpaint.app.batch_inputs import (
+    FileJob,
+    find_inputs,
+    largest_cost_first,
+    picture_path,
+    up_to_date,
+)
 from surfinpaint.app.batch_summary import (
     STATUSES,
     SUMMARY_CSV,
@@ -50,7 +56,8 @@ from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.parallel import start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.fill.warmup import warm_kernels
-from surfinpaint.io.formats import read_mesh_data, write_mesh_data
+from surfinpaint.io.formats import MeshData, read_mesh_data, write_mesh_data
+from surfinpaint.lazy import lazy_module
 
 __all__ = ["FileJob", "FileRow", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "fill_file",
            "fill_files", "find_inputs", "read_summary", "write_summary"]
@@ -60,6 +67,9 @@ __all__ = ["FileJob", "FileRow", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "fil
 WORKER_RETRIES = 3
 
 ProgressCallback = Callable[[int, int, str], None]
+
+# imported by the first picture: a batch without pictures does without the module
+figures = lazy_module("surfinpaint.app.figures")
 
 # The queue a local worker process sends the hole progress of its file through (set by the
 # pool's initializer; None in the calling process and on Dask workers).
@@ -90,7 +100,8 @@ def _messages(job: FileJob, result: FillResult,
     return " | ".join(texts)
 
 
-def _row_of(job: FileJob, result: FillResult, seconds: float, message: str) -> FileRow:
+def _row_of(job: FileJob, result: FillResult, seconds: float, message: str,
+            picture: str | None) -> FileRow:
     kept: dict[str, int] = {}
     for report in result.reports:
         if not report.skipped:
@@ -100,7 +111,23 @@ def _row_of(job: FileJob, result: FillResult, seconds: float, message: str) -> F
                    holes_found=len(result.reports), holes_filled=filled, kept=kept,
                    new_vertices=len(result.vertices) - result.n_original_vertices,
                    seconds=seconds, message=message,
-                   holes=tuple(HoleRecord.of(r) for r in result.reports))
+                   holes=tuple(HoleRecord.of(r) for r in result.reports), picture=picture)
+
+
+def _draw(job: FileJob, mesh: MeshData, result: FillResult) -> str:
+    """Draw the before/after picture of ``job`` (when it has one) in this process, the
+    worker that filled it: the fill's result is here, and sending it to the parent to draw
+    would copy the mesh twice (PyVista renders off-screen in forked and spawned workers
+    alike). Returns why it could not be drawn, or "": a picture that fails (no OpenGL on
+    a cluster node, a full disk) is noted in the file's row, its output is kept."""
+    if job.picture is None:
+        return ""
+    try:
+        figures.before_after(mesh.vertices, mesh.faces, result, job.picture)
+    except Exception as exc:  # the picture's failure is the row's note, not the file's
+        return _named(job, f"{job.picture_output}: picture not drawn: "
+                      f"{type(exc).__name__}: {exc}")
+    return ""
 
 
 def _error_text(job: FileJob, exc: Exception) -> str:
@@ -116,9 +143,10 @@ _ONE_FILE_AT_A_TIME = threading.Lock()
 
 def fill_file(job: FileJob, options: Mapping[str, Any],
               hole_progress: ProgressCallback | None = None) -> FileRow:
-    """Read, fill and write one file; never raises for a bad file (it becomes a "failed"
-    row, with nothing written). A top-level function: worker processes and Dask workers
-    import it. Runs with one BLAS thread: the parallelism is over files.
+    """Read, fill and write one file, and draw its picture when the job has one; never
+    raises for a bad file (it becomes a "failed" row, with nothing written). A top-level
+    function: worker processes and Dask workers import it. Runs with one BLAS thread: the
+    parallelism is over files.
 
     ``hole_progress(done, total, message)`` is told of the file's holes (the ``progress``
     of :func:`surfinpaint.fill_holes`); in a local worker process they go to the parent
@@ -136,14 +164,17 @@ def fill_file(job: FileJob, options: Mapping[str, Any],
         try:
             # every attribute the file carries, filled in at the new vertices and faces
             # the parallelism is over files: the holes of each are filled one by one
-            result, filled = fill_mesh_data(read_mesh_data(job.source), **options, jobs=1,
-                                            progress=hole_progress)
+            mesh = read_mesh_data(job.source)
+            result, filled = fill_mesh_data(mesh, **options, jobs=1, progress=hole_progress)
             job.target.parent.mkdir(parents=True, exist_ok=True)
             write_mesh_data(job.target, filled)
         except Exception as exc:  # any failure of one file is that file's row, not the batch's
             return FileRow(job.name, job.output, "failed",
                            seconds=time.perf_counter() - started, message=_error_text(job, exc))
-    return _row_of(job, result, time.perf_counter() - started, _messages(job, result, caught))
+        unfinished = _draw(job, mesh, result)
+    message = " | ".join(t for t in (_messages(job, result, caught), unfinished) if t)
+    return _row_of(job, result, time.perf_counter() - started, message,
+                   None if unfinished else job.picture_output)
 
 
 def _worker_died(job: FileJob, why: str) -> FileRow:
@@ -153,11 +184,14 @@ def _worker_died(job: FileJob, why: str) -> FileRow:
 
 def _remove_temporaries(jobs: Iterable[FileJob]) -> None:
     """Delete what a worker killed mid-write left: the temporary files of the atomic writer
-    (:mod:`surfinpaint.io.atomic`: ``.NAME.XXXXXX.tmp`` next to the target). Only called
-    while no worker writes them."""
+    (:mod:`surfinpaint.io.atomic`: ``.NAME.XXXXXX.tmp`` next to the target, and
+    ``.NAME.XXXXXX.png`` next to the picture). Only called while no worker writes them."""
     for job in jobs:
-        for leftover in job.target.parent.glob(f".{glob.escape(job.target.name)}.*.tmp"):
-            leftover.unlink(missing_ok=True)
+        for path, suffix in ((job.target, ".tmp"), (job.picture, ".png")):
+            if path is None:
+                continue
+            for leftover in path.parent.glob(f".{glob.escape(path.name)}.*{suffix}"):
+                leftover.unlink(missing_ok=True)
 
 
 # ------------------------------------------------------------------------- the runners
@@ -410,12 +444,17 @@ def _skipped(job: FileJob, earlier: FileRow | None) -> FileRow:
     note = f"{job.output} is newer than the input: kept (overwrite refills it)"
     if earlier is None or earlier.output != job.output or \
             earlier.status == "failed":
-        return FileRow(job.name, job.output, "skipped", message=note)
+        return FileRow(job.name, job.output, "skipped", message=note,
+                       picture=job.picture_output)
+    # the picture up to date (with png), else the one an earlier run wrote, if still there
+    picture = job.picture_output or (
+        earlier.picture if picture_path(job.target).is_file() else None)
     if earlier.status == "skipped":
-        return earlier
+        return dataclasses.replace(earlier, picture=picture)
     before = f"; written by an earlier run ({earlier.status}" + \
         (f": {earlier.message})" if earlier.message else ")")
-    return dataclasses.replace(earlier, status="skipped", seconds=0.0, message=note + before)
+    return dataclasses.replace(earlier, status="skipped", seconds=0.0, message=note + before,
+                               picture=picture)
 
 
 def _cores() -> int:
@@ -438,13 +477,13 @@ def _check_options(options: Mapping[str, Any]) -> None:
 
 
 def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
-            out_dir: str | os.PathLike, overwrite: bool, progress: ProgressCallback | None
-            ) -> tuple[list[FileJob], list[FileJob], _Rows]:
+            out_dir: str | os.PathLike, overwrite: bool, progress: ProgressCallback | None,
+            png: bool) -> tuple[list[FileJob], list[FileJob], _Rows]:
     """The input files (:func:`find_inputs`), those to fill (the others recorded in the
     rows as skipped), costliest first, and the rows."""
     paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
     out = Path(out_dir)
-    todo = find_inputs(paths, out)
+    todo = find_inputs(paths, out, png=png)
     out.mkdir(parents=True, exist_ok=True)
     earlier = {row.path: row for row in read_summary(out)}
     rows = _Rows(len(todo), progress)
@@ -470,6 +509,7 @@ def fill_files(
     client: Any = None,
     *,
     overwrite: bool = False,
+    png: bool = False,
     progress: ProgressCallback | None = None,
     **fill_options: Any,
 ) -> list[FileRow]:
@@ -490,6 +530,14 @@ def fill_files(
         its workers must import surfinpaint and see the files at the same paths.
     overwrite : bool
         Refill files whose output is newer than the input (skipped by default).
+    png : bool
+        Also draw every output's before/after picture beside it
+        (:func:`surfinpaint.app.figures.before_after`, named by
+        :func:`~surfinpaint.app.batch_inputs.picture_path`: ``sub/scan.ply`` →
+        ``sub/scan.png``), in the worker that filled it (on a Dask cluster too: its workers
+        need OpenGL for off-screen rendering). A file is then up to date only with its
+        picture; a picture that fails is noted in the row's ``message`` (the output is
+        kept, the status unchanged; a rerun refills the file to draw it).
     progress : callable(done, total, message), optional
         Called before the first file and once a file is done (skipped files included),
         ``done`` and ``total`` counting files; and, without a Dask client, as the holes of
@@ -526,7 +574,7 @@ def fill_files(
     launched = _launch(n_jobs, progress is not None, _method(fill_options)) \
         if client is None and n_jobs > 1 else None
     try:
-        todo, pending, rows = _listed(inputs, out_dir, overwrite, progress)
+        todo, pending, rows = _listed(inputs, out_dir, overwrite, progress, png)
     except BaseException:
         if launched is not None:
             _stop_workers(launched[0])

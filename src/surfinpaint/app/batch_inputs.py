@@ -10,22 +10,46 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from surfinpaint.errors import MeshError
 from surfinpaint.io.brain import OVERLAY_SUFFIXES
-from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read
+from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format
 
-__all__ = ["FileJob", "find_inputs", "largest_cost_first", "up_to_date"]
+__all__ = ["FileJob", "find_inputs", "largest_cost_first", "picture_path", "up_to_date"]
 
 
 @dataclass(frozen=True)
 class FileJob:
     """One input file and the output it is filled into (both absolute), and their names
     as the summary shows them: the input as given (or found under a folder given), the
-    output relative to the output folder."""
+    output relative to the output folder; and ``picture``, the before/after picture drawn
+    beside the output (absolute; :func:`picture_path`), or None when none is asked for."""
 
     source: Path
     target: Path
     name: str
     output: str
+    picture: Path | None = None
+
+    @property
+    def picture_output(self) -> str | None:
+        """The picture's path relative to the output folder, as the summary names it."""
+        if self.picture is None:
+            return None
+        return Path(self.output).with_name(self.picture.name).as_posix()
+
+
+def picture_path(target: Path) -> Path:
+    """The before/after picture of the output ``target``: beside it, its mesh extension
+    replaced by ``.png`` (``sub/scan.ply`` → ``sub/scan.png``, ``lh.pial.gii.gz`` →
+    ``lh.pial.png``). A FreeSurfer surface's suffix is its name (``lh.pial``, ``lh.white``:
+    replacing it would draw both to ``lh.png``), so it gets ``.png`` added:
+    ``lh.pial.png``."""
+    try:
+        fmt = output_format(target)
+    except MeshError:  # no format by its name: the fill fails on writing it, drawing nothing
+        fmt = "freesurfer"
+    name = target.name if fmt == "freesurfer" else target.name[:-len(fmt) - 1]
+    return target.with_name(name + ".png")
 
 
 def _is_mesh_name(name: str) -> bool:
@@ -71,9 +95,10 @@ def _expand(item: str) -> Iterator[tuple[Path, Path]]:
         yield path, Path(path.name)  # a missing file becomes a failed row, not a crash
 
 
-def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike
-                ) -> list[FileJob]:
-    """The files to fill and their outputs: ``out_dir`` mirrors the inputs' layout.
+def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike, *,
+                png: bool = False) -> list[FileJob]:
+    """The files to fill and their outputs: ``out_dir`` mirrors the inputs' layout; with
+    ``png``, each output's before/after picture too (:func:`picture_path`).
 
     A file argument is written to ``out_dir/<its name>``; a folder is searched recursively
     for files with a known mesh extension (:data:`surfinpaint.io.SUPPORTED_FORMATS`; GIFTI
@@ -85,8 +110,9 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike
     Raises
     ------
     ValueError
-        When an input names no mesh file, two inputs would be written to the same output,
-        or an input would be overwritten by its output.
+        When an input names no mesh file, two inputs would be written to the same output
+        (or picture: ``scan.ply`` and ``scan.obj`` with ``png``), or an input would be
+        overwritten by its output.
     """
     out = Path(out_dir).absolute()
     out_real = os.path.realpath(out)
@@ -112,21 +138,30 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike
                 raise ValueError(f"{found} would be overwritten by its output: choose an "
                                  "output folder other than the input's (inputs are never "
                                  "modified)")
+            picture = picture_path(target) if png else None
+            if picture in targets:
+                raise ValueError(f"{targets[picture]} and {found} would both be drawn to "
+                                 f"{picture}; fill them into different output folders or "
+                                 "rename one")
             targets[target] = os.fspath(found)
+            if picture is not None:
+                targets[picture] = os.fspath(found)
             jobs.append(FileJob(found.absolute(), target, os.fspath(found),
-                                relative.as_posix()))
+                                relative.as_posix(), picture))
     if not jobs:
         raise ValueError("no input files given")
     return jobs
 
 
 def up_to_date(job: FileJob) -> bool:
-    """Whether the output exists and is newer than every file the fill reads: the input
-    and, for a GIFTI or FreeSurfer surface, the overlays beside it
-    (:func:`surfinpaint.io.formats.files_read`), so that an overlay changed alone is filled
-    again."""
+    """Whether the output, and its picture when the job has one, exist and are newer than
+    every file the fill reads: the input and, for a GIFTI or FreeSurfer surface, the
+    overlays beside it (:func:`surfinpaint.io.formats.files_read`), so that an overlay
+    changed alone is filled again. A missing picture refills the file: the picture is
+    drawn from the fill."""
     try:
-        written = job.target.stat().st_mtime_ns
+        written = min(path.stat().st_mtime_ns for path in (job.target, job.picture)
+                      if path is not None)
         return all(written > source.stat().st_mtime_ns for source in files_read(job.source))
     except OSError:
         return False

@@ -43,6 +43,9 @@ class FileRow:
     the warnings and notes of the fill, or the error. ``path`` is the input as given,
     ``output`` the output's path relative to the output folder, ``holes`` what happened to
     each hole (as ``surfinpaint fill --json`` says it; in ``summary.json`` only).
+    ``picture`` is the before/after picture's path relative to the output folder (``png``
+    of :func:`surfinpaint.fill_files`, ``batch --png``) when one was written, else None (a
+    picture that could not be drawn is named in ``message``; the output is still written).
     """
 
     path: str
@@ -55,6 +58,7 @@ class FileRow:
     seconds: float = 0.0
     message: str = ""
     holes: tuple[HoleRecord, ...] = ()
+    picture: str | None = None
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -64,7 +68,8 @@ class FileRow:
 
 def _csv_columns() -> list[str]:
     return ["path", "output", "status", "holes_found", "holes_filled",
-            *[f"kept_{m}" for m in METHODS], "new_vertices", "seconds", "message"]
+            *[f"kept_{m}" for m in METHODS], "new_vertices", "seconds", "message",
+            "picture"]  # added last: readers by position keep working
 
 
 def _csv_record(row: FileRow) -> dict[str, Any]:

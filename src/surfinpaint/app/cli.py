@@ -192,7 +192,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
     try:
         with _progress(not args.quiet, "files") as progress:
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
-                              overwrite=args.overwrite, progress=progress, **options)
+                              overwrite=args.overwrite, png=args.png, progress=progress,
+                              **options)
     except (Interrupted, KeyboardInterrupt) as exc:
         if not isinstance(exc, Interrupted):
             exc = Interrupted(signal.SIGINT)
@@ -328,6 +329,11 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    "--nthreads 1 --preload surfinpaint.app.dask_worker)")
     p.add_argument("--overwrite", action="store_true",
                    help="refill files whose output is newer than their input")
+    p.add_argument("--png", action="store_true",
+                   help="also draw each file's before/after picture beside its output "
+                   "(OUTDIR/sub/scan.png for OUTDIR/sub/scan.ply; lh.pial.png for lh.pial), "
+                   "in the worker that filled it; a picture that fails is a warning, the "
+                   "mesh is still written")
     add_fill_options(p)
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but the failed files' errors")
