@@ -16,10 +16,12 @@ from conftest import grid_mesh
 from surfinpaint.app.figures import (
     add_scale_bar,
     before_after,
+    before_after_figure,
     close_up,
     frame_hole,
     render_hole,
 )
+from surfinpaint.app.fill_report import written
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
 
@@ -132,3 +134,14 @@ def test_before_after_frames_every_filled_hole_with_a_legend(tmp_path):
 
     image = matplotlib.image.imread(path)
     assert image.shape[0] > 600 and image.shape[1] > 1000
+
+
+def test_before_after_close_ups_say_which_fill_was_written():
+    v, f, loop = _hole_in_lower_bank()
+    for method, words in (("fair", "faired fill (bilaplacian)"), ("conformal", None)):
+        result = fill_holes(v, f, method=method)
+        report = result.reports[0]
+        expected = words or written(report)
+        titles = [ax.get_title() for ax in before_after_figure(v, f, result).axes]
+        assert f"hole {report.index} ({report.n_edges} edges),\nbefore" in titles
+        assert f"hole {report.index} ({report.n_edges} edges),\nafter: {expected}" in titles

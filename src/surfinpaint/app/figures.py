@@ -15,7 +15,8 @@ import numpy as np
 from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
 from surfinpaint.io.atomic import atomic_path
 
-__all__ = ["HoleFrame", "add_legend", "add_scale_bar", "before_after", "close_up",
+__all__ = ["HoleFrame", "add_legend", "add_scale_bar", "before_after", "before_after_figure",
+           "close_up",
            "crop_to_ink", "frame_hole", "grid_image", "render_hole", "render_meshes",
            "render_views", "save_figure", "view_direction"]
 
@@ -110,16 +111,26 @@ def _overview_direction(frames: list[HoleFrame]) -> np.ndarray:
 
 def before_after(vertices: np.ndarray, faces: np.ndarray, result, path, *,
                  close_ups: int = 3) -> Path:
-    """The mesh before and after a fill, whole and hole by hole.
+    """Write :func:`before_after_figure` to ``path`` (a PNG, atomically); returns the path."""
+    return save_figure(before_after_figure(vertices, faces, result, close_ups=close_ups), path)
+
+
+def before_after_figure(vertices: np.ndarray, faces: np.ndarray, result, *,
+                        close_ups: int = 3):
+    """The mesh before and after a fill, whole and hole by hole, as a matplotlib Figure.
 
     Top: the whole mesh with its holes outlined and the filled mesh with the new faces
     coloured, seen from where the most holes face the camera. Below: close-ups of the
     ``close_ups`` largest filled holes before and after (each framed by
-    :func:`frame_hole`, with a scale bar), and the colour key.
+    :func:`frame_hole`, with a scale bar; the "after" one says which fill was written, as
+    the text report does: someone checking many scans by eye sees it there), and the colour
+    key.
 
     ``result`` is a :class:`surfinpaint.fill.pipeline.FillResult` of ``vertices, faces``.
     """
     from matplotlib.figure import Figure
+
+    from surfinpaint.app.fill_report import written
 
     vertices = np.asarray(vertices, float)
     first = result.n_original_faces  # the new faces come last, hole after hole
@@ -158,17 +169,19 @@ def before_after(vertices: np.ndarray, faces: np.ndarray, result, path, *,
         if len(surface) != len(faces):  # --repair removed faces: draw what was written
             images[1:] = render_hole(vertices, surface, report.loop,
                                      [(result.vertices, patch)], size=(420, 340))[0][1:]
-        for j, (image, when) in enumerate(zip(images, ("before", "after"), strict=True)):
+        whens = ("before", f"after: {written(report)}")
+        for j, (image, when) in enumerate(zip(images, whens, strict=True)):
             ax = fig.add_subplot(grid[1, 2 * slot + j])
             ax.imshow(image)
             ax.set_axis_off()
-            ax.set_title(f"hole {report.index} ({report.n_edges} edges), {when}", fontsize=10)
+            ax.set_title(f"hole {report.index} ({report.n_edges} edges),\n{when}",
+                         fontsize=10)
             add_scale_bar(ax, units_per_pixel)
     note = None
     if len(filled) > len(shown):
         note = f"close-ups: the {len(shown)} largest of {len(filled)} filled holes"
     add_legend(fig, note=note)
-    return save_figure(fig, path)
+    return fig
 
 
 # --------------------------------------------------------------------------- hole panels
