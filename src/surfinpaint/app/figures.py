@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from surfinpaint.app.fill_report import written
 from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
 from surfinpaint.io.atomic import atomic_path
 
@@ -129,8 +130,6 @@ def before_after_figure(vertices: np.ndarray, faces: np.ndarray, result, *,
     ``result`` is a :class:`surfinpaint.fill.pipeline.FillResult` of ``vertices, faces``.
     """
     from matplotlib.figure import Figure
-
-    from surfinpaint.app.fill_report import written
 
     vertices = np.asarray(vertices, float)
     first = result.n_original_faces  # the new faces come last, hole after hole
