@@ -59,8 +59,8 @@ def hole_panel(
     titles: dict | None = None,
     suptitle: str = "",
 ) -> Path:
-    """Write the paper-style panel of one hole (A–G, see :mod:`surfinpaint.app.report`) as a PNG of
-    ``PANEL_SIZE`` pixels.
+    """Write the paper-style panel of one hole (A–G, see :mod:`surfinpaint.app.report`) as a
+    PNG of ``PANEL_SIZE`` pixels.
 
     Parameters
     ----------
