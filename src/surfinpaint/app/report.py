@@ -8,7 +8,7 @@ paper's figures:
 written fill where neither (B) nor (C) draws it), seen from one camera facing the hole;
 (D)/(E) the conformal factor λ before and after inpainting and (F)/(G) the mean curvature H
 before and after, over the conformal parameter domain of the hole's patch, with the hole
-(solid) and the inpainted region (dashed) outlined.
+(solid) and the inpainted region (dashed) outlined (drawn by :mod:`surfinpaint.app.report_panel`).
 
 "Before" is what the known surface says (:func:`surfinpaint.app.lambda_h_images.lambda_h_images`):
 λ, H of the surface around the hole on its patch's triangles, or the robust grid estimate
@@ -46,17 +46,8 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import cKDTree
 
-from surfinpaint.app.figures import (
-    add_legend,
-    add_scale_bar,
-    crop_to_ink,
-    grid_image,
-    render_hole,
-    save_figure,
-)
 from surfinpaint.app.fill_options import hole_list
 from surfinpaint.app.fill_report import hole_lines, written
-from surfinpaint.app.lambda_h_images import lambda_h_images
 from surfinpaint.app.progress import console as make_console
 from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.report_page import (
@@ -67,11 +58,11 @@ from surfinpaint.app.report_page import (
     table_rows,
     write_page,
 )
+from surfinpaint.app.report_panel import PANEL_SIZE, Patch, hole_panel
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes
 from surfinpaint.fill.pipeline import fill_holes
-from surfinpaint.fill.results import LambdaHDiagnostics
 from surfinpaint.geometry.mesh import connected_components
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.geometry.validation import validate_mesh
@@ -79,6 +70,7 @@ from surfinpaint.io.formats import read_mesh
 
 __all__ = [
     "LEGEND",
+    "PANEL_SIZE",
     "HoleComparison",
     "PanelFills",
     "add_report_parser",
@@ -92,13 +84,8 @@ __all__ = [
     "write_report",
 ]
 
-PANEL_SIZE = (1600, 960)  # pixels of every hole panel
-_DPI = 100
-
 # a progress hook: step(message, advance=1)
 Step = Callable[..., None]
-# one hole's fill: (vertices starting with the mesh's, the hole's new faces)
-Patch = tuple[np.ndarray, np.ndarray]
 
 
 # --------------------------------------------------------------------------- fills
@@ -277,117 +264,6 @@ def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndar
 
 
 # --------------------------------------------------------------------------- panels
-
-
-def _range(arrays, masks, low=2.0, high=98.0):
-    values = np.concatenate([a[m & np.isfinite(a)] for a, m in zip(arrays, masks, strict=True)])
-    if len(values) == 0:
-        return None, None
-    lo, hi = np.percentile(values, [low, high])
-    if hi - lo <= 1e-9 * max(abs(lo), abs(hi), 1.0):
-        # constant up to round-off (λ = 1, H = 0 on a cube's faces): a readable range
-        # around it, not one whose colour bar labels are round-off
-        centre = 0.5 * (lo + hi)
-        half = 0.05 * abs(centre) if centre != 0 else 1.0
-        lo, hi = centre - half, centre + half
-    return float(lo), float(hi)
-
-
-def hole_panel(
-    vertices: np.ndarray,
-    faces: np.ndarray,
-    loop: np.ndarray,
-    fair: tuple[np.ndarray, np.ndarray],
-    conformal: tuple[np.ndarray, np.ndarray],
-    diagnostics: LambdaHDiagnostics | None,
-    path: str | os.PathLike,
-    *,
-    written: Patch | None = None,
-    titles: dict | None = None,
-    suptitle: str = "",
-) -> Path:
-    """Write the paper-style panel of one hole (A–G, see the module docstring) as a PNG of
-    ``PANEL_SIZE`` pixels.
-
-    Parameters
-    ----------
-    vertices, faces : arrays
-        The mesh with the hole.
-    loop : (k,) int array
-        The hole's boundary loop.
-    fair, conformal : (vertices, faces)
-        The two fills of this hole: ``faces`` index ``vertices``, which must start with the
-        mesh's vertices (a :class:`~surfinpaint.fill.pipeline.FillResult`'s ``vertices`` and the
-        hole's new faces). ``conformal`` may be None (the method failed): (C) says so.
-    diagnostics : LambdaHDiagnostics or None
-        What the conformal fill's λ-H pass left (:attr:`surfinpaint.HoleReport.diagnostics`);
-        panels D–G say "no data" without it.
-    path : path
-    written : (vertices, faces), optional
-        The fill ``surfinpaint fill`` writes, as ``fair``, where neither ``fair`` nor
-        ``conformal`` is it: drawn as a fourth 3D panel (W) beside (C).
-    titles : dict, optional
-        Replacement titles for panels ``"A"``–``"G"`` and ``"W"``.
-    suptitle : str
-    """
-    from matplotlib.figure import Figure
-
-
-    vertices = np.asarray(vertices, float)
-    loop = np.asarray(loop)
-    names = {
-        "A": "(A) surface with the hole", "B": "(B) conventional fill (faired)",
-        "C": "(C) conformal fill", "W": "(W) written fill", "D": "(D) initial λ (known part)",
-        "E": "(E) inpainted λ", "F": "(F) initial H (known part)", "G": "(G) inpainted H",
-    }
-    if diagnostics is not None and diagnostics.mesh is not None and diagnostics.mesh.one_side:
-        # λ and H of one side of a crease (each side is inpainted on its own)
-        for key in "DEFG":
-            names[key] += ", one side"
-    names.update(titles or {})
-    drawn = (fair, conformal) if written is None else (fair, conformal, written)
-    fills = [None if fill is None else (np.asarray(fill[0], float), np.asarray(fill[1]))
-             for fill in drawn]
-    # every 3D panel from one camera, so that the fills compare by eye
-    images, units_per_pixel = render_hole(vertices, faces, loop, fills, size=(520, 440))
-    images = crop_to_ink(images)
-    fig = Figure(figsize=(PANEL_SIZE[0] / _DPI, PANEL_SIZE[1] / _DPI), dpi=_DPI,
-                 layout="constrained")
-    grid = fig.add_gridspec(2, 12, height_ratios=[1.0, 1.0])
-    width = 12 // len(images)  # 3 or 4 panels share the top row
-    for k, (key, image) in enumerate(zip("ABCW"[:len(images)], images, strict=True)):
-        ax = fig.add_subplot(grid[0, width * k:width * (k + 1)])
-        ax.imshow(image)
-        ax.set_axis_off()
-        ax.set_title(names[key], fontsize=11)
-        if key == "A":
-            add_scale_bar(ax, units_per_pixel)
-        if key == "C" and conformal is None:
-            ax.text(0.5, 0.5, "the conformal method failed on this hole\n(the faired fill "
-                    "was used)", ha="center", va="center", transform=ax.transAxes)
-    images = lambda_h_images(diagnostics)
-    if images is not None:
-        domain, hole, region = images.domain, images.hole, images.region
-        lam_range = _range([images.lam0, images.lam], [domain, domain])
-        h_range = _range([images.H0, images.H], [domain, domain])
-        for k, (key, name, cmap, span, label) in enumerate((
-                ("D", "lam0", "viridis", lam_range, "λ"),
-                ("E", "lam", "viridis", lam_range, "λ"),
-                ("F", "H0", "coolwarm", h_range, "H"),
-                ("G", "H", "coolwarm", h_range, "H"))):
-            ax = fig.add_subplot(grid[1, 3 * k:3 * k + 3])
-            grid_image(ax, getattr(images, name), names[key], hole=hole, region=region,
-                       domain=domain,
-                       cmap=cmap, vmin=span[0], vmax=span[1], label=label)
-    else:
-        ax = fig.add_subplot(grid[1, :])
-        ax.set_axis_off()
-        ax.text(0.5, 0.5, "no λ, H data: the conformal method did not run on this hole",
-                ha="center", va="center", fontsize=12)
-    add_legend(fig)
-    if suptitle:
-        fig.suptitle(suptitle, fontsize=12)
-    return save_figure(fig, path, dpi=_DPI)
 
 
 @dataclass(frozen=True)

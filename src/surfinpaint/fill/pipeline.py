@@ -223,8 +223,7 @@ def fill_holes(
     A hole that cannot be filled never stops the others, and is never an exception: its
     fill's failure (``FillError`` or a singular system, the faired fallback's included) is
     reported (``HoleReport.failed``, the reason in ``.skipped``) and warned, and the hole is
-    left open; so is a loop
-    that spans no area (see ``zip_seams``).
+    left open; so is a loop that spans no area (see ``zip_seams``).
     """
     vertices, faces, attributes, face_attributes = mesh_arrays(vertices, faces, attributes,
                                                                face_attributes)
@@ -238,14 +237,12 @@ def fill_holes(
     vertices, faces, removed_faces, loops, numbers, incidence = _found_holes(
         vertices, faces, holes, method, include_border=include_border, repair=repair,
         validate=validate)
-    reports = [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
-                          method=method, diameter=loop_diameter(vertices[loop]))
-               for k, loop in zip(numbers, loops, strict=True)]
+    reports = _hole_reports(vertices, loops, numbers, method)
     todo = _within_size(reports, max_hole_edges)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
-    prepared = faces
-    faces, merged, todo = _open_seams(vertices, faces, todo, zip_seams)
-    mesh = FilledMesh(vertices, faces, incidence if faces is prepared else None)
+    zipped, merged, todo = _open_seams(vertices, faces, todo, zip_seams)
+    # the incidence made beside the checks is of the prepared faces, not of zipped ones
+    mesh = FilledMesh(vertices, zipped, incidence if zipped is faces else None)
     run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
               progress=progress, rings=neighbourhood_rings,
               position={id(r): k for k, r in enumerate(reports)})
@@ -278,6 +275,15 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
         numbers = hole_numbers(vertices, faces, loops, found=found)
         incidence = incidence()  # before the thread is joined
     return vertices, faces, removed_faces, loops, numbers, incidence
+
+
+def _hole_reports(vertices: np.ndarray, loops: Sequence[np.ndarray], numbers: list[int],
+                  method: str) -> list[HoleReport]:
+    """One report a hole to fill, in the order of ``loops``: its :func:`find_holes` number
+    (of ``numbers``), loop, size and diameter, ``method`` requested."""
+    return [HoleReport(index=k, loop=np.asarray(loop), n_edges=len(loop), requested=method,
+                       method=method, diameter=loop_diameter(vertices[loop]))
+            for k, loop in zip(numbers, loops, strict=True)]
 
 
 def _within_size(reports: list[HoleReport], max_hole_edges: int | None) -> list[HoleReport]:

@@ -63,6 +63,8 @@ __all__ = [
 ]
 
 SAMPLINGS = ("smooth", "pl")
+# the interpolant of the mesh's positions that each sampling resamples at the grid's nodes
+_INTERPOLANTS = {"smooth": "clough-tocher", "pl": "linear"}
 SPACINGS = ("uniform", "graded")
 # automatic subdivision: refine until the mean crease angle is at most this (degrees), with
 # at most _MAX_LEVELS levels and _MAX_FACES faces (see subdivision_levels)
@@ -327,12 +329,11 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
         Grid nodes along the longer side of the parameter domain.
     map : {"lscm", "rectangular"}
         The conformal map (:func:`~surfinpaint.geometry.parameterization.lscm`, the default,
-        measured
-        as or more accurate in round trips at 128–512 nodes on the four benchmark meshes
-        (1.0–25×; only the face disk at 64 was 1.3× better rectangular) and folding fewer
-        triangles on ragged borders, or
-        the paper's :func:`~surfinpaint.geometry.parameterization.rectangular_conformal_map`); both
-        scale the domain so that its area is the surface area.
+        measured as or more accurate in round trips at 128–512 nodes on the four benchmark
+        meshes (1.0–25×; only the face disk at 64 was 1.3× better rectangular) and folding
+        fewer triangles on ragged borders, or the paper's
+        :func:`~surfinpaint.geometry.parameterization.rectangular_conformal_map`); both scale
+        the domain so that its area is the surface area.
     band : int
         Width in nodes of the boundary band kept as known data for :func:`rebuild`. The
         Gauss–Codazzi rebuild needs λ and H on 3 known rings, and λ, H need one more ring
@@ -397,17 +398,12 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
     _check_grid_options(band, sampling, spacing, grading, h, subdivide)
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
-    uv, corners = parameterize(v, f, map, strict=strict)
-    levels = subdivision_levels(v, f) if subdivide is None else int(subdivide)
-    sample_uv, sample_f, sample_v = uv, f, v
-    if levels:
-        sample_uv, sample_f, sample_v = subdivided_map(v, f, uv, corners, map, levels,
-                                                        strict)
-        uv = sample_uv[:len(v)]
+    uv, corners, levels, (sample_uv, sample_f, sample_v) = _mapped(v, f, map, strict,
+                                                                   subdivide)
     grid = _sampling_grid(uv, sample_uv, sample_f, levels, resolution=resolution, h=h,
                           spacing=spacing, grading=grading)
-    interpolant = "clough-tocher" if sampling == "smooth" else "linear"
-    phi, domain, _ = resample(sample_uv, sample_f, sample_v, grid, interpolant=interpolant)
+    phi, domain, _ = resample(sample_uv, sample_f, sample_v, grid,
+                              interpolant=_INTERPOLANTS[sampling])
     known = boundary_band(domain, band)
     on_triangles = triangle_levels(phi, domain, known, grid)
     lam, H = _nodes_lambda_h(phi, grid, on_triangles)
@@ -415,6 +411,21 @@ def represent_grid(vertices: np.ndarray, faces: np.ndarray, resolution: int = 25
                    vertices=v.copy(), faces=f.copy(), map=map, band=band,
                    corners=np.asarray(corners, dtype=np.int64), sampling=sampling,
                    subdivide=levels, levels=on_triangles)
+
+
+def _mapped(v: np.ndarray, f: np.ndarray, map: str, strict: bool, subdivide: int | None):
+    """The conformal map of :func:`represent_grid`'s mesh and the mesh it samples: the map
+    ``uv`` of the mesh's vertices, the rectangular map's ``corners``, the ``levels`` of
+    smooth subdivision (``subdivide``, or :func:`subdivision_levels` when None) and the
+    sampled mesh's (uv, faces, vertices). With ``levels`` the sampled mesh is the subdivided
+    one mapped again (:func:`subdivided_map`) and ``uv`` its map's first ``len(v)`` rows;
+    without, the mesh itself over its own map."""
+    uv, corners = parameterize(v, f, map, strict=strict)
+    levels = subdivision_levels(v, f) if subdivide is None else int(subdivide)
+    if not levels:
+        return uv, corners, levels, (uv, f, v)
+    sample_uv, sample_f, sample_v = subdivided_map(v, f, uv, corners, map, levels, strict)
+    return sample_uv[:len(v)], corners, levels, (sample_uv, sample_f, sample_v)
 
 
 def _sampling_grid(uv: np.ndarray, sample_uv: np.ndarray, sample_f: np.ndarray, levels: int, *,
