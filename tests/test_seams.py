@@ -383,3 +383,18 @@ def test_a_zipped_seam_makes_its_own_incidence(seamed_sphere, monkeypatch):
     unzipped, _ = _run(v, f, method="fair")  # no seam zipped: the incidence is used
     assert given[1] is not None
     assert unzipped.reports[0].new_faces + unzipped.reports[1].new_faces > 0
+
+
+@pytest.mark.parametrize("zip_seams", [False, True])
+def test_a_seam_s_warning_points_at_the_caller_of_fill_holes(slit_plane, zip_seams):
+    # the line that called fill_holes, as every other warning of the fill does (stacklevel)
+    import inspect
+
+    v, f = slit_plane[:2]
+    slit, _ = _slit_and_hole(v, f)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        line = inspect.currentframe().f_lineno + 1
+        fill_holes(v, f, method="fair", zip_seams=zip_seams, jobs=1)
+    (named,) = [w for w in caught if str(w.message).startswith(f"hole {slit}: ")]
+    assert (named.filename, named.lineno) == (__file__, line)

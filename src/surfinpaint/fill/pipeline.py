@@ -82,12 +82,12 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
                               "vertex pairs zipped: the faces use vertices "
                               f"{preview(slit.merges[:, 1])} in place of their duplicates "
                               f"{preview(slit.merges[:, 0])} (left unused){rest}",
-                              MeshWarning, stacklevel=4)
+                              MeshWarning, stacklevel=3)
                 continue
             reason += f"; not zipped: {problem}"
         elif slit.is_seam:
             reason += "; left open (zip_seams=True, or --zip-seams, closes it)"
-        skip(report, reason, SlitWarning, stacklevel=5)
+        skip(report, reason, SlitWarning, stacklevel=4)
     pairs = np.concatenate(merged) if merged else np.empty((0, 2), dtype=np.int64)
     if len(pairs):  # a later loop through a duplicate (a bow-tie there) goes through its partner
         mapping = np.arange(len(vertices))
