@@ -12,7 +12,7 @@ from surfinpaint import ConformalOptions
 from surfinpaint.fill.conformal import conformal_fill
 from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane
 from surfinpaint.geometry.cutting import cut_geodesic_disk
-from surfinpaint.geometry.flatness import morans_i, plane_test
+from surfinpaint.geometry.flatness import morans_i, plane_test, trimmed_plane_test
 
 ALPHA = 0.01
 
@@ -246,3 +246,66 @@ def test_the_report_draws_the_fill_laid_on_its_plane_as_written(tmp_path, monkey
     # the error (C) is labelled with: the page's "conformal" one, the written fill's
     assert f"(C, written) {row[header.index(WRITTEN_ERROR)]}," in title
     assert (tmp_path / c.picture).is_file()
+
+
+def _annulus_uv(points: np.ndarray) -> np.ndarray:
+    """The (u, v) of :func:`annulus`'s points, untilted."""
+    a = np.radians(35.0)
+    rot = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+    return ((points - np.array([3.0, -1.0, 2.0])) @ rot)[:, :2]
+
+
+def _next_to_an_edge(u, v):
+    # a face z = 0 whose points beyond u = 0.85 rise across a sharp edge (a 76° wall)
+    return 4.0 * np.maximum(u - 0.85, 0.0)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_noisy_face_next_to_a_sharp_edge_is_flat_once_trimmed(seed):
+    points, edges = annulus(seed, _next_to_an_edge)
+    uv = _annulus_uv(points)
+    inner = np.flatnonzero(np.linalg.norm(uv, axis=1) < 0.55)  # the hole's loop
+    assert not plane_test(points, edges, alpha=ALPHA).flat  # the plain test sees the edge
+    t = trimmed_plane_test(points, edges, keep=inner, alpha=ALPHA)
+    assert t is not None and t.flat and t.left_out + t.points == len(points)
+    assert 0 < t.left_out <= 0.2 * len(points)
+    a = np.radians(35.0)
+    rot = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+    assert abs(t.normal @ (rot @ np.array([0.0, 0.0, 1.0]))) == pytest.approx(1.0, abs=1e-3)
+    assert "left out" in t.sentence()
+
+
+@pytest.mark.parametrize(("case", "height", "applies"), [
+    # outer points lifted all around the hole (a dome's, a rim's): not on one side
+    ("a rim all around", lambda u, v: 0.1 * (np.hypot(u, v) > 0.95), False),
+    # a quarter of the ring across the edge: more than the 20 % a trim may leave out
+    ("too much across the edge", lambda u, v: 4.0 * np.maximum(u - 0.3, 0.0), False),
+    # a bump on the hole's own loop: the laid fill could not meet it (without the loop
+    # required, the same points are trimmed flat)
+    ("a bump on the loop", lambda u, v: 0.2 * np.exp(-((u - 0.5)**2 + v * v) / 0.01), False),
+    # a smooth curved patch: what the trim keeps is curved too
+    ("a sphere", lambda u, v: 4.0 - np.sqrt(16.0 - u * u - v * v), None),
+])
+def test_the_trimmed_test_does_not_call_these_flat(case, height, applies):
+    points, edges = annulus(0, height)
+    inner = np.flatnonzero(np.linalg.norm(_annulus_uv(points), axis=1) < 0.55)
+    t = trimmed_plane_test(points, edges, keep=inner, alpha=ALPHA)
+    if applies is False:
+        assert t is None, case
+        if case == "a bump on the loop":
+            assert trimmed_plane_test(points, edges, alpha=ALPHA).flat
+    else:
+        assert t is None or not t.flat, case
+
+
+def test_a_hole_next_to_a_scanned_edge_is_laid_on_its_plane():
+    # a noisy grid bent up across a sharp edge two edge lengths outside the hole's second ring
+    v, f = grid_mesh(30, 30)
+    u, w = 2.0 * v[:, 0] - 1.0, 2.0 * v[:, 1] - 1.0
+    noise = np.random.default_rng(0).normal(0, 0.004, len(v))
+    v = np.column_stack([u, w, 0.8 * np.maximum(u - 0.36, 0.0) + noise])
+    cut = cut_geodesic_disk(v, f, np.array([0.0, 0.0, 0.0]), 0.3)
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop)
+    assert fill.plane is not None and fill.plane.flat and fill.plane.left_out > 0
+    assert abs(fill.plane.normal[2]) == pytest.approx(1.0, abs=1e-2)
+    assert np.abs(fill.vertices[:, 2]).max() < 0.01  # on the face, not bent toward the edge

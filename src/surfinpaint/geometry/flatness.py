@@ -4,7 +4,9 @@ distance threshold: the noise level is estimated from the points themselves.
 Used by the conformal fill (:func:`surfinpaint.fill.conformal.conformal_fill`) on the known
 vertices around a hole: on a range scan's flat face the faired fills take their slopes from
 the noisy ring around the loop and carry that noise into the fill, while a fill laid on the
-fitted plane averages it (docs/candidates.md, "Session 26").
+fitted plane averages it (docs/candidates.md, "Session 26"). Next to a sharp edge of a
+scanned part a few of those vertices lie across the edge, off the face's plane:
+:func:`trimmed_plane_test` tests the rest (docs/candidates.md, "Session 28").
 """
 
 from __future__ import annotations
@@ -12,9 +14,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import fdtrc, ndtr  # the F and normal tails (scipy.stats imports in 1 s)
+from scipy.special import fdtrc, ndtr, ndtri  # F and normal tails (scipy.stats: 1 s)
 
-__all__ = ["PlaneTest", "morans_i", "plane_test"]
+__all__ = ["PlaneTest", "morans_i", "plane_test", "trimmed_plane_test"]
+
+# the trimmed fit (:func:`trimmed_plane_test`) gives up where it leaves out more than
+# TRIM_MOST of the points (fixed before any run; docs/candidates.md, "Session 28")
+TRIM_MOST = 0.2
 
 
 @dataclass(frozen=True)
@@ -36,6 +42,9 @@ class PlaneTest:
         The noise level (standard deviation, mesh units) the quadric's residual gives.
     points : int
         How many points were tested.
+    left_out : int
+        How many more points a trimmed fit left out, all on one side
+        (:func:`trimmed_plane_test`); 0 for :func:`plane_test`.
     """
 
     flat: bool
@@ -45,12 +54,15 @@ class PlaneTest:
     normal: np.ndarray
     noise: float
     points: int
+    left_out: int = 0
 
     def sentence(self) -> str:
         """The verdict in words, for a hole's report."""
+        trimmed = (f"; {self.left_out} vertices off it on one side left out" if self.left_out
+                   else "")
         return (f"the known surface around the hole is a plane within its noise "
                 f"(σ = {self.noise:.3g}; curvature p = {self.p_curvature:.2g}, pattern "
-                f"p = {self.p_pattern:.2g}, {self.points} vertices)")
+                f"p = {self.p_pattern:.2g}, {self.points} vertices{trimmed})")
 
 
 def morans_i(values: np.ndarray, edges: np.ndarray) -> tuple[float, float]:
@@ -150,3 +162,87 @@ def plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
     p_pattern = morans_i(residual, edges)[1] if edges is not None else 1.0
     return PlaneTest(bool(p_curvature >= alpha and p_pattern >= alpha), p_curvature,
                      p_pattern, centre, normal, float(np.sqrt(rss_quadric / dof)), n)
+
+
+def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
+                       keep: np.ndarray | None = None, alpha: float = 0.01,
+                       most: float = TRIM_MOST) -> PlaneTest | None:
+    """:func:`plane_test` of the points a trimmed plane fit keeps, where a few points on one
+    side lie off a plane the others fit (a part's face next to its sharp edge).
+
+    The plane is fitted by least squares, the points farther from it than n points of
+    Gaussian noise would be at level ``alpha`` (Bonferroni: ``ndtri(1 − alpha / 2n)`` robust
+    standard deviations, 1.4826 × the residuals' median absolute deviation) are left out,
+    and the plane fitted again to the rest until nothing changes (at most 10 fits). So
+    noise alone leaves out no point, at the tests' own level.
+    The test applies only where that leaves out some points but at most a fraction ``most``
+    of them, none of the ``keep`` points (the hole's own loop: the fill laid on the plane
+    must meet it), and all left-out points on one side of the kept points' centre: in a
+    half-plane through it, in the plane's frame. A dome around a hole, whose outer points
+    fall off the plane all around, is therefore not trimmed flat.
+
+    Parameters
+    ----------
+    points : (n, 3) float array
+    edges : (e, 2) int array, optional
+        Mesh edges between the points; those between kept points go to Moran's I.
+    keep : int array, optional
+        Ids of points that must not be left out (default: the test's own centre is the
+        points' centroid and no point is required).
+    alpha : float
+        Significance level, as :func:`plane_test`'s.
+    most : float
+        The largest fraction of points left out.
+
+    Returns
+    -------
+    PlaneTest or None
+        The kept points' test (``points`` counts them, ``left_out`` the others), or None
+        where the trimmed fit does not apply.
+
+    Raises
+    ------
+    ValueError
+        As :func:`plane_test`.
+    """
+    points = np.asarray(points, dtype=float)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise ValueError(f"points must be an (n, 3) array, got shape {points.shape}")
+    n = len(points)
+    cut = float(ndtri(1.0 - alpha / (2.0 * n)))
+    inliers = np.ones(n, dtype=bool)
+    for _ in range(10):
+        centroid = points[inliers].mean(axis=0)
+        axes = np.linalg.svd(points[inliers] - centroid, full_matrices=False)[2]
+        residual = (points - centroid) @ axes[2]
+        middle = np.median(residual[inliers])
+        spread = 1.4826 * np.median(np.abs(residual[inliers] - middle))
+        fitted = np.abs(residual - middle) <= cut * spread
+        if np.array_equal(fitted, inliers) or fitted.sum() <= 6:
+            break
+        inliers = fitted
+    left_out = int(n - inliers.sum())
+    required = np.zeros(n, dtype=bool) if keep is None else np.isin(np.arange(n), keep)
+    if (left_out == 0 or left_out > most * n or (required & ~inliers).any()
+            or not _on_one_side(points, inliers, required, axes)):
+        return None
+    local = np.full(n, -1)
+    local[inliers] = np.arange(n - left_out)
+    kept_edges = None
+    if edges is not None:
+        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        kept_edges = local[edges[inliers[edges].all(axis=1)]]
+    test = plane_test(points[inliers], kept_edges, alpha=alpha)
+    return PlaneTest(test.flat, test.p_curvature, test.p_pattern, test.centre, test.normal,
+                     test.noise, test.points, left_out)
+
+
+def _on_one_side(points, inliers, required, axes) -> bool:
+    """Whether the left-out points lie in a half-plane through the centre of the required
+    points (all kept points where none is required), seen along the plane's normal: their
+    directions from it leave a gap of at least half a turn."""
+    centre = points[required if required.any() else inliers].mean(axis=0)
+    offset = (points[~inliers] - centre) @ axes[:2].T
+    angle = np.sort(np.arctan2(offset[:, 1], offset[:, 0]))
+    gaps = np.diff(np.concatenate([angle, angle[:1] + 2.0 * np.pi]))
+    return bool(gaps.max() >= np.pi)

@@ -26,7 +26,7 @@ from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import advantages_over, hidden_ring_scores, sibling_scores
 from surfinpaint.geometry.cutting import edge_graph
-from surfinpaint.geometry.flatness import PlaneTest, plane_test
+from surfinpaint.geometry.flatness import PlaneTest, plane_test, trimmed_plane_test
 from surfinpaint.geometry.mesh import k_ring, unique_edges
 from surfinpaint.geometry.validation import face_ids
 
@@ -149,12 +149,18 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
                 rings: int = PLANE_RINGS) -> PlaneTest:
     """:func:`~surfinpaint.geometry.flatness.plane_test` (at ``PLANE_ALPHA``) of the known
     vertices within ``rings`` rings of the loop (the loop's included), with the mesh edges
-    between them."""
+    between them; where it says curved, the same test of the vertices a trimmed plane fit
+    keeps (:func:`~surfinpaint.geometry.flatness.trimmed_plane_test`: a few vertices off the
+    plane on one side, none of the loop's), whose verdict stands where it is flat."""
     near = k_ring(faces, loop, rings, len(vertices))
     local = np.full(len(vertices), -1)
     local[near] = np.arange(int(near.sum()))
-    edges = unique_edges(faces[near[faces].all(axis=1)])[0]
-    return plane_test(vertices[near], local[edges], alpha=PLANE_ALPHA)
+    edges = local[unique_edges(faces[near[faces].all(axis=1)])[0]]
+    test = plane_test(vertices[near], edges, alpha=PLANE_ALPHA)
+    if test.flat:
+        return test
+    trimmed = trimmed_plane_test(vertices[near], edges, keep=local[loop], alpha=PLANE_ALPHA)
+    return trimmed if trimmed is not None and trimmed.flat else test
 
 
 def _on_plane(vertices, faces, faired: Fill, plane: PlaneTest) -> Fill:
