@@ -112,3 +112,54 @@ def test_newton_krylov_on_exact_products_converges_on_a_large_patch():
         out = on_mesh._newton_solve(system, points, 1e-10, 12)
     residual = np.abs(system.update(out) - out[system.f]).max() / system.scale
     assert residual < 1e-10 and len(sizes) <= 6
+
+
+@pytest.mark.parametrize("natural", [False, True])
+def test_the_dense_jacobian_s_fast_path_is_the_reference_one(natural):
+    # lagged_update_jacobian takes products with matrices made once a system (session 28);
+    # UpdateDerivative.apply(None) is the chain rule as written (solves with every
+    # right-hand side): the same Jacobian to rounding, also with the free vertices next to a
+    # natural border (H unknown on the crease; the stencil's H data on it do not move on
+    # this patch, so the Q_fs term is zero here as in the reference)
+    from surfinpaint.representation.coupled_jacobian import _DenseJacobian
+
+    system, points, phi, (local, uv, free) = _system(30, 6)
+    if natural:  # the free vertices moved next to the patch's border on one side
+        system = on_mesh._CoupledSystem(points, local, uv, _near_border(points, local),
+                                        np.ones(len(points), dtype=bool))
+        assert len(system.natural_data) and system.n_crease
+        phi = points.copy()
+        phi[system.f] += 0.1 * system.scale * np.random.default_rng(3).standard_normal(
+            (len(system.f), 3))
+    reference = UpdateDerivative(system, phi)
+    fast = lagged_update_jacobian(system, phi)
+    J = reference.apply(None)
+    assert np.abs(fast - J).max() < 1e-12 * np.abs(J).max()
+    # the dense derivatives are the sparse ones
+    d_unit, d_area = _DenseJacobian.of(system).derivatives(phi)
+    np.testing.assert_allclose(d_unit, reference.d_unit.toarray(), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(d_area, reference.d_area.toarray(), rtol=0, atol=1e-13)
+    # made once a system, and what it keeps does not depend on where it is taken
+    assert _DenseJacobian.of(system) is _DenseJacobian.of(system)
+    again = lagged_update_jacobian(system, points)
+    assert np.abs(again - UpdateDerivative(system, points).apply(None)).max() < (
+        1e-12 * np.abs(again).max())
+
+
+def _near_border(points, local):
+    """Free vertices two edges from the patch's border but on one side (four there)."""
+    import scipy.sparse as sp
+
+    from surfinpaint.geometry.mesh import boundary_loops
+
+    nv = len(points)
+    edges = np.vstack([local[:, [0, 1]], local[:, [1, 2]], local[:, [2, 0]]])
+    A = sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(nv, nv))
+    A = A + A.T
+    near = np.zeros(nv, dtype=bool)
+    near[np.concatenate(boundary_loops(local))] = True
+    near |= (A @ near) > 0
+    far = near.copy()
+    for _ in range(3):
+        far |= (A @ far) > 0
+    return ~near & ~(far & (points[:, 0] < np.median(points[:, 0])))

@@ -263,3 +263,53 @@ def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajec
                                             "converging stage has"):
             mesh_inpainting._newton_solve(system, points, 1e-3, steps)
         assert system.steps == given_up_after
+
+
+@pytest.mark.parametrize("name, trajectory, given_up_after", [
+    # continuation solves that converged on the tuning side (docs/convergence.md, session 28)
+    # keep going: the one that sets the bound (an animal's, 16.96 edge lengths after step 1),
+    # the slowest (a quadruped's, converged at its 10th step), a plateau of four steps (an
+    # egg-crate's)
+    ("sets the bound", [36.37, 16.96, 4.83, 1.87, 1.23, 0.37, 0.121, 0.0747, 0.0002], None),
+    ("slowest", [4.08, 4.00, 3.79, 3.69, 1.83, 1.65, 0.436, 0.282, 0.132, 0.0062, 0.0], None),
+    ("plateau", [0.112, 0.101, 0.102, 0.102, 0.111, 0.097, 0.075, 0.018, 0.0003], None),
+    # solves above 60 · 0.6^k after step k are given up there
+    ("far at step 1", [50.0, 40.0, 10.0, 1.0], 1),
+    ("just above at step 3", [20.0, 18.0, 20.0, 13.5, 5.0], 3),
+    ("stalled", [3.0, 2.0, 1.5, 1.2, 1.1, 1.05, 1.03, 1.02, 1.02, 1.02, 1.02], 8),
+    # a stall below the envelope runs to its last step, as before
+    ("stalled low", [0.2, 0.15, 0.15, 0.15, 0.15, 0.15, 0.15, 0.15, 0.15, 0.15, 0.15], None),
+])
+def test_a_continuation_solve_is_given_up_above_its_envelope(monkeypatch, name, trajectory,
+                                                             given_up_after):
+    system = _ScriptedSystem(trajectory)
+
+    def scripted_line_search(residual, x, r, dx):
+        system.steps += 1
+        size = system.trajectory[min(system.steps, len(system.trajectory) - 1)]
+        return x + dx, np.full(r.shape, size)
+
+    monkeypatch.setattr(mesh_inpainting, "newton_step", lambda s, p, x, r: np.zeros_like(x))
+    monkeypatch.setattr(mesh_inpainting, "_line_search", scripted_line_search)
+    points, steps = np.zeros((4, 3)), mesh_inpainting.CONTINUATION_NEWTON
+
+    def solve():
+        return mesh_inpainting._newton_solve(system, points, 1e-3, steps,
+                                             mesh_inpainting.CONTINUATION_ENVELOPE)
+
+    if given_up_after is None and trajectory[-1] < 1e-3:
+        solve()
+        assert system.steps == len(trajectory) - 1
+    elif given_up_after is None:
+        with pytest.raises(FillError, match=f"after {steps} steps$"):
+            solve()
+        assert system.steps == steps
+    else:
+        with pytest.raises(FillError, match=f"after {given_up_after} steps, more than a "
+                                            "converging stage has"):
+            solve()
+        assert system.steps == given_up_after
+    # the Newton stage's own envelope (session 27) is wider: none of these is given up there
+    system.steps = 0
+    if trajectory[-1] < 1e-3:
+        mesh_inpainting._newton_solve(system, points, 1e-3, steps)

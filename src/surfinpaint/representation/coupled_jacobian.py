@@ -10,8 +10,10 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from surfinpaint.geometry.mesh import vertex_areas
+from surfinpaint.geometry.mesh import face_cross, vertex_areas
 from surfinpaint.representation.mesh_lambda_h import normals_with_jacobian
+
+_GETRS = sla.get_lapack_funcs("getrs", dtype=np.float64)
 
 __all__ = ["UpdateDerivative", "lagged_update_jacobian", "newton_step",
            "voronoi_area_derivative"]
@@ -28,7 +30,7 @@ def lagged_update_jacobian(system, phi):
     right-hand sides. Forward differences cost one update per column (3m updates a
     Jacobian, 2/3 of the least-squares stage's time: docs/convergence.md, session 12).
     """
-    return UpdateDerivative(system, phi).apply(None)
+    return _DenseJacobian.of(system).at(phi)
 
 
 class UpdateDerivative:
@@ -53,6 +55,9 @@ class UpdateDerivative:
         self.d_area = voronoi_area_derivative(phi, system.near, f)[m].tocsr()  # (len m, P)
         self.where = np.full(len(phi), -1)
         self.where[m] = np.arange(len(m))  # a vertex's row among the moving ones
+        self.ring = np.setdiff1d(m, f)  # made here, not at each product (a third of one)
+        self.rows = {"ring": self.where[self.ring], "tied": self.where[system.tied],
+                     "f": self.where[f]}
         self._woodbury = None
 
     def operator(self):
@@ -63,7 +68,8 @@ class UpdateDerivative:
 
     def apply(self, V):
         """``J V`` for directions ``V`` (P, k) (rows ``3 i + c``), or ``J`` itself for
-        ``None`` (the same operations as a product with the identity, on sparse columns)."""
+        ``None`` (the same operations as a product with the identity, on sparse columns:
+        the reference :func:`lagged_update_jacobian`'s faster path is tested against)."""
         system, phi = self.system, self.phi
         f, tied, area, lam, m = system.f, system.tied, system.area, system.lam, system.moving
         normals, s, w_n, d_n, K, H = self.state
@@ -81,11 +87,12 @@ class UpdateDerivative:
 
         # λ: sqrt(area_3D / area) at the moving vertices, biharmonic over the free ones
         d_lam = np.zeros((len(phi), k))
-        ring = np.setdiff1d(m, f)
-        d_lam[ring] = d_area[where[ring]] / (2.0 * lam[ring] * area[ring])[:, None]
+        ring, rows = self.ring, self.rows
+        d_lam[ring] = d_area[rows["ring"]] / (2.0 * lam[ring] * area[ring])[:, None]
         d_lam[f] = system.lam_lu.solve(-(system.Q_fk @ d_lam[system.fixed]))
         d_s = 4.0 * lam[:, None] * d_lam
-        dn_t, dn_f = d_normals(tied), d_normals(f)
+        d_unit3 = d_unit.reshape(len(m), 3, k)
+        dn_t, dn_f = d_unit3[rows["tied"]], d_unit3[rows["f"]]
         a_t = area[tied] * s[tied]
         d_st = d_s[tied] / (a_t**2 / area[tied])[:, None]  # ds / (area s²)
         d_wn = dn_t / a_t[:, None, None] - normals[tied][:, :, None] * d_st[:, None, :]
@@ -110,7 +117,12 @@ class UpdateDerivative:
             return np.linalg.solve(np.eye(len(system.tied)) + K @ system.Y, K @ y)
         if self._woodbury is None:
             self._woodbury = sla.lu_factor(np.eye(len(system.tied)) + K @ system.Y)
-        return sla.lu_solve(self._woodbury, K @ y)
+        # LAPACK's getrs as sla.lu_solve calls it, without its checks (a tenth of a product)
+        lu, piv = self._woodbury
+        x, info = _GETRS(lu, piv, K @ y)
+        if info:
+            raise ValueError(f"getrs: illegal value in argument {-info}")
+        return x
 
 
 def newton_step(system, points, x, r):
@@ -151,12 +163,9 @@ def _d_stencil_H(system, phi, normals, d_normals, d_area, V):
     return out
 
 
-def voronoi_area_derivative(phi, faces, free):
-    """The derivative of the vertices' Voronoi areas (:func:`vertex_areas`, Meyer et al.'s
-    mixed areas, summed over ``faces``; rows: vertices) in the positions of the ``free``
-    vertices (columns ``3 i + c``: free vertex i, coordinate c), sparse."""
-    column = np.full(len(phi), -1)
-    column[free] = np.arange(len(free))
+def _corner_area_derivative(phi, faces):
+    """(F, corner k, corner j, 3): the derivative of corner k's share of its face's mixed
+    area (:func:`voronoi_area_derivative`) in corner j's position."""
     p = phi[faces]  # (F, 3 corners, 3)
     edge = [p[:, (k + 2) % 3] - p[:, (k + 1) % 3] for k in range(3)]  # opposite corner k
     cross = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
@@ -191,6 +200,16 @@ def voronoi_area_derivative(phi, faces, free):
     any_obtuse = obtuse.any(axis=1)
     share = np.where(obtuse, 0.25, 0.125)[any_obtuse]  # of |cross|, twice the face's area
     d_corner[any_obtuse] = share[:, :, None, None] * d_norm[any_obtuse][:, None]
+    return d_corner
+
+
+def voronoi_area_derivative(phi, faces, free):
+    """The derivative of the vertices' Voronoi areas (:func:`vertex_areas`, Meyer et al.'s
+    mixed areas, summed over ``faces``; rows: vertices) in the positions of the ``free``
+    vertices (columns ``3 i + c``: free vertex i, coordinate c), sparse."""
+    column = np.full(len(phi), -1)
+    column[free] = np.arange(len(free))
+    d_corner = _corner_area_derivative(phi, faces)
     rows, cols, values = [], [], []
     for j in range(3):  # corner j's position moves every corner's area
         has = column[faces[:, j]] >= 0
@@ -201,3 +220,119 @@ def voronoi_area_derivative(phi, faces, free):
             values.append(d_corner[has, k, j].ravel())
     return sp.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
                          shape=(len(phi), 3 * len(free)))
+
+
+class _DenseJacobian:
+    """:func:`lagged_update_jacobian`'s fast path: :meth:`UpdateDerivative.apply` with
+    ``None`` rearranged for many right-hand sides, with what no position changes made once
+    a system (:meth:`of`).
+
+    Why: Newton's steps on patches of up to ``on_mesh.NEWTON_ANALYTIC_MAX`` free vertices
+    take one Jacobian each, 2/3 of the continuation's time (docs/convergence.md, session
+    28); there it took SuperLU solves with hundreds of right-hand sides and the 3n × 3n
+    sparse derivatives of the normals. Here the solves are products with matrices made
+    once (``L_ff⁻¹``; ``Q_ff⁻¹`` folded into ``Y = Q_ff⁻¹ Q_ft``, so the Woodbury update
+    needs no solve with Q: ``d_H = −Y (I + K Y)⁻¹ z``), the derivatives are assembled
+    densely at index arrays made once. The same Jacobian to rounding (tested)."""
+
+    def __init__(self, system):
+        self.system = system
+        f, m, tied, n = system.f, system.moving, system.tied, len(system.points)
+        self.where = np.full(n, -1)
+        self.where[m] = np.arange(len(m))
+        column = np.full(n, -1)
+        column[f] = np.arange(len(f))
+        ring = np.setdiff1d(m, f)  # λ's data next to the free vertices
+        self.ring_rows, self.tied_rows, self.f_rows = (self.where[ring], self.where[tied],
+                                                       self.where[f])
+        in_ring = np.full(n, -1)
+        in_ring[ring] = np.arange(len(ring))
+        self.tied_in_ring = in_ring[tied]
+        self.ring = ring
+        in_fixed = np.full(n, -1)
+        in_fixed[system.fixed] = np.arange(len(system.fixed))
+        # d λ_f = −Q_ff⁻¹ Q_fk d λ_k, d λ_k nonzero on the ring only
+        self.lam_map = -system.lam_lu.solve(system.Q_fk[:, in_fixed[ring]].toarray())
+        self.L_inv = system.L_lu.solve(np.eye(len(f)))
+        self.stencil_map = (system.Q_lu.solve(system.Q_fs.toarray())
+                            if len(system.natural_data) else None)  # Q_ff⁻¹ Q_fs
+        self.shape = (3 * len(m), 3 * len(f))
+        faces = system.near
+        # the flat entries (3 row + a, 3 column + b) every face's corner pair (i, j) adds to
+        pair = np.array([(i, j) for i in range(3) for j in range(3)])
+        self.kept = (self.where[faces[:, pair[:, 0]]] >= 0) & (column[faces[:, pair[:, 1]]] >= 0)
+        r = 3 * self.where[faces[:, pair[:, 0]]][..., None, None] + np.arange(3)[:, None]
+        c = 3 * column[faces[:, pair[:, 1]]][..., None, None] + np.arange(3)
+        self.flat = (r * self.shape[1] + c)[self.kept].ravel()  # (kept, 3, 3)
+        self.area_flat = (self.where[faces[:, pair[:, 0]]][..., None] * self.shape[1]
+                          + 3 * column[faces[:, pair[:, 1]]][..., None]
+                          + np.arange(3))[self.kept].ravel()  # (kept, 3)
+
+    @classmethod
+    def of(cls, system):
+        """The system's, made at its first Jacobian (its matrices do not change)."""
+        made = getattr(system, "dense_jacobian", None)
+        if made is None:
+            made = system.dense_jacobian = cls(system)
+        return made
+
+    def derivatives(self, phi):
+        """The unit normals' (3 len(m), P) and the Voronoi areas' (len(m), P) derivatives at
+        the moving vertices in the free positions, dense."""
+        faces = self.system.near
+        p = phi[faces]
+        N = np.zeros((len(phi), 3))
+        cross = face_cross(phi, faces)
+        for k in range(3):
+            np.add.at(N, faces[:, k], cross)
+        length = np.linalg.norm(N, axis=1)
+        length = np.where(length > 0, length, 1.0)
+        unit = N / length[:, None]
+        P = (np.eye(3)[None] - unit[:, :, None] * unit[:, None, :]) / length[:, None, None]
+        # d n_i / d p_j over a face: P_i [p_{j+2} − p_{j+1}]× (normals_with_jacobian)
+        e = p[:, [2, 0, 1]] - p[:, [1, 2, 0]]  # (F, corner j, 3)
+        X = np.zeros((len(faces), 3, 3, 3))
+        X[..., 0, 1], X[..., 0, 2] = -e[..., 2], e[..., 1]
+        X[..., 1, 0], X[..., 1, 2] = e[..., 2], -e[..., 0]
+        X[..., 2, 0], X[..., 2, 1] = -e[..., 1], e[..., 0]
+        blocks = np.einsum("fiab,fjbc->fijac", P[faces], X).reshape(len(faces), 9, 3, 3)
+        size = self.shape[0] * self.shape[1]
+        d_unit = np.bincount(self.flat, blocks[self.kept].ravel(), size).reshape(self.shape)
+        d_corner = _corner_area_derivative(phi, faces).reshape(len(faces), 9, 3)
+        d_area = np.bincount(self.area_flat, d_corner[self.kept].ravel(), size // 3)
+        return d_unit, d_area.reshape(-1, self.shape[1])
+
+    def at(self, phi):
+        """The (P, P) Jacobian at ``phi`` (:meth:`UpdateDerivative.apply` with ``None``)."""
+        system = self.system
+        f, tied, area, m = system.f, system.tied, system.area, system.moving
+        normals, s, w_n, d_n, K, H = system._lagged(phi)[1]
+        lam = system.lam
+        n_free, P = len(f), self.shape[1]
+        H_f = H[:n_free]
+        d_unit, d_area = self.derivatives(phi)
+        d_unit = d_unit.reshape(len(m), 3, P)
+        ring = self.ring
+        d_lam_ring = d_area[self.ring_rows] / (2.0 * lam[ring] * area[ring])[:, None]
+        d_s_f = 4.0 * lam[f, None] * (self.lam_map @ d_lam_ring)
+        d_s_t = 4.0 * lam[tied, None] * d_lam_ring[self.tied_in_ring]
+        dn_t, dn_f = d_unit[self.tied_rows], d_unit[self.f_rows]
+        a_t = area[tied] * s[tied]
+        d_st = d_s_t / (a_t**2 / area[tied])[:, None]
+        d_wn = dn_t / a_t[:, None, None] - normals[tied][:, :, None] * d_st[:, None, :]
+        d_dn = system.curvature * (dn_f * (area[f] * s[f])[:, None, None]
+                                 + normals[f][:, :, None] * (area[f][:, None] * d_s_f)[:, None, :])
+        # z = L_tφ·dw_n + d(K H): d_b = −Q_ft z (− Q_fs dH_s on a natural border)
+        z = np.einsum("tc,tcp->tp", system.L_t_phi, d_wn)
+        for c in range(3):
+            z += d_wn[:, c, :] * (system.Z_t @ (d_n[:, c] * H_f))[:, None]
+            z += w_n[:, [c]] * (system.Z_t @ (d_dn[:, c, :] * H_f[:, None]))
+        C = np.eye(len(tied)) + K @ system.Y
+        if self.stencil_map is None:
+            d_H = -(system.Y @ np.linalg.solve(C, z))
+        else:
+            W = self.stencil_map @ _d_stencil_H(system, phi, normals, lambda ids: d_unit[
+                self.where[ids]], d_area, None)
+            d_H = -(system.Y @ np.linalg.solve(C, z - K @ W)) - W
+        rhs = d_dn * H_f[:, None, None] + d_n[:, :, None] * d_H[:n_free][:, None, :]
+        return (self.L_inv @ rhs.reshape(n_free, 3 * P)).reshape(3 * n_free, P)

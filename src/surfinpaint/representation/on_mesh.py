@@ -63,23 +63,19 @@ TRUST = 2.0
 NEWTON_RTOL = 1e-3
 GMRES_RESTART = 60
 LINE_SEARCH = 8
-# Newton's steps solve with the update's dense analytic Jacobian up to this many free
-# vertices, by GMRES on its exact matrix-free products above (the dense Jacobian's cost
-# grows faster than an update's: CPU s 0.007 at 60 free vertices, 0.056 at 249, 0.39 at
-# 584; docs/convergence.md sessions 13, 14)
+# Newton's steps solve with the update's dense analytic Jacobian up to this many free vertices,
+# by GMRES on its exact matrix-free products above (the dense Jacobian's cost grows faster than
+# an update's: CPU s 0.007 at 60 free vertices, 0.056 at 249, 0.39 at 584; sessions 13, 14)
 NEWTON_ANALYTIC_MAX = 200
 NEWTON_STEPS = 30
-# a Newton stage whose residual after its k-th step is still above
-# NEWTON_ENVELOPE * NEWTON_ENVELOPE_RATE**k edge lengths is given up: every stage that
-# converged on the tuning side (the λ-H families and the tuning half: 209 of 814 stages)
-# stayed below 81.7 * 0.85**k, and this is 2.2 times that. A failed stage changes nothing
-# after it (the next stage starts where it started), so only time is saved where the
-# stage would have failed anyway (docs/convergence.md, session 27)
+# a Newton stage whose residual after its k-th step is above NEWTON_ENVELOPE * RATE**k edge
+# lengths is given up: every stage that converged on the tuning side (209 of 814) stayed below
+# 81.7 * 0.85**k (2.2 times less). A failed stage changes nothing after it (the next starts
+# where it started): only time is saved where it would have failed anyway (session 27)
 NEWTON_ENVELOPE = 180.0
 NEWTON_ENVELOPE_RATE = 0.85
-# the least-squares stage where Newton's method fails too (least_squares_on_mesh):
-# Levenberg-Marquardt steps of at most LSQ_TRUST edge lengths, at most LSQ_STEPS of them
-# and LSQ_JACOBIANS Jacobians
+# the least-squares stage where Newton's method fails too (least_squares_on_mesh): Levenberg-
+# Marquardt steps of at most LSQ_TRUST edge lengths, LSQ_STEPS steps, LSQ_JACOBIANS Jacobians
 LSQ_TRUST = 2.0
 LSQ_STEPS = 30
 LSQ_JACOBIANS = 12
@@ -88,6 +84,9 @@ CONTINUATION_STEP = 0.125
 CONTINUATION_SMALLEST = 1e-3
 CONTINUATION_SOLVES = 60
 CONTINUATION_NEWTON = 10
+# its solves' envelope (as NEWTON_ENVELOPE's): 2.1 times the 28.3 * 0.6**k below which every
+# continuation solve that converged on the tuning side stayed (convergence.md, session 28)
+CONTINUATION_ENVELOPE = (60.0, 0.6)
 
 
 def vertex_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
@@ -308,7 +307,8 @@ def _continuation(system, points, tol):
             system.curvature = trial
             solves += 1
             try:
-                phi = _newton_solve(system, phi, tol, CONTINUATION_NEWTON)
+                phi = _newton_solve(system, phi, tol, CONTINUATION_NEWTON,
+                                    CONTINUATION_ENVELOPE)
             except FillError:
                 step /= 2.0
                 continue
@@ -323,9 +323,8 @@ _CONTROLLER: list[ThreadpoolController] = []
 
 
 def _blas_controller() -> ThreadpoolController:
-    """The process's thread-pool controller, made at the first λ-H solve (making one lists
-    the loaded libraries: 1-7 ms, which a ``threadpool_limits`` call paid on every solve;
-    the BLAS libraries are loaded by then, with numpy and scipy.sparse.linalg)."""
+    """The process's thread-pool controller, made at the first λ-H solve (making one lists the
+    loaded libraries: 1-7 ms, which ``threadpool_limits`` paid on every solve; BLAS is loaded)."""
     if not _CONTROLLER:
         _CONTROLLER.append(ThreadpoolController())
     return _CONTROLLER[0]
@@ -530,12 +529,13 @@ def _coupled_solve(system, points, iterations, tol, relax):
     return phi
 
 
-def _newton_solve(system, points, tol, steps):
+def _newton_solve(system, points, tol, steps, envelope=None):
     """The fixed point of the lagged iteration found by Newton's method where the iteration
     itself diverges: the residual ``R(φ_f) = update(φ) − φ_f`` (in mean edge lengths) is
     driven to zero by Newton steps, each bounded to ``TRUST`` edge lengths and halved until
     ``|R|`` decreases, and given up where ``|R|`` after step k is above
-    ``NEWTON_ENVELOPE * NEWTON_ENVELOPE_RATE**k`` (no converging stage was). Each step is
+    ``A ρ^k`` (no converging stage was; ``envelope`` (A, ρ), by default ``NEWTON_ENVELOPE``
+    and ``NEWTON_ENVELOPE_RATE``). Each step is
     solved exactly with R's analytic Jacobian on patches of at most
     ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by GMRES
     on its exact products on larger ones (Newton–Krylov, :class:`.UpdateDerivative`).
@@ -546,6 +546,7 @@ def _newton_solve(system, points, tol, steps):
     """
     f, h = system.f, system.scale
     x = points[f].copy()
+    bound, rate = envelope or (NEWTON_ENVELOPE, NEWTON_ENVELOPE_RATE)
 
     def residual(x):
         phi = points.copy()
@@ -557,7 +558,7 @@ def _newton_solve(system, points, tol, steps):
         size = float(np.abs(r).max())
         if size < tol:
             break
-        if k and size > NEWTON_ENVELOPE * NEWTON_ENVELOPE_RATE**k:
+        if k and size > bound * rate**k:
             raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
                              f"residual of {size:.2g} edge lengths after {k} steps, more "
                              f"than a converging stage has")
