@@ -182,6 +182,38 @@ def test_a_kernel_numba_cannot_cache_is_compiled_in_the_process(monkeypatch):
     assert compiled.run(fn, lambda k: k(np.int64(5)), lambda: -1) == 15
 
 
+class _Stopped(BaseException):
+    """Stands in for the command line's ``Interrupted`` (a ``BaseException``)."""
+
+
+def _dispatcher_with(context):
+    """A kernel call as numba's dispatcher fails when Python code it runs raised ``context``
+    (a signal handler's, say): ``SystemError`` with it as the context."""
+    def call(kernel):
+        if context is None:
+            raise SystemError("returned a result with an exception set")
+        try:
+            raise context
+        except BaseException:
+            raise SystemError("returned a result with an exception set")  # noqa: B904
+    return call
+
+
+@pytest.mark.parametrize(("context", "raised"), [
+    (_Stopped(), _Stopped),  # Ctrl-C or SIGTERM while the kernel ran: raised as itself
+    (KeyboardInterrupt(), KeyboardInterrupt),
+    (ValueError("a bug"), SystemError),  # an ordinary exception's failure stays one
+    (None, SystemError),
+])
+def test_a_signal_while_a_kernel_runs_is_raised_as_itself(monkeypatch, context, raised):
+    namespace: dict = {}
+    exec(compile("def thrice(x):\n    return 3 * x\n", "<no file>", "exec"), namespace)
+    fn = kernel(namespace["thrice"])
+    monkeypatch.setenv(MODE_VARIABLE, "foreground")
+    with pytest.raises(raised):
+        compiled.run(fn, _dispatcher_with(context), lambda: -1)
+
+
 def _fresh_launch(monkeypatch, tmp_path: Path) -> list:
     """compile_in_background as in a new process, its lock in ``tmp_path``, spawning
     nothing: returns the (fd, path) of each spawn it would have made."""

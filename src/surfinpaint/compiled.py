@@ -132,21 +132,38 @@ def run(compiled, call: Callable, fallback: Callable, cost: float = 0.0,
     if compiled is None:
         return fallback()
     if compiled in _UNCACHED or os.environ.get(MODE_VARIABLE) == "foreground":
-        return call(compiled)
+        return _called(compiled, call)
     spent = _spent.get(compiled, 0.0) + cost
     if spent > budget:
-        return call(compiled)
+        return _called(compiled, call)
     _local.cached_only = True
     try:
-        return call(compiled)
+        return _called(compiled, call)
     except NotCompiled:
         pass
     finally:
         _local.cached_only = False
     if not compile_in_background():
-        return call(compiled)
+        return _called(compiled, call)
     _spent[compiled] = spent
     return fallback()
+
+
+def _called(compiled, call: Callable):
+    """``call(compiled)``, with the exception of a signal handler that raised while the
+    kernel ran (Ctrl-C's, the command line's SIGTERM handler's) raised as itself.
+
+    Why: numba's dispatcher runs Python code (loading a cached kernel, boxing its result);
+    a handler that raises there comes back as ``SystemError: ... returned a result with an
+    exception set``, the handler's exception only its context, and a Ctrl-C would end in
+    a traceback instead of the command line's one line."""
+    try:
+        return call(compiled)
+    except SystemError as exc:
+        context = exc.__context__
+        if context is not None and not isinstance(context, Exception):
+            raise context from None
+        raise
 
 
 def lock_path() -> str:
