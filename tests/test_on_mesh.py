@@ -217,6 +217,21 @@ class _ScriptedSystem:
         return phi[self.f] + self.trajectory[0]
 
 
+def _scripted(monkeypatch, trajectory) -> _ScriptedSystem:
+    """A system whose Newton steps give the residuals of ``trajectory``, one a step (Newton's
+    step and line search replaced by the script)."""
+    system = _ScriptedSystem(trajectory)
+
+    def scripted_line_search(residual, x, r, dx):
+        system.steps += 1
+        size = system.trajectory[min(system.steps, len(system.trajectory) - 1)]
+        return x + dx, np.full(r.shape, size)
+
+    monkeypatch.setattr(mesh_inpainting, "newton_step", lambda s, p, x, r: np.zeros_like(x))
+    monkeypatch.setattr(mesh_inpainting, "_line_search", scripted_line_search)
+    return system
+
+
 @pytest.mark.parametrize("name, trajectory, given_up_after", [
     # stages that converged on the tuning-side families (docs/convergence.md, session 27)
     # keep going: a long linear descent of about TRUST a step (quadruped v-95), a brain
@@ -239,15 +254,7 @@ class _ScriptedSystem:
 ])
 def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajectory,
                                                        given_up_after):
-    system = _ScriptedSystem(trajectory)
-
-    def scripted_line_search(residual, x, r, dx):
-        system.steps += 1
-        size = system.trajectory[min(system.steps, len(system.trajectory) - 1)]
-        return x + dx, np.full(r.shape, size)
-
-    monkeypatch.setattr(mesh_inpainting, "newton_step", lambda s, p, x, r: np.zeros_like(x))
-    monkeypatch.setattr(mesh_inpainting, "_line_search", scripted_line_search)
+    system = _scripted(monkeypatch, trajectory)
     points = np.zeros((4, 3))
     steps = mesh_inpainting.NEWTON_STEPS
     if given_up_after is None:
@@ -282,15 +289,7 @@ def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajec
 ])
 def test_a_continuation_solve_is_given_up_above_its_envelope(monkeypatch, name, trajectory,
                                                              given_up_after):
-    system = _ScriptedSystem(trajectory)
-
-    def scripted_line_search(residual, x, r, dx):
-        system.steps += 1
-        size = system.trajectory[min(system.steps, len(system.trajectory) - 1)]
-        return x + dx, np.full(r.shape, size)
-
-    monkeypatch.setattr(mesh_inpainting, "newton_step", lambda s, p, x, r: np.zeros_like(x))
-    monkeypatch.setattr(mesh_inpainting, "_line_search", scripted_line_search)
+    system = _scripted(monkeypatch, trajectory)
     points, steps = np.zeros((4, 3)), mesh_inpainting.CONTINUATION_NEWTON
 
     def solve():
