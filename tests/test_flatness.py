@@ -309,3 +309,10 @@ def test_a_hole_next_to_a_scanned_edge_is_laid_on_its_plane():
     assert fill.plane is not None and fill.plane.flat and fill.plane.left_out > 0
     assert abs(fill.plane.normal[2]) == pytest.approx(1.0, abs=1e-2)
     assert np.abs(fill.vertices[:, 2]).max() < 0.01  # on the face, not bent toward the edge
+    # the reports say so: the sentence, and the JSON record's count
+    from surfinpaint.app.fill_report import HoleRecord, hole_lines
+    from surfinpaint.fill.pipeline import fill_holes
+
+    (report,) = fill_holes(cut.vertices, cut.faces, jobs=1).reports
+    assert f"{fill.plane.left_out} vertices off it on one side left out" in hole_lines(report)[1]
+    assert HoleRecord.of(report).to_json()["plane"]["left_out"] == fill.plane.left_out

@@ -297,7 +297,7 @@ class HoleRecord:
                    plane=None if r.plane is None else {
                        "p_curvature": float(r.plane.p_curvature),
                        "p_pattern": float(r.plane.p_pattern), "noise": float(r.plane.noise),
-                       "vertices": int(r.plane.points)})
+                       "vertices": int(r.plane.points), "left_out": int(r.plane.left_out)})
 
     def to_json(self) -> dict[str, Any]:
         """As JSON types: a failed candidate's score is null and named in ``failed``."""
