@@ -163,3 +163,57 @@ def _near_border(points, local):
     for _ in range(3):
         far |= (A @ far) > 0
     return ~near & ~(far & (points[:, 0] < np.median(points[:, 0])))
+
+
+def test_the_dense_jacobian_s_natural_border_term_where_it_is_not_zero():
+    # The natural-border term W = Q_ff⁻¹ Q_fs dH_s of the fast path (the derivative of
+    # _CoupledSystem.stencil_H) is structurally zero on a real patch: a natural stencil
+    # vertex next to an inner moving one is two Laplacian steps from a free vertex, so Q_f
+    # reaches it (barring exact cancellation) and it is on the crease, an unknown, not data
+    # (checked on the patches of this file and tests/test_convergence.py, 0 such vertices).
+    # So the system here is the natural one of the fast-path test with each natural datum's
+    # mean widened to the inner moving vertex nearest it: stencil_H (the update) and
+    # _d_stencil_H (both Jacobians) read the same adjacency, so it is a consistent system
+    # on which W is not zero. Measured: fast against reference 2e-15 of J's largest entry,
+    # both against central differences 1.3e-9 relative; dropping W moves J by 1e-3 of its
+    # largest entry (2.5e-4 relative to central differences).
+    import scipy.sparse as sp
+
+    from surfinpaint.representation.coupled_jacobian import _d_stencil_H, _DenseJacobian
+
+    _, points, _, (local, uv, _) = _system(30, 6)
+    system = on_mesh._CoupledSystem(points, local, uv, _near_border(points, local),
+                                    np.ones(len(points), dtype=bool))
+    m = system.moving
+    inner = m[system.inner[m] > 0]
+    distance = np.linalg.norm(points[system.natural_data][:, None] - points[inner][None], axis=2)
+    nearest = inner[distance.argmin(axis=1)]
+    system.adjacency = (system.adjacency + sp.csr_matrix(
+        (np.ones(len(nearest)), (np.arange(len(nearest)), nearest)),
+        shape=system.adjacency.shape)).tocsr()
+    system.weight = np.maximum(system.adjacency @ system.inner, 1.0)
+    f = system.f
+    phi = points.copy()
+    phi[f] += 0.1 * system.scale * np.random.default_rng(3).standard_normal((len(f), 3))
+    fast = lagged_update_jacobian(system, phi)
+    J = UpdateDerivative(system, phi).apply(None)
+    # W is not zero here (measured: |W| 18, its largest entry 12; |J|'s 0.4)
+    dense = _DenseJacobian.of(system)
+    d_unit, d_area = dense.derivatives(phi)
+    d_unit = d_unit.reshape(len(m), 3, -1)
+    normals = system._lagged(phi)[1][0]
+    W = dense.stencil_map @ _d_stencil_H(system, phi, normals,
+                                         lambda ids: d_unit[dense.where[ids]], d_area, None)
+    assert np.abs(W).max() > 1.0
+    assert np.abs(fast - J).max() < 1e-12 * np.abs(J).max()
+
+    def update(x):
+        trial = phi.copy()
+        trial[f] = x.reshape(-1, 3)
+        return system.update(trial).ravel()
+
+    x, e = phi[f].ravel(), 1e-5 * system.scale
+    central = np.column_stack([(update(x + e * d) - update(x - e * d)) / (2 * e)
+                               for d in np.eye(x.size)])
+    assert np.linalg.norm(fast - central) < 1e-7 * np.linalg.norm(fast)
+    assert np.linalg.norm(J - central) < 1e-7 * np.linalg.norm(J)
