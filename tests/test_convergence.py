@@ -5,6 +5,7 @@ biharmonic stencil. Each case is a mesh built here that failed before its fix.""
 import numpy as np
 import pytest
 from test_conformal import _patch_error as _error
+from test_coupled_jacobian import _near_border, central_differences
 
 from surfinpaint import ConformalOptions
 from surfinpaint.data import cube
@@ -354,10 +355,7 @@ def test_the_coupled_update_s_analytic_jacobian_matches_central_differences(near
     import sys
     from pathlib import Path
 
-    import scipy.sparse as sp
-
     from surfinpaint.fill.conformal.mesh_pass import _mapped_patch
-    from surfinpaint.geometry.mesh import boundary_loops
     from surfinpaint.representation import on_mesh
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
@@ -369,18 +367,7 @@ def test_the_coupled_update_s_analytic_jacobian_matches_central_differences(near
     _, ids, local, uv, _, _ = _mapped_patch(vertices, cut.faces, cut.loop, new_f, 3)
     points = vertices[ids]
     if near_border:  # every vertex 2 edges from the border free but on one side (4 edges)
-        nv = len(ids)
-        edges = np.vstack([local[:, [0, 1]], local[:, [1, 2]], local[:, [2, 0]]])
-        A = sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(nv, nv))
-        A = A + A.T
-        near = np.zeros(nv, dtype=bool)
-        near[np.concatenate(boundary_loops(local))] = True
-        near |= (A @ near) > 0
-        far = near.copy()
-        for _ in range(3):
-            far |= (A @ far) > 0
-        free = ~near & ~(far & (points[:, 0] < np.median(points[:, 0])))
-        natural = np.ones(nv, dtype=bool)
+        free, natural = _near_border(points, local), np.ones(len(ids), dtype=bool)
     else:
         free, natural = ids >= len(cut.vertices), None
     system = on_mesh._CoupledSystem(points, local, uv, free, natural)
@@ -389,17 +376,11 @@ def test_the_coupled_update_s_analytic_jacobian_matches_central_differences(near
     phi = points.copy()
     phi[f] += 0.1 * system.scale * np.random.default_rng(0).standard_normal((len(f), 3))
 
-    def update(x):
-        trial = phi.copy()
-        trial[f] = x.reshape(-1, 3)
-        return system.update(trial).ravel()
-
-    x, e = phi[f].ravel(), 1e-5 * system.scale
-    central = np.column_stack([(update(x + e * d) - update(x - e * d)) / (2 * e)
-                               for d in np.eye(x.size)])
+    before = system.update(phi)
+    central = central_differences(system, phi)
     J = system.jacobian(phi)
     assert np.linalg.norm(J - central) < 1e-7 * np.linalg.norm(J)
-    assert np.abs(update(x) - system.update(phi).ravel()).max() == 0.0  # state unchanged
+    assert np.abs(system.update(phi) - before).max() == 0.0  # state unchanged
 
 
 def _quadric(q: np.ndarray) -> np.ndarray:

@@ -146,6 +146,21 @@ def test_the_dense_jacobian_s_fast_path_is_the_reference_one(natural):
         1e-12 * np.abs(again).max())
 
 
+def central_differences(system, phi: np.ndarray) -> np.ndarray:
+    """The lagged update's Jacobian in the free positions at ``phi`` by central differences
+    (steps of 1e-5 edge lengths; rows and columns ``3 i + c``)."""
+    f = system.f
+
+    def update(x):
+        trial = phi.copy()
+        trial[f] = x.reshape(-1, 3)
+        return system.update(trial).ravel()
+
+    x, e = phi[f].ravel(), 1e-5 * system.scale
+    return np.column_stack([(update(x + e * d) - update(x - e * d)) / (2 * e)
+                            for d in np.eye(x.size)])
+
+
 def _near_border(points, local):
     """Free vertices two edges from the patch's border but on one side (four there)."""
     import scipy.sparse as sp
@@ -207,13 +222,6 @@ def test_the_dense_jacobian_s_natural_border_term_where_it_is_not_zero():
     assert np.abs(W).max() > 1.0
     assert np.abs(fast - J).max() < 1e-12 * np.abs(J).max()
 
-    def update(x):
-        trial = phi.copy()
-        trial[f] = x.reshape(-1, 3)
-        return system.update(trial).ravel()
-
-    x, e = phi[f].ravel(), 1e-5 * system.scale
-    central = np.column_stack([(update(x + e * d) - update(x - e * d)) / (2 * e)
-                               for d in np.eye(x.size)])
+    central = central_differences(system, phi)
     assert np.linalg.norm(fast - central) < 1e-7 * np.linalg.norm(fast)
     assert np.linalg.norm(J - central) < 1e-7 * np.linalg.norm(J)
