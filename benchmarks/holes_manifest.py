@@ -22,6 +22,11 @@ after session 25's choices and run once. Reported after the validation half.
 A fourth set, the second holdout (``benchmarks/holdout2_manifest.json``, ``--write
 --holdout2``): 12 fresh meshes (``validation_meshes.HOLDOUT2_SOURCES``), holes planned the
 same way (seeds from 200), made after session 26's defaults and run once.
+
+A fifth set, the third holdout (``benchmarks/holdout3_manifest.json``, ``--write
+--holdout3``): 12 fresh meshes (``validation_meshes.HOLDOUT3_SOURCES``), holes planned the
+same way (seeds from 300), made in session 28 after the second holdout had been run twice,
+and run once.
 """
 
 from __future__ import annotations
@@ -42,6 +47,8 @@ MANIFEST = Path(__file__).parent / "holes_manifest.json"
 HOLDOUT_MANIFEST = Path(__file__).parent / "holdout_manifest.json"
 # a fourth set, fresh meshes run once after session 26's defaults (HOLDOUT2_SOURCES)
 HOLDOUT2_MANIFEST = Path(__file__).parent / "holdout2_manifest.json"
+# a fifth set, fresh meshes run once in session 28 (HOLDOUT3_SOURCES)
+HOLDOUT3_MANIFEST = Path(__file__).parent / "holdout3_manifest.json"
 RADII_H = (3, 4, 5, 6, 7, 8, 10)
 NEAR_BORDER = (1, 3, 5)
 ON_FEATURE = (0, 2, 4, 6)
@@ -56,6 +63,7 @@ SPLIT = {
                    "ellipsoid", "fs_sphere", "peanut"],
     "holdout": list(vm.HOLDOUT_SOURCES),
     "holdout2": list(vm.HOLDOUT2_SOURCES),
+    "holdout3": list(vm.HOLDOUT3_SOURCES),
 }
 
 
@@ -147,10 +155,10 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     """Build the manifest of ``splits`` from :data:`SPLIT` and :mod:`validation_meshes` and
     write it; meshes whose source is not installed are skipped with a note. The holes'
     seeds follow each mesh's place in the list (the holdout's start at 100, the second
-    holdout's at 200)."""
+    holdout's at 200, the third's at 300)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
-    first = {("holdout",): 100, ("holdout2",): 200}.get(tuple(splits), 0)
+    first = {("holdout",): 100, ("holdout2",): 200, ("holdout3",): 300}.get(tuple(splits), 0)
     for index, mesh_id in enumerate(ids, start=first):
         if only and mesh_id not in only:
             continue
@@ -175,6 +183,9 @@ if __name__ == "__main__":
     parser.add_argument("--holdout2", action="store_true",
                         help="the second holdout set instead (default --out: "
                         "holdout2_manifest.json)")
+    parser.add_argument("--holdout3", action="store_true",
+                        help="the third holdout set instead (default --out: "
+                        "holdout3_manifest.json)")
     args = parser.parse_args()
     if not args.write:
         parser.error("pass --write to (re)write the manifest")
@@ -182,5 +193,7 @@ if __name__ == "__main__":
         write(Path(args.out or HOLDOUT_MANIFEST), splits=("holdout",))
     elif args.holdout2:
         write(Path(args.out or HOLDOUT2_MANIFEST), splits=("holdout2",))
+    elif args.holdout3:
+        write(Path(args.out or HOLDOUT3_MANIFEST), splits=("holdout3",))
     else:
         write(Path(args.out or MANIFEST))

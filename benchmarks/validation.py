@@ -18,6 +18,8 @@ Run (one hole at a time, nothing parallel)::
         --out holdout.json                                                 # the holdout set
     .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout2_manifest.json \
         --out holdout2.json                                           # the second holdout
+    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout3_manifest.json \
+        --out holdout3.json                                            # the third holdout
 
 Every row is also appended to ``<out>.partial.jsonl`` as it is made, so the tables of a run
 that was stopped can be printed with ``--tables <out>.partial.jsonl``.
@@ -52,10 +54,11 @@ DEFAULT = "conformal"
 CANDIDATES = ("fair", "fair3", "conformal_raw")  # what the self-check chooses among
 FILLED = ("ok", "selected", "fallback")
 # reported in this order: the validation half first, then the holdout sets (fresh meshes,
-# benchmarks/holdout_manifest.json and holdout2_manifest.json), then the tuning half every
-# rule was chosen on
-SPLITS = ("validation", "holdout", "holdout2", "tuning")
-SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2"}
+# benchmarks/holdout_manifest.json, holdout2_manifest.json and holdout3_manifest.json), then
+# the tuning half every rule was chosen on
+SPLITS = ("validation", "holdout", "holdout2", "holdout3", "tuning")
+SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
+               "holdout3": "Holdout set 3"}
 
 
 def _cut(mesh: vm.BenchMesh, hole: dict):
@@ -293,7 +296,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--samples", type=int, default=10000)
     parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST),
                         help="the holes (default: both halves; benchmarks/"
-                        "holdout_manifest.json, holdout2_manifest.json: the holdout sets)")
+                        "holdout_manifest.json, holdout2_manifest.json, "
+                        "holdout3_manifest.json: the holdout sets)")
     parser.add_argument("--out", default=None, help="write all rows as JSON here")
     parser.add_argument("--tables", default=None,
                         help="print the tables of a saved run (.json or .partial.jsonl)")
