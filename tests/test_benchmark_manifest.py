@@ -115,48 +115,31 @@ def holdout2():
     return holes_manifest.read(holes_manifest.HOLDOUT2_MANIFEST)
 
 
-def test_the_second_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2):
-    """The second holdout set (run once after session 26's defaults): its own meshes, from
-    sources neither the two halves nor the first holdout use, every kind but brain surfaces,
-    at least 3 range scans, 7 holes a mesh."""
-    ids = [e["mesh"] for e in holdout2["meshes"]]
-    assert ids == holes_manifest.SPLIT["holdout2"] == list(validation_meshes.HOLDOUT2_SOURCES)
-    earlier = manifest["meshes"] + holdout["meshes"]
-    assert not {e["mesh"] for e in earlier} & set(ids)
-    sources = {e["source"] for e in earlier}
-    for entry in holdout2["meshes"]:
-        assert entry["split"] == "holdout2" and entry["source"] not in sources, entry["mesh"]
-        source = validation_meshes.SOURCES[entry["mesh"]]
-        assert (source.kind, source.source) == (entry["kind"], entry["source"])
-        assert entry["n_vertices"] > 0 and entry["n_faces"] > 0 and entry["h"] > 0
-        assert [h["radius_h"] for h in entry["holes"]] == list(holes_manifest.RADII_H)
-        for hole in entry["holes"]:
-            assert set(hole) == {"centre", "radius", "radius_h", "near_border", "on_feature"}
-            assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
-    kinds = Counter(e["kind"] for e in holdout2["meshes"])
-    assert set(kinds) == KINDS - {"brain"} and kinds["range_scan"] >= 3
-    holes = [h for e in holdout2["meshes"] for h in e["holes"]]
-    assert len(holes) == 7 * len(ids)
-    assert sum(h["near_border"] for h in holes) == 3 * kinds["range_scan"]
-    assert sum(h["on_feature"] for h in holes) == 4 * kinds["cad"]
-
-
 @pytest.fixture(scope="module")
 def holdout3():
     return holes_manifest.read(holes_manifest.HOLDOUT3_MANIFEST)
 
 
-def test_the_third_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3):
-    """The third holdout set (session 28, run once): its own meshes, from sources neither the
-    two halves nor the first two holdouts use, every kind but brain surfaces, at least 3 range
-    scans, 7 holes a mesh."""
-    ids = [e["mesh"] for e in holdout3["meshes"]]
-    assert ids == holes_manifest.SPLIT["holdout3"] == list(validation_meshes.HOLDOUT3_SOURCES)
-    earlier = manifest["meshes"] + holdout["meshes"] + holdout2["meshes"]
+@pytest.mark.parametrize(("split", "sources"), [
+    ("holdout2", validation_meshes.HOLDOUT2_SOURCES),  # run once after session 26's defaults
+    ("holdout3", validation_meshes.HOLDOUT3_SOURCES),  # run once after session 28's
+])
+def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
+                                                      split, sources):
+    """The second and third holdout sets: their own meshes, from sources no earlier set uses
+    (the two halves, the holdouts before them), every kind but brain surfaces, at least 3
+    range scans, 7 holes a mesh."""
+    sets = {"holdout2": holdout2, "holdout3": holdout3}
+    this = sets[split]
+    ids = [e["mesh"] for e in this["meshes"]]
+    assert ids == holes_manifest.SPLIT[split] == list(sources)
+    earlier = manifest["meshes"] + holdout["meshes"]
+    if split == "holdout3":
+        earlier = earlier + holdout2["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
-    sources = {e["source"] for e in earlier}
-    for entry in holdout3["meshes"]:
-        assert entry["split"] == "holdout3" and entry["source"] not in sources, entry["mesh"]
+    earlier_sources = {e["source"] for e in earlier}
+    for entry in this["meshes"]:
+        assert entry["split"] == split and entry["source"] not in earlier_sources, entry["mesh"]
         source = validation_meshes.SOURCES[entry["mesh"]]
         assert (source.kind, source.source) == (entry["kind"], entry["source"])
         assert entry["n_vertices"] > 0 and entry["n_faces"] > 0 and entry["h"] > 0
@@ -164,9 +147,9 @@ def test_the_third_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdo
         for hole in entry["holes"]:
             assert set(hole) == {"centre", "radius", "radius_h", "near_border", "on_feature"}
             assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
-    kinds = Counter(e["kind"] for e in holdout3["meshes"])
+    kinds = Counter(e["kind"] for e in this["meshes"])
     assert set(kinds) == KINDS - {"brain"} and kinds["range_scan"] >= 3
-    holes = [h for e in holdout3["meshes"] for h in e["holes"]]
+    holes = [h for e in this["meshes"] for h in e["holes"]]
     assert len(holes) == 7 * len(ids)
     assert sum(h["near_border"] for h in holes) == 3 * kinds["range_scan"]
     assert sum(h["on_feature"] for h in holes) == 4 * kinds["cad"]
