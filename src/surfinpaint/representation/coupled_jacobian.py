@@ -10,8 +10,12 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from surfinpaint.geometry.mesh import face_cross, vertex_areas
-from surfinpaint.representation.mesh_lambda_h import normals_with_jacobian
+from surfinpaint.geometry.mesh import vertex_areas
+from surfinpaint.representation.mesh_lambda_h import (
+    area_vectors,
+    cross_matrices,
+    normals_with_jacobian,
+)
 
 _GETRS = sla.get_lapack_funcs("getrs", dtype=np.float64)
 
@@ -281,20 +285,14 @@ class _DenseJacobian:
         the moving vertices in the free positions, dense."""
         faces = self.system.near
         p = phi[faces]
-        N = np.zeros((len(phi), 3))
-        cross = face_cross(phi, faces)
-        for k in range(3):
-            np.add.at(N, faces[:, k], cross)
+        N = area_vectors(phi, faces)
         length = np.linalg.norm(N, axis=1)
         length = np.where(length > 0, length, 1.0)
         unit = N / length[:, None]
         P = (np.eye(3)[None] - unit[:, :, None] * unit[:, None, :]) / length[:, None, None]
         # d n_i / d p_j over a face: P_i [p_{j+2} − p_{j+1}]× (normals_with_jacobian)
         e = p[:, [2, 0, 1]] - p[:, [1, 2, 0]]  # (F, corner j, 3)
-        X = np.zeros((len(faces), 3, 3, 3))
-        X[..., 0, 1], X[..., 0, 2] = -e[..., 2], e[..., 1]
-        X[..., 1, 0], X[..., 1, 2] = e[..., 2], -e[..., 0]
-        X[..., 2, 0], X[..., 2, 1] = -e[..., 1], e[..., 0]
+        X = cross_matrices(e.reshape(-1, 3)).reshape(len(faces), 3, 3, 3)
         blocks = np.einsum("fiab,fjbc->fijac", P[faces], X).reshape(len(faces), 9, 3, 3)
         size = self.shape[0] * self.shape[1]
         d_unit = np.bincount(self.flat, blocks[self.kept].ravel(), size).reshape(self.shape)

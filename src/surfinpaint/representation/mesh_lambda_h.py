@@ -71,6 +71,8 @@ __all__ = [
     "MeshSolve",
     "RebuildSystem",
     "area_mismatch",
+    "area_vectors",
+    "cross_matrices",
     "gradient_operators",
     "mesh_lambda_h",
     "normals_with_jacobian",
@@ -116,7 +118,7 @@ def gradient_operators(uv: np.ndarray, faces: np.ndarray) -> tuple[sp.csr_matrix
     return ops[0], ops[1]
 
 
-def _cross_matrices(a: np.ndarray) -> np.ndarray:
+def cross_matrices(a: np.ndarray) -> np.ndarray:
     """(k, 3, 3) matrices ``[a]×`` with ``[a]× b = a × b``."""
     X = np.zeros((len(a), 3, 3))
     X[:, 0, 1], X[:, 0, 2] = -a[:, 2], a[:, 1]
@@ -150,7 +152,7 @@ def normals_with_jacobian(points: np.ndarray, faces: np.ndarray,
     p = np.asarray(points, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
     n = len(p)
-    N = _area_vectors(p, f)
+    N = area_vectors(p, f)
     if eps is None:
         length = np.linalg.norm(N, axis=1)
         length = np.where(length > 0, length, 1.0)
@@ -161,7 +163,7 @@ def normals_with_jacobian(points: np.ndarray, faces: np.ndarray,
         P = _soft_jacobian(N, k, k1)
     rows, cols, blocks = [], [], []
     for k in range(3):
-        X = _cross_matrices(p[f[:, (k + 2) % 3]] - p[f[:, (k + 1) % 3]])
+        X = cross_matrices(p[f[:, (k + 2) % 3]] - p[f[:, (k + 1) % 3]])
         for i in range(3):
             rows.append(f[:, i])
             cols.append(f[:, k])
@@ -207,7 +209,7 @@ def mesh_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
     eps_w, eps_n = softening(lam, area_uv)
     # the rebuild's (softened) normal; on the original it is the unit one wherever the
     # one-ring's area vector is longer than eps_n (all vertices but a folded one-ring's)
-    soft = soft_unit(_area_vectors(p, f), eps_n)[0]
+    soft = soft_unit(area_vectors(p, f), eps_n)[0]
     e1, e2, _, _ = _frame(G_u @ p, G_v @ p, soft, eps_w)
     tangential = lap - along[:, None] * normal
     length2 = np.einsum("ij,ij->i", e1, e1)  # e1 ⊥ e2, both of this squared length
@@ -220,7 +222,7 @@ def mesh_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
     return lam, H, defect
 
 
-def _area_vectors(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def area_vectors(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """``N_i = Σ_f (p1 − p0) × (p2 − p0)`` over the faces of each vertex."""
     c = face_cross(points, faces)
     N = np.zeros((len(points), 3))
@@ -376,7 +378,7 @@ class RebuildSystem:
         return factorized_ordered(J, self._order)
 
     def normals(self, phi):
-        return soft_unit(_area_vectors(phi, self.faces), self.eps_n)[0]
+        return soft_unit(area_vectors(phi, self.faces), self.eps_n)[0]
 
     def force(self, phi, normal):
         e1, e2, _, _ = _frame(self.G_u @ phi, self.G_v @ phi, normal, self.eps_w)
@@ -398,10 +400,10 @@ class RebuildSystem:
         P = eye - normal[:, :, None] * normal[:, None, :]
         Q = _soft_jacobian(w, k, k1)
         C = (ng[:, None, None] * eye + normal[:, :, None] * g[:, None, :]
-             - _cross_matrices(g_v))
-        N = _cross_matrices(normal)
+             - cross_matrices(g_v))
+        N = cross_matrices(normal)
         K = (self.a[:, None, None] * eye + self.b[:, None, None] * N) @ Q
-        B = self.s[:, None, None] * eye - self.b[:, None, None] * _cross_matrices(e1)
+        B = self.s[:, None, None] * eye - self.b[:, None, None] * cross_matrices(e1)
         scale = t * self.area[:, None, None]
         ids = np.arange(self.n)
         on_D = _blocks(ids, ids, scale * (B - K @ C), self.n)
