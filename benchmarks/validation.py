@@ -56,9 +56,9 @@ FILLED = ("ok", "selected", "fallback")
 # reported in this order: the validation half first, then the holdout sets (fresh meshes,
 # benchmarks/holdout_manifest.json, holdout2_manifest.json and holdout3_manifest.json), then
 # the tuning half every rule was chosen on
-SPLITS = ("validation", "holdout", "holdout2", "holdout3", "tuning")
+SPLITS = ("validation", "holdout", "holdout2", "holdout3", "tuning", "cad_tuning")
 SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
-               "holdout3": "Holdout set 3"}
+               "holdout3": "Holdout set 3", "cad_tuning": "Tuning-side CAD parts"}
 
 
 def _cut(mesh: vm.BenchMesh, hole: dict):

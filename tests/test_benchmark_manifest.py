@@ -153,3 +153,20 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
     assert len(holes) == 7 * len(ids)
     assert sum(h["near_border"] for h in holes) == 3 * kinds["range_scan"]
     assert sum(h["on_feature"] for h in holes) == 4 * kinds["cad"]
+
+
+def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2, holdout3):
+    """Session 29's machined parts (tuning side, rules may be chosen on them): their own
+    meshes and sources, shared with no other set, machined parts and scans of them only."""
+    cad = holes_manifest.read(holes_manifest.CAD_TUNING_MANIFEST)
+    ids = [e["mesh"] for e in cad["meshes"]]
+    assert ids == holes_manifest.SPLIT["cad_tuning"] == list(validation_meshes.CAD_TUNING_SOURCES)
+    others = [e for m in (manifest, holdout, holdout2, holdout3) for e in m["meshes"]]
+    assert not {e["mesh"] for e in others} & set(ids)
+    assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
+    kinds = Counter(e["kind"] for e in cad["meshes"])
+    assert kinds == {"cad": 8, "range_scan": 4}
+    holes = [h for e in cad["meshes"] for h in e["holes"]]
+    assert all(e["split"] == "cad_tuning" for e in cad["meshes"]) and len(holes) == 84
+    assert sum(h["on_feature"] for h in holes) == 4 * 8
+    assert sum(h["near_border"] for h in holes) == 3 * 4
