@@ -151,17 +151,21 @@ def test_a_quadruped_fold_over_is_written_as_a_blend_better_than_the_faired_fill
     # chooses the λ-H fill, which folds over at 11 edges (its start, at 9) at every damping
     # step; on main the bilaplacian fill was written (1.40 %). Now its largest blend with
     # that fill that passes the checks is (0.098 of the λ-H fill: 0.92 %, measured), and
-    # the report says that it is a blend.
+    # the report says that it is a blend. Smooth fills only (creases=False): since session
+    # 29 the crease search finds a 92° crease across this hole (its tangent no longer bent
+    # by a loop vertex beside it) and the crease fill is written (2.98 %, docs/candidates.md
+    # "Session 29"), which does not fold.
     v, f = quadruped()
     cut = cut_geodesic_disk(v, f, 328, 3.5 * mean_edge_length(v, f))
-    fill = conformal_fill(cut.vertices, cut.faces, cut.loop)
+    smooth = ConformalOptions(creases=False)
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop, smooth)
     assert fill.kind == "conformal" and fill.failure is None
     d = fill.diagnostics
     assert d.blended_with == "bilaplacian" and 0 < d.damping < 1
     fair_v, fair_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
     np.testing.assert_array_equal(fill.faces, fair_f)  # the faired fill's triangles
     assert _error(cut, fill.vertices, fill.faces) < 0.8 * _error(cut, fair_v, fair_f)
-    (report,) = fill_holes(cut.vertices, cut.faces).reports
+    (report,) = fill_holes(cut.vertices, cut.faces, options=smooth).reports
     assert report.method == "conformal" and report.fallback is None
     assert "folds over" in report.note and "largest blend" in report.note
     assert hole_lines(report)[0].split("→ ")[1].startswith("blend of the λ-H fill")

@@ -5,7 +5,15 @@ import pytest
 
 from surfinpaint.data import cube, lens, sphere
 from surfinpaint.errors import FillError
-from surfinpaint.fill.creases import crease_curve, cut_along, hole_crease, sharp_edges, split_fill
+from surfinpaint.fill.creases import (
+    corner_point,
+    crease_curve,
+    cut_along,
+    hole_creases,
+    paired_ends,
+    sharp_edges,
+    split_fill,
+)
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mesh import (
     boundary_loops,
@@ -49,7 +57,7 @@ def test_sharp_edges_of_a_cube_and_a_sphere():
 
 def test_crease_of_a_cube_edge_hole():
     cut = _cube_hole()
-    crease = hole_crease(cut.vertices, cut.faces, cut.loop)
+    crease, = hole_creases(cut.vertices, cut.faces, cut.loop)
     assert crease is not None
     ends = cut.vertices[cut.loop[crease.ends]]
     # both ends on the edge y = z = 0, one on each side of the hole, pointing at each other
@@ -60,20 +68,31 @@ def test_crease_of_a_cube_edge_hole():
     for chain in crease.chains:
         assert len(chain) >= 3 and np.allclose(cut.vertices[chain][:, 1:], 0)
     # a higher threshold than the cube's 90° finds nothing
-    assert hole_crease(cut.vertices, cut.faces, cut.loop, angle=100.0) is None
+    assert hole_creases(cut.vertices, cut.faces, cut.loop, angle=100.0) == []
 
 
-@pytest.mark.parametrize("at", [(0.0, 0.0, 0.0), (0.5, 0.5, 0.0)])
-def test_no_crease_at_a_corner_or_inside_a_face(at):
-    # a corner hole has three chains (not one crease); a face hole none
-    cut = _cube_hole(at=at, radius_h=4)
-    assert hole_crease(cut.vertices, cut.faces, cut.loop) is None
+def test_no_crease_inside_a_face():
+    cut = _cube_hole(at=(0.5, 0.5, 0.0), radius_h=4)
+    assert hole_creases(cut.vertices, cut.faces, cut.loop) == []
+
+
+@pytest.mark.parametrize("at", [(0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1.0, 0.0, 1.0)])
+def test_a_corner_in_a_hole_is_found_and_rebuilt_exactly(at):
+    # three chains that meet at the cube's corner: one Crease with the corner, whose fill
+    # (each crease continued straight to it, each face filled on its own) is the cube
+    cut = _cube_hole(n=24, at=at, radius_h=5)
+    corner, = hole_creases(cut.vertices, cut.faces, cut.loop)
+    assert np.allclose(corner.corner, at, atol=1e-12) and len(corner.ends) == 3
+    assert np.isclose(corner.angle, 90.0) and list(corner.ends) == sorted(corner.ends)
+    new_v, new_f, _ = split_fill(cut.vertices, cut.faces, cut.loop, [corner])
+    assert _cube_distance(new_v).max() < 1e-12
+    assert len(boundary_loops(np.vstack([cut.faces, new_f]))) == 0
 
 
 def test_no_crease_on_a_smooth_surface():
     v, f = sphere(4)
     cut = cut_geodesic_disk(v, f, 0, 0.5)
-    assert hole_crease(cut.vertices, cut.faces, cut.loop) is None
+    assert hole_creases(cut.vertices, cut.faces, cut.loop) == []
 
 
 def test_crease_curve_continues_a_circle_at_fourth_order():
@@ -105,8 +124,8 @@ def test_cut_along_splits_fans_and_keeps_faces():
 
 def test_split_fill_rebuilds_the_cube_edge_exactly():
     cut = _cube_hole()
-    crease = hole_crease(cut.vertices, cut.faces, cut.loop)
-    new_v, new_f, cut_edges = split_fill(cut.vertices, cut.faces, cut.loop, crease)
+    crease, = hole_creases(cut.vertices, cut.faces, cut.loop)
+    new_v, new_f, cut_edges = split_fill(cut.vertices, cut.faces, cut.loop, [crease])
     assert _cube_distance(new_v).max() < 1e-12
     faces = np.vstack([cut.faces, new_f])
     assert (unique_edges(faces)[2] == 2).all()  # closed and manifold again
@@ -127,9 +146,9 @@ def test_split_fill_of_a_curved_crease_stays_on_the_lens():
     v, f = lens(0.05)
     centre = int(np.argmin(np.linalg.norm(v - [1.0, 0, 0], axis=1)))
     cut = cut_geodesic_disk(v, f, centre, 6 * mean_edge_length(v, f))
-    crease = hole_crease(cut.vertices, cut.faces, cut.loop)
+    crease, = hole_creases(cut.vertices, cut.faces, cut.loop)
     assert crease is not None
-    new_v, new_f, cut_edges = split_fill(cut.vertices, cut.faces, cut.loop, crease)
+    new_v, new_f, cut_edges = split_fill(cut.vertices, cut.faces, cut.loop, [crease])
     n = len(cut.vertices)
     curve = np.unique(cut_edges[cut_edges >= n]) - n
     # the continued rim stays on the unit circle: measured 0.16 % of the hole's diameter off
@@ -144,14 +163,14 @@ def test_split_fill_failure_is_a_fill_error(monkeypatch):
     from surfinpaint.errors import MeshError
 
     cut = _cube_hole()
-    crease = hole_crease(cut.vertices, cut.faces, cut.loop)
+    crease, = hole_creases(cut.vertices, cut.faces, cut.loop)
 
     def broken(*args, **kwargs):
         raise MeshError("no triangulation")
 
     monkeypatch.setattr(creases, "minimum_weight_triangulation", broken)
-    with pytest.raises(FillError, match="two sides of the crease"):
-        split_fill(cut.vertices, cut.faces, cut.loop, crease)
+    with pytest.raises(FillError, match="sides of the crease"):
+        split_fill(cut.vertices, cut.faces, cut.loop, [crease])
 
 
 def test_a_crease_along_the_loop_enters_the_hole_where_it_leaves_the_loop():
@@ -159,13 +178,13 @@ def test_a_crease_along_the_loop_enters_the_hole_where_it_leaves_the_loop():
     # enters the hole at the last loop vertex on it, else its continuation would lie on a
     # loop edge and give flat, flipped triangles
     cut = _cube_hole(n=40, at=(0.0, 0.5, 1.0), radius_h=10)
-    crease = hole_crease(cut.vertices, cut.faces, cut.loop)
+    crease, = hole_creases(cut.vertices, cut.faces, cut.loop)
     loop = cut.loop
     on_edge = np.isclose(cut.vertices[:, 0], 0) & np.isclose(cut.vertices[:, 2], 1)
     for end in crease.ends:
         ahead = [loop[(end - 1) % len(loop)], loop[(end + 1) % len(loop)]]
         assert on_edge[loop[end]] and on_edge[ahead].sum() == 1
-    new_v, new_f, _ = split_fill(cut.vertices, cut.faces, cut.loop, crease)
+    new_v, new_f, _ = split_fill(cut.vertices, cut.faces, cut.loop, [crease])
     points = np.vstack([cut.vertices, new_v])
     normals = np.cross(points[new_f[:, 1]] - points[new_f[:, 0]],
                        points[new_f[:, 2]] - points[new_f[:, 0]])
@@ -177,7 +196,128 @@ def test_a_crease_along_the_loop_enters_the_hole_where_it_leaves_the_loop():
 def test_one_sharp_edge_before_a_corner_is_enough_when_asked():
     # a hole reaching to one edge from both corners: chains of one edge
     cut = _cube_hole(n=24, radius_h=10.5)
-    assert hole_crease(cut.vertices, cut.faces, cut.loop) is None
-    crease = hole_crease(cut.vertices, cut.faces, cut.loop, min_edges=1)
+    assert hole_creases(cut.vertices, cut.faces, cut.loop) == []
+    crease, = hole_creases(cut.vertices, cut.faces, cut.loop, min_edges=1)
     assert crease is not None and [len(c) for c in crease.chains] == [2, 2]
     assert np.allclose(np.abs(crease.directions[:, 0]), 1)
+
+
+def test_a_loop_vertex_that_only_zigzags_near_the_crease_does_not_bend_it():
+    # the loop vertex next to the crease's end, moved towards the edge within its face: the
+    # loop edge to it turns 22° from the crease (under CREASE_TURN, over CREASE_ALONG_LOOP).
+    # Taken as the crease running on along the loop, it would bend the crease's tangent
+    # into the hole and the crease would be lost; it is not, and the edge is rebuilt exactly
+    cut = _cube_hole()
+    v, loop = cut.vertices.copy(), cut.loop
+    crease, = hole_creases(v, cut.faces, loop)
+    end = int(crease.ends[0])
+    off = [j for j in ((end - 1) % len(loop), (end + 1) % len(loop))
+           if not np.allclose(v[loop[j], 1:], 0)]
+    moved = loop[off[0]]
+    step = v[moved] - v[loop[end]]
+    along = crease.directions[0] * (step @ crease.directions[0])
+    v[moved] = v[loop[end]] + along + 0.4 * (step - along)
+    turn = np.degrees(np.arccos((v[moved] - v[loop[end]]) @ crease.directions[0]
+                                / np.linalg.norm(v[moved] - v[loop[end]])))
+    assert 10.0 < turn < 35.0
+    again, = hole_creases(v, cut.faces, loop)
+    assert sorted(again.ends) == sorted(crease.ends)
+    new_v, _, _ = split_fill(v, cut.faces, loop, [again])
+    assert _cube_distance(new_v).max() < 1e-12
+
+def _slab_hole(radius=0.26):
+    """A hole on the side y = 0 of a thin box (1 × 1 × 0.3) that crosses both its edges."""
+    v, f = cube(40)
+    v = v * [1.0, 1.0, 0.3]
+    centre = int(np.argmin(np.linalg.norm(v - [0.5, 0.0, 0.15], axis=1)))
+    return cut_geodesic_disk(v, f, centre, radius)
+
+
+def _slab_distance(points):
+    return np.minimum(points, [1.0, 1.0, 0.3] - points).min(axis=1)
+
+
+def test_two_creases_across_a_thin_plate_side_are_rebuilt_exactly():
+    cut = _slab_hole()
+    creases = hole_creases(cut.vertices, cut.faces, cut.loop)
+    assert len(creases) == 2 and np.allclose([c.angle for c in creases], 90.0)
+    ends = cut.vertices[cut.loop[np.concatenate([c.ends for c in creases])]]
+    # one crease on each edge of the side: z = 0 and z = 0.3, both on y = 0
+    assert np.allclose(ends[:, 1], 0) and sorted(np.unique(ends[:, 2].round(9))) == [0, 0.3]
+    for c in creases:  # each along one edge
+        z = cut.vertices[cut.loop[c.ends], 2]
+        assert np.isclose(z[0], z[1])
+    new_v, new_f, cut_edges = split_fill(cut.vertices, cut.faces, cut.loop, creases)
+    assert _slab_distance(new_v).max() < 1e-12
+    # the fill closes the hole: every loop edge is now interior
+    all_faces = np.vstack([cut.faces, new_f])
+    assert len(boundary_loops(all_faces)) == 0
+
+
+def test_the_conformal_fill_of_a_hole_across_two_creases():
+    from surfinpaint.fill.conformal import conformal_fill
+
+    cut = _slab_hole()
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop)
+    assert fill.kind == "conformal" and fill.crease.startswith("2 creases (90°, 90°)")
+    assert _slab_distance(fill.vertices).max() < 1e-9
+
+
+_X = np.array([1.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("at, points, directions, pairs", [
+    # one crease: two ends pointing at each other
+    ([0, 5], [[0, 0, 0], [1, 0, 0]], [_X, -_X], [(0, 1)]),
+    # the ends given in the other order: pairs follow the loop
+    ([5, 0], [[1, 0, 0], [0, 0, 0]], [-_X, _X], [(1, 0)]),
+    # two parallel creases (a plate's side): each end also sees the other crease's far end
+    # within CREASE_TURN; the best match pairs them
+    ([0, 4, 10, 14], [[1, 0, 0], [0, 0, 0], [0, 0, 0.2], [1, 0, 0.2]],
+     [-_X, _X, _X, -_X], [(0, 1), (2, 3)]),
+    # three chains (a corner): nothing
+    ([0, 4, 8], [[1, 0, 0], [0, 0, 0], [0.5, 1, 0]], [-_X, _X, [0, -1, 0]], []),
+    # ends next to each other on the loop: nothing
+    ([0, 1], [[0, 0, 0], [1, 0, 0]], [_X, -_X], []),
+    # two ends that do not point at each other (36° off, CREASE_TURN is 35°): nothing
+    ([0, 5], [[0, 0, 0], [1, 0, 0]],
+     [[np.cos(0.63), np.sin(0.63), 0], -_X], []),
+    # two creases whose continuations would cross (their ends interleave on the loop)
+    ([0, 5, 10, 15], [[-1, 0, 0], [0, -1, 0], [1, 0, 0], [0, 1, 0]],
+     [_X, [0, 1, 0], -_X, [0, -1, 0]], []),
+    # a fourth end that points at nothing: nothing
+    ([0, 4, 10, 14], [[1, 0, 0], [0, 0, 0], [0, 0, 0.5], [1, 0, 0.5]],
+     [-_X, _X, _X, [0, 0, 1]], []),
+])
+def test_paired_ends_rule(at, points, directions, pairs):
+    directions = np.array(directions, dtype=float)
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    assert paired_ends(np.array(at), 20, np.array(points, float), directions) == pairs
+
+
+@pytest.mark.parametrize("points, directions, corner", [
+    # a cube's corner: three edges meeting at the origin
+    (np.eye(3), -np.eye(3), [0.0, 0.0, 0.0]),
+    # four creases of a pyramid's apex (0, 0, 1)
+    ([[1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]],
+     [[-1, 0, 1], [0, -1, 1], [1, 0, 1], [0, 1, 1]], [0.0, 0.0, 1.0]),
+    # the third line one loop edge off the first two's crossing: no corner
+    ([[1, 0, 0], [0, 1, 0], [0.1, 0, 1]], -np.eye(3), None),
+    # a quarter of that (0.4 × 0.25 loop edges from the best point): still a corner
+    ([[1, 0, 0], [0, 1, 0], [0.025, 0, 1]], -np.eye(3), "near"),
+    # the lines meet behind one end (a crease leaving the hole): no corner
+    ([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 0, 0], [0, -1, 0], [0, 0, 1]], None),
+    # they meet far beyond the hole (farther ahead than the ends are apart): no corner
+    ([[-0.1, 0, 0], [0.1, 0, 0], [0, 0.1, 0]],
+     [[0.02, 1, 0], [-0.02, 1, 0], [0, 1, 0]], None),
+])
+def test_corner_point_rule(points, directions, corner):
+    directions = np.array(directions, dtype=float)
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    found = corner_point(np.array(points, float), directions, 0.1)
+    if corner is None:
+        assert found is None
+    elif corner == "near":
+        assert found is not None and np.linalg.norm(found) < 0.025
+    else:
+        assert np.allclose(found, corner, atol=1e-12)

@@ -5,7 +5,7 @@ import warnings
 import numpy as np
 import pytest
 
-from surfinpaint import data, fill_holes
+from surfinpaint import ConformalOptions, data, fill_holes
 from surfinpaint.app.fill_report import HoleRecord, hole_lines
 from surfinpaint.errors import HoleWarning
 from surfinpaint.fill.parallel import crossing_faces
@@ -47,18 +47,34 @@ def test_a_fill_triangle_through_the_surface_is_counted():
 
 @pytest.mark.parametrize("method", ["fair", "conformal"])
 def test_a_hole_over_a_cube_corner_warns_that_its_fill_crosses_the_surface(method):
-    # the geodesic disk over the corner cuts a loop that folds over the corner: any fill of
-    # it crosses the faces along two of the edges (measured: 2 fill triangles, both methods)
+    # the geodesic disk over the corner cuts a loop that folds over the corner: a smooth
+    # fill of it crosses the faces along two of the edges (measured: 2 fill triangles, both
+    # methods; the conformal one without its crease search, which rebuilds the corner)
     cut = cut_geodesic_disk(*data.cube(40), np.array([1.0, 0.85, 1.0]), 0.2845)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        result = fill_holes(cut.vertices, cut.faces, method=method, jobs=1)
+        smooth = ConformalOptions(creases=False) if method == "conformal" else None
+        result = fill_holes(cut.vertices, cut.faces, method=method, jobs=1, options=smooth)
     (report,) = [r for r in result.reports if not r.skipped]
     assert report.crossings >= 1
     said = [str(w.message) for w in caught if issubclass(w.category, HoleWarning)]
     assert any("cross" in s and f"hole {report.index}" in s for s in said)
     assert f"{report.crossings} of them crossing the surface" in hole_lines(report)[0]
     assert HoleRecord.of(report).to_json()["crossings"] == report.crossings
+
+
+def test_the_default_fill_rebuilds_that_corner_without_crossing():
+    # the three edges that meet at the corner are continued to it and each face filled on
+    # its own (session 29): the cube comes back, nothing crosses, nothing is warned
+    cut = cut_geodesic_disk(*data.cube(40), np.array([1.0, 0.85, 1.0]), 0.2845)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fill_holes(cut.vertices, cut.faces, jobs=1)
+    (report,) = [r for r in result.reports if not r.skipped]
+    assert report.crossings == 0 and report.crease.startswith("a corner of 3 creases")
+    assert not any("cross" in str(w.message) for w in caught)
+    new = result.vertices[len(cut.vertices):]
+    assert np.minimum(new, 1 - new).min(axis=1).max() < 1e-9
 
 
 def test_a_clean_fill_reports_no_crossing_and_no_warning():

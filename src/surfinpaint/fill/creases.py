@@ -8,18 +8,20 @@ at image edges and answers it with structure propagation (J. Sun, L. Yuan, J. Ji
 Shum, "Image completion with structure propagation", SIGGRAPH 2005): continue the edge
 curves across the hole first, then inpaint each side on its own. Here:
 
-- :func:`hole_crease` finds two chains of sharp edges that run from the known surface into
-  the hole's loop from opposite sides and face each other;
+- :func:`hole_creases` finds pairs of chains of sharp edges that run from the known surface
+  into the hole's loop from opposite sides and face each other (one crease, or several side
+  by side, as a thin plate's two edges);
 - :func:`crease_curve` joins their ends across the hole (a cubic Hermite curve that leaves
   each end along its chain);
-- :func:`split_fill` splits the hole along that curve and fills each side (triangulate,
-  refine, fair) with the curve fixed;
-- :func:`cut_along` cuts the mesh along the crease, so that fairing and λ-H inpainting see
-  each side as its own surface, the crease as its border (natural boundary conditions).
+- :func:`split_fill` splits the hole along those curves and fills each region (triangulate,
+  refine, fair) with the curves fixed;
+- :func:`cut_along` cuts the mesh along the creases, so that fairing and λ-H inpainting see
+  each region as its own surface, the creases as its border (natural boundary conditions).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,8 +35,8 @@ from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import edge_faces, face_normals, faces_near, orient_loop
 
-__all__ = ["Crease", "crease_curve", "cut_along", "hole_crease", "sharp_edges",
-           "split_fill"]
+__all__ = ["Crease", "corner_point", "crease_curve", "cut_along", "hole_creases",
+           "paired_ends", "sharp_edges", "split_fill"]
 
 # a known edge whose two faces' normals turn by more than this (degrees) is sharp
 CREASE_ANGLE = 60.0
@@ -43,28 +45,41 @@ CREASE_EDGES = 2
 # a chain turns by less than this (degrees) from edge to edge, and the two ends' directions
 # into the hole point at each other within it
 CREASE_TURN = 35.0
+# a loop edge continues a crease that runs along the loop when it turns from the crease's
+# direction by less than this (degrees): a loop edge on the crease lies along it, one that
+# only zigzags near it (at up to CREASE_TURN) would bend the crease's tangent into the hole
+# (fixed before any run, session 29)
+CREASE_ALONG_LOOP = 10.0
+# three or more creases meet at a corner in the hole where their lines pass within this
+# many mean loop edge lengths of one point (a machined corner: they meet exactly; fixed
+# before any run, session 29)
+CORNER_TOLERANCE = 0.25
 
 
 @dataclass
 class Crease:
-    """A crease that crosses a hole.
+    """A crease that crosses a hole, or creases that meet at a corner in it.
 
     Attributes
     ----------
-    ends : (2,) int array
-        Positions in the loop (as given) where the crease enters and leaves.
-    chains : list of two int arrays
+    ends : (m,) int array
+        Positions in the loop (as given) where the creases enter: two for a crease across
+        the hole, m ≥ 3 (in loop order) for a corner.
+    chains : list of m int arrays
         Vertex ids of each sharp chain, from its loop vertex outward.
-    directions : (2, 3) float array
-        Unit directions into the hole at the two ends.
+    directions : (m, 3) float array
+        Unit directions into the hole at the ends.
     angle : float
         Mean turn (degrees) between the faces along the chains.
+    corner : (3,) float array, optional
+        Where the creases meet (a corner); None for one crease across the hole.
     """
 
     ends: np.ndarray
     chains: list
     directions: np.ndarray
     angle: float
+    corner: np.ndarray | None = None
 
 
 def sharp_edges(vertices: np.ndarray, faces: np.ndarray, angle: float = CREASE_ANGLE
@@ -123,16 +138,18 @@ def _chain(start: int, adjacency: sp.csr_matrix, points: np.ndarray, blocked: np
     return chain
 
 
-def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
-                angle: float = CREASE_ANGLE, min_edges: int = CREASE_EDGES) -> Crease | None:
-    """The crease that crosses a hole, if exactly one does.
+def hole_creases(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
+                 angle: float = CREASE_ANGLE, min_edges: int = CREASE_EDGES) -> list[Crease]:
+    """The creases that cross a hole: one, or several side by side (a hole over a thin
+    plate's side crosses its two edges).
 
     A crease is a chain of at least ``min_edges`` sharp edges (normals turning by more than
-    ``angle`` degrees), nearly straight, that ends at a loop vertex. The hole is crossed by
-    one when exactly two such chains reach its loop, from loop vertices not next to each
-    other, and their directions into the hole point at each other. Corners (three or more
-    chains), creases that end inside the hole, and fold-like bends below ``angle`` give
-    None: those holes are filled as smooth ones.
+    ``angle`` degrees), nearly straight, that ends at a loop vertex (where it runs on along
+    the loop, at the last loop vertex on it). The hole is crossed when the chains' ends pair
+    up by :func:`paired_ends`: two ends not next to each other that point at each other,
+    every end paired, no two continuations crossing. Anything else gives an empty list:
+    corners (three chains meeting), creases that end inside the hole, and fold-like bends
+    below ``angle``; those holes are filled as smooth ones.
 
     Parameters
     ----------
@@ -145,7 +162,8 @@ def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
 
     Returns
     -------
-    Crease or None
+    list of Crease
+        In the order of their first end along the loop; empty when the hole is not crossed.
     """
     v = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
@@ -153,10 +171,10 @@ def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     n = len(v)
     local = faces_near(faces, loop, min_edges, n)
     if len(local) == 0:
-        return None
+        return []
     edges, turn = sharp_edges(v, local, angle)
     if len(edges) == 0:
-        return None
+        return []
     adjacency = sp.csr_matrix((np.ones(2 * len(edges)), (edges.ravel(), edges[:, ::-1].ravel())),
                               shape=(n, n))
     on_loop = np.zeros(n, dtype=bool)
@@ -167,10 +185,7 @@ def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
         chain = _chain(int(loop[i]), adjacency, v, on_loop, min_edges + 2)
         if len(chain) - 1 >= min_edges:
             chains.append((int(i), np.asarray(chain)))
-    if len(chains) != 2:
-        return None
     k = len(loop)
-    cos_turn = np.cos(np.radians(CREASE_TURN))
 
     def tangent(chain):
         # the chain's tangent into the hole at its loop vertex, by the one-sided second-order
@@ -181,6 +196,7 @@ def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
             d = v[chain[0]] - v[chain[1]]
         return d / np.linalg.norm(d)
 
+    cos_along = np.cos(np.radians(CREASE_ALONG_LOOP))
     ends = []
     for i, chain in chains:
         # where the crease runs on along the loop's edges, it enters the hole further on
@@ -188,26 +204,128 @@ def hole_crease(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
             direction = tangent(chain)
             steps = [(j, v[loop[j]] - v[loop[i]]) for j in ((i - 1) % k, (i + 1) % k)]
             ahead = [j for j, step in steps if int(loop[j]) not in chain
-                     and step @ direction > cos_turn * np.linalg.norm(step)]
+                     and step @ direction > cos_along * np.linalg.norm(step)]
             if not ahead:
                 break
             i, chain = ahead[0], np.concatenate([[loop[ahead[0]]], chain])
-        ends.append((i, chain))
-    (ia, ca), (ib, cb) = ends
-    if min((ia - ib) % k, (ib - ia) % k) < 2:
-        return None
-    directions = np.array([tangent(ca), tangent(cb)])
-    across = v[cb[0]] - v[ca[0]]
-    across /= np.linalg.norm(across)
-    if directions[0] @ across < cos_turn or -(directions[1] @ across) < cos_turn:
-        return None
+        ends.append((i, chain, tangent(chain)))
+    pairs = paired_ends(np.array([i for i, _, _ in ends]), k,
+                        v[[c[0] for _, c, _ in ends]], np.array([d for _, _, d in ends]))
     key = edge_keys(edges[:, 0], edges[:, 1], n)
-    chain_edges = np.concatenate([np.column_stack([c[:-1], c[1:]]) for c in (ca, cb)])
-    # (the chains' edges along the loop have one face: no turn to measure there)
-    mean_turn = float(turn[np.isin(key, edge_keys(chain_edges[:, 0], chain_edges[:, 1],
-                                                  n))].mean())
-    return Crease(ends=np.array([ia, ib]), chains=[ca, cb], directions=directions,
-                  angle=mean_turn)
+
+    def mean_turn(chain_list) -> float:
+        # (the chains' edges along the loop have one face: no turn to measure there)
+        chain_edges = np.concatenate([np.column_stack([c[:-1], c[1:]]) for c in chain_list])
+        return float(turn[np.isin(key, edge_keys(chain_edges[:, 0], chain_edges[:, 1],
+                                                 n))].mean())
+
+    creases = [Crease(ends=np.array([ends[a][0], ends[b][0]]),
+                      chains=[ends[a][1], ends[b][1]],
+                      directions=np.array([ends[a][2], ends[b][2]]),
+                      angle=mean_turn([ends[a][1], ends[b][1]])) for a, b in pairs]
+    if creases or len(ends) < 3:
+        return creases
+    ends.sort(key=lambda e: e[0])
+    corner = corner_point(v[[c[0] for _, c, _ in ends]], np.array([d for _, _, d in ends]),
+                          float(np.linalg.norm(v[loop] - v[np.roll(loop, 1)], axis=1).mean()))
+    if corner is None:
+        return []
+    chains_ = [c for _, c, _ in ends]
+    return [Crease(ends=np.array([i for i, _, _ in ends]), chains=chains_,
+                   directions=np.array([d for _, _, d in ends]), angle=mean_turn(chains_),
+                   corner=corner)]
+
+
+def corner_point(points: np.ndarray, directions: np.ndarray, scale: float
+                 ) -> np.ndarray | None:
+    """Where three or more creases that enter a hole meet: the point nearest their lines
+    (least squares), if every line passes within ``CORNER_TOLERANCE`` × ``scale`` of it and
+    it lies ahead of every end, no farther than the ends are apart.
+
+    Parameters
+    ----------
+    points, directions : (m, 3) float arrays
+        The creases' ends on the loop and their unit directions into the hole, m ≥ 3.
+    scale : float
+        The loop's mean edge length.
+
+    Returns
+    -------
+    (3,) float array, or None
+
+    Examples
+    --------
+    >>> corner_point(np.eye(3), -np.eye(3), 0.1).round(12).tolist()  # a cube's corner
+    [0.0, 0.0, 0.0]
+    """
+    across = np.eye(3)[None] - directions[:, :, None] * directions[:, None, :]  # (m, 3, 3)
+    x = np.linalg.lstsq(across.sum(axis=0), np.einsum("mij,mj->i", across, points),
+                        rcond=None)[0]
+    off_line = np.linalg.norm(np.einsum("mij,mj->mi", across, x - points), axis=1)
+    ahead = np.einsum("mi,mi->m", x - points, directions)
+    extent = np.linalg.norm(points[:, None] - points[None], axis=2).max()
+    if (off_line > CORNER_TOLERANCE * scale).any() or (ahead <= 0).any() or \
+            (ahead > extent).any():
+        return None
+    return x
+
+
+def paired_ends(at: np.ndarray, k: int, points: np.ndarray, directions: np.ndarray
+                ) -> list[tuple[int, int]]:
+    """Pair crease ends on a hole's loop into creases across it (the rule of
+    :func:`hole_creases`).
+
+    Two ends pair when they are not next to each other on the loop and point at each other
+    within ``CREASE_TURN``, each at the other better than at any third end (parallel
+    creases over a thin plate's side also face each other's ends, obliquely: the best match
+    decides). Every end must pair, and the pairs' continuations must not cross (their ends do
+    not interleave along the loop); otherwise nothing pairs.
+
+    Parameters
+    ----------
+    at : (m,) int array
+        The ends' positions in the loop, distinct.
+    k : int
+        The loop's length.
+    points, directions : (m, 3) float arrays
+        The ends' positions, and their unit directions into the hole.
+
+    Returns
+    -------
+    list of (a, b)
+        Indices into the ends, ``at[a] < at[b]``, in the order of ``at[a]``; empty when the
+        ends do not pair.
+
+    Examples
+    --------
+    >>> along_x = np.array([[1.0, 0, 0], [-1.0, 0, 0]])
+    >>> paired_ends(np.array([0, 5]), 10, np.array([[0.0, 0, 0], [1, 0, 0]]), along_x)
+    [(0, 1)]
+    """
+    m = len(at)
+    if m < 2 or m % 2 or len(np.unique(at)) < m:
+        return []
+    across = points[None, :] - points[:, None]  # from end a to end b
+    length = np.linalg.norm(across, axis=2)
+    np.fill_diagonal(length, 1.0)
+    across /= length[..., None]
+    # how well a and b point at each other: the smaller cosine of the two
+    score = np.minimum(np.einsum("ad,abd->ab", directions, across),
+                       -np.einsum("bd,abd->ab", directions, across))
+    gap = np.abs(at[:, None] - at[None, :])
+    score[np.minimum(gap, k - gap) < 2] = -1.0  # the diagonal and loop neighbours
+    best = score.argmax(axis=1)
+    cos_turn = np.cos(np.radians(CREASE_TURN))
+    if (best[best] != np.arange(m)).any() or (score[np.arange(m), best] < cos_turn).any():
+        return []
+    pairs = sorted({tuple(sorted((a, int(best[a])), key=lambda c: at[c])) for a in range(m)},
+                   key=lambda ab: at[ab[0]])
+    spans = [(at[a], at[b]) for a, b in pairs]
+    for x, (a0, a1) in enumerate(spans):  # continuations that would cross: not creases
+        for b0, b1 in spans[x + 1:]:
+            if (a0 < b0 < a1) != (a0 < b1 < a1):
+                return []
+    return [(int(a), int(b)) for a, b in pairs]
 
 
 def crease_curve(start: np.ndarray, start_direction: np.ndarray, end: np.ndarray,
@@ -291,38 +409,38 @@ def cut_along(faces: np.ndarray, edges: np.ndarray) -> tuple[np.ndarray, np.ndar
     return rank[corner_copy].reshape(-1, 3), parent[order]
 
 
-def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, crease: Crease,
-               *, order: int = 3, angle: float = CREASE_ANGLE
+def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+               creases: Sequence[Crease], *, order: int = 3, angle: float = CREASE_ANGLE
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Fill a hole crossed by ``crease``: the crease continued across it by
-    :func:`crease_curve`, each side triangulated (Liepa's minimum-weight triangulation),
-    refined and faired (order ``order``, natural boundary at the crease) on its own.
+    """Fill a hole crossed by ``creases``: each continued across it by :func:`crease_curve`,
+    each region between them triangulated (Liepa's minimum-weight triangulation), refined
+    and faired (order ``order``, natural boundary at the creases) on its own.
 
     Parameters
     ----------
     vertices, faces, loop :
         The mesh and the hole (loop oriented as :func:`surfinpaint.geometry.mesh.boundary_loops`
         gives it).
-    crease : Crease
-        From :func:`hole_crease` on the same loop.
+    creases : sequence of Crease
+        From :func:`hole_creases` on the same loop (not empty).
     order : int
-        Fairing order; falls back to 2 where the sides are too narrow for it.
+        Fairing order; falls back to 2 where the regions are too narrow for it.
 
     Returns
     -------
     new_vertices : (m, 3) float array
-        The crease curve's points first, then the sides' inner vertices (ids ``n ..``).
+        The crease curves' points first, then the regions' inner vertices (ids ``n ..``).
     new_faces : (p, 3) int array
         The fill, oriented like the mesh.
     cut_edges : (c, 2) int array
-        The edges to cut the filled mesh along so that each side is a surface of its own:
-        the curve's, and the sharp edges (``angle`` of the crease search) around the hole,
-        the crease's chains among them.
+        The edges to cut the filled mesh along so that each region is a surface of its own:
+        the curves', and the sharp edges (``angle`` of the crease search) around the hole,
+        the creases' chains among them.
 
     Raises
     ------
     FillError
-        When a side cannot be triangulated or faired.
+        When a region cannot be triangulated or faired.
     """
     v = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
@@ -331,46 +449,70 @@ def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, crease
     try:
         loop = orient_loop(faces, given, boundary=False)
     except MeshError as err:
-        raise FillError(f"cannot fill the two sides of the crease: {err}") from err
-    ia, ib = (int(i) for i in crease.ends)
-    if loop[0] != given[0] or (len(loop) > 1 and loop[1] != given[1]):
-        ia, ib = len(loop) - 1 - ia, len(loop) - 1 - ib  # the loop was reversed
-    a, b = int(loop[ia]), int(loop[ib])
+        raise FillError(f"cannot fill the sides of the crease: {err}") from err
+    reversed_loop = loop[0] != given[0] or (len(loop) > 1 and loop[1] != given[1])
     scales = boundary_scales(v, faces, loop)
     spacing = float(np.mean(scales))
-    curve = crease_curve(v[a], crease.directions[0], v[b], crease.directions[1], spacing)
-    curve_ids = np.arange(n, n + len(curve))
-    rolled = np.roll(loop, -ia)
-    rolled_scales = np.roll(scales, -ia)
-    jb = (ib - ia) % len(loop)
-    # each side keeps the loop's orientation: its arc of the loop, then the curve back
-    sides = [(np.concatenate([rolled[:jb + 1], curve_ids[::-1]]),
-              np.concatenate([rolled_scales[:jb + 1], np.full(len(curve), spacing)])),
-             (np.concatenate([rolled[jb:], rolled[:1], curve_ids]),
-              np.concatenate([rolled_scales[jb:], rolled_scales[:1],
-                              np.full(len(curve), spacing)]))]
-    points = np.vstack([v, curve])
-    path = np.concatenate([[a], curve_ids, [b]])
-    # no diagonal between two points of the crease: its triangles would be flat slivers
-    chords = np.array([(p, q) for i, p in enumerate(path) for q in path[i + 2:]],
-                      dtype=np.int64).reshape(-1, 2)
+    points = v
+    paths = []  # each from a loop vertex to a loop vertex or a corner, through new points
+
+    def continued(a: int, direction: np.ndarray, target: np.ndarray, back: np.ndarray):
+        nonlocal points
+        curve = crease_curve(v[a], direction, target, back, spacing)
+        points = np.vstack([points, curve])
+        return np.arange(len(points) - len(curve), len(points))
+
+    for crease in creases:
+        ends = [int(i) for i in crease.ends]
+        if reversed_loop:
+            ends = [len(loop) - 1 - i for i in ends]
+        ids = [int(loop[i]) for i in ends]
+        d = crease.directions
+        if crease.corner is None:
+            paths.append(np.concatenate([[ids[0]], continued(ids[0], d[0], v[ids[1]], d[1]),
+                                         [ids[1]]]))
+            continue
+        # a corner: each crease continued straight to it (``back`` = its own direction
+        # reversed), the first two as one path across the hole, the others ending at it
+        points = np.vstack([points, crease.corner])
+        corner = len(points) - 1
+        legs = [continued(a, d[j], crease.corner, -d[j]) for j, a in enumerate(ids)]
+        paths.append(np.concatenate([[ids[0]], legs[0], [corner], legs[1][::-1], [ids[1]]]))
+        paths += [np.concatenate([[a], leg, [corner]]) for a, leg in zip(ids[2:], legs[2:],
+                                                                           strict=True)]
+    # each region keeps the loop's orientation: (its vertex ids in order, their scales)
+    scale_of = np.full(len(points), spacing)
+    scale_of[loop] = scales
+    regions = [loop]
+    for path in paths:
+        a, b = int(path[0]), int(path[-1])
+        ids = regions.pop(next(r for r, ids in enumerate(regions) if a in ids and b in ids))
+        rolled = np.roll(ids, -int(np.flatnonzero(ids == a)[0]))
+        jb = int(np.flatnonzero(rolled == b)[0])
+        regions += [np.concatenate([rolled[:jb + 1], path[-2:0:-1]]),
+                    np.concatenate([rolled[jb:], rolled[:1], path[1:-1]])]
+    n_curves = len(points) - n
+    # no diagonal between two points of a crease: its triangles would be flat slivers
+    chords = np.array([(p, q) for path in paths for i, p in enumerate(path)
+                       for q in path[i + 2:]], dtype=np.int64).reshape(-1, 2)
     fill_faces = []
     try:
-        for side, side_scales in sides:
-            patch = minimum_weight_triangulation(points, side, avoid=chords)
-            new_v, patch = refine_patch(points, patch, side, scales=side_scales)
+        for region in regions:
+            patch = minimum_weight_triangulation(points, region, avoid=chords)
+            new_v, patch = refine_patch(points, patch, region, scales=scale_of[region])
             points = np.vstack([points, new_v])
             fill_faces.append(patch)
     except MeshError as err:
-        raise FillError(f"cannot fill the two sides of the crease: {err}") from err
+        raise FillError(f"cannot fill the sides of the crease: {err}") from err
     fill = np.vstack(fill_faces)
     near = faces_near(faces, loop, order, n)
-    cut_edges = np.concatenate([np.column_stack([path[:-1], path[1:]]),
+    cut_edges = np.concatenate([*(np.column_stack([p[:-1], p[1:]]) for p in paths),
                                 sharp_edges(v, near, angle)[0],
-                                *(np.column_stack([c[:-1], c[1:]]) for c in crease.chains)])
-    # fair both sides with the crease fixed, on the mesh cut along it
+                                *(np.column_stack([c[:-1], c[1:]]) for crease in creases
+                                  for c in crease.chains)])
+    # fair each region with the creases fixed, on the mesh cut along them
     cut, parent = cut_along(np.vstack([fill, near]), cut_edges)
-    inner = parent >= n + len(curve)
+    inner = parent >= n + n_curves
     for used in dict.fromkeys((order, 2)):
         try:
             faired = fair(points[parent], cut, inner, order=used,
@@ -378,6 +520,6 @@ def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, crease
             break
         except MeshError as err:
             if used == 2:
-                raise FillError(f"cannot fair the two sides of the crease: {err}") from err
+                raise FillError(f"cannot fair the sides of the crease: {err}") from err
     points[parent[inner]] = faired[inner]
     return points[n:], fill, cut_edges

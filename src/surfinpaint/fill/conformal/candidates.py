@@ -26,7 +26,7 @@ from surfinpaint.fill.conformal.options import (
     ConformalOptions,
 )
 from surfinpaint.fill.conformal.patch import hole_patch
-from surfinpaint.fill.creases import CREASE_EDGES, hole_crease, split_fill
+from surfinpaint.fill.creases import CREASE_EDGES, hole_creases, split_fill
 from surfinpaint.fill.liepa.baseline import conventional_fill, faired_fills
 from surfinpaint.fill.results import Fill, LambdaHDiagnostics
 
@@ -69,8 +69,7 @@ class Candidates:
         for (None: S0 trilaplacian, faired candidates of orders 2 and 3)."""
         angle = options.crease_angle if options.creases and \
             options.discretization == "mesh" else None
-        crossed = angle is not None and \
-            hole_crease(vertices, faces, loop, angle=angle) is not None
+        crossed = angle is not None and len(hole_creases(vertices, faces, loop, angle=angle)) > 0
         return cls(options=options, orders=(2, 3) if fair_order is None else (fair_order,),
                    s0_order=S0_ORDER if fair_order is None else fair_order,
                    crease_angle=angle, crossed=crossed)
@@ -118,19 +117,18 @@ class Candidates:
             When the λ-H fill fails: a numerical failure of any step (``NUMERICAL_ERRORS``)
             is turned into one here.
         """
-        crease = None
+        creases = []
         if self.crease_angle is not None:
-            crease = hole_crease(vertices, faces, loop, angle=self.crease_angle,
-                                 min_edges=1 if test and self.crossed else CREASE_EDGES)
+            creases = hole_creases(vertices, faces, loop, angle=self.crease_angle,
+                                   min_edges=1 if test and self.crossed else CREASE_EDGES)
         crease_failure = None
-        if crease is not None:
+        if creases:
             try:
-                cv, cf, cut_edges = split_fill(vertices, faces, loop, crease,
+                cv, cf, cut_edges = split_fill(vertices, faces, loop, creases,
                                                order=self.s0_order, angle=self.crease_angle)
                 fill = self._passes(vertices, faces, loop, cv, cf, test=test,
                                     cut_edges=cut_edges)
-                return replace(fill, crease=f"a crease ({crease.angle:.0f}°) crosses the "
-                               "hole: continued across it, each side inpainted on its own")
+                return replace(fill, crease=_crease_words(creases))
             except NUMERICAL_ERRORS as exc:
                 crease_failure = f"the crease fill failed ({exc}), filled as a smooth hole"
         try:
@@ -232,3 +230,16 @@ class Candidates:
             raise said from None
         return Fill(all_v[n:], new_f, "conformal", diagnostics=replace(diagnostics,
                                                                         damping=damping))
+
+
+def _crease_words(creases) -> str:
+    """The crease note of a fill along ``creases``."""
+    angles = ", ".join(f"{c.angle:.0f}°" for c in creases)
+    if creases[0].corner is not None:
+        return (f"a corner of {len(creases[0].ends)} creases ({angles}) in the hole: each "
+                "continued to it, each face inpainted on its own")
+    if len(creases) == 1:
+        return (f"a crease ({angles}) crosses the hole: continued across it, each side "
+                "inpainted on its own")
+    return (f"{len(creases)} creases ({angles}) cross the hole: continued across it, each "
+            "region between them inpainted on its own")

@@ -152,10 +152,10 @@ class ConformalOptions:
     gap_rings : int
         Rings between the hole and its sibling holes.
     creases : bool
-        Mesh discretization: a sharp crease (edges whose faces turn by more than
-        ``crease_angle`` degrees, :func:`surfinpaint.fill.creases.hole_crease`) that crosses
-        the hole is continued across it and each side is filled on its own. False fills
-        every hole as smooth.
+        Mesh discretization: sharp creases (edges whose faces turn by more than
+        ``crease_angle`` degrees, :func:`surfinpaint.fill.creases.hole_creases`) that cross
+        the hole, one or several side by side, are continued across it and each region
+        between them is filled on its own. False fills every hole as smooth.
     crease_angle : float
         Degrees, in (0, 180); see ``creases``.
     grid : GridOptions, optional
