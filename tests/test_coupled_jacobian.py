@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.geometry.mesh import vertex_adjacency
 from surfinpaint.representation import on_mesh
 from surfinpaint.representation.coupled_jacobian import (
     UpdateDerivative,
@@ -185,7 +186,8 @@ def test_the_dense_jacobian_s_natural_border_term_where_it_is_not_zero():
     # _CoupledSystem.stencil_H) is structurally zero on a real patch: a natural stencil
     # vertex next to an inner moving one is two Laplacian steps from a free vertex, so Q_f
     # reaches it (barring exact cancellation) and it is on the crease, an unknown, not data
-    # (checked on the patches of this file and tests/test_convergence.py, 0 such vertices).
+    # (checked on the patches of this file and tests/test_convergence.py, 0 such vertices;
+    # not where cotangent weights are exactly zero: _right_angled_patch, |W| 2.8 there).
     # So the system here is the natural one of the fast-path test with each natural datum's
     # mean widened to the inner moving vertex nearest it: stencil_H (the update) and
     # _d_stencil_H (both Jacobians) read the same adjacency, so it is a consistent system
@@ -225,3 +227,66 @@ def test_the_dense_jacobian_s_natural_border_term_where_it_is_not_zero():
     central = central_differences(system, phi)
     assert np.linalg.norm(fast - central) < 1e-7 * np.linalg.norm(fast)
     assert np.linalg.norm(J - central) < 1e-7 * np.linalg.norm(J)
+
+
+def _right_angled_patch(near_border):
+    """A curved patch whose map is a square grid split by diagonals: the angles opposite
+    the diagonals are right angles, so their cotangent weights are exactly zero and the
+    Laplacian does not join the vertices they join. The free vertices: a disk at the
+    centre, or every vertex two edges from the border but on one side (a natural border)."""
+    from test_parameterization import grid_mesh
+
+    uv, faces = grid_mesh(11, extent=(-1.0, 1.0, -1.0, 1.0))
+    u, v = uv.T
+    points = np.column_stack([u, v, 0.3 * u**2 + 0.2 * v**2 + 0.1 * u * v
+                              + 0.05 * np.sin(3 * u) * np.cos(2 * v)])
+    if near_border:
+        return points, faces, uv, _near_border(points, faces), np.ones(len(uv), dtype=bool)
+    return points, faces, uv, np.linalg.norm(uv, axis=1) < 0.35, None
+
+
+@pytest.mark.parametrize("near_border", [False, True])
+def test_the_vertices_sharing_a_face_with_a_free_one_move_where_cotangent_weights_are_zero(
+        near_border):
+    # λ and the normals change at every vertex whose faces touch a free one, and H there
+    # depends on the fill, whether or not the Laplacian joins it to a free vertex. With the
+    # sets read off L's (Q's) nonzeros (before), a vertex joined to the free ones only by a
+    # zero-weight diagonal kept its λ and H of the start (the update moved by 5e-4 edge
+    # lengths with the start), on a natural border the Jacobians missed its H's change in
+    # the crease's mean (2.6e-2 relative to central differences) and the update jumped by
+    # 1e-3 edge lengths when the map moved by 1e-12 (measured)
+    points, faces, uv, free, natural = _right_angled_patch(near_border)
+    system = on_mesh._CoupledSystem(points, faces, uv, free, natural)
+    f = system.f
+    ring = np.unique(faces[np.isin(faces, f).any(axis=1)])
+    joined = np.flatnonzero(np.diff(system.L[:, f].tocsr().indptr))
+    assert len(np.setdiff1d(ring, joined))  # vertices the Laplacian does not join: the case
+    np.testing.assert_array_equal(system.moving, ring)
+    if near_border:  # H at a natural datum: the mean of its mesh neighbours' off the border
+        assert len(system.natural_data) and system.n_crease
+        neighbours = vertex_adjacency(faces, len(points))[system.natural_data]
+        assert ((system.adjacency != 0) != (neighbours != 0)).nnz == 0
+    else:  # H tied to φ there too
+        np.testing.assert_array_equal(system.tied, np.setdiff1d(ring, f))
+
+    phi = points.copy()
+    phi[f] += 0.1 * system.scale * np.random.default_rng(0).standard_normal((len(f), 3))
+    # the update at φ does not depend on where the fill started (H and λ next to it
+    # follow φ; before, they were the start's there)
+    start = points.copy()
+    start[f] += 0.2 * system.scale * np.random.default_rng(1).standard_normal((len(f), 3))
+    other = on_mesh._CoupledSystem(start, faces, uv, free, natural)
+    np.testing.assert_array_equal(other.update(phi), system.update(phi))
+    # and it is continuous in the map: moved off the right angles (no weight zero), the
+    # same sets (measured: 1e-11 edge lengths)
+    moved = uv + 1e-12 * np.random.default_rng(3).standard_normal(uv.shape)
+    other = on_mesh._CoupledSystem(points, faces, moved, free, natural)
+    assert np.abs(other.update(phi) - system.update(phi)).max() < 1e-9 * system.scale
+
+    # the dense fast path, the reference chain rule and its products: central differences'
+    central = central_differences(system, phi)
+    derivative = UpdateDerivative(system, phi)
+    V = np.random.default_rng(2).standard_normal((3 * len(f), 3))
+    for J in (lagged_update_jacobian(system, phi), derivative.apply(None)):
+        assert np.linalg.norm(J - central) < 1e-7 * np.linalg.norm(central)
+    assert np.linalg.norm(derivative.apply(V) - central @ V) < 1e-7 * np.linalg.norm(central @ V)

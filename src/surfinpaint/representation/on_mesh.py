@@ -38,6 +38,7 @@ from surfinpaint.geometry.mesh import (
     boundary_loops,
     laplacian_and_areas,
     mean_edge_length,
+    vertex_adjacency,
     vertex_areas,
     vertex_normals,
 )
@@ -339,29 +340,29 @@ class _Unsettled(FillError):
     """The lagged iteration diverged or did not settle."""
 
 
-def _vertex_sets(L, Q, f, border, on_natural):
-    """The vertex sets of the coupled solve around the free vertices ``f``: ``reach`` (fixed
-    vertices whose Laplacian reaches a free one), ``crease`` (those of the biharmonic
-    stencil on a natural border), ``tied`` (``reach`` off it), ``U`` (the unknown H: ``f``
-    and ``crease``) and ``stencil`` (the rest of the biharmonic stencil: H data).
+def _vertex_sets(A, f, border, on_natural):
+    """The vertex sets of the coupled solve around the free vertices ``f`` on the mesh of
+    adjacency ``A``: ``reach`` (fixed vertices sharing a face with a free one), ``crease``
+    (those of the biharmonic stencil, two edges, on a natural border), ``tied`` (``reach``
+    off it), ``U`` (the unknown H: ``f`` and ``crease``) and ``stencil`` (the rest: H data).
 
     H at the tied vertices is tied to φ; H further out is data, which must not be on the
     border. On a natural border (a crease, the surface's own border) H near the free
-    vertices is unknown instead.
+    vertices is unknown instead. Not L's nonzeros: λ, the normal and H at a vertex move with
+    every vertex of its faces, also one that a zero cotangent weight leaves out of L.
     """
     # sets of vertex ids as masks over the patch (the same sorted ids as set operations)
-    n = L.shape[0]
-    in_f = np.zeros(n, dtype=bool)
-    in_f[f] = True
-    reach = np.flatnonzero((np.diff(L[:, f].tocsr().indptr) > 0) & ~in_f)
-    crease = _ids(n, Q[f].indices, Q.indices.dtype, ~in_f & on_natural)
+    n = A.shape[0]
+    in_f = np.isin(np.arange(n), f)
+    reach = _ids(n, A[f].indices, np.intp, ~in_f)
+    two = (A @ A + A).tocsr()  # int32: no count wraps to zero
+    crease = _ids(n, two[f].indices, two.indices.dtype, ~in_f & on_natural)
     tied = reach[~on_natural[reach]]
     U = np.concatenate([f, crease])
     known = in_f.copy()
     known[crease] = known[tied] = True  # U and tied
-    stencil = _ids(n, Q[U].indices, Q.indices.dtype, ~known)
-    outer = np.zeros(n, dtype=bool)
-    outer[border[~on_natural[border]]] = True
+    stencil = _ids(n, two[U].indices, two.indices.dtype, ~known)
+    outer = np.isin(np.arange(n), border[~on_natural[border]])
     if outer[stencil].any() or outer[tied].any():
         raise ThinPatchError("the patch is too thin around the hole: the biharmonic "
                              "stencil reaches its border")
@@ -396,7 +397,8 @@ class _CoupledSystem:
         on_natural = np.zeros(len(points), dtype=bool)
         if natural is not None:
             on_natural[border] = np.asarray(natural, dtype=bool)[border]
-        reach, crease, self.tied, U, self.stencil = _vertex_sets(L, Q, f, border, on_natural)
+        A = vertex_adjacency(faces, len(points)).astype(np.int32)  # the mesh's, not L's
+        reach, crease, self.tied, U, self.stencil = _vertex_sets(A, f, border, on_natural)
         tied, stencil = self.tied, self.stencil
         self.n_crease = len(crease)
         Q_f, L_f, L_t = Q[U], L[f], L[tied]  # row slices, each made once
@@ -418,8 +420,6 @@ class _CoupledSystem:
         self.Y = self.Q_lu.solve(self.Q_ft.toarray())  # Q_ff⁻¹ Q_ft, (m, t)
         self.L_t_phi = L_tk @ points[fixed] + L_tf @ self.g  # (t, 3)
         self.scale = mean_edge_length(points, faces, table)
-        # λ and the normals change only at the free vertices and the ring around them:
-        # recomputed on the faces around them; H on the rest of the stencil is fixed data
         areas = vertex_areas(points, faces)
         self.lam = np.sqrt(areas / area)
         self.natural_data = stencil[on_natural[stencil]]
@@ -429,7 +429,7 @@ class _CoupledSystem:
             # neighbours off the border, which the free vertices move (so it is lagged too)
             self.inner = np.ones(len(points))
             self.inner[border] = 0.0
-            self.adjacency = sp.csr_matrix((L != 0).astype(float))[self.natural_data]
+            self.adjacency = A.astype(float)[self.natural_data]  # the mesh's neighbours
             self.weight = np.maximum(self.adjacency @ self.inner, 1.0)
         self.L = L
         self.H_stencil = self.stencil_H(points, areas)
