@@ -12,9 +12,10 @@ distance threshold:
   Moran's I of the plane's residuals (noise is independent between neighbours, a shape is
   not). "Flat" when neither is significant at ``alpha`` (1 %, fixed a priori);
 - the **flat candidate** (``fill.liepa.baseline.laid_on_plane``): the fair2 fill's vertices
-  keep their positions along the fitted plane, and their heights above it are the harmonic
-  extension of the loop's heights (the loop's noise is averaged, not extrapolated as a
-  slope). The loop and every original vertex stay where they are.
+  keep their positions along the fitted plane, and their heights above it were the
+  harmonic extension of the loop's heights (the loop's noise averaged, not extrapolated as
+  a slope); since session 29 they are zero (the vertices projected onto the plane). The
+  loop and every original vertex stay where they are.
 - the rule: flat verdict → flat candidate, else the default fill as it was before
   (``conformal_noplane``). Adopted in session 26 with k = 2: today's ``conformal``.
 
@@ -159,7 +160,7 @@ def hole_row(cut, methods, n_samples: int) -> dict:
     row["errors"]["fair2_ref"] = _error(cut, nv, patch, n_samples)
     for k in RINGS:
         t, row["tests"][str(k)] = plane_verdict(cut, k)
-        flat_v = laid_on_plane(cut.vertices, cut.faces, nv, patch, t.centre, t.normal)
+        flat_v = laid_on_plane(nv, t.centre, t.normal)
         row["errors"][f"plane{k}"] = _error(cut, flat_v, patch, n_samples)
     return row
 

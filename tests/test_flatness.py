@@ -108,16 +108,20 @@ def _noisy_plane_hole(noise: float, bump: float = 0.0, seed: int = 0):
     return cut, normal
 
 
-def test_the_fill_laid_on_a_plane_keeps_the_loop_and_follows_its_heights():
+def test_the_fill_laid_on_a_plane_is_its_projection_onto_it():
     v, f = grid_mesh(16, 16)
     cut = cut_geodesic_disk(v, f, np.array([0.5, 0.5, 0.0]), 0.3)
     w = cut.vertices.copy()
-    w[cut.loop, 2] = 0.01  # the loop raised: the membrane is the plane z = 0.01
+    w[cut.loop, 2] = 0.01  # the loop raised off the plane z = 0: the fill is not
     nv, patch, _ = faired_fills(w, cut.faces, cut.loop, (2,))[2]
-    out = laid_on_plane(w, cut.faces, nv, patch, np.zeros(3), np.array([0.0, 0.0, 1.0]))
+    normal = np.array([0.0, 0.6, 0.8])  # a tilted plane through (0, 0, 0.05)
+    out = laid_on_plane(nv, np.array([0.0, 0.0, 0.05]), normal)
     assert len(out) == len(nv) > 0
-    np.testing.assert_allclose(out[:, 2], 0.01, atol=1e-12)
-    np.testing.assert_allclose(out[:, :2], nv[:, :2], atol=1e-12)  # along the plane: fair2's
+    np.testing.assert_allclose((out - [0.0, 0.0, 0.05]) @ normal, 0.0, atol=1e-15)
+    # moved along the normal only: each vertex's nearest point of the plane
+    moved = out - nv
+    np.testing.assert_allclose(np.cross(moved, normal), 0.0, atol=1e-15)
+    assert len(laid_on_plane(np.zeros((0, 3)), np.zeros(3), normal)) == 0
 
 
 @pytest.mark.parametrize(("noise", "bump", "laid"), [
@@ -280,9 +284,9 @@ def test_a_noisy_face_next_to_a_sharp_edge_is_flat_once_trimmed(seed):
     ("a rim all around", lambda u, v: 0.1 * (np.hypot(u, v) > 0.95), False),
     # a quarter of the ring across the edge: more than the 20 % a trim may leave out
     ("too much across the edge", lambda u, v: 4.0 * np.maximum(u - 0.3, 0.0), False),
-    # a bump on the hole's own loop: the laid fill could not meet it (without the loop
-    # required, the same points are trimmed flat)
-    ("a bump on the loop", lambda u, v: 0.2 * np.exp(-((u - 0.5)**2 + v * v) / 0.01), False),
+    # a bump across more than a tenth of the hole's own loop: the hole is not on the plane
+    # (without the loop required, the same points are trimmed flat)
+    ("a bump on the loop", lambda u, v: 0.2 * np.exp(-((u - 0.5)**2 + v * v) / 0.02), False),
     # a smooth curved patch: what the trim keeps is curved too
     ("a sphere", lambda u, v: 4.0 - np.sqrt(16.0 - u * u - v * v), None),
 ])
@@ -296,6 +300,18 @@ def test_the_trimmed_test_does_not_call_these_flat(case, height, applies):
             assert trimmed_plane_test(points, edges, alpha=ALPHA).flat
     else:
         assert t is None or not t.flat, case
+
+
+def test_a_few_loop_vertices_off_the_plane_may_be_trimmed():
+    # a narrow bump on the loop (a scan's shadow edge at one loop vertex, say): at most a
+    # tenth of the loop's vertices left out, and the laid fill's triangles along the loop
+    # meet them; the same bump with no loop vertex allowed out is not trimmed
+    points, edges = annulus(0, lambda u, v: 0.2 * np.exp(-((u - 0.5)**2 + v * v) / 0.01))
+    inner = np.flatnonzero(np.linalg.norm(_annulus_uv(points), axis=1) < 0.55)
+    t = trimmed_plane_test(points, edges, keep=inner, alpha=ALPHA)
+    assert t is not None and t.flat and t.left_out > 0
+    kept = trimmed_plane_test(points, edges, keep=inner, alpha=ALPHA, keep_most=0.0)
+    assert kept is None
 
 
 def test_a_hole_next_to_a_scanned_edge_is_laid_on_its_plane():

@@ -21,6 +21,10 @@ __all__ = ["PlaneTest", "morans_i", "plane_test", "trimmed_plane_test"]
 # the trimmed fit (:func:`trimmed_plane_test`) gives up where it leaves out more than
 # TRIM_MOST of the points (fixed before any run; docs/candidates.md, "Session 28")
 TRIM_MOST = 0.2
+# ... and at most this fraction of the points that must stay (the hole's loop): a loop
+# vertex on a scan's shadow edge or a part's edge, off the plane, is met by the laid fill's
+# triangles along the loop (fixed before any run; docs/candidates.md, "Session 29")
+TRIM_KEEP_MOST = 0.1
 
 
 @dataclass(frozen=True)
@@ -166,7 +170,8 @@ def plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
 
 def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
                        keep: np.ndarray | None = None, alpha: float = 0.01,
-                       most: float = TRIM_MOST) -> PlaneTest | None:
+                       most: float = TRIM_MOST, keep_most: float = TRIM_KEEP_MOST
+                       ) -> PlaneTest | None:
     """:func:`plane_test` of the points a trimmed plane fit keeps, where a few points on one
     side lie off a plane the others fit (a part's face next to its sharp edge).
 
@@ -176,10 +181,11 @@ def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
     and the plane fitted again to the rest until nothing changes (at most 10 fits). So
     noise alone leaves out no point, at the tests' own level.
     The test applies only where that leaves out some points but at most a fraction ``most``
-    of them, none of the ``keep`` points (the hole's own loop: the fill laid on the plane
-    must meet it), and all left-out points on one side of the kept points' centre: in a
-    half-plane through it, in the plane's frame. A dome around a hole, whose outer points
-    fall off the plane all around, is therefore not trimmed flat.
+    of them, at most a fraction ``keep_most`` of the ``keep`` points (the hole's own loop,
+    which the fill laid on the plane meets: a few of its vertices may lie off the plane, a
+    loop mostly off it may not), and all left-out points on one side of the kept ``keep``
+    points' centre: in a half-plane through it, in the plane's frame. A dome around a hole,
+    whose outer points fall off the plane all around, is therefore not trimmed flat.
 
     Parameters
     ----------
@@ -187,12 +193,15 @@ def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
     edges : (e, 2) int array, optional
         Mesh edges between the points; those between kept points go to Moran's I.
     keep : int array, optional
-        Ids of points that must not be left out (default: the test's own centre is the
+        Ids of points that must mostly stay (default: the test's own centre is the
         points' centroid and no point is required).
     alpha : float
         Significance level, as :func:`plane_test`'s.
     most : float
         The largest fraction of points left out.
+    keep_most : float
+        The largest fraction of the ``keep`` points left out (0: none may be; session 28's
+        rule).
 
     Returns
     -------
@@ -223,8 +232,9 @@ def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
         inliers = fitted
     left_out = int(n - inliers.sum())
     required = np.zeros(n, dtype=bool) if keep is None else np.isin(np.arange(n), keep)
-    if (left_out == 0 or left_out > most * n or (required & ~inliers).any()
-            or not _on_one_side(points, inliers, required, axes)):
+    if (left_out == 0 or left_out > most * n
+            or (required & ~inliers).sum() > keep_most * required.sum()
+            or not _on_one_side(points, inliers, required & inliers, axes)):
         return None
     local = np.full(n, -1)
     local[inliers] = np.arange(n - left_out)
@@ -239,7 +249,7 @@ def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
 
 def _on_one_side(points, inliers, required, axes) -> bool:
     """Whether the left-out points lie in a half-plane through the centre of the required
-    points (all kept points where none is required), seen along the plane's normal: their
+    kept points (all kept points where none is), seen along the plane's normal: their
     directions from it leave a gap of at least half a turn."""
     centre = points[required if required.any() else inliers].mean(axis=0)
     offset = (points[~inliers] - centre) @ axes[:2].T

@@ -98,8 +98,7 @@ def conformal_fill(
         if options.plane_test:
             plane = known_plane(vertices, faces, loop)
             if plane.flat:
-                return _on_plane(vertices, faces, faired[f"fair{candidates.orders[0]}"],
-                                 plane)
+                return _on_plane(faired[f"fair{candidates.orders[0]}"], plane)
         verdict = self_check(vertices, faces, loop, candidates)
         if verdict.make:
             s0 = candidates.initial(vertices, faces, loop, faired)
@@ -163,11 +162,10 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     return trimmed if trimmed is not None and trimmed.flat else test
 
 
-def _on_plane(vertices, faces, faired: Fill, plane: PlaneTest) -> Fill:
+def _on_plane(faired: Fill, plane: PlaneTest) -> Fill:
     """The faired fill laid on the known surface's plane
     (:func:`~surfinpaint.fill.liepa.baseline.laid_on_plane`), with the verdict in words."""
-    new = laid_on_plane(vertices, faces, faired.vertices, faired.faces, plane.centre,
-                        plane.normal)
+    new = laid_on_plane(faired.vertices, plane.centre, plane.normal)
     return replace(faired, vertices=new, plane=plane,
                    selection=f"{plane.sentence()}: the faired fill (order "
                              f"{faired.fair_order}) laid on it, no self-check")

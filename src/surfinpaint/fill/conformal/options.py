@@ -173,8 +173,8 @@ class ConformalOptions:
         With ``select``: where the known surface within 2 rings of the loop is a plane
         within its noise (neither a quadric's curvature nor a pattern in the plane's
         residuals significant at 1 %: :func:`surfinpaint.geometry.flatness.plane_test`),
-        the faired fill is laid on that plane (its heights the harmonic extension of the
-        loop's, :func:`surfinpaint.fill.liepa.baseline.laid_on_plane`) and no self-check
+        the faired fill's new vertices are laid on that plane
+        (:func:`surfinpaint.fill.liepa.baseline.laid_on_plane`) and no self-check
         runs: on a range scan's flat face the faired fills carry the rim's noise into the
         hole (docs/candidates.md, "Session 26"). False: never.
     significance : float, optional
