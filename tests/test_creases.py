@@ -193,13 +193,14 @@ def test_a_crease_along_the_loop_enters_the_hole_where_it_leaves_the_loop():
     assert (outward > 0).all() and _cube_distance(new_v).max() < 1e-12
 
 
-def test_one_sharp_edge_before_a_corner_is_enough_when_asked():
-    # a hole reaching to one edge from both corners: chains of one edge
+def test_one_sharp_edge_before_a_corner_is_enough():
+    # a hole reaching to one edge from both corners: chains of one edge, each into a corner
+    # (three sharp edges meet there), so they count as the default asks for two edges
     cut = _cube_hole(n=24, radius_h=10.5)
-    assert hole_creases(cut.vertices, cut.faces, cut.loop) == []
-    crease, = hole_creases(cut.vertices, cut.faces, cut.loop, min_edges=1)
-    assert crease is not None and [len(c) for c in crease.chains] == [2, 2]
-    assert np.allclose(np.abs(crease.directions[:, 0]), 1)
+    for min_edges in (2, 1):
+        crease, = hole_creases(cut.vertices, cut.faces, cut.loop, min_edges=min_edges)
+        assert [len(c) for c in crease.chains] == [2, 2]
+        assert np.allclose(np.abs(crease.directions[:, 0]), 1)
 
 
 def test_a_loop_vertex_that_only_zigzags_near_the_crease_does_not_bend_it():
@@ -223,6 +224,18 @@ def test_a_loop_vertex_that_only_zigzags_near_the_crease_does_not_bend_it():
     again, = hole_creases(v, cut.faces, loop)
     assert sorted(again.ends) == sorted(crease.ends)
     new_v, _, _ = split_fill(v, cut.faces, loop, [again])
+    assert _cube_distance(new_v).max() < 1e-12
+
+def test_an_edge_one_mesh_edge_short_of_a_corner_still_counts():
+    # a hole on a cube's vertical edge whose loop crosses it one mesh edge below the top
+    # corner: that chain has one sharp edge before the corner, where three edges meet. It
+    # is an edge cut short by the corner, not noise: the crease is found and rebuilt
+    v, f = cube(16)
+    cut = cut_geodesic_disk(v, f, np.array([0.0, 0.0, 0.72]), 0.22)
+    crease, = hole_creases(cut.vertices, cut.faces, cut.loop)
+    assert sorted(len(c) for c in crease.chains) == [2, 4]  # one edge, and a full chain
+    assert np.allclose(np.abs(crease.directions[:, 2]), 1.0)
+    new_v, _, _ = split_fill(cut.vertices, cut.faces, cut.loop, [crease])
     assert _cube_distance(new_v).max() < 1e-12
 
 def _slab_hole(radius=0.26):

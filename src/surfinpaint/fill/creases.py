@@ -181,9 +181,12 @@ def hole_creases(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     on_loop[loop] = True
     starts = np.flatnonzero(np.diff(adjacency.indptr)[loop] > 0)
     chains = []
+    sharp_degree = np.diff(adjacency.indptr)
     for i in starts:
         chain = _chain(int(loop[i]), adjacency, v, on_loop, min_edges + 2)
-        if len(chain) - 1 >= min_edges:
+        # a shorter chain counts where it runs into a corner of the part (three or more
+        # sharp edges meet at its far end): an edge, not noise, cut short by the corner
+        if len(chain) - 1 >= min_edges or (len(chain) > 1 and sharp_degree[chain[-1]] >= 3):
             chains.append((int(i), np.asarray(chain)))
     k = len(loop)
 
