@@ -20,6 +20,7 @@ from typing import Any
 
 from surfinpaint.errors import HoleWarning
 from surfinpaint.fill.results import FillResult, HoleReport, TestScores
+from surfinpaint.geometry.flatness import TwoPlanes
 from surfinpaint.io.atomic import atomic_open
 
 __all__ = ["FAIRING", "REPORT_VERSION", "HoleRecord", "Summary", "WarningCount", "count_warnings",
@@ -106,7 +107,8 @@ def written(report: HoleReport) -> str:
     if outcome == "lambda-h":
         return "λ-H fill"
     if outcome == "faired":
-        on_plane = ", laid on its plane" if report.plane is not None else ""
+        on_plane = ("" if report.plane is None else ", laid on its two planes"
+                    if isinstance(report.plane, TwoPlanes) else ", laid on its plane")
         return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')}{on_plane})"
     if outcome == "zipped":
         return f"seam zipped ({len(report.zipped)} duplicate vertices merged)"
@@ -297,7 +299,8 @@ class HoleRecord:
                    plane=None if r.plane is None else {
                        "p_curvature": float(r.plane.p_curvature),
                        "p_pattern": float(r.plane.p_pattern), "noise": float(r.plane.noise),
-                       "vertices": int(r.plane.points), "left_out": int(r.plane.left_out)})
+                       "vertices": int(r.plane.points), "left_out": int(r.plane.left_out),
+                       "planes": 2 if isinstance(r.plane, TwoPlanes) else 1})
 
     def to_json(self) -> dict[str, Any]:
         """As JSON types: a failed candidate's score is null and named in ``failed``."""

@@ -15,7 +15,7 @@ from surfinpaint.fill.objects import to_pyvista, to_trimesh
 
 if TYPE_CHECKING:
     from surfinpaint.fill.conformal.selection import Verdict
-    from surfinpaint.geometry.flatness import PlaneTest
+    from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
 
 __all__ = ["Fill", "FillResult", "GridLambdaH", "HoleReport", "LambdaHDiagnostics",
            "LeastSquaresFill", "MeshLambdaH", "Outcome", "TestScores", "TopologyChange"]
@@ -208,9 +208,10 @@ class Fill:
     crossings : int
         The fill's triangles that pierce or overlap the surface around the hole
         (:func:`surfinpaint.fill.parallel.crossing_faces`; 0 for a clean fill).
-    plane : PlaneTest, optional
+    plane : PlaneTest or TwoPlanes, optional
         The known surface around the hole was a plane within its noise (the conformal
-        method's ``plane_test``), and this faired fill was laid on it.
+        method's ``plane_test``), or two planes meeting at an edge (``two_plane_test``),
+        and this faired fill was laid on it.
     """
 
     vertices: np.ndarray
@@ -224,7 +225,7 @@ class Fill:
     crease_failure: str | None = None
     diagnostics: LambdaHDiagnostics | None = None
     crossings: int = 0
-    plane: PlaneTest | None = None
+    plane: PlaneTest | TwoPlanes | None = None
 
     @property
     def notes(self) -> str | None:
@@ -294,7 +295,8 @@ class HoleReport:
     fill failed and it was filled as smooth), ``diagnostics`` what the λ-H pass used, and
     ``crossings`` how many of the written fill's triangles cross the surface around the hole
     (a warning says so; see :class:`Fill`), ``plane`` the plane test's verdict where the
-    faired fill was laid on the plane of the surface around the hole (``note`` says so).
+    faired fill was laid on the plane (or two planes) of the surface around the hole
+    (``note`` says so).
     """
 
     index: int
@@ -317,7 +319,7 @@ class HoleReport:
     crease_failure: str | None = None
     zipped: np.ndarray | None = None
     crossings: int = 0
-    plane: PlaneTest | None = None
+    plane: PlaneTest | TwoPlanes | None = None
 
     @property
     def outcome(self) -> Outcome:

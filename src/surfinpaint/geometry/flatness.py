@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import fdtrc, ndtr, ndtri  # F and normal tails (scipy.stats: 1 s)
 
-__all__ = ["PlaneTest", "morans_i", "plane_test", "trimmed_plane_test"]
+__all__ = ["PlaneTest", "TwoPlanes", "meeting_line", "morans_i", "plane_test",
+           "trimmed_plane_test", "two_plane_test"]
 
 # the trimmed fit (:func:`trimmed_plane_test`) gives up where it leaves out more than
 # TRIM_MOST of the points (fixed before any run; docs/candidates.md, "Session 28")
@@ -25,6 +26,17 @@ TRIM_MOST = 0.2
 # vertex on a scan's shadow edge or a part's edge, off the plane, is met by the laid fill's
 # triangles along the loop (fixed before any run; docs/candidates.md, "Session 29")
 TRIM_KEEP_MOST = 0.1
+# two planes (:func:`two_plane_test`) are tried only where each holds at least this share of
+# the points and they meet at this angle (degrees) or more: a part's edge, not a bend (both
+# fixed before any run; docs/candidates.md, "Session 29")
+TWO_PLANES_SHARE = 0.15
+TWO_PLANES_ANGLE = 30.0
+# ... and where each plane's points lie on its own side of the line where the planes meet,
+# but for this fraction (noise at the edge): at an edge they do; two planes fitted to a
+# smooth bump cross through its points instead (on the tuning side, edges of scanned parts
+# leave at most 1.1 % across, the coarse egg crates and quadruped 32-57 %; docs/
+# candidates.md, "Session 29")
+TWO_PLANES_ACROSS = 0.05
 
 
 @dataclass(frozen=True)
@@ -68,6 +80,57 @@ class PlaneTest:
                 f"(σ = {self.noise:.3g}; curvature p = {self.p_curvature:.2g}, pattern "
                 f"p = {self.p_pattern:.2g}, {self.points} vertices{trimmed})")
 
+
+
+@dataclass(frozen=True)
+class TwoPlanes:
+    """The verdict of :func:`two_plane_test`: the points as two planes meeting at an edge.
+
+    Attributes
+    ----------
+    first, second : PlaneTest
+        :func:`plane_test` of each plane's points.
+    second_side : (n,) bool array
+        Which tested points belong to the second plane.
+    angle : float
+        The angle between the planes' normals, degrees (90 at a box's edge).
+    """
+
+    first: PlaneTest
+    second: PlaneTest
+    second_side: np.ndarray
+    angle: float
+
+    @property
+    def flat(self) -> bool:
+        """Both planes are planes within their noise."""
+        return self.first.flat and self.second.flat
+
+    @property
+    def p_curvature(self) -> float:
+        return min(self.first.p_curvature, self.second.p_curvature)
+
+    @property
+    def p_pattern(self) -> float:
+        return min(self.first.p_pattern, self.second.p_pattern)
+
+    @property
+    def noise(self) -> float:
+        return max(self.first.noise, self.second.noise)
+
+    @property
+    def points(self) -> int:
+        return self.first.points + self.second.points
+
+    left_out = 0  # as PlaneTest's: no point is left out
+
+    def sentence(self) -> str:
+        """The verdict in words, for a hole's report."""
+        return (f"the known surface around the hole is two planes meeting at "
+                f"{self.angle:.0f}°, each within its noise (σ = {self.first.noise:.3g} and "
+                f"{self.second.noise:.3g}; curvature p ≥ {self.p_curvature:.2g}, pattern "
+                f"p ≥ {self.p_pattern:.2g}; {self.first.points} and {self.second.points} "
+                "vertices)")
 
 def morans_i(values: np.ndarray, edges: np.ndarray) -> tuple[float, float]:
     """Moran's I of ``values`` on a graph, and its one-sided p-value for positive
@@ -256,3 +319,123 @@ def _on_one_side(points, inliers, required, axes) -> bool:
     angle = np.sort(np.arctan2(offset[:, 1], offset[:, 0]))
     gaps = np.diff(np.concatenate([angle, angle[:1] + 2.0 * np.pi]))
     return bool(gaps.max() >= np.pi)
+
+
+def two_plane_test(points: np.ndarray, normals: np.ndarray, edges: np.ndarray | None = None,
+                   *, alpha: float = 0.01, share: float = TWO_PLANES_SHARE,
+                   angle: float = TWO_PLANES_ANGLE) -> TwoPlanes | None:
+    """:func:`plane_test` of each side of ``points`` split into two planes: a part's face on
+    each side of its sharp edge, seen by a noisy scan (where the edge's sharp turn is lost
+    in the noise and the crease search finds nothing).
+
+    The split: the points whose ``normals`` are farthest apart seed two groups (2-means on
+    the normals), then each point goes to the plane it is nearer and the planes are fitted
+    again until nothing changes (at most 15 fits).
+
+    Parameters
+    ----------
+    points, normals : (n, 3) float arrays
+        The points and their unit (vertex) normals.
+    edges : (e, 2) int array, optional
+        Mesh edges between the points; those within one side go to its Moran's I.
+    alpha : float
+        Significance level of each side's :func:`plane_test`.
+    share, angle : float
+        The smaller side holds at least ``share`` of the points, and the planes meet at
+        ``angle`` degrees or more; else None. Also None where more than
+        ``TWO_PLANES_ACROSS`` of the points lie across the line where the planes meet,
+        on the other plane's side by more than three of its plane's noise (planes crossing
+        through a bump, not meeting at an edge).
+
+    Returns
+    -------
+    TwoPlanes or None
+        The two sides' tests (``flat`` when both are planes within their noise), or None
+        where no such split exists.
+
+    Examples
+    --------
+    >>> u, w = np.meshgrid(np.linspace(-1, 1, 11), np.linspace(-1, 1, 11))
+    >>> roof = np.column_stack([u.ravel(), w.ravel(), np.abs(u.ravel())])
+    >>> n = np.column_stack([-np.sign(roof[:, 0]), np.zeros(121), np.ones(121)])
+    >>> t = two_plane_test(roof, n / np.linalg.norm(n, axis=1, keepdims=True))
+    >>> round(t.angle), t.flat
+    (90, True)
+    """
+    points = np.asarray(points, dtype=float)
+    normals = np.asarray(normals, dtype=float)
+    n = len(points)
+    if n < 2 * 7:  # a side needs more points than the quadric has terms
+        return None
+    first = normals[np.argmax(np.linalg.norm(normals - normals.mean(axis=0), axis=1))]
+    second = normals[np.argmax(np.linalg.norm(normals - first, axis=1))]
+    side = np.linalg.norm(normals - second, axis=1) < np.linalg.norm(normals - first, axis=1)
+    for _ in range(15):
+        if min(side.sum(), n - side.sum()) < 7:
+            return None
+        planes = []
+        for group in (~side, side):
+            centre = points[group].mean(axis=0)
+            planes.append((centre, np.linalg.svd(points[group] - centre,
+                                                 full_matrices=False)[2][2]))
+        distance = np.column_stack([np.abs((points - c) @ m) for c, m in planes])
+        nearer = distance[:, 1] < distance[:, 0]
+        if np.array_equal(nearer, side):
+            break
+        side = nearer
+    between = float(np.degrees(np.arccos(min(1.0, abs(planes[0][1] @ planes[1][1])))))
+    if min(side.mean(), 1.0 - side.mean()) < share or between < angle:
+        return None
+    on_line, _, away = meeting_line(*planes[0], *planes[1])
+    tests = []
+    for group in (~side, side):
+        local = np.full(n, -1)
+        local[group] = np.arange(int(group.sum()))
+        group_edges = None
+        if edges is not None:
+            edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+            group_edges = local[edges[group[edges].all(axis=1)]]
+        tests.append(plane_test(points[group], group_edges, alpha=alpha))
+    # across the line by more than three of its plane's noise (or rounding)
+    extent = float(np.ptp(points, axis=0).max())
+    across = sum(int(((points[group] - on_line) @ out
+                      < -max(3.0 * test.noise, 1e-9 * extent)).sum())
+                 for group, out, test in zip((~side, side), away, tests, strict=True))
+    if across > TWO_PLANES_ACROSS * n:
+        return None
+    return TwoPlanes(tests[0], tests[1], side, between)
+
+
+def meeting_line(first_centre: np.ndarray, first_normal: np.ndarray,
+                 second_centre: np.ndarray, second_normal: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """Where two planes meet, each given by a point and its unit normal: a point of the line
+    (the one nearest the points' midpoint along it), its unit direction, and for each plane
+    the unit direction within it away from the line towards its given point (the plane's
+    side of the edge).
+
+    Raises
+    ------
+    ValueError
+        For parallel planes.
+
+    Examples
+    --------
+    >>> point, direction, (a, b) = meeting_line(np.array([1.0, 0, 1]), np.array([0, 0, 1.0]),
+    ...                                         np.array([0.0, 1, 0]), np.array([1.0, 0, 0]))
+    >>> [(x + 0.0).tolist() for x in (point, np.abs(direction), a, b)]
+    [[0.0, 0.5, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]]
+    """
+    ca, na = np.asarray(first_centre, float), np.asarray(first_normal, float)
+    cb, nb = np.asarray(second_centre, float), np.asarray(second_normal, float)
+    direction = np.cross(na, nb)
+    if np.linalg.norm(direction) < 1e-9:
+        raise ValueError("the two planes are parallel: they meet at no edge")
+    direction /= np.linalg.norm(direction)
+    point = np.linalg.solve(np.array([na, nb, direction]),
+                            [na @ ca, nb @ cb, direction @ (ca + cb) / 2.0])
+    away = []
+    for c, m in ((ca, na), (cb, nb)):
+        out = np.cross(m, direction)
+        away.append(out * (np.sign((c - point) @ out) or 1.0))
+    return point, direction, (away[0], away[1])

@@ -22,12 +22,18 @@ from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.conformal.checks import blended_fill
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
 from surfinpaint.fill.conformal.selection import Verdict, choose, demoted, sibling_test_plan
-from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane
+from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane, laid_on_two_planes
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import advantages_over, hidden_ring_scores, sibling_scores
 from surfinpaint.geometry.cutting import edge_graph
-from surfinpaint.geometry.flatness import PlaneTest, plane_test, trimmed_plane_test
-from surfinpaint.geometry.mesh import k_ring, unique_edges
+from surfinpaint.geometry.flatness import (
+    PlaneTest,
+    TwoPlanes,
+    plane_test,
+    trimmed_plane_test,
+    two_plane_test,
+)
+from surfinpaint.geometry.mesh import k_ring, unique_edges, vertex_normals
 from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conformal_fill"]
@@ -96,9 +102,15 @@ def conformal_fill(
         # the faired fills are cheap; the λ-H fill of the hole is made once it has won
         faired = candidates.faired(vertices, faces, loop)
         if options.plane_test:
+            reference = faired[f"fair{candidates.orders[0]}"]
             plane = known_plane(vertices, faces, loop)
             if plane.flat:
-                return _on_plane(faired[f"fair{candidates.orders[0]}"], plane)
+                return _on_plane(reference, plane)
+            # a noisy scan's edge across the hole (a crease the search found is rebuilt
+            # by the λ-H fill along it instead)
+            planes = None if candidates.crossed else known_two_planes(vertices, faces, loop)
+            if planes is not None and planes.flat:
+                return _on_two_planes(reference, planes)
         verdict = self_check(vertices, faces, loop, candidates)
         if verdict.make:
             s0 = candidates.initial(vertices, faces, loop, faired)
@@ -144,6 +156,15 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     return verdict
 
 
+def _ring(vertices, faces, loop, rings):
+    """The known vertices within ``rings`` rings of the loop (a mask), their local ids, and
+    the mesh edges between them in local ids."""
+    near = k_ring(faces, loop, rings, len(vertices))
+    local = np.full(len(vertices), -1)
+    local[near] = np.arange(int(near.sum()))
+    return near, local, local[unique_edges(faces[near[faces].all(axis=1)])[0]]
+
+
 def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
                 rings: int = PLANE_RINGS) -> PlaneTest:
     """:func:`~surfinpaint.geometry.flatness.plane_test` (at ``PLANE_ALPHA``) of the known
@@ -151,15 +172,37 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     between them; where it says curved, the same test of the vertices a trimmed plane fit
     keeps (:func:`~surfinpaint.geometry.flatness.trimmed_plane_test`: a few vertices off the
     plane on one side, none of the loop's), whose verdict stands where it is flat."""
-    near = k_ring(faces, loop, rings, len(vertices))
-    local = np.full(len(vertices), -1)
-    local[near] = np.arange(int(near.sum()))
-    edges = local[unique_edges(faces[near[faces].all(axis=1)])[0]]
+    near, local, edges = _ring(vertices, faces, loop, rings)
     test = plane_test(vertices[near], edges, alpha=PLANE_ALPHA)
     if test.flat:
         return test
     trimmed = trimmed_plane_test(vertices[near], edges, keep=local[loop], alpha=PLANE_ALPHA)
     return trimmed if trimmed is not None and trimmed.flat else test
+
+
+def known_two_planes(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
+                     rings: int = PLANE_RINGS) -> TwoPlanes | None:
+    """:func:`~surfinpaint.geometry.flatness.two_plane_test` (at ``PLANE_ALPHA``) of the
+    known vertices within ``rings`` rings of the loop, where the edge between the two planes
+    crosses the hole (the loop has vertices on both planes); else None."""
+    near, local, edges = _ring(vertices, faces, loop, rings)
+    planes = two_plane_test(vertices[near], vertex_normals(vertices, faces)[near], edges,
+                            alpha=PLANE_ALPHA)
+    if planes is None or planes.second_side[local[loop]].all() or \
+            not planes.second_side[local[loop]].any():
+        return None
+    return planes
+
+
+def _on_two_planes(faired: Fill, planes: TwoPlanes) -> Fill:
+    """The faired fill laid on the two planes of the known surface
+    (:func:`~surfinpaint.fill.liepa.baseline.laid_on_two_planes`), with the verdict in
+    words."""
+    new = laid_on_two_planes(faired.vertices, (planes.first.centre, planes.first.normal),
+                             (planes.second.centre, planes.second.normal))
+    return replace(faired, vertices=new, plane=planes,
+                   selection=f"{planes.sentence()}: the faired fill (order "
+                             f"{faired.fair_order}) laid on them, no self-check")
 
 
 def _on_plane(faired: Fill, plane: PlaneTest) -> Fill:

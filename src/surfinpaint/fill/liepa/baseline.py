@@ -15,6 +15,7 @@ from surfinpaint.fill.liepa.fairing import fair_orders
 from surfinpaint.fill.liepa.refinement import refine_patch
 from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
 from surfinpaint.geometry.edges import edge_keys
+from surfinpaint.geometry.flatness import meeting_line
 from surfinpaint.geometry.mesh import faces_near, orient_loop
 from surfinpaint.geometry.validation import face_ids
 
@@ -245,6 +246,49 @@ def laid_on_plane(new_vertices: np.ndarray, centre: np.ndarray, normal: np.ndarr
     new_vertices = np.asarray(new_vertices, dtype=float)
     centre, normal = np.asarray(centre, dtype=float), np.asarray(normal, dtype=float)
     return new_vertices - np.outer((new_vertices - centre) @ normal, normal)
+
+
+def laid_on_two_planes(new_vertices: np.ndarray, first: tuple[np.ndarray, np.ndarray],
+                       second: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """A fill laid on two planes that meet at an edge: each new vertex projected onto the
+    plane on whose side of their intersection line its projection falls (the side its
+    plane's fitted points are on); where both or neither would take it, the nearer one
+    (a vertex that neither takes goes onto the line).
+
+    Why: as :func:`laid_on_plane`, on a scanned part's edge, where the crease search sees
+    no sharp edge in the noise (docs/candidates.md, "Session 29").
+
+    Parameters
+    ----------
+    new_vertices : (m, 3) float array
+        The fill's new vertices.
+    first, second : (centre, unit normal) pairs
+        The planes, each ``centre`` the centroid of its fitted points (it tells the side).
+
+    Returns
+    -------
+    (m, 3) float array
+
+    Raises
+    ------
+    ValueError
+        For parallel planes (no line where they meet).
+    """
+    new_vertices = np.asarray(new_vertices, dtype=float)
+    on_line, direction, away = meeting_line(*first, *second)
+    projected, taken = [], []
+    for (c, m), out in zip((first, second), away, strict=True):
+        c, m = np.asarray(c, dtype=float), np.asarray(m, dtype=float)
+        onto = new_vertices - np.outer((new_vertices - c) @ m, m)
+        projected.append(onto)
+        taken.append((onto - on_line) @ out >= 0.0)
+    nearer_first = (np.linalg.norm(projected[0] - new_vertices, axis=1)
+                    <= np.linalg.norm(projected[1] - new_vertices, axis=1))
+    use_first = np.where(taken[0] == taken[1], nearer_first, taken[0])
+    out = np.where(use_first[:, None], projected[0], projected[1])
+    neither = ~taken[0] & ~taken[1]
+    out[neither] = on_line + np.outer((new_vertices[neither] - on_line) @ direction, direction)
+    return out
 
 
 def _neighbourhood(faces: np.ndarray, loop: np.ndarray, n: int, rings: int) -> np.ndarray:
