@@ -32,6 +32,11 @@ A tuning-side set of machined parts (``benchmarks/cad_tuning_manifest.json``, ``
 --cad-tuning``): 12 manifold3d parts and scans of them (``validation_meshes.
 CAD_TUNING_SOURCES``), holes planned the same way (seeds from 400), made in session 29 to
 choose rules for holes next to bores, bosses and edges on. Rules may be chosen on it.
+
+A sixth set, the fourth holdout (``benchmarks/holdout4_manifest.json``, ``--write
+--holdout4``): 12 fresh meshes (``validation_meshes.HOLDOUT4_SOURCES``), holes planned the
+same way (seeds from 500), made in session 29 and committed before any fill was run on them;
+to be run once.
 """
 
 from __future__ import annotations
@@ -56,6 +61,8 @@ HOLDOUT2_MANIFEST = Path(__file__).parent / "holdout2_manifest.json"
 HOLDOUT3_MANIFEST = Path(__file__).parent / "holdout3_manifest.json"
 # tuning-side machined parts of session 29 (CAD_TUNING_SOURCES): rules may be chosen on them
 CAD_TUNING_MANIFEST = Path(__file__).parent / "cad_tuning_manifest.json"
+# a sixth set, fresh meshes of session 29 (HOLDOUT4_SOURCES), committed before any fill
+HOLDOUT4_MANIFEST = Path(__file__).parent / "holdout4_manifest.json"
 RADII_H = (3, 4, 5, 6, 7, 8, 10)
 NEAR_BORDER = (1, 3, 5)
 ON_FEATURE = (0, 2, 4, 6)
@@ -72,6 +79,7 @@ SPLIT = {
     "holdout2": list(vm.HOLDOUT2_SOURCES),
     "holdout3": list(vm.HOLDOUT3_SOURCES),
     "cad_tuning": list(vm.CAD_TUNING_SOURCES),
+    "holdout4": list(vm.HOLDOUT4_SOURCES),
 }
 
 
@@ -163,11 +171,12 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     """Build the manifest of ``splits`` from :data:`SPLIT` and :mod:`validation_meshes` and
     write it; meshes whose source is not installed are skipped with a note. The holes'
     seeds follow each mesh's place in the list (the holdout's start at 100, the second
-    holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400)."""
+    holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
+    holdout's at 500)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = {("holdout",): 100, ("holdout2",): 200, ("holdout3",): 300,
-             ("cad_tuning",): 400}.get(tuple(splits), 0)
+             ("cad_tuning",): 400, ("holdout4",): 500}.get(tuple(splits), 0)
     for index, mesh_id in enumerate(ids, start=first):
         if only and mesh_id not in only:
             continue
@@ -195,6 +204,9 @@ if __name__ == "__main__":
     parser.add_argument("--holdout3", action="store_true",
                         help="the third holdout set instead (default --out: "
                         "holdout3_manifest.json)")
+    parser.add_argument("--holdout4", action="store_true",
+                        help="the fourth holdout set instead (default --out: "
+                        "holdout4_manifest.json)")
     parser.add_argument("--cad-tuning", action="store_true",
                         help="the tuning-side CAD parts instead (default --out: "
                         "cad_tuning_manifest.json)")
@@ -207,6 +219,8 @@ if __name__ == "__main__":
         write(Path(args.out or HOLDOUT2_MANIFEST), splits=("holdout2",))
     elif args.holdout3:
         write(Path(args.out or HOLDOUT3_MANIFEST), splits=("holdout3",))
+    elif args.holdout4:
+        write(Path(args.out or HOLDOUT4_MANIFEST), splits=("holdout4",))
     elif args.cad_tuning:
         write(Path(args.out or CAD_TUNING_MANIFEST), splits=("cad_tuning",))
     else:

@@ -120,22 +120,35 @@ def holdout3():
     return holes_manifest.read(holes_manifest.HOLDOUT3_MANIFEST)
 
 
+@pytest.fixture(scope="module")
+def cad_tuning():
+    return holes_manifest.read(holes_manifest.CAD_TUNING_MANIFEST)
+
+
+@pytest.fixture(scope="module")
+def holdout4():
+    return holes_manifest.read(holes_manifest.HOLDOUT4_MANIFEST)
+
+
 @pytest.mark.parametrize(("split", "sources"), [
     ("holdout2", validation_meshes.HOLDOUT2_SOURCES),  # run once after session 26's defaults
     ("holdout3", validation_meshes.HOLDOUT3_SOURCES),  # run once after session 28's
+    ("holdout4", validation_meshes.HOLDOUT4_SOURCES),  # session 29, committed before a fill
 ])
 def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
-                                                      split, sources):
-    """The second and third holdout sets: their own meshes, from sources no earlier set uses
-    (the two halves, the holdouts before them), every kind but brain surfaces, at least 3
-    range scans, 7 holes a mesh."""
-    sets = {"holdout2": holdout2, "holdout3": holdout3}
+                                                      cad_tuning, holdout4, split, sources):
+    """The second, third and fourth holdout sets: their own meshes, from sources no earlier
+    set uses (the two halves, the holdouts before them; for the fourth also the tuning-side
+    CAD parts), every kind but brain surfaces, at least 3 range scans, 7 holes a mesh."""
+    sets = {"holdout2": holdout2, "holdout3": holdout3, "holdout4": holdout4}
     this = sets[split]
     ids = [e["mesh"] for e in this["meshes"]]
     assert ids == holes_manifest.SPLIT[split] == list(sources)
     earlier = manifest["meshes"] + holdout["meshes"]
-    if split == "holdout3":
+    if split in ("holdout3", "holdout4"):
         earlier = earlier + holdout2["meshes"]
+    if split == "holdout4":
+        earlier = earlier + holdout3["meshes"] + cad_tuning["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
     earlier_sources = {e["source"] for e in earlier}
     for entry in this["meshes"]:
@@ -155,13 +168,14 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
     assert sum(h["on_feature"] for h in holes) == 4 * kinds["cad"]
 
 
-def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2, holdout3):
+def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2, holdout3,
+                                                     cad_tuning, holdout4):
     """Session 29's machined parts (tuning side, rules may be chosen on them): their own
     meshes and sources, shared with no other set, machined parts and scans of them only."""
-    cad = holes_manifest.read(holes_manifest.CAD_TUNING_MANIFEST)
+    cad = cad_tuning
     ids = [e["mesh"] for e in cad["meshes"]]
     assert ids == holes_manifest.SPLIT["cad_tuning"] == list(validation_meshes.CAD_TUNING_SOURCES)
-    others = [e for m in (manifest, holdout, holdout2, holdout3) for e in m["meshes"]]
+    others = [e for m in (manifest, holdout, holdout2, holdout3, holdout4) for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
     kinds = Counter(e["kind"] for e in cad["meshes"])
