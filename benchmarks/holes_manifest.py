@@ -63,6 +63,15 @@ HOLDOUT3_MANIFEST = Path(__file__).parent / "holdout3_manifest.json"
 CAD_TUNING_MANIFEST = Path(__file__).parent / "cad_tuning_manifest.json"
 # a sixth set, fresh meshes of session 29 (HOLDOUT4_SOURCES), committed before any fill
 HOLDOUT4_MANIFEST = Path(__file__).parent / "holdout4_manifest.json"
+# the sets with their own manifest: split -> (default file, in words, first hole seed)
+LATER_SETS = {
+    "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
+    "holdout2": (HOLDOUT2_MANIFEST, "the second holdout set", 200),
+    "holdout3": (HOLDOUT3_MANIFEST, "the third holdout set", 300),
+    "holdout4": (HOLDOUT4_MANIFEST, "the fourth holdout set", 500),
+    "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
+}
+
 RADII_H = (3, 4, 5, 6, 7, 8, 10)
 NEAR_BORDER = (1, 3, 5)
 ON_FEATURE = (0, 2, 4, 6)
@@ -175,8 +184,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 500)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
-    first = {("holdout",): 100, ("holdout2",): 200, ("holdout3",): 300,
-             ("cad_tuning",): 400, ("holdout4",): 500}.get(tuple(splits), 0)
+    first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0
     for index, mesh_id in enumerate(ids, start=first):
         if only and mesh_id not in only:
             continue
@@ -196,32 +204,14 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="write benchmarks/holes_manifest.json")
     parser.add_argument("--write", action="store_true")
     parser.add_argument("--out", default=None)
-    parser.add_argument("--holdout", action="store_true",
-                        help="the holdout set instead (default --out: holdout_manifest.json)")
-    parser.add_argument("--holdout2", action="store_true",
-                        help="the second holdout set instead (default --out: "
-                        "holdout2_manifest.json)")
-    parser.add_argument("--holdout3", action="store_true",
-                        help="the third holdout set instead (default --out: "
-                        "holdout3_manifest.json)")
-    parser.add_argument("--holdout4", action="store_true",
-                        help="the fourth holdout set instead (default --out: "
-                        "holdout4_manifest.json)")
-    parser.add_argument("--cad-tuning", action="store_true",
-                        help="the tuning-side CAD parts instead (default --out: "
-                        "cad_tuning_manifest.json)")
+    for split, (default, words, _) in LATER_SETS.items():
+        parser.add_argument(f"--{split.replace('_', '-')}", action="store_true",
+                            help=f"{words} instead (default --out: {default.name})")
     args = parser.parse_args()
     if not args.write:
         parser.error("pass --write to (re)write the manifest")
-    if args.holdout:
-        write(Path(args.out or HOLDOUT_MANIFEST), splits=("holdout",))
-    elif args.holdout2:
-        write(Path(args.out or HOLDOUT2_MANIFEST), splits=("holdout2",))
-    elif args.holdout3:
-        write(Path(args.out or HOLDOUT3_MANIFEST), splits=("holdout3",))
-    elif args.holdout4:
-        write(Path(args.out or HOLDOUT4_MANIFEST), splits=("holdout4",))
-    elif args.cad_tuning:
-        write(Path(args.out or CAD_TUNING_MANIFEST), splits=("cad_tuning",))
+    chosen = [split for split in LATER_SETS if getattr(args, split)]
+    if chosen:
+        write(Path(args.out or LATER_SETS[chosen[0]][0]), splits=(chosen[0],))
     else:
         write(Path(args.out or MANIFEST))
