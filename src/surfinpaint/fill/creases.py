@@ -456,44 +456,12 @@ def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     reversed_loop = loop[0] != given[0] or (len(loop) > 1 and loop[1] != given[1])
     scales = boundary_scales(v, faces, loop)
     spacing = float(np.mean(scales))
-    points = v
-    paths = []  # each from a loop vertex to a loop vertex or a corner, through new points
-
-    def continued(a: int, direction: np.ndarray, target: np.ndarray, back: np.ndarray):
-        nonlocal points
-        curve = crease_curve(v[a], direction, target, back, spacing)
-        points = np.vstack([points, curve])
-        return np.arange(len(points) - len(curve), len(points))
-
-    for crease in creases:
-        ends = [int(i) for i in crease.ends]
-        if reversed_loop:
-            ends = [len(loop) - 1 - i for i in ends]
-        ids = [int(loop[i]) for i in ends]
-        d = crease.directions
-        if crease.corner is None:
-            paths.append(np.concatenate([[ids[0]], continued(ids[0], d[0], v[ids[1]], d[1]),
-                                         [ids[1]]]))
-            continue
-        # a corner: each crease continued straight to it (``back`` = its own direction
-        # reversed), the first two as one path across the hole, the others ending at it
-        points = np.vstack([points, crease.corner])
-        corner = len(points) - 1
-        legs = [continued(a, d[j], crease.corner, -d[j]) for j, a in enumerate(ids)]
-        paths.append(np.concatenate([[ids[0]], legs[0], [corner], legs[1][::-1], [ids[1]]]))
-        paths += [np.concatenate([[a], leg, [corner]]) for a, leg in zip(ids[2:], legs[2:],
-                                                                           strict=True)]
-    # each region keeps the loop's orientation: (its vertex ids in order, their scales)
+    ends = [np.asarray(c.ends) if not reversed_loop else len(loop) - 1 - np.asarray(c.ends)
+            for c in creases]
+    points, paths = _crease_paths(v, loop, creases, ends, spacing)
     scale_of = np.full(len(points), spacing)
     scale_of[loop] = scales
-    regions = [loop]
-    for path in paths:
-        a, b = int(path[0]), int(path[-1])
-        ids = regions.pop(next(r for r, ids in enumerate(regions) if a in ids and b in ids))
-        rolled = np.roll(ids, -int(np.flatnonzero(ids == a)[0]))
-        jb = int(np.flatnonzero(rolled == b)[0])
-        regions += [np.concatenate([rolled[:jb + 1], path[-2:0:-1]]),
-                    np.concatenate([rolled[jb:], rolled[:1], path[1:-1]])]
+    regions = _split_along(loop, paths)
     n_curves = len(points) - n
     # no diagonal between two points of a crease: its triangles would be flat slivers
     chords = np.array([(p, q) for path in paths for i, p in enumerate(path)
@@ -526,3 +494,49 @@ def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                 raise FillError(f"cannot fair the sides of the crease: {err}") from err
     points[parent[inner]] = faired[inner]
     return points[n:], fill, cut_edges
+
+
+def _crease_paths(v: np.ndarray, loop: np.ndarray, creases: Sequence[Crease], ends,
+                  spacing: float) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The creases continued across the hole: the points with the curves' points appended,
+    and the paths, each from a loop vertex to a loop vertex or a corner through new points
+    (``ends``: each crease's ends as positions in ``loop``)."""
+    points = v
+    paths = []
+
+    def continued(a: int, direction: np.ndarray, target: np.ndarray, back: np.ndarray):
+        nonlocal points
+        curve = crease_curve(v[a], direction, target, back, spacing)
+        points = np.vstack([points, curve])
+        return np.arange(len(points) - len(curve), len(points))
+
+    for crease, at in zip(creases, ends, strict=True):
+        ids = [int(loop[i]) for i in at]
+        d = crease.directions
+        if crease.corner is None:
+            paths.append(np.concatenate([[ids[0]], continued(ids[0], d[0], v[ids[1]], d[1]),
+                                         [ids[1]]]))
+            continue
+        # a corner: each crease continued straight to it (``back`` = its own direction
+        # reversed), the first two as one path across the hole, the others ending at it
+        points = np.vstack([points, crease.corner])
+        corner = len(points) - 1
+        legs = [continued(a, d[j], crease.corner, -d[j]) for j, a in enumerate(ids)]
+        paths.append(np.concatenate([[ids[0]], legs[0], [corner], legs[1][::-1], [ids[1]]]))
+        paths += [np.concatenate([[a], leg, [corner]]) for a, leg in zip(ids[2:], legs[2:],
+                                                                           strict=True)]
+    return points, paths
+
+
+def _split_along(loop: np.ndarray, paths: list[np.ndarray]) -> list[np.ndarray]:
+    """The hole's regions once ``loop`` is split along each path in turn (a path's ends on
+    one region's boundary); each region's vertex ids in the loop's orientation."""
+    regions = [loop]
+    for path in paths:
+        a, b = int(path[0]), int(path[-1])
+        ids = regions.pop(next(r for r, ids in enumerate(regions) if a in ids and b in ids))
+        rolled = np.roll(ids, -int(np.flatnonzero(ids == a)[0]))
+        jb = int(np.flatnonzero(rolled == b)[0])
+        regions += [np.concatenate([rolled[:jb + 1], path[-2:0:-1]]),
+                    np.concatenate([rolled[jb:], rolled[:1], path[1:-1]])]
+    return regions
