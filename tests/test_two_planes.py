@@ -99,12 +99,13 @@ def test_the_conformal_fill_lays_a_hole_across_a_scanned_edge_on_its_two_planes(
     # closer to the noise-free roof than what the self-check writes without the test
     assert off_roof(fill.vertices) < 0.5 * off_roof(smooth.vertices)
     # and said so in the JSON record
-    from surfinpaint.app.fill_report import HoleRecord
+    from surfinpaint.app.fill_report import HoleRecord, hole_lines
     from surfinpaint.fill.pipeline import fill_holes
 
     (report,) = fill_holes(cut.vertices, cut.faces, jobs=1).reports
     record = HoleRecord.of(report).to_json()["plane"]
     assert record["planes"] == 2 and record["vertices"] == fill.plane.points
+    assert "laid on its two planes" in hole_lines(report)[0]
 
 
 def test_two_planes_crossing_through_a_bump_are_not_an_edge(monkeypatch):

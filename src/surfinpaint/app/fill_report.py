@@ -20,7 +20,7 @@ from typing import Any
 
 from surfinpaint.errors import HoleWarning
 from surfinpaint.fill.results import FillResult, HoleReport, TestScores
-from surfinpaint.geometry.flatness import TwoPlanes
+from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
 from surfinpaint.io.atomic import atomic_open
 
 __all__ = ["FAIRING", "REPORT_VERSION", "HoleRecord", "Summary", "WarningCount", "count_warnings",
@@ -107,8 +107,7 @@ def written(report: HoleReport) -> str:
     if outcome == "lambda-h":
         return "λ-H fill"
     if outcome == "faired":
-        on_plane = ("" if report.plane is None else ", laid on its two planes"
-                    if isinstance(report.plane, TwoPlanes) else ", laid on its plane")
+        on_plane = "" if report.plane is None else f", laid on {plane_words(report.plane)}"
         return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')}{on_plane})"
     if outcome == "zipped":
         return f"seam zipped ({len(report.zipped)} duplicate vertices merged)"
@@ -167,6 +166,11 @@ def _verdict(report: HoleReport) -> str:
     if not report.self_check:
         return "no self-check possible here: the faired fill kept"
     return f"{FAIRING.get(report.fair_order, 'faired')} fill kept"
+
+
+def plane_words(plane: PlaneTest | TwoPlanes) -> str:
+    """What a fill laid by the plane test was laid on, in words."""
+    return "its two planes" if isinstance(plane, TwoPlanes) else "its plane"
 
 
 def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:

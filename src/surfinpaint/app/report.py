@@ -47,7 +47,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from surfinpaint.app.fill_options import hole_list
-from surfinpaint.app.fill_report import hole_lines, written
+from surfinpaint.app.fill_report import hole_lines, plane_words, written
 from surfinpaint.app.progress import console as make_console
 from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.report_page import (
@@ -342,7 +342,8 @@ def panel_fills(fills: dict, k: int) -> PanelFills:
         titles["B"] = "(B) conventional fill (faired, written)"
     state = ("written" if written_in == "C" else "failed" if conformal is None
              else "rejected by the self-check")
-    titles["C"] = (f"(C) conformal: faired fill laid on its plane ({state})" if on_plane
+    titles["C"] = (f"(C) conformal: faired fill laid on {plane_words(report.plane)} ({state})"
+                   if on_plane
                    else f"(C) conformal fill ({state})")
     if written_in == "W":
         titles["W"] = f"(W) written: faired fill (order {report.fair_order})"
