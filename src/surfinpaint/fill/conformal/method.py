@@ -2,8 +2,9 @@
 fairing without any truth of the hole.
 
 Per hole: the candidates (:mod:`.candidates`: the faired fills, and the λ-H fill made only
-when needed) → the plane test (a surface around the hole that is a plane within its noise:
-the faired fill laid on it, :func:`known_plane`) → the truth-free test scores
+when needed) → the plane test (a surface around the hole that is a plane within its noise,
+:func:`known_plane`, or two planes meeting at an edge no crease search saw,
+:func:`known_two_planes`: the faired fill laid on it) → the truth-free test scores
 (:mod:`surfinpaint.fill.selfcheck`) → the verdict (:func:`.selection.choose`, pure; then
 :func:`.selection.demoted` where its evidence is not significant) → the winner, made and
 checked → a typed :class:`~surfinpaint.fill.results.Fill`. A failure of the λ-H fill is a
@@ -171,7 +172,8 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     vertices within ``rings`` rings of the loop (the loop's included), with the mesh edges
     between them; where it says curved, the same test of the vertices a trimmed plane fit
     keeps (:func:`~surfinpaint.geometry.flatness.trimmed_plane_test`: a few vertices off the
-    plane on one side, none of the loop's), whose verdict stands where it is flat."""
+    plane on one side, at most a tenth of the loop's), whose verdict stands where it is
+    flat."""
     near, local, edges = _ring(vertices, faces, loop, rings)
     test = plane_test(vertices[near], edges, alpha=PLANE_ALPHA)
     if test.flat:
