@@ -176,7 +176,10 @@ class ConformalOptions:
         the faired fill's new vertices are laid on that plane
         (:func:`surfinpaint.fill.liepa.baseline.laid_on_plane`) and no self-check
         runs: on a range scan's flat face the faired fills carry the rim's noise into the
-        hole (docs/candidates.md, "Session 26"). False: never.
+        hole (docs/candidates.md, "Session 26"). Where it is two planes meeting at an edge
+        that no crease crosses the hole along (a scanned part's edge:
+        :func:`surfinpaint.geometry.flatness.two_plane_test`), each new vertex is laid on
+        the plane of its side (session 29). False: never.
     significance : float, optional
         With ``select``: a λ-H fill or fair3 that the self-check prefers is written only
         when its advantage over fair2 in the test that decided (the hidden rings; the
