@@ -107,12 +107,14 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
                    "triangles (default, measured more accurate) or on the paper's regular "
                    "grid over the conformal domain")
     p.add_argument("--no-creases", action="store_true",
-                   help="fill every hole as smooth (by default a sharp crease that crosses a "
-                   "hole is continued across it and each side filled on its own)")
+                   help="fill every hole as smooth (by default sharp creases that cross a "
+                   "hole, or meet at a corner in it, are continued across it and each "
+                   "side filled on its own)")
     p.add_argument("--no-plane-test", action="store_true",
                    help="never lay a hole's faired fill on the plane of the surface around "
                    "it (by default, where that surface is a plane within its noise, as on "
-                   "a range scan's flat face, it is, and no self-check runs)")
+                   "a range scan's flat face, or two planes meeting at a scanned edge, it "
+                   "is, and no self-check runs)")
     p.add_argument("--crease-angle", type=float, metavar="DEG",
                    help="turn between neighbouring faces (degrees) above which an edge is "
                    "part of a crease (default 60)")
