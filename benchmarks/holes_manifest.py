@@ -37,6 +37,12 @@ A sixth set, the fourth holdout (``benchmarks/holdout4_manifest.json``, ``--writ
 --holdout4``): 12 fresh meshes (``validation_meshes.HOLDOUT4_SOURCES``), holes planned the
 same way (seeds from 500), made in session 29 and committed before any fill was run on them;
 to be run once.
+
+A seventh set, the fifth holdout (``benchmarks/holdout5_manifest.json``, ``--write
+--holdout5``): 12 fresh meshes (``validation_meshes.HOLDOUT5_SOURCES``), holes planned the
+same way (seeds from 600), made in session 29 after the fourth holdout had been run once and
+committed before any fill was run on them; to be run once by a later session after its
+changes.
 """
 
 from __future__ import annotations
@@ -63,12 +69,15 @@ HOLDOUT3_MANIFEST = Path(__file__).parent / "holdout3_manifest.json"
 CAD_TUNING_MANIFEST = Path(__file__).parent / "cad_tuning_manifest.json"
 # a sixth set, fresh meshes of session 29 (HOLDOUT4_SOURCES), committed before any fill
 HOLDOUT4_MANIFEST = Path(__file__).parent / "holdout4_manifest.json"
+# a seventh set, fresh meshes of session 29 (HOLDOUT5_SOURCES), committed before any fill
+HOLDOUT5_MANIFEST = Path(__file__).parent / "holdout5_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
     "holdout2": (HOLDOUT2_MANIFEST, "the second holdout set", 200),
     "holdout3": (HOLDOUT3_MANIFEST, "the third holdout set", 300),
     "holdout4": (HOLDOUT4_MANIFEST, "the fourth holdout set", 500),
+    "holdout5": (HOLDOUT5_MANIFEST, "the fifth holdout set", 600),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -89,6 +98,7 @@ SPLIT = {
     "holdout3": list(vm.HOLDOUT3_SOURCES),
     "cad_tuning": list(vm.CAD_TUNING_SOURCES),
     "holdout4": list(vm.HOLDOUT4_SOURCES),
+    "holdout5": list(vm.HOLDOUT5_SOURCES),
 }
 
 
@@ -181,7 +191,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     write it; meshes whose source is not installed are skipped with a note. The holes'
     seeds follow each mesh's place in the list (the holdout's start at 100, the second
     holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
-    holdout's at 500)."""
+    holdout's at 500, the fifth holdout's at 600)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

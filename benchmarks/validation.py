@@ -22,6 +22,8 @@ Run (one hole at a time, nothing parallel)::
         --out holdout3.json                                            # the third holdout
     .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout4_manifest.json \
         --out holdout4.json                                           # the fourth holdout
+    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout5_manifest.json \
+        --out holdout5.json                                            # the fifth holdout
 
 Every row is also appended to ``<out>.partial.jsonl`` as it is made, so the tables of a run
 that was stopped can be printed with ``--tables <out>.partial.jsonl``.
@@ -56,12 +58,13 @@ DEFAULT = "conformal"
 CANDIDATES = ("fair", "fair3", "conformal_raw")  # what the self-check chooses among
 FILLED = ("ok", "selected", "fallback")
 # reported in this order: the validation half first, then the holdout sets (fresh meshes,
-# benchmarks/holdout_manifest.json, holdout2_manifest.json, holdout3_manifest.json and
-# holdout4_manifest.json), then the tuning half every rule was chosen on
-SPLITS = ("validation", "holdout", "holdout2", "holdout3", "holdout4", "tuning", "cad_tuning")
+# benchmarks/holdout_manifest.json, holdout2_manifest.json to holdout5_manifest.json), then
+# the tuning half every rule was chosen on
+SPLITS = ("validation", "holdout", "holdout2", "holdout3", "holdout4", "holdout5", "tuning",
+          "cad_tuning")
 SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout3": "Holdout set 3", "holdout4": "Holdout set 4",
-               "cad_tuning": "Tuning-side CAD parts"}
+               "holdout5": "Holdout set 5", "cad_tuning": "Tuning-side CAD parts"}
 
 
 def _cut(mesh: vm.BenchMesh, hole: dict):
@@ -300,8 +303,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST),
                         help="the holes (default: both halves; benchmarks/"
                         "holdout_manifest.json, holdout2_manifest.json, "
-                        "holdout3_manifest.json, holdout4_manifest.json: the holdout "
-                        "sets)")
+                        "holdout3_manifest.json, holdout4_manifest.json, "
+                        "holdout5_manifest.json: the holdout sets)")
     parser.add_argument("--out", default=None, help="write all rows as JSON here")
     parser.add_argument("--tables", default=None,
                         help="print the tables of a saved run (.json or .partial.jsonl)")
