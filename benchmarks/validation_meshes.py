@@ -994,6 +994,23 @@ def _knob() -> BenchMesh:
     return _manifold_mesh(body - bore, KNOB_H, refine=0.1)
 
 
+
+def _tube(centre: np.ndarray, normal: np.ndarray, binormal: np.ndarray, r: float,
+          n_v: int) -> tuple[np.ndarray, np.ndarray]:
+    """A closed tube of radius ``r`` about a closed curve: ``n_v`` points around each of the
+    curve's points ``centre`` in the plane of its ``normal`` and ``binormal``, and the grid's
+    triangles (two per quad, both directions periodic)."""
+    n_u = len(centre)
+    s = np.linspace(0.0, 2 * np.pi, n_v, endpoint=False)
+    v = (centre[:, None] + r * (np.cos(s)[None, :, None] * normal[:, None]
+                                + np.sin(s)[None, :, None] * binormal[:, None])).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(n_u), np.arange(n_v), indexing="ij")
+    a, b = i * n_v + j, ((i + 1) % n_u) * n_v + j
+    c, d = ((i + 1) % n_u) * n_v + (j + 1) % n_v, i * n_v + (j + 1) % n_v
+    f = np.concatenate([np.column_stack([a.ravel(), b.ravel(), c.ravel()]),
+                        np.column_stack([a.ravel(), c.ravel(), d.ravel()])])
+    return v, f
+
 def _trefoil() -> BenchMesh:
     """A tube of radius 0.4 about a trefoil knot ``(sin t + 2 sin 2t, cos t - 2 cos 2t,
     -sin 3t)`` swept with the curve's Frenet frame (smooth and periodic: the knot's
@@ -1011,14 +1028,7 @@ def _trefoil() -> BenchMesh:
     binormal = np.cross(d1, d2)
     binormal /= np.linalg.norm(binormal, axis=1, keepdims=True)
     normal = np.cross(binormal, tangent)
-    s = np.linspace(0.0, 2 * np.pi, n_v, endpoint=False)
-    v = (c[:, None] + r * (np.cos(s)[None, :, None] * normal[:, None]
-                           + np.sin(s)[None, :, None] * binormal[:, None])).reshape(-1, 3)
-    i, j = np.meshgrid(np.arange(n_u), np.arange(n_v), indexing="ij")
-    a, b = i * n_v + j, ((i + 1) % n_u) * n_v + j
-    c2, d = ((i + 1) % n_u) * n_v + (j + 1) % n_v, i * n_v + (j + 1) % n_v
-    f = np.concatenate([np.column_stack([a.ravel(), b.ravel(), c2.ravel()]),
-                        np.column_stack([a.ravel(), c2.ravel(), d.ravel()])])
+    v, f = _tube(c, normal, binormal, r, n_v)
     return _mesh(*_remesh(v, data._outward(v, f), TREFOIL_H, feature_deg=180.0))
 
 
@@ -1207,14 +1217,7 @@ def _torus_coil() -> BenchMesh:
     tangent = big * d_ring + small * d_normal
     tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
     binormal = np.cross(tangent, normal)
-    s = np.linspace(0.0, 2 * np.pi, n_v, endpoint=False)
-    v = (c[:, None] + r * (np.cos(s)[None, :, None] * normal[:, None]
-                           + np.sin(s)[None, :, None] * binormal[:, None])).reshape(-1, 3)
-    i, j = np.meshgrid(np.arange(n_u), np.arange(n_v), indexing="ij")
-    a, b = i * n_v + j, ((i + 1) % n_u) * n_v + j
-    c2, d = ((i + 1) % n_u) * n_v + (j + 1) % n_v, i * n_v + (j + 1) % n_v
-    f = np.concatenate([np.column_stack([a.ravel(), b.ravel(), c2.ravel()]),
-                        np.column_stack([a.ravel(), c2.ravel(), d.ravel()])])
+    v, f = _tube(c, normal, binormal, r, n_v)
     return _mesh(*_remesh(v, data._outward(v, f), COIL_H, feature_deg=180.0))
 
 
