@@ -147,9 +147,11 @@ def hole_creases(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     ``angle`` degrees), nearly straight, that ends at a loop vertex (where it runs on along
     the loop, at the last loop vertex on it). The hole is crossed when the chains' ends pair
     up by :func:`paired_ends`: two ends not next to each other that point at each other,
-    every end paired, no two continuations crossing. Anything else gives an empty list:
-    corners (three chains meeting), creases that end inside the hole, and fold-like bends
-    below ``angle``; those holes are filled as smooth ones.
+    every end paired, no two continuations crossing. Where they do not pair, three or more
+    chains whose lines meet ahead of their ends are a corner (:func:`corner_point`),
+    returned as one Crease. Anything else gives an empty list: creases that end inside the
+    hole without a corner, curved creases whose ends do not point at each other, and
+    fold-like bends below ``angle``; those holes are filled as smooth ones.
 
     Parameters
     ----------
