@@ -82,8 +82,9 @@ def test_the_jacobian_takes_no_second_lagged_solve_where_the_residual_was_evalua
     # Jacobian at the same point: the lagged solve there was made twice before
     system, points, phi, patch = _system(30, 6)
     solves = []
-    normals = on_mesh.vertex_normals
-    monkeypatch.setattr(on_mesh, "vertex_normals", lambda *a: (solves.append(1), normals(*a))[1])
+    measures = on_mesh.vertex_normals_and_areas  # once a lagged solve
+    monkeypatch.setattr(on_mesh, "vertex_normals_and_areas",
+                        lambda *a: (solves.append(1), measures(*a))[1])
     new = system.update(phi)
     J = system.jacobian(phi)
     assert len(solves) == 1
@@ -136,9 +137,11 @@ def test_the_dense_jacobian_s_fast_path_is_the_reference_one(natural):
     fast = lagged_update_jacobian(system, phi)
     J = reference.apply(None)
     assert np.abs(fast - J).max() < 1e-12 * np.abs(J).max()
-    # the dense derivatives are the sparse ones
+    # the dense derivatives are the sparse ones (the normals' rows: free, tied, the rest)
     d_unit, d_area = _DenseJacobian.of(system).derivatives(phi)
-    np.testing.assert_allclose(d_unit, reference.d_unit.toarray(), rtol=0, atol=1e-13)
+    where = _DenseJacobian.of(system).where[system.moving]
+    rows = (3 * where[:, None] + np.arange(3)).ravel()  # in the moving vertices' order
+    np.testing.assert_allclose(d_unit[rows], reference.d_unit.toarray(), rtol=0, atol=1e-13)
     np.testing.assert_allclose(d_area, reference.d_area.toarray(), rtol=0, atol=1e-13)
     # made once a system, and what it keeps does not depend on where it is taken
     assert _DenseJacobian.of(system) is _DenseJacobian.of(system)
@@ -290,3 +293,72 @@ def test_the_vertices_sharing_a_face_with_a_free_one_move_where_cotangent_weight
     for J in (lagged_update_jacobian(system, phi), derivative.apply(None)):
         assert np.linalg.norm(J - central) < 1e-7 * np.linalg.norm(central)
     assert np.linalg.norm(derivative.apply(V) - central @ V) < 1e-7 * np.linalg.norm(central @ V)
+
+
+def test_the_stencil_s_h_from_the_faces_it_reads_is_the_whole_patch_s():
+    # stencil_H makes H from the faces around the vertices it reads only (session 30): the
+    # same bits as from the whole patch's normals, areas and L φ, also after the adjacency
+    # of the natural data is replaced (the read set is made again)
+    import scipy.sparse as sp
+
+    from surfinpaint.geometry.mesh import vertex_areas, vertex_normals
+
+    _, points, _, (local, uv, _) = _system(30, 6)
+    system = on_mesh._CoupledSystem(points, local, uv, _near_border(points, local),
+                                    np.ones(len(points), dtype=bool))
+    assert len(system.natural_data)
+
+    def whole_patch(phi):  # stencil_H as it was: H at every vertex of the patch
+        lam2 = vertex_areas(phi, system.faces) / system.area
+        H = (np.einsum("ij,ij->i", system.L @ phi, vertex_normals(phi, system.faces))
+             / (2.0 * lam2 * system.area))
+        out = H[system.stencil]
+        out[system.on_natural_stencil] = ((system.adjacency @ np.where(system.inner > 0, H, 0.0))
+                                          / system.weight)
+        return out
+
+    phi = points.copy()
+    phi[system.f] += 0.1 * system.scale * np.random.default_rng(4).standard_normal(
+        (len(system.f), 3))
+    for _ in range(2):
+        for at in (points, phi):
+            assert np.array_equal(system.stencil_H(at), whole_patch(at))
+        inner = system.moving[system.inner[system.moving] > 0][:len(system.natural_data)]
+        system.adjacency = (system.adjacency + sp.csr_matrix(
+            (np.ones(len(inner)), (np.arange(len(inner)), inner)),
+            shape=system.adjacency.shape)).tocsr()
+        system.weight = np.maximum(system.adjacency @ system.inner, 1.0)
+
+
+def test_the_face_blocks_are_the_sliced_whole_patch_derivatives_and_the_terms_made_once():
+    # UpdateDerivative assembles its derivatives from FaceBlocks' index arrays (session 30)
+    # where it sliced the whole patch's (3n, 3n) ones: the same to rounding, the sparse and
+    # the dense assembly the same bits; the natural border's terms made once at φ give the
+    # products made with them fresh, bit for bit
+    from surfinpaint.representation.coupled_jacobian import FaceBlocks, voronoi_area_derivative
+    from surfinpaint.representation.mesh_lambda_h import normals_with_jacobian
+
+    _, points, _, (local, uv, _) = _system(30, 6)
+    system = on_mesh._CoupledSystem(points, local, uv, _near_border(points, local),
+                                    np.ones(len(points), dtype=bool))
+    f, m = system.f, system.moving
+    phi = points.copy()
+    phi[f] += 0.1 * system.scale * np.random.default_rng(5).standard_normal((len(f), 3))
+    columns = (3 * f[:, None] + np.arange(3)).ravel()
+    rows = (3 * m[:, None] + np.arange(3)).ravel()
+    sliced = normals_with_jacobian(phi, system.near)[1][:, columns].tocsr()[rows].toarray()
+    area = voronoi_area_derivative(phi, system.near, f)[m].toarray()
+    blocks = FaceBlocks.of(system, m)
+    assert FaceBlocks.of(system, m) is blocks
+    d_unit, d_area = blocks.sparse(phi)
+    np.testing.assert_allclose(d_unit.toarray(), sliced, rtol=0, atol=1e-13 * np.abs(sliced).max())
+    np.testing.assert_allclose(d_area.toarray(), area, rtol=0, atol=1e-13 * np.abs(area).max())
+    assert d_unit.nnz <= np.count_nonzero(sliced) + 9 * len(system.near)
+    dense = blocks.dense(phi)
+    assert np.array_equal(d_unit.toarray(), dense[0]) and np.array_equal(d_area.toarray(), dense[1])
+
+    derivative = UpdateDerivative(system, phi)
+    V = np.random.default_rng(6).standard_normal((3 * len(f), 2))
+    made_once = derivative.apply(V)
+    derivative.stencil_terms = None  # _d_stencil_H makes them at each product
+    assert np.array_equal(derivative.apply(V), made_once)

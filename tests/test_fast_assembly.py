@@ -89,6 +89,29 @@ def test_vertex_areas_and_shared_pass_equal_the_separate_calls(case):
         mesh.vertex_areas(vertices, faces, "lumped")
 
 
+@pytest.mark.parametrize("case", [0, 1, 4, "soup", "empty"])
+def test_vertex_normals_and_areas_are_the_two_calls_bit_for_bit(case):
+    # the λ-H fill's lagged solve takes both from one pass over the corners (session 30):
+    # the same bits as the two calls, on closed and open meshes, obtuse and right-angled
+    # corners, and a soup with repeated and degenerate faces and unreferenced vertices
+    from surfinpaint.geometry.vertex_measures import vertex_normals_and_areas
+
+    if case == "soup":
+        rng = np.random.default_rng(7)
+        vertices = rng.normal(size=(200, 3)) * 10.0 ** rng.uniform(-3, 3, (200, 1))
+        faces = np.vstack([rng.integers(0, 150, (400, 3)), [[0, 0, 1], [2, 3, 4], [2, 3, 4]]])
+    elif case == "empty":
+        vertices, faces = np.ones((4, 3)), np.zeros((0, 3), dtype=np.int64)
+    else:
+        vertices, faces = meshes()[case]
+    with np.errstate(all="ignore"):  # the soup's degenerate faces divide by zero in both
+        normals, areas = vertex_normals_and_areas(vertices, faces)
+        want = mesh.vertex_normals(vertices, faces), mesh.vertex_areas(vertices, faces)
+    for got, ref in zip((normals, areas), want, strict=True):
+        assert got.shape == ref.shape and got.dtype == ref.dtype
+        assert np.array_equal(got.view(np.int64), ref.view(np.int64))
+
+
 def test_point_mesh_distance_is_the_brute_force_minimum():
     # the nearest-centroid count is a speed setting: the answer must stay the exact
     # minimum over every triangle, whatever it is

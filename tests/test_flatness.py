@@ -332,3 +332,54 @@ def test_a_hole_next_to_a_scanned_edge_is_laid_on_its_plane():
     (report,) = fill_holes(cut.vertices, cut.faces, jobs=1).reports
     assert f"{fill.plane.left_out} vertices off it on one side left out" in hole_lines(report)[1]
     assert HoleRecord.of(report).to_json()["plane"]["left_out"] == fill.plane.left_out
+
+
+# ---- the hole's own face (session 30): rings that reach past a part's edges all around
+
+
+def _hole_in_top_face(n: int, lift=None, size: int = 1):
+    """A cube of n × n squares per side, the faces within ``size`` rings of the top face's
+    centre vertex cut out (``size`` 1: its star, a hole of 8 edges); ``lift(x, y)`` raises
+    the top face's inner vertices."""
+    from surfinpaint.data import cube
+    from surfinpaint.geometry.mesh import boundary_loops, k_ring
+
+    v, f = cube(n)
+    top = np.isclose(v[:, 2], 1.0)
+    if lift is not None:
+        inner = top & (v[:, 0] > 1e-9) & (v[:, 0] < 1 - 1e-9) & (v[:, 1] > 1e-9) \
+            & (v[:, 1] < 1 - 1e-9)
+        v[inner, 2] += lift(v[inner, 0], v[inner, 1])
+    centre = np.flatnonzero(top & np.isclose(v[:, 0], 0.5) & np.isclose(v[:, 1], 0.5))[0]
+    f = f[~k_ring(f, [centre], size - 1, len(v))[f].any(axis=1)]
+    return v, f, boundary_loops(f)[0]
+
+
+@pytest.mark.parametrize("case, n, lift, flat, past", [
+    # 2 rings past the loop reach the cube's sides all around: neither the plain test nor
+    # the trimmed fit (one side only) calls it flat; the top face alone is a plane
+    ("narrow face", 4, None, True, True),
+    # the rings end on the face's edges: the plain test says flat, nothing left out
+    ("wide face", 6, None, True, False),
+    # the face itself is a dome: its own vertices are curved too
+    ("domed face", 4, lambda x, y: 0.3 * (x * (1 - x) + y * (1 - y)), False, False),
+])
+def test_a_hole_on_a_narrow_face_is_tested_on_its_own_face(case, n, lift, flat, past):
+    from surfinpaint.fill.conformal.method import known_plane
+
+    v, f, loop = _hole_in_top_face(n, lift)
+    test = known_plane(v, f, loop)
+    assert test.flat is flat, case
+    assert (test.past_edges > 0) is past, case
+    if flat:  # the top face's plane
+        assert np.allclose(np.abs(test.normal), [0, 0, 1]) and np.isclose(test.centre[2], 1)
+    if past:
+        assert "past the part's sharp edges left out" in test.sentence()
+
+
+def test_the_conformal_fill_of_a_hole_on_a_narrow_face_lies_in_it():
+    v, f, loop = _hole_in_top_face(6, size=2)  # 2 rings past the loop: the sides
+    fill = conformal_fill(v, f, loop)
+    assert len(fill.vertices) > 0
+    assert fill.plane is not None and fill.plane.past_edges > 0
+    assert np.abs(fill.vertices[:, 2] - 1.0).max() < 1e-12

@@ -1,6 +1,7 @@
 """Two planes meeting at an edge (``geometry.flatness.two_plane_test``), the fill laid on
 them (``fill.liepa.baseline.laid_on_two_planes``), and the conformal fill's use of both on a
-noisy scan of an edge (docs/candidates.md, "Session 29")."""
+noisy scan of an edge (docs/candidates.md, "Session 29"); the hole split along the line where
+they meet (``fill.two_planes.split_on_two_planes``, session 30) and its fallback."""
 
 from __future__ import annotations
 
@@ -9,11 +10,13 @@ import pytest
 from conftest import grid_mesh
 
 from surfinpaint import ConformalOptions
+from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal import conformal_fill
-from surfinpaint.fill.liepa.baseline import laid_on_two_planes
+from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_two_planes
+from surfinpaint.fill.two_planes import split_on_two_planes
 from surfinpaint.geometry.cutting import cut_geodesic_disk
-from surfinpaint.geometry.flatness import two_plane_test
-from surfinpaint.geometry.mesh import unique_edges, vertex_normals
+from surfinpaint.geometry.flatness import TwoPlanes, two_plane_test
+from surfinpaint.geometry.mesh import boundary_loops, unique_edges, vertex_normals
 
 ALPHA = 0.01
 
@@ -127,3 +130,83 @@ def test_two_planes_crossing_through_a_bump_are_not_an_edge(monkeypatch):
     monkeypatch.setattr(flatness, "TWO_PLANES_ACROSS", 1.0)
     crossing = known_two_planes(cut.vertices, cut.faces, cut.loop)
     assert crossing is not None and crossing.flat
+
+
+def _c_shaped_hole(n=40):
+    """A clean roof (53°) with a C-shaped hole whose arms cross the ridge: the meeting line
+    enters and leaves the hole twice (mesh, loop)."""
+    v, f = _surface(lambda u, w: 0.5 * np.abs(u), noise=0.0, n=n)
+    inside = np.linalg.norm(v[:, :2], axis=1)
+    inside = (inside > 0.2) & (inside < 0.5) & ~((v[:, 0] > 0.1) & (np.abs(v[:, 1]) < 0.15))
+    f = f[~inside[f].any(axis=1)]
+    used = np.unique(f)
+    ids = np.full(len(v), -1)
+    ids[used] = np.arange(len(used))
+    v, f = v[used], ids[f]
+    (loop,) = [c for c in boundary_loops(f) if np.abs(v[c, :2]).max() < 0.9]
+    return v, f, loop
+
+
+@pytest.mark.parametrize(("case", "slope", "options"), [
+    # 53°: under the crease angle, the two-plane test's own case
+    ("a clean roof, 53°", 0.5, ConformalOptions()),
+    # 90°: the crease search would find it; without it, the two planes
+    ("a clean roof, 90°, creases off", 1.0, ConformalOptions(creases=False)),
+])
+def test_the_fill_of_a_clean_edge_is_split_along_it_exactly(case, slope, options):
+    # a hole across the ridge of a noise-free roof z = slope |x|, the ridge on grid vertices:
+    # the fill must lie on the two planes and contain the ridge's segment across the hole
+    # (laying the faired fill's vertices on the planes cut it off: a bevel)
+    v, f = _surface(lambda u, w: slope * np.abs(u), noise=0.0)
+    cut = cut_geodesic_disk(v, f, np.array([0.05, 0.02, 0.0]), 0.35)
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop, options)
+    assert fill.kind == "fair" and isinstance(fill.plane, TwoPlanes), case
+    assert "split along the line where they meet" in fill.selection, case
+    points = np.vstack([cut.vertices, fill.vertices])
+    x = points[:, 0]
+    np.testing.assert_allclose(fill.vertices[:, 2], slope * np.abs(fill.vertices[:, 0]),
+                               atol=1e-9, err_msg=case)
+    corners = x[fill.faces]  # every triangle on one side of the ridge
+    assert ((corners >= -1e-9).all(axis=1) | (corners <= 1e-9).all(axis=1)).all(), case
+    ridge = np.intersect1d(np.flatnonzero(np.abs(x) <= 1e-9), fill.faces)
+    ridge = ridge[np.argsort(points[ridge, 1])]
+    assert np.isin(ridge[[0, -1]], cut.loop).all() and len(ridge) > 3, case
+    edges = set(map(tuple, unique_edges(fill.faces)[0].tolist()))
+    steps = zip(ridge[:-1], ridge[1:], strict=True)
+    assert all((min(a, b), max(a, b)) in edges for a, b in steps), case
+
+
+_ROOF = [(np.array([0.5, 0.0, 0.25]), np.array([-0.5, 0.0, 1.0]) / np.sqrt(1.25)),
+         (np.array([-0.5, 0.0, 0.25]), np.array([0.5, 0.0, 1.0]) / np.sqrt(1.25))]
+
+
+def _hole_beside_the_ridge():
+    """A clean roof (53°) with a round hole on one of its planes (mesh, loop)."""
+    v, f = _surface(lambda u, w: 0.5 * np.abs(u), noise=0.0)
+    cut = cut_geodesic_disk(v, f, np.array([0.6, 0.0, 0.3]), 0.2)
+    return cut.vertices, cut.faces, cut.loop
+
+
+@pytest.mark.parametrize(("case", "hole", "planes", "words"), [
+    ("the ridge enters and leaves the loop twice", _c_shaped_hole, _ROOF,
+     "crosses the loop more than twice"),
+    ("the ridge misses the hole", _hole_beside_the_ridge, _ROOF, "does not change plane"),
+    ("parallel planes", _c_shaped_hole,
+     [(np.array([0.0, 0.0, 5.0]), np.array([0.0, 0.0, 1.0])),
+      (np.array([0.0, 0.0, -5.0]), np.array([0.0, 0.0, 1.0]))], "parallel"),
+])
+def test_split_on_two_planes_refuses_what_it_cannot_split(case, hole, planes, words):
+    with pytest.raises(FillError, match=words):
+        split_on_two_planes(*hole(), *planes)
+
+
+def test_a_hole_the_meeting_line_crosses_four_times_is_laid_on_the_planes_unsplit():
+    # the fallback: today's projection of the faired fill, and the fill says why
+    v, f, loop = _c_shaped_hole()
+    fill = conformal_fill(v, f, loop)
+    assert isinstance(fill.plane, TwoPlanes)
+    assert "not split: the meeting line crosses the loop more than twice" in fill.selection
+    new, faces, order = faired_fills(v, f, loop, (2,))[2]
+    planes = [(p.centre, p.normal) for p in (fill.plane.first, fill.plane.second)]
+    np.testing.assert_array_equal(fill.faces, faces)
+    np.testing.assert_allclose(fill.vertices, laid_on_two_planes(new, *planes), atol=1e-12)

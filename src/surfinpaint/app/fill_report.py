@@ -304,6 +304,7 @@ class HoleRecord:
                        "p_curvature": float(r.plane.p_curvature),
                        "p_pattern": float(r.plane.p_pattern), "noise": float(r.plane.noise),
                        "vertices": int(r.plane.points), "left_out": int(r.plane.left_out),
+                       "past_edges": int(r.plane.past_edges),
                        "planes": 2 if isinstance(r.plane, TwoPlanes) else 1})
 
     def to_json(self) -> dict[str, Any]:

@@ -73,6 +73,10 @@ class Crease:
         Mean turn (degrees) between the faces along the chains.
     corner : (3,) float array, optional
         Where the creases meet (a corner); None for one crease across the hole.
+    line : (point, unit direction) pair of (3,) float arrays, optional
+        The straight line the crease lies on, where it is known (two planes' meeting line,
+        :func:`surfinpaint.fill.liepa.baseline.split_on_two_planes`): its points across
+        the hole are laid on it. None (the crease search's): the Hermite curve as it is.
     """
 
     ends: np.ndarray
@@ -80,6 +84,7 @@ class Crease:
     directions: np.ndarray
     angle: float
     corner: np.ndarray | None = None
+    line: tuple[np.ndarray, np.ndarray] | None = None
 
 
 def sharp_edges(vertices: np.ndarray, faces: np.ndarray, angle: float = CREASE_ANGLE
@@ -506,9 +511,12 @@ def _crease_paths(v: np.ndarray, loop: np.ndarray, creases: Sequence[Crease], en
     points = v
     paths = []
 
-    def continued(a: int, direction: np.ndarray, target: np.ndarray, back: np.ndarray):
+    def continued(a: int, direction: np.ndarray, target: np.ndarray, back: np.ndarray,
+                  line=None):
         nonlocal points
         curve = crease_curve(v[a], direction, target, back, spacing)
+        if line is not None:  # a straight crease whose line is known: its points on it
+            curve = line[0] + np.outer((curve - line[0]) @ line[1], line[1])
         points = np.vstack([points, curve])
         return np.arange(len(points) - len(curve), len(points))
 
@@ -516,8 +524,8 @@ def _crease_paths(v: np.ndarray, loop: np.ndarray, creases: Sequence[Crease], en
         ids = [int(loop[i]) for i in at]
         d = crease.directions
         if crease.corner is None:
-            paths.append(np.concatenate([[ids[0]], continued(ids[0], d[0], v[ids[1]], d[1]),
-                                         [ids[1]]]))
+            paths.append(np.concatenate([[ids[0]], continued(ids[0], d[0], v[ids[1]], d[1],
+                                                             crease.line), [ids[1]]]))
             continue
         # a corner: each crease continued straight to it (``back`` = its own direction
         # reversed), the first two as one path across the hole, the others ending at it

@@ -61,6 +61,9 @@ class PlaneTest:
     left_out : int
         How many more points a trimmed fit left out, all on one side
         (:func:`trimmed_plane_test`); 0 for :func:`plane_test`.
+    past_edges : int
+        How many more points were not tested because they lie past a sharp edge of the
+        surface, away from the hole (set by the caller that chose the points; 0 here).
     """
 
     flat: bool
@@ -71,11 +74,14 @@ class PlaneTest:
     noise: float
     points: int
     left_out: int = 0
+    past_edges: int = 0
 
     def sentence(self) -> str:
         """The verdict in words, for a hole's report."""
         trimmed = (f"; {self.left_out} vertices off it on one side left out" if self.left_out
                    else "")
+        if self.past_edges:
+            trimmed += f"; {self.past_edges} vertices past the part's sharp edges left out"
         return (f"the known surface around the hole is a plane within its noise "
                 f"(σ = {self.noise:.3g}; curvature p = {self.p_curvature:.2g}, pattern "
                 f"p = {self.p_pattern:.2g}, {self.points} vertices{trimmed})")
@@ -123,6 +129,7 @@ class TwoPlanes:
         return self.first.points + self.second.points
 
     left_out = 0  # as PlaneTest's: no point is left out
+    past_edges = 0
 
     def sentence(self) -> str:
         """The verdict in words, for a hole's report."""

@@ -13,14 +13,12 @@ import scipy.sparse.linalg as spla
 from surfinpaint.geometry.mesh import vertex_areas
 from surfinpaint.representation.mesh_lambda_h import (
     area_vectors,
-    cross_matrices,
-    normals_with_jacobian,
 )
 
 _GETRS = sla.get_lapack_funcs("getrs", dtype=np.float64)
 
-__all__ = ["UpdateDerivative", "lagged_update_jacobian", "newton_step",
-           "voronoi_area_derivative"]
+__all__ = ["FaceBlocks", "UpdateDerivative", "lagged_update_jacobian", "newton_step",
+           "stencil_terms", "voronoi_area_derivative"]
 
 
 def lagged_update_jacobian(system, phi):
@@ -53,16 +51,30 @@ class UpdateDerivative:
         self.state = system._lagged(phi)[1]
         f, m = system.f, system.moving
         self.P = 3 * len(f)
-        columns = (3 * f[:, None] + np.arange(3)).ravel()
-        rows = (3 * m[:, None] + np.arange(3)).ravel()
-        self.d_unit = normals_with_jacobian(phi, system.near)[1][:, columns].tocsr()[rows]
-        self.d_area = voronoi_area_derivative(phi, system.near, f)[m].tocsr()  # (len m, P)
+        # (3 len m, P) and (len m, P), rows in m's order: assembled at index arrays made once
+        # a system (the sparse matrices' sums in another order than the whole mesh's
+        # derivatives sliced, which cost most of a Newton–Krylov step's set-up: session 30)
+        self.d_unit, self.d_area = FaceBlocks.of(system, m).sparse(phi)
         self.where = np.full(len(phi), -1)
         self.where[m] = np.arange(len(m))  # a vertex's row among the moving ones
+        # what the natural border's term takes at phi, made once, not at each product
+        self.stencil_terms = (stencil_terms(system, phi, self.state[0])
+                              if len(system.natural_data) else None)
         self.ring = np.setdiff1d(m, f)  # made here, not at each product (a third of one)
         self.rows = {"ring": self.where[self.ring], "tied": self.where[system.tied],
                      "f": self.where[f]}
         self._woodbury = None
+        # what no direction changes, made once (session 30): Q_fk's columns on the ring
+        # (d λ is zero on the other fixed vertices), λ's scales there, and Z_t (d_n,c H_f)
+        ring, tied, area, lam = self.ring, system.tied, system.area, system.lam
+        normals, s, _, d_n, _, H = self.state
+        in_fixed, in_ring = np.full(len(phi), -1), np.full(len(phi), -1)
+        in_fixed[system.fixed] = np.arange(len(system.fixed))
+        in_ring[ring] = np.arange(len(ring))
+        a_t = area[tied] * s[tied]
+        self.fixed_terms = (system.Q_fk[:, in_fixed[ring]], (2.0 * lam[ring] * area[ring])[:, None],
+                            in_ring[tied], a_t, (a_t**2 / area[tied])[:, None],
+                            system.Z_t @ (d_n * H[:len(f), None]), (area[f] * s[f])[:, None, None])
 
     def operator(self):
         """The residual's Jacobian ``J − I`` as a ``LinearOperator`` on the free positions."""
@@ -90,26 +102,26 @@ class UpdateDerivative:
             return d_unit.reshape(len(m), 3, k)[where[ids]]
 
         # λ: sqrt(area_3D / area) at the moving vertices, biharmonic over the free ones
-        d_lam = np.zeros((len(phi), k))
-        ring, rows = self.ring, self.rows
-        d_lam[ring] = d_area[rows["ring"]] / (2.0 * lam[ring] * area[ring])[:, None]
-        d_lam[f] = system.lam_lu.solve(-(system.Q_fk @ d_lam[system.fixed]))
-        d_s = 4.0 * lam[:, None] * d_lam
+        Q_ring, lam_scale, tied_in_ring, a_t, st, Z_dnH, as_f = self.fixed_terms
+        rows = self.rows
+        d_lam_ring = d_area[rows["ring"]] / lam_scale
+        d_s_f = 4.0 * lam[f, None] * system.lam_lu.solve(-(Q_ring @ d_lam_ring))
+        d_s_t = 4.0 * lam[tied, None] * d_lam_ring[tied_in_ring]
         d_unit3 = d_unit.reshape(len(m), 3, k)
         dn_t, dn_f = d_unit3[rows["tied"]], d_unit3[rows["f"]]
-        a_t = area[tied] * s[tied]
-        d_st = d_s[tied] / (a_t**2 / area[tied])[:, None]  # ds / (area s²)
+        d_st = d_s_t / st  # ds / (area s²)
         d_wn = dn_t / a_t[:, None, None] - normals[tied][:, :, None] * d_st[:, None, :]
-        d_dn = system.curvature * (dn_f * (area[f] * s[f])[:, None, None]
-                                 + normals[f][:, :, None] * (area[f][:, None] * d_s[f])[:, None, :])
-        d_b = -(system.Q_ft @ np.einsum("tc,tcp->tp", system.L_t_phi, d_wn))
+        d_dn = system.curvature * (dn_f * as_f
+                                 + normals[f][:, :, None] * (area[f][:, None] * d_s_f)[:, None, :])
+        # d(K H) = Σ_c dw_n,c ∘ Z_t (d_n,c H_f) + w_n,c ∘ Z_t (dd_n,c H_f); with L_tφ·dw_n
+        z = np.einsum("tc,tcp->tp", system.L_t_phi + Z_dnH, d_wn)
+        z += np.einsum("tc,tcp->tp", w_n, (system.Z_t @ (d_dn * H_f[:, None, None]).reshape(
+            n_free, 3 * k)).reshape(-1, 3, k))
+        d_b = -(system.Q_ft @ z)
         if len(system.natural_data):
-            d_b -= system.Q_fs @ _d_stencil_H(system, phi, normals, d_normals, d_area, V)
-        # d(K H) = Σ_c dw_n,c ∘ Z_t (d_n,c H_f) + w_n,c ∘ Z_t (dd_n,c H_f)
-        d_KH = sum(d_wn[:, c, :] * (system.Z_t @ (d_n[:, c] * H_f))[:, None]
-                   + w_n[:, [c]] * (system.Z_t @ (d_dn[:, c, :] * H_f[:, None]))
-                   for c in range(3))
-        y = system.Q_lu.solve(d_b - system.Q_ft @ d_KH)  # (Q_ff + Q_ft K)⁻¹ by Woodbury
+            d_b -= system.Q_fs @ _d_stencil_H(system, phi, normals, d_normals, d_area, V,
+                                              self.stencil_terms)
+        y = system.Q_lu.solve(d_b)  # (Q_ff + Q_ft K)⁻¹ by Woodbury
         d_H = y - system.Y @ self._capacitance(K, y, V is None)
         rhs = d_dn * H_f[:, None, None] + d_n[:, :, None] * d_H[:n_free][:, None, :]
         return system.L_lu.solve(rhs.reshape(n_free, 3 * k)).reshape(3 * n_free, k)
@@ -144,20 +156,33 @@ def newton_step(system, points, x, r):
         return np.linalg.lstsq(J, -r, rcond=None)[0]
 
 
-def _d_stencil_H(system, phi, normals, d_normals, d_area, V):
-    """The derivative of :meth:`_CoupledSystem.stencil_H` in the free positions (on a natural border
-    its H is the mean of inner neighbours', some of which the free vertices move), applied to
-    the directions ``V`` (None: all; ``d_area`` the moving vertices' area derivative, applied)."""
-    m, P = system.moving, 3 * len(system.f)
+def stencil_terms(system, phi, normals):
+    """What :func:`_d_stencil_H` takes at ``phi`` whatever the directions: the moving
+    vertices' areas, ``L φ`` and ``n · L φ / 2 area`` there, and ``L``'s block (moving, free)
+    (made once a system)."""
+    m = system.moving
     areas = vertex_areas(phi, system.near)[m]
     Lphi = (system.L[m] @ phi)
     H = np.einsum("ij,ij->i", Lphi, normals[m]) / (2.0 * areas)
+    L_mf = getattr(system, "L_mf", None)
+    if L_mf is None:
+        L_mf = system.L_mf = system.L[m][:, system.f]
+    return areas, Lphi, H, L_mf
+
+
+def _d_stencil_H(system, phi, normals, d_normals, d_area, V, terms=None):
+    """The derivative of :meth:`_CoupledSystem.stencil_H` in the free positions (on a natural border
+    its H is the mean of inner neighbours', some of which the free vertices move), applied to
+    the directions ``V`` (None: all; ``d_area`` the moving vertices' area derivative, applied;
+    ``terms``: :func:`stencil_terms` at ``phi``, made when not given)."""
+    m, P = system.moving, 3 * len(system.f)
+    areas, Lphi, H, L_mf = terms or stencil_terms(system, phi, normals)
     if V is None:
-        L_mf = system.L[m][:, system.f].toarray()
+        L_mf = L_mf.toarray()
         d_Lphi_n = (L_mf[:, :, None] * normals[m][:, None, :]).reshape(len(m), P)
     else:  # d(L φ)·n = n · L_mf V
         k = V.shape[1]
-        moved = (system.L[m][:, system.f] @ V.reshape(len(system.f), 3 * k)).reshape(-1, 3, k)
+        moved = (L_mf @ V.reshape(len(system.f), 3 * k)).reshape(-1, 3, k)
         d_Lphi_n = np.einsum("ic,ick->ik", normals[m], moved)
     d_H = ((np.einsum("ic,icp->ip", Lphi, d_normals(m)) + d_Lphi_n) / (2.0 * areas)[:, None]
            - H[:, None] * d_area / areas[:, None])
@@ -226,6 +251,109 @@ def voronoi_area_derivative(phi, faces, free):
                          shape=(len(phi), 3 * len(free)))
 
 
+class FaceBlocks:
+    """The derivatives of the unit vertex normals and the Voronoi areas in the free
+    positions, at the vertices ``rows`` (normals) and the moving ones (areas), assembled from
+    every face's 3 × 3 blocks at index arrays made once a system and row order (:meth:`of`):
+    rows ``3 r + a`` (the vertex ``rows[r]``, coordinate a), columns ``3 j + b`` (free
+    vertex j, coordinate b). :meth:`dense` adds the blocks into dense arrays, :meth:`sparse`
+    into CSR matrices of the same pattern, both in the faces' order.
+
+    Why: :class:`UpdateDerivative` took the whole patch's derivatives (3n × 3n) and sliced
+    them, at each Newton–Krylov step; the dense Jacobian's rows in ``rows``' order give its
+    free and tied vertices' rows as slices (session 30)."""
+
+    def __init__(self, system, rows):
+        f, m, n = system.f, system.moving, len(system.points)
+        self.where = np.full(n, -1)  # a vertex's row among ``rows``
+        self.where[rows] = np.arange(len(rows))
+        self.where_m = np.full(n, -1)  # and among the moving ones (the areas' rows)
+        self.where_m[m] = np.arange(len(m))
+        column = np.full(n, -1)
+        column[f] = np.arange(len(f))
+        self.shape = (3 * len(rows), 3 * len(f))
+        faces = self.faces = system.near
+        self.n_moving = len(m)
+        # the flat entries (3 row + a, 3 column + b) every face's corner pair (i, j) adds to
+        pair = np.array([(i, j) for i in range(3) for j in range(3)])
+        i_row, j_col = self.where[faces[:, pair[:, 0]]], column[faces[:, pair[:, 1]]]
+        kept = (i_row >= 0) & (j_col >= 0)  # ``rows`` are the moving vertices, in any order
+        r = 3 * i_row[..., None, None] + np.arange(3)[:, None]
+        c = 3 * j_col[..., None, None] + np.arange(3)
+        self.flat = (r * self.shape[1] + c)[kept].ravel()  # (kept, 3, 3)
+        i_m = self.where_m[faces[:, pair[:, 0]]]
+        self.area_flat = (i_m[..., None] * self.shape[1] + 3 * j_col[..., None]
+                          + np.arange(3))[kept].ravel()  # (kept, 3)
+        # the kept pairs' faces, corners i (their vertex's normal) and j (the one moved)
+        self.with_free = kept.any(axis=1)  # the faces with a free corner
+        self.kept = kept[self.with_free]
+        face, which = np.nonzero(kept)
+        self.vertex_i, self.face_j = faces[face, pair[which, 0]], (face, pair[which, 1])
+        self._csr = None
+
+    @classmethod
+    def of(cls, system, rows):
+        """The system's for the row order ``rows``, made at its first use."""
+        made = getattr(system, "face_blocks", None)
+        if made is None:
+            made = system.face_blocks = {}
+        key = rows.tobytes()
+        if key not in made:
+            made[key] = cls(system, rows)
+        return made[key]
+
+    def blocks(self, phi):
+        """The blocks' values at the kept entries, in the order of ``flat`` and ``area_flat``
+        (the kept pairs' only, and the area's of the faces with a free corner: the same bits
+        as all blocks' made and the kept ones taken)."""
+        faces = self.faces
+        p = phi[faces]
+        N = area_vectors(phi, faces)
+        length = np.linalg.norm(N, axis=1)
+        length = np.where(length > 0, length, 1.0)
+        unit = N / length[:, None]
+        P = (np.eye(3)[None] - unit[:, :, None] * unit[:, None, :]) / length[:, None, None]
+        # d n_i / d p_j over a face: P_i [p_{j+2} − p_{j+1}]× (normals_with_jacobian), whose
+        # rows are P_i's rows × (p_{j+2} − p_{j+1})
+        e = (p[:, [2, 0, 1]] - p[:, [1, 2, 0]])[self.face_j][:, None, :]  # (kept, 1, 3)
+        Pi = P[self.vertex_i]  # (kept, 3, 3)
+        blocks = np.empty_like(Pi)
+        blocks[..., 0] = Pi[..., 1] * e[..., 2] - Pi[..., 2] * e[..., 1]
+        blocks[..., 1] = Pi[..., 2] * e[..., 0] - Pi[..., 0] * e[..., 2]
+        blocks[..., 2] = Pi[..., 0] * e[..., 1] - Pi[..., 1] * e[..., 0]
+        d_corner = _corner_area_derivative(phi, faces[self.with_free])
+        return blocks.ravel(), d_corner.reshape(len(d_corner), 9, 3)[self.kept].ravel()
+
+    def dense(self, phi):
+        """(3 len(rows), P) and (len(m), P) dense arrays."""
+        unit, area = self.blocks(phi)
+        size = self.shape[0] * self.shape[1]
+        d_unit = np.bincount(self.flat, unit, size).reshape(self.shape)
+        d_area = np.bincount(self.area_flat, area, self.n_moving * self.shape[1])
+        return d_unit, d_area.reshape(self.n_moving, self.shape[1])
+
+    def sparse(self, phi):
+        """The same as CSR matrices (their pattern and each entry's slot made once)."""
+        if self._csr is None:
+            self._csr = [_pattern(flat, (rows, self.shape[1])) for flat, rows in (
+                (self.flat, self.shape[0]), (self.area_flat, self.n_moving))]
+        out = []
+        for values, (slot, indices, indptr, shape) in zip(self.blocks(phi), self._csr,
+                                                         strict=True):
+            data = np.bincount(slot, values, len(indices))
+            out.append(sp.csr_matrix((data, indices, indptr), shape=shape))
+        return tuple(out)
+
+
+def _pattern(flat, shape):
+    """A CSR pattern of the flat entries ``flat`` (row · columns + column) of a ``shape``
+    matrix: each entry's slot, the indices and the row pointers."""
+    entries, slot = np.unique(flat, return_inverse=True)
+    rows, indices = np.divmod(entries, shape[1])
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=shape[0]))])
+    return slot.ravel(), indices.astype(np.int32), indptr.astype(np.int32), shape
+
+
 class _DenseJacobian:
     """:func:`lagged_update_jacobian`'s fast path: :meth:`UpdateDerivative.apply` with
     ``None`` rearranged for many right-hand sides, with what no position changes made once
@@ -237,18 +365,20 @@ class _DenseJacobian:
     sparse derivatives of the normals. Here the solves are products with matrices made
     once (``L_ff⁻¹``; ``Q_ff⁻¹`` folded into ``Y = Q_ff⁻¹ Q_ft``, so the Woodbury update
     needs no solve with Q: ``d_H = −Y (I + K Y)⁻¹ z``), the derivatives are assembled
-    densely at index arrays made once. The same Jacobian to rounding (tested)."""
+    densely at index arrays made once (:class:`FaceBlocks`), rows of the free vertices first,
+    then the tied ones. The chain rule's terms are regrouped so that only the normals'
+    derivatives are (3 free, P) arrays (session 30: a third of the time). The same Jacobian
+    to rounding (tested)."""
 
     def __init__(self, system):
         self.system = system
-        f, m, tied, n = system.f, system.moving, system.tied, len(system.points)
-        self.where = np.full(n, -1)
-        self.where[m] = np.arange(len(m))
-        column = np.full(n, -1)
-        column[f] = np.arange(len(f))
+        f, m, tied = system.f, system.moving, system.tied
+        rest = np.setdiff1d(m, np.concatenate([f, tied]))  # on a natural border
+        self.blocks = FaceBlocks.of(system, np.concatenate([f, tied, rest]))
+        self.where = self.blocks.where  # a vertex's row of the normals' derivative
         ring = np.setdiff1d(m, f)  # λ's data next to the free vertices
-        self.ring_rows, self.tied_rows, self.f_rows = (self.where[ring], self.where[tied],
-                                                       self.where[f])
+        self.ring_rows = self.blocks.where_m[ring]
+        n = len(system.points)
         in_ring = np.full(n, -1)
         in_ring[ring] = np.arange(len(ring))
         self.tied_in_ring = in_ring[tied]
@@ -261,16 +391,6 @@ class _DenseJacobian:
         self.stencil_map = (system.Q_lu.solve(system.Q_fs.toarray())
                             if len(system.natural_data) else None)  # Q_ff⁻¹ Q_fs
         self.shape = (3 * len(m), 3 * len(f))
-        faces = system.near
-        # the flat entries (3 row + a, 3 column + b) every face's corner pair (i, j) adds to
-        pair = np.array([(i, j) for i in range(3) for j in range(3)])
-        self.kept = (self.where[faces[:, pair[:, 0]]] >= 0) & (column[faces[:, pair[:, 1]]] >= 0)
-        r = 3 * self.where[faces[:, pair[:, 0]]][..., None, None] + np.arange(3)[:, None]
-        c = 3 * column[faces[:, pair[:, 1]]][..., None, None] + np.arange(3)
-        self.flat = (r * self.shape[1] + c)[self.kept].ravel()  # (kept, 3, 3)
-        self.area_flat = (self.where[faces[:, pair[:, 0]]][..., None] * self.shape[1]
-                          + 3 * column[faces[:, pair[:, 1]]][..., None]
-                          + np.arange(3))[self.kept].ravel()  # (kept, 3)
 
     @classmethod
     def of(cls, system):
@@ -281,56 +401,48 @@ class _DenseJacobian:
         return made
 
     def derivatives(self, phi):
-        """The unit normals' (3 len(m), P) and the Voronoi areas' (len(m), P) derivatives at
-        the moving vertices in the free positions, dense."""
-        faces = self.system.near
-        p = phi[faces]
-        N = area_vectors(phi, faces)
-        length = np.linalg.norm(N, axis=1)
-        length = np.where(length > 0, length, 1.0)
-        unit = N / length[:, None]
-        P = (np.eye(3)[None] - unit[:, :, None] * unit[:, None, :]) / length[:, None, None]
-        # d n_i / d p_j over a face: P_i [p_{j+2} − p_{j+1}]× (normals_with_jacobian)
-        e = p[:, [2, 0, 1]] - p[:, [1, 2, 0]]  # (F, corner j, 3)
-        X = cross_matrices(e.reshape(-1, 3)).reshape(len(faces), 3, 3, 3)
-        blocks = np.einsum("fiab,fjbc->fijac", P[faces], X).reshape(len(faces), 9, 3, 3)
-        size = self.shape[0] * self.shape[1]
-        d_unit = np.bincount(self.flat, blocks[self.kept].ravel(), size).reshape(self.shape)
-        d_corner = _corner_area_derivative(phi, faces).reshape(len(faces), 9, 3)
-        d_area = np.bincount(self.area_flat, d_corner[self.kept].ravel(), size // 3)
-        return d_unit, d_area.reshape(-1, self.shape[1])
+        """The unit normals' (3 len(m), P) derivatives at the moving vertices in the free
+        positions, rows in the order of :attr:`where` (free, tied, the rest), and the Voronoi
+        areas' (len(m), P), rows in m's order: dense."""
+        return self.blocks.dense(phi)
 
     def at(self, phi):
         """The (P, P) Jacobian at ``phi`` (:meth:`UpdateDerivative.apply` with ``None``)."""
         system = self.system
-        f, tied, area, m = system.f, system.tied, system.area, system.moving
+        f, tied, area = system.f, system.tied, system.area
         normals, s, w_n, d_n, K, H = system._lagged(phi)[1]
-        lam = system.lam
-        n_free, P = len(f), self.shape[1]
+        lam, kappa = system.lam, system.curvature
+        n_free, n_tied, P = len(f), len(tied), self.shape[1]
         H_f = H[:n_free]
         d_unit, d_area = self.derivatives(phi)
-        d_unit = d_unit.reshape(len(m), 3, P)
+        d_unit = d_unit.reshape(-1, 3, P)
+        dn_f, dn_t = d_unit[:n_free], d_unit[n_free:n_free + n_tied]  # views
         ring = self.ring
         d_lam_ring = d_area[self.ring_rows] / (2.0 * lam[ring] * area[ring])[:, None]
         d_s_f = 4.0 * lam[f, None] * (self.lam_map @ d_lam_ring)
         d_s_t = 4.0 * lam[tied, None] * d_lam_ring[self.tied_in_ring]
-        dn_t, dn_f = d_unit[self.tied_rows], d_unit[self.f_rows]
         a_t = area[tied] * s[tied]
         d_st = d_s_t / (a_t**2 / area[tied])[:, None]
-        d_wn = dn_t / a_t[:, None, None] - normals[tied][:, :, None] * d_st[:, None, :]
-        d_dn = system.curvature * (dn_f * (area[f] * s[f])[:, None, None]
-                                 + normals[f][:, :, None] * (area[f][:, None] * d_s_f)[:, None, :])
-        # z = L_tφ·dw_n + d(K H): d_b = −Q_ft z (− Q_fs dH_s on a natural border)
-        z = np.einsum("tc,tcp->tp", system.L_t_phi, d_wn)
-        for c in range(3):
-            z += d_wn[:, c, :] * (system.Z_t @ (d_n[:, c] * H_f))[:, None]
-            z += w_n[:, [c]] * (system.Z_t @ (d_dn[:, c, :] * H_f[:, None]))
-        C = np.eye(len(tied)) + K @ system.Y
+        n_t, n_f = normals[tied], normals[f]
+        # d_wn = dn_t / a_t − n_t d_st; d_dn = α dn_f + κ area_f n_f ⊗ d_s_f (α below)
+        alpha = kappa * area[f] * s[f]  # d_n = α n_f
+        # z = L_tφ·dw_n + d(K H) = Σ_c β_c dw_n,c + Σ_c w_n,c Z_t (H_f d_dn,c), with
+        # β = L_tφ + Z_t (d_n H_f); d_b = −Q_ft z (− Q_fs dH_s on a natural border)
+        beta = system.L_t_phi + system.Z_t @ (d_n * H_f[:, None])
+        z = (np.einsum("tc,tcp->tp", beta / a_t[:, None], dn_t)
+             - np.einsum("tc,tc->t", beta, n_t)[:, None] * d_st)
+        W = w_n[:, None, :] * (system.Z_t * (alpha * H_f))[:, :, None]  # (t, free, 3)
+        z += W.reshape(n_tied, 3 * n_free) @ dn_f.reshape(3 * n_free, P)
+        z += (system.Z_t * (w_n @ n_f.T) * (kappa * area[f] * H_f)) @ d_s_f
+        C = np.eye(n_tied) + K @ system.Y
         if self.stencil_map is None:
             d_H = -(system.Y @ np.linalg.solve(C, z))
         else:
             W = self.stencil_map @ _d_stencil_H(system, phi, normals, lambda ids: d_unit[
                 self.where[ids]], d_area, None)
             d_H = -(system.Y @ np.linalg.solve(C, z - K @ W)) - W
-        rhs = d_dn * H_f[:, None, None] + d_n[:, :, None] * d_H[:n_free][:, None, :]
+        # rhs = d_dn H_f + d_n ⊗ d_H = (α H_f) dn_f + n_f ⊗ q
+        q = (kappa * area[f] * H_f)[:, None] * d_s_f + alpha[:, None] * d_H[:n_free]
+        rhs = dn_f * (alpha * H_f)[:, None, None]
+        rhs += n_f[:, :, None] * q[:, None, :]
         return (self.L_inv @ rhs.reshape(n_free, 3 * P)).reshape(3 * n_free, P)

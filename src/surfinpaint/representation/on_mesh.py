@@ -42,12 +42,14 @@ from surfinpaint.geometry.mesh import (
     vertex_areas,
     vertex_normals,
 )
+from surfinpaint.geometry.vertex_measures import vertex_normals_and_areas
 from surfinpaint.representation.coupled_jacobian import (
     UpdateDerivative,
     lagged_update_jacobian,
     newton_step,
 )
 from surfinpaint.representation.least_squares import AndersonMixing, levenberg_marquardt
+from surfinpaint.representation.vertex_sets import ThinPatchError, coupled_vertex_sets
 
 __all__ = ["ThinPatchError", "inpaint_on_mesh", "least_squares_on_mesh", "vertex_lambda_h"]
 
@@ -331,49 +333,8 @@ def _blas_controller() -> ThreadpoolController:
     return _CONTROLLER[0]
 
 
-class ThinPatchError(FillError):
-    """The biharmonic stencil around the free vertices reaches the patch's border, which
-    is not a natural one."""
-
-
 class _Unsettled(FillError):
     """The lagged iteration diverged or did not settle."""
-
-
-def _vertex_sets(A, f, border, on_natural):
-    """The vertex sets of the coupled solve around the free vertices ``f`` on the mesh of
-    adjacency ``A``: ``reach`` (fixed vertices sharing a face with a free one), ``crease``
-    (those of the biharmonic stencil, two edges, on a natural border), ``tied`` (``reach``
-    off it), ``U`` (the unknown H: ``f`` and ``crease``) and ``stencil`` (the rest: H data).
-
-    H at the tied vertices is tied to φ; H further out is data, which must not be on the
-    border. On a natural border (a crease, the surface's own border) H near the free
-    vertices is unknown instead. Not L's nonzeros: λ, the normal and H at a vertex move with
-    every vertex of its faces, also one that a zero cotangent weight leaves out of L.
-    """
-    # sets of vertex ids as masks over the patch (the same sorted ids as set operations)
-    n = A.shape[0]
-    in_f = np.isin(np.arange(n), f)
-    reach = _ids(n, A[f].indices, np.intp, ~in_f)
-    two = (A @ A + A).tocsr()  # int32: no count wraps to zero
-    crease = _ids(n, two[f].indices, two.indices.dtype, ~in_f & on_natural)
-    tied = reach[~on_natural[reach]]
-    U = np.concatenate([f, crease])
-    known = in_f.copy()
-    known[crease] = known[tied] = True  # U and tied
-    stencil = _ids(n, two[U].indices, two.indices.dtype, ~known)
-    outer = np.isin(np.arange(n), border[~on_natural[border]])
-    if outer[stencil].any() or outer[tied].any():
-        raise ThinPatchError("the patch is too thin around the hole: the biharmonic "
-                             "stencil reaches its border")
-    return reach, crease, tied, U, stencil
-
-
-def _ids(n: int, ids: np.ndarray, dtype, where: np.ndarray) -> np.ndarray:
-    """The distinct ``ids`` (below ``n``) at which ``where`` holds, sorted, as ``dtype``."""
-    mask = np.zeros(n, dtype=bool)
-    mask[ids] = True
-    return np.flatnonzero(mask & where).astype(dtype, copy=False)
 
 
 class _CoupledSystem:
@@ -398,7 +359,7 @@ class _CoupledSystem:
         if natural is not None:
             on_natural[border] = np.asarray(natural, dtype=bool)[border]
         A = vertex_adjacency(faces, len(points)).astype(np.int32)  # the mesh's, not L's
-        reach, crease, self.tied, U, self.stencil = _vertex_sets(A, f, border, on_natural)
+        reach, crease, self.tied, U, self.stencil = coupled_vertex_sets(A, f, border, on_natural)
         tied, stencil = self.tied, self.stencil
         self.n_crease = len(crease)
         Q_f, L_f, L_t = Q[U], L[f], L[tied]  # row slices, each made once
@@ -432,23 +393,40 @@ class _CoupledSystem:
             self.adjacency = A.astype(float)[self.natural_data]  # the mesh's neighbours
             self.weight = np.maximum(self.adjacency @ self.inner, 1.0)
         self.L = L
-        self.H_stencil = self.stencil_H(points, areas)
+        self.H_stencil = self.stencil_H(points)
         # λ changes at the vertices whose faces touch a free one, the normals likewise
         self.moving = np.union1d(f, reach)
         self.near = faces[np.isin(faces, self.moving).any(axis=1)]
 
-    def stencil_H(self, phi, areas=None):
-        """H at the stencil's data vertices from the positions ``phi`` (``areas``: their
-        :func:`vertex_areas`, when already made)."""
-        areas = vertex_areas(phi, self.faces) if areas is None else areas
-        lam2 = areas / self.area
-        H = (np.einsum("ij,ij->i", self.L @ phi, vertex_normals(phi, self.faces))
-             / (2.0 * lam2 * self.area))
+    def stencil_H(self, phi):
+        """H at the stencil's data vertices from the positions ``phi`` (the same bits as from
+        the whole patch's normals, areas and ``L φ``: each read vertex's own sums)."""
+        read, faces, L_read = self._reads()
+        H = np.zeros(len(phi))
+        normals, areas = vertex_normals_and_areas(phi, faces)
+        lam2 = areas[read] / self.area[read]
+        H[read] = (np.einsum("ij,ij->i", L_read @ phi, normals[read])
+                   / (2.0 * lam2 * self.area[read]))
         out = H[self.stencil]
         if len(self.natural_data):
             out[self.on_natural_stencil] = ((self.adjacency @ np.where(self.inner > 0, H, 0.0))
                                             / self.weight)
         return out
+
+    _read = None  # (the adjacency, read, faces, L's rows) of _reads
+
+    def _reads(self):
+        """The vertices :meth:`stencil_H` reads H at (the stencil and, on a crease, the
+        natural data's neighbours), the faces around them and L's rows there, made where the
+        adjacency is new. Why: on a natural border H is made at every lagged solve, where the
+        whole patch's normals and areas took about half of it (session 30)."""
+        adjacency = getattr(self, "adjacency", None)
+        if self._read is None or self._read[0] is not adjacency:
+            read = (np.union1d(self.stencil, adjacency.indices) if len(self.natural_data)
+                    else self.stencil)
+            self._read = (adjacency, read, self.faces[np.isin(self.faces, read).any(axis=1)],
+                          self.L[read])
+        return self._read[1:]
 
     def update(self, phi):
         """The free positions solved with the normals and λ of the positions ``phi``."""
@@ -472,9 +450,9 @@ class _CoupledSystem:
     def _lagged_solve(self, phi):
         f, tied, area, lam = self.f, self.tied, self.area, self.lam
         H_stencil = self.stencil_H(phi) if len(self.natural_data) else self.H_stencil
-        normals = vertex_normals(phi, self.near)
+        normals, areas = vertex_normals_and_areas(phi, self.near)  # at the moving vertices
         m = self.moving
-        lam[m] = np.sqrt(vertex_areas(phi, self.near)[m] / area[m])
+        lam[m] = np.sqrt(areas[m] / area[m])
         lam[f] = self.lam_lu.solve(-(self.Q_fk @ lam[self.fixed]))
         s = 2.0 * lam**2
         w_n = normals[tied] / (area[tied] * s[tied])[:, None]  # (t, 3)
@@ -482,8 +460,9 @@ class _CoupledSystem:
         if self.curvature != 1.0:  # the curvature term scaled (least_squares_on_mesh)
             d_n = self.curvature * d_n
         # H at the tied ring = w_n · (L_tk φ_k + L_tf φ_f), φ_f = g + L_ff⁻¹ (d_n H)
-        K = sum(w_n[:, [c]] * self.Z_t * d_n[:, c] for c in range(3))  # (t, m)
-        K = np.hstack([K, np.zeros((len(tied), self.n_crease))])  # H on a crease: no φ
+        K = self.Z_t * (w_n @ d_n.T)  # Σ_c w_n,c Z_t d_n,c: (t, m)
+        if self.n_crease:  # H on a crease: no φ
+            K = np.hstack([K, np.zeros((len(tied), self.n_crease))])
         b = (-(self.Q_ft @ np.einsum("ij,ij->i", w_n, self.L_t_phi))
              - self.Q_fs @ H_stencil)
         y = self.Q_lu.solve(b)

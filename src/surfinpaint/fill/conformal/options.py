@@ -172,14 +172,18 @@ class ConformalOptions:
     plane_test : bool
         With ``select``: where the known surface within 2 rings of the loop is a plane
         within its noise (neither a quadric's curvature nor a pattern in the plane's
-        residuals significant at 1 %: :func:`surfinpaint.geometry.flatness.plane_test`),
-        the faired fill's new vertices are laid on that plane
+        residuals significant at 1 %: :func:`surfinpaint.geometry.flatness.plane_test`;
+        or those a trimmed fit keeps; or those of the hole's own face, up to a part's sharp
+        edges: :func:`surfinpaint.fill.conformal.method.known_plane`), the faired fill's
+        new vertices are laid on that plane
         (:func:`surfinpaint.fill.liepa.baseline.laid_on_plane`) and no self-check
         runs: on a range scan's flat face the faired fills carry the rim's noise into the
         hole (docs/candidates.md, "Session 26"). Where it is two planes meeting at an edge
         that no crease crosses the hole along (a scanned part's edge:
-        :func:`surfinpaint.geometry.flatness.two_plane_test`), each new vertex is laid on
-        the plane of its side (session 29). False: never.
+        :func:`surfinpaint.geometry.flatness.two_plane_test`), the hole is split along the
+        line where they meet and each side laid on its plane
+        (:func:`surfinpaint.fill.two_planes.split_on_two_planes`; sessions 29-30). False:
+        never.
     significance : float, optional
         With ``select``: a λ-H fill or fair3 that the self-check prefers is written only
         when its advantage over fair2 in the test that decided (the hidden rings; the

@@ -19,7 +19,8 @@ from surfinpaint.geometry.flatness import meeting_line
 from surfinpaint.geometry.mesh import faces_near, orient_loop
 from surfinpaint.geometry.validation import face_ids
 
-__all__ = ["conventional_fill", "faired_fill", "faired_fills", "laid_on_plane"]
+__all__ = ["conventional_fill", "faired_fill", "faired_fills", "laid_on_plane",
+           "laid_on_two_planes"]
 
 
 def conventional_fill(
