@@ -201,7 +201,7 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     trimmed = trimmed_plane_test(vertices[near], edges, keep=local[loop], alpha=PLANE_ALPHA)
     if trimmed is not None and trimmed.flat:
         return trimmed
-    face = own_face(vertices, faces, loop, rings=rings, angle=angle)
+    face = own_face(vertices, faces, loop, rings=rings, angle=angle, near=near)
     past = int(near.sum() - face.sum())
     if past == 0:
         return test
@@ -213,11 +213,13 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
 
 
 def own_face(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
-             rings: int = PLANE_RINGS, angle: float = CREASE_ANGLE) -> np.ndarray:
+             rings: int = PLANE_RINGS, angle: float = CREASE_ANGLE,
+             near: np.ndarray | None = None) -> np.ndarray:
     """The hole's own face: the vertices of the faces within ``rings`` rings of the loop
     that are reached from the faces on the loop's edges without crossing a sharp edge (one
     whose faces' normals turn by more than ``angle`` degrees, :func:`~surfinpaint.fill.
-    creases.sharp_edges`), as a boolean mask over ``vertices``.
+    creases.sharp_edges`), as a boolean mask over ``vertices``. ``near``: the mask of the
+    vertices within ``rings`` rings of the loop, where the caller has it.
 
     Examples
     --------
@@ -232,19 +234,19 @@ def own_face(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     >>> bool(np.isclose(v[face, 2], v[:, 2].max()).all())  # the top face only
     True
     """
-    near = k_ring(faces, loop, rings, len(vertices))
+    if near is None:
+        near = k_ring(faces, loop, rings, len(vertices))
     inside = faces[near[faces].all(axis=1)]
     edges, owners, count = edge_faces(inside)
-    two = count == 2
     sharp = sharp_edges(vertices, inside, angle)[0]
     n = len(vertices)
-    crossing = two & ~np.isin(edge_keys(edges[:, 0], edges[:, 1], n),
-                              edge_keys(sharp[:, 0], sharp[:, 1], n))
+    keys = edge_keys(edges[:, 0], edges[:, 1], n)
+    crossing = (count == 2) & ~np.isin(keys, edge_keys(sharp[:, 0], sharp[:, 1], n))
     step = sp.coo_matrix((np.ones(int(crossing.sum())), tuple(owners[crossing].T)),
                          shape=(len(inside), len(inside))).tocsr()
     step = step + step.T
     loop_keys = edge_keys(loop, np.roll(loop, -1), n)
-    reached = np.unique(owners[np.isin(edge_keys(edges[:, 0], edges[:, 1], n), loop_keys), 0])
+    reached = np.unique(owners[np.isin(keys, loop_keys), 0])
     labels = connected_components(step, directed=False)[1]
     face = np.zeros(n, dtype=bool)
     face[inside[np.isin(labels, labels[reached])]] = True
