@@ -112,6 +112,31 @@ def test_vertex_normals_and_areas_are_the_two_calls_bit_for_bit(case):
         assert np.array_equal(got.view(np.int64), ref.view(np.int64))
 
 
+@pytest.mark.parametrize("case", [0, 1, 4, "soup", "empty"])
+def test_the_compiled_vertex_measures_are_numpy_s_bit_for_bit(case):
+    # the lagged solves' normals and areas from a numba kernel (session 30): the same bits
+    # as the numpy version, whatever run() chooses, on the cases above
+    from surfinpaint.geometry import vertex_measures
+
+    kernel = pytest.importorskip("numba") and vertex_measures._MEASURES_KERNEL.get()
+    if case == "soup":
+        rng = np.random.default_rng(7)
+        vertices = rng.normal(size=(200, 3)) * 10.0 ** rng.uniform(-3, 3, (200, 1))
+        faces = np.vstack([rng.integers(0, 150, (400, 3)), [[0, 0, 1], [2, 3, 4], [2, 3, 4]]])
+    elif case == "empty":
+        vertices, faces = np.ones((4, 3)), np.zeros((0, 3), dtype=np.int64)
+    else:
+        vertices, faces = meshes()[case]
+    vertices = np.ascontiguousarray(vertices, dtype=float)
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    with np.errstate(all="ignore"):
+        got = vertex_measures._compiled(kernel, vertices, faces)
+        want = vertex_measures._measures_numpy(vertices, faces)
+    for a, b in zip(got, want, strict=True):
+        assert a.shape == b.shape and a.dtype == b.dtype
+        assert np.array_equal(a.view(np.int64), b.view(np.int64))
+
+
 def test_point_mesh_distance_is_the_brute_force_minimum():
     # the nearest-centroid count is a speed setting: the answer must stay the exact
     # minimum over every triangle, whatever it is

@@ -24,10 +24,11 @@ numba = pytest.importorskip("numba")
 
 def _dispatchers():
     from surfinpaint.fill.liepa import refinement, triangulation
-    from surfinpaint.geometry import metrics
+    from surfinpaint.geometry import metrics, vertex_measures
 
     return {"triangulation": triangulation._DP_KERNEL.get(),
-            "flip": refinement._flip_kernel(), "distance": metrics._numba_kernel()}
+            "flip": refinement._flip_kernel(), "distance": metrics._numba_kernel(),
+            "measures": vertex_measures._MEASURES_KERNEL.get()}
 
 
 def test_the_warmup_mesh_is_a_valid_annulus_with_the_hole_given():

@@ -17,7 +17,8 @@ peaks there already: docs/scale.md, sessions 13 and 22).
 
 :func:`warm_kernels` fills a small hole of a fixed mesh with the faired fill (the
 triangulation and the edge-flip kernels) and, for the conformal method only, measures a
-point-to-mesh distance (its self-check's kernel; a ``fair`` fill never uses it), through the
+point-to-mesh distance (its self-check's kernel; a ``fair`` fill never uses it) and the
+vertex normals and areas (its lagged solves' kernel), through the
 same functions a real fill calls, so numba loads exactly the specialisations real fills
 use, not new ones. It only computes: no file, no warning, no message besides numba's
 "compiling" notice. The batch command and the dask workers call it too.
@@ -42,6 +43,7 @@ import numpy as np
 
 from surfinpaint.fill import parallel
 from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.geometry.vertex_measures import vertex_normals_and_areas
 from surfinpaint.lazy import lazy_module
 
 # the conformal self-check's distances: a faired fill never imports them
@@ -97,6 +99,7 @@ def warm_kernels(method: str = "conformal") -> None:
         _done["fair"].set()
     if method == "conformal":
         metrics.point_mesh_distance(vertices[:3], vertices, faces)
+        vertex_normals_and_areas(vertices, faces)  # the λ-H fill's lagged solves
     _done[method].set()
 
 
@@ -192,10 +195,11 @@ def _quietly(method: str) -> None:
 def compile_kernels() -> None:
     """Compile (or load) every kernel, in the order the fallbacks of a first run cost most
     per second of compilation: the distances (conformal self-checks), the triangulation's
-    dynamic program, the edge flips."""
+    dynamic program, the edge flips, the vertex normals and areas (λ-H lagged solves)."""
     vertices, faces, loop = warmup_mesh()
     metrics.point_mesh_distance(vertices[:3], vertices, faces)
     faired_fill(vertices, faces, loop, 2)
+    vertex_normals_and_areas(vertices, faces)
 
 
 def main(argv: list[str]) -> int:
