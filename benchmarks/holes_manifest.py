@@ -43,6 +43,12 @@ A seventh set, the fifth holdout (``benchmarks/holdout5_manifest.json``, ``--wri
 same way (seeds from 600), made in session 29 after the fourth holdout had been run once and
 committed before any fill was run on them; to be run once by a later session after its
 changes.
+
+An eighth set, the sixth holdout (``benchmarks/holdout6_manifest.json``, ``--write
+--holdout6``): 12 fresh meshes (``validation_meshes.HOLDOUT6_SOURCES``), holes planned the
+same way (seeds from 700), made in session 30 after the fifth holdout had been run once and
+committed before any fill was run on them; to be run once by a later session after its
+changes.
 """
 
 from __future__ import annotations
@@ -71,6 +77,8 @@ CAD_TUNING_MANIFEST = Path(__file__).parent / "cad_tuning_manifest.json"
 HOLDOUT4_MANIFEST = Path(__file__).parent / "holdout4_manifest.json"
 # a seventh set, fresh meshes of session 29 (HOLDOUT5_SOURCES), committed before any fill
 HOLDOUT5_MANIFEST = Path(__file__).parent / "holdout5_manifest.json"
+# an eighth set, fresh meshes of session 30 (HOLDOUT6_SOURCES), committed before any fill
+HOLDOUT6_MANIFEST = Path(__file__).parent / "holdout6_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -78,6 +86,7 @@ LATER_SETS = {
     "holdout3": (HOLDOUT3_MANIFEST, "the third holdout set", 300),
     "holdout4": (HOLDOUT4_MANIFEST, "the fourth holdout set", 500),
     "holdout5": (HOLDOUT5_MANIFEST, "the fifth holdout set", 600),
+    "holdout6": (HOLDOUT6_MANIFEST, "the sixth holdout set", 700),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -99,6 +108,7 @@ SPLIT = {
     "cad_tuning": list(vm.CAD_TUNING_SOURCES),
     "holdout4": list(vm.HOLDOUT4_SOURCES),
     "holdout5": list(vm.HOLDOUT5_SOURCES),
+    "holdout6": list(vm.HOLDOUT6_SOURCES),
 }
 
 
@@ -191,7 +201,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     write it; meshes whose source is not installed are skipped with a note. The holes'
     seeds follow each mesh's place in the list (the holdout's start at 100, the second
     holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
-    holdout's at 500, the fifth holdout's at 600)."""
+    holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0
