@@ -107,6 +107,18 @@ def _remesh(v: np.ndarray, f: np.ndarray, edge_length: float, feature_deg: float
     return _largest_component(m.vertex_matrix().astype(float), m.face_matrix().astype(np.int64))
 
 
+def _level_set_mesh(inside, bounds, step: float, h: float) -> BenchMesh:
+    """The surface where ``inside(x, y, z)`` is 0 (manifold3d's marching tetrahedra on a grid
+    of ``step`` over ``bounds``), isotropically remeshed to edge ``h`` (no feature kept: a
+    smooth shape)."""
+    import manifold3d as m3
+
+    m = m3.Manifold.level_set(inside, bounds, step).to_mesh()
+    v = np.asarray(m.vert_properties, float)[:, :3]
+    f = np.asarray(m.tri_verts, np.int64)
+    return _mesh(*_remesh(v, f, h, feature_deg=180.0))
+
+
 def _subdivided(v: np.ndarray, f: np.ndarray, times: int) -> tuple[np.ndarray, np.ndarray]:
     """Loop subdivision: a finer, smooth version of a coarse organic mesh."""
     import trimesh.remesh
@@ -1037,7 +1049,6 @@ def _double_torus() -> BenchMesh:
     """Two tori side by side (major radius 1, minor 0.35), blended smoothly (manifold3d level
     set of the smooth maximum of their insides), isotropically remeshed (holdout 4): smooth,
     genus 2."""
-    import manifold3d as m3
 
     k = 0.1
 
@@ -1045,11 +1056,7 @@ def _double_torus() -> BenchMesh:
         g = [0.35 - np.hypot(np.hypot(x - cx, y) - 1.0, z) for cx in (-0.9, 0.9)]
         return float(k * np.log(np.exp(g[0] / k) + np.exp(g[1] / k)))
 
-    solid = m3.Manifold.level_set(inside, [-2.4, -1.5, -0.6, 2.4, 1.5, 0.6], 0.03)
-    m = solid.to_mesh()
-    v = np.asarray(m.vert_properties, float)[:, :3]
-    f = np.asarray(m.tri_verts, np.int64)
-    return _mesh(*_remesh(v, f, DTORUS_H, feature_deg=180.0))
+    return _level_set_mesh(inside, [-2.4, -1.5, -0.6, 2.4, 1.5, 0.6], 0.03, DTORUS_H)
 
 
 CHAMELEON_H, THING_H, GEAR_H, ANGLE_H, KNOB_H, TREFOIL_H, DTORUS_H = (
@@ -1188,16 +1195,11 @@ def _ibeam() -> BenchMesh:
 def _tanglecube() -> BenchMesh:
     """The tanglecube ``x⁴ - 5x² + y⁴ - 5y² + z⁴ - 5z² + 11.8 = 0`` (a quartic level set:
     smooth, genus 5), manifold3d level set, isotropically remeshed (holdout 5)."""
-    import manifold3d as m3
 
     def inside(x, y, z):
         return float(-(x**4 - 5 * x**2 + y**4 - 5 * y**2 + z**4 - 5 * z**2 + 11.8) / 10)
 
-    solid = m3.Manifold.level_set(inside, [-2.8, -2.8, -2.8, 2.8, 2.8, 2.8], 0.06)
-    m = solid.to_mesh()
-    v = np.asarray(m.vert_properties, float)[:, :3]
-    f = np.asarray(m.tri_verts, np.int64)
-    return _mesh(*_remesh(v, f, TANGLE_H, feature_deg=180.0))
+    return _level_set_mesh(inside, [-2.8, -2.8, -2.8, 2.8, 2.8, 2.8], 0.06, TANGLE_H)
 
 
 def _torus_coil() -> BenchMesh:
@@ -1271,7 +1273,6 @@ def _gourd() -> BenchMesh:
     (its radius times ``1 + 0.06 cos 9φ``), dented in at both poles, and a bent stalk (two
     capsules) blended on top with a smooth maximum (manifold3d level set), isotropically
     remeshed with no feature kept."""
-    import manifold3d as m3
 
     k = 0.05
     joint, tip = np.array([0.03, 0.0, 0.72]), np.array([0.16, 0.06, 0.98])
@@ -1290,11 +1291,7 @@ def _gourd() -> BenchMesh:
                     capsule(p, joint, tip, 0.065))
         return float(k * np.logaddexp(body / k, stalk / k))
 
-    solid = m3.Manifold.level_set(inside, [-1.2, -1.2, -0.9, 1.2, 1.2, 1.15], 0.03)
-    m = solid.to_mesh()
-    v = np.asarray(m.vert_properties, float)[:, :3]
-    f = np.asarray(m.tri_verts, np.int64)
-    return _mesh(*_remesh(v, f, GOURD_H, feature_deg=180.0))
+    return _level_set_mesh(inside, [-1.2, -1.2, -0.9, 1.2, 1.2, 1.15], 0.03, GOURD_H)
 
 
 def _bushing() -> BenchMesh:
@@ -1370,18 +1367,13 @@ def _orthocircles() -> BenchMesh:
     0.1²(1 + 3(x²+y²+z²))`` (three unit circles in the three coordinate planes, thickened
     and fused where they cross: smooth, genus 7), manifold3d level set, isotropically
     remeshed (holdout 6)."""
-    import manifold3d as m3
 
     def inside(x, y, z):
         a, b, c = x * x, y * y, z * z
         g = ((a + b - 1) ** 2 + c) * ((b + c - 1) ** 2 + a) * ((c + a - 1) ** 2 + b)
         return float(0.01 * (1 + 3 * (a + b + c)) - g)
 
-    solid = m3.Manifold.level_set(inside, [-1.5, -1.5, -1.5, 1.5, 1.5, 1.5], 0.02)
-    m = solid.to_mesh()
-    v = np.asarray(m.vert_properties, float)[:, :3]
-    f = np.asarray(m.tri_verts, np.int64)
-    return _mesh(*_remesh(v, f, ORTHO_H, feature_deg=180.0))
+    return _level_set_mesh(inside, [-1.5, -1.5, -1.5, 1.5, 1.5, 1.5], 0.02, ORTHO_H)
 
 
 def _twisted_ring() -> BenchMesh:

@@ -89,6 +89,19 @@ def test_vertex_areas_and_shared_pass_equal_the_separate_calls(case):
         mesh.vertex_areas(vertices, faces, "lumped")
 
 
+def _measures_case(case):
+    """The vertex-measure tests' meshes: ``meshes()``'s, a soup with repeated and degenerate
+    faces and unreferenced vertices, or no faces at all."""
+    if case == "soup":
+        rng = np.random.default_rng(7)
+        vertices = rng.normal(size=(200, 3)) * 10.0 ** rng.uniform(-3, 3, (200, 1))
+        faces = np.vstack([rng.integers(0, 150, (400, 3)), [[0, 0, 1], [2, 3, 4], [2, 3, 4]]])
+        return vertices, faces
+    if case == "empty":
+        return np.ones((4, 3)), np.zeros((0, 3), dtype=np.int64)
+    return meshes()[case]
+
+
 @pytest.mark.parametrize("case", [0, 1, 4, "soup", "empty"])
 def test_vertex_normals_and_areas_are_the_two_calls_bit_for_bit(case):
     # the λ-H fill's lagged solve takes both from one pass over the corners (session 30):
@@ -96,14 +109,7 @@ def test_vertex_normals_and_areas_are_the_two_calls_bit_for_bit(case):
     # corners, and a soup with repeated and degenerate faces and unreferenced vertices
     from surfinpaint.geometry.vertex_measures import vertex_normals_and_areas
 
-    if case == "soup":
-        rng = np.random.default_rng(7)
-        vertices = rng.normal(size=(200, 3)) * 10.0 ** rng.uniform(-3, 3, (200, 1))
-        faces = np.vstack([rng.integers(0, 150, (400, 3)), [[0, 0, 1], [2, 3, 4], [2, 3, 4]]])
-    elif case == "empty":
-        vertices, faces = np.ones((4, 3)), np.zeros((0, 3), dtype=np.int64)
-    else:
-        vertices, faces = meshes()[case]
+    vertices, faces = _measures_case(case)
     with np.errstate(all="ignore"):  # the soup's degenerate faces divide by zero in both
         normals, areas = vertex_normals_and_areas(vertices, faces)
         want = mesh.vertex_normals(vertices, faces), mesh.vertex_areas(vertices, faces)
@@ -119,14 +125,7 @@ def test_the_compiled_vertex_measures_are_numpy_s_bit_for_bit(case):
     from surfinpaint.geometry import vertex_measures
 
     kernel = pytest.importorskip("numba") and vertex_measures._MEASURES_KERNEL.get()
-    if case == "soup":
-        rng = np.random.default_rng(7)
-        vertices = rng.normal(size=(200, 3)) * 10.0 ** rng.uniform(-3, 3, (200, 1))
-        faces = np.vstack([rng.integers(0, 150, (400, 3)), [[0, 0, 1], [2, 3, 4], [2, 3, 4]]])
-    elif case == "empty":
-        vertices, faces = np.ones((4, 3)), np.zeros((0, 3), dtype=np.int64)
-    else:
-        vertices, faces = meshes()[case]
+    vertices, faces = _measures_case(case)
     vertices = np.ascontiguousarray(vertices, dtype=float)
     faces = np.ascontiguousarray(faces, dtype=np.int64)
     with np.errstate(all="ignore"):
