@@ -383,3 +383,13 @@ def test_the_conformal_fill_of_a_hole_on_a_narrow_face_lies_in_it():
     assert len(fill.vertices) > 0
     assert fill.plane is not None and fill.plane.past_edges > 0
     assert np.abs(fill.vertices[:, 2] - 1.0).max() < 1e-12
+
+
+def test_the_own_face_stops_at_the_crease_angle_asked_for():
+    # the cube's 90° edges are sharp at the default 60°, not at 95°: then the rings past
+    # them are the face's own, the surface around the hole is curved and a faired fill
+    # (not laid on a plane) is written
+    v, f, loop = _hole_in_top_face(6, size=2)
+    assert conformal_fill(v, f, loop).plane is not None
+    fill = conformal_fill(v, f, loop, ConformalOptions(crease_angle=95.0))
+    assert fill.plane is None

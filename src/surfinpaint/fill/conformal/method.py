@@ -109,7 +109,7 @@ def conformal_fill(
         faired = candidates.faired(vertices, faces, loop)
         if options.plane_test:
             reference = faired[f"fair{candidates.orders[0]}"]
-            plane = known_plane(vertices, faces, loop)
+            plane = known_plane(vertices, faces, loop, angle=options.crease_angle)
             if plane.flat:
                 return _on_plane(reference, plane)
             # a noisy scan's edge across the hole (a crease the search found is rebuilt

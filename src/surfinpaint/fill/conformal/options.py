@@ -157,7 +157,8 @@ class ConformalOptions:
         the hole, one or several side by side, are continued across it and each region
         between them is filled on its own. False fills every hole as smooth.
     crease_angle : float
-        Degrees, in (0, 180); see ``creases``.
+        Degrees, in (0, 180); see ``creases``. Also where the plane test's own-face step
+        stops (``plane_test``).
     grid : GridOptions, optional
         Options of the grid discretization; ``GridOptions()`` when ``discretization`` is
         "grid" and None. Given with the mesh discretization, an error.
