@@ -15,17 +15,7 @@ Run (one hole at a time, nothing parallel)::
     .venv/bin/python benchmarks/validation.py --quick                     # 6 holes, smoke
     .venv/bin/python benchmarks/validation.py --tables validation.json    # tables again
     .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout_manifest.json \
-        --out holdout.json                                                 # the holdout set
-    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout2_manifest.json \
-        --out holdout2.json                                           # the second holdout
-    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout3_manifest.json \
-        --out holdout3.json                                            # the third holdout
-    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout4_manifest.json \
-        --out holdout4.json                                           # the fourth holdout
-    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout5_manifest.json \
-        --out holdout5.json                                            # the fifth holdout
-    .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout6_manifest.json \
-        --out holdout6.json                                            # the sixth holdout
+        --out holdout.json        # a holdout set: holdout_manifest.json, holdout2_ ... holdout6_
 
 Every row is also appended to ``<out>.partial.jsonl`` as it is made, so the tables of a run
 that was stopped can be printed with ``--tables <out>.partial.jsonl``.
