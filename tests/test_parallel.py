@@ -382,3 +382,16 @@ def test_no_progress_bar_runs_a_thread_of_its_own(total, capsys):
         bar.update(2, 3, "hole 2")
         assert threading.active_count() == before
     assert "hole 2" in capsys.readouterr().err
+
+
+def test_a_bar_whose_total_is_not_known_yet_says_so(capsys):
+    # the fill command's bar is drawn before the mesh is read: "0/?", not "0/None"
+    from surfinpaint.app.progress import progress_bar
+
+    with progress_bar(True, None, "filling"):
+        pass
+    err = capsys.readouterr().err
+    assert "0/?" in err and "None" not in err
+    with progress_bar(True, None, "filling") as bar:
+        bar.update(2, 5, "hole 2")
+    assert "2/5" in capsys.readouterr().err

@@ -61,10 +61,17 @@ def progress_bar(enabled: bool, total: int | None = None, description: str = ""
     if not enabled:
         yield _Bar()
         return
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+    )
 
-    with Progress(TextColumn("{task.description}"), BarColumn(),
-                  TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+    # "3/7", or "0/?" while the total is not known (a mesh still being read)
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                  TimeElapsedColumn(),
                   console=console(), transient=False, auto_refresh=False) as progress:
         task = progress.add_task(description, total=total)
         yield _Bar(progress, task)
