@@ -573,3 +573,38 @@ def test_a_hole_next_to_the_surface_border_is_inpainted_with_a_natural_border():
     start = fill_holes(cut.vertices, cut.faces, holes=[cut.loop], method="fair", fair_order=3)
     assert _patch_error(cut, raw.vertices[len(cut.vertices):], raw.new_faces) < \
         0.5 * _patch_error(cut, start.vertices[len(cut.vertices):], start.new_faces)
+
+
+
+@pytest.mark.parametrize("surface", ["sphere", "torus"])
+@pytest.mark.parametrize("n_faces", [1, 2, 3])  # a strip of faces: loops of 3, 4, 5 edges
+def test_a_hole_with_no_vertex_inside_is_its_triangulation_without_a_self_check(
+        surface, n_faces, monkeypatch):
+    # every candidate (bilaplacian, trilaplacian, λ-H) is the same triangulation when none
+    # has a vertex to place: the self-check, the costliest step, could only choose among
+    # equals, so it is not run, and the fill is what the λ-H fill alone gives
+    from surfinpaint.app.fill_report import hole_lines
+    from surfinpaint.fill.conformal import method
+
+    v, f = sphere(3) if surface == "sphere" else torus()
+    strip = [0]
+    while len(strip) < n_faces:  # the next face sharing an edge with the strip
+        shared = np.isin(f, f[strip]).sum(axis=1) == 2
+        shared[strip] = False
+        strip.append(int(np.flatnonzero(shared)[0]))
+    kept = np.delete(f, strip, axis=0)
+    (loop,) = boundary_loops(kept)
+    raw = conformal_fill(v, kept, loop, RAW)
+    assert len(loop) == n_faces + 2 and len(raw.vertices) == 0
+    monkeypatch.setattr(method, "self_check", _forbidden)
+    fill = conformal_fill(v, kept, loop)
+    assert fill.kind == "fair" and fill.verdict is None
+    assert fill.selection == method.NO_INNER_VERTEX
+    np.testing.assert_array_equal(fill.faces, raw.faces)
+    (report,) = fill_holes(v, kept).reports
+    assert report.new_vertices == 0 and report.method == "fair"
+    assert hole_lines(report)[1] == f"  {method.NO_INNER_VERTEX}"
+
+
+def _forbidden(*args):
+    raise AssertionError("the self-check ran")

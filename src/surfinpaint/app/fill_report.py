@@ -163,6 +163,8 @@ def _verdict(report: HoleReport) -> str:
         return f"the λ-H fill failed ({report.fallback})"
     if report.plane is not None:
         return report.note or "the faired fill laid on the plane of the surface around it"
+    if report.verdict is None and report.note:  # nothing to choose between
+        return report.note
     if not report.self_check:
         return "no self-check possible here: the faired fill kept"
     return f"{FAIRING.get(report.fair_order, 'faired')} fill kept"
