@@ -10,11 +10,16 @@ cost of one hole against the size of the mesh around it. Prints markdown tables.
    memory (``ru_maxrss`` from ``wait4``, i.e. VmHWM).
 2. ``--big``: ``icosphere(subdivisions=9)`` (5.2M faces) bumped the same way with 100 small
    holes (radius 4 mean edge lengths, at most 30 edges), the same paired runs.
-3. The same hole in a small and a large mesh: a bumped ``icosphere(6)`` (41k vertices) with one
+3. ``--scan``: a real range scan with many small holes, PyMeshFix's scanned Stanford bunny
+   (its sample file) with the faces at its non-manifold edges removed first
+   (``remove_nonmanifold_faces``, as ``fill --repair`` does), so every tool gets the same
+   manifold mesh with 64 holes; the same paired runs.
+4. The same hole in a small and a large mesh: a bumped ``icosphere(6)`` (41k vertices) with one
    hole, alone and next to a disjoint bumped ``icosphere(8)`` (1.4M faces in all): the hole
    and its neighbourhood are identical, so the per-hole seconds should be too.
 
-    python benchmarks/scale.py [--big] [--repeat 3] [--workdir /tmp/surfinpaint-scale]
+    python benchmarks/scale.py [--big] [--scan] [--no-sphere] [--repeat 3]
+                               [--workdir /tmp/surfinpaint-scale]
 
 Meshes are generated once into ``--workdir`` and reused. MeshLib needs the ``peers`` extra.
 """
@@ -93,6 +98,23 @@ def make_case(workdir: Path, name: str, subdivisions: int, n_holes: int,
         np.save(meta, np.array([len(hole.loop) for hole in cut.holes]))
     v, f = read_mesh(path)[:2]
     return Case(name, path, len(v), len(f), np.load(meta).tolist())
+
+
+def scan_case(workdir: Path) -> Case:
+    """PyMeshFix's scanned bunny, its non-manifold faces removed, written (once) as binary
+    PLY: a scan's many small holes (most of them a few edges)."""
+    from pymeshfix import examples
+
+    from surfinpaint import find_holes
+    from surfinpaint.geometry.repair import remove_nonmanifold_faces
+
+    path = workdir / "scanned-bunny.ply"
+    if not path.exists():
+        v, f = read_mesh(examples.bunny_scan)[:2]
+        write_mesh(path, v, remove_nonmanifold_faces(v, f)[0])
+    v, f = read_mesh(path)[:2]
+    return Case("scanned-bunny (PyMeshFix's sample)", path, len(v), len(f),
+                [h.n_edges for h in find_holes(v, f) if not h.is_border])
 
 
 @dataclass(frozen=True)
@@ -215,9 +237,12 @@ def same_hole(repeat: int) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--big", action="store_true", help="also the 5M-face, 100-hole case")
+    parser.add_argument("--scan", action="store_true",
+                        help="also PyMeshFix's scanned bunny (64 small holes)")
     parser.add_argument("--repeat", type=int, default=3, help="rounds of the paired runs")
     parser.add_argument("--workdir", type=Path, default=Path("/tmp/surfinpaint-scale"))
     parser.add_argument("--no-meshlib", action="store_true", help="skip MeshLib")
+    parser.add_argument("--no-sphere", action="store_true", help="skip the 651k case")
     parser.add_argument("--no-same-hole", action="store_true", help="skip table 3")
     args = parser.parse_args(argv)
     args.workdir.mkdir(parents=True, exist_ok=True)
@@ -230,9 +255,12 @@ def main(argv: list[str] | None = None) -> int:
             with_meshlib = False
     print(f"machine: {os.cpu_count()} cores, load average at start "
           f"{', '.join(f'{x:.1f}' for x in os.getloadavg())}\n")
-    cases = [make_case(args.workdir, "bumpy-sphere-651k", 8, 10, 12.0)]
+    cases = [] if args.no_sphere else [make_case(args.workdir, "bumpy-sphere-651k", 8, 10,
+                                                 12.0)]
     if args.big:
         cases.append(make_case(args.workdir, "bumpy-sphere-5M-faces", 9, 100, 4.0))
+    if args.scan:
+        cases.append(scan_case(args.workdir))
     for case in cases:
         print(paired_table(case, paired(case, args.workdir, args.repeat, with_meshlib)), "\n")
     if not args.no_same_hole:
