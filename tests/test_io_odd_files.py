@@ -175,6 +175,31 @@ def test_ply_comment_containing_end_header(tmp_path, ascii):
     _same(path, v, f)
 
 
+@pytest.mark.parametrize("ascii", [False, True], ids=["binary", "ascii"])
+def test_ply_header_line_without_a_keyword_is_read_as_a_comment(tmp_path, ascii):
+    # Blender 2.4's exporter writes its name without "comment" (assimp's Wuson.ply);
+    # other readers take such files: the line is kept with the comments, and said
+    blob, v, f = _written(tmp_path, "m.ply", ascii=ascii)
+    path = tmp_path / "blender.ply"
+    path.write_bytes(blob.replace(b"comment written by surfinpaint\n",
+                                  b"Created by Blender3D 247 - www.blender.org, source file: \n"))
+    with pytest.warns(MeshWarning, match=r"blender\.ply: PLY header line 'Created by "
+                                         r"Blender3D.*read as a comment"):
+        mesh = read_mesh_data(path)
+    np.testing.assert_array_equal(mesh.vertices, v)
+    np.testing.assert_array_equal(mesh.faces, f)
+    assert "Created by Blender3D 247" in mesh.metadata["comments"]
+
+
+@pytest.mark.parametrize("line", [b"property float\n", b"format\n", b"element vertex\n"])
+def test_ply_header_keyword_lines_that_do_not_parse_are_refused(tmp_path, line):
+    blob, _, _ = _written(tmp_path, "m.ply")
+    path = tmp_path / "bad.ply"
+    path.write_bytes(blob.replace(b"comment written by surfinpaint\n",
+                                  b"comment written by surfinpaint\n" + line))
+    _refused(path, "PLY header")
+
+
 # ------------------------------------------------------------------------------- STL
 
 

@@ -23,9 +23,11 @@ _PLY_TYPES = {
 _END_HEADER = re.compile(rb"^[ \t]*end_header[ \t]*(?:\r\n|\n|\r|$)", re.MULTILINE)
 
 
-def _ply_header(data: bytes) -> tuple[str, list, int, list[str]]:
+def _ply_header(data: bytes) -> tuple[str, list, int, list[str], list[str]]:
     """Parse the PLY header: (format, [(element, count, [(name, type, list count type)])],
-    offset of the body, comment and obj_info lines)."""
+    offset of the body, comment and obj_info lines, and the lines of free text that start
+    with no PLY keyword, kept with the comments (Blender 2.4's exporter writes its
+    "Created by Blender3D ..." without ``comment``; other readers take such files))."""
     if not data.startswith(b"ply"):
         raise MeshError("not a PLY file (does not start with 'ply')")
     # the line that is exactly end_header (a comment may mention the word)
@@ -41,12 +43,17 @@ def _ply_header(data: bytes) -> tuple[str, list, int, list[str]]:
     fmt = None
     elements: list = []
     notes: list[str] = []
+    free_text: list[str] = []
     for line in header:
         parts = line.split()
         if parts and parts[0] in ("comment", "obj_info"):
             notes.append(line.strip())
             continue
         if not parts:
+            continue
+        if parts[0] not in ("format", "element", "property"):
+            notes.append(line.strip())
+            free_text.append(line.strip())
             continue
         if parts[0] == "format" and len(parts) >= 2:
             fmt = parts[1]
@@ -72,11 +79,11 @@ def _ply_header(data: bytes) -> tuple[str, list, int, list[str]]:
             raise MeshError(f"PLY header: cannot parse {line!r}")
     if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
         raise MeshError(f"PLY header: unknown format {fmt!r}")
-    return fmt, elements, body, notes
+    return fmt, elements, body, notes, free_text
 
 
 def read_ply(data: bytes, path: Path) -> Parsed:
-    fmt, elements, offset, notes = _ply_header(data)
+    fmt, elements, offset, notes, free_text = _ply_header(data)
     names = [e[0] for e in elements]
     if "vertex" not in names:
         raise MeshError("PLY file has no vertex element")
@@ -118,6 +125,8 @@ def read_ply(data: bytes, path: Path) -> Parsed:
     out = Parsed(vertices, counts, flat.astype(np.int64).reshape(-1),
                  metadata={"comments": "\n".join(notes)} if notes else {})
     _ply_data(out, elements, parsed, key)
+    out.dropped += [f"PLY header line {line!r} starts with no PLY keyword: read as a "
+                    "comment" for line in free_text]
     return out
 
 
