@@ -6,6 +6,7 @@ and PyMeshLab, filled end to end."""
 from __future__ import annotations
 
 import importlib.resources
+import json
 import os
 import re
 import subprocess
@@ -225,6 +226,21 @@ def test_bowtie_hole_default_is_skipped_with_a_warning(tmp_path, capsys):
     np.testing.assert_array_equal(f2[: len(f)], f)
     assert nonmanifold_vertices(f2).tolist() == [centre]
     assert len(find_holes(v2, f2)) == 2
+
+
+def test_batch_names_each_skipped_hole_once(tmp_path, capsys):
+    # the warning of a hole skipped at a bow-tie says why; the summary row must not say it
+    # again (it did: "hole 0: ...; skipped | hole 0: skipped (...)")
+    v, f, centre = _touching_spheres()
+    (tmp_path / "in").mkdir()
+    write_mesh(tmp_path / "in" / "pinched.ply", v, f)
+    code = main(["batch", str(tmp_path / "in"), "-o", str(tmp_path / "out"), "--method",
+                 "fair", "--jobs", "1", "-q"])
+    assert code == 0, capsys.readouterr().err
+    (row,) = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
+    for hole in (0, 1):
+        assert row["message"].count(f"hole {hole}:") == 1, row["message"]
+    assert row["message"].count(f"bow-tie) vertices {centre}") == 2
 
 
 def test_bowtie_hole_named_explicitly_is_an_error(tmp_path, capsys):

@@ -90,10 +90,12 @@ def _named(job: FileJob, text: str) -> str:
 def _messages(job: FileJob, result: FillResult,
               caught: Iterable[warnings.WarningMessage]) -> str:
     texts: list[str] = []
-    for text in [_named(job, str(w.message)) for w in caught] + [
-            f"hole {r.index}: skipped ({r.skipped})" for r in result.reports if r.skipped]:
+    for text in [_named(job, str(w.message)) for w in caught]:
         if text not in texts and not any(text in t for t in texts):
             texts.append(text)
+    # each skipped hole once: its warning, where it had one, already says why
+    texts += [f"hole {r.index}: skipped ({r.skipped})" for r in result.reports if r.skipped
+              and not any(f"hole {r.index}: {r.skipped}" in t for t in texts)]
     if len(result.removed_faces):
         texts.append(f"repair removed {len(result.removed_faces)} faces around non-manifold "
                      "edges")
