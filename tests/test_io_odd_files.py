@@ -166,12 +166,18 @@ def test_binary_garbage_in_a_text_format_is_still_refused(tmp_path):
     _refused(path, "not a text OBJ file")
 
 
+def _header_edited(tmp_path, name: str, lines: bytes, ascii: bool = False):
+    """A small mesh written as PLY with ``lines`` in place of its header's comment."""
+    blob, v, f = _written(tmp_path, "m.ply", ascii=ascii)
+    path = tmp_path / name
+    path.write_bytes(blob.replace(b"comment written by surfinpaint\n", lines))
+    return path, v, f
+
+
 @pytest.mark.parametrize("ascii", [False, True], ids=["binary", "ascii"])
 def test_ply_comment_containing_end_header(tmp_path, ascii):
-    blob, v, f = _written(tmp_path, "m.ply", ascii=ascii)
-    path = tmp_path / "comment.ply"
-    path.write_bytes(blob.replace(b"comment written by surfinpaint\n",
-                                  b"comment the end_header line follows\nobj_info end_header\n"))
+    path, v, f = _header_edited(tmp_path, "comment.ply", b"comment the end_header line "
+                                b"follows\nobj_info end_header\n", ascii)
     _same(path, v, f)
 
 
@@ -179,10 +185,8 @@ def test_ply_comment_containing_end_header(tmp_path, ascii):
 def test_ply_header_line_without_a_keyword_is_read_as_a_comment(tmp_path, ascii):
     # Blender 2.4's exporter writes its name without "comment" (assimp's Wuson.ply);
     # other readers take such files: the line is kept with the comments, and said
-    blob, v, f = _written(tmp_path, "m.ply", ascii=ascii)
-    path = tmp_path / "blender.ply"
-    path.write_bytes(blob.replace(b"comment written by surfinpaint\n",
-                                  b"Created by Blender3D 247 - www.blender.org, source file: \n"))
+    path, v, f = _header_edited(tmp_path, "blender.ply", b"Created by Blender3D 247 - "
+                                b"www.blender.org, source file: \n", ascii)
     with pytest.warns(MeshWarning, match=r"blender\.ply: PLY header line 'Created by "
                                          r"Blender3D.*read as a comment"):
         mesh = read_mesh_data(path)
@@ -193,10 +197,7 @@ def test_ply_header_line_without_a_keyword_is_read_as_a_comment(tmp_path, ascii)
 
 @pytest.mark.parametrize("line", [b"property float\n", b"format\n", b"element vertex\n"])
 def test_ply_header_keyword_lines_that_do_not_parse_are_refused(tmp_path, line):
-    blob, _, _ = _written(tmp_path, "m.ply")
-    path = tmp_path / "bad.ply"
-    path.write_bytes(blob.replace(b"comment written by surfinpaint\n",
-                                  b"comment written by surfinpaint\n" + line))
+    path, _, _ = _header_edited(tmp_path, "bad.ply", b"comment written by surfinpaint\n" + line)
     _refused(path, "PLY header")
 
 
