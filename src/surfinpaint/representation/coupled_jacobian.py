@@ -79,8 +79,12 @@ class UpdateDerivative:
     def operator(self):
         """The residual's Jacobian ``J − I`` as a ``LinearOperator`` on the free positions."""
         P = self.P
-        return spla.LinearOperator((P, P), dtype=float,
-                                   matvec=lambda v: self.apply(v.reshape(P, 1)).ravel() - v.ravel())
+        return spla.LinearOperator((P, P), dtype=float, matvec=self.residual_product)
+
+    def residual_product(self, v):
+        """``(J − I) v`` for one direction ``v`` (P,) (rows ``3 i + c``)."""
+        v = np.asarray(v).ravel()
+        return self.apply(v.reshape(self.P, 1)).ravel() - v
 
     def apply(self, V):
         """``J V`` for directions ``V`` (P, k) (rows ``3 i + c``), or ``J`` itself for

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from threadpoolctl import ThreadpoolController
 
 from surfinpaint.errors import FillError
@@ -48,6 +47,7 @@ from surfinpaint.representation.coupled_jacobian import (
     lagged_update_jacobian,
     newton_step,
 )
+from surfinpaint.representation.krylov import gmres_cycle
 from surfinpaint.representation.least_squares import AndersonMixing, levenberg_marquardt
 from surfinpaint.representation.vertex_sets import ThinPatchError, coupled_vertex_sets
 
@@ -516,8 +516,9 @@ def _newton_solve(system, points, tol, steps, envelope=None):
     ``A ρ^k`` (no converging stage was; ``envelope`` (A, ρ), by default ``NEWTON_ENVELOPE``
     and ``NEWTON_ENVELOPE_RATE``). Each step is
     solved exactly with R's analytic Jacobian on patches of at most
-    ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by GMRES
-    on its exact products on larger ones (Newton–Krylov, :class:`.UpdateDerivative`).
+    ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by one
+    GMRES cycle on its exact products on larger ones (Newton–Krylov,
+    :class:`.UpdateDerivative`, :func:`.krylov.gmres_cycle`).
 
     Why: on strongly curved patches (a white-matter sulcus, 1-2 edge lengths of curvature
     radius) the lagged map amplifies the smooth modes, so its first step overshoots by ten
@@ -546,8 +547,8 @@ def _newton_solve(system, points, tol, steps, envelope=None):
         else:
             phi = points.copy()
             phi[f] = x
-            dx, _ = spla.gmres(UpdateDerivative(system, phi).operator(), -r,
-                               rtol=NEWTON_RTOL, restart=GMRES_RESTART, maxiter=1)
+            dx, _ = gmres_cycle(UpdateDerivative(system, phi).residual_product, -r,
+                                NEWTON_RTOL, GMRES_RESTART)
         longest = float(np.abs(dx).max())
         if longest > TRUST:
             dx *= TRUST / longest
