@@ -393,3 +393,85 @@ def test_the_own_face_stops_at_the_crease_angle_asked_for():
     assert conformal_fill(v, f, loop).plane is not None
     fill = conformal_fill(v, f, loop, ConformalOptions(crease_angle=95.0))
     assert fill.plane is None
+
+
+# ---- a face beside a fillet (session 31): no sharp edge bounds it on that side
+
+
+def _floor_by_fillet(lift=None, n: int = 20, size: int = 3):
+    """A channel's floor, 1/n a grid cell: in the profile's arc length s, a wall down to a
+    sharp edge at s = 0.3, the floor z = 0 up to s = 0.67, a fillet of radius 0.3 turning
+    90° up, a wall; extruded along y over [0, 1]. The faces within ``size`` rings of the
+    floor's vertex at s = 0.5, y = 0.5 are cut out: 2 rings past the loop reach past the
+    sharp edge on one side and onto the fillet on the other. ``lift(x, y)`` raises the
+    floor's inner vertices."""
+    from surfinpaint.geometry.mesh import boundary_loops, k_ring
+
+    v, f = grid_mesh(2 * n, n)
+    s, y = 2.0 * v[:, 0], v[:, 1]
+    start, radius = 0.67, 0.3
+    x, z = np.where(s < 0.3, 0.0, s - 0.3), np.minimum(s - 0.3, 0.0)
+    arc = (s > start) & (s <= start + radius * np.pi / 2)
+    x[arc] = start - 0.3 + radius * np.sin((s[arc] - start) / radius)
+    z[arc] = radius * (1 - np.cos((s[arc] - start) / radius))
+    up = s > start + radius * np.pi / 2
+    x[up], z[up] = start - 0.3 + radius, radius + s[up] - start - radius * np.pi / 2
+    floor = (s > 0.3 + 1e-9) & (s < start - 1e-9)
+    if lift is not None:
+        z[floor] += lift(x[floor], y[floor])
+    v = np.column_stack([x, y, z])
+    centre = np.flatnonzero(np.isclose(s, 0.5) & np.isclose(y, 0.5))[0]
+    f = f[~k_ring(f, [centre], size - 1, len(v))[f].any(axis=1)]
+    return v, f, min(boundary_loops(f), key=len)
+
+
+def _hole_in_a_cap(height, rings: int = 24, size: int = 5):
+    """A disk of ``rings`` rings of vertices around a centre (radius 1) lifted to
+    ``height(r)``, the faces within ``size`` rings of the centre cut out: the loop is a
+    circle of vertices at one height, a plane to rounding."""
+    from surfinpaint.data import bumpy_disk
+    from surfinpaint.geometry.mesh import boundary_loops, k_ring
+
+    v, f = bumpy_disk(rings)
+    v[:, 2] = height(np.hypot(v[:, 0], v[:, 1]))
+    f = f[~k_ring(f, [0], size - 1, len(v))[f].any(axis=1)]
+    return v, f, min(boundary_loops(f), key=len)
+
+
+def _fillet_all_around(r):
+    """A flat disk of radius 0.23 with a fillet of radius 0.3 around it (the loop at 5/24,
+    2 rings past it at 7/24)."""
+    out = np.clip(r - 0.23, 0.0, 0.3)
+    return 0.3 - np.sqrt(0.09 - out * out)
+
+
+@pytest.mark.parametrize("case, mesh, flat", [
+    # the vertices on the fillet, off the loop's plane on one side, and those past the
+    # sharp edge on the other: the rest is the floor's plane
+    ("floor beside a fillet", lambda: _floor_by_fillet(), True),
+    # the floor itself bends: its loop is no plane
+    ("floor bent", lambda: _floor_by_fillet(lambda x, y: -(x - 0.25) ** 2 / 6), False),
+    ("domed floor", lambda: _floor_by_fillet(lambda x, y: 0.05 * x * (0.37 - x)), False),
+    # the loop is a planar circle; every vertex past it is off its plane, all around
+    ("cap of a sphere", lambda: _hole_in_a_cap(lambda r: 3 - np.sqrt(9 - r * r)), False),
+    # ... so a flat disk with a fillet all around it is not told from such a cap
+    ("disk in a fillet all around", lambda: _hole_in_a_cap(_fillet_all_around), False),
+])
+def test_a_hole_beside_a_fillet_is_tested_on_the_loop_s_plane(case, mesh, flat):
+    from surfinpaint.fill.conformal.method import known_plane
+
+    v, f, loop = mesh()
+    test = known_plane(v, f, loop)
+    assert test.flat is flat, case
+    if flat:  # the floor's plane, the fillet's vertices left out, the wall's past the edge
+        assert np.allclose(np.abs(test.normal), [0, 0, 1]) and abs(test.centre[2]) < 1e-12
+        assert test.left_out > 0 and test.past_edges > 0
+        assert "off it on one side left out" in test.sentence()
+
+
+def test_the_conformal_fill_of_a_hole_beside_a_fillet_lies_in_its_face():
+    v, f, loop = _floor_by_fillet()
+    fill = conformal_fill(v, f, loop)
+    assert len(fill.vertices) > 0
+    assert fill.plane is not None and fill.plane.left_out > 0
+    assert np.abs(fill.vertices[:, 2]).max() < 1e-12

@@ -11,12 +11,12 @@ scanned part a few of those vertices lie across the edge, off the face's plane:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.special import fdtrc, ndtr, ndtri  # F and normal tails (scipy.stats: 1 s)
 
-__all__ = ["PlaneTest", "TwoPlanes", "meeting_line", "morans_i", "plane_test",
+__all__ = ["PlaneTest", "TwoPlanes", "meeting_line", "morans_i", "part_plane_test", "plane_test",
            "trimmed_plane_test", "two_plane_test"]
 
 # the trimmed fit (:func:`trimmed_plane_test`) gives up where it leaves out more than
@@ -315,6 +315,48 @@ def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
     test = plane_test(points[inliers], kept_edges, alpha=alpha)
     return PlaneTest(test.flat, test.p_curvature, test.p_pattern, test.centre, test.normal,
                      test.noise, test.points, left_out)
+
+
+def part_plane_test(points: np.ndarray, edges: np.ndarray | None, kept: np.ndarray, *,
+                    keep: np.ndarray | None = None, alpha: float = 0.01) -> PlaneTest | None:
+    """:func:`plane_test` of the ``kept`` points (a boolean mask) that the caller chose,
+    where the others lie on one side of the kept ``keep`` points' centre (in a half-plane
+    through it, in the kept points' plane), as :func:`trimmed_plane_test` asks of the points
+    it leaves out; None where none or all are left out or they lie all around.
+
+    Parameters
+    ----------
+    points : (n, 3) float array
+    edges : (e, 2) int array or None
+        Mesh edges between the points; those between kept points go to Moran's I.
+    kept : (n,) bool array
+    keep : int array, optional
+        Ids of the points whose centre the left-out ones are seen from (default: all kept).
+    alpha : float
+        Significance level, as :func:`plane_test`'s.
+
+    Returns
+    -------
+    PlaneTest or None
+        The kept points' test, ``left_out`` counting the others.
+    """
+    points = np.asarray(points, dtype=float)
+    kept = np.asarray(kept, dtype=bool)
+    n, m = len(points), int(kept.sum())
+    if m in (0, n):
+        return None
+    centroid = points[kept].mean(axis=0)
+    axes = np.linalg.svd(points[kept] - centroid, full_matrices=False)[2]
+    required = np.zeros(n, dtype=bool) if keep is None else np.isin(np.arange(n), keep)
+    if not _on_one_side(points, kept, required & kept, axes):
+        return None
+    local = np.full(n, -1)
+    local[kept] = np.arange(m)
+    kept_edges = None
+    if edges is not None:
+        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        kept_edges = local[edges[kept[edges].all(axis=1)]]
+    return replace(plane_test(points[kept], kept_edges, alpha=alpha), left_out=n - m)
 
 
 def _on_one_side(points, inliers, required, axes) -> bool:

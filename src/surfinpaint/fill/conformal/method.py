@@ -33,8 +33,10 @@ from surfinpaint.fill.two_planes import split_on_two_planes
 from surfinpaint.geometry.cutting import edge_graph
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.flatness import (
+    TRIM_KEEP_MOST,
     PlaneTest,
     TwoPlanes,
+    part_plane_test,
     plane_test,
     trimmed_plane_test,
     two_plane_test,
@@ -50,6 +52,10 @@ __all__ = ["conformal_fill"]
 # most flat verdicts and none worse; docs/candidates.md, "Session 26")
 PLANE_RINGS = 2
 PLANE_ALPHA = 0.01
+# the fillet step of the plane test (:func:`on_loop_plane`) takes a vertex to lie on the
+# loop's plane within this fraction of the loop's diameter: a plane to rounding, as a clean
+# part's face is (fixed before any run; docs/candidates.md, "Session 31")
+ON_PLANE = 1e-9
 #: the note of a hole whose triangulation has no inner vertex (every candidate is that fill)
 NO_INNER_VERTEX = ("no vertex inside the hole: every candidate fill is its triangulation, "
                    "no self-check needed")
@@ -174,9 +180,7 @@ def _ring(vertices, faces, loop, rings):
     """The known vertices within ``rings`` rings of the loop (a mask), their local ids, and
     the mesh edges between them in local ids."""
     near = k_ring(faces, loop, rings, len(vertices))
-    local = np.full(len(vertices), -1)
-    local[near] = np.arange(int(near.sum()))
-    return near, local, local[unique_edges(faces[near[faces].all(axis=1)])[0]]
+    return (near, *_local(faces, near))
 
 
 def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
@@ -191,9 +195,13 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
       flat;
     - else, where sharp edges (turning by more than ``angle`` degrees) cut the rings, the
       same test of the hole's own face (:func:`own_face`: the vertices reached from the
-      loop without crossing one), whose verdict stands where it is flat.
+      loop without crossing one), whose verdict stands where it is flat;
+    - else, where the loop is a plane to rounding, the same test of the vertices of that face
+      on the loop's plane (:func:`on_loop_plane`), where the others lie on one side of the
+      loop (:func:`~surfinpaint.geometry.flatness.part_plane_test`), whose verdict stands
+      where it is flat.
 
-    Why the last: a hole on a narrow face of a part, whose rings reach past the part's edges
+    Why the own face: a hole on a narrow face of a part, whose rings reach past the part's edges
     on both sides, is a plane that neither the test nor the trimmed fit sees, and the
     self-check's hidden rings, which cross those edges too, can favour a curved fill there.
     On 109 tuning-side holes cut on flat faces within 0.2-0.7 edge lengths of a part's
@@ -201,6 +209,15 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     found 6 of them flat (laid on the plane: exact, where the self-check had written fills
     at 0.28-1.61 % of the hole's diameter); of 896 other tuning-side holes, one changed
     (a coarse egg crate's, 0.91× the error).
+
+    Why the loop's plane: a clean part's face that runs into a fillet or a bore has no sharp
+    edge there, so its own face holds vertices on the fillet, off the plane on that side (and
+    the vertices past a sharp edge lie on another side, so the trimmed fit does not apply).
+    Of the 109 near-edge holes, this found the last 3 clean holes called curved flat (tee #3,
+    bracket #1, #2: 0.267, 0.502, 0.740 % → exact, where the bilaplacian fill was 0.04-0.07
+    %); no other tuning-side hole changed (docs/candidates.md, "Session 31"). On a smooth
+    surface the loop is seldom a plane to rounding, and where it is (a cap of a sphere cut
+    along a circle), the surface leaves its plane all around the loop: not on one side.
     """
     near, local, edges = _ring(vertices, faces, loop, rings)
     test = plane_test(vertices[near], edges, alpha=PLANE_ALPHA)
@@ -211,13 +228,65 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
         return trimmed
     face = own_face(vertices, faces, loop, rings=rings, angle=angle, near=near)
     past = int(near.sum() - face.sum())
-    if past == 0:
+    on_face, face_edges = _local(faces, face)
+    if past:
+        own = plane_test(vertices[face], face_edges, alpha=PLANE_ALPHA)
+        if own.flat:
+            return replace(own, past_edges=past)
+    on_plane = on_loop_plane(vertices, faces, loop, face)
+    if on_plane is None:
         return test
-    on_face = np.full(len(vertices), -1)
-    on_face[face] = np.arange(int(face.sum()))
-    face_edges = on_face[unique_edges(faces[face[faces].all(axis=1)])[0]]
-    own = plane_test(vertices[face], face_edges, alpha=PLANE_ALPHA)
-    return replace(own, past_edges=past) if own.flat else test
+    beside = part_plane_test(vertices[face], face_edges, on_plane[face], keep=on_face[loop],
+                             alpha=PLANE_ALPHA)
+    return replace(beside, past_edges=past) if beside is not None and beside.flat else test
+
+
+def _local(faces, mask):
+    """Local ids of the vertices of ``mask`` (-1 elsewhere) and the mesh edges between them
+    in local ids."""
+    local = np.full(len(mask), -1)
+    local[mask] = np.arange(int(mask.sum()))
+    return local, local[unique_edges(faces[mask[faces].all(axis=1)])[0]]
+
+
+def on_loop_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                  among: np.ndarray) -> np.ndarray | None:
+    """The vertices of ``among`` (a mask) on the plane of the loop to rounding (within
+    ``ON_PLANE`` of its diameter) and reached from the loop along mesh edges between such
+    vertices, as a mask; None where more than ``TRIM_KEEP_MOST`` of the loop is off it (the
+    loop is no plane to rounding).
+
+    Examples
+    --------
+    >>> from surfinpaint.data import cube
+    >>> from surfinpaint.geometry.mesh import boundary_loops
+    >>> v, f = cube(6)
+    >>> top = np.flatnonzero(np.isclose(v[:, 2], v[:, 2].max()))
+    >>> centre = top[np.argmin(np.linalg.norm(v[top, :2] - v[top, :2].mean(0), axis=1))]
+    >>> keep = ~(f == centre).any(axis=1)
+    >>> loop = boundary_loops(f[keep])[0]
+    >>> on = on_loop_plane(v, f[keep], loop, np.ones(len(v), dtype=bool))
+    >>> # the top face's vertices, but for the hole's centre (no face holds it now)
+    >>> bool(np.isclose(v[on, 2], v[:, 2].max()).all()), int(on.sum()) == len(top) - 1
+    (True, True)
+    """
+    centre = vertices[loop].mean(axis=0)
+    normal = np.linalg.svd(vertices[loop] - centre, full_matrices=False)[2][2]
+    tolerance = ON_PLANE * float(np.ptp(vertices[loop], axis=0).max())
+    if (np.abs((vertices[loop] - centre) @ normal) > tolerance).sum() > \
+            TRIM_KEEP_MOST * len(loop):
+        return None
+    ids = np.flatnonzero(among)
+    on = np.zeros(len(vertices), dtype=bool)
+    on[ids] = np.abs((vertices[ids] - centre) @ normal) <= tolerance
+    edges = unique_edges(faces[among[faces].all(axis=1)])[0]
+    local = np.cumsum(on) - 1
+    edges = local[edges[on[edges].all(axis=1)]]
+    m = int(on.sum())
+    graph = sp.coo_matrix((np.ones(len(edges)), tuple(edges.T)), shape=(m, m))
+    labels = np.full(len(vertices), -1)
+    labels[on] = connected_components(graph, directed=False)[1]
+    return on & np.isin(labels, labels[loop[on[loop]]])
 
 
 def own_face(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
