@@ -49,6 +49,12 @@ An eighth set, the sixth holdout (``benchmarks/holdout6_manifest.json``, ``--wri
 same way (seeds from 700), made in session 30 after the fifth holdout had been run once and
 committed before any fill was run on them; to be run once by a later session after its
 changes.
+
+A ninth set, the seventh holdout (``benchmarks/holdout7_manifest.json``, ``--write
+--holdout7``): 12 fresh meshes (``validation_meshes.HOLDOUT7_SOURCES``), holes planned the
+same way (seeds from 800), made in session 31 after the sixth holdout had been committed and
+committed before any fill was run on them; to be run once by a later session after its
+changes.
 """
 
 from __future__ import annotations
@@ -79,6 +85,8 @@ HOLDOUT4_MANIFEST = Path(__file__).parent / "holdout4_manifest.json"
 HOLDOUT5_MANIFEST = Path(__file__).parent / "holdout5_manifest.json"
 # an eighth set, fresh meshes of session 30 (HOLDOUT6_SOURCES), committed before any fill
 HOLDOUT6_MANIFEST = Path(__file__).parent / "holdout6_manifest.json"
+# a ninth set, fresh meshes of session 31 (HOLDOUT7_SOURCES), committed before any fill
+HOLDOUT7_MANIFEST = Path(__file__).parent / "holdout7_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -87,6 +95,7 @@ LATER_SETS = {
     "holdout4": (HOLDOUT4_MANIFEST, "the fourth holdout set", 500),
     "holdout5": (HOLDOUT5_MANIFEST, "the fifth holdout set", 600),
     "holdout6": (HOLDOUT6_MANIFEST, "the sixth holdout set", 700),
+    "holdout7": (HOLDOUT7_MANIFEST, "the seventh holdout set", 800),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -109,6 +118,7 @@ SPLIT = {
     "holdout4": list(vm.HOLDOUT4_SOURCES),
     "holdout5": list(vm.HOLDOUT5_SOURCES),
     "holdout6": list(vm.HOLDOUT6_SOURCES),
+    "holdout7": list(vm.HOLDOUT7_SOURCES),
 }
 
 
@@ -201,7 +211,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     write it; meshes whose source is not installed are skipped with a note. The holes'
     seeds follow each mesh's place in the list (the holdout's start at 100, the second
     holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
-    holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700)."""
+    holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
+    holdout's at 800)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

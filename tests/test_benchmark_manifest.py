@@ -140,33 +140,41 @@ def holdout6():
     return holes_manifest.read(holes_manifest.HOLDOUT6_MANIFEST)
 
 
+@pytest.fixture(scope="module")
+def holdout7():
+    return holes_manifest.read(holes_manifest.HOLDOUT7_MANIFEST)
+
+
 @pytest.mark.parametrize(("split", "sources"), [
     ("holdout2", validation_meshes.HOLDOUT2_SOURCES),  # run once after session 26's defaults
     ("holdout3", validation_meshes.HOLDOUT3_SOURCES),  # run once after session 28's
     ("holdout4", validation_meshes.HOLDOUT4_SOURCES),  # session 29, committed before a fill
     ("holdout5", validation_meshes.HOLDOUT5_SOURCES),  # session 29, after holdout 4 was run
     ("holdout6", validation_meshes.HOLDOUT6_SOURCES),  # session 30, after holdout 5 was run
+    ("holdout7", validation_meshes.HOLDOUT7_SOURCES),  # session 31, after holdout 6 was made
 ])
 def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
                                                       cad_tuning, holdout4, holdout5, holdout6,
-                                                      split, sources):
-    """The second to sixth holdout sets: their own meshes, from sources no earlier set uses
-    (the two halves, the holdouts before them; from the fourth on also the tuning-side CAD
-    parts), every kind but brain surfaces, at least 3 range scans, 7 holes a mesh."""
+                                                      holdout7, split, sources):
+    """The second to seventh holdout sets: their own meshes, from sources no earlier set
+    uses (the two halves, the holdouts before them; from the fourth on also the tuning-side
+    CAD parts), every kind but brain surfaces, at least 3 range scans, 7 holes a mesh."""
     sets = {"holdout2": holdout2, "holdout3": holdout3, "holdout4": holdout4,
-            "holdout5": holdout5, "holdout6": holdout6}
+            "holdout5": holdout5, "holdout6": holdout6, "holdout7": holdout7}
     this = sets[split]
     ids = [e["mesh"] for e in this["meshes"]]
     assert ids == holes_manifest.SPLIT[split] == list(sources)
     earlier = manifest["meshes"] + holdout["meshes"]
-    if split in ("holdout3", "holdout4", "holdout5", "holdout6"):
+    if split in ("holdout3", "holdout4", "holdout5", "holdout6", "holdout7"):
         earlier = earlier + holdout2["meshes"]
-    if split in ("holdout4", "holdout5", "holdout6"):
+    if split in ("holdout4", "holdout5", "holdout6", "holdout7"):
         earlier = earlier + holdout3["meshes"] + cad_tuning["meshes"]
-    if split in ("holdout5", "holdout6"):
+    if split in ("holdout5", "holdout6", "holdout7"):
         earlier = earlier + holdout4["meshes"]
-    if split == "holdout6":
+    if split in ("holdout6", "holdout7"):
         earlier = earlier + holdout5["meshes"]
+    if split == "holdout7":
+        earlier = earlier + holdout6["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
     earlier_sources = {e["source"] for e in earlier}
     for entry in this["meshes"]:
@@ -187,14 +195,15 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
 
 
 def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2, holdout3,
-                                                     cad_tuning, holdout4, holdout5, holdout6):
+                                                     cad_tuning, holdout4, holdout5, holdout6,
+                                                     holdout7):
     """Session 29's machined parts (tuning side, rules may be chosen on them): their own
     meshes and sources, shared with no other set, machined parts and scans of them only."""
     cad = cad_tuning
     ids = [e["mesh"] for e in cad["meshes"]]
     assert ids == holes_manifest.SPLIT["cad_tuning"] == list(validation_meshes.CAD_TUNING_SOURCES)
-    others = [e for m in (manifest, holdout, holdout2, holdout3, holdout4, holdout5, holdout6)
-              for e in m["meshes"]]
+    others = [e for m in (manifest, holdout, holdout2, holdout3, holdout4, holdout5, holdout6,
+                          holdout7) for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
     kinds = Counter(e["kind"] for e in cad["meshes"])
