@@ -8,7 +8,6 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from surfinpaint.geometry.mesh import vertex_areas
 from surfinpaint.representation.mesh_lambda_h import (
@@ -37,7 +36,7 @@ def lagged_update_jacobian(system, phi):
 
 class UpdateDerivative:
     """The lagged update's derivative at ``phi``, made once: :meth:`apply` gives its products
-    with any block of directions, :meth:`operator` the matrix-free product Newton–Krylov
+    with any block of directions, :meth:`residual_product` the matrix-free product Newton–Krylov
     steps use on large patches.
 
     Why: the dense Jacobian's cost is its ``(3n, 3m)`` intermediates (0.39 s at 584 free
@@ -75,11 +74,6 @@ class UpdateDerivative:
         self.fixed_terms = (system.Q_fk[:, in_fixed[ring]], (2.0 * lam[ring] * area[ring])[:, None],
                             in_ring[tied], a_t, (a_t**2 / area[tied])[:, None],
                             system.Z_t @ (d_n * H[:len(f), None]), (area[f] * s[f])[:, None, None])
-
-    def operator(self):
-        """The residual's Jacobian ``J − I`` as a ``LinearOperator`` on the free positions."""
-        P = self.P
-        return spla.LinearOperator((P, P), dtype=float, matvec=self.residual_product)
 
     def residual_product(self, v):
         """``(J − I) v`` for one direction ``v`` (P,) (rows ``3 i + c``)."""
