@@ -75,6 +75,19 @@ def test_hole_title_says_which_fill_is_written():
     assert "(B) 0.3 / 0.6, (C, written) 0.5 / 1" in hole_title(kept)
 
 
+def test_a_hole_with_no_vertex_inside_is_titled_as_its_triangulation():
+    # no λ-H fill failed there and no self-check ran: every candidate is the triangulation
+    from surfinpaint.fill.conformal.method import NO_INNER_VERTEX
+
+    v, f = sphere(3)
+    kept = np.delete(f, [0], axis=0)  # a hole of one face: 3 edges, no vertex inside
+    (comparison,), _ = compare_holes(v, kept, [np.array(f[0][::-1])])
+    assert comparison.new_vertices == {"fair": 0, "conformal": 0}
+    title = hole_title(comparison)
+    assert f"{NO_INNER_VERTEX}; the triangulation is written" in title
+    assert "failed" not in title and "rejected" not in title
+
+
 def test_compare_holes_measures_both_fills(holed_sphere):
     _, _, cut = holed_sphere
     truth = [(h.truth_vertices, h.truth_faces) for h in cut.holes]

@@ -13,6 +13,7 @@ from typing import Literal
 
 import numpy as np
 
+from surfinpaint.fill.conformal.method import NO_INNER_VERTEX
 from surfinpaint.io.atomic import atomic_open
 
 __all__ = ["LEGEND", "WRITTEN_ERROR", "HoleComparison", "WrittenPanel", "hole_title",
@@ -229,6 +230,8 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
         if c.on_plane:
             written = (f"the surface around it is a plane within its noise; the faired "
                        f"fill{order} laid on it is written")
+        elif c.fallback == NO_INNER_VERTEX:  # nothing failed, nothing to choose
+            written = f"{NO_INNER_VERTEX}; the triangulation is written"
         else:
             why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith(
                 "self-check") else "the self-check rejected the λ-H fill")
