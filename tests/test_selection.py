@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from surfinpaint.fill.conformal import Verdict, choose, sibling_test_plan
-from surfinpaint.fill.conformal.selection import DECISIVE
+from surfinpaint.fill.conformal.selection import DECISIVE, hidden_rings_shallower
 
 INF = np.inf
 
@@ -157,3 +157,66 @@ def test_the_plan_skips_siblings_only_where_they_cannot_change_the_verdict():
                              choose_faired=choose_faired)
             assert (verdict.keep, verdict.faired) == (alone.keep, alone.faired), (hidden,
                                                                                  sibling)
+
+
+# the hidden-ring test one ring shallower (its deeper band met a crease the hole lacks):
+# (1-ring scores, sibling scores, keep, faired fill written else); the 1-ring scores of
+# holes of session 31's curved near-edge set (docs/selfcheck.md), in mesh units
+SHALLOWER_CASES = {
+    "λ-H loses, trilaplacian ahead: the reference all the same (bracket #1)": (
+        s(0.0012, 0.00097, 0.0013), s(0.0069, 0.0059, 0.0045), False, "fair2"),
+    "λ-H loses, bilaplacian ahead (shaft #1)": (
+        s(0.0018, 0.0020, 0.0028), {}, False, "fair2"),
+    "λ-H decisive, trilaplacian ahead (ribplate #12)": (
+        s(0.0054, 0.0035, 0.0017), {}, True, "fair2"),
+    "λ-H wins and holds the siblings (tee #19)": (
+        s(0.0013, 0.00086, 0.00086), s(0.0029, 0.0025, 0.00049), True, "fair2"),
+    "trilaplacian passes both tests: the reference all the same": (
+        s(1, 0.8, 1.5), s(1, 0.9, 1.5), False, "fair2"),
+}
+
+
+@pytest.mark.parametrize("case", list(SHALLOWER_CASES))
+def test_choose_on_shallower_rings(case):
+    hidden, sibling, keep, faired = SHALLOWER_CASES[case]
+    verdict = choose(hidden, sibling, shallower=True)
+    assert (verdict.keep, verdict.faired) == (keep, faired), verdict
+    assert "one ring shallower" in verdict.scores
+    # the λ-H fill is kept or not as on any hidden-ring scores; only the faired choice moves
+    assert choose(hidden, sibling).keep == keep
+
+
+def test_shallower_rings_leave_an_order_asked_for_and_no_test():
+    assert choose(s(1, 0.8, 1.5), {}, reference="fair3", choose_faired=False,
+                  shallower=True).faired == "fair3"
+    nothing = choose({}, {}, shallower=True)
+    assert nothing.faired == "fair2" and nothing.scores == "no test could be run here"
+
+
+def test_the_table_tells_shallower_rings_from_a_faired_choice_by_them():
+    # a rule that ranked fair2 against fair3 on the shallower rings disagrees with a row
+    assert any(choose(h, sib).faired != faired
+               for h, sib, _, faired in SHALLOWER_CASES.values())
+
+
+# (the hidden-ring test's λ-H fill a crease fill, the hole crossed, rings hidden) -> rerun
+SHALLOWER_WHEN = [
+    (True, False, 2, True),    # the enlarged hole met a crease the hole lacks
+    (True, True, 2, False),    # the crease crosses the hole: its crease fill is tested
+    (False, False, 2, False),  # no crease met
+    (False, True, 2, False),
+    (True, False, 1, False),   # no shallower test
+    (True, False, 3, True),
+]
+
+
+@pytest.mark.parametrize("creased, crossed, rings, rerun", SHALLOWER_WHEN)
+def test_hidden_rings_shallower(creased, crossed, rings, rerun):
+    assert hidden_rings_shallower(creased, crossed=crossed, hide_rings=rings) is rerun
+
+
+def test_shallower_rings_skip_siblings_that_could_only_rank_the_faired_fills():
+    hidden = s(1, 0.8, 1.2)  # λ-H behind, trilaplacian ahead
+    assert sibling_test_plan(hidden) == (True, False)
+    assert sibling_test_plan(hidden, shallower=True) == (False, False)
+    assert sibling_test_plan(s(1, 1.2, 0.8), shallower=True) == (True, True)

@@ -138,3 +138,58 @@ def test_spread_centres_go_round_the_ring_and_stop_when_it_is_used_up():
     for k in range(1, len(spread)):
         nearest = np.linalg.norm(p[k:, None] - p[None, :k], axis=2).min(axis=1)
         assert nearest[0] == nearest.max()
+
+
+def _capped_cylinder(n: int = 48, rows: int = 14):
+    """The side of a unit cylinder (``rows`` rows of ``n`` vertices, near-equilateral
+    triangles) and a flat cap meeting it at a sharp 90° edge (rings shrinking to a
+    centre vertex)."""
+    h = 2 * np.pi / n
+    angles = 2 * np.pi * np.arange(n) / n
+    vertices, faces = [], []
+    for i in range(rows + 1):
+        a = angles + np.pi / n * (i % 2)
+        vertices += list(zip(np.cos(a), np.sin(a), np.full(n, i * h * 0.866), strict=True))
+    for i in range(rows):
+        for j in range(n):
+            a, b, c, d = (i * n + j, i * n + (j + 1) % n, (i + 1) * n + j,
+                          (i + 1) * n + (j + 1) % n)
+            faces += [(a, b, c), (b, d, c)] if i % 2 == 0 else [(a, d, c), (a, b, d)]
+    top, previous = rows * h * 0.866, rows * n
+    for r in range(1, 6):
+        a = angles + np.pi / n * ((rows + r) % 2)
+        start = len(vertices)
+        vertices += list(zip((1 - r / 6) * np.cos(a), (1 - r / 6) * np.sin(a),
+                             np.full(n, top), strict=True))
+        for j in range(n):
+            p, q = previous + j, previous + (j + 1) % n
+            faces += [(p, q, start + (j + 1) % n), (p, start + (j + 1) % n, start + j)]
+        previous = start
+    vertices.append((0.0, 0.0, top))
+    faces += [(previous + j, previous + (j + 1) % n, len(vertices) - 1) for j in range(n)]
+    return np.array(vertices), np.array(faces)
+
+
+def test_hidden_rings_one_ring_shallower_where_they_meet_a_crease_the_hole_lacks():
+    """A hole on a cylinder's side half an edge length short of its sharp rim: the 2-ring
+    test's enlarged hole reaches the rim and its λ-H fill there is the crease fill, which
+    wins it decisively (today's rule kept the smooth λ-H fill of the hole: 1.08 % of its
+    diameter); the test run one ring shallower drops it, and the reference is written
+    (bilaplacian 0.08 %) although those rings rank the trilaplacian fill (0.65 %) first
+    (docs/selfcheck.md, session 31, "one ring shallower")."""
+    from surfinpaint.fill.conformal.method import _noting_creases, self_check
+    from surfinpaint.fill.conformal.selection import DECISIVE
+
+    v, f = _capped_cylinder()
+    h = mean_edge_length(v, f)
+    cut = cut_geodesic_disk(v, f, np.array([1.0, 0.0, v[:, 2].max() - 3.5 * h]), 3 * h)
+    candidates = Candidates.for_hole(cut.vertices, cut.faces, cut.loop, ConformalOptions())
+    assert not candidates.crossed
+    creased: list[bool] = []
+    deep = hidden_ring_scores(cut.vertices, cut.faces, cut.loop,
+                              _noting_creases(candidates.for_tests(), creased), hide_rings=2)
+    assert any(creased) and deep["conformal"] < DECISIVE * deep["fair2"]
+    verdict = self_check(cut.vertices, cut.faces, cut.loop, candidates)
+    assert "one ring shallower" in verdict.scores
+    assert not verdict.keep and verdict.faired == "fair2"
+    assert verdict.hidden["fair3"] < verdict.hidden["fair2"]

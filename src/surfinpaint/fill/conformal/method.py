@@ -24,7 +24,13 @@ from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.conformal.checks import blended_fill
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
-from surfinpaint.fill.conformal.selection import Verdict, choose, demoted, sibling_test_plan
+from surfinpaint.fill.conformal.selection import (
+    Verdict,
+    choose,
+    demoted,
+    hidden_rings_shallower,
+    sibling_test_plan,
+)
 from surfinpaint.fill.creases import CREASE_ANGLE, sharp_edges
 from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane, laid_on_two_planes
 from surfinpaint.fill.results import Fill
@@ -148,7 +154,9 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                candidates: Candidates) -> Verdict:
     """Run the truth-free tests of the hole's candidates and :func:`choose` by their scores:
     the cheaper hidden-ring test first, the sibling test only when it can still change the
-    outcome (:func:`sibling_test_plan`)."""
+    outcome (:func:`sibling_test_plan`). Where the hidden-ring test's λ-H fill was a crease
+    fill and no crease crosses the hole, the test is run again one ring shallower
+    (:func:`~surfinpaint.fill.conformal.selection.hidden_rings_shallower`)."""
     o = candidates.options
     reference = f"fair{candidates.orders[0]}"
     choose_faired = len(candidates.orders) > 1
@@ -156,11 +164,23 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     weigh = o.significance is not None  # the weighed verdict needs per-sample records
     hidden_detail: dict | None = {} if weigh else None
     sibling_detail: list | None = [] if weigh else None
-    hidden = hidden_ring_scores(vertices, faces, loop, candidates.for_tests(),
+    creased: list[bool] = []
+    hidden = hidden_ring_scores(vertices, faces, loop,
+                                _noting_creases(candidates.for_tests(), creased),
                                 hide_rings=o.hide_rings, patch_rings=o.rings_in_patch,
                                 graph=graph, detail=hidden_detail)
+    shallower = False
+    if hidden_rings_shallower(any(creased), crossed=candidates.crossed,
+                              hide_rings=o.hide_rings):
+        shallow_detail: dict | None = {} if weigh else None
+        shallow = hidden_ring_scores(vertices, faces, loop, candidates.for_tests(),
+                                     hide_rings=o.hide_rings - 1,
+                                     patch_rings=o.rings_in_patch, graph=graph,
+                                     detail=shallow_detail)
+        if shallow:  # else the deeper test's scores stand
+            hidden, hidden_detail, shallower = shallow, shallow_detail, True
     run, with_lambda_h = sibling_test_plan(hidden, reference=reference,
-                                           choose_faired=choose_faired)
+                                           choose_faired=choose_faired, shallower=shallower)
     sibling = {}
     if run:
         sibling = sibling_scores(vertices, faces, loop,
@@ -169,11 +189,21 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                                  patch_rings=o.rings_in_patch, graph=graph,
                                  detail=sibling_detail)
     verdict = choose(hidden, sibling, reference=reference, choose_faired=choose_faired,
-                     crossed=candidates.crossed)
+                     crossed=candidates.crossed, shallower=shallower)
     if weigh:
         verdict = demoted(verdict, advantages_over(hidden_detail, sibling_detail, reference),
                           o.significance, crossed=candidates.crossed)
     return verdict
+
+
+def _noting_creases(fills, creased: list):
+    """``fills`` (:meth:`Candidates.for_tests`'s), appending to ``creased`` whether each test
+    hole's λ-H fill was a crease fill."""
+    def noting(vertices, faces, loop):
+        out = fills(vertices, faces, loop)
+        creased.append(getattr(out.get("conformal"), "crease", None) is not None)
+        return out
+    return noting
 
 
 def _ring(vertices, faces, loop, rings):

@@ -18,7 +18,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-__all__ = ["DECISIVE", "Verdict", "choose", "demoted", "sibling_test_plan"]
+__all__ = ["DECISIVE", "Verdict", "choose", "demoted", "hidden_rings_shallower",
+           "sibling_test_plan"]
 
 # a λ-H fill this many times closer than the faired fill on the hidden rings is kept
 # without the sibling test (on the benchmark the sibling test never overturned one)
@@ -111,7 +112,8 @@ def _decisive(hidden_lh: Scores, reference: str) -> bool:
 
 
 def sibling_test_plan(hidden: Scores, *, reference: str = "fair2",
-                      choose_faired: bool = True) -> tuple[bool, bool]:
+                      choose_faired: bool = True, shallower: bool = False
+                      ) -> tuple[bool, bool]:
     """Whether the (costly) sibling test is run after the hidden-ring test, and with the
     λ-H candidate: only when it can still change the outcome.
 
@@ -123,6 +125,9 @@ def sibling_test_plan(hidden: Scores, *, reference: str = "fair2",
         The faired fill the λ-H fill is measured against.
     choose_faired : bool
         The faired fill is chosen between "fair2" and "fair3" by the tests too.
+    shallower : bool
+        The hidden-ring scores are those of the shallower test (:func:`hidden_rings_shallower`):
+        the faired fill is then the reference whatever the siblings say.
 
     Returns
     -------
@@ -132,12 +137,14 @@ def sibling_test_plan(hidden: Scores, *, reference: str = "fair2",
     """
     hidden_lh = _said(hidden)
     racing = not hidden_lh or _beats(hidden_lh, "conformal", reference)
-    faired_racing = choose_faired and (not hidden or _beats(hidden, "fair3", "fair2"))
+    faired_racing = (choose_faired and not shallower
+                     and (not hidden or _beats(hidden, "fair3", "fair2")))
     return (racing or faired_racing) and not _decisive(hidden_lh, reference), racing
 
 
 def choose(hidden_scores: Scores, sibling_scores: Scores, *, reference: str = "fair2",
-           choose_faired: bool = True, crossed: bool = False) -> Verdict:
+           choose_faired: bool = True, crossed: bool = False,
+           shallower: bool = False) -> Verdict:
     """Keep the λ-H fill or a faired fill, from the two tests' scores.
 
     The λ-H fill is kept when it beats ``reference`` on the hidden-ring test and does not
@@ -160,6 +167,13 @@ def choose(hidden_scores: Scores, sibling_scores: Scores, *, reference: str = "f
         Choose the faired fill between "fair2" and "fair3"; False: ``reference``.
     crossed : bool
         A crease crosses the hole.
+    shallower : bool
+        ``hidden_scores`` are those of the hidden-ring test one ring shallower, run because
+        the deeper test's enlarged hole met a crease that the hole does not have
+        (:func:`hidden_rings_shallower`): they decide on the λ-H fill as above, but the
+        faired fill written otherwise is ``reference``. Neither test ranks fair2 against
+        fair3 there: the deeper one ranks how they round the crease, and the one-ring band
+        is thin (docs/selfcheck.md, session 31, "one ring shallower").
 
     Returns
     -------
@@ -177,7 +191,10 @@ def choose(hidden_scores: Scores, sibling_scores: Scores, *, reference: str = "f
     if crossed and not hidden_lh and not sibling_lh:
         keep = True
         scores += "; no test hole is crossed by the crease, the crease fill is kept"
-    if not choose_faired:
+    if shallower and choose_faired and hidden:
+        scores += "; hidden rings one ring shallower (the deeper ones met a crease the hole " \
+                  "does not have), the faired fill not chosen by them"
+    if not choose_faired or (shallower and hidden):
         faired = reference
     elif hidden and _wins(hidden, sibling, "fair3", "fair2"):
         faired = "fair3"
@@ -190,6 +207,31 @@ def choose(hidden_scores: Scores, sibling_scores: Scores, *, reference: str = "f
     return Verdict(keep=keep, make=keep or failed_on_a_test, faired=faired,
                    reference=reference, hidden=hidden, sibling=sibling, lost=lost,
                    scores=scores)
+
+
+def hidden_rings_shallower(test_crease: bool, *, crossed: bool, hide_rings: int) -> bool:
+    """Whether the hidden-ring test is run again one ring shallower: where its λ-H fill was
+    a crease fill (``test_crease``) though no crease crosses the hole (``crossed`` False),
+    the test's enlarged hole met a crease of the surface beside the hole, and its λ-H fill
+    there says how well the crease fill rebuilds that crease, not how well the smooth λ-H
+    fill the hole gets fits its own face. Its scores then stand only where the shallower
+    test cannot score (:func:`choose`'s ``shallower`` otherwise).
+
+    Measured on the tuning side (docs/selfcheck.md, session 31): on 114 holes cut on curved
+    faces beside a sharp edge, 21 such holes: 14 better and 4 worse; none of the 196
+    benchmark holes, the extra scans, the λ-H families, the animals or the flat holes
+    beside an edge changed.
+
+    Examples
+    --------
+    >>> hidden_rings_shallower(True, crossed=False, hide_rings=2)
+    True
+    >>> hidden_rings_shallower(True, crossed=True, hide_rings=2)  # the crease is the hole's
+    False
+    >>> hidden_rings_shallower(True, crossed=False, hide_rings=1)  # none shallower
+    False
+    """
+    return bool(test_crease) and not crossed and hide_rings > 1
 
 
 def demoted(verdict: Verdict, advantages: Mapping[str, Mapping[str, tuple[float, float]]],
