@@ -363,6 +363,22 @@ def test_pyvista_polygons_are_triangulated_with_a_warning():
     assert np.array_equal(result.attributes["x"], plane.points[:, 0])
 
 
+def test_pyvista_volume_and_line_datasets_are_refused_clearly():
+    # a volumetric or image dataset is no surface: a TypeError that says what to pass (it
+    # was an AttributeError from inside), and lines beside polygons are counted right
+    pyvista = pytest.importorskip("pyvista")
+    grid = pyvista.ImageData(dimensions=(3, 3, 3))
+    with pytest.raises(TypeError, match="ImageData is not a surface.*extract_surface"):
+        fill_holes(grid)
+    with pytest.raises(TypeError, match="UnstructuredGrid is not a surface"):
+        fill_holes(grid.cast_to_unstructured_grid())
+    poly = pyvista.Plane(i_resolution=2, j_resolution=2).triangulate()
+    poly = poly.merge(pyvista.Line((0, 0, 1), (1, 0, 1)), merge_points=False)
+    assert isinstance(poly, pyvista.PolyData)
+    with pytest.raises(ValueError, match="1 line cells beside 8 polygons"):
+        fill_holes(poly)
+
+
 def test_arrays_need_faces_and_other_objects_are_refused():
     from surfinpaint.io import MeshData
 

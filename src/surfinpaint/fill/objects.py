@@ -59,11 +59,17 @@ def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
 
 
 def _from_pyvista(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
-    extra = {"lines": mesh.n_lines, "vertex cells": mesh.n_verts}
+    import pyvista
+
+    if not isinstance(mesh, pyvista.PolyData):
+        raise TypeError(f"a pyvista {type(mesh).__name__} is not a surface: pass a "
+                        "pyvista.PolyData (its boundary surface: mesh.extract_surface())")
+    extra = {"line cells": mesh.n_lines, "vertex cells": mesh.n_verts}
     if any(extra.values()):
-        raise ValueError("the PolyData has " + ", ".join(f"{k} {n}" for k, n in extra.items()
+        raise ValueError("the PolyData has " + ", ".join(f"{n} {k}" for k, n in extra.items()
                                                           if n)
-                         + " besides its polygons: keep only the surface (extract_surface)")
+                         + f" beside {mesh.n_cells - sum(extra.values())} polygons or strips: "
+                         "keep only the surface (extract_surface)")
     if not mesh.is_all_triangles:
         warnings.warn(f"PolyData: {mesh.n_cells} polygons or strips fan-triangulated (cell "
                       "data follow the triangles)", stacklevel=4)
@@ -98,8 +104,8 @@ def mesh_arrays(
     Raises
     ------
     TypeError
-        An object of another kind, a mesh object with ``faces`` too, or arrays without
-        ``faces``.
+        An object of another kind (a pyvista dataset other than ``PolyData`` too), a mesh
+        object with ``faces`` too, or arrays without ``faces``.
     ValueError
         A PolyData with lines or vertex cells.
     """
