@@ -326,6 +326,23 @@ def test_trimesh_in_and_out(holed_sphere):
     assert np.all(out.visual.face_colors == [9, 99, 199, 255])  # the new faces' too
 
 
+def test_trimesh_texture_uv_comes_back_as_visual_uv_and_a_scene_is_refused(holed_sphere):
+    # a textured Trimesh in: the filled Trimesh out has its uv where trimesh users (and
+    # trimesh's exporters) look, visual.uv, the original vertices' exactly
+    trimesh = pytest.importorskip("trimesh")
+    v, f = holed_sphere
+    uv = v[:, :2] * 0.5 + 0.5
+    mesh = trimesh.Trimesh(v, f, process=False, visual=trimesh.visual.TextureVisuals(uv=uv))
+    with pytest.warns(UserWarning, match="image and material are not"):
+        result = fill_holes(mesh, method="fair")
+    out = result.to_trimesh()
+    assert out.visual.kind == "texture" and "uv" not in out.vertex_attributes
+    assert out.visual.uv.shape == (len(result.vertices), 2)
+    assert np.array_equal(out.visual.uv[:len(v)], uv)
+    with pytest.raises(TypeError, match="Scene is not one triangle mesh"):
+        fill_holes(trimesh.Scene([mesh]))
+
+
 def test_pyvista_in_and_out(holed_sphere):
     pyvista = pytest.importorskip("pyvista")
     v, f = holed_sphere

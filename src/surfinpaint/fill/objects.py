@@ -42,6 +42,10 @@ def _library(mesh) -> str | None:
 
 
 def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
+    if not hasattr(mesh, "vertex_attributes"):
+        raise TypeError(f"a trimesh {type(mesh).__name__} is not one triangle mesh: pass a "
+                        "trimesh.Trimesh (a Scene's meshes as one: scene.to_geometry(), or "
+                        "trimesh.load(path, force='mesh'))")
     attributes = {name: np.asarray(a) for name, a in mesh.vertex_attributes.items()}
     face_attributes = {name: np.asarray(a) for name, a in mesh.face_attributes.items()}
     visual = mesh.visual
@@ -143,8 +147,9 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
                face_attributes: Mapping[str, np.ndarray] | None = None):
     """A ``trimesh.Trimesh`` (``process=False``: nothing merged or reordered) with the vertex
     colours in ``visual`` (the first attribute named in :data:`COLOUR_NAMES`; when there is
-    none, the face attribute so named) and every other attribute in ``vertex_attributes`` /
-    ``face_attributes``."""
+    none, the face attribute so named; when there are no colours, an ``(n, 2)`` attribute
+    ``"uv"`` as ``visual.uv`` of a ``TextureVisuals``, without image or material) and every
+    other attribute in ``vertex_attributes`` / ``face_attributes``."""
     import trimesh
 
     attributes = dict(attributes or {})
@@ -153,9 +158,15 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
     vertex_colors = attributes.pop(colour) if colour else None
     face_colour = None if colour else _colour_name(face_attributes)
     face_colors = face_attributes.pop(face_colour) if face_colour else None
+    uv = attributes.get("uv")
+    visual = None
+    if colour is None and face_colour is None and uv is not None \
+            and np.shape(uv) == (len(vertices), 2):
+        visual = trimesh.visual.TextureVisuals(uv=attributes.pop("uv"))
     return trimesh.Trimesh(vertices=vertices, faces=faces, process=False, validate=False,
                            vertex_colors=vertex_colors, face_colors=face_colors,
-                           vertex_attributes=attributes, face_attributes=face_attributes)
+                           visual=visual, vertex_attributes=attributes,
+                           face_attributes=face_attributes)
 
 
 def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
