@@ -255,6 +255,31 @@ def test_obj_vt_vn_per_vertex_round_trip(tmp_path):
     np.testing.assert_array_equal(again.faces, f)
 
 
+def test_obj_unreferenced_vertex_writes_no_nan_and_its_vt_is_named(tmp_path):
+    # a vertex no face uses (left over where faces were cut away): its vt and vn lines are
+    # dropped with a warning, and the written file has no `vt nan nan` for it
+    rng = np.random.default_rng(5)
+    v, f = grid_mesh(4, 3)
+    uv, normals = rng.random((len(v), 2)), rng.standard_normal((len(v), 3))
+    lonely = int(f[0, 0])
+    f = f[~(f == lonely).any(axis=1)]
+    path = tmp_path / "cut.obj"
+    path.write_text(_obj_text(v, f, uv, normals))
+    with pytest.warns(MeshWarning, match=r"1 of 20 vt records are not referenced"):
+        mesh = read_mesh_data(path)
+    assert np.isnan(mesh.attributes["uv"][lonely]).all()
+    write_mesh_data(tmp_path / "out.obj", mesh)
+    text = (tmp_path / "out.obj").read_text()
+    assert "nan" not in text
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        again = read_mesh_data(tmp_path / "out.obj")
+    np.testing.assert_array_equal(again.vertices, v)
+    np.testing.assert_array_equal(again.faces, f)
+    for key in ("uv", "normal"):
+        np.testing.assert_array_equal(again.attributes[key], mesh.attributes[key])
+
+
 def test_obj_uv_seam_kept_per_corner_and_written_back(tmp_path):
     v, f = grid_mesh(2, 1)  # 6 vertices, 4 faces
     rng = np.random.default_rng(4)

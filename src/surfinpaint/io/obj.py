@@ -70,6 +70,10 @@ def read_obj(data: bytes, path: Path) -> Parsed:
         values = np.full((len(ids), width), np.nan)
         values[ids != 0] = table[index[ids != 0]]
         out.corner_values[key] = values
+        unused = len(table) - len(np.unique(index[ids != 0]))
+        if unused:
+            out.dropped.append(f"{unused} of {len(table)} {kind} records are not referenced "
+                               "by any face and are not kept")
     if present & {"o", "g", "usemtl", "mtllib"}:
         _labels(out, _LABEL_OR_FACE.findall(text))
     other = sorted(present - _KNOWN)
@@ -183,7 +187,9 @@ def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
             continue
         where, a = kept[key]
         if where == "vertex":
-            table, index = a, f
+            # the vertices no face uses have no value to write (NaN when read from an OBJ)
+            used = np.unique(f)
+            table, index = a[used], np.searchsorted(used, f)
         else:
             table, inverse = np.unique(a.reshape(-1, a.shape[2]), axis=0, return_inverse=True)
             index = inverse.reshape(-1, 3)
