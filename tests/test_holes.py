@@ -51,6 +51,15 @@ def test_holes_of_a_sphere_are_holes_not_borders():
         assert np.isclose(h.perimeter, seg)
 
 
+def test_components_are_numbered_over_the_surface_not_left_over_vertices():
+    # two spheres with a hole each: the faces cut away leave vertices no face uses, which
+    # must not push the second sphere's number past 1 (`holes` showed "component 13")
+    v, f = sphere_with_caps([(0, 0, 1)], radius=0.5)
+    w, g = sphere_with_caps([(0, 0, -1)], radius=0.5)
+    holes = find_holes(np.vstack([v, w + [3.0, 0, 0]]), np.vstack([f, g + len(v)]))
+    assert [h.component for h in holes] == [0, 1]
+
+
 def test_a_third_of_a_sphere_removed_is_still_a_hole():
     s = trimesh.creation.icosphere(3)
     v, f = np.asarray(s.vertices), np.asarray(s.faces)

@@ -43,7 +43,9 @@ class Hole:
     diameter : float
         Largest distance between two loop vertices.
     component : int
-        Connected component (vertex label) the loop belongs to.
+        Connected component of the surface the loop belongs to: 0, 1, ... over the
+        components that have faces, in the order of their lowest vertex id (vertices no face
+        uses are no component).
     is_border : bool
         True when the loop looks like the surface's own outer border rather than a hole.
     """
@@ -133,6 +135,9 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None 
         if component not in spans:
             spans[component] = _spanned_area(vertices[loop])
     borders = _borders(vertices, faces, label, spans)
+    # numbered over the components with faces: a vertex no face uses (left where faces were
+    # cut away) is a component of its own in the labels and would skip numbers
+    surface = np.unique(label[faces.reshape(-1)])
     holes: list[Hole] = []
     longest_seen: set[int] = set()
     for loop in ordered:
@@ -143,7 +148,8 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None 
         longest_seen.add(component)
         holes.append(
             Hole(loop=loop, n_edges=len(loop), perimeter=perimeter,
-                 diameter=loop_diameter(points), component=component, is_border=is_border)
+                 diameter=loop_diameter(points),
+                 component=int(np.searchsorted(surface, component)), is_border=is_border)
         )
     return holes
 
