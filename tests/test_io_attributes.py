@@ -300,6 +300,28 @@ def test_obj_uv_seam_kept_per_corner_and_written_back(tmp_path):
     np.testing.assert_array_equal(again.corner_attributes["uv"], corner)
 
 
+def test_obj_corners_without_a_value_are_written_without_vt(tmp_path):
+    # a fill across a UV seam gives its new corners no uv (NaN): those faces are written
+    # as `f a b c` (or `f a//n`), never with `vt nan nan`, and read back as NaN again
+    v, f = grid_mesh(2, 1)  # 6 vertices, 4 faces
+    rng = np.random.default_rng(6)
+    corner = rng.random((len(f), 3, 2))
+    corner[1] = np.nan
+    normals = rng.standard_normal((len(v), 3))
+    mesh = MeshData(v, f, {"normal": normals}, {}, {"uv": corner})
+    write_mesh_data(tmp_path / "out.obj", mesh)
+    text = (tmp_path / "out.obj").read_text()
+    assert "nan" not in text
+    assert len([line for line in text.splitlines() if line.startswith("vt ")]) == 9
+    faces = [line for line in text.splitlines() if line.startswith("f ")]
+    assert [line.count("//") for line in faces] == [0, 3, 0, 0]
+    with pytest.warns(MeshWarning, match="seam"):
+        again = read_mesh_data(tmp_path / "out.obj")
+    np.testing.assert_array_equal(again.faces, f)
+    np.testing.assert_array_equal(again.corner_attributes["uv"], corner)
+    np.testing.assert_array_equal(again.attributes["normal"], normals)
+
+
 def test_obj_vertex_colours_and_dropped_records_are_named(tmp_path):
     path = tmp_path / "c.obj"
     path.write_text("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\ns 1\nl 1 2\nf 1 2 3\n")
