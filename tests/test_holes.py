@@ -3,6 +3,7 @@ import pytest
 import trimesh
 from conftest import grid_mesh
 
+from surfinpaint import fill_holes
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.holes import find_holes, orient_loop, select_holes
 from surfinpaint.geometry.mesh import boundary_loops
@@ -87,6 +88,20 @@ def test_select_by_index_and_by_loop_any_orientation_and_start():
     oriented = orient_loop(f, given)
     loops = {tuple(np.roll(l, -int(np.argmin(l)))) for l in boundary_loops(f)}
     assert tuple(np.roll(oriented, -int(np.argmin(oriented)))) in loops
+
+
+def test_a_hole_named_twice_is_chosen_once():
+    # `fill --holes 1,1` filled hole 1, then failed on it again ("loop edges are not
+    # boundary edges"): a hole named twice, by number or by loop, is filled once
+    v, f = sphere_with_caps([(0, 0, 1), (1, 0, 0)])
+    holes = find_holes(v, f)
+    chosen = select_holes(v, f, [1, 0, 1])
+    assert [len(loop) for loop in chosen] == [holes[1].n_edges, holes[0].n_edges]
+    assert np.array_equal(chosen[0], holes[1].loop)
+    twice = select_holes(v, f, [holes[0].loop, np.roll(holes[0].loop[::-1], 2)])
+    assert len(twice) == 1
+    result = fill_holes(v, f, holes=[1, 1], method="fair")
+    assert [r.index for r in result.reports] == [1] and not result.reports[0].failed
 
 
 def test_bad_hole_selection_is_named():

@@ -202,7 +202,7 @@ def select_holes(
     holes : None, sequence of int, or sequence of loops
         None: every loop except outer borders (all loops with ``include_border``).
         Integers: indices into :func:`find_holes`' list. Sequences: boundary loops given by
-        their vertex ids (any start, any direction).
+        their vertex ids (any start, any direction). A hole named twice is chosen once.
     table : EdgeTable, optional
         The faces' edge table, if already built (passed on to :func:`find_holes`).
     validate : bool
@@ -227,10 +227,12 @@ def select_holes(
     if not all(np.ndim(h) == 0 for h in holes):  # loops given by their vertex ids
         if validate and found is None:
             find_holes(vertices, faces, table)  # the mesh checked all the same
-        return [orient_loop(faces, loop) for loop in holes]
+        unique = {tuple(sorted(np.asarray(loop).tolist())): loop for loop in reversed(holes)}
+        return [orient_loop(faces, loop) for loop in holes
+                if unique.get(tuple(sorted(np.asarray(loop).tolist()))) is loop]
     if found is None:
         found = find_holes(vertices, faces, table, validate=validate)
-    chosen = []
+    chosen: dict[int, np.ndarray] = {}
     for index in holes:
         if int(index) != index:
             raise ValueError(f"hole indices must be integers, got {index!r}")
@@ -238,8 +240,8 @@ def select_holes(
             raise MeshError(
                 f"hole index {index} out of range: the mesh has {len(found)} boundary loops"
             )
-        chosen.append(found[int(index)].loop)
-    return chosen
+        chosen.setdefault(int(index), found[int(index)].loop)
+    return list(chosen.values())
 
 
 def hole_numbers(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray], *,
