@@ -523,6 +523,16 @@ def test_holes_on_the_bunny_names_the_nonmanifold_edges(bunny, capsys):
     assert main(["holes", str(source)]) == 1
     err = _flat(capsys.readouterr().err)
     assert _flat(str(source)) in err and "non-manifold" in err
+    assert "--repair" in err  # `holes --repair` too says what to do (only `fill` did)
+
+
+def test_batch_on_the_bunny_says_repair_in_its_row(bunny, tmp_path):
+    from surfinpaint.app.batch import fill_files
+
+    source, _ = bunny
+    (row,) = fill_files([source], tmp_path / "out", jobs=1, method="fair")
+    assert row.status == "failed" and "non-manifold" in row.message
+    assert "--repair" in row.message
 
 
 def test_bunny_repaired_and_filled(bunny, tmp_path, capsys):

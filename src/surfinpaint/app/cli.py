@@ -138,16 +138,8 @@ def cmd_fill(args: argparse.Namespace) -> int:
         mesh = read_mesh_data(args.mesh)
         vertices, faces = mesh.vertices, mesh.faces
         with _progress(not args.quiet) as progress:
-            try:
-                result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
-                                                jobs=args.jobs, **options)
-            except MeshError as exc:
-                if args.repair or "non-manifold edges" not in exc.message:
-                    raise
-                raise MeshError(exc.message + "; --repair removes the faces around them and "
-                                "fills the holes that leaves", path=str(args.mesh),
-                                vertices=exc.vertices, edges=exc.edges,
-                                faces=exc.faces) from None
+            result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
+                                            jobs=args.jobs, **options)
         write_mesh_data(args.output, filled)
     summary = Summary.of(result, time.perf_counter() - started)
     if len(result.removed_faces):

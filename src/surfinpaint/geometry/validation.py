@@ -380,7 +380,8 @@ def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
                          for (a, b), i in zip(edges[:10], nonmanifold[:10], strict=True)],
                         nonmanifold.size)
         raise _fail(f"{nonmanifold.size} non-manifold edges (shared by more than two faces): "
-                    f"{text}", path, edges=edges)
+                    f"{text}; --repair (repair=True) removes the faces around them and fills "
+                    "the holes that leaves", path, edges=edges)
     # interior edge: its two half-edges must run in opposite directions
     h1, h2 = table.interior_pairs() if pairs is None else pairs
     clash = np.flatnonzero(table.forward[h1] == table.forward[h2])
