@@ -219,8 +219,9 @@ def test_bowtie_hole_default_is_skipped_with_a_warning(tmp_path, capsys):
     code = main(["fill", str(path), "-o", str(out), "--method", "fair"])
     err = capsys.readouterr().err
     assert code == 0, err
-    # both holes go untouched, the report naming the bow-tie vertex
+    # both holes go untouched, the report naming the bow-tie vertex and the remedy
     assert "skipped" in err and str(centre) in err
+    assert "--repair" in err
     v2, f2 = read_mesh(out)
     np.testing.assert_array_equal(v2[: len(v)], v)
     np.testing.assert_array_equal(f2[: len(f)], f)

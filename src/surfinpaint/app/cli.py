@@ -144,7 +144,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
     summary = Summary.of(result, time.perf_counter() - started)
     if len(result.removed_faces):
         say(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
-            "edges; the holes they left were filled too")
+            "edges and bow-tie vertices; the holes they left were filled too")
     if not result.reports:
         say(f"{args.mesh}: nothing to fill (no holes"
             f"{'' if args.all else ' apart from the outer border'}); "
@@ -274,7 +274,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        description="Print a table of the boundary loops of MESH.")
     p.add_argument("mesh", help="input mesh (PLY, OBJ, STL, OFF, GIFTI, FreeSurfer)")
     p.add_argument("--repair", action="store_true",
-                   help="first remove the faces around non-manifold edges, as `fill --repair` "
+                   help="first remove the faces around non-manifold edges and bow-tie vertices, "
+                   "as `fill --repair` "
                    "does, and list the holes of the result")
     p.set_defaults(func=cmd_holes)
 

@@ -530,5 +530,6 @@ def check_loop(faces: np.ndarray, loop: np.ndarray, *, path: str | None = None) 
     if bowtie.size:
         raise _fail(f"hole boundary passes through non-manifold (bow-tie) vertices "
                     f"{preview(bowtie)}: the faces there form several fans, so filling the "
-                    "hole would leave a non-manifold surface", path,
+                    "hole would leave a non-manifold surface (--repair, repair=True, removes "
+                    "the faces of all but the largest fan there first)", path,
                     vertices=bowtie[:100].tolist())
