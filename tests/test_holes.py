@@ -104,6 +104,17 @@ def test_a_hole_named_twice_is_chosen_once():
     assert [r.index for r in result.reports] == [1] and not result.reports[0].failed
 
 
+def test_find_holes_takes_a_trimesh_or_pyvista_mesh_as_fill_holes_does():
+    v, f = sphere_with_caps([(0, 0, 1), (1, 0, 0)])
+    expected = [h.n_edges for h in find_holes(v, f)]
+    assert [h.n_edges for h in find_holes(trimesh.Trimesh(v, f, process=False))] == expected
+    pyvista = pytest.importorskip("pyvista")
+    poly = pyvista.PolyData(v, np.column_stack([np.full(len(f), 3), f]).ravel())
+    assert [h.n_edges for h in find_holes(poly)] == expected
+    with pytest.raises(TypeError, match="needs faces"):
+        find_holes(v)
+
+
 def test_bad_hole_selection_is_named():
     v, f = sphere_with_caps([(0, 0, 1)])
     with pytest.raises(MeshError, match="out of range"):

@@ -16,6 +16,8 @@ from surfinpaint.lazy import lazy_module
 # imported at its first use: scipy.spatial (with scipy.special) is 50-60 ms of a start,
 # and a large fill's kernels import it on their loading thread, beside the passes
 spatial = lazy_module("scipy.spatial")
+# a trimesh or PyVista mesh in find_holes (the attribute carrying is not needed otherwise)
+objects = lazy_module("surfinpaint.fill.objects")
 
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
@@ -77,8 +79,8 @@ def _spanned_area(points: np.ndarray) -> float:
     return 0.5 * float(np.linalg.norm(np.cross(centred, np.roll(centred, -1, axis=0)).sum(0)))
 
 
-def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None = None, *,
-               validate: bool = True) -> list[Hole]:
+def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
+               table: EdgeTable | None = None, *, validate: bool = True) -> list[Hole]:
     """Boundary loops of a mesh, measured, with the outer borders flagged.
 
     Every boundary loop is returned. In each connected component the longest loop is flagged
@@ -88,7 +90,9 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None 
 
     Parameters
     ----------
-    vertices : (n, 3) float array
+    vertices : (n, 3) float array, ``trimesh.Trimesh`` or ``pyvista.PolyData``
+        A mesh object is taken whole (``faces`` then None), as by
+        :func:`surfinpaint.fill_holes`.
     faces : (f, 3) int array
     table : EdgeTable, optional
         The faces' edge table, if already built (e.g. by the caller that validated the
@@ -115,6 +119,8 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None 
     >>> [h.n_edges for h in find_holes(v, np.array([[0, 1, 2], [0, 2, 3]]))]
     [4]
     """
+    if faces is None:  # a trimesh or PyVista mesh
+        vertices, faces, _, _ = objects.mesh_arrays(vertices)
     faces = face_ids(faces)
     if validate:
         check_arrays(vertices, faces)  # before the table: it indexes by the ids

@@ -121,7 +121,7 @@ def mesh_arrays(
                             "mesh.face_attributes); its corner data through surfinpaint.fill."
                             "face_attributes.fill_result_corner_attributes")
         if faces is None:
-            raise TypeError(f"fill_holes needs faces with vertices given as an array; got a "
+            raise TypeError(f"a mesh needs faces with vertices given as an array; got a "
                             f"{type(mesh).__name__} and no faces (trimesh.Trimesh and "
                             "pyvista.PolyData are taken whole)")
         own_vertices, own_faces, own, own_faces_attributes = mesh, faces, {}, {}
