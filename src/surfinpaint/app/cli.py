@@ -370,6 +370,9 @@ def _check_outputs(args: argparse.Namespace) -> None:
         path = getattr(args, attribute, None)
         if path is not None:
             (files if kind == "file" else folders)[option] = str(path)
+    picture = files.get("--png")
+    if picture is not None and not picture.lower().endswith(".png"):
+        raise _UsageError(f"--png {picture!r}: the picture is a PNG file; name it .png")
     inputs = [str(getattr(args, a)) for a in _INPUTS if getattr(args, a, None) is not None]
     check_outputs_distinct(files, inputs,
                            in_place="-o" if getattr(args, "in_place", False) else None)
