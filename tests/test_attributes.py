@@ -370,6 +370,22 @@ def test_pyvista_in_and_out(holed_sphere):
     assert len(out.cell_data["material"]) == len(result.faces)
 
 
+def test_pyvista_out_has_normals_texture_coordinates_and_colours_active(holed_sphere):
+    # a PolyData read from a file has its normals, texture coordinates and colours active
+    # (what plot() and the writers use); the filled one had none active
+    pyvista = pytest.importorskip("pyvista")
+    v, f = holed_sphere
+    poly = pyvista.PolyData(v, np.column_stack([np.full(len(f), 3), f]).ravel())
+    poly.point_data["Normals"] = vertex_normals(v, f)
+    poly.point_data["TCoords"] = v[:, :2] * 0.5 + 0.5
+    poly.point_data["RGBA"] = sphere_attributes(v, f)["color"]
+    poly.point_data["z"] = v[:, 2]
+    out = fill_holes(poly, method="fair").to_pyvista()
+    assert out.point_data.active_normals_name == "Normals"
+    assert out.point_data.active_texture_coordinates_name == "TCoords"
+    assert out.point_data.active_scalars_name == "RGBA"
+
+
 def test_pyvista_polygons_are_triangulated_with_a_warning():
     pyvista = pytest.importorskip("pyvista")
     plane = pyvista.Plane(i_resolution=6, j_resolution=6)  # quads, with an open border

@@ -173,7 +173,9 @@ def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
                attributes: Mapping[str, np.ndarray] | None = None,
                face_attributes: Mapping[str, np.ndarray] | None = None):
     """A ``pyvista.PolyData`` with every attribute in ``point_data`` and every face attribute
-    in ``cell_data``."""
+    in ``cell_data``; the arrays PyVista reads and the file formats write under these names
+    made active again: normals (``Normals``, ``normal``), texture coordinates (``TCoords``,
+    ``Texture Coordinates``, ``uv``) and colours (:data:`COLOUR_NAMES`, ``RGB``, ``RGBA``)."""
     import pyvista
 
     faces = np.asarray(faces, dtype=np.int64)
@@ -183,6 +185,16 @@ def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
         mesh.point_data[name] = np.asarray(a)
     for name, a in (face_attributes or {}).items():
         mesh.cell_data[name] = np.asarray(a)
+    data = mesh.point_data
+    for active, names, width in (("active_normals_name", ("Normals", "normal"), (3,)),
+                                 ("active_texture_coordinates_name",
+                                  ("TCoords", "Texture Coordinates", "uv"), (2,)),
+                                 ("active_scalars_name", (_colour_name(attributes or {}),),
+                                  (3, 4))):
+        name = next((n for n in names if n in data.keys() and data[n].ndim == 2
+                     and data[n].shape[1] in width), None)
+        if name is not None:
+            setattr(data, active, name)
     return mesh
 
 
