@@ -34,6 +34,7 @@ def _exit_code(argv) -> int:
 @pytest.mark.parametrize("argv", [
     ["--max-hole-edges", "0"], ["--max-hole-edges", "-3"], ["--max-hole-edges", "2.5"],
     ["--jobs", "0"], ["--fair-order", "5"], ["--crease-angle", "200"], ["--holes", "x"],
+    ["--holes", ""], ["--holes", " , "],
 ])
 @pytest.mark.parametrize("command", ["fill", "batch"])
 def test_bad_fill_option_values_exit_2(command, argv, holed_file, tmp_path, capsys):

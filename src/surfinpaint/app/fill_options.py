@@ -21,10 +21,13 @@ def hole_list(text: str) -> list[int]:
     """``--holes 0,2,5``: hole numbers as ``surfinpaint holes`` lists them (an argparse
     ``type``)."""
     try:
-        return [int(t) for t in text.split(",") if t.strip()]
+        numbers = [int(t) for t in text.split(",") if t.strip()]
     except ValueError as exc:
         raise argparse.ArgumentTypeError(
             f"--holes takes comma-separated hole indices, got {text!r}") from exc
+    if not numbers:  # an empty shell variable: not "fill nothing" (nor "fill them all")
+        raise argparse.ArgumentTypeError(f"--holes names no hole, got {text!r}")
+    return numbers
 
 
 def whole_number(minimum: int):
