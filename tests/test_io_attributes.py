@@ -484,6 +484,29 @@ def test_freesurfer_overlays_beside_lh_surface_and_written_beside_output(tmp_pat
     assert read_mesh_data(out / "lh.filled.white", overlays=False).attributes == {}
 
 
+def test_filled_surface_beside_the_subjects_overlays_reads_back(tmp_path):
+    # subj/surf/lh.white filled into subj/surf/lh.filled.white: the subject's lh.thickness
+    # (one value per vertex of lh.white) is found beside the filled surface too; it was an
+    # error ("overlay has n values, the surface n + k vertices"), so the output could not be
+    # read again. It is skipped with a warning; the output's own overlay is read.
+    pytest.importorskip("nibabel")
+    from nibabel.freesurfer import write_morph_data
+
+    v, f, thickness, _ = _brain_surface(tmp_path)
+    write_mesh(tmp_path / "lh.white", v, f)
+    write_morph_data(tmp_path / "lh.thickness", thickness)
+    mesh = read_mesh_data(tmp_path / "lh.white")
+    longer = MeshData(np.vstack([v, v[:2]]), f,
+                      {"thickness": np.r_[thickness, thickness[:2]]})
+    write_mesh_data(tmp_path / "lh.filled.white", longer)
+    with pytest.warns(MeshWarning, match=r"overlay lh.thickness has \d+ values, the surface "
+                                         r"\d+ vertices: another surface's, not read"):
+        again = read_mesh_data(tmp_path / "lh.filled.white")
+    np.testing.assert_array_equal(again.attributes["thickness"], longer.attributes["thickness"])
+    assert set(again.attributes) == {"thickness"}
+    np.testing.assert_array_equal(mesh.attributes["thickness"], thickness)
+
+
 def test_two_overlays_of_one_name_are_both_kept_and_named(tmp_path):
     # lh.pial.gii picks up lh.pial.thickness.shape.gii and FreeSurfer's lh.thickness: both
     # would be called "thickness"; the second must not silently replace the first

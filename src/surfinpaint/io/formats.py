@@ -55,6 +55,7 @@ from surfinpaint.io.brain import (
     read_freesurfer,
     read_gifti,
     read_overlays,
+    subject_overlays,
     unstored_brain,
     unstored_freesurfer,
     write_freesurfer,
@@ -273,7 +274,8 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     dropped = list(parsed.dropped)
     files = _overlay_files(p, fmt, overlays)
     if files is not None:
-        extra, lost = read_overlays(files, len(mesh.vertices), p)
+        extra, lost = read_overlays(files, len(mesh.vertices), p, guessed=subject_overlays(p)
+                                    if overlays is True else ())
         dropped += lost
         mesh = MeshData(mesh.vertices, mesh.faces, {**mesh.attributes, **extra},
                         mesh.face_attributes, mesh.corner_attributes, mesh.metadata)
