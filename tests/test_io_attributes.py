@@ -461,6 +461,25 @@ def test_gifti_with_overlays_beside_round_trip(tmp_path):
     assert (tmp_path / "out.thickness.shape.gii").is_file()
 
 
+@pytest.mark.parametrize("output", ["lh.pial.filled.gii", "lh.pial.filled.surf.gii"])
+def test_a_surface_written_beside_another_keeps_its_overlays_to_itself(tmp_path, output):
+    # lh.pial.gii filled into lh.pial.filled.gii beside it: the output's
+    # lh.pial.filled.thickness.shape.gii matched lh.pial.gii's pattern too, so the input
+    # could not be read again ("overlay has n + k values, the surface n vertices")
+    pytest.importorskip("nibabel")
+    v, f, thickness, _ = _brain_surface(tmp_path)
+    write_mesh_data(tmp_path / "lh.pial.gii", MeshData(v, f, {"thickness": thickness}))
+    longer = MeshData(np.vstack([v, v[:2]]), f, {"thickness": np.r_[thickness, 1.0, 2.0]})
+    write_mesh_data(tmp_path / output, longer)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mesh = read_mesh_data(tmp_path / "lh.pial.gii")
+        again = read_mesh_data(tmp_path / output)
+    assert set(mesh.attributes) == {"thickness"} == set(again.attributes)
+    np.testing.assert_array_equal(mesh.attributes["thickness"], thickness)
+    np.testing.assert_array_equal(again.attributes["thickness"], longer.attributes["thickness"])
+
+
 def test_freesurfer_overlays_beside_lh_surface_and_written_beside_output(tmp_path):
     pytest.importorskip("nibabel")
     from nibabel.freesurfer import write_morph_data

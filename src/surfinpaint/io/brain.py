@@ -132,9 +132,34 @@ def overlays_beside(path: Path) -> list[Path]:
     found = sorted(folder.glob(f"{_glob_escape(base)}.*.shape.gii"))
     found += sorted(folder.glob(f"{_glob_escape(base)}.*.func.gii"))
     found += sorted(folder.glob(f"{_glob_escape(base)}.*.label.gii"))
+    found = [p for p in found if not _of_another_surface(p, base, path)]
     found += [p for p in sorted(folder.glob(f"{_glob_escape(path.name)}.*"))
-              if p not in found and _is_morph(p)]
+              if p not in found and _is_morph(p)
+              and not _of_another_surface(p, path.name, path)]
     return found + subject_overlays(path)
+
+
+#: How a surface file beside may be named after its base (``lh.pial.filled`` + one of these).
+_SURFACE_ENDINGS = ("", ".gii", ".gii.gz", ".surf.gii", ".surf.gii.gz")
+
+
+def _of_another_surface(overlay: Path, base: str, path: Path) -> bool:
+    """Whether an overlay found as ``BASE.REST`` is that of another surface beside, named
+    ``BASE.R`` for leading dotted parts R of REST: ``lh.pial.filled.sulc.shape.gii`` is
+    ``lh.pial.filled.gii``'s, written beside ``lh.pial.gii``, not ``lh.pial.gii``'s."""
+    name = overlay.name
+    for suffix in OVERLAY_SUFFIXES:
+        if name.lower().endswith(suffix):
+            name = name[:-len(suffix)]
+            break
+    parts = name[len(base) + 1:].split(".")
+    for k in range(1, len(parts)):
+        stem = f"{base}.{'.'.join(parts[:k])}"
+        for ending in _SURFACE_ENDINGS:
+            other = path.parent / (stem + ending)
+            if other != path and other.is_file() and not _is_morph(other):
+                return True
+    return False
 
 
 def subject_overlays(path: Path) -> list[Path]:
