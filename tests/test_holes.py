@@ -100,6 +100,7 @@ def test_a_hole_named_twice_is_chosen_once():
     assert np.array_equal(chosen[0], holes[1].loop)
     twice = select_holes(v, f, [holes[0].loop, np.roll(holes[0].loop[::-1], 2)])
     assert len(twice) == 1
+    assert len(select_holes(v, f, [holes[1].loop, holes[0].loop, holes[1].loop])) == 2
     result = fill_holes(v, f, holes=[1, 1], method="fair")
     assert [r.index for r in result.reports] == [1] and not result.reports[0].failed
 

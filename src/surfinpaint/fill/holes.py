@@ -233,9 +233,10 @@ def select_holes(
     if not all(np.ndim(h) == 0 for h in holes):  # loops given by their vertex ids
         if validate and found is None:
             find_holes(vertices, faces, table)  # the mesh checked all the same
-        unique = {tuple(sorted(np.asarray(loop).tolist())): loop for loop in reversed(holes)}
-        return [orient_loop(faces, loop) for loop in holes
-                if unique.get(tuple(sorted(np.asarray(loop).tolist()))) is loop]
+        unique: dict[tuple, np.ndarray] = {}
+        for loop in holes:  # by its vertices: any start, any direction
+            unique.setdefault(tuple(sorted(np.asarray(loop).tolist())), loop)
+        return [orient_loop(faces, loop) for loop in unique.values()]
     if found is None:
         found = find_holes(vertices, faces, table, validate=validate)
     chosen: dict[int, np.ndarray] = {}

@@ -190,8 +190,9 @@ def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
             continue
         where, a = kept[key]
         if where == "vertex":
-            used = np.unique(f)
-            table, index = a[used], np.searchsorted(used, f)
+            used = np.zeros(len(a), dtype=bool)
+            used[f] = True  # O(n), not a sort of the face ids
+            table, index = a[used], (np.cumsum(used) - 1)[f]
         else:
             table, inverse = np.unique(a.reshape(-1, a.shape[2]), axis=0, return_inverse=True)
             index = inverse.reshape(-1, 3)
