@@ -347,6 +347,7 @@ def test_obj_objects_groups_materials_are_face_labels_and_written_back(tmp_path)
     assert mesh.face_attributes["group"].tolist() == ["left", "left", "right", "right"]
     assert mesh.face_attributes["material"].tolist() == ["skin", "bone", "bone", "bone"]
     assert mesh.metadata == {"mtllib": "skin.mtl"}
+    (tmp_path / "skin.mtl").write_text("newmtl skin\nnewmtl bone\n")
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         write_mesh_data(tmp_path / "out.obj", mesh)
@@ -355,6 +356,11 @@ def test_obj_objects_groups_materials_are_face_labels_and_written_back(tmp_path)
         assert again.face_attributes[key].tolist() == mesh.face_attributes[key].tolist()
     assert again.metadata == mesh.metadata
     np.testing.assert_array_equal(again.faces, f)
+    # written into a folder without the library: the materials would not show; say so
+    (tmp_path / "elsewhere").mkdir()
+    with pytest.warns(MeshWarning, match="material library 'skin.mtl' is not beside the "
+                                         "output"):
+        write_mesh_data(tmp_path / "elsewhere" / "out.obj", mesh)
 
 
 # ------------------------------------------------------------------------------ OFF

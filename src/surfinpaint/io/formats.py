@@ -63,7 +63,7 @@ from surfinpaint.io.brain import (
     write_gifti_gz,
 )
 from surfinpaint.io.meshdata import MeshData, per_vertex, seam_vertices
-from surfinpaint.io.obj import read_obj, unstored_obj, write_obj
+from surfinpaint.io.obj import missing_libraries, read_obj, unstored_obj, write_obj
 from surfinpaint.io.off import read_off, unstored_off, write_off
 from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
 from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
@@ -466,7 +466,8 @@ def _write(path: str | os.PathLike, mesh: MeshData, *, ascii: bool) -> None:
         raise MeshError(f"directory {str(directory)!r} does not exist", path=name)
     if fmt == "stl":
         warn_stl_numbering(mesh.faces, len(mesh.vertices), name)
-    for message in _UNSTORED[fmt](mesh):
+    notes = _UNSTORED[fmt](mesh) + (missing_libraries(mesh, directory) if fmt == "obj" else [])
+    for message in notes:
         warnings.warn(f"{name}: {message}", MeshWarning, stacklevel=3)
     beside = overlay_outputs(p, mesh, fmt) if fmt in ("gii", "gii.gz", "freesurfer") else []
     created = False

@@ -170,6 +170,19 @@ def unstored_obj(mesh: MeshData) -> list[str]:
     return out
 
 
+def missing_libraries(mesh: MeshData, directory: Path) -> list[str]:
+    """A note per material library (``mtllib``) the written OBJ names that is not in its
+    folder: the name is written as read, the file (and its textures) not copied."""
+    out = []
+    for library in mesh.metadata.get("mtllib", "").splitlines():
+        name = library.strip()
+        if name and not Path(name).is_absolute() and not (directory / name).is_file():
+            out.append(f"material library {name!r} is not beside the output (its name is "
+                       "written, the file is not copied): copy it, and its textures, for "
+                       "the materials to show")
+    return out
+
+
 def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
     v, f = mesh.vertices, mesh.faces
     kept = _obj_arrays(mesh)
