@@ -705,8 +705,13 @@ def test_represent_and_rebuild_bad_input(tmp_path, capsys):
     junk = tmp_path / "junk.npz"
     junk.write_bytes(b"not a zip file")
     assert main(["rebuild", str(junk), "-o", str(tmp_path / "x.ply")]) == 1
-    assert "representation" in _flat(capsys.readouterr().err)
+    err = capsys.readouterr().err
+    assert "representation" in _flat(err)
+    # numpy's advice to load it "unsafely" with allow_pickle is not passed on
+    assert "pickle" not in err and "notan.npzarchive" in _flat(err)
     assert not (tmp_path / "x.ply").exists()
+    assert main(["rebuild", str(tmp_path / "missing.npz"), "-o", str(tmp_path / "x.ply")]) == 1
+    assert "missing.npz:nosuchfile" in _flat(capsys.readouterr().err)
 
 
 # ------------------------------------------------- the program: python -m surfinpaint, the script
