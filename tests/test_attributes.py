@@ -326,6 +326,23 @@ def test_trimesh_in_and_out(holed_sphere):
     assert np.all(out.visual.face_colors == [9, 99, 199, 255])  # the new faces' too
 
 
+def test_trimesh_texture_uv_comes_back_as_visual_uv_and_a_scene_is_refused(holed_sphere):
+    # a textured Trimesh in: the filled Trimesh out has its uv where trimesh users (and
+    # trimesh's exporters) look, visual.uv, the original vertices' exactly
+    trimesh = pytest.importorskip("trimesh")
+    v, f = holed_sphere
+    uv = v[:, :2] * 0.5 + 0.5
+    mesh = trimesh.Trimesh(v, f, process=False, visual=trimesh.visual.TextureVisuals(uv=uv))
+    with pytest.warns(UserWarning, match="image and material are not"):
+        result = fill_holes(mesh, method="fair")
+    out = result.to_trimesh()
+    assert out.visual.kind == "texture" and "uv" not in out.vertex_attributes
+    assert out.visual.uv.shape == (len(result.vertices), 2)
+    assert np.array_equal(out.visual.uv[:len(v)], uv)
+    with pytest.raises(TypeError, match="Scene is not one triangle mesh"):
+        fill_holes(trimesh.Scene([mesh]))
+
+
 def test_pyvista_in_and_out(holed_sphere):
     pyvista = pytest.importorskip("pyvista")
     v, f = holed_sphere
@@ -353,6 +370,22 @@ def test_pyvista_in_and_out(holed_sphere):
     assert len(out.cell_data["material"]) == len(result.faces)
 
 
+def test_pyvista_out_has_normals_texture_coordinates_and_colours_active(holed_sphere):
+    # a PolyData read from a file has its normals, texture coordinates and colours active
+    # (what plot() and the writers use); the filled one had none active
+    pyvista = pytest.importorskip("pyvista")
+    v, f = holed_sphere
+    poly = pyvista.PolyData(v, np.column_stack([np.full(len(f), 3), f]).ravel())
+    poly.point_data["Normals"] = vertex_normals(v, f)
+    poly.point_data["TCoords"] = v[:, :2] * 0.5 + 0.5
+    poly.point_data["RGBA"] = sphere_attributes(v, f)["color"]
+    poly.point_data["z"] = v[:, 2]
+    out = fill_holes(poly, method="fair").to_pyvista()
+    assert out.point_data.active_normals_name == "Normals"
+    assert out.point_data.active_texture_coordinates_name == "TCoords"
+    assert out.point_data.active_scalars_name == "RGBA"
+
+
 def test_pyvista_polygons_are_triangulated_with_a_warning():
     pyvista = pytest.importorskip("pyvista")
     plane = pyvista.Plane(i_resolution=6, j_resolution=6)  # quads, with an open border
@@ -361,6 +394,22 @@ def test_pyvista_polygons_are_triangulated_with_a_warning():
         result = fill_holes(plane, method="fair")
     assert result.faces.shape[1] == 3 and len(result.faces) == 72
     assert np.array_equal(result.attributes["x"], plane.points[:, 0])
+
+
+def test_pyvista_volume_and_line_datasets_are_refused_clearly():
+    # a volumetric or image dataset is no surface: a TypeError that says what to pass (it
+    # was an AttributeError from inside), and lines beside polygons are counted right
+    pyvista = pytest.importorskip("pyvista")
+    grid = pyvista.ImageData(dimensions=(3, 3, 3))
+    with pytest.raises(TypeError, match="ImageData is not a surface.*extract_surface"):
+        fill_holes(grid)
+    with pytest.raises(TypeError, match="UnstructuredGrid is not a surface"):
+        fill_holes(grid.cast_to_unstructured_grid())
+    poly = pyvista.Plane(i_resolution=2, j_resolution=2).triangulate()
+    poly = poly.merge(pyvista.Line((0, 0, 1), (1, 0, 1)), merge_points=False)
+    assert isinstance(poly, pyvista.PolyData)
+    with pytest.raises(ValueError, match="1 line cells beside 8 polygons"):
+        fill_holes(poly)
 
 
 def test_arrays_need_faces_and_other_objects_are_refused():

@@ -163,6 +163,11 @@ def test_find_inputs_mirrors_folders_globs_and_files(tmp_path):
     write_mesh(tmp_path / "other" / "closed.off", *sphere(1))
     with pytest.raises(ValueError, match="both be written"):
         find_inputs([scans / "subject1" / "deep", tmp_path / "other"], out)
+    # two files of one name (a shell-expanded glob over subjects): the message says how to
+    # keep their folders apart
+    with pytest.raises(ValueError, match="both be written.*the glob in quotes"):
+        find_inputs([scans / "subject1" / "deep" / "closed.off",
+                     tmp_path / "other" / "closed.off"], out)
     with pytest.raises(ValueError, match="no mesh files"):
         find_inputs([scans / "subject1", str(tmp_path / "nothing" / "*.ply")], out)
     with pytest.raises(ValueError, match="overwritten"):

@@ -219,8 +219,9 @@ def test_bowtie_hole_default_is_skipped_with_a_warning(tmp_path, capsys):
     code = main(["fill", str(path), "-o", str(out), "--method", "fair"])
     err = capsys.readouterr().err
     assert code == 0, err
-    # both holes go untouched, the report naming the bow-tie vertex
+    # both holes go untouched, the report naming the bow-tie vertex and the remedy
     assert "skipped" in err and str(centre) in err
+    assert "--repair" in err
     v2, f2 = read_mesh(out)
     np.testing.assert_array_equal(v2[: len(v)], v)
     np.testing.assert_array_equal(f2[: len(f)], f)
@@ -523,6 +524,16 @@ def test_holes_on_the_bunny_names_the_nonmanifold_edges(bunny, capsys):
     assert main(["holes", str(source)]) == 1
     err = _flat(capsys.readouterr().err)
     assert _flat(str(source)) in err and "non-manifold" in err
+    assert "--repair" in err  # `holes --repair` too says what to do (only `fill` did)
+
+
+def test_batch_on_the_bunny_says_repair_in_its_row(bunny, tmp_path):
+    from surfinpaint.app.batch import fill_files
+
+    source, _ = bunny
+    (row,) = fill_files([source], tmp_path / "out", jobs=1, method="fair")
+    assert row.status == "failed" and "non-manifold" in row.message
+    assert "--repair" in row.message
 
 
 def test_bunny_repaired_and_filled(bunny, tmp_path, capsys):
@@ -694,8 +705,13 @@ def test_represent_and_rebuild_bad_input(tmp_path, capsys):
     junk = tmp_path / "junk.npz"
     junk.write_bytes(b"not a zip file")
     assert main(["rebuild", str(junk), "-o", str(tmp_path / "x.ply")]) == 1
-    assert "representation" in _flat(capsys.readouterr().err)
+    err = capsys.readouterr().err
+    assert "representation" in _flat(err)
+    # numpy's advice to load it "unsafely" with allow_pickle is not passed on
+    assert "pickle" not in err and "notan.npzarchive" in _flat(err)
     assert not (tmp_path / "x.ply").exists()
+    assert main(["rebuild", str(tmp_path / "missing.npz"), "-o", str(tmp_path / "x.ply")]) == 1
+    assert "missing.npz:nosuchfile" in _flat(capsys.readouterr().err)
 
 
 # ------------------------------------------------- the program: python -m surfinpaint, the script

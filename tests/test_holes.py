@@ -3,6 +3,7 @@ import pytest
 import trimesh
 from conftest import grid_mesh
 
+from surfinpaint import fill_holes
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.holes import find_holes, orient_loop, select_holes
 from surfinpaint.geometry.mesh import boundary_loops
@@ -51,6 +52,15 @@ def test_holes_of_a_sphere_are_holes_not_borders():
         assert np.isclose(h.perimeter, seg)
 
 
+def test_components_are_numbered_over_the_surface_not_left_over_vertices():
+    # two spheres with a hole each: the faces cut away leave vertices no face uses, which
+    # must not push the second sphere's number past 1 (`holes` showed "component 13")
+    v, f = sphere_with_caps([(0, 0, 1)], radius=0.5)
+    w, g = sphere_with_caps([(0, 0, -1)], radius=0.5)
+    holes = find_holes(np.vstack([v, w + [3.0, 0, 0]]), np.vstack([f, g + len(v)]))
+    assert [h.component for h in holes] == [0, 1]
+
+
 def test_a_third_of_a_sphere_removed_is_still_a_hole():
     s = trimesh.creation.icosphere(3)
     v, f = np.asarray(s.vertices), np.asarray(s.faces)
@@ -78,6 +88,32 @@ def test_select_by_index_and_by_loop_any_orientation_and_start():
     oriented = orient_loop(f, given)
     loops = {tuple(np.roll(l, -int(np.argmin(l)))) for l in boundary_loops(f)}
     assert tuple(np.roll(oriented, -int(np.argmin(oriented)))) in loops
+
+
+def test_a_hole_named_twice_is_chosen_once():
+    # `fill --holes 1,1` filled hole 1, then failed on it again ("loop edges are not
+    # boundary edges"): a hole named twice, by number or by loop, is filled once
+    v, f = sphere_with_caps([(0, 0, 1), (1, 0, 0)])
+    holes = find_holes(v, f)
+    chosen = select_holes(v, f, [1, 0, 1])
+    assert [len(loop) for loop in chosen] == [holes[1].n_edges, holes[0].n_edges]
+    assert np.array_equal(chosen[0], holes[1].loop)
+    twice = select_holes(v, f, [holes[0].loop, np.roll(holes[0].loop[::-1], 2)])
+    assert len(twice) == 1
+    assert len(select_holes(v, f, [holes[1].loop, holes[0].loop, holes[1].loop])) == 2
+    result = fill_holes(v, f, holes=[1, 1], method="fair")
+    assert [r.index for r in result.reports] == [1] and not result.reports[0].failed
+
+
+def test_find_holes_takes_a_trimesh_or_pyvista_mesh_as_fill_holes_does():
+    v, f = sphere_with_caps([(0, 0, 1), (1, 0, 0)])
+    expected = [h.n_edges for h in find_holes(v, f)]
+    assert [h.n_edges for h in find_holes(trimesh.Trimesh(v, f, process=False))] == expected
+    pyvista = pytest.importorskip("pyvista")
+    poly = pyvista.PolyData(v, np.column_stack([np.full(len(f), 3), f]).ravel())
+    assert [h.n_edges for h in find_holes(poly)] == expected
+    with pytest.raises(TypeError, match="needs faces"):
+        find_holes(v)
 
 
 def test_bad_hole_selection_is_named():

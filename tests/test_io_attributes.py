@@ -255,6 +255,31 @@ def test_obj_vt_vn_per_vertex_round_trip(tmp_path):
     np.testing.assert_array_equal(again.faces, f)
 
 
+def test_obj_unreferenced_vertex_writes_no_nan_and_its_vt_is_named(tmp_path):
+    # a vertex no face uses (left over where faces were cut away): its vt and vn lines are
+    # dropped with a warning, and the written file has no `vt nan nan` for it
+    rng = np.random.default_rng(5)
+    v, f = grid_mesh(4, 3)
+    uv, normals = rng.random((len(v), 2)), rng.standard_normal((len(v), 3))
+    lonely = int(f[0, 0])
+    f = f[~(f == lonely).any(axis=1)]
+    path = tmp_path / "cut.obj"
+    path.write_text(_obj_text(v, f, uv, normals))
+    with pytest.warns(MeshWarning, match=r"1 of 20 vt records are not referenced"):
+        mesh = read_mesh_data(path)
+    assert np.isnan(mesh.attributes["uv"][lonely]).all()
+    write_mesh_data(tmp_path / "out.obj", mesh)
+    text = (tmp_path / "out.obj").read_text()
+    assert "nan" not in text
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        again = read_mesh_data(tmp_path / "out.obj")
+    np.testing.assert_array_equal(again.vertices, v)
+    np.testing.assert_array_equal(again.faces, f)
+    for key in ("uv", "normal"):
+        np.testing.assert_array_equal(again.attributes[key], mesh.attributes[key])
+
+
 def test_obj_uv_seam_kept_per_corner_and_written_back(tmp_path):
     v, f = grid_mesh(2, 1)  # 6 vertices, 4 faces
     rng = np.random.default_rng(4)
@@ -273,6 +298,28 @@ def test_obj_uv_seam_kept_per_corner_and_written_back(tmp_path):
     with pytest.warns(MeshWarning, match="seam"):
         again = read_mesh_data(tmp_path / "out.obj")
     np.testing.assert_array_equal(again.corner_attributes["uv"], corner)
+
+
+def test_obj_corners_without_a_value_are_written_without_vt(tmp_path):
+    # a fill across a UV seam gives its new corners no uv (NaN): those faces are written
+    # as `f a b c` (or `f a//n`), never with `vt nan nan`, and read back as NaN again
+    v, f = grid_mesh(2, 1)  # 6 vertices, 4 faces
+    rng = np.random.default_rng(6)
+    corner = rng.random((len(f), 3, 2))
+    corner[1] = np.nan
+    normals = rng.standard_normal((len(v), 3))
+    mesh = MeshData(v, f, {"normal": normals}, {}, {"uv": corner})
+    write_mesh_data(tmp_path / "out.obj", mesh)
+    text = (tmp_path / "out.obj").read_text()
+    assert "nan" not in text
+    assert len([line for line in text.splitlines() if line.startswith("vt ")]) == 9
+    faces = [line for line in text.splitlines() if line.startswith("f ")]
+    assert [line.count("//") for line in faces] == [0, 3, 0, 0]
+    with pytest.warns(MeshWarning, match="seam"):
+        again = read_mesh_data(tmp_path / "out.obj")
+    np.testing.assert_array_equal(again.faces, f)
+    np.testing.assert_array_equal(again.corner_attributes["uv"], corner)
+    np.testing.assert_array_equal(again.attributes["normal"], normals)
 
 
 def test_obj_vertex_colours_and_dropped_records_are_named(tmp_path):
@@ -300,6 +347,7 @@ def test_obj_objects_groups_materials_are_face_labels_and_written_back(tmp_path)
     assert mesh.face_attributes["group"].tolist() == ["left", "left", "right", "right"]
     assert mesh.face_attributes["material"].tolist() == ["skin", "bone", "bone", "bone"]
     assert mesh.metadata == {"mtllib": "skin.mtl"}
+    (tmp_path / "skin.mtl").write_text("newmtl skin\nnewmtl bone\n")
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         write_mesh_data(tmp_path / "out.obj", mesh)
@@ -308,6 +356,11 @@ def test_obj_objects_groups_materials_are_face_labels_and_written_back(tmp_path)
         assert again.face_attributes[key].tolist() == mesh.face_attributes[key].tolist()
     assert again.metadata == mesh.metadata
     np.testing.assert_array_equal(again.faces, f)
+    # written into a folder without the library: the materials would not show; say so
+    (tmp_path / "elsewhere").mkdir()
+    with pytest.warns(MeshWarning, match="material library 'skin.mtl' is not beside the "
+                                         "output"):
+        write_mesh_data(tmp_path / "elsewhere" / "out.obj", mesh)
 
 
 # ------------------------------------------------------------------------------ OFF
@@ -414,6 +467,25 @@ def test_gifti_with_overlays_beside_round_trip(tmp_path):
     assert (tmp_path / "out.thickness.shape.gii").is_file()
 
 
+@pytest.mark.parametrize("output", ["lh.pial.filled.gii", "lh.pial.filled.surf.gii"])
+def test_a_surface_written_beside_another_keeps_its_overlays_to_itself(tmp_path, output):
+    # lh.pial.gii filled into lh.pial.filled.gii beside it: the output's
+    # lh.pial.filled.thickness.shape.gii matched lh.pial.gii's pattern too, so the input
+    # could not be read again ("overlay has n + k values, the surface n vertices")
+    pytest.importorskip("nibabel")
+    v, f, thickness, _ = _brain_surface(tmp_path)
+    write_mesh_data(tmp_path / "lh.pial.gii", MeshData(v, f, {"thickness": thickness}))
+    longer = MeshData(np.vstack([v, v[:2]]), f, {"thickness": np.r_[thickness, 1.0, 2.0]})
+    write_mesh_data(tmp_path / output, longer)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mesh = read_mesh_data(tmp_path / "lh.pial.gii")
+        again = read_mesh_data(tmp_path / output)
+    assert set(mesh.attributes) == {"thickness"} == set(again.attributes)
+    np.testing.assert_array_equal(mesh.attributes["thickness"], thickness)
+    np.testing.assert_array_equal(again.attributes["thickness"], longer.attributes["thickness"])
+
+
 def test_freesurfer_overlays_beside_lh_surface_and_written_beside_output(tmp_path):
     pytest.importorskip("nibabel")
     from nibabel.freesurfer import write_morph_data
@@ -435,6 +507,29 @@ def test_freesurfer_overlays_beside_lh_surface_and_written_beside_output(tmp_pat
     np.testing.assert_array_equal(again.attributes["thickness"], thickness)
     assert again.metadata["create_stamp"] == mesh.metadata["create_stamp"]
     assert read_mesh_data(out / "lh.filled.white", overlays=False).attributes == {}
+
+
+def test_filled_surface_beside_the_subjects_overlays_reads_back(tmp_path):
+    # subj/surf/lh.white filled into subj/surf/lh.filled.white: the subject's lh.thickness
+    # (one value per vertex of lh.white) is found beside the filled surface too; it was an
+    # error ("overlay has n values, the surface n + k vertices"), so the output could not be
+    # read again. It is skipped with a warning; the output's own overlay is read.
+    pytest.importorskip("nibabel")
+    from nibabel.freesurfer import write_morph_data
+
+    v, f, thickness, _ = _brain_surface(tmp_path)
+    write_mesh(tmp_path / "lh.white", v, f)
+    write_morph_data(tmp_path / "lh.thickness", thickness)
+    mesh = read_mesh_data(tmp_path / "lh.white")
+    longer = MeshData(np.vstack([v, v[:2]]), f,
+                      {"thickness": np.r_[thickness, thickness[:2]]})
+    write_mesh_data(tmp_path / "lh.filled.white", longer)
+    with pytest.warns(MeshWarning, match=r"overlay lh.thickness has \d+ values, the surface "
+                                         r"\d+ vertices: another surface's, not read"):
+        again = read_mesh_data(tmp_path / "lh.filled.white")
+    np.testing.assert_array_equal(again.attributes["thickness"], longer.attributes["thickness"])
+    assert set(again.attributes) == {"thickness"}
+    np.testing.assert_array_equal(mesh.attributes["thickness"], thickness)
 
 
 def test_two_overlays_of_one_name_are_both_kept_and_named(tmp_path):

@@ -85,6 +85,21 @@ def test_ply_trailing_newline_is_not_data(tmp_path):
     _same(path, v, f)
 
 
+@pytest.mark.parametrize("ascii", [False, True], ids=["binary", "ascii"])
+def test_ply_with_zero_faces_is_no_mesh_not_truncated(tmp_path, ascii):
+    # `element face 0` (a point cloud exported as a mesh, or an empty export) is a whole
+    # file: refused for having no faces, not as truncated
+    blob, v, _ = _written(tmp_path, "m.ply", ascii=ascii)
+    head, sep, body = blob.partition(b"end_header\n")
+    nf = int(re.search(rb"element face (\d+)", head).group(1))
+    head = head.replace(f"element face {nf}".encode(), b"element face 0")
+    cut = b" ".join(body.split()[:3 * len(v)]) + b"\n" if ascii else body[:v.size * 8]
+    path = tmp_path / "nofaces.ply"
+    path.write_bytes(head + sep + cut)
+    err = _refused(path, "no faces")
+    assert "truncated" not in str(err)
+
+
 def _off_recount(blob: bytes, dv: int, df: int) -> bytes:
     lines = blob.split(b"\n")
     nv, nf, ne = map(int, lines[1].split())

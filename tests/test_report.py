@@ -257,6 +257,25 @@ def test_report_runs_headless_and_indexes_its_pictures(holed_sphere, tmp_path, m
     assert WRITTEN_ERROR in md
 
 
+def test_report_takes_repair_as_holes_and_fill_do(holed_sphere, tmp_path):
+    # a fin on the holed sphere: the error says --repair, which `report` did not take
+    v, f, cut = holed_sphere
+    a, b = cut.faces[0, :2]
+    fin_v = np.vstack([cut.vertices, (cut.vertices[a] + cut.vertices[b]) / 2 * 1.2])
+    fin_f = np.vstack([cut.faces, [a, b, len(cut.vertices)]])
+    write_mesh(tmp_path / "fin.ply", fin_v, fin_f)
+    parser = argparse.ArgumentParser()
+    add_report_parser(parser.add_subparsers())
+    out = tmp_path / "report"
+    args = parser.parse_args(["report", str(tmp_path / "fin.ply"), "-o", str(out), "-q"])
+    with pytest.raises(MeshError, match="non-manifold edges.*--repair"):
+        args.func(args)
+    args = parser.parse_args(["report", str(tmp_path / "fin.ply"), "-o", str(out), "-q",
+                              "--repair", "--holes", "0"])
+    assert args.func(args) == 0
+    assert (out / "hole0.png").is_file() and (out / "index.html").is_file()
+
+
 def test_report_cli_rejects_bad_hole_list(tmp_path):
     parser = argparse.ArgumentParser()
     add_report_parser(parser.add_subparsers())

@@ -34,6 +34,7 @@ def _exit_code(argv) -> int:
 @pytest.mark.parametrize("argv", [
     ["--max-hole-edges", "0"], ["--max-hole-edges", "-3"], ["--max-hole-edges", "2.5"],
     ["--jobs", "0"], ["--fair-order", "5"], ["--crease-angle", "200"], ["--holes", "x"],
+    ["--holes", ""], ["--holes", " , "],
 ])
 @pytest.mark.parametrize("command", ["fill", "batch"])
 def test_bad_fill_option_values_exit_2(command, argv, holed_file, tmp_path, capsys):
@@ -44,6 +45,16 @@ def test_bad_fill_option_values_exit_2(command, argv, holed_file, tmp_path, caps
     assert _exit_code([command, str(holed_file), "-o", str(out), "-q", *argv]) == 2
     assert argv[0] in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("command", ["fill", "represent"])
+def test_a_png_not_named_png_exits_2(command, holed_file, tmp_path, capsys):
+    # `--png out.jpg` wrote PNG bytes into a file named .jpg
+    out = tmp_path / ("out.ply" if command == "fill" else "r.npz")
+    picture = tmp_path / "picture.jpg"
+    assert _exit_code([command, str(holed_file), "-o", str(out), "--png", str(picture)]) == 2
+    assert "--png" in capsys.readouterr().err
+    assert not out.exists() and not picture.exists()
 
 
 @pytest.mark.parametrize("argv", [["--resolution", "0"], ["--resolution", "-2"],

@@ -98,7 +98,7 @@ def _messages(job: FileJob, result: FillResult,
               and not any(f"hole {r.index}: {r.skipped}" in t for t in texts)]
     if len(result.removed_faces):
         texts.append(f"repair removed {len(result.removed_faces)} faces around non-manifold "
-                     "edges")
+                     "edges and bow-tie vertices")
     return " | ".join(texts)
 
 

@@ -133,7 +133,10 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
             target = out / relative
             if target in targets:
                 raise ValueError(f"{targets[target]} and {found} would both be written to "
-                                 f"{target}; fill them into different output folders or rename one")
+                                 f"{target}; a file argument is written under its name alone: "
+                                 "pass their folder, or the glob in quotes ('subjects/*/lh."
+                                 "pial'), and the layout below it is kept, or fill them into "
+                                 "different output folders")
             if os.path.realpath(target) == real:
                 raise ValueError(f"{found} would be overwritten by its output: choose an "
                                  "output folder other than the input's (inputs are never "

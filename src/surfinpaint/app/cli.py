@@ -138,21 +138,13 @@ def cmd_fill(args: argparse.Namespace) -> int:
         mesh = read_mesh_data(args.mesh)
         vertices, faces = mesh.vertices, mesh.faces
         with _progress(not args.quiet) as progress:
-            try:
-                result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
-                                                jobs=args.jobs, **options)
-            except MeshError as exc:
-                if args.repair or "non-manifold edges" not in exc.message:
-                    raise
-                raise MeshError(exc.message + "; --repair removes the faces around them and "
-                                "fills the holes that leaves", path=str(args.mesh),
-                                vertices=exc.vertices, edges=exc.edges,
-                                faces=exc.faces) from None
+            result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
+                                            jobs=args.jobs, **options)
         write_mesh_data(args.output, filled)
     summary = Summary.of(result, time.perf_counter() - started)
     if len(result.removed_faces):
         say(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
-            "edges; the holes they left were filled too")
+            "edges and bow-tie vertices; the holes they left were filled too")
     if not result.reports:
         say(f"{args.mesh}: nothing to fill (no holes"
             f"{'' if args.all else ' apart from the outer border'}); "
@@ -282,7 +274,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        description="Print a table of the boundary loops of MESH.")
     p.add_argument("mesh", help="input mesh (PLY, OBJ, STL, OFF, GIFTI, FreeSurfer)")
     p.add_argument("--repair", action="store_true",
-                   help="first remove the faces around non-manifold edges, as `fill --repair` "
+                   help="first remove the faces around non-manifold edges and bow-tie vertices, "
+                   "as `fill --repair` "
                    "does, and list the holes of the result")
     p.set_defaults(func=cmd_holes)
 
@@ -377,6 +370,9 @@ def _check_outputs(args: argparse.Namespace) -> None:
         path = getattr(args, attribute, None)
         if path is not None:
             (files if kind == "file" else folders)[option] = str(path)
+    picture = files.get("--png")
+    if picture is not None and not picture.lower().endswith(".png"):
+        raise _UsageError(f"--png {picture!r}: the picture is a PNG file; name it .png")
     inputs = [str(getattr(args, a)) for a in _INPUTS if getattr(args, a, None) is not None]
     check_outputs_distinct(files, inputs,
                            in_place="-o" if getattr(args, "in_place", False) else None)

@@ -21,10 +21,13 @@ def hole_list(text: str) -> list[int]:
     """``--holes 0,2,5``: hole numbers as ``surfinpaint holes`` lists them (an argparse
     ``type``)."""
     try:
-        return [int(t) for t in text.split(",") if t.strip()]
+        numbers = [int(t) for t in text.split(",") if t.strip()]
     except ValueError as exc:
         raise argparse.ArgumentTypeError(
             f"--holes takes comma-separated hole indices, got {text!r}") from exc
+    if not numbers:  # an empty shell variable: not "fill nothing" (nor "fill them all")
+        raise argparse.ArgumentTypeError(f"--holes names no hole, got {text!r}")
+    return numbers
 
 
 def whole_number(minimum: int):
@@ -100,8 +103,8 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
     p.add_argument("--all", action="store_true",
                    help="also fill loops that look like the surface's outer border")
     p.add_argument("--repair", action="store_true",
-                   help="remove the faces around non-manifold edges first, then fill the "
-                   "holes that leaves")
+                   help="remove the faces around non-manifold edges and bow-tie vertices "
+                   "(where separate fans of faces meet) first, then fill the holes that leaves")
     p.add_argument("--discretization", choices=("mesh", "grid"), default="mesh",
                    help="where the conformal method's λ and H live: on the patch's "
                    "triangles (default, measured more accurate) or on the paper's regular "

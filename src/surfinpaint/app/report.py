@@ -65,6 +65,7 @@ from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.mesh import connected_components
 from surfinpaint.geometry.metrics import surface_distance
+from surfinpaint.geometry.repair import remove_nonmanifold_faces
 from surfinpaint.geometry.validation import validate_mesh
 from surfinpaint.io.formats import read_mesh
 
@@ -442,6 +443,10 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
                    "holes but the outer border)")
     p.add_argument("--truth", help="the complete mesh the holes were cut from (same vertex "
                    "positions): measure each fill against it")
+    p.add_argument("--repair", action="store_true",
+                   help="first remove the faces around non-manifold edges and bow-tie "
+                   "vertices, as `fill --repair` does (the holes numbered as by `holes "
+                   "--repair`)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
     p.set_defaults(func=run_report)
     return p
@@ -452,6 +457,10 @@ def run_report(args: argparse.Namespace) -> int:
     console = make_console()
     # pictures and a page: the file's colours, normals, UVs are not lost, only not drawn
     vertices, faces = read_mesh(args.mesh, data_warning=False)
+    if args.repair:
+        faces, removed = remove_nonmanifold_faces(vertices, faces)
+        console.print(f"--repair removed {len(removed)} faces around non-manifold edges and "
+                      "bow-tie vertices")
     validate_mesh(vertices, faces, path=str(args.mesh))
     truth = read_mesh(args.truth, data_warning=False) if args.truth else None
     loops = select_holes(vertices, faces, args.holes)

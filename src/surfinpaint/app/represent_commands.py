@@ -133,6 +133,8 @@ def run_rebuild(args: argparse.Namespace) -> int:
     console = _console()
     try:
         rep = representation.load_representation(args.representation)
+    except FileNotFoundError:
+        raise MeshError("no such file", path=str(args.representation)) from None
     except (OSError, KeyError, ValueError) as exc:
         raise MeshError(f"not a λ-H representation file ({exc})",
                         path=str(args.representation)) from exc

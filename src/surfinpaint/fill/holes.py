@@ -16,6 +16,8 @@ from surfinpaint.lazy import lazy_module
 # imported at its first use: scipy.spatial (with scipy.special) is 50-60 ms of a start,
 # and a large fill's kernels import it on their loading thread, beside the passes
 spatial = lazy_module("scipy.spatial")
+# a trimesh or PyVista mesh in find_holes (the attribute carrying is not needed otherwise)
+objects = lazy_module("surfinpaint.fill.objects")
 
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
@@ -43,7 +45,9 @@ class Hole:
     diameter : float
         Largest distance between two loop vertices.
     component : int
-        Connected component (vertex label) the loop belongs to.
+        Connected component of the surface the loop belongs to: 0, 1, ... over the
+        components that have faces, in the order of their lowest vertex id (vertices no face
+        uses are no component).
     is_border : bool
         True when the loop looks like the surface's own outer border rather than a hole.
     """
@@ -75,8 +79,8 @@ def _spanned_area(points: np.ndarray) -> float:
     return 0.5 * float(np.linalg.norm(np.cross(centred, np.roll(centred, -1, axis=0)).sum(0)))
 
 
-def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None = None, *,
-               validate: bool = True) -> list[Hole]:
+def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
+               table: EdgeTable | None = None, *, validate: bool = True) -> list[Hole]:
     """Boundary loops of a mesh, measured, with the outer borders flagged.
 
     Every boundary loop is returned. In each connected component the longest loop is flagged
@@ -86,7 +90,9 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None 
 
     Parameters
     ----------
-    vertices : (n, 3) float array
+    vertices : (n, 3) float array, ``trimesh.Trimesh`` or ``pyvista.PolyData``
+        A mesh object is taken whole (``faces`` then None), as by
+        :func:`surfinpaint.fill_holes`.
     faces : (f, 3) int array
     table : EdgeTable, optional
         The faces' edge table, if already built (e.g. by the caller that validated the
@@ -113,6 +119,8 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None 
     >>> [h.n_edges for h in find_holes(v, np.array([[0, 1, 2], [0, 2, 3]]))]
     [4]
     """
+    if faces is None:  # a trimesh or PyVista mesh
+        vertices, faces, _, _ = objects.mesh_arrays(vertices)
     faces = face_ids(faces)
     if validate:
         check_arrays(vertices, faces)  # before the table: it indexes by the ids
@@ -133,6 +141,9 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None 
         if component not in spans:
             spans[component] = _spanned_area(vertices[loop])
     borders = _borders(vertices, faces, label, spans)
+    # numbered over the components with faces: a vertex no face uses (left where faces were
+    # cut away) is a component of its own in the labels and would skip numbers
+    surface = np.unique(label[faces.reshape(-1)])
     holes: list[Hole] = []
     longest_seen: set[int] = set()
     for loop in ordered:
@@ -143,7 +154,8 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None 
         longest_seen.add(component)
         holes.append(
             Hole(loop=loop, n_edges=len(loop), perimeter=perimeter,
-                 diameter=loop_diameter(points), component=component, is_border=is_border)
+                 diameter=loop_diameter(points),
+                 component=int(np.searchsorted(surface, component)), is_border=is_border)
         )
     return holes
 
@@ -196,7 +208,7 @@ def select_holes(
     holes : None, sequence of int, or sequence of loops
         None: every loop except outer borders (all loops with ``include_border``).
         Integers: indices into :func:`find_holes`' list. Sequences: boundary loops given by
-        their vertex ids (any start, any direction).
+        their vertex ids (any start, any direction). A hole named twice is chosen once.
     table : EdgeTable, optional
         The faces' edge table, if already built (passed on to :func:`find_holes`).
     validate : bool
@@ -221,10 +233,13 @@ def select_holes(
     if not all(np.ndim(h) == 0 for h in holes):  # loops given by their vertex ids
         if validate and found is None:
             find_holes(vertices, faces, table)  # the mesh checked all the same
-        return [orient_loop(faces, loop) for loop in holes]
+        unique: dict[tuple, np.ndarray] = {}
+        for loop in holes:  # by its vertices: any start, any direction
+            unique.setdefault(tuple(sorted(np.asarray(loop).tolist())), loop)
+        return [orient_loop(faces, loop) for loop in unique.values()]
     if found is None:
         found = find_holes(vertices, faces, table, validate=validate)
-    chosen = []
+    chosen: dict[int, np.ndarray] = {}
     for index in holes:
         if int(index) != index:
             raise ValueError(f"hole indices must be integers, got {index!r}")
@@ -232,8 +247,8 @@ def select_holes(
             raise MeshError(
                 f"hole index {index} out of range: the mesh has {len(found)} boundary loops"
             )
-        chosen.append(found[int(index)].loop)
-    return chosen
+        chosen.setdefault(int(index), found[int(index)].loop)
+    return list(chosen.values())
 
 
 def hole_numbers(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray], *,

@@ -42,6 +42,10 @@ def _library(mesh) -> str | None:
 
 
 def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
+    if not hasattr(mesh, "vertex_attributes"):
+        raise TypeError(f"a trimesh {type(mesh).__name__} is not one triangle mesh: pass a "
+                        "trimesh.Trimesh (a Scene's meshes as one: scene.to_geometry(), or "
+                        "trimesh.load(path, force='mesh'))")
     attributes = {name: np.asarray(a) for name, a in mesh.vertex_attributes.items()}
     face_attributes = {name: np.asarray(a) for name, a in mesh.face_attributes.items()}
     visual = mesh.visual
@@ -59,11 +63,17 @@ def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
 
 
 def _from_pyvista(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
-    extra = {"lines": mesh.n_lines, "vertex cells": mesh.n_verts}
+    import pyvista
+
+    if not isinstance(mesh, pyvista.PolyData):
+        raise TypeError(f"a pyvista {type(mesh).__name__} is not a surface: pass a "
+                        "pyvista.PolyData (its boundary surface: mesh.extract_surface())")
+    extra = {"line cells": mesh.n_lines, "vertex cells": mesh.n_verts}
     if any(extra.values()):
-        raise ValueError("the PolyData has " + ", ".join(f"{k} {n}" for k, n in extra.items()
+        raise ValueError("the PolyData has " + ", ".join(f"{n} {k}" for k, n in extra.items()
                                                           if n)
-                         + " besides its polygons: keep only the surface (extract_surface)")
+                         + f" beside {mesh.n_cells - sum(extra.values())} polygons or strips: "
+                         "keep only the surface (extract_surface)")
     if not mesh.is_all_triangles:
         warnings.warn(f"PolyData: {mesh.n_cells} polygons or strips fan-triangulated (cell "
                       "data follow the triangles)", stacklevel=4)
@@ -98,8 +108,8 @@ def mesh_arrays(
     Raises
     ------
     TypeError
-        An object of another kind, a mesh object with ``faces`` too, or arrays without
-        ``faces``.
+        An object of another kind (a pyvista dataset other than ``PolyData`` too), a mesh
+        object with ``faces`` too, or arrays without ``faces``.
     ValueError
         A PolyData with lines or vertex cells.
     """
@@ -111,7 +121,7 @@ def mesh_arrays(
                             "mesh.face_attributes); its corner data through surfinpaint.fill."
                             "face_attributes.fill_result_corner_attributes")
         if faces is None:
-            raise TypeError(f"fill_holes needs faces with vertices given as an array; got a "
+            raise TypeError(f"a mesh needs faces with vertices given as an array; got a "
                             f"{type(mesh).__name__} and no faces (trimesh.Trimesh and "
                             "pyvista.PolyData are taken whole)")
         own_vertices, own_faces, own, own_faces_attributes = mesh, faces, {}, {}
@@ -137,8 +147,9 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
                face_attributes: Mapping[str, np.ndarray] | None = None):
     """A ``trimesh.Trimesh`` (``process=False``: nothing merged or reordered) with the vertex
     colours in ``visual`` (the first attribute named in :data:`COLOUR_NAMES`; when there is
-    none, the face attribute so named) and every other attribute in ``vertex_attributes`` /
-    ``face_attributes``."""
+    none, the face attribute so named; when there are no colours, an ``(n, 2)`` attribute
+    ``"uv"`` as ``visual.uv`` of a ``TextureVisuals``, without image or material) and every
+    other attribute in ``vertex_attributes`` / ``face_attributes``."""
     import trimesh
 
     attributes = dict(attributes or {})
@@ -147,16 +158,24 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
     vertex_colors = attributes.pop(colour) if colour else None
     face_colour = None if colour else _colour_name(face_attributes)
     face_colors = face_attributes.pop(face_colour) if face_colour else None
+    uv = attributes.get("uv")
+    visual = None
+    if colour is None and face_colour is None and uv is not None \
+            and np.shape(uv) == (len(vertices), 2):
+        visual = trimesh.visual.TextureVisuals(uv=attributes.pop("uv"))
     return trimesh.Trimesh(vertices=vertices, faces=faces, process=False, validate=False,
                            vertex_colors=vertex_colors, face_colors=face_colors,
-                           vertex_attributes=attributes, face_attributes=face_attributes)
+                           visual=visual, vertex_attributes=attributes,
+                           face_attributes=face_attributes)
 
 
 def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
                attributes: Mapping[str, np.ndarray] | None = None,
                face_attributes: Mapping[str, np.ndarray] | None = None):
     """A ``pyvista.PolyData`` with every attribute in ``point_data`` and every face attribute
-    in ``cell_data``."""
+    in ``cell_data``; the arrays PyVista reads and the file formats write under these names
+    made active again: normals (``Normals``, ``normal``), texture coordinates (``TCoords``,
+    ``Texture Coordinates``, ``uv``) and colours (:data:`COLOUR_NAMES`, ``RGB``, ``RGBA``)."""
     import pyvista
 
     faces = np.asarray(faces, dtype=np.int64)
@@ -166,6 +185,16 @@ def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
         mesh.point_data[name] = np.asarray(a)
     for name, a in (face_attributes or {}).items():
         mesh.cell_data[name] = np.asarray(a)
+    data = mesh.point_data
+    for active, names, width in (("active_normals_name", ("Normals", "normal"), (3,)),
+                                 ("active_texture_coordinates_name",
+                                  ("TCoords", "Texture Coordinates", "uv"), (2,)),
+                                 ("active_scalars_name", (_colour_name(attributes or {}),),
+                                  (3, 4))):
+        name = next((n for n in names if n in data.keys() and data[n].ndim == 2
+                     and data[n].shape[1] in width), None)
+        if name is not None:
+            setattr(data, active, name)
     return mesh
 
 

@@ -380,7 +380,8 @@ def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
                          for (a, b), i in zip(edges[:10], nonmanifold[:10], strict=True)],
                         nonmanifold.size)
         raise _fail(f"{nonmanifold.size} non-manifold edges (shared by more than two faces): "
-                    f"{text}", path, edges=edges)
+                    f"{text}; --repair (repair=True) removes the faces around them and fills "
+                    "the holes that leaves", path, edges=edges)
     # interior edge: its two half-edges must run in opposite directions
     h1, h2 = table.interior_pairs() if pairs is None else pairs
     clash = np.flatnonzero(table.forward[h1] == table.forward[h2])
@@ -529,5 +530,6 @@ def check_loop(faces: np.ndarray, loop: np.ndarray, *, path: str | None = None) 
     if bowtie.size:
         raise _fail(f"hole boundary passes through non-manifold (bow-tie) vertices "
                     f"{preview(bowtie)}: the faces there form several fans, so filling the "
-                    "hole would leave a non-manifold surface", path,
+                    "hole would leave a non-manifold surface (--repair, repair=True, removes "
+                    "the faces of all but the largest fan there first)", path,
                     vertices=bowtie[:100].tolist())

@@ -132,13 +132,45 @@ def overlays_beside(path: Path) -> list[Path]:
     found = sorted(folder.glob(f"{_glob_escape(base)}.*.shape.gii"))
     found += sorted(folder.glob(f"{_glob_escape(base)}.*.func.gii"))
     found += sorted(folder.glob(f"{_glob_escape(base)}.*.label.gii"))
+    found = [p for p in found if not _of_another_surface(p, base, path)]
     found += [p for p in sorted(folder.glob(f"{_glob_escape(path.name)}.*"))
-              if p not in found and _is_morph(p)]
+              if p not in found and _is_morph(p)
+              and not _of_another_surface(p, path.name, path)]
+    return found + subject_overlays(path)
+
+
+#: How a surface file beside may be named after its base (``lh.pial.filled`` + one of these).
+_SURFACE_ENDINGS = ("", ".gii", ".gii.gz", ".surf.gii", ".surf.gii.gz")
+
+
+def _of_another_surface(overlay: Path, base: str, path: Path) -> bool:
+    """Whether an overlay found as ``BASE.REST`` is that of another surface beside, named
+    ``BASE.R`` for leading dotted parts R of REST: ``lh.pial.filled.sulc.shape.gii`` is
+    ``lh.pial.filled.gii``'s, written beside ``lh.pial.gii``, not ``lh.pial.gii``'s."""
+    name = overlay.name
+    for suffix in OVERLAY_SUFFIXES:
+        if name.lower().endswith(suffix):
+            name = name[:-len(suffix)]
+            break
+    parts = name[len(base) + 1:].split(".")
+    for k in range(1, len(parts)):
+        stem = f"{base}.{'.'.join(parts[:k])}"
+        for ending in _SURFACE_ENDINGS:
+            other = path.parent / (stem + ending)
+            if other != path and other.is_file() and not _is_morph(other):
+                return True
+    return False
+
+
+def subject_overlays(path: Path) -> list[Path]:
+    """FreeSurfer's ``lh.curv``, ``lh.thickness``, ... beside a surface named ``lh.*`` or
+    ``rh.*`` (:data:`FREESURFER_OVERLAYS`): the subject's, found by name only, so they may
+    belong to another surface of the subject (the original one, beside a filled one)."""
     hemi = re.match(r"^(lh|rh)\.", path.name)
-    if hemi:
-        found += [p for name in FREESURFER_OVERLAYS
-                  if (p := folder / f"{hemi.group(1)}.{name}") != path and _is_morph(p)]
-    return found
+    if not hemi:
+        return []
+    return [p for name in FREESURFER_OVERLAYS
+            if (p := path.parent / f"{hemi.group(1)}.{name}") != path and _is_morph(p)]
 
 
 def _glob_escape(text: str) -> str:
@@ -169,16 +201,18 @@ def overlay_name(overlay: Path, surface: Path | None = None) -> str:
     return _safe(re.sub(r"^(lh|rh)\.", "", name))
 
 
-def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
-                  ) -> tuple[dict[str, np.ndarray], list[str]]:
+def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
+                  guessed: Sequence[Path] = ()) -> tuple[dict[str, np.ndarray], list[str]]:
     """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry files),
     and what they hold that is not kept as read (a GIFTI label table; a second overlay of the
-    same name, kept under its file name).
+    same name, kept under its file name; an overlay of ``guessed`` without ``n`` values,
+    not read: :func:`subject_overlays` of the surface, which may belong to another surface).
 
     Raises
     ------
     MeshError
-        Naming the overlay file, when it cannot be read or has not ``n`` values.
+        Naming the overlay file, when it cannot be read or (not one of ``guessed``) has not
+        ``n`` values.
     """
     import nibabel as nib
     from nibabel.freesurfer import read_morph_data
@@ -200,6 +234,10 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None
             raise err.with_path(str(p)) from None
         except Exception as exc:
             raise MeshError(f"cannot read the overlay: {describe(exc)}", path=str(p)) from None
+        if (values.ndim == 0 or len(values) != n) and p in guessed:
+            dropped.append(f"overlay {p.name} has {len(values) if values.ndim else 0} values, "
+                           f"the surface {n} vertices: another surface's, not read")
+            continue
         if values.ndim == 0 or len(values) != n:
             raise MeshError(f"overlay has {len(values) if values.ndim else 0} values, the "
                             f"surface {n} vertices", path=str(p))

@@ -55,6 +55,7 @@ from surfinpaint.io.brain import (
     read_freesurfer,
     read_gifti,
     read_overlays,
+    subject_overlays,
     unstored_brain,
     unstored_freesurfer,
     write_freesurfer,
@@ -62,7 +63,7 @@ from surfinpaint.io.brain import (
     write_gifti_gz,
 )
 from surfinpaint.io.meshdata import MeshData, per_vertex, seam_vertices
-from surfinpaint.io.obj import read_obj, unstored_obj, write_obj
+from surfinpaint.io.obj import missing_libraries, read_obj, unstored_obj, write_obj
 from surfinpaint.io.off import read_off, unstored_off, write_off
 from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
 from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
@@ -273,7 +274,8 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     dropped = list(parsed.dropped)
     files = _overlay_files(p, fmt, overlays)
     if files is not None:
-        extra, lost = read_overlays(files, len(mesh.vertices), p)
+        extra, lost = read_overlays(files, len(mesh.vertices), p, guessed=subject_overlays(p)
+                                    if overlays is True else ())
         dropped += lost
         mesh = MeshData(mesh.vertices, mesh.faces, {**mesh.attributes, **extra},
                         mesh.face_attributes, mesh.corner_attributes, mesh.metadata)
@@ -464,7 +466,8 @@ def _write(path: str | os.PathLike, mesh: MeshData, *, ascii: bool) -> None:
         raise MeshError(f"directory {str(directory)!r} does not exist", path=name)
     if fmt == "stl":
         warn_stl_numbering(mesh.faces, len(mesh.vertices), name)
-    for message in _UNSTORED[fmt](mesh):
+    notes = _UNSTORED[fmt](mesh) + (missing_libraries(mesh, directory) if fmt == "obj" else [])
+    for message in notes:
         warnings.warn(f"{name}: {message}", MeshWarning, stacklevel=3)
     beside = overlay_outputs(p, mesh, fmt) if fmt in ("gii", "gii.gz", "freesurfer") else []
     created = False

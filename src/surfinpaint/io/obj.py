@@ -70,6 +70,10 @@ def read_obj(data: bytes, path: Path) -> Parsed:
         values = np.full((len(ids), width), np.nan)
         values[ids != 0] = table[index[ids != 0]]
         out.corner_values[key] = values
+        unused = len(table) - len(np.unique(index[ids != 0]))
+        if unused:
+            out.dropped.append(f"{unused} of {len(table)} {kind} records are not referenced "
+                               "by any face and are not kept")
     if present & {"o", "g", "usemtl", "mtllib"}:
         _labels(out, _LABEL_OR_FACE.findall(text))
     other = sorted(present - _KNOWN)
@@ -166,6 +170,19 @@ def unstored_obj(mesh: MeshData) -> list[str]:
     return out
 
 
+def missing_libraries(mesh: MeshData, directory: Path) -> list[str]:
+    """A note per material library (``mtllib``) the written OBJ names that is not in its
+    folder: the name is written as read, the file (and its textures) not copied."""
+    out = []
+    for library in mesh.metadata.get("mtllib", "").splitlines():
+        name = library.strip()
+        if name and not Path(name).is_absolute() and not (directory / name).is_file():
+            out.append(f"material library {name!r} is not beside the output (its name is "
+                       "written, the file is not copied): copy it, and its textures, for "
+                       "the materials to show")
+    return out
+
+
 def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
     v, f = mesh.vertices, mesh.faces
     kept = _obj_arrays(mesh)
@@ -176,6 +193,9 @@ def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
         write_rows(fh, "v" + " %.17g" * 6 + "\n", np.column_stack([v, kept["color"][1]]))
     else:
         write_rows(fh, "v %.17g %.17g %.17g\n", v)
+    # per record: each corner's 1-based id, 0 where the corner has no value (NaN: a vertex
+    # no face uses, a new corner across a UV seam); a face with such a corner is written
+    # without that record ("f 1/2 3/4 5/6" beside "f 7 8 9"), never as "vt nan nan"
     ids = [f + 1]
     for key, record in (("uv", "vt"), ("normal", "vn")):
         if key not in kept:
@@ -183,39 +203,59 @@ def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
             continue
         where, a = kept[key]
         if where == "vertex":
-            table, index = a, f
+            used = np.zeros(len(a), dtype=bool)
+            used[f] = True  # O(n), not a sort of the face ids
+            table, index = a[used], (np.cumsum(used) - 1)[f]
         else:
             table, inverse = np.unique(a.reshape(-1, a.shape[2]), axis=0, return_inverse=True)
             index = inverse.reshape(-1, 3)
-        width = table.shape[1]
-        write_rows(fh, record + " %.17g" * width + "\n", np.asarray(table, np.float64))
-        ids.append(index + 1)
-    if ids[1] is None and ids[2] is None:
-        row, stacked = "f %d %d %d\n", f + 1
-    else:
-        corner = ("%d/" + ("%d" if ids[1] is not None else "")
-                  + ("/%d" if ids[2] is not None else ""))
-        row = "f " + " ".join([corner] * 3) + "\n"
-        stacked = np.stack([i for i in ids if i is not None], axis=2).reshape(len(f), -1)
-    _write_faces(fh, row, stacked, mesh)
+        table = np.asarray(table, np.float64)
+        valued = ~np.isnan(table).any(axis=1)
+        number = np.cumsum(valued) * valued  # 1-based among the rows written, 0: no value
+        write_rows(fh, record + " %.17g" * table.shape[1] + "\n", table[valued])
+        ids.append(number[index])
+    _write_faces(fh, ids, mesh)
 
 
-def _write_faces(fh, row: str, stacked: np.ndarray, mesh: MeshData) -> None:
-    """Face rows in runs of one object, group and material, each run after its records."""
+def _face_rows(ids: list) -> tuple[np.ndarray, dict[int, tuple[str, np.ndarray]]]:
+    """Per face its row kind, and per kind present the row format and the numbers of its
+    faces (all faces' rows, read in runs): a face with a corner that has no uv (normal) is
+    written without its vt (vn) ids."""
+    lacks = [np.zeros(len(ids[0]), bool) if i is None else (i == 0).any(axis=1)
+             for i in ids[1:]]
+    kind = lacks[0].astype(np.int64) + 2 * lacks[1]
+    rows = {}
+    for k in np.unique(kind).tolist():
+        uv = ids[1] is not None and not k & 1
+        normal = ids[2] is not None and not k & 2
+        corner = {(True, True): "%d/%d/%d", (True, False): "%d/%d",
+                  (False, True): "%d//%d", (False, False): "%d"}[uv, normal]
+        columns = [ids[0]] + [i for i, on in ((ids[1], uv), (ids[2], normal)) if on]
+        rows[k] = ("f " + " ".join([corner] * 3) + "\n",
+                   np.stack(columns, axis=2).reshape(len(kind), -1))
+    return kind, rows
+
+
+def _write_faces(fh, ids: list, mesh: MeshData) -> None:
+    """Face rows in runs of one object, group and material, each run after its records, and
+    of one row kind (:func:`_face_rows`)."""
+    kind, rows = _face_rows(ids)
     labels = [(record, np.asarray(mesh.face_attributes[label]).astype(str))
               for label, record in _LABELS.items()
               if np.asarray(mesh.face_attributes.get(label, np.zeros((0, 0)))).ndim == 1]
-    if not labels:
-        write_rows(fh, row, stacked)
+    if not labels and not kind.any():
+        write_rows(fh, *rows[0])
         return
-    change = np.zeros(len(stacked), dtype=bool)
+    change = np.zeros(len(kind), dtype=bool)
     change[0] = True
+    change[1:] |= kind[1:] != kind[:-1]
     for _, values in labels:
         change[1:] |= values[1:] != values[:-1]
-    starts = np.flatnonzero(change).tolist() + [len(stacked)]
+    starts = np.flatnonzero(change).tolist() + [len(kind)]
     for a, b in zip(starts[:-1], starts[1:], strict=True):
         for record, values in labels:
             if a == 0 and values[a] == "" or a and values[a] == values[a - 1]:
                 continue
             fh.write(f"{record} {values[a]}\n".encode())
+        row, stacked = rows[kind[a]]
         write_rows(fh, row, stacked[a:b])

@@ -178,6 +178,9 @@ class _PlyBinary:
             rec = np.frombuffer(self.data, dtype, count=count, offset=self.offset)
             self.offset += count * dtype.itemsize
             return {p: rec[p] for p, _, _ in props}
+        if count == 0:
+            return {p: (np.zeros(0, np.int64), np.zeros(0)) if c is not None else np.zeros(0)
+                    for p, _, c in props}
         # fast path: every list as long as in the first record (all triangles, all quads)
         sizes, pos = {}, self.offset
         for p, t, c in props:
@@ -195,8 +198,6 @@ class _PlyBinary:
             else:
                 fields += [(p + "\0n", e + c), (p, e + t, (sizes[p],))]
         dtype = np.dtype(fields)
-        if count == 0:
-            return {p: (np.zeros(0, np.int64), np.zeros(0)) for p, _, c in lists}
         if self.offset + count * dtype.itemsize <= len(self.data):
             rec = np.frombuffer(self.data, dtype, count=count, offset=self.offset)
             if all(np.all(rec[p + "\0n"] == sizes[p]) for p, _, _ in lists):
@@ -265,6 +266,9 @@ class _PlyAscii:
             block = v[self.pos:self.pos + count * k].reshape(count, k)
             self.pos += count * k
             return {p: block[:, i] for i, (p, _, _) in enumerate(props)}
+        if count == 0:
+            return {p: (np.zeros(0, np.int64), np.zeros(0)) if c is not None else np.zeros(0)
+                    for p, _, c in props}
         # fast path: constant list lengths, judged from the first record
         layout, width, q = [], 0, self.pos
         for p, _, c in props:

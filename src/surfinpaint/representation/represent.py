@@ -472,8 +472,12 @@ def load_representation(path: str | os.PathLike
     Raises
     ------
     ValueError
-        When the file is not a λ-H representation.
+        When the file is not a λ-H representation (not an ``.npz`` archive, or one without
+        a representation's arrays).
     """
+    with open(path, "rb") as fh:  # np.load of any other file talks of pickles
+        if fh.read(4) != b"PK\x03\x04":
+            raise ValueError("not an .npz archive, as represent and its exports write")
     with np.load(path, allow_pickle=False) as data:
         kind = str(data["discretization"]) if "discretization" in data.files else "grid"
     if kind == "mesh":
