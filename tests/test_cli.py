@@ -800,3 +800,16 @@ def test_python_m_surfinpaint_runs_the_program(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "surfinpaint", "fill", str(tmp_path / "no.ply"),
                           "-o", str(out), "-q"], capture_output=True, text=True, timeout=120)
     assert bad.returncode == 1
+
+
+def test_holes_table_and_fill_name_a_hole_that_may_be_the_margin(tmp_path, capsys):
+    import trimesh
+
+    s = trimesh.creation.icosphere(3)
+    v, f = np.asarray(s.vertices), np.asarray(s.faces)
+    path = tmp_path / "cup.ply"  # a third of the sphere gone: a cup, below the border rule
+    write_mesh(path, v, f[v[f].mean(axis=1)[:, 2] < 0.3])
+    assert main(["holes", str(path)]) == 0
+    assert "themargin?" in _flat(capsys.readouterr().out)
+    assert main(["fill", str(path), "-o", str(tmp_path / "out.ply"), "--method", "fair"]) == 0
+    assert "keepitopen" in _flat(capsys.readouterr().err)

@@ -1,3 +1,5 @@
+import warnings
+
 import numpy as np
 import pytest
 import trimesh
@@ -228,3 +230,50 @@ def test_border_flags_from_partial_areas_match_the_whole_sum(monkeypatch, block)
         holes = find_holes(v, f)
         assert [h.is_border for h in holes] == _borders_by_whole_sum(v, f)
     assert [h.is_border for h in find_holes(both_v, both_f)].count(True) == 1
+
+
+def _sphere_cut_below(height, subdivisions=4):
+    """A unit sphere with the faces whose centroid lies above ``height`` removed: one loop,
+    a cap of (1 - height) / 2 of the sphere's area gone."""
+    s = trimesh.creation.icosphere(subdivisions)
+    v, f = np.asarray(s.vertices), np.asarray(s.faces)
+    return v, f[v[f].mean(axis=1)[:, 2] < height]
+
+
+# (what, height the sphere is cut at, is_border, may_be_border): the loop spans
+# (1 - h²) / (2 (1 + h)) = (1 - h) / 2 of what remains, so the border rule (40 %) falls at
+# h = 0.2 and the warning's (10 %) at h = 0.8
+SPAN_CASES = [
+    ("a small cap removed (5 %)", 0.9, False, False),
+    ("a fifth removed: may be the margin", 0.6, False, True),
+    ("a crown-like cup (35 %)", 0.3, False, True),
+    ("a bowl, past the border rule (45 %)", 0.1, True, False),
+    ("a hemisphere: the border", 0.0, True, False),
+]
+
+
+@pytest.mark.parametrize("what, height, border, may_be", SPAN_CASES,
+                         ids=[c[0] for c in SPAN_CASES])
+def test_span_fraction_tells_border_from_hole_and_flags_the_large_holes(what, height,
+                                                                        border, may_be):
+    v, f = _sphere_cut_below(height)
+    (hole,) = find_holes(v, f)
+    assert (hole.is_border, hole.may_be_border) == (border, may_be)
+    if border or may_be:  # measured exactly: the spanned disk over the area left
+        assert hole.span_fraction == pytest.approx((1 - height) / 2, abs=0.03)
+    else:  # a part of the area sufficed
+        assert np.isnan(hole.span_fraction)
+
+
+def test_filling_a_hole_that_may_be_the_margin_warns_and_says_how_to_keep_it_open():
+    from surfinpaint.io.base import MeshWarning
+
+    v, f = _sphere_cut_below(0.3, subdivisions=3)
+    with pytest.warns(MeshWarning, match=r"hole 0: .* spans 3\d% .* keep it open"):
+        filled = fill_holes(v, f, method="fair")
+    assert len(filled.new_faces) > 0  # filled all the same: the rule is unchanged
+    small_v, small_f = _sphere_cut_below(0.9, subdivisions=3)
+    for args, kwargs in (((v, f), {"holes": [0]}), ((small_v, small_f), {})):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", MeshWarning)  # a hole named, or a small one
+            fill_holes(*args, method="fair", **kwargs)

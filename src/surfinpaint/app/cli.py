@@ -105,10 +105,19 @@ def _holes_table(vertices, faces, title: str) -> None:
         table.add_column(name, justify="right" if name != "kind" else "left")
     for i, h in enumerate(found):
         table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
-                      str(h.component), "outer border" if h.is_border else "hole")
+                      str(h.component), _kind(h))
     Console().print(table)
     if not found:
         Console().print("The mesh is closed: no holes.")
+
+
+def _kind(hole) -> str:
+    """The ``kind`` column of ``surfinpaint holes``."""
+    if hole.is_border:
+        return "outer border"
+    if hole.may_be_border:  # filled by default, with a warning
+        return f"hole (spans {hole.span_fraction:.0%} of its surface: the margin?)"
+    return "hole"
 
 
 def cmd_holes(args: argparse.Namespace) -> int:

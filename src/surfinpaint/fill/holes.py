@@ -28,6 +28,12 @@ __all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes"
 # (0.6–1), while a hole in a closed surface spans a small part of what remains (a third of a
 # sphere removed spans 0.33).
 BORDER_SPAN_FRACTION = 0.4
+# A component's longest loop spanning at least this fraction (but less than the border's) is
+# filled as a hole, with a warning: it may be an open surface's margin, e.g. a tooth crown
+# scanned down to the gum (its margin spans about a third of the crown's area), which the
+# area alone cannot tell from a large hole in a closed surface (a tenth of a sphere removed
+# spans 0.1 of what remains).
+MAY_BE_BORDER_FRACTION = 0.1
 
 
 @dataclass(frozen=True)
@@ -50,6 +56,10 @@ class Hole:
         uses are no component).
     is_border : bool
         True when the loop looks like the surface's own outer border rather than a hole.
+    span_fraction : float
+        For its component's longest loop, the area the loop spans over the component's area
+        (``is_border`` from ``BORDER_SPAN_FRACTION``); NaN for the other loops and where a
+        first part of the component's area was enough to tell the loop is small.
     """
 
     loop: np.ndarray
@@ -58,6 +68,13 @@ class Hole:
     diameter: float
     component: int
     is_border: bool
+    span_fraction: float = float("nan")
+
+    @property
+    def may_be_border(self) -> bool:
+        """A hole (not ``is_border``) that spans at least ``MAY_BE_BORDER_FRACTION`` of its
+        component: it may be an open surface's margin; filling it by default warns."""
+        return not self.is_border and self.span_fraction >= MAY_BE_BORDER_FRACTION
 
 
 def loop_diameter(points: np.ndarray) -> float:
@@ -140,7 +157,7 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
         component = int(label[loop[0]])
         if component not in spans:
             spans[component] = _spanned_area(vertices[loop])
-    borders = _borders(vertices, faces, label, spans)
+    fractions = _span_fractions(vertices, faces, label, spans)
     # numbered over the components with faces: a vertex no face uses (left where faces were
     # cut away) is a component of its own in the labels and would skip numbers
     surface = np.unique(label[faces.reshape(-1)])
@@ -150,12 +167,13 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
         points = vertices[loop]
         perimeter = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).sum())
         component = int(label[loop[0]])
-        is_border = component not in longest_seen and borders[component]
+        fraction = fractions[component] if component not in longest_seen else float("nan")
         longest_seen.add(component)
         holes.append(
             Hole(loop=loop, n_edges=len(loop), perimeter=perimeter,
                  diameter=loop_diameter(points),
-                 component=int(np.searchsorted(surface, component)), is_border=is_border)
+                 component=int(np.searchsorted(surface, component)),
+                 is_border=bool(fraction >= BORDER_SPAN_FRACTION), span_fraction=fraction)
         )
     return holes
 
@@ -165,17 +183,17 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
 _PARTIAL_AREA_MARGIN = 1e-6
 
 
-def _borders(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
-             spans: dict[int, float]) -> dict[int, bool]:
-    """Whether each component's longest loop is its outer border: ``span >=
-    BORDER_SPAN_FRACTION * area`` of the component (``spans``: component -> the area its
-    longest loop spans, ``label``: component per vertex).
+def _span_fractions(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
+                    spans: dict[int, float]) -> dict[int, float]:
+    """Per component, the area its longest loop spans over the component's area (``spans``:
+    component -> that spanned area, ``label``: component per vertex); NaN where the loop
+    is small for certain (below ``MAY_BE_BORDER_FRACTION``).
 
     The faces' areas are summed block by block (:func:`face_blocks`, the blocks of
-    :func:`face_areas`) and the test stops as soon as every component's partial area clears
+    :func:`face_areas`) and the sum stops as soon as every component's partial area clears
     its span with a margin: the holes of a closed surface cost one block of faces, not the
     whole mesh. Otherwise the areas are summed per component as one ``np.bincount`` over
-    all faces, as before (the same bits).
+    all faces (the same bits as one sum).
     """
     n = int(label.max()) + 1
     partial = np.zeros(n)
@@ -183,12 +201,13 @@ def _borders(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
     for block in face_blocks(len(faces)):
         areas.append(face_areas(vertices, faces[block]))
         partial += np.bincount(label[faces[block, 0]], weights=areas[-1], minlength=n)
-        undecided = {c for c in undecided if spans[c] >= BORDER_SPAN_FRACTION * partial[c]
+        undecided = {c for c in undecided if spans[c] >= MAY_BE_BORDER_FRACTION * partial[c]
                      * (1 - _PARTIAL_AREA_MARGIN)}
         if not undecided:
-            return dict.fromkeys(spans, False)
+            return dict.fromkeys(spans, float("nan"))
     area = np.bincount(label[faces[:, 0]], weights=np.concatenate(areas), minlength=n)
-    return {c: bool(span >= BORDER_SPAN_FRACTION * area[c]) for c, span in spans.items()}
+    return {c: float(span / area[c]) if c in undecided and area[c] > 0 else float("nan")
+            for c, span in spans.items()}
 
 
 def select_holes(

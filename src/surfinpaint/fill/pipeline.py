@@ -21,7 +21,14 @@ from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
 from surfinpaint.fill.hole_steps import Run, fill_hole, skip
-from surfinpaint.fill.holes import find_holes, hole_numbers, loop_diameter, select_holes
+from surfinpaint.fill.holes import (
+    BORDER_SPAN_FRACTION,
+    Hole,
+    find_holes,
+    hole_numbers,
+    loop_diameter,
+    select_holes,
+)
 from surfinpaint.fill.neighbourhood import FilledMesh
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import FillResult, HoleReport
@@ -274,7 +281,24 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
         del table  # the holes are found: its memory is free for the fills
         numbers = hole_numbers(vertices, faces, loops, found=found)
         incidence = incidence()  # before the thread is joined
+    if holes is None:  # chosen by the rule, not by the caller
+        _warn_may_be_border({k: found[k] for k in numbers}, stacklevel=4)
     return vertices, faces, removed_faces, loops, numbers, incidence
+
+
+def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
+    """A warning for each hole chosen to fill (``chosen``: its :func:`find_holes` number ->
+    hole) that may be the open surface's margin (:attr:`Hole.may_be_border`), saying how to
+    keep it open."""
+    for number, hole in chosen.items():
+        if hole.may_be_border:
+            warnings.warn(
+                f"hole {number}: its loop ({hole.n_edges} edges) "
+                f"spans {hole.span_fraction:.0%} of its surface's area, below the "
+                f"{BORDER_SPAN_FRACTION:.0%} that makes it the outer border, so it is filled; "
+                "if it is the open margin of the surface (a tooth crown scanned to the gum), "
+                "keep it open with --holes or --max-hole-edges (holes=, max_hole_edges=)",
+                MeshWarning, stacklevel=stacklevel)
 
 
 def _hole_reports(vertices: np.ndarray, loops: Sequence[np.ndarray], numbers: list[int],
