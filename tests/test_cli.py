@@ -813,3 +813,33 @@ def test_holes_table_and_fill_name_a_hole_that_may_be_the_margin(tmp_path, capsy
     assert "themargin?" in _flat(capsys.readouterr().out)
     assert main(["fill", str(path), "-o", str(tmp_path / "out.ply"), "--method", "fair"]) == 0
     assert "keepitopen" in _flat(capsys.readouterr().err)
+
+
+def test_fill_takes_an_overlay_not_named_after_the_surface(tmp_path, capsys):
+    # nilearn names fsaverage's overlays sulc_left.gii.gz beside pial_left.gii.gz: found by
+    # no name rule, read with --overlay, filled in and written beside the output
+    nib = pytest.importorskip("nibabel")
+    v, f = _holey_sphere()
+    sulc = (v[:, 2] + 2).astype(np.float32)  # smooth: new values stay in the ring's range
+    write_mesh(tmp_path / "pial_left.gii", v, f)
+    nib.save(nib.gifti.GiftiImage(darrays=[nib.gifti.GiftiDataArray(sulc)]),
+             tmp_path / "sulc_left.gii")
+    out = tmp_path / "out.gii"
+    assert main(["fill", str(tmp_path / "pial_left.gii"), "-o", str(out), "--overlay",
+                 str(tmp_path / "sulc_left.gii"), "--method", "fair", "-q"]) == 0
+    filled = read_mesh(out)[0]
+    written = nib.load(tmp_path / "out.sulc_left.shape.gii").darrays[0].data
+    assert len(written) == len(filled) > len(v)
+    np.testing.assert_array_equal(written[:len(v)], sulc)  # the old values untouched
+    new = written[len(v):]
+    assert sulc.min() <= new.min() and new.max() <= sulc.max()
+    np.testing.assert_allclose(new, filled[len(v):, 2] + 2, atol=0.05)  # follows z + 2
+    # a format that carries its data in the file takes none; a missing overlay is named
+    write_mesh(tmp_path / "s.ply", v, f)
+    assert main(["fill", str(tmp_path / "s.ply"), "-o", str(tmp_path / "o.ply"), "--overlay",
+                 str(tmp_path / "sulc_left.gii")]) == 2
+    assert "notaGIFTIorFreeSurfersurface" in _flat(capsys.readouterr().err)
+    assert main(["fill", str(tmp_path / "pial_left.gii"), "-o", str(tmp_path / "o2.gii"),
+                 "--overlay", str(tmp_path / "nothere.gii"), "-q"]) == 1
+    assert "nothere.gii" in capsys.readouterr().err
+    assert not (tmp_path / "o2.gii").exists()

@@ -46,6 +46,7 @@ from surfinpaint.geometry.repair import remove_nonmanifold_faces
 from surfinpaint.geometry.validation import validate_mesh
 from surfinpaint.io.atomic import remove_unfinished
 from surfinpaint.io.formats import (
+    files_read,
     output_format,
     read_mesh,
     read_mesh_data,
@@ -144,7 +145,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
         warmup.load_ahead(options["method"])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        mesh = read_mesh_data(args.mesh)
+        mesh = read_mesh_data(args.mesh, overlays=_overlays(args))
         vertices, faces = mesh.vertices, mesh.faces
         with _progress(not args.quiet) as progress:
             result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
@@ -171,6 +172,19 @@ def cmd_fill(args: argparse.Namespace) -> int:
         say(f"wrote {args.png}")
     say(f"wrote {args.output}" + (f" and {args.json}" if args.json else ""))
     return EXIT_OK
+
+
+def _overlays(args: argparse.Namespace) -> bool | list:
+    """``read_mesh_data``'s ``overlays`` for ``fill``: those found beside the surface, and
+    the ``--overlay`` files (a usage error with a surface that has none)."""
+    if not args.overlay:
+        return True
+    beside = files_read(args.mesh)[1:]
+    if len(files_read(args.mesh, overlays=args.overlay)) == 1:
+        raise _UsageError(f"--overlay: {args.mesh} is not a GIFTI or FreeSurfer surface; "
+                          "overlays go with those (other formats carry their per-vertex "
+                          "data in the file)")
+    return [*beside, *(p for p in args.overlay if p not in map(str, beside))]
 
 
 # what an interrupted batch did with the files in flight (fill_files), locally / on Dask
@@ -301,6 +315,12 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     p.add_argument("--in-place", action="store_true",
                    help="allow -o to name the input file, replacing it (atomically: a "
                    "failed or interrupted fill leaves it as it was)")
+    p.add_argument("--overlay", action="append", metavar="FILE",
+                   help="a per-vertex overlay of a GIFTI or FreeSurfer surface, filled in at "
+                   "the new vertices and written beside OUT (a GIFTI data file such as "
+                   "nilearn's sulc_left.gii.gz, or a FreeSurfer morphometry file; repeat for "
+                   "more); the overlays named after the surface (SURFACE.NAME.shape.gii, "
+                   "lh.sulc beside lh.pial, ...) are read without it")
     p.add_argument("--png", help="also write a before/after picture")
     p.add_argument("--json", metavar="REPORT",
                    help="also write the report as JSON: per hole what was written and the "
