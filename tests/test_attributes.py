@@ -390,6 +390,13 @@ def test_pyvista_polygons_are_triangulated_with_a_warning():
     pyvista = pytest.importorskip("pyvista")
     plane = pyvista.Plane(i_resolution=6, j_resolution=6)  # quads, with an open border
     plane.point_data["x"] = plane.points[:, 0]
+    with pytest.warns(UserWarning, match="36 polygons of more than 3 sides fan-triangulated"):
+        fill_holes(plane, method="fair")
+    plane = plane.triangulate().merge(pyvista.Plane(center=(3, 0, 0)))  # 72 + 100 quads
+    with pytest.warns(UserWarning, match=r"PolyData: 100 polygons of more than 3 sides f"):
+        fill_holes(plane, method="fair")
+    plane = pyvista.Plane(i_resolution=6, j_resolution=6)
+    plane.point_data["x"] = plane.points[:, 0]
     with pytest.warns(UserWarning, match="fan-triangulated"):
         result = fill_holes(plane, method="fair")
     assert result.faces.shape[1] == 3 and len(result.faces) == 72

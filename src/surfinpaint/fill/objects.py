@@ -75,8 +75,14 @@ def _from_pyvista(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
                          + f" beside {mesh.n_cells - sum(extra.values())} polygons or strips: "
                          "keep only the surface (extract_surface)")
     if not mesh.is_all_triangles:
-        warnings.warn(f"PolyData: {mesh.n_cells} polygons or strips fan-triangulated (cell "
-                      "data follow the triangles)", stacklevel=4)
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        sides = np.diff(vtk_to_numpy(mesh.GetPolys().GetOffsetsArray()))
+        made = [f"{n} {what}" for n, what in ((int((sides > 3).sum()), "polygons of more "
+                                               "than 3 sides"), (mesh.n_strips, "strips"))
+                if n]
+        warnings.warn(f"PolyData: {' and '.join(made)} fan-triangulated (cell data follow "
+                      "the triangles)", stacklevel=4)
         mesh = mesh.triangulate()
     faces = np.asarray(mesh.regular_faces, dtype=np.int64).reshape(-1, 3)
     attributes = {name: np.asarray(mesh.point_data[name]) for name in mesh.point_data.keys()}
