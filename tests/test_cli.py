@@ -841,5 +841,5 @@ def test_fill_takes_an_overlay_not_named_after_the_surface(tmp_path, capsys):
     assert "notaGIFTIorFreeSurfersurface" in _flat(capsys.readouterr().err)
     assert main(["fill", str(tmp_path / "pial_left.gii"), "-o", str(tmp_path / "o2.gii"),
                  "--overlay", str(tmp_path / "nothere.gii"), "-q"]) == 1
-    assert "nothere.gii" in capsys.readouterr().err
+    assert "nothere.gii: no such file" in capsys.readouterr().err
     assert not (tmp_path / "o2.gii").exists()

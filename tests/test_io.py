@@ -284,7 +284,12 @@ def _raises(path, *fragments):
 
 
 def test_missing_file(tmp_path):
-    _raises(tmp_path / "nope.ply", "no such file")
+    err = _raises(tmp_path / "nope.ply", "no such file")
+    # a MeshError (the CLI's message and exit code) that FileNotFoundError catches too
+    assert isinstance(err, FileNotFoundError) and err.filename == str(tmp_path / "nope.ply")
+    with pytest.raises(FileNotFoundError, match="nope.gii: no such file"):
+        mio.read_mesh_data(tmp_path / "nope.gii")
+    assert isinstance(err.with_path("other.ply"), FileNotFoundError)
 
 
 def test_directory(tmp_path):

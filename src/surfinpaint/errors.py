@@ -34,9 +34,24 @@ class MeshError(ValueError):
 
     def with_path(self, path: str) -> MeshError:
         """The same error, naming the file it came from."""
-        err = MeshError(self.message, path=str(path), vertices=self.vertices,
-                        edges=self.edges, faces=self.faces)
+        err = type(self)(self.message, path=str(path), vertices=self.vertices,
+                         edges=self.edges, faces=self.faces)
         return err
+
+
+class MissingFileError(MeshError, FileNotFoundError):
+    """A mesh, overlay or representation file that does not exist: a :class:`MeshError`
+    (the CLI's message and exit code) that ``except FileNotFoundError`` catches too."""
+
+    def __init__(self, path: str) -> None:
+        super().__init__("no such file", path=path)
+        self.filename = path
+
+    def __str__(self) -> str:  # MeshError's text, not OSError's "[Errno ...]"
+        return self._text()
+
+    def with_path(self, path: str) -> MissingFileError:
+        return MissingFileError(str(path))
 
 
 class FillError(RuntimeError):

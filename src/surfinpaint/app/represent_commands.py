@@ -10,7 +10,7 @@ from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import positive_int, whole_number
 from surfinpaint.app.progress import console as _console
 from surfinpaint.app.progress import stages as _stages
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, MissingFileError
 from surfinpaint.io.formats import read_mesh, write_mesh
 from surfinpaint.lazy import lazy_module
 
@@ -134,7 +134,7 @@ def run_rebuild(args: argparse.Namespace) -> int:
     try:
         rep = representation.load_representation(args.representation)
     except FileNotFoundError:
-        raise MeshError("no such file", path=str(args.representation)) from None
+        raise MissingFileError(str(args.representation)) from None
     except (OSError, KeyError, ValueError) as exc:
         raise MeshError(f"not a λ-H representation file ({exc})",
                         path=str(args.representation)) from exc

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, MissingFileError
 from surfinpaint.io.base import Parsed, describe
 from surfinpaint.io.meshdata import MeshData
 
@@ -232,6 +232,8 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
                 values = np.asarray(read_morph_data(str(p)))
         except MeshError as err:
             raise err.with_path(str(p)) from None
+        except FileNotFoundError:
+            raise MissingFileError(str(p)) from None
         except Exception as exc:
             raise MeshError(f"cannot read the overlay: {describe(exc)}", path=str(p)) from None
         if (values.ndim == 0 or len(values) != n) and p in guessed:

@@ -37,7 +37,7 @@ from typing import IO
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, MissingFileError
 from surfinpaint.geometry.validation import check_arrays
 from surfinpaint.io.atomic import atomic_open
 from surfinpaint.io.base import (
@@ -351,7 +351,7 @@ _LABELS = {"ply": "PLY", "obj": "OBJ", "stl": "STL", "off": "OFF", "gii": "GIFTI
 def _read_bytes(p: Path) -> bytes:
     name = str(p)
     if not p.exists():
-        raise MeshError("no such file", path=name)
+        raise MissingFileError(name)
     if p.is_dir():
         raise MeshError("is a directory, not a mesh file", path=name)
     try:
