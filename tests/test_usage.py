@@ -57,6 +57,17 @@ def test_a_png_not_named_png_exits_2(command, holed_file, tmp_path, capsys):
     assert not out.exists() and not picture.exists()
 
 
+@pytest.mark.parametrize("output, extra", [("r.txt", []), ("r.npz", ["--export-grid", "g.txt"]),
+                                           ("r.npz", ["--export-quadtree", "q"])])
+def test_a_representation_not_named_npz_exits_2(output, extra, holed_file, tmp_path, capsys):
+    # `represent -o r.txt` wrote a NumPy archive into a file named .txt
+    extra = [a if a.startswith("-") else str(tmp_path / a) for a in extra]
+    assert _exit_code(["represent", str(holed_file), "-o", str(tmp_path / output),
+                       *extra]) == 2
+    assert "name it .npz" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())
+
+
 @pytest.mark.parametrize("argv", [["--resolution", "0"], ["--resolution", "-2"],
                                   ["--subdivide", "-1"]])
 def test_bad_represent_option_values_exit_2(argv, holed_file, tmp_path, capsys):

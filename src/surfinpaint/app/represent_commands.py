@@ -64,7 +64,13 @@ def _print_export(console, form) -> None:
 
 
 def _check_represent_options(args: argparse.Namespace) -> None:
-    """Refuse an option that nothing asked for would read."""
+    """Refuse an option that nothing asked for would read, and an output not named .npz
+    (NumPy archives in a file named otherwise would be taken for something else)."""
+    for option, path in (("-o", args.output), ("--export-grid", args.export_grid),
+                         ("--export-quadtree", args.export_quadtree)):
+        if path is not None and not str(path).lower().endswith(".npz"):
+            raise _UsageError(f"{option} {str(path)!r}: a representation is a NumPy .npz "
+                              "archive; name it .npz")
     grids = args.discretization == "grid" or args.export_grid
     trees = args.discretization == "quadtree" or args.export_quadtree
     if args.grading is not None and args.spacing != "graded":
