@@ -363,3 +363,62 @@ def test_the_face_blocks_are_the_sliced_whole_patch_derivatives_and_the_terms_ma
     made_once = derivative.apply(V)
     derivative.stencil_terms = None  # _d_stencil_H makes them at each product
     assert np.array_equal(derivative.apply(V), made_once)
+
+
+@pytest.mark.parametrize("case", ["plain", "natural", "folded", "degenerate"])
+def test_the_compiled_face_blocks_are_numpy_s_bit_for_bit(case):
+    # FaceBlocks.blocks from a numba kernel (session 32 helper): the same bits as its numpy
+    # version, on a patch, on one with a natural border, with its free vertices thrown about
+    # (obtuse and flipped faces) and with a face made degenerate (a free vertex moved onto a
+    # neighbour: zero area, NaN and inf in both)
+    from surfinpaint.representation import face_derivatives
+    from surfinpaint.representation.coupled_jacobian import FaceBlocks
+
+    kernel = pytest.importorskip("numba") and face_derivatives._BLOCKS_KERNEL.get()
+    _, points, _, (local, uv, free) = _system(30, 6)
+    natural = case == "natural"
+    system = on_mesh._CoupledSystem(points, local, uv,
+                                    _near_border(points, local) if natural else free,
+                                    np.ones(len(points), dtype=bool) if natural else None)
+    f = system.f
+    phi = points.copy()
+    spread = 2.0 if case == "folded" else 0.1
+    phi[f] += spread * system.scale * np.random.default_rng(7).standard_normal((len(f), 3))
+    if case == "degenerate":
+        face = system.near[np.isin(system.near, f).any(axis=1)][0]
+        mover = face[np.isin(face, f)][0]
+        phi[mover] = phi[face[face != mover][0]]
+    for rows in (system.moving, np.concatenate([system.moving[::2], system.moving[1::2]])):
+        blocks = FaceBlocks.of(system, rows)
+        with np.errstate(all="ignore"):
+            want = blocks._blocks_numpy(phi)
+            got = face_derivatives.kept_blocks(phi, blocks.faces, blocks.vertex_i,
+                                               blocks.face_j, blocks.with_free, blocks.kept,
+                                               lambda: pytest.fail("the kernel did not run"))
+        assert kernel is not None
+        for a, b in zip(got, want, strict=True):
+            assert a.shape == b.shape and a.dtype == b.dtype
+            assert np.array_equal(a.view(np.int64), b.view(np.int64))
+        if case == "degenerate":
+            assert not np.isfinite(want[1]).all()
+
+
+def test_the_natural_data_s_adjacency_to_the_moving_vertices_is_made_again_where_replaced():
+    # _d_stencil_H takes adjacency[:, m] made once a system (session 32 helper), made again
+    # where a test replaces the adjacency (as tests above do)
+    import scipy.sparse as sp
+
+    from surfinpaint.representation.coupled_jacobian import _adjacency_moving
+
+    _, points, _, (local, uv, _) = _system(30, 6)
+    system = on_mesh._CoupledSystem(points, local, uv, _near_border(points, local),
+                                    np.ones(len(points), dtype=bool))
+    m = system.moving
+    first, inner = _adjacency_moving(system)
+    assert _adjacency_moving(system)[0] is first
+    assert (first != system.adjacency[:, m]).nnz == 0
+    assert np.array_equal(inner, system.inner[m][:, None])
+    system.adjacency = (system.adjacency + sp.csr_matrix(
+        (np.ones(1), ([0], [m[0]])), shape=system.adjacency.shape)).tocsr()
+    again = _adjacency_moving(system)[0]
+    assert again is not first and (again != system.adjacency[:, m]).nnz == 0
