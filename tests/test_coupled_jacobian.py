@@ -422,3 +422,44 @@ def test_the_natural_data_s_adjacency_to_the_moving_vertices_is_made_again_where
         (np.ones(1), ([0], [m[0]])), shape=system.adjacency.shape)).tocsr()
     again = _adjacency_moving(system)[0]
     assert again is not first and (again != system.adjacency[:, m]).nnz == 0
+
+
+def test_the_compiled_right_hand_side_of_the_dense_jacobian_is_numpy_s_bit_for_bit():
+    # _DenseJacobian.at's dn_f c + n_f ⊗ (u d_s_f + α d_H_f) from a numba kernel (session 32
+    # helper): the same bits as numpy's four passes, on the Jacobian's own terms (a patch's
+    # at a perturbed point) and on random ones with an inf and a NaN
+    from surfinpaint.representation import face_derivatives
+    from surfinpaint.representation.coupled_jacobian import _DenseJacobian
+
+    kernel = pytest.importorskip("numba") and face_derivatives._RHS_KERNEL.get()
+    rng = np.random.default_rng(8)
+    m, P = 40, 120
+    cases = [[rng.standard_normal((m, 3, P)), rng.standard_normal((m, 3)),
+              *rng.standard_normal((2, m)), rng.standard_normal((m, P)),
+              rng.standard_normal(m), rng.standard_normal((m, P))]]
+    cases[0][0][3, 1, 7], cases[0][4][5, 2] = np.inf, np.nan
+    calls = []
+    system, _, phi, _ = _system(30, 6)
+    original = face_derivatives.update_rhs
+
+    def recording(*args):
+        calls.append([np.array(a) for a in args])
+        return original(*args)
+
+    try:
+        face_derivatives.update_rhs = recording
+        import surfinpaint.representation.coupled_jacobian as coupled
+
+        coupled.update_rhs = recording
+        _DenseJacobian.of(system).at(phi)
+    finally:
+        face_derivatives.update_rhs = coupled.update_rhs = original
+    assert len(calls) == 1
+    for dn_f, n_f, c, u, d_s_f, alpha, d_H_f in cases + calls:
+        with np.errstate(all="ignore"):
+            q = u[:, None] * d_s_f + alpha[:, None] * d_H_f
+            want = dn_f * c[:, None, None]
+            want += n_f[:, :, None] * q[:, None, :]
+            got = np.empty(dn_f.shape)
+            kernel(dn_f, n_f, c, u, d_s_f, alpha, d_H_f, got)
+        assert np.array_equal(got.view(np.int64), want.view(np.int64))

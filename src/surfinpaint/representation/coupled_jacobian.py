@@ -10,7 +10,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from surfinpaint.geometry.mesh import vertex_areas
-from surfinpaint.representation.face_derivatives import kept_blocks
+from surfinpaint.representation.face_derivatives import kept_blocks, update_rhs
 from surfinpaint.representation.mesh_lambda_h import (
     area_vectors,
 )
@@ -464,8 +464,8 @@ class _DenseJacobian:
             W = self.stencil_map @ _d_stencil_H(system, phi, normals, lambda ids: d_unit[
                 self.where[ids]], d_area, None)
             d_H = -(system.Y @ np.linalg.solve(C, z - K @ W)) - W
-        # rhs = d_dn H_f + d_n ⊗ d_H = (α H_f) dn_f + n_f ⊗ q
-        q = (kappa * area[f] * H_f)[:, None] * d_s_f + alpha[:, None] * d_H[:n_free]
-        rhs = dn_f * (alpha * H_f)[:, None, None]
-        rhs += n_f[:, :, None] * q[:, None, :]
+        # rhs = d_dn H_f + d_n ⊗ d_H = (α H_f) dn_f + n_f ⊗ q,
+        # q = (κ area_f H_f) d_s_f + α d_H_f
+        rhs = update_rhs(dn_f, n_f, alpha * H_f, kappa * area[f] * H_f, d_s_f, alpha,
+                         d_H[:n_free])
         return (self.L_inv @ rhs.reshape(n_free, 3 * P)).reshape(3 * n_free, P)

@@ -1,14 +1,22 @@
-"""The faces' 3 × 3 blocks of the unit vertex normals' and the Voronoi areas' derivatives
-that :class:`~surfinpaint.representation.coupled_jacobian.FaceBlocks` assembles, at its kept
-corner pairs only, compiled: the same bits as its numpy version (tested).
+"""Compiled pieces of the λ-H fill's analytic Jacobian
+(:mod:`surfinpaint.representation.coupled_jacobian`), each the same bits as its numpy
+version (tested):
+
+- :func:`kept_blocks`, the faces' 3 × 3 blocks of the unit vertex normals' and the Voronoi
+  areas' derivatives that :class:`~surfinpaint.representation.coupled_jacobian.FaceBlocks`
+  assembles, at its kept corner pairs only;
+- :func:`update_rhs`, the dense Jacobian's right-hand side before its product with
+  ``L_ff⁻¹``.
 
 Why: every dense Jacobian of the λ-H fill's Newton steps and every Newton–Krylov step's
-set-up makes them, on a few hundred faces; in numpy that is dozens of calls on (F, 3, 3, 3)
-temporaries, about 0.6 ms a Jacobian at 121 free vertices, a fifth of it (session 32
-helper). The kernel does each face's arithmetic as numpy does it, operation by operation:
-``np.cross``'s products and differences, ``np.linalg.norm``'s sums ``(x0² + x1²) + x2²``,
-``np.einsum``'s three-term dot products ``(x0 y0 + x2 y2) + x1 y1`` (its two-lane sums, as
-:mod:`surfinpaint.geometry.vertex_measures` found), and the chain rule's sums left to right.
+set-up makes the blocks, on a few hundred faces; in numpy that is dozens of calls on
+(F, 3, 3, 3) temporaries, about 0.6 ms a Jacobian at 121 free vertices, a fifth of it, and
+the right-hand side four passes over (m, 3, P) arrays, 0.3 ms (session 32 helper). The
+kernels do the arithmetic as numpy does it, operation by operation: ``np.cross``'s products
+and differences, ``np.linalg.norm``'s sums ``(x0² + x1²) + x2²``, ``np.einsum``'s three-term
+dot products ``(x0 y0 + x2 y2) + x1 y1`` (its two-lane sums, as
+:mod:`surfinpaint.geometry.vertex_measures` found), ``np.add.at``'s and the chain rule's sums
+left to right, and no fused multiply-adds (numba does not contract without fastmath).
 """
 
 from __future__ import annotations
@@ -17,7 +25,7 @@ import numpy as np
 
 from surfinpaint.compiled import Kernel, run
 
-__all__ = ["kept_blocks", "warm"]
+__all__ = ["kept_blocks", "update_rhs", "warm"]
 
 
 def kept_blocks(phi: np.ndarray, faces: np.ndarray, vertex_i: np.ndarray,
@@ -60,13 +68,57 @@ def kept_blocks(phi: np.ndarray, faces: np.ndarray, vertex_i: np.ndarray,
                cost=1e-4 + 1.5e-6 * len(faces))
 
 
+def update_rhs(dn_f: np.ndarray, n_f: np.ndarray, c: np.ndarray, u: np.ndarray,
+               d_s_f: np.ndarray, alpha: np.ndarray, d_H_f: np.ndarray) -> np.ndarray:
+    """The dense Jacobian's right-hand side before ``L_ff⁻¹``
+    (:meth:`~surfinpaint.representation.coupled_jacobian._DenseJacobian.at`):
+    ``dn_f c + n_f ⊗ q`` with ``q = u d_s_f + α d_H_f``, (m, 3, P), as numpy makes it (the
+    same bits; compiled where numba is: one pass instead of four (m, 3, P) temporaries).
+
+    Parameters
+    ----------
+    dn_f : (m, 3, P) float array
+        The free vertices' unit normals' derivatives.
+    n_f : (m, 3) float array
+    c, u, alpha : (m,) float arrays
+    d_s_f, d_H_f : (m, P) float arrays
+    """
+    args = [np.ascontiguousarray(a, dtype=float) for a in (dn_f, n_f, c, u, d_s_f, alpha, d_H_f)]
+
+    def numpy_version():
+        q = u[:, None] * d_s_f + alpha[:, None] * d_H_f
+        rhs = dn_f * c[:, None, None]
+        rhs += n_f[:, :, None] * q[:, None, :]
+        return rhs
+
+    def compiled(kernel):
+        out = np.empty(dn_f.shape)
+        kernel(*args, out)
+        return out
+
+    return run(_RHS_KERNEL.get(), compiled, numpy_version, cost=1e-5 + 2e-9 * dn_f.size)
+
+
+def _rhs_loops(dn_f, n_f, c, u, d_s_f, alpha, d_H_f, out):  # pragma: no cover - compiled
+    """:func:`update_rhs` element by element (compiled by numba when present)."""
+    m, P = d_s_f.shape
+    for i in range(m):
+        for p in range(P):
+            q = u[i] * d_s_f[i, p] + alpha[i] * d_H_f[i, p]
+            for a in range(3):
+                out[i, a, p] = dn_f[i, a, p] * c[i] + n_f[i, a] * q
+
+
 def warm(vertices: np.ndarray, faces: np.ndarray) -> None:
-    """Load (or compile) the kernel by one call on a mesh's faces, every corner pair kept
-    (:mod:`surfinpaint.fill.warmup`; the call's types are a real fill's)."""
+    """Load (or compile) the kernels by one call each on a mesh's faces, every corner pair
+    kept (:mod:`surfinpaint.fill.warmup`; the calls' types are a real fill's)."""
     every = np.arange(len(faces))
     kept_blocks(vertices, faces, faces[:, 0], (every, np.zeros_like(every)),
                 np.ones(len(faces), dtype=bool), np.ones((len(faces), 9), dtype=bool),
                 lambda: None)
+    one = np.ones(len(vertices))
+    update_rhs(np.ones((len(vertices), 3, 2)), vertices, one, one, np.ones((len(vertices), 2)),
+               one, np.ones((len(vertices), 2)))
 
 
 def _blocks_loops(phi, faces, vertex_i, face, corner, free_faces, kept, N, normals,
@@ -173,3 +225,5 @@ def _blocks_loops(phi, faces, vertex_i, face, corner, free_faces, kept, N, norma
 # the normals' and the areas' blocks of a Jacobian in one pass (session 32 helper); a
 # degenerate face divides by zero as numpy does (inf, NaN), not raising
 _BLOCKS_KERNEL = Kernel(_blocks_loops, nogil=True, error_model="numpy")
+# the dense Jacobian's right-hand side in one pass (session 32 helper)
+_RHS_KERNEL = Kernel(_rhs_loops, nogil=True, error_model="numpy")
