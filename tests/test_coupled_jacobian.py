@@ -363,3 +363,103 @@ def test_the_face_blocks_are_the_sliced_whole_patch_derivatives_and_the_terms_ma
     made_once = derivative.apply(V)
     derivative.stencil_terms = None  # _d_stencil_H makes them at each product
     assert np.array_equal(derivative.apply(V), made_once)
+
+
+@pytest.mark.parametrize("case", ["plain", "natural", "folded", "degenerate"])
+def test_the_compiled_face_blocks_are_numpy_s_bit_for_bit(case):
+    # FaceBlocks.blocks from a numba kernel (session 32 helper): the same bits as its numpy
+    # version, on a patch, on one with a natural border, with its free vertices thrown about
+    # (obtuse and flipped faces) and with a face made degenerate (a free vertex moved onto a
+    # neighbour: zero area, NaN and inf in both)
+    from surfinpaint.representation import face_derivatives
+    from surfinpaint.representation.coupled_jacobian import FaceBlocks
+
+    kernel = pytest.importorskip("numba") and face_derivatives._BLOCKS_KERNEL.get()
+    _, points, _, (local, uv, free) = _system(30, 6)
+    natural = case == "natural"
+    system = on_mesh._CoupledSystem(points, local, uv,
+                                    _near_border(points, local) if natural else free,
+                                    np.ones(len(points), dtype=bool) if natural else None)
+    f = system.f
+    phi = points.copy()
+    spread = 2.0 if case == "folded" else 0.1
+    phi[f] += spread * system.scale * np.random.default_rng(7).standard_normal((len(f), 3))
+    if case == "degenerate":
+        face = system.near[np.isin(system.near, f).any(axis=1)][0]
+        mover = face[np.isin(face, f)][0]
+        phi[mover] = phi[face[face != mover][0]]
+    for rows in (system.moving, np.concatenate([system.moving[::2], system.moving[1::2]])):
+        blocks = FaceBlocks.of(system, rows)
+        with np.errstate(all="ignore"):
+            want = blocks._blocks_numpy(phi)
+            got = face_derivatives.kept_blocks(phi, blocks.faces, blocks.vertex_i,
+                                               blocks.face_j, blocks.with_free, blocks.kept,
+                                               lambda: pytest.fail("the kernel did not run"))
+        assert kernel is not None
+        for a, b in zip(got, want, strict=True):
+            assert a.shape == b.shape and a.dtype == b.dtype
+            assert np.array_equal(a.view(np.int64), b.view(np.int64))
+        if case == "degenerate":
+            assert not np.isfinite(want[1]).all()
+
+
+def test_the_natural_data_s_adjacency_to_the_moving_vertices_is_made_again_where_replaced():
+    # _d_stencil_H takes adjacency[:, m] made once a system (session 32 helper), made again
+    # where a test replaces the adjacency (as tests above do)
+    import scipy.sparse as sp
+
+    from surfinpaint.representation.coupled_jacobian import _adjacency_moving
+
+    _, points, _, (local, uv, _) = _system(30, 6)
+    system = on_mesh._CoupledSystem(points, local, uv, _near_border(points, local),
+                                    np.ones(len(points), dtype=bool))
+    m = system.moving
+    first, inner = _adjacency_moving(system)
+    assert _adjacency_moving(system)[0] is first
+    assert (first != system.adjacency[:, m]).nnz == 0
+    assert np.array_equal(inner, system.inner[m][:, None])
+    system.adjacency = (system.adjacency + sp.csr_matrix(
+        (np.ones(1), ([0], [m[0]])), shape=system.adjacency.shape)).tocsr()
+    again = _adjacency_moving(system)[0]
+    assert again is not first and (again != system.adjacency[:, m]).nnz == 0
+
+
+def test_the_compiled_right_hand_side_of_the_dense_jacobian_is_numpy_s_bit_for_bit():
+    # _DenseJacobian.at's dn_f c + n_f ⊗ (u d_s_f + α d_H_f) from a numba kernel (session 32
+    # helper): the same bits as numpy's four passes, on the Jacobian's own terms (a patch's
+    # at a perturbed point) and on random ones with an inf and a NaN
+    from surfinpaint.representation import face_derivatives
+    from surfinpaint.representation.coupled_jacobian import _DenseJacobian
+
+    kernel = pytest.importorskip("numba") and face_derivatives._RHS_KERNEL.get()
+    rng = np.random.default_rng(8)
+    m, P = 40, 120
+    cases = [[rng.standard_normal((m, 3, P)), rng.standard_normal((m, 3)),
+              *rng.standard_normal((2, m)), rng.standard_normal((m, P)),
+              rng.standard_normal(m), rng.standard_normal((m, P))]]
+    cases[0][0][3, 1, 7], cases[0][4][5, 2] = np.inf, np.nan
+    calls = []
+    system, _, phi, _ = _system(30, 6)
+    original = face_derivatives.update_rhs
+
+    def recording(*args):
+        calls.append([np.array(a) for a in args])
+        return original(*args)
+
+    try:
+        face_derivatives.update_rhs = recording
+        import surfinpaint.representation.coupled_jacobian as coupled
+
+        coupled.update_rhs = recording
+        _DenseJacobian.of(system).at(phi)
+    finally:
+        face_derivatives.update_rhs = coupled.update_rhs = original
+    assert len(calls) == 1
+    for dn_f, n_f, c, u, d_s_f, alpha, d_H_f in cases + calls:
+        with np.errstate(all="ignore"):
+            q = u[:, None] * d_s_f + alpha[:, None] * d_H_f
+            want = dn_f * c[:, None, None]
+            want += n_f[:, :, None] * q[:, None, :]
+            got = np.empty(dn_f.shape)
+            kernel(dn_f, n_f, c, u, d_s_f, alpha, d_H_f, got)
+        assert np.array_equal(got.view(np.int64), want.view(np.int64))

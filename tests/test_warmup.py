@@ -25,10 +25,13 @@ numba = pytest.importorskip("numba")
 def _dispatchers():
     from surfinpaint.fill.liepa import refinement, triangulation
     from surfinpaint.geometry import metrics, vertex_measures
+    from surfinpaint.representation import face_derivatives
 
     return {"triangulation": triangulation._DP_KERNEL.get(),
             "flip": refinement._flip_kernel(), "distance": metrics._numba_kernel(),
-            "measures": vertex_measures._MEASURES_KERNEL.get()}
+            "measures": vertex_measures._MEASURES_KERNEL.get(),
+            "blocks": face_derivatives._BLOCKS_KERNEL.get(),
+            "rhs": face_derivatives._RHS_KERNEL.get()}
 
 
 def test_the_warmup_mesh_is_a_valid_annulus_with_the_hole_given():

@@ -17,11 +17,12 @@ peaks there already: docs/scale.md, sessions 13 and 22).
 
 :func:`warm_kernels` fills a small hole of a fixed mesh with the faired fill (the
 triangulation and the edge-flip kernels) and, for the conformal method only, measures a
-point-to-mesh distance (its self-check's kernel; a ``fair`` fill never uses it) and the
-vertex normals and areas (its lagged solves' kernel), through the
-same functions a real fill calls, so numba loads exactly the specialisations real fills
-use, not new ones. It only computes: no file, no warning, no message besides numba's
-"compiling" notice. The batch command and the dask workers call it too.
+point-to-mesh distance (its self-check's kernel; a ``fair`` fill never uses it), the
+vertex normals and areas (its lagged solves' kernel) and the faces' derivative blocks (its
+Newton steps' Jacobians), through the same functions a real fill calls, so numba loads
+exactly the specialisations real fills use, not new ones. It only computes: no file, no
+warning, no message besides numba's "compiling" notice. The batch command and the dask
+workers call it too.
 
 Run as a program (``surfinpaint.compiled``'s background compilation, :func:`main`), it
 compiles every kernel into numba's disk cache.
@@ -45,6 +46,7 @@ from surfinpaint.fill import parallel
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.vertex_measures import vertex_normals_and_areas
 from surfinpaint.lazy import lazy_module
+from surfinpaint.representation import face_derivatives
 
 # the conformal self-check's distances: a faired fill never imports them
 metrics = lazy_module("surfinpaint.geometry.metrics")
@@ -100,6 +102,7 @@ def warm_kernels(method: str = "conformal") -> None:
     if method == "conformal":
         metrics.point_mesh_distance(vertices[:3], vertices, faces)
         vertex_normals_and_areas(vertices, faces)  # the λ-H fill's lagged solves
+        face_derivatives.warm(vertices, faces)  # its Newton steps' Jacobians
     _done[method].set()
 
 
@@ -195,11 +198,13 @@ def _quietly(method: str) -> None:
 def compile_kernels() -> None:
     """Compile (or load) every kernel, in the order the fallbacks of a first run cost most
     per second of compilation: the distances (conformal self-checks), the triangulation's
-    dynamic program, the edge flips, the vertex normals and areas (λ-H lagged solves)."""
+    dynamic program, the edge flips, the vertex normals and areas (λ-H lagged solves), the
+    faces' derivative blocks (λ-H Newton steps)."""
     vertices, faces, loop = warmup_mesh()
     metrics.point_mesh_distance(vertices[:3], vertices, faces)
     faired_fill(vertices, faces, loop, 2)
     vertex_normals_and_areas(vertices, faces)
+    face_derivatives.warm(vertices, faces)
 
 
 def main(argv: list[str]) -> int:

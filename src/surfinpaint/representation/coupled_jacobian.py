@@ -10,6 +10,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from surfinpaint.geometry.mesh import vertex_areas
+from surfinpaint.representation.face_derivatives import kept_blocks, update_rhs
 from surfinpaint.representation.mesh_lambda_h import (
     area_vectors,
 )
@@ -74,6 +75,12 @@ class UpdateDerivative:
         self.fixed_terms = (system.Q_fk[:, in_fixed[ring]], (2.0 * lam[ring] * area[ring])[:, None],
                             in_ring[tied], a_t, (a_t**2 / area[tied])[:, None],
                             system.Z_t @ (d_n * H[:len(f), None]), (area[f] * s[f])[:, None, None])
+        # and the gathers and broadcasts of the state every product took again (session 32
+        # helper: the same values, made once)
+        self.gathered = (4.0 * lam[f, None], 4.0 * lam[tied, None], a_t[:, None, None],
+                         normals[tied][:, :, None], normals[f][:, :, None], area[f][:, None],
+                         system.L_t_phi + self.fixed_terms[5], H[:len(f), None, None],
+                         d_n[:, :, None])
 
     def residual_product(self, v):
         """``(J − I) v`` for one direction ``v`` (P,) (rows ``3 i + c``)."""
@@ -85,11 +92,10 @@ class UpdateDerivative:
         ``None`` (the same operations as a product with the identity, on sparse columns:
         the reference :func:`lagged_update_jacobian`'s faster path is tested against)."""
         system, phi = self.system, self.phi
-        f, tied, area, lam, m = system.f, system.tied, system.area, system.lam, system.moving
+        f, m = system.f, system.moving
         normals, s, w_n, d_n, K, H = self.state
         n_free = len(f)
         k = self.P if V is None else V.shape[1]
-        H_f = H[:n_free]
         if V is None:
             d_unit, d_area = self.d_unit.toarray(), self.d_area.toarray()
         else:
@@ -101,19 +107,19 @@ class UpdateDerivative:
 
         # λ: sqrt(area_3D / area) at the moving vertices, biharmonic over the free ones
         Q_ring, lam_scale, tied_in_ring, a_t, st, Z_dnH, as_f = self.fixed_terms
+        lam4_f, lam4_t, a_t3, n_t3, n_f3, area_f, beta, H_f3, d_n3 = self.gathered
         rows = self.rows
         d_lam_ring = d_area[rows["ring"]] / lam_scale
-        d_s_f = 4.0 * lam[f, None] * system.lam_lu.solve(-(Q_ring @ d_lam_ring))
-        d_s_t = 4.0 * lam[tied, None] * d_lam_ring[tied_in_ring]
+        d_s_f = lam4_f * system.lam_lu.solve(-(Q_ring @ d_lam_ring))
+        d_s_t = lam4_t * d_lam_ring[tied_in_ring]
         d_unit3 = d_unit.reshape(len(m), 3, k)
         dn_t, dn_f = d_unit3[rows["tied"]], d_unit3[rows["f"]]
         d_st = d_s_t / st  # ds / (area s²)
-        d_wn = dn_t / a_t[:, None, None] - normals[tied][:, :, None] * d_st[:, None, :]
-        d_dn = system.curvature * (dn_f * as_f
-                                 + normals[f][:, :, None] * (area[f][:, None] * d_s_f)[:, None, :])
+        d_wn = dn_t / a_t3 - n_t3 * d_st[:, None, :]
+        d_dn = system.curvature * (dn_f * as_f + n_f3 * (area_f * d_s_f)[:, None, :])
         # d(K H) = Σ_c dw_n,c ∘ Z_t (d_n,c H_f) + w_n,c ∘ Z_t (dd_n,c H_f); with L_tφ·dw_n
-        z = np.einsum("tc,tcp->tp", system.L_t_phi + Z_dnH, d_wn)
-        z += np.einsum("tc,tcp->tp", w_n, (system.Z_t @ (d_dn * H_f[:, None, None]).reshape(
+        z = np.einsum("tc,tcp->tp", beta, d_wn)
+        z += np.einsum("tc,tcp->tp", w_n, (system.Z_t @ (d_dn * H_f3).reshape(
             n_free, 3 * k)).reshape(-1, 3, k))
         d_b = -(system.Q_ft @ z)
         if len(system.natural_data):
@@ -121,7 +127,7 @@ class UpdateDerivative:
                                               self.stencil_terms)
         y = system.Q_lu.solve(d_b)  # (Q_ff + Q_ft K)⁻¹ by Woodbury
         d_H = y - system.Y @ self._capacitance(K, y, V is None)
-        rhs = d_dn * H_f[:, None, None] + d_n[:, :, None] * d_H[:n_free][:, None, :]
+        rhs = d_dn * H_f3 + d_n3 * d_H[:n_free][:, None, :]
         return system.L_lu.solve(rhs.reshape(n_free, 3 * k)).reshape(3 * n_free, k)
 
     def _capacitance(self, K, y, dense):
@@ -185,9 +191,22 @@ def _d_stencil_H(system, phi, normals, d_normals, d_area, V, terms=None):
     d_H = ((np.einsum("ic,icp->ip", Lphi, d_normals(m)) + d_Lphi_n) / (2.0 * areas)[:, None]
            - H[:, None] * d_area / areas[:, None])
     out = np.zeros((len(system.stencil), d_H.shape[1]))
-    out[system.on_natural_stencil] = (system.adjacency[:, m] @ (system.inner[m][:, None] * d_H)
-                                    / system.weight[:, None])
+    adjacency_m, inner_m = _adjacency_moving(system)
+    out[system.on_natural_stencil] = (adjacency_m @ (inner_m * d_H) / system.weight[:, None])
     return out
+
+
+def _adjacency_moving(system):
+    """The natural data's adjacency to the moving vertices, ``adjacency[:, m]``, and
+    ``inner[m]`` as a column, made where the adjacency is new (a test replaces it). Why:
+    slicing the sparse matrix's columns at every Newton–Krylov product cost about as much
+    as the product's other work on a natural border (session 32 helper)."""
+    made = getattr(system, "_adjacency_m", None)
+    if made is None or made[0] is not system.adjacency:
+        m = system.moving
+        made = system._adjacency_m = (system.adjacency, system.adjacency[:, m],
+                                      system.inner[m][:, None])
+    return made[1], made[2]
 
 
 def _corner_area_derivative(phi, faces):
@@ -303,7 +322,13 @@ class FaceBlocks:
     def blocks(self, phi):
         """The blocks' values at the kept entries, in the order of ``flat`` and ``area_flat``
         (the kept pairs' only, and the area's of the faces with a free corner: the same bits
-        as all blocks' made and the kept ones taken)."""
+        as all blocks' made and the kept ones taken), compiled where numba is
+        (:func:`~surfinpaint.representation.face_derivatives.kept_blocks`, the same bits)."""
+        return kept_blocks(phi, self.faces, self.vertex_i, self.face_j, self.with_free,
+                           self.kept, lambda: self._blocks_numpy(phi))
+
+    def _blocks_numpy(self, phi):
+        """:meth:`blocks` in numpy (the kernel's reference)."""
         faces = self.faces
         p = phi[faces]
         N = area_vectors(phi, faces)
@@ -439,8 +464,8 @@ class _DenseJacobian:
             W = self.stencil_map @ _d_stencil_H(system, phi, normals, lambda ids: d_unit[
                 self.where[ids]], d_area, None)
             d_H = -(system.Y @ np.linalg.solve(C, z - K @ W)) - W
-        # rhs = d_dn H_f + d_n ⊗ d_H = (α H_f) dn_f + n_f ⊗ q
-        q = (kappa * area[f] * H_f)[:, None] * d_s_f + alpha[:, None] * d_H[:n_free]
-        rhs = dn_f * (alpha * H_f)[:, None, None]
-        rhs += n_f[:, :, None] * q[:, None, :]
+        # rhs = d_dn H_f + d_n ⊗ d_H = (α H_f) dn_f + n_f ⊗ q,
+        # q = (κ area_f H_f) d_s_f + α d_H_f
+        rhs = update_rhs(dn_f, n_f, alpha * H_f, kappa * area[f] * H_f, d_s_f, alpha,
+                         d_H[:n_free])
         return (self.L_inv @ rhs.reshape(n_free, 3 * P)).reshape(3 * n_free, P)
