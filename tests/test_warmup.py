@@ -296,8 +296,8 @@ def test_the_fill_command_loads_the_kernels_while_it_reads_a_large_file(tmp_path
     _forget_warmup()
     started_at_read = []  # the loading threads started and not yet joined (they may end)
     read = cli.read_mesh_data
-    monkeypatch.setattr(cli, "read_mesh_data", lambda *a: (started_at_read.append(
-        [t.name for t in warmup._ahead]), read(*a))[1])
+    monkeypatch.setattr(cli, "read_mesh_data", lambda *a, **k: (started_at_read.append(
+        [t.name for t in warmup._ahead]), read(*a, **k))[1])
     assert cli.main(["fill", str(mesh), "-o", str(out), "-q", "--method", "fair"]) == 0
     assert started_at_read == [["surfinpaint-warmup"] if ahead else []]
     assert warmup.kernels_loaded("fair") == ahead  # a small mesh loads none beside
