@@ -46,7 +46,9 @@ def neighbourhood_faces(
     the faces added by earlier holes. Cost depends on the neighbourhood, not the mesh (the
     membership masks and scratch arrays are allocated lazily: their untouched pages are
     never mapped); each ring's faces and vertices are told apart by masks, not sorts (the
-    faces are sorted once, at the end)."""
+    faces are sorted once, at the end). The added faces are searched only in the rings
+    whose new vertices hold one: in the others the added faces at the region are those
+    found before (a small hole far from the earlier fills never searches them)."""
     n_original = incidence.shape[0]
     n_all = max(n_original, int(added.max()) + 1 if len(added) else 0, int(np.max(seeds)) + 1)
     in_region = np.zeros(n_all, dtype=bool)
@@ -55,6 +57,8 @@ def neighbourhood_faces(
     face_stamp = np.empty(len(faces), dtype=np.int64)
     frontier = np.unique(seeds)
     in_region[frontier] = True
+    at_added = np.zeros(n_all, dtype=bool)  # the vertices of the added faces
+    at_added[added.ravel()] = True
     picked, picked_added = [], []
     # grow from the newest ring only: the faces of the older rings are already picked
     for _ in range(rings):
@@ -63,7 +67,7 @@ def neighbourhood_faces(
         face_in[new] = True
         picked.append(new)
         grown = faces[new].ravel()
-        if len(added):
+        if at_added[frontier].any():
             new_added = np.flatnonzero(in_region[added].any(axis=1))
             picked_added.append(new_added)
             grown = np.concatenate([grown, added[new_added].ravel()])

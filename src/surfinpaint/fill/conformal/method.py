@@ -124,12 +124,14 @@ def conformal_fill(
         faired = candidates.faired(vertices, faces, loop)
         reference = faired[f"fair{candidates.orders[0]}"]
         if options.plane_test:
-            plane = known_plane(vertices, faces, loop, angle=options.crease_angle)
+            ring = _ring(vertices, faces, loop, PLANE_RINGS)  # both tests' vertices
+            plane = known_plane(vertices, faces, loop, angle=options.crease_angle, ring=ring)
             if plane.flat:
                 return _on_plane(reference, plane)
             # a noisy scan's edge across the hole (a crease the search found is rebuilt
             # by the λ-H fill along it instead)
-            planes = None if candidates.crossed else known_two_planes(vertices, faces, loop)
+            planes = None if candidates.crossed else known_two_planes(vertices, faces, loop,
+                                                                      ring=ring)
             if planes is not None and planes.flat:
                 return _on_two_planes(vertices, faces, loop, reference, planes)
         if len(reference.vertices) == 0 and not candidates.crossed:
@@ -214,10 +216,12 @@ def _ring(vertices, faces, loop, rings):
 
 
 def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
-                rings: int = PLANE_RINGS, angle: float = CREASE_ANGLE) -> PlaneTest:
+                rings: int = PLANE_RINGS, angle: float = CREASE_ANGLE,
+                ring: tuple | None = None) -> PlaneTest:
     """:func:`~surfinpaint.geometry.flatness.plane_test` (at ``PLANE_ALPHA``) of the known
     vertices within ``rings`` rings of the loop (the loop's included), with the mesh edges
-    between them; where it says curved:
+    between them (``ring``: :func:`_ring`'s of those rings, where the caller has it); where
+    it says curved:
 
     - the same test of the vertices a trimmed plane fit keeps
       (:func:`~surfinpaint.geometry.flatness.trimmed_plane_test`: a few vertices off the
@@ -249,7 +253,7 @@ def known_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     surface the loop is seldom a plane to rounding, and where it is (a cap of a sphere cut
     along a circle), the surface leaves its plane all around the loop: not on one side.
     """
-    near, local, edges = _ring(vertices, faces, loop, rings)
+    near, local, edges = _ring(vertices, faces, loop, rings) if ring is None else ring
     test = plane_test(vertices[near], edges, alpha=PLANE_ALPHA)
     if test.flat:
         return test
@@ -349,9 +353,9 @@ def own_face(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     n = len(vertices)
     keys = edge_keys(edges[:, 0], edges[:, 1], n)
     crossing = (count == 2) & ~np.isin(keys, edge_keys(sharp[:, 0], sharp[:, 1], n))
+    # one direction per shared edge: the components of an undirected search are the same
     step = sp.coo_matrix((np.ones(int(crossing.sum())), tuple(owners[crossing].T)),
                          shape=(len(inside), len(inside))).tocsr()
-    step = step + step.T
     loop_keys = edge_keys(loop, np.roll(loop, -1), n)
     reached = np.unique(owners[np.isin(keys, loop_keys), 0])
     labels = connected_components(step, directed=False)[1]
@@ -361,12 +365,15 @@ def own_face(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
 
 
 def known_two_planes(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
-                     rings: int = PLANE_RINGS) -> TwoPlanes | None:
+                     rings: int = PLANE_RINGS, ring: tuple | None = None) -> TwoPlanes | None:
     """:func:`~surfinpaint.geometry.flatness.two_plane_test` (at ``PLANE_ALPHA``) of the
     known vertices within ``rings`` rings of the loop, where the edge between the two planes
-    crosses the hole (the loop has vertices on both planes); else None."""
-    near, local, edges = _ring(vertices, faces, loop, rings)
-    planes = two_plane_test(vertices[near], vertex_normals(vertices, faces)[near], edges,
+    crosses the hole (the loop has vertices on both planes); else None. ``ring``:
+    :func:`_ring`'s of those rings, where the caller has it. The vertex normals are summed
+    over the faces at those vertices only (in the faces' order: the same bits)."""
+    near, local, edges = _ring(vertices, faces, loop, rings) if ring is None else ring
+    at_near = faces[near[faces].any(axis=1)]
+    planes = two_plane_test(vertices[near], vertex_normals(vertices, at_near)[near], edges,
                             alpha=PLANE_ALPHA)
     if planes is None or planes.second_side[local[loop]].all() or \
             not planes.second_side[local[loop]].any():

@@ -109,8 +109,8 @@ def grown_patch(faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
         depth[mask & (depth > k)] = k
     order = near[np.argsort(depth[near].min(axis=1), kind="stable")]
     count: dict[tuple[int, int], int] = {}
-    inside = np.zeros(n, dtype=bool)
-    for face in fill_faces:
+    inside: set[int] = set()  # the patch's vertices (a set: each test looks up three)
+    for face in np.asarray(fill_faces, dtype=np.int64).tolist():
         _add(face, count, inside)
     pending, added, grew = [tuple(t) for t in order.tolist()], [], True
     # a Python loop over the patch's ring faces, only where the full rings fail: each
@@ -134,20 +134,22 @@ def grown_patch(faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
 
 def _edges_of(face):
     a, b, c = face
-    return [(min(a, b), max(a, b)), (min(b, c), max(b, c)), (min(c, a), max(c, a))]
+    return ((a, b) if a < b else (b, a), (b, c) if b < c else (c, b),
+            (c, a) if c < a else (a, c))
 
 
 def _add(face, count, inside):
     for e in _edges_of(face):
         count[e] = count.get(e, 0) + 1
-    inside[list(face)] = True
+    inside.update(face)
 
 
 def _keeps_disk(face, count, inside) -> bool:
     """Whether a disk stays one with ``face`` added: glued along one boundary edge with
     its third vertex new, or along two (a notch filled)."""
-    shared = [count.get(e, 0) for e in _edges_of(face)]
-    if max(shared) > 1:
+    x, y, z = map(count.get, _edges_of(face), (0, 0, 0))
+    if x > 1 or y > 1 or z > 1:
         return False
-    glued, touching = sum(shared), int(inside[list(face)].sum())
+    a, b, c = face
+    glued, touching = x + y + z, (a in inside) + (b in inside) + (c in inside)
     return (glued, touching) in ((1, 2), (2, 3))
