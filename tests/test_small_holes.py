@@ -121,3 +121,55 @@ def test_vertex_normals_over_the_faces_at_a_ring_are_the_same_bits():
     near = k_ring(f, [3, 9], 2, len(v))
     at = f[near[f].any(axis=1)]
     assert vertex_normals(v, at)[near].tobytes() == vertex_normals(v, f)[near].tobytes()
+
+
+def _own_face_by_keys(vertices, faces, loop, rings=2, angle=30.0):
+    """:func:`own_face` as it was before: the sharp edges told apart by their keys."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    from surfinpaint.fill.creases import sharp_edges
+    from surfinpaint.geometry.edges import edge_keys
+    from surfinpaint.geometry.mesh import edge_faces
+
+    near = k_ring(faces, loop, rings, len(vertices))
+    inside = faces[near[faces].all(axis=1)]
+    edges, owners, count = edge_faces(inside)
+    sharp = sharp_edges(vertices, inside, angle)[0]
+    n = len(vertices)
+    keys = edge_keys(edges[:, 0], edges[:, 1], n)
+    crossing = (count == 2) & ~np.isin(keys, edge_keys(sharp[:, 0], sharp[:, 1], n))
+    step = sp.coo_matrix((np.ones(int(crossing.sum())), tuple(owners[crossing].T)),
+                         shape=(len(inside), len(inside))).tocsr()
+    step = step + step.T
+    reached = np.unique(owners[np.isin(keys, edge_keys(loop, np.roll(loop, -1), n)), 0])
+    labels = connected_components(step, directed=False)[1]
+    face = np.zeros(n, dtype=bool)
+    face[inside[np.isin(labels, labels[reached])]] = True
+    return face
+
+
+@pytest.mark.parametrize("size", [6, 9])
+def test_the_own_face_from_rows_of_the_edge_table_is_the_one_from_keys(size):
+    from surfinpaint.data import cube
+    from surfinpaint.fill.conformal.method import own_face
+    from surfinpaint.fill.creases import sharp_edge_rows, sharp_edges
+    from surfinpaint.geometry.mesh import boundary_loops, edge_faces
+
+    v, f = cube(size)
+    # a hole next to the top face's edge: its rings reach over the edge
+    top = np.flatnonzero(np.isclose(v[:, 2], 1.0) & np.isclose(v[:, 0], 1 - 2 / size)
+                         & np.isclose(v[:, 1], 0.5 if size % 2 == 0 else (size // 2) / size))
+    f = f[~k_ring(f, top, 0, len(v))[f].any(axis=1)]
+    loop = boundary_loops(f)[0]
+    face = {}
+    for angle in (30.0, 95.0):
+        face[angle] = own_face(v, f, loop, angle=angle)
+        assert np.array_equal(face[angle], _own_face_by_keys(v, f, loop, angle=angle))
+    # the top face only, stopped at the cube's edge; past it where that edge is not sharp
+    assert np.isclose(v[face[30.0], 2], 1.0).all()
+    assert not np.isclose(v[face[95.0], 2], 1.0).all()
+    table = edge_faces(f)
+    rows, turn = sharp_edge_rows(v, f, table)
+    edges, turns = sharp_edges(v, f)
+    assert np.array_equal(table[0][rows], edges) and np.array_equal(turn, turns)

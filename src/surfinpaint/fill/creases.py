@@ -36,7 +36,7 @@ from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import edge_faces, face_normals, faces_near, orient_loop
 
 __all__ = ["Crease", "corner_point", "crease_curve", "cut_along", "hole_creases",
-           "paired_ends", "sharp_edges", "split_fill"]
+           "paired_ends", "sharp_edge_rows", "sharp_edges", "split_fill"]
 
 # a known edge whose two faces' normals turn by more than this (degrees) is sharp
 CREASE_ANGLE = 60.0
@@ -107,13 +107,33 @@ def sharp_edges(vertices: np.ndarray, faces: np.ndarray, angle: float = CREASE_A
     (24, 90.0)
     """
     faces = np.asarray(faces, dtype=np.int64)
-    edges, owner, count = edge_faces(faces)
+    table = edge_faces(faces)
+    rows, turn = sharp_edge_rows(vertices, faces, table, angle)
+    return table[0][rows], turn
+
+
+def sharp_edge_rows(vertices: np.ndarray, faces: np.ndarray, table: tuple,
+                    angle: float = CREASE_ANGLE) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`sharp_edges` as rows of ``table``, the caller's ``edge_faces(faces)``
+    (:func:`~surfinpaint.geometry.mesh.edge_faces`), in its order, and their turn angles.
+
+    Examples
+    --------
+    >>> from surfinpaint.data import cube
+    >>> from surfinpaint.geometry.mesh import edge_faces
+    >>> v, f = cube(2)
+    >>> table = edge_faces(f)
+    >>> rows, turn = sharp_edge_rows(v, f, table)
+    >>> bool((table[0][rows] == sharp_edges(v, f)[0]).all()), len(rows)
+    (True, 24)
+    """
+    _, owner, count = table
     two = np.flatnonzero(count == 2)
     normals = face_normals(vertices, faces)
     cos = np.einsum("ij,ij->i", normals[owner[two, 0]], normals[owner[two, 1]])
     turn = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
     keep = turn > angle
-    return edges[two[keep]], turn[keep]
+    return two[keep], turn[keep]
 
 
 def _chain(start: int, adjacency: sp.csr_matrix, points: np.ndarray, blocked: np.ndarray,

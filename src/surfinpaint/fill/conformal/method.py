@@ -31,7 +31,7 @@ from surfinpaint.fill.conformal.selection import (
     hidden_rings_shallower,
     sibling_test_plan,
 )
-from surfinpaint.fill.creases import CREASE_ANGLE, sharp_edges
+from surfinpaint.fill.creases import CREASE_ANGLE, sharp_edge_rows
 from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane, laid_on_two_planes
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import advantages_over, hidden_ring_scores, sibling_scores
@@ -348,11 +348,12 @@ def own_face(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     if near is None:
         near = k_ring(faces, loop, rings, len(vertices))
     inside = faces[near[faces].all(axis=1)]
-    edges, owners, count = edge_faces(inside)
-    sharp = sharp_edges(vertices, inside, angle)[0]
+    table = edge_faces(inside)
+    edges, owners, count = table
     n = len(vertices)
     keys = edge_keys(edges[:, 0], edges[:, 1], n)
-    crossing = (count == 2) & ~np.isin(keys, edge_keys(sharp[:, 0], sharp[:, 1], n))
+    crossing = count == 2
+    crossing[sharp_edge_rows(vertices, inside, table, angle)[0]] = False
     # one direction per shared edge: the components of an undirected search are the same
     step = sp.coo_matrix((np.ones(int(crossing.sum())), tuple(owners[crossing].T)),
                          shape=(len(inside), len(inside))).tocsr()
