@@ -55,6 +55,12 @@ A ninth set, the seventh holdout (``benchmarks/holdout7_manifest.json``, ``--wri
 same way (seeds from 800), made in session 31 after the sixth holdout had been committed and
 committed before any fill was run on them; to be run once by a later session after its
 changes.
+
+A tenth set, the eighth holdout (``benchmarks/holdout8_manifest.json``, ``--write
+--holdout8``): 12 fresh meshes (``validation_meshes.HOLDOUT8_SOURCES``, made in
+``holdout8_meshes.py``), holes planned the same way (seeds from 900), made in session 32 after
+the seventh holdout had been run once and committed before any fill was run on them; to be
+run once by a later session after its changes.
 """
 
 from __future__ import annotations
@@ -87,6 +93,8 @@ HOLDOUT5_MANIFEST = Path(__file__).parent / "holdout5_manifest.json"
 HOLDOUT6_MANIFEST = Path(__file__).parent / "holdout6_manifest.json"
 # a ninth set, fresh meshes of session 31 (HOLDOUT7_SOURCES), committed before any fill
 HOLDOUT7_MANIFEST = Path(__file__).parent / "holdout7_manifest.json"
+# a tenth set, fresh meshes of session 32 (HOLDOUT8_SOURCES), committed before any fill
+HOLDOUT8_MANIFEST = Path(__file__).parent / "holdout8_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -96,6 +104,7 @@ LATER_SETS = {
     "holdout5": (HOLDOUT5_MANIFEST, "the fifth holdout set", 600),
     "holdout6": (HOLDOUT6_MANIFEST, "the sixth holdout set", 700),
     "holdout7": (HOLDOUT7_MANIFEST, "the seventh holdout set", 800),
+    "holdout8": (HOLDOUT8_MANIFEST, "the eighth holdout set", 900),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -119,6 +128,7 @@ SPLIT = {
     "holdout5": list(vm.HOLDOUT5_SOURCES),
     "holdout6": list(vm.HOLDOUT6_SOURCES),
     "holdout7": list(vm.HOLDOUT7_SOURCES),
+    "holdout8": list(vm.HOLDOUT8_SOURCES),
 }
 
 
@@ -212,7 +222,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     seeds follow each mesh's place in the list (the holdout's start at 100, the second
     holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
     holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
-    holdout's at 800)."""
+    holdout's at 800, the eighth holdout's at 900)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

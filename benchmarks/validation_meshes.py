@@ -15,6 +15,9 @@ crowns with cusps) and ``smooth`` (smooth synthetic).
 Never used here, by rule: Debian's ``libcgal-demo`` meshes and the fsaverage5 RIGHT
 hemisphere (kept for an independent evaluation).
 
+Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``; this module adds its
+``HOLDOUT8_SOURCES`` to :data:`SOURCES` at its end.
+
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
 """
@@ -1686,3 +1689,12 @@ def _load_in_fresh_process(mesh_id: str) -> BenchMesh:
         with np.load(out) as z:
             truth = z["truth"] if len(z["truth"]) else None
             return BenchMesh(z["vertices"], z["faces"], truth)
+
+
+# --------------------------------------------------------------------------- holdout 8
+
+# Session 32's set (benchmarks/holdout8_manifest.json) has its own module, which uses the
+# helpers above; imported last, when everything it needs is defined.
+from holdout8_meshes import HOLDOUT8_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT8_SOURCES)
