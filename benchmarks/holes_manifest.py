@@ -61,6 +61,12 @@ A tenth set, the eighth holdout (``benchmarks/holdout8_manifest.json``, ``--writ
 ``holdout8_meshes.py``), holes planned the same way (seeds from 900), made in session 32 after
 the seventh holdout had been run once and committed before any fill was run on them; to be
 run once by a later session after its changes.
+
+An eleventh set, the ninth holdout (``benchmarks/holdout9_manifest.json``, ``--write
+--holdout9``): 12 fresh meshes (``validation_meshes.HOLDOUT9_SOURCES``, made in
+``holdout9_meshes.py``), holes planned the same way (seeds from 1000), made in session 33
+after the eighth holdout had been made and committed before any fill was run on them; to be
+run once by a later session after its changes.
 """
 
 from __future__ import annotations
@@ -95,6 +101,8 @@ HOLDOUT6_MANIFEST = Path(__file__).parent / "holdout6_manifest.json"
 HOLDOUT7_MANIFEST = Path(__file__).parent / "holdout7_manifest.json"
 # a tenth set, fresh meshes of session 32 (HOLDOUT8_SOURCES), committed before any fill
 HOLDOUT8_MANIFEST = Path(__file__).parent / "holdout8_manifest.json"
+# an eleventh set, fresh meshes of session 33 (HOLDOUT9_SOURCES), committed before any fill
+HOLDOUT9_MANIFEST = Path(__file__).parent / "holdout9_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -105,6 +113,7 @@ LATER_SETS = {
     "holdout6": (HOLDOUT6_MANIFEST, "the sixth holdout set", 700),
     "holdout7": (HOLDOUT7_MANIFEST, "the seventh holdout set", 800),
     "holdout8": (HOLDOUT8_MANIFEST, "the eighth holdout set", 900),
+    "holdout9": (HOLDOUT9_MANIFEST, "the ninth holdout set", 1000),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -129,6 +138,7 @@ SPLIT = {
     "holdout6": list(vm.HOLDOUT6_SOURCES),
     "holdout7": list(vm.HOLDOUT7_SOURCES),
     "holdout8": list(vm.HOLDOUT8_SOURCES),
+    "holdout9": list(vm.HOLDOUT9_SOURCES),
 }
 
 
@@ -222,7 +232,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     seeds follow each mesh's place in the list (the holdout's start at 100, the second
     holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
     holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
-    holdout's at 800, the eighth holdout's at 900)."""
+    holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

@@ -15,8 +15,9 @@ crowns with cusps) and ``smooth`` (smooth synthetic).
 Never used here, by rule: Debian's ``libcgal-demo`` meshes and the fsaverage5 RIGHT
 hemisphere (kept for an independent evaluation).
 
-Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``; this module adds its
-``HOLDOUT8_SOURCES`` to :data:`SOURCES` at its end.
+Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout set 9's
+(session 33) in ``holdout9_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` and
+``HOLDOUT9_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1698,3 +1699,10 @@ def _load_in_fresh_process(mesh_id: str) -> BenchMesh:
 from holdout8_meshes import HOLDOUT8_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT8_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 9
+
+# Session 33's set (benchmarks/holdout9_manifest.json), as holdout 8's: its own module.
+from holdout9_meshes import HOLDOUT9_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT9_SOURCES)
