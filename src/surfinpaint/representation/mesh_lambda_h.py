@@ -54,6 +54,7 @@ from surfinpaint.geometry.mesh import (
     vertex_normals,
 )
 from surfinpaint.representation.continuation import arclength_continuation
+from surfinpaint.representation.damped_newton import damped_newton
 
 # damped Newton steps tried from the start before the continuation
 NEWTON_STEPS = 12
@@ -388,6 +389,13 @@ class RebuildSystem:
         force = self.force(phi, self.normals(phi))
         return (self.L @ phi - t * self.area[:, None] * force).ravel()[self.idx]
 
+    def rounding(self, phi, t):
+        """The residual's norm that rounding alone leaves: eps times the norm of the
+        terms' magnitudes."""
+        force = np.abs(self.force(phi, self.normals(phi)))
+        terms = abs(self.L) @ np.abs(phi) + t * self.area[:, None] * force
+        return np.finfo(float).eps * float(np.linalg.norm(terms.ravel()[self.idx]))
+
     def jacobian(self, phi, t):
         # dF = (B − K C') dn + K P dg_u − K [n]× dg_v with w = P g_u − n × g_v,
         # de1 = Q dw (Q = soft_unit's derivative), dw = P dg_u − [n]× dg_v − C' dn,
@@ -411,38 +419,6 @@ class RebuildSystem:
         on_Gv = _blocks(ids, ids, scale * (K @ N), self.n)
         J = self.L3 - on_D @ D - on_G @ self.G3 + on_Gv @ self.G3v
         return J[self.idx][:, self.idx].tocsc(), normal
-
-
-def _newton(system, phi, t, tol, budget, scale):
-    """Damped Newton at parameter t. Returns (phi, converged, steps, last step)."""
-    x = phi.copy()
-    r = system.residual(x, t)
-    last = np.inf
-    for k in range(budget):
-        J, _ = system.jacobian(x, t)
-        try:
-            dx = system.factorized(J)(-r)
-        except RuntimeError:  # exactly singular
-            return x, False, k + 1, last
-        step = float(np.abs(dx).max()) / scale
-        if step < tol:  # at rounding level the residual need not fall any more
-            x.ravel()[system.idx] += dx
-            return x, True, k + 1, step
-        norm0 = np.linalg.norm(r)
-        damping = 1.0
-        for _ in range(30):  # backtracking on the residual
-            trial = x.copy()
-            trial.ravel()[system.idx] += damping * dx
-            r_trial = system.residual(trial, t)
-            enough = np.linalg.norm(r_trial) < (1 - 1e-4 * damping) * norm0
-            if np.isfinite(r_trial).all() and enough:
-                break
-            damping /= 2
-        else:
-            return x, False, k + 1, last
-        x, r = trial, r_trial
-        last = damping * step
-    return x, False, budget, last
 
 
 def area_mismatch(points: np.ndarray, faces: np.ndarray, uv: np.ndarray,
@@ -541,7 +517,8 @@ def rebuild_on_mesh(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, lam: 
     lu = spla.splu(L[unknown][:, unknown].tocsc(), permc_spec="MMD_AT_PLUS_A")
     phi[unknown] = lu.solve(-(L[unknown][:, known] @ p[known]))  # harmonic: t = 0
     first = phi if start is None else np.where(unknown[:, None], start, p)
-    x, ok, used, step = _newton(system, first, 1.0, tol, min(NEWTON_STEPS, max_iter), scale)
+    x, ok, used, step = damped_newton(system, first, 1.0, tol, min(NEWTON_STEPS, max_iter),
+                                      scale)
     mismatch = area_mismatch(x, f, uv, lam) if ok else np.inf
     method, note = "newton", ""
     if (not ok or (select_by_area and mismatch > AREA_MATCH)) and max_iter > used:
@@ -588,7 +565,7 @@ def _continuation(system, harmonic: np.ndarray, scale: float, tol: float, budget
     its crossings; scored by the vertex areas' mismatch with λ's when ``area_data`` (faces,
     uv, λ) is given, else it stops at the first crossing."""
     def newton(y):
-        y, converged, k, _ = _newton(system, y, 1.0, tol, NEWTON_STEPS, scale)
+        y, converged, k, _ = damped_newton(system, y, 1.0, tol, NEWTON_STEPS, scale)
         return y, converged, k
 
     def score(y):
