@@ -134,7 +134,7 @@ def overlays_beside(path: Path) -> list[Path]:
     found += sorted(folder.glob(f"{_glob_escape(base)}.*.label.gii"))
     found = [p for p in found if not _of_another_surface(p, base, path)]
     found += [p for p in sorted(folder.glob(f"{_glob_escape(path.name)}.*"))
-              if p not in found and _is_morph(p)
+              if p not in found and is_morphometry(p)
               and not _of_another_surface(p, path.name, path)]
     return found + subject_overlays(path)
 
@@ -157,7 +157,7 @@ def _of_another_surface(overlay: Path, base: str, path: Path) -> bool:
         stem = f"{base}.{'.'.join(parts[:k])}"
         for ending in _SURFACE_ENDINGS:
             other = path.parent / (stem + ending)
-            if other != path and other.is_file() and not _is_morph(other):
+            if other != path and other.is_file() and not is_morphometry(other):
                 return True
     return False
 
@@ -170,14 +170,16 @@ def subject_overlays(path: Path) -> list[Path]:
     if not hemi:
         return []
     return [p for name in FREESURFER_OVERLAYS
-            if (p := path.parent / f"{hemi.group(1)}.{name}") != path and _is_morph(p)]
+            if (p := path.parent / f"{hemi.group(1)}.{name}") != path and is_morphometry(p)]
 
 
 def _glob_escape(text: str) -> str:
     return re.sub(r"([*?\[])", r"[\1]", text)
 
 
-def _is_morph(p: Path) -> bool:
+def is_morphometry(p: Path) -> bool:
+    """Whether ``p`` is a FreeSurfer morphometry (curv) file: a per-vertex overlay such as
+    ``lh.sulc``, by its magic bytes ``FF FF FF``."""
     try:
         with open(p, "rb") as fh:
             return p.is_file() and fh.read(3) == _MORPH_MAGIC
