@@ -59,7 +59,16 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
 
     The loop is checked on the faces at its vertices only: whether its edges are boundary
     edges and its vertices bow-ties is decided there (the same answer and message as on the
-    whole neighbourhood, at the cost of the loop's faces, not of the many rings around)."""
+    whole neighbourhood, at the cost of the loop's faces, not of the many rings around).
+    A neighbourhood that holds faces of zero area is refused too: the fill's cotangent
+    weights, normals and conformal map are undefined on them."""
+    if len(local.zero_area):
+        message = (f"{len(local.zero_area)} faces of zero area (collinear or coincident "
+                   f"corners) lie in the neighbourhood its fill uses: {local.zero_area_text}"
+                   "; their angles and normals are undefined")
+        if explicit:
+            raise MeshError(f"hole {index}: {message}", faces=local.zero_area[:100].tolist())
+        return message
     on_loop = np.isin(local.faces_global, local.loop)
     touching = local.faces_global[on_loop.any(axis=1)]
     try:
