@@ -143,8 +143,9 @@ def test_a_zero_area_sliver_away_from_the_hole_leaves_its_fill_bit_identical(met
     # the new vertices are numbered after the sliver's one more original vertex
     np.testing.assert_array_equal(new_f, np.where(plain_f >= len(v), plain_f + 1, plain_f))
     assert [s for s in said if "zero area" in s] == [
-        f"1 faces have zero area (collinear or coincident corners; kept as they are, and a "
-        f"hole whose fill would reach them is not filled): {sliver} "
+        f"1 faces have zero area (collinear or coincident corners; kept as they are; a hole "
+        f"whose fill would reach them is filled from fewer rings where it can, else left "
+        f"open): {sliver} "
         f"{tuple(int(x) for x in sf[sliver])}"]
 
 
@@ -179,6 +180,89 @@ def test_a_hole_whose_neighbourhood_holds_a_zero_area_face_is_skipped_or_refused
     with pytest.raises(MeshError, match=rf"hole 0: 1 faces of zero area.*{sliver} ") as err:
         fill_holes(sv, sf, holes=[0], method="fair", jobs=1)
     assert err.value.faces == [sliver]
+
+
+def _hops(v, f, sources):
+    """Edge hops from ``sources`` to every vertex."""
+    from scipy.sparse import coo_matrix
+
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    graph = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(len(v), len(v))).tocsr()
+    graph = graph + graph.T
+    hops = np.full(len(v), np.inf)
+    frontier, d = np.unique(sources), 0
+    while len(frontier):
+        hops[frontier] = d
+        frontier = np.unique(graph[frontier].indices)
+        frontier = frontier[np.isinf(hops[frontier])]
+        d += 1
+    return hops
+
+
+def _sliver_rings_away(rings: int, n_holes: int = 1):
+    """A sphere with ``n_holes`` holes and a zero-area sliver ``rings`` edge hops from the
+    first hole's loop (in its neighbourhood of ``rings + 1`` vertex rings)."""
+    v, f = sphere(4)
+    h = mean_edge_length(v, f)
+    centres = [np.array(c, float) for c in ([0, 0, 1], [1, 0, 0], [0, 1, 0])][:n_holes]
+    cut = cut_holes(v, f, centres, [2.5 * h] * n_holes)
+    v, f = cut.vertices, cut.faces
+    hops = _hops(v, f, find_holes(v, f)[0].loop)
+    # a face whose nearest corner is ``rings`` hops away, that corner first: the sliver on
+    # its first edge is then in the neighbourhood of ``rings + 1`` rings, not of fewer
+    at = int(np.flatnonzero(hops[f].min(axis=1) == rings)[0])
+    f = f.copy()
+    f[at] = np.roll(f[at], -int(np.argmin(hops[f[at]])))
+    return (v, f, *_sliver(v, f, at))
+
+
+@pytest.mark.parametrize("workers", ["none", "forked", "forkserver"])
+def test_the_lambda_h_fill_works_around_a_zero_area_face_outside_the_faired_fills_rings(
+        workers, monkeypatch):
+    # the λ-H fill and its self-check look 16 rings around a 10-edge hole; a sliver 6 rings
+    # away would leave the hole open; the faired fill's 3 rings hold none: it is written.
+    # In workers too: forked ones cut the hole themselves, else it is cut here and sent
+    from surfinpaint.fill import parallel
+
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
+    v, f, sv, sf, sliver = _sliver_rings_away(6, n_holes=3)
+    result, said = _fill(sv, sf, method="conformal") if workers == "none" else (None, [])
+    if workers != "none":
+        from surfinpaint.fill import pipeline
+
+        monkeypatch.setattr(parallel.threading, "active_count",
+                            lambda: 1 if workers == "forked" else 2)
+        runs = []
+        spread = pipeline.fill_in_parallel
+        monkeypatch.setattr(pipeline, "fill_in_parallel",
+                            lambda *a: (runs.append(parallel.forks()), spread(*a)))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = fill_holes(sv, sf, method="conformal", jobs=2)
+        said = [str(w.message) for w in caught]
+        assert runs == [workers == "forked"]
+        serial, _ = _fill(sv, sf, method="conformal")
+        np.testing.assert_array_equal(result.vertices, serial.vertices)
+        np.testing.assert_array_equal(result.faces, serial.faces)
+    first = result.reports[0]
+    assert first.outcome == "faired" and first.fallback.startswith(
+        f"not tried: 1 faces of zero area (collinear or coincident corners) lie in the rings "
+        f"it and its self-check use: {sliver} ")
+    assert f"hole 0: conformal fill failed ({first.fallback}); used the faired fill (order 2) "\
+        "instead" in said
+    # the faired fill's, bit for bit
+    fair = fill_holes(sv, sf, holes=[first.loop], method="fair", jobs=1)
+    np.testing.assert_array_equal(
+        result.vertices[len(sv):len(sv) + first.new_vertices], fair.vertices[len(sv):])
+    assert all(not r.skipped for r in result.reports)
+
+
+@pytest.mark.parametrize("method", ["fair", "conformal"])
+def test_a_zero_area_face_within_the_faired_fills_rings_leaves_the_hole_open(method):
+    v, f, sv, sf, sliver = _sliver_rings_away(2)
+    with pytest.warns(HoleWarning, match=rf"hole 0: 1 faces of zero area .*: {sliver} "):
+        result = fill_holes(sv, sf, method=method, jobs=1)
+    assert result.reports[0].skipped and len(result.faces) == len(sf)
 
 
 def test_the_commands_take_a_mesh_with_degenerate_faces(tmp_path, capsys):

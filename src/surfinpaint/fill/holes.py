@@ -124,7 +124,8 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     faces : (f, 3) int array
     table : EdgeTable, optional
         The faces' edge table, if already built (e.g. by the caller that validated the
-        mesh): the loops and components are then read from it in O(E).
+        mesh): the loops and components are then read from it in O(E). ``faces`` are then
+        taken as the triangles it was built from (those that repeat a vertex left out).
     validate : bool
         Check the mesh first, as :func:`surfinpaint.fill_holes` does
         (:func:`surfinpaint.validate_mesh`); False when the caller has.
@@ -152,9 +153,8 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     faces = face_ids(faces)
     if validate:
         check_arrays(vertices, faces)  # before the table: it indexes by the ids
-    # a face that repeats a vertex joins no faces and bounds no hole (``table``, if given,
-    # is of the triangles too)
-    faces = triangle_rows(faces)[0]
+    if table is None:  # a face that repeats a vertex joins no faces and bounds no hole
+        faces = triangle_rows(faces)[0]
     if validate:
         if table is None:
             table = EdgeTable.build(faces, len(vertices))

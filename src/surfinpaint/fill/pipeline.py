@@ -276,10 +276,9 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
     need only the edge table run there while the mesh is checked
     (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
     with loading_beside(len(faces), method) as beside:
-        vertices, faces, removed_faces, table, found, incidence, degenerate = _prepared(
-            vertices, faces, repair, validate, beside)
+        vertices, faces, triangles, removed_faces, table, found, incidence, degenerate = \
+            _prepared(vertices, faces, repair, validate, beside)
         found = found()  # after the checks: their errors come first
-        triangles = triangle_rows(faces)[0]  # a face that repeats a vertex bounds no hole
         loops = select_holes(vertices, triangles, holes, include_border=include_border,
                              table=table, validate=False, found=found)
         del table  # the holes are found: its memory is free for the fills
@@ -367,12 +366,13 @@ def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds)
 
 
 def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
-    """The mesh as arrays, with ``repair`` the faces around non-manifold edges removed
-    (and which), with ``validate`` checked; the edge table of its triangles when validated
-    (built once: the holes are found from it too); the collectors of its :func:`find_holes`
-    list and its ``triangle_incidence``; and its degenerate faces (those that repeat a
-    vertex, left out of the table, the holes and the neighbourhoods; those of zero area,
-    which no fill's neighbourhood may hold, validated or not).
+    """The mesh as arrays and its triangles (:func:`triangle_rows`), with ``repair`` the
+    faces around non-manifold edges removed (and which), with ``validate`` checked; the
+    edge table of its triangles when validated (built once: the holes are found from it
+    too); the collectors of its :func:`find_holes` list and its ``triangle_incidence``; and
+    its degenerate faces (those that repeat a vertex, left out of the table, the holes and
+    the neighbourhoods; those of zero area, which no fill's neighbourhood may hold,
+    validated or not).
 
     ``find_holes`` and the incidence are handed to ``beside`` once the table is built: its
     thread makes them while this one checks the mesh (651k case: docs/scale.md, session
@@ -387,16 +387,16 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     removed_faces = np.empty(0, dtype=np.int64)
     if repair:
         faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
-    triangles, repeated, rows = triangle_rows(faces)
+    triangles, repeated, rows = triangle_rows(faces)  # a face that repeats a vertex joins none
     table = EdgeTable.build(triangles, len(vertices)) if validate else None
     found = beside.submit(find_holes, vertices, triangles, table, validate=False)
-    incidence = beside.submit(triangle_incidence, faces, len(vertices))
+    incidence = beside.submit(triangle_incidence, faces, len(vertices), rows, known=True)
     if validate:  # validate_mesh's errors, not its report
         _, flat = check_topology(vertices, triangles, table)
     else:  # checked by the caller, but the fills must know where they cannot go
         flat = zero_area_faces(vertices, triangles)
     flat = flat if rows is None else rows[flat]
-    return vertices, faces, removed_faces, table, found, incidence, (repeated, flat)
+    return vertices, faces, triangles, removed_faces, table, found, incidence, (repeated, flat)
 
 
 def _with_attributes(result: FillResult, attributes, face_attributes, kinds) -> FillResult:

@@ -33,11 +33,15 @@ def triangle_rows(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return f[rows], repeated, rows
 
 
-def triangle_incidence(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
+def triangle_incidence(faces: np.ndarray, n_vertices: int, rows: np.ndarray | None = None,
+                       *, known: bool = False) -> sp.csr_matrix:
     """The :func:`~surfinpaint.geometry.mesh.vertex_faces` incidence of the triangles among
     ``faces``, by the faces' ids: a face that repeats a vertex is in no vertex's row, so no
-    neighbourhood found through it holds that face (the same matrix when there is none)."""
-    _, _, rows = triangle_rows(faces)
+    neighbourhood found through it holds that face (the same matrix when there is none).
+    With ``known``, ``rows`` are the triangles' ids as :func:`triangle_rows` gives them
+    (None: every face), not found again."""
+    if not known:
+        _, _, rows = triangle_rows(faces)
     if rows is None:
         return vertex_faces(faces, n_vertices)
     incidence = vertex_faces(faces[rows], n_vertices)

@@ -12,8 +12,8 @@ out of the topology (:mod:`surfinpaint.geometry.degenerate`: the edges, holes an
 fill keeps it in the output as it is. A face of three
 distinct vertices with zero area (:func:`zero_area_faces`) is a triangle of the surface,
 joined to its neighbours; only a fill's numerics break on it (cotangent weights, normals,
-the conformal map), so a hole whose neighbourhood holds one is not filled
-(:func:`surfinpaint.fill.hole_steps.loop_problem`).
+the conformal map), so a hole whose fill's neighbourhood holds one is filled from fewer
+rings where it can, else left open (:mod:`surfinpaint.fill.hole_steps`).
 """
 
 from __future__ import annotations
@@ -236,8 +236,8 @@ def degenerate_notes(faces: np.ndarray, repeated: np.ndarray, flat: np.ndarray) 
                      f"{face_text(repeated, faces)}")
     if flat.size:
         notes.append(f"{flat.size} faces have zero area (collinear or coincident corners; "
-                     "kept as they are, and a hole whose fill would reach them is not "
-                     f"filled): {face_text(flat, faces)}")
+                     "kept as they are; a hole whose fill would reach them is filled from "
+                     f"fewer rings where it can, else left open): {face_text(flat, faces)}")
     return notes
 
 
