@@ -13,8 +13,9 @@
    checks, the edge table, the topology checks, ``find_holes``, the holes, assembling the
    result, the attributes, writing. CPU is the process's (``time.process_time``, every
    thread's: a phase's CPU counts what ran beside it). A large mesh's ``find_holes`` and
-   ``vertex_faces`` run on a thread beside the topology checks (session 24): their wall
-   overlaps the checks'; the kernels load on another from before the read.
+   ``triangle_incidence`` (``vertex_faces``) run on a thread beside the topology checks
+   (session 24): their wall overlaps the checks'; the kernels load on another from before
+   the read.
 
 The mesh is the one ``benchmarks/scale.py`` makes (generated here when missing). Run the
 same command on two checkouts, alternated, to compare them:
@@ -78,7 +79,8 @@ def process_phases(path: Path, out: Path, method: str) -> list[tuple[str, float,
             (pipeline, "check_arrays", "array checks"),
             (pipeline.EdgeTable, "build", "edge table"),
             (pipeline, "check_topology", "topology checks"),
-            (pipeline, "find_holes", "find_holes"), (pipeline, "vertex_faces", "vertex_faces"),
+            (pipeline, "find_holes", "find_holes"),
+            (pipeline, "triangle_incidence", "vertex_faces"),
             (pipeline, "fill_in_parallel", "holes"), (pipeline, "fill_hole", "holes"),
             (neighbourhood.FilledMesh, "result", "assembling the result"),
             (pipeline, "_with_attributes", "attributes"),

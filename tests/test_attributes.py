@@ -521,6 +521,28 @@ def test_cli_fill_writes_gifti_overlays_beside(tmp_path):
     assert np.abs(thickness[n:] - (2.0 + back.vertices[n:, 2])).max() < 0.02
 
 
+def test_cli_fill_of_a_gifti_lh_surface_writes_no_subject_overlay(tmp_path):
+    nib = pytest.importorskip("nibabel")
+    from nibabel.freesurfer import write_morph_data
+
+    from surfinpaint.app.cli import main
+
+    v, f = sphere(2)
+    cut = cut_holes(v, f, [0], [2.5 * mean_edge_length(v, f)])
+    gifti = tmp_path / "lh.test.gii"
+    nib.save(nib.gifti.GiftiImage(darrays=[
+        nib.gifti.GiftiDataArray(cut.vertices.astype(np.float32),
+                                 intent="NIFTI_INTENT_POINTSET"),
+        nib.gifti.GiftiDataArray(cut.faces.astype(np.int32),
+                                 intent="NIFTI_INTENT_TRIANGLE")]), gifti)
+    write_morph_data(tmp_path / "lh.sulc", cut.vertices[:, 2].astype(np.float32))
+    out = tmp_path / "out"
+    out.mkdir()
+    assert main(["fill", str(gifti), "-o", str(out / "lh.filled.gii"), "--method", "fair",
+                 "-q"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["lh.filled.gii"]
+
+
 def test_cli_fill_carries_obj_texture_coordinates_at_a_seam_elsewhere(holed_sphere, tmp_path):
     from surfinpaint.app.cli import main
     from surfinpaint.io import MeshData, read_mesh_data, write_mesh_data

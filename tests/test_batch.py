@@ -21,6 +21,7 @@ import pytest
 
 import surfinpaint
 from surfinpaint.app.batch import FileRow, fill_files, find_inputs, read_summary
+from surfinpaint.app.batch_inputs import UnknownFilesWarning
 from surfinpaint.app.cli import main
 from surfinpaint.data import snowman, sphere, torus
 from surfinpaint.fill.pipeline import fill_holes
@@ -143,7 +144,8 @@ def _check_rows(rows: list[FileRow], expected, skipped=(), uncounted=()) -> None
 def test_find_inputs_mirrors_folders_globs_and_files(tmp_path):
     scans = _scans(tmp_path)
     out = tmp_path / "out"
-    jobs = find_inputs([scans], out)
+    with pytest.warns(UnknownFilesWarning, match="1 file of unknown type.*: notes.txt"):
+        jobs = find_inputs([scans], out)
     assert [j.output for j in jobs] == [
         "snowman.ply", "subject1/quads.obj", "subject1/sphere.obj", "subject1/deep/closed.off",
         "subject2/corrupt.ply", "subject2/torus.gii", "subject2/deep/er/sphere2.ply"]
@@ -172,6 +174,74 @@ def test_find_inputs_mirrors_folders_globs_and_files(tmp_path):
         find_inputs([scans / "subject1", str(tmp_path / "nothing" / "*.ply")], out)
     with pytest.raises(ValueError, match="overwritten"):
         find_inputs([scans / "snowman.ply"], scans)
+
+
+def _unknown_warnings(inputs, out) -> list[str]:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        find_inputs(inputs, out)
+    return [str(w.message) for w in caught if w.category is UnknownFilesWarning]
+
+
+def test_files_of_unknown_type_are_named_once_and_companions_are_not(tmp_path):
+    pytest.importorskip("nibabel")
+    from nibabel.freesurfer import write_morph_data
+
+    scans = tmp_path / "scans"
+    (scans / "sub" / "surf").mkdir(parents=True)
+    (scans / ".git").mkdir()
+    v, f = sphere(1)
+    write_mesh(scans / "scan.obj", v, f)
+    write_mesh(scans / "sub" / "surf" / "lh.pial", v, f)
+    # what goes with a mesh, and hidden files: left out without a word
+    write_morph_data(scans / "sub" / "surf" / "lh.sulc", np.zeros(len(v), np.float32))
+    for name in ("scan.mtl", "scan_texture.png", "scan.JPG", "sub/surf/lh.aparc.annot",
+                 "sub/surf/lh.cortex.label", "sub/surf/lh.pial.thick.shape.gii", ".DS_Store",
+                 ".git/config", "sub/.scan.ply.x1y2z3.tmp"):
+        (scans / name).write_bytes(b"x")
+    assert _unknown_warnings([scans], tmp_path / "out") == []
+    # a note, a FreeSurfer surface of no known name, a table: named, in one warning
+    write_mesh(tmp_path / "lh.pial", v, f)
+    os.replace(tmp_path / "lh.pial", scans / "sub" / "surf" / "lh.pial.bak")
+    (scans / "notes.txt").write_text("scanned on Monday")
+    (scans / "sub" / "volumes.csv").write_text("a,b")
+    (scans / "sub" / "t1.mgz").write_bytes(b"x")
+    # the summary of an output folder inside the input folder is not an input
+    out = scans / "filled"
+    out.mkdir()
+    (out / "summary.csv").write_text("path")
+    expected = (f"skipped 4 files of unknown type in {scans}: notes.txt, sub/t1.mgz, "
+                "sub/volumes.csv and 1 more (not filled: known mesh extensions: .ply, .obj,")
+    said = _unknown_warnings([scans], out)
+    assert len(said) == 1 and said[0].startswith(expected), said
+    # the files to fill are the same as without the warning
+    assert [j.output for j in find_inputs([scans], out)] == ["scan.obj", "sub/surf/lh.pial"]
+    # a folder given twice, or a file under two arguments: named once
+    assert _unknown_warnings([scans, scans / "sub"], out) == said
+    # a glob's matches that are not meshes are named, relative to the glob's base
+    said = _unknown_warnings([str(scans / "sub" / "surf" / "lh.*")], out)
+    assert said == [f"skipped 1 file of unknown type matched by "
+                    f"{str(scans / 'sub' / 'surf' / 'lh.*')!r}: lh.pial.bak (not filled: known "
+                    "mesh extensions: " + ", ".join(surfinpaint.SUPPORTED_FORMATS) + ")"]
+    # an argument with no mesh at all: the error, and the warning saying what is there
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(ValueError, match="no mesh files"):
+            find_inputs([str(scans / "*.txt")], tmp_path / "out")
+    assert [str(w.message).split(":")[0] for w in caught] == [
+        f"skipped 1 file of unknown type matched by {str(scans / '*.txt')!r}"]
+
+
+def test_cli_batch_names_the_files_it_skips_and_still_succeeds(tmp_path, capsys):
+    scans = tmp_path / "scans"
+    scans.mkdir()
+    write_mesh(scans / "a.ply", *sphere(1))
+    (scans / "README.txt").write_text("about these scans")
+    assert main(["batch", str(scans), "-o", str(tmp_path / "out"), "--jobs", "1"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("README.txt") == 1
+    assert f"warning: skipped 1 file of unknown type in {scans}: README.txt" in err
+    assert "1 closed" in err
 
 
 def test_local_workers_fill_every_file_and_report_the_corrupt_one(tmp_path):

@@ -3,6 +3,7 @@ round trips bit-identical on the original vertices, nothing dropped without a Me
 
 from __future__ import annotations
 
+import os
 import struct
 import warnings
 
@@ -20,6 +21,7 @@ from surfinpaint.io import (
     write_mesh,
     write_mesh_data,
 )
+from surfinpaint.io.formats import files_read
 
 # PLY type name, numpy type, values that need the type's whole range
 PLY_TYPES = [("char", "i1"), ("uchar", "u1"), ("short", "i2"), ("ushort", "u2"),
@@ -507,6 +509,43 @@ def test_freesurfer_overlays_beside_lh_surface_and_written_beside_output(tmp_pat
     np.testing.assert_array_equal(again.attributes["thickness"], thickness)
     assert again.metadata["create_stamp"] == mesh.metadata["create_stamp"]
     assert read_mesh_data(out / "lh.filled.white", overlays=False).attributes == {}
+
+
+def test_the_subjects_overlays_go_with_freesurfer_surfaces_only(tmp_path):
+    # a GIFTI surface named lh.* (converted, resampled: its vertices need not be the
+    # subject's) took FreeSurfer's lh.sulc beside it, though the rule is documented for
+    # FreeSurfer surfaces only; its own overlays, named after it, are still read
+    nib = pytest.importorskip("nibabel")
+    from nibabel.freesurfer import write_morph_data
+
+    v, f, thickness, curv = _brain_surface(tmp_path)
+    gifti = tmp_path / "lh.test.gii"
+    nib.save(nib.gifti.GiftiImage(darrays=[
+        nib.gifti.GiftiDataArray(v.astype(np.float32), intent="NIFTI_INTENT_POINTSET"),
+        nib.gifti.GiftiDataArray(f.astype(np.int32), intent="NIFTI_INTENT_TRIANGLE")]), gifti)
+    write_morph_data(tmp_path / "lh.sulc", curv)  # as many values as the GIFTI's vertices
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # not read, and nothing to warn about
+        mesh = read_mesh_data(gifti)
+    assert mesh.attributes == {}
+    assert files_read(gifti) == [gifti]  # batch's up-to-date test does not look at it
+    np.testing.assert_array_equal(mesh.vertices, v)
+    nib.save(nib.gifti.GiftiImage(darrays=[nib.gifti.GiftiDataArray(
+        thickness, intent="NIFTI_INTENT_SHAPE")]), tmp_path / "lh.test.thickness.shape.gii")
+    assert set(read_mesh_data(gifti).attributes) == {"thickness"}
+    # given explicitly, lh.sulc is read with the GIFTI surface
+    given = read_mesh_data(gifti, overlays=[tmp_path / "lh.sulc"])
+    np.testing.assert_array_equal(given.attributes["sulc"], curv)
+    # a FreeSurfer surface beside it takes the subject's lh.sulc, named lh.* by the
+    # convention or recognised by its magic bytes
+    for name in ("lh.white", "lh.smoothed"):
+        write_mesh(tmp_path / "lh.white", v, f)
+        if name != "lh.white":
+            os.replace(tmp_path / "lh.white", tmp_path / name)
+        surface = read_mesh_data(tmp_path / name)
+        assert set(surface.attributes) == {"sulc"}, name
+        np.testing.assert_array_equal(surface.attributes["sulc"], curv)
+        assert tmp_path / "lh.sulc" in files_read(tmp_path / name)
 
 
 def test_filled_surface_beside_the_subjects_overlays_reads_back(tmp_path):

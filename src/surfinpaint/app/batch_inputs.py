@@ -6,15 +6,17 @@ from __future__ import annotations
 
 import glob
 import os
+import warnings
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from surfinpaint.errors import MeshError
-from surfinpaint.io.brain import OVERLAY_SUFFIXES
+from surfinpaint.errors import MeshError, preview
+from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_morphometry
 from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format
 
-__all__ = ["FileJob", "find_inputs", "largest_cost_first", "picture_path", "up_to_date"]
+__all__ = ["COMPANION_SUFFIXES", "FileJob", "UnknownFilesWarning", "find_inputs",
+           "largest_cost_first", "picture_path", "up_to_date"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +54,22 @@ def picture_path(target: Path) -> Path:
     return target.with_name(name + ".png")
 
 
+#: Files that go with a mesh and are not meshes themselves: GIFTI overlays (read with their
+#: surface), FreeSurfer labels and annotations, OBJ material libraries and texture images.
+#: A folder's such files (and FreeSurfer morphometry files, ``lh.sulc``, known by their
+#: content) are left out without a word; any other file that is not a mesh is named in an
+#: :class:`UnknownFilesWarning`.
+COMPANION_SUFFIXES = (*OVERLAY_SUFFIXES, ".label", ".annot", ".mtl", ".png", ".jpg", ".jpeg",
+                      ".tga", ".bmp", ".gif", ".tif", ".tiff", ".webp", ".exr", ".hdr",
+                      ".dds", ".ktx", ".ktx2")
+
+
+class UnknownFilesWarning(UserWarning):
+    """Files of a folder (or matches of a glob) given to batch filling that are neither
+    mesh files by their names nor files that go with one: not filled
+    (:func:`find_inputs`)."""
+
+
 def _is_mesh_name(name: str) -> bool:
     """A name with a mesh extension, not hidden, and not a GIFTI overlay (an overlay is read
     with its surface, not filled as one)."""
@@ -60,13 +78,24 @@ def _is_mesh_name(name: str) -> bool:
         and not lower.endswith(OVERLAY_SUFFIXES)
 
 
-def _meshes_under(folder: Path) -> Iterator[Path]:
-    """Mesh files under ``folder`` (recursively; hidden files and folders left out)."""
+def _is_unknown(path: Path) -> bool:
+    """Whether a file that is not a mesh by its name is worth a word: not hidden (the
+    system's and editors' files, the atomic writer's temporary files), not a companion of a
+    mesh (:data:`COMPANION_SUFFIXES`, FreeSurfer morphometry files)."""
+    return not (path.name.startswith(".") or path.name.lower().endswith(COMPANION_SUFFIXES)
+                or is_morphometry(path))
+
+
+def _meshes_under(folder: Path, unknown: list[Path]) -> Iterator[Path]:
+    """Mesh files under ``folder`` (recursively; hidden files and folders left out); the
+    files of unknown type (:func:`_is_unknown`) are added to ``unknown``."""
     for root, dirs, files in os.walk(folder):
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
         for name in sorted(files):
             if _is_mesh_name(name):
                 yield Path(root) / name
+            elif _is_unknown(Path(root) / name):
+                unknown.append(Path(root) / name)
 
 
 def _glob_base(pattern: str) -> Path:
@@ -76,23 +105,43 @@ def _glob_base(pattern: str) -> Path:
     return Path(*parts[:first]) if first else Path(".")
 
 
-def _expand(item: str) -> Iterator[tuple[Path, Path]]:
-    """(file, path relative to the output folder) for one input argument."""
+def _expand(item: str, unknown: list[tuple[Path, Path]]) -> Iterator[tuple[Path, Path]]:
+    """(file, path relative to the output folder) for one input argument; the files of
+    unknown type it names, (file, path relative to the folder or the glob's base), are
+    added to ``unknown``."""
     path = Path(item)
+    strays: list[Path] = []
     if path.is_dir():
-        for found in _meshes_under(path):
+        for found in _meshes_under(path, strays):
             yield found, found.relative_to(path)
+        unknown += [(p, p.relative_to(path)) for p in strays]
     elif glob.has_magic(item) and not path.exists():
         base = _glob_base(item)
         for match in sorted(glob.glob(item, recursive=True)):
             found = Path(match)
             if found.is_dir():
-                for inner in _meshes_under(found):
+                for inner in _meshes_under(found, strays):
                     yield inner, inner.relative_to(base)
             elif _is_mesh_name(found.name):
                 yield found, found.relative_to(base)
+            elif _is_unknown(found):
+                strays.append(found)
+        unknown += [(p, p.relative_to(base)) for p in strays]
     else:
         yield path, Path(path.name)  # a missing file becomes a failed row, not a crash
+
+
+def _warn_unknown(item: str, unknown: Sequence[Path]) -> None:
+    """One warning for the files of unknown type under one input argument: how many, and
+    the first few (paths relative to the folder or the glob's base)."""
+    if not unknown:
+        return
+    n = len(unknown)
+    where = f"in {item}" if Path(item).is_dir() else f"matched by {item!r}"
+    warnings.warn(f"skipped {n} file{'s' if n > 1 else ''} of unknown type {where}: "
+                  f"{preview([p.as_posix() for p in unknown], 3)} (not filled: known mesh "
+                  f"extensions: {', '.join(SUPPORTED_FORMATS)})",
+                  UnknownFilesWarning, stacklevel=3)
 
 
 def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike, *,
@@ -107,6 +156,18 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
     ``[...]``, ``**``) mirrors the matches' paths below the pattern's first wildcard. Files
     inside ``out_dir`` are never inputs; a file named twice is filled once.
 
+    Hidden files and folders are left out, and so are the files that go with a mesh
+    (:data:`COMPANION_SUFFIXES`: overlays, labels, material libraries, textures; FreeSurfer
+    morphometry files such as ``lh.sulc``); any other file a folder holds or a glob matches
+    that is not a mesh by its name (``notes.txt``, ``lh.pial.bak``, ``lh.sphere.reg``) is
+    not filled, and named.
+
+    Warns
+    -----
+    UnknownFilesWarning
+        Once per input argument with such files: how many, and the first three
+        (``skipped 3 files of unknown type in scans/: lh.pial.bak, notes.txt, sub/a.csv``).
+
     Raises
     ------
     ValueError
@@ -119,8 +180,12 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
     jobs: list[FileJob] = []
     seen: set[str] = set()
     targets: dict[Path, str] = {}
+    reported: set[str] = set()
     for item in inputs:
-        expanded = list(_expand(os.fspath(item)))
+        unknown: list[tuple[Path, Path]] = []
+        expanded = list(_expand(os.fspath(item), unknown))
+        _warn_unknown(os.fspath(item), [relative for found, relative in unknown
+                                        if _new_stray(found, out_real, reported)])
         if not expanded:
             raise ValueError(f"{os.fspath(item)}: no mesh files there (known extensions: "
                              f"{', '.join(SUPPORTED_FORMATS)})")
@@ -154,6 +219,16 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
     if not jobs:
         raise ValueError("no input files given")
     return jobs
+
+
+def _new_stray(found: Path, out_real: str, reported: set[str]) -> bool:
+    """Whether a file of unknown type is yet to be reported: not inside the output folder
+    (its summary), not reported for an earlier input argument."""
+    real = os.path.realpath(found)
+    if real in reported or Path(real).is_relative_to(out_real):
+        return False
+    reported.add(real)
+    return True
 
 
 def up_to_date(job: FileJob) -> bool:

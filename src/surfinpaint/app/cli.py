@@ -39,11 +39,10 @@ from surfinpaint.app.progress import console as _console
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import warmup
-from surfinpaint.fill.holes import find_holes
+from surfinpaint.fill.holes import find_holes, warn_degenerate
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
 from surfinpaint.geometry.repair import remove_nonmanifold_faces
-from surfinpaint.geometry.validation import validate_mesh
 from surfinpaint.io.atomic import remove_unfinished
 from surfinpaint.io.formats import (
     files_read,
@@ -127,7 +126,7 @@ def cmd_holes(args: argparse.Namespace) -> int:
     if args.repair:
         faces, removed = remove_nonmanifold_faces(vertices, faces)
         title += f" ({len(removed)} removed by --repair: the numbering `fill --repair` uses)"
-    validate_mesh(vertices, faces, path=str(args.mesh))
+    warn_degenerate(vertices, faces, str(args.mesh))
     _holes_table(vertices, faces, title)
     return EXIT_OK
 

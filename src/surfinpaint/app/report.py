@@ -61,12 +61,11 @@ from surfinpaint.app.report_page import (
 from surfinpaint.app.report_panel import PANEL_SIZE, Patch, hole_panel
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.conformal import ConformalOptions
-from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes
+from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes, warn_degenerate
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.mesh import connected_components
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.geometry.repair import remove_nonmanifold_faces
-from surfinpaint.geometry.validation import validate_mesh
 from surfinpaint.io.formats import read_mesh
 
 __all__ = [
@@ -461,7 +460,7 @@ def run_report(args: argparse.Namespace) -> int:
         faces, removed = remove_nonmanifold_faces(vertices, faces)
         console.print(f"--repair removed {len(removed)} faces around non-manifold edges and "
                       "bow-tie vertices")
-    validate_mesh(vertices, faces, path=str(args.mesh))
+    warn_degenerate(vertices, faces, str(args.mesh))
     truth = read_mesh(args.truth, data_warning=False) if args.truth else None
     loops = select_holes(vertices, faces, args.holes)
     if not loops:

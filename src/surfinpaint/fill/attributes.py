@@ -46,6 +46,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from surfinpaint.errors import MeshError
+from surfinpaint.geometry.degenerate import triangle_incidence
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import cotangent_laplacian, faces_near, mass_matrix, vertex_normals
 from surfinpaint.geometry.parameterization import flipped_faces, lscm
@@ -497,10 +498,8 @@ def hole_blocks(result, rings: int):
     costs, not the mesh."""
     faces = result.faces[: result.n_original_faces]
     n = len(result.vertices)
-    if rings > 0:
-        incidence = sp.csr_matrix((np.ones(faces.size, dtype=np.int8),
-                                   (faces.ravel(), np.repeat(np.arange(len(faces)), 3))),
-                                  shape=(n, len(faces)))
+    if rings > 0:  # a face that repeats a vertex is near no hole (left out as by the fill)
+        incidence = triangle_incidence(faces, n)
     vertex_start, face_start = result.n_original_vertices, result.n_original_faces
     for report in result.reports:
         nv, nf = report.new_vertices, report.new_faces

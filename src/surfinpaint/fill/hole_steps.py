@@ -6,6 +6,7 @@ and the fill in worker processes and the rest here, in hole order.
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 import time
 import warnings
@@ -22,8 +23,8 @@ from surfinpaint.fill.results import Fill, HoleReport
 from surfinpaint.geometry.repair import unjoined_bowties
 from surfinpaint.geometry.validation import check_loop
 
-__all__ = ["FAIR_NEIGHBOURHOOD_RINGS", "Run", "at_hole", "fill_hole", "loop_problem", "record",
-           "skip", "stitched"]
+__all__ = ["FAIR_NEIGHBOURHOOD_RINGS", "Run", "around_zero_area", "at_hole", "fill_hole",
+           "loop_problem", "record", "skip", "stitched", "with_failure"]
 
 # vertex rings of the surface handed to the faired fill (its fairing needs up to 2)
 FAIR_NEIGHBOURHOOD_RINGS = 3
@@ -59,7 +60,16 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
 
     The loop is checked on the faces at its vertices only: whether its edges are boundary
     edges and its vertices bow-ties is decided there (the same answer and message as on the
-    whole neighbourhood, at the cost of the loop's faces, not of the many rings around)."""
+    whole neighbourhood, at the cost of the loop's faces, not of the many rings around).
+    A neighbourhood that holds faces of zero area is refused too: the fill's cotangent
+    weights, normals and conformal map are undefined on them."""
+    if len(local.zero_area):
+        message = (f"{len(local.zero_area)} faces of zero area (collinear or coincident "
+                   f"corners) lie in the neighbourhood its fill uses: {local.zero_area_text}"
+                   "; their angles and normals are undefined")
+        if explicit:
+            raise MeshError(f"hole {index}: {message}", faces=local.zero_area[:100].tolist())
+        return message
     on_loop = np.isin(local.faces_global, local.loop)
     touching = local.faces_global[on_loop.any(axis=1)]
     try:
@@ -77,6 +87,29 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
         # along it, and a fill would lay a second sheet on them (duplicate faces)
         return "the loop bounds only the faces along it (a lone sheet)"
     return None
+
+
+def around_zero_area(mesh: FilledMesh, local: Local, run: Run
+                     ) -> tuple[Local, Run, str | None]:
+    """The neighbourhood and the run a hole is filled with, and why they are not those
+    asked for (None: they are). Where zero-area faces lie in the rings the λ-H fill and its
+    self-check use (``local``) but not in the faired fill's
+    (:data:`FAIR_NEIGHBOURHOOD_RINGS`), the faired fill is made from those: a fallback
+    (:attr:`Fill.failure`), not a hole left open. Rings the caller chose are kept."""
+    if not len(local.zero_area) or run.method != "conformal" or run.rings:
+        return local, run, None
+    near = mesh.cut(local.loop, FAIR_NEIGHBOURHOOD_RINGS)
+    if len(near.zero_area):
+        return local, run, None  # refused by loop_problem
+    why = (f"not tried: {len(local.zero_area)} faces of zero area (collinear or coincident "
+           f"corners) lie in the rings it and its self-check use: {local.zero_area_text}; "
+           f"none in the faired fill's {FAIR_NEIGHBOURHOOD_RINGS}")
+    return near, dataclasses.replace(run, method="fair"), why
+
+
+def with_failure(made: Fill | None, why: str | None) -> Fill | None:
+    """``made`` marked a fallback for ``why`` (:func:`around_zero_area`), if any."""
+    return made if made is None or why is None else dataclasses.replace(made, failure=why)
 
 
 def record(report: HoleReport, fill: Fill) -> None:
@@ -173,8 +206,10 @@ def fill_hole(mesh: FilledMesh, report: HoleReport, run: Run) -> None:
     """One hole: cut its neighbourhood, check its loop, fill it, stitch the fill in, and
     say what happened in ``report`` (skipped, with a warning, when it cannot be filled)."""
     started = time.perf_counter()
-    local = mesh.cut(report.loop, run.rings_of(report))
+    local, hole_run, why = around_zero_area(mesh, mesh.cut(report.loop, run.rings_of(report)),
+                                            run)
     problem = loop_problem(local, report.index, run.explicit)
-    made, failure = (None, None) if problem else at_hole(report.index, run.fill, local)
+    made, failure = (None, None) if problem else at_hole(report.index, hole_run.fill, local)
+    made = with_failure(made, why)
     stitched(mesh, report, local.ids, made, problem, started, failure,
              None if made is None else zero_area_reason(local.vertices, made))

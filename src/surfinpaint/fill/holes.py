@@ -2,15 +2,23 @@
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from surfinpaint.errors import MeshError
+from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_areas, face_blocks, orient_loop
-from surfinpaint.geometry.validation import check_arrays, face_ids, validate_mesh
+from surfinpaint.geometry.validation import (
+    check_arrays,
+    degenerate_notes,
+    face_ids,
+    validate_mesh,
+)
+from surfinpaint.io.base import MeshWarning
 from surfinpaint.lazy import lazy_module
 
 # imported at its first use: scipy.spatial (with scipy.special) is 50-60 ms of a start,
@@ -21,7 +29,8 @@ objects = lazy_module("surfinpaint.fill.objects")
 
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
-__all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop"]
+__all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop",
+           "warn_degenerate"]
 
 # A component's longest loop is its outer border when the area the loop spans is at least
 # this fraction of the component's own area: a scan's border spans about its whole area
@@ -100,10 +109,12 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
                table: EdgeTable | None = None, *, validate: bool = True) -> list[Hole]:
     """Boundary loops of a mesh, measured, with the outer borders flagged.
 
-    Every boundary loop is returned. In each connected component the longest loop is flagged
-    ``is_border`` when it spans at least ``BORDER_SPAN_FRACTION`` of that component's area
-    (an open scan's outer edge); all other loops are holes. Callers choose what to fill with
-    :func:`select_holes`.
+    Every boundary loop is returned. Faces that use a vertex twice are no triangles and are
+    left out (:func:`~surfinpaint.geometry.degenerate.triangle_rows`): their two edges
+    between the same two vertices would otherwise open a slit in the surface. In each
+    connected component the longest loop is flagged ``is_border`` when it spans at least
+    ``BORDER_SPAN_FRACTION`` of that component's area (an open scan's outer edge); all
+    other loops are holes. Callers choose what to fill with :func:`select_holes`.
 
     Parameters
     ----------
@@ -113,7 +124,8 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     faces : (f, 3) int array
     table : EdgeTable, optional
         The faces' edge table, if already built (e.g. by the caller that validated the
-        mesh): the loops and components are then read from it in O(E).
+        mesh): the loops and components are then read from it in O(E). ``faces`` are then
+        taken as the triangles it was built from (those that repeat a vertex left out).
     validate : bool
         Check the mesh first, as :func:`surfinpaint.fill_holes` does
         (:func:`surfinpaint.validate_mesh`); False when the caller has.
@@ -141,6 +153,9 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     faces = face_ids(faces)
     if validate:
         check_arrays(vertices, faces)  # before the table: it indexes by the ids
+    if table is None:  # a face that repeats a vertex joins no faces and bounds no hole
+        faces = triangle_rows(faces)[0]
+    if validate:
         if table is None:
             table = EdgeTable.build(faces, len(vertices))
         validate_mesh(vertices, faces, table=table)
@@ -210,6 +225,18 @@ def _span_fractions(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
             for c, span in spans.items()}
 
 
+def warn_degenerate(vertices: np.ndarray, faces: np.ndarray, path: str | None = None
+                    ) -> None:
+    """:func:`~surfinpaint.geometry.validation.validate_mesh` (its errors), and a
+    :class:`~surfinpaint.io.MeshWarning` for each kind of degenerate face it reports, saying
+    what the holes and the fills do with them (as :func:`surfinpaint.fill_holes` warns):
+    for the commands that list the holes or report on their fills."""
+    report = validate_mesh(vertices, faces, path=path)
+    for note in degenerate_notes(face_ids(faces), report.repeated_vertex_faces,
+                                 report.zero_area_faces):
+        warnings.warn(f"{path}: {note}" if path else note, MeshWarning, stacklevel=2)
+
+
 def select_holes(
     vertices: np.ndarray,
     faces: np.ndarray,
@@ -255,7 +282,8 @@ def select_holes(
         unique: dict[tuple, np.ndarray] = {}
         for loop in holes:  # by its vertices: any start, any direction
             unique.setdefault(tuple(sorted(np.asarray(loop).tolist())), loop)
-        return [orient_loop(faces, loop) for loop in unique.values()]
+        triangles = triangle_rows(face_ids(faces))[0]
+        return [orient_loop(triangles, loop) for loop in unique.values()]
     if found is None:
         found = find_holes(vertices, faces, table, validate=validate)
     chosen: dict[int, np.ndarray] = {}

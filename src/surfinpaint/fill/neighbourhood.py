@@ -6,14 +6,14 @@ stitch, result)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 
 from surfinpaint.fill.results import Fill, FillResult, HoleReport
-from surfinpaint.geometry.mesh import vertex_faces
-from surfinpaint.geometry.validation import zero_area_faces
+from surfinpaint.geometry.degenerate import triangle_incidence
+from surfinpaint.geometry.validation import face_text, zero_area_faces
 
 __all__ = ["FilledMesh", "Local", "gather_positions", "neighbourhood_faces", "zero_area_reason"]
 
@@ -102,6 +102,9 @@ class Local:
     vertices: np.ndarray
     faces: np.ndarray  # over local ids
     local_loop: np.ndarray
+    # the zero-area faces among the original faces cut out, and them in words (ids, corners)
+    zero_area: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    zero_area_text: str = ""
 
 
 def zero_area_reason(local_vertices: np.ndarray, fill: Fill) -> str | None:
@@ -121,11 +124,15 @@ class FilledMesh:
     new vertices and faces appended hole by hole."""
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray,
-                 incidence: sp.csr_matrix | None = None) -> None:
-        """``incidence``: ``vertex_faces(faces, len(vertices))`` when already made."""
+                 incidence: sp.csr_matrix | None = None,
+                 zero_area: np.ndarray | None = None) -> None:
+        """``incidence``: ``triangle_incidence(faces, len(vertices))`` when already made;
+        ``zero_area``: the ids of the faces of zero area (sorted), named by each cut that
+        holds one (:attr:`Local.zero_area`)."""
         self.vertices, self.faces = vertices, faces
-        self.vertex_faces = (vertex_faces(faces, len(vertices)) if incidence is None
+        self.vertex_faces = (triangle_incidence(faces, len(vertices)) if incidence is None
                              else incidence)
+        self.zero_area = np.empty(0, dtype=np.int64) if zero_area is None else zero_area
         self.vertex_blocks: list[np.ndarray] = []
         self.face_blocks: list[np.ndarray] = []
         self.n_new = 0
@@ -139,9 +146,12 @@ class FilledMesh:
                                                    rings)
         faces_global = np.concatenate([self.faces[picked], added[picked_added]])
         ids, local_faces = np.unique(faces_global, return_inverse=True)
+        flat = picked[np.isin(picked, self.zero_area)] if len(self.zero_area) else \
+            self.zero_area
         return Local(loop=loop, ids=ids, faces_global=faces_global,
                      vertices=gather_positions(self.vertices, self.vertex_blocks, ids),
-                     faces=local_faces.reshape(-1, 3), local_loop=np.searchsorted(ids, loop))
+                     faces=local_faces.reshape(-1, 3), local_loop=np.searchsorted(ids, loop),
+                     zero_area=flat, zero_area_text=face_text(flat, self.faces))
 
     def stitch(self, local: Local, fill: Fill) -> str | None:
         """Append ``fill`` (over ``local``'s ids); the reason when it cannot be."""

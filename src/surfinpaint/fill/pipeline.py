@@ -36,13 +36,15 @@ from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit, zip_faces
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.fill.warmup import Beside, load_for_workers, loading_beside
+from surfinpaint.geometry.degenerate import triangle_incidence, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.mesh import vertex_faces
 from surfinpaint.geometry.repair import remove_nonmanifold_faces
 from surfinpaint.geometry.validation import (
     check_arrays,
     check_topology,
+    degenerate_notes,
     face_ids,
+    zero_area_faces,
 )
 from surfinpaint.io.base import MeshWarning
 
@@ -241,7 +243,7 @@ def fill_holes(
     _check_flags(include_border=include_border, repair=repair, validate=validate,
                  zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, removed_faces, loops, numbers, incidence = _found_holes(
+    vertices, faces, removed_faces, loops, numbers, incidence, zero_area = _found_holes(
         vertices, faces, holes, method, include_border=include_border, repair=repair,
         validate=validate)
     reports = _hole_reports(vertices, loops, numbers, method)
@@ -249,7 +251,7 @@ def fill_holes(
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
     zipped, merged, todo = _open_seams(vertices, faces, todo, zip_seams)
     # the incidence made beside the checks is of the prepared faces, not of zipped ones
-    mesh = FilledMesh(vertices, zipped, incidence if zipped is faces else None)
+    mesh = FilledMesh(vertices, zipped, incidence if zipped is faces else None, zero_area)
     run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
               progress=progress, rings=neighbourhood_rings,
               position={id(r): k for k, r in enumerate(reports)})
@@ -268,22 +270,25 @@ def _check_flags(**flags) -> None:
 def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, repair: bool,
                  validate: bool):
     """The mesh prepared (:func:`_prepared`), the loops to fill, their :func:`find_holes`
-    numbers (the outer border counts, whatever was selected) and the faces' ``vertex_faces``
-    incidence; a large mesh's kernels load on the idle core meanwhile, and the passes that
+    numbers (the outer border counts, whatever was selected), the faces'
+    ``triangle_incidence`` and their zero-area faces (a warning names the degenerate
+    faces); a large mesh's kernels load on the idle core meanwhile, and the passes that
     need only the edge table run there while the mesh is checked
     (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
     with loading_beside(len(faces), method) as beside:
-        vertices, faces, removed_faces, table, found, incidence = _prepared(
-            vertices, faces, repair, validate, beside)
+        vertices, faces, triangles, removed_faces, table, found, incidence, degenerate = \
+            _prepared(vertices, faces, repair, validate, beside)
         found = found()  # after the checks: their errors come first
-        loops = select_holes(vertices, faces, holes, include_border=include_border,
+        loops = select_holes(vertices, triangles, holes, include_border=include_border,
                              table=table, validate=False, found=found)
         del table  # the holes are found: its memory is free for the fills
-        numbers = hole_numbers(vertices, faces, loops, found=found)
+        numbers = hole_numbers(vertices, triangles, loops, found=found)
         incidence = incidence()  # before the thread is joined
+    for note in degenerate_notes(faces, *degenerate):
+        warnings.warn(note, MeshWarning, stacklevel=3)
     if holes is None:  # chosen by the rule, not by the caller
         _warn_may_be_border({k: found[k] for k in numbers}, stacklevel=4)
-    return vertices, faces, removed_faces, loops, numbers, incidence
+    return vertices, faces, removed_faces, loops, numbers, incidence, degenerate[1]
 
 
 def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
@@ -361,10 +366,13 @@ def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds)
 
 
 def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
-    """The mesh as arrays, with ``repair`` the faces around non-manifold edges removed
-    (and which), with ``validate`` checked; its edge table when validated (built once:
-    the holes are found from it too); and the collectors of its :func:`find_holes` list and
-    its ``vertex_faces`` incidence.
+    """The mesh as arrays and its triangles (:func:`triangle_rows`), with ``repair`` the
+    faces around non-manifold edges removed (and which), with ``validate`` checked; the
+    edge table of its triangles when validated (built once: the holes are found from it
+    too); the collectors of its :func:`find_holes` list and its ``triangle_incidence``; and
+    its degenerate faces (those that repeat a vertex, left out of the table, the holes and
+    the neighbourhoods; those of zero area, which no fill's neighbourhood may hold,
+    validated or not).
 
     ``find_holes`` and the incidence are handed to ``beside`` once the table is built: its
     thread makes them while this one checks the mesh (651k case: docs/scale.md, session
@@ -379,12 +387,16 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     removed_faces = np.empty(0, dtype=np.int64)
     if repair:
         faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
-    table = EdgeTable.build(faces, len(vertices)) if validate else None
-    found = beside.submit(find_holes, vertices, faces, table, validate=False)
-    incidence = beside.submit(vertex_faces, faces, len(vertices))
+    triangles, repeated, rows = triangle_rows(faces)  # a face that repeats a vertex joins none
+    table = EdgeTable.build(triangles, len(vertices)) if validate else None
+    found = beside.submit(find_holes, vertices, triangles, table, validate=False)
+    incidence = beside.submit(triangle_incidence, faces, len(vertices), rows, known=True)
     if validate:  # validate_mesh's errors, not its report
-        check_topology(vertices, faces, table)
-    return vertices, faces, removed_faces, table, found, incidence
+        _, flat = check_topology(vertices, triangles, table)
+    else:  # checked by the caller, but the fills must know where they cannot go
+        flat = zero_area_faces(vertices, triangles)
+    flat = flat if rows is None else rows[flat]
+    return vertices, faces, triangles, removed_faces, table, found, incidence, (repeated, flat)
 
 
 def _with_attributes(result: FillResult, attributes, face_attributes, kinds) -> FillResult:

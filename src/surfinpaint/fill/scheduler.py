@@ -38,7 +38,14 @@ import numpy as np
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import parallel
 from surfinpaint.fill.conformal import ConformalOptions
-from surfinpaint.fill.hole_steps import Run, at_hole, loop_problem, stitched
+from surfinpaint.fill.hole_steps import (
+    Run,
+    around_zero_area,
+    at_hole,
+    loop_problem,
+    stitched,
+    with_failure,
+)
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
 from surfinpaint.fill.results import Fill, HoleReport
 from surfinpaint.lazy import lazy_module
@@ -107,11 +114,12 @@ def _recorded(call, *args) -> tuple[object, list[parallel.WarningRecord]]:
     return answer, [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
 
 
-def _checked_fill(local: Local, index: int, run: Run) -> tuple[str | None, Fill | None,
-                                                                 str | None]:
+def _checked_fill(mesh: FilledMesh, local: Local, index: int, run: Run
+                  ) -> tuple[Local, str | None, Fill | None, str | None]:
+    local, hole_run, why = around_zero_area(mesh, local, run)
     problem = loop_problem(local, index, run.explicit)
-    made, failure = (None, None) if problem else at_hole(index, run.fill, local)
-    return problem, made, failure
+    made, failure = (None, None) if problem else at_hole(index, hole_run.fill, local)
+    return local, problem, with_failure(made, why), failure
 
 
 def fill_cut_here(token: int, position: int) -> Outcome:
@@ -125,8 +133,8 @@ def fill_cut_here(token: int, position: int) -> Outcome:
     earlier = reached(local.ids, job.loops[:position])
     if len(earlier):
         return Outcome(needs=int(earlier.max()) + 1)
-    (problem, made, failure), records = _recorded(_checked_fill, local, job.indices[position],
-                                                  job.run)
+    (local, problem, made, failure), records = _recorded(_checked_fill, job.mesh, local,
+                                                         job.indices[position], job.run)
     return Outcome(made, failure, problem,
                    None if made is None else zero_area_reason(local.vertices, made),
                    local.ids, records, time.perf_counter() - started)
@@ -156,6 +164,9 @@ class _Schedule:
         self.unstarted = sorted(range(len(todo)), key=lambda p: -todo[p].n_edges)
         self.released: list[int] = []  # cut here, checked: to send first
         self.cuts: dict[int, Local] = {}  # the holes cut here
+        # the run of each hole cut here, and why it is not the call's (around_zero_area)
+        self.runs: dict[int, Run] = {}
+        self.fallbacks: dict[int, str | None] = {}
         self.waiting: dict[int, int] = {}  # dependent hole -> holes to stitch before it
         self.outcomes: dict[int, Outcome | BaseException] = {}
         self.flying: dict[Future, int] = {}
@@ -170,6 +181,7 @@ class _Schedule:
         if len(unstitched):
             self.waiting[p] = self.stitched + int(unstitched.max()) + 1
             return
+        local, self.runs[p], self.fallbacks[p] = around_zero_area(self.mesh, local, self.run)
         self.cuts[p] = local
         try:
             problem = loop_problem(local, report.index, self.run.explicit)
@@ -192,7 +204,7 @@ class _Schedule:
         while len(self.flying) < self.slots and (self.released or self.unstarted):
             if self.released:
                 p = self.released.pop(0)
-                local, run = self.cuts[p], self.run
+                local, run = self.cuts[p], self.runs[p]
                 future = executor.submit(fill_sent, local.vertices, local.faces,
                                          local.local_loop, self.todo[p].index, run.method,
                                          run.options, run.fair_order)
@@ -231,9 +243,11 @@ class _Schedule:
             raise outcome
         parallel.reissue(outcome.records)
         ids = outcome.ids if outcome.ids is not None else self.cuts[p].ids
-        stitched(self.mesh, report, ids, outcome.made, outcome.problem,
+        made = with_failure(outcome.made, self.fallbacks.pop(p, None))
+        stitched(self.mesh, report, ids, made, outcome.problem,
                  time.perf_counter() - outcome.seconds, outcome.failure, outcome.unstitchable)
         self.cuts.pop(p, None)
+        self.runs.pop(p, None)
         self.stitched += 1
         self.run.finished(report)
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from surfinpaint.fill.results import FillResult, TopologyChange
+from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.lazy import lazy_module
@@ -105,13 +106,14 @@ def topology_changes(result: FillResult) -> tuple[TopologyChange, ...]:
     pairs = _facing_pairs(result, filled)
     if not pairs:
         return ()
-    _, label = EdgeTable.build(result.faces, len(vertices)).vertex_components
-    face_label = label[result.faces[:, 0]]
+    triangles = triangle_rows(result.faces)[0]  # a face that repeats a vertex joins nothing
+    _, label = EdgeTable.build(triangles, len(vertices)).vertex_components
+    face_label = label[triangles[:, 0]]
     changes = []
     for a, b, gap, sign in pairs:
         ra, rb = result.reports[a], result.reports[b]
         pieces = {int(label[ra.loop[0]]), int(label[rb.loop[0]])}
-        faces = result.faces[np.isin(face_label, list(pieces))]
+        faces = triangles[np.isin(face_label, list(pieces))]
         outward = _outward(vertices, faces)
         if (sign > 0) != outward:  # the normals point away from each other, outside
             continue

@@ -1,10 +1,19 @@
 """Checks that a triangle mesh can be processed, with messages naming the offending ids.
 
-:func:`validate_mesh` rejects what no later step can work with (broken arrays, degenerate or
-duplicate faces, non-manifold edges, inconsistent orientation) and reports the rest
-(components, unreferenced vertices, boundary loops, bow-tie vertices) in a
-:class:`MeshReport`. Everything is vectorized: a million-face mesh validates in about
-a couple of seconds.
+:func:`validate_mesh` rejects what no later step can work with (broken arrays, duplicate
+faces, non-manifold edges, inconsistent orientation) and reports the rest (components,
+unreferenced vertices, boundary loops, bow-tie vertices, degenerate faces) in a
+:class:`MeshReport`. Everything is vectorized: a million-face mesh validates in about a
+couple of seconds.
+
+Degenerate faces are reported, not refused. A face that uses a vertex twice is no triangle:
+its two edges between the same two vertices run both ways and join nothing, so it is left
+out of the topology (:mod:`surfinpaint.geometry.degenerate`: the edges, holes and checks); a
+fill keeps it in the output as it is. A face of three
+distinct vertices with zero area (:func:`zero_area_faces`) is a triangle of the surface,
+joined to its neighbours; only a fill's numerics break on it (cotangent weights, normals,
+the conformal map), so a hole whose fill's neighbourhood holds one is filled from fewer
+rings where it can, else left open (:mod:`surfinpaint.fill.hole_steps`).
 """
 
 from __future__ import annotations
@@ -14,11 +23,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.degenerate import repeated_vertex_faces, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_blocks
 
-__all__ = ["MeshReport", "check_arrays", "check_loop", "check_topology", "face_ids",
-           "nonmanifold_vertices", "validate_mesh"]
+__all__ = ["MeshReport", "check_arrays", "check_loop", "check_topology", "degenerate_notes",
+           "face_ids", "face_text", "nonmanifold_vertices", "validate_mesh", "zero_area_faces"]
 
 # A face is degenerate when its area is below this times its longest edge squared, i.e. its
 # height is below 2e-12 of its longest edge: far above float64 round-off (~1e-16) and far
@@ -43,9 +53,13 @@ class MeshReport:
     nonmanifold_vertices : (k,) int array
         Bow-tie vertices, where the faces around the vertex form more than one fan.
     euler_characteristic : int
-        ``V - E + F`` over referenced vertices.
+        ``V - E + F`` over referenced vertices (the faces that repeat a vertex left out).
     path : str or None
         The file the mesh came from, if given.
+    repeated_vertex_faces, zero_area_faces : (k,) int arrays
+        Degenerate faces (:func:`degenerate_notes`): those that use a vertex twice (left
+        out of the topology: edges, components, boundary loops) and those of three distinct
+        vertices with zero area.
     """
 
     n_vertices: int
@@ -58,6 +72,8 @@ class MeshReport:
     euler_characteristic: int
     path: str | None = None
     notes: list[str] = field(default_factory=list)
+    repeated_vertex_faces: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    zero_area_faces: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
 
     @property
     def n_boundary_loops(self) -> int:
@@ -210,6 +226,21 @@ def _zero_area(columns: list[np.ndarray], f: np.ndarray) -> np.ndarray:
     return 0.5 * area2 <= ZERO_AREA_RTOL * longest2
 
 
+def degenerate_notes(faces: np.ndarray, repeated: np.ndarray, flat: np.ndarray) -> list[str]:
+    """What a fill does with the degenerate faces of ``faces`` (ids ``repeated``: a vertex
+    twice; ``flat``: zero area), one sentence for each kind found, naming them."""
+    notes = []
+    if repeated.size:
+        notes.append(f"{repeated.size} faces use the same vertex twice (no triangles: kept "
+                     "as they are, left out of the holes and the fills): "
+                     f"{face_text(repeated, faces)}")
+    if flat.size:
+        notes.append(f"{flat.size} faces have zero area (collinear or coincident corners; "
+                     "kept as they are; a hole whose fill would reach them is filled from "
+                     f"fewer rings where it can, else left open): {face_text(flat, faces)}")
+    return notes
+
+
 def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = None,
                   table: EdgeTable | None = None) -> MeshReport:
     """Check a triangle mesh and describe it.
@@ -221,23 +252,25 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None =
     path : str, optional
         File name used in messages and stored in the report.
     table : EdgeTable, optional
-        The faces' edge table, if already built (it is reused by ``find_holes``): the checks
-        are then O(E) passes over it.
+        The edge table of the faces that are triangles (``degenerate.triangle_rows``), if
+        built (it is reused by ``find_holes``): the checks are then O(E) passes over it.
 
     Returns
     -------
     MeshReport
-        Counts, components, unreferenced vertices, boundary loops and bow-tie vertices.
-        Several components and unreferenced vertices are fine (reported, kept untouched).
+        Counts, components, unreferenced vertices, boundary loops, bow-tie vertices and
+        degenerate faces. Several components and unreferenced vertices are fine (reported,
+        kept untouched); so are degenerate faces (reported in the notes: faces that use a
+        vertex twice are left out of the edges, components and loops; zero-area faces are
+        in them).
 
     Raises
     ------
     MeshError
         Naming the offending ids, for: wrong array shapes, an empty mesh, NaN/inf coordinates,
-        out-of-range or negative indices, faces repeating a vertex, duplicate faces (same
-        three vertices), zero-area faces, non-manifold edges (more than two faces) and
-        inconsistently oriented neighbouring faces (a shared edge traversed in the same
-        direction by both).
+        out-of-range or negative indices, duplicate faces (same three vertices), non-manifold
+        edges (more than two faces) and inconsistently oriented neighbouring faces (a shared
+        edge traversed in the same direction by both).
 
     Examples
     --------
@@ -248,9 +281,12 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None =
     """
     check_arrays(vertices, faces, path=path)
     v = np.asarray(vertices, dtype=np.float64)
-    f = np.asarray(faces, dtype=np.int64)
+    every = np.asarray(faces, dtype=np.int64)
+    f, repeated, rows = triangle_rows(every)
     n = len(v)
-    table = check_topology(v, f, table, path=path)
+    table, flat = check_topology(v, f, table, path=path)
+    if rows is not None:
+        flat = rows[flat]
 
     referenced = np.zeros(n, dtype=bool)
     referenced[f.ravel()] = True
@@ -264,10 +300,11 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None =
     n_edges = table.n_edges
 
     report = MeshReport(
-        n_vertices=n, n_faces=len(f), n_edges=n_edges, n_components=n_components,
+        n_vertices=n, n_faces=len(every), n_edges=n_edges, n_components=n_components,
         unreferenced_vertices=unreferenced, boundary_loop_lengths=loop_lengths,
         nonmanifold_vertices=bowtie,
         euler_characteristic=int(referenced.sum()) - n_edges + len(f), path=path,
+        repeated_vertex_faces=repeated, zero_area_faces=flat,
     )
     if n_components > 1:
         report.notes.append(f"{n_components} separate components")
@@ -276,33 +313,38 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None =
                             f"{preview(unreferenced)}")
     if bowtie.size:
         report.notes.append(f"{bowtie.size} non-manifold (bow-tie) vertices: {preview(bowtie)}")
+    report.notes += degenerate_notes(every, repeated, flat)
     return report
 
 
 def check_topology(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | None = None,
-                   *, path: str | None = None) -> EdgeTable:
+                   *, path: str | None = None) -> tuple[EdgeTable, np.ndarray]:
     """The checks of :func:`validate_mesh` that follow :func:`check_arrays` (which the
     caller has run), without the report: a caller that needs only the errors (``fill_holes``)
-    does not pay for the bow-tie walk, the components and the boundary loops.
+    does not pay for the bow-tie walk, the components and the boundary loops. ``faces``
+    are triangles: the faces that repeat a vertex left out (``degenerate.triangle_rows``).
 
     Returns
     -------
     EdgeTable
         ``table``, or the one built here.
+    (k,) int array
+        The ids of the zero-area faces (:func:`zero_area_faces`), which are not refused.
 
     Raises
     ------
     MeshError
-        As :func:`validate_mesh`, for faces repeating a vertex, duplicate faces, zero-area
-        faces, non-manifold edges and inconsistent orientation, in that order.
+        As :func:`validate_mesh`, for duplicate faces, non-manifold edges and inconsistent
+        orientation, in that order; and for faces repeating a vertex (the caller's to
+        leave out).
     """
     v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
-    repeated = np.flatnonzero((f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2])
-                              | (f[:, 2] == f[:, 0]))
+    repeated = repeated_vertex_faces(f)
     if repeated.size:
-        raise _fail(f"{repeated.size} faces use the same vertex twice: "
-                    f"{_face_text(repeated, f)}", path, faces=repeated[:100].tolist())
+        raise _fail(f"{repeated.size} faces use the same vertex twice (leave them out: "
+                    f"triangle_rows): {face_text(repeated, f)}", path,
+                    faces=repeated[:100].tolist())
 
     if table is None:
         table = EdgeTable.build(f, len(v))
@@ -311,14 +353,9 @@ def check_topology(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | N
     pairs = table.interior_pairs()  # for both edge checks
     _check_duplicates(table, path, pairs)
 
-    # per coordinate on 1-D arrays: several times faster than np.cross on (f, 3) gathers
-    flat = zero_area_faces(v, f)
-    if flat.size:
-        raise _fail(f"{flat.size} faces have zero area (collinear or coincident corners): "
-                    f"{_face_text(flat, f)}", path, faces=flat[:100].tolist())
-
     _check_edges(table, path, pairs)
-    return table
+    # per coordinate on 1-D arrays: several times faster than np.cross on (f, 3) gathers
+    return table, zero_area_faces(v, f)
 
 
 def _listing(shown: list[str], total: int) -> str:
@@ -327,7 +364,8 @@ def _listing(shown: list[str], total: int) -> str:
     return ", ".join(shown) + more
 
 
-def _face_text(ids: np.ndarray, f: np.ndarray) -> str:
+def face_text(ids: np.ndarray, f: np.ndarray) -> str:
+    """The first ten faces of ``ids`` with their corners, and how many more."""
     return _listing([f"{int(i)} {tuple(int(x) for x in f[i])}" for i in ids[:10]], len(ids))
 
 

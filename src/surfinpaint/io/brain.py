@@ -122,11 +122,12 @@ def _safe(name: str) -> str:
     return re.sub(r"[^\w.-]", "_", str(name)) or "overlay"
 
 
-def overlays_beside(path: Path) -> list[Path]:
-    """The overlay files of a surface: ``BASE.NAME.shape.gii`` / ``.func.gii`` / ``.label.gii`` and
-    FreeSurfer morphometry files ``BASE.NAME`` (what :func:`overlay_outputs` writes), and, for
-    a FreeSurfer surface named ``lh.*`` or ``rh.*``, ``lh.curv``, ``lh.thickness``, ... beside
-    it (:data:`FREESURFER_OVERLAYS`)."""
+def overlays_beside(path: Path, fmt: str) -> list[Path]:
+    """The overlay files of a surface of format ``fmt`` ("gii", "gii.gz" or "freesurfer"):
+    ``BASE.NAME.shape.gii`` / ``.func.gii`` / ``.label.gii`` and FreeSurfer morphometry files
+    ``BASE.NAME`` (what :func:`overlay_outputs` writes), and, for a FreeSurfer surface named
+    ``lh.*`` or ``rh.*`` (not a GIFTI one: :func:`subject_overlays`), ``lh.curv``,
+    ``lh.thickness``, ... beside it (:data:`FREESURFER_OVERLAYS`)."""
     base = _surface_base(path)
     folder = path.parent
     found = sorted(folder.glob(f"{_glob_escape(base)}.*.shape.gii"))
@@ -134,9 +135,9 @@ def overlays_beside(path: Path) -> list[Path]:
     found += sorted(folder.glob(f"{_glob_escape(base)}.*.label.gii"))
     found = [p for p in found if not _of_another_surface(p, base, path)]
     found += [p for p in sorted(folder.glob(f"{_glob_escape(path.name)}.*"))
-              if p not in found and _is_morph(p)
+              if p not in found and is_morphometry(p)
               and not _of_another_surface(p, path.name, path)]
-    return found + subject_overlays(path)
+    return found + subject_overlays(path, fmt)
 
 
 #: How a surface file beside may be named after its base (``lh.pial.filled`` + one of these).
@@ -157,27 +158,32 @@ def _of_another_surface(overlay: Path, base: str, path: Path) -> bool:
         stem = f"{base}.{'.'.join(parts[:k])}"
         for ending in _SURFACE_ENDINGS:
             other = path.parent / (stem + ending)
-            if other != path and other.is_file() and not _is_morph(other):
+            if other != path and other.is_file() and not is_morphometry(other):
                 return True
     return False
 
 
-def subject_overlays(path: Path) -> list[Path]:
-    """FreeSurfer's ``lh.curv``, ``lh.thickness``, ... beside a surface named ``lh.*`` or
-    ``rh.*`` (:data:`FREESURFER_OVERLAYS`): the subject's, found by name only, so they may
-    belong to another surface of the subject (the original one, beside a filled one)."""
+def subject_overlays(path: Path, fmt: str) -> list[Path]:
+    """FreeSurfer's ``lh.curv``, ``lh.thickness``, ... beside a FreeSurfer surface (``fmt``
+    "freesurfer") named ``lh.*`` or ``rh.*`` (:data:`FREESURFER_OVERLAYS`): the subject's,
+    found by name only, so they may belong to another surface of the subject (the original
+    one, beside a filled one). None for a surface of another format: a GIFTI surface named
+    ``lh.*`` (``lh.pial.gii``, converted or resampled) need not have the subject's vertices;
+    its overlays beside are named after it, or given (``overlays=[...]``, ``--overlay``)."""
     hemi = re.match(r"^(lh|rh)\.", path.name)
-    if not hemi:
+    if not hemi or fmt != "freesurfer":
         return []
     return [p for name in FREESURFER_OVERLAYS
-            if (p := path.parent / f"{hemi.group(1)}.{name}") != path and _is_morph(p)]
+            if (p := path.parent / f"{hemi.group(1)}.{name}") != path and is_morphometry(p)]
 
 
 def _glob_escape(text: str) -> str:
     return re.sub(r"([*?\[])", r"[\1]", text)
 
 
-def _is_morph(p: Path) -> bool:
+def is_morphometry(p: Path) -> bool:
+    """Whether ``p`` is a FreeSurfer morphometry (curv) file: a per-vertex overlay such as
+    ``lh.sulc``, by its magic bytes ``FF FF FF``."""
     try:
         with open(p, "rb") as fh:
             return p.is_file() and fh.read(3) == _MORPH_MAGIC

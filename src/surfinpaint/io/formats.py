@@ -213,8 +213,9 @@ def read_mesh_data(path: str | os.PathLike, *,
         GIFTI and FreeSurfer surfaces only. True: read the overlays found beside the surface
         (:func:`surfinpaint.io.brain.overlays_beside`: ``SURFACE.NAME.shape.gii`` /
         ``.func.gii`` / ``SURFACE.NAME``, and FreeSurfer's ``lh.curv``, ``lh.thickness``,
-        ``lh.sulc``, ... beside ``lh.*``); False: none; or the overlay files to read, each a
-        GIFTI data file or a FreeSurfer morphometry file with one value per vertex.
+        ``lh.sulc``, ... beside a FreeSurfer surface ``lh.*``, not a GIFTI one); False:
+        none; or the overlay files to read, each a GIFTI data file or a FreeSurfer
+        morphometry file with one value per vertex.
 
     Returns
     -------
@@ -274,8 +275,8 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     dropped = list(parsed.dropped)
     files = _overlay_files(p, fmt, overlays)
     if files is not None:
-        extra, lost = read_overlays(files, len(mesh.vertices), p, guessed=subject_overlays(p)
-                                    if overlays is True else ())
+        guessed = subject_overlays(p, fmt) if overlays is True else ()
+        extra, lost = read_overlays(files, len(mesh.vertices), p, guessed=guessed)
         dropped += lost
         mesh = MeshData(mesh.vertices, mesh.faces, {**mesh.attributes, **extra},
                         mesh.face_attributes, mesh.corner_attributes, mesh.metadata)
@@ -287,7 +288,7 @@ def _overlay_files(path: Path, fmt: str, overlays: bool | Sequence) -> list[Path
     none (or ``overlays=False``)."""
     if overlays is False or fmt not in ("gii", "gii.gz", "freesurfer"):
         return None
-    return overlays_beside(path) if overlays is True else [Path(o) for o in overlays]
+    return overlays_beside(path, fmt) if overlays is True else [Path(o) for o in overlays]
 
 
 def files_read(path: str | os.PathLike, *,
