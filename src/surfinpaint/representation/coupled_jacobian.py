@@ -443,104 +443,40 @@ class _DenseJacobian:
 
     def step(self, phi, r):
         """The Newton step ``−(J − I)⁻¹ r`` at ``phi`` for the residual ``r`` (P,), solved
-        as ``(R − L̃) dx = −L̃ r``: ``J = L̃⁻¹ R`` with ``R`` :meth:`right_hand_side` and
-        ``L̃ = L_ff ⊗ I₃``, so no product with ``L_ff⁻¹``; ``R`` made with the derivatives'
-        sparsity (:meth:`_step_rhs`). The same step to rounding (measured: 2e-12 relative at
-        most over CAD channel #5's 67 steps, 9e-11 over brain white #11's 106, near a fold).
-        Raises ``np.linalg.LinAlgError`` where ``R − L̃`` is exactly singular.
+        as ``(R − L̃) dx = −L̃ r``: ``J = L̃⁻¹ R`` with ``R`` :meth:`right_hand_side` (the
+        same bits as :meth:`at`'s) and ``L̃ = L_ff ⊗ I₃``, so no product with ``L_ff⁻¹``.
+        The same step to rounding (measured: 2e-12 relative at most over CAD channel #5's
+        67 steps). Raises ``np.linalg.LinAlgError`` where ``R − L̃`` is exactly singular.
 
-        Why: the product ``L_ff⁻¹ R`` cost as many flops as the LU of ``J − I``, a fifth of a
-        step, and ``R``'s dense products with the sparse derivatives another fifth (session
-        33 helper: 1.45× a step on channel #5). :meth:`at`, which Levenberg–Marquardt takes,
-        is unchanged."""
+        Why: the product ``L_ff⁻¹ R`` cost as many flops as the LU of ``J − I``, a fifth of
+        a step (session 33 helper). :meth:`at`, which Levenberg–Marquardt takes, is
+        unchanged. (``R``'s products with the sparse derivatives taken as sparse products
+        measured faster on 121 free vertices, slower on 80 and fewer: not kept.)"""
         n_free, P = len(self.system.f), self.shape[1]
-        flat, values, stiffness = self._stiffness()
-        R = self._step_rhs(phi).reshape(3 * n_free, P)
-        R.reshape(-1)[flat] -= values
+        flat, values = self._stiffness()
+        R = np.ascontiguousarray(self.right_hand_side(phi)).reshape(3 * n_free, P)
+        R.reshape(-1)[flat] -= values  # a view: R is contiguous
         # LAPACK on Rᵀ's memory (Fortran order, no copy), solved transposed
         lu, piv, info = _GETRF(R.T, overwrite_a=True)
         if info > 0:
             raise np.linalg.LinAlgError("R − L̃ is exactly singular")
-        dx, info = _GETRS(lu, piv, -(stiffness @ r), trans=1)
+        dx, info = _GETRS(lu, piv, -(self.system.L_ff @ r.reshape(n_free, 3)).ravel(),
+                          trans=1)
         if info:
             raise ValueError(f"getrs: illegal value in argument {-info}")
         return dx
 
     def _stiffness(self):
-        """``L̃ = L_ff ⊗ I₃`` (rows and columns ``3 i + c``) as CSR and as its flat entries
-        in a dense (P, P) array, made at the first step."""
+        """``L_ff``'s entries as the flat entries of ``L̃ = L_ff ⊗ I₃`` in a dense (P, P)
+        array (rows and columns ``3 i + c``) and their values, made at the first step."""
         made = getattr(self, "_made_stiffness", None)
         if made is None:
-            f = self.system.f
-            L_ff = self.system.L.tocsr()[f][:, f]
-            stiffness = sp.kron(L_ff, sp.eye(3), format="csr")
-            coo = stiffness.tocoo()
-            made = self._made_stiffness = (coo.row * stiffness.shape[1] + coo.col, coo.data,
-                                           stiffness)
+            L_ff = self.system.L_ff.tocoo()
+            L_ff.sum_duplicates()  # one entry a position: added to R by assignment
+            c, P = np.arange(3), self.shape[1]
+            flat = ((3 * L_ff.row[:, None] + c) * P + 3 * L_ff.col[:, None] + c).ravel()
+            made = self._made_stiffness = (flat, np.repeat(L_ff.data, 3))
         return made
-
-    def _sparse_rows(self, name, dense, rows):
-        """The rows ``rows`` of the dense derivative ``dense`` (2-D) as CSR at the entries
-        ``FaceBlocks`` adds to (the pattern made once, under ``name``)."""
-        patterns = self.__dict__.setdefault("_patterns", {})
-        if name not in patterns:
-            flat = {"unit": self.blocks.flat, "area": self.blocks.area_flat}[name]
-            P = self.shape[1]
-            where = np.full(dense.shape[0], -1)
-            where[rows] = np.arange(len(rows))
-            r, c = np.divmod(np.unique(flat), P)
-            keep = where[r] >= 0
-            key = np.lexsort((c[keep], where[r[keep]]))
-            r, c = r[keep][key], c[keep][key]
-            indptr = np.concatenate([[0], np.cumsum(np.bincount(where[r],
-                                                                minlength=len(rows)))])
-            patterns[name] = (r * P + c, c.astype(np.int32), indptr.astype(np.int32),
-                              (len(rows), P))
-        at, cols, indptr, shape = patterns[name]
-        return sp.csr_matrix((dense.reshape(-1)[at], cols, indptr), shape=shape)
-
-    def _step_rhs(self, phi):
-        """:meth:`right_hand_side` for :meth:`step`, the same to rounding, with the
-        derivatives' sparsity: ``W dn_f`` and the products with λ's ``d_lam_ring`` are sparse
-        products, and ``Y (I + K Y)⁻¹`` takes free rows × tied columns, not P columns."""
-        system = self.system
-        f, tied, area = system.f, system.tied, system.area
-        normals, s, w_n, d_n, K, H = system._lagged(phi)[1]
-        lam, kappa = system.lam, system.curvature
-        n_free, n_tied, P = len(f), len(tied), self.shape[1]
-        H_f = H[:n_free]
-        d_unit, d_area = self.derivatives(phi)
-        ring = self.ring
-        # d λ on the ring (sparse: an area moves with its neighbours), d s_f = A d λ_ring
-        d_lam_ring = self._sparse_rows("area", d_area, self.ring_rows)
-        d_lam_ring.data /= np.repeat(2.0 * lam[ring] * area[ring], np.diff(d_lam_ring.indptr))
-        A = 4.0 * lam[f, None] * self.lam_map
-        d_s_f = (d_lam_ring.T @ A.T).T
-        tied_rows = self.ring_rows[self.tied_in_ring]
-        d_s_t = 4.0 * lam[tied, None] * (d_area[tied_rows] / (2.0 * lam[tied] * area[tied])[
-            :, None])
-        a_t = area[tied] * s[tied]
-        d_st = d_s_t / (a_t**2 / area[tied])[:, None]
-        n_t, n_f = normals[tied], normals[f]
-        alpha = kappa * area[f] * s[f]
-        beta = system.L_t_phi + system.Z_t @ (d_n * H_f[:, None])
-        d_unit3 = d_unit.reshape(-1, 3, P)
-        z = (np.einsum("tc,tcp->tp", beta / a_t[:, None], d_unit3[n_free:n_free + n_tied])
-             - np.einsum("tc,tc->t", beta, n_t)[:, None] * d_st)
-        W = (w_n[:, None, :] * (system.Z_t * (alpha * H_f))[:, :, None]).reshape(n_tied, -1)
-        z += (self._sparse_rows("unit", d_unit, np.arange(3 * n_free)).T @ W.T).T
-        z += (d_lam_ring.T @ ((system.Z_t * (w_n @ n_f.T) * (kappa * area[f] * H_f))
-                              @ A).T).T
-        C = np.eye(n_tied) + K @ system.Y
-        G = np.linalg.solve(C.T, system.Y[:n_free].T).T  # Y_f C⁻¹
-        if self.stencil_map is None:
-            d_H_f = -(G @ z)
-        else:
-            W = self.stencil_map @ _d_stencil_H(system, phi, normals, lambda ids: d_unit3[
-                self.where[ids]], d_area, None)
-            d_H_f = -(G @ (z - K @ W)) - W[:n_free]
-        return update_rhs(d_unit3[:n_free], n_f, alpha * H_f, kappa * area[f] * H_f, d_s_f,
-                          alpha, d_H_f)
 
     def right_hand_side(self, phi):
         """``R`` (free, 3, P), the Jacobian before its product with ``L_ff⁻¹``: ``J = L̃⁻¹ R``
