@@ -151,6 +151,49 @@ def test_the_dense_jacobian_s_fast_path_is_the_reference_one(natural):
         1e-12 * np.abs(again).max())
 
 
+@pytest.mark.parametrize("natural", [False, True])
+def test_newton_s_dense_step_is_the_jacobian_s_without_its_product_with_the_inverse(natural):
+    # newton_step solves (R − L̃) dx = −L̃ r with J = L̃⁻¹ R (session 33 helper): the step
+    # −(J − I)⁻¹ r to rounding, also next to a natural border; the Jacobian is L_ff⁻¹ R bit
+    # for bit, and L̃ is L_ff ⊗ I₃
+    from surfinpaint.representation import coupled_jacobian
+    from surfinpaint.representation.coupled_jacobian import _DenseJacobian, newton_step
+
+    system, points, phi, (local, uv, free) = _system(30, 6)
+    if natural:
+        system = on_mesh._CoupledSystem(points, local, uv, _near_border(points, local),
+                                        np.ones(len(points), dtype=bool))
+        phi = points.copy()
+        phi[system.f] += 0.1 * system.scale * np.random.default_rng(3).standard_normal(
+            (len(system.f), 3))
+    dense = _DenseJacobian.of(system)
+    r = np.random.default_rng(4).standard_normal(3 * len(system.f))
+    J = lagged_update_jacobian(system, phi)
+    want = np.linalg.solve(J - np.eye(len(J)), -r)
+    got = newton_step(system, points, phi[system.f], r)
+    assert np.abs(got - want).max() < 1e-11 * np.abs(want).max()
+    R = dense.right_hand_side(phi)
+    assert np.array_equal(J, (dense.L_inv @ R.reshape(len(system.f), -1)).reshape(J.shape))
+    L_ff = system.L.tocsr()[system.f][:, system.f].toarray()
+    stiffness = np.zeros(J.size)
+    np.add.at(stiffness, *dense._stiffness())
+    assert np.array_equal(stiffness.reshape(J.shape), np.kron(L_ff, np.eye(3)))
+    # where R − L̃ is exactly singular, the step is J − I's as before
+    calls = []
+
+    def singular(a, overwrite_a=False):
+        calls.append(a.shape)
+        return a, np.arange(1, len(a) + 1, dtype=np.int32), 1
+
+    original = coupled_jacobian._GETRF
+    try:
+        coupled_jacobian._GETRF = singular
+        again = newton_step(system, points, phi[system.f], r)
+    finally:
+        coupled_jacobian._GETRF = original
+    assert calls and np.array_equal(again, want)
+
+
 def central_differences(system, phi: np.ndarray) -> np.ndarray:
     """The lagged update's Jacobian in the free positions at ``phi`` by central differences
     (steps of 1e-5 edge lengths; rows and columns ``3 i + c``)."""

@@ -365,6 +365,7 @@ class _CoupledSystem:
         Q_f, L_f, L_t = Q[U], L[f], L[tied]  # row slices, each made once
         Q_rows_f = Q_f if len(crease) == 0 else Q[f]  # U is f without a crease
         L_ff, L_fk = L_f[:, f].tocsc(), L_f[:, fixed]
+        self.L_ff = L_ff  # (the Newton steps' L̃ = L_ff ⊗ I₃)
         L_tf, L_tk = L_t[:, f], L_t[:, fixed]
         Q_ff, self.Q_ft, self.Q_fs = Q_f[:, U].tocsc(), Q_f[:, tied], Q_f[:, stencil]
         self.Q_fk, self.fixed = Q_rows_f[:, fixed], fixed
