@@ -239,9 +239,10 @@ def _zero_area_components(vertices: np.ndarray, faces: np.ndarray, label: np.nda
     """The components (of ``label``) with loops whose faces all have zero area
     (:func:`~surfinpaint.geometry.validation.zero_area_faces`). The vector areas of a
     component's loops add up to its faces', so the loop of such a component (a stray
-    degenerate triangle's) spans no area: only the components whose longest loop (the first of ``ordered``'s,
-    ``spans`` its spanned area) spans at most ``_NO_AREA_SPAN`` times its perimeter squared
-    are looked at, their faces alone (a closed surface's holes cost nothing more)."""
+    degenerate triangle's) spans no area: only the components whose longest loop (the
+    first of ``ordered``'s, ``spans`` its spanned area) spans at most ``_NO_AREA_SPAN``
+    times its perimeter squared are looked at, their faces alone (a closed surface's holes
+    cost nothing more)."""
     candidates, seen = [], set()
     for loop in ordered:  # a component's longest loop first
         component = int(label[loop[0]])
