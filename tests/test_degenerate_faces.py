@@ -6,6 +6,7 @@ is invented from them."""
 
 from __future__ import annotations
 
+import re
 import warnings
 from pathlib import Path
 
@@ -306,3 +307,114 @@ def test_assimps_regr01_with_four_zero_area_faces_is_filled(tmp_path, capsys):
     assert len(result.reports) == len(find_holes(v, f)) - sum(
         h.is_border for h in find_holes(v, f))
     assert sum("have zero area" in s for s in said) == 1
+
+
+def test_report_skips_a_hole_beside_a_zero_area_face_unless_it_is_named(tmp_path, capsys):
+    # `report` named every hole to its fills, so a hole the faired fill cannot reach without
+    # a zero-area face stopped the whole report; now, as `fill`, it is skipped with a warning
+    # unless the user named it with --holes
+    v, f, sv, sf, sliver = _sliver_rings_away(2, n_holes=2)
+    source = tmp_path / "sliver.ply"
+    write_mesh(source, sv, sf)
+    out_dir = tmp_path / "report"
+    assert main(["report", str(source), "-o", str(out_dir)]) == 0
+    out = capsys.readouterr()
+    out = out.out + out.err
+    said = f"hole 0: 1 faces of zero area (collinear or coincident corners) lie in the " \
+           f"neighbourhood its fill uses: {sliver} "
+    assert f"warning: {said}" in out and "undefined; skipped" in out
+    assert f"hole 0, 12 boundary edges, diameter 0.313; nothing is written: {said[8:]}" in out
+    assert "hole 1, 12 boundary edges, diameter 0.313; the λ-H fill (C) is written" in out
+    page = (out_dir / "index.md").read_text()
+    assert (out_dir / "hole1.png").is_file() and "| 1 | 12 | 0.313 | 4, " in page
+    assert f"| 0 | 12 | 0.313 | 0, 0.00 | 0, 0.00 | skipped: {said[8:]}" in page
+    # named: an error naming the hole and the face, nothing written
+    named = tmp_path / "named"
+    assert main(["report", str(source), "-o", str(named), "--holes", "0", "-q"]) == 1
+    err = capsys.readouterr().err
+    assert f"error: {source}: {said}" in err and "is skipped with a warning" in err
+    assert not (named / "index.html").exists()
+    # the other hole named alone is reported
+    assert main(["report", str(source), "-o", str(named), "--holes", "1", "-q"]) == 0
+
+
+def _stray_triangle(corners):
+    """The holed sphere with a stray component: one zero-area triangle at ``corners``."""
+    v, f, _ = _holed(2)
+    n = len(v)
+    return np.vstack([v, corners]), np.vstack([f, [[n, n + 1, n + 2]]])
+
+
+STRAY = {"collinear": [[3, 0, 0], [3.5, 0, 0], [4, 0, 0]],
+         "coincident": [[3, 0, 0], [4, 0, 0], [3, 0, 0]]}
+
+
+@pytest.mark.parametrize("zip_seams", [False, True])
+@pytest.mark.parametrize("corners", sorted(STRAY))
+def test_a_stray_zero_area_triangle_spans_no_area_and_is_left_open(corners, zip_seams):
+    # it was a 3-edge "hole", skipped as a T-junction slit (collinear) or a seam that
+    # --zip-seams "closes" (coincident corners), which zipping could not
+    from surfinpaint.fill.seams import NO_AREA_FACES, SlitWarning
+
+    v, f = _stray_triangle(STRAY[corners])
+    holes = find_holes(v, f)
+    assert [h.spans_no_area for h in holes] == [False, True]
+    assert not holes[1].is_border
+    with pytest.warns(SlitWarning, match=re.escape(f"hole 1: {NO_AREA_FACES}; skipped")):
+        result = fill_holes(v, f, method="fair", jobs=1, zip_seams=zip_seams)
+    stray = result.reports[1]
+    assert stray.skipped == NO_AREA_FACES and stray.method == "none" and not stray.failed
+    assert not result.reports[0].skipped and len(result.merged_vertices) == 0
+    np.testing.assert_array_equal(result.vertices[:len(v)], v)
+    np.testing.assert_array_equal(result.faces[:len(f)], f)
+    # named, it is left open all the same (as a slit is): no fill attempt, no error
+    with pytest.warns(SlitWarning):
+        named = fill_holes(v, f, holes=[1], method="fair", jobs=1)
+    assert named.reports[0].skipped == NO_AREA_FACES and len(named.faces) == len(f)
+
+
+def test_the_commands_list_and_leave_open_a_stray_zero_area_triangle(tmp_path, capsys):
+    v, f = _stray_triangle(STRAY["collinear"])
+    source = tmp_path / "stray.ply"
+    write_mesh(source, v, f)
+    assert main(["holes", str(source)]) == 0
+    rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("│")]
+    assert rows[0].rstrip(" │").endswith("│ hole") and "spans no area" in rows[1]
+    assert main(["fill", str(source), "-o", str(tmp_path / "out.ply"), "--method", "fair"]
+                ) == 0
+    out = capsys.readouterr()
+    out = out.out + out.err
+    assert "hole 1: 3 boundary edges" in out and "skipped: the loop spans no area: every " \
+        "face of its piece of surface has zero area" in out
+    assert "T-junction" not in out
+    out_dir = tmp_path / "report"
+    assert main(["report", str(source), "-o", str(out_dir), "-q"]) == 0
+    out = capsys.readouterr()
+    out = out.out + out.err
+    assert "hole 1, 3 boundary edges, diameter 1; nothing is written: the loop spans no area" \
+        in out
+
+
+def test_a_thin_triangle_with_area_does_not_span_no_area():
+    # the faces decide, not the loop's shape: a needle triangle of a small but real area
+    # (its loop spans under 1 % of its perimeter squared: its faces are looked at) is a surface
+    v, f = _stray_triangle([[3, 0, 0], [4, 0, 0], [3.5, 1e-4, 0]])
+    found = find_holes(v, f)
+    assert found[1].n_edges == 3 and found[1].is_border and not found[1].spans_no_area
+    v, f = _stray_triangle(STRAY["collinear"])
+    assert find_holes(v, f)[1].spans_no_area
+
+
+@pytest.mark.skipif(not (ASSIMP / "spider.obj").is_file(), reason="assimp-testmodels")
+@pytest.mark.parametrize("command", ["holes", "fill", "report"])
+def test_assimps_spider_is_refused_for_its_orientation_saying_what_to_do(command, tmp_path,
+                                                                           capsys):
+    source = ASSIMP / "spider.obj"
+    target = {"fill": ["-o", str(tmp_path / "out.obj")], "report": ["-o", str(tmp_path)]}
+    args = [command, str(source), *target.get(command, []), *(["-q"] if command in target else [])]
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert f"error: {source}: inconsistent face orientation: 10 shared edges" in err
+    assert "(568, 551) in faces 1096 and 1097" in err
+    assert "flip the winding" in err and "trimesh.repair.fix_winding" in err
+    assert "--repair reorients" in err

@@ -115,6 +115,8 @@ def _kind(hole) -> str:
     """The ``kind`` column of ``surfinpaint holes``."""
     if hole.is_border:
         return "outer border"
+    if hole.spans_no_area:  # never filled: fill leaves it open with a warning
+        return "spans no area (zero-area faces): left open"
     if hole.may_be_border:  # filled by default, with a warning
         return f"hole (spans {hole.span_fraction:.0%} of its surface: the margin?)"
     return "hole"

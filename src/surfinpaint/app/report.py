@@ -59,7 +59,7 @@ from surfinpaint.app.report_page import (
     write_page,
 )
 from surfinpaint.app.report_panel import PANEL_SIZE, Patch, hole_panel
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import HoleWarning, MeshError
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes, warn_degenerate
 from surfinpaint.fill.pipeline import fill_holes
@@ -108,7 +108,7 @@ def _error(patch: tuple[np.ndarray, np.ndarray] | None,
 def compare_holes(
     vertices: np.ndarray,
     faces: np.ndarray,
-    loops: Sequence[np.ndarray],
+    loops: Sequence[np.ndarray] | None,
     *,
     truth: Sequence[tuple[np.ndarray, np.ndarray]] | None = None,
     step: Step | None = None,
@@ -120,8 +120,13 @@ def compare_holes(
     ----------
     vertices, faces : arrays
         The mesh with holes.
-    loops : sequence of (k,) int arrays
-        The holes' boundary loops (as :func:`surfinpaint.fill_holes` accepts them).
+    loops : sequence of (k,) int arrays, or None
+        The holes' boundary loops (as :func:`surfinpaint.fill_holes` accepts them): named,
+        so a hole that cannot be filled for the mesh around it (a zero-area face in its
+        fill's rings) is a ``MeshError`` naming it. None: every hole but the outer border,
+        as :func:`surfinpaint.fill_holes` chooses them: such a hole is skipped instead, with
+        a :class:`~surfinpaint.errors.HoleWarning`, and compared as skipped
+        (:attr:`HoleComparison.skipped`).
     truth : sequence of (vertices, faces) or None, optional
         The ground-truth patch of each hole (e.g. :attr:`surfinpaint.geometry.cutting.CutHole`'s
         ``truth_vertices``/``truth_faces``), to measure each fill against; None for a hole
@@ -148,17 +153,20 @@ def compare_holes(
 
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
-    loops = select_holes(vertices, faces, list(loops))
+    named = None if loops is None else list(loops)  # None: chosen by fill_holes' rule
+    loops = select_holes(vertices, faces, named)
+    holes = None if named is None else loops
     if truth is not None and len(truth) != len(loops):
         raise ValueError(f"{len(truth)} truth patches for {len(loops)} holes")
     step = step or (lambda message, advance=1: None)
     with warnings.catch_warnings():
         # the fallbacks are reported in the comparison, not as warnings
         warnings.simplefilter("ignore", UserWarning)
-        fair = fill_holes(vertices, faces, holes=loops, method="fair", validate=False)
+        fair = fill_holes(vertices, faces, holes=holes, method="fair",
+                          validate=False)
         step("conventional fills done")
         options = ConformalOptions() if options is None else options
-        conformal = fill_holes(vertices, faces, holes=loops, method="conformal",
+        conformal = fill_holes(vertices, faces, holes=holes, method="conformal",
                                validate=False, options=options)
         step("conformal fills done")
         # each fill as (vertices starting with the mesh's, the hole's new faces)
@@ -180,6 +188,9 @@ def compare_holes(
                 diagnostics[k] = again.reports[0].diagnostics
             step(f"hole {k}: conformal fill before the self-check", 0)
     filled["conformal raw"] = raw
+    for r in conformal.reports:  # said once, not per method: the warnings above are off
+        if r.skipped:
+            warnings.warn(f"hole {r.index}: {r.skipped}; skipped", HoleWarning, stacklevel=2)
     patches = {name: [None if p is None else _compact(*p) for p in fills]
                for name, fills in filled.items()}
     made = {"fair": fair, "conformal": conformal, "filled": filled,
@@ -199,6 +210,7 @@ def compare_holes(
             written="; ".join([written(rc), *(line.strip() for line in hole_lines(rc)[1:])]),
             on_plane=rc.plane is not None,
             written_panel=panel_fills(made, k).written_in,
+            skipped=rc.skipped if rc.outcome in ("skipped", "failed") else None,
         )
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
@@ -340,8 +352,10 @@ def panel_fills(fills: dict, k: int) -> PanelFills:
     titles = {}
     if written_in == "B":
         titles["B"] = "(B) conventional fill (faired, written)"
-    state = ("written" if written_in == "C" else "failed" if conformal is None
-             else "rejected by the self-check")
+    if fills["fair"].reports[k].outcome == "skipped":
+        titles["B"] = "(B) conventional fill (skipped)"
+    state = ("written" if written_in == "C" else "skipped" if report.outcome == "skipped"
+             else "failed" if conformal is None else "rejected by the self-check")
     titles["C"] = (f"(C) conformal: faired fill laid on {plane_words(report.plane)} ({state})"
                    if on_plane
                    else f"(C) conformal fill ({state})")
@@ -412,8 +426,10 @@ def write_report(
     loops = select_holes(vertices, faces, holes)
     truths = hole_truths(vertices, faces, loops, *truth) if truth is not None else None
     started = time.perf_counter()
-    comparisons, fills = compare_holes(vertices, faces, loops, truth=truths, step=step,
-                                       options=options)
+    # holes the caller did not name are chosen by fill_holes' rule: one that cannot be
+    # filled is skipped with a warning, as by `surfinpaint fill`, not an error
+    comparisons, fills = compare_holes(vertices, faces, None if holes is None else loops,
+                                       truth=truths, step=step, options=options)
     for c, index in zip(comparisons, hole_numbers(vertices, faces, loops), strict=True):
         c.index = index  # the numbering of `surfinpaint holes`
     panels_for(vertices, faces, comparisons, fills, out_dir, step=step)

@@ -72,6 +72,10 @@ class HoleComparison:
         The panel that draws the written fill (:func:`surfinpaint.app.report.panel_fills`):
         (C) where it is the conformal method's own, (B) where it is exactly the
         conventional fill, else (W); None where nothing is written.
+    skipped : str or None
+        Why nothing was written: the hole was skipped or its fill failed (as
+        ``surfinpaint fill`` says it, :attr:`~surfinpaint.fill.results.HoleReport.skipped`);
+        None: a fill was written.
     """
 
     index: int
@@ -88,6 +92,7 @@ class HoleComparison:
     written: str | None = None
     on_plane: bool = False
     written_panel: WrittenPanel = "C"
+    skipped: str | None = None
 
 
 def _fmt(x: float, digits: int = 3) -> str:
@@ -223,7 +228,9 @@ def write_page(out_dir: str | os.PathLike,
 
 def hole_title(c: HoleComparison, name: str = "") -> str:
     """One line that says what a hole panel shows, with its numbers."""
-    if c.kept:
+    if c.skipped:
+        written = f"nothing is written: {c.skipped}"
+    elif c.kept:
         written = "the λ-H fill (C) is written"
     else:
         order = f" (order {c.fair_order})" if c.fair_order else ""

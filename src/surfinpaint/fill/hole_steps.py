@@ -68,7 +68,9 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
                    f"corners) lie in the neighbourhood its fill uses: {local.zero_area_text}"
                    "; their angles and normals are undefined")
         if explicit:
-            raise MeshError(f"hole {index}: {message}", faces=local.zero_area[:100].tolist())
+            raise MeshError(f"hole {index}: {message}; a hole not named (leave it out of "
+                            "holes=, --holes) is skipped with a warning",
+                            faces=local.zero_area[:100].tolist())
         return message
     on_loop = np.isin(local.faces_global, local.loop)
     touching = local.faces_global[on_loop.any(axis=1)]

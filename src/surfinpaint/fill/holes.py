@@ -17,6 +17,7 @@ from surfinpaint.geometry.validation import (
     degenerate_notes,
     face_ids,
     validate_mesh,
+    zero_area_faces,
 )
 from surfinpaint.io.base import MeshWarning
 from surfinpaint.lazy import lazy_module
@@ -69,6 +70,11 @@ class Hole:
         For its component's longest loop, the area the loop spans over the component's area
         (``is_border`` from ``BORDER_SPAN_FRACTION``); NaN for the other loops and where a
         first part of the component's area was enough to tell the loop is small.
+    spans_no_area : bool
+        Every face of its component has zero area (collinear or coincident corners, as
+        :func:`~surfinpaint.geometry.validation.zero_area_faces` finds them: a stray
+        degenerate triangle, say): the loop spans no area, like a slit, and no fill of it
+        is a surface, so it is never filled (left open with a warning).
     """
 
     loop: np.ndarray
@@ -78,6 +84,7 @@ class Hole:
     component: int
     is_border: bool
     span_fraction: float = float("nan")
+    spans_no_area: bool = False
 
     @property
     def may_be_border(self) -> bool:
@@ -173,6 +180,7 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
         if component not in spans:
             spans[component] = _spanned_area(vertices[loop])
     fractions = _span_fractions(vertices, faces, label, spans)
+    flat = _zero_area_components(vertices, faces, label, spans, ordered)
     # numbered over the components with faces: a vertex no face uses (left where faces were
     # cut away) is a component of its own in the labels and would skip numbers
     surface = np.unique(label[faces.reshape(-1)])
@@ -188,7 +196,8 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
             Hole(loop=loop, n_edges=len(loop), perimeter=perimeter,
                  diameter=loop_diameter(points),
                  component=int(np.searchsorted(surface, component)),
-                 is_border=bool(fraction >= BORDER_SPAN_FRACTION), span_fraction=fraction)
+                 is_border=bool(fraction >= BORDER_SPAN_FRACTION), span_fraction=fraction,
+                 spans_no_area=component in flat)
         )
     return holes
 
@@ -223,6 +232,40 @@ def _span_fractions(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
     area = np.bincount(label[faces[:, 0]], weights=np.concatenate(areas), minlength=n)
     return {c: float(span / area[c]) if c in undecided and area[c] > 0 else float("nan")
             for c, span in spans.items()}
+
+
+def _zero_area_components(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
+                          spans: dict[int, float], ordered: list[np.ndarray]) -> set[int]:
+    """The components (of ``label``) with loops whose faces all have zero area
+    (:func:`~surfinpaint.geometry.validation.zero_area_faces`). The vector areas of a
+    component's loops add up to its faces', so the loop of such a component (a stray
+    degenerate triangle's) spans no area: only the components whose longest loop (the
+    first of ``ordered``'s, ``spans`` its spanned area) spans at most ``_NO_AREA_SPAN``
+    times its perimeter squared are looked at, their faces alone (a closed surface's holes
+    cost nothing more)."""
+    candidates, seen = [], set()
+    for loop in ordered:  # a component's longest loop first
+        component = int(label[loop[0]])
+        if component in seen:
+            continue
+        seen.add(component)
+        points = vertices[loop]
+        perimeter = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).sum())
+        if spans[component] <= _NO_AREA_SPAN * perimeter * perimeter:
+            candidates.append(component)
+    if not candidates:
+        return set()
+    rows = np.flatnonzero(np.isin(label[faces[:, 0]], candidates))
+    flat = np.zeros(len(faces), dtype=bool)
+    flat[rows[zero_area_faces(vertices, faces[rows])]] = True
+    owner = label[faces[rows, 0]]
+    return {c for c in candidates if flat[rows[owner == c]].all()}
+
+
+# a loop spanning less than this times its perimeter squared may bound zero-area faces only
+# (then checked face by face); a round hole spans 1/(4π) of it, a slit's sides within
+# SLIT_RTOL of each other about SLIT_RTOL
+_NO_AREA_SPAN = 1e-2
 
 
 def warn_degenerate(vertices: np.ndarray, faces: np.ndarray, path: str | None = None

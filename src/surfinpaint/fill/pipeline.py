@@ -33,7 +33,14 @@ from surfinpaint.fill.neighbourhood import FilledMesh
 from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import FillResult, HoleReport
 from surfinpaint.fill.scheduler import fill_in_parallel
-from surfinpaint.fill.seams import Slit, SlitWarning, find_seam_part, find_slit, zip_faces
+from surfinpaint.fill.seams import (
+    NO_AREA_FACES,
+    Slit,
+    SlitWarning,
+    find_seam_part,
+    find_slit,
+    zip_faces,
+)
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.fill.warmup import Beside, load_for_workers, loading_beside
 from surfinpaint.geometry.degenerate import triangle_incidence, triangle_rows
@@ -55,17 +62,23 @@ ProgressCallback = Callable[[int, int, str], None]
 
 
 def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
-                zip_seams: bool) -> tuple[np.ndarray, np.ndarray, list[HoleReport]]:
-    """The holes of ``todo`` whose loop spans no area (:func:`find_slit`) or runs back along
-    itself over a seam (:func:`find_seam_part`) taken out of it, before anything is filled:
-    seams zipped with ``zip_seams`` (the faces returned use each kept vertex in place of its
-    duplicate), the others skipped with a SlitWarning.
+                zip_seams: bool, no_area: set[int]
+                ) -> tuple[np.ndarray, np.ndarray, list[HoleReport]]:
+    """The holes of ``todo`` whose loop spans no area (:func:`find_slit`, or a loop of a
+    piece of surface whose faces all have zero area: its number in ``no_area``,
+    :attr:`Hole.spans_no_area`) or runs back along itself over a seam
+    (:func:`find_seam_part`) taken out of it, before anything is filled: seams zipped with
+    ``zip_seams`` (the faces returned use each kept vertex in place of its duplicate), the
+    others skipped with a SlitWarning.
 
     Returns the faces, the merged ``(duplicate, kept)`` pairs and the holes left to fill
     (their loops in the zipped faces' ids).
     """
     left, merged = [], []
     for report in todo:
+        if report.index in no_area:  # never zipped: its faces would repeat a vertex
+            skip(report, NO_AREA_FACES, SlitWarning, stacklevel=4)
+            continue
         slit = find_slit(vertices, report.loop)
         part = find_seam_part(vertices, report.loop) if slit is None else None
         if slit is None and part is None:
@@ -243,13 +256,13 @@ def fill_holes(
     _check_flags(include_border=include_border, repair=repair, validate=validate,
                  zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, removed_faces, loops, numbers, incidence, zero_area = _found_holes(
+    vertices, faces, removed_faces, loops, numbers, incidence, zero_area, no_area = _found_holes(
         vertices, faces, holes, method, include_border=include_border, repair=repair,
         validate=validate)
     reports = _hole_reports(vertices, loops, numbers, method)
     todo = _within_size(reports, max_hole_edges)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
-    zipped, merged, todo = _open_seams(vertices, faces, todo, zip_seams)
+    zipped, merged, todo = _open_seams(vertices, faces, todo, zip_seams, no_area)
     # the incidence made beside the checks is of the prepared faces, not of zipped ones
     mesh = FilledMesh(vertices, zipped, incidence if zipped is faces else None, zero_area)
     run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
@@ -271,8 +284,9 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
                  validate: bool):
     """The mesh prepared (:func:`_prepared`), the loops to fill, their :func:`find_holes`
     numbers (the outer border counts, whatever was selected), the faces'
-    ``triangle_incidence`` and their zero-area faces (a warning names the degenerate
-    faces); a large mesh's kernels load on the idle core meanwhile, and the passes that
+    ``triangle_incidence``, their zero-area faces (a warning names the degenerate faces)
+    and the numbers of the holes that span no area for that (:attr:`Hole.spans_no_area`);
+    a large mesh's kernels load on the idle core meanwhile, and the passes that
     need only the edge table run there while the mesh is checked
     (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
     with loading_beside(len(faces), method) as beside:
@@ -288,7 +302,8 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
         warnings.warn(note, MeshWarning, stacklevel=3)
     if holes is None:  # chosen by the rule, not by the caller
         _warn_may_be_border({k: found[k] for k in numbers}, stacklevel=4)
-    return vertices, faces, removed_faces, loops, numbers, incidence, degenerate[1]
+    no_area = {k for k in numbers if k >= 0 and found[k].spans_no_area}
+    return vertices, faces, removed_faces, loops, numbers, incidence, degenerate[1], no_area
 
 
 def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:

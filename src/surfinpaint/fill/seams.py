@@ -41,11 +41,16 @@ from surfinpaint.lazy import lazy_module
 # imported at its first use (see fill/holes.py)
 spatial = lazy_module("scipy.spatial")
 
-__all__ = ["SLIT_RTOL", "Slit", "SlitWarning", "find_seam_part", "find_slit", "zip_faces"]
+__all__ = ["NO_AREA_FACES", "SLIT_RTOL", "Slit", "SlitWarning", "find_seam_part", "find_slit",
+           "zip_faces"]
 
 # two loop points closer than this fraction of the neighbouring loop edges' length coincide
 # (an exporter's duplicates are bit-identical; this leaves room for printed decimals)
 SLIT_RTOL = 1e-3
+# why a loop of a piece of surface whose faces all have zero area (Hole.spans_no_area: a
+# stray collinear triangle) is left open: it spans no area, like a slit, whatever its shape
+NO_AREA_FACES = ("the loop spans no area: every face of its piece of surface has zero area "
+                 "(collinear or coincident corners), so it is no hole to fill")
 # where along each loop edge the slit test checks that it lies on another edge of the loop
 _SAMPLES = np.array([0.25, 0.5, 0.75])
 

@@ -432,7 +432,10 @@ def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
                          for (a, b), p, q in zip(edges[:10], h1[:10], h2[:10], strict=True)],
                         clash.size)
         raise _fail(f"inconsistent face orientation: {clash.size} shared edges are traversed "
-                    f"in the same direction by both faces: {text}", path, edges=edges,
+                    f"in the same direction by both faces: {text}; flip the winding of the "
+                    "faces that disagree with their neighbours first (trimesh.repair."
+                    "fix_winding, or MeshLab's Re-Orient all faces coherently): neither "
+                    "surfinpaint nor its --repair reorients faces", path, edges=edges,
                     faces=faces_bad[:100].tolist())
 
 
