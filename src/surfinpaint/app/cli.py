@@ -42,7 +42,8 @@ from surfinpaint.fill import warmup
 from surfinpaint.fill.holes import find_holes, warn_degenerate
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
-from surfinpaint.geometry.repair import remove_nonmanifold_faces
+from surfinpaint.geometry.orientation import orientation_note
+from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.atomic import remove_unfinished
 from surfinpaint.io.formats import (
     files_read,
@@ -126,8 +127,10 @@ def cmd_holes(args: argparse.Namespace) -> int:
     vertices, faces = read_mesh(args.mesh, data_warning=False)  # it only lists the holes
     title = f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces"
     if args.repair:
-        faces, removed = remove_nonmanifold_faces(vertices, faces)
+        faces, removed, flipped = repair_faces(vertices, faces)
         title += f" ({len(removed)} removed by --repair: the numbering `fill --repair` uses)"
+        if len(flipped):
+            title += f"; --repair {orientation_note(flipped)}"
     warn_degenerate(vertices, faces, str(args.mesh))
     _holes_table(vertices, faces, title)
     return EXIT_OK
@@ -298,9 +301,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        description="Print a table of the boundary loops of MESH.")
     p.add_argument("mesh", help="input mesh (PLY, OBJ, STL, OFF, GIFTI, FreeSurfer)")
     p.add_argument("--repair", action="store_true",
-                   help="first remove the faces around non-manifold edges and bow-tie vertices, "
-                   "as `fill --repair` "
-                   "does, and list the holes of the result")
+                   help="first remove the faces around non-manifold edges and bow-tie vertices "
+                   "and orient the faces consistently, as `fill --repair` does, and list the "
+                   "holes of the result")
     p.set_defaults(func=cmd_holes)
 
     p = sub.add_parser("fill", help="fill holes and write the filled mesh",

@@ -65,7 +65,8 @@ from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes, wa
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.mesh import connected_components
 from surfinpaint.geometry.metrics import surface_distance
-from surfinpaint.geometry.repair import remove_nonmanifold_faces
+from surfinpaint.geometry.orientation import orientation_note
+from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.formats import read_mesh
 
 __all__ = [
@@ -460,8 +461,8 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
                    "positions): measure each fill against it")
     p.add_argument("--repair", action="store_true",
                    help="first remove the faces around non-manifold edges and bow-tie "
-                   "vertices, as `fill --repair` does (the holes numbered as by `holes "
-                   "--repair`)")
+                   "vertices and orient the faces consistently, as `fill --repair` does (the "
+                   "holes numbered as by `holes --repair`)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
     p.set_defaults(func=run_report)
     return p
@@ -473,9 +474,11 @@ def run_report(args: argparse.Namespace) -> int:
     # pictures and a page: the file's colours, normals, UVs are not lost, only not drawn
     vertices, faces = read_mesh(args.mesh, data_warning=False)
     if args.repair:
-        faces, removed = remove_nonmanifold_faces(vertices, faces)
+        faces, removed, flipped = repair_faces(vertices, faces)
         console.print(f"--repair removed {len(removed)} faces around non-manifold edges and "
                       "bow-tie vertices")
+        if len(flipped):
+            console.print(f"--repair {orientation_note(flipped)}")
     warn_degenerate(vertices, faces, str(args.mesh))
     truth = read_mesh(args.truth, data_warning=False) if args.truth else None
     loops = select_holes(vertices, faces, args.holes)

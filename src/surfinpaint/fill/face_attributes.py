@@ -197,7 +197,8 @@ def fill_result_corner_attributes(
     ----------
     result : FillResult
     corner_attributes : mapping of name to (f, 3, k) float array
-        One row per input face (rows of ``result.removed_faces`` dropped).
+        One row per input face (rows of ``result.removed_faces`` dropped; the corners of
+        ``result.flipped_faces`` swapped as their last two vertices were).
 
     Returns
     -------
@@ -206,13 +207,16 @@ def fill_result_corner_attributes(
     n_input = result.n_original_faces + len(result.removed_faces)
     keep = np.ones(n_input, dtype=bool)
     keep[result.removed_faces] = False
+    flipped = np.cumsum(keep)[result.flipped_faces] - 1  # ids among the faces kept
     originals = {}
     for name, a in corner_attributes.items():
         a = attribute_rows(name, a, (n_input,), "faces")
         if a.ndim != 3 or a.shape[1] != 3 or a.dtype.kind != "f":
             raise ValueError(f"corner attribute {name!r} must be a float (f, 3, k) array, "
                              f"got {a.dtype} {a.shape}")
-        originals[name] = a[keep]
+        a = a[keep]
+        a[flipped] = a[flipped][:, [0, 2, 1]]  # a flipped face's corners follow its vertices
+        originals[name] = a
     faces = result.faces[: result.n_original_faces]
     parts: dict[str, list[np.ndarray]] = {name: [a] for name, a in originals.items()}
     for report, new_ids, face_ids, near in hole_blocks(result, rings if originals else 0):

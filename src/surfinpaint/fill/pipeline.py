@@ -45,7 +45,8 @@ from surfinpaint.fill.topology import topology_changes
 from surfinpaint.fill.warmup import Beside, load_for_workers, loading_beside
 from surfinpaint.geometry.degenerate import triangle_incidence, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.repair import remove_nonmanifold_faces
+from surfinpaint.geometry.orientation import orientation_note
+from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.geometry.validation import (
     check_arrays,
     check_topology,
@@ -194,7 +195,12 @@ def fill_holes(
         Remove the faces around non-manifold edges first (see
         :func:`surfinpaint.geometry.repair.remove_nonmanifold_faces`); the holes this opens
         are then filled with the others. The removed faces are listed in
-        ``FillResult.removed_faces``.
+        ``FillResult.removed_faces``. Then the faces of each piece are oriented
+        consistently, the fewest flipped (their last two vertex ids swapped:
+        :func:`surfinpaint.geometry.orientation.orient_faces`), with a
+        :class:`~surfinpaint.MeshWarning` naming them; they are listed (ids into the input
+        faces) in ``FillResult.flipped_faces``. A piece that cannot be oriented (a Möbius
+        strip) is left as it is, and refused as without ``repair``.
     validate : bool
         Check the mesh first (:func:`surfinpaint.validate_mesh`).
     zip_seams : bool
@@ -256,7 +262,7 @@ def fill_holes(
     _check_flags(include_border=include_border, repair=repair, validate=validate,
                  zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, removed_faces, loops, numbers, incidence, zero_area, no_area = _found_holes(
+    vertices, faces, repaired, loops, numbers, incidence, zero_area, no_area = _found_holes(
         vertices, faces, holes, method, include_border=include_border, repair=repair,
         validate=validate)
     reports = _hole_reports(vertices, loops, numbers, method)
@@ -269,7 +275,7 @@ def fill_holes(
               progress=progress, rings=neighbourhood_rings,
               position={id(r): k for k, r in enumerate(reports)})
     _fill_all(mesh, todo, run, jobs)
-    return _result(mesh, reports, removed_faces, merged,
+    return _result(mesh, reports, repaired, merged,
                    (attributes, face_attributes, attribute_kinds))
 
 
@@ -282,7 +288,8 @@ def _check_flags(**flags) -> None:
 
 def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, repair: bool,
                  validate: bool):
-    """The mesh prepared (:func:`_prepared`), the loops to fill, their :func:`find_holes`
+    """The mesh prepared (:func:`_prepared`; ``repair``'s removed and flipped faces), the
+    loops to fill, their :func:`find_holes`
     numbers (the outer border counts, whatever was selected), the faces'
     ``triangle_incidence``, their zero-area faces (a warning names the degenerate faces)
     and the numbers of the holes that span no area for that (:attr:`Hole.spans_no_area`);
@@ -290,7 +297,7 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
     need only the edge table run there while the mesh is checked
     (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
     with loading_beside(len(faces), method) as beside:
-        vertices, faces, triangles, removed_faces, table, found, incidence, degenerate = \
+        vertices, faces, triangles, repaired, table, found, incidence, degenerate = \
             _prepared(vertices, faces, repair, validate, beside)
         found = found()  # after the checks: their errors come first
         loops = select_holes(vertices, triangles, holes, include_border=include_border,
@@ -303,7 +310,7 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
     if holes is None:  # chosen by the rule, not by the caller
         _warn_may_be_border({k: found[k] for k in numbers}, stacklevel=4)
     no_area = {k for k in numbers if k >= 0 and found[k].spans_no_area}
-    return vertices, faces, removed_faces, loops, numbers, incidence, degenerate[1], no_area
+    return vertices, faces, repaired, loops, numbers, incidence, degenerate[1], no_area
 
 
 def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
@@ -356,11 +363,13 @@ def _fill_all(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int) -> 
         run.finished(report)
 
 
-def _result(mesh: FilledMesh, reports: list[HoleReport], removed_faces: np.ndarray,
+def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
             merged: np.ndarray, attributes: tuple) -> FillResult:
-    """The filled mesh with its reports, merged seam vertices, attributes (vertex, face,
-    kinds) and topology changes (each also a warning, at the caller of ``fill_holes``)."""
-    result = mesh.result(reports, removed_faces)
+    """The filled mesh with its reports, the faces ``repair`` removed and flipped, merged
+    seam vertices, attributes (vertex, face, kinds) and topology changes (each also a
+    warning, at the caller of ``fill_holes``)."""
+    result = mesh.result(reports, repaired[0])
+    result.flipped_faces = repaired[1]
     result.merged_vertices = merged
     result = _with_attributes(result, *attributes)
     result.topology = topology_changes(result)
@@ -382,7 +391,8 @@ def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds)
 
 def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     """The mesh as arrays and its triangles (:func:`triangle_rows`), with ``repair`` the
-    faces around non-manifold edges removed (and which), with ``validate`` checked; the
+    faces around non-manifold edges removed and the rest oriented (which faces were removed
+    and flipped, the flips warned), with ``validate`` checked; the
     edge table of its triangles when validated (built once: the holes are found from it
     too); the collectors of its :func:`find_holes` list and its ``triangle_incidence``; and
     its degenerate faces (those that repeat a vertex, left out of the table, the holes and
@@ -399,9 +409,12 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     if validate:  # shapes, dtypes and ids first: the repair and the edge table index by them
         check_arrays(vertices, faces)
     vertices = np.asarray(vertices, dtype=np.float64)
-    removed_faces = np.empty(0, dtype=np.int64)
+    repaired = (np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
     if repair:
-        faces, removed_faces = remove_nonmanifold_faces(vertices, faces)
+        faces, *repaired = repair_faces(vertices, faces)
+        if len(repaired[1]):
+            warnings.warn(f"repair {orientation_note(repaired[1])}", MeshWarning,
+                          stacklevel=4)
     triangles, repeated, rows = triangle_rows(faces)  # a face that repeats a vertex joins none
     table = EdgeTable.build(triangles, len(vertices)) if validate else None
     found = beside.submit(find_holes, vertices, triangles, table, validate=False)
@@ -411,7 +424,7 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     else:  # checked by the caller, but the fills must know where they cannot go
         flat = zero_area_faces(vertices, triangles)
     flat = flat if rows is None else rows[flat]
-    return vertices, faces, triangles, removed_faces, table, found, incidence, (repeated, flat)
+    return vertices, faces, triangles, repaired, table, found, incidence, (repeated, flat)
 
 
 def _with_attributes(result: FillResult, attributes, face_attributes, kinds) -> FillResult:

@@ -379,7 +379,8 @@ class FillResult:
     """A filled mesh: the original vertices first, unchanged, then the new ones.
 
     ``faces`` holds the original faces in order (less ``removed_faces``, ids into the input
-    faces, when ``repair=True``), then the new faces. Seams zipped with ``zip_seams=True``
+    faces, when ``repair=True``; ``flipped_faces``, ids into the input faces too, have their
+    last two vertex ids swapped), then the new faces. Seams zipped with ``zip_seams=True``
     are the one change to the original faces: ``merged_vertices`` lists the ``(duplicate,
     kept)`` vertex pairs, and the faces use each kept vertex in place of its duplicate (left
     in ``vertices``, unused).
@@ -391,6 +392,7 @@ class FillResult:
     n_original_vertices: int
     n_original_faces: int
     removed_faces: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    flipped_faces: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
     merged_vertices: np.ndarray = field(
         default_factory=lambda: np.empty((0, 2), dtype=np.int64))
     #: per-vertex arrays over ``vertices`` (the new rows inpainted: fill/attributes.py)

@@ -5,7 +5,9 @@ Raw scans often carry a few non-manifold spots: an edge shared by three or more 
 a doubled sheet) or a vertex where separate fans of faces meet (a bow-tie). No hole filler can
 work across them. :func:`remove_nonmanifold_faces` deletes the faces at those spots, and only
 those, so the damage becomes ordinary holes; :func:`surfinpaint.fill_holes` then fills them
-like any other hole. Vertices are never moved, deleted or renumbered.
+like any other hole. :func:`repair_faces` then also reorients the faces of each piece
+consistently (:func:`surfinpaint.geometry.orientation.orient_faces`). Vertices are never
+moved, deleted or renumbered.
 """
 
 from __future__ import annotations
@@ -16,9 +18,10 @@ from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import edge_keys
+from surfinpaint.geometry.orientation import orient_faces
 from surfinpaint.geometry.validation import check_arrays
 
-__all__ = ["corner_fans", "remove_nonmanifold_faces", "unjoined_bowties"]
+__all__ = ["corner_fans", "remove_nonmanifold_faces", "repair_faces", "unjoined_bowties"]
 
 
 def _halfedges(faces: np.ndarray, n: int):
@@ -182,6 +185,38 @@ def remove_nonmanifold_faces(
                 break
             keep[kept_ids[minor]] = False
     return f[keep], np.flatnonzero(~keep)
+
+
+def repair_faces(vertices: np.ndarray, faces: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """What ``--repair`` (``repair=True``) does: :func:`remove_nonmanifold_faces`, then
+    :func:`~surfinpaint.geometry.orientation.orient_faces` on the faces kept.
+
+    A piece that cannot be oriented (a Möbius strip) is left as it is; the mesh's check
+    then refuses it (:func:`surfinpaint.geometry.validation.validate_mesh`).
+
+    Returns
+    -------
+    faces_kept : (f', 3) int64 array
+        The remaining faces, in their original order, some with their last two vertex ids
+        swapped (flipped).
+    removed : (f - f',) int64 array
+        Ids (into ``faces``) of the removed faces, sorted.
+    flipped : (k,) int64 array
+        Ids (into ``faces``, not ``faces_kept``) of the flipped faces, sorted.
+
+    Examples
+    --------
+    >>> f = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 1, 4]])
+    >>> kept, removed, flipped = repair_faces(np.zeros((5, 3)), f)
+    >>> removed.tolist(), flipped.tolist(), kept[3].tolist()
+    ([], [3], [0, 4, 1])
+    """
+    kept, removed = remove_nonmanifold_faces(vertices, faces)
+    kept, flipped, _ = orient_faces(kept)
+    if len(removed):  # the ids into the input faces
+        flipped = np.delete(np.arange(len(kept) + len(removed)), removed)[flipped]
+    return kept, removed, flipped
 
 
 def unjoined_bowties(faces: np.ndarray, loop: np.ndarray) -> np.ndarray:

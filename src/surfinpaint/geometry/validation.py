@@ -26,6 +26,7 @@ from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.degenerate import repeated_vertex_faces, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_blocks
+from surfinpaint.geometry.orientation import orient_faces
 
 __all__ = ["MeshReport", "check_arrays", "check_loop", "check_topology", "degenerate_notes",
            "face_ids", "face_text", "nonmanifold_vertices", "validate_mesh", "zero_area_faces"]
@@ -432,11 +433,24 @@ def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
                          for (a, b), p, q in zip(edges[:10], h1[:10], h2[:10], strict=True)],
                         clash.size)
         raise _fail(f"inconsistent face orientation: {clash.size} shared edges are traversed "
-                    f"in the same direction by both faces: {text}; flip the winding of the "
-                    "faces that disagree with their neighbours first (trimesh.repair."
-                    "fix_winding, or MeshLab's Re-Orient all faces coherently): neither "
-                    "surfinpaint nor its --repair reorients faces", path, edges=edges,
-                    faces=faces_bad[:100].tolist())
+                    f"in the same direction by both faces: {text}; {_reorient_hint(table)}",
+                    path, edges=edges, faces=faces_bad[:100].tolist())
+
+
+def _reorient_hint(table: EdgeTable) -> str:
+    """How to fix the orientation error: ``--repair`` for orientable pieces, nothing for the
+    non-orientable ones (named)."""
+    _, flipped, bad = orient_faces(table.faces)
+    hint = (f"--repair (repair=True) reorients each piece consistently, flipping "
+            f"{len(flipped)} faces (as trimesh.repair.fix_winding or MeshLab's Re-Orient all "
+            "faces coherently do)")
+    if not bad:
+        return hint
+    pieces = _listing([f"{len(p)} faces ({', '.join(str(int(t)) for t in p[:5])}"
+                       f"{', ...' if len(p) > 5 else ''})" for p in bad[:10]], len(bad))
+    told = (f"{len(bad)} non-orientable piece{'s' if len(bad) > 1 else ''} (like a Möbius "
+            f"strip: no orientation of it is consistent, --repair leaves it as it is): {pieces}")
+    return f"{told}; elsewhere {hint}" if len(flipped) else told
 
 
 def _bowtie(table: EdgeTable) -> np.ndarray:
