@@ -17,7 +17,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from surfinpaint.geometry.edges import edge_keys
+from surfinpaint.geometry.degenerate import triangle_rows
+from surfinpaint.geometry.edges import EdgeTable
 
 __all__ = ["orient_faces", "orientation_note"]
 
@@ -58,18 +59,13 @@ def orient_faces(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[np.nda
     m = len(f)
     if m == 0:
         return oriented, np.zeros(0, np.int64), []
-    proper = np.flatnonzero((f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0]))
-    g = f[proper]
-    tail, head = g.ravel(), g[:, [1, 2, 0]].ravel()
-    key = edge_keys(tail, head, int(f.max()) + 1)
-    order = np.argsort(key, kind="stable")
-    sk = key[order]
-    starts = np.flatnonzero(np.r_[True, sk[1:] != sk[:-1]])
-    counts = np.diff(np.r_[starts, len(sk)])
-    pair = starts[counts == 2]
-    h1, h2 = order[pair], order[pair + 1]
+    triangles, _, rows = triangle_rows(f)
+    proper = np.arange(m) if rows is None else rows
+    table = EdgeTable.build(triangles, int(f.max()) + 1)
+    h1, h2 = table.interior_pairs()
     p, q = proper[h1 // 3], proper[h2 // 3]
-    differ = (tail[h1] == tail[h2]).astype(np.int64)  # same direction: flip one of them
+    # the same direction on both faces (forward alike): one of the two must be flipped
+    differ = (table.forward[h1] == table.forward[h2]).astype(np.int64)
     # node 2 t + s: face t with parity s; constraint x_p ^ x_q = d joins (p, s)-(q, s ^ d)
     rows = np.concatenate([2 * p, 2 * p + 1])
     cols = np.concatenate([2 * q + differ, 2 * q + (1 - differ)])
