@@ -20,7 +20,13 @@ import numpy as np
 import pytest
 
 import surfinpaint
-from surfinpaint.app.batch import FileRow, fill_files, find_inputs, read_summary
+from surfinpaint.app.batch import (
+    FileRow,
+    fill_files,
+    find_inputs,
+    read_summary,
+    read_unknown_files,
+)
 from surfinpaint.app.batch_inputs import UnknownFilesWarning
 from surfinpaint.app.cli import main
 from surfinpaint.data import snowman, sphere, torus
@@ -244,6 +250,39 @@ def test_cli_batch_names_the_files_it_skips_and_still_succeeds(tmp_path, capsys)
     assert "1 closed" in err
 
 
+@pytest.mark.parametrize("quiet", [False, True])
+def test_the_summary_lists_the_files_of_unknown_type_and_not_their_companions(
+        tmp_path, capsys, quiet):
+    pytest.importorskip("nibabel")
+    from nibabel.freesurfer import write_morph_data
+
+    scans = tmp_path / "scans"
+    (scans / "surf").mkdir(parents=True)
+    v, f = sphere(1)
+    write_mesh(scans / "a.ply", v, f)
+    write_mesh(scans / "surf" / "lh.pial", v, f)
+    write_morph_data(scans / "surf" / "lh.sulc", np.zeros(len(v), np.float32))
+    (scans / "a.mtl").write_text("newmtl skin")
+    (scans / "notes.txt").write_text("scanned on Monday")
+    out = tmp_path / "out"
+    assert main(["batch", str(scans), "-o", str(out), "--jobs", "1", *["-q"] * quiet]) == 0
+    document = json.loads((out / "summary.json").read_text())
+    assert document["unknown_files"] == {"count": 1, "paths": [str(scans / "notes.txt")]}
+    assert [r["status"] for r in document["files"]] == ["closed", "closed"]
+    err = capsys.readouterr().err
+    assert ("1 file of unknown type not filled (listed in summary.json)" in err) != quiet
+    # fill_files writes them too, each once; find_inputs' result holds them
+    with pytest.warns(UnknownFilesWarning):
+        fill_files([scans, scans], out, jobs=1, overwrite=True)
+    assert read_unknown_files(out) == [str(scans / "notes.txt")]
+    assert read_unknown_files(tmp_path / "nowhere") == []
+    with pytest.warns(UnknownFilesWarning):
+        found = find_inputs([scans], out)
+    assert [(u.path, u.relative, u.argument) for u in found.unknown] == [
+        (str(scans / "notes.txt"), "notes.txt", str(scans))]
+    assert [j.output for j in found] == ["a.ply", "surf/lh.pial"]
+
+
 def test_local_workers_fill_every_file_and_report_the_corrupt_one(tmp_path):
     scans = _scans(tmp_path)
     out = tmp_path / "out"
@@ -260,6 +299,7 @@ def test_local_workers_fill_every_file_and_report_the_corrupt_one(tmp_path):
     assert int(snow["kept_conformal"]) + int(snow["kept_fair"]) == 2
     document = json.loads((out / "summary.json").read_text())
     assert document["options"] == {} and document["surfinpaint"] == surfinpaint.__version__
+    assert document["unknown_files"] == {"count": 1, "paths": [str(scans / "notes.txt")]}
 
 
 def test_a_rerun_skips_up_to_date_outputs_and_overwrite_refills(tmp_path):

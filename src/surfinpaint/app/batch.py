@@ -37,6 +37,7 @@ from threadpoolctl import threadpool_limits
 
 from surfinpaint.app.batch_inputs import (
     FileJob,
+    Inputs,
     find_inputs,
     largest_cost_first,
     picture_path,
@@ -48,6 +49,7 @@ from surfinpaint.app.batch_summary import (
     SUMMARY_JSON,
     FileRow,
     read_summary,
+    read_unknown_files,
     write_summary,
 )
 from surfinpaint.app.fill_report import HoleRecord
@@ -60,7 +62,7 @@ from surfinpaint.io.formats import MeshData, read_mesh_data, write_mesh_data
 from surfinpaint.lazy import lazy_module
 
 __all__ = ["FileJob", "FileRow", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "fill_file",
-           "fill_files", "find_inputs", "read_summary", "write_summary"]
+           "fill_files", "find_inputs", "read_summary", "read_unknown_files", "write_summary"]
 
 #: How often a file whose worker process died is tried again (alone) before it is reported
 #: failed: Dask's default ``distributed.scheduler.allowed-failures`` too.
@@ -480,7 +482,7 @@ def _check_options(options: Mapping[str, Any]) -> None:
 
 def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
             out_dir: str | os.PathLike, overwrite: bool, progress: ProgressCallback | None,
-            png: bool) -> tuple[list[FileJob], list[FileJob], _Rows]:
+            png: bool) -> tuple[Inputs, list[FileJob], _Rows]:
     """The input files (:func:`find_inputs`), those to fill (the others recorded in the
     rows as skipped), costliest first, and the rows."""
     paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
@@ -590,7 +592,7 @@ def fill_files(
     finally:
         if client is None:  # no local worker is left writing: what a killed one left can go
             _remove_temporaries(pending)
-        write_summary(rows.ordered(todo), out, fill_options)
+        write_summary(rows.ordered(todo), out, fill_options, todo.unknown)
     if client is not None:
         _remove_temporaries(pending)
     return rows.ordered(todo)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import glob
 import os
 import warnings
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,8 +15,8 @@ from surfinpaint.errors import MeshError, preview
 from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_morphometry
 from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format
 
-__all__ = ["COMPANION_SUFFIXES", "FileJob", "UnknownFilesWarning", "find_inputs",
-           "largest_cost_first", "picture_path", "up_to_date"]
+__all__ = ["COMPANION_SUFFIXES", "FileJob", "Inputs", "UnknownFile", "UnknownFilesWarning",
+           "find_inputs", "largest_cost_first", "picture_path", "up_to_date"]
 
 
 @dataclass(frozen=True)
@@ -38,6 +38,28 @@ class FileJob:
         if self.picture is None:
             return None
         return Path(self.output).with_name(self.picture.name).as_posix()
+
+
+@dataclass(frozen=True)
+class UnknownFile:
+    """A file of unknown type that an input argument named and that was not filled
+    (:func:`find_inputs`): ``path`` as the summary names files (the input as given, or
+    found under a folder given), ``relative`` its path relative to the folder or the glob's
+    base (as the :class:`UnknownFilesWarning` names it), ``argument`` the input argument."""
+
+    path: str
+    relative: str
+    argument: str
+
+
+class Inputs(list[FileJob]):
+    """What :func:`find_inputs` returns: the files to fill, a list of :class:`FileJob`, and
+    ``unknown``, the files of unknown type that were not filled (each once, in the inputs'
+    order; named in the warnings and in ``summary.json``)."""
+
+    def __init__(self, jobs: Iterable[FileJob] = (), unknown: Iterable[UnknownFile] = ()):
+        super().__init__(jobs)
+        self.unknown: tuple[UnknownFile, ...] = tuple(unknown)
 
 
 def picture_path(target: Path) -> Path:
@@ -131,7 +153,7 @@ def _expand(item: str, unknown: list[tuple[Path, Path]]) -> Iterator[tuple[Path,
         yield path, Path(path.name)  # a missing file becomes a failed row, not a crash
 
 
-def _warn_unknown(item: str, unknown: Sequence[Path]) -> None:
+def _warn_unknown(item: str, unknown: Sequence[UnknownFile]) -> None:
     """One warning for the files of unknown type under one input argument: how many, and
     the first few (paths relative to the folder or the glob's base)."""
     if not unknown:
@@ -139,15 +161,16 @@ def _warn_unknown(item: str, unknown: Sequence[Path]) -> None:
     n = len(unknown)
     where = f"in {item}" if Path(item).is_dir() else f"matched by {item!r}"
     warnings.warn(f"skipped {n} file{'s' if n > 1 else ''} of unknown type {where}: "
-                  f"{preview([p.as_posix() for p in unknown], 3)} (not filled: known mesh "
+                  f"{preview([u.relative for u in unknown], 3)} (not filled: known mesh "
                   f"extensions: {', '.join(SUPPORTED_FORMATS)})",
                   UnknownFilesWarning, stacklevel=3)
 
 
 def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike, *,
-                png: bool = False) -> list[FileJob]:
+                png: bool = False) -> Inputs:
     """The files to fill and their outputs: ``out_dir`` mirrors the inputs' layout; with
-    ``png``, each output's before/after picture too (:func:`picture_path`).
+    ``png``, each output's before/after picture too (:func:`picture_path`). The result is
+    a list of :class:`FileJob` whose ``unknown`` holds the files of unknown type (below).
 
     A file argument is written to ``out_dir/<its name>``; a folder is searched recursively
     for files with a known mesh extension (:data:`surfinpaint.io.SUPPORTED_FORMATS`; GIFTI
@@ -160,7 +183,8 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
     (:data:`COMPANION_SUFFIXES`: overlays, labels, material libraries, textures; FreeSurfer
     morphometry files such as ``lh.sulc``); any other file a folder holds or a glob matches
     that is not a mesh by its name (``notes.txt``, ``lh.pial.bak``, ``lh.sphere.reg``) is
-    not filled, and named.
+    not filled, and named: in a warning, and in the result's ``unknown``
+    (:class:`UnknownFile`; each file once, none inside ``out_dir``).
 
     Warns
     -----
@@ -181,11 +205,14 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
     seen: set[str] = set()
     targets: dict[Path, str] = {}
     reported: set[str] = set()
+    skipped: list[UnknownFile] = []
     for item in inputs:
         unknown: list[tuple[Path, Path]] = []
         expanded = list(_expand(os.fspath(item), unknown))
-        _warn_unknown(os.fspath(item), [relative for found, relative in unknown
-                                        if _new_stray(found, out_real, reported)])
+        strays = [UnknownFile(os.fspath(found), relative.as_posix(), os.fspath(item))
+                  for found, relative in unknown if _new_stray(found, out_real, reported)]
+        _warn_unknown(os.fspath(item), strays)
+        skipped += strays
         if not expanded:
             raise ValueError(f"{os.fspath(item)}: no mesh files there (known extensions: "
                              f"{', '.join(SUPPORTED_FORMATS)})")
@@ -218,7 +245,7 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
                                 relative.as_posix(), picture))
     if not jobs:
         raise ValueError("no input files given")
-    return jobs
+    return Inputs(jobs, skipped)
 
 
 def _new_stray(found: Path, out_real: str, reported: set[str]) -> bool:

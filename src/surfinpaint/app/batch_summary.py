@@ -14,12 +14,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from surfinpaint.app.batch_inputs import UnknownFile
 from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.fill.pipeline import METHODS
 from surfinpaint.io.atomic import atomic_open
 
 __all__ = ["FileRow", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "read_summary",
-           "write_summary"]
+           "read_unknown_files", "write_summary"]
 
 Status = Literal["filled", "closed", "failed", "skipped"]
 #: The statuses of a :class:`FileRow`, in the order the summary counts them.
@@ -83,9 +84,11 @@ def _csv_record(row: FileRow) -> dict[str, Any]:
 
 
 def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
-                  options: Mapping[str, Any] | None = None) -> tuple[Path, Path]:
-    """Write ``summary.csv`` and ``summary.json`` (with the fill options and the version)
-    into ``out_dir``, each atomically; returns their paths."""
+                  options: Mapping[str, Any] | None = None,
+                  unknown: Sequence[UnknownFile] = ()) -> tuple[Path, Path]:
+    """Write ``summary.csv`` and ``summary.json`` (with the fill options, the version and
+    the files of ``unknown`` type that were not filled, :attr:`.Inputs.unknown`: their
+    count and paths) into ``out_dir``, each atomically; returns their paths."""
     # here, not at the top: the package imports this module before it sets __version__
     from surfinpaint import __version__
 
@@ -96,7 +99,8 @@ def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
     writer.writerows(_csv_record(row) for row in rows)
     document = {"surfinpaint": __version__, "options": plain(dict(options or {})),
                 "files": [{**plain(dataclasses.replace(row, holes=())),
-                           "holes": [h.to_json() for h in row.holes]} for row in rows]}
+                           "holes": [h.to_json() for h in row.holes]} for row in rows],
+                "unknown_files": {"count": len(unknown), "paths": [u.path for u in unknown]}}
     with atomic_open(out / SUMMARY_CSV, "w") as handle:
         handle.write(text.getvalue())
     with atomic_open(out / SUMMARY_JSON, "w") as handle:
@@ -115,4 +119,14 @@ def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
                                                    entry.get("holes", ()))})
                 for entry in document["files"]]
     except (OSError, ValueError, KeyError, TypeError):
+        return []
+
+
+def read_unknown_files(out_dir: str | os.PathLike) -> list[str]:
+    """The paths of the files of unknown type that ``out_dir/summary.json`` records as not
+    filled; empty when it records none (or there is no readable summary)."""
+    try:
+        document = json.loads((Path(out_dir) / SUMMARY_JSON).read_text(encoding="utf-8"))
+        return [str(path) for path in document.get("unknown_files", {}).get("paths", [])]
+    except (OSError, ValueError, AttributeError):
         return []

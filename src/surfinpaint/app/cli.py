@@ -232,8 +232,11 @@ def cmd_batch(args: argparse.Namespace) -> int:
             console.print(f"[yellow]warning:[/yellow] {escape(named)}")
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     if not args.quiet:
-        console.print(f"{len(rows)} files: {counts}; wrote {Path(args.output) / batch.SUMMARY_CSV} "
-                      "and summary.json")
+        n = len(batch.read_unknown_files(args.output))
+        unknown = f"; {n} file{'s' if n > 1 else ''} of unknown type not filled (listed in " \
+            "summary.json)" if n else ""
+        console.print(f"{len(rows)} files: {counts}{unknown}; wrote "
+                      f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json")
     return EXIT_FAILURE if any(r.status == "failed" for r in rows) else EXIT_OK
 
 
