@@ -199,26 +199,32 @@ def compare_holes(
 
     out = []
     for k, loop in enumerate(loops):
-        rc, rf = conformal.reports[k], fair.reports[k]
-        comp = HoleComparison(
-            index=k, n_edges=len(loop), diameter=loop_diameter(vertices[loop]),
-            seconds={"fair": rf.seconds, "conformal": rc.seconds},
-            new_vertices={"fair": rf.new_vertices, "conformal": rc.new_vertices},
-            kept=rc.method == "conformal", fallback=rc.fallback or rc.note,
-            scores={} if rc.verdict is None else {
-                name.replace(" ", "_"): scores for name, scores in rc.verdict.tests.items()},
-            fair_order=rc.fair_order,
-            written="; ".join([written(rc), *(line.strip() for line in hole_lines(rc)[1:])]),
-            on_plane=rc.plane is not None,
-            written_panel=panel_fills(made, k).written_in,
-            skipped=rc.skipped if rc.outcome in ("skipped", "failed") else None,
-        )
+        comp = _comparison(k, loop, vertices, made)
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
                            for name in ("fair", "conformal", "conformal raw")}
         out.append(comp)
         step(f"hole {k}: measured")
     return out, made
+
+
+def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray, made: dict) -> HoleComparison:
+    """Hole ``k``'s comparison, without the errors: what each method made and wrote
+    (``made`` as :func:`compare_holes` returns it)."""
+    rc, rf = made["conformal"].reports[k], made["fair"].reports[k]
+    return HoleComparison(
+        index=k, n_edges=len(loop), diameter=loop_diameter(vertices[loop]),
+        seconds={"fair": rf.seconds, "conformal": rc.seconds},
+        new_vertices={"fair": rf.new_vertices, "conformal": rc.new_vertices},
+        kept=rc.method == "conformal", fallback=rc.fallback or rc.note,
+        scores={} if rc.verdict is None else {
+            name.replace(" ", "_"): scores for name, scores in rc.verdict.tests.items()},
+        fair_order=rc.fair_order,
+        written="; ".join([written(rc), *(line.strip() for line in hole_lines(rc)[1:])]),
+        on_plane=rc.plane is not None,
+        written_panel=panel_fills(made, k).written_in,
+        skipped=rc.skipped if rc.outcome in ("skipped", "failed") else None,
+    )
 
 
 def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray],
