@@ -277,3 +277,28 @@ def test_filling_a_hole_that_may_be_the_margin_warns_and_says_how_to_keep_it_ope
         with warnings.catch_warnings():
             warnings.simplefilter("error", MeshWarning)  # a hole named, or a small one
             fill_holes(*args, method="fair", **kwargs)
+
+
+def test_a_margin_hole_left_open_gets_no_warning_that_it_was_filled():
+    # the warning says "so it was filled": a hole skipped (here by its size; a bow-tie
+    # vertex on its loop skips one too) was not, and its skip is reported instead
+    from surfinpaint.io.base import MeshWarning
+
+    v, f = _sphere_cut_below(0.3, subdivisions=3)
+    (hole,) = find_holes(v, f)
+    assert hole.may_be_border
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fill_holes(v, f, method="fair", max_hole_edges=hole.n_edges - 1)
+    assert result.reports[0].outcome == "skipped"
+    assert not [w for w in caught if issubclass(w.category, MeshWarning)
+                and "outer border" in str(w.message)]
+
+
+@pytest.mark.parametrize("fraction, text", [(0.3999, "39%"), (0.4, "40%"), (0.38, "38%"),
+                                            (0.1, "10%"), (0.349, "34%")])
+def test_a_span_below_the_border_rule_never_reads_as_the_rule_itself(fraction, text):
+    # "spans 40% of its surface's area, below the 40%" read as a contradiction
+    from surfinpaint.fill.holes import percent_below
+
+    assert percent_below(fraction) == text

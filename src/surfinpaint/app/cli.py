@@ -39,7 +39,7 @@ from surfinpaint.app.progress import console as _console
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import warmup
-from surfinpaint.fill.holes import find_holes, warn_degenerate
+from surfinpaint.fill.holes import find_holes, percent_below, warn_degenerate
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
 from surfinpaint.geometry.orientation import orientation_note
@@ -119,7 +119,7 @@ def _kind(hole) -> str:
     if hole.spans_no_area:  # never filled: fill leaves it open with a warning
         return "spans no area (zero-area faces): left open"
     if hole.may_be_border:  # filled by default, with a warning
-        return f"hole (spans {hole.span_fraction:.0%} of its surface: the margin?)"
+        return f"hole (spans {percent_below(hole.span_fraction)} of its surface: the margin?)"
     return "hole"
 
 

@@ -31,6 +31,7 @@ objects = lazy_module("surfinpaint.fill.objects")
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
 __all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop",
+           "percent_below",
            "warn_degenerate"]
 
 # A component's longest loop is its outer border when the area the loop spans is at least
@@ -91,6 +92,12 @@ class Hole:
         """A hole (not ``is_border``) that spans at least ``MAY_BE_BORDER_FRACTION`` of its
         component: it may be an open surface's margin; filling it by default warns."""
         return not self.is_border and self.span_fraction >= MAY_BE_BORDER_FRACTION
+
+
+def percent_below(fraction: float) -> str:
+    """``fraction`` as a whole percentage rounded down: a loop that spans 39.7 % of its
+    surface is below the 40 % of ``BORDER_SPAN_FRACTION``, and says "39%", not "40%"."""
+    return f"{np.floor(100 * fraction + 1e-9):.0f}%"
 
 
 def loop_diameter(points: np.ndarray) -> float:

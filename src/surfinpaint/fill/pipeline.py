@@ -27,6 +27,7 @@ from surfinpaint.fill.holes import (
     find_holes,
     hole_numbers,
     loop_diameter,
+    percent_below,
     select_holes,
 )
 from surfinpaint.fill.neighbourhood import FilledMesh
@@ -262,9 +263,9 @@ def fill_holes(
     _check_flags(include_border=include_border, repair=repair, validate=validate,
                  zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, repaired, loops, numbers, incidence, zero_area, no_area = _found_holes(
-        vertices, faces, holes, method, include_border=include_border, repair=repair,
-        validate=validate)
+    vertices, faces, repaired, loops, numbers, incidence, zero_area, no_area, margins = \
+        _found_holes(vertices, faces, holes, method, include_border=include_border,
+                     repair=repair, validate=validate)
     reports = _hole_reports(vertices, loops, numbers, method)
     todo = _within_size(reports, max_hole_edges)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
@@ -275,6 +276,11 @@ def fill_holes(
               progress=progress, rings=neighbourhood_rings,
               position={id(r): k for k, r in enumerate(reports)})
     _fill_all(mesh, todo, run, jobs)
+    # after the fills: a hole skipped or failed for any reason was not filled, and its
+    # warning says so; this one is for the margin that was filled
+    _warn_may_be_border({r.index: margins[r.index] for r in reports
+                         if r.index in margins and r.outcome in ("lambda-h", "faired")},
+                        stacklevel=3)
     return _result(mesh, reports, repaired, merged,
                    (attributes, face_attributes, attribute_kinds))
 
@@ -307,22 +313,24 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
         incidence = incidence()  # before the thread is joined
     for note in degenerate_notes(faces, *degenerate):
         warnings.warn(note, MeshWarning, stacklevel=3)
-    if holes is None:  # chosen by the rule, not by the caller
-        _warn_may_be_border({k: found[k] for k in numbers}, stacklevel=4)
+    # chosen by the rule, not by the caller: warned about once filled
+    margins = {} if holes is not None else {
+        k: found[k] for k in numbers if k >= 0 and found[k].may_be_border}
     no_area = {k for k in numbers if k >= 0 and found[k].spans_no_area}
-    return vertices, faces, repaired, loops, numbers, incidence, degenerate[1], no_area
+    return (vertices, faces, repaired, loops, numbers, incidence, degenerate[1], no_area,
+            margins)
 
 
 def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
-    """A warning for each hole chosen to fill (``chosen``: its :func:`find_holes` number ->
-    hole) that may be the open surface's margin (:attr:`Hole.may_be_border`), saying how to
+    """A warning for each hole filled (``chosen``: its :func:`find_holes` number -> hole)
+    that may be the open surface's margin (:attr:`Hole.may_be_border`), saying how to
     keep it open."""
     for number, hole in chosen.items():
         if hole.may_be_border:
             warnings.warn(
                 f"hole {number}: its loop ({hole.n_edges} edges) "
-                f"spans {hole.span_fraction:.0%} of its surface's area, below the "
-                f"{BORDER_SPAN_FRACTION:.0%} that makes it the outer border, so it is filled; "
+                f"spans {percent_below(hole.span_fraction)} of its surface's area, below the "
+                f"{BORDER_SPAN_FRACTION:.0%} that makes it the outer border, so it was filled; "
                 "if it is the open margin of the surface (a tooth crown scanned to the gum), "
                 "keep it open with --holes or --max-hole-edges (holes=, max_hole_edges=)",
                 MeshWarning, stacklevel=stacklevel)
