@@ -838,3 +838,21 @@ def test_fill_takes_an_overlay_not_named_after_the_surface(tmp_path, capsys):
                  "--overlay", str(tmp_path / "nothere.gii"), "-q"]) == 1
     assert "nothere.gii: no such file" in capsys.readouterr().err
     assert not (tmp_path / "o2.gii").exists()
+
+
+def test_fill_names_the_overlay_files_it_writes_beside_the_surface(tmp_path, capsys):
+    # a FreeSurfer user saw 'wrote lh.filled.white' and two more files appear beside it
+    nib = pytest.importorskip("nibabel")
+    v, f = _holey_sphere()
+    nib.freesurfer.write_geometry(str(tmp_path / "lh.white"), v.astype(np.float32),
+                                  f.astype(np.int32))
+    nib.freesurfer.write_morph_data(str(tmp_path / "lh.curv"), v[:, 2].astype(np.float32))
+    out = tmp_path / "lh.filled.white"
+    assert main(["fill", str(tmp_path / "lh.white"), "-o", str(out), "--method", "fair"]) == 0
+    said = _flat(capsys.readouterr().err)
+    assert _flat(f"wrote {out}, {out}.curv") in said
+    assert (tmp_path / "lh.filled.white.curv").exists()
+    assert main(["fill", str(tmp_path / "lh.white"), "-o", str(tmp_path / "o.ply"),
+                 "--method", "fair"]) == 0  # the PLY carries curv itself: one file
+    assert _flat(f"wrote {tmp_path / 'o.ply'}") in _flat(capsys.readouterr().err)
+    assert not list(tmp_path.glob("o.ply.*"))

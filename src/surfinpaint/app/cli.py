@@ -42,11 +42,14 @@ from surfinpaint.fill import warmup
 from surfinpaint.fill.holes import find_holes, percent_below, warn_degenerate
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
+from surfinpaint.fill.unjoined import unjoined_borders_note
 from surfinpaint.geometry.orientation import orientation_note
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.atomic import remove_unfinished
+from surfinpaint.io.base import MeshWarning
 from surfinpaint.io.formats import (
     files_read,
+    files_written,
     output_format,
     read_mesh,
     read_mesh_data,
@@ -96,7 +99,7 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
         yield bar.update if enabled else None
 
 
-def _holes_table(vertices, faces, title: str) -> None:
+def _holes_table(vertices, faces, title: str) -> list:
     from rich.console import Console
     from rich.table import Table
 
@@ -110,6 +113,7 @@ def _holes_table(vertices, faces, title: str) -> None:
     Console().print(table)
     if not found:
         Console().print("The mesh is closed: no holes.")
+    return found
 
 
 def _kind(hole) -> str:
@@ -132,7 +136,9 @@ def cmd_holes(args: argparse.Namespace) -> int:
         if len(flipped):
             title += f"; --repair {orientation_note(flipped)}"
     warn_degenerate(vertices, faces, str(args.mesh))
-    _holes_table(vertices, faces, title)
+    unjoined = unjoined_borders_note(vertices, _holes_table(vertices, faces, title))
+    if unjoined is not None:
+        warnings.warn(f"{args.mesh}: {unjoined}", MeshWarning, stacklevel=1)
     return EXIT_OK
 
 
@@ -174,7 +180,9 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if args.png:
         figures.before_after(vertices, faces, result, args.png)
         say(f"wrote {args.png}")
-    say(f"wrote {args.output}" + (f" and {args.json}" if args.json else ""))
+    # the overlays beside a brain surface are files of their own: each is named
+    written = [str(args.output), *(str(p) for p in files_written(args.output, filled)[1:])]
+    say(f"wrote {', '.join(written)}" + (f" and {args.json}" if args.json else ""))
     return EXIT_OK
 
 

@@ -43,6 +43,7 @@ from surfinpaint.fill.seams import (
     zip_faces,
 )
 from surfinpaint.fill.topology import topology_changes
+from surfinpaint.fill.unjoined import unjoined_borders_note
 from surfinpaint.fill.warmup import Beside, load_for_workers, loading_beside
 from surfinpaint.geometry.degenerate import triangle_incidence, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
@@ -313,6 +314,9 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
         incidence = incidence()  # before the thread is joined
     for note in degenerate_notes(faces, *degenerate):
         warnings.warn(note, MeshWarning, stacklevel=3)
+    unjoined = unjoined_borders_note(vertices, found)
+    if unjoined is not None:  # else nothing says why a soup of faces has nothing filled
+        warnings.warn(unjoined, MeshWarning, stacklevel=3)
     # chosen by the rule, not by the caller: warned about once filled
     margins = {} if holes is not None else {
         k: found[k] for k in numbers if k >= 0 and found[k].may_be_border}

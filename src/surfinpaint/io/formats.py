@@ -69,8 +69,8 @@ from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
 from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
 
 __all__ = ["SUPPORTED_FORMATS", "DataNotReturnedWarning", "MeshData", "MeshWarning",
-           "files_read", "output_format", "read_mesh", "read_mesh_data", "write_mesh",
-           "write_mesh_data"]
+           "files_read", "files_written", "output_format", "read_mesh", "read_mesh_data",
+           "write_mesh", "write_mesh_data"]
 
 _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
 
@@ -311,6 +311,25 @@ def files_read(path: str | os.PathLike, *,
         except OSError:
             fmt = None
     return [p, *(_overlay_files(p, fmt, overlays) or [])]
+
+
+def files_written(path: str | os.PathLike, mesh: MeshData) -> list[Path]:
+    """Every file ``write_mesh_data(path, mesh)`` writes: the mesh file, then the overlays
+    beside a GIFTI or FreeSurfer surface (one a per-vertex array), for the user to be told.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> mesh = MeshData(np.eye(3), np.array([[0, 1, 2]]), {"sulc": np.zeros(3)})
+    >>> files_written("lh.filled.pial", mesh)
+    [PosixPath('lh.filled.pial'), PosixPath('lh.filled.pial.sulc')]
+    >>> files_written("out.ply", mesh)
+    [PosixPath('out.ply')]
+    """
+    p = Path(path)
+    fmt = _format_of(p)
+    beside = overlay_outputs(p, mesh, fmt) if fmt in ("gii", "gii.gz", "freesurfer") else []
+    return [p, *(target for target, _ in beside)]
 
 
 def _assemble(parsed: Parsed, corners: np.ndarray | None, owner: np.ndarray | None,

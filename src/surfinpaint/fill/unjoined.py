@@ -1,0 +1,71 @@
+"""Outer borders that run along other boundary edges: faces that do not join.
+
+A file that gives each face (or each flat-shaded or textured patch) its own copies of the
+vertices it shares with its neighbours, as exporters write per-face normals and texture
+coordinates (assimp's ``Wuson.ply``: 3,732 faces, 11,184 vertices), is a surface only to
+the eye: no two faces share an edge, every face is a piece of its own, and each piece's
+loop is its outer border. Nothing is filled, and without a word the user reads "5 holes
+found" and a written file. :func:`unjoined_borders_note` says what happened and what to do.
+Only the boundary's vertices are compared (exact coordinates), so it costs O(b log b) for
+b boundary vertices.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from surfinpaint.fill.holes import Hole
+
+__all__ = ["unjoined_borders_note"]
+
+
+def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole]) -> str | None:
+    """A warning's text when some outer borders run along other boundary edges.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    found : sequence of Hole
+        Every boundary loop, as :func:`~surfinpaint.fill.holes.find_holes` numbers them.
+
+    Returns
+    -------
+    str or None
+        None unless an outer border (:attr:`Hole.is_border`, left open) has an edge whose
+        two ends each lie exactly on another vertex of the boundary (a different id): a copy
+        of an edge elsewhere, so faces that meet there do not join. Else how many such
+        borders and vertices there are, examples of the coincident vertex pairs, and how to
+        join them (merge coincident vertices before filling).
+    """
+    borders = [k for k, h in enumerate(found) if h.is_border]
+    if not borders:
+        return None
+    ids = np.unique(np.concatenate([np.asarray(h.loop) for h in found]))
+    _, group, counts = np.unique(vertices[ids], axis=0, return_inverse=True,
+                                 return_counts=True)
+    group = group.ravel()
+    copied = np.zeros(len(vertices), dtype=bool)
+    copied[ids[counts[group] > 1]] = True  # another boundary vertex at the same point
+    unjoined = [k for k in borders
+                if (copied[found[k].loop] & copied[np.roll(found[k].loop, -1)]).any()]
+    if not unjoined:
+        return None
+    # examples: the two lowest ids at each of the first points held more than once
+    order = np.argsort(group, kind="stable")
+    first = np.r_[True, group[order[1:]] != group[order[:-1]]]
+    heads = np.flatnonzero(first[:-1] & ~first[1:])
+    pairs = ", ".join(f"{int(ids[order[i]])} = {int(ids[order[i + 1]])}" for i in heads[:5])
+    if len(heads) > 5:
+        pairs += f" and {len(heads) - 5} more points"
+    which = (f"all {len(borders)} outer borders" if len(unjoined) == len(borders)
+             else f"{len(unjoined)} of the {len(borders)} outer borders")
+    return (f"{which} run along other boundary edges: {int(copied.sum())} boundary "
+            f"vertices lie exactly on another vertex (the file gives faces their own "
+            f"copies of the vertices they share, as exporters do with per-face normals or "
+            f"texture coordinates; e.g. vertices {pairs}), so the faces there do not join, "
+            "and those loops are taken as the surface's outer borders and left open, not "
+            "filled; "
+            "merge coincident vertices first (trimesh: mesh.merge_vertices(); MeshLab: "
+            "Merge Close Vertices), then fill")
