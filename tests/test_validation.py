@@ -326,3 +326,20 @@ def test_zero_area_faces_block_by_block_equals_all_at_once(monkeypatch):
     assert len(mesh_module.face_blocks(len(f))) > 10
     assert np.array_equal(zero_area_faces(v, f), whole_flat)
     assert np.array_equal(face_areas(v, f), whole_area)  # the same bits
+
+
+def test_duplicate_faces_say_what_repair_does_with_them(tetrahedron):
+    # the error named the copies but not the option that fixes them, where the
+    # non-manifold edges' error did (session 34)
+    import trimesh
+
+    from surfinpaint import fill_holes
+
+    v, f = tetrahedron
+    _rejects(v, np.concatenate([f, f[3:]]), "1 duplicate faces",
+             "--repair (repair=True) removes the faces around")
+    s = trimesh.creation.icosphere(2)
+    v, f = np.asarray(s.vertices), np.asarray(s.faces)
+    result = fill_holes(v, np.concatenate([f, f[7:8]]), method="fair", repair=True)
+    assert 7 in result.removed_faces and len(f) in result.removed_faces
+    assert validate_mesh(result.vertices, result.faces).is_closed  # no copy left, no hole

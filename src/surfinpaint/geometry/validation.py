@@ -404,7 +404,11 @@ def _check_duplicates(table: EdgeTable, path: str | None, pairs=None) -> None:
     first, dup = faces_bad[order[same]], faces_bad[order[same + 1]]
     text = _listing([f"{int(b)} (same vertices as {int(a)})"
                      for a, b in zip(first[:10], dup[:10], strict=True)], len(dup))
-    raise _fail(f"{dup.size} duplicate faces: {text}", path, faces=dup[:100].tolist())
+    # their edges are shared by three or more faces where the copies meet others: what
+    # --repair removes (a lone doubled triangle it leaves, so the hint says where)
+    raise _fail(f"{dup.size} duplicate faces: {text}; where the copies meet other faces, "
+                "--repair (repair=True) removes the faces around them and fills the holes "
+                "that leaves", path, faces=dup[:100].tolist())
 
 
 def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
