@@ -856,3 +856,15 @@ def test_fill_names_the_overlay_files_it_writes_beside_the_surface(tmp_path, cap
                  "--method", "fair"]) == 0  # the PLY carries curv itself: one file
     assert _flat(f"wrote {tmp_path / 'o.ply'}") in _flat(capsys.readouterr().err)
     assert not list(tmp_path.glob("o.ply.*"))
+
+
+def test_holes_prints_a_long_path_on_one_line(tmp_path, capsys):
+    # a table title was wrapped at the table's width: '.../pymeshfix/ex' 'amples/...'
+    v, f = _holey_sphere()
+    folder = tmp_path / ("a_folder_with_a_long_name_" * 4)
+    folder.mkdir()
+    path = folder / "scan[1].ply"  # brackets: rich markup would eat them
+    write_mesh(path, v, f)
+    assert main(["holes", str(path)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert f"{path}: {len(v)} vertices, {len(f)} faces" in lines

@@ -104,7 +104,10 @@ def _holes_table(vertices, faces, title: str) -> list:
     from rich.table import Table
 
     found = find_holes(vertices, faces, validate=False)  # validated by cmd_holes
-    table = Table(title=title)
+    # the title on a line of its own, never wrapped: as a table title it was broken at the
+    # table's width, a long path across two lines (no longer found by grep or pasted back)
+    Console().print(title, soft_wrap=True, markup=False, highlight=False)
+    table = Table()
     for name in ("hole", "edges", "perimeter", "diameter", "component", "kind"):
         table.add_column(name, justify="right" if name != "kind" else "left")
     for i, h in enumerate(found):
