@@ -4,8 +4,10 @@ A file that gives each face (or each flat-shaded or textured patch) its own copi
 vertices it shares with its neighbours, as exporters write per-face normals and texture
 coordinates (assimp's ``Wuson.ply``: 3,732 faces, 11,184 vertices), is a surface only to
 the eye: no two faces share an edge, every face is a piece of its own, and each piece's
-loop is its outer border. Nothing is filled, and without a word the user reads "5 holes
-found" and a written file. :func:`unjoined_borders_note` says what happened and what to do.
+loop is its outer border. trimesh does the same along a textured mesh's UV seams
+(PyMeshLab's ``bunny10k_textured.obj``: 134 outer borders). Nothing is filled there, and without
+a word the user read "5 holes found" and a written file (session 34).
+:func:`unjoined_borders_note` says what happened and what to do.
 Only the boundary's vertices are compared (exact coordinates), so it costs O(b log b) for
 b boundary vertices.
 """
@@ -62,10 +64,11 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole]) -> str | 
     which = (f"all {len(borders)} outer borders" if len(unjoined) == len(borders)
              else f"{len(unjoined)} of the {len(borders)} outer borders")
     return (f"{which} run along other boundary edges: {int(copied.sum())} boundary "
-            f"vertices lie exactly on another vertex (the file gives faces their own "
+            f"vertices lie exactly on another vertex (the mesh gives faces their own "
             f"copies of the vertices they share, as exporters do with per-face normals or "
-            f"texture coordinates; e.g. vertices {pairs}), so the faces there do not join, "
-            "and those loops are taken as the surface's outer borders and left open, not "
-            "filled; "
-            "merge coincident vertices first (trimesh: mesh.merge_vertices(); MeshLab: "
-            "Merge Close Vertices), then fill")
+            f"texture coordinates, and trimesh along texture seams; e.g. vertices {pairs}), "
+            "so the faces there do not join, and those loops are taken as the surface's "
+            "outer borders and left open, not filled; merge coincident vertices first "
+            "(trimesh: "
+            "mesh.merge_vertices(merge_tex=True, merge_norm=True); MeshLab: Merge Close "
+            "Vertices), then fill")
