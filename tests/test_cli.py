@@ -868,3 +868,11 @@ def test_holes_prints_a_long_path_on_one_line(tmp_path, capsys):
     assert main(["holes", str(path)]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert f"{path}: {len(v)} vertices, {len(f)} faces" in lines
+
+
+def test_batch_counts_one_file_as_one_file(tmp_path, capsys):
+    v, f = _holey_sphere()
+    write_mesh(tmp_path / "one.ply", v, f)
+    assert main(["batch", str(tmp_path / "one.ply"), "-o", str(tmp_path / "out"), "--jobs",
+                 "1", "--method", "fair"]) == 0
+    assert "1file:1filled," in _flat(capsys.readouterr().err)

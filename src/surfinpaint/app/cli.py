@@ -246,7 +246,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
         n = len(batch.read_unknown_files(args.output))
         unknown = f"; {n} file{'s' if n > 1 else ''} of unknown type not filled (listed in " \
             "summary.json)" if n else ""
-        console.print(f"{len(rows)} files: {counts}{unknown}; wrote "
+        console.print(f"{len(rows)} file{'s' if len(rows) != 1 else ''}: {counts}{unknown}; wrote "
                       f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json")
     return EXIT_FAILURE if any(r.status == "failed" for r in rows) else EXIT_OK
 
