@@ -580,3 +580,22 @@ def test_batch_writes_inpainted_attributes(holed_sphere, tmp_path):
     back = read_mesh_data(job.target)
     assert np.array_equal(back.attributes["quality"][:n], v[:, 2])
     assert np.abs(back.attributes["quality"][n:] - back.vertices[n:, 2]).max() < 0.02
+
+
+def test_pyvista_field_data_is_named_as_not_carried():
+    # a PolyData's field data (one array for the whole mesh) vanished from to_pyvista's
+    # mesh without a word (session 34)
+    import warnings
+
+    pyvista = pytest.importorskip("pyvista")
+    from surfinpaint.io import MeshWarning
+
+    sphere = pyvista.Sphere(theta_resolution=12, phi_resolution=12)
+    sphere.field_data["scan_date"] = np.array([2026, 12, 6])
+    with pytest.warns(MeshWarning, match=r"field data 'scan_date' not carried"):
+        result = fill_holes(sphere, method="fair")
+    assert "scan_date" not in result.to_pyvista().field_data.keys()
+    del sphere.field_data["scan_date"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MeshWarning)
+        fill_holes(sphere, method="fair")

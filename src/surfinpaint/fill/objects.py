@@ -23,7 +23,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from surfinpaint.fill.face_attributes import fill_result_corner_attributes
-from surfinpaint.io import MeshData
+from surfinpaint.io import MeshData, MeshWarning
 
 __all__ = ["COLOUR_NAMES", "fill_mesh_data", "mesh_arrays", "to_pyvista", "to_trimesh"]
 
@@ -84,6 +84,11 @@ def _from_pyvista(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
         warnings.warn(f"PolyData: {' and '.join(made)} fan-triangulated (cell data follow "
                       "the triangles)", stacklevel=4)
         mesh = mesh.triangulate()
+    if mesh.field_data.keys():  # neither per point nor per cell: the arrays have no place
+        warnings.warn(f"PolyData field data {', '.join(map(repr, mesh.field_data.keys()))} "
+                      "not carried (one value for the whole mesh, not per point or cell): "
+                      "copy it to the filled mesh, out.field_data.update(mesh.field_data)",
+                      MeshWarning, stacklevel=4)
     faces = np.asarray(mesh.regular_faces, dtype=np.int64).reshape(-1, 3)
     attributes = {name: np.asarray(mesh.point_data[name]) for name in mesh.point_data.keys()}
     face_attributes = {name: np.asarray(mesh.cell_data[name])
