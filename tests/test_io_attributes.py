@@ -706,3 +706,21 @@ def test_the_attribute_api_is_at_the_top_level(tmp_path):
     np.testing.assert_array_equal(filled.vertices[: len(v)], v)
     assert (np.asarray(filled.attributes["colour"]) == [10, 200, 30]).all()
     assert issubclass(surfinpaint.SlitWarning, surfinpaint.MeshWarning)
+
+
+def test_obj_writes_opaque_rgba_colours_as_rgb_and_says_why_others_are_not(tmp_path):
+    # a PLY's RGBA colours (alpha 255 everywhere, as most writers store them) were not
+    # written to OBJ at all; OBJ's v x y z r g b has no alpha (session 34)
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    f = np.array([[0, 1, 2]])
+    rgba = np.array([[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255]], np.uint8)
+    with pytest.warns(MeshWarning, match="8-bit color is written as OBJ's float") as caught:
+        write_mesh_data(tmp_path / "o.obj", MeshData(v, f, attributes={"color": rgba}))
+    assert not [w for w in caught if "not written" in str(w.message)]
+    back = read_mesh_data(tmp_path / "o.obj")
+    np.testing.assert_array_equal(back.attributes["color"] * 255, rgba[:, :3])
+    see_through = rgba.copy()
+    see_through[1, 3] = 254
+    with pytest.warns(MeshWarning, match=r"per-vertex color \(RGBA, not opaque\)"):
+        write_mesh_data(tmp_path / "t.obj", MeshData(v, f, attributes={"color": see_through}))
+    assert "color" not in read_mesh_data(tmp_path / "t.obj").attributes

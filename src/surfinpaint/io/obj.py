@@ -147,10 +147,20 @@ def _obj_arrays(mesh: MeshData) -> dict[str, tuple[str, np.ndarray]]:
             out[key] = ("corner", corner)
         elif vertex is not None and vertex.shape[1:] == (width,) and vertex.dtype.kind in "fiu":
             out[key] = ("vertex", vertex)
-    colour = mesh.attributes.get("color")
+    colour = _opaque_rgb(mesh.attributes.get("color"))
     if colour is not None and colour.shape[1:] == (3,) and colour.dtype.kind in "fiu":
         out["color"] = ("vertex", colour / 255.0 if colour.dtype == np.uint8 else colour)
     return out
+
+
+def _opaque_rgb(colour: np.ndarray | None) -> np.ndarray | None:
+    """``colour`` without its alpha column where every alpha is opaque (255 in 8 bits, 1.0
+    in floats): OBJ's ``v x y z r g b`` has no alpha, and an opaque one loses nothing (a
+    PLY's RGBA colours were not written at all, session 34); else ``colour`` as it is."""
+    if colour is None or colour.ndim != 2 or colour.shape[1] != 4:
+        return colour
+    opaque = 255 if colour.dtype == np.uint8 else 1.0 if colour.dtype.kind == "f" else None
+    return colour[:, :3] if opaque is not None and np.all(colour[:, 3] == opaque) else colour
 
 
 def unstored_obj(mesh: MeshData) -> list[str]:
@@ -158,6 +168,9 @@ def unstored_obj(mesh: MeshData) -> list[str]:
     kept = _obj_arrays(mesh)
     names = [f"per-vertex {k}" for k in mesh.attributes
              if k not in kept or kept[k][0] != "vertex"]
+    if "color" in mesh.attributes and "color" not in kept \
+            and np.shape(mesh.attributes["color"])[1:] == (4,):  # say why
+        names[names.index("per-vertex color")] = "per-vertex color (RGBA, not opaque)"
     names += [f"per-face {k}" for k, a in mesh.face_attributes.items()
               if k not in _LABELS or np.asarray(a).ndim != 1]
     names += [f"per-corner {k}" for k in mesh.corner_attributes
