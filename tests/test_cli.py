@@ -341,7 +341,8 @@ def test_closed_mesh_has_nothing_to_fill(tmp_path, capsys):
     write_mesh(path, v, f)
     out = tmp_path / "out.obj"
     assert main(["fill", str(path), "-o", str(out)]) == 0
-    assert "nothingtofill" in _flat(capsys.readouterr().err)
+    # not '(no holes apart from the outer border)': a closed mesh has none (session 34)
+    assert "nothingtofill(themeshisclosed:noholes)" in _flat(capsys.readouterr().err)
     v2, f2 = read_mesh(out)
     np.testing.assert_array_equal(v2, v)
     np.testing.assert_array_equal(f2, f)
@@ -876,3 +877,11 @@ def test_batch_counts_one_file_as_one_file(tmp_path, capsys):
     assert main(["batch", str(tmp_path / "one.ply"), "-o", str(tmp_path / "out"), "--jobs",
                  "1", "--method", "fair"]) == 0
     assert "1file:1filled," in _flat(capsys.readouterr().err)
+
+
+def test_an_open_surface_without_holes_is_told_its_border_was_left_open(tmp_path, capsys):
+    v, f = sphere(2)
+    path = tmp_path / "bowl.ply"  # a hemisphere: its rim is the outer border, no hole
+    write_mesh(path, v, f[v[f].mean(axis=1)[:, 2] < 0])
+    assert main(["fill", str(path), "-o", str(tmp_path / "out.ply")]) == 0
+    assert "nothingtofill(noholesapartfromtheouterborder)" in _flat(capsys.readouterr().err)

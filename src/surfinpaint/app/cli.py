@@ -43,6 +43,7 @@ from surfinpaint.fill.holes import find_holes, percent_below, warn_degenerate
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
 from surfinpaint.fill.unjoined import unjoined_borders_note
+from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.orientation import orientation_note
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.atomic import remove_unfinished
@@ -169,9 +170,10 @@ def cmd_fill(args: argparse.Namespace) -> int:
         say(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
             "edges and bow-tie vertices; the holes they left were filled too")
     if not result.reports:
-        say(f"{args.mesh}: nothing to fill (no holes"
-            f"{'' if args.all else ' apart from the outer border'}); "
-            f"wrote the mesh unchanged to {args.output}")
+        # a closed surface has no outer border to speak of (fsaverage's pial surface)
+        why = "the mesh is closed: no holes" if args.all or not boundary_loops(result.faces) \
+            else "no holes apart from the outer border"
+        say(f"{args.mesh}: nothing to fill ({why}); wrote the mesh unchanged to {args.output}")
     files = {"input": str(args.mesh), "output": str(args.output), "png": args.png}
     tell(result, summary, caught, console=console,
          verbose=args.verbose, json_path=args.json, files=files,
