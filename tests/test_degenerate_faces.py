@@ -336,6 +336,8 @@ def test_report_skips_a_hole_beside_a_zero_area_face_unless_it_is_named(tmp_path
     assert not (named / "index.html").exists()
     # the other hole named alone is reported
     assert main(["report", str(source), "-o", str(named), "--holes", "1", "-q"]) == 0
+    assert main(["report", str(source), "-o", str(named), "--holes", "1"]) == 0
+    assert "index.html and 1 panel\n" in capsys.readouterr().err  # not '1 panels'
 
 
 def _stray_triangle(corners):

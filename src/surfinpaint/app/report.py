@@ -496,5 +496,6 @@ def run_report(args: argparse.Namespace) -> int:
                                    step=step, title=f"surfinpaint report: {args.mesh}")
     for c in comparisons:
         console.print(hole_title(c).replace("\n", "; "))
-    console.print(f"wrote {Path(args.output) / 'index.html'} and {len(comparisons)} panels")
+    n = len(comparisons)
+    console.print(f"wrote {Path(args.output) / 'index.html'} and {n} panel{'s' if n != 1 else ''}")
     return 0
