@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from surfinpaint.errors import MeshError, preview
-from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_morphometry
+from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_gifti_data, is_morphometry
 from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format
 
 __all__ = ["COMPANION_SUFFIXES", "FileJob", "Inputs", "UnknownFile", "UnknownFilesWarning",
@@ -78,7 +78,8 @@ def picture_path(target: Path) -> Path:
 
 #: Files that go with a mesh and are not meshes themselves: GIFTI overlays (read with their
 #: surface), FreeSurfer labels and annotations, OBJ material libraries and texture images.
-#: A folder's such files (and FreeSurfer morphometry files, ``lh.sulc``, known by their
+#: A folder's such files (and FreeSurfer morphometry files, ``lh.sulc``, and GIFTI data files
+#: that hold no surface, ``sulc_left.gii.gz``, both known by their
 #: content) are left out without a word; any other file that is not a mesh is named in an
 #: :class:`UnknownFilesWarning`.
 COMPANION_SUFFIXES = (*OVERLAY_SUFFIXES, ".label", ".annot", ".mtl", ".png", ".jpg", ".jpeg",
@@ -105,7 +106,14 @@ def _is_unknown(path: Path) -> bool:
     system's and editors' files, the atomic writer's temporary files), not a companion of a
     mesh (:data:`COMPANION_SUFFIXES`, FreeSurfer morphometry files)."""
     return not (path.name.startswith(".") or path.name.lower().endswith(COMPANION_SUFFIXES)
-                or is_morphometry(path))
+                or is_morphometry(path) or is_gifti_data(path))
+
+
+def _is_mesh(path: Path) -> bool:
+    """A mesh file by its name (:func:`_is_mesh_name`) that is not a GIFTI data file (an
+    overlay named as nilearn names them, ``sulc_left.gii.gz``: a companion, not a failed
+    file; session 34)."""
+    return _is_mesh_name(path.name) and not is_gifti_data(path)
 
 
 def _meshes_under(folder: Path, unknown: list[Path]) -> Iterator[Path]:
@@ -114,7 +122,7 @@ def _meshes_under(folder: Path, unknown: list[Path]) -> Iterator[Path]:
     for root, dirs, files in os.walk(folder):
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
         for name in sorted(files):
-            if _is_mesh_name(name):
+            if _is_mesh(Path(root) / name):
                 yield Path(root) / name
             elif _is_unknown(Path(root) / name):
                 unknown.append(Path(root) / name)
@@ -144,7 +152,7 @@ def _expand(item: str, unknown: list[tuple[Path, Path]]) -> Iterator[tuple[Path,
             if found.is_dir():
                 for inner in _meshes_under(found, strays):
                     yield inner, inner.relative_to(base)
-            elif _is_mesh_name(found.name):
+            elif _is_mesh(found):
                 yield found, found.relative_to(base)
             elif _is_unknown(found):
                 strays.append(found)

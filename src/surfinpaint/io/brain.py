@@ -191,6 +191,31 @@ def is_morphometry(p: Path) -> bool:
         return False
 
 
+def is_gifti_data(p: Path) -> bool:
+    """Whether ``p``, a ``.gii`` or ``.gii.gz`` file by its name, holds data arrays and no
+    surface (no ``NIFTI_INTENT_POINTSET`` array): an overlay named as nilearn names
+    fsaverage's, ``sulc_left.gii.gz``, beside ``pial_left.gii.gz``, which no name rule tells
+    from a surface. Read until the pointset's intent is seen (a surface's first array, at
+    its start) or to the end (an overlay: small); an unreadable file is not called data (its
+    reader's error names it)."""
+    lower = p.name.lower()
+    if not lower.endswith((".gii", ".gii.gz")):
+        return False
+    opener = gzip.open if lower.endswith(".gz") else open
+    seen, arrays = b"", False
+    try:
+        with opener(p, "rb") as fh:
+            while chunk := fh.read(1 << 16):
+                text = seen[-64:] + chunk  # a tag cut between two chunks
+                if b"NIFTI_INTENT_POINTSET" in text:
+                    return False
+                arrays = arrays or b"<DataArray" in text
+                seen = chunk
+    except (OSError, EOFError, gzip.BadGzipFile, ValueError):
+        return False
+    return arrays
+
+
 def overlay_name(overlay: Path, surface: Path | None = None) -> str:
     """The attribute name of an overlay file: ``lh.pial.thickness.shape.gii`` beside
     ``lh.pial.gii`` -> ``thickness``; ``lh.curv`` -> ``curv``."""
