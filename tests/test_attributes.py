@@ -19,6 +19,7 @@ from surfinpaint.fill.attributes import (
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import connected_components, mean_edge_length, vertex_normals
+from surfinpaint.io import MeshWarning
 
 DIRECTION = np.array([0.6, 0.3, 0.7]) / np.linalg.norm([0.6, 0.3, 0.7])
 
@@ -333,7 +334,7 @@ def test_trimesh_texture_uv_comes_back_as_visual_uv_and_a_scene_is_refused(holed
     v, f = holed_sphere
     uv = v[:, :2] * 0.5 + 0.5
     mesh = trimesh.Trimesh(v, f, process=False, visual=trimesh.visual.TextureVisuals(uv=uv))
-    with pytest.warns(UserWarning, match="image and material are not"):
+    with pytest.warns(MeshWarning, match="image and material are not"):
         result = fill_holes(mesh, method="fair")
     out = result.to_trimesh()
     assert out.visual.kind == "texture" and "uv" not in out.vertex_attributes
@@ -390,14 +391,14 @@ def test_pyvista_polygons_are_triangulated_with_a_warning():
     pyvista = pytest.importorskip("pyvista")
     plane = pyvista.Plane(i_resolution=6, j_resolution=6)  # quads, with an open border
     plane.point_data["x"] = plane.points[:, 0]
-    with pytest.warns(UserWarning, match="36 polygons of more than 3 sides fan-triangulated"):
+    with pytest.warns(MeshWarning, match="36 polygons of more than 3 sides fan-triangulated"):
         fill_holes(plane, method="fair")
     plane = plane.triangulate().merge(pyvista.Plane(center=(3, 0, 0)))  # 72 + 100 quads
-    with pytest.warns(UserWarning, match=r"PolyData: 100 polygons of more than 3 sides f"):
+    with pytest.warns(MeshWarning, match=r"PolyData: 100 polygons of more than 3 sides f"):
         fill_holes(plane, method="fair")
     plane = pyvista.Plane(i_resolution=6, j_resolution=6)
     plane.point_data["x"] = plane.points[:, 0]
-    with pytest.warns(UserWarning, match="fan-triangulated"):
+    with pytest.warns(MeshWarning, match="fan-triangulated"):
         result = fill_holes(plane, method="fair")
     assert result.faces.shape[1] == 3 and len(result.faces) == 72
     assert np.array_equal(result.attributes["x"], plane.points[:, 0])
@@ -463,7 +464,7 @@ def test_corner_attributes_carried_in_one_chart_and_not_across_a_seam(filled_sph
     loop_vertex = result.reports[0].loop[0]
     face = np.flatnonzero((f == loop_vertex).any(axis=1))[0]
     seam[face, f[face] == loop_vertex] += 1.0
-    with pytest.warns(UserWarning, match="'uv' has several values or none at 1 vertices"):
+    with pytest.warns(MeshWarning, match="'uv' has several values or none at 1 vertices"):
         cut = fill_result_corner_attributes(result, {"uv": seam})["uv"]
     assert np.isnan(cut[len(f):]).all() and np.array_equal(cut[: len(f)], seam)
     with pytest.raises(ValueError, match="must be a float"):
@@ -556,7 +557,7 @@ def test_cli_fill_carries_obj_texture_coordinates_at_a_seam_elsewhere(holed_sphe
     uv[face, f[face] == far] += 0.5  # a seam at the vertex farthest from the hole
     source, out = tmp_path / "in.obj", tmp_path / "out.obj"
     write_mesh_data(source, MeshData(v, f, corner_attributes={"uv": uv}))
-    with pytest.warns(UserWarning, match="seam"):
+    with pytest.warns(MeshWarning, match="seam"):
         assert main(["fill", str(source), "-o", str(out), "--method", "fair", "-q"]) == 0
         back = read_mesh_data(out)
     corners = back.corner_attributes["uv"]
@@ -588,8 +589,6 @@ def test_pyvista_field_data_is_named_as_not_carried():
     import warnings
 
     pyvista = pytest.importorskip("pyvista")
-    from surfinpaint.io import MeshWarning
-
     sphere = pyvista.Sphere(theta_resolution=12, phi_resolution=12)
     sphere.field_data["scan_date"] = np.array([2026, 12, 6])
     with pytest.warns(MeshWarning, match=r"field data 'scan_date' not carried"):

@@ -306,6 +306,10 @@ def test_a_torus_cut_across_its_tube_warns_that_the_genus_changed(flip):
     assert texts.count(change.message) == 1
     # at the line that called fill_holes
     assert [w.filename for w in caught if str(w.message) == change.message] == [__file__]
+    # a MeshWarning, as every warning about the mesh (a plain UserWarning before session 34)
+    from surfinpaint.io import MeshWarning
+
+    assert [w.category for w in caught if str(w.message) == change.message] == [MeshWarning]
     assert "holes 0 and 1" in change.message and "genus from 1 to 0" in change.message
 
 

@@ -50,6 +50,7 @@ from surfinpaint.geometry.degenerate import triangle_incidence
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import cotangent_laplacian, faces_near, mass_matrix, vertex_normals
 from surfinpaint.geometry.parameterization import flipped_faces, lscm
+from surfinpaint.io.base import MeshWarning
 from surfinpaint.lazy import lazy_module
 
 # imported at its first use (see fill/holes.py)
@@ -557,7 +558,8 @@ def fill_result_attributes(
         except (RuntimeError, np.linalg.LinAlgError) as exc:
             # a singular patch system: the geometry is filled, its attributes must not be lost
             warnings.warn(f"hole {report.index}: attributes not inpainted ({exc}); the new "
-                          "vertices copy the nearest original vertex's values", stacklevel=2)
+                          "vertices copy the nearest original vertex's values", MeshWarning,
+                          stacklevel=2)
             _, nearest = spatial.cKDTree(result.vertices[:n]).query(result.vertices[new_ids])
             filled = {name: a[nearest] for name, a in originals.items()}
         for name, values in filled.items():

@@ -30,6 +30,7 @@ from surfinpaint.fill.attributes import (
     labels_by_indicators,
 )
 from surfinpaint.geometry.mesh import edge_faces
+from surfinpaint.io.base import MeshWarning
 
 __all__ = ["fill_corner_attributes", "fill_face_attributes", "fill_result_corner_attributes",
            "fill_result_face_attributes"]
@@ -176,7 +177,7 @@ def fill_corner_attributes(
             warnings.warn(f"hole {'' if hole is None else hole}: corner attribute {name!r} "
                           f"has several values or none at {int((known & ~single).sum())} "
                           "vertices around the hole (a seam): its new faces' corners get "
-                          "no value (NaN)", stacklevel=3)
+                          "no value (NaN)", MeshWarning, stacklevel=3)
             out[name] = np.full((len(fill_faces), 3, k), np.nan)
             continue
         low[~known] = 0.0

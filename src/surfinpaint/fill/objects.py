@@ -58,7 +58,7 @@ def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
         if uv is not None and len(uv) == len(mesh.vertices):
             attributes.setdefault("uv", np.asarray(uv))
         warnings.warn("trimesh texture: the texture coordinates are carried as the attribute "
-                      "'uv', the image and material are not", stacklevel=4)
+                      "'uv', the image and material are not", MeshWarning, stacklevel=4)
     return np.asarray(mesh.vertices), np.asarray(mesh.faces), attributes, face_attributes
 
 
@@ -82,7 +82,7 @@ def _from_pyvista(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
                                                "than 3 sides"), (mesh.n_strips, "strips"))
                 if n]
         warnings.warn(f"PolyData: {' and '.join(made)} fan-triangulated (cell data follow "
-                      "the triangles)", stacklevel=4)
+                      "the triangles)", MeshWarning, stacklevel=4)
         mesh = mesh.triangulate()
     if mesh.field_data.keys():  # neither per point nor per cell: the arrays have no place
         warnings.warn(f"PolyData field data {', '.join(map(repr, mesh.field_data.keys()))} "

@@ -386,7 +386,7 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
     result = _with_attributes(result, *attributes)
     result.topology = topology_changes(result)
     for change in result.topology:
-        warnings.warn(change.message, stacklevel=3)
+        warnings.warn(change.message, MeshWarning, stacklevel=3)
     return result
 
 
