@@ -25,9 +25,9 @@ from surfinpaint.app.batch import (
     fill_files,
     find_inputs,
     read_summary,
-    read_unknown_files,
 )
 from surfinpaint.app.batch_inputs import UnknownFilesWarning
+from surfinpaint.app.batch_summary import read_unknown_files
 from surfinpaint.app.cli import main
 from surfinpaint.data import snowman, sphere, torus
 from surfinpaint.fill.pipeline import fill_holes
@@ -275,8 +275,10 @@ def test_the_summary_lists_the_files_of_unknown_type_and_not_their_companions(
     assert ("warning: skipped 1 file of unknown type" in err) == (quiet < 2)
     # fill_files writes them too, each once; find_inputs' result holds them
     with pytest.warns(UnknownFilesWarning):
-        fill_files([scans, scans], out, jobs=1, overwrite=True)
+        rows = fill_files([scans, scans], out, jobs=1, overwrite=True)
     assert read_unknown_files(out) == [str(scans / "notes.txt")]
+    assert [u.path for u in rows.unknown] == [str(scans / "notes.txt")]  # what it returns
+    assert [r.status for r in rows] == ["closed", "closed"] and isinstance(rows, list)
     assert read_unknown_files(tmp_path / "nowhere") == []
     with pytest.warns(UnknownFilesWarning):
         found = find_inputs([scans], out)

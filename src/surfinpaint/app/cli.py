@@ -234,7 +234,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
             console.print(f"[yellow]warning:[/yellow] {escape(named)}")
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     if not args.quiet:
-        n = len(batch.read_unknown_files(args.output))
+        n = len(rows.unknown)
         unknown = f"; {n} file{'s' if n > 1 else ''} of unknown type not filled (listed in " \
             "summary.json)" if n else ""
         console.print(f"{len(rows)} files: {counts}{unknown}; wrote "
