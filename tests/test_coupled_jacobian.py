@@ -178,51 +178,20 @@ def test_newton_s_dense_step_is_the_jacobian_s_without_its_product_with_the_inve
     stiffness = np.zeros(J.size)
     np.add.at(stiffness, *dense._stiffness())
     assert np.array_equal(stiffness.reshape(J.shape), np.kron(L_ff, np.eye(3)))
-    # where R − L̃ is exactly singular (in float32 and float64), the step is J − I's as before
+    # where R − L̃ is exactly singular, the step is J − I's as before
     calls = []
 
     def singular(a, overwrite_a=False):
         calls.append(a.shape)
         return a, np.arange(1, len(a) + 1, dtype=np.int32), 1
 
-    original, refined = coupled_jacobian._GETRF, coupled_jacobian.refined_solve
+    original = coupled_jacobian._GETRF
     try:
         coupled_jacobian._GETRF = singular
-        coupled_jacobian.refined_solve = lambda A, b: None
         again = newton_step(system, points, phi[system.f], r)
     finally:
-        coupled_jacobian._GETRF, coupled_jacobian.refined_solve = original, refined
+        coupled_jacobian._GETRF = original
     assert calls and np.array_equal(again, want)
-
-
-def test_newton_s_dense_step_in_mixed_precision_is_the_float64_lu_s(monkeypatch):
-    # the float32 LU refined to float64's backward error (session 34 helper) gives the step
-    # of the float64 LU of R − L̃ to rounding; where the refinement gives up, that LU's bits
-    from surfinpaint.representation import coupled_jacobian
-    from surfinpaint.representation.coupled_jacobian import _DenseJacobian, newton_step
-
-    system, points, phi, _ = _system(30, 6)
-    dense = _DenseJacobian.of(system)
-    r = np.random.default_rng(5).standard_normal(3 * len(system.f))
-    A = np.ascontiguousarray(dense.right_hand_side(phi)).reshape(len(r), len(r))
-    A.reshape(-1)[dense._stiffness()[0]] -= dense._stiffness()[1]
-    b = -(system.L_ff @ r.reshape(-1, 3)).ravel()
-    lu, piv, _ = coupled_jacobian._GETRF(A.T.copy(order="F"))  # the float64 path's LU
-    want = coupled_jacobian._GETRS(lu, piv, b, trans=1)[0]
-    used, refined = [], coupled_jacobian.refined_solve
-
-    def spy(A, b):
-        out = refined(A, b)
-        used.append(out is not None)
-        return out
-
-    monkeypatch.setattr(coupled_jacobian, "refined_solve", spy)
-    got = newton_step(system, points, phi[system.f], r)
-    assert used == [True]
-    assert not np.array_equal(got, want)  # not the float64 LU's bits ...
-    assert np.abs(got - want).max() < 1e-12 * np.abs(want).max()  # ... its step to rounding
-    monkeypatch.setattr(coupled_jacobian, "refined_solve", lambda A, b: None)
-    assert np.array_equal(newton_step(system, points, phi[system.f], r), want)
 
 
 def central_differences(system, phi: np.ndarray) -> np.ndarray:

@@ -1,24 +1,17 @@
-"""Sparse direct solves shared by the parameterization, inpainting and reconstruction, and
-the λ-H fill's dense Newton steps solved in mixed precision (:func:`refined_solve`)."""
+"""Sparse direct solves shared by the parameterization, inpainting and reconstruction."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from surfinpaint.geometry.edges import stable_key_sort
 
 __all__ = ["definite_lu", "factorized_definite", "factorized_definite_ordered",
-           "factorized_ordered", "laplacian_from_weights", "nested_dissection",
-           "refined_solve"]
-
-_SGETRF = sla.get_lapack_funcs("getrf", dtype=np.float32)
-_SGETRS = sla.get_lapack_funcs("getrs", dtype=np.float32)
-REFINEMENT_STEPS = 10  # LAPACK's dsgesv allows 30; the Newton steps here take 2-5
+           "factorized_ordered", "laplacian_from_weights", "nested_dissection"]
 
 
 def definite_lu(A: sp.spmatrix) -> spla.SuperLU:
@@ -226,59 +219,3 @@ def laplacian_from_weights(i: np.ndarray, j: np.ndarray, w: np.ndarray, n: int
     rows = keys // n
     np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
     return sp.csr_matrix((value, (keys % n).astype(index), indptr), shape=(n, n))
-
-
-def refined_solve(A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    """``A x = b`` for a dense float64 ``A``, by an LU factorization in float32 and
-    iterative refinement with float64 residuals (LAPACK's ``dsgesv`` scheme), or None where
-    that does not reach float64's accuracy (the caller then factors ``A`` in float64).
-
-    The refinement stops, as ``dsgesv`` does, once the residual is at float64's backward
-    error, ``‖b − A x‖∞ ≤ √n ‖A‖∞ ‖x‖∞ ε``; it gives up (None) where ``A`` is singular in
-    float32, where a correction is more than half the one before it (``A``'s condition
-    number near 1/ε₃₂: the float32 factors no longer contract the error), or after
-    :data:`REFINEMENT_STEPS` corrections. Each correction costs a product with ``A`` and
-    two float32 triangular solves, O(n²); the float32 LU costs about 0.65 of float64's
-    (n ≈ 270-380, one core, OpenBLAS).
-
-    Parameters
-    ----------
-    A : (n, n) float array
-        C-contiguous (its transpose is then Fortran-ordered: LAPACK reads it without a
-        copy). Not changed.
-    b : (n,) float array
-
-    Returns
-    -------
-    (n,) float array or None
-        ``x``, the same as a float64 LU's solution to rounding (the two differ by about
-        ``cond(A) ε`` relative, as any two backward-stable solutions do), or None.
-
-    Examples
-    --------
-    >>> A = np.array([[4.0, 1.0], [1.0, 3.0]])
-    >>> x = refined_solve(A, np.array([1.0, 2.0]))
-    >>> bool(np.allclose(A @ x, [1.0, 2.0], rtol=0, atol=1e-15))
-    True
-    """
-    n = len(b)
-    # Aᵀ in Fortran order is A's memory: factoring it and solving transposed solves A x = b
-    lu, piv, info = _SGETRF(A.T.astype(np.float32), overwrite_a=True)
-    if info != 0:
-        return None
-    bound = np.sqrt(n) * float(np.abs(A).sum(axis=1).max()) * np.finfo(np.float64).eps
-    x = np.zeros(n)
-    residual, previous = b, np.inf
-    for _ in range(REFINEMENT_STEPS):
-        correction, info = _SGETRS(lu, piv, residual.astype(np.float32), trans=1)
-        if info != 0:
-            return None
-        x += correction
-        residual = b - A @ x
-        if float(np.abs(residual).max()) <= bound * float(np.abs(x).max()):
-            return x
-        size = float(np.abs(correction).max())
-        if not size <= 0.5 * previous:  # (NaN too)
-            return None
-        previous = size
-    return None

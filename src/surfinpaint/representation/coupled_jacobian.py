@@ -9,7 +9,6 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from surfinpaint.geometry.linalg import refined_solve
 from surfinpaint.geometry.mesh import vertex_areas
 from surfinpaint.representation.face_derivatives import kept_blocks, update_rhs
 from surfinpaint.representation.mesh_lambda_h import (
@@ -449,28 +448,20 @@ class _DenseJacobian:
         The same step to rounding (measured: 2e-12 relative at most over CAD channel #5's
         67 steps). Raises ``np.linalg.LinAlgError`` where ``R − L̃`` is exactly singular.
 
-        Solved in mixed precision (:func:`~surfinpaint.geometry.linalg.refined_solve`: a
-        float32 LU refined to float64's backward error), else by a float64 LU.
-
         Why: the product ``L_ff⁻¹ R`` cost as many flops as the LU of ``J − I``, a fifth of
-        a step (session 33 helper); the float64 LU was then a third of a step, the float32
-        LU with its refinement costs about 0.8 of it (session 34 helper). :meth:`at`, which
-        Levenberg–Marquardt takes, is unchanged. (``R``'s products with the sparse
-        derivatives taken as sparse products measured faster on 121 free vertices, slower
-        on 80 and fewer: not kept.)"""
+        a step (session 33 helper). :meth:`at`, which Levenberg–Marquardt takes, is
+        unchanged. (``R``'s products with the sparse derivatives taken as sparse products
+        measured faster on 121 free vertices, slower on 80 and fewer: not kept.)"""
         n_free, P = len(self.system.f), self.shape[1]
         flat, values = self._stiffness()
         R = np.ascontiguousarray(self.right_hand_side(phi)).reshape(3 * n_free, P)
         R.reshape(-1)[flat] -= values  # a view: R is contiguous
-        rhs = -(self.system.L_ff @ r.reshape(n_free, 3)).ravel()
-        dx = refined_solve(R, rhs)
-        if dx is not None:
-            return dx
         # LAPACK on Rᵀ's memory (Fortran order, no copy), solved transposed
         lu, piv, info = _GETRF(R.T, overwrite_a=True)
         if info > 0:
             raise np.linalg.LinAlgError("R − L̃ is exactly singular")
-        dx, info = _GETRS(lu, piv, rhs, trans=1)
+        dx, info = _GETRS(lu, piv, -(self.system.L_ff @ r.reshape(n_free, 3)).ravel(),
+                          trans=1)
         if info:
             raise ValueError(f"getrs: illegal value in argument {-info}")
         return dx
