@@ -25,9 +25,9 @@ from surfinpaint.app.batch import (
     fill_files,
     find_inputs,
     read_summary,
-    read_unknown_files,
 )
 from surfinpaint.app.batch_inputs import UnknownFilesWarning
+from surfinpaint.app.batch_summary import read_unknown_files
 from surfinpaint.app.cli import main
 from surfinpaint.data import snowman, sphere, torus
 from surfinpaint.fill.pipeline import fill_holes
@@ -282,7 +282,7 @@ def test_cli_batch_names_the_files_it_skips_and_still_succeeds(tmp_path, capsys)
     assert "1 closed" in err
 
 
-@pytest.mark.parametrize("quiet", [False, True])
+@pytest.mark.parametrize("quiet", [0, 1, 2])
 def test_the_summary_lists_the_files_of_unknown_type_and_not_their_companions(
         tmp_path, capsys, quiet):
     pytest.importorskip("nibabel")
@@ -302,11 +302,15 @@ def test_the_summary_lists_the_files_of_unknown_type_and_not_their_companions(
     assert document["unknown_files"] == {"count": 1, "paths": [str(scans / "notes.txt")]}
     assert [r["status"] for r in document["files"]] == ["closed", "closed"]
     err = capsys.readouterr().err
-    assert ("1 file of unknown type not filled (listed in summary.json)" in err) != quiet
+    assert ("1 file of unknown type not filled (listed in summary.json)" in err) == (not quiet)
+    # -q keeps the warning naming the file; -qq prints only errors
+    assert ("warning: skipped 1 file of unknown type" in err) == (quiet < 2)
     # fill_files writes them too, each once; find_inputs' result holds them
     with pytest.warns(UnknownFilesWarning):
-        fill_files([scans, scans], out, jobs=1, overwrite=True)
+        rows = fill_files([scans, scans], out, jobs=1, overwrite=True)
     assert read_unknown_files(out) == [str(scans / "notes.txt")]
+    assert [u.path for u in rows.unknown] == [str(scans / "notes.txt")]  # what it returns
+    assert [r.status for r in rows] == ["closed", "closed"] and isinstance(rows, list)
     assert read_unknown_files(tmp_path / "nowhere") == []
     with pytest.warns(UnknownFilesWarning):
         found = find_inputs([scans], out)
@@ -468,7 +472,13 @@ def test_cli_batch_exit_codes_and_shared_fill_options(tmp_path, capsys):
     good = [str(scans / "snowman.ply"), str(scans / "subject1")]
     assert main(["batch", *good, "-o", str(out / "good"), "--jobs", "1", "--method",
                  "fair", "-q"]) == 0
-    assert capsys.readouterr().err == ""  # -q: nothing but errors, and there were none
+    # -q: the warnings and errors only (no bar, no end-of-run line); -qq: errors only
+    assert capsys.readouterr().err.splitlines() == [
+        f"warning: {scans / 'subject1' / 'quads.obj'}: 3 polygon face(s) with more than "
+        "three corners were fan-triangulated"]
+    assert main(["batch", *good, "-o", str(out / "quieter"), "--jobs", "1", "--method",
+                 "fair", "-qq"]) == 0
+    assert capsys.readouterr().err == ""
     assert (out / "good" / "sphere.obj").is_file() and (out / "good" / "snowman.ply").is_file()
     assert main(["batch", *good, "-o", str(out / "good"), "--jobs", "1"]) == 0
     assert "4 skipped" in capsys.readouterr().err

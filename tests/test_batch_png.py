@@ -129,10 +129,16 @@ def test_a_picture_that_fails_leaves_the_mesh_written_and_says_why(tmp_path, mon
         assert f"{picture_path(Path(row.output)).as_posix()}: picture not drawn" \
             in row.message
     assert list(out.rglob("*.png")) == [] and list(out.rglob(".*")) == []
-    # only those files' failure: exit 0 without the corrupt file, and -q prints nothing
+    # only those files' failure: exit 0 without the corrupt file; -q prints the pictures'
+    # warnings and nothing else, -qq nothing
     good = [str(scans / "a.ply"), str(scans / "sub" / "b.obj")]
     assert main(["batch", *good, "-o", str(out / "good"), "--jobs", "1", "--png",
                  "--method", "fair", "-q"]) == 0
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 2 and all(line.startswith("warning: ") and "picture not drawn" in line
+                                   for line in lines)
+    assert main(["batch", *good, "-o", str(out / "quieter"), "--jobs", "1", "--png",
+                 "--method", "fair", "-qq"]) == 0
     assert capsys.readouterr().err == ""
     assert (out / "good" / "b.obj").is_file() and not (out / "good" / "b.png").exists()
     # a rerun draws them once the renderer works

@@ -224,21 +224,30 @@ def test_count_warnings_keeps_first_order():
     assert [(w.message, w.count) for w in count_warnings(caught)] == [("b", 3), ("a", 1)]
 
 
-def test_quiet_prints_nothing_but_errors(three_holes, tmp_path, capsys, monkeypatch):
+@pytest.mark.parametrize("flags, warned", [
+    ([], True),            # the report, the hole's warning in its line
+    (["-q"], True),        # no report, no bar: the hole's warning on its own
+    (["-qq"], False),      # errors only
+    (["-q", "-q"], False),
+])
+def test_quiet_keeps_the_warnings_and_twice_only_errors(three_holes, tmp_path, capsys,
+                                                        monkeypatch, flags, warned):
     path, v, f = three_holes
     # one hole fails (a warning), one is skipped
     sizes = sorted(h.n_edges for h in find_holes(v, f))
     monkeypatch.setattr(parallel, "fill_local", _degenerate_for(sizes[0]))
     argv = ["fill", str(path), "-o", str(tmp_path / "o.ply"), "--method", "fair",
-            "--max-hole-edges", str(sizes[1]), "--jobs", "1"]
+            "--max-hole-edges", str(sizes[1]), "--jobs", "1", *flags]
     assert main(argv) == 0
-    assert "failed:" in capsys.readouterr().err  # there is something to keep quiet
-    assert main([*argv, "-q"]) == 0
     captured = capsys.readouterr()
-    assert captured.err == "" and captured.out == ""
+    assert captured.out == ""
+    assert ("the loop spans no area" in captured.err) == warned
+    assert ("wrote " in captured.err) == (not flags)  # the report's lines
+    if flags and warned:
+        assert captured.err.startswith("warning: ") and captured.err.count("warning: ") == 1
     # an error still comes through
     assert main(["fill", str(tmp_path / "missing.ply"), "-o", str(tmp_path / "x.ply"),
-                 "-q"]) == 1
+                 *flags]) == 1
     assert "error" in capsys.readouterr().err
 
 

@@ -26,6 +26,7 @@ import importlib
 # none of the representation, the λ-H fill or the batch runner; docs/scale.md, session 14)
 _EXPORTS = {
     "FileRow": "surfinpaint.app.batch",
+    "FileRows": "surfinpaint.app.batch",
     "fill_files": "surfinpaint.app.batch",
     "FillError": "surfinpaint.errors",
     "HoleWarning": "surfinpaint.errors",
@@ -81,6 +82,7 @@ __all__ = [
     "ConformalOptions",
     "DataNotReturnedWarning",
     "FileRow",
+    "FileRows",
     "Fill",
     "FillError",
     "FillResult",

@@ -48,8 +48,8 @@ from surfinpaint.app.batch_summary import (
     SUMMARY_CSV,
     SUMMARY_JSON,
     FileRow,
+    FileRows,
     read_summary,
-    read_unknown_files,
     write_summary,
 )
 from surfinpaint.app.fill_report import HoleRecord
@@ -61,8 +61,8 @@ from surfinpaint.fill.warmup import warm_kernels
 from surfinpaint.io.formats import MeshData, read_mesh_data, write_mesh_data
 from surfinpaint.lazy import lazy_module
 
-__all__ = ["FileJob", "FileRow", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "fill_file",
-           "fill_files", "find_inputs", "read_summary", "read_unknown_files", "write_summary"]
+__all__ = ["FileJob", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
+           "fill_file", "fill_files", "find_inputs", "read_summary", "write_summary"]
 
 #: How often a file whose worker process died is tried again (alone) before it is reported
 #: failed: Dask's default ``distributed.scheduler.allowed-failures`` too.
@@ -238,9 +238,10 @@ class _Rows:
             except Empty:
                 return
 
-    def ordered(self, jobs: Sequence[FileJob]) -> list[FileRow]:
+    def ordered(self, jobs: Inputs) -> FileRows:
         """The rows in the inputs' order (files not done, after an interrupt, left out)."""
-        return [self.by_name[job.name] for job in jobs if job.name in self.by_name]
+        return FileRows([self.by_name[job.name] for job in jobs if job.name in self.by_name],
+                        jobs.unknown)
 
 
 def _start_worker(queue: Any | None, method: str) -> None:
@@ -554,13 +555,14 @@ def fill_files(
 
     Returns
     -------
-    list of FileRow
-        One row per input file, in the order of the inputs; also written to the summary.
-        On ``KeyboardInterrupt`` (or the command line's SIGTERM) the files in flight are
-        stopped, leaving no partial output (local workers are ended; a Dask cluster's
-        tasks are cancelled, and one already running there may still write its output,
-        whole), the summary of the files done is written, and the interrupt propagates; a
-        rerun fills the rest, the files that were in flight included.
+    FileRows
+        A :class:`FileRow` per input file in the inputs' order, also written to the summary
+        (``.unknown``: the files of unknown type not filled). On ``KeyboardInterrupt`` (or
+        the command line's SIGTERM) the files in flight are stopped, leaving no partial
+        output (local workers are ended; a Dask cluster's tasks are cancelled, and one
+        already running there may still write its output, whole), the summary of the files
+        done is written, and the interrupt propagates; a rerun fills the rest, the files
+        that were in flight included.
 
     Raises
     ------

@@ -19,7 +19,7 @@ from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.fill.pipeline import METHODS
 from surfinpaint.io.atomic import atomic_open
 
-__all__ = ["FileRow", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "read_summary",
+__all__ = ["FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "read_summary",
            "read_unknown_files", "write_summary"]
 
 Status = Literal["filled", "closed", "failed", "skipped"]
@@ -81,6 +81,16 @@ def _csv_record(row: FileRow) -> dict[str, Any]:
                    for m in METHODS})
     record["seconds"] = f"{row.seconds:.3f}"
     return record
+
+
+class FileRows(list[FileRow]):
+    """What :func:`~surfinpaint.app.batch.fill_files` returns: one :class:`FileRow` per
+    input file, in the inputs' order, and ``unknown``, the files of unknown type that were
+    not filled (:attr:`.Inputs.unknown`; ``summary.json``'s ``unknown_files``)."""
+
+    def __init__(self, rows: Sequence[FileRow] = (), unknown: Sequence[UnknownFile] = ()):
+        super().__init__(rows)
+        self.unknown: tuple[UnknownFile, ...] = tuple(unknown)
 
 
 def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,

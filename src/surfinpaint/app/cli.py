@@ -34,7 +34,7 @@ from surfinpaint.app.outputs import (
     check_output_file,
     check_outputs_distinct,
 )
-from surfinpaint.app.progress import LazyConsole, progress_bar
+from surfinpaint.app.progress import LazyConsole, add_quiet, progress_bar
 from surfinpaint.app.progress import console as _console
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
@@ -147,8 +147,10 @@ def cmd_holes(args: argparse.Namespace) -> int:
 
 
 def cmd_fill(args: argparse.Namespace) -> int:
-    console = None if args.quiet else _console()
-    say = (lambda text: None) if console is None else console.print
+    # -q: warnings and errors only (made when one comes: rich unimported otherwise); -qq:
+    # errors only
+    console = _console() if not args.quiet else LazyConsole() if args.quiet == 1 else None
+    say = console.print if not args.quiet else (lambda text: None)
     holes = _parse_hole_list(args.holes)
     output_format(args.output)  # an unusable output name fails now, not after the fill
     options = fill_options(args)
@@ -175,7 +177,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
             else "no holes apart from the outer border"
         say(f"{args.mesh}: nothing to fill ({why}); wrote the mesh unchanged to {args.output}")
     files = {"input": str(args.mesh), "output": str(args.output), "png": args.png}
-    tell(result, summary, caught, console=console,
+    tell(result, summary, caught, console=console, report=not args.quiet,
          verbose=args.verbose, json_path=args.json, files=files,
          options={**options, "holes": holes, "jobs": args.jobs})
     carried = [*filled.attributes, *(f"{k} (per face)" for k in filled.face_attributes),
@@ -239,13 +241,13 @@ def cmd_batch(args: argparse.Namespace) -> int:
     for row in rows:
         if row.status == "failed":
             console.print(f"[red]error:[/red] {escape(row.message)}")
-        elif row.message and row.status != "skipped" and not args.quiet:
+        elif row.message and row.status != "skipped" and args.quiet < 2:
             named = row.message if row.message.startswith(row.path) else \
                 f"{row.path}: {row.message}"
             console.print(f"[yellow]warning:[/yellow] {escape(named)}")
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     if not args.quiet:
-        n = len(batch.read_unknown_files(args.output))
+        n = len(rows.unknown)
         unknown = f"; {n} file{'s' if n > 1 else ''} of unknown type not filled (listed in " \
             "summary.json)" if n else ""
         console.print(f"{len(rows)} file{'s' if len(rows) != 1 else ''}: {counts}{unknown}; wrote "
@@ -348,8 +350,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    "version (fields: docs/report.md)")
     p.add_argument("-v", "--verbose", action="store_true",
                    help="per hole also the scores in mesh units, the time and the notes")
-    p.add_argument("-q", "--quiet", action="store_true",
-                   help="print nothing but errors (no progress, report or warnings)")
+    add_quiet(p, "no progress, report or notices: warnings and errors only")
     p.set_defaults(func=cmd_fill)
 
     p = sub.add_parser("batch", help="fill many mesh files, on all cores or a Dask cluster",
@@ -377,8 +378,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    "in the worker that filled it; a picture that fails is a warning, the "
                    "mesh is still written")
     add_fill_options(p)
-    p.add_argument("-q", "--quiet", action="store_true",
-                   help="print nothing but the failed files' errors")
+    add_quiet(p, "no progress or end-of-run line: warnings and the failed files' errors "
+              "only")
     p.set_defaults(func=cmd_batch)
 
     add_representation_parsers(sub)
@@ -493,12 +494,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             parser = build_parser(_command_word(argv))
             args = parser.parse_args(argv)
             console = LazyConsole()  # made at its first line: a quiet run may print none
-            if not getattr(args, "quiet", False):
+            quiet = getattr(args, "quiet", 0)
+            if not quiet:
                 _show_notices()
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 code = _run(parser, args, console)
-            if not getattr(args, "quiet", False):
+            if quiet < 2:
                 print_warnings(console, count_warnings(caught))
             return code
         except (Interrupted, KeyboardInterrupt) as exc:

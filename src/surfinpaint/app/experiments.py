@@ -50,7 +50,7 @@ from surfinpaint.app.figures import (
     save_figure,
     view_direction,
 )
-from surfinpaint.app.progress import progress_bar
+from surfinpaint.app.progress import add_quiet, progress_bar
 from surfinpaint.app.report import (
     LEGEND,
     PANEL_SIZE,
@@ -423,7 +423,7 @@ def add_experiments_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true",
                    help="coarser meshes and smaller holes (well under a minute)")
     p.add_argument("--cases", help=f"comma-separated subset of: {', '.join(names)}")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    add_quiet(p, "no progress display")
     p.set_defaults(func=run_experiments)
     return p
 

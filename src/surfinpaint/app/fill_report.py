@@ -357,6 +357,9 @@ def write_json_report(path: str | os.PathLike, document: Mapping[str, Any]) -> N
 
 def print_warnings(console, counted: Iterable[WarningCount]) -> None:
     """Each warning once on ``console``, with how many times it came when more than once."""
+    counted = list(counted)
+    if not counted:  # a quiet run that warns of nothing never imports rich
+        return
     from rich.markup import escape
 
     for w in counted:
@@ -367,16 +370,22 @@ def print_warnings(console, counted: Iterable[WarningCount]) -> None:
 def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.WarningMessage], *,
          console=None, verbose: bool = False, json_path: str | os.PathLike | None = None,
          files: Mapping[str, str | None] | None = None,
-         options: Mapping[str, Any] | None = None) -> list[WarningCount]:
+         options: Mapping[str, Any] | None = None, report: bool = True
+         ) -> list[WarningCount]:
     """Say what a fill did: write the ``--json`` report (``json_path``), and print on
-    ``console`` (None: print nothing) the lines of each hole, the summary and each warning
-    caught once (but a :class:`~surfinpaint.errors.HoleWarning`: the hole's lines say it).
-    Returns the warnings counted (all of them: the ``--json`` report lists them too)."""
+    ``console`` (None: print nothing) the lines of each hole and the summary (``report``)
+    and each warning caught once (with the report, not a
+    :class:`~surfinpaint.errors.HoleWarning`: the hole's lines say it; without it, every
+    warning: ``-q`` keeps them). Returns the warnings counted (all of them: the ``--json``
+    report lists them too)."""
     seen = count_warnings(caught)
     if json_path is not None:
         write_json_report(json_path, report_document(result, summary, warnings_seen=seen,
                                                      files=files, options=options))
     if console is None:
+        return seen
+    if not report:
+        print_warnings(console, seen)
         return seen
     from rich.markup import escape  # only when printing: a quiet run never imports rich
 

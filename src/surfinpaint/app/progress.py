@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 from collections.abc import Iterator
 
-__all__ = ["LazyConsole", "console", "progress_bar", "stages"]
+__all__ = ["LazyConsole", "add_quiet", "console", "progress_bar", "stages"]
 
 
 def console():
@@ -13,6 +13,14 @@ def console():
     from rich.console import Console
 
     return Console(stderr=True, highlight=False, soft_wrap=True)
+
+
+def add_quiet(parser, what: str) -> None:
+    """The commands' one ``-q``: ``-q`` says ``what`` it leaves out (progress, as a rule);
+    ``-qq`` also leaves out the warnings, so only errors are printed. A warning is how a
+    run says it dropped or changed something, so one ``-q`` keeps them (as pip's does)."""
+    parser.add_argument("-q", "--quiet", action="count", default=0,
+                        help=f"{what}; -qq: errors only")
 
 
 class LazyConsole:

@@ -48,8 +48,8 @@ from scipy.spatial import cKDTree
 
 from surfinpaint.app.fill_options import hole_list
 from surfinpaint.app.fill_report import hole_lines, plane_words, written
+from surfinpaint.app.progress import add_quiet, progress_bar
 from surfinpaint.app.progress import console as make_console
-from surfinpaint.app.progress import progress_bar
 from surfinpaint.app.report_page import (
     LEGEND,
     HoleComparison,
@@ -469,7 +469,7 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
                    help="first remove the faces around non-manifold edges and bow-tie "
                    "vertices and orient the faces consistently, as `fill --repair` does (the "
                    "holes numbered as by `holes --repair`)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    add_quiet(p, "no progress display")
     p.set_defaults(func=run_report)
     return p
 
