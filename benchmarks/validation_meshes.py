@@ -16,8 +16,9 @@ Never used here, by rule: Debian's ``libcgal-demo`` meshes and the fsaverage5 RI
 hemisphere (kept for an independent evaluation).
 
 Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout set 9's
-(session 33) in ``holdout9_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` and
-``HOLDOUT9_SOURCES`` to :data:`SOURCES` at its end.
+(session 33) in ``holdout9_meshes.py``, holdout set 10's (session 34) in
+``holdout10_meshes.py``; this module adds their ``HOLDOUT8_SOURCES``, ``HOLDOUT9_SOURCES``
+and ``HOLDOUT10_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1852,3 +1853,10 @@ SOURCES.update(HOLDOUT8_SOURCES)
 from holdout9_meshes import HOLDOUT9_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT9_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 10
+
+# Session 34's set (benchmarks/holdout10_manifest.json), as holdouts 8 and 9's: its own module.
+from holdout10_meshes import HOLDOUT10_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT10_SOURCES)
