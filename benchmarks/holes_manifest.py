@@ -67,6 +67,13 @@ An eleventh set, the ninth holdout (``benchmarks/holdout9_manifest.json``, ``--w
 ``holdout9_meshes.py``), holes planned the same way (seeds from 1000), made in session 33
 after the eighth holdout had been made and committed before any fill was run on them; to be
 run once by a later session after its changes.
+
+A twelfth set, the tenth holdout (``benchmarks/holdout10_manifest.json``, ``--write
+--holdout10``): 12 fresh meshes (``validation_meshes.HOLDOUT10_SOURCES``, made in
+``holdout10_meshes.py``; its four scans made with the portable scanner), holes planned the
+same way (seeds from 1100), made in session 34 after the ninth holdout had been made and
+committed before any fill was run on them; to be run once by a later session after its
+changes.
 """
 
 from __future__ import annotations
@@ -103,6 +110,8 @@ HOLDOUT7_MANIFEST = Path(__file__).parent / "holdout7_manifest.json"
 HOLDOUT8_MANIFEST = Path(__file__).parent / "holdout8_manifest.json"
 # an eleventh set, fresh meshes of session 33 (HOLDOUT9_SOURCES), committed before any fill
 HOLDOUT9_MANIFEST = Path(__file__).parent / "holdout9_manifest.json"
+# a twelfth set, fresh meshes of session 34 (HOLDOUT10_SOURCES), committed before any fill
+HOLDOUT10_MANIFEST = Path(__file__).parent / "holdout10_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -114,6 +123,7 @@ LATER_SETS = {
     "holdout7": (HOLDOUT7_MANIFEST, "the seventh holdout set", 800),
     "holdout8": (HOLDOUT8_MANIFEST, "the eighth holdout set", 900),
     "holdout9": (HOLDOUT9_MANIFEST, "the ninth holdout set", 1000),
+    "holdout10": (HOLDOUT10_MANIFEST, "the tenth holdout set", 1100),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -139,6 +149,7 @@ SPLIT = {
     "holdout7": list(vm.HOLDOUT7_SOURCES),
     "holdout8": list(vm.HOLDOUT8_SOURCES),
     "holdout9": list(vm.HOLDOUT9_SOURCES),
+    "holdout10": list(vm.HOLDOUT10_SOURCES),
 }
 
 
@@ -232,7 +243,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     seeds follow each mesh's place in the list (the holdout's start at 100, the second
     holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
     holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
-    holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000)."""
+    holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
+    holdout's at 1100)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

@@ -16,8 +16,9 @@ Never used here, by rule: Debian's ``libcgal-demo`` meshes and the fsaverage5 RI
 hemisphere (kept for an independent evaluation).
 
 Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout set 9's
-(session 33) in ``holdout9_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` and
-``HOLDOUT9_SOURCES`` to :data:`SOURCES` at its end.
+(session 33) in ``holdout9_meshes.py``, holdout set 10's (session 34) in
+``holdout10_meshes.py``; this module adds their ``HOLDOUT8_SOURCES``, ``HOLDOUT9_SOURCES``
+and ``HOLDOUT10_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -26,6 +27,7 @@ Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout s
 from __future__ import annotations
 
 import importlib.resources
+import math
 import subprocess
 import sys
 import tempfile
@@ -210,7 +212,8 @@ def _clean_open(v: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def simulated_scan(vertices: np.ndarray, faces: np.ndarray, view, *, pixels: int = 150,
                    noise_h: float = 0.05, quantum_h: float = 0.05, seed: int = 0,
-                   max_jump_h: float = 3.0, min_cos: float = 0.25) -> BenchMesh:
+                   max_jump_h: float = 3.0, min_cos: float = 0.25,
+                   portable: bool = False) -> BenchMesh:
     """A range scan of a complete mesh seen from direction ``view`` (towards the viewer).
 
     Orthographic depth image ``pixels`` wide (along the larger side); the depth is
@@ -218,7 +221,19 @@ def simulated_scan(vertices: np.ndarray, faces: np.ndarray, view, *, pixels: int
     scanner's. The pixel grid is triangulated where the four depths of a square differ by
     less than ``max_jump_h`` pixels (depth jumps are silhouettes) and the surface is not
     grazing (``|cos| >= min_cos`` to the view). ``truth`` holds the noise-free positions.
+
+    ``portable=True`` (session 34; new sources only, the earlier sets' scans keep the default)
+    gives the same bits on every CPU for the same input mesh: the projection is elementwise
+    numpy, not a BLAS matmul whose rounding depends on the kernel; the projected vertices are
+    snapped to 1/:data:`SCAN_GRID` pixel and rasterized with exact integer coverage tests
+    (:func:`_covers`); pixel centres sit on whole pixels of the view's frame (not at the
+    projected mesh's corner); the grazing test is :func:`not_grazing`. With the default the
+    output depends on the last bits of the BLAS kernel's rounding (holdout 6's scan_clevis
+    differs by a vertex between CPUs).
     """
+    if portable:
+        return _portable_scan(vertices, faces, view, pixels, noise_h, quantum_h, seed,
+                              max_jump_h, min_cos)
     d = np.asarray(view, float)
     d /= np.linalg.norm(d)
     u = np.cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0])
@@ -259,10 +274,142 @@ def simulated_scan(vertices: np.ndarray, faces: np.ndarray, view, *, pixels: int
     return BenchMesh(both[:, :3], f, truth=both[:, 3:])
 
 
-def _scan(source: Callable[[], BenchMesh], view, seed: int) -> Callable[[], BenchMesh]:
+# --------------------------------------------------------------------------- portable scans
+
+# Session 34: simulated_scan's output depends on the last bits of its floating point (the
+# BLAS kernel of its projection matmul and of n @ d, which OpenBLAS picks by CPU): holdout
+# 6's scan_clevis has 7547 vertices on this machine, 7546 in its manifest. The portable
+# scanner (``simulated_scan(..., portable=True)``, new sources only) snaps the projected
+# vertices to a grid of 1/SCAN_GRID pixel once, with correctly rounded elementwise numpy
+# arithmetic, and then decides every test on those integers exactly or with elementwise,
+# correctly rounded operations, so no BLAS kernel, FMA or SIMD width can change it.
+SCAN_GRID = 1024  # grid steps a pixel: a power of two, so scaling by it is exact
+_SCAN_GRID_LIMIT = 2**20  # grid coordinates below this keep the int64 numerators < 2**63
+
+
+@njit(cache=True)
+def _covers(ax, ay, bx, by, cx, cy, x, y):  # pragma: no cover - compiled
+    """Whether the triangle of integer grid points ``a``, ``b``, ``c`` covers the integer
+    point ``(x, y)`` (its edges and corners included), and its barycentric numerators: returns
+    ``(covered, n1, n2, det)`` with ``det > 0`` the doubled area (0 when degenerate) and the
+    point ``a + (n1 (b - a) + n2 (c - a)) / det``. Exact: int64 throughout."""
+    det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay)
+    n1 = (x - ax) * (cy - ay) - (cx - ax) * (y - ay)
+    n2 = (bx - ax) * (y - ay) - (x - ax) * (by - ay)
+    if det < 0:
+        det, n1, n2 = -det, -n1, -n2
+    covered = det > 0 and n1 >= 0 and n2 >= 0 and n1 + n2 <= det
+    return covered, n1, n2, det
+
+
+@njit(cache=True)
+def _raster_grid(g, tri, i0, j0, nx, ny, grid):  # pragma: no cover - compiled
+    """Largest depth (grid units) of the triangles ``tri`` of integer grid points ``g`` (x, y,
+    depth) at each pixel centre ``((i0 + i) grid, (j0 + j) grid)`` (``-inf`` where none).
+    Coverage is exact; the depth is ``a + numerator / det`` with an exact int64 numerator, so
+    it is the same on every CPU (one conversion, one division, one addition, each rounded
+    once)."""
+    depth = np.full((ny, nx), -np.inf)
+    for t in range(tri.shape[0]):
+        a, b, c = g[tri[t, 0]], g[tri[t, 1]], g[tri[t, 2]]
+        lo_x, hi_x = min(a[0], b[0], c[0]), max(a[0], b[0], c[0])
+        lo_y, hi_y = min(a[1], b[1], c[1]), max(a[1], b[1], c[1])
+        i_first = max(-((-lo_x) // grid) - i0, 0)
+        i_last = min(hi_x // grid - i0, nx - 1)
+        j_first = max(-((-lo_y) // grid) - j0, 0)
+        j_last = min(hi_y // grid - j0, ny - 1)
+        for j in range(j_first, j_last + 1):
+            y = (j0 + j) * grid
+            for i in range(i_first, i_last + 1):
+                x = (i0 + i) * grid
+                covered, n1, n2, det = _covers(a[0], a[1], b[0], b[1], c[0], c[1], x, y)
+                if not covered:
+                    continue
+                z = a[2] + (n1 * (b[2] - a[2]) + n2 * (c[2] - a[2])) / det
+                if z > depth[j, i]:
+                    depth[j, i] = z
+    return depth
+
+
+def _unit(vector) -> np.ndarray:
+    """``vector`` scaled to length 1 in Python floats (no BLAS dot)."""
+    x, y, z = (float(c) for c in vector)
+    length = math.sqrt(x * x + y * y + z * z)
+    return np.array([x / length, y / length, z / length])
+
+
+def _cross(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Cross product of two 3-vectors, elementwise."""
+    return np.array([p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2],
+                     p[0] * q[1] - p[1] * q[0]])
+
+
+def _along(points: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """``points @ axis`` summed in a fixed order with elementwise (correctly rounded) numpy:
+    the same bits whatever BLAS kernel the CPU gets."""
+    return points[:, 0] * axis[0] + points[:, 1] * axis[1] + points[:, 2] * axis[2]
+
+
+def not_grazing(slope_x: np.ndarray, slope_y: np.ndarray, min_cos: float) -> np.ndarray:
+    """The portable scanner's grazing rule: a face of depth slopes ``slope_x``, ``slope_y``
+    (depth change a pixel, in pixels) is kept where its normal ``(-slope_x, -slope_y, 1)``
+    makes ``|cos| >= min_cos`` with the view, tested as ``min_cos² (slope_x² + slope_y² + 1)
+    <= 1``: elementwise products and sums only (no norm, no division), each rounded once."""
+    return min_cos * min_cos * (slope_x * slope_x + slope_y * slope_y + 1.0) <= 1.0
+
+
+def _portable_scan(vertices, faces, view, pixels, noise_h, quantum_h, seed, max_jump_h,
+                   min_cos) -> BenchMesh:
+    """:func:`simulated_scan` with ``portable=True``: see there."""
+    d = _unit(view)
+    u = _unit(_cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0]))
+    w = _cross(d, u)
+    projected = np.column_stack([_along(vertices, u), _along(vertices, w), _along(vertices, d)])
+    pixel = float(np.ptp(projected[:, :2], axis=0).max()) / pixels
+    grid = np.rint(projected / pixel * SCAN_GRID).astype(np.int64)  # exact scaling by 2**10
+    if np.abs(grid).max() >= _SCAN_GRID_LIMIT:
+        raise ValueError(f"{pixels} pixels is too many for the int64 raster: the projected "
+                         f"mesh spans {int(np.abs(grid).max()) // SCAN_GRID} pixels")
+    i0, j0 = (-((-grid[:, :2].min(axis=0)) // SCAN_GRID)).tolist()
+    nx, ny = (grid[:, :2].max(axis=0) // SCAN_GRID - [i0, j0] + 1).tolist()
+    depth = _raster_grid(grid, faces, i0, j0, nx, ny, SCAN_GRID) / SCAN_GRID  # pixels
+    depth[~np.isfinite(depth)] = np.nan
+    rng = np.random.default_rng(seed)
+    noisy = (np.round(depth / quantum_h) * quantum_h
+             + rng.normal(0.0, noise_h, depth.shape))
+    valid = np.isfinite(depth)
+    ids = np.full(depth.shape, -1)
+    ids[valid] = np.arange(int(valid.sum()))
+    jj, ii = np.nonzero(valid)
+    x, y = (ii + i0) * pixel, (jj + j0) * pixel
+
+    def positions(z: np.ndarray) -> np.ndarray:
+        z = z[valid] * pixel
+        return np.column_stack([x * u[k] + y * w[k] + z * d[k] for k in range(3)])
+
+    corners = (ids[:-1, :-1], ids[:-1, 1:], ids[1:, 1:], ids[1:, :-1])
+    q = np.stack(corners, -1).reshape(-1, 4)
+    z4 = np.stack([depth[:-1, :-1], depth[:-1, 1:], depth[1:, 1:], depth[1:, :-1]],
+                  -1).reshape(-1, 4)
+    ok = (q >= 0).all(axis=1)
+    ok[ok] = np.ptp(z4[ok], axis=1) < max_jump_h
+    q, z4 = q[ok], z4[ok]
+    # corners a (i, j), b (i+1, j), c (i+1, j+1), e (i, j+1): the faces a b c and a c e have
+    # the normals (za - zb, zb - zc, 1) and (ze - zc, za - ze, 1) in pixels, towards the viewer
+    za, zb, zc, ze = z4.T
+    f = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
+    kept = np.concatenate([not_grazing(za - zb, zb - zc, min_cos),
+                           not_grazing(ze - zc, za - ze, min_cos)])
+    both = np.hstack([positions(noisy), positions(depth)])
+    both, f = _clean_open(both, f[kept])
+    return BenchMesh(both[:, :3], f, truth=both[:, 3:])
+
+
+def _scan(source: Callable[[], BenchMesh], view, seed: int, *,
+          portable: bool = False) -> Callable[[], BenchMesh]:
     def make() -> BenchMesh:
         m = source()
-        return simulated_scan(m.vertices, m.faces, view, seed=seed)
+        return simulated_scan(m.vertices, m.faces, view, seed=seed, portable=portable)
 
     return make
 
@@ -1706,3 +1853,10 @@ SOURCES.update(HOLDOUT8_SOURCES)
 from holdout9_meshes import HOLDOUT9_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT9_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 10
+
+# Session 34's set (benchmarks/holdout10_manifest.json), as holdouts 8 and 9's: its own module.
+from holdout10_meshes import HOLDOUT10_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT10_SOURCES)

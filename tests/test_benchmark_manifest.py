@@ -83,8 +83,8 @@ def test_reserved_sources_are_never_used():
     assert "libcgal" not in code and "cgal-demo" not in code and "/cgal" not in code
     assert "right" not in code
     assert '"left"' in code
-    # holdouts 8 and 9's generators have their own modules (validation_meshes imports them)
-    for module in ("holdout8_meshes.py", "holdout9_meshes.py"):
+    # holdouts 8 to 10's generators have their own modules (validation_meshes imports them)
+    for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
 
@@ -159,6 +159,11 @@ def holdout9():
     return holes_manifest.read(holes_manifest.HOLDOUT9_MANIFEST)
 
 
+@pytest.fixture(scope="module")
+def holdout10():
+    return holes_manifest.read(holes_manifest.HOLDOUT10_MANIFEST)
+
+
 @pytest.mark.parametrize(("split", "sources"), [
     ("holdout2", validation_meshes.HOLDOUT2_SOURCES),  # run once after session 26's defaults
     ("holdout3", validation_meshes.HOLDOUT3_SOURCES),  # run once after session 28's
@@ -168,36 +173,40 @@ def holdout9():
     ("holdout7", validation_meshes.HOLDOUT7_SOURCES),  # session 31, after holdout 6 was made
     ("holdout8", validation_meshes.HOLDOUT8_SOURCES),  # session 32, after holdout 7 was run
     ("holdout9", validation_meshes.HOLDOUT9_SOURCES),  # session 33, after holdout 8 was made
+    ("holdout10", validation_meshes.HOLDOUT10_SOURCES),  # session 34, after holdout 9 was made
 ])
 def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
                                                       cad_tuning, holdout4, holdout5, holdout6,
-                                                      holdout7, holdout8, holdout9, split,
-                                                      sources):
-    """The second to ninth holdout sets: their own meshes, from sources no earlier set
+                                                      holdout7, holdout8, holdout9, holdout10,
+                                                      split, sources):
+    """The second to tenth holdout sets: their own meshes, from sources no earlier set
     uses (the two halves, the holdouts before them; from the fourth on also the tuning-side
     CAD parts), every kind but brain surfaces, at least 3 range scans, 7 holes a mesh."""
     sets = {"holdout2": holdout2, "holdout3": holdout3, "holdout4": holdout4,
             "holdout5": holdout5, "holdout6": holdout6, "holdout7": holdout7,
-            "holdout8": holdout8, "holdout9": holdout9}
+            "holdout8": holdout8, "holdout9": holdout9, "holdout10": holdout10}
     this = sets[split]
     ids = [e["mesh"] for e in this["meshes"]]
     assert ids == holes_manifest.SPLIT[split] == list(sources)
     earlier = manifest["meshes"] + holdout["meshes"]
     if split in ("holdout3", "holdout4", "holdout5", "holdout6", "holdout7", "holdout8",
-                 "holdout9"):
+                 "holdout9", "holdout10"):
         earlier = earlier + holdout2["meshes"]
-    if split in ("holdout4", "holdout5", "holdout6", "holdout7", "holdout8", "holdout9"):
+    if split in ("holdout4", "holdout5", "holdout6", "holdout7", "holdout8", "holdout9",
+                 "holdout10"):
         earlier = earlier + holdout3["meshes"] + cad_tuning["meshes"]
-    if split in ("holdout5", "holdout6", "holdout7", "holdout8", "holdout9"):
+    if split in ("holdout5", "holdout6", "holdout7", "holdout8", "holdout9", "holdout10"):
         earlier = earlier + holdout4["meshes"]
-    if split in ("holdout6", "holdout7", "holdout8", "holdout9"):
+    if split in ("holdout6", "holdout7", "holdout8", "holdout9", "holdout10"):
         earlier = earlier + holdout5["meshes"]
-    if split in ("holdout7", "holdout8", "holdout9"):
+    if split in ("holdout7", "holdout8", "holdout9", "holdout10"):
         earlier = earlier + holdout6["meshes"]
-    if split in ("holdout8", "holdout9"):
+    if split in ("holdout8", "holdout9", "holdout10"):
         earlier = earlier + holdout7["meshes"]
-    if split == "holdout9":
+    if split in ("holdout9", "holdout10"):
         earlier = earlier + holdout8["meshes"]
+    if split == "holdout10":
+        earlier = earlier + holdout9["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
     earlier_sources = {e["source"] for e in earlier}
     for entry in this["meshes"]:
@@ -219,14 +228,14 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
 
 def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2, holdout3,
                                                      cad_tuning, holdout4, holdout5, holdout6,
-                                                     holdout7, holdout8, holdout9):
+                                                     holdout7, holdout8, holdout9, holdout10):
     """Session 29's machined parts (tuning side, rules may be chosen on them): their own
     meshes and sources, shared with no other set, machined parts and scans of them only."""
     cad = cad_tuning
     ids = [e["mesh"] for e in cad["meshes"]]
     assert ids == holes_manifest.SPLIT["cad_tuning"] == list(validation_meshes.CAD_TUNING_SOURCES)
     others = [e for m in (manifest, holdout, holdout2, holdout3, holdout4, holdout5, holdout6,
-                          holdout7, holdout8, holdout9) for e in m["meshes"]]
+                          holdout7, holdout8, holdout9, holdout10) for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
     kinds = Counter(e["kind"] for e in cad["meshes"])
@@ -258,3 +267,22 @@ def test_holdout9_sources_come_from_their_own_module():
         assert validation_meshes.SOURCES[mesh_id] is source
     assert holes_manifest.LATER_SETS["holdout9"][1:] == ("the ninth holdout set", 1000)
     assert holes_manifest.SPLIT["holdout9"] == list(holdout9_meshes.HOLDOUT9_SOURCES)
+
+
+def test_holdout10_sources_come_from_their_own_module():
+    """Holdout 10's generators live in benchmarks/holdout10_meshes.py, as holdout 9's in
+    theirs; validation_meshes adds them to ``SOURCES``; its scans are the portable scanner's
+    (no mesh is made)."""
+    import holdout10_meshes
+
+    assert validation_meshes.HOLDOUT10_SOURCES is holdout10_meshes.HOLDOUT10_SOURCES
+    for mesh_id, source in holdout10_meshes.HOLDOUT10_SOURCES.items():
+        assert validation_meshes.SOURCES[mesh_id] is source
+    assert holes_manifest.LATER_SETS["holdout10"][1:] == ("the tenth holdout set", 1100)
+    assert holes_manifest.SPLIT["holdout10"] == list(holdout10_meshes.HOLDOUT10_SOURCES)
+    scans = [s for s in holdout10_meshes.HOLDOUT10_SOURCES.values() if s.kind == "range_scan"]
+    assert len(scans) == 4
+    for source in scans:  # _scan's closure holds portable=True
+        cells = dict(zip(source.make.__code__.co_freevars,
+                         (c.cell_contents for c in source.make.__closure__), strict=True))
+        assert cells["portable"] is True, source.source

@@ -1,9 +1,14 @@
 """The validation benchmark's mesh helpers (``benchmarks/validation_meshes.py``): a simulated
-range scan of a sphere lies on the sphere, faces the viewer and is a clean open manifold;
-bow-tie vertices are split without moving the surface."""
+range scan of a sphere lies on the sphere, faces the viewer and is a clean open manifold (both
+scanners); the portable scanner gives the same bits under every OpenBLAS kernel, its coverage
+test is exact and its grazing rule keeps what it should; bow-tie vertices are split without
+moving the surface."""
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
 import sys
 from pathlib import Path
 
@@ -17,11 +22,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 validation_meshes = pytest.importorskip("validation_meshes")
 
 
-def test_scan_of_a_sphere():
+@pytest.mark.parametrize("portable", [False, True])
+def test_scan_of_a_sphere(portable):
     v, f = data.sphere(3)
     view = np.array([0.0, 0.0, 1.0])
     scan = validation_meshes.simulated_scan(v, f, view, pixels=40, noise_h=0.05,
-                                            quantum_h=0.05, seed=3)
+                                            quantum_h=0.05, seed=3, portable=portable)
     pixel = 2.0 / 40
     # the truth lies on the icosphere (within its flat facets) on the side facing the viewer
     r = np.linalg.norm(scan.truth, axis=1)
@@ -44,6 +50,85 @@ def test_scan_of_a_sphere():
     proj = 0.5 * np.abs(n[:, 2]).sum()
     disk = np.pi * (1 - 0.25**2)
     assert disk - 2 * np.pi * pixel < proj < disk
+
+
+_KERNEL_HASHES = """
+import hashlib, json, sys
+sys.path.insert(0, {benchmarks!r})
+import numpy as np
+import validation_meshes as vm
+from surfinpaint import data
+
+v, f = data.sphere(4)
+out = {{}}
+for portable in (False, True):
+    scan = vm.simulated_scan(v, f, (0.3, -0.5, 0.8), pixels=60, seed=5, portable=portable)
+    digest = hashlib.sha256()
+    for a in (scan.vertices, scan.faces, scan.truth):
+        digest.update(np.ascontiguousarray(a).tobytes())
+    out[str(portable)] = digest.hexdigest()
+print(json.dumps(out))
+"""
+
+
+def test_the_portable_scan_is_the_same_under_every_openblas_kernel():
+    """The portable scanner's bytes do not change with the BLAS kernel (picked per CPU, here
+    forced with OPENBLAS_CORETYPE); the default scanner's do on this input, which shows that
+    the kernels really differ (skipped where they cannot be switched)."""
+    benchmarks = str(Path(__file__).resolve().parents[1] / "benchmarks")
+    code = _KERNEL_HASHES.format(benchmarks=benchmarks)
+    hashes = {}
+    for kernel in ("Haswell", "Sandybridge", "Zen"):
+        env = {**os.environ, "OPENBLAS_CORETYPE": kernel}
+        run = subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                             capture_output=True, text=True)
+        hashes[kernel] = json.loads(run.stdout.splitlines()[-1])
+    assert len({h["True"] for h in hashes.values()}) == 1
+    if hashes["Haswell"]["False"] == hashes["Sandybridge"]["False"]:
+        pytest.skip("the OpenBLAS kernels give the same bits here: nothing was compared")
+
+
+@pytest.mark.parametrize(("a", "b", "c", "point", "covered"), [
+    ((0, 0), (4, 0), (0, 4), (1, 1), True),  # inside
+    ((0, 0), (4, 0), (0, 4), (2, 0), True),  # on an edge
+    ((0, 0), (4, 0), (0, 4), (2, 2), True),  # on the long edge
+    ((0, 0), (4, 0), (0, 4), (0, 0), True),  # a corner
+    ((0, 0), (4, 0), (0, 4), (3, 2), False),  # one grid step past the long edge
+    ((0, 0), (4, 0), (0, 4), (-1, 0), False),
+    ((0, 0), (0, 4), (4, 0), (2, 2), True),  # clockwise: the same answers
+    ((0, 0), (0, 4), (4, 0), (3, 2), False),
+    ((0, 0), (1, 1), (2, 2), (1, 1), False),  # degenerate: covers nothing
+    # a long thin triangle spanning the grid's limit: a point on its long edge, and one grid
+    # step off to either side (the triangle is narrower than a step there)
+    ((3, 4), (1048573, 699049), (1, 1), (786430, 524287), True),
+    ((3, 4), (1048573, 699049), (1, 1), (786430, 524288), False),
+    ((3, 4), (1048573, 699049), (1, 1), (786430, 524286), False),
+])
+def test_portable_coverage_is_exact(a, b, c, point, covered):
+    result = validation_meshes._covers(*a, *b, *c, *point)
+    assert result[0] is covered
+    if covered:  # the numerators give the point back exactly
+        _, n1, n2, det = result
+        for k in range(2):
+            assert a[k] * det + n1 * (b[k] - a[k]) + n2 * (c[k] - a[k]) == point[k] * det
+
+
+@pytest.mark.parametrize(("slope_x", "slope_y", "min_cos", "kept"), [
+    (0.0, 0.0, 0.25, True),  # facing the view
+    (2.0, 3.0, 0.25, True),  # cos = 1/sqrt(14) = 0.267
+    (-2.0, -3.0, 0.25, True),  # the slope's sign does not matter
+    (3.0, 3.0, 0.25, False),  # cos = 1/sqrt(19) = 0.229
+    (3.8, 0.0, 0.25, True),  # cos = 0.2545
+    (0.0, 3.9, 0.25, False),  # cos = 0.2484
+    (0.0, 0.0, 1.0, True),  # on the threshold: kept (|cos| >= min_cos)
+    (1e-7, 0.0, 1.0, False),
+    (1e6, 1e6, 0.0, True),  # no threshold: everything kept
+])
+def test_portable_grazing_rule(slope_x, slope_y, min_cos, kept):
+    got = validation_meshes.not_grazing(np.array([slope_x]), np.array([slope_y]), min_cos)
+    assert got.tolist() == [kept]
+    cos = 1.0 / np.sqrt(slope_x**2 + slope_y**2 + 1.0)  # the rule it stands for
+    assert kept == (cos >= min_cos) or min_cos == 1.0
 
 
 def test_split_bowties_gives_one_vertex_per_fan():
