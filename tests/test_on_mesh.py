@@ -273,6 +273,45 @@ def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajec
 
 
 @pytest.mark.parametrize("name, trajectory, given_up_after", [
+    # stages that converged on the tuning side (docs/convergence.md, session 34 (helper 2))
+    # keep going: the quadruped's descent of about TRUST a step (at most 0.73 of the residual
+    # 5 steps before, the closest of all), a 510-vertex Newton-Krylov stage, a brain stage
+    # that sits at 6.2 edge lengths for three steps, and a plateau below 5 edge lengths
+    ("linear descent", [24.7, 24.5, 22.5, 22.1, 20.1, 18.0, 15.9, 13.8, 11.6, 9.4, 7.2, 4.9,
+                        2.5, 0.26, 0.02, 0.0], None),
+    ("large patch", [14.2, 12.0, 10.9, 8.72, 7.17, 6.37, 4.3, 1.78, 0.0462, 0.000118],
+     None),
+    ("short plateau", [87.5, 58.5, 37.1, 35.1, 28.8, 16.9, 13.7, 10.4, 6.2, 6.2, 6.0, 3.8,
+                       1.5, 1.3, 1.3, 0.67, 0.36, 0.13, 0.0], None),
+    ("plateau below the level", [6.0] + [4.9] * 10 + [2.0, 0.5, 0.01, 0.0], None),
+    # failing stages that stall above 5 edge lengths: given up at the first step whose
+    # residual is above 0.9 of the one 5 steps before (a CAD part's stage, given up at step
+    # 21 by the envelope before; an egg-crate's, at step 16; one that never moves)
+    ("CAD part", [36.7, 34.6, 15.9, 15.7, 14.5, 12.3, 10.3, 9.51, 8.78, 8.85, 8.09, 7.82, 7.56,
+                  7.53, 6.51, 6.47, 6.43, 6.39, 6.36, 6.34, 6.32, 6.29], 19),
+    ("egg-crate", [31.1, 31.0, 29.5, 29.4, 27.9, 24.7, 24.5, 24.2, 24.1, 24.1, 24.0, 20.9,
+                   18.9, 17.3, 13.5, 13.4, 13.4, 13.3], 10),
+    ("flat", [5.53, 5.52, 5.53, 5.53, 5.54, 5.52, 5.52, 5.52, 5.51, 5.5, 5.51, 4.97], 5),
+])
+def test_a_newton_stage_is_given_up_where_it_stalls(monkeypatch, name, trajectory,
+                                                    given_up_after):
+    system = _scripted(monkeypatch, trajectory)
+    points, steps = np.zeros((4, 3)), mesh_inpainting.NEWTON_STEPS
+    if given_up_after is None:
+        mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+        assert system.steps == len(trajectory) - 1
+    else:
+        with pytest.raises(FillError, match=f"after {given_up_after} steps, stalled"):
+            mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+        assert system.steps == given_up_after
+        # the continuation's solves have their own envelope and no stall test
+        system.steps = 0
+        with pytest.raises(FillError, match="more than a converging stage has"):
+            mesh_inpainting._newton_solve(system, points, 1e-3, steps, (1e9, 0.5))
+        assert system.steps > given_up_after
+
+
+@pytest.mark.parametrize("name, trajectory, given_up_after", [
     # continuation solves that converged on the tuning side (docs/convergence.md, session 28)
     # keep going: the one that sets the bound (an animal's, 16.96 edge lengths after step 1),
     # the slowest (a quadruped's, converged at its 10th step), a plateau of four steps (an
