@@ -78,10 +78,10 @@ NEWTON_STEPS = 30
 NEWTON_ENVELOPE = 180.0
 NEWTON_ENVELOPE_RATE = 0.85
 # or above STALL_LEVEL edge lengths and STALL_RATIO of |R| STALL_STEPS steps before: converging
-# stages above 5 fell to ≤ 0.73 in 5 steps on the tuning side (session 34, helper 2)
-NEWTON_STALL_STEPS = 5
-NEWTON_STALL_RATIO = 0.9
-NEWTON_STALL_LEVEL = 5.0
+# stages fell by ≥ 4.7 % in 3 steps where flatter than that below 4.3 (session 34, helper 2)
+NEWTON_STALL_STEPS = 3
+NEWTON_STALL_RATIO = 0.99
+NEWTON_STALL_LEVEL = 10.0
 # the least-squares stage where Newton's method fails too (least_squares_on_mesh): Levenberg-
 # Marquardt steps of at most LSQ_TRUST edge lengths, LSQ_STEPS steps, LSQ_JACOBIANS Jacobians
 LSQ_TRUST = 2.0
