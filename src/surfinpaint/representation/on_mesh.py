@@ -78,7 +78,7 @@ NEWTON_STEPS = 30
 NEWTON_ENVELOPE = 180.0
 NEWTON_ENVELOPE_RATE = 0.85
 # or above STALL_LEVEL edge lengths and STALL_RATIO of |R| STALL_STEPS steps before: converging
-# stages fell by ≥ 4.7 % in 3 steps where flatter than that below 4.3 (session 34, helper 2)
+# stages fell by ≥ 7.6 % in 3 steps above 10, by < 1 % only below 4.3 (session 34, helper 2)
 NEWTON_STALL_STEPS = 3
 NEWTON_STALL_RATIO = 0.99
 NEWTON_STALL_LEVEL = 10.0
