@@ -77,6 +77,11 @@ NEWTON_STEPS = 30
 # where it started): only time is saved where it would have failed anyway (session 27)
 NEWTON_ENVELOPE = 180.0
 NEWTON_ENVELOPE_RATE = 0.85
+# or above STALL_LEVEL edge lengths and STALL_RATIO of |R| STALL_STEPS steps before: converging
+# stages fell by ≥ 7.6 % in 3 steps above 10, by < 1 % only below 4.3 (session 34, helper 2)
+NEWTON_STALL_STEPS = 3
+NEWTON_STALL_RATIO = 0.99
+NEWTON_STALL_LEVEL = 10.0
 # the least-squares stage where Newton's method fails too (least_squares_on_mesh): Levenberg-
 # Marquardt steps of at most LSQ_TRUST edge lengths, LSQ_STEPS steps, LSQ_JACOBIANS Jacobians
 LSQ_TRUST = 2.0
@@ -515,7 +520,7 @@ def _newton_solve(system, points, tol, steps, envelope=None):
     driven to zero by Newton steps, each bounded to ``TRUST`` edge lengths and halved until
     ``|R|`` decreases, and given up where ``|R|`` after step k is above
     ``A ρ^k`` (no converging stage was; ``envelope`` (A, ρ), by default ``NEWTON_ENVELOPE``
-    and ``NEWTON_ENVELOPE_RATE``). Each step is
+    and ``NEWTON_ENVELOPE_RATE``, which add :func:`_stalled`'s test). Each step is
     solved exactly with R's analytic Jacobian on patches of at most
     ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by one
     GMRES cycle on its exact products on larger ones (Newton–Krylov,
@@ -535,6 +540,7 @@ def _newton_solve(system, points, tol, steps, envelope=None):
         return ((system.update(phi) - x) / h).ravel()
 
     r = residual(x)
+    sizes = []  # |R| before each step
     for k in range(steps):
         size = float(np.abs(r).max())
         if size < tol:
@@ -543,6 +549,11 @@ def _newton_solve(system, points, tol, steps, envelope=None):
             raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
                              f"residual of {size:.2g} edge lengths after {k} steps, more "
                              f"than a converging stage has")
+        if envelope is None and _stalled(sizes, size):
+            raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
+                             f"residual of {size:.2g} edge lengths after {k} steps, stalled "
+                             f"(above {NEWTON_STALL_RATIO} of it {NEWTON_STALL_STEPS} before)")
+        sizes.append(size)
         if len(f) <= NEWTON_ANALYTIC_MAX:
             dx = newton_step(system, points, x, r)
         else:
@@ -562,6 +573,14 @@ def _newton_solve(system, points, tol, steps, envelope=None):
     phi = points.copy()
     phi[f] = x
     return phi
+
+
+def _stalled(sizes, size):
+    """Whether a Newton stage whose residual was ``sizes`` before its steps and is ``size`` now
+    has stalled far from a root: above ``NEWTON_STALL_LEVEL`` edge lengths and
+    ``NEWTON_STALL_RATIO`` of its value ``NEWTON_STALL_STEPS`` steps before."""
+    return (len(sizes) >= NEWTON_STALL_STEPS and size > NEWTON_STALL_LEVEL
+            and size > NEWTON_STALL_RATIO * sizes[-NEWTON_STALL_STEPS])
 
 
 def _line_search(residual, x, r, dx):
