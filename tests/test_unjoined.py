@@ -9,7 +9,8 @@ import trimesh
 
 from surfinpaint import fill_holes, write_mesh
 from surfinpaint.app.cli import main
-from surfinpaint.fill.holes import find_holes
+from surfinpaint.fill.holes import find_holes, seam_edges
+from surfinpaint.fill.seams import SlitWarning
 from surfinpaint.fill.unjoined import unjoined_borders_note
 from surfinpaint.io.base import MeshWarning
 
@@ -78,3 +79,54 @@ def test_the_holes_command_warns_too(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"{path}: all 80 outer borders run along other boundary edges" in " ".join(
         err.split())
+
+
+def _patch_apart(vertices, faces, centre, radius):
+    """The faces within ``radius`` of ``centre`` given their own copies of their vertices
+    (a textured mesh split along a UV seam): the rest of the surface has a loop around
+    them that runs along their border edge for edge."""
+    near = np.linalg.norm(vertices[faces].mean(axis=1) - centre, axis=1) < radius
+    copies = np.unique(faces[near])
+    renumber = np.arange(len(vertices))
+    renumber[copies] = len(vertices) + np.arange(len(copies))
+    out = faces.copy()
+    out[near] = renumber[faces[near]]
+    return np.vstack([vertices, vertices[copies]]), out
+
+
+@pytest.mark.parametrize("loops, expected", [
+    # two triangles side by side, not joined: the shared side is a seam edge of both
+    ([[0, 1, 2], [3, 5, 4]], [[False, True, False], [False, False, True]]),
+    # the same triangle twice, its copy's ids reversed: every edge on the other loop
+    ([[0, 1, 2], [4, 3, 6]], [[True, True, True], [True, True, True]]),
+    # one loop alone: nothing to run along (a slit runs along itself: find_slit's)
+    ([[0, 1, 2]], [[False, False, False]]),
+    ([], []),
+])
+def test_seam_edges_are_the_loop_edges_on_another_loop(loops, expected):
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0],
+                  [0, 0, 0.]])
+    got = seam_edges(v, [np.array(loop) for loop in loops])
+    assert [m.tolist() for m in got] == expected
+
+
+def test_a_loop_along_a_patch_apart_is_left_open_and_a_real_hole_is_filled():
+    v, f = _sphere(3)
+    v, f = _patch_apart(v, f, v[0], 0.35)
+    hole = np.linalg.norm(v[f].mean(axis=1) + v[0], axis=1) < 0.3  # across the sphere
+    f = f[~hole]
+    found = find_holes(v, f)
+    # the real hole, the seam around the patch (both of the large piece); the patch's border
+    assert [(h.is_border, h.runs_along_other_loops) for h in found] == [
+        (False, False), (False, True), (True, True)]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fill_holes(v, f, method="fair")
+    assert [r.outcome for r in result.reports] == ["faired", "skipped"]
+    assert "every edge of the loop lies exactly on another boundary edge" in \
+        result.reports[1].skipped
+    assert any(issubclass(w.category, SlitWarning) for w in caught)
+    # the filled hole is the real one: its new faces lie across the sphere from the patch
+    new = result.faces[len(f):]
+    assert len(new) and (result.vertices[new].mean(axis=(0, 1)) @ v[0] < 0)
+    np.testing.assert_array_equal(result.vertices[:len(v)], v)

@@ -126,6 +126,8 @@ def _kind(hole) -> str:
         return "outer border"
     if hole.spans_no_area:  # never filled: fill leaves it open with a warning
         return "spans no area (zero-area faces): left open"
+    if hole.runs_along_other_loops:  # never filled either: a seam of unjoined faces
+        return "runs along other loops (faces that do not join): left open"
     if hole.may_be_border:  # filled by default, with a warning
         return f"hole (spans {percent_below(hole.span_fraction)} of its surface: the margin?)"
     return "hole"

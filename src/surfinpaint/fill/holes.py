@@ -31,8 +31,7 @@ objects = lazy_module("surfinpaint.fill.objects")
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
 __all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop",
-           "percent_below",
-           "warn_degenerate"]
+           "percent_below", "seam_edges", "warn_degenerate"]
 
 # A component's longest loop is its outer border when the area the loop spans is at least
 # this fraction of the component's own area: a scan's border spans about its whole area
@@ -76,6 +75,9 @@ class Hole:
         :func:`~surfinpaint.geometry.validation.zero_area_faces` finds them: a stray
         degenerate triangle, say): the loop spans no area, like a slit, and no fill of it
         is a surface, so it is never filled (left open with a warning).
+    seam_edges : (n_edges,) bool array or None
+        Per loop edge (``loop[i]`` to ``loop[i + 1]``), whether it lies exactly on another
+        boundary edge (:func:`seam_edges`): faces that meet there do not join.
     """
 
     loop: np.ndarray
@@ -86,12 +88,51 @@ class Hole:
     is_border: bool
     span_fraction: float = float("nan")
     spans_no_area: bool = False
+    seam_edges: np.ndarray | None = None
+
+    @property
+    def runs_along_other_loops(self) -> bool:
+        """Every edge of the loop lies exactly on another boundary edge: the loop is a seam
+        between faces that do not join (their own copies of the vertices they share), not a
+        hole, and it is never filled (left open with a warning; merge coincident vertices
+        first). trimesh splits a textured mesh so along its UV seams."""
+        return self.seam_edges is not None and bool(self.seam_edges.all())
 
     @property
     def may_be_border(self) -> bool:
         """A hole (not ``is_border``) that spans at least ``MAY_BE_BORDER_FRACTION`` of its
         component: it may be an open surface's margin; filling it by default warns."""
         return not self.is_border and self.span_fraction >= MAY_BE_BORDER_FRACTION
+
+
+def seam_edges(vertices: np.ndarray, loops: Sequence[np.ndarray]) -> list[np.ndarray]:
+    """Per loop, which of its edges lie exactly on a boundary edge of another loop: both
+    ends at the same points (equal coordinates) as the two ends of an edge of that loop.
+    (A loop that runs back along itself is a slit: :func:`~surfinpaint.fill.seams.
+    find_slit`.) Only boundary vertices are compared, O(b log b) for b of them.
+
+    Examples
+    --------
+    >>> v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.]])
+    >>> [m.tolist() for m in seam_edges(v, [np.array([0, 1, 2]), np.array([3, 5, 4])])]
+    [[False, True, False], [False, False, True]]
+    """
+    if not loops:
+        return []
+    sizes = [len(loop) for loop in loops]
+    cuts = np.cumsum(sizes)[:-1]
+    ids, at = np.unique(np.concatenate(loops), return_inverse=True)
+    _, point = np.unique(np.asarray(vertices, dtype=float)[ids], axis=0, return_inverse=True)
+    first = point.ravel()[at.ravel()]
+    second = np.concatenate([np.roll(p, -1) for p in np.split(first, cuts)])
+    keys = np.sort(np.column_stack([first, second]), axis=1)
+    _, key = np.unique(keys, axis=0, return_inverse=True)
+    key = key.ravel()
+    owner = np.repeat(np.arange(len(loops)), sizes)
+    # the loops each edge's points appear in, each loop once
+    pairs = np.unique(np.column_stack([key, owner]), axis=0)
+    loops_at = np.bincount(pairs[:, 0], minlength=key.max() + 1)
+    return np.split(loops_at[key] > 1, cuts)
 
 
 def percent_below(fraction: float) -> str:
@@ -193,7 +234,7 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     surface = np.unique(label[faces.reshape(-1)])
     holes: list[Hole] = []
     longest_seen: set[int] = set()
-    for loop in ordered:
+    for loop, seams in zip(ordered, seam_edges(vertices, ordered), strict=True):
         points = vertices[loop]
         perimeter = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).sum())
         component = int(label[loop[0]])
@@ -204,7 +245,7 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
                  diameter=loop_diameter(points),
                  component=int(np.searchsorted(surface, component)),
                  is_border=bool(fraction >= BORDER_SPAN_FRACTION), span_fraction=fraction,
-                 spans_no_area=component in flat)
+                 spans_no_area=component in flat, seam_edges=seams)
         )
     return holes
 

@@ -35,6 +35,7 @@ from surfinpaint.fill.objects import mesh_arrays
 from surfinpaint.fill.results import FillResult, HoleReport
 from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import (
+    ALONG_OTHER_LOOPS,
     NO_AREA_FACES,
     Slit,
     SlitWarning,
@@ -65,25 +66,30 @@ ProgressCallback = Callable[[int, int, str], None]
 
 
 def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
-                zip_seams: bool, no_area: set[int]
+                zip_seams: bool, unfillable: dict[int, Hole]
                 ) -> tuple[np.ndarray, np.ndarray, list[HoleReport]]:
     """The holes of ``todo`` whose loop spans no area (:func:`find_slit`, or a loop of a
-    piece of surface whose faces all have zero area: its number in ``no_area``,
-    :attr:`Hole.spans_no_area`) or runs back along itself over a seam
-    (:func:`find_seam_part`) taken out of it, before anything is filled: seams zipped with
-    ``zip_seams`` (the faces returned use each kept vertex in place of its duplicate), the
-    others skipped with a SlitWarning.
+    piece of surface whose faces all have zero area: :attr:`Hole.spans_no_area`), runs back
+    along itself over a seam (:func:`find_seam_part`) or runs along other loops edge for
+    edge (:attr:`Hole.runs_along_other_loops`) taken out of it, before anything is filled:
+    seams zipped with ``zip_seams`` (the faces returned use each kept vertex in place of its
+    duplicate), the others skipped with a SlitWarning. ``unfillable``: the holes of the
+    first and last kind, by number.
 
     Returns the faces, the merged ``(duplicate, kept)`` pairs and the holes left to fill
     (their loops in the zipped faces' ids).
     """
     left, merged = [], []
     for report in todo:
-        if report.index in no_area:  # never zipped: its faces would repeat a vertex
+        hole = unfillable.get(report.index)
+        if hole is not None and hole.spans_no_area:  # not zipped: faces would repeat a vertex
             skip(report, NO_AREA_FACES, SlitWarning, stacklevel=4)
             continue
         slit = find_slit(vertices, report.loop)
         part = find_seam_part(vertices, report.loop) if slit is None else None
+        if slit is None and part is None and hole is not None:  # along other loops
+            skip(report, ALONG_OTHER_LOOPS, SlitWarning, stacklevel=4)
+            continue
         if slit is None and part is None:
             left.append(report)
             continue
@@ -264,13 +270,13 @@ def fill_holes(
     _check_flags(include_border=include_border, repair=repair, validate=validate,
                  zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, repaired, loops, numbers, incidence, zero_area, no_area, margins = \
+    vertices, faces, repaired, loops, numbers, incidence, zero_area, unfillable, margins = \
         _found_holes(vertices, faces, holes, method, include_border=include_border,
                      repair=repair, validate=validate)
     reports = _hole_reports(vertices, loops, numbers, method)
     todo = _within_size(reports, max_hole_edges)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
-    zipped, merged, todo = _open_seams(vertices, faces, todo, zip_seams, no_area)
+    zipped, merged, todo = _open_seams(vertices, faces, todo, zip_seams, unfillable)
     # the incidence made beside the checks is of the prepared faces, not of zipped ones
     mesh = FilledMesh(vertices, zipped, incidence if zipped is faces else None, zero_area)
     run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
@@ -298,8 +304,10 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
     """The mesh prepared (:func:`_prepared`; ``repair``'s removed and flipped faces), the
     loops to fill, their :func:`find_holes`
     numbers (the outer border counts, whatever was selected), the faces'
-    ``triangle_incidence``, their zero-area faces (a warning names the degenerate faces)
-    and the numbers of the holes that span no area for that (:attr:`Hole.spans_no_area`);
+    ``triangle_incidence``, their zero-area faces (a warning names the degenerate faces),
+    the holes never filled, by number (those that span no area for that,
+    :attr:`Hole.spans_no_area`, and those that run along other loops,
+    :attr:`Hole.runs_along_other_loops`) and those that may be the margin;
     a large mesh's kernels load on the idle core meanwhile, and the passes that
     need only the edge table run there while the mesh is checked
     (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
@@ -320,8 +328,9 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
     # chosen by the rule, not by the caller: warned about once filled
     margins = {} if holes is not None else {
         k: found[k] for k in numbers if k >= 0 and found[k].may_be_border}
-    no_area = {k for k in numbers if k >= 0 and found[k].spans_no_area}
-    return (vertices, faces, repaired, loops, numbers, incidence, degenerate[1], no_area,
+    unfillable = {k: found[k] for k in numbers
+                  if k >= 0 and (found[k].spans_no_area or found[k].runs_along_other_loops)}
+    return (vertices, faces, repaired, loops, numbers, incidence, degenerate[1], unfillable,
             margins)
 
 

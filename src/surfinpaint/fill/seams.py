@@ -41,8 +41,8 @@ from surfinpaint.lazy import lazy_module
 # imported at its first use (see fill/holes.py)
 spatial = lazy_module("scipy.spatial")
 
-__all__ = ["NO_AREA_FACES", "SLIT_RTOL", "Slit", "SlitWarning", "find_seam_part", "find_slit",
-           "zip_faces"]
+__all__ = ["ALONG_OTHER_LOOPS", "NO_AREA_FACES", "SLIT_RTOL", "Slit", "SlitWarning",
+           "find_seam_part", "find_slit", "zip_faces"]
 
 # two loop points closer than this fraction of the neighbouring loop edges' length coincide
 # (an exporter's duplicates are bit-identical; this leaves room for printed decimals)
@@ -51,6 +51,14 @@ SLIT_RTOL = 1e-3
 # stray collinear triangle) is left open: it spans no area, like a slit, whatever its shape
 NO_AREA_FACES = ("the loop spans no area: every face of its piece of surface has zero area "
                  "(collinear or coincident corners), so it is no hole to fill")
+# why a loop that runs along other boundary loops edge for edge (Hole.runs_along_other_loops:
+# trimesh's split of a textured mesh along its UV seams) is left open: filling it would lay
+# a second sheet of faces on the surface across the seam
+ALONG_OTHER_LOOPS = ("every edge of the loop lies exactly on another boundary edge: a seam "
+                     "between faces that do not join (their own copies of the vertices they "
+                     "share), not a hole, so it is left open; merge coincident vertices first "
+                     "(trimesh: mesh.merge_vertices(merge_tex=True, merge_norm=True)) to "
+                     "join them")
 # where along each loop edge the slit test checks that it lies on another edge of the loop
 _SAMPLES = np.array([0.25, 0.5, 0.75])
 

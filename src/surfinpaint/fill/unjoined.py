@@ -8,8 +8,8 @@ loop is its outer border. trimesh does the same along a textured mesh's UV seams
 (PyMeshLab's ``bunny10k_textured.obj``: 134 outer borders). Nothing is filled there, and without
 a word the user read "5 holes found" and a written file (session 34).
 :func:`unjoined_borders_note` says what happened and what to do.
-Only the boundary's vertices are compared (exact coordinates), so it costs O(b log b) for
-b boundary vertices.
+The loops that run along other loops edge for edge are never filled
+(:attr:`Hole.runs_along_other_loops`).
 """
 
 from __future__ import annotations
@@ -35,14 +35,15 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole]) -> str | 
     Returns
     -------
     str or None
-        None unless an outer border (:attr:`Hole.is_border`, left open) has an edge whose
-        two ends each lie exactly on another vertex of the boundary (a different id): a copy
-        of an edge elsewhere, so faces that meet there do not join. Else how many such
-        borders and vertices there are, examples of the coincident vertex pairs, and how to
-        join them (merge coincident vertices before filling).
+        None unless an outer border (:attr:`Hole.is_border`, left open) has an edge on an
+        edge of another loop (:attr:`Hole.seam_edges`): faces that meet there do not join.
+        Else how many such borders and vertices there are, examples of the coincident vertex
+        pairs, and how to join them (merge coincident vertices before filling).
     """
     borders = [k for k, h in enumerate(found) if h.is_border]
-    if not borders:
+    unjoined = [k for k in borders
+                if found[k].seam_edges is not None and found[k].seam_edges.any()]
+    if not unjoined:
         return None
     ids = np.unique(np.concatenate([np.asarray(h.loop) for h in found]))
     _, group, counts = np.unique(vertices[ids], axis=0, return_inverse=True,
@@ -50,10 +51,6 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole]) -> str | 
     group = group.ravel()
     copied = np.zeros(len(vertices), dtype=bool)
     copied[ids[counts[group] > 1]] = True  # another boundary vertex at the same point
-    unjoined = [k for k in borders
-                if (copied[found[k].loop] & copied[np.roll(found[k].loop, -1)]).any()]
-    if not unjoined:
-        return None
     # examples: the two lowest ids at each of the first points held more than once
     order = np.argsort(group, kind="stable")
     first = np.r_[True, group[order[1:]] != group[order[:-1]]]
