@@ -25,16 +25,20 @@ def _soup(vertices, faces):
     return vertices[faces.ravel()], np.arange(faces.size).reshape(-1, 3)
 
 
-def _split_in_two(vertices, faces):
-    """The sphere's upper faces given their own copies of the vertices they share with
-    the lower ones: two open pieces whose borders lie on each other."""
-    upper = vertices[faces].mean(axis=1)[:, 2] > 0
-    copies = np.unique(faces[upper])
+def _apart(vertices, faces, chosen):
+    """The ``chosen`` faces (a mask) given their own copies of the vertices they use, as a
+    textured mesh is split along a UV seam: the two sides' borders lie on each other."""
+    copies = np.unique(faces[chosen])
     renumber = np.arange(len(vertices))
     renumber[copies] = len(vertices) + np.arange(len(copies))
     out = faces.copy()
-    out[upper] = renumber[faces[upper]]
+    out[chosen] = renumber[faces[chosen]]
     return np.vstack([vertices, vertices[copies]]), out
+
+
+def _split_in_two(vertices, faces):
+    """The sphere's upper faces apart from the lower ones: two open pieces."""
+    return _apart(vertices, faces, vertices[faces].mean(axis=1)[:, 2] > 0)
 
 
 def _unjoined_warnings(caught):
@@ -82,16 +86,10 @@ def test_the_holes_command_warns_too(tmp_path, capsys):
 
 
 def _patch_apart(vertices, faces, centre, radius):
-    """The faces within ``radius`` of ``centre`` given their own copies of their vertices
-    (a textured mesh split along a UV seam): the rest of the surface has a loop around
-    them that runs along their border edge for edge."""
-    near = np.linalg.norm(vertices[faces].mean(axis=1) - centre, axis=1) < radius
-    copies = np.unique(faces[near])
-    renumber = np.arange(len(vertices))
-    renumber[copies] = len(vertices) + np.arange(len(copies))
-    out = faces.copy()
-    out[near] = renumber[faces[near]]
-    return np.vstack([vertices, vertices[copies]]), out
+    """The faces within ``radius`` of ``centre`` apart from the rest: the rest of the surface
+    has a loop around them that runs along their border edge for edge."""
+    return _apart(vertices, faces,
+                  np.linalg.norm(vertices[faces].mean(axis=1) - centre, axis=1) < radius)
 
 
 @pytest.mark.parametrize("loops, expected", [
