@@ -5,6 +5,7 @@ and PyMeshLab, filled end to end."""
 
 from __future__ import annotations
 
+import argparse
 import importlib.resources
 import json
 import os
@@ -18,6 +19,7 @@ import pytest
 
 from surfinpaint import ConformalOptions, GridOptions
 from surfinpaint.app.cli import main
+from surfinpaint.app.fill_options import hole_list
 from surfinpaint.app.program import (
     BLAS_THREAD_VARIABLES,
     HUGEPAGE_VARIABLE,
@@ -285,6 +287,26 @@ def test_bad_hole_list_is_a_usage_error(tmp_path, capsys):
     assert main(["fill", str(path), "-o", str(out), "--holes", "a,b", "-q"]) == 2
     assert "--holes" in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("0,2,5", [0, 2, 5]),
+    ("0-3,7", [0, 1, 2, 3, 7]),
+    (" 4 - 6 ", [4, 5, 6]),
+    ("3-3", [3]),
+    ("2,", [2]),           # a trailing comma
+    ("a,b", "comma-separated hole numbers and ranges"),
+    ("1-x", "comma-separated hole numbers and ranges"),
+    ("0-3-5", "comma-separated hole numbers and ranges"),
+    ("5-2", "runs backwards"),
+    (" , ", "names no hole"),
+])
+def test_the_hole_list_takes_numbers_and_ranges(text, expected):
+    if isinstance(expected, list):
+        assert hole_list(text) == expected
+    else:
+        with pytest.raises(argparse.ArgumentTypeError, match=expected):
+            hole_list(text)
 
 
 def test_hole_index_out_of_range(tmp_path, capsys):

@@ -331,7 +331,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        "vertices unchanged and in order, then the new ones.")
     p.add_argument("mesh", help="input mesh")
     p.add_argument("-o", "--output", required=True, help="output mesh (format by extension)")
-    p.add_argument("--holes", help="comma-separated hole indices from `surfinpaint holes`")
+    p.add_argument("--holes", help="hole numbers from `surfinpaint holes`, comma-separated, "
+                   "ranges taken whole (0,2,5 or 0-3,7)")
     add_fill_options(p)
     p.add_argument("--jobs", type=int, metavar="N",
                    help="worker processes filling holes at once (default: all cores; 1: one "

@@ -18,13 +18,28 @@ class UsageError(Exception):
 
 
 def hole_list(text: str) -> list[int]:
-    """``--holes 0,2,5``: hole numbers as ``surfinpaint holes`` lists them (an argparse
-    ``type``)."""
-    try:
-        numbers = [int(t) for t in text.split(",") if t.strip()]
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(
-            f"--holes takes comma-separated hole indices, got {text!r}") from exc
+    """``--holes 0,2,5`` or ``--holes 0-3,7``: hole numbers as ``surfinpaint holes`` lists
+    them, a range ``a-b`` taking both ends (an argparse ``type``).
+
+    Examples
+    --------
+    >>> hole_list("0-3,7")
+    [0, 1, 2, 3, 7]
+    """
+    numbers: list[int] = []
+    for item in (t.strip() for t in text.split(",")):
+        first, dash, last = item.partition("-")
+        try:
+            low, high = int(first), int(last if dash else first)
+        except ValueError:
+            if not item:
+                continue
+            raise argparse.ArgumentTypeError(
+                f"--holes takes comma-separated hole numbers and ranges (0,2,5 or 0-3,7), "
+                f"got {text!r}") from None
+        if high < low:
+            raise argparse.ArgumentTypeError(f"--holes: the range {item!r} runs backwards")
+        numbers.extend(range(low, high + 1))
     if not numbers:  # an empty shell variable: not "fill nothing" (nor "fill them all")
         raise argparse.ArgumentTypeError(f"--holes names no hole, got {text!r}")
     return numbers

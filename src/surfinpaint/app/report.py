@@ -461,8 +461,8 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("mesh", help="input mesh with holes")
     p.add_argument("-o", "--output", required=True, help="output folder")
     p.add_argument("--holes", type=hole_list,
-                   help="comma-separated hole indices from `surfinpaint holes` (default: all "
-                   "holes but the outer border)")
+                   help="hole numbers from `surfinpaint holes`, comma-separated, ranges taken "
+                   "whole (0,2,5 or 0-3,7; default: all holes but the outer border)")
     p.add_argument("--truth", help="the complete mesh the holes were cut from (same vertex "
                    "positions): measure each fill against it")
     p.add_argument("--repair", action="store_true",
