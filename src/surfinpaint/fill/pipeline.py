@@ -48,7 +48,6 @@ from surfinpaint.fill.unjoined import unjoined_borders_note
 from surfinpaint.fill.warmup import Beside, load_for_workers, loading_beside
 from surfinpaint.geometry.degenerate import triangle_incidence, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.orientation import orientation_note
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.geometry.validation import (
     check_arrays,
@@ -206,9 +205,12 @@ def fill_holes(
         ``FillResult.removed_faces``. Then the faces of each piece are oriented
         consistently, the fewest flipped (their last two vertex ids swapped:
         :func:`surfinpaint.geometry.orientation.orient_faces`), with a
-        :class:`~surfinpaint.MeshWarning` naming them; they are listed (ids into the input
-        faces) in ``FillResult.flipped_faces``. A piece that cannot be oriented (a Möbius
-        strip) is left as it is, and refused as without ``repair``.
+        :class:`~surfinpaint.MeshWarning` naming them, and each closed piece wound inward
+        (negative signed volume) is turned outward, all its faces flipped, with a warning
+        too (:func:`surfinpaint.geometry.orientation.turn_outward`); the faces flipped in
+        the end are listed (ids into the input faces) in ``FillResult.flipped_faces``. A
+        piece that cannot be oriented (a Möbius strip) is left as it is, and refused as
+        without ``repair``.
     validate : bool
         Check the mesh first (:func:`surfinpaint.validate_mesh`).
     zip_seams : bool
@@ -432,10 +434,10 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     vertices = np.asarray(vertices, dtype=np.float64)
     repaired = (np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
     if repair:
-        faces, *repaired = repair_faces(vertices, faces)
-        if len(repaired[1]):
-            warnings.warn(f"repair {orientation_note(repaired[1])}", MeshWarning,
-                          stacklevel=4)
+        repair = repair_faces(vertices, faces)
+        faces, repaired = repair.faces, (repair.removed, repair.flipped)
+        for note in repair.notes():
+            warnings.warn(f"repair {note}", MeshWarning, stacklevel=4)
     triangles, repeated, rows = triangle_rows(faces)  # a face that repeats a vertex joins none
     table = EdgeTable.build(triangles, len(vertices)) if validate else None
     found = beside.submit(find_holes, vertices, triangles, table, validate=False)
