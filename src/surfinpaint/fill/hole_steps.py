@@ -20,6 +20,7 @@ from surfinpaint.fill import parallel
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
 from surfinpaint.fill.results import Fill, HoleReport
+from surfinpaint.fill.seams import SEAM_LEFT_OPEN, spanless
 from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.repair import unjoined_bowties
 from surfinpaint.geometry.validation import check_loop, zero_area_faces
@@ -95,18 +96,28 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
 def left_open(vertices: np.ndarray, faces: np.ndarray, loops: list[np.ndarray]
               ) -> list[str | None]:
     """Per loop of ``loops`` (boundary loops of the mesh), why :func:`surfinpaint.fill_holes`
-    leaves it open at its check (:func:`loop_problem`, the check each hole's fill makes:
-    a bow-tie vertex the fill would leave pinched, a lone sheet, faces of zero area in the
-    faired fill's rings), or None where the check passes. The check is made on the mesh as
+    leaves it open (with its defaults), or None where it tries to fill it: a loop that spans
+    no area (:func:`~surfinpaint.fill.seams.spanless`: a slit, a seam, zipped only with
+    ``zip_seams``), else the check each hole's fill makes (:func:`loop_problem`: a bow-tie
+    vertex the fill would leave pinched, a lone sheet, faces of zero area in the faired
+    fill's rings). The check is made on the mesh as
     given, with :data:`FAIR_NEIGHBOURHOOD_RINGS` rings: the fewest either method cuts by
     default, and those a λ-H fill falls back to when zero-area faces lie further out (then
     filled, faired). For ``surfinpaint holes``: it says what ``fill`` will do."""
+    vertices = np.asarray(vertices, dtype=np.float64)
     triangles, _, rows = triangle_rows(np.asarray(faces, dtype=np.int64))
     flat = zero_area_faces(vertices, triangles)
-    mesh = FilledMesh(np.asarray(vertices, dtype=np.float64), np.asarray(faces, np.int64),
+    mesh = FilledMesh(vertices, np.asarray(faces, np.int64),
                       zero_area=flat if rows is None else rows[flat])
-    return [loop_problem(mesh.cut(np.asarray(loop), FAIR_NEIGHBOURHOOD_RINGS), k,
-                         explicit=False) for k, loop in enumerate(loops)]
+    out: list[str | None] = []
+    for k, loop in enumerate(loops):
+        slit = spanless(vertices, np.asarray(loop))  # found before anything is filled
+        if slit is not None:
+            out.append(slit[1] + (SEAM_LEFT_OPEN if slit[0].is_seam else ""))
+            continue
+        out.append(loop_problem(mesh.cut(np.asarray(loop), FAIR_NEIGHBOURHOOD_RINGS), k,
+                                explicit=False))
+    return out
 
 
 def around_zero_area(mesh: FilledMesh, local: Local, run: Run

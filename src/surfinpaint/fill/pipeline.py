@@ -37,10 +37,9 @@ from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import (
     ALONG_OTHER_LOOPS,
     NO_AREA_FACES,
-    Slit,
+    SEAM_LEFT_OPEN,
     SlitWarning,
-    find_seam_part,
-    find_slit,
+    spanless,
     zip_faces,
 )
 from surfinpaint.fill.topology import topology_changes
@@ -84,22 +83,14 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
         if hole is not None and hole.spans_no_area:  # not zipped: faces would repeat a vertex
             skip(report, NO_AREA_FACES, SlitWarning, stacklevel=4)
             continue
-        slit = find_slit(vertices, report.loop)
-        part = find_seam_part(vertices, report.loop) if slit is None else None
-        if slit is None and part is None and hole is not None:  # along other loops
+        found = spanless(vertices, report.loop)
+        if found is None and hole is not None:  # along other loops
             skip(report, ALONG_OTHER_LOOPS, SlitWarning, stacklevel=4)
             continue
-        if slit is None and part is None:
+        if found is None:
             left.append(report)
             continue
-        if slit is None:  # a seam along part of a loop that bounds no disk (an open tube's)
-            slit = Slit(part)
-            reason = (f"the loop runs back along itself: a seam of {len(part)} coincident "
-                      "vertex pairs joins two parts of it (duplicated vertices), so no disk "
-                      "fills it")
-            rest = "; the rest of the loop is left open"
-        else:
-            reason, rest = slit.describe(), ""
+        slit, reason, rest = found
         if slit.is_seam and zip_seams:
             zipped, problem = zip_faces(faces, slit.merges)
             if problem is None:
@@ -116,7 +107,7 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
                 continue
             reason += f"; not zipped: {problem}"
         elif slit.is_seam:
-            reason += "; left open (zip_seams=True, or --zip-seams, closes it)"
+            reason += SEAM_LEFT_OPEN
         skip(report, reason, SlitWarning, stacklevel=4)
     pairs = np.concatenate(merged) if merged else np.empty((0, 2), dtype=np.int64)
     if len(pairs):  # a later loop through a duplicate (a bow-tie there) goes through its partner
