@@ -267,7 +267,7 @@ def test_gifti_data_files_beside_a_surface_are_companions_not_failed_files(tmp_p
     assert [j.output for j in find_inputs([brain], tmp_path / "out")] == [
         "pial_left.gii", "pial_left.gii.gz"]
     assert main(["batch", str(brain), "-o", str(tmp_path / "out"), "--jobs", "1"]) == 0
-    assert "2 files: 0 filled, 2 closed, 0 failed" in capsys.readouterr().err
+    assert "2 files: 0 filled, 0 unfilled, 2 closed, 0 failed" in capsys.readouterr().err
 
 
 def test_cli_batch_names_the_files_it_skips_and_still_succeeds(tmp_path, capsys):

@@ -105,7 +105,7 @@ def test_the_batch_command_with_its_progress_bar_adds_no_thread(tmp_path, monkey
     monkeypatch.setattr(batch, "start_context", start_context)
     assert main(["batch", str(scans), "-o", str(tmp_path / "out"), "--jobs", "2",
                  "--method", "fair"]) == 1  # the corrupt file
-    assert "7 files: 4 filled, 2 closed, 1 failed" in capsys.readouterr().err
+    assert "7 files: 4 filled, 0 unfilled, 2 closed, 1 failed" in capsys.readouterr().err
     assert seen and set(seen) == {before}
 
 

@@ -226,6 +226,84 @@ def test_bowtie_hole_default_is_skipped_with_a_warning(tmp_path, capsys):
     assert len(find_holes(v2, f2)) == 2
 
 
+def _pinched_octahedron():
+    """An octahedron missing two opposite faces at its top vertex 0: one hole pinched there
+    into two loops, both filled (each fill joins the fans at the bow-tie)."""
+    v = np.array([[0, 0, 1], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0], [0, 0, -1.]])
+    f = np.array([[0, 2, 3], [0, 4, 1], [5, 2, 1], [5, 3, 2], [5, 4, 3], [5, 1, 4]])
+    return v, f
+
+
+@pytest.mark.parametrize(("mesh", "left_open"), [
+    ("touching spheres", [0, 1]),    # bow-tie whose fans a fill would not join: skipped
+    ("pinched octahedron", []),      # bow-tie whose fans the fills join: filled
+    ("holey sphere", []),            # no bow-tie
+])
+def test_holes_says_which_loops_fill_leaves_open(tmp_path, capsys, mesh, left_open):
+    # `holes` called a loop through a bow-tie a "hole" though `fill` skips it (session 34's
+    # audit); it now asks fill's own check, and lists exactly the holes fill skips
+    v, f = {"touching spheres": lambda: _touching_spheres()[:2],
+            "pinched octahedron": _pinched_octahedron, "holey sphere": _holey_sphere}[mesh]()
+    path = tmp_path / "mesh.ply"
+    write_mesh(path, v, f)
+    assert main(["holes", str(path)]) == 0
+    out = capsys.readouterr().out
+    rows = [[c.strip() for c in re.split(r"[│┃|]", line) if c.strip()]
+            for line in out.splitlines()]
+    rows = [r for r in rows if r and r[0].isdigit()]
+    said_open = [int(r[0]) for r in rows if r[-1] == "left open: see below"]
+    assert said_open == left_open, out
+    for k in left_open:
+        assert f"hole {k}: hole boundary passes through non-manifold (bow-tie)" in out
+    result = fill_holes(v, f, method="fair")
+    assert [r.index for r in result.reports if r.skipped] == left_open
+    assert len(rows) == len(result.reports)
+
+
+def test_batch_status_unfilled_when_holes_were_found_and_none_filled(tmp_path, capsys):
+    # a file whose holes were all skipped was "filled" (session 34's audit): a lab filtering
+    # summary.csv by status could not find it
+    v, f, _ = _touching_spheres()
+    (tmp_path / "in").mkdir()
+    write_mesh(tmp_path / "in" / "a_pinched.ply", v, f)  # holes found, none filled
+    write_mesh(tmp_path / "in" / "b_holey.ply", *_holey_sphere())
+    write_mesh(tmp_path / "in" / "c_closed.ply", *sphere(1))
+    code = main(["batch", str(tmp_path / "in"), "-o", str(tmp_path / "out"), "--method",
+                 "fair", "--jobs", "1"])
+    err = _flat(capsys.readouterr().err)
+    assert code == 0, err  # holes left open are warnings, not failures
+    assert "3files:1filled,1unfilled,1closed,0failed,0skipped" in err
+    rows = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
+    assert [(r["status"], r["holes_found"], r["holes_filled"]) for r in rows] == [
+        ("unfilled", 2, 0), ("filled", 2, 2), ("closed", 0, 0)]
+    assert "bow-tie" in rows[0]["message"]
+    with open(tmp_path / "out" / "summary.csv", newline="") as handle:
+        statuses = [line.split(",")[2] for line in handle.read().splitlines()[1:]]
+    assert statuses == ["unfilled", "filled", "closed"]
+
+
+def test_a_fill_that_fails_leaves_no_progress_bar_before_its_error(tmp_path, capsys):
+    # the bar's last line ("hole 0: 3 edges, conformal ... 0/1") stayed in a log, and on a
+    # terminal, above the error (session 34's audit)
+    v, f, _ = _touching_spheres()
+    path = tmp_path / "pinched.ply"
+    write_mesh(path, v, f)
+    assert main(["fill", str(path), "-o", str(tmp_path / "out.ply"), "--holes", "0"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {path}: hole 0: hole boundary passes through"), err
+    assert "━" not in err and "0/1" not in err
+    # refused before the first hole (a fin: three faces on an edge): "filling ━━━ 0/?" stayed
+    fin = tmp_path / "fin.ply"
+    write_mesh(fin, np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1.]]),
+               np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]]))
+    assert main(["fill", str(fin), "-o", str(tmp_path / "out.ply")]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {fin}: 1 non-manifold edges"), err
+    # a fill that succeeds still leaves its bar's last line in the log
+    assert main(["fill", str(path), "-o", str(tmp_path / "out.ply")]) == 0
+    assert "━" in capsys.readouterr().err
+
+
 def test_batch_names_each_skipped_hole_once(tmp_path, capsys):
     # the warning of a hole skipped at a bow-tie says why; the summary row must not say it
     # again (it did: "hole 0: ...; skipped | hole 0: skipped (...)")
@@ -711,6 +789,49 @@ def test_represent_and_rebuild_round_trip(tmp_path, capsys):
     # grid options without a grid are a usage error
     assert main(["represent", str(mesh), "-o", str(rep_path), "--resolution", "32"]) == 2
     assert main(["represent", str(mesh), "-o", str(rep_path), "--spacing", "graded"]) == 2
+
+
+def _not_disks() -> dict:
+    """Meshes that are not topological disks, each with what represent must say it found."""
+    from surfinpaint.data import torus
+
+    v, f = sphere(1)
+    tv, tf = torus()
+    nut_with_hole = cut_holes(tv, tf, [0], [0.3])
+    two = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 0, 0], [6, 0, 0], [5, 1, 0.]]),
+           np.array([[0, 1, 2], [3, 4, 5]]))
+    pinched = _pinched_octahedron()
+    fin = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1.]]),
+           np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]]))
+    return {
+        "nut": ((tv, tf), "closed surface of genus 1 (no boundary), a disk has one boundary "
+                "loop"),
+        "ball": ((v, f), "closed sphere (no boundary), a disk has one boundary loop"),
+        "tube": (_holey_sphere(), "2 boundary loops (an annulus or a disk with holes; loop "
+                 "sizes"),
+        "nut with a hole": ((nut_with_hole.vertices, nut_with_hole.faces),
+                            "genus 1 (Euler characteristic -1, 1 boundary loop), a disk has "
+                            "genus 0"),
+        "two pieces": (two, "2 connected components, a disk has one"),
+        "pinched": (pinched, "pinched) boundary vertices, where two boundary loops touch: "
+                    "vertices 0; a disk's boundary is one loop through each of its vertices "
+                    "once"),
+        "fin": (fin, "non-manifold edges (more than two faces): (0, 1); a disk is a "
+                "manifold surface with one boundary loop"),
+    }
+
+
+@pytest.mark.parametrize("name", list(_not_disks()))
+def test_represent_says_the_mesh_is_no_disk_and_what_it_is(tmp_path, capsys, name):
+    (v, f), found = _not_disks()[name]
+    path = tmp_path / f"{name.replace(' ', '_')}.ply"
+    write_mesh(path, v, f)
+    out = tmp_path / "rep.npz"
+    assert main(["represent", str(path), "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    # the file, what it is, what a disk is: in one error line
+    assert _flat(f"error: {path}: ") in _flat(err) and _flat(found) in _flat(err), err
+    assert not out.exists()
 
 
 def test_represent_and_rebuild_bad_input(tmp_path, capsys):

@@ -293,3 +293,26 @@ def test_the_background_process_runs_detached_at_the_lowest_priority_holding_the
         time.sleep(0.05)
     sid, nice, group, held = report.read_text().split()
     assert int(sid) != os.getsid(0) and nice == "19" and group == "19" and held == "held"
+
+
+def test_a_batch_on_a_cold_cache_says_compiling_once_not_once_per_worker(tmp_path):
+    # each worker of `batch --jobs 2` compiled the kernels it missed and each said so
+    # (session 34's audit): the first worker to compile says it, the others not
+    from surfinpaint.data import sphere
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+    from surfinpaint.io import write_mesh
+
+    v, f = sphere(2)
+    cut = cut_geodesic_disk(v, f, 0, 0.5)
+    (tmp_path / "in").mkdir()
+    for name in ("a", "b", "c"):
+        write_mesh(tmp_path / "in" / f"{name}.ply", cut.vertices, cut.faces)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=SRC,
+               TMPDIR=str(tmp_path), SURFINPAINT_COMPILE="foreground")
+    run = subprocess.run([sys.executable, "-m", "surfinpaint", "batch", str(tmp_path / "in"),
+                          "-o", str(tmp_path / "out"), "--jobs", "2", "--method", "fair"],
+                         env=env, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    assert run.stderr.count(COMPILING_MESSAGE) == 1, run.stderr
+    assert "3 files: 3 filled" in run.stderr
+    assert list((tmp_path / "cache").rglob("triangulation._dp_loops-*.nbi"))

@@ -15,6 +15,8 @@ from surfinpaint.data import sphere
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length
 from surfinpaint.geometry.orientation import orient_faces
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.geometry.validation import validate_mesh
@@ -103,7 +105,8 @@ def test_flipped_ids_count_the_input_faces_when_faces_were_removed():
     v = np.vstack([v, (v[a] + v[b]) * 0.7])
     fin = [a, b, len(v) - 1]
     given = np.vstack([[fin], _flip(f, [200, 250])])  # the fin first: every id shifts
-    kept, removed, flipped = repair_faces(v, given)
+    kept, removed, flipped, turned = repair_faces(v, given)
+    assert turned == []
     assert 0 in removed and len(removed) == 3
     assert flipped.tolist() == [201, 251]
     np.testing.assert_array_equal(kept, np.delete(np.vstack([[fin], f]), removed, axis=0))
@@ -203,3 +206,59 @@ def test_assimps_spider_fills_with_repair(tmp_path, capsys):
     assert main(["holes", str(SPIDER), "--repair"]) == 0
     printed = " ".join(capsys.readouterr().out.split())
     assert "--repair flipped 4 faces (1061, 1097, 1171, 1207)" in printed
+
+
+# --------------------------------------------------- closed pieces outward (session 35)
+
+
+def _volume(v, f) -> float:
+    return float(np.einsum("ij,ij->i", v[f[:, 0]], np.cross(v[f[:, 1]], v[f[:, 2]])).sum() / 6)
+
+
+def _pieces():
+    """A closed sphere, the same with a hole (open), each away from the other."""
+    v, f = sphere(2)
+    ball = (v, f)
+    cut = cut_holes(v, f, [0], [2.5 * mean_edge_length(v, f)])
+    cup = (cut.vertices + [4.0, 0, 0], cut.faces)
+    return ball, cup
+
+
+@pytest.mark.parametrize(("ball_inward", "few_flipped", "cup_inward", "turned"), [
+    (True, False, False, 1),   # a closed piece wound inward: turned outward
+    (True, True, False, 1),    # ... with a few faces against the rest: all made outward
+    (False, True, False, 0),   # outward already: only the few faces flipped back
+    (False, False, True, 0),   # an open piece wound inward keeps its majority winding
+    (True, False, True, 1),    # each piece by its own rule
+])
+def test_repair_turns_closed_pieces_outward_and_leaves_open_ones(ball_inward, few_flipped,
+                                                                 cup_inward, turned):
+    (v, f), (cv, cf) = _pieces()
+    ball = f[:, [0, 2, 1]] if ball_inward else f
+    if few_flipped:
+        ball = _flip(ball, [5, 77])
+    cup = cf[:, [0, 2, 1]] if cup_inward else cf
+    vertices = np.vstack([v, cv])
+    given = np.vstack([ball, cup + len(v)])
+    repair = repair_faces(vertices, given)
+    kept = repair.faces
+    assert len(repair.turned) == turned
+    assert _volume(vertices, kept[: len(f)]) > 0  # the closed piece: outward in every case
+    # the open piece: its majority winding, as before
+    np.testing.assert_array_equal(kept[len(f):], cup + len(v))
+    assert _consistent(kept)
+    changed = np.flatnonzero((kept != given).any(axis=1))
+    np.testing.assert_array_equal(repair.flipped, changed)
+    if turned:
+        np.testing.assert_array_equal(repair.turned[0], np.arange(len(f)))
+        (note,) = [n for n in repair.notes() if n.startswith("turned")]
+        assert note.startswith(f"turned 1 closed piece outward (negative volume): its "
+                               f"{len(f)} faces (0, 1,")
+    # the fill says so, and its result is the repaired mesh
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fill_holes(vertices, given, method="fair", repair=True)
+    said = [str(w.message) for w in caught if "turned" in str(w.message)]
+    assert len(said) == (1 if turned else 0)
+    np.testing.assert_array_equal(result.faces[: len(kept)], kept)
+    np.testing.assert_array_equal(result.flipped_faces, repair.flipped)

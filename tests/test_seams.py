@@ -8,6 +8,7 @@ with an ordinary hole beside it.
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -398,3 +399,27 @@ def test_a_seam_s_warning_points_at_the_caller_of_fill_holes(slit_plane, zip_sea
         fill_holes(v, f, method="fair", zip_seams=zip_seams, jobs=1)
     (named,) = [w for w in caught if str(w.message).startswith(f"hole {slit}: ")]
     assert (named.filename, named.lineno) == (__file__, line)
+
+
+@pytest.mark.parametrize("mesh", ["seamed_sphere", "slit_plane"])
+def test_holes_says_fill_leaves_the_slit_open(mesh, request, tmp_path, capsys):
+    # `holes` called a slit or a seam "hole" though `fill` leaves it open (session 35): it
+    # now says what fill does with each loop, the slit's reason included
+    from surfinpaint.app.cli import main
+    from surfinpaint.io.formats import write_mesh
+
+    v, f = request.getfixturevalue(mesh)[:2]
+    path = tmp_path / "mesh.ply"
+    write_mesh(path, v, f)
+    slit, hole = _slit_and_hole(v, f)
+    assert main(["holes", str(path)]) == 0
+    out = capsys.readouterr().out
+    rows = [[c.strip() for c in re.split(r"[│┃|]", line) if c.strip()]
+            for line in out.splitlines()]
+    kinds = {int(r[0]): r[-1] for r in rows if r and r[0].isdigit()}
+    assert kinds[slit] == "left open: see below" and kinds[hole] == "hole"
+    said = " ".join(out.split())
+    assert f"hole {slit}: the loop spans no area" in said and "fill skips it" in said
+    assert "left open (zip_seams=True, or --zip-seams, closes it)" in said  # both are seams
+    result, _ = _run(v, f, method="fair")
+    assert [r.index for r in result.reports if r.skipped] == [slit]

@@ -38,7 +38,7 @@ import threading
 from collections.abc import Callable
 
 __all__ = ["BACKGROUND_MESSAGE", "BUILDER", "COMPILING_MESSAGE", "MODE_VARIABLE", "Kernel",
-           "NotCompiled", "kernel", "lock_path", "run"]
+           "NotCompiled", "announce_once_across", "kernel", "lock_path", "run"]
 
 logger = logging.getLogger("surfinpaint")
 
@@ -87,6 +87,32 @@ def _listen() -> None:
 
     event.register("numba:compile", _Notice())
     _state["listening"] = True
+
+
+class _FirstAcross(logging.Filter):
+    """Lets :data:`COMPILING_MESSAGE` through in the first of the processes sharing
+    ``told`` (a ``multiprocessing`` ``Value``) to log it; every other record passes."""
+
+    def __init__(self, told) -> None:
+        super().__init__()
+        self.told = told
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.msg != COMPILING_MESSAGE:
+            return True
+        with self.told.get_lock():
+            first = not self.told.value
+            self.told.value = True
+        return first
+
+
+def announce_once_across(told) -> None:
+    """In a worker process: :data:`COMPILING_MESSAGE` (once per process otherwise) is logged
+    by the first of the workers sharing ``told`` only, a ``Value("b", 0)`` of the
+    ``multiprocessing`` context that started them. Each worker of a batch compiles the
+    kernels it misses on a cold cache: one line says so, not one per worker. Costs nothing
+    on a warm cache (nothing is logged)."""
+    logger.addFilter(_FirstAcross(told))
 
 
 def kernel(func: Callable, **options) -> Callable | None:

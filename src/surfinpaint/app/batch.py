@@ -49,16 +49,20 @@ from surfinpaint.app.batch_summary import (
     SUMMARY_JSON,
     FileRow,
     FileRows,
+    error_text,
+    fill_messages,
+    named_in_summary,
     read_summary,
+    row_of,
     write_summary,
 )
-from surfinpaint.app.fill_report import HoleRecord
-from surfinpaint.errors import MeshError
+from surfinpaint.compiled import announce_once_across
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.parallel import start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.fill.warmup import warm_kernels
 from surfinpaint.io.formats import MeshData, read_mesh_data, write_mesh_data
+from surfinpaint.io.materials import copy_materials
 from surfinpaint.lazy import lazy_module
 
 __all__ = ["FileJob", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
@@ -83,41 +87,6 @@ _PROGRESS_SECONDS = 0.1
 # -------------------------------------------------------------------------- one file's fill
 
 
-def _named(job: FileJob, text: str) -> str:
-    """``text`` naming the files as the summary does (workers see absolute paths)."""
-    return text.replace(os.fspath(job.source), job.name).replace(os.fspath(job.target),
-                                                                 job.output)
-
-
-def _messages(job: FileJob, result: FillResult,
-              caught: Iterable[warnings.WarningMessage]) -> str:
-    texts: list[str] = []
-    for text in [_named(job, str(w.message)) for w in caught]:
-        if text not in texts and not any(text in t for t in texts):
-            texts.append(text)
-    # each skipped hole once: its warning, where it had one, already says why
-    texts += [f"hole {r.index}: skipped ({r.skipped})" for r in result.reports if r.skipped
-              and not any(f"hole {r.index}: {r.skipped}" in t for t in texts)]
-    if len(result.removed_faces):
-        texts.append(f"repair removed {len(result.removed_faces)} faces around non-manifold "
-                     "edges and bow-tie vertices")
-    return " | ".join(texts)
-
-
-def _row_of(job: FileJob, result: FillResult, seconds: float, message: str,
-            picture: str | None) -> FileRow:
-    kept: dict[str, int] = {}
-    for report in result.reports:
-        if not report.skipped:
-            kept[report.method] = kept.get(report.method, 0) + 1
-    filled = sum(kept.values())
-    return FileRow(job.name, job.output, "filled" if result.reports else "closed",
-                   holes_found=len(result.reports), holes_filled=filled, kept=kept,
-                   new_vertices=len(result.vertices) - result.n_original_vertices,
-                   seconds=seconds, message=message,
-                   holes=tuple(HoleRecord.of(r) for r in result.reports), picture=picture)
-
-
 def _draw(job: FileJob, mesh: MeshData, result: FillResult) -> str:
     """Draw the before/after picture of ``job`` (when it has one) in this process, the
     worker that filled it: the fill's result is here, and sending it to the parent to draw
@@ -129,15 +98,9 @@ def _draw(job: FileJob, mesh: MeshData, result: FillResult) -> str:
     try:
         figures.before_after(mesh.vertices, mesh.faces, result, job.picture)
     except Exception as exc:  # the picture's failure is the row's note, not the file's
-        return _named(job, f"{job.picture_output}: picture not drawn: "
-                      f"{type(exc).__name__}: {exc}")
+        return named_in_summary(job, f"{job.picture_output}: picture not drawn: "
+                                f"{type(exc).__name__}: {exc}")
     return ""
-
-
-def _error_text(job: FileJob, exc: Exception) -> str:
-    if isinstance(exc, MeshError):
-        return _named(job, str(exc if exc.path else exc.with_path(job.name)))
-    return _named(job, f"{job.name}: {type(exc).__name__}: {exc}")
 
 
 # The warnings filter and the BLAS thread limit are per process: a Dask worker with several
@@ -171,14 +134,17 @@ def fill_file(job: FileJob, options: Mapping[str, Any],
             mesh = read_mesh_data(job.source)
             result, filled = fill_mesh_data(mesh, **options, jobs=1, progress=hole_progress)
             job.target.parent.mkdir(parents=True, exist_ok=True)
+            # an OBJ's .mtl and textures beside it, as `surfinpaint fill` copies them
+            copy_materials(job.source, job.target, filled.metadata.get("mtllib", ""),
+                           reserved=(job.picture,) if job.picture else ())
             write_mesh_data(job.target, filled)
         except Exception as exc:  # any failure of one file is that file's row, not the batch's
             return FileRow(job.name, job.output, "failed",
-                           seconds=time.perf_counter() - started, message=_error_text(job, exc))
+                           seconds=time.perf_counter() - started, message=error_text(job, exc))
         unfinished = _draw(job, mesh, result)
-    message = " | ".join(t for t in (_messages(job, result, caught), unfinished) if t)
-    return _row_of(job, result, time.perf_counter() - started, message,
-                   None if unfinished else job.picture_output)
+    message = " | ".join(t for t in (fill_messages(job, result, caught), unfinished) if t)
+    return row_of(job, result, time.perf_counter() - started, message,
+                  None if unfinished else job.picture_output)
 
 
 def _worker_died(job: FileJob, why: str) -> FileRow:
@@ -244,14 +210,17 @@ class _Rows:
                         jobs.unknown)
 
 
-def _start_worker(queue: Any | None, method: str) -> None:
+def _start_worker(queue: Any | None, method: str, told: Any = None) -> None:
     """Worker initializer. Ctrl-C reaches the whole process group; the parent decides (it
     records the files done and ends the workers: :func:`_drain`). SIGTERM ends the worker
     (a forked one inherits the command's handler, which would raise in the middle of a
     file instead). ``queue`` takes the hole progress of the worker's files to the parent
     (None: nobody listens). The compiled kernels of ``method`` are loaded now, while the
-    parent still lists and checks the inputs (:func:`_launch`), not in the first file."""
+    parent still lists and checks the inputs (:func:`_launch`), not in the first file; on a
+    cold cache the first worker to compile says so, the others not (``told``)."""
     global _HOLE_PROGRESS
+    if told is not None:
+        announce_once_across(told)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if queue is not None:
@@ -276,7 +245,7 @@ def _launch(workers: int, progress: bool, method: str) -> _Launched:
     gc.freeze()
     try:
         pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
-                                   initargs=(holes, method))
+                                   initargs=(holes, method, context.Value("b", 0)))
         for _ in range(workers):  # each task starts a worker (all of them, when forked)
             pool.submit(os.getpid)
     finally:

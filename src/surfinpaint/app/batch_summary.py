@@ -9,22 +9,25 @@ import dataclasses
 import io
 import json
 import os
-from collections.abc import Mapping, Sequence
+import warnings
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-from surfinpaint.app.batch_inputs import UnknownFile
+from surfinpaint.app.batch_inputs import FileJob, UnknownFile
 from surfinpaint.app.fill_report import HoleRecord, plain
-from surfinpaint.fill.pipeline import METHODS
+from surfinpaint.errors import MeshError
+from surfinpaint.fill.pipeline import METHODS, FillResult
 from surfinpaint.io.atomic import atomic_open
 
-__all__ = ["FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "read_summary",
-           "read_unknown_files", "write_summary"]
+__all__ = ["FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "error_text",
+           "fill_messages", "named_in_summary", "read_summary", "read_unknown_files",
+           "row_of", "write_summary"]
 
-Status = Literal["filled", "closed", "failed", "skipped"]
+Status = Literal["filled", "unfilled", "closed", "failed", "skipped"]
 #: The statuses of a :class:`FileRow`, in the order the summary counts them.
-STATUSES: tuple[str, ...] = ("filled", "closed", "failed", "skipped")
+STATUSES: tuple[str, ...] = ("filled", "unfilled", "closed", "failed", "skipped")
 
 SUMMARY_CSV, SUMMARY_JSON = "summary.csv", "summary.json"
 
@@ -33,8 +36,10 @@ SUMMARY_CSV, SUMMARY_JSON = "summary.csv", "summary.json"
 class FileRow:
     """What happened to one input file: a row of ``summary.csv`` / ``summary.json``.
 
-    ``status`` is "filled" (the fill ran and the output was written; holes it did not fill
-    are named in ``message``), "closed" (no hole to fill: the mesh was written unchanged),
+    ``status`` is "filled" (the fill ran, filled at least one hole, and the output was
+    written; holes it did not fill are named in ``message``), "unfilled" (holes were found
+    and none was filled: each is named in ``message`` with why; the mesh was written
+    unchanged), "closed" (no hole to fill: the mesh was written unchanged),
     "failed" (nothing written; ``message`` holds the error) or "skipped" (the output was
     newer than the input and left alone; the counts are those of the run that wrote it,
     when its summary says). ``holes_found`` counts the holes selected for filling (the
@@ -65,6 +70,54 @@ class FileRow:
         if self.status not in STATUSES:
             raise ValueError(f"status must be one of {', '.join(STATUSES)}, got "
                              f"{self.status!r}")
+
+
+def named_in_summary(job: FileJob, text: str) -> str:
+    """``text`` naming the files of ``job`` as the summary does (workers see absolute
+    paths)."""
+    return text.replace(os.fspath(job.source), job.name).replace(os.fspath(job.target),
+                                                                 job.output)
+
+
+def fill_messages(job: FileJob, result: FillResult,
+                  caught: Iterable[warnings.WarningMessage]) -> str:
+    """The ``message`` of a file filled: its warnings (``caught``), each once, and the
+    holes skipped without one."""
+    texts: list[str] = []
+    for text in [named_in_summary(job, str(w.message)) for w in caught]:
+        if text not in texts and not any(text in t for t in texts):
+            texts.append(text)
+    # each skipped hole once: its warning, where it had one, already says why
+    texts += [f"hole {r.index}: skipped ({r.skipped})" for r in result.reports if r.skipped
+              and not any(f"hole {r.index}: {r.skipped}" in t for t in texts)]
+    if len(result.removed_faces):
+        texts.append(f"repair removed {len(result.removed_faces)} faces around non-manifold "
+                     "edges and bow-tie vertices")
+    return " | ".join(texts)
+
+
+def row_of(job: FileJob, result: FillResult, seconds: float, message: str,
+           picture: str | None) -> FileRow:
+    """The row of ``job`` filled into ``result``: "closed" without a hole to fill,
+    "unfilled" when none of its holes was filled, else "filled"."""
+    kept: dict[str, int] = {}
+    for report in result.reports:
+        if not report.skipped:
+            kept[report.method] = kept.get(report.method, 0) + 1
+    filled = sum(kept.values())
+    status = "closed" if not result.reports else "filled" if filled else "unfilled"
+    return FileRow(job.name, job.output, status,
+                   holes_found=len(result.reports), holes_filled=filled, kept=kept,
+                   new_vertices=len(result.vertices) - result.n_original_vertices,
+                   seconds=seconds, message=message,
+                   holes=tuple(HoleRecord.of(r) for r in result.reports), picture=picture)
+
+
+def error_text(job: FileJob, exc: Exception) -> str:
+    """The ``message`` of a file that failed with ``exc``, naming it."""
+    if isinstance(exc, MeshError):
+        return named_in_summary(job, str(exc if exc.path else exc.with_path(job.name)))
+    return named_in_summary(job, f"{job.name}: {type(exc).__name__}: {exc}")
 
 
 def _csv_columns() -> list[str]:

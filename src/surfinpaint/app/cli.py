@@ -38,13 +38,12 @@ from surfinpaint.app.progress import LazyConsole, add_quiet, progress_bar
 from surfinpaint.app.progress import console as _console
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
-from surfinpaint.fill import warmup
+from surfinpaint.fill import hole_steps, warmup
 from surfinpaint.fill.holes import find_holes, percent_below, warn_degenerate
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
 from surfinpaint.fill.unjoined import unjoined_borders_note
 from surfinpaint.geometry.mesh import boundary_loops
-from surfinpaint.geometry.orientation import orientation_note
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.atomic import remove_unfinished
 from surfinpaint.io.base import MeshWarning
@@ -57,6 +56,7 @@ from surfinpaint.io.formats import (
     write_mesh,
     write_mesh_data,
 )
+from surfinpaint.io.materials import copy_materials
 from surfinpaint.lazy import lazy_module
 
 # imported at their first use (surfinpaint.lazy): a fill never needs them (docs/scale.md,
@@ -102,9 +102,17 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
 
 def _holes_table(vertices, faces, title: str) -> list:
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
     found = find_holes(vertices, faces, validate=False)  # validated by cmd_holes
+    # what fill's own check of each hole says (a bow-tie it would leave pinched, ...): the
+    # holes it would try; the others' kind says already why they stay open
+    tried = [k for k, h in enumerate(found)
+             if not (h.is_border or h.spans_no_area or h.runs_along_other_loops)]
+    left_open = dict(zip(tried, hole_steps.left_open(vertices, faces,
+                                                     [found[k].loop for k in tried]),
+                         strict=True))
     # the title on a line of its own, never wrapped: as a table title it was broken at the
     # table's width, a long path across two lines (no longer found by grep or pasted back)
     Console().print(title, soft_wrap=True, markup=False, highlight=False)
@@ -112,16 +120,23 @@ def _holes_table(vertices, faces, title: str) -> list:
     for name in ("hole", "edges", "perimeter", "diameter", "component", "kind"):
         table.add_column(name, justify="right" if name != "kind" else "left")
     for i, h in enumerate(found):
+        why = left_open.get(i)
+        kind = _kind(h) if why is None else "left open: see below"
         table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
-                      str(h.component), _kind(h))
+                      str(h.component), escape(kind))
     Console().print(table)
+    for i, why in left_open.items():
+        if why is not None:
+            Console().print(f"hole {i}: {why}; fill skips it", soft_wrap=True, markup=False,
+                            highlight=False)
     if not found:
         Console().print("The mesh is closed: no holes.")
     return found
 
 
 def _kind(hole) -> str:
-    """The ``kind`` column of ``surfinpaint holes``."""
+    """The ``kind`` column of ``surfinpaint holes`` (before fill's check of the hole's
+    loop, :func:`~surfinpaint.fill.hole_steps.left_open`)."""
     if hole.is_border:
         return "outer border"
     if hole.spans_no_area:  # never filled: fill leaves it open with a warning
@@ -137,10 +152,10 @@ def cmd_holes(args: argparse.Namespace) -> int:
     vertices, faces = read_mesh(args.mesh, data_warning=False)  # it only lists the holes
     title = f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces"
     if args.repair:
-        faces, removed, flipped = repair_faces(vertices, faces)
-        title += f" ({len(removed)} removed by --repair: the numbering `fill --repair` uses)"
-        if len(flipped):
-            title += f"; --repair {orientation_note(flipped)}"
+        repair = repair_faces(vertices, faces)
+        faces = repair.faces
+        title += f" ({len(repair.removed)} removed by --repair: the numbering `fill --repair` " \
+            "uses)" + "".join(f"; --repair {note}" for note in repair.notes())
     warn_degenerate(vertices, faces, str(args.mesh))
     unjoined = unjoined_borders_note(vertices, _holes_table(vertices, faces, title))
     if unjoined is not None:
@@ -168,6 +183,9 @@ def cmd_fill(args: argparse.Namespace) -> int:
         with _progress(not args.quiet) as progress:
             result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
                                             jobs=args.jobs, **options)
+        # the OBJ's .mtl and the textures it names, beside the output: its texture shows
+        materials = copy_materials(args.mesh, args.output, filled.metadata.get("mtllib", ""),
+                                   reserved=tuple(p for p in (args.png, args.json) if p))
         write_mesh_data(args.output, filled)
     summary = Summary.of(result, time.perf_counter() - started)
     if len(result.removed_faces):
@@ -190,7 +208,8 @@ def cmd_fill(args: argparse.Namespace) -> int:
         figures.before_after(vertices, faces, result, args.png)
         say(f"wrote {args.png}")
     # the overlays beside a brain surface are files of their own: each is named
-    written = [str(args.output), *(str(p) for p in files_written(args.output, filled)[1:])]
+    written = [str(args.output), *(str(p) for p in files_written(args.output, filled)[1:]),
+               *map(str, materials)]
     say(f"wrote {', '.join(written)}" + (f" and {args.json}" if args.json else ""))
     return EXIT_OK
 
@@ -318,7 +337,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     p = sub.add_parser("holes", help="list the holes (boundary loops) of a mesh",
-                       description="Print a table of the boundary loops of MESH.")
+                       description="Print a table of the boundary loops of MESH: the holes "
+                       "`fill` fills, the outer borders, and the loops `fill` leaves open, "
+                       "each with why.")
     p.add_argument("mesh", help="input mesh (PLY, OBJ, STL, OFF, GIFTI, FreeSurfer)")
     p.add_argument("--repair", action="store_true",
                    help="first remove the faces around non-manifold edges and bow-tie vertices "

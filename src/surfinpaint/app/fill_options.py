@@ -119,8 +119,9 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
                    help="also fill loops that look like the surface's outer border")
     p.add_argument("--repair", action="store_true",
                    help="remove the faces around non-manifold edges and bow-tie vertices "
-                   "(where separate fans of faces meet) first, and flip the fewest faces that "
-                   "orient each piece consistently; then fill the holes that leaves")
+                   "(where separate fans of faces meet) first, flip the fewest faces that "
+                   "orient each piece consistently, and turn a closed piece wound inward "
+                   "outward; then fill the holes that leaves")
     p.add_argument("--discretization", choices=("mesh", "grid"), default="mesh",
                    help="where the conformal method's λ and H live: on the patch's "
                    "triangles (default, measured more accurate) or on the paper's regular "

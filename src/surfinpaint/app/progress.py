@@ -82,7 +82,15 @@ def progress_bar(enabled: bool, total: int | None = None, description: str = ""
                   TimeElapsedColumn(),
                   console=console(), transient=False, auto_refresh=False) as progress:
         task = progress.add_task(description, total=total)
-        yield _Bar(progress, task)
+        try:
+            yield _Bar(progress, task)
+        except BaseException:
+            # a run that fails ends with its error, not with the bar where it stopped: the
+            # bar is cleared from a terminal, and never written to a log or a pipe
+            progress.live.transient = True
+            progress.live.stop()
+            progress.disable = True  # whose stop() would still end a log with an empty line
+            raise
         if total is not None:
             progress.update(task, completed=total)
 

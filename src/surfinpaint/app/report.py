@@ -65,7 +65,6 @@ from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes, wa
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.mesh import connected_components
 from surfinpaint.geometry.metrics import surface_distance
-from surfinpaint.geometry.orientation import orientation_note
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.formats import read_mesh
 
@@ -480,11 +479,12 @@ def run_report(args: argparse.Namespace) -> int:
     # pictures and a page: the file's colours, normals, UVs are not lost, only not drawn
     vertices, faces = read_mesh(args.mesh, data_warning=False)
     if args.repair:
-        faces, removed, flipped = repair_faces(vertices, faces)
-        console.print(f"--repair removed {len(removed)} faces around non-manifold edges and "
-                      "bow-tie vertices")
-        if len(flipped):
-            console.print(f"--repair {orientation_note(flipped)}")
+        repair = repair_faces(vertices, faces)
+        faces = repair.faces
+        console.print(f"--repair removed {len(repair.removed)} faces around non-manifold "
+                      "edges and bow-tie vertices")
+        for note in repair.notes():
+            console.print(f"--repair {note}")
     warn_degenerate(vertices, faces, str(args.mesh))
     truth = read_mesh(args.truth, data_warning=False) if args.truth else None
     loops = select_holes(vertices, faces, args.holes)

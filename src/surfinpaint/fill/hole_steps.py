@@ -20,11 +20,13 @@ from surfinpaint.fill import parallel
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
 from surfinpaint.fill.results import Fill, HoleReport
+from surfinpaint.fill.seams import SEAM_LEFT_OPEN, spanless
+from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.repair import unjoined_bowties
-from surfinpaint.geometry.validation import check_loop
+from surfinpaint.geometry.validation import check_loop, zero_area_faces
 
 __all__ = ["FAIR_NEIGHBOURHOOD_RINGS", "Run", "around_zero_area", "at_hole", "fill_hole",
-           "loop_problem", "record", "skip", "stitched", "with_failure"]
+           "left_open", "loop_problem", "record", "skip", "stitched", "with_failure"]
 
 # vertex rings of the surface handed to the faired fill (its fairing needs up to 2)
 FAIR_NEIGHBOURHOOD_RINGS = 3
@@ -89,6 +91,33 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
         # along it, and a fill would lay a second sheet on them (duplicate faces)
         return "the loop bounds only the faces along it (a lone sheet)"
     return None
+
+
+def left_open(vertices: np.ndarray, faces: np.ndarray, loops: list[np.ndarray]
+              ) -> list[str | None]:
+    """Per loop of ``loops`` (boundary loops of the mesh), why :func:`surfinpaint.fill_holes`
+    leaves it open (with its defaults), or None where it tries to fill it: a loop that spans
+    no area (:func:`~surfinpaint.fill.seams.spanless`: a slit, a seam, zipped only with
+    ``zip_seams``), else the check each hole's fill makes (:func:`loop_problem`: a bow-tie
+    vertex the fill would leave pinched, a lone sheet, faces of zero area in the faired
+    fill's rings). The check is made on the mesh as
+    given, with :data:`FAIR_NEIGHBOURHOOD_RINGS` rings: the fewest either method cuts by
+    default, and those a λ-H fill falls back to when zero-area faces lie further out (then
+    filled, faired). For ``surfinpaint holes``: it says what ``fill`` will do."""
+    vertices = np.asarray(vertices, dtype=np.float64)
+    triangles, _, rows = triangle_rows(np.asarray(faces, dtype=np.int64))
+    flat = zero_area_faces(vertices, triangles)
+    mesh = FilledMesh(vertices, np.asarray(faces, np.int64),
+                      zero_area=flat if rows is None else rows[flat])
+    out: list[str | None] = []
+    for k, loop in enumerate(loops):
+        slit = spanless(vertices, np.asarray(loop))  # found before anything is filled
+        if slit is not None:
+            out.append(slit[1] + (SEAM_LEFT_OPEN if slit[0].is_seam else ""))
+            continue
+        out.append(loop_problem(mesh.cut(np.asarray(loop), FAIR_NEIGHBOURHOOD_RINGS), k,
+                                explicit=False))
+    return out
 
 
 def around_zero_area(mesh: FilledMesh, local: Local, run: Run

@@ -37,10 +37,9 @@ from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import (
     ALONG_OTHER_LOOPS,
     NO_AREA_FACES,
-    Slit,
+    SEAM_LEFT_OPEN,
     SlitWarning,
-    find_seam_part,
-    find_slit,
+    spanless,
     zip_faces,
 )
 from surfinpaint.fill.topology import topology_changes
@@ -48,7 +47,6 @@ from surfinpaint.fill.unjoined import unjoined_borders_note
 from surfinpaint.fill.warmup import Beside, load_for_workers, loading_beside
 from surfinpaint.geometry.degenerate import triangle_incidence, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
-from surfinpaint.geometry.orientation import orientation_note
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.geometry.validation import (
     check_arrays,
@@ -85,22 +83,14 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
         if hole is not None and hole.spans_no_area:  # not zipped: faces would repeat a vertex
             skip(report, NO_AREA_FACES, SlitWarning, stacklevel=4)
             continue
-        slit = find_slit(vertices, report.loop)
-        part = find_seam_part(vertices, report.loop) if slit is None else None
-        if slit is None and part is None and hole is not None:  # along other loops
+        found = spanless(vertices, report.loop)
+        if found is None and hole is not None:  # along other loops
             skip(report, ALONG_OTHER_LOOPS, SlitWarning, stacklevel=4)
             continue
-        if slit is None and part is None:
+        if found is None:
             left.append(report)
             continue
-        if slit is None:  # a seam along part of a loop that bounds no disk (an open tube's)
-            slit = Slit(part)
-            reason = (f"the loop runs back along itself: a seam of {len(part)} coincident "
-                      "vertex pairs joins two parts of it (duplicated vertices), so no disk "
-                      "fills it")
-            rest = "; the rest of the loop is left open"
-        else:
-            reason, rest = slit.describe(), ""
+        slit, reason, rest = found
         if slit.is_seam and zip_seams:
             zipped, problem = zip_faces(faces, slit.merges)
             if problem is None:
@@ -117,7 +107,7 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
                 continue
             reason += f"; not zipped: {problem}"
         elif slit.is_seam:
-            reason += "; left open (zip_seams=True, or --zip-seams, closes it)"
+            reason += SEAM_LEFT_OPEN
         skip(report, reason, SlitWarning, stacklevel=4)
     pairs = np.concatenate(merged) if merged else np.empty((0, 2), dtype=np.int64)
     if len(pairs):  # a later loop through a duplicate (a bow-tie there) goes through its partner
@@ -206,9 +196,12 @@ def fill_holes(
         ``FillResult.removed_faces``. Then the faces of each piece are oriented
         consistently, the fewest flipped (their last two vertex ids swapped:
         :func:`surfinpaint.geometry.orientation.orient_faces`), with a
-        :class:`~surfinpaint.MeshWarning` naming them; they are listed (ids into the input
-        faces) in ``FillResult.flipped_faces``. A piece that cannot be oriented (a Möbius
-        strip) is left as it is, and refused as without ``repair``.
+        :class:`~surfinpaint.MeshWarning` naming them, and each closed piece wound inward
+        (negative signed volume) is turned outward, all its faces flipped, with a warning
+        too (:func:`surfinpaint.geometry.orientation.turn_outward`); the faces flipped in
+        the end are listed (ids into the input faces) in ``FillResult.flipped_faces``. A
+        piece that cannot be oriented (a Möbius strip) is left as it is, and refused as
+        without ``repair``.
     validate : bool
         Check the mesh first (:func:`surfinpaint.validate_mesh`).
     zip_seams : bool
@@ -432,10 +425,10 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     vertices = np.asarray(vertices, dtype=np.float64)
     repaired = (np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
     if repair:
-        faces, *repaired = repair_faces(vertices, faces)
-        if len(repaired[1]):
-            warnings.warn(f"repair {orientation_note(repaired[1])}", MeshWarning,
-                          stacklevel=4)
+        repair = repair_faces(vertices, faces)
+        faces, repaired = repair.faces, (repair.removed, repair.flipped)
+        for note in repair.notes():
+            warnings.warn(f"repair {note}", MeshWarning, stacklevel=4)
     triangles, repeated, rows = triangle_rows(faces)  # a face that repeats a vertex joins none
     table = EdgeTable.build(triangles, len(vertices)) if validate else None
     found = beside.submit(find_holes, vertices, triangles, table, validate=False)

@@ -41,8 +41,8 @@ from surfinpaint.lazy import lazy_module
 # imported at its first use (see fill/holes.py)
 spatial = lazy_module("scipy.spatial")
 
-__all__ = ["ALONG_OTHER_LOOPS", "NO_AREA_FACES", "SLIT_RTOL", "Slit", "SlitWarning",
-           "find_seam_part", "find_slit", "zip_faces"]
+__all__ = ["ALONG_OTHER_LOOPS", "NO_AREA_FACES", "SLIT_RTOL", "SEAM_LEFT_OPEN", "Slit",
+           "SlitWarning", "find_seam_part", "find_slit", "spanless", "zip_faces"]
 
 # two loop points closer than this fraction of the neighbouring loop edges' length coincide
 # (an exporter's duplicates are bit-identical; this leaves room for printed decimals)
@@ -59,6 +59,8 @@ ALONG_OTHER_LOOPS = ("every edge of the loop lies exactly on another boundary ed
                      "share), not a hole, so it is left open; merge coincident vertices first "
                      "(trimesh: mesh.merge_vertices(merge_tex=True, merge_norm=True)) to "
                      "join them")
+# what a seam not zipped (zip_seams False) is told
+SEAM_LEFT_OPEN = "; left open (zip_seams=True, or --zip-seams, closes it)"
 # where along each loop edge the slit test checks that it lies on another edge of the loop
 _SAMPLES = np.array([0.25, 0.5, 0.75])
 
@@ -251,3 +253,21 @@ def zip_faces(faces: np.ndarray, merges: np.ndarray) -> tuple[np.ndarray, str | 
         return zipped, ("its two sides face opposite ways or meet other faces there (the "
                         "zipped edges would be non-manifold or inconsistently oriented)")
     return zipped, None
+
+
+def spanless(vertices: np.ndarray, loop: np.ndarray) -> tuple[Slit, str, str] | None:
+    """The loop as a slit (:func:`find_slit`), or the seam that makes up part of it
+    (:func:`find_seam_part`), with why no disk fills it and what zipping that seam leaves
+    open ("" or "; the rest of the loop is left open"); None when it bounds a surface.
+    What :func:`surfinpaint.fill_holes` leaves open (or zips, with ``zip_seams``) before
+    anything is filled, and what ``surfinpaint holes`` says of it."""
+    slit = find_slit(vertices, loop)
+    if slit is not None:
+        return slit, slit.describe(), ""
+    part = find_seam_part(vertices, loop)
+    if part is None:
+        return None
+    # a seam along part of a loop that bounds no disk (an open tube's)
+    return (Slit(part), f"the loop runs back along itself: a seam of {len(part)} coincident "
+            "vertex pairs joins two parts of it (duplicated vertices), so no disk fills it",
+            "; the rest of the loop is left open")

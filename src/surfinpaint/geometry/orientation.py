@@ -20,7 +20,7 @@ from scipy.sparse.csgraph import connected_components
 from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 
-__all__ = ["orient_faces", "orientation_note"]
+__all__ = ["orient_faces", "orientation_note", "turn_outward"]
 
 
 def orient_faces(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]]:
@@ -88,6 +88,79 @@ def orient_faces(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[np.nda
     oriented[flipped] = oriented[flipped][:, [0, 2, 1]]
     bad = [np.flatnonzero(piece == k) for k in np.flatnonzero(~orientable)]
     return oriented, flipped, bad
+
+
+def turn_outward(vertices: np.ndarray, faces: np.ndarray,
+                 skip: list[np.ndarray] | tuple = ()) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Turn each closed piece of consistently oriented faces outward.
+
+    A piece (faces joined through edges of exactly two faces) is closed when none of its
+    edges is a boundary edge: it encloses a volume, and its faces wind outward when the
+    signed volume they enclose (the sum of ``v0 · (v1 × v2) / 6`` over them) is positive.
+    The faces of a closed piece with a negative signed volume are all flipped (last two
+    ids swapped); open pieces, the pieces of ``skip`` (face ids, e.g. those
+    :func:`orient_faces` could not orient) and faces that repeat a vertex are left alone.
+
+    Returns
+    -------
+    faces : (f, 3) int64 array
+        A new array.
+    turned : list of int64 arrays
+        The face ids of each piece turned, sorted, the pieces in the order of their lowest
+        face id.
+
+    Examples
+    --------
+    A tetrahedron wound inward:
+
+    >>> v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.]])
+    >>> f = np.array([[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]])
+    >>> out, turned = turn_outward(v, f)
+    >>> [t.tolist() for t in turned], out[0].tolist()
+    ([[0, 1, 2, 3]], [0, 2, 1])
+    """
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    out, m = f.copy(), len(f)
+    if m == 0:
+        return out, []
+    triangles, _, rows = triangle_rows(f)
+    proper = np.arange(m) if rows is None else rows
+    table = EdgeTable.build(triangles, int(f.max()) + 1)
+    h1, h2 = table.interior_pairs()
+    joined = sp.csr_matrix((np.ones(len(h1), np.int8), (proper[h1 // 3], proper[h2 // 3])),
+                           shape=(m, m))
+    n_pieces, piece = connected_components(joined, directed=False)
+    closed = np.ones(n_pieces, dtype=bool)
+    closed[piece[proper[(table.count[table.face_edge] != 2).any(axis=1)]]] = False
+    repeats = np.ones(m, dtype=bool)
+    repeats[proper] = False
+    closed[piece[repeats]] = False
+    for left in skip:
+        closed[piece[np.asarray(left, dtype=np.int64)]] = False
+    # about the vertices' mean: the volume of a closed piece does not depend on the origin,
+    # its rounding does
+    v = np.asarray(vertices, dtype=np.float64)
+    v = v - v[np.unique(f)].mean(axis=0)
+    volume = np.einsum("ij,ij->i", v[f[:, 0]], np.cross(v[f[:, 1]], v[f[:, 2]])) / 6
+    inward = closed & (np.bincount(piece, weights=volume, minlength=n_pieces) < 0)
+    turn = np.flatnonzero(inward[piece])
+    out[turn] = out[turn][:, [0, 2, 1]]
+    return out, [np.flatnonzero(piece == k) for k in np.flatnonzero(inward)]
+
+
+def outward_note(turned: list[np.ndarray], shown: int = 10) -> str:
+    """The words reporting the closed pieces :func:`turn_outward` turned (their face ids as
+    the caller numbers them), naming the first ``shown`` faces of each.
+
+    >>> outward_note([np.arange(12)], shown=2)
+    'turned 1 closed piece outward (negative volume): its 12 faces (0, 1, ...) flipped'
+    """
+    many = len(turned) != 1
+    faces = "; ".join(
+        f"{len(t)} faces ({', '.join(str(int(i)) for i in t[:shown])}"
+        f"{', ...' if len(t) > shown else ''})" for t in turned)
+    return (f"turned {len(turned)} closed piece{'s' * many} outward "
+            f"(negative volume): {'their' if many else 'its'} {faces} flipped")
 
 
 def orientation_note(flipped: np.ndarray, shown: int = 10) -> str:

@@ -86,7 +86,8 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     if len(nonmanifold):
         e = [tuple(map(int, edges[k])) for k in nonmanifold[:10]]
         raise MeshError(
-            f"{len(nonmanifold)} non-manifold edges (more than two faces): {preview(e)}",
+            f"{len(nonmanifold)} non-manifold edges (more than two faces): {preview(e)}; "
+            "a disk is a manifold surface with one boundary loop",
             edges=e,
         )
     half = np.stack([f[:, [1, 2]], f[:, [2, 0]], f[:, [0, 1]]], axis=1)[count[face_edge] == 1]
@@ -95,7 +96,8 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     if len(pinched):
         raise MeshError(
             f"{len(pinched)} non-manifold (pinched) boundary vertices, where two boundary "
-            f"loops touch: vertices {preview(pinched)}",
+            f"loops touch: vertices {preview(pinched)}; a disk's boundary is one loop "
+            "through each of its vertices once",
             vertices=pinched,
         )
     graph = sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),

@@ -6,11 +6,14 @@ a doubled sheet) or a vertex where separate fans of faces meet (a bow-tie). No h
 work across them. :func:`remove_nonmanifold_faces` deletes the faces at those spots, and only
 those, so the damage becomes ordinary holes; :func:`surfinpaint.fill_holes` then fills them
 like any other hole. :func:`repair_faces` then also reorients the faces of each piece
-consistently (:func:`surfinpaint.geometry.orientation.orient_faces`). Vertices are never
-moved, deleted or renumbered.
+consistently (:func:`surfinpaint.geometry.orientation.orient_faces`), and each closed piece
+outward (:func:`surfinpaint.geometry.orientation.turn_outward`). Vertices are never moved,
+deleted or renumbered.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -18,10 +21,16 @@ from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.edges import edge_keys
-from surfinpaint.geometry.orientation import orient_faces
+from surfinpaint.geometry.orientation import (
+    orient_faces,
+    orientation_note,
+    outward_note,
+    turn_outward,
+)
 from surfinpaint.geometry.validation import check_arrays
 
-__all__ = ["corner_fans", "remove_nonmanifold_faces", "repair_faces", "unjoined_bowties"]
+__all__ = ["Repair", "corner_fans", "remove_nonmanifold_faces", "repair_faces",
+           "unjoined_bowties"]
 
 
 def _halfedges(faces: np.ndarray, n: int):
@@ -187,36 +196,60 @@ def remove_nonmanifold_faces(
     return f[keep], np.flatnonzero(~keep)
 
 
-def repair_faces(vertices: np.ndarray, faces: np.ndarray
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+class Repair(NamedTuple):
+    """What :func:`repair_faces` did (face ids into the faces given)."""
+
+    #: The remaining faces, in their original order, some with their last two vertex ids
+    #: swapped (flipped).
+    faces: np.ndarray
+    #: Ids of the removed faces, sorted.
+    removed: np.ndarray
+    #: Ids of the faces flipped in the end, sorted.
+    flipped: np.ndarray
+    #: The face ids of each closed piece turned outward (wound inward), each sorted.
+    turned: list[np.ndarray]
+
+    def notes(self) -> list[str]:
+        """The words for what the orientation did: the faces flipped to orient each piece
+        consistently (a face of a piece then turned outward is flipped back), and the
+        closed pieces turned outward."""
+        turned = np.concatenate(self.turned) if self.turned else np.empty(0, np.int64)
+        consistent = np.setxor1d(self.flipped, turned)
+        return ([orientation_note(consistent)] if len(consistent) else []) + \
+            ([outward_note(self.turned)] if self.turned else [])
+
+
+def repair_faces(vertices: np.ndarray, faces: np.ndarray) -> Repair:
     """What ``--repair`` (``repair=True``) does: :func:`remove_nonmanifold_faces`, then
-    :func:`~surfinpaint.geometry.orientation.orient_faces` on the faces kept.
+    :func:`~surfinpaint.geometry.orientation.orient_faces` on the faces kept (the majority
+    winding of each piece), then
+    :func:`~surfinpaint.geometry.orientation.turn_outward` (each closed piece wound inward,
+    its signed volume negative, turned outward; open pieces keep the majority winding).
 
     A piece that cannot be oriented (a Möbius strip) is left as it is; the mesh's check
     then refuses it (:func:`surfinpaint.geometry.validation.validate_mesh`).
 
     Returns
     -------
-    faces_kept : (f', 3) int64 array
-        The remaining faces, in their original order, some with their last two vertex ids
-        swapped (flipped).
-    removed : (f - f',) int64 array
-        Ids (into ``faces``) of the removed faces, sorted.
-    flipped : (k,) int64 array
-        Ids (into ``faces``, not ``faces_kept``) of the flipped faces, sorted.
+    Repair
+        ``faces`` (the faces kept), ``removed``, ``flipped``, ``turned``.
 
     Examples
     --------
     >>> f = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 1, 4]])
-    >>> kept, removed, flipped = repair_faces(np.zeros((5, 3)), f)
-    >>> removed.tolist(), flipped.tolist(), kept[3].tolist()
-    ([], [3], [0, 4, 1])
+    >>> kept, removed, flipped, turned = repair_faces(np.zeros((5, 3)), f)
+    >>> removed.tolist(), flipped.tolist(), kept[3].tolist(), turned
+    ([], [3], [0, 4, 1], [])
     """
     kept, removed = remove_nonmanifold_faces(vertices, faces)
-    kept, flipped, _ = orient_faces(kept)
+    kept, flipped, unorientable = orient_faces(kept)
+    kept, turned = turn_outward(vertices, kept, unorientable)
+    if turned:
+        flipped = np.setxor1d(flipped, np.concatenate(turned))
     if len(removed):  # the ids into the input faces
-        flipped = np.delete(np.arange(len(kept) + len(removed)), removed)[flipped]
-    return kept, removed, flipped
+        ids = np.delete(np.arange(len(kept) + len(removed)), removed)
+        flipped, turned = ids[flipped], [ids[t] for t in turned]
+    return Repair(kept, removed, flipped, turned)
 
 
 def unjoined_bowties(faces: np.ndarray, loop: np.ndarray) -> np.ndarray:

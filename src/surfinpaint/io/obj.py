@@ -185,14 +185,17 @@ def unstored_obj(mesh: MeshData) -> list[str]:
 
 def missing_libraries(mesh: MeshData, directory: Path) -> list[str]:
     """A note per material library (``mtllib``) the written OBJ names that is not in its
-    folder: the name is written as read, the file (and its textures) not copied."""
+    folder: the name is written as read (``fill`` and ``batch`` copy the files found beside
+    the input first: :func:`surfinpaint.io.materials.copy_materials`)."""
     out = []
-    for library in mesh.metadata.get("mtllib", "").splitlines():
-        name = library.strip()
-        if name and not Path(name).is_absolute() and not (directory / name).is_file():
-            out.append(f"material library {name!r} is not beside the output (its name is "
-                       "written, the file is not copied): copy it, and its textures, for "
-                       "the materials to show")
+    for line in mesh.metadata.get("mtllib", "").splitlines():
+        # "mtllib a.mtl b.mtl" names two; a name with a space is taken whole when it exists
+        names = [line.strip()] if (directory / line.strip()).is_file() else line.split()
+        for name in names:
+            if not Path(name).is_absolute() and not (directory / name).is_file():
+                out.append(f"material library {name!r} is not beside the output: its name "
+                           "is written, and the materials show once it (and its textures) "
+                           "is copied there")
     return out
 
 

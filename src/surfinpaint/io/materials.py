@@ -1,0 +1,139 @@
+"""An OBJ's material libraries (``mtllib``) and the textures they name, copied beside a
+written OBJ so that it still shows its texture when opened.
+
+An OBJ names its ``.mtl`` files relative to its own folder, and a ``.mtl`` its texture
+images relative to its own. :func:`copy_materials` copies those found beside the input to
+the same relative places beside the output, each through the atomic writer (a complete
+file or none). It never touches the inputs, never writes outside the output's folder (a
+name with ``..`` or an absolute name is left as it is, with a warning where the file is not
+reachable from the output), and never replaces an existing file whose content differs (a
+warning names it): a file with the same content is left alone.
+"""
+
+from __future__ import annotations
+
+import filecmp
+import os
+import shutil
+import warnings
+from pathlib import Path, PurePosixPath
+
+from surfinpaint.io.atomic import atomic_path
+from surfinpaint.io.base import MeshWarning
+
+__all__ = ["copy_materials", "material_files"]
+
+# MTL statements whose last argument is an image file (after options such as "-s 1 1 1"):
+# every map_* (map_Kd, map_Ks, map_Bump, map_d, map_Pr, ...) and these
+_IMAGE_STATEMENTS = {"bump", "disp", "decal", "refl", "norm"}
+
+
+def _relative(name: str) -> PurePosixPath | None:
+    """``name`` as a path below its folder (OBJ and MTL files use ``/``, some ``\\``);
+    None when it is absolute or climbs out of the folder (``..``)."""
+    path = PurePosixPath(name.strip().replace("\\", "/"))
+    if not str(path) or path.is_absolute() or ".." in path.parts or \
+            (path.parts and ":" in path.parts[0]):  # C:/textures/...
+        return None
+    return path
+
+
+def _image_names(library: Path) -> list[str]:
+    """The image files a ``.mtl`` names, as written (each once, in order). A name with
+    spaces is taken whole when that file exists beside the library; else the last word."""
+    try:
+        lines = library.read_text(encoding="utf-8", errors="replace").splitlines()
+    except OSError:
+        return []
+    names: list[str] = []
+    for line in lines:
+        words = line.split()
+        if len(words) < 2 or not (words[0].lower().startswith("map_")
+                                  or words[0].lower() in _IMAGE_STATEMENTS):
+            continue
+        arguments = words[1:]
+        name = next((" ".join(arguments[k:]) for k in range(len(arguments))
+                     if (_relative(" ".join(arguments[k:])) is not None
+                         and (library.parent / " ".join(arguments[k:])).is_file())),
+                    arguments[-1])
+        if name not in names:
+            names.append(name)
+    return names
+
+
+def material_files(source: str | os.PathLike, libraries: str) -> tuple[list[PurePosixPath],
+                                                                       list[str]]:
+    """The files an OBJ at ``source`` needs for its materials: the ``mtllib`` names of
+    ``libraries`` (one a line, as :func:`surfinpaint.io.read_mesh_data` keeps them in
+    ``metadata["mtllib"]``) and the textures each of those names, as paths relative to
+    the OBJ's folder, those found there; and a note per file named but not found there,
+    or named outside that folder."""
+    folder = Path(source).parent
+    found: list[PurePosixPath] = []
+    notes: list[str] = []
+
+    def add(name: str, base: PurePosixPath, what: str) -> PurePosixPath | None:
+        relative = _relative(name)
+        if relative is None:
+            if not Path(name).is_absolute():  # an absolute name reaches the file from anywhere
+                notes.append(f"{what} {name!r} is outside the input's folder: not copied")
+            return None
+        path = base / relative
+        if not (folder / path).is_file():
+            if base != PurePosixPath() or what != "material library":  # the writer says it
+                notes.append(f"{what} {name!r} is not beside the input: not copied")
+            return None
+        if path not in found:
+            found.append(path)
+        return path
+
+    for line in libraries.splitlines():
+        # "mtllib a.mtl b.mtl" names two; a name with a space is taken whole when it exists
+        names = [line.strip()] if (folder / line.strip()).is_file() else line.split()
+        for library in names:
+            path = add(library, PurePosixPath(), "material library")
+            if path is None:
+                continue
+            for image in _image_names(folder / path):
+                add(image, path.parent, f"texture of {str(path)!r}")
+    return found, notes
+
+
+def copy_materials(source: str | os.PathLike, target: str | os.PathLike, libraries: str, *,
+                   reserved: tuple[str | os.PathLike, ...] = ()) -> list[Path]:
+    """Copy the material libraries and textures of the OBJ ``source`` (:func:`material_files`
+    of its ``libraries``) to the same places relative to the OBJ ``target``; returns the
+    files written (those already there with the same content are not). Each is written
+    atomically; the inputs are only read.
+
+    Warns
+    -----
+    MeshWarning
+        Naming each file not copied: not beside the input, outside its folder, at the
+        place of an existing file with other content (kept, not replaced), or at one of
+        ``reserved`` (other outputs, e.g. the ``--png`` picture).
+    """
+    if not libraries or Path(target).suffix.lower() != ".obj":
+        return []  # another format has no use for them
+    files, notes = material_files(source, libraries)
+    into, source_folder = Path(target).parent, Path(source).parent
+    taken = {os.path.abspath(p) for p in reserved}
+    written: list[Path] = []
+    for relative in files:
+        origin, copy = source_folder / relative, into / relative
+        if os.path.abspath(copy) in taken:
+            notes.append(f"{str(relative)!r} not copied: another output takes its name "
+                         f"({copy})")
+            continue
+        if copy.exists():
+            if not (copy.is_file() and filecmp.cmp(origin, copy, shallow=False)):
+                notes.append(f"{copy} exists with other content than {origin}: kept, not "
+                             "replaced (the output's materials may differ from the input's)")
+            continue
+        copy.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_path(copy) as tmp:
+            shutil.copyfile(origin, tmp)
+        written.append(copy)
+    for note in notes:
+        warnings.warn(f"{target}: {note}", MeshWarning, stacklevel=2)
+    return written

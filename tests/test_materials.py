@@ -1,0 +1,142 @@
+"""An OBJ's material library (``mtllib``) and the textures it names go with the filled OBJ:
+``fill`` and ``batch`` copy them beside the output (atomically, the inputs untouched), keep
+an existing file of other content (with a warning), and write nothing outside the output's
+folder (session 35)."""
+
+from __future__ import annotations
+
+import json
+import warnings
+from pathlib import Path
+
+import pytest
+
+from surfinpaint.app.cli import main
+from surfinpaint.data import sphere
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length
+from surfinpaint.io.base import MeshWarning
+from surfinpaint.io.materials import copy_materials, material_files
+
+TEXTURE = b"\x89PNG\r\n\x1a\n not a real picture"
+
+
+def _textured_scan(folder: Path, library: str = "scan.mtl",
+                   texture: str = "textures/skin tex.png") -> Path:
+    """A sphere with a hole as an OBJ naming ``library``, which names ``texture`` (with
+    options before it, and a space in its name)."""
+    v, f = sphere(1)
+    cut = cut_holes(v, f, [0], [2.5 * mean_edge_length(v, f)])
+    folder.mkdir(parents=True, exist_ok=True)
+    lines = [f"mtllib {library}", *(f"v {x!r} {y!r} {z!r}" for x, y, z in cut.vertices.tolist()),
+             "usemtl skin", *("f " + " ".join(str(i + 1) for i in row) for row in cut.faces)]
+    (folder / "scan.obj").write_text("\n".join(lines) + "\n")
+    if not library.startswith(".."):
+        (folder / library).write_text(f"newmtl skin\nKd 1 1 1\nmap_Kd -s 1 1 1 {texture}\n")
+        (folder / texture).parent.mkdir(parents=True, exist_ok=True)
+        (folder / texture).write_bytes(TEXTURE)
+    return folder / "scan.obj"
+
+
+def _snapshot(folder: Path) -> dict[str, tuple[bytes, int]]:
+    return {str(p.relative_to(folder)): (p.read_bytes(), p.stat().st_mtime_ns)
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def _run(command: str, source: Path, out: Path) -> tuple[int, Path]:
+    """``fill`` into ``out/filled.obj``, or ``batch`` of the input's folder into ``out``."""
+    if command == "fill":
+        out.mkdir(parents=True, exist_ok=True)
+        return main(["fill", str(source), "-o", str(out / "filled.obj"), "--method", "fair",
+                     "-q"]), out / "filled.obj"
+    return main(["batch", str(source.parent), "-o", str(out), "--method", "fair", "--jobs",
+                 "1", "-q"]), out / source.name
+
+
+@pytest.mark.parametrize("command", ["fill", "batch"])
+def test_the_material_library_and_its_textures_go_beside_the_output(tmp_path, capsys,
+                                                                     command):
+    source = _textured_scan(tmp_path / "in")
+    before = _snapshot(tmp_path / "in")
+    code, output = _run(command, source, tmp_path / "out")
+    err = capsys.readouterr().err
+    assert code == 0, err
+    assert "not beside the output" not in err and "not copied" not in err
+    assert output.read_text().splitlines()[1] == "mtllib scan.mtl"
+    folder = output.parent
+    assert (folder / "scan.mtl").read_bytes() == (tmp_path / "in" / "scan.mtl").read_bytes()
+    assert (folder / "textures" / "skin tex.png").read_bytes() == TEXTURE
+    assert _snapshot(tmp_path / "in") == before  # inputs untouched
+    assert not list(folder.rglob(".*.tmp"))  # the atomic writer left nothing behind
+    if command == "batch":
+        (row,) = json.loads((folder / "summary.json").read_text())["files"]
+        assert row["status"] == "filled" and "material" not in row["message"]
+
+
+@pytest.mark.parametrize("command", ["fill", "batch"])
+def test_an_existing_material_file_of_other_content_is_kept_with_a_warning(tmp_path, capsys,
+                                                                          command):
+    source = _textured_scan(tmp_path / "in")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "scan.mtl").write_text("newmtl other\n")  # someone else's, not to be replaced
+    (out / "textures").mkdir()
+    (out / "textures" / "skin tex.png").write_bytes(TEXTURE)  # the same: left alone
+    stamp = (out / "textures" / "skin tex.png").stat().st_mtime_ns
+    code, _ = _run(command, source, out)
+    err = "".join(capsys.readouterr().err.split())
+    assert code == 0
+    assert (out / "scan.mtl").read_text() == "newmtl other\n"
+    assert "scan.mtlexistswithothercontent" in err and "kept,notreplaced" in err
+    assert (out / "textures" / "skin tex.png").stat().st_mtime_ns == stamp
+
+
+def test_nothing_is_written_outside_the_output_folder_nor_copied_onto_itself(tmp_path):
+    # a library named above the OBJ's folder: not copied (it would land outside the output's)
+    source = _textured_scan(tmp_path / "a" / "in", library="../shared.mtl")
+    (tmp_path / "a" / "shared.mtl").write_text("newmtl skin\n")
+    (tmp_path / "b" / "out").mkdir(parents=True)
+    with pytest.warns(MeshWarning, match="'../shared.mtl' is outside the input's folder"):
+        assert copy_materials(source, tmp_path / "b" / "out" / "x.obj", "../shared.mtl") == []
+    assert not (tmp_path / "b" / "shared.mtl").exists()
+    # the output beside the input: the files are already there, nothing is written
+    source = _textured_scan(tmp_path / "c")
+    before = _snapshot(tmp_path / "c")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert copy_materials(source, tmp_path / "c" / "filled.obj", "scan.mtl") == []
+    assert _snapshot(tmp_path / "c") == before
+    # another format has no use for them; another output's name is not taken
+    assert copy_materials(source, tmp_path / "b" / "x.ply", "scan.mtl") == []
+    with pytest.warns(MeshWarning, match="another output takes its name"):
+        written = copy_materials(source, tmp_path / "b" / "x.obj", "scan.mtl",
+                                 reserved=(tmp_path / "b" / "scan.mtl",))
+    assert written == [tmp_path / "b" / "textures" / "skin tex.png"]
+    assert not (tmp_path / "b" / "scan.mtl").exists()
+
+
+@pytest.mark.parametrize(("statement", "expected"), [
+    ("map_Kd skin.png", ["skin.png"]),
+    ("map_Kd -s 1 1 1 -o 0 0 0 skin.png", ["skin.png"]),
+    ("map_Kd -s 1 1 1 skin tex.png", ["skin tex.png"]),   # a name with a space, found
+    ("bump -bm 0.5 skin.png", ["skin.png"]),
+    ("norm maps\\skin.png", ["maps/skin.png"]),            # Windows separators
+    ("Kd 1 1 1", []),
+])
+def test_the_textures_a_material_library_names(tmp_path, statement, expected):
+    (tmp_path / "maps").mkdir()
+    for name in ("skin.png", "skin tex.png", "maps/skin.png"):
+        (tmp_path / name).write_bytes(TEXTURE)
+    (tmp_path / "m.mtl").write_text(f"newmtl skin\n{statement}\n")
+    found, notes = material_files(tmp_path / "scan.obj", "m.mtl")
+    assert [str(p) for p in found] == ["m.mtl", *expected] and notes == []
+
+
+def test_one_mtllib_statement_may_name_several_libraries(tmp_path):
+    (tmp_path / "a.mtl").write_text("newmtl a\nmap_Kd a.png\n")
+    (tmp_path / "b.mtl").write_text("newmtl b\n")
+    (tmp_path / "a.png").write_bytes(TEXTURE)
+    (tmp_path / "my skin.mtl").write_text("newmtl c\n")
+    found, notes = material_files(tmp_path / "scan.obj", "a.mtl b.mtl\nmy skin.mtl")
+    assert [str(p) for p in found] == ["a.mtl", "a.png", "b.mtl", "my skin.mtl"]
+    assert notes == []
