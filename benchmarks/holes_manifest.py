@@ -74,6 +74,13 @@ A twelfth set, the tenth holdout (``benchmarks/holdout10_manifest.json``, ``--wr
 same way (seeds from 1100), made in session 34 after the ninth holdout had been made and
 committed before any fill was run on them; to be run once by a later session after its
 changes.
+
+A thirteenth set, the eleventh holdout (``benchmarks/holdout11_manifest.json``, ``--write
+--holdout11``): 12 fresh meshes (``validation_meshes.HOLDOUT11_SOURCES``, made in
+``holdout11_meshes.py``; all six kinds, a synthetic folded hemisphere for the brain kind;
+its four scans made with the portable scanner), holes planned the same way (seeds from
+1200), made in session 35 after the tenth holdout had been made and committed before any
+fill was run on them; to be run once by a later session after its changes.
 """
 
 from __future__ import annotations
@@ -112,6 +119,8 @@ HOLDOUT8_MANIFEST = Path(__file__).parent / "holdout8_manifest.json"
 HOLDOUT9_MANIFEST = Path(__file__).parent / "holdout9_manifest.json"
 # a twelfth set, fresh meshes of session 34 (HOLDOUT10_SOURCES), committed before any fill
 HOLDOUT10_MANIFEST = Path(__file__).parent / "holdout10_manifest.json"
+# a thirteenth set, fresh meshes of session 35 (HOLDOUT11_SOURCES), committed before any fill
+HOLDOUT11_MANIFEST = Path(__file__).parent / "holdout11_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -124,6 +133,7 @@ LATER_SETS = {
     "holdout8": (HOLDOUT8_MANIFEST, "the eighth holdout set", 900),
     "holdout9": (HOLDOUT9_MANIFEST, "the ninth holdout set", 1000),
     "holdout10": (HOLDOUT10_MANIFEST, "the tenth holdout set", 1100),
+    "holdout11": (HOLDOUT11_MANIFEST, "the eleventh holdout set", 1200),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -150,6 +160,7 @@ SPLIT = {
     "holdout8": list(vm.HOLDOUT8_SOURCES),
     "holdout9": list(vm.HOLDOUT9_SOURCES),
     "holdout10": list(vm.HOLDOUT10_SOURCES),
+    "holdout11": list(vm.HOLDOUT11_SOURCES),
 }
 
 
@@ -244,7 +255,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
     holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
-    holdout's at 1100)."""
+    holdout's at 1100, the eleventh holdout's at 1200)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

@@ -17,8 +17,9 @@ hemisphere (kept for an independent evaluation).
 
 Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout set 9's
 (session 33) in ``holdout9_meshes.py``, holdout set 10's (session 34) in
-``holdout10_meshes.py``; this module adds their ``HOLDOUT8_SOURCES``, ``HOLDOUT9_SOURCES``
-and ``HOLDOUT10_SOURCES`` to :data:`SOURCES` at its end.
+``holdout10_meshes.py``, holdout set 11's (session 35) in ``holdout11_meshes.py``; this
+module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT11_SOURCES`` to :data:`SOURCES` at its
+end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1860,3 +1861,10 @@ SOURCES.update(HOLDOUT9_SOURCES)
 from holdout10_meshes import HOLDOUT10_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT10_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 11
+
+# Session 35's set (benchmarks/holdout11_manifest.json), as holdout 10's: its own module.
+from holdout11_meshes import HOLDOUT11_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT11_SOURCES)

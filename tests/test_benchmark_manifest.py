@@ -83,8 +83,9 @@ def test_reserved_sources_are_never_used():
     assert "libcgal" not in code and "cgal-demo" not in code and "/cgal" not in code
     assert "right" not in code
     assert '"left"' in code
-    # holdouts 8 to 10's generators have their own modules (validation_meshes imports them)
-    for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py"):
+    # holdouts 8 to 11's generators have their own modules (validation_meshes imports them)
+    for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py",
+                   "holdout11_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
 
@@ -164,6 +165,11 @@ def holdout10():
     return holes_manifest.read(holes_manifest.HOLDOUT10_MANIFEST)
 
 
+@pytest.fixture(scope="module")
+def holdout11():
+    return holes_manifest.read(holes_manifest.HOLDOUT11_MANIFEST)
+
+
 @pytest.mark.parametrize(("split", "sources"), [
     ("holdout2", validation_meshes.HOLDOUT2_SOURCES),  # run once after session 26's defaults
     ("holdout3", validation_meshes.HOLDOUT3_SOURCES),  # run once after session 28's
@@ -174,39 +180,30 @@ def holdout10():
     ("holdout8", validation_meshes.HOLDOUT8_SOURCES),  # session 32, after holdout 7 was run
     ("holdout9", validation_meshes.HOLDOUT9_SOURCES),  # session 33, after holdout 8 was made
     ("holdout10", validation_meshes.HOLDOUT10_SOURCES),  # session 34, after holdout 9 was made
+    ("holdout11", validation_meshes.HOLDOUT11_SOURCES),  # session 35, after holdout 10 was made
 ])
 def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
                                                       cad_tuning, holdout4, holdout5, holdout6,
                                                       holdout7, holdout8, holdout9, holdout10,
-                                                      split, sources):
-    """The second to tenth holdout sets: their own meshes, from sources no earlier set
+                                                      holdout11, split, sources):
+    """The second to eleventh holdout sets: their own meshes, from sources no earlier set
     uses (the two halves, the holdouts before them; from the fourth on also the tuning-side
-    CAD parts), every kind but brain surfaces, at least 3 range scans, 7 holes a mesh."""
+    CAD parts), every kind but brain surfaces (the eleventh: every kind, its brain a
+    synthetic folded surface), at least 3 range scans, 7 holes a mesh."""
     sets = {"holdout2": holdout2, "holdout3": holdout3, "holdout4": holdout4,
             "holdout5": holdout5, "holdout6": holdout6, "holdout7": holdout7,
-            "holdout8": holdout8, "holdout9": holdout9, "holdout10": holdout10}
+            "holdout8": holdout8, "holdout9": holdout9, "holdout10": holdout10,
+            "holdout11": holdout11}
     this = sets[split]
     ids = [e["mesh"] for e in this["meshes"]]
     assert ids == holes_manifest.SPLIT[split] == list(sources)
     earlier = manifest["meshes"] + holdout["meshes"]
-    if split in ("holdout3", "holdout4", "holdout5", "holdout6", "holdout7", "holdout8",
-                 "holdout9", "holdout10"):
-        earlier = earlier + holdout2["meshes"]
-    if split in ("holdout4", "holdout5", "holdout6", "holdout7", "holdout8", "holdout9",
-                 "holdout10"):
-        earlier = earlier + holdout3["meshes"] + cad_tuning["meshes"]
-    if split in ("holdout5", "holdout6", "holdout7", "holdout8", "holdout9", "holdout10"):
-        earlier = earlier + holdout4["meshes"]
-    if split in ("holdout6", "holdout7", "holdout8", "holdout9", "holdout10"):
-        earlier = earlier + holdout5["meshes"]
-    if split in ("holdout7", "holdout8", "holdout9", "holdout10"):
-        earlier = earlier + holdout6["meshes"]
-    if split in ("holdout8", "holdout9", "holdout10"):
-        earlier = earlier + holdout7["meshes"]
-    if split in ("holdout9", "holdout10"):
-        earlier = earlier + holdout8["meshes"]
-    if split == "holdout10":
-        earlier = earlier + holdout9["meshes"]
+    # every set before this one in the order they were made (the tuning-side CAD parts in
+    # session 29, between holdouts 3 and 4)
+    made = [holdout2, holdout3, cad_tuning, holdout4, holdout5, holdout6, holdout7, holdout8,
+            holdout9, holdout10, holdout11]
+    for earlier_set in made[:next(i for i, m in enumerate(made) if m is this)]:
+        earlier = earlier + earlier_set["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
     earlier_sources = {e["source"] for e in earlier}
     for entry in this["meshes"]:
@@ -219,7 +216,8 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
             assert set(hole) == {"centre", "radius", "radius_h", "near_border", "on_feature"}
             assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
     kinds = Counter(e["kind"] for e in this["meshes"])
-    assert set(kinds) == KINDS - {"brain"} and kinds["range_scan"] >= 3
+    assert set(kinds) == (KINDS if split == "holdout11" else KINDS - {"brain"})
+    assert kinds["range_scan"] >= 3
     holes = [h for e in this["meshes"] for h in e["holes"]]
     assert len(holes) == 7 * len(ids)
     assert sum(h["near_border"] for h in holes) == 3 * kinds["range_scan"]
@@ -228,14 +226,16 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
 
 def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2, holdout3,
                                                      cad_tuning, holdout4, holdout5, holdout6,
-                                                     holdout7, holdout8, holdout9, holdout10):
+                                                     holdout7, holdout8, holdout9, holdout10,
+                                                     holdout11):
     """Session 29's machined parts (tuning side, rules may be chosen on them): their own
     meshes and sources, shared with no other set, machined parts and scans of them only."""
     cad = cad_tuning
     ids = [e["mesh"] for e in cad["meshes"]]
     assert ids == holes_manifest.SPLIT["cad_tuning"] == list(validation_meshes.CAD_TUNING_SOURCES)
     others = [e for m in (manifest, holdout, holdout2, holdout3, holdout4, holdout5, holdout6,
-                          holdout7, holdout8, holdout9, holdout10) for e in m["meshes"]]
+                          holdout7, holdout8, holdout9, holdout10, holdout11)
+              for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
     kinds = Counter(e["kind"] for e in cad["meshes"])
@@ -286,3 +286,27 @@ def test_holdout10_sources_come_from_their_own_module():
         cells = dict(zip(source.make.__code__.co_freevars,
                          (c.cell_contents for c in source.make.__closure__), strict=True))
         assert cells["portable"] is True, source.source
+
+
+def test_holdout11_sources_come_from_their_own_module():
+    """Holdout 11's generators live in benchmarks/holdout11_meshes.py, as holdout 10's in
+    theirs; validation_meshes adds them to ``SOURCES``; its scans are the portable scanner's;
+    its brain-kind mesh is the synthetic folded hemisphere, no real brain (no mesh is
+    made)."""
+    import holdout11_meshes
+
+    assert validation_meshes.HOLDOUT11_SOURCES is holdout11_meshes.HOLDOUT11_SOURCES
+    for mesh_id, source in holdout11_meshes.HOLDOUT11_SOURCES.items():
+        assert validation_meshes.SOURCES[mesh_id] is source
+    assert holes_manifest.LATER_SETS["holdout11"][1:] == ("the eleventh holdout set", 1200)
+    assert holes_manifest.SPLIT["holdout11"] == list(holdout11_meshes.HOLDOUT11_SOURCES)
+    sources = holdout11_meshes.HOLDOUT11_SOURCES
+    scans = [s for s in sources.values() if s.kind == "range_scan"]
+    assert len(scans) == 4
+    for source in scans:  # _scan's closure holds portable=True
+        cells = dict(zip(source.make.__code__.co_freevars,
+                         (c.cell_contents for c in source.make.__closure__), strict=True))
+        assert cells["portable"] is True, source.source
+    brains = [s for s in sources.values() if s.kind == "brain"]
+    assert [s.make.__name__ for s in brains] == ["_folded_hemisphere"]
+    assert "synthetic" in brains[0].source
