@@ -225,7 +225,7 @@ def _scripted(monkeypatch, trajectory) -> _ScriptedSystem:
     def scripted_line_search(residual, x, r, dx):
         system.steps += 1
         size = system.trajectory[min(system.steps, len(system.trajectory) - 1)]
-        return x + dx, np.full(r.shape, size), 1.0
+        return x + dx, np.full(r.shape, size)
 
     monkeypatch.setattr(mesh_inpainting, "newton_step", lambda s, p, x, r: np.zeros_like(x))
     monkeypatch.setattr(mesh_inpainting, "_line_search", scripted_line_search)
