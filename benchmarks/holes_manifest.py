@@ -81,6 +81,13 @@ A thirteenth set, the eleventh holdout (``benchmarks/holdout11_manifest.json``, 
 its four scans made with the portable scanner), holes planned the same way (seeds from
 1200), made in session 35 after the tenth holdout had been made and committed before any
 fill was run on them; to be run once by a later session after its changes.
+
+A fourteenth set, the twelfth holdout (``benchmarks/holdout12_manifest.json``, ``--write
+--holdout12``): 12 fresh meshes (``validation_meshes.HOLDOUT12_SOURCES``, made in
+``holdout12_meshes.py``; all six kinds, a synthetic cerebellum for the brain kind; its four
+scans made with the portable scanner), holes planned the same way (seeds from 1300), made in
+session 35 after the eleventh holdout had been made and committed before any fill was run on
+them; to be run once by a later session after its changes.
 """
 
 from __future__ import annotations
@@ -121,6 +128,8 @@ HOLDOUT9_MANIFEST = Path(__file__).parent / "holdout9_manifest.json"
 HOLDOUT10_MANIFEST = Path(__file__).parent / "holdout10_manifest.json"
 # a thirteenth set, fresh meshes of session 35 (HOLDOUT11_SOURCES), committed before any fill
 HOLDOUT11_MANIFEST = Path(__file__).parent / "holdout11_manifest.json"
+# a fourteenth set, session 35's second (HOLDOUT12_SOURCES), committed before any fill
+HOLDOUT12_MANIFEST = Path(__file__).parent / "holdout12_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -134,6 +143,7 @@ LATER_SETS = {
     "holdout9": (HOLDOUT9_MANIFEST, "the ninth holdout set", 1000),
     "holdout10": (HOLDOUT10_MANIFEST, "the tenth holdout set", 1100),
     "holdout11": (HOLDOUT11_MANIFEST, "the eleventh holdout set", 1200),
+    "holdout12": (HOLDOUT12_MANIFEST, "the twelfth holdout set", 1300),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -161,6 +171,7 @@ SPLIT = {
     "holdout9": list(vm.HOLDOUT9_SOURCES),
     "holdout10": list(vm.HOLDOUT10_SOURCES),
     "holdout11": list(vm.HOLDOUT11_SOURCES),
+    "holdout12": list(vm.HOLDOUT12_SOURCES),
 }
 
 
@@ -255,7 +266,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 200, the third's at 300, the tuning-side CAD parts' at 400, the fourth
     holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
-    holdout's at 1100, the eleventh holdout's at 1200)."""
+    holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
+    1300)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

@@ -17,9 +17,9 @@ hemisphere (kept for an independent evaluation).
 
 Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout set 9's
 (session 33) in ``holdout9_meshes.py``, holdout set 10's (session 34) in
-``holdout10_meshes.py``, holdout set 11's (session 35) in ``holdout11_meshes.py``; this
-module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT11_SOURCES`` to :data:`SOURCES` at its
-end.
+``holdout10_meshes.py``, holdout set 11's (session 35) in ``holdout11_meshes.py``, holdout
+set 12's (session 35) in ``holdout12_meshes.py``; this module adds their
+``HOLDOUT8_SOURCES`` to ``HOLDOUT12_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1868,3 +1868,10 @@ SOURCES.update(HOLDOUT10_SOURCES)
 from holdout11_meshes import HOLDOUT11_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT11_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 12
+
+# Session 35's second set (benchmarks/holdout12_manifest.json), as holdout 11's: its own module.
+from holdout12_meshes import HOLDOUT12_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT12_SOURCES)
