@@ -246,8 +246,6 @@ def _folded_hemisphere() -> BenchMesh:
     random field of 14 plane waves) between broad rounded gyri. Made as a radial height
     field over an icosphere (so it cannot cross itself), then isotropically remeshed with
     no feature kept."""
-    from surfinpaint import data
-
     rng = np.random.default_rng(1135)
     waves = rng.normal(size=(14, 3))
     waves = [tuple(float(c) / math.sqrt(float((w * w).sum())) for c in w) for w in waves]
@@ -267,10 +265,20 @@ def _folded_hemisphere() -> BenchMesh:
                                    + p) for w, p in zip(waves, phases, strict=True))
         return r - FOLD_DEPTH * math.exp(-(field / math.sqrt(7.0) / FOLD_WIDTH) ** 2)
 
+    return _radial_surface(radius, FOLDED_H)
+
+
+def _radial_surface(radius, h: float) -> BenchMesh:
+    """The closed surface ``r = radius(ux, uy, uz)`` over the unit directions (Python
+    floats in, a float out: the same bits on every CPU), sampled at an icosphere's vertices
+    and remeshed to edge length ``h``: a radial height field, for folded brain-like shapes
+    that level sets make non-manifold."""
+    from surfinpaint import data
+
     v, f = data.sphere(6)
     v = v / np.sqrt((v * v).sum(axis=1))[:, None]  # unit directions
     r = np.array([radius(float(a), float(b), float(c)) for a, b, c in v])
-    return vm._mesh(*vm._remesh(v * r[:, None], f, FOLDED_H, feature_deg=180.0))
+    return vm._mesh(*vm._remesh(v * r[:, None], f, h, feature_deg=180.0))
 
 
 FOLD_FREQUENCY, FOLD_DEPTH, FOLD_WIDTH = 16.0, 0.08, 0.6

@@ -22,9 +22,8 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import validation_meshes as vm
-from holdout11_meshes import _capsule, _smooth_max
+from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from validation_meshes import BenchMesh, Source
 
 
@@ -214,8 +213,6 @@ def _cerebellum() -> BenchMesh:
     of the angle about the lateral axis, slightly wavy). Made as a radial height field
     over an icosphere (so it cannot cross itself), then isotropically remeshed with no
     feature kept."""
-    from surfinpaint import data
-
     def radius(ux, uy, uz):
         r = 1.0 / math.sqrt((ux / 0.62) ** 2 + (uy / 0.4) ** 2 + (uz / 0.32) ** 2)
         for side in (-1.0, 1.0):  # the notches: the middle lower front and back
@@ -227,10 +224,7 @@ def _cerebellum() -> BenchMesh:
         fade = 1.0 - math.exp(-(uy * uy + uz * uz) / 0.08)
         return r - FOLIUM_DEPTH * fade * groove
 
-    v, f = data.sphere(6)
-    v = v / np.sqrt((v * v).sum(axis=1))[:, None]  # unit directions
-    r = np.array([radius(float(a), float(b), float(c)) for a, b, c in v])
-    return vm._mesh(*vm._remesh(v * r[:, None], f, CEREBELLUM_H, feature_deg=180.0))
+    return _radial_surface(radius, CEREBELLUM_H)
 
 
 FOLIA, FOLIUM_DEPTH, FOLIUM_WIDTH = 22.0, 0.04, 0.8
