@@ -3,6 +3,7 @@ round trips bit-identical on the original vertices, nothing dropped without a Me
 
 from __future__ import annotations
 
+import json
 import os
 import struct
 import warnings
@@ -644,7 +645,7 @@ def test_appended_rows_keep_the_originals_and_refuse_missing_attributes(tmp_path
         MeshData(v, f, {"color": colour[:2]})
 
 
-def test_label_overlay_keeps_numbers_and_names_the_lost_label_table(tmp_path):
+def test_label_overlay_keeps_numbers_and_its_label_table(tmp_path):
     nib = pytest.importorskip("nibabel")
     v, f, _, _ = _brain_surface(tmp_path)
     write_mesh(tmp_path / "s.gii", v, f)
@@ -657,10 +658,13 @@ def test_label_overlay_keeps_numbers_and_names_the_lost_label_table(tmp_path):
     image = nib.gifti.GiftiImage(labeltable=table, darrays=[nib.gifti.GiftiDataArray(
         labels, intent="NIFTI_INTENT_LABEL", datatype="NIFTI_TYPE_INT32")])
     (tmp_path / "s.areas.label.gii").write_bytes(image.to_bytes())
-    with pytest.warns(MeshWarning, match=r"label table of overlay s\.areas\.label\.gii"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MeshWarning)  # kept (session 35): nothing lost to name
         mesh = read_mesh_data(tmp_path / "s.gii", overlays=[tmp_path / "s.areas.label.gii"])
     np.testing.assert_array_equal(mesh.attributes["areas"], labels)
     assert mesh.attributes["areas"].dtype == np.int32
+    assert json.loads(mesh.metadata["labels.areas"]) == [
+        [k, name, 1.0, 0.0, 0.0, 1.0] for k, name in enumerate(["unknown", "V1", "V2"])]
 
 
 def test_read_fill_write_keeps_the_original_vertices_and_their_attributes(tmp_path):

@@ -56,12 +56,13 @@ from surfinpaint.app.batch_summary import (
     row_of,
     write_summary,
 )
+from surfinpaint.app.outputs import write_output
 from surfinpaint.compiled import announce_once_across
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.parallel import start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.fill.warmup import warm_kernels
-from surfinpaint.io.formats import MeshData, read_mesh_data, write_mesh_data
+from surfinpaint.io.formats import MeshData, read_mesh_data
 from surfinpaint.io.materials import copy_materials
 from surfinpaint.lazy import lazy_module
 
@@ -137,7 +138,7 @@ def fill_file(job: FileJob, options: Mapping[str, Any],
             # an OBJ's .mtl and textures beside it, as `surfinpaint fill` copies them
             copy_materials(job.source, job.target, filled.metadata.get("mtllib", ""),
                            reserved=(job.picture,) if job.picture else ())
-            write_mesh_data(job.target, filled)
+            write_output(job.source, job.target, filled, len(mesh.vertices))
         except Exception as exc:  # any failure of one file is that file's row, not the batch's
             return FileRow(job.name, job.output, "failed",
                            seconds=time.perf_counter() - started, message=error_text(job, exc))
@@ -520,7 +521,7 @@ def fill_files(
     **fill_options
         Passed to :func:`surfinpaint.fill_holes` for every file: ``method``, ``options``
         (a :class:`~surfinpaint.ConformalOptions`), ``fair_order``, ``include_border``,
-        ``max_hole_edges``, ``repair``; checked before any file is read.
+        ``keep_margins``, ``max_hole_edges``, ``repair``; checked before any file is read.
 
     Returns
     -------

@@ -33,6 +33,7 @@ from surfinpaint.app.outputs import (
     check_output_directory,
     check_output_file,
     check_outputs_distinct,
+    write_output,
 )
 from surfinpaint.app.progress import LazyConsole, add_quiet, progress_bar
 from surfinpaint.app.progress import console as _console
@@ -54,7 +55,6 @@ from surfinpaint.io.formats import (
     read_mesh,
     read_mesh_data,
     write_mesh,
-    write_mesh_data,
 )
 from surfinpaint.io.materials import copy_materials
 from surfinpaint.lazy import lazy_module
@@ -186,7 +186,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
         # the OBJ's .mtl and the textures it names, beside the output: its texture shows
         materials = copy_materials(args.mesh, args.output, filled.metadata.get("mtllib", ""),
                                    reserved=tuple(p for p in (args.png, args.json) if p))
-        write_mesh_data(args.output, filled)
+        write_output(args.mesh, args.output, filled, len(vertices))
     summary = Summary.of(result, time.perf_counter() - started)
     if len(result.removed_faces):
         say(f"--repair removed {len(result.removed_faces)} faces around non-manifold "

@@ -97,6 +97,7 @@ def fill_options(args: argparse.Namespace) -> dict:
     """The keyword arguments of :func:`surfinpaint.fill_holes` given by the fill options
     (:func:`add_fill_options`) of ``fill`` and ``batch``; usage errors raised."""
     return {"method": args.method, "include_border": args.all,
+            "keep_margins": args.keep_margins,
             "max_hole_edges": args.max_hole_edges, "repair": args.repair,
             "zip_seams": args.zip_seams,
             "fair_order": args.fair_order, "options": _conformal_options(args)}
@@ -117,6 +118,10 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
                    "warning (no loop that spans no area is ever filled)")
     p.add_argument("--all", action="store_true",
                    help="also fill loops that look like the surface's outer border")
+    p.add_argument("--keep-margins", action="store_true",
+                   help="also leave open each piece's longest loop when it may be its "
+                   "margin ('the margin?' in `holes`: it spans 10-40%% of the piece's area, "
+                   "as a tooth crown scanned down to the gum), which is filled by default"),
     p.add_argument("--repair", action="store_true",
                    help="remove the faces around non-manifold edges and bow-tie vertices "
                    "(where separate fans of faces meet) first, flip the fewest faces that "

@@ -1,4 +1,5 @@
-"""Checks on where a command will write, made before any work is done.
+"""Checks on where a command will write, made before any work is done, and the one way
+``fill`` and ``batch`` write a filled mesh (:func:`write_output`).
 
 A fill can take minutes; finding only at the end that the output directory is missing or
 read-only, or that ``-o`` names the input (which the atomic rename would silently replace),
@@ -10,8 +11,15 @@ from __future__ import annotations
 import os
 import stat
 import tempfile
+import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+
+import numpy as np
+
+from surfinpaint.io.base import RenumberedWarning
+from surfinpaint.io.formats import MeshData, ascii_like, write_mesh_data
+from surfinpaint.io.stl import first_use_order
 
 
 class OutputError(Exception):
@@ -105,3 +113,24 @@ def check_outputs_distinct(outputs: Mapping[str, str], inputs: Sequence[str], *,
             if _same_file(Path(path), Path(other_path)):
                 raise OutputOverwritesInput(f"{option} and {other} name the same file "
                                             f"{path!r}")
+
+
+def write_output(source: str | os.PathLike, target: str | os.PathLike, filled: MeshData,
+                 n_original: int) -> None:
+    """Write a filled mesh as ``fill`` and ``batch`` do: an ascii PLY or STL input as ascii
+    again (:func:`~surfinpaint.io.formats.ascii_like`), and an STL filled into an STL without
+    the note that its vertices will be renumbered when, read back, its ``n_original``
+    vertices keep their ids (all of them used, first used in order, before any new vertex):
+    the input's numbering was that first use already, only new vertices change, and no
+    report names them by id (a note on each of thousands of scans would hide the others).
+    """
+    ascii = ascii_like(source, target)
+    if Path(source).suffix.lower() == ".stl" == Path(target).suffix.lower():
+        order = first_use_order(filled.faces)
+        if len(order) >= n_original and np.array_equal(order[:n_original],
+                                                       np.arange(n_original)):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RenumberedWarning)
+                write_mesh_data(target, filled, ascii=ascii)
+            return
+    write_mesh_data(target, filled, ascii=ascii)

@@ -334,6 +334,7 @@ def select_holes(
     holes: Sequence | None = None,
     *,
     include_border: bool = False,
+    keep_margins: bool = False,
     table: EdgeTable | None = None,
     validate: bool = True,
     found: list[Hole] | None = None,
@@ -343,9 +344,11 @@ def select_holes(
     Parameters
     ----------
     holes : None, sequence of int, or sequence of loops
-        None: every loop except outer borders (all loops with ``include_border``).
-        Integers: indices into :func:`find_holes`' list. Sequences: boundary loops given by
-        their vertex ids (any start, any direction). A hole named twice is chosen once.
+        None: every loop except outer borders (all loops with ``include_border``), and
+        except the loops that may be a margin (:attr:`Hole.may_be_border`) with
+        ``keep_margins``. Integers: indices into :func:`find_holes`' list. Sequences:
+        boundary loops given by their vertex ids (any start, any direction). A hole named
+        twice is chosen once.
     table : EdgeTable, optional
         The faces' edge table, if already built (passed on to :func:`find_holes`).
     validate : bool
@@ -365,7 +368,8 @@ def select_holes(
     if holes is None:
         if found is None:
             found = find_holes(vertices, faces, table, validate=validate)
-        return [h.loop for h in found if include_border or not h.is_border]
+        return [h.loop for h in found if (include_border or not h.is_border)
+                and not (keep_margins and h.may_be_border)]
     holes = list(holes)
     if not all(np.ndim(h) == 0 for h in holes):  # loops given by their vertex ids
         if validate and found is None:

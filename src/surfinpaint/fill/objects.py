@@ -24,6 +24,7 @@ import numpy as np
 
 from surfinpaint.fill.face_attributes import fill_result_corner_attributes
 from surfinpaint.io import MeshData, MeshWarning
+from surfinpaint.io.brain import label_overlays
 
 __all__ = ["COLOUR_NAMES", "fill_mesh_data", "mesh_arrays", "to_pyvista", "to_trimesh"]
 
@@ -219,7 +220,8 @@ def fill_mesh_data(mesh, **fill_options):
     mesh : MeshData
     **fill_options
         Passed to :func:`surfinpaint.fill_holes` (not ``attributes``/``face_attributes``:
-        the mesh's own are used).
+        the mesh's own are used). An overlay read with a label table (``.label.gii``,
+        ``.annot``) is filled as labels (``attribute_kinds`` may say otherwise).
 
     Returns
     -------
@@ -232,8 +234,13 @@ def fill_mesh_data(mesh, **fill_options):
     # here, not at the top: the pipeline imports this module (mesh_arrays, to_trimesh)
     from surfinpaint.fill.pipeline import fill_holes
 
+    # a .label.gii or .annot overlay is a segmentation however many labels it has (an atlas
+    # of 180 areas): its new vertices take labels, never blends of label numbers
+    kinds = {name: "label" for name in label_overlays(mesh.metadata) if name in mesh.attributes}
+    kinds.update(fill_options.pop("attribute_kinds", None) or {})
     result = fill_holes(mesh.vertices, mesh.faces, attributes=mesh.attributes,
-                        face_attributes=mesh.face_attributes, **fill_options)
+                        face_attributes=mesh.face_attributes, attribute_kinds=kinds or None,
+                        **fill_options)
     corners = fill_result_corner_attributes(result, mesh.corner_attributes)
     return result, MeshData(result.vertices, result.faces, result.attributes,
                             result.face_attributes, corners, mesh.metadata)

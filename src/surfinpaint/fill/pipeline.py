@@ -148,6 +148,7 @@ def fill_holes(
     face_attributes: dict[str, np.ndarray] | None = None,
     attribute_kinds: dict[str, str] | None = None,
     include_border: bool = False,
+    keep_margins: bool = False,
     max_hole_edges: int | None = None,
     neighbourhood_rings: int | None = None,
     repair: bool = False,
@@ -184,6 +185,11 @@ def fill_holes(
         by its truth-free self-check.
     include_border : bool
         Also fill the loops that look like the outer border of an open surface.
+    keep_margins : bool
+        With ``holes=None``, also leave open each piece's longest loop that may be its
+        margin (:attr:`~surfinpaint.fill.holes.Hole.may_be_border`: it spans 10–40 % of the
+        piece's area, as a tooth crown scanned down to the gum; filled by default, with a
+        warning). For a batch of such scans, where ``holes`` differs from file to file.
     max_hole_edges : int, optional
         Holes with more boundary edges are skipped (reported, not filled).
     neighbourhood_rings : int, optional
@@ -260,12 +266,12 @@ def fill_holes(
     attributes, attribute_kinds = _checked_attributes(len(vertices), len(faces), attributes,
                                                       face_attributes, attribute_kinds)
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
-    _check_flags(include_border=include_border, repair=repair, validate=validate,
-                 zip_seams=zip_seams)
+    _check_flags(include_border=include_border, keep_margins=keep_margins, repair=repair,
+                 validate=validate, zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
     vertices, faces, repaired, loops, numbers, incidence, zero_area, unfillable, margins = \
         _found_holes(vertices, faces, holes, method, include_border=include_border,
-                     repair=repair, validate=validate)
+                     keep_margins=keep_margins, repair=repair, validate=validate)
     reports = _hole_reports(vertices, loops, numbers, method)
     todo = _within_size(reports, max_hole_edges)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
@@ -292,8 +298,8 @@ def _check_flags(**flags) -> None:
             raise ValueError(f"{name} must be True or False, got {flag!r}")
 
 
-def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, repair: bool,
-                 validate: bool):
+def _found_holes(vertices, faces, holes, method: str, *, include_border: bool,
+                 keep_margins: bool, repair: bool, validate: bool):
     """The mesh prepared (:func:`_prepared`; ``repair``'s removed and flipped faces), the
     loops to fill, their :func:`find_holes`
     numbers (the outer border counts, whatever was selected), the faces'
@@ -309,7 +315,8 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool, r
             _prepared(vertices, faces, repair, validate, beside)
         found = found()  # after the checks: their errors come first
         loops = select_holes(vertices, triangles, holes, include_border=include_border,
-                             table=table, validate=False, found=found)
+                             keep_margins=keep_margins, table=table, validate=False,
+                             found=found)
         del table  # the holes are found: its memory is free for the fills
         numbers = hole_numbers(vertices, triangles, loops, found=found)
         incidence = incidence()  # before the thread is joined
@@ -338,7 +345,8 @@ def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
                 f"spans {percent_below(hole.span_fraction)} of its surface's area, below the "
                 f"{BORDER_SPAN_FRACTION:.0%} that makes it the outer border, so it was filled; "
                 "if it is the open margin of the surface (a tooth crown scanned to the gum), "
-                "keep it open with --holes or --max-hole-edges (holes=, max_hole_edges=)",
+                "keep it open with --keep-margins, --holes or --max-hole-edges "
+                "(keep_margins=, holes=, max_hole_edges=)",
                 MeshWarning, stacklevel=stacklevel)
 
 

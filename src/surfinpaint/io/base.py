@@ -17,6 +17,13 @@ class MeshWarning(UserWarning):
     """Something about a mesh file worth knowing that does not stop reading or writing it."""
 
 
+class RenumberedWarning(MeshWarning):
+    """A mesh written to STL, which stores only triangles, will not read back with its vertex
+    numbering (:func:`~surfinpaint.io.stl.first_use_order`). Its own category so that a
+    caller that knows the numbering it matters for is kept (a filled STL scan: its
+    original vertices keep their ids) can leave it out."""
+
+
 class DataNotReturnedWarning(MeshWarning):
     """:func:`~surfinpaint.io.formats.read_mesh` read per-vertex, per-face or per-corner data
     (colours, normals, UVs, ...) that it does not return (``read_mesh_data`` does). Its own

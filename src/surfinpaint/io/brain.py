@@ -1,6 +1,8 @@
 """Brain surfaces: GIFTI (``.gii``, ``.gii.gz``) and FreeSurfer geometry files, via nibabel,
-with their per-vertex overlays (GIFTI ``.shape.gii`` / ``.func.gii``, FreeSurfer ``curv``,
-``thickness``, ``sulc``, ...) read beside the surface and written beside the output.
+with their per-vertex overlays (GIFTI ``.shape.gii`` / ``.func.gii`` / ``.label.gii``,
+FreeSurfer ``curv``, ``thickness``, ``sulc``, ... and, when given, ``.annot``) read beside the
+surface and written beside the output; a segmentation's label table and a GIFTI pointset's
+coordinate system are kept in the metadata and written back.
 
 nibabel is imported inside the functions: it is needed only when such files are used.
 """
@@ -30,6 +32,12 @@ FREESURFER_OVERLAYS = ("curv", "sulc", "thickness", "area", "volume", "jacobian_
 #: The endings of GIFTI data files (per-vertex overlays, not surfaces).
 OVERLAY_SUFFIXES = (".shape.gii", ".func.gii", ".label.gii")
 _GIFTI_DATA = (*OVERLAY_SUFFIXES, ".gii.gz", ".gii")
+#: Metadata key prefix of an overlay's label table (``labels.NAME``: JSON rows ``[key, name,
+#: red, green, blue, alpha]``, colours 0..1): the overlay is a segmentation, filled as labels
+#: and written as ``.label.gii`` with its table.
+LABEL_TABLE = "labels."
+#: Metadata key of a GIFTI pointset's coordinate system (JSON: dataspace, xformspace, xform).
+COORDINATE_SYSTEM = "coordsys"
 
 
 def _gunzip(data: bytes) -> bytes:
@@ -60,9 +68,14 @@ def read_gifti(data: bytes, path: Path) -> Parsed:
     out = Parsed(vertices, np.full(len(faces), 3, np.int64), faces.astype(np.int64).ravel())
     out.metadata.update({str(k): str(v) for k, v in image.meta.items()})
     out.metadata.update({f"pointset.{k}": str(v) for k, v in points[0].meta.items()})
-    xform = getattr(points[0].coordsys, "xform", None)
-    if xform is not None and not np.allclose(xform, np.eye(4)):
-        out.dropped.append("the pointset's coordinate transform (not the identity) is not kept")
+    coordsys = points[0].coordsys
+    # written back as read (a lab's tools place the surface by it); nibabel's default
+    # (unknown spaces, the identity), which any pointset written without one gets, says nothing
+    if coordsys is not None and (coordsys.dataspace or coordsys.xformspace or not np.array_equal(
+            np.asarray(coordsys.xform, dtype=np.float64), np.eye(4))):
+        out.metadata[COORDINATE_SYSTEM] = json.dumps(
+            {"dataspace": int(coordsys.dataspace), "xformspace": int(coordsys.xformspace),
+             "xform": np.asarray(coordsys.xform, dtype=np.float64).tolist()})
     for k, array in enumerate(image.darrays):
         if array is points[0] or array is triangles[0]:
             continue
@@ -220,7 +233,7 @@ def overlay_name(overlay: Path, surface: Path | None = None) -> str:
     """The attribute name of an overlay file: ``lh.pial.thickness.shape.gii`` beside
     ``lh.pial.gii`` -> ``thickness``; ``lh.curv`` -> ``curv``."""
     name = overlay.name
-    for suffix in _GIFTI_DATA:
+    for suffix in (*_GIFTI_DATA, ".annot"):
         if name.lower().endswith(suffix):
             name = name[:-len(suffix)]
             break
@@ -232,12 +245,42 @@ def overlay_name(overlay: Path, surface: Path | None = None) -> str:
     return _safe(re.sub(r"^(lh|rh)\.", "", name))
 
 
+def label_overlays(metadata: dict[str, str]) -> list[str]:
+    """The names of the attributes that are segmentations: those with a label table
+    (:data:`LABEL_TABLE`), read from a ``.label.gii`` or FreeSurfer ``.annot`` overlay."""
+    return [k[len(LABEL_TABLE):] for k in metadata if k.startswith(LABEL_TABLE)]
+
+
+def _gifti_label_table(image) -> str | None:
+    """A GIFTI data file's label table as :data:`LABEL_TABLE` JSON, or None (no labels)."""
+    labels = image.labeltable.labels
+    if not labels and not any(a.intent == 1002 for a in image.darrays):  # NIFTI_INTENT_LABEL
+        return None
+    return json.dumps([[int(lab.key), str(lab.label or ""), *(float(c) for c in lab.rgba)]
+                       for lab in labels])
+
+
+def _read_annot(p: Path) -> tuple[np.ndarray, str]:
+    """A FreeSurfer ``.annot`` file's labels (indices into its colour table, -1 where none)
+    and its table as :data:`LABEL_TABLE` JSON."""
+    from nibabel.freesurfer import read_annot
+
+    labels, ctab, names = read_annot(str(p))
+    table = [[k, name.decode("utf-8", "replace") if isinstance(name, bytes) else str(name),
+              row[0] / 255, row[1] / 255, row[2] / 255, 1 - row[3] / 255]
+             for k, (row, name) in enumerate(zip(ctab.tolist(), names, strict=True))]
+    return np.asarray(labels, dtype=np.int32), json.dumps(table)
+
+
 def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
-                  guessed: Sequence[Path] = ()) -> tuple[dict[str, np.ndarray], list[str]]:
-    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry files),
-    and what they hold that is not kept as read (a GIFTI label table; a second overlay of the
-    same name, kept under its file name; an overlay of ``guessed`` without ``n`` values,
-    not read: :func:`subject_overlays` of the surface, which may belong to another surface).
+                  guessed: Sequence[Path] = ()
+                  ) -> tuple[dict[str, np.ndarray], dict[str, str], list[str]]:
+    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry and
+    ``.annot`` files), the label tables of the segmentations among them (metadata
+    ``labels.NAME``, :data:`LABEL_TABLE`), and what they hold that is not kept as read (a
+    second overlay of the same name, kept under its file name; an overlay of ``guessed``
+    without ``n`` values, not read: :func:`subject_overlays` of the surface, which may
+    belong to another surface).
 
     Raises
     ------
@@ -248,17 +291,18 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
     import nibabel as nib
     from nibabel.freesurfer import read_morph_data
 
-    out, dropped = {}, []
+    out, tables, dropped = {}, {}, []
     for p in files:
         p = Path(p)
+        table = None
         try:
             if p.name.lower().endswith((".gii", ".gii.gz")):
                 image = nib.gifti.GiftiImage.from_bytes(_gunzip(p.read_bytes()))
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
-                if image.labeltable.labels:
-                    dropped.append(f"the label table of overlay {p.name} (names and colours "
-                                   "of its labels) is not kept, only the label numbers")
+                table = _gifti_label_table(image) if values.ndim == 1 else None
+            elif p.name.lower().endswith(".annot"):
+                values, table = _read_annot(p)
             else:
                 values = np.asarray(read_morph_data(str(p)))
         except MeshError as err:
@@ -285,7 +329,9 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
             dropped.append(f"overlay {p.name} would be named {taken!r} like an earlier "
                            f"overlay; it is kept as {name!r}")
         out[name] = values
-    return out, dropped
+        if table is not None:
+            tables[LABEL_TABLE + name] = table
+    return out, tables, dropped
 
 
 def _gifti_type(a: np.ndarray) -> tuple[np.ndarray, str] | None:
@@ -320,7 +366,8 @@ def unstored_freesurfer(mesh: MeshData) -> list[str]:
     """What a FreeSurfer surface and its overlays cannot store."""
     return unstored_brain(mesh) + [f"metadata {k!r} is not stored in a FreeSurfer surface"
                                    for k in mesh.metadata
-                                   if k not in ("create_stamp", "volume_info")]
+                                   if k not in ("create_stamp", "volume_info")
+                                   and not k.startswith(LABEL_TABLE)]
 
 
 def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Callable]]:
@@ -329,11 +376,18 @@ def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Ca
     GIFTI: ``BASE.NAME.shape.gii`` (``BASE``: the output's name without ``.gii``/``.gii.gz``);
     FreeSurfer: ``OUT.NAME`` morphometry files (float32) for 1-D arrays, ``OUT.NAME.shape.gii``
     for arrays of several columns. Float arrays are stored as float32, integers as int32.
+    A segmentation (an attribute with a label table in the metadata, :data:`LABEL_TABLE`)
+    is written as ``BASE.NAME.label.gii`` (FreeSurfer: ``OUT.NAME.label.gii``) with its
+    table, for either surface format.
     """
     out = []
     for name, a in _writable(mesh).items():
+        table = mesh.metadata.get(LABEL_TABLE + name)
         name = _safe(name)
-        if fmt == "freesurfer" and a.ndim == 1:
+        if table is not None and a.ndim == 1 and a.dtype.kind in "iub":
+            base = path.name if fmt == "freesurfer" else _surface_base(path)
+            out.append((path.with_name(f"{base}.{name}.label.gii"), _label_writer(a, table)))
+        elif fmt == "freesurfer" and a.ndim == 1:
             out.append((path.with_name(f"{path.name}.{name}"), _morph_writer(a)))
         else:
             base = path.name if fmt == "freesurfer" else _surface_base(path)
@@ -355,6 +409,21 @@ def _shape_writer(a: np.ndarray) -> Callable:
     return write
 
 
+def _label_writer(a: np.ndarray, table: str) -> Callable:
+    def write(fh) -> None:
+        import nibabel as nib
+
+        labels = nib.gifti.GiftiLabelTable()
+        for key, text, *rgba in json.loads(table):
+            label = nib.gifti.GiftiLabel(key, *rgba)
+            label.label = text
+            labels.labels.append(label)
+        values = nib.gifti.GiftiDataArray(a.astype(np.int32), intent="NIFTI_INTENT_LABEL",
+                                          datatype="NIFTI_TYPE_INT32")
+        fh.write(nib.gifti.GiftiImage(darrays=[values], labeltable=labels).to_bytes())
+    return write
+
+
 def _morph_writer(a: np.ndarray) -> Callable:
     def write(fh) -> None:
         from nibabel.freesurfer import write_morph_data
@@ -366,12 +435,18 @@ def _morph_writer(a: np.ndarray) -> Callable:
 def gifti_bytes(mesh: MeshData) -> bytes:
     import nibabel as nib
 
-    meta = {k: v for k, v in mesh.metadata.items() if not k.startswith("pointset.")}
+    meta = {k: v for k, v in mesh.metadata.items()
+            if not k.startswith(("pointset.", LABEL_TABLE)) and k != COORDINATE_SYSTEM}
     point_meta = {k[len("pointset."):]: v for k, v in mesh.metadata.items()
                   if k.startswith("pointset.")}
+    coordsys = None
+    if COORDINATE_SYSTEM in mesh.metadata:
+        kept = json.loads(mesh.metadata[COORDINATE_SYSTEM])
+        coordsys = nib.gifti.GiftiCoordSystem(kept["dataspace"], kept["xformspace"],
+                                              np.asarray(kept["xform"]))
     points = nib.gifti.GiftiDataArray(mesh.vertices.astype(np.float32),
                                       intent="NIFTI_INTENT_POINTSET",
-                                      datatype="NIFTI_TYPE_FLOAT32",
+                                      datatype="NIFTI_TYPE_FLOAT32", coordsys=coordsys,
                                       meta=nib.gifti.GiftiMetaData(point_meta))
     triangles = nib.gifti.GiftiDataArray(mesh.faces.astype(np.int32),
                                          intent="NIFTI_INTENT_TRIANGLE",

@@ -65,12 +65,18 @@ from surfinpaint.io.brain import (
 from surfinpaint.io.meshdata import MeshData, per_vertex, seam_vertices
 from surfinpaint.io.obj import missing_libraries, read_obj, unstored_obj, write_obj
 from surfinpaint.io.off import read_off, unstored_off, write_off
-from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
-from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
+from surfinpaint.io.ply import ply_is_ascii, read_ply, unstored_ply, write_ply
+from surfinpaint.io.stl import (
+    read_stl,
+    stl_is_ascii,
+    unstored_stl,
+    warn_stl_numbering,
+    write_stl,
+)
 
 __all__ = ["SUPPORTED_FORMATS", "DataNotReturnedWarning", "MeshData", "MeshWarning",
-           "files_read", "files_written", "output_format", "read_mesh", "read_mesh_data",
-           "write_mesh", "write_mesh_data"]
+           "ascii_like", "files_read", "files_written", "output_format", "read_mesh",
+           "read_mesh_data", "write_mesh", "write_mesh_data"]
 
 _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
 
@@ -79,7 +85,8 @@ _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".sm
 SUPPORTED_FORMATS: dict[str, str] = {
     ".ply": "PLY, ascii or binary (written binary unless ascii=True)",
     ".obj": "Wavefront OBJ (v and f records)",
-    ".stl": "STL, ascii or binary (a triangle soup: equal corners are merged on reading)",
+    ".stl": "STL, ascii or binary (a triangle soup: equal corners are merged on reading; "
+            "written binary unless ascii=True)",
     ".off": "OFF (Geomview object file format)",
     ".gii": "GIFTI surface (pointset and triangle arrays, float32)",
     ".gii.gz": "gzip-compressed GIFTI surface",
@@ -114,6 +121,23 @@ def output_format(path: str | os.PathLike) -> str:
     if fmt is None:
         raise _unknown_format(p)
     return fmt
+
+
+def ascii_like(source: str | os.PathLike, target: str | os.PathLike) -> bool:
+    """Whether to write ``target`` as ascii to keep ``source``'s encoding: ``target`` has
+    ``source``'s format, PLY or STL, and ``source`` is stored as ascii (what ``fill`` and
+    ``batch`` pass to :func:`write_mesh_data`: an ascii scan stays ascii). False when
+    ``source`` cannot be read (its reader reports that)."""
+    fmt = _format_of(Path(source))
+    if fmt not in ("ply", "stl") or _format_of(Path(target)) != fmt:
+        return False
+    try:
+        with open(source, "rb") as fh:
+            head = fh.read(4096)
+            size = os.fstat(fh.fileno()).st_size
+    except OSError:
+        return False
+    return stl_is_ascii(head, size) if fmt == "stl" else ply_is_ascii(head)
 
 
 def _unknown_format(path: Path) -> MeshError:
@@ -276,10 +300,11 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     files = _overlay_files(p, fmt, overlays)
     if files is not None:
         guessed = subject_overlays(p, fmt) if overlays is True else ()
-        extra, lost = read_overlays(files, len(mesh.vertices), p, guessed=guessed)
+        extra, tables, lost = read_overlays(files, len(mesh.vertices), p, guessed=guessed)
         dropped += lost
         mesh = MeshData(mesh.vertices, mesh.faces, {**mesh.attributes, **extra},
-                        mesh.face_attributes, mesh.corner_attributes, mesh.metadata)
+                        mesh.face_attributes, mesh.corner_attributes,
+                        {**mesh.metadata, **tables})
     return mesh, dropped, seams
 
 
@@ -419,10 +444,11 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray,
         gzip-compressed GIFTI.
     vertices : (n, 3) float array
         Written in the given order. OBJ, OFF and PLY keep float64 exactly (17 significant
-        digits in text); STL, GIFTI and FreeSurfer store float32.
+        digits in text, as an ascii STL); binary STL, GIFTI and FreeSurfer store float32.
     faces : (f, 3) int array
     ascii : bool, default False
-        PLY only: write ascii instead of binary little-endian. STL is always binary.
+        PLY and STL: write ascii instead of binary (little-endian); the other formats have
+        one encoding. :func:`ascii_like` says whether a file is stored as ascii.
     attributes, face_attributes : dict of str to array, optional
         Per-vertex and per-face data to write with the mesh, as :func:`write_mesh_data`
         writes a :class:`MeshData`'s (e.g. a ``FillResult``'s ``.attributes``).

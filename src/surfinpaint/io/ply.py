@@ -82,6 +82,12 @@ def _ply_header(data: bytes) -> tuple[str, list, int, list[str], list[str]]:
     return fmt, elements, body, notes, free_text
 
 
+def ply_is_ascii(head: bytes) -> bool:
+    """Whether a PLY file whose first bytes are ``head`` says ``format ascii``."""
+    found = re.search(rb"^format[ \t]+(\S+)", head.split(b"end_header", 1)[0], re.M)
+    return found is not None and found.group(1) == b"ascii"
+
+
 def read_ply(data: bytes, path: Path) -> Parsed:
     fmt, elements, offset, notes, free_text = _ply_header(data)
     names = [e[0] for e in elements]

@@ -11,7 +11,7 @@ import numpy as np
 
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.mesh import face_normals
-from surfinpaint.io.base import MeshWarning, Parsed, decode_text
+from surfinpaint.io.base import Parsed, RenumberedWarning, decode_text
 from surfinpaint.io.meshdata import MeshData
 
 
@@ -59,6 +59,16 @@ def _binary_corners(data: bytes) -> tuple[np.ndarray | None, np.ndarray | None]:
         rec = np.frombuffer(data, _STL_DTYPE, count=n, offset=84)
         return rec["corners"].reshape(-1, 3).astype(np.float64), rec["attr"].astype(np.uint16)
     return None, None
+
+
+def stl_is_ascii(head: bytes, size: int) -> bool:
+    """Whether an STL file of ``size`` bytes starting with ``head`` (its first 4096 bytes, or
+    all of it) is ascii, by the rule :func:`read_stl` reads it with."""
+    if size >= 84:
+        excess = size - (84 + 50 * struct.unpack_from("<I", head, 80)[0])
+        if excess == 0 or (0 < excess < 50 and not _looks_ascii(head)):
+            return False
+    return _says_solid(head)
 
 
 def _says_solid(data: bytes) -> bool:
@@ -147,16 +157,22 @@ def _ascii_checked(text: str) -> np.ndarray:
     return values.reshape(-1, 3)
 
 
-def warn_stl_numbering(faces: np.ndarray, n_vertices: int, name: str) -> None:
+def first_use_order(faces: np.ndarray) -> np.ndarray:
+    """The vertex ids in the order the faces first use them: reading the faces back from an
+    STL numbers the vertices so (id ``k`` of the file read back is ``order[k]``)."""
     _, first = np.unique(faces.ravel(), return_index=True)
-    used = faces.ravel()[np.sort(first)]
+    return faces.ravel()[np.sort(first)]
+
+
+def warn_stl_numbering(faces: np.ndarray, n_vertices: int, name: str) -> None:
+    used = first_use_order(faces)
     if len(used) != n_vertices or np.any(used != np.arange(n_vertices)):
         dropped = n_vertices - len(used)
         lost = f"{dropped} unreferenced vertices are dropped and " if dropped else ""
         warnings.warn(
             f"{name}: STL stores only triangles; {lost}vertices will be renumbered by first "
             "use on reading",
-            MeshWarning,
+            RenumberedWarning,
             stacklevel=4,
         )
 
@@ -181,6 +197,9 @@ def _fits_u16(a: np.ndarray) -> bool:
 
 def write_stl(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
     v, f = mesh.vertices, mesh.faces
+    if ascii:
+        _write_ascii(fh, face_normals(v, f), v[f])
+        return
     rec = np.zeros(len(f), dtype=_STL_DTYPE)
     rec["normal"] = face_normals(v, f)
     rec["corners"] = v[f]
@@ -190,3 +209,17 @@ def write_stl(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
     fh.write(b"binary STL written by surfinpaint".ljust(80, b" "))
     fh.write(struct.pack("<I", len(f)))
     fh.write(rec.tobytes())
+
+
+#: One ascii facet; corners with 17 significant digits: read back, they are the same float64s
+_ASCII_FACET = ("facet normal {} {} {}\n outer loop\n"
+                + "  vertex {} {} {}\n" * 3 + " endloop\nendfacet\n").replace("{}", "%.17g")
+
+
+def _write_ascii(fh, normals: np.ndarray, corners: np.ndarray, chunk: int = 65536) -> None:
+    fh.write(b"solid surfinpaint\n")
+    rows = np.concatenate([normals[:, None, :], corners], axis=1).reshape(len(normals), 12)
+    for start in range(0, len(rows), chunk):  # chunks of facets: the text in bounded memory
+        block = rows[start:start + chunk]
+        fh.write(((_ASCII_FACET * len(block)) % tuple(block.ravel().tolist())).encode("ascii"))
+    fh.write(b"endsolid surfinpaint\n")
