@@ -22,6 +22,9 @@ from surfinpaint import __version__
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import (
     add_fill_options,
+    add_keep_margins,
+    add_max_hole_edges,
+    add_zip_seams,
     fill_options,
     hole_list,
 )
@@ -40,7 +43,14 @@ from surfinpaint.app.progress import console as _console
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import hole_steps, warmup
-from surfinpaint.fill.holes import find_holes, percent_below, warn_degenerate
+from surfinpaint.fill.holes import (
+    find_holes,
+    hole_numbers,
+    over_size,
+    percent_below,
+    select_holes,
+    warn_degenerate,
+)
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
 from surfinpaint.fill.unjoined import unjoined_borders_note
@@ -100,19 +110,28 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
         yield bar.update if enabled else None
 
 
-def _holes_table(vertices, faces, title: str) -> list:
+def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
+                 max_hole_edges: int | None = None, zip_seams: bool = False) -> list:
+    """Print ``surfinpaint holes``' table: each loop, and what ``fill`` with these options
+    does with it (fill's own rules: ``select_holes``, ``over_size``, ``left_open``)."""
     from rich.console import Console
     from rich.markup import escape
     from rich.table import Table
 
     found = find_holes(vertices, faces, validate=False)  # validated by cmd_holes
+    # in fill's order: the loops it chooses (not the outer border; the margins kept open
+    # with keep_margins), then the size limit, then each loop's own check
+    chosen = set(hole_numbers(vertices, faces, select_holes(
+        vertices, faces, keep_margins=keep_margins, validate=False, found=found), found=found))
+    kept_margins = [k for k, h in enumerate(found) if k not in chosen and not h.is_border]
+    left_open = {k: over_size(found[k].n_edges, max_hole_edges) for k in sorted(chosen)}
     # what fill's own check of each hole says (a bow-tie it would leave pinched, ...): the
     # holes it would try; the others' kind says already why they stay open
-    tried = [k for k, h in enumerate(found)
-             if not (h.is_border or h.spans_no_area or h.runs_along_other_loops)]
-    left_open = dict(zip(tried, hole_steps.left_open(vertices, faces,
-                                                     [found[k].loop for k in tried]),
-                         strict=True))
+    tried = [k for k, why in left_open.items() if why is None
+             and not (found[k].spans_no_area or found[k].runs_along_other_loops)]
+    left_open.update(zip(tried, hole_steps.left_open(vertices, faces,
+                                                     [found[k].loop for k in tried],
+                                                     zip_seams=zip_seams), strict=True))
     # the title on a line of its own, never wrapped: as a table title it was broken at the
     # table's width, a long path across two lines (no longer found by grep or pasted back)
     Console().print(title, soft_wrap=True, markup=False, highlight=False)
@@ -122,6 +141,9 @@ def _holes_table(vertices, faces, title: str) -> list:
     for i, h in enumerate(found):
         why = left_open.get(i)
         kind = _kind(h) if why is None else "left open: see below"
+        if i in kept_margins:
+            kind = (f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
+                    "left open (--keep-margins)")
         table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
                       str(h.component), escape(kind))
     Console().print(table)
@@ -157,7 +179,9 @@ def cmd_holes(args: argparse.Namespace) -> int:
         title += f" ({len(repair.removed)} removed by --repair: the numbering `fill --repair` " \
             "uses)" + "".join(f"; --repair {note}" for note in repair.notes())
     warn_degenerate(vertices, faces, str(args.mesh))
-    unjoined = unjoined_borders_note(vertices, _holes_table(vertices, faces, title))
+    unjoined = unjoined_borders_note(vertices, _holes_table(
+        vertices, faces, title, keep_margins=args.keep_margins,
+        max_hole_edges=args.max_hole_edges, zip_seams=args.zip_seams))
     if unjoined is not None:
         warnings.warn(f"{args.mesh}: {unjoined}", MeshWarning, stacklevel=1)
     return EXIT_OK
@@ -345,6 +369,11 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    help="first remove the faces around non-manifold edges and bow-tie vertices "
                    "and orient the faces consistently, as `fill --repair` does, and list the "
                    "holes of the result")
+    choice = p.add_argument_group(
+        "fill options", "say which loops `fill` with the same options leaves open")
+    add_max_hole_edges(choice)
+    add_zip_seams(choice)
+    add_keep_margins(choice)
     p.set_defaults(func=cmd_holes)
 
     p = sub.add_parser("fill", help="fill holes and write the filled mesh",

@@ -9,8 +9,8 @@ import argparse
 from surfinpaint.fill.conformal import ConformalOptions, GridOptions
 from surfinpaint.fill.pipeline import METHODS
 
-__all__ = ["UsageError", "add_fill_options", "fill_options", "hole_list", "positive_int",
-           "whole_number"]
+__all__ = ["UsageError", "add_fill_options", "add_keep_margins", "add_max_hole_edges",
+           "add_zip_seams", "fill_options", "hole_list", "positive_int", "whole_number"]
 
 
 class UsageError(Exception):
@@ -103,25 +103,45 @@ def fill_options(args: argparse.Namespace) -> dict:
             "fair_order": args.fair_order, "options": _conformal_options(args)}
 
 
+# The options that choose which loops are filled: one definition each, for `fill` and
+# `batch` (add_fill_options) and for `holes` and `report`, which say what such a fill does
+
+
+def add_max_hole_edges(parser) -> None:
+    """``--max-hole-edges N`` (``max_hole_edges``: holes over N boundary edges skipped)."""
+    parser.add_argument("--max-hole-edges", type=positive_int, metavar="N",
+                        help="skip holes with more than N boundary edges")
+
+
+def add_zip_seams(parser) -> None:
+    """``--zip-seams`` (``zip_seams``: seams of duplicated vertices zipped)."""
+    parser.add_argument("--zip-seams", action="store_true",
+                        help="close a seam of duplicated coincident vertices (a loop that "
+                        "spans no area, as exporters write along a UV seam) by having its "
+                        "faces use one vertex of each pair; without it such loops are left "
+                        "open with a warning (no loop that spans no area is ever filled)")
+
+
+def add_keep_margins(parser) -> None:
+    """``--keep-margins`` (``keep_margins``: the loops that may be a margin left open)."""
+    parser.add_argument("--keep-margins", action="store_true",
+                        help="also leave open each piece's longest loop when it may be its "
+                        "margin ('the margin?' in `holes`: it spans 10-40%% of the piece's "
+                        "area, as a tooth crown scanned down to the gum), which is filled "
+                        "by default")
+
+
 def add_fill_options(parser: argparse.ArgumentParser) -> None:
     """The options that say how holes are filled, shared by ``fill`` and ``batch`` (read
     back by :func:`fill_options`)."""
     p = parser.add_argument_group("fill options")
     p.add_argument("--method", choices=METHODS, default="conformal",
                    help="conformal (default) or the conventional fill 'fair'")
-    p.add_argument("--max-hole-edges", type=positive_int, metavar="N",
-                   help="skip holes with more than N boundary edges")
-    p.add_argument("--zip-seams", action="store_true",
-                   help="close a seam of duplicated coincident vertices (a loop that spans "
-                   "no area, as exporters write along a UV seam) by having its faces use "
-                   "one vertex of each pair; without it such loops are left open with a "
-                   "warning (no loop that spans no area is ever filled)")
+    add_max_hole_edges(p)
+    add_zip_seams(p)
     p.add_argument("--all", action="store_true",
                    help="also fill loops that look like the surface's outer border")
-    p.add_argument("--keep-margins", action="store_true",
-                   help="also leave open each piece's longest loop when it may be its "
-                   "margin ('the margin?' in `holes`: it spans 10-40%% of the piece's area, "
-                   "as a tooth crown scanned down to the gum), which is filled by default"),
+    add_keep_margins(p)
     p.add_argument("--repair", action="store_true",
                    help="remove the faces around non-manifold edges and bow-tie vertices "
                    "(where separate fans of faces meet) first, flip the fewest faces that "

@@ -46,7 +46,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import cKDTree
 
-from surfinpaint.app.fill_options import hole_list
+from surfinpaint.app.fill_options import add_keep_margins, hole_list
 from surfinpaint.app.fill_report import hole_lines, plane_words, written
 from surfinpaint.app.progress import add_quiet, progress_bar
 from surfinpaint.app.progress import console as make_console
@@ -113,6 +113,7 @@ def compare_holes(
     truth: Sequence[tuple[np.ndarray, np.ndarray]] | None = None,
     step: Step | None = None,
     options: ConformalOptions | None = None,
+    keep_margins: bool = False,
 ) -> tuple[list[HoleComparison], dict]:
     """Fill the given holes by both methods and measure them.
 
@@ -136,6 +137,9 @@ def compare_holes(
         for each conformal fill that is computed again because the self-check rejected it).
     options : ConformalOptions, optional
         The conformal method's options.
+    keep_margins : bool
+        As :func:`surfinpaint.fill_holes`: with ``loops`` None, the loops that may be a
+        margin are left open, not compared.
 
     Returns
     -------
@@ -154,7 +158,7 @@ def compare_holes(
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     named = None if loops is None else list(loops)  # None: chosen by fill_holes' rule
-    loops = select_holes(vertices, faces, named)
+    loops = select_holes(vertices, faces, named, keep_margins=keep_margins)
     holes = None if named is None else loops
     if truth is not None and len(truth) != len(loops):
         raise ValueError(f"{len(truth)} truth patches for {len(loops)} holes")
@@ -163,11 +167,11 @@ def compare_holes(
         # the fallbacks are reported in the comparison, not as warnings
         warnings.simplefilter("ignore", UserWarning)
         fair = fill_holes(vertices, faces, holes=holes, method="fair",
-                          validate=False)
+                          keep_margins=keep_margins, validate=False)
         step("conventional fills done")
         options = ConformalOptions() if options is None else options
         conformal = fill_holes(vertices, faces, holes=holes, method="conformal",
-                               validate=False, options=options)
+                               keep_margins=keep_margins, validate=False, options=options)
         step("conformal fills done")
         # each fill as (vertices starting with the mesh's, the hole's new faces)
         filled = {"fair": [(fair.vertices, p) for p in fair.hole_faces()],
@@ -403,6 +407,7 @@ def write_report(
     title: str = "surfinpaint report",
     step: Step | None = None,
     options: ConformalOptions | None = None,
+    keep_margins: bool = False,
 ) -> list[HoleComparison]:
     """Fill holes by both methods and write a panel per hole and the page indexing them.
 
@@ -421,6 +426,9 @@ def write_report(
         Progress hook, called after each stage.
     options : ConformalOptions, optional
         The conformal method's options.
+    keep_margins : bool
+        As :func:`surfinpaint.fill_holes` (``--keep-margins``): with ``holes`` None, the
+        loops that may be a margin are left open, as ``fill`` leaves them, and not reported.
 
     Returns
     -------
@@ -429,13 +437,14 @@ def write_report(
 
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
-    loops = select_holes(vertices, faces, holes)
+    loops = select_holes(vertices, faces, holes, keep_margins=keep_margins)
     truths = hole_truths(vertices, faces, loops, *truth) if truth is not None else None
     started = time.perf_counter()
     # holes the caller did not name are chosen by fill_holes' rule: one that cannot be
     # filled is skipped with a warning, as by `surfinpaint fill`, not an error
     comparisons, fills = compare_holes(vertices, faces, None if holes is None else loops,
-                                       truth=truths, step=step, options=options)
+                                       truth=truths, step=step, options=options,
+                                       keep_margins=keep_margins)
     for c, index in zip(comparisons, hole_numbers(vertices, faces, loops), strict=True):
         c.index = index  # the numbering of `surfinpaint holes`
     panels_for(vertices, faces, comparisons, fills, out_dir, step=step)
@@ -468,6 +477,7 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
                    help="first remove the faces around non-manifold edges and bow-tie "
                    "vertices and orient the faces consistently, as `fill --repair` does (the "
                    "holes numbered as by `holes --repair`)")
+    add_keep_margins(p)
     add_quiet(p, "no progress display")
     p.set_defaults(func=run_report)
     return p
@@ -487,13 +497,16 @@ def run_report(args: argparse.Namespace) -> int:
             console.print(f"--repair {note}")
     warn_degenerate(vertices, faces, str(args.mesh))
     truth = read_mesh(args.truth, data_warning=False) if args.truth else None
-    loops = select_holes(vertices, faces, args.holes)
+    loops = select_holes(vertices, faces, args.holes, keep_margins=args.keep_margins)
     if not loops:
-        console.print(f"{args.mesh}: no holes to fill (apart from the outer border)")
+        console.print(f"{args.mesh}: no holes to fill (apart from the outer border"
+                      + (" and the margins --keep-margins keeps open)" if args.keep_margins
+                         else ")"))
     total = 2 + 2 * len(loops)  # the fills, the measurements, the panels
     with progress_bar(not args.quiet, total, "filling") as step:
         comparisons = write_report(vertices, faces, args.output, args.holes, truth=truth,
-                                   step=step, title=f"surfinpaint report: {args.mesh}")
+                                   step=step, title=f"surfinpaint report: {args.mesh}",
+                                   keep_margins=args.keep_margins)
     for c in comparisons:
         console.print(hole_title(c).replace("\n", "; "))
     n = len(comparisons)

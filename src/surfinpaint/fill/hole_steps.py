@@ -20,7 +20,7 @@ from surfinpaint.fill import parallel
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
 from surfinpaint.fill.results import Fill, HoleReport
-from surfinpaint.fill.seams import SEAM_LEFT_OPEN, spanless
+from surfinpaint.fill.seams import spanless, zip_or_leave
 from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.repair import unjoined_bowties
 from surfinpaint.geometry.validation import check_loop, zero_area_faces
@@ -93,30 +93,39 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
     return None
 
 
-def left_open(vertices: np.ndarray, faces: np.ndarray, loops: list[np.ndarray]
-              ) -> list[str | None]:
-    """Per loop of ``loops`` (boundary loops of the mesh), why :func:`surfinpaint.fill_holes`
-    leaves it open (with its defaults), or None where it tries to fill it: a loop that spans
-    no area (:func:`~surfinpaint.fill.seams.spanless`: a slit, a seam, zipped only with
-    ``zip_seams``), else the check each hole's fill makes (:func:`loop_problem`: a bow-tie
-    vertex the fill would leave pinched, a lone sheet, faces of zero area in the faired
-    fill's rings). The check is made on the mesh as
-    given, with :data:`FAIR_NEIGHBOURHOOD_RINGS` rings: the fewest either method cuts by
-    default, and those a λ-H fill falls back to when zero-area faces lie further out (then
-    filled, faired). For ``surfinpaint holes``: it says what ``fill`` will do."""
+def left_open(vertices: np.ndarray, faces: np.ndarray, loops: list[np.ndarray], *,
+              zip_seams: bool = False) -> list[str | None]:
+    """Per loop of ``loops`` (boundary loops of the mesh, each one fill tries: chosen, and
+    within the size limit), why :func:`surfinpaint.fill_holes` leaves it open, or None where
+    it fills it (or, with ``zip_seams``, zips it): a loop that spans no area
+    (:func:`~surfinpaint.fill.seams.spanless`: a slit, a seam, zipped only with
+    ``zip_seams``: :func:`~surfinpaint.fill.seams.zip_or_leave`), else the check each hole's
+    fill makes (:func:`loop_problem`: a bow-tie vertex the fill would leave pinched, a lone
+    sheet, faces of zero area in the faired fill's rings). As in ``fill_holes``, the seams
+    are zipped first and the other loops checked on the zipped faces, with
+    :data:`FAIR_NEIGHBOURHOOD_RINGS` rings: the fewest either method cuts by default, and
+    those a λ-H fill falls back to when zero-area faces lie further out (then filled,
+    faired). For ``surfinpaint holes``: it says what ``fill`` will do."""
     vertices = np.asarray(vertices, dtype=np.float64)
-    triangles, _, rows = triangle_rows(np.asarray(faces, dtype=np.int64))
-    flat = zero_area_faces(vertices, triangles)
-    mesh = FilledMesh(vertices, np.asarray(faces, np.int64),
-                      zero_area=flat if rows is None else rows[flat])
-    out: list[str | None] = []
+    faces = np.asarray(faces, dtype=np.int64)
+    triangles, _, rows = triangle_rows(faces)
+    flat = zero_area_faces(vertices, triangles)  # zipping moves no corner: the same faces
+    out: list[str | None] = [None] * len(loops)
+    mapping = np.arange(len(vertices))  # a zipped duplicate -> its kept partner
+    surfaces = []
     for k, loop in enumerate(loops):
         slit = spanless(vertices, np.asarray(loop))  # found before anything is filled
-        if slit is not None:
-            out.append(slit[1] + (SEAM_LEFT_OPEN if slit[0].is_seam else ""))
+        if slit is None:
+            surfaces.append(k)
             continue
-        out.append(loop_problem(mesh.cut(np.asarray(loop), FAIR_NEIGHBOURHOOD_RINGS), k,
-                                explicit=False))
+        zipped, out[k] = zip_or_leave(faces, slit[0], slit[1], zip_seams)
+        if zipped is not None:
+            faces = zipped
+            mapping[slit[0].merges[:, 0]] = slit[0].merges[:, 1]
+    mesh = FilledMesh(vertices, faces, zero_area=flat if rows is None else rows[flat])
+    for k in surfaces:
+        out[k] = loop_problem(mesh.cut(mapping[np.asarray(loops[k])],
+                                       FAIR_NEIGHBOURHOOD_RINGS), k, explicit=False)
     return out
 
 

@@ -31,7 +31,7 @@ objects = lazy_module("surfinpaint.fill.objects")
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
 __all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop",
-           "percent_below", "seam_edges", "warn_degenerate"]
+           "over_size", "percent_below", "seam_edges", "warn_degenerate"]
 
 # A component's longest loop is its outer border when the area the loop spans is at least
 # this fraction of the component's own area: a scan's border spans about its whole area
@@ -326,6 +326,15 @@ def warn_degenerate(vertices: np.ndarray, faces: np.ndarray, path: str | None = 
     for note in degenerate_notes(face_ids(faces), report.repeated_vertex_faces,
                                  report.zero_area_faces):
         warnings.warn(f"{path}: {note}" if path else note, MeshWarning, stacklevel=2)
+
+
+def over_size(n_edges: int, max_hole_edges: int | None) -> str | None:
+    """Why a hole of ``n_edges`` boundary edges is skipped for its size (``max_hole_edges``,
+    ``--max-hole-edges``; None: it is not): the rule of :func:`surfinpaint.fill_holes` and
+    of ``surfinpaint holes``."""
+    if max_hole_edges is not None and n_edges > max_hole_edges:
+        return f"{n_edges} boundary edges > max_hole_edges={max_hole_edges}"
+    return None
 
 
 def select_holes(

@@ -27,6 +27,7 @@ from surfinpaint.fill.holes import (
     find_holes,
     hole_numbers,
     loop_diameter,
+    over_size,
     percent_below,
     select_holes,
 )
@@ -37,10 +38,9 @@ from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import (
     ALONG_OTHER_LOOPS,
     NO_AREA_FACES,
-    SEAM_LEFT_OPEN,
     SlitWarning,
     spanless,
-    zip_faces,
+    zip_or_leave,
 )
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.fill.unjoined import unjoined_borders_note
@@ -91,24 +91,20 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
             left.append(report)
             continue
         slit, reason, rest = found
-        if slit.is_seam and zip_seams:
-            zipped, problem = zip_faces(faces, slit.merges)
-            if problem is None:
-                faces = zipped
-                report.method, report.zipped = "zipped", slit.merges
-                report.note = (f"seam zipped: {len(slit.merges)} duplicate vertices merged "
-                               f"into their coincident partners{rest}")
-                merged.append(slit.merges)
-                warnings.warn(f"hole {report.index}: a seam of {len(slit.merges)} coincident "
-                              "vertex pairs zipped: the faces use vertices "
-                              f"{preview(slit.merges[:, 1])} in place of their duplicates "
-                              f"{preview(slit.merges[:, 0])} (left unused){rest}",
-                              MeshWarning, stacklevel=3)
-                continue
-            reason += f"; not zipped: {problem}"
-        elif slit.is_seam:
-            reason += SEAM_LEFT_OPEN
-        skip(report, reason, SlitWarning, stacklevel=4)
+        zipped, why = zip_or_leave(faces, slit, reason, zip_seams)
+        if zipped is not None:
+            faces = zipped
+            report.method, report.zipped = "zipped", slit.merges
+            report.note = (f"seam zipped: {len(slit.merges)} duplicate vertices merged "
+                           f"into their coincident partners{rest}")
+            merged.append(slit.merges)
+            warnings.warn(f"hole {report.index}: a seam of {len(slit.merges)} coincident "
+                          "vertex pairs zipped: the faces use vertices "
+                          f"{preview(slit.merges[:, 1])} in place of their duplicates "
+                          f"{preview(slit.merges[:, 0])} (left unused){rest}",
+                          MeshWarning, stacklevel=3)
+            continue
+        skip(report, why, SlitWarning, stacklevel=4)
     pairs = np.concatenate(merged) if merged else np.empty((0, 2), dtype=np.int64)
     if len(pairs):  # a later loop through a duplicate (a bow-tie there) goes through its partner
         mapping = np.arange(len(vertices))
@@ -363,8 +359,9 @@ def _within_size(reports: list[HoleReport], max_hole_edges: int | None) -> list[
     """The holes to fill: those over ``max_hole_edges`` reported skipped."""
     todo = []
     for report in reports:
-        if max_hole_edges is not None and report.n_edges > max_hole_edges:
-            report.skipped = f"{report.n_edges} boundary edges > max_hole_edges={max_hole_edges}"
+        too_large = over_size(report.n_edges, max_hole_edges)
+        if too_large is not None:
+            report.skipped = too_large
             report.method = "none"
         else:
             todo.append(report)

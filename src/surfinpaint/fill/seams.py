@@ -42,7 +42,7 @@ from surfinpaint.lazy import lazy_module
 spatial = lazy_module("scipy.spatial")
 
 __all__ = ["ALONG_OTHER_LOOPS", "NO_AREA_FACES", "SLIT_RTOL", "SEAM_LEFT_OPEN", "Slit",
-           "SlitWarning", "find_seam_part", "find_slit", "spanless", "zip_faces"]
+           "SlitWarning", "find_seam_part", "find_slit", "spanless", "zip_faces", "zip_or_leave"]
 
 # two loop points closer than this fraction of the neighbouring loop edges' length coincide
 # (an exporter's duplicates are bit-identical; this leaves room for printed decimals)
@@ -271,3 +271,17 @@ def spanless(vertices: np.ndarray, loop: np.ndarray) -> tuple[Slit, str, str] | 
     return (Slit(part), f"the loop runs back along itself: a seam of {len(part)} coincident "
             "vertex pairs joins two parts of it (duplicated vertices), so no disk fills it",
             "; the rest of the loop is left open")
+
+
+def zip_or_leave(faces: np.ndarray, slit: Slit, reason: str, zip_seams: bool
+                 ) -> tuple[np.ndarray | None, str | None]:
+    """What :func:`surfinpaint.fill_holes` does with a loop that spans no area
+    (:func:`spanless`'s ``slit`` and ``reason``): ``(zipped faces, None)`` where it zips the
+    seam (``zip_seams``, and the zipped faces are a manifold surface there), else
+    ``(None, why it is left open)``. The one rule ``fill`` and ``surfinpaint holes`` use."""
+    if slit.is_seam and zip_seams:
+        zipped, problem = zip_faces(faces, slit.merges)
+        if problem is None:
+            return zipped, None
+        return None, f"{reason}; not zipped: {problem}"
+    return None, reason + (SEAM_LEFT_OPEN if slit.is_seam else "")

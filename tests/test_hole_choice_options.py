@@ -1,0 +1,170 @@
+"""The options that choose which loops ``fill`` fills (``--keep-margins``, ``--zip-seams``,
+``--max-hole-edges``) taken by ``holes`` and ``report`` too, with fill's meaning: ``holes``
+says per loop what ``fill`` with the same options does, ``report`` compares the holes that
+``fill`` with them fills (session 35's audits: docs/robustness.md)."""
+
+from __future__ import annotations
+
+import re
+import warnings
+
+import numpy as np
+import pytest
+import trimesh
+from test_seams import uv_sphere, without_faces_near
+
+from surfinpaint.app.cli import main
+from surfinpaint.data import sphere
+from surfinpaint.fill.holes import find_holes
+from surfinpaint.fill.pipeline import fill_holes
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length
+from surfinpaint.io import write_mesh
+
+
+def _crown():
+    """A sphere cut above z = 0.3 (its loop spans about 39 % of what remains: "the
+    margin?", hole 0) with a small hole cut at its bottom (hole 1)."""
+    s = trimesh.creation.icosphere(3)
+    v, f = np.asarray(s.vertices), np.asarray(s.faces)
+    f = f[v[f].mean(axis=1)[:, 2] < 0.3]
+    near = np.linalg.norm(v[f].mean(axis=1) - v[np.argmin(v[:, 2])], axis=1) < 0.25
+    return v, f[~near]
+
+
+def _seamed_sphere():
+    """A UV sphere whose seam has its vertices twice (hole 0, 24 edges, spans no area) and
+    an ordinary hole of 8 edges (hole 1)."""
+    v, f = uv_sphere()
+    return v, without_faces_near(v, f, [-1, 0, 0], 0.35)
+
+
+def _large_and_small():
+    """A closed sphere with a large hole and a small one."""
+    v, f = sphere(2)
+    h = mean_edge_length(v, f)
+    cut = cut_holes(v, f, [0, int(np.argmin(v @ v[0]))], [4.5 * h, 1.5 * h])
+    return cut.vertices, cut.faces
+
+
+MESHES = {"crown": _crown, "seamed sphere": _seamed_sphere, "large and small": _large_and_small}
+
+
+# (mesh, options, the loops `fill` leaves open, what `holes` says of each)
+HOLES_CASES = [
+    ("crown", [], [], {}),
+    ("crown", ["--keep-margins"], [0], {0: "left open (--keep-margins)"}),
+    ("crown", ["--max-hole-edges", "20"], [0], {0: "44 boundary edges > max_hole_edges=20"}),
+    ("crown", ["--keep-margins", "--max-hole-edges", "5"], [0, 1],
+     {0: "left open (--keep-margins)", 1: "12 boundary edges > max_hole_edges=5"}),
+    ("seamed sphere", [], [0], {0: "a seam of 11 coincident vertex pairs"}),
+    ("seamed sphere", ["--zip-seams"], [], {}),
+    ("seamed sphere", ["--zip-seams", "--max-hole-edges", "20"], [0],
+     {0: "24 boundary edges > max_hole_edges=20"}),
+    ("large and small", [], [], {}),
+    ("large and small", ["--max-hole-edges", "10"], [0],
+     {0: "20 boundary edges > max_hole_edges=10"}),
+    ("large and small", ["--max-hole-edges", "4"], [0, 1],
+     {1: "5 boundary edges > max_hole_edges=4"}),
+]
+
+
+def _fill_keywords(options: list[str]) -> dict:
+    keywords = {"keep_margins": "--keep-margins" in options,
+                "zip_seams": "--zip-seams" in options}
+    if "--max-hole-edges" in options:
+        keywords["max_hole_edges"] = int(options[options.index("--max-hole-edges") + 1])
+    return keywords
+
+
+@pytest.mark.parametrize(("mesh", "options", "left_open", "said"), HOLES_CASES)
+def test_holes_says_what_fill_with_the_same_options_leaves_open(tmp_path, capsys, monkeypatch,
+                                                               mesh, options, left_open, said):
+    # `holes` took none of these options: its verdicts were fill's defaults only (before
+    # this, every case with an option is a usage error, exit 2)
+    monkeypatch.setenv("COLUMNS", "250")  # one table row a line
+    v, f = MESHES[mesh]()
+    path = tmp_path / "mesh.ply"
+    write_mesh(path, v, f)
+    assert main(["holes", str(path), *options]) == 0
+    out = capsys.readouterr().out
+    rows = [[c.strip() for c in re.split(r"[│┃|]", line) if c.strip()]
+            for line in out.splitlines()]
+    rows = {int(r[0]): r[-1] for r in rows if r and r[0].isdigit()}
+    assert len(rows) == len(find_holes(v, f)), out
+    said_open = [k for k, kind in rows.items() if "left open" in kind]
+    assert said_open == left_open, out
+    for k, words in said.items():
+        assert words in rows[k] or re.search(rf"^hole {k}: .*{re.escape(words)}.*; fill skips "
+                                             "it$", out, re.MULTILINE), out
+    # what fill does with the same options: the loops it neither fills nor zips
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = fill_holes(v, f, method="fair", **_fill_keywords(options))
+    done = {r.index for r in result.reports if not r.skipped}
+    assert [k for k, h in enumerate(find_holes(v, f))
+            if not h.is_border and k not in done] == left_open
+
+
+def test_holes_rejects_a_bad_size_limit_as_fill_does(tmp_path, capsys):
+    v, f = _crown()
+    write_mesh(tmp_path / "crown.ply", v, f)
+    for command in (["holes", str(tmp_path / "crown.ply")],
+                    ["fill", str(tmp_path / "crown.ply"), "-o", str(tmp_path / "out.ply")]):
+        with pytest.raises(SystemExit) as exc:
+            main([*command, "--max-hole-edges", "0"])
+        assert exc.value.code == 2
+        assert "--max-hole-edges: must be at least 1, got 0" in capsys.readouterr().err
+
+
+# (options, the holes the page shows: those `fill` with the options fills)
+REPORT_CASES = [
+    ([], [0, 1]),
+    (["--keep-margins"], [1]),               # the margin is not written by fill: not shown
+    (["--keep-margins", "--holes", "0"], [0]),  # named: filled, as by `fill --holes 0`
+]
+
+
+@pytest.mark.parametrize(("options", "shown"), REPORT_CASES)
+def test_report_keep_margins_shows_what_fill_keep_margins_writes(tmp_path, capsys, options,
+                                                                 shown):
+    # `report` had no --keep-margins: its page said the margin's fill "is written" where
+    # `fill --keep-margins` leaves it open (session 35 helper 2's dental lab)
+    v, f = _crown()
+    write_mesh(tmp_path / "crown.ply", v, f)
+    out = tmp_path / "report"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["report", str(tmp_path / "crown.ply"), "-o", str(out), "-q",
+                     *options]) == 0
+    assert sorted(p.name for p in out.glob("hole*.png")) == [f"hole{k}.png" for k in shown]
+    md = (out / "index.md").read_text()
+    assert [int(k) for k in re.findall(r"\(hole(\d+)\.png\)", md)] == shown
+    said = capsys.readouterr().err  # the command line's console is stderr
+    assert f"{len(shown)} panel{'s' * (len(shown) != 1)}" in said
+    holes = [int(k) for k in _holes_named(options)] or None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        filled = fill_holes(v, f, holes=holes, method="fair",
+                            keep_margins="--keep-margins" in options)
+    assert [r.index for r in filled.reports if not r.skipped] == shown
+
+
+def _holes_named(options: list[str]) -> list[str]:
+    return options[options.index("--holes") + 1].split(",") if "--holes" in options else []
+
+
+def test_report_takes_the_keep_margins_option_that_fill_defines():
+    # one definition of the option: the same help for fill, batch and report
+    import argparse
+
+    from surfinpaint.app.cli import build_parser
+
+    def help_of(command: str) -> str:
+        parser = build_parser()
+        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        action = next(a for a in sub.choices[command]._actions
+                      if "--keep-margins" in a.option_strings)
+        return action.help
+
+    assert help_of("report") == help_of("fill") == help_of("batch") == help_of("holes")
