@@ -176,21 +176,8 @@ def compare_holes(
         # each fill as (vertices starting with the mesh's, the hole's new faces)
         filled = {"fair": [(fair.vertices, p) for p in fair.hole_faces()],
                   "conformal": [(conformal.vertices, p) for p in conformal.hole_faces()]}
-        # the conformal fill before the self-check; None where the conformal method failed
-        raw = [fill if r.method == "conformal" else None
-               for fill, r in zip(filled["conformal"], conformal.reports, strict=True)]
-        diagnostics = [r.diagnostics for r in conformal.reports]
-        # the λ-H fill of a hole is not made where the self-check rejects it, nor where the
-        # plane test lays the faired fill on the plane: make it here
-        rejected = [k for k, r in enumerate(conformal.reports)
-                    if r.method == "fair" and not r.fallback and not r.skipped]
-        for k in rejected:
-            again = fill_holes(vertices, faces, holes=[loops[k]], method="conformal",
-                               validate=False, options=replace(options, select=False))
-            if not again.reports[0].fallback:
-                raw[k] = (again.vertices, again.hole_faces()[0])
-                diagnostics[k] = again.reports[0].diagnostics
-            step(f"hole {k}: conformal fill before the self-check", 0)
+        raw, diagnostics = _lambda_h_fills(vertices, faces, loops, conformal,
+                                           filled["conformal"], options, step)
     filled["conformal raw"] = raw
     for r in conformal.reports:  # said once, not per method: the warnings above are off
         if r.skipped:
@@ -209,6 +196,26 @@ def compare_holes(
         out.append(comp)
         step(f"hole {k}: measured")
     return out, made
+
+
+def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step):
+    """Each hole's λ-H fill before the self-check, as ``(vertices, new faces)`` (None where
+    the conformal method failed), and its diagnostics: the written fill where it is the λ-H
+    fill, else made again here without the self-check, since the λ-H fill is not made where
+    the self-check rejects it nor where the plane test lays the faired fill on the plane."""
+    raw = [fill if r.method == "conformal" else None
+           for fill, r in zip(written, conformal.reports, strict=True)]
+    diagnostics = [r.diagnostics for r in conformal.reports]
+    rejected = [k for k, r in enumerate(conformal.reports)
+                if r.method == "fair" and not r.fallback and not r.skipped]
+    for k in rejected:
+        again = fill_holes(vertices, faces, holes=[loops[k]], method="conformal",
+                           validate=False, options=replace(options, select=False))
+        if not again.reports[0].fallback:
+            raw[k] = (again.vertices, again.hole_faces()[0])
+            diagnostics[k] = again.reports[0].diagnostics
+        step(f"hole {k}: conformal fill before the self-check", 0)
+    return raw, diagnostics
 
 
 def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray, made: dict) -> HoleComparison:
