@@ -58,7 +58,7 @@ HOLES_CASES = [
     ("crown", ["--keep-margins", "--max-hole-edges", "5"], [0, 1],
      {0: "left open (--keep-margins)", 1: "12 boundary edges > max_hole_edges=5"}),
     ("seamed sphere", [], [0], {0: "a seam of 11 coincident vertex pairs"}),
-    ("seamed sphere", ["--zip-seams"], [], {}),
+    ("seamed sphere", ["--zip-seams"], [], {0: "zipped (--zip-seams)"}),
     ("seamed sphere", ["--zip-seams", "--max-hole-edges", "20"], [0],
      {0: "24 boundary edges > max_hole_edges=20"}),
     ("large and small", [], [], {}),

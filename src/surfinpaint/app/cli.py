@@ -53,6 +53,7 @@ from surfinpaint.fill.holes import (
 )
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
+from surfinpaint.fill.seams import spanless
 from surfinpaint.fill.unjoined import unjoined_borders_note
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.repair import repair_faces
@@ -132,6 +133,9 @@ def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
     left_open.update(zip(tried, hole_steps.left_open(vertices, faces,
                                                      [found[k].loop for k in tried],
                                                      zip_seams=zip_seams), strict=True))
+    # a loop that spans no area and is not left open is a seam fill zips (--zip-seams)
+    zipped = {k for k in tried if zip_seams and left_open[k] is None
+              and spanless(vertices, found[k].loop) is not None}
     # the title on a line of its own, never wrapped: as a table title it was broken at the
     # table's width, a long path across two lines (no longer found by grep or pasted back)
     Console().print(title, soft_wrap=True, markup=False, highlight=False)
@@ -141,6 +145,8 @@ def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
     for i, h in enumerate(found):
         why = left_open.get(i)
         kind = _kind(h) if why is None else "left open: see below"
+        if i in zipped:
+            kind = "seam of duplicated vertices: zipped (--zip-seams)"
         if i in kept_margins:
             kind = (f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
                     "left open (--keep-margins)")
