@@ -21,12 +21,13 @@ from pathlib import Path
 from surfinpaint import __version__
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import (
+    add_all_loops,
     add_fill_options,
+    add_hole_numbers,
     add_keep_margins,
     add_max_hole_edges,
     add_zip_seams,
     fill_options,
-    hole_list,
 )
 from surfinpaint.app.fill_report import Summary, count_warnings, hole_lines, print_warnings, tell
 from surfinpaint.app.interrupts import Interrupted, signals_raise
@@ -93,15 +94,6 @@ def _file_size(path) -> int:
         return 0
 
 
-def _parse_hole_list(text: str | None) -> list[int] | None:
-    if text is None:
-        return None
-    try:
-        return hole_list(text)
-    except argparse.ArgumentTypeError as exc:
-        raise _UsageError(str(exc)) from exc
-
-
 @contextlib.contextmanager
 def _progress(enabled: bool, what: str = "filling") -> Iterator:
     """The ``progress`` callback of :func:`surfinpaint.fill_holes` moving a progress bar on
@@ -111,7 +103,8 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
         yield bar.update if enabled else None
 
 
-def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
+def _holes_table(vertices, faces, title: str, *, holes: list[int] | None = None,
+                 include_border: bool = False, keep_margins: bool = False,
                  max_hole_edges: int | None = None, zip_seams: bool = False) -> list:
     """Print ``surfinpaint holes``' table: each loop, and what ``fill`` with these options
     does with it (fill's own rules: ``select_holes``, ``over_size``, ``left_open``)."""
@@ -120,11 +113,14 @@ def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
     from rich.table import Table
 
     found = find_holes(vertices, faces, validate=False)  # validated by cmd_holes
-    # in fill's order: the loops it chooses (not the outer border; the margins kept open
-    # with keep_margins), then the size limit, then each loop's own check
+    # in fill's order: the loops it chooses (those named; else not the outer border unless
+    # include_border, the margins kept open with keep_margins), then the size limit, then
+    # each loop's own check
     chosen = set(hole_numbers(vertices, faces, select_holes(
-        vertices, faces, keep_margins=keep_margins, validate=False, found=found), found=found))
-    kept_margins = [k for k, h in enumerate(found) if k not in chosen and not h.is_border]
+        vertices, faces, holes, include_border=include_border, keep_margins=keep_margins,
+        validate=False, found=found), found=found))
+    unchosen = [k for k, h in enumerate(found) if k not in chosen
+                and (holes is not None or not h.is_border)]
     left_open = {k: over_size(found[k].n_edges, max_hole_edges) for k in sorted(chosen)}
     # what fill's own check of each hole says (a bow-tie it would leave pinched, ...): the
     # holes it would try; the others' kind says already why they stay open
@@ -147,9 +143,12 @@ def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
         kind = _kind(h) if why is None else "left open: see below"
         if i in zipped:
             kind = "seam of duplicated vertices: zipped (--zip-seams)"
-        if i in kept_margins:
-            kind = (f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
-                    "left open (--keep-margins)")
+        if i in chosen and h.is_border and why is None:
+            kind = f"outer border: filled ({'--holes' if holes is not None else '--all'})"
+        if i in unchosen:
+            kind = "left open (not in --holes)" if holes is not None else (
+                f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
+                "left open (--keep-margins)")
         table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
                       str(h.component), escape(kind))
     Console().print(table)
@@ -186,8 +185,9 @@ def cmd_holes(args: argparse.Namespace) -> int:
             "uses)" + "".join(f"; --repair {note}" for note in repair.notes())
     warn_degenerate(vertices, faces, str(args.mesh))
     unjoined = unjoined_borders_note(vertices, _holes_table(
-        vertices, faces, title, keep_margins=args.keep_margins,
-        max_hole_edges=args.max_hole_edges, zip_seams=args.zip_seams))
+        vertices, faces, title, holes=args.holes, include_border=args.all,
+        keep_margins=args.keep_margins, max_hole_edges=args.max_hole_edges,
+        zip_seams=args.zip_seams))
     if unjoined is not None:
         warnings.warn(f"{args.mesh}: {unjoined}", MeshWarning, stacklevel=1)
     return EXIT_OK
@@ -198,7 +198,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
     # errors only
     console = _console() if not args.quiet else LazyConsole() if args.quiet == 1 else None
     say = console.print if not args.quiet else (lambda text: None)
-    holes = _parse_hole_list(args.holes)
+    holes = args.holes
     output_format(args.output)  # an unusable output name fails now, not after the fill
     options = fill_options(args)
     if args.jobs is not None and args.jobs < 1:
@@ -377,8 +377,10 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    "holes of the result")
     choice = p.add_argument_group(
         "fill options", "say which loops `fill` with the same options leaves open")
+    add_hole_numbers(choice)
     add_max_hole_edges(choice)
     add_zip_seams(choice)
+    add_all_loops(choice)
     add_keep_margins(choice)
     p.set_defaults(func=cmd_holes)
 
@@ -387,8 +389,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        "vertices unchanged and in order, then the new ones.")
     p.add_argument("mesh", help="input mesh")
     p.add_argument("-o", "--output", required=True, help="output mesh (format by extension)")
-    p.add_argument("--holes", help="hole numbers from `surfinpaint holes`, comma-separated, "
-                   "ranges taken whole (0,2,5 or 0-3,7)")
+    add_hole_numbers(p)
     add_fill_options(p)
     p.add_argument("--jobs", type=int, metavar="N",
                    help="worker processes filling holes at once (default: all cores; 1: one "
