@@ -19,6 +19,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from surfinpaint import __version__
+from surfinpaint.app.batch_inputs import check_overlay_patterns
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import (
     add_all_loops,
@@ -61,9 +62,9 @@ from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.atomic import remove_unfinished
 from surfinpaint.io.base import MeshWarning
 from surfinpaint.io.formats import (
-    files_read,
     files_written,
     output_format,
+    overlays_with,
     read_mesh,
     read_mesh_data,
     write_mesh,
@@ -249,12 +250,10 @@ def _overlays(args: argparse.Namespace) -> bool | list:
     the ``--overlay`` files (a usage error with a surface that has none)."""
     if not args.overlay:
         return True
-    beside = files_read(args.mesh)[1:]
-    if len(files_read(args.mesh, overlays=args.overlay)) == 1:
-        raise _UsageError(f"--overlay: {args.mesh} is not a GIFTI or FreeSurfer surface; "
-                          "overlays go with those (other formats carry their per-vertex "
-                          "data in the file)")
-    return [*beside, *(p for p in args.overlay if p not in map(str, beside))]
+    try:
+        return overlays_with(args.mesh, args.overlay)
+    except MeshError as exc:
+        raise _UsageError(f"--overlay: {exc}") from None
 
 
 # what an interrupted batch did with the files in flight (fill_files), locally / on Dask
@@ -273,12 +272,16 @@ def cmd_batch(args: argparse.Namespace) -> int:
                           "--dask-scheduler the cluster's workers fill the files")
     if args.jobs is not None and args.jobs < 1:
         raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
+    try:
+        overlays = check_overlay_patterns(args.overlay or ())
+    except ValueError as exc:
+        raise _UsageError(str(exc)) from None
     client = _dask_client(args.dask_scheduler) if args.dask_scheduler else None
     try:
         with _progress(not args.quiet, "files") as progress:
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
-                              overwrite=args.overwrite, png=args.png, progress=progress,
-                              **options)
+                                    overwrite=args.overwrite, png=args.png, overlays=overlays,
+                                    progress=progress, **options)
     except (Interrupted, KeyboardInterrupt) as exc:
         if not isinstance(exc, Interrupted):
             exc = Interrupted(signal.SIGINT)
@@ -437,6 +440,12 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    "(OUTDIR/sub/scan.png for OUTDIR/sub/scan.ply; lh.pial.png for lh.pial), "
                    "in the worker that filled it; a picture that fails is a warning, the "
                    "mesh is still written")
+    p.add_argument("--overlay", action="append", metavar="PATTERN",
+                   help="an overlay read with each GIFTI or FreeSurfer surface besides those "
+                   "found beside it: a path from the surface's folder, {name} (its file "
+                   "name), {stem} (the name without .gii) and {hemi} (lh or rh) filled in "
+                   "per file: ../label/{hemi}.aparc.annot; repeat for more. A file whose "
+                   "overlay is missing, or of another format, fails (named in the summary)")
     add_fill_options(p)
     add_quiet(p, "no progress or end-of-run line: warnings and the failed files' errors "
               "only")

@@ -230,7 +230,7 @@ def _per_uv_area(values: np.ndarray, area_uv: np.ndarray) -> np.ndarray:
     encountered in divide (×14)")."""
     values = np.asarray(values, dtype=float)
     out = np.full(values.shape, np.nan)
-    has_area = area_uv > 0
+    has_area = area_uv != 0  # as before wherever the division is defined
     out[has_area] = values[has_area] / (area_uv[has_area] if values.ndim == 1
                                         else area_uv[has_area, None])
     return out
