@@ -156,3 +156,15 @@ def test_batch_names_a_bad_overlay_beside_a_surface_as_fill_does(tmp_path, monke
     row = json.loads(Path("out/summary.json").read_text())["files"][0]
     assert row["message"] == f"bad/lh.pial.gii: {said}"
     assert str(tmp_path) not in Path("out/summary.csv").read_text()
+
+
+def test_batch_messages_name_files_from_where_the_inputs_are_named():
+    from surfinpaint.app.batch_summary import named_in_summary
+
+    job = FileJob(Path("/tmp/x/in/a.obj"), Path("/tmp/x/out/a.obj"), "in/a.obj", "a.obj")
+    assert named_in_summary(job, "/tmp/x/out/a.obj: /tmp/x/out/s.mtl differs from "
+                            "/tmp/x/in/s.mtl; /data/tmp/x/y.png") == (
+        "a.obj: out/s.mtl differs from in/s.mtl; /data/tmp/x/y.png")
+    given_whole = FileJob(Path("/tmp/x/in/a.obj"), Path("/tmp/x/out/a.obj"),
+                          "/tmp/x/in/a.obj", "a.obj")  # named absolute: kept absolute
+    assert named_in_summary(given_whole, "/tmp/x/in/s.mtl") == "/tmp/x/in/s.mtl"

@@ -9,6 +9,7 @@ import dataclasses
 import io
 import json
 import os
+import re
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -96,7 +97,10 @@ def named_in_summary(job: FileJob, text: str) -> str:
     if name.is_absolute() or len(job.source.parts) <= len(name.parts) + 1:
         return text
     root = Path(*job.source.parts[:-len(name.parts)])
-    return text.replace(os.fspath(root) + os.sep, "") if root / name == job.source else text
+    if root / name != job.source:
+        return text
+    # the folder where a path starts, not inside another path (/data/tmp/x/ for /tmp/x/)
+    return re.sub(rf"(?<![\w.~/-]){re.escape(os.fspath(root) + os.sep)}", "", text)
 
 
 def fill_messages(job: FileJob, result: FillResult,
