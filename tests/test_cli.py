@@ -12,6 +12,7 @@ import os
 import re
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -362,9 +363,16 @@ def test_bad_hole_list_is_a_usage_error(tmp_path, capsys):
     path = tmp_path / "in.ply"
     write_mesh(path, v, f)
     out = tmp_path / "out.ply"
-    assert main(["fill", str(path), "-o", str(out), "--holes", "a,b", "-q"]) == 2
-    assert "--holes" in capsys.readouterr().err
-    assert not out.exists()
+    # one definition (app/fill_options.add_hole_numbers) for fill, holes and report: the
+    # parser refuses it, exit 2
+    for command in (["fill", str(path), "-o", str(out), "-q"], ["holes", str(path)],
+                    ["report", str(path), "-o", str(tmp_path / "report"), "-q"]):
+        with pytest.raises(SystemExit) as exc:
+            main([*command, "--holes", "a,b"])
+        assert exc.value.code == 2
+        assert "argument --holes: --holes takes comma-separated hole numbers" in \
+            capsys.readouterr().err
+    assert not out.exists() and not (tmp_path / "report").exists()
 
 
 @pytest.mark.parametrize("text, expected", [
@@ -832,6 +840,29 @@ def test_represent_says_the_mesh_is_no_disk_and_what_it_is(tmp_path, capsys, nam
     # the file, what it is, what a disk is: in one error line
     assert _flat(f"error: {path}: ") in _flat(err) and _flat(found) in _flat(err), err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("discretization", ["auto", "grid", "quadtree"])
+def test_represent_a_disk_with_a_vertex_on_no_face_without_numpy_warnings(tmp_path, capsys,
+                                                                         discretization):
+    # a vertex no face uses (as merging a bow-tie's vertices leaves): the mesh form printed
+    # "RuntimeWarning: invalid value encountered in divide (x14)" (0/0 at its zero area),
+    # and the quadtrees failed ("data must be finite", its uv is NaN)
+    from surfinpaint.data import bumpy_disk
+    from surfinpaint.representation.represent import represent
+
+    v, f = bumpy_disk(12)
+    v = np.vstack([v, [[0.1, 0.2, 5.0]]])  # on no face
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy's RuntimeWarnings among them
+        rep = represent(v, f, discretization=discretization,
+                        **({"resolution": 64} if discretization == "grid" else {}))
+    assert rep.check.converged
+    path = tmp_path / "disk.ply"
+    write_mesh(path, v, f)
+    assert main(["represent", str(path), "-o", str(tmp_path / "rep.npz"),
+                 "--discretization", discretization]) == 0
+    assert "warning" not in capsys.readouterr().err
 
 
 def test_represent_and_rebuild_bad_input(tmp_path, capsys):

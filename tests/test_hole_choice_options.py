@@ -14,6 +14,7 @@ import trimesh
 from test_seams import uv_sphere, without_faces_near
 
 from surfinpaint.app.cli import main
+from surfinpaint.app.fill_options import hole_list
 from surfinpaint.data import sphere
 from surfinpaint.fill.holes import find_holes
 from surfinpaint.fill.pipeline import fill_holes
@@ -47,7 +48,21 @@ def _large_and_small():
     return cut.vertices, cut.faces
 
 
-MESHES = {"crown": _crown, "seamed sphere": _seamed_sphere, "large and small": _large_and_small}
+def _disk_with_holes():
+    """A bumpy disk (its outer border, hole 0, 101 edges) with two holes (1: 12 edges, 2:
+    6 edges)."""
+    from surfinpaint.data import bumpy_disk
+
+    v, f = bumpy_disk(16)
+    h = mean_edge_length(v, f)
+    near = [int(np.argmin(np.linalg.norm(v[:, :2] - p, axis=1)))
+            for p in ([0.3, 0.1], [-0.4, -0.2])]
+    cut = cut_holes(v, f, near, [2.5 * h, 1.5 * h])
+    return cut.vertices, cut.faces
+
+
+MESHES = {"crown": _crown, "seamed sphere": _seamed_sphere, "large and small": _large_and_small,
+          "disk": _disk_with_holes}
 
 
 # (mesh, options, the loops `fill` leaves open, what `holes` says of each)
@@ -71,9 +86,12 @@ HOLES_CASES = [
 
 def _fill_keywords(options: list[str]) -> dict:
     keywords = {"keep_margins": "--keep-margins" in options,
-                "zip_seams": "--zip-seams" in options}
+                "zip_seams": "--zip-seams" in options,
+                "include_border": "--all" in options}
     if "--max-hole-edges" in options:
         keywords["max_hole_edges"] = int(options[options.index("--max-hole-edges") + 1])
+    if "--holes" in options:
+        keywords["holes"] = hole_list(options[options.index("--holes") + 1])
     return keywords
 
 
@@ -104,6 +122,75 @@ def test_holes_says_what_fill_with_the_same_options_leaves_open(tmp_path, capsys
     done = {r.index for r in result.reports if not r.skipped}
     assert [k for k, h in enumerate(find_holes(v, f))
             if not h.is_border and k not in done] == left_open
+
+
+# (mesh, options, what `holes` says of each loop): the loops fill leaves open say "left
+# open"; an outer border fill does not choose says "outer border"
+ALL_AND_NAMED_CASES = [
+    ("disk", [], {0: "outer border", 1: "hole", 2: "hole"}),
+    ("disk", ["--all"], {0: "outer border: filled (--all)", 1: "hole", 2: "hole"}),
+    ("disk", ["--all", "--max-hole-edges", "50"], {0: "left open: see below"}),
+    ("disk", ["--holes", "2"], {0: "left open (not in --holes)",
+                                1: "left open (not in --holes)", 2: "hole"}),
+    ("disk", ["--holes", "0,1"], {0: "outer border: filled (--holes)", 1: "hole",
+                                  2: "left open (not in --holes)"}),
+    ("crown", ["--holes", "1", "--keep-margins"], {0: "left open (not in --holes)",
+                                                   1: "hole"}),
+    ("crown", ["--holes", "0", "--keep-margins"], {1: "left open (not in --holes)"}),
+    ("large and small", ["--holes", "0-1", "--max-hole-edges", "10"],
+     {0: "left open: see below", 1: "hole"}),
+]
+
+
+@pytest.mark.parametrize(("mesh", "options", "said"), ALL_AND_NAMED_CASES)
+def test_holes_all_and_holes_say_what_fill_all_and_holes_do(tmp_path, capsys, monkeypatch,
+                                                            mesh, options, said):
+    # `holes` had neither --all nor --holes: a usage error (exit 2) before this
+    monkeypatch.setenv("COLUMNS", "250")
+    v, f = MESHES[mesh]()
+    path = tmp_path / "mesh.ply"
+    write_mesh(path, v, f)
+    assert main(["holes", str(path), *options]) == 0
+    out = capsys.readouterr().out
+    rows = [[c.strip() for c in re.split(r"[│┃|]", line) if c.strip()]
+            for line in out.splitlines()]
+    rows = {int(r[0]): r[-1] for r in rows if r and r[0].isdigit()}
+    for k, words in said.items():
+        assert rows[k].startswith(words), out
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = fill_holes(v, f, method="fair", **_fill_keywords(options))
+    done = {r.index for r in result.reports if not r.skipped}
+    # what holes says fill leaves open (a loop left open, or an outer border not chosen)
+    # is what fill with the same options does not fill
+    said_open = {k for k, kind in rows.items() if "left open" in kind or kind == "outer border"}
+    assert said_open == set(rows) - done, out
+
+
+def test_holes_names_a_hole_out_of_range_as_fill_does(tmp_path, capsys):
+    v, f = _disk_with_holes()
+    write_mesh(tmp_path / "disk.ply", v, f)
+    for command in (["holes", str(tmp_path / "disk.ply")],
+                    ["fill", str(tmp_path / "disk.ply"), "-o", str(tmp_path / "out.ply")]):
+        assert main([*command, "--holes", "7"]) == 1
+        assert "hole index 7 out of range: the mesh has 3 boundary loops" in \
+            capsys.readouterr().err.replace("\n", " ")
+
+
+@pytest.mark.parametrize("command", [["fill", "m.ply", "-o", "out.ply"],
+                                     ["report", "m.ply", "-o", "out"],
+                                     ["holes", "m.ply"]])
+def test_every_command_that_names_holes_takes_holes_and_all_as_fill_does(command):
+    # one definition of each (app/fill_options.add_hole_numbers, add_all_loops)
+    from surfinpaint.app.cli import build_parser
+
+    parser = build_parser()
+    assert parser.parse_args(command).holes is None
+    assert parser.parse_args([*command, "--holes", "0-2,5"]).holes == [0, 1, 2, 5]
+    if command[0] != "report":  # report compares the holes fill fills; --all: not asked
+        assert parser.parse_args(command).all is False
+        assert parser.parse_args([*command, "--all"]).all is True
+    assert parser.parse_args(["batch", "m.ply", "-o", "out", "--all"]).all is True
 
 
 def test_holes_rejects_a_bad_size_limit_as_fill_does(tmp_path, capsys):

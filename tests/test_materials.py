@@ -6,6 +6,7 @@ folder (session 35)."""
 from __future__ import annotations
 
 import json
+import os
 import warnings
 from pathlib import Path
 
@@ -140,3 +141,63 @@ def test_one_mtllib_statement_may_name_several_libraries(tmp_path):
     found, notes = material_files(tmp_path / "scan.obj", "a.mtl b.mtl\nmy skin.mtl")
     assert [str(p) for p in found] == ["a.mtl", "a.png", "b.mtl", "my skin.mtl"]
     assert notes == []
+
+
+def _later(path: Path, than: Path) -> None:
+    """Give ``path`` an mtime a second after ``than``'s (as an edit made later)."""
+    when = than.stat().st_mtime_ns + 10**9
+    os.utime(path, ns=(when, when))
+
+
+def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, capsys):
+    # a rerun skipped the file (its mesh unchanged), and --overwrite kept the copies an
+    # earlier run wrote, with a warning: the output kept the old texture and .mtl
+    source = _textured_scan(tmp_path / "in")
+    code, output = _run("batch", source, tmp_path / "out")
+    assert code == 0
+    (row,) = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
+    assert sorted(row["materials"]) == ["scan.mtl", "textures/skin tex.png"]
+    assert "materials" not in (tmp_path / "out" / "summary.csv").read_text().splitlines()[0]
+    texture = tmp_path / "in" / "textures" / "skin tex.png"
+    texture.write_bytes(TEXTURE + b" colour-corrected")
+    _later(texture, output)
+    assert _run("batch", source, tmp_path / "out")[0] == 0
+    assert (tmp_path / "out" / "textures" / "skin tex.png").read_bytes() == texture.read_bytes()
+    assert "other content" not in capsys.readouterr().err
+    # the .mtl too (it names a new texture: that is copied as well)
+    library = tmp_path / "in" / "scan.mtl"
+    library.write_text("newmtl skin\nKd 1 1 1\nmap_Kd new.png\n")
+    (tmp_path / "in" / "new.png").write_bytes(TEXTURE)
+    _later(library, output)
+    assert _run("batch", source, tmp_path / "out")[0] == 0
+    assert (tmp_path / "out" / "scan.mtl").read_text() == library.read_text()
+    assert (tmp_path / "out" / "new.png").read_bytes() == TEXTURE
+    # nothing changed: skipped, the record kept for the next change
+    for path in (library, texture, tmp_path / "in" / "new.png", source):
+        earlier = output.stat().st_mtime_ns - 10**9  # _later's times may lie ahead
+        os.utime(path, ns=(earlier, earlier))
+    assert _run("batch", source, tmp_path / "out")[0] == 0
+    (row,) = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
+    assert row["status"] == "skipped" and sorted(row["materials"]) == ["new.png", "scan.mtl"]
+
+
+def test_a_batch_rerun_keeps_a_copy_the_user_changed_with_a_warning(tmp_path, capsys,
+                                                                     monkeypatch):
+    monkeypatch.chdir(tmp_path)  # the input named relative, as the messages name files
+    source = _textured_scan(Path("in"))
+    code, output = _run("batch", source, Path("out"))
+    assert code == 0
+    mine = tmp_path / "out" / "scan.mtl"
+    mine.write_text("newmtl skin\nKd 0.5 0.5 0.5\n")  # the user's own edit of the copy
+    library = tmp_path / "in" / "scan.mtl"
+    library.write_text(library.read_text() + "Ks 0 0 0\n")
+    _later(library, mine)
+    capsys.readouterr()
+    assert _run("batch", source, Path("out"))[0] == 0
+    assert mine.read_text() == "newmtl skin\nKd 0.5 0.5 0.5\n"  # kept
+    (row,) = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
+    assert row["status"] == "filled"
+    assert "out/scan.mtl exists with other content than in/scan.mtl: kept, not replaced " \
+        "(changed since an earlier run copied it)" in row["message"]
+    assert str(tmp_path) not in row["message"]  # named as given, not by absolute paths
+    assert "scan.mtl" not in row["materials"]  # not ours any more: never replaced later

@@ -132,20 +132,23 @@ def fill_file(job: FileJob, options: Mapping[str, Any],
         try:
             # every attribute the file carries, filled in at the new vertices and faces
             # the parallelism is over files: the holes of each are filled one by one
-            mesh = read_mesh_data(job.source)
+            mesh = read_mesh_data(job.source, overlays=job.overlays_read())
             result, filled = fill_mesh_data(mesh, **options, jobs=1, progress=hole_progress)
             job.target.parent.mkdir(parents=True, exist_ok=True)
-            # an OBJ's .mtl and textures beside it, as `surfinpaint fill` copies them
-            copy_materials(job.source, job.target, filled.metadata.get("mtllib", ""),
-                           reserved=(job.picture,) if job.picture else ())
+            # an OBJ's .mtl and textures beside it, as `surfinpaint fill` copies them; a
+            # copy an earlier run made is replaced when the input's changed (job.copied)
+            materials = copy_materials(job.source, job.target, filled.metadata.get("mtllib", ""),
+                                       reserved=(job.picture,) if job.picture else (),
+                                       ours=dict(job.copied))
             write_output(job.source, job.target, filled, len(mesh.vertices))
         except Exception as exc:  # any failure of one file is that file's row, not the batch's
             return FileRow(job.name, job.output, "failed",
                            seconds=time.perf_counter() - started, message=error_text(job, exc))
         unfinished = _draw(job, mesh, result)
     message = " | ".join(t for t in (fill_messages(job, result, caught), unfinished) if t)
-    return row_of(job, result, time.perf_counter() - started, message,
-                  None if unfinished else job.picture_output)
+    return dataclasses.replace(row_of(job, result, time.perf_counter() - started, message,
+                                      None if unfinished else job.picture_output),
+                               materials=materials.record)
 
 
 def _worker_died(job: FileJob, why: str) -> FileRow:
@@ -453,12 +456,12 @@ def _check_options(options: Mapping[str, Any]) -> None:
 
 def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
             out_dir: str | os.PathLike, overwrite: bool, progress: ProgressCallback | None,
-            png: bool) -> tuple[Inputs, list[FileJob], _Rows]:
+            png: bool, overlays: Sequence[str]) -> tuple[Inputs, list[FileJob], _Rows]:
     """The input files (:func:`find_inputs`), those to fill (the others recorded in the
     rows as skipped), costliest first, and the rows."""
     paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
     out = Path(out_dir)
-    todo = find_inputs(paths, out, png=png)
+    todo = find_inputs(paths, out, png=png, overlays=overlays)
     out.mkdir(parents=True, exist_ok=True)
     earlier = {row.path: row for row in read_summary(out)}
     rows = _Rows(len(todo), progress)
@@ -466,6 +469,10 @@ def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
         progress(0, len(todo), f"{len(todo)} files")
     pending = []
     for job in todo:
+        before = earlier.get(job.name)
+        if before is not None and before.output == job.output and before.materials:
+            # the materials the last run copied: up to date only if they did not change
+            job = dataclasses.replace(job, copied=tuple(sorted(before.materials.items())))
         if not overwrite and up_to_date(job):
             rows.add(_skipped(job, earlier.get(job.name)))
         else:
@@ -485,6 +492,7 @@ def fill_files(
     *,
     overwrite: bool = False,
     png: bool = False,
+    overlays: Sequence[str] = (),
     progress: ProgressCallback | None = None,
     **fill_options: Any,
 ) -> list[FileRow]:
@@ -513,6 +521,13 @@ def fill_files(
         need OpenGL for off-screen rendering). A file is then up to date only with its
         picture; a picture that fails is noted in the row's ``message`` (the output is
         kept, the status unchanged; a rerun refills the file to draw it).
+    overlays : sequence of str
+        Overlay files read with each GIFTI or FreeSurfer surface besides those found beside
+        it (``batch --overlay``): paths taken from each input's folder, with placeholders
+        ``{name}``, ``{stem}``, ``{hemi}`` filled in per input
+        (:func:`~surfinpaint.app.batch_inputs.check_overlay_patterns`:
+        ``../label/{hemi}.aparc.annot``). A file whose overlay is missing, or that is no
+        such surface, is a failed row.
     progress : callable(done, total, message), optional
         Called before the first file and once a file is done (skipped files included),
         ``done`` and ``total`` counting files; and, without a Dask client, as the holes of
@@ -550,7 +565,7 @@ def fill_files(
     launched = _launch(n_jobs, progress is not None, _method(fill_options)) \
         if client is None and n_jobs > 1 else None
     try:
-        todo, pending, rows = _listed(inputs, out_dir, overwrite, progress, png)
+        todo, pending, rows = _listed(inputs, out_dir, overwrite, progress, png, overlays)
     except BaseException:
         if launched is not None:
             _stop_workers(launched[0])

@@ -6,17 +6,20 @@ from __future__ import annotations
 
 import glob
 import os
+import re
+import string
 import warnings
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from surfinpaint.errors import MeshError, preview
-from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_gifti_data, is_morphometry
-from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format
+from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_gifti_data, is_morphometry, surface_base
+from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format, overlays_with
 
-__all__ = ["COMPANION_SUFFIXES", "FileJob", "Inputs", "UnknownFile", "UnknownFilesWarning",
-           "find_inputs", "largest_cost_first", "picture_path", "up_to_date"]
+__all__ = ["COMPANION_SUFFIXES", "OVERLAY_PLACEHOLDERS", "FileJob", "Inputs", "UnknownFile",
+           "UnknownFilesWarning", "check_overlay_patterns", "find_inputs",
+           "largest_cost_first", "picture_path", "up_to_date"]
 
 
 @dataclass(frozen=True)
@@ -31,6 +34,12 @@ class FileJob:
     name: str
     output: str
     picture: Path | None = None
+    #: ``batch --overlay`` patterns (:func:`check_overlay_patterns`), filled in for this
+    #: input by :meth:`overlay_files`.
+    overlays: tuple[str, ...] = ()
+    #: The material files an earlier run copied beside the output (paths relative to the
+    #: OBJ's folder) with the SHA-1 of what it wrote: ``materials`` of its summary row.
+    copied: tuple[tuple[str, str], ...] = ()
 
     @property
     def picture_output(self) -> str | None:
@@ -38,6 +47,38 @@ class FileJob:
         if self.picture is None:
             return None
         return Path(self.output).with_name(self.picture.name).as_posix()
+
+    def overlay_files(self) -> dict[Path, str]:
+        """The overlay files of :attr:`overlays` for this input, each pattern filled in
+        (:data:`OVERLAY_PLACEHOLDERS`) and taken from the input's folder, as read (absolute)
+        and as messages name them (from where the input's name is, ``..`` resolved).
+
+        Raises
+        ------
+        MeshError
+            When a pattern has ``{hemi}`` and the input's name starts with neither ``lh.``
+            nor ``rh.``.
+        """
+        hemi = re.match(r"^(lh|rh)\.", self.source.name)
+        values = {"name": self.source.name, "stem": surface_base(self.source),
+                  "hemi": hemi.group(1) if hemi else None}
+        files: dict[Path, str] = {}
+        for pattern in self.overlays:
+            if values["hemi"] is None and "hemi" in _placeholders(pattern):
+                raise MeshError(f"--overlay {pattern!r}: the name starts with neither lh. nor "
+                                "rh., so {hemi} stands for nothing", path=self.name)
+            relative = pattern.format(**values)
+            files[self.source.parent / relative] = os.path.normpath(
+                Path(self.name).parent / relative)
+        return files
+
+    def overlays_read(self) -> bool | list[Path]:
+        """``read_mesh_data``'s ``overlays`` for this input: True (those beside it) without
+        :attr:`overlays`; else those beside it and the given ones (a :class:`MeshError` for
+        an input that is no GIFTI or FreeSurfer surface, or as :meth:`overlay_files`)."""
+        if not self.overlays:
+            return True
+        return overlays_with(self.source, list(self.overlay_files()))
 
 
 @dataclass(frozen=True)
@@ -85,6 +126,41 @@ def picture_path(target: Path) -> Path:
 COMPANION_SUFFIXES = (*OVERLAY_SUFFIXES, ".label", ".annot", ".mtl", ".png", ".jpg", ".jpeg",
                       ".tga", ".bmp", ".gif", ".tif", ".tiff", ".webp", ".exr", ".hdr",
                       ".dds", ".ktx", ".ktx2")
+
+
+#: The placeholders of a ``batch --overlay`` pattern, filled in per input file: its name
+#: (``lh.white``), its name without the format's suffix (``lh.pial`` for ``lh.pial.gii``)
+#: and its hemisphere (``lh`` or ``rh``: the name's first part; other names have none).
+OVERLAY_PLACEHOLDERS = {"name": "the input's file name",
+                        "stem": "its name without the format's suffix",
+                        "hemi": "lh or rh, as its name starts"}
+
+
+def _placeholders(pattern: str) -> list[str]:
+    return [field for _, field, _, _ in string.Formatter().parse(pattern) if field is not None]
+
+
+def check_overlay_patterns(patterns: Sequence[str]) -> tuple[str, ...]:
+    """``batch --overlay`` patterns, checked: each a path taken from the folder of every
+    input file, with placeholders of :data:`OVERLAY_PLACEHOLDERS` in braces
+    (``../label/{hemi}.aparc.annot``, ``{stem}.thickness.shape.gii``).
+
+    Raises
+    ------
+    ValueError
+        For an unknown placeholder or an unmatched brace.
+    """
+    known = ", ".join(f"{{{name}}}" for name in OVERLAY_PLACEHOLDERS)
+    for pattern in patterns:
+        try:
+            fields = _placeholders(pattern)
+        except ValueError as exc:
+            raise ValueError(f"--overlay {pattern!r}: {exc} (placeholders: {known})") from None
+        unknown = [f for f in fields if f not in OVERLAY_PLACEHOLDERS]
+        if unknown:
+            raise ValueError(f"--overlay {pattern!r}: unknown placeholder {{{unknown[0]}}} "
+                             f"(placeholders: {known})")
+    return tuple(str(p) for p in patterns)
 
 
 class UnknownFilesWarning(UserWarning):
@@ -175,10 +251,11 @@ def _warn_unknown(item: str, unknown: Sequence[UnknownFile]) -> None:
 
 
 def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike, *,
-                png: bool = False) -> Inputs:
+                png: bool = False, overlays: Sequence[str] = ()) -> Inputs:
     """The files to fill and their outputs: ``out_dir`` mirrors the inputs' layout; with
-    ``png``, each output's before/after picture too (:func:`picture_path`). The result is
-    a list of :class:`FileJob` whose ``unknown`` holds the files of unknown type (below).
+    ``png``, each output's before/after picture too (:func:`picture_path`); ``overlays``,
+    patterns of the overlay files read with each (:func:`check_overlay_patterns`). The result
+    is a list of :class:`FileJob` whose ``unknown`` holds the files of unknown type (below).
 
     A file argument is written to ``out_dir/<its name>``; a folder is searched recursively
     for files with a known mesh extension (:data:`surfinpaint.io.SUPPORTED_FORMATS`; GIFTI
@@ -207,6 +284,7 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
         (or picture: ``scan.ply`` and ``scan.obj`` with ``png``), or an input would be
         overwritten by its output.
     """
+    patterns = check_overlay_patterns(overlays)
     out = Path(out_dir).absolute()
     out_real = os.path.realpath(out)
     jobs: list[FileJob] = []
@@ -250,7 +328,7 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
             if picture is not None:
                 targets[picture] = os.fspath(found)
             jobs.append(FileJob(found.absolute(), target, os.fspath(found),
-                                relative.as_posix(), picture))
+                                relative.as_posix(), picture, patterns))
     if not jobs:
         raise ValueError("no input files given")
     return Inputs(jobs, skipped)
@@ -269,14 +347,18 @@ def _new_stray(found: Path, out_real: str, reported: set[str]) -> bool:
 def up_to_date(job: FileJob) -> bool:
     """Whether the output, and its picture when the job has one, exist and are newer than
     every file the fill reads: the input and, for a GIFTI or FreeSurfer surface, the
-    overlays beside it (:func:`surfinpaint.io.formats.files_read`), so that an overlay
-    changed alone is filled again. A missing picture refills the file: the picture is
-    drawn from the fill."""
+    overlays beside it (:func:`surfinpaint.io.formats.files_read`) and those of
+    ``--overlay`` (a missing one: not up to date, its fill fails naming it), so that an
+    overlay changed alone is filled again; and the material files an earlier run copied
+    beside an OBJ output (:attr:`FileJob.copied`), so that a changed ``.mtl`` or texture is
+    copied again. A missing picture refills the file: the picture is drawn from the fill."""
     try:
         written = min(path.stat().st_mtime_ns for path in (job.target, job.picture)
                       if path is not None)
-        return all(written > source.stat().st_mtime_ns for source in files_read(job.source))
-    except OSError:
+        read = [*files_read(job.source, overlays=job.overlays_read()),
+                *(job.source.parent / relative for relative, _ in job.copied)]
+        return all(written > source.stat().st_mtime_ns for source in read)
+    except (OSError, MeshError):
         return False
 
 

@@ -9,6 +9,7 @@ import dataclasses
 import io
 import json
 import os
+import re
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -65,6 +66,11 @@ class FileRow:
     message: str = ""
     holes: tuple[HoleRecord, ...] = ()
     picture: str | None = None
+    #: The material files copied beside an OBJ output (relative to its folder) and the
+    #: SHA-1 of each copy (:class:`~surfinpaint.io.materials.CopiedMaterials`; in
+    #: ``summary.json`` only): a rerun copies one again when the input's changed and the
+    #: copy did not.
+    materials: Mapping[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -73,10 +79,28 @@ class FileRow:
 
 
 def named_in_summary(job: FileJob, text: str) -> str:
-    """``text`` naming the files of ``job`` as the summary does (workers see absolute
-    paths)."""
-    return text.replace(os.fspath(job.source), job.name).replace(os.fspath(job.target),
+    """``text`` naming files as the summary does (workers see absolute paths): the input by
+    its ``path`` (as given), the output by its ``output`` (relative to the output folder),
+    a ``--overlay`` file from where the input's name is (``..`` resolved), and any other
+    file below the folder the input's name is relative to (where the batch was started,
+    for an input given by a relative name) relative to that folder, as ``fill`` names the
+    files given to it."""
+    text = text.replace(os.fspath(job.source), job.name).replace(os.fspath(job.target),
                                                                  job.output)
+    try:
+        overlays = job.overlay_files()
+    except MeshError:  # its error names the pattern
+        overlays = {}
+    for path, name in overlays.items():
+        text = text.replace(os.fspath(path), name)
+    name = Path(job.name)
+    if name.is_absolute() or len(job.source.parts) <= len(name.parts) + 1:
+        return text
+    root = Path(*job.source.parts[:-len(name.parts)])
+    if root / name != job.source:
+        return text
+    # the folder where a path starts, not inside another path (/data/tmp/x/ for /tmp/x/)
+    return re.sub(rf"(?<![\w.~/-]){re.escape(os.fspath(root) + os.sep)}", "", text)
 
 
 def fill_messages(job: FileJob, result: FillResult,
@@ -114,9 +138,11 @@ def row_of(job: FileJob, result: FillResult, seconds: float, message: str,
 
 
 def error_text(job: FileJob, exc: Exception) -> str:
-    """The ``message`` of a file that failed with ``exc``, naming it."""
+    """The ``message`` of a file that failed with ``exc``, naming it (first: an error that
+    names another file, an overlay, follows the input's name)."""
     if isinstance(exc, MeshError):
-        return named_in_summary(job, str(exc if exc.path else exc.with_path(job.name)))
+        text = named_in_summary(job, str(exc if exc.path else exc.with_path(job.name)))
+        return text if text.startswith(job.name) else f"{job.name}: {text}"
     return named_in_summary(job, f"{job.name}: {type(exc).__name__}: {exc}")
 
 
@@ -128,7 +154,7 @@ def _csv_columns() -> list[str]:
 
 def _csv_record(row: FileRow) -> dict[str, Any]:
     record = dataclasses.asdict(dataclasses.replace(row, holes=()))
-    del record["holes"]  # summary.json only
+    del record["holes"], record["materials"]  # summary.json only
     kept = record.pop("kept")
     record.update({f"kept_{m}": kept.get(m, 0) if row.holes_found is not None else None
                    for m in METHODS})

@@ -19,14 +19,16 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from surfinpaint import __version__
+from surfinpaint.app.batch_inputs import check_overlay_patterns
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import (
+    add_all_loops,
     add_fill_options,
+    add_hole_numbers,
     add_keep_margins,
     add_max_hole_edges,
     add_zip_seams,
     fill_options,
-    hole_list,
 )
 from surfinpaint.app.fill_report import Summary, count_warnings, hole_lines, print_warnings, tell
 from surfinpaint.app.interrupts import Interrupted, signals_raise
@@ -60,9 +62,9 @@ from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.atomic import remove_unfinished
 from surfinpaint.io.base import MeshWarning
 from surfinpaint.io.formats import (
-    files_read,
     files_written,
     output_format,
+    overlays_with,
     read_mesh,
     read_mesh_data,
     write_mesh,
@@ -93,15 +95,6 @@ def _file_size(path) -> int:
         return 0
 
 
-def _parse_hole_list(text: str | None) -> list[int] | None:
-    if text is None:
-        return None
-    try:
-        return hole_list(text)
-    except argparse.ArgumentTypeError as exc:
-        raise _UsageError(str(exc)) from exc
-
-
 @contextlib.contextmanager
 def _progress(enabled: bool, what: str = "filling") -> Iterator:
     """The ``progress`` callback of :func:`surfinpaint.fill_holes` moving a progress bar on
@@ -111,7 +104,8 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
         yield bar.update if enabled else None
 
 
-def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
+def _holes_table(vertices, faces, title: str, *, holes: list[int] | None = None,
+                 include_border: bool = False, keep_margins: bool = False,
                  max_hole_edges: int | None = None, zip_seams: bool = False) -> list:
     """Print ``surfinpaint holes``' table: each loop, and what ``fill`` with these options
     does with it (fill's own rules: ``select_holes``, ``over_size``, ``left_open``)."""
@@ -120,11 +114,14 @@ def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
     from rich.table import Table
 
     found = find_holes(vertices, faces, validate=False)  # validated by cmd_holes
-    # in fill's order: the loops it chooses (not the outer border; the margins kept open
-    # with keep_margins), then the size limit, then each loop's own check
+    # in fill's order: the loops it chooses (those named; else not the outer border unless
+    # include_border, the margins kept open with keep_margins), then the size limit, then
+    # each loop's own check
     chosen = set(hole_numbers(vertices, faces, select_holes(
-        vertices, faces, keep_margins=keep_margins, validate=False, found=found), found=found))
-    kept_margins = [k for k, h in enumerate(found) if k not in chosen and not h.is_border]
+        vertices, faces, holes, include_border=include_border, keep_margins=keep_margins,
+        validate=False, found=found), found=found))
+    unchosen = [k for k, h in enumerate(found) if k not in chosen
+                and (holes is not None or not h.is_border)]
     left_open = {k: over_size(found[k].n_edges, max_hole_edges) for k in sorted(chosen)}
     # what fill's own check of each hole says (a bow-tie it would leave pinched, ...): the
     # holes it would try; the others' kind says already why they stay open
@@ -147,9 +144,12 @@ def _holes_table(vertices, faces, title: str, *, keep_margins: bool = False,
         kind = _kind(h) if why is None else "left open: see below"
         if i in zipped:
             kind = "seam of duplicated vertices: zipped (--zip-seams)"
-        if i in kept_margins:
-            kind = (f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
-                    "left open (--keep-margins)")
+        if i in chosen and h.is_border and why is None:
+            kind = f"outer border: filled ({'--holes' if holes is not None else '--all'})"
+        if i in unchosen:
+            kind = "left open (not in --holes)" if holes is not None else (
+                f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
+                "left open (--keep-margins)")
         table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
                       str(h.component), escape(kind))
     Console().print(table)
@@ -186,8 +186,9 @@ def cmd_holes(args: argparse.Namespace) -> int:
             "uses)" + "".join(f"; --repair {note}" for note in repair.notes())
     warn_degenerate(vertices, faces, str(args.mesh))
     unjoined = unjoined_borders_note(vertices, _holes_table(
-        vertices, faces, title, keep_margins=args.keep_margins,
-        max_hole_edges=args.max_hole_edges, zip_seams=args.zip_seams))
+        vertices, faces, title, holes=args.holes, include_border=args.all,
+        keep_margins=args.keep_margins, max_hole_edges=args.max_hole_edges,
+        zip_seams=args.zip_seams))
     if unjoined is not None:
         warnings.warn(f"{args.mesh}: {unjoined}", MeshWarning, stacklevel=1)
     return EXIT_OK
@@ -198,7 +199,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
     # errors only
     console = _console() if not args.quiet else LazyConsole() if args.quiet == 1 else None
     say = console.print if not args.quiet else (lambda text: None)
-    holes = _parse_hole_list(args.holes)
+    holes = args.holes
     output_format(args.output)  # an unusable output name fails now, not after the fill
     options = fill_options(args)
     if args.jobs is not None and args.jobs < 1:
@@ -249,12 +250,10 @@ def _overlays(args: argparse.Namespace) -> bool | list:
     the ``--overlay`` files (a usage error with a surface that has none)."""
     if not args.overlay:
         return True
-    beside = files_read(args.mesh)[1:]
-    if len(files_read(args.mesh, overlays=args.overlay)) == 1:
-        raise _UsageError(f"--overlay: {args.mesh} is not a GIFTI or FreeSurfer surface; "
-                          "overlays go with those (other formats carry their per-vertex "
-                          "data in the file)")
-    return [*beside, *(p for p in args.overlay if p not in map(str, beside))]
+    try:
+        return overlays_with(args.mesh, args.overlay)
+    except MeshError as exc:
+        raise _UsageError(f"--overlay: {exc}") from None
 
 
 # what an interrupted batch did with the files in flight (fill_files), locally / on Dask
@@ -273,12 +272,16 @@ def cmd_batch(args: argparse.Namespace) -> int:
                           "--dask-scheduler the cluster's workers fill the files")
     if args.jobs is not None and args.jobs < 1:
         raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
+    try:
+        overlays = check_overlay_patterns(args.overlay or ())
+    except ValueError as exc:
+        raise _UsageError(str(exc)) from None
     client = _dask_client(args.dask_scheduler) if args.dask_scheduler else None
     try:
         with _progress(not args.quiet, "files") as progress:
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
-                              overwrite=args.overwrite, png=args.png, progress=progress,
-                              **options)
+                                    overwrite=args.overwrite, png=args.png, overlays=overlays,
+                                    progress=progress, **options)
     except (Interrupted, KeyboardInterrupt) as exc:
         if not isinstance(exc, Interrupted):
             exc = Interrupted(signal.SIGINT)
@@ -377,8 +380,10 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    "holes of the result")
     choice = p.add_argument_group(
         "fill options", "say which loops `fill` with the same options leaves open")
+    add_hole_numbers(choice)
     add_max_hole_edges(choice)
     add_zip_seams(choice)
+    add_all_loops(choice)
     add_keep_margins(choice)
     p.set_defaults(func=cmd_holes)
 
@@ -387,8 +392,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        "vertices unchanged and in order, then the new ones.")
     p.add_argument("mesh", help="input mesh")
     p.add_argument("-o", "--output", required=True, help="output mesh (format by extension)")
-    p.add_argument("--holes", help="hole numbers from `surfinpaint holes`, comma-separated, "
-                   "ranges taken whole (0,2,5 or 0-3,7)")
+    add_hole_numbers(p)
     add_fill_options(p)
     p.add_argument("--jobs", type=int, metavar="N",
                    help="worker processes filling holes at once (default: all cores; 1: one "
@@ -436,6 +440,12 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                    "(OUTDIR/sub/scan.png for OUTDIR/sub/scan.ply; lh.pial.png for lh.pial), "
                    "in the worker that filled it; a picture that fails is a warning, the "
                    "mesh is still written")
+    p.add_argument("--overlay", action="append", metavar="PATTERN",
+                   help="an overlay read with each GIFTI or FreeSurfer surface besides those "
+                   "found beside it: a path from the surface's folder, {name} (its file "
+                   "name), {stem} (the name without .gii) and {hemi} (lh or rh) filled in "
+                   "per file: ../label/{hemi}.aparc.annot; repeat for more. A file whose "
+                   "overlay is missing, or of another format, fails (named in the summary)")
     add_fill_options(p)
     add_quiet(p, "no progress or end-of-run line: warnings and the failed files' errors "
               "only")

@@ -9,8 +9,9 @@ import argparse
 from surfinpaint.fill.conformal import ConformalOptions, GridOptions
 from surfinpaint.fill.pipeline import METHODS
 
-__all__ = ["UsageError", "add_fill_options", "add_keep_margins", "add_max_hole_edges",
-           "add_zip_seams", "fill_options", "hole_list", "positive_int", "whole_number"]
+__all__ = ["UsageError", "add_all_loops", "add_fill_options", "add_hole_numbers",
+           "add_keep_margins", "add_max_hole_edges", "add_zip_seams", "fill_options",
+           "hole_list", "positive_int", "whole_number"]
 
 
 class UsageError(Exception):
@@ -104,7 +105,8 @@ def fill_options(args: argparse.Namespace) -> dict:
 
 
 # The options that choose which loops are filled: one definition each, for `fill` and
-# `batch` (add_fill_options) and for `holes` and `report`, which say what such a fill does
+# `batch` (add_fill_options; --holes: fill only) and for `holes` and `report`, which say what
+# such a fill does
 
 
 def add_max_hole_edges(parser) -> None:
@@ -120,6 +122,21 @@ def add_zip_seams(parser) -> None:
                         "spans no area, as exporters write along a UV seam) by having its "
                         "faces use one vertex of each pair; without it such loops are left "
                         "open with a warning (no loop that spans no area is ever filled)")
+
+
+def add_hole_numbers(parser) -> None:
+    """``--holes 0,2,5`` (``holes``: only these loops, by ``surfinpaint holes``' numbers)."""
+    parser.add_argument("--holes", type=hole_list,
+                        help="only these holes, by the numbers `surfinpaint holes` gives "
+                        "them: comma-separated, ranges taken whole (0,2,5 or 0-3,7; "
+                        "default: every hole but the outer border); the others are left "
+                        "open")
+
+
+def add_all_loops(parser) -> None:
+    """``--all`` (``include_border``: the loops that look like an outer border filled too)."""
+    parser.add_argument("--all", action="store_true",
+                        help="also fill loops that look like the surface's outer border")
 
 
 def add_keep_margins(parser) -> None:
@@ -139,8 +156,7 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
                    help="conformal (default) or the conventional fill 'fair'")
     add_max_hole_edges(p)
     add_zip_seams(p)
-    p.add_argument("--all", action="store_true",
-                   help="also fill loops that look like the surface's outer border")
+    add_all_loops(p)
     add_keep_margins(p)
     p.add_argument("--repair", action="store_true",
                    help="remove the faces around non-manifold edges and bow-tie vertices "

@@ -46,7 +46,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import cKDTree
 
-from surfinpaint.app.fill_options import add_keep_margins, hole_list
+from surfinpaint.app.fill_options import add_hole_numbers, add_keep_margins
 from surfinpaint.app.fill_report import hole_lines, plane_words, written
 from surfinpaint.app.progress import add_quiet, progress_bar
 from surfinpaint.app.progress import console as make_console
@@ -475,9 +475,7 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
         "each method's distance to the truth. Renders off-screen (no display needed).")
     p.add_argument("mesh", help="input mesh with holes")
     p.add_argument("-o", "--output", required=True, help="output folder")
-    p.add_argument("--holes", type=hole_list,
-                   help="hole numbers from `surfinpaint holes`, comma-separated, ranges taken "
-                   "whole (0,2,5 or 0-3,7; default: all holes but the outer border)")
+    add_hole_numbers(p)
     p.add_argument("--truth", help="the complete mesh the holes were cut from (same vertex "
                    "positions): measure each fill against it")
     p.add_argument("--repair", action="store_true",

@@ -122,8 +122,9 @@ def read_freesurfer(data: bytes, path: Path) -> Parsed:
 # ------------------------------------------------------------------------------ overlays
 
 
-def _surface_base(path: Path) -> str:
-    """The surface's name without its format suffix: overlays are named ``BASE.NAME...``."""
+def surface_base(path: Path) -> str:
+    """The surface's name without its format suffix: overlays are named ``BASE.NAME...``
+    (``lh.pial.gii`` -> ``lh.pial``; a FreeSurfer surface's name is its base: ``lh.white``)."""
     name = path.name
     for suffix in (".surf.gii.gz", ".surf.gii", ".gii.gz", ".gii"):
         if name.lower().endswith(suffix):
@@ -141,7 +142,7 @@ def overlays_beside(path: Path, fmt: str) -> list[Path]:
     ``BASE.NAME`` (what :func:`overlay_outputs` writes), and, for a FreeSurfer surface named
     ``lh.*`` or ``rh.*`` (not a GIFTI one: :func:`subject_overlays`), ``lh.curv``,
     ``lh.thickness``, ... beside it (:data:`FREESURFER_OVERLAYS`)."""
-    base = _surface_base(path)
+    base = surface_base(path)
     folder = path.parent
     found = sorted(folder.glob(f"{_glob_escape(base)}.*.shape.gii"))
     found += sorted(folder.glob(f"{_glob_escape(base)}.*.func.gii"))
@@ -238,7 +239,7 @@ def overlay_name(overlay: Path, surface: Path | None = None) -> str:
             name = name[:-len(suffix)]
             break
     if surface is not None:
-        for base in (surface.name, _surface_base(surface)):
+        for base in (surface.name, surface_base(surface)):
             if name.startswith(base + "."):
                 name = name[len(base) + 1:]
                 break
@@ -385,12 +386,12 @@ def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Ca
         table = mesh.metadata.get(LABEL_TABLE + name)
         name = _safe(name)
         if table is not None and a.ndim == 1 and a.dtype.kind in "iub":
-            base = path.name if fmt == "freesurfer" else _surface_base(path)
+            base = path.name if fmt == "freesurfer" else surface_base(path)
             out.append((path.with_name(f"{base}.{name}.label.gii"), _label_writer(a, table)))
         elif fmt == "freesurfer" and a.ndim == 1:
             out.append((path.with_name(f"{path.name}.{name}"), _morph_writer(a)))
         else:
-            base = path.name if fmt == "freesurfer" else _surface_base(path)
+            base = path.name if fmt == "freesurfer" else surface_base(path)
             out.append((path.with_name(f"{base}.{name}.shape.gii"), _shape_writer(a)))
     return out
 

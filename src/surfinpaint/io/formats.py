@@ -75,8 +75,8 @@ from surfinpaint.io.stl import (
 )
 
 __all__ = ["SUPPORTED_FORMATS", "DataNotReturnedWarning", "MeshData", "MeshWarning",
-           "ascii_like", "files_read", "files_written", "output_format", "read_mesh",
-           "read_mesh_data", "write_mesh", "write_mesh_data"]
+           "ascii_like", "files_read", "files_written", "output_format", "overlays_with",
+           "read_mesh", "read_mesh_data", "write_mesh", "write_mesh_data"]
 
 _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
 
@@ -336,6 +336,23 @@ def files_read(path: str | os.PathLike, *,
         except OSError:
             fmt = None
     return [p, *(_overlay_files(p, fmt, overlays) or [])]
+
+
+def overlays_with(path: str | os.PathLike, given: Sequence[str | os.PathLike]) -> list[Path]:
+    """The overlays ``fill --overlay`` and ``batch --overlay`` read with a surface: those
+    found beside it (:func:`files_read`) and ``given``, each once.
+
+    Raises
+    ------
+    MeshError
+        When ``path`` is not a GIFTI or FreeSurfer surface (other formats carry their
+        per-vertex data in the file).
+    """
+    if len(files_read(path, overlays=given)) == 1:
+        raise MeshError("not a GIFTI or FreeSurfer surface, which overlays go with (other "
+                        "formats carry their per-vertex data in the file)", path=str(path))
+    beside = files_read(path)[1:]
+    return [*beside, *(Path(g) for g in given if Path(g) not in beside)]
 
 
 def files_written(path: str | os.PathLike, mesh: MeshData) -> list[Path]:

@@ -7,21 +7,25 @@ the same relative places beside the output, each through the atomic writer (a co
 file or none). It never touches the inputs, never writes outside the output's folder (a
 name with ``..`` or an absolute name is left as it is, with a warning where the file is not
 reachable from the output), and never replaces an existing file whose content differs (a
-warning names it): a file with the same content is left alone.
+warning names it) unless it is the copy an earlier call made, unchanged since (``ours``:
+the SHA-1 it recorded), and the input's file changed: a file with the same content is
+left alone.
 """
 
 from __future__ import annotations
 
 import filecmp
+import hashlib
 import os
 import shutil
 import warnings
+from collections.abc import Iterable, Mapping
 from pathlib import Path, PurePosixPath
 
 from surfinpaint.io.atomic import atomic_path
 from surfinpaint.io.base import MeshWarning
 
-__all__ = ["copy_materials", "material_files"]
+__all__ = ["CopiedMaterials", "copy_materials", "material_files"]
 
 # MTL statements whose last argument is an image file (after options such as "-s 1 1 1"):
 # every map_* (map_Kd, map_Ks, map_Bump, map_d, map_Pr, ...) and these
@@ -99,41 +103,77 @@ def material_files(source: str | os.PathLike, libraries: str) -> tuple[list[Pure
     return found, notes
 
 
+class CopiedMaterials(list[Path]):
+    """What :func:`copy_materials` returns: the files it wrote (a list), and ``record``:
+    for each material file whose copy beside the output now holds the input's content, its
+    path relative to the OBJ's folder and that content's SHA-1 (what a later call's ``ours``
+    takes, so that it replaces the copy when the input's file changes and the copy did
+    not)."""
+
+    def __init__(self, written: Iterable[Path] = (), record: Mapping[str, str] | None = None):
+        super().__init__(written)
+        self.record: dict[str, str] = dict(record or {})
+
+
+def _sha1(path: Path) -> str:
+    digest = hashlib.sha1()
+    with open(path, "rb") as handle:
+        while chunk := handle.read(1 << 20):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
 def copy_materials(source: str | os.PathLike, target: str | os.PathLike, libraries: str, *,
-                   reserved: tuple[str | os.PathLike, ...] = ()) -> list[Path]:
+                   reserved: tuple[str | os.PathLike, ...] = (),
+                   ours: Mapping[str, str] | None = None) -> CopiedMaterials:
     """Copy the material libraries and textures of the OBJ ``source`` (:func:`material_files`
     of its ``libraries``) to the same places relative to the OBJ ``target``; returns the
-    files written (those already there with the same content are not). Each is written
-    atomically; the inputs are only read.
+    files written (those already there with the same content are not) and the record of
+    the copies (:class:`CopiedMaterials`). Each is written atomically; the inputs are only
+    read.
+
+    ``ours``: an earlier call's ``record`` (``batch`` keeps it in its summary). A copy whose
+    content differs from the input's file is replaced when it is still what that call
+    wrote (its SHA-1 recorded there): the input's file changed since, the copy did not. Any
+    other file there is kept.
 
     Warns
     -----
     MeshWarning
         Naming each file not copied: not beside the input, outside its folder, at the
-        place of an existing file with other content (kept, not replaced), or at one of
-        ``reserved`` (other outputs, e.g. the ``--png`` picture).
+        place of an existing file with other content that no earlier call wrote or that
+        changed since (kept, not replaced), or at one of ``reserved`` (other outputs, e.g.
+        the ``--png`` picture).
     """
     if not libraries or Path(target).suffix.lower() != ".obj":
-        return []  # another format has no use for them
+        return CopiedMaterials()  # another format has no use for them
     files, notes = material_files(source, libraries)
     into, source_folder = Path(target).parent, Path(source).parent
     taken = {os.path.abspath(p) for p in reserved}
-    written: list[Path] = []
+    written = CopiedMaterials()
     for relative in files:
         origin, copy = source_folder / relative, into / relative
+        key = relative.as_posix()
         if os.path.abspath(copy) in taken:
             notes.append(f"{str(relative)!r} not copied: another output takes its name "
                          f"({copy})")
             continue
         if copy.exists():
-            if not (copy.is_file() and filecmp.cmp(origin, copy, shallow=False)):
+            if copy.is_file() and filecmp.cmp(origin, copy, shallow=False):
+                written.record[key] = _sha1(copy)
+                continue
+            earlier = (ours or {}).get(key)
+            if earlier is None or not copy.is_file() or _sha1(copy) != earlier:
+                why = "changed since an earlier run copied it" if earlier is not None else \
+                    "the output's materials may differ from the input's"
                 notes.append(f"{copy} exists with other content than {origin}: kept, not "
-                             "replaced (the output's materials may differ from the input's)")
-            continue
+                             f"replaced ({why})")
+                continue
         copy.parent.mkdir(parents=True, exist_ok=True)
         with atomic_path(copy) as tmp:
             shutil.copyfile(origin, tmp)
         written.append(copy)
+        written.record[key] = _sha1(copy)
     for note in notes:
         warnings.warn(f"{target}: {note}", MeshWarning, stacklevel=2)
     return written

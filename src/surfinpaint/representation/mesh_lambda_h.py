@@ -200,9 +200,9 @@ def mesh_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
     f = np.asarray(faces, dtype=np.int64)
     L = cotangent_laplacian(uv, f)
     area_uv = mass_matrix(uv, f).diagonal()
-    lam2 = mass_matrix(p, f).diagonal() / area_uv
+    lam2 = _per_uv_area(mass_matrix(p, f).diagonal(), area_uv)
     normal = vertex_normals(p, f)
-    lap = (L @ p) / area_uv[:, None]
+    lap = _per_uv_area(L @ p, area_uv)
     along = np.einsum("ij,ij->i", lap, normal)
     H = along / (2.0 * lam2)
     G_u, G_v = gradient_operators(uv, f)
@@ -221,6 +221,19 @@ def mesh_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
     H[border] = np.nan
     defect[border] = np.nan
     return lam, H, defect
+
+
+def _per_uv_area(values: np.ndarray, area_uv: np.ndarray) -> np.ndarray:
+    """``values / area_uv`` per vertex (rows), NaN at a vertex of no area: one on no face
+    (unreferenced; its uv is NaN too), where the division would be 0/0 and numpy would
+    warn of it (``represent`` of a mesh with unused vertices printed "invalid value
+    encountered in divide (×14)")."""
+    values = np.asarray(values, dtype=float)
+    out = np.full(values.shape, np.nan)
+    has_area = area_uv != 0  # as before wherever the division is defined
+    out[has_area] = values[has_area] / (area_uv[has_area] if values.ndim == 1
+                                        else area_uv[has_area, None])
+    return out
 
 
 def area_vectors(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -262,7 +275,10 @@ def soft_unit(x: np.ndarray, eps: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     inside = rho < eps
     safe = np.where(rho > 0, rho, 1.0)
     k = np.where(inside, (2.0 - rho / eps) / eps, 1.0 / safe)
-    k1 = np.where(inside, -rho / eps**2, -1.0 / safe)
+    # -ρ/ε² is -0 at ρ = 0 whatever ε, not 0/0 where ε² underflows (a vertex on no face has
+    # no area and the least ε: represent warned "invalid value encountered in divide")
+    k1 = np.where(inside, np.divide(-rho, eps**2, out=np.full(rho.shape, -0.0),
+                                    where=inside & (rho > 0)), -1.0 / safe)
     return x * k[:, None], k, k1
 
 

@@ -266,12 +266,14 @@ class _MappedDisk:
         # the fine mesh (the smooth surface through the vertices, as the grid export's)
         self.uv, self.faces, self.points = (uv, faces, vertices) if levels == 0 else \
             subdivided_map(vertices, faces, uv, corners, map, levels, strict, untangle=True)
-        self.lo, self.hi = self.uv.min(axis=0), self.uv.max(axis=0)
+        self.lo, self.hi = np.nanmin(self.uv, axis=0), np.nanmax(self.uv, axis=0)
         self.sigma = _vertex_stretch(self.points, self.faces, self.uv)
-        self._near = cKDTree(self.uv)
+        # the nodes on faces (a vertex on no face has a NaN uv, which a k-d tree refuses)
+        self._on_faces = np.flatnonzero(np.isfinite(self.uv).all(axis=1))
+        self._near = cKDTree(self.uv[self._on_faces])
 
     def sigma_at(self, points: np.ndarray) -> np.ndarray:
-        return self.sigma[self._near.query(points, k=3)[1]].max(axis=1)
+        return self.sigma[self._on_faces[self._near.query(points, k=3)[1]]].max(axis=1)
 
     def locate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(triangle, weights, the points moved 1e-9 of the box inside it) of each point:
