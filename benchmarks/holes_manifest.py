@@ -88,6 +88,13 @@ A fourteenth set, the twelfth holdout (``benchmarks/holdout12_manifest.json``, `
 scans made with the portable scanner), holes planned the same way (seeds from 1300), made in
 session 35 after the eleventh holdout had been made and committed before any fill was run on
 them; to be run once by a later session after its changes.
+
+A fifteenth set, the thirteenth holdout (``benchmarks/holdout13_manifest.json``, ``--write
+--holdout13``): 12 fresh meshes (``validation_meshes.HOLDOUT13_SOURCES``, made in
+``holdout13_meshes.py``; all six kinds, a synthetic forebrain for the brain kind; its four
+scans made with the portable scanner), holes planned the same way (seeds from 1400), made in
+session 36 after the twelfth holdout had been made and committed before any fill was run on
+them; to be run once by a later session after its changes.
 """
 
 from __future__ import annotations
@@ -130,6 +137,8 @@ HOLDOUT10_MANIFEST = Path(__file__).parent / "holdout10_manifest.json"
 HOLDOUT11_MANIFEST = Path(__file__).parent / "holdout11_manifest.json"
 # a fourteenth set, session 35's second (HOLDOUT12_SOURCES), committed before any fill
 HOLDOUT12_MANIFEST = Path(__file__).parent / "holdout12_manifest.json"
+# a fifteenth set, fresh meshes of session 36 (HOLDOUT13_SOURCES), committed before any fill
+HOLDOUT13_MANIFEST = Path(__file__).parent / "holdout13_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -144,6 +153,7 @@ LATER_SETS = {
     "holdout10": (HOLDOUT10_MANIFEST, "the tenth holdout set", 1100),
     "holdout11": (HOLDOUT11_MANIFEST, "the eleventh holdout set", 1200),
     "holdout12": (HOLDOUT12_MANIFEST, "the twelfth holdout set", 1300),
+    "holdout13": (HOLDOUT13_MANIFEST, "the thirteenth holdout set", 1400),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -172,6 +182,7 @@ SPLIT = {
     "holdout10": list(vm.HOLDOUT10_SOURCES),
     "holdout11": list(vm.HOLDOUT11_SOURCES),
     "holdout12": list(vm.HOLDOUT12_SOURCES),
+    "holdout13": list(vm.HOLDOUT13_SOURCES),
 }
 
 
@@ -267,7 +278,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
-    1300)."""
+    1300, the thirteenth holdout's at 1400)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

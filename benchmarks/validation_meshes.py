@@ -18,8 +18,9 @@ hemisphere (kept for an independent evaluation).
 Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout set 9's
 (session 33) in ``holdout9_meshes.py``, holdout set 10's (session 34) in
 ``holdout10_meshes.py``, holdout set 11's (session 35) in ``holdout11_meshes.py``, holdout
-set 12's (session 35) in ``holdout12_meshes.py``; this module adds their
-``HOLDOUT8_SOURCES`` to ``HOLDOUT12_SOURCES`` to :data:`SOURCES` at its end.
+set 12's (session 35) in ``holdout12_meshes.py``, holdout set 13's (session 36) in
+``holdout13_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
+``HOLDOUT13_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1875,3 +1876,10 @@ SOURCES.update(HOLDOUT11_SOURCES)
 from holdout12_meshes import HOLDOUT12_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT12_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 13
+
+# Session 36's set (benchmarks/holdout13_manifest.json), as holdout 12's: its own module.
+from holdout13_meshes import HOLDOUT13_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT13_SOURCES)

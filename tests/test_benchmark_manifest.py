@@ -83,9 +83,9 @@ def test_reserved_sources_are_never_used():
     assert "libcgal" not in code and "cgal-demo" not in code and "/cgal" not in code
     assert "right" not in code
     assert '"left"' in code
-    # holdouts 8 to 12's generators have their own modules (validation_meshes imports them)
+    # holdouts 8 to 13's generators have their own modules (validation_meshes imports them)
     for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py",
-                   "holdout11_meshes.py", "holdout12_meshes.py"):
+                   "holdout11_meshes.py", "holdout12_meshes.py", "holdout13_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
 
@@ -175,6 +175,11 @@ def holdout12():
     return holes_manifest.read(holes_manifest.HOLDOUT12_MANIFEST)
 
 
+@pytest.fixture(scope="module")
+def holdout13():
+    return holes_manifest.read(holes_manifest.HOLDOUT13_MANIFEST)
+
+
 @pytest.mark.parametrize(("split", "sources"), [
     ("holdout2", validation_meshes.HOLDOUT2_SOURCES),  # run once after session 26's defaults
     ("holdout3", validation_meshes.HOLDOUT3_SOURCES),  # run once after session 28's
@@ -187,19 +192,21 @@ def holdout12():
     ("holdout10", validation_meshes.HOLDOUT10_SOURCES),  # session 34, after holdout 9 was made
     ("holdout11", validation_meshes.HOLDOUT11_SOURCES),  # session 35, after holdout 10 was made
     ("holdout12", validation_meshes.HOLDOUT12_SOURCES),  # session 35, after holdout 11 was made
+    ("holdout13", validation_meshes.HOLDOUT13_SOURCES),  # session 36, after holdout 12 was made
 ])
 def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
                                                       cad_tuning, holdout4, holdout5, holdout6,
                                                       holdout7, holdout8, holdout9, holdout10,
-                                                      holdout11, holdout12, split, sources):
-    """The second to twelfth holdout sets: their own meshes, from sources no earlier set
+                                                      holdout11, holdout12, holdout13, split,
+                                                      sources):
+    """The second to thirteenth holdout sets: their own meshes, from sources no earlier set
     uses (the two halves, the holdouts before them; from the fourth on also the tuning-side
-    CAD parts), every kind but brain surfaces (the eleventh and twelfth: every kind, their
+    CAD parts), every kind but brain surfaces (the eleventh to thirteenth: every kind, their
     brain a synthetic folded surface), at least 3 range scans, 7 holes a mesh."""
     sets = {"holdout2": holdout2, "holdout3": holdout3, "holdout4": holdout4,
             "holdout5": holdout5, "holdout6": holdout6, "holdout7": holdout7,
             "holdout8": holdout8, "holdout9": holdout9, "holdout10": holdout10,
-            "holdout11": holdout11, "holdout12": holdout12}
+            "holdout11": holdout11, "holdout12": holdout12, "holdout13": holdout13}
     this = sets[split]
     ids = [e["mesh"] for e in this["meshes"]]
     assert ids == holes_manifest.SPLIT[split] == list(sources)
@@ -207,7 +214,7 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
     # every set before this one in the order they were made (the tuning-side CAD parts in
     # session 29, between holdouts 3 and 4)
     made = [holdout2, holdout3, cad_tuning, holdout4, holdout5, holdout6, holdout7, holdout8,
-            holdout9, holdout10, holdout11, holdout12]
+            holdout9, holdout10, holdout11, holdout12, holdout13]
     for earlier_set in made[:next(i for i, m in enumerate(made) if m is this)]:
         earlier = earlier + earlier_set["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
@@ -222,7 +229,8 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
             assert set(hole) == {"centre", "radius", "radius_h", "near_border", "on_feature"}
             assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
     kinds = Counter(e["kind"] for e in this["meshes"])
-    assert set(kinds) == (KINDS if split in ("holdout11", "holdout12") else KINDS - {"brain"})
+    assert set(kinds) == (KINDS if split in ("holdout11", "holdout12", "holdout13")
+                          else KINDS - {"brain"})
     assert kinds["range_scan"] >= 3
     holes = [h for e in this["meshes"] for h in e["holes"]]
     assert len(holes) == 7 * len(ids)
@@ -233,14 +241,15 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
 def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2, holdout3,
                                                      cad_tuning, holdout4, holdout5, holdout6,
                                                      holdout7, holdout8, holdout9, holdout10,
-                                                     holdout11, holdout12):
+                                                     holdout11, holdout12, holdout13):
     """Session 29's machined parts (tuning side, rules may be chosen on them): their own
     meshes and sources, shared with no other set, machined parts and scans of them only."""
     cad = cad_tuning
     ids = [e["mesh"] for e in cad["meshes"]]
     assert ids == holes_manifest.SPLIT["cad_tuning"] == list(validation_meshes.CAD_TUNING_SOURCES)
     others = [e for m in (manifest, holdout, holdout2, holdout3, holdout4, holdout5, holdout6,
-                          holdout7, holdout8, holdout9, holdout10, holdout11, holdout12)
+                          holdout7, holdout8, holdout9, holdout10, holdout11, holdout12,
+                          holdout13)
               for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
@@ -329,7 +338,7 @@ def test_holdout12_sources_come_from_their_own_module():
     for mesh_id, source in holdout12_meshes.HOLDOUT12_SOURCES.items():
         assert validation_meshes.SOURCES[mesh_id] is source
     ids = list(validation_meshes.SOURCES)
-    assert ids[-12:] == list(holdout12_meshes.HOLDOUT12_SOURCES)  # after holdout 11's
+    assert ids[-24:-12] == list(holdout12_meshes.HOLDOUT12_SOURCES)  # after holdout 11's
     assert holes_manifest.LATER_SETS["holdout12"][1:] == ("the twelfth holdout set", 1300)
     assert holes_manifest.SPLIT["holdout12"] == list(holdout12_meshes.HOLDOUT12_SOURCES)
     sources = holdout12_meshes.HOLDOUT12_SOURCES
@@ -354,6 +363,50 @@ def test_holdout12_manifest_counts(holdout12):
     corner on each of the 3 CAD parts, every other hole neither."""
     entries = holdout12["meshes"]
     assert [e["mesh"] for e in entries] == list(validation_meshes.HOLDOUT12_SOURCES)
+    assert Counter(e["kind"] for e in entries) == {"range_scan": 4, "organic": 2, "cad": 3,
+                                                   "teeth": 1, "smooth": 1, "brain": 1}
+    assert sum(len(e["holes"]) for e in entries) == 84
+    for entry in entries:
+        near = [h["near_border"] for h in entry["holes"]]
+        feature = [h["on_feature"] for h in entry["holes"]]
+        scan, cad = entry["kind"] == "range_scan", entry["kind"] == "cad"
+        assert near == [scan and k in holes_manifest.NEAR_BORDER for k in range(7)], entry["mesh"]
+        assert feature == [cad and k in holes_manifest.ON_FEATURE for k in range(7)], entry["mesh"]
+
+
+def test_holdout13_sources_come_from_their_own_module():
+    """Holdout 13's generators live in benchmarks/holdout13_meshes.py, as holdout 12's in
+    theirs; validation_meshes adds them to ``SOURCES`` last, after holdout 12's; its scans
+    are the portable scanner's with seeds 163-166; its brain-kind mesh is the synthetic
+    forebrain, no real brain (no mesh is made)."""
+    import holdout13_meshes
+
+    assert validation_meshes.HOLDOUT13_SOURCES is holdout13_meshes.HOLDOUT13_SOURCES
+    for mesh_id, source in holdout13_meshes.HOLDOUT13_SOURCES.items():
+        assert validation_meshes.SOURCES[mesh_id] is source
+    ids = list(validation_meshes.SOURCES)
+    assert ids[-12:] == list(holdout13_meshes.HOLDOUT13_SOURCES)  # after holdout 12's
+    assert holes_manifest.LATER_SETS["holdout13"][1:] == ("the thirteenth holdout set", 1400)
+    assert holes_manifest.SPLIT["holdout13"] == list(holdout13_meshes.HOLDOUT13_SOURCES)
+    sources = holdout13_meshes.HOLDOUT13_SOURCES
+    scans = [s for s in sources.values() if s.kind == "range_scan"]
+    assert len(scans) == 4
+    cells = [dict(zip(s.make.__code__.co_freevars,
+                      (c.cell_contents for c in s.make.__closure__), strict=True))
+             for s in scans]  # _scan's closure: portable=True, and a seed of its own
+    assert all(c["portable"] is True for c in cells)
+    assert [c["seed"] for c in cells] == [163, 164, 165, 166]
+    brains = [s for s in sources.values() if s.kind == "brain"]
+    assert [s.make.__name__ for s in brains] == ["_forebrain"]
+    assert "synthetic" in brains[0].source
+
+
+def test_holdout13_manifest_counts(holdout13):
+    """The thirteenth holdout's manifest as committed before any fill: 12 meshes in the
+    module's order, 84 holes, 3 near the border on each of the 4 scans, 4 on a sharp edge or
+    corner on each of the 3 CAD parts, every other hole neither."""
+    entries = holdout13["meshes"]
+    assert [e["mesh"] for e in entries] == list(validation_meshes.HOLDOUT13_SOURCES)
     assert Counter(e["kind"] for e in entries) == {"range_scan": 4, "organic": 2, "cad": 3,
                                                    "teeth": 1, "smooth": 1, "brain": 1}
     assert sum(len(e["holes"]) for e in entries) == 84
