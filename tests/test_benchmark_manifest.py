@@ -416,3 +416,10 @@ def test_holdout13_manifest_counts(holdout13):
         scan, cad = entry["kind"] == "range_scan", entry["kind"] == "cad"
         assert near == [scan and k in holes_manifest.NEAR_BORDER for k in range(7)], entry["mesh"]
         assert feature == [cad and k in holes_manifest.ON_FEATURE for k in range(7)], entry["mesh"]
+
+
+def test_manifests_record_digests_from_holdout_13_on():
+    for split, (path, _, _) in holes_manifest.LATER_SETS.items():
+        entries = holes_manifest.read(path)["meshes"]
+        has = {"sha256" in e for e in entries}
+        assert has == ({False} if split in holes_manifest.UNDIGESTED else {True}), split

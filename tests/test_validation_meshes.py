@@ -183,3 +183,46 @@ def test_a_mesh_that_differs_from_its_manifest_entry_is_made_again(monkeypatch,
                                                       match="sphere .* source changed"):
             validation_meshes.load_entry(_entry(good))
         assert made == ["sphere", "sphere"]
+
+
+def test_mesh_digest_covers_vertices_faces_and_truth():
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    plain = validation_meshes.BenchMesh(np.eye(4, 3), faces)
+    moved = validation_meshes.BenchMesh(np.eye(4, 3) + [0, 0, 1e-12], faces)
+    flipped = validation_meshes.BenchMesh(np.eye(4, 3), faces[:, ::-1])
+    scan = validation_meshes.BenchMesh(np.eye(4, 3), faces, np.eye(4, 3))
+    digests = [validation_meshes.mesh_digest(m) for m in (plain, moved, flipped, scan)]
+    assert len(set(digests)) == 4 and all(len(d) == 64 for d in digests)
+    # a strided view hashes as its values (the scans' vertices are not C-contiguous)
+    strided = validation_meshes.BenchMesh(np.asfortranarray(np.eye(4, 3)), faces)
+    assert validation_meshes.mesh_digest(strided) == digests[0]
+
+
+@pytest.mark.parametrize(("fresh_matches", "outcome"), [
+    (True, "the fresh mesh, with a warning"),
+    (False, "RuntimeError naming the mesh"),
+])
+def test_a_mesh_with_the_manifests_counts_but_other_bytes_is_made_again(monkeypatch,
+                                                                       fresh_matches, outcome):
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    good = validation_meshes.BenchMesh(np.eye(4, 3), faces)
+    bad = validation_meshes.BenchMesh(np.eye(4, 3) * 2, faces)  # same counts
+    entry = {**_entry(good), "sha256": validation_meshes.mesh_digest(good)}
+    made = []
+    monkeypatch.setattr(validation_meshes, "load", lambda mesh_id: bad)
+    monkeypatch.setattr(validation_meshes, "_load_in_fresh_process",
+                        lambda mesh_id: made.append(mesh_id) or (good if fresh_matches else bad))
+    if fresh_matches:
+        with pytest.warns(UserWarning, match="sphere has the manifest's counts but not its "
+                                             "bytes .* made again"):
+            assert validation_meshes.load_entry(entry) is good
+        assert made == ["sphere"]
+    else:
+        with pytest.warns(UserWarning), pytest.raises(RuntimeError,
+                                                      match="sphere .* its source changed"):
+            validation_meshes.load_entry(entry)
+        assert made == ["sphere", "sphere"]
+    # without a digest in the entry (the sets before holdout 13) the counts decide
+    monkeypatch.setattr(validation_meshes, "load", lambda mesh_id: bad)
+    assert validation_meshes.load_entry(_entry(good)) is bad
+
