@@ -199,29 +199,30 @@ def _min_distance_loops(points, tri, cand, start, out):  # pragma: no cover - co
 _MIN_DISTANCE_KERNEL = Kernel(_min_distance_loops, nogil=True)
 
 
-def _ball_loops(points, radius, order, sorted_x, centroid, start, cand):  # pragma: no cover
+def _ball_loops(points, radius, axis, order, sorted_x, centroid, start, cand):  # pragma: no cover
     """The ids of the centroids within ``radius[i]`` of ``points[i]``, compiled by numba:
-    those in a window of x around the point (``sorted_x``: the centroids' x in increasing
-    order, ``order`` their ids), then the full test. With an empty ``cand`` each point's
-    count is written to ``start[i + 1]``; else its ids from ``start[i]`` on. The window is
-    wider than the radius by far more than the rounding of its ends, so that it leaves out
-    no centroid the full test keeps."""
+    those in a window around the point along ``axis`` (``sorted_x``: the centroids'
+    coordinates on it in increasing order, ``order`` their ids), then the full test. With
+    an empty ``cand`` each point's count is written to ``start[i + 1]``; else its ids from
+    ``start[i]`` on. The window is wider than the radius by far more than the rounding of
+    its ends, so that it leaves out no centroid the full test keeps."""
     fill = len(cand) > 0
     n = len(sorted_x)
     for i in range(len(points)):
         px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        x = points[i, axis]
         r = radius[i]
         rr = r * r
-        half = r * (1.0 + 1e-6) + 1e-9 * abs(px)
+        half = r * (1.0 + 1e-6) + 1e-9 * abs(x)
         low, high = 0, n
-        while low < high:  # the first centroid at or beyond px - half
+        while low < high:  # the first centroid at or beyond x - half
             mid = (low + high) // 2
-            if sorted_x[mid] < px - half:
+            if sorted_x[mid] < x - half:
                 low = mid + 1
             else:
                 high = mid
         k = start[i] if fill else 0
-        end = px + half
+        end = x + half
         for j in range(low, n):
             if sorted_x[j] > end:
                 break
@@ -259,7 +260,7 @@ class _TriangleIndex:
         self.centroid = self.tri.mean(axis=1)
         self.rho = np.sqrt(((self.tri - self.centroid[:, None]) ** 2).sum(-1).max())
         self._tree = None
-        self._by_x = None  # the centroids' order by x and their x so ordered (:meth:`within`)
+        self._by_x = None  # an axis, the centroids' order on it, their coordinates so ordered
         self.use_numba = True
 
     @property
@@ -312,18 +313,18 @@ class _TriangleIndex:
         kernel = _BALL_KERNEL.get()
 
         def compiled(kernel):
-            if self._by_x is None:
-                order = np.argsort(self.centroid[:, 0], kind="stable")
-                self._by_x = order, np.ascontiguousarray(self.centroid[order, 0])
-            order, sorted_x = self._by_x
+            if self._by_x is None:  # along the longest side of the box: the fewest in a window
+                axis = int(np.argmax(np.ptp(self.centroid, axis=0)))
+                order = np.argsort(self.centroid[:, axis], kind="stable")
+                self._by_x = axis, order, np.ascontiguousarray(self.centroid[order, axis])
             scale = float(np.abs(self.centroid).max()) + float(np.abs(points).max())
             wide = radius * (1.0 + 1e-9) + 1e-9 * scale
             start = np.zeros(len(points) + 1, np.int64)
-            kernel(points, wide, order, sorted_x, self.centroid, start, np.empty(0, np.int64))
+            kernel(points, wide, *self._by_x, self.centroid, start, np.empty(0, np.int64))
             np.cumsum(start, out=start)
             cand = np.empty(start[-1], np.int64)
             if len(cand):
-                kernel(points, wide, order, sorted_x, self.centroid, start, cand)
+                kernel(points, wide, *self._by_x, self.centroid, start, cand)
             return cand, start
 
         def kd_tree():
