@@ -317,7 +317,7 @@ class _TriangleIndex:
                 axis = int(np.argmax(np.ptp(self.centroid, axis=0)))
                 order = np.argsort(self.centroid[:, axis], kind="stable")
                 self._by_x = axis, order, np.ascontiguousarray(self.centroid[order, axis])
-            scale = float(np.abs(self.centroid).max()) + float(np.abs(points).max())
+            scale = float(np.nanmax(np.abs(self.centroid))) + float(np.abs(points).max())
             wide = radius * (1.0 + 1e-9) + 1e-9 * scale
             start = np.zeros(len(points) + 1, np.int64)
             kernel(points, wide, *self._by_x, self.centroid, start, np.empty(0, np.int64))
