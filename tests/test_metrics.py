@@ -75,6 +75,34 @@ def test_point_mesh_distance_numba_and_numpy_agree_with_all_triangles():
     np.testing.assert_allclose(point_mesh_distance(p, v, f), full, atol=1e-12)
 
 
+@pytest.mark.parametrize("offset", [0.0, 1e4])
+def test_the_compiled_ball_search_keeps_the_kd_trees_ball(offset):
+    """:meth:`_TriangleIndex.within`: the compiled search (the KD-tree's ball is its numpy
+    version) keeps every centroid of the ball, and others only at its edge; far from the
+    origin too (its window's rounding). The distances are the same bits either way."""
+    v, f = data.sphere(2)
+    v = v + offset
+    rng = np.random.default_rng(5)
+    p = offset + (v[rng.integers(len(v), size=400)] - offset) * rng.uniform(
+        0.9, 1.1, size=(400, 1))
+    radius = rng.uniform(0.0, 0.6, size=400)
+    index = metrics._TriangleIndex(v, f)
+    cand, start = index.within(p, radius)
+    index.use_numba = False
+    kd_cand, kd_start = index.within(p, radius)
+    index.use_numba = True
+    # the least distance over either search's triangles: the same bits
+    assert np.array_equal(index._min_exact(p, cand, start),
+                          index._min_exact(p, kd_cand, kd_start))
+    for i in range(len(p)):
+        kept, ball = set(cand[start[i]:start[i + 1]]), set(kd_cand[kd_start[i]:kd_start[i + 1]])
+        assert ball <= kept
+        extra = np.array(sorted(kept - ball), dtype=np.int64)
+        far = np.linalg.norm(index.centroid[extra] - p[i], axis=1)
+        assert (np.abs(far - radius[i]) <= 1e-8 * (1 + np.abs(p[i]).max())).all()
+    assert len(kd_cand) > 5 * len(p)  # the balls are not empty
+
+
 @pytest.mark.parametrize("move", [0.0, 1e-3, 0.05, 0.5])
 def test_distances_to_meshes_of_one_triangulation_equal_one_search_each(move):
     """Meshes with the faces of the first are searched from its nearest triangles: the same

@@ -29,6 +29,7 @@ def _dispatchers():
 
     return {"triangulation": triangulation._DP_KERNEL.get(),
             "flip": refinement._flip_kernel(), "distance": metrics._numba_kernel(),
+            "ball": metrics._BALL_KERNEL.get(),
             "measures": vertex_measures._MEASURES_KERNEL.get(),
             "blocks": face_derivatives._BLOCKS_KERNEL.get(),
             "rhs": face_derivatives._RHS_KERNEL.get()}
@@ -188,7 +189,7 @@ def test_a_large_parallel_fill_forks_its_workers_after_the_thread_loaded_the_ker
 def test_a_fair_fill_warms_no_distance_kernel(monkeypatch):
     # the distance kernel is the conformal self-check's: a fair fill would only pay for it
     measured = []
-    monkeypatch.setattr(metrics, "point_mesh_distance", lambda *a: measured.append(a))
+    monkeypatch.setattr(metrics, "warm", lambda *a: measured.append(a))
     _forget_warmup()
     warmup.warm_kernels("fair")
     assert warmup._done["fair"].is_set() and not warmup._done["conformal"].is_set()

@@ -100,7 +100,7 @@ def warm_kernels(method: str = "conformal") -> None:
         faired_fill(vertices, faces, loop, 2)
         _done["fair"].set()
     if method == "conformal":
-        metrics.point_mesh_distance(vertices[:3], vertices, faces)
+        metrics.warm(vertices, faces)
         vertex_normals_and_areas(vertices, faces)  # the λ-H fill's lagged solves
         face_derivatives.warm(vertices, faces)  # its Newton steps' Jacobians
     _done[method].set()
@@ -201,7 +201,7 @@ def compile_kernels() -> None:
     dynamic program, the edge flips, the vertex normals and areas (λ-H lagged solves), the
     faces' derivative blocks (λ-H Newton steps)."""
     vertices, faces, loop = warmup_mesh()
-    metrics.point_mesh_distance(vertices[:3], vertices, faces)
+    metrics.warm(vertices, faces)
     faired_fill(vertices, faces, loop, 2)
     vertex_normals_and_areas(vertices, faces)
     face_derivatives.warm(vertices, faces)

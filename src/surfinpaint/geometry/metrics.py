@@ -199,6 +199,47 @@ def _min_distance_loops(points, tri, cand, start, out):  # pragma: no cover - co
 _MIN_DISTANCE_KERNEL = Kernel(_min_distance_loops, nogil=True)
 
 
+def _ball_loops(points, radius, axis, order, sorted_x, centroid, start, cand):  # pragma: no cover
+    """The ids of the centroids within ``radius[i]`` of ``points[i]``, compiled by numba:
+    those in a window around the point along ``axis`` (``sorted_x``: the centroids'
+    coordinates on it in increasing order, ``order`` their ids), then the full test. With
+    an empty ``cand`` each point's count is written to ``start[i + 1]``; else its ids from
+    ``start[i]`` on. The window is wider than the radius by far more than the rounding of
+    its ends, so that it leaves out no centroid the full test keeps."""
+    fill = len(cand) > 0
+    n = len(sorted_x)
+    for i in range(len(points)):
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        x = points[i, axis]
+        r = radius[i]
+        rr = r * r
+        half = r * (1.0 + 1e-6) + 1e-9 * abs(x)
+        low, high = 0, n
+        while low < high:  # the first centroid at or beyond x - half
+            mid = (low + high) // 2
+            if sorted_x[mid] < x - half:
+                low = mid + 1
+            else:
+                high = mid
+        k = start[i] if fill else 0
+        end = x + half
+        for j in range(low, n):
+            if sorted_x[j] > end:
+                break
+            t = order[j]
+            dx, dy, dz = centroid[t, 0] - px, centroid[t, 1] - py, centroid[t, 2] - pz
+            if dx * dx + dy * dy + dz * dz <= rr:
+                if fill:
+                    cand[k] = t
+                k += 1
+        if not fill:
+            start[i + 1] = k
+
+
+# a ball query of thousands of points: in a compiled loop it makes no Python lists
+_BALL_KERNEL = Kernel(_ball_loops, nogil=True)
+
+
 def _numba_kernel():
     """The compiled min-distance kernel, or None without numba."""
     return _MIN_DISTANCE_KERNEL.get()
@@ -219,6 +260,7 @@ class _TriangleIndex:
         self.centroid = self.tri.mean(axis=1)
         self.rho = np.sqrt(((self.tri - self.centroid[:, None]) ** 2).sum(-1).max())
         self._tree = None
+        self._by_x = None  # an axis, the centroids' order on it, their coordinates so ordered
         self.use_numba = True
 
     @property
@@ -254,12 +296,45 @@ class _TriangleIndex:
         # complete unless a centroid beyond the k nearest can hide a closer triangle
         todo = np.flatnonzero(dist[:, -1] <= best + self.rho)
         if len(todo):
-            lists = self.tree.query_ball_point(points[todo], best[todo] + self.rho)
-            counts = np.fromiter(map(len, lists), np.int64, len(lists))
-            start = np.concatenate([[0], np.cumsum(counts)])
-            cand = np.fromiter(itertools.chain.from_iterable(lists), np.int64, start[-1])
+            cand, start = self.within(points[todo], best[todo] + self.rho)
             best[todo] = np.minimum(best[todo], self._min_exact(points[todo], cand, start))
         return best, dist, near
+
+    def within(self, points: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The triangles whose centroid is within ``radius`` of each point: ``(cand,
+        start)``, point ``i``'s ids ``cand[start[i]:start[i + 1]]``.
+
+        The compiled search keeps every centroid within the radius widened by 1e-9 of it
+        and of the coordinates' size: the KD-tree's ball (its numpy version) and a few more
+        at its edge, each farther than the radius to rounding. The minimum over those
+        triangles is the minimum over the ball's (a triangle beyond the ball cannot be
+        closer, :class:`_TriangleIndex`), to the bit: a minimum is exact.
+        """
+        kernel = _BALL_KERNEL.get()
+
+        def compiled(kernel):
+            if self._by_x is None:  # along the longest side of the box: the fewest in a window
+                axis = int(np.argmax(np.ptp(self.centroid, axis=0)))
+                order = np.argsort(self.centroid[:, axis], kind="stable")
+                self._by_x = axis, order, np.ascontiguousarray(self.centroid[order, axis])
+            scale = float(np.nanmax(np.abs(self.centroid))) + float(np.abs(points).max())
+            wide = radius * (1.0 + 1e-9) + 1e-9 * scale
+            start = np.zeros(len(points) + 1, np.int64)
+            kernel(points, wide, *self._by_x, self.centroid, start, np.empty(0, np.int64))
+            np.cumsum(start, out=start)
+            cand = np.empty(start[-1], np.int64)
+            if len(cand):
+                kernel(points, wide, *self._by_x, self.centroid, start, cand)
+            return cand, start
+
+        def kd_tree():
+            lists = self.tree.query_ball_point(points, radius)
+            counts = np.fromiter(map(len, lists), np.int64, len(lists))
+            start = np.concatenate([[0], np.cumsum(counts)])
+            return np.fromiter(itertools.chain.from_iterable(lists), np.int64, start[-1]), start
+
+        return run(kernel if self.use_numba else None, compiled, kd_tree,
+                   cost=1e-5 * len(points) + 5e-4)  # the KD-tree's seconds, estimated
 
     def distance_after(self, points: np.ndarray, dist: np.ndarray, near: np.ndarray,
                        slack) -> np.ndarray:
@@ -326,6 +401,14 @@ def point_mesh_distances(points: np.ndarray, meshes) -> list[np.ndarray]:
         first = first or (index, dist, near)
         out.append(best)
     return out
+
+
+def warm(vertices: np.ndarray, faces: np.ndarray) -> None:
+    """Load (or compile) the distance kernels by one call each on a mesh
+    (:mod:`surfinpaint.fill.warmup`; the calls' types are a real fill's)."""
+    index = _TriangleIndex(vertices, faces)
+    index.distance(vertices[:3])
+    index.within(vertices[:3], np.ones(3))
 
 
 def point_mesh_distance(points: np.ndarray, vertices: np.ndarray,

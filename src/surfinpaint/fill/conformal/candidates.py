@@ -102,7 +102,8 @@ class Candidates:
         return np.asarray(new_v, dtype=float), np.asarray(new_f, dtype=np.int64)
 
     def lambda_h(self, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
-                 s0: tuple[np.ndarray, np.ndarray], *, test: bool = False) -> Fill:
+                 s0: tuple[np.ndarray, np.ndarray], *, test: bool = False,
+                 crease_only: bool = False) -> Fill:
         """The λ-H fill from S0; along a crease that crosses the hole when one does (as a
         smooth hole when that fails).
 
@@ -110,6 +111,11 @@ class Candidates:
         surface: its coupled solve stops at a coarser step and is not retried on the
         subdivided patch where it fails, and the costly self-intersection check is left to
         the hole's own fill.
+
+        ``crease_only``: where no crease fill is made (no crease found, or its fill failed),
+        raise instead of filling the hole as a smooth one: a test hole of a hole a crease
+        crosses scores only a crease fill (:meth:`for_tests`), so the smooth fill would be
+        made and thrown away.
 
         Raises
         ------
@@ -130,7 +136,11 @@ class Candidates:
                                     cut_edges=cut_edges)
                 return replace(fill, crease=_crease_words(creases))
             except NUMERICAL_ERRORS as exc:
+                if crease_only:
+                    raise FillError(f"the crease fill failed ({exc})") from exc
                 crease_failure = f"the crease fill failed ({exc}), filled as a smooth hole"
+        if crease_only:
+            raise FillError("no crease crosses the test hole")
         try:
             fill = self._passes(vertices, faces, loop, *s0, test=test)
         except FillError as exc:
@@ -150,10 +160,9 @@ class Candidates:
                 return out
             s0 = self.initial(vertices, faces, loop, out)
             try:
-                made = self.lambda_h(vertices, faces, loop, s0, test=True)
-                if self.crossed and made.crease is None:
-                    raise FillError("no crease crosses the test hole")
-                out["conformal"] = made
+                # a test hole of a hole a crease crosses scores only a crease fill
+                out["conformal"] = self.lambda_h(vertices, faces, loop, s0, test=True,
+                                                 crease_only=self.crossed)
             except FillError as exc:
                 out["conformal"] = exc
             return out

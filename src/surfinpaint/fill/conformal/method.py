@@ -186,7 +186,7 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     sibling = {}
     if run:
         sibling = sibling_scores(vertices, faces, loop,
-                                 candidates.for_tests(with_lambda_h=with_lambda_h),
+                                 _lambda_h_until_it_fails(candidates, with_lambda_h),
                                  siblings=o.siblings, gap_rings=o.gap_rings,
                                  patch_rings=o.rings_in_patch, graph=graph,
                                  detail=sibling_detail)
@@ -196,6 +196,30 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
         verdict = demoted(verdict, advantages_over(hidden_detail, sibling_detail, reference),
                           o.significance, crossed=candidates.crossed)
     return verdict
+
+
+def _lambda_h_until_it_fails(candidates: Candidates, with_lambda_h: bool = True):
+    """The sibling test's fills (:meth:`Candidates.for_tests`), without the λ-H fill once it
+    has failed on a sibling hole: that failure is given again for the later holes.
+
+    Why it changes nothing: the sibling test's λ-H score is the mean over its holes
+    (:func:`~surfinpaint.fill.selfcheck.sibling_scores`), infinite once one of them is, and
+    a test whose λ-H score is infinite says nothing for it (:func:`choose`, :func:`demoted`):
+    the later holes' λ-H fills could change no score, note or choice. Their faired fills,
+    which score, are made as before (and the λ-H fill is the last candidate scored, so the
+    faired fills' distances are searched as before)."""
+    with_it = candidates.for_tests(with_lambda_h=with_lambda_h)
+    faired_only = candidates.for_tests(with_lambda_h=False)
+    failed: list[FillError] = []
+
+    def fills(vertices, faces, loop):
+        if failed:
+            return {**faired_only(vertices, faces, loop), "conformal": failed[0]}
+        out = with_it(vertices, faces, loop)
+        if isinstance(out.get("conformal"), FillError):
+            failed.append(out["conformal"])
+        return out
+    return fills
 
 
 def _noting_creases(fills, creased: list):
