@@ -19,9 +19,12 @@ from collections.abc import Mapping
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.fill.attributes import (
     DirichletSolve,
+    HoleDomain,
+    attribute_kind,
     attribute_rows,
     channel_ranges,
     hole_blocks,
@@ -29,7 +32,7 @@ from surfinpaint.fill.attributes import (
     inpaint_values,
     labels_by_indicators,
 )
-from surfinpaint.geometry.mesh import edge_faces
+from surfinpaint.geometry.mesh import edge_faces, vertex_normals
 from surfinpaint.io.base import MeshWarning
 
 __all__ = ["fill_corner_attributes", "fill_face_attributes", "fill_result_corner_attributes",
@@ -126,6 +129,67 @@ def fill_result_face_attributes(
     return {name: np.concatenate(blocks) for name, blocks in parts.items()}
 
 
+def _chart_faces(faces: np.ndarray, values: np.ndarray, loop: np.ndarray) -> np.ndarray | None:
+    """The faces of the chart the hole's loop lies in: those joined to the faces along the
+    loop across edges whose two ends have the same value in both faces (a UV seam cuts the
+    patch into charts). None when the faces along the loop lie in several charts (a seam
+    reaches the loop) or a value is missing (NaN) there.
+
+    Parameters
+    ----------
+    faces : (p, 3) int array
+    values : (p, 3, k) float array
+        Each face's corner values.
+    loop : (q,) int array
+    """
+    corner_edges = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
+    corner_values = np.concatenate([values, np.roll(values, -1, axis=1)],
+                                   axis=2).reshape(len(corner_edges), -1)
+    owner = np.repeat(np.arange(len(faces)), 3)
+    key = np.sort(corner_edges, axis=1)
+    order = np.lexsort(key.T[::-1])
+    key, owner, corner_edges, corner_values = (key[order], owner[order], corner_edges[order],
+                                               corner_values[order])
+    twin = np.flatnonzero((key[1:] == key[:-1]).all(axis=1))  # two faces on one edge
+    k = values.shape[2]
+    # the second face runs the edge the other way: its values at (b, a) are at (a, b)
+    swapped = np.concatenate([corner_values[twin + 1, k:], corner_values[twin + 1, :k]], axis=1)
+    joined = twin[(corner_values[twin] == swapped).all(axis=1)]
+    graph = sp.coo_matrix((np.ones(len(joined)), (owner[joined], owner[joined + 1])),
+                          shape=(len(faces), len(faces)))
+    _, chart = connected_components(graph, directed=False)
+    loop = np.asarray(loop, dtype=np.int64)
+    size = int(max(faces.max(), loop.max())) + 1
+    loop_keys = np.sort(np.stack([loop, np.roll(loop, -1)], axis=1), axis=1) @ [size, 1]
+    along = np.unique(owner[np.isin(key @ [size, 1], loop_keys)])
+    if len(along) == 0 or len(np.unique(chart[along])) != 1 \
+            or np.isnan(values[along]).any():
+        return None
+    return np.flatnonzero(chart == chart[along[0]])
+
+
+def _corner_normals(vertices: np.ndarray, dom: HoleDomain, known: np.ndarray,
+                    ring_faces: np.ndarray, values: np.ndarray,
+                    fill_faces: np.ndarray) -> np.ndarray:
+    """Normals for the new faces' corners, the per-vertex rule's: at a loop vertex with one
+    normal on all its corners in the patch, that normal (smooth shading continues); elsewhere
+    (new vertices, a hard edge through the loop vertex) the filled surface's area-weighted
+    unit normal, pointing the way the given normals point."""
+    normals = vertex_normals(vertices[dom.ids], dom.faces)
+    corner_vertex = ring_faces.ravel()
+    given = values.reshape(-1, 3)
+    finite = np.isfinite(given).all(axis=1)
+    if np.einsum("ij,ij->", normals[corner_vertex[finite]], given[finite]) < 0:
+        normals = -normals
+    low = np.full((len(dom.ids), 3), np.inf)
+    high = np.full((len(dom.ids), 3), -np.inf)
+    np.minimum.at(low, corner_vertex, given)
+    np.maximum.at(high, corner_vertex, given)
+    single = known & np.all(low == high, axis=1)
+    out = np.where(single[:, None], low, normals)
+    return out[fill_faces]
+
+
 def fill_corner_attributes(
     vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
     new_ids: np.ndarray, corner_attributes: Mapping[str, np.ndarray], *, rings: int = 3,
@@ -133,9 +197,12 @@ def fill_corner_attributes(
 ) -> dict[str, np.ndarray]:
     """Values of every per-corner attribute at the corners of the faces a fill added.
 
-    Rule (see the module docstring): per vertex on the hole's patch when the patch has one
-    value at each vertex (one chart), inpainted biharmonically over the new vertices and
-    clamped to the attribute's range; NaN with a warning where a seam crosses the patch.
+    Rule (see the module docstring): normals (a float ``(f, 3, 3)`` array named like one,
+    :func:`~surfinpaint.fill.attributes.attribute_kind`) are the surface's, as per vertex
+    (:func:`_corner_normals`); other values are inpainted biharmonically over the new
+    vertices from the corners of the chart the loop lies in (:func:`_chart_faces`: a seam
+    elsewhere in the patch is no obstacle) and clamped to the attribute's range; NaN with a
+    warning where a seam reaches the loop.
 
     Parameters
     ----------
@@ -162,27 +229,38 @@ def fill_corner_attributes(
     in_patch = np.zeros(len(vertices), dtype=bool)
     in_patch[dom.ids] = True
     ring = in_patch[faces].all(axis=1)
-    corner_vertex = np.searchsorted(dom.ids, faces[ring].ravel())
+    ring_faces = np.searchsorted(dom.ids, faces[ring])
     known = ~np.isin(dom.ids, new_ids)
-    out = {}
+    local_fill = np.searchsorted(dom.ids, fill_faces)
+    loop_local = np.searchsorted(dom.ids, loop)
+    out = {name: np.full((len(fill_faces), 3, a.shape[2]), np.nan) for name, a in arrays.items()}
     for name, a in arrays.items():
         k = a.shape[2]
-        values = np.asarray(a, dtype=float)[ring].reshape(-1, k)
+        values = np.asarray(a, dtype=float)[ring]
+        if k == 3 and attribute_kind(name, values[:, 0]) == "normal":
+            out[name] = _corner_normals(vertices, dom, known, ring_faces, values,
+                                        local_fill).astype(a.dtype)
+            continue
+        chart = _chart_faces(ring_faces, values, loop_local)
+        given = np.zeros(len(dom.ids), dtype=bool)
         low = np.full((len(dom.ids), k), np.inf)
         high = np.full((len(dom.ids), k), -np.inf)
-        np.minimum.at(low, corner_vertex, values)  # NaN (no value) propagates
-        np.maximum.at(high, corner_vertex, values)
-        single = known & np.all(low == high, axis=1)
-        if not np.array_equal(single, known):
+        if chart is not None:
+            corner_vertex = ring_faces[chart].ravel()
+            given[corner_vertex] = True
+            np.minimum.at(low, corner_vertex, values[chart].reshape(-1, k))
+            np.maximum.at(high, corner_vertex, values[chart].reshape(-1, k))
+        # one value on all its corners in the chart (not where a seam ends inside it)
+        single = given & np.all(low == high, axis=1)
+        if chart is None or not single[loop_local].all():
             warnings.warn(f"hole {'' if hole is None else hole}: corner attribute {name!r} "
-                          f"has several values or none at {int((known & ~single).sum())} "
-                          "vertices around the hole (a seam): its new faces' corners get "
-                          "no value (NaN)", MeshWarning, stacklevel=3)
-            out[name] = np.full((len(fill_faces), 3, k), np.nan)
+                          "has several values or none along the hole's loop (a seam reaches "
+                          "it): its new faces' corners get no value (NaN)", MeshWarning,
+                          stacklevel=3)
             continue
-        low[~known] = 0.0
-        filled = inpaint_values(dom.domain, dom.faces, known, low)
-        limits = channel_ranges(values)
+        low[~single] = 0.0
+        filled = inpaint_values(dom.domain, dom.faces, single, low)
+        limits = channel_ranges(values.reshape(-1, k))
         filled = np.clip(filled, limits[0], limits[1])
         out[name] = filled[np.searchsorted(dom.ids, fill_faces)].astype(a.dtype)
     return out
