@@ -447,7 +447,7 @@ def test_trimesh_and_pyvista_are_optional_at_import():
     assert out.stdout.strip() == "no trimesh"
 
 
-def test_corner_attributes_carried_in_one_chart_and_not_across_a_seam(filled_sphere):
+def test_corner_attributes_carried_in_one_chart_and_continued_at_a_seam(filled_sphere):
     from surfinpaint.fill.face_attributes import fill_result_corner_attributes
 
     v, f, result, _ = filled_sphere
@@ -463,9 +463,12 @@ def test_corner_attributes_carried_in_one_chart_and_not_across_a_seam(filled_sph
     loop_vertex = result.reports[0].loop[0]
     face = np.flatnonzero((f == loop_vertex).any(axis=1))[0]
     seam[face, f[face] == loop_vertex] += 1.0
-    with pytest.warns(MeshWarning, match="'uv' has several values or none along the hole's loop"):
+    with pytest.warns(MeshWarning, match="a seam of corner attribute 'uv' reaches the hole's "
+                                         "loop"):
         cut = fill_result_corner_attributes(result, {"uv": seam})["uv"]
-    assert np.isnan(cut[len(f):]).all() and np.array_equal(cut[: len(f)], seam)
+    # the chart is continued: the seamed loop vertex's new corners extrapolated
+    assert np.array_equal(cut[: len(f)], seam)
+    assert np.abs(cut[len(f):] - result.vertices[result.new_faces][:, :, [0, 2]]).max() < 0.05
     with pytest.raises(ValueError, match="must be a float"):
         fill_result_corner_attributes(result, {"uv": np.zeros((len(f), 3), np.float32)})
 

@@ -59,19 +59,41 @@ def test_a_uv_seam_in_the_patch_away_from_the_loop_still_gives_the_new_faces_uv(
     assert np.abs(new - result.vertices[result.new_faces][:, :, [0, 2]]).max() < 0.02
 
 
-def test_a_seam_reaching_the_loop_still_gives_no_uv_with_a_warning(filled_sphere):
+def test_a_seam_through_the_hole_continues_the_chart_along_most_of_the_loop(filled_sphere):
+    # a seam running through the hole gave every new face no uv (NaN): written without vt,
+    # and trimesh then loads the whole OBJ without texture coordinates
     v, f, result = filled_sphere
     uv = v[f][:, :, [0, 2]]
     loop = result.reports[0].loop
     ring = _rings_from_loop(f, loop, len(v))
     centre = v[loop].mean(axis=0)
-    side = (v[f].mean(axis=1) - centre) @ np.cross(centre, [0.0, 0.0, 1.0]) > 0
+    # the seam's plane leaves more of the loop on the unshifted side
+    side = (v[f].mean(axis=1) - centre - 0.25 * np.cross(centre, [0.0, 0.0, 1.0])) \
+        @ np.cross(centre, [0.0, 0.0, 1.0]) > 0
     seamed = uv.copy()
-    seamed[side & (ring[f] >= 0).all(axis=1)] += 3.0  # the seam runs through the hole
-    with pytest.warns(MeshWarning, match="'uv' has several values or none along the hole's "
-                                         "loop"):
+    seamed[side & (ring[f] >= 0).all(axis=1)] += 3.0
+    with pytest.warns(MeshWarning, match=r"a seam of corner attribute 'uv' reaches the hole's "
+                                         r"loop: the new faces' values continue the chart "
+                                         r"along \d+ of its \d+ edges"):
         out = fill_result_corner_attributes(result, {"uv": seamed})["uv"]
-    assert np.isnan(out[len(f):]).all() and np.array_equal(out[: len(f)], seamed)
+    assert np.array_equal(out[: len(f)], seamed)
+    new = out[len(f):]
+    assert not np.isnan(new).any()
+    # every new corner in the unshifted chart (3.0 away from the other), near the positions'
+    # x and z: extrapolated across the seam's side of the hole (0.6 in radius) by the
+    # biharmonic, whose error grows away from the chart
+    error = np.abs(new - result.vertices[result.new_faces][:, :, [0, 2]])
+    assert error.max() < 0.2 and error.mean() < 0.03
+
+
+def test_corners_without_a_value_along_the_loop_give_none(filled_sphere):
+    v, f, result = filled_sphere
+    uv = v[f][:, :, [0, 2]]
+    uv[np.isin(f, result.reports[0].loop).any(axis=1)] = np.nan  # the loop's faces untextured
+    with pytest.warns(MeshWarning, match="'uv' has no value along the hole's loop"):
+        out = fill_result_corner_attributes(result, {"uv": uv})["uv"]
+    assert np.isnan(out[len(f):]).all()
+    assert np.array_equal(out[: len(f)], uv, equal_nan=True)
 
 
 @pytest.mark.parametrize("inward", [False, True])
@@ -169,3 +191,36 @@ def test_a_pyvista_mesh_comes_back_with_its_active_texture_coordinates_and_no_ne
     poly.point_data.active_scalars_name = "thickness"
     assert fill_holes(poly, method="fair").to_pyvista().point_data.active_scalars_name == \
         "thickness"
+
+
+def test_a_filled_obj_with_a_seam_through_a_hole_opens_in_trimesh_with_its_uv(tmp_path,
+                                                                              capsys):
+    # the new faces had no vt (a seam reached the loop), and trimesh loads an OBJ whose faces
+    # do not all have one without any texture coordinates: the texture was gone
+    trimesh = pytest.importorskip("trimesh")
+    from surfinpaint.app.cli import main
+    from surfinpaint.io import MeshData, read_mesh_data, write_mesh_data
+
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], [0.5])
+    corners = cut.vertices[cut.faces][:, :, [0, 2]] * 0.4 + 0.5
+    # a seam through the hole: the faces on one side of a plane through its centre in a
+    # chart of their own
+    across = np.cross(v[0], [0.0, 0.0, 1.0]) if abs(v[0][2]) < 0.9 else np.array([1.0, 0, 0])
+    corners[(cut.vertices[cut.faces].mean(axis=1) - v[0]) @ across > 0] += [0.0, 0.02]
+    (tmp_path / "in.mtl").write_text("newmtl skin\nKd 1 1 1\n")
+    mesh = MeshData(cut.vertices, cut.faces, {}, {"material": np.full(len(cut.faces), "skin")},
+                    {"uv": corners}, {"mtllib": "in.mtl"})
+    write_mesh_data(tmp_path / "in.obj", mesh)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MeshWarning)
+        assert main(["fill", str(tmp_path / "in.obj"), "-o", str(tmp_path / "out.obj"),
+                     "--method", "fair"]) == 0
+        back = read_mesh_data(tmp_path / "out.obj")
+    assert "a seam of corner attribute 'uv' reaches the hole's loop" in capsys.readouterr().err
+    assert len(back.faces) > len(cut.faces)
+    assert not np.isnan(back.corner_attributes["uv"]).any()
+    assert set(back.face_attributes["material"]) == {"skin"}
+    loaded = trimesh.load(tmp_path / "out.obj", force="mesh", process=False)
+    assert loaded.visual.kind == "texture" and loaded.visual.uv is not None
+    assert loaded.visual.uv.shape == (len(loaded.vertices), 2)

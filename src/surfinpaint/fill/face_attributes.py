@@ -5,11 +5,16 @@ material id or a face colour continues into the hole), by the random-walker rule
 :func:`surfinpaint.fill.attributes.inpaint_labels` on the fill's dual graph.
 
 Corner data (``(f, 3, k)``: values that may differ between the faces around a vertex, such as
-texture coordinates at a UV seam) are carried per vertex where the hole's patch lies in one
-chart: when every patch vertex has one value on all its corners in the patch, those values
-are inpainted like a per-vertex attribute and the new faces' corners take them. Where a seam
-crosses the patch (or a patch corner has no value, NaN) there is no one value to continue:
-the new faces' corners are NaN ("no value") and a warning names the hole and the attribute.
+texture coordinates at a UV seam) are continued in the chart the hole's loop lies in: the
+patch's faces joined to the faces along the loop across edges without a seam; each vertex
+with one value on all its corners in that chart is known, and the new vertices' values are
+inpainted from them like a per-vertex attribute (a seam elsewhere in the patch is no
+obstacle). Where a seam reaches the loop, the chart along most of the loop is continued
+across the hole (its values extrapolated to the other loop vertices: the seam runs on along
+the loop there), with a warning. Only where no face along the loop has a value (NaN) do the
+new corners get none. Normals per corner (hard edges) are the filled surface's, as per
+vertex: a loop vertex with one normal keeps it on the new corners (smooth shading
+continues), the others take the surface's unit normal.
 """
 
 from __future__ import annotations
@@ -129,11 +134,12 @@ def fill_result_face_attributes(
     return {name: np.concatenate(blocks) for name, blocks in parts.items()}
 
 
-def _chart_faces(faces: np.ndarray, values: np.ndarray, loop: np.ndarray) -> np.ndarray | None:
+def _chart_faces(faces: np.ndarray, values: np.ndarray, loop: np.ndarray
+                 ) -> tuple[np.ndarray, int, int] | None:
     """The faces of the chart the hole's loop lies in: those joined to the faces along the
     loop across edges whose two ends have the same value in both faces (a UV seam cuts the
-    patch into charts). None when the faces along the loop lie in several charts (a seam
-    reaches the loop) or a value is missing (NaN) there.
+    patch into charts). Where a seam reaches the loop, the chart along most of the loop's
+    edges. None when no face along the loop has all its values (NaN: none given).
 
     Parameters
     ----------
@@ -141,6 +147,13 @@ def _chart_faces(faces: np.ndarray, values: np.ndarray, loop: np.ndarray) -> np.
     values : (p, 3, k) float array
         Each face's corner values.
     loop : (q,) int array
+
+    Returns
+    -------
+    chart : (c,) int array
+        Ids of the chart's faces.
+    edges, loop_edges : int
+        The loop's edges along the chart's faces, and all the loop's edges.
     """
     corner_edges = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
     corner_values = np.concatenate([values, np.roll(values, -1, axis=1)],
@@ -148,8 +161,7 @@ def _chart_faces(faces: np.ndarray, values: np.ndarray, loop: np.ndarray) -> np.
     owner = np.repeat(np.arange(len(faces)), 3)
     key = np.sort(corner_edges, axis=1)
     order = np.lexsort(key.T[::-1])
-    key, owner, corner_edges, corner_values = (key[order], owner[order], corner_edges[order],
-                                               corner_values[order])
+    key, owner, corner_values = key[order], owner[order], corner_values[order]
     twin = np.flatnonzero((key[1:] == key[:-1]).all(axis=1))  # two faces on one edge
     k = values.shape[2]
     # the second face runs the edge the other way: its values at (b, a) are at (a, b)
@@ -158,14 +170,17 @@ def _chart_faces(faces: np.ndarray, values: np.ndarray, loop: np.ndarray) -> np.
     graph = sp.coo_matrix((np.ones(len(joined)), (owner[joined], owner[joined + 1])),
                           shape=(len(faces), len(faces)))
     _, chart = connected_components(graph, directed=False)
+    chart[np.isnan(values).any(axis=(1, 2))] = -1  # a face without a value is in no chart
     loop = np.asarray(loop, dtype=np.int64)
     size = int(max(faces.max(), loop.max())) + 1
     loop_keys = np.sort(np.stack([loop, np.roll(loop, -1)], axis=1), axis=1) @ [size, 1]
-    along = np.unique(owner[np.isin(key @ [size, 1], loop_keys)])
-    if len(along) == 0 or len(np.unique(chart[along])) != 1 \
-            or np.isnan(values[along]).any():
+    along = chart[owner[np.isin(key @ [size, 1], loop_keys)]]  # one a loop edge
+    along = along[along >= 0]
+    if len(along) == 0:
         return None
-    return np.flatnonzero(chart == chart[along[0]])
+    charts, counts = np.unique(along, return_counts=True)
+    return (np.flatnonzero(chart == charts[np.argmax(counts)]), int(counts.max()),
+            len(loop))
 
 
 def _corner_normals(vertices: np.ndarray, dom: HoleDomain, known: np.ndarray,
@@ -201,8 +216,9 @@ def fill_corner_attributes(
     :func:`~surfinpaint.fill.attributes.attribute_kind`) are the surface's, as per vertex
     (:func:`_corner_normals`); other values are inpainted biharmonically over the new
     vertices from the corners of the chart the loop lies in (:func:`_chart_faces`: a seam
-    elsewhere in the patch is no obstacle) and clamped to the attribute's range; NaN with a
-    warning where a seam reaches the loop.
+    elsewhere in the patch is no obstacle; where a seam reaches the loop, the chart along
+    most of it, with a warning) and clamped to the attribute's range; NaN with a warning
+    where no face along the loop has a value.
 
     Parameters
     ----------
@@ -241,28 +257,31 @@ def fill_corner_attributes(
             out[name] = _corner_normals(vertices, dom, known, ring_faces, values,
                                         local_fill).astype(a.dtype)
             continue
-        chart = _chart_faces(ring_faces, values, loop_local)
-        given = np.zeros(len(dom.ids), dtype=bool)
-        low = np.full((len(dom.ids), k), np.inf)
-        high = np.full((len(dom.ids), k), -np.inf)
-        if chart is not None:
+        found = _chart_faces(ring_faces, values, loop_local)
+        if found is not None:
+            chart, edges, loop_edges = found
             corner_vertex = ring_faces[chart].ravel()
-            given[corner_vertex] = True
+            low = np.full((len(dom.ids), k), np.inf)
+            high = np.full((len(dom.ids), k), -np.inf)
             np.minimum.at(low, corner_vertex, values[chart].reshape(-1, k))
             np.maximum.at(high, corner_vertex, values[chart].reshape(-1, k))
-        # one value on all its corners in the chart (not where a seam ends inside it)
-        single = given & np.all(low == high, axis=1)
-        if chart is None or not single[loop_local].all():
+            # one value on all its corners in the chart (not where a seam ends inside it)
+            single = np.all(low == high, axis=1)
+        if found is None or not single.any():
             warnings.warn(f"hole {'' if hole is None else hole}: corner attribute {name!r} "
-                          "has several values or none along the hole's loop (a seam reaches "
-                          "it): its new faces' corners get no value (NaN)", MeshWarning,
-                          stacklevel=3)
+                          "has no value along the hole's loop: its new faces' corners get "
+                          "none (NaN)", MeshWarning, stacklevel=3)
             continue
+        if edges < loop_edges or not single[loop_local].all():
+            warnings.warn(f"hole {'' if hole is None else hole}: a seam of corner attribute "
+                          f"{name!r} reaches the hole's loop: the new faces' values continue "
+                          f"the chart along {edges} of its {loop_edges} edges across the hole "
+                          "(the seam runs on along the others)", MeshWarning, stacklevel=3)
         low[~single] = 0.0
         filled = inpaint_values(dom.domain, dom.faces, single, low)
         limits = channel_ranges(values.reshape(-1, k))
         filled = np.clip(filled, limits[0], limits[1])
-        out[name] = filled[np.searchsorted(dom.ids, fill_faces)].astype(a.dtype)
+        out[name] = filled[local_fill].astype(a.dtype)
     return out
 
 
