@@ -224,3 +224,20 @@ def test_a_filled_obj_with_a_seam_through_a_hole_opens_in_trimesh_with_its_uv(tm
     loaded = trimesh.load(tmp_path / "out.obj", force="mesh", process=False)
     assert loaded.visual.kind == "texture" and loaded.visual.uv is not None
     assert loaded.visual.uv.shape == (len(loaded.vertices), 2)
+
+
+def test_a_pyvista_mesh_with_a_point_per_face_corner_is_told_to_clean():
+    # pyvista.read of an OBJ with texture coordinates gives every face its own points: no
+    # face joins another, nothing is filled, and the hint named trimesh and MeshLab only
+    pyvista = pytest.importorskip("pyvista")
+    v, f = sphere(2)
+    cut = cut_holes(v, f, [0], [0.6])
+    corners = cut.vertices[cut.faces].reshape(-1, 3)
+    own = np.arange(len(corners)).reshape(-1, 3)
+    poly = pyvista.PolyData(corners, np.column_stack([np.full(len(own), 3), own]).ravel())
+    with pytest.warns(MeshWarning, match=r"PyVista's OBJ reader at every face.*PyVista: "
+                                         r"mesh\.clean\(\)"):
+        result = fill_holes(poly, method="fair")
+    assert len(result.new_faces) == 0
+    filled = fill_holes(poly.clean(), method="fair")
+    assert len(filled.new_faces) > 0
