@@ -334,8 +334,7 @@ def test_trimesh_texture_uv_comes_back_as_visual_uv_and_a_scene_is_refused(holed
     v, f = holed_sphere
     uv = v[:, :2] * 0.5 + 0.5
     mesh = trimesh.Trimesh(v, f, process=False, visual=trimesh.visual.TextureVisuals(uv=uv))
-    with pytest.warns(MeshWarning, match="image and material are not"):
-        result = fill_holes(mesh, method="fair")
+    result = fill_holes(mesh, method="fair")
     out = result.to_trimesh()
     assert out.visual.kind == "texture" and "uv" not in out.vertex_attributes
     assert out.visual.uv.shape == (len(result.vertices), 2)
@@ -448,7 +447,7 @@ def test_trimesh_and_pyvista_are_optional_at_import():
     assert out.stdout.strip() == "no trimesh"
 
 
-def test_corner_attributes_carried_in_one_chart_and_not_across_a_seam(filled_sphere):
+def test_corner_attributes_carried_in_one_chart_and_continued_at_a_seam(filled_sphere):
     from surfinpaint.fill.face_attributes import fill_result_corner_attributes
 
     v, f, result, _ = filled_sphere
@@ -464,9 +463,12 @@ def test_corner_attributes_carried_in_one_chart_and_not_across_a_seam(filled_sph
     loop_vertex = result.reports[0].loop[0]
     face = np.flatnonzero((f == loop_vertex).any(axis=1))[0]
     seam[face, f[face] == loop_vertex] += 1.0
-    with pytest.warns(MeshWarning, match="'uv' has several values or none at 1 vertices"):
+    with pytest.warns(MeshWarning, match="a seam of corner attribute 'uv' reaches the hole's "
+                                         "loop"):
         cut = fill_result_corner_attributes(result, {"uv": seam})["uv"]
-    assert np.isnan(cut[len(f):]).all() and np.array_equal(cut[: len(f)], seam)
+    # the chart is continued: the seamed loop vertex's new corners extrapolated
+    assert np.array_equal(cut[: len(f)], seam)
+    assert np.abs(cut[len(f):] - result.vertices[result.new_faces][:, :, [0, 2]]).max() < 0.05
     with pytest.raises(ValueError, match="must be a float"):
         fill_result_corner_attributes(result, {"uv": np.zeros((len(f), 3), np.float32)})
 

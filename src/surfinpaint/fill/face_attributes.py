@@ -5,11 +5,16 @@ material id or a face colour continues into the hole), by the random-walker rule
 :func:`surfinpaint.fill.attributes.inpaint_labels` on the fill's dual graph.
 
 Corner data (``(f, 3, k)``: values that may differ between the faces around a vertex, such as
-texture coordinates at a UV seam) are carried per vertex where the hole's patch lies in one
-chart: when every patch vertex has one value on all its corners in the patch, those values
-are inpainted like a per-vertex attribute and the new faces' corners take them. Where a seam
-crosses the patch (or a patch corner has no value, NaN) there is no one value to continue:
-the new faces' corners are NaN ("no value") and a warning names the hole and the attribute.
+texture coordinates at a UV seam) are continued in the chart the hole's loop lies in: the
+patch's faces joined to the faces along the loop across edges without a seam; each vertex
+with one value on all its corners in that chart is known, and the new vertices' values are
+inpainted from them like a per-vertex attribute (a seam elsewhere in the patch is no
+obstacle). Where a seam reaches the loop, the chart along most of the loop is continued
+across the hole (its values extrapolated to the other loop vertices: the seam runs on along
+the loop there), with a warning. Only where no face along the loop has a value (NaN) do the
+new corners get none. Normals per corner (hard edges) are the filled surface's, as per
+vertex: a loop vertex with one normal keeps it on the new corners (smooth shading
+continues), the others take the surface's unit normal.
 """
 
 from __future__ import annotations
@@ -19,9 +24,12 @@ from collections.abc import Mapping
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.fill.attributes import (
     DirichletSolve,
+    HoleDomain,
+    attribute_kind,
     attribute_rows,
     channel_ranges,
     hole_blocks,
@@ -29,7 +37,7 @@ from surfinpaint.fill.attributes import (
     inpaint_values,
     labels_by_indicators,
 )
-from surfinpaint.geometry.mesh import edge_faces
+from surfinpaint.geometry.mesh import edge_faces, vertex_normals
 from surfinpaint.io.base import MeshWarning
 
 __all__ = ["fill_corner_attributes", "fill_face_attributes", "fill_result_corner_attributes",
@@ -126,6 +134,77 @@ def fill_result_face_attributes(
     return {name: np.concatenate(blocks) for name, blocks in parts.items()}
 
 
+def _chart_faces(faces: np.ndarray, values: np.ndarray, loop: np.ndarray
+                 ) -> tuple[np.ndarray, int, int] | None:
+    """The faces of the chart the hole's loop lies in: those joined to the faces along the
+    loop across edges whose two ends have the same value in both faces (a UV seam cuts the
+    patch into charts). Where a seam reaches the loop, the chart along most of the loop's
+    edges. None when no face along the loop has all its values (NaN: none given).
+
+    Parameters
+    ----------
+    faces : (p, 3) int array
+    values : (p, 3, k) float array
+        Each face's corner values.
+    loop : (q,) int array
+
+    Returns
+    -------
+    chart : (c,) int array
+        Ids of the chart's faces.
+    edges, loop_edges : int
+        The loop's edges along the chart's faces, and all the loop's edges.
+    """
+    corner_edges = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
+    corner_values = np.concatenate([values, np.roll(values, -1, axis=1)],
+                                   axis=2).reshape(len(corner_edges), -1)
+    owner = np.repeat(np.arange(len(faces)), 3)
+    key = np.sort(corner_edges, axis=1)
+    order = np.lexsort(key.T[::-1])
+    key, owner, corner_values = key[order], owner[order], corner_values[order]
+    twin = np.flatnonzero((key[1:] == key[:-1]).all(axis=1))  # two faces on one edge
+    k = values.shape[2]
+    # the second face runs the edge the other way: its values at (b, a) are at (a, b)
+    swapped = np.concatenate([corner_values[twin + 1, k:], corner_values[twin + 1, :k]], axis=1)
+    joined = twin[(corner_values[twin] == swapped).all(axis=1)]
+    graph = sp.coo_matrix((np.ones(len(joined)), (owner[joined], owner[joined + 1])),
+                          shape=(len(faces), len(faces)))
+    _, chart = connected_components(graph, directed=False)
+    chart[np.isnan(values).any(axis=(1, 2))] = -1  # a face without a value is in no chart
+    loop = np.asarray(loop, dtype=np.int64)
+    size = int(max(faces.max(), loop.max())) + 1
+    loop_keys = np.sort(np.stack([loop, np.roll(loop, -1)], axis=1), axis=1) @ [size, 1]
+    along = chart[owner[np.isin(key @ [size, 1], loop_keys)]]  # one a loop edge
+    along = along[along >= 0]
+    if len(along) == 0:
+        return None
+    charts, counts = np.unique(along, return_counts=True)
+    return (np.flatnonzero(chart == charts[np.argmax(counts)]), int(counts.max()),
+            len(loop))
+
+
+def _corner_normals(vertices: np.ndarray, dom: HoleDomain, known: np.ndarray,
+                    ring_faces: np.ndarray, values: np.ndarray,
+                    fill_faces: np.ndarray) -> np.ndarray:
+    """Normals for the new faces' corners, the per-vertex rule's: at a loop vertex with one
+    normal on all its corners in the patch, that normal (smooth shading continues); elsewhere
+    (new vertices, a hard edge through the loop vertex) the filled surface's area-weighted
+    unit normal, pointing the way the given normals point."""
+    normals = vertex_normals(vertices[dom.ids], dom.faces)
+    corner_vertex = ring_faces.ravel()
+    given = values.reshape(-1, 3)
+    finite = np.isfinite(given).all(axis=1)
+    if np.einsum("ij,ij->", normals[corner_vertex[finite]], given[finite]) < 0:
+        normals = -normals
+    low = np.full((len(dom.ids), 3), np.inf)
+    high = np.full((len(dom.ids), 3), -np.inf)
+    np.minimum.at(low, corner_vertex, given)
+    np.maximum.at(high, corner_vertex, given)
+    single = known & np.all(low == high, axis=1)
+    out = np.where(single[:, None], low, normals)
+    return out[fill_faces]
+
+
 def fill_corner_attributes(
     vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
     new_ids: np.ndarray, corner_attributes: Mapping[str, np.ndarray], *, rings: int = 3,
@@ -133,9 +212,13 @@ def fill_corner_attributes(
 ) -> dict[str, np.ndarray]:
     """Values of every per-corner attribute at the corners of the faces a fill added.
 
-    Rule (see the module docstring): per vertex on the hole's patch when the patch has one
-    value at each vertex (one chart), inpainted biharmonically over the new vertices and
-    clamped to the attribute's range; NaN with a warning where a seam crosses the patch.
+    Rule (see the module docstring): normals (a float ``(f, 3, 3)`` array named like one,
+    :func:`~surfinpaint.fill.attributes.attribute_kind`) are the surface's, as per vertex
+    (:func:`_corner_normals`); other values are inpainted biharmonically over the new
+    vertices from the corners of the chart the loop lies in (:func:`_chart_faces`: a seam
+    elsewhere in the patch is no obstacle; where a seam reaches the loop, the chart along
+    most of it, with a warning) and clamped to the attribute's range; NaN with a warning
+    where no face along the loop has a value.
 
     Parameters
     ----------
@@ -162,29 +245,43 @@ def fill_corner_attributes(
     in_patch = np.zeros(len(vertices), dtype=bool)
     in_patch[dom.ids] = True
     ring = in_patch[faces].all(axis=1)
-    corner_vertex = np.searchsorted(dom.ids, faces[ring].ravel())
+    ring_faces = np.searchsorted(dom.ids, faces[ring])
     known = ~np.isin(dom.ids, new_ids)
-    out = {}
+    local_fill = np.searchsorted(dom.ids, fill_faces)
+    loop_local = np.searchsorted(dom.ids, loop)
+    out = {name: np.full((len(fill_faces), 3, a.shape[2]), np.nan) for name, a in arrays.items()}
     for name, a in arrays.items():
         k = a.shape[2]
-        values = np.asarray(a, dtype=float)[ring].reshape(-1, k)
-        low = np.full((len(dom.ids), k), np.inf)
-        high = np.full((len(dom.ids), k), -np.inf)
-        np.minimum.at(low, corner_vertex, values)  # NaN (no value) propagates
-        np.maximum.at(high, corner_vertex, values)
-        single = known & np.all(low == high, axis=1)
-        if not np.array_equal(single, known):
-            warnings.warn(f"hole {'' if hole is None else hole}: corner attribute {name!r} "
-                          f"has several values or none at {int((known & ~single).sum())} "
-                          "vertices around the hole (a seam): its new faces' corners get "
-                          "no value (NaN)", MeshWarning, stacklevel=3)
-            out[name] = np.full((len(fill_faces), 3, k), np.nan)
+        values = np.asarray(a, dtype=float)[ring]
+        if k == 3 and attribute_kind(name, values[:, 0]) == "normal":
+            out[name] = _corner_normals(vertices, dom, known, ring_faces, values,
+                                        local_fill).astype(a.dtype)
             continue
-        low[~known] = 0.0
-        filled = inpaint_values(dom.domain, dom.faces, known, low)
-        limits = channel_ranges(values)
+        found = _chart_faces(ring_faces, values, loop_local)
+        if found is not None:
+            chart, edges, loop_edges = found
+            corner_vertex = ring_faces[chart].ravel()
+            low = np.full((len(dom.ids), k), np.inf)
+            high = np.full((len(dom.ids), k), -np.inf)
+            np.minimum.at(low, corner_vertex, values[chart].reshape(-1, k))
+            np.maximum.at(high, corner_vertex, values[chart].reshape(-1, k))
+            # one value on all its corners in the chart (not where a seam ends inside it)
+            single = np.all(low == high, axis=1)
+        if found is None or not single.any():
+            warnings.warn(f"hole {'' if hole is None else hole}: corner attribute {name!r} "
+                          "has no value along the hole's loop: its new faces' corners get "
+                          "none (NaN)", MeshWarning, stacklevel=3)
+            continue
+        if edges < loop_edges or not single[loop_local].all():
+            warnings.warn(f"hole {'' if hole is None else hole}: a seam of corner attribute "
+                          f"{name!r} reaches the hole's loop: the new faces' values continue "
+                          f"the chart along {edges} of its {loop_edges} edges across the hole "
+                          "(the seam runs on along the others)", MeshWarning, stacklevel=3)
+        low[~single] = 0.0
+        filled = inpaint_values(dom.domain, dom.faces, single, low)
+        limits = channel_ranges(values.reshape(-1, k))
         filled = np.clip(filled, limits[0], limits[1])
-        out[name] = filled[np.searchsorted(dom.ids, fill_faces)].astype(a.dtype)
+        out[name] = filled[local_fill].astype(a.dtype)
     return out
 
 

@@ -9,10 +9,12 @@ What is carried (one name a per-vertex or per-face array, as in ``FillResult.att
 - ``trimesh.Trimesh``: vertex colours (``visual.vertex_colors``, RGBA uint8) as the attribute
   ``"color"`` and face colours (``visual.face_colors``) as the face attribute ``"color"`` (the
   names :mod:`surfinpaint.io` reads colours of every format under), ``vertex_attributes`` and
-  ``face_attributes``; a texture's ``uv`` as the attribute ``"uv"`` (the image and material
-  are not carried: a warning says so).
+  ``face_attributes``; a texture's ``uv`` as the attribute ``"uv"`` and its material (the
+  image) in ``FillResult.display``, which ``FillResult.to_trimesh`` gives back.
 - ``pyvista.PolyData``: ``point_data`` and ``cell_data`` (polygons fan-triangulated first,
-  with a warning; cell data then follow the triangles).
+  with a warning; cell data then follow the triangles); its active texture coordinates,
+  normals and scalars in ``FillResult.display``, made active again by
+  ``FillResult.to_pyvista``.
 """
 
 from __future__ import annotations
@@ -26,7 +28,8 @@ from surfinpaint.fill.face_attributes import fill_result_corner_attributes
 from surfinpaint.io import MeshData, MeshWarning
 from surfinpaint.io.brain import label_overlays
 
-__all__ = ["COLOUR_NAMES", "fill_mesh_data", "mesh_arrays", "to_pyvista", "to_trimesh"]
+__all__ = ["ACTIVE_ROLES", "COLOUR_NAMES", "display_of", "fill_mesh_data", "mesh_arrays",
+           "to_pyvista", "to_trimesh"]
 
 #: Attribute names that ``to_trimesh`` puts in ``visual`` (the first one found) rather than
 #: ``vertex_attributes``.
@@ -55,11 +58,14 @@ def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
     elif visual.kind == "face":
         face_attributes.setdefault("color", np.asarray(visual.face_colors))
     elif visual.kind == "texture":
+        # the material (its image) is given back by FillResult.to_trimesh (display_of)
         uv = getattr(visual, "uv", None)
         if uv is not None and len(uv) == len(mesh.vertices):
             attributes.setdefault("uv", np.asarray(uv))
-        warnings.warn("trimesh texture: the texture coordinates are carried as the attribute "
-                      "'uv', the image and material are not", MeshWarning, stacklevel=4)
+        elif uv is not None:
+            warnings.warn(f"trimesh texture: visual.uv has {len(uv)} rows for "
+                          f"{len(mesh.vertices)} vertices: not carried", MeshWarning,
+                          stacklevel=4)
     return np.asarray(mesh.vertices), np.asarray(mesh.faces), attributes, face_attributes
 
 
@@ -154,14 +160,39 @@ def _colour_name(attributes: Mapping[str, np.ndarray]) -> str | None:
     return None
 
 
+#: The ``point_data`` roles of a ``pyvista.PolyData`` that :func:`display_of` keeps.
+ACTIVE_ROLES = ("active_normals_name", "active_texture_coordinates_name",
+                "active_scalars_name")
+
+
+def display_of(mesh) -> dict[str, object]:
+    """How a mesh object is shown, beside its arrays: a textured ``trimesh.Trimesh``'s
+    material (``"material"``: ``visual.material``, its image included); a
+    ``pyvista.PolyData``'s active point arrays (:data:`ACTIVE_ROLES`: the texture
+    coordinates a texture is drawn with, the normals, the scalars it is coloured by, None
+    when none is). :func:`to_trimesh` and :func:`to_pyvista` give them back. Empty for
+    anything else."""
+    library = _library(mesh)
+    if library == "trimesh":
+        visual = getattr(mesh, "visual", None)
+        material = getattr(visual, "material", None) \
+            if getattr(visual, "kind", None) == "texture" else None
+        return {} if material is None else {"material": material}
+    if library == "pyvista" and hasattr(mesh, "point_data"):
+        return {role: getattr(mesh.point_data, role) for role in ACTIVE_ROLES}
+    return {}
+
+
 def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
                attributes: Mapping[str, np.ndarray] | None = None,
-               face_attributes: Mapping[str, np.ndarray] | None = None):
+               face_attributes: Mapping[str, np.ndarray] | None = None,
+               display: Mapping[str, object] | None = None):
     """A ``trimesh.Trimesh`` (``process=False``: nothing merged or reordered) with the vertex
     colours in ``visual`` (the first attribute named in :data:`COLOUR_NAMES`; when there is
     none, the face attribute so named; when there are no colours, an ``(n, 2)`` attribute
-    ``"uv"`` as ``visual.uv`` of a ``TextureVisuals``, without image or material) and every
-    other attribute in ``vertex_attributes`` / ``face_attributes``."""
+    ``"uv"`` as ``visual.uv`` of a ``TextureVisuals`` with ``display["material"]``, the
+    texture's image, when given: :func:`display_of`) and every other attribute in
+    ``vertex_attributes`` / ``face_attributes``."""
     import trimesh
 
     attributes = dict(attributes or {})
@@ -174,7 +205,8 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
     visual = None
     if colour is None and face_colour is None and uv is not None \
             and np.shape(uv) == (len(vertices), 2):
-        visual = trimesh.visual.TextureVisuals(uv=attributes.pop("uv"))
+        visual = trimesh.visual.TextureVisuals(uv=attributes.pop("uv"),
+                                                material=(display or {}).get("material"))
     return trimesh.Trimesh(vertices=vertices, faces=faces, process=False, validate=False,
                            vertex_colors=vertex_colors, face_colors=face_colors,
                            visual=visual, vertex_attributes=attributes,
@@ -183,11 +215,15 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
 
 def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
                attributes: Mapping[str, np.ndarray] | None = None,
-               face_attributes: Mapping[str, np.ndarray] | None = None):
+               face_attributes: Mapping[str, np.ndarray] | None = None,
+               display: Mapping[str, object] | None = None):
     """A ``pyvista.PolyData`` with every attribute in ``point_data`` and every face attribute
-    in ``cell_data``; the arrays PyVista reads and the file formats write under these names
-    made active again: normals (``Normals``, ``normal``), texture coordinates (``TCoords``,
-    ``Texture Coordinates``, ``uv``) and colours (:data:`COLOUR_NAMES`, ``RGB``, ``RGBA``)."""
+    in ``cell_data``. The arrays PyVista reads and the file formats write under these names
+    are made active again: normals (``Normals``, ``normal``), texture coordinates
+    (``TCoords``, ``Texture Coordinates``, ``uv``) and colours (:data:`COLOUR_NAMES`,
+    ``RGB``, ``RGBA``); for a role none of them fills, the active array of ``display`` (an
+    input PolyData's, by :func:`display_of`: texture coordinates of any name, the scalars
+    it was shown with, or none)."""
     import pyvista
 
     faces = np.asarray(faces, dtype=np.int64)
@@ -198,6 +234,7 @@ def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
     for name, a in (face_attributes or {}).items():
         mesh.cell_data[name] = np.asarray(a)
     data = mesh.point_data
+    display = display or {}
     for active, names, width in (("active_normals_name", ("Normals", "normal"), (3,)),
                                  ("active_texture_coordinates_name",
                                   ("TCoords", "Texture Coordinates", "uv"), (2,)),
@@ -205,7 +242,13 @@ def to_pyvista(vertices: np.ndarray, faces: np.ndarray,
                                   (3, 4))):
         name = next((n for n in names if n in data.keys() and data[n].ndim == 2
                      and data[n].shape[1] in width), None)
-        if name is not None:
+        if name is None and active in display:
+            # the input PolyData's own: texture coordinates of any name (an OBJ's are named
+            # after its material), the scalars it was shown with or none
+            name = display[active]
+            if name is None or name in data.keys():
+                setattr(data, active, name)
+        elif name is not None:
             setattr(data, active, name)
     return mesh
 

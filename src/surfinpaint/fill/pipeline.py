@@ -32,7 +32,7 @@ from surfinpaint.fill.holes import (
     select_holes,
 )
 from surfinpaint.fill.neighbourhood import FilledMesh
-from surfinpaint.fill.objects import mesh_arrays
+from surfinpaint.fill.objects import display_of, mesh_arrays
 from surfinpaint.fill.results import FillResult, HoleReport
 from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import (
@@ -256,6 +256,7 @@ def fill_holes(
     reported (``HoleReport.failed``, the reason in ``.skipped``) and warned, and the hole is
     left open; so is a loop that spans no area (see ``zip_seams``).
     """
+    display = display_of(vertices)  # an object's material, active arrays: given back
     vertices, faces, attributes, face_attributes = mesh_arrays(vertices, faces, attributes,
                                                                face_attributes)
     # bad arguments are the caller's error, found before any hole is filled
@@ -283,8 +284,10 @@ def fill_holes(
     _warn_may_be_border({r.index: margins[r.index] for r in reports
                          if r.index in margins and r.outcome in ("lambda-h", "faired")},
                         stacklevel=3)
-    return _result(mesh, reports, repaired, merged,
-                   (attributes, face_attributes, attribute_kinds))
+    result = _result(mesh, reports, repaired, merged,
+                     (attributes, face_attributes, attribute_kinds))
+    result.display = display
+    return result
 
 
 def _check_flags(**flags) -> None:

@@ -401,6 +401,10 @@ class FillResult:
     face_attributes: dict[str, np.ndarray] = field(default_factory=dict)
     #: fills that changed, or may have changed, the surface's topology (each also a warning)
     topology: tuple[TopologyChange, ...] = ()
+    #: how the input object was shown (a textured trimesh's material, a PolyData's active
+    #: arrays: :func:`surfinpaint.fill.objects.display_of`), given back by ``to_trimesh`` and
+    #: ``to_pyvista``
+    display: dict[str, object] = field(default_factory=dict)
 
     @property
     def new_faces(self) -> np.ndarray:
@@ -416,10 +420,14 @@ class FillResult:
 
     def to_trimesh(self):
         """A ``trimesh.Trimesh``: colours in ``visual``, the other attributes in
-        ``vertex_attributes`` and ``face_attributes`` (see :mod:`surfinpaint.fill.objects`)."""
-        return to_trimesh(self.vertices, self.faces, self.attributes, self.face_attributes)
+        ``vertex_attributes`` and ``face_attributes``, a textured trimesh's material with
+        the ``"uv"`` (see :mod:`surfinpaint.fill.objects`)."""
+        return to_trimesh(self.vertices, self.faces, self.attributes, self.face_attributes,
+                          self.display)
 
     def to_pyvista(self):
         """A ``pyvista.PolyData``: the attributes in ``point_data``, the face attributes in
-        ``cell_data``."""
-        return to_pyvista(self.vertices, self.faces, self.attributes, self.face_attributes)
+        ``cell_data``; an input PolyData's active texture coordinates, normals and scalars
+        made active again."""
+        return to_pyvista(self.vertices, self.faces, self.attributes, self.face_attributes,
+                          self.display)

@@ -63,9 +63,11 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole]) -> str | 
     return (f"{which} run along other boundary edges: {int(copied.sum())} boundary "
             f"vertices lie exactly on another vertex (the mesh gives faces their own "
             f"copies of the vertices they share, as exporters do with per-face normals or "
-            f"texture coordinates, and trimesh along texture seams; e.g. vertices {pairs}), "
+            f"texture coordinates, trimesh along texture seams and PyVista's OBJ reader at "
+            f"every face; e.g. vertices {pairs}), "
             "so the faces there do not join, and those loops are taken as the surface's "
             "outer borders and left open, not filled; merge coincident vertices first "
             "(trimesh: "
-            "mesh.merge_vertices(merge_tex=True, merge_norm=True); MeshLab: Merge Close "
-            "Vertices), then fill")
+            "mesh.merge_vertices(merge_tex=True, merge_norm=True); PyVista: mesh.clean(); "
+            "MeshLab: Merge Close Vertices), then fill; filled from its file (surfinpaint "
+            "fill, read_mesh_data), a textured OBJ keeps its seams per face corner")

@@ -397,8 +397,7 @@ def _assemble(parsed: Parsed, corners: np.ndarray | None, owner: np.ndarray | No
         corner_attributes[key] = per_face.astype(dtype, copy=False)
         seams.append(f"{key} differs between the faces around {len(where)} vertices (a seam; "
                      f"e.g. vertices {ids(where, 5)}): kept per face corner "
-                     f"(corner_attributes[{key!r}]), not per vertex; a fill gives its new "
-                     "faces no per-corner values")
+                     f"(corner_attributes[{key!r}]), not per vertex")
     return MeshData(parsed.vertices, faces, attributes,
                     {k: np.array(a) if owner is None else np.asarray(a)[owner]
                      for k, a in parsed.face_attributes.items()},
