@@ -357,12 +357,13 @@ def test_holdout12_sources_come_from_their_own_module():
     assert "synthetic" in brains[0].source
 
 
-def test_holdout12_manifest_counts(holdout12):
-    """The twelfth holdout's manifest as committed before any fill: 12 meshes in the
-    module's order, 84 holes, 3 near the border on each of the 4 scans, 4 on a sharp edge or
-    corner on each of the 3 CAD parts, every other hole neither."""
-    entries = holdout12["meshes"]
-    assert [e["mesh"] for e in entries] == list(validation_meshes.HOLDOUT12_SOURCES)
+@pytest.mark.parametrize("split", ["holdout12", "holdout13"])
+def test_later_holdout_manifest_counts(split):
+    """The twelfth and thirteenth holdouts' manifests as committed before any fill: 12 meshes
+    in their module's order, 84 holes, 3 near the border on each of the 4 scans, 4 on a sharp
+    edge or corner on each of the 3 CAD parts, every other hole neither."""
+    entries = holes_manifest.read(holes_manifest.LATER_SETS[split][0])["meshes"]
+    assert [e["mesh"] for e in entries] == holes_manifest.SPLIT[split]
     assert Counter(e["kind"] for e in entries) == {"range_scan": 4, "organic": 2, "cad": 3,
                                                    "teeth": 1, "smooth": 1, "brain": 1}
     assert sum(len(e["holes"]) for e in entries) == 84
@@ -399,23 +400,6 @@ def test_holdout13_sources_come_from_their_own_module():
     brains = [s for s in sources.values() if s.kind == "brain"]
     assert [s.make.__name__ for s in brains] == ["_forebrain"]
     assert "synthetic" in brains[0].source
-
-
-def test_holdout13_manifest_counts(holdout13):
-    """The thirteenth holdout's manifest as committed before any fill: 12 meshes in the
-    module's order, 84 holes, 3 near the border on each of the 4 scans, 4 on a sharp edge or
-    corner on each of the 3 CAD parts, every other hole neither."""
-    entries = holdout13["meshes"]
-    assert [e["mesh"] for e in entries] == list(validation_meshes.HOLDOUT13_SOURCES)
-    assert Counter(e["kind"] for e in entries) == {"range_scan": 4, "organic": 2, "cad": 3,
-                                                   "teeth": 1, "smooth": 1, "brain": 1}
-    assert sum(len(e["holes"]) for e in entries) == 84
-    for entry in entries:
-        near = [h["near_border"] for h in entry["holes"]]
-        feature = [h["on_feature"] for h in entry["holes"]]
-        scan, cad = entry["kind"] == "range_scan", entry["kind"] == "cad"
-        assert near == [scan and k in holes_manifest.NEAR_BORDER for k in range(7)], entry["mesh"]
-        assert feature == [cad and k in holes_manifest.ON_FEATURE for k in range(7)], entry["mesh"]
 
 
 def test_manifests_record_digests_from_holdout_13_on():
