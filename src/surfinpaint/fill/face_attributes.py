@@ -2,7 +2,9 @@
 
 Face data are copied from the original faces across the loop, never interpolated (a
 material id or a face colour continues into the hole), by the random-walker rule of
-:func:`surfinpaint.fill.attributes.inpaint_labels` on the fill's dual graph.
+:func:`surfinpaint.fill.attributes.inpaint_labels` on the fill's dual graph; an id array
+(``vtkOriginalCellIds``: the ``"id"`` kind of :func:`~surfinpaint.fill.attributes.
+attribute_kind`) gives the new faces the none id instead.
 
 Corner data (``(f, 3, k)``: values that may differ between the faces around a vertex, such as
 texture coordinates at a UV seam) are continued in the chart the hole's loop lies in: the
@@ -37,6 +39,7 @@ from surfinpaint.fill.attributes import (
     inpaint_values,
     labels_by_indicators,
 )
+from surfinpaint.fill.ids import none_ids
 from surfinpaint.geometry.mesh import edge_faces, vertex_normals
 from surfinpaint.io.base import MeshWarning
 
@@ -46,7 +49,7 @@ __all__ = ["fill_corner_attributes", "fill_face_attributes", "fill_result_corner
 
 def fill_face_attributes(
     vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
-    face_attributes: Mapping[str, np.ndarray],
+    face_attributes: Mapping[str, np.ndarray], kinds: Mapping[str, str] | None = None,
 ) -> dict[str, np.ndarray]:
     """Values of every per-face attribute at the faces a fill added to one hole.
 
@@ -56,7 +59,9 @@ def fill_face_attributes(
     random-walker rule of :func:`~surfinpaint.fill.attributes.inpaint_labels` on faces
     (nodes the fill's faces and the original faces touching the loop, joined across shared
     edges with weight edge length over centroid distance), so every value's region among
-    the new faces is connected to the faces across the loop that carry it.
+    the new faces is connected to the faces across the loop that carry it. An id array
+    (kind ``"id"`` by :func:`~surfinpaint.fill.attributes.attribute_kind` or ``kinds``)
+    gives every new face the none id (:func:`surfinpaint.fill.ids.none_id`).
 
     Parameters
     ----------
@@ -67,6 +72,8 @@ def fill_face_attributes(
     loop : (k,) int array
     fill_faces : (m, 3) int array
     face_attributes : mapping of name to (f,) or (f, c) array
+    kinds : mapping of name to kind, optional
+        ``"id"`` makes an array an id array; any other kind copies (the default by name).
 
     Returns
     -------
@@ -77,8 +84,15 @@ def fill_face_attributes(
     fill_faces = np.asarray(fill_faces, dtype=np.int64).reshape(-1, 3)
     arrays = {name: attribute_rows(name, a, (len(faces),), "faces")
               for name, a in face_attributes.items()}
+    kinds = dict(kinds or {})
+    ids = {name for name, a in arrays.items()
+           if kinds.get(name, attribute_kind(name, a)) == "id"}
     if len(fill_faces) == 0 or not arrays:
         return {name: a[:0] for name, a in arrays.items()}
+    out = {name: none_ids(arrays[name], len(fill_faces)) for name in ids}
+    copied = {name: a for name, a in arrays.items() if name not in ids}
+    if not copied:
+        return out
     on_loop = np.zeros(len(vertices), dtype=bool)
     on_loop[np.asarray(loop, dtype=np.int64)] = True
     touching = np.flatnonzero(on_loop[faces].any(axis=1))
@@ -95,12 +109,13 @@ def fill_face_attributes(
     graph = (sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W).tocsr()
     known = np.arange(len(local)) < len(touching)
     found = labels_by_indicators(DirichletSolve(graph, known),
-                                  [values[touching] for values in arrays.values()])
-    return dict(zip(arrays, found, strict=True))
+                                  [values[touching] for values in copied.values()])
+    out.update(zip(copied, found, strict=True))
+    return {name: out[name] for name in arrays}
 
 
 def fill_result_face_attributes(
-    result, face_attributes: Mapping[str, np.ndarray]
+    result, face_attributes: Mapping[str, np.ndarray], kinds: Mapping[str, str] | None = None,
 ) -> dict[str, np.ndarray]:
     """Every per-face attribute over a whole filled mesh: the original faces' values, then
     the new faces' by :func:`fill_face_attributes`.
@@ -111,6 +126,8 @@ def fill_result_face_attributes(
     face_attributes : mapping of name to (f, ...) array
         One row per input face; with ``repair=True`` the rows of ``result.removed_faces``
         are dropped, as the faces were.
+    kinds : mapping of name to kind, optional
+        See :func:`fill_face_attributes`.
 
     Returns
     -------
@@ -128,7 +145,8 @@ def fill_result_face_attributes(
             continue
         filled = fill_face_attributes(result.vertices, faces[near], report.loop,
                                       result.faces[face_ids],
-                                      {name: a[near] for name, a in originals.items()})
+                                      {name: a[near] for name, a in originals.items()},
+                                      kinds)
         for name, values in filled.items():
             parts[name].append(values)
     return {name: np.concatenate(blocks) for name, blocks in parts.items()}
