@@ -22,10 +22,11 @@ def cut_sphere():
 
 def test_names_that_mark_ids_and_their_none_value():
     for name in ("vtkOriginalPointIds", "vtkOriginalCellIds", "GlobalIds", "point_ids",
-                 "PointIndex", "vertex_index", "face_indices", "ids", "id", "node_idx"):
+                 "PointIndex", "vertex_index", "face_indices", "ids", "node_idx"):
         assert is_id_name(name), name
+    # a bare "id" is as often an object's (a category) as an element's: copied, as before
     for name in ("material_index", "region_id", "label", "lipids", "thickness", "parcel",
-                 "colour_index", "quality"):
+                 "colour_index", "quality", "id"):
         assert not is_id_name(name), name
     assert attribute_kind("vtkOriginalPointIds", np.arange(500)) == "id"
     assert attribute_kind("point_ids", np.arange(5, dtype=np.uint16)) == "id"

@@ -14,9 +14,11 @@ inpainted from them like a per-vertex attribute (a seam elsewhere in the patch i
 obstacle). Where a seam reaches the loop, the chart along most of the loop is continued
 across the hole (its values extrapolated to the other loop vertices: the seam runs on along
 the loop there), with a warning. Only where no face along the loop has a value (NaN) do the
-new corners get none. Normals per corner (hard edges) are the filled surface's, as per
-vertex: a loop vertex with one normal keeps it on the new corners (smooth shading
-continues), the others take the surface's unit normal.
+new corners get none. Texture coordinates (two channels) that fold (a new face mirrored
+against the chart) are placed again by the mean-value map (:func:`_unfolded_uv`). Normals
+per corner (hard edges) are the filled surface's, as per vertex: a loop vertex with one
+normal keeps it on the new corners (smooth shading continues), the others take the
+surface's unit normal.
 """
 
 from __future__ import annotations
@@ -40,7 +42,9 @@ from surfinpaint.fill.attributes import (
     labels_by_indicators,
 )
 from surfinpaint.fill.ids import none_ids
+from surfinpaint.geometry.mean_value import convex_combination, mean_value_weights
 from surfinpaint.geometry.mesh import edge_faces, vertex_normals
+from surfinpaint.geometry.parameterization import signed_areas
 from surfinpaint.io.base import MeshWarning
 
 __all__ = ["fill_corner_attributes", "fill_face_attributes", "fill_result_corner_attributes",
@@ -223,6 +227,37 @@ def _corner_normals(vertices: np.ndarray, dom: HoleDomain, known: np.ndarray,
     return out[fill_faces]
 
 
+def _unfolded_uv(dom: HoleDomain, new: np.ndarray, uv: np.ndarray, chart_uv: np.ndarray,
+                 fill_faces: np.ndarray) -> np.ndarray:
+    """The inpainted UVs ``uv`` of a patch, or, where they fold (a new face's UV triangle
+    oriented against the majority of the chart's faces: texels drawn mirrored), the new
+    values placed again by Floater's mean-value map from the same data: each a
+    combination of its neighbours with positive weights (on the patch's domain), which folds
+    nothing inside a convex loop (Floater 2003) and seldom inside another. The biharmonic
+    UVs are kept unless that folds fewer new faces.
+
+    Parameters
+    ----------
+    dom : HoleDomain
+    new : (k,) bool array
+        The patch's vertices without data (the new ones; loop vertices on a seam).
+    uv : (k, 2) float array
+        Inpainted values of the patch's vertices.
+    chart_uv : (c, 3, 2) float array
+        The corners of the chart's faces.
+    fill_faces : (m, 3) int array
+        The new faces, in patch ids.
+    """
+    corners = np.arange(3 * len(chart_uv)).reshape(-1, 3)
+    sign = np.sign(np.sign(signed_areas(corners, chart_uv.reshape(-1, 2))).sum())
+    folded = int((signed_areas(fill_faces, uv) * sign < 0).sum())
+    if sign == 0 or folded == 0:
+        return uv
+    placed = uv.copy()
+    convex_combination(mean_value_weights(dom.domain, dom.faces), placed, np.flatnonzero(new))
+    return placed if (signed_areas(fill_faces, placed) * sign < 0).sum() < folded else uv
+
+
 def fill_corner_attributes(
     vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
     new_ids: np.ndarray, corner_attributes: Mapping[str, np.ndarray], *, rings: int = 3,
@@ -299,6 +334,8 @@ def fill_corner_attributes(
         filled = inpaint_values(dom.domain, dom.faces, single, low)
         limits = channel_ranges(values.reshape(-1, k))
         filled = np.clip(filled, limits[0], limits[1])
+        if k == 2:  # texture coordinates: a new face drawn mirrored is a visible flaw
+            filled = _unfolded_uv(dom, ~single, filled, values[chart], local_fill)
         out[name] = filled[local_fill].astype(a.dtype)
     return out
 

@@ -16,7 +16,8 @@ import numpy as np
 __all__ = ["ID_NAME_SUFFIXES", "is_id_name", "none_id", "none_ids"]
 
 #: Ends of (lower-cased) names that mark an id or index array; ``Ids`` as written
-#: (``vtkOriginalPointIds``, ``PedigreeIds``) too, and the names ``id``, ``ids``, ``idx``.
+#: (``vtkOriginalPointIds``, ``PedigreeIds``) too, and the names ``ids``, ``idx``. A bare
+#: ``id`` is not one: as often an object's or a part's (a category, copied) as an element's.
 ID_NAME_SUFFIXES = ("_ids", "-ids", ".ids", " ids", "index", "indices", "_idx")
 # an index of a category (a material, a region) is a label, copied or continued, not an id
 _CATEGORY_WORDS = ("material", "label", "region", "parcel", "class", "segment", "group",
@@ -30,13 +31,13 @@ def is_id_name(name: str) -> bool:
     --------
     >>> is_id_name("vtkOriginalPointIds"), is_id_name("vertex_ids"), is_id_name("PointIndex")
     (True, True, True)
-    >>> is_id_name("material_index"), is_id_name("lipids"), is_id_name("region_id")
+    >>> is_id_name("material_index"), is_id_name("lipids"), is_id_name("id")
     (False, False, False)
     """
     key = name.lower()
     if any(word in key for word in _CATEGORY_WORDS):
         return False
-    return (name.endswith(("Ids", "IDs")) or key in ("id", "ids", "idx")
+    return (name.endswith(("Ids", "IDs")) or key in ("ids", "idx")
             or key.endswith(ID_NAME_SUFFIXES))
 
 
