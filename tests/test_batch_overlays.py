@@ -105,15 +105,33 @@ def test_overlay_patterns_fill_in_each_files_name(tmp_path):
         source.parent / "../label/lh.aparc.annot": "sub/label/lh.aparc.annot",
         source.parent / "lh.pial.thickness.shape.gii": "sub/surf/lh.pial.thickness.shape.gii",
         Path("/atlas/lh.pial.gii.annot"): "/atlas/lh.pial.gii.annot"}
-    nameless = FileJob(tmp_path / "pial_left.gii", tmp_path / "o.gii", "pial_left.gii",
-                       "pial_left.gii", overlays=("{hemi}.aparc.annot",))
-    with pytest.raises(MeshError, match=r"pial_left.gii: --overlay '\{hemi\}.aparc.annot': "
-                       r"the name starts with neither lh. nor rh."):
+    nameless = FileJob(tmp_path / "pial.gii", tmp_path / "o.gii", "pial.gii",
+                       "pial.gii", overlays=("{hemi}.aparc.annot",))
+    with pytest.raises(MeshError, match=r"pial.gii: --overlay '\{hemi\}.aparc.annot': "
+                       r"the name says no hemisphere \(FreeSurfer lh./rh., BIDS hemi-L/R, "):
         nameless.overlay_files()
     for pattern, words in (("{subject}.annot", "unknown placeholder {subject}"),
                            ("{hemi.annot", "expected '}' before end of string")):
         with pytest.raises(ValueError, match=words):
             check_overlay_patterns([pattern])
+
+
+def test_hemi_is_the_hemisphere_as_each_naming_convention_writes_it(tmp_path):
+    """BIDS (fMRIPrep), nilearn's fsaverage and Workbench names, not only FreeSurfer's: the
+    hemisphere as written, so a pattern in the file's own convention names its companion."""
+    cases = {"sub-01_hemi-L_pial.surf.gii": ("sub-01_hemi-{hemi}_thickness.shape.gii",
+                                             "sub-01_hemi-L_thickness.shape.gii"),
+             "sub-01_ses-1_hemi-R_white.surf.gii": ("hemi-{hemi}.aparc.label.gii",
+                                                    "hemi-R.aparc.label.gii"),
+             "pial_left.gii.gz": ("sulc_{hemi}.gii.gz", "sulc_left.gii.gz"),
+             "infl_right.gii": ("curv_{hemi}.gii", "curv_right.gii"),
+             "S1200.L.midthickness_MSMAll.32k_fs_LR.surf.gii": (
+                 "S1200.{hemi}.thickness.shape.gii", "S1200.L.thickness.shape.gii"),
+             "rh.pial": ("{hemi}.thickness", "rh.thickness")}
+    for name, (pattern, overlay) in cases.items():
+        job = FileJob(tmp_path / name, tmp_path / "out" / name, name, name,
+                      overlays=check_overlay_patterns([pattern]))
+        assert job.overlay_files() == {tmp_path / overlay: overlay}, name
 
 
 def test_batch_overlay_bad_pattern_is_a_usage_error_and_other_formats_fail(tmp_path, capsys,

@@ -241,3 +241,50 @@ def test_a_pyvista_mesh_with_a_point_per_face_corner_is_told_to_clean():
     assert len(result.new_faces) == 0
     filled = fill_holes(poly.clean(), method="fair")
     assert len(filled.new_faces) > 0
+
+
+def _latitude_sphere(n_angles=32, n_rings=24):
+    """A unit sphere of latitude rings (the +z pole first), outward faces: a hole around the
+    pole has a regular polygon for its loop."""
+    phi = np.pi * np.arange(1, n_rings) / n_rings
+    t = 2 * np.pi * np.arange(n_angles) / n_angles
+    ring = np.stack([np.sin(phi)[:, None] * np.cos(t), np.sin(phi)[:, None] * np.sin(t),
+                     np.repeat(np.cos(phi)[:, None], n_angles, 1)], -1).reshape(-1, 3)
+    vertices = np.vstack([[0.0, 0, 1], ring, [0, 0, -1]])
+    i, j = np.meshgrid(np.arange(n_rings - 2), np.arange(n_angles), indexing="ij")
+    a, d = 1 + i * n_angles + j, 1 + i * n_angles + (j + 1) % n_angles
+    b, c = a + n_angles, d + n_angles
+    last = 1 + (n_rings - 2) * n_angles + np.arange(n_angles)
+    faces = np.vstack([
+        np.column_stack([np.zeros(n_angles, int), 1 + np.arange(n_angles),
+                         1 + (np.arange(n_angles) + 1) % n_angles]),
+        np.column_stack([a.ravel(), b.ravel(), c.ravel()]),
+        np.column_stack([a.ravel(), c.ravel(), d.ravel()]),
+        np.column_stack([np.full(n_angles, len(vertices) - 1), np.roll(last, -1), last])])
+    return vertices, faces
+
+
+def test_uvs_that_fold_when_inpainted_are_placed_again_without_folds(monkeypatch):
+    """A chart whose biharmonic continuation mirrors new faces (the bunny's 2 of 446): the
+    new UVs are placed again by the mean-value map, which folds none inside a convex loop."""
+    v, f = _latitude_sphere()
+    f = f[v[f].mean(axis=1)[:, 2] < np.cos(np.radians(40))]  # a hole around the pole
+    result = fill_holes(v, f, method="fair", holes=[0])
+    # a chart seen from above the pole, stretched by the 5th power of the distance from the
+    # axis: one-to-one and counter-clockwise on every face of the patch (none beyond z = 0.5)
+    radius = np.linalg.norm(v[:, :2], axis=1)
+    chart = v[:, :2] * radius[:, None] ** 4
+    near = v[f].mean(axis=1)[:, 2] > 0.5
+    d1, d2 = chart[f[near, 1]] - chart[f[near, 0]], chart[f[near, 2]] - chart[f[near, 0]]
+    assert (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] > 0).all()
+
+    def mirrored():
+        uv = fill_result_corner_attributes(result, {"uv": chart[f]})["uv"][len(f):]
+        e1, e2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+        assert np.isfinite(uv).all() and len(uv) > 100
+        return int((e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] < 0).sum())
+
+    assert mirrored() == 0
+    from surfinpaint.fill import face_attributes
+    monkeypatch.setattr(face_attributes, "_unfolded_uv", lambda dom, new, uv, *rest: uv)
+    assert mirrored() > 20  # the biharmonic continuation alone: measured 38 of 166

@@ -128,3 +128,23 @@ def test_a_loop_along_a_patch_apart_is_left_open_and_a_real_hole_is_filled():
     new = result.faces[len(f):]
     assert len(new) and (result.vertices[new].mean(axis=(0, 1)) @ v[0] < 0)
     np.testing.assert_array_equal(result.vertices[:len(v)], v)
+
+
+def test_zip_seams_says_it_does_not_join_loops_along_other_loops():
+    """``--zip-seams`` on faces with their own vertices (assimp's Wuson.off): each skipped
+    loop's line and the note say that zipping does not join them, and what does."""
+    v, f = _sphere(3)
+    v, f = _patch_apart(v, f, v[0], 0.35)
+    soup_v, soup_f = _soup(*_sphere(1))
+    v, f = np.vstack([v, soup_v + [5.0, 0, 0]]), np.vstack([f, soup_f + len(v)])
+    for zip_seams in (False, True):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = fill_holes(v, f, method="fair", zip_seams=zip_seams)
+        (report,) = result.reports
+        (note,) = _unjoined_warnings(caught)
+        assert report.outcome == "skipped" and len(result.new_faces) == 0
+        for text in (report.skipped, note):
+            assert "merge coincident vertices first" in text
+            assert ("--zip-seams does not join" in " ".join(text.split())
+                    or "--zip-seams (zip_seams=True) does not join" in text) == zip_seams

@@ -17,7 +17,8 @@ from surfinpaint.errors import MeshError, preview
 from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_gifti_data, is_morphometry, surface_base
 from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format, overlays_with
 
-__all__ = ["COMPANION_SUFFIXES", "OVERLAY_PLACEHOLDERS", "FileJob", "Inputs", "UnknownFile",
+__all__ = ["COMPANION_SUFFIXES", "HEMISPHERE_CONVENTIONS", "HEMI_WAYS", "OVERLAY_PLACEHOLDERS",
+           "FileJob", "Inputs", "UnknownFile", "hemisphere_in_name",
            "UnknownFilesWarning", "check_overlay_patterns", "find_inputs",
            "largest_cost_first", "picture_path", "up_to_date"]
 
@@ -56,17 +57,16 @@ class FileJob:
         Raises
         ------
         MeshError
-            When a pattern has ``{hemi}`` and the input's name starts with neither ``lh.``
-            nor ``rh.``.
+            When a pattern has ``{hemi}`` and the input's name says no hemisphere
+            (:func:`hemisphere_in_name`).
         """
-        hemi = re.match(r"^(lh|rh)\.", self.source.name)
         values = {"name": self.source.name, "stem": surface_base(self.source),
-                  "hemi": hemi.group(1) if hemi else None}
+                  "hemi": hemisphere_in_name(self.source.name)}
         files: dict[Path, str] = {}
         for pattern in self.overlays:
             if values["hemi"] is None and "hemi" in _placeholders(pattern):
-                raise MeshError(f"--overlay {pattern!r}: the name starts with neither lh. nor "
-                                "rh., so {hemi} stands for nothing", path=self.name)
+                raise MeshError(f"--overlay {pattern!r}: the name says no hemisphere ({HEMI_WAYS})"
+                                ", so {hemi} stands for nothing", path=self.name)
             relative = pattern.format(**values)
             files[self.source.parent / relative] = os.path.normpath(
                 Path(self.name).parent / relative)
@@ -130,10 +130,40 @@ COMPANION_SUFFIXES = (*OVERLAY_SUFFIXES, ".label", ".annot", ".mtl", ".png", ".j
 
 #: The placeholders of a ``batch --overlay`` pattern, filled in per input file: its name
 #: (``lh.white``), its name without the format's suffix (``lh.pial`` for ``lh.pial.gii``)
-#: and its hemisphere (``lh`` or ``rh``: the name's first part; other names have none).
+#: and its hemisphere as the name writes it (:func:`hemisphere_in_name`).
 OVERLAY_PLACEHOLDERS = {"name": "the input's file name",
                         "stem": "its name without the format's suffix",
-                        "hemi": "lh or rh, as its name starts"}
+                        "hemi": "its hemisphere as its name writes it: lh/rh (FreeSurfer "
+                                "lh.white), L/R (BIDS hemi-L, Workbench .L.), left/right "
+                                "(nilearn pial_left)"}
+
+#: How names say the hemisphere, by convention, tried in this order: the first match's
+#: group is ``{hemi}``, as written (a pattern in the same convention then names the
+#: companion file: ``{hemi}.thickness`` for FreeSurfer, ``hemi-{hemi}`` for BIDS).
+HEMISPHERE_CONVENTIONS = (
+    ("FreeSurfer lh./rh.", re.compile(r"^(lh|rh)\.")),
+    ("BIDS hemi-L/R", re.compile(r"(?:^|_)hemi-(L|R)(?=[_.])")),
+    ("nilearn _left/_right", re.compile(r"_(left|right)(?=\.)")),
+    ("Workbench .L./.R.", re.compile(r"\.(L|R)\.")),
+)
+HEMI_WAYS = ", ".join(way for way, _ in HEMISPHERE_CONVENTIONS)
+
+
+def hemisphere_in_name(name: str) -> str | None:
+    """The hemisphere a file's name gives, as written (:data:`HEMISPHERE_CONVENTIONS`), or
+    None.
+
+    Examples
+    --------
+    >>> [hemisphere_in_name(n) for n in ("lh.white", "sub-01_hemi-L_pial.surf.gii",
+    ...  "pial_left.gii.gz", "S1200.R.midthickness.32k_fs_LR.surf.gii", "bunny.ply")]
+    ['lh', 'L', 'left', 'R', None]
+    """
+    for _, convention in HEMISPHERE_CONVENTIONS:
+        found = convention.search(name)
+        if found:
+            return found.group(1)
+    return None
 
 
 def _placeholders(pattern: str) -> list[str]:

@@ -188,7 +188,7 @@ def cmd_holes(args: argparse.Namespace) -> int:
     unjoined = unjoined_borders_note(vertices, _holes_table(
         vertices, faces, title, holes=args.holes, include_border=args.all,
         keep_margins=args.keep_margins, max_hole_edges=args.max_hole_edges,
-        zip_seams=args.zip_seams))
+        zip_seams=args.zip_seams), zip_seams=args.zip_seams)
     if unjoined is not None:
         warnings.warn(f"{args.mesh}: {unjoined}", MeshWarning, stacklevel=1)
     return EXIT_OK
@@ -443,7 +443,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     p.add_argument("--overlay", action="append", metavar="PATTERN",
                    help="an overlay read with each GIFTI or FreeSurfer surface besides those "
                    "found beside it: a path from the surface's folder, {name} (its file "
-                   "name), {stem} (the name without .gii) and {hemi} (lh or rh) filled in "
+                   "name), {stem} (the name without .gii) and {hemi} (the hemisphere as the "
+                   "name writes it: lh/rh for lh.white, L/R for BIDS hemi-L or Workbench "
+                   ".L., left/right for nilearn's pial_left) filled in "
                    "per file: ../label/{hemi}.aparc.annot; repeat for more. A file whose "
                    "overlay is missing, or of another format, fails (named in the summary)")
     add_fill_options(p)

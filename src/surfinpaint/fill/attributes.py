@@ -27,9 +27,13 @@ The rules, by kind (:func:`attribute_kind` decides the kind of an array):
     every region a label gets among the new vertices is connected to known vertices of that
     label: regions are continued, never averaged, and no label appears that the loop's
     surroundings do not have. (Biharmonic indicators overshoot and lose that guarantee.)
+``"id"`` (an integer array named like an id or index: ``vtkOriginalPointIds``, ``point_ids``)
+    Each value names an element of another mesh, so a new vertex (face) names none: -1, or
+    for an unsigned dtype its largest value (:func:`surfinpaint.fill.ids.none_id`); never an
+    interpolated or copied id. The names: :func:`surfinpaint.fill.ids.is_id_name`.
 
-Face attributes of new faces: copied from the original faces across the loop, never
-interpolated, by the same random-walker rule on the fill's dual graph
+Face attributes of new faces: ids (the same names) none; the others copied from the original
+faces across the loop, never interpolated, by the same random-walker rule on the fill's dual graph
 (:func:`surfinpaint.fill.face_attributes.fill_face_attributes`).
 
 When the patch is not a disk even with one ring, or its conformal map folds, the same
@@ -46,6 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from surfinpaint.errors import MeshError
+from surfinpaint.fill.ids import is_id_name, none_ids
 from surfinpaint.geometry.degenerate import triangle_incidence
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import cotangent_laplacian, faces_near, mass_matrix, vertex_normals
@@ -57,24 +62,13 @@ from surfinpaint.lazy import lazy_module
 spatial = lazy_module("scipy.spatial")
 
 __all__ = [
-    "ATTRIBUTE_KINDS",
-    "DirichletSolve",
-    "HoleDomain",
-    "MAX_LABELS",
-    "attribute_kind",
-    "attribute_rows",
-    "channel_ranges",
-    "check_attributes",
-    "fill_hole_attributes",
-    "fill_result_attributes",
-    "hole_blocks",
-    "hole_domain",
-    "inpaint_labels",
-    "inpaint_values",
+    "ATTRIBUTE_KINDS", "DirichletSolve", "HoleDomain", "MAX_LABELS", "attribute_kind",
+    "attribute_rows", "channel_ranges", "check_attributes", "fill_hole_attributes",
+    "fill_result_attributes", "hole_blocks", "hole_domain", "inpaint_labels", "inpaint_values",
     "labels_by_indicators",
 ]
 
-ATTRIBUTE_KINDS = ("values", "normal", "label")
+ATTRIBUTE_KINDS = ("values", "normal", "label", "id")
 
 #: An integer (or boolean) per-vertex array with at most this many distinct values is a
 #: segmentation (atlases have up to ~75 regions; a quality score with 200 levels is not one).
@@ -92,7 +86,10 @@ def attribute_kind(name: str, values: np.ndarray) -> str:
     ``(n, 3)`` array named like a normal (``normal``, ``normals``, ``vertex_normals``,
     ``n``, any case) is ``"normal"``; an array named like a colour
     (containing ``color``/``colour``/``rgb``, or a channel name ``red``, ``green``, ``blue``,
-    ``alpha``, ``r``, ``g``, ``b``, ``a``) is ``"values"``; a one-dimensional integer or
+    ``alpha``, ``r``, ``g``, ``b``, ``a``) is ``"values"``; a one-dimensional integer array
+    named like an id or index (:func:`~surfinpaint.fill.ids.is_id_name`: ending in ``Ids``,
+    ``_ids``, ``index``, ``indices``, ``_idx``; not a material's or region's) is ``"id"``;
+    a one-dimensional integer or
     boolean array with at most :data:`MAX_LABELS` distinct values is ``"label"``; everything
     else is ``"values"``. Pass ``kinds=`` to the fill functions to override.
 
@@ -111,6 +108,8 @@ def attribute_kind(name: str, values: np.ndarray) -> str:
     'normal'
     >>> attribute_kind("red", np.zeros(4, dtype=np.uint8)), attribute_kind("parcel", [0, 3])
     ('values', 'label')
+    >>> attribute_kind("vtkOriginalPointIds", np.arange(4))
+    'id'
     """
     a = np.asarray(values)
     key = name.lower()
@@ -120,6 +119,8 @@ def attribute_kind(name: str, values: np.ndarray) -> str:
         return "normal"
     if any(word in key for word in _COLOUR_NAMES) or key in _CHANNEL_NAMES:
         return "values"
+    if a.ndim == 1 and a.dtype.kind in "iu" and is_id_name(name):
+        return "id"
     if a.ndim == 1 and a.dtype.kind in "iub" and len(np.unique(a)) <= MAX_LABELS:
         return "label"
     return "values"
@@ -410,8 +411,8 @@ def fill_hole_attributes(
     values (colours too) inpainted biharmonically on the patch's conformal domain
     (:func:`hole_domain`, :func:`inpaint_values`) and clamped to ``ranges``, integers rounded;
     normals recomputed from the filled surface; labels by the largest harmonic indicator
-    (:func:`inpaint_labels`). All continuous channels share one factorization and one solve,
-    all labels' indicators another.
+    (:func:`inpaint_labels`); ids the none id. All continuous channels share one
+    factorization and one solve, all labels' indicators another.
 
     Parameters
     ----------
@@ -480,6 +481,8 @@ def fill_hole_attributes(
         found = labels_by_indicators(DirichletSolve(-L, known),
                                       [arrays[name][dom.ids][known] for name in labels])
         out.update(zip(labels, found, strict=True))
+    for name in (name for name, kind in kinds.items() if kind == "id"):  # new: no element
+        out[name] = none_ids(arrays[name], len(new_ids))
     normals = (vertex_normals(vertices[dom.ids], dom.faces) if "normal" in kinds.values()
                else None)
     loop_ids = np.asarray(loop, dtype=np.int64)
@@ -561,7 +564,8 @@ def fill_result_attributes(
                           "vertices copy the nearest original vertex's values", MeshWarning,
                           stacklevel=2)
             _, nearest = spatial.cKDTree(result.vertices[:n]).query(result.vertices[new_ids])
-            filled = {name: a[nearest] for name, a in originals.items()}
+            filled = {name: none_ids(a, len(new_ids)) if kinds[name] == "id" else a[nearest]
+                      for name, a in originals.items()}
         for name, values in filled.items():
             out[name][new_ids] = values
     return out

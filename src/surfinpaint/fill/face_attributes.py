@@ -2,7 +2,9 @@
 
 Face data are copied from the original faces across the loop, never interpolated (a
 material id or a face colour continues into the hole), by the random-walker rule of
-:func:`surfinpaint.fill.attributes.inpaint_labels` on the fill's dual graph.
+:func:`surfinpaint.fill.attributes.inpaint_labels` on the fill's dual graph; an id array
+(``vtkOriginalCellIds``: the ``"id"`` kind of :func:`~surfinpaint.fill.attributes.
+attribute_kind`) gives the new faces the none id instead.
 
 Corner data (``(f, 3, k)``: values that may differ between the faces around a vertex, such as
 texture coordinates at a UV seam) are continued in the chart the hole's loop lies in: the
@@ -12,9 +14,11 @@ inpainted from them like a per-vertex attribute (a seam elsewhere in the patch i
 obstacle). Where a seam reaches the loop, the chart along most of the loop is continued
 across the hole (its values extrapolated to the other loop vertices: the seam runs on along
 the loop there), with a warning. Only where no face along the loop has a value (NaN) do the
-new corners get none. Normals per corner (hard edges) are the filled surface's, as per
-vertex: a loop vertex with one normal keeps it on the new corners (smooth shading
-continues), the others take the surface's unit normal.
+new corners get none. Texture coordinates (two channels) that fold (a new face mirrored
+against the chart) are placed again by the mean-value map (:func:`_unfolded_uv`). Normals
+per corner (hard edges) are the filled surface's, as per vertex: a loop vertex with one
+normal keeps it on the new corners (smooth shading continues), the others take the
+surface's unit normal.
 """
 
 from __future__ import annotations
@@ -37,7 +41,10 @@ from surfinpaint.fill.attributes import (
     inpaint_values,
     labels_by_indicators,
 )
+from surfinpaint.fill.ids import none_ids
+from surfinpaint.geometry.mean_value import convex_combination, mean_value_weights
 from surfinpaint.geometry.mesh import edge_faces, vertex_normals
+from surfinpaint.geometry.parameterization import signed_areas
 from surfinpaint.io.base import MeshWarning
 
 __all__ = ["fill_corner_attributes", "fill_face_attributes", "fill_result_corner_attributes",
@@ -46,7 +53,7 @@ __all__ = ["fill_corner_attributes", "fill_face_attributes", "fill_result_corner
 
 def fill_face_attributes(
     vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
-    face_attributes: Mapping[str, np.ndarray],
+    face_attributes: Mapping[str, np.ndarray], kinds: Mapping[str, str] | None = None,
 ) -> dict[str, np.ndarray]:
     """Values of every per-face attribute at the faces a fill added to one hole.
 
@@ -56,7 +63,9 @@ def fill_face_attributes(
     random-walker rule of :func:`~surfinpaint.fill.attributes.inpaint_labels` on faces
     (nodes the fill's faces and the original faces touching the loop, joined across shared
     edges with weight edge length over centroid distance), so every value's region among
-    the new faces is connected to the faces across the loop that carry it.
+    the new faces is connected to the faces across the loop that carry it. An id array
+    (kind ``"id"`` by :func:`~surfinpaint.fill.attributes.attribute_kind` or ``kinds``)
+    gives every new face the none id (:func:`surfinpaint.fill.ids.none_id`).
 
     Parameters
     ----------
@@ -67,6 +76,8 @@ def fill_face_attributes(
     loop : (k,) int array
     fill_faces : (m, 3) int array
     face_attributes : mapping of name to (f,) or (f, c) array
+    kinds : mapping of name to kind, optional
+        ``"id"`` makes an array an id array; any other kind copies (the default by name).
 
     Returns
     -------
@@ -77,8 +88,15 @@ def fill_face_attributes(
     fill_faces = np.asarray(fill_faces, dtype=np.int64).reshape(-1, 3)
     arrays = {name: attribute_rows(name, a, (len(faces),), "faces")
               for name, a in face_attributes.items()}
+    kinds = dict(kinds or {})
+    ids = {name for name, a in arrays.items()
+           if kinds.get(name, attribute_kind(name, a)) == "id"}
     if len(fill_faces) == 0 or not arrays:
         return {name: a[:0] for name, a in arrays.items()}
+    out = {name: none_ids(arrays[name], len(fill_faces)) for name in ids}
+    copied = {name: a for name, a in arrays.items() if name not in ids}
+    if not copied:
+        return out
     on_loop = np.zeros(len(vertices), dtype=bool)
     on_loop[np.asarray(loop, dtype=np.int64)] = True
     touching = np.flatnonzero(on_loop[faces].any(axis=1))
@@ -95,12 +113,13 @@ def fill_face_attributes(
     graph = (sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W).tocsr()
     known = np.arange(len(local)) < len(touching)
     found = labels_by_indicators(DirichletSolve(graph, known),
-                                  [values[touching] for values in arrays.values()])
-    return dict(zip(arrays, found, strict=True))
+                                  [values[touching] for values in copied.values()])
+    out.update(zip(copied, found, strict=True))
+    return {name: out[name] for name in arrays}
 
 
 def fill_result_face_attributes(
-    result, face_attributes: Mapping[str, np.ndarray]
+    result, face_attributes: Mapping[str, np.ndarray], kinds: Mapping[str, str] | None = None,
 ) -> dict[str, np.ndarray]:
     """Every per-face attribute over a whole filled mesh: the original faces' values, then
     the new faces' by :func:`fill_face_attributes`.
@@ -111,6 +130,8 @@ def fill_result_face_attributes(
     face_attributes : mapping of name to (f, ...) array
         One row per input face; with ``repair=True`` the rows of ``result.removed_faces``
         are dropped, as the faces were.
+    kinds : mapping of name to kind, optional
+        See :func:`fill_face_attributes`.
 
     Returns
     -------
@@ -128,7 +149,8 @@ def fill_result_face_attributes(
             continue
         filled = fill_face_attributes(result.vertices, faces[near], report.loop,
                                       result.faces[face_ids],
-                                      {name: a[near] for name, a in originals.items()})
+                                      {name: a[near] for name, a in originals.items()},
+                                      kinds)
         for name, values in filled.items():
             parts[name].append(values)
     return {name: np.concatenate(blocks) for name, blocks in parts.items()}
@@ -203,6 +225,37 @@ def _corner_normals(vertices: np.ndarray, dom: HoleDomain, known: np.ndarray,
     single = known & np.all(low == high, axis=1)
     out = np.where(single[:, None], low, normals)
     return out[fill_faces]
+
+
+def _unfolded_uv(dom: HoleDomain, new: np.ndarray, uv: np.ndarray, chart_uv: np.ndarray,
+                 fill_faces: np.ndarray) -> np.ndarray:
+    """The inpainted UVs ``uv`` of a patch, or, where they fold (a new face's UV triangle
+    oriented against the majority of the chart's faces: texels drawn mirrored), the new
+    values placed again by Floater's mean-value map from the same data: each a
+    combination of its neighbours with positive weights (on the patch's domain), which folds
+    nothing inside a convex loop (Floater 2003) and seldom inside another. The biharmonic
+    UVs are kept unless that folds fewer new faces.
+
+    Parameters
+    ----------
+    dom : HoleDomain
+    new : (k,) bool array
+        The patch's vertices without data (the new ones; loop vertices on a seam).
+    uv : (k, 2) float array
+        Inpainted values of the patch's vertices.
+    chart_uv : (c, 3, 2) float array
+        The corners of the chart's faces.
+    fill_faces : (m, 3) int array
+        The new faces, in patch ids.
+    """
+    corners = np.arange(3 * len(chart_uv)).reshape(-1, 3)
+    sign = np.sign(np.sign(signed_areas(corners, chart_uv.reshape(-1, 2))).sum())
+    folded = int((signed_areas(fill_faces, uv) * sign < 0).sum())
+    if sign == 0 or folded == 0:
+        return uv
+    placed = uv.copy()
+    convex_combination(mean_value_weights(dom.domain, dom.faces), placed, np.flatnonzero(new))
+    return placed if (signed_areas(fill_faces, placed) * sign < 0).sum() < folded else uv
 
 
 def fill_corner_attributes(
@@ -281,6 +334,8 @@ def fill_corner_attributes(
         filled = inpaint_values(dom.domain, dom.faces, single, low)
         limits = channel_ranges(values.reshape(-1, k))
         filled = np.clip(filled, limits[0], limits[1])
+        if k == 2:  # texture coordinates: a new face drawn mirrored is a visible flaw
+            filled = _unfolded_uv(dom, ~single, filled, values[chart], local_fill)
         out[name] = filled[local_fill].astype(a.dtype)
     return out
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from surfinpaint.errors import preview
 from surfinpaint.fill import parallel
-from surfinpaint.fill.attributes import check_attributes, fill_result_attributes
+from surfinpaint.fill.attributes import ATTRIBUTE_KINDS, check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
@@ -37,6 +37,7 @@ from surfinpaint.fill.results import FillResult, HoleReport
 from surfinpaint.fill.scheduler import fill_in_parallel
 from surfinpaint.fill.seams import (
     ALONG_OTHER_LOOPS,
+    ALONG_OTHER_LOOPS_NOT_ZIPPED,
     NO_AREA_FACES,
     SlitWarning,
     spanless,
@@ -85,7 +86,8 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
             continue
         found = spanless(vertices, report.loop)
         if found is None and hole is not None:  # along other loops
-            skip(report, ALONG_OTHER_LOOPS, SlitWarning, stacklevel=4)
+            skip(report, ALONG_OTHER_LOOPS_NOT_ZIPPED if zip_seams else ALONG_OTHER_LOOPS,
+                 SlitWarning, stacklevel=4)
             continue
         if found is None:
             left.append(report)
@@ -226,8 +228,9 @@ def fill_holes(
         Per-vertex (per-face) data; the new vertices' values are inpainted and the new faces'
         copied from across the loop (rules: :mod:`surfinpaint.fill.attributes`), the
         originals' kept as they are, in ``FillResult.attributes`` (``.face_attributes``).
-    attribute_kinds : dict of name to {"values", "normal", "label"}, optional
-        Overrides :func:`surfinpaint.fill.attributes.attribute_kind`.
+    attribute_kinds : dict of name to {"values", "normal", "label", "id"}, optional
+        Overrides :func:`surfinpaint.fill.attributes.attribute_kind` (of a face attribute
+        too: ``"id"`` gives the new faces the none id, any other kind copies).
 
     Returns
     -------
@@ -260,15 +263,16 @@ def fill_holes(
     vertices, faces, attributes, face_attributes = mesh_arrays(vertices, faces, attributes,
                                                                face_attributes)
     # bad arguments are the caller's error, found before any hole is filled
-    attributes, attribute_kinds = _checked_attributes(len(vertices), len(faces), attributes,
-                                                      face_attributes, attribute_kinds)
+    attributes, attribute_kinds, face_kinds = _checked_attributes(
+        len(vertices), len(faces), attributes, face_attributes, attribute_kinds)
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
     _check_flags(include_border=include_border, keep_margins=keep_margins, repair=repair,
                  validate=validate, zip_seams=zip_seams)
     jobs = parallel.resolve_jobs(jobs)
     vertices, faces, repaired, loops, numbers, incidence, zero_area, unfillable, margins = \
         _found_holes(vertices, faces, holes, method, include_border=include_border,
-                     keep_margins=keep_margins, repair=repair, validate=validate)
+                     keep_margins=keep_margins, repair=repair, validate=validate,
+                     zip_seams=zip_seams)
     reports = _hole_reports(vertices, loops, numbers, method)
     todo = _within_size(reports, max_hole_edges)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
@@ -285,7 +289,7 @@ def fill_holes(
                          if r.index in margins and r.outcome in ("lambda-h", "faired")},
                         stacklevel=3)
     result = _result(mesh, reports, repaired, merged,
-                     (attributes, face_attributes, attribute_kinds))
+                     (attributes, face_attributes, attribute_kinds, face_kinds))
     result.display = display
     return result
 
@@ -298,7 +302,7 @@ def _check_flags(**flags) -> None:
 
 
 def _found_holes(vertices, faces, holes, method: str, *, include_border: bool,
-                 keep_margins: bool, repair: bool, validate: bool):
+                 keep_margins: bool, repair: bool, validate: bool, zip_seams: bool = False):
     """The mesh prepared (:func:`_prepared`; ``repair``'s removed and flipped faces), the
     loops to fill, their :func:`find_holes`
     numbers (the outer border counts, whatever was selected), the faces'
@@ -321,7 +325,7 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool,
         incidence = incidence()  # before the thread is joined
     for note in degenerate_notes(faces, *degenerate):
         warnings.warn(note, MeshWarning, stacklevel=3)
-    unjoined = unjoined_borders_note(vertices, found)
+    unjoined = unjoined_borders_note(vertices, found, zip_seams=zip_seams)
     if unjoined is not None:  # else nothing says why a soup of faces has nothing filled
         warnings.warn(unjoined, MeshWarning, stacklevel=3)
     # chosen by the rule, not by the caller: warned about once filled
@@ -401,14 +405,20 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
 
 
 def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds):
-    """The vertex attributes and their kinds, checked (:func:`check_attributes`), and the
-    face attributes' row counts."""
-    attributes, kinds = check_attributes(n_vertices, attributes, kinds)
+    """The vertex attributes and their kinds, checked (:func:`check_attributes`), the
+    face attributes' row counts, and the kinds given for face attributes."""
+    kinds = dict(kinds or {})
+    face_kinds = {name: kinds[name] for name in face_attributes if name in kinds}
+    attributes, kinds = check_attributes(n_vertices, attributes, {
+        name: kind for name, kind in kinds.items()
+        if name in attributes or name not in face_attributes})
     for name, a in face_attributes.items():
         if np.ndim(a) == 0 or len(a) != n_faces:
             raise ValueError(f"face attribute {name!r} has {len(a) if np.ndim(a) else 0} "
                              f"rows, the mesh has {n_faces} faces")
-    return attributes, kinds
+    if any(kind not in ATTRIBUTE_KINDS for kind in face_kinds.values()):
+        raise ValueError(f"unknown attribute kinds {face_kinds}: use one of {ATTRIBUTE_KINDS}")
+    return attributes, kinds, face_kinds
 
 
 def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
@@ -449,10 +459,12 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     return vertices, faces, triangles, repaired, table, found, incidence, (repeated, flat)
 
 
-def _with_attributes(result: FillResult, attributes, face_attributes, kinds) -> FillResult:
+def _with_attributes(result: FillResult, attributes, face_attributes, kinds,
+                     face_kinds) -> FillResult:
     """The attributes of the filled mesh, new rows by the rules of fill/attributes.py."""
     if attributes:
         result.attributes = fill_result_attributes(result, attributes, kinds=kinds)
     if face_attributes:
-        result.face_attributes = fill_result_face_attributes(result, face_attributes)
+        result.face_attributes = fill_result_face_attributes(result, face_attributes,
+                                                             face_kinds)
     return result

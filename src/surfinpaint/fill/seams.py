@@ -41,8 +41,9 @@ from surfinpaint.lazy import lazy_module
 # imported at its first use (see fill/holes.py)
 spatial = lazy_module("scipy.spatial")
 
-__all__ = ["ALONG_OTHER_LOOPS", "NO_AREA_FACES", "SLIT_RTOL", "SEAM_LEFT_OPEN", "Slit",
-           "SlitWarning", "find_seam_part", "find_slit", "spanless", "zip_faces", "zip_or_leave"]
+__all__ = ["ALONG_OTHER_LOOPS", "ALONG_OTHER_LOOPS_NOT_ZIPPED", "NO_AREA_FACES", "SLIT_RTOL",
+           "SEAM_LEFT_OPEN", "Slit", "SlitWarning", "find_seam_part", "find_slit", "spanless",
+           "zip_faces", "zip_or_leave"]
 
 # two loop points closer than this fraction of the neighbouring loop edges' length coincide
 # (an exporter's duplicates are bit-identical; this leaves room for printed decimals)
@@ -59,6 +60,15 @@ ALONG_OTHER_LOOPS = ("every edge of the loop lies exactly on another boundary ed
                      "share), not a hole, so it is left open; merge coincident vertices first "
                      "(trimesh: mesh.merge_vertices(merge_tex=True, merge_norm=True)) to "
                      "join them")
+# what zip_seams=True adds: zipping pairs the two sides of one loop; this loop's other side
+# is other loops (each face or patch with its own vertices), which zipping never joins
+ALONG_OTHER_LOOPS_NOT_ZIPPED = (
+    "every edge of the loop lies exactly on another boundary edge: a seam between faces that "
+    "do not join (their own copies of the vertices they share), not a hole, so it is left "
+    "open; --zip-seams (zip_seams=True) does not join it: it zips a loop that runs back "
+    "along itself, and this one runs along other loops (the faces across it are other "
+    "pieces of surface); merge coincident vertices first (trimesh: "
+    "mesh.merge_vertices(merge_tex=True, merge_norm=True)) to join them")
 # what a seam not zipped (zip_seams False) is told
 SEAM_LEFT_OPEN = "; left open (zip_seams=True, or --zip-seams, closes it)"
 # where along each loop edge the slit test checks that it lies on another edge of the loop

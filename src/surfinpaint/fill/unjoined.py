@@ -23,7 +23,8 @@ from surfinpaint.fill.holes import Hole
 __all__ = ["unjoined_borders_note"]
 
 
-def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole]) -> str | None:
+def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole], *,
+                          zip_seams: bool = False) -> str | None:
     """A warning's text when some outer borders run along other boundary edges.
 
     Parameters
@@ -31,6 +32,10 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole]) -> str | 
     vertices : (n, 3) float array
     found : sequence of Hole
         Every boundary loop, as :func:`~surfinpaint.fill.holes.find_holes` numbers them.
+    zip_seams : bool
+        Whether the fill zips seams (``--zip-seams``): the text then says that zipping does
+        not join these (it pairs the two sides of one loop that runs back along itself; a
+        loop along other loops has its other side in other pieces of surface).
 
     Returns
     -------
@@ -66,7 +71,10 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole]) -> str | 
             f"texture coordinates, trimesh along texture seams and PyVista's OBJ reader at "
             f"every face; e.g. vertices {pairs}), "
             "so the faces there do not join, and those loops are taken as the surface's "
-            "outer borders and left open, not filled; merge coincident vertices first "
+            "outer borders and left open, not filled; "
+            + ("--zip-seams does not join them (it zips a loop that runs back along itself; "
+               "these run along other loops, other pieces of surface); " if zip_seams else "")
+            + "merge coincident vertices first "
             "(trimesh: "
             "mesh.merge_vertices(merge_tex=True, merge_norm=True); PyVista: mesh.clean(); "
             "MeshLab: Merge Close Vertices), then fill; filled from its file (surfinpaint "

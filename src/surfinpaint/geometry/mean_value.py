@@ -12,7 +12,7 @@ from surfinpaint.geometry import parameterization
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.parameterization import disk_boundary, scale_to_area, signed_areas
 
-__all__ = ["bad_faces", "convex_combination", "mean_value_map", "untangle"]
+__all__ = ["bad_faces", "convex_combination", "mean_value_map", "mean_value_weights", "untangle"]
 
 
 def mean_value_map(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -47,7 +47,7 @@ def mean_value_map(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     f = np.asarray(faces, dtype=np.int64)
     loop = disk_boundary(v, f)
     n = len(v)
-    W = _mean_value_weights(v, f)
+    W = mean_value_weights(v, f)
     lengths = np.linalg.norm(v[np.roll(loop, -1)] - v[loop], axis=1)
     angle = 2.0 * np.pi * np.concatenate([[0.0], np.cumsum(lengths)[:-1]]) / lengths.sum()
     uv = np.full((n, 2), np.nan)
@@ -79,7 +79,7 @@ def untangle(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray, *,
     flipped = bad_faces(v, f, uv)
     if len(flipped) == 0:
         return uv
-    W = _mean_value_weights(v, f)
+    W = mean_value_weights(v, f)
     border = np.concatenate(boundary_loops(f))
     adjacency = (W + W.T).tocsr()
     seeds = np.zeros(len(v), dtype=bool)
@@ -103,8 +103,9 @@ def bad_faces(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.nda
                       parameterization.collapsed_faces(vertices, faces, uv))
 
 
-def _mean_value_weights(v: np.ndarray, f: np.ndarray) -> sp.csr_matrix:
-    """Floater's mean-value weights ``W[i, j]`` (positive; not symmetric)."""
+def mean_value_weights(v: np.ndarray, f: np.ndarray) -> sp.csr_matrix:
+    """Floater's mean-value weights ``W[i, j]`` (positive; not symmetric): the weights of
+    :func:`mean_value_map` and :func:`convex_combination`."""
     rows, cols, weights = [], [], []
     for c in range(3):  # the corner at f[:, c], its edges to the two others
         i, j, k = f[:, c], f[:, (c + 1) % 3], f[:, (c + 2) % 3]
