@@ -61,6 +61,13 @@ def test_components_are_numbered_over_the_surface_not_left_over_vertices():
     w, g = sphere_with_caps([(0, 0, -1)], radius=0.5)
     holes = find_holes(np.vstack([v, w + [3.0, 0, 0]]), np.vstack([f, g + len(v)]))
     assert [h.component for h in holes] == [0, 1]
+    # a closed piece between them counts (it has faces, no loop), whatever the faces' order
+    c, d = sphere_with_caps([], radius=0.5)
+    vertices = np.vstack([v, c + [6.0, 0, 0], w + [3.0, 0, 0]])
+    faces = np.vstack([f, d + len(v), g + len(v) + len(c)])
+    order = np.random.default_rng(3).permutation(len(faces))
+    holes = find_holes(vertices, faces[order][:, [1, 2, 0]])
+    assert [h.component for h in holes] == [0, 2]
 
 
 def test_a_third_of_a_sphere_removed_is_still_a_hole():

@@ -14,7 +14,14 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.special import fdtrc, ndtr, ndtri  # F and normal tails (scipy.stats: 1 s)
+
+from surfinpaint.lazy import lazy_module
+
+# the F and normal tails (fdtrc, ndtr, ndtri; scipy.stats would cost 1 s): imported at the
+# first plane test, not at start, since the faired fill imports this module for
+# meeting_line (scipy.special is 45 ms of the command line's start; a large default fill
+# imports it on the kernels' loading thread, under scipy.spatial)
+special = lazy_module("scipy.special")
 
 __all__ = ["PlaneTest", "TwoPlanes", "meeting_line", "morans_i", "part_plane_test", "plane_test",
            "trimmed_plane_test", "two_plane_test"]
@@ -170,7 +177,7 @@ def morans_i(values: np.ndarray, edges: np.ndarray) -> tuple[float, float]:
     variance = ((n * n * s1 - n * s2 + 3.0 * weight * weight)
                 / ((n * n - 1.0) * weight * weight) - expected**2)
     score = (moran - expected) / np.sqrt(max(variance, 1e-300))
-    return float(moran), float(ndtr(-score))
+    return float(moran), float(special.ndtr(-score))
 
 
 def plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
@@ -232,7 +239,7 @@ def plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
         return PlaneTest(True, 1.0, 1.0, centre, normal, 0.0, n)
     dof = n - 6
     F = ((rss_plane - rss_quadric) / 3.0) / max(rss_quadric / dof, 1e-300)
-    p_curvature = float(fdtrc(3, dof, F))
+    p_curvature = float(special.fdtrc(3, dof, F))
     p_pattern = morans_i(residual, edges)[1] if edges is not None else 1.0
     return PlaneTest(bool(p_curvature >= alpha and p_pattern >= alpha), p_curvature,
                      p_pattern, centre, normal, float(np.sqrt(rss_quadric / dof)), n)
@@ -288,7 +295,7 @@ def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
     if points.ndim != 2 or points.shape[1] != 3:
         raise ValueError(f"points must be an (n, 3) array, got shape {points.shape}")
     n = len(points)
-    cut = float(ndtri(1.0 - alpha / (2.0 * n)))
+    cut = float(special.ndtri(1.0 - alpha / (2.0 * n)))
     inliers = np.ones(n, dtype=bool)
     for _ in range(10):
         centroid = points[inliers].mean(axis=0)
