@@ -95,20 +95,26 @@ def _fill_keywords(options: list[str]) -> dict:
     return keywords
 
 
-@pytest.mark.parametrize(("mesh", "options", "left_open", "said"), HOLES_CASES)
-def test_holes_says_what_fill_with_the_same_options_leaves_open(tmp_path, capsys, monkeypatch,
-                                                               mesh, options, left_open, said):
-    # `holes` took none of these options: its verdicts were fill's defaults only (before
-    # this, every case with an option is a usage error, exit 2)
+def _holes_table(tmp_path, capsys, monkeypatch, v, f, options):
+    """``surfinpaint holes`` on the mesh with ``options``: its output, and each loop's last
+    table column by loop number."""
     monkeypatch.setenv("COLUMNS", "250")  # one table row a line
-    v, f = MESHES[mesh]()
     path = tmp_path / "mesh.ply"
     write_mesh(path, v, f)
     assert main(["holes", str(path), *options]) == 0
     out = capsys.readouterr().out
     rows = [[c.strip() for c in re.split(r"[│┃|]", line) if c.strip()]
             for line in out.splitlines()]
-    rows = {int(r[0]): r[-1] for r in rows if r and r[0].isdigit()}
+    return out, {int(r[0]): r[-1] for r in rows if r and r[0].isdigit()}
+
+
+@pytest.mark.parametrize(("mesh", "options", "left_open", "said"), HOLES_CASES)
+def test_holes_says_what_fill_with_the_same_options_leaves_open(tmp_path, capsys, monkeypatch,
+                                                               mesh, options, left_open, said):
+    # `holes` took none of these options: its verdicts were fill's defaults only (before
+    # this, every case with an option is a usage error, exit 2)
+    v, f = MESHES[mesh]()
+    out, rows = _holes_table(tmp_path, capsys, monkeypatch, v, f, options)
     assert len(rows) == len(find_holes(v, f)), out
     said_open = [k for k, kind in rows.items() if "left open" in kind]
     assert said_open == left_open, out
@@ -146,15 +152,8 @@ ALL_AND_NAMED_CASES = [
 def test_holes_all_and_holes_say_what_fill_all_and_holes_do(tmp_path, capsys, monkeypatch,
                                                             mesh, options, said):
     # `holes` had neither --all nor --holes: a usage error (exit 2) before this
-    monkeypatch.setenv("COLUMNS", "250")
     v, f = MESHES[mesh]()
-    path = tmp_path / "mesh.ply"
-    write_mesh(path, v, f)
-    assert main(["holes", str(path), *options]) == 0
-    out = capsys.readouterr().out
-    rows = [[c.strip() for c in re.split(r"[│┃|]", line) if c.strip()]
-            for line in out.splitlines()]
-    rows = {int(r[0]): r[-1] for r in rows if r and r[0].isdigit()}
+    out, rows = _holes_table(tmp_path, capsys, monkeypatch, v, f, options)
     for k, words in said.items():
         assert rows[k].startswith(words), out
     with warnings.catch_warnings():
