@@ -368,7 +368,19 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"surfinpaint {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    _add_holes_parser(sub)
+    _add_fill_parser(sub)
+    _add_batch_parser(sub)
+    add_representation_parsers(sub)
+    _add_demo_parser(sub)
+    if command not in _LIGHT_COMMANDS:
+        report.add_report_parser(sub)
+        experiments.add_experiments_parser(sub)
+    return parser
 
+
+def _add_holes_parser(sub) -> None:
+    """``holes``: the table of boundary loops."""
     p = sub.add_parser("holes", help="list the holes (boundary loops) of a mesh",
                        description="Print a table of the boundary loops of MESH: the holes "
                        "`fill` fills, the outer borders, and the loops `fill` leaves open, "
@@ -387,6 +399,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     add_keep_margins(choice)
     p.set_defaults(func=cmd_holes)
 
+
+def _add_fill_parser(sub) -> None:
+    """``fill``: one mesh."""
     p = sub.add_parser("fill", help="fill holes and write the filled mesh",
                        description="Fill the holes of MESH and write OUT: the original "
                        "vertices unchanged and in order, then the new ones.")
@@ -416,6 +431,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     add_quiet(p, "no progress, report or notices: warnings and errors only")
     p.set_defaults(func=cmd_fill)
 
+
+def _add_batch_parser(sub) -> None:
+    """``batch``: many files."""
     p = sub.add_parser("batch", help="fill many mesh files, on all cores or a Dask cluster",
                        description="Fill the holes of every mesh file named by INPUT "
                        "(files, folders searched recursively, glob patterns) into OUTDIR, "
@@ -453,19 +471,15 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
               "only")
     p.set_defaults(func=cmd_batch)
 
-    add_representation_parsers(sub)
 
+def _add_demo_parser(sub) -> None:
+    """``demo``: the bundled snowman."""
     p = sub.add_parser("demo", help="fill the bundled default mesh and draw before/after",
                        description="Fill the holes of the bundled snowman and write the "
                        "filled mesh and a before/after picture.")
     p.add_argument("-o", "--output", default="demo-out", help="output folder")
     p.add_argument("--method", choices=METHODS, default="conformal")
     p.set_defaults(func=cmd_demo)
-
-    if command not in _LIGHT_COMMANDS:
-        report.add_report_parser(sub)
-        experiments.add_experiments_parser(sub)
-    return parser
 
 
 # What each command reads and writes, for the checks made before any work: the input
