@@ -288,3 +288,52 @@ def test_uvs_that_fold_when_inpainted_are_placed_again_without_folds(monkeypatch
     from surfinpaint.fill import face_attributes
     monkeypatch.setattr(face_attributes, "_unfolded_uv", lambda dom, new, uv, *rest: uv)
     assert mirrored() > 20  # the biharmonic continuation alone: measured 38 of 166
+
+
+def _ply_with_quality(path, vertices, faces):
+    """A binary PLY with a per-vertex ``quality`` and a per-face ``confidence`` (a scanner's
+    extra properties), written by surfinpaint's PLY writer."""
+    from surfinpaint import write_mesh_data
+    from surfinpaint.io import MeshData
+
+    quality = np.linspace(0.0, 1.0, len(vertices))
+    confidence = np.arange(len(faces), dtype=np.float32)
+    write_mesh_data(path, MeshData(vertices, faces, attributes={"quality": quality},
+                                   face_attributes={"confidence": confidence}))
+    return quality, confidence
+
+
+def test_a_trimesh_plys_extra_properties_are_carried_and_filled(tmp_path):
+    # trimesh keeps a PLY's other properties only in metadata["_ply_raw"]: before this they
+    # never reached the fill, and to_trimesh gave the mesh back without them, unwarned
+    trimesh = pytest.importorskip("trimesh")
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], 0.3)
+    path = tmp_path / "scan.ply"
+    quality, confidence = _ply_with_quality(path, cut.vertices, cut.faces)
+    mesh = trimesh.load(path, process=False)
+    assert "quality" not in mesh.vertex_attributes  # where trimesh leaves it
+    result = fill_holes(mesh)
+    n, m = len(cut.vertices), len(cut.faces)
+    assert np.array_equal(result.attributes["quality"][:n], quality)
+    new = result.attributes["quality"][n:]
+    assert len(new) > 0 and np.all((new >= 0) & (new <= 1))
+    assert np.array_equal(result.face_attributes["confidence"][:m], confidence)
+    assert len(result.face_attributes["confidence"]) == len(result.faces)
+    back = result.to_trimesh()
+    assert len(back.vertex_attributes["quality"]) == len(back.vertices)
+
+
+def test_a_trimesh_ply_loaded_with_merging_names_its_properties_not_carried(tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    v, f = sphere(2)
+    cut = cut_holes(v, f, [0], 0.4)
+    # a duplicate of vertex 0, unused: trimesh's default processing drops it
+    vertices = np.vstack([cut.vertices, cut.vertices[:1]])
+    path = tmp_path / "scan.ply"
+    _ply_with_quality(path, vertices, cut.faces)
+    mesh = trimesh.load(path)  # process=True: the rows no longer match the PLY's
+    assert len(mesh.vertices) == len(cut.vertices)
+    with pytest.warns(MeshWarning, match="vertex properties quality have .* process=False"):
+        result = fill_holes(mesh)
+    assert "quality" not in result.attributes

@@ -10,7 +10,8 @@ What is carried (one name a per-vertex or per-face array, as in ``FillResult.att
   ``"color"`` and face colours (``visual.face_colors``) as the face attribute ``"color"`` (the
   names :mod:`surfinpaint.io` reads colours of every format under), ``vertex_attributes`` and
   ``face_attributes``; a texture's ``uv`` as the attribute ``"uv"`` and its material (the
-  image) in ``FillResult.display``, which ``FillResult.to_trimesh`` gives back.
+  image) in ``FillResult.display``, which ``FillResult.to_trimesh`` gives back; a PLY's
+  other vertex and face properties (``quality``), which trimesh keeps in its metadata.
 - ``pyvista.PolyData``: ``point_data`` and ``cell_data`` (polygons fan-triangulated first,
   with a warning; cell data then follow the triangles); its active texture coordinates,
   normals and scalars in ``FillResult.display``, made active again by
@@ -66,7 +67,45 @@ def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
             warnings.warn(f"trimesh texture: visual.uv has {len(uv)} rows for "
                           f"{len(mesh.vertices)} vertices: not carried", MeshWarning,
                           stacklevel=4)
+    _ply_properties(mesh, attributes, face_attributes)
     return np.asarray(mesh.vertices), np.asarray(mesh.faces), attributes, face_attributes
+
+
+#: PLY properties trimesh reads into its own fields (positions, normals, colours, UVs, the
+#: faces' vertex lists); any other property of the vertex or face element is carried.
+_PLY_READ_BY_TRIMESH = frozenset({"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue",
+                                  "alpha", "s", "t", "u", "v", "texture_u", "texture_v",
+                                  "vertex_indices", "vertex_index", "texcoord"})
+
+
+def _ply_properties(mesh, attributes: dict, face_attributes: dict) -> None:
+    """A PLY's other per-vertex and per-face properties (a scanner's ``quality`` or
+    ``confidence``), which trimesh keeps only in ``metadata["_ply_raw"]``, added to the
+    attributes, where the element has a row per vertex (face) of the mesh; else a warning
+    that they are not carried (trimesh merged or dropped rows on loading:
+    ``trimesh.load(path, process=False)`` keeps them)."""
+    raw = getattr(mesh, "metadata", {}).get("_ply_raw")
+    if not isinstance(raw, dict):
+        return
+    for element, rows, into in (("vertex", len(mesh.vertices), attributes),
+                                ("face", len(mesh.faces), face_attributes)):
+        data = raw.get(element, {}).get("data") if isinstance(raw.get(element), dict) else None
+        names = [n for n in getattr(getattr(data, "dtype", None), "names", None) or ()
+                 if n not in _PLY_READ_BY_TRIMESH and n not in into]
+        if not names:
+            continue
+        if len(data) != rows:
+            warnings.warn(f"trimesh PLY: the {element} properties {', '.join(names)} have "
+                          f"{len(data)} rows for {rows} {element}s of the mesh (trimesh "
+                          "merged or dropped some on loading: load with process=False): "
+                          "not carried", MeshWarning, stacklevel=5)
+            continue
+        for name in names:
+            if data.dtype[name].names is None and data.dtype[name].kind in "biuf":
+                into[name] = np.asarray(data[name])
+            else:  # a list property: no one array of rows
+                warnings.warn(f"trimesh PLY: the {element} property {name} is a list: not "
+                              "carried", MeshWarning, stacklevel=5)
 
 
 def _from_pyvista(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
