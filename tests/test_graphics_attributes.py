@@ -337,3 +337,44 @@ def test_a_trimesh_ply_loaded_with_merging_names_its_properties_not_carried(tmp_
     with pytest.warns(MeshWarning, match="vertex properties quality have .* process=False"):
         result = fill_holes(mesh)
     assert "quality" not in result.attributes
+
+
+def _noisy_normals(vertices, seed=37):
+    """Unit normals a scanner might give: the sphere's radial direction, perturbed (not
+    what trimesh computes from the faces)."""
+    rng = np.random.default_rng(seed)
+    normals = vertices / np.linalg.norm(vertices, axis=1, keepdims=True)
+    normals += 0.05 * rng.normal(size=normals.shape)
+    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def test_a_trimesh_given_vertex_normals_keeps_them_and_gets_the_new_vertices_normals(
+        tmp_path):
+    # trimesh keeps vertex_normals= (and a file's normals) only in its cache: before this
+    # the fill never saw them, and to_trimesh let trimesh recompute every vertex's normal,
+    # the originals' too, without a word
+    trimesh = pytest.importorskip("trimesh")
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], 0.3)
+    n = len(cut.vertices)
+    given = _noisy_normals(cut.vertices)
+    mesh = trimesh.Trimesh(cut.vertices, cut.faces, process=False, vertex_normals=given)
+    path = tmp_path / "scan.ply"
+    mesh.export(path)  # trimesh writes its given normals as nx ny nz (float32)
+    for source, want in ((mesh, given), (trimesh.load(path, process=False),
+                                         given.astype(np.float32))):
+        result = fill_holes(source)
+        assert np.array_equal(result.attributes["normal"][:n], want)
+        new = result.vertices[n:]
+        assert len(new) > 0
+        cos = np.einsum("ij,ij->i", result.attributes["normal"][n:],
+                        new / np.linalg.norm(new, axis=1, keepdims=True))
+        assert cos.min() > np.cos(np.radians(10.0))  # the filled surface's, outward
+        back = result.to_trimesh()
+        assert np.array_equal(back.vertex_normals, result.attributes["normal"])
+        assert "normal" not in back.vertex_attributes
+    # normals trimesh computed itself (only read) are not the user's: computed again after
+    # the fill, the loop's vertices' over their new faces too
+    computed = trimesh.Trimesh(cut.vertices, cut.faces, process=False)
+    assert computed.vertex_normals.shape == (n, 3)
+    assert "normal" not in fill_holes(computed).attributes

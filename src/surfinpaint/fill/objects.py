@@ -11,7 +11,10 @@ What is carried (one name a per-vertex or per-face array, as in ``FillResult.att
   names :mod:`surfinpaint.io` reads colours of every format under), ``vertex_attributes`` and
   ``face_attributes``; a texture's ``uv`` as the attribute ``"uv"`` and its material (the
   image) in ``FillResult.display``, which ``FillResult.to_trimesh`` gives back; a PLY's
-  other vertex and face properties (``quality``), which trimesh keeps in its metadata.
+  other vertex and face properties (``quality``), which trimesh keeps in its metadata;
+  vertex normals given to it (``vertex_normals=``, or a file's read by ``trimesh.load``) as
+  the attribute ``"normal"`` (:func:`given_vertex_normals`), which ``to_trimesh`` gives
+  back as ``vertex_normals``.
 - ``pyvista.PolyData``: ``point_data`` and ``cell_data`` (polygons fan-triangulated first,
   with a warning; cell data then follow the triangles); its active texture coordinates,
   normals and scalars in ``FillResult.display``, made active again by
@@ -29,13 +32,17 @@ from surfinpaint.fill.face_attributes import fill_result_corner_attributes
 from surfinpaint.io import MeshData, MeshWarning
 from surfinpaint.io.brain import label_overlays
 
-__all__ = ["ACTIVE_ROLES", "COLOUR_NAMES", "display_of", "fill_mesh_data", "mesh_arrays",
-           "to_pyvista", "to_trimesh"]
+__all__ = ["ACTIVE_ROLES", "COLOUR_NAMES", "NORMAL_NAMES", "display_of", "fill_mesh_data",
+           "given_vertex_normals", "mesh_arrays", "to_pyvista", "to_trimesh"]
 
 #: Attribute names that ``to_trimesh`` puts in ``visual`` (the first one found) rather than
 #: ``vertex_attributes``.
 COLOUR_NAMES = ("color", "colour", "colors", "colours", "vertex_colors", "vertex_colours",
                 "rgba", "rgb")
+
+#: Attribute names that ``to_trimesh`` gives as the mesh's ``vertex_normals`` (the first
+#: ``(n, 3)`` float one found) rather than in ``vertex_attributes``.
+NORMAL_NAMES = ("normal", "normals", "vertex_normals", "vertex_normal")
 
 
 def _library(mesh) -> str | None:
@@ -67,8 +74,37 @@ def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
             warnings.warn(f"trimesh texture: visual.uv has {len(uv)} rows for "
                           f"{len(mesh.vertices)} vertices: not carried", MeshWarning,
                           stacklevel=4)
+    normals = given_vertex_normals(mesh)
+    if normals is not None and _normal_name(attributes) is None:
+        attributes["normal"] = normals
     _ply_properties(mesh, attributes, face_attributes)
     return np.asarray(mesh.vertices), np.asarray(mesh.faces), attributes, face_attributes
+
+
+def given_vertex_normals(mesh) -> np.ndarray | None:
+    """The vertex normals a ``trimesh.Trimesh`` was given (``vertex_normals=``, or a file's
+    ``vn``/``nx ny nz`` read by ``trimesh.load``), or None when it has none of its own.
+
+    trimesh keeps given normals where it keeps the ones it computes, in its cache (its own
+    PLY exporter writes normals when they are there); computed ones are those of
+    ``trimesh.geometry.weighted_vertex_normals`` of the same faces, so cached normals equal
+    to them bit for bit are trimesh's and not the user's (a trimesh whose ``vertex_normals``
+    was only read): those are None too, and the filled mesh's are computed again by trimesh,
+    the loop's vertices' over their new faces too.
+    """
+    cache = getattr(mesh, "_cache", None)
+    try:
+        cached = cache["vertex_normals"] if cache is not None else None
+    except (KeyError, TypeError):  # a trimesh without the cache of trimesh 4 and 5
+        return None
+    if cached is None or np.shape(cached) != np.shape(mesh.vertices):
+        return None
+    import trimesh
+
+    computed = trimesh.geometry.weighted_vertex_normals(
+        vertex_count=len(mesh.vertices), faces=mesh.faces, face_normals=mesh.face_normals,
+        face_angles=mesh.face_angles)
+    return None if np.array_equal(cached, computed) else np.array(cached, dtype=float)
 
 
 #: PLY properties trimesh reads into its own fields (positions, normals, colours, UVs, the
@@ -191,6 +227,12 @@ def mesh_arrays(
             {**own_faces_attributes, **dict(face_attributes or {})})
 
 
+def _normal_name(attributes: Mapping[str, np.ndarray]) -> str | None:
+    return next((key for name in NORMAL_NAMES for key, a in attributes.items()
+                 if key.lower() == name and np.shape(a)[1:] == (3,)
+                 and np.asarray(a).dtype.kind == "f"), None)
+
+
 def _colour_name(attributes: Mapping[str, np.ndarray]) -> str | None:
     for name in COLOUR_NAMES:
         for key, a in attributes.items():
@@ -230,7 +272,8 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
     colours in ``visual`` (the first attribute named in :data:`COLOUR_NAMES`; when there is
     none, the face attribute so named; when there are no colours, an ``(n, 2)`` attribute
     ``"uv"`` as ``visual.uv`` of a ``TextureVisuals`` with ``display["material"]``, the
-    texture's image, when given: :func:`display_of`) and every other attribute in
+    texture's image, when given: :func:`display_of`), the first attribute named in
+    :data:`NORMAL_NAMES` as ``vertex_normals``, and every other attribute in
     ``vertex_attributes`` / ``face_attributes``."""
     import trimesh
 
@@ -240,6 +283,8 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
     vertex_colors = attributes.pop(colour) if colour else None
     face_colour = None if colour else _colour_name(face_attributes)
     face_colors = face_attributes.pop(face_colour) if face_colour else None
+    normal = _normal_name(attributes)
+    normals = attributes.pop(normal) if normal else None
     uv = attributes.get("uv")
     visual = None
     if colour is None and face_colour is None and uv is not None \
@@ -248,7 +293,7 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
                                                 material=(display or {}).get("material"))
     return trimesh.Trimesh(vertices=vertices, faces=faces, process=False, validate=False,
                            vertex_colors=vertex_colors, face_colors=face_colors,
-                           visual=visual, vertex_attributes=attributes,
+                           vertex_normals=normals, visual=visual, vertex_attributes=attributes,
                            face_attributes=face_attributes)
 
 
