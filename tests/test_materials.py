@@ -149,13 +149,22 @@ def _later(path: Path, than: Path) -> None:
     os.utime(path, ns=(when, when))
 
 
+def _summary_row(out: Path) -> dict:
+    (row,) = json.loads((out / "summary.json").read_text())["files"]
+    return row
+
+
 def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, capsys):
-    # a rerun skipped the file (its mesh unchanged), and --overwrite kept the copies an
-    # earlier run wrote, with a warning: the output kept the old texture and .mtl
+    # session 36: a rerun skipped the file (its mesh unchanged), and --overwrite kept the
+    # copies an earlier run wrote, with a warning: the output kept the old texture and .mtl.
+    # Session 37: the changed files are copied again without refilling the mesh (the fill
+    # does not read them; a lab recolouring thousands of scans' textures paid a fill each)
     source = _textured_scan(tmp_path / "in")
     code, output = _run("batch", source, tmp_path / "out")
     assert code == 0
-    (row,) = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
+    filled = (output.read_bytes(), output.stat().st_mtime_ns)
+    row = _summary_row(tmp_path / "out")
+    assert row["status"] == "filled"
     assert sorted(row["materials"]) == ["scan.mtl", "textures/skin tex.png"]
     assert "materials" not in (tmp_path / "out" / "summary.csv").read_text().splitlines()[0]
     texture = tmp_path / "in" / "textures" / "skin tex.png"
@@ -164,6 +173,11 @@ def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, caps
     assert _run("batch", source, tmp_path / "out")[0] == 0
     assert (tmp_path / "out" / "textures" / "skin tex.png").read_bytes() == texture.read_bytes()
     assert "other content" not in capsys.readouterr().err
+    assert (output.read_bytes(), output.stat().st_mtime_ns) == filled  # not refilled
+    row = _summary_row(tmp_path / "out")
+    assert row["status"] == "skipped" and row["holes_filled"] == 1  # the fill's counts kept
+    assert "its materials changed beside the input (textures/skin tex.png): copied again " \
+        "(textures/skin tex.png), the mesh not refilled" in row["message"]
     # the .mtl too (it names a new texture: that is copied as well)
     library = tmp_path / "in" / "scan.mtl"
     library.write_text("newmtl skin\nKd 1 1 1\nmap_Kd new.png\n")
@@ -172,6 +186,14 @@ def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, caps
     assert _run("batch", source, tmp_path / "out")[0] == 0
     assert (tmp_path / "out" / "scan.mtl").read_text() == library.read_text()
     assert (tmp_path / "out" / "new.png").read_bytes() == TEXTURE
+    assert (output.read_bytes(), output.stat().st_mtime_ns) == filled
+    assert _summary_row(tmp_path / "out")["status"] == "skipped"
+    # touched, not changed (a sync tool's copy): nothing copied, the record kept
+    _later(texture, output)
+    assert _run("batch", source, tmp_path / "out")[0] == 0
+    row = _summary_row(tmp_path / "out")
+    assert row["status"] == "skipped" and "copied again" not in row["message"]
+    assert sorted(row["materials"]) == ["new.png", "scan.mtl"]
     # nothing changed: skipped, the record kept for the next change
     for path in (library, texture, tmp_path / "in" / "new.png", source):
         earlier = output.stat().st_mtime_ns - 10**9  # _later's times may lie ahead
@@ -196,8 +218,10 @@ def test_a_batch_rerun_keeps_a_copy_the_user_changed_with_a_warning(tmp_path, ca
     assert _run("batch", source, Path("out"))[0] == 0
     assert mine.read_text() == "newmtl skin\nKd 0.5 0.5 0.5\n"  # kept
     (row,) = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
-    assert row["status"] == "filled"
-    assert "out/scan.mtl exists with other content than in/scan.mtl: kept, not replaced " \
-        "(changed since an earlier run copied it)" in row["message"]
+    assert row["status"] == "skipped"  # the mesh not refilled: only its .mtl changed
+    kept = "out/scan.mtl exists with other content than in/scan.mtl: kept, not replaced " \
+        "(changed since an earlier run copied it)"
+    assert kept in row["message"]
+    assert kept in capsys.readouterr().err  # a warning, though the file was skipped
     assert str(tmp_path) not in row["message"]  # named as given, not by absolute paths
     assert "scan.mtl" not in row["materials"]  # not ours any more: never replaced later

@@ -40,9 +40,9 @@ from surfinpaint.app.batch_inputs import (
     Inputs,
     find_inputs,
     largest_cost_first,
-    picture_path,
     up_to_date,
 )
+from surfinpaint.app.batch_reruns import rerun_row
 from surfinpaint.app.batch_summary import (
     STATUSES,
     SUMMARY_CSV,
@@ -416,25 +416,6 @@ def _run_dask(jobs: Sequence[FileJob], options: Mapping[str, Any], client: Any,
 # ------------------------------------------------------------------------- the entry point
 
 
-def _skipped(job: FileJob, earlier: FileRow | None) -> FileRow:
-    """The row of a file whose output is up to date, with the counts of the run that wrote
-    it when its summary has them."""
-    note = f"{job.output} is newer than the input: kept (overwrite refills it)"
-    if earlier is None or earlier.output != job.output or \
-            earlier.status == "failed":
-        return FileRow(job.name, job.output, "skipped", message=note,
-                       picture=job.picture_output)
-    # the picture up to date (with png), else the one an earlier run wrote, if still there
-    picture = job.picture_output or (
-        earlier.picture if picture_path(job.target).is_file() else None)
-    if earlier.status == "skipped":
-        return dataclasses.replace(earlier, picture=picture)
-    before = f"; written by an earlier run ({earlier.status}" + \
-        (f": {earlier.message})" if earlier.message else ")")
-    return dataclasses.replace(earlier, status="skipped", seconds=0.0, message=note + before,
-                               picture=picture)
-
-
 def _cores() -> int:
     """The cores this process may use (its CPU affinity where the system has one)."""
     if hasattr(os, "sched_getaffinity"):
@@ -471,10 +452,14 @@ def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
     for job in todo:
         before = earlier.get(job.name)
         if before is not None and before.output == job.output and before.materials:
-            # the materials the last run copied: up to date only if they did not change
+            # the materials the last run copied: copied again if they changed, unless the
+            # copies did (their SHA-1 recorded)
             job = dataclasses.replace(job, copied=tuple(sorted(before.materials.items())))
-        if not overwrite and up_to_date(job):
-            rows.add(_skipped(job, earlier.get(job.name)))
+        # up to date: skipped, its changed materials (.mtl, textures) copied again
+        row = rerun_row(job, before) \
+            if not overwrite and up_to_date(job) else None
+        if row is not None:
+            rows.add(row)
         else:
             pending.append(job)
     _remove_temporaries(pending)

@@ -379,14 +379,14 @@ def up_to_date(job: FileJob) -> bool:
     every file the fill reads: the input and, for a GIFTI or FreeSurfer surface, the
     overlays beside it (:func:`surfinpaint.io.formats.files_read`) and those of
     ``--overlay`` (a missing one: not up to date, its fill fails naming it), so that an
-    overlay changed alone is filled again; and the material files an earlier run copied
-    beside an OBJ output (:attr:`FileJob.copied`), so that a changed ``.mtl`` or texture is
-    copied again. A missing picture refills the file: the picture is drawn from the fill."""
+    overlay changed alone is filled again. A missing picture refills the file: the picture
+    is drawn from the fill. An OBJ's material library and textures do not count: the fill
+    does not read them (a rerun copies a changed one again:
+    :func:`surfinpaint.app.batch_reruns.rerun_row`)."""
     try:
         written = min(path.stat().st_mtime_ns for path in (job.target, job.picture)
                       if path is not None)
-        read = [*files_read(job.source, overlays=job.overlays_read()),
-                *(job.source.parent / relative for relative, _ in job.copied)]
+        read = files_read(job.source, overlays=job.overlays_read())
         return all(written > source.stat().st_mtime_ns for source in read)
     except (OSError, MeshError):
         return False

@@ -23,9 +23,11 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path, PurePosixPath
 
 from surfinpaint.io.atomic import atomic_path
-from surfinpaint.io.base import MeshWarning
+from surfinpaint.io.base import MeshWarning, decode_text
+from surfinpaint.io.obj import material_libraries
 
-__all__ = ["CopiedMaterials", "copy_materials", "material_files"]
+__all__ = ["CopiedMaterials", "changed_materials", "copy_materials", "libraries_of",
+           "material_files"]
 
 # MTL statements whose last argument is an image file (after options such as "-s 1 1 1"):
 # every map_* (map_Kd, map_Ks, map_Bump, map_d, map_Pr, ...) and these
@@ -121,6 +123,43 @@ def _sha1(path: Path) -> str:
         while chunk := handle.read(1 << 20):
             digest.update(chunk)
     return digest.hexdigest()
+
+
+def libraries_of(obj: str | os.PathLike) -> str:
+    """The material libraries the OBJ file ``obj`` names (its ``mtllib`` statements, as
+    :func:`surfinpaint.io.read_mesh_data` keeps them in ``metadata["mtllib"]``: the
+    ``libraries`` of :func:`copy_materials`), read without parsing the mesh.
+
+    Raises
+    ------
+    OSError
+        When the file cannot be read.
+    MeshError
+        When it is no text file.
+    """
+    return material_libraries(decode_text(Path(obj).read_bytes(), "OBJ"))
+
+
+def changed_materials(source: str | os.PathLike, record: Mapping[str, str],
+                      since_ns: int | None = None) -> list[str]:
+    """The files of ``record`` (a :class:`CopiedMaterials` ``record`` of copies made from
+    beside the OBJ ``source``: paths relative to its folder, and the SHA-1 copied) whose
+    file beside ``source`` is gone or holds other content now. A file not modified after
+    ``since_ns`` (nanoseconds since the epoch: when the output was written) is taken as
+    unchanged without reading it."""
+    folder = Path(source).parent
+    changed = []
+    for relative, sha1 in record.items():
+        origin = folder / relative
+        try:
+            if since_ns is not None and origin.stat().st_mtime_ns < since_ns:
+                continue
+            if _sha1(origin) == sha1:
+                continue
+        except OSError:  # gone, or unreadable: copy_materials says which
+            pass
+        changed.append(relative)
+    return changed
 
 
 def copy_materials(source: str | os.PathLike, target: str | os.PathLike, libraries: str, *,

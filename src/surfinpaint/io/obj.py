@@ -20,6 +20,7 @@ _LABEL_OR_FACE = re.compile(r"^[ \t]*(usemtl|g|o|mtllib|f)(?![^ \t\r\n])[ \t]*([
 _KEYWORD = re.compile(r"^[ \t]*(?!v[ \t]|f[ \t])([A-Za-z_]\w*)", re.MULTILINE)
 _CORNER = re.compile(r"(?<!\S)(-?\d+)(?:/(-?\d*))?(?:/(-?\d*))?(?!\S)")
 _KNOWN = {"v", "vt", "vn", "f", "usemtl", "g", "o", "mtllib"}
+_MTLLIB = re.compile(r"^[ \t]*mtllib(?![^ \t\r\n])[ \t]*([^\r\n]*)", re.MULTILINE)
 #: face labels from the state records before each face: attribute name -> record
 _LABELS = {"object": "o", "group": "g", "material": "usemtl"}
 
@@ -76,6 +77,8 @@ def read_obj(data: bytes, path: Path) -> Parsed:
                                "by any face and are not kept")
     if present & {"o", "g", "usemtl", "mtllib"}:
         _labels(out, _LABEL_OR_FACE.findall(text))
+    if "mtllib" in present:
+        out.metadata["mtllib"] = material_libraries(text)
     other = sorted(present - _KNOWN)
     if other:
         out.dropped.append(f"OBJ records {', '.join(other)} (smoothing groups, lines, "
@@ -93,7 +96,7 @@ def _lines(records: list, kind: str) -> list[str]:
 
 def _labels(out: Parsed, records: list) -> None:
     """Object, group and material of each face (the last ``o``, ``g``, ``usemtl`` before
-    it; "" before any) as face labels, and the material libraries as metadata."""
+    it; "" before any) as face labels."""
     kinds = np.array([k for k, _ in records])
     names = np.array([rest.partition("#")[0].strip() for _, rest in records], dtype=object)
     for label, record in _LABELS.items():
@@ -103,9 +106,13 @@ def _labels(out: Parsed, records: list) -> None:
         last = np.maximum.accumulate(np.where(at, np.arange(len(kinds)), -1))[kinds == "f"]
         out.face_attributes[label] = np.where(last >= 0, names[np.maximum(last, 0)],
                                               "").astype(str)
-    libraries = names[kinds == "mtllib"]
-    if len(libraries):
-        out.metadata["mtllib"] = "\n".join(libraries)
+
+
+def material_libraries(text: str) -> str:
+    """What an OBJ's ``mtllib`` statements name (comments cut), one statement a line: the
+    ``metadata["mtllib"]`` of :func:`read_obj` (:func:`surfinpaint.io.read_mesh_data`),
+    found without reading the mesh."""
+    return "\n".join(rest.partition("#")[0].strip() for rest in _MTLLIB.findall(text))
 
 
 def _resolve(ids: np.ndarray, records: list, kind: str, counts: np.ndarray) -> np.ndarray:
