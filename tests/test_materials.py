@@ -5,6 +5,7 @@ folder (session 35)."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import warnings
@@ -17,7 +18,7 @@ from surfinpaint.data import sphere
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
 from surfinpaint.io.base import MeshWarning
-from surfinpaint.io.materials import copy_materials, material_files
+from surfinpaint.io.materials import copy_materials, material_files, recorded_copies
 
 TEXTURE = b"\x89PNG\r\n\x1a\n not a real picture"
 
@@ -225,3 +226,46 @@ def test_a_batch_rerun_keeps_a_copy_the_user_changed_with_a_warning(tmp_path, ca
     assert kept in capsys.readouterr().err  # a warning, though the file was skipped
     assert str(tmp_path) not in row["message"]  # named as given, not by absolute paths
     assert "scan.mtl" not in row["materials"]  # not ours any more: never replaced later
+
+
+def test_a_fill_rerun_copies_a_changed_library_again_unless_the_user_changed_the_copy(
+        tmp_path, capsys, monkeypatch):
+    # fill kept no record of its copies (batch keeps one in its summary): a rerun after the
+    # .mtl changed kept the stale copy, with a warning. Now the OBJ written records its
+    # copies in its header, and a rerun into it replaces a copy that is still its own
+    monkeypatch.chdir(tmp_path)
+    source = _textured_scan(Path("in"))
+    code, output = _run("fill", source, Path("out"))
+    assert code == 0
+    header = output.read_text().splitlines()[:4]
+    assert header[1] == "mtllib scan.mtl"
+    assert sorted(header[2:]) == sorted(
+        f"# surfinpaint copied {hashlib.sha1(p.read_bytes()).hexdigest()} {name}"
+        for name, p in (("scan.mtl", Path("in/scan.mtl")),
+                        ("textures/skin tex.png", Path("in/textures/skin tex.png"))))
+    library, texture = Path("in/scan.mtl"), Path("in/textures/skin tex.png")
+    library.write_text("newmtl skin\nKd 0.9 0.8 0.7\nmap_Kd -s 1 1 1 textures/skin tex.png\n")
+    texture.write_bytes(TEXTURE + b" colour-corrected")
+    capsys.readouterr()
+    assert _run("fill", source, Path("out"))[0] == 0
+    assert "other content" not in capsys.readouterr().err
+    assert Path("out/scan.mtl").read_text() == library.read_text()
+    assert Path("out/textures/skin tex.png").read_bytes() == texture.read_bytes()
+    # the user's own edit of the copy is kept, and the warning says what to do
+    Path("out/scan.mtl").write_text("newmtl skin\nKd 0.5 0.5 0.5\n")
+    library.write_text(library.read_text() + "Ks 0 0 0\n")
+    assert _run("fill", source, Path("out"))[0] == 0
+    err = " ".join(capsys.readouterr().err.split())
+    assert Path("out/scan.mtl").read_text() == "newmtl skin\nKd 0.5 0.5 0.5\n"
+    assert "out/scan.mtl exists with other content than in/scan.mtl: kept, not replaced " \
+        "(changed since an earlier run copied it); the output's materials may differ from " \
+        "the input's: to use the input's, copy in/scan.mtl over it" in err
+    # no longer recorded: never replaced later
+    assert sorted(recorded_copies(output)) == ["textures/skin tex.png"]
+    # an OBJ another program wrote over the output carries no record: kept, and said why
+    output.write_text(source.read_text())
+    library.write_text(library.read_text() + "Ns 10\n")
+    Path("out/scan.mtl").write_text("newmtl skin\n")
+    assert _run("fill", source, Path("out"))[0] == 0
+    assert "(no earlier run recorded writing it); the output's materials may differ" in \
+        " ".join(capsys.readouterr().err.split())

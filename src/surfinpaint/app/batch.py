@@ -56,14 +56,13 @@ from surfinpaint.app.batch_summary import (
     row_of,
     write_summary,
 )
-from surfinpaint.app.outputs import write_output
+from surfinpaint.app.outputs import write_with_materials
 from surfinpaint.compiled import announce_once_across
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.parallel import start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.fill.warmup import warm_kernels
 from surfinpaint.io.formats import MeshData, read_mesh_data
-from surfinpaint.io.materials import copy_materials
 from surfinpaint.lazy import lazy_module
 
 __all__ = ["FileJob", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
@@ -137,10 +136,9 @@ def fill_file(job: FileJob, options: Mapping[str, Any],
             job.target.parent.mkdir(parents=True, exist_ok=True)
             # an OBJ's .mtl and textures beside it, as `surfinpaint fill` copies them; a
             # copy an earlier run made is replaced when the input's changed (job.copied)
-            materials = copy_materials(job.source, job.target, filled.metadata.get("mtllib", ""),
-                                       reserved=(job.picture,) if job.picture else (),
-                                       ours=dict(job.copied))
-            write_output(job.source, job.target, filled, len(mesh.vertices))
+            materials = write_with_materials(job.source, job.target, filled,
+                                             len(mesh.vertices), ours=dict(job.copied),
+                                             reserved=[job.picture] if job.picture else [])
         except Exception as exc:  # any failure of one file is that file's row, not the batch's
             return FileRow(job.name, job.output, "failed",
                            seconds=time.perf_counter() - started, message=error_text(job, exc))

@@ -38,7 +38,7 @@ from surfinpaint.app.outputs import (
     check_output_directory,
     check_output_file,
     check_outputs_distinct,
-    write_output,
+    write_with_materials,
 )
 from surfinpaint.app.progress import LazyConsole, add_quiet, progress_bar
 from surfinpaint.app.progress import console as _console
@@ -69,7 +69,6 @@ from surfinpaint.io.formats import (
     read_mesh_data,
     write_mesh,
 )
-from surfinpaint.io.materials import copy_materials
 from surfinpaint.lazy import lazy_module
 
 # imported at their first use (surfinpaint.lazy): a fill never needs them (docs/scale.md,
@@ -215,9 +214,8 @@ def cmd_fill(args: argparse.Namespace) -> int:
             result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
                                             jobs=args.jobs, **options)
         # the OBJ's .mtl and the textures it names, beside the output: its texture shows
-        materials = copy_materials(args.mesh, args.output, filled.metadata.get("mtllib", ""),
-                                   reserved=tuple(p for p in (args.png, args.json) if p))
-        write_output(args.mesh, args.output, filled, len(vertices))
+        materials = write_with_materials(args.mesh, args.output, filled, len(vertices),
+                                         reserved=[p for p in (args.png, args.json) if p])
     summary = Summary.of(result, time.perf_counter() - started)
     if len(result.removed_faces):
         say(f"--repair removed {len(result.removed_faces)} faces around non-manifold "

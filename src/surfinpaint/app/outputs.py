@@ -1,5 +1,6 @@
 """Checks on where a command will write, made before any work is done, and the one way
-``fill`` and ``batch`` write a filled mesh (:func:`write_output`).
+``fill`` and ``batch`` write a filled mesh (:func:`write_output`; an OBJ with its materials
+copied beside it: :func:`write_with_materials`).
 
 A fill can take minutes; finding only at the end that the output directory is missing or
 read-only, or that ``-o`` names the input (which the atomic rename would silently replace),
@@ -8,6 +9,7 @@ wastes them or destroys the input. These checks run first.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import stat
 import tempfile
@@ -19,6 +21,7 @@ import numpy as np
 
 from surfinpaint.io.base import RenumberedWarning
 from surfinpaint.io.formats import MeshData, ascii_like, write_mesh_data
+from surfinpaint.io.materials import CopiedMaterials, copy_materials, recorded_copies
 from surfinpaint.io.stl import first_use_order
 
 
@@ -134,3 +137,24 @@ def write_output(source: str | os.PathLike, target: str | os.PathLike, filled: M
                 write_mesh_data(target, filled, ascii=ascii)
             return
     write_mesh_data(target, filled, ascii=ascii)
+
+
+def write_with_materials(source: str | os.PathLike, target: str | os.PathLike,
+                         filled: MeshData, n_original: int, *,
+                         reserved: Sequence[str | os.PathLike] = (),
+                         ours: Mapping[str, str] | None = None) -> CopiedMaterials:
+    """Write a filled mesh (:func:`write_output`) after copying an OBJ's material library
+    and textures beside it (:func:`~surfinpaint.io.materials.copy_materials`, not onto
+    ``reserved``: the other outputs), with the record of the copies in the OBJ's header, so
+    that a later ``fill`` into the same file replaces a copy the input's changed since,
+    unless the copy changed too. The copies an earlier run made are known from that record
+    in the OBJ already at ``target`` and from ``ours`` (``batch``'s summary), which takes
+    precedence. Returns what was copied."""
+    materials = copy_materials(source, target, filled.metadata.get("mtllib", ""),
+                               reserved=tuple(reserved),
+                               ours={**recorded_copies(target), **(ours or {})})
+    if materials.metadata:
+        filled = dataclasses.replace(filled, metadata={**filled.metadata,
+                                                       **materials.metadata})
+    write_output(source, target, filled, n_original)
+    return materials

@@ -24,10 +24,10 @@ from pathlib import Path, PurePosixPath
 
 from surfinpaint.io.atomic import atomic_path
 from surfinpaint.io.base import MeshWarning, decode_text
-from surfinpaint.io.obj import material_libraries
+from surfinpaint.io.obj import COPIES_COMMENT, COPIES_KEY, material_libraries
 
 __all__ = ["CopiedMaterials", "changed_materials", "copy_materials", "libraries_of",
-           "material_files"]
+           "material_files", "recorded_copies"]
 
 # MTL statements whose last argument is an image file (after options such as "-s 1 1 1"):
 # every map_* (map_Kd, map_Ks, map_Bump, map_d, map_Pr, ...) and these
@@ -110,11 +110,44 @@ class CopiedMaterials(list[Path]):
     for each material file whose copy beside the output now holds the input's content, its
     path relative to the OBJ's folder and that content's SHA-1 (what a later call's ``ours``
     takes, so that it replaces the copy when the input's file changes and the copy did
-    not)."""
+    not). ``batch`` keeps it in its summary; the OBJ written keeps it too, as comments
+    (:attr:`metadata`, :func:`recorded_copies`), for a later ``fill`` into the same file."""
 
     def __init__(self, written: Iterable[Path] = (), record: Mapping[str, str] | None = None):
         super().__init__(written)
         self.record: dict[str, str] = dict(record or {})
+
+    @property
+    def metadata(self) -> dict[str, str]:
+        """The record as the metadata of the mesh written beside the copies
+        (:data:`surfinpaint.io.obj.COPIES_KEY`; none without copies)."""
+        if not self.record:
+            return {}
+        return {COPIES_KEY: "\n".join(f"{sha1} {path}" for path, sha1 in self.record.items())}
+
+
+def recorded_copies(obj: str | os.PathLike) -> dict[str, str]:
+    """The record of the material files copied beside the OBJ file ``obj`` when
+    surfinpaint wrote it (:attr:`CopiedMaterials.metadata`, read back from its header's
+    comments: what :func:`copy_materials` takes as ``ours``); empty when it is no such OBJ
+    (another format, none there, unreadable, or written without copies or by another
+    program, which keeps no such comments)."""
+    record: dict[str, str] = {}
+    if Path(obj).suffix.lower() != ".obj":
+        return record
+    try:
+        with open(obj, "rb") as handle:
+            for raw in handle:  # the header only: comments and mtllib lines come first
+                line = raw.decode("utf-8", errors="replace").rstrip("\r\n")
+                if line.startswith(COPIES_COMMENT):
+                    sha1, _, path = line[len(COPIES_COMMENT):].partition(" ")
+                    if len(sha1) == 40 and path:
+                        record[path] = sha1
+                elif not line.startswith(("#", "mtllib")):
+                    break
+    except OSError:
+        return {}
+    return record
 
 
 def _sha1(path: Path) -> str:
@@ -171,7 +204,8 @@ def copy_materials(source: str | os.PathLike, target: str | os.PathLike, librari
     the copies (:class:`CopiedMaterials`). Each is written atomically; the inputs are only
     read.
 
-    ``ours``: an earlier call's ``record`` (``batch`` keeps it in its summary). A copy whose
+    ``ours``: an earlier call's ``record`` (``batch`` keeps it in its summary, the OBJ
+    written beside the copies in its header: :func:`recorded_copies`). A copy whose
     content differs from the input's file is replaced when it is still what that call
     wrote (its SHA-1 recorded there): the input's file changed since, the copy did not. Any
     other file there is kept.
@@ -204,9 +238,10 @@ def copy_materials(source: str | os.PathLike, target: str | os.PathLike, librari
             earlier = (ours or {}).get(key)
             if earlier is None or not copy.is_file() or _sha1(copy) != earlier:
                 why = "changed since an earlier run copied it" if earlier is not None else \
-                    "the output's materials may differ from the input's"
+                    "no earlier run recorded writing it"
                 notes.append(f"{copy} exists with other content than {origin}: kept, not "
-                             f"replaced ({why})")
+                             f"replaced ({why}); the output's materials may differ from the "
+                             f"input's: to use the input's, copy {origin} over it")
                 continue
         copy.parent.mkdir(parents=True, exist_ok=True)
         with atomic_path(copy) as tmp:

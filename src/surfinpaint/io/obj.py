@@ -20,6 +20,11 @@ _LABEL_OR_FACE = re.compile(r"^[ \t]*(usemtl|g|o|mtllib|f)(?![^ \t\r\n])[ \t]*([
 _KEYWORD = re.compile(r"^[ \t]*(?!v[ \t]|f[ \t])([A-Za-z_]\w*)", re.MULTILINE)
 _CORNER = re.compile(r"(?<!\S)(-?\d+)(?:/(-?\d*))?(?:/(-?\d*))?(?!\S)")
 _KNOWN = {"v", "vt", "vn", "f", "usemtl", "g", "o", "mtllib"}
+#: The ``metadata`` of a mesh written as OBJ that records the material files copied beside
+#: it: one ``SHA1 path`` a line (:func:`surfinpaint.io.materials.recorded_copies`), written
+#: as the comments ``# surfinpaint copied SHA1 path`` after the ``mtllib`` lines.
+COPIES_KEY = "copied_materials"
+COPIES_COMMENT = "# surfinpaint copied "
 _MTLLIB = re.compile(r"^[ \t]*mtllib(?![^ \t\r\n])[ \t]*([^\r\n]*)", re.MULTILINE)
 #: face labels from the state records before each face: attribute name -> record
 _LABELS = {"object": "o", "group": "g", "material": "usemtl"}
@@ -184,7 +189,8 @@ def unstored_obj(mesh: MeshData) -> list[str]:
               if k not in kept or kept[k][0] != "corner"]
     out = [f"OBJ stores uv, normal and rgb color: {', '.join(names)} not written"] if names \
         else []
-    out += [f"metadata {k!r} is not stored in OBJ" for k in mesh.metadata if k != "mtllib"]
+    out += [f"metadata {k!r} is not stored in OBJ" for k in mesh.metadata
+            if k not in ("mtllib", COPIES_KEY)]
     if "color" in kept and mesh.attributes["color"].dtype == np.uint8:
         out.append("8-bit color is written as OBJ's float r g b (value / 255)")
     return out
@@ -212,6 +218,8 @@ def write_obj(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
     fh.write(b"# written by surfinpaint\n")
     for library in mesh.metadata.get("mtllib", "").splitlines():
         fh.write(f"mtllib {library}\n".encode())
+    for copy in mesh.metadata.get(COPIES_KEY, "").splitlines():
+        fh.write(f"{COPIES_COMMENT}{copy}\n".encode())
     if "color" in kept:
         write_rows(fh, "v" + " %.17g" * 6 + "\n", np.column_stack([v, kept["color"][1]]))
     else:
