@@ -30,7 +30,15 @@ from surfinpaint.app.fill_options import (
     add_zip_seams,
     fill_options,
 )
-from surfinpaint.app.fill_report import Summary, count_warnings, hole_lines, print_warnings, tell
+from surfinpaint.app.fill_report import (
+    Summary,
+    count_warnings,
+    hole_lines,
+    nothing_to_fill,
+    print_warnings,
+    tell,
+)
+from surfinpaint.app.holes_table import holes_table
 from surfinpaint.app.interrupts import Interrupted, signals_raise
 from surfinpaint.app.outputs import (
     OutputError,
@@ -44,20 +52,13 @@ from surfinpaint.app.progress import LazyConsole, add_quiet, progress_bar
 from surfinpaint.app.progress import console as _console
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
-from surfinpaint.fill import hole_steps, warmup
+from surfinpaint.fill import warmup
 from surfinpaint.fill.holes import (
-    find_holes,
-    hole_numbers,
-    over_size,
-    percent_below,
-    select_holes,
     warn_degenerate,
 )
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.pipeline import METHODS, fill_holes
-from surfinpaint.fill.seams import spanless
 from surfinpaint.fill.unjoined import unjoined_borders_note
-from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.atomic import remove_unfinished
 from surfinpaint.io.base import MeshWarning
@@ -103,78 +104,6 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
         yield bar.update if enabled else None
 
 
-def _holes_table(vertices, faces, title: str, *, holes: list[int] | None = None,
-                 include_border: bool = False, keep_margins: bool = False,
-                 max_hole_edges: int | None = None, zip_seams: bool = False) -> list:
-    """Print ``surfinpaint holes``' table: each loop, and what ``fill`` with these options
-    does with it (fill's own rules: ``select_holes``, ``over_size``, ``left_open``)."""
-    from rich.console import Console
-    from rich.markup import escape
-    from rich.table import Table
-
-    found = find_holes(vertices, faces, validate=False)  # validated by cmd_holes
-    # in fill's order: the loops it chooses (those named; else not the outer border unless
-    # include_border, the margins kept open with keep_margins), then the size limit, then
-    # each loop's own check
-    chosen = set(hole_numbers(vertices, faces, select_holes(
-        vertices, faces, holes, include_border=include_border, keep_margins=keep_margins,
-        validate=False, found=found), found=found))
-    unchosen = [k for k, h in enumerate(found) if k not in chosen
-                and (holes is not None or not h.is_border)]
-    left_open = {k: over_size(found[k].n_edges, max_hole_edges) for k in sorted(chosen)}
-    # what fill's own check of each hole says (a bow-tie it would leave pinched, ...): the
-    # holes it would try; the others' kind says already why they stay open
-    tried = [k for k, why in left_open.items() if why is None
-             and not (found[k].spans_no_area or found[k].runs_along_other_loops)]
-    left_open.update(zip(tried, hole_steps.left_open(vertices, faces,
-                                                     [found[k].loop for k in tried],
-                                                     zip_seams=zip_seams), strict=True))
-    # a loop that spans no area and is not left open is a seam fill zips (--zip-seams)
-    zipped = {k for k in tried if zip_seams and left_open[k] is None
-              and spanless(vertices, found[k].loop) is not None}
-    # the title on a line of its own, never wrapped: as a table title it was broken at the
-    # table's width, a long path across two lines (no longer found by grep or pasted back)
-    Console().print(title, soft_wrap=True, markup=False, highlight=False)
-    table = Table()
-    for name in ("hole", "edges", "perimeter", "diameter", "component", "kind"):
-        table.add_column(name, justify="right" if name != "kind" else "left")
-    for i, h in enumerate(found):
-        why = left_open.get(i)
-        kind = _kind(h) if why is None else "left open: see below"
-        if i in zipped:
-            kind = "seam of duplicated vertices: zipped (--zip-seams)"
-        if i in chosen and h.is_border and why is None:
-            kind = f"outer border: filled ({'--holes' if holes is not None else '--all'})"
-        if i in unchosen:
-            kind = "left open (not in --holes)" if holes is not None else (
-                f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
-                "left open (--keep-margins)")
-        table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
-                      str(h.component), escape(kind))
-    Console().print(table)
-    for i, why in left_open.items():
-        if why is not None:
-            Console().print(f"hole {i}: {why}; fill skips it", soft_wrap=True, markup=False,
-                            highlight=False)
-    if not found:
-        Console().print("The mesh is closed: no holes.")
-    return found
-
-
-def _kind(hole) -> str:
-    """The ``kind`` column of ``surfinpaint holes`` (before fill's check of the hole's
-    loop, :func:`~surfinpaint.fill.hole_steps.left_open`)."""
-    if hole.is_border:
-        return "outer border"
-    if hole.spans_no_area:  # never filled: fill leaves it open with a warning
-        return "spans no area (zero-area faces): left open"
-    if hole.runs_along_other_loops:  # never filled either: a seam of unjoined faces
-        return "runs along other loops (faces that do not join): left open"
-    if hole.may_be_border:  # filled by default, with a warning
-        return f"hole (spans {percent_below(hole.span_fraction)} of its surface: the margin?)"
-    return "hole"
-
-
 def cmd_holes(args: argparse.Namespace) -> int:
     vertices, faces = read_mesh(args.mesh, data_warning=False)  # it only lists the holes
     title = f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces"
@@ -184,8 +113,8 @@ def cmd_holes(args: argparse.Namespace) -> int:
         title += f" ({len(repair.removed)} removed by --repair: the numbering `fill --repair` " \
             "uses)" + "".join(f"; --repair {note}" for note in repair.notes())
     warn_degenerate(vertices, faces, str(args.mesh))
-    unjoined = unjoined_borders_note(vertices, _holes_table(
-        vertices, faces, title, holes=args.holes, include_border=args.all,
+    unjoined = unjoined_borders_note(vertices, holes_table(
+        vertices, faces, str(args.mesh), title, holes=args.holes, include_border=args.all,
         keep_margins=args.keep_margins, max_hole_edges=args.max_hole_edges,
         zip_seams=args.zip_seams), zip_seams=args.zip_seams)
     if unjoined is not None:
@@ -222,8 +151,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
             "edges and bow-tie vertices; the holes they left were filled too")
     if not result.reports:
         # a closed surface has no outer border to speak of (fsaverage's pial surface)
-        why = "the mesh is closed: no holes" if args.all or not boundary_loops(result.faces) \
-            else "no holes apart from the outer border"
+        why = nothing_to_fill(result.faces, keep_margins=args.keep_margins)
         say(f"{args.mesh}: nothing to fill ({why}); wrote the mesh unchanged to {args.output}")
     files = {"input": str(args.mesh), "output": str(args.output), "png": args.png}
     tell(result, summary, caught, console=console, report=not args.quiet,
@@ -329,7 +257,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
     source = data.default_demo_path()
     vertices, faces = read_mesh(source)
     console.print(f"demo mesh: {source} ({len(vertices)} vertices, {len(faces)} faces)")
-    _holes_table(vertices, faces, "holes of the demo mesh")
+    holes_table(vertices, faces, "the demo mesh", "holes of the demo mesh")
     with _progress(True) as progress:
         result = fill_holes(vertices, faces, method=args.method, progress=progress)
     filled = out / "filled.ply"

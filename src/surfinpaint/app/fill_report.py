@@ -21,6 +21,7 @@ from typing import Any
 from surfinpaint.errors import HoleWarning
 from surfinpaint.fill.results import FillResult, HoleReport, TestScores
 from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
+from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.io.atomic import atomic_open
 
 __all__ = ["FAIRING", "REPORT_VERSION", "HoleRecord", "Summary", "WarningCount", "count_warnings",
@@ -168,6 +169,17 @@ def _verdict(report: HoleReport) -> str:
     if not report.self_check:
         return "no self-check possible here: the faired fill kept"
     return f"{FAIRING.get(report.fair_order, 'faired')} fill kept"
+
+
+def nothing_to_fill(faces, *, keep_margins: bool = False) -> str:
+    """Why a mesh with the triangles ``faces`` had no hole to fill, as ``fill``, ``holes``
+    and ``report`` say it: closed, or open only at its outer border (and, with
+    ``keep_margins``, any margin kept open). For a mesh none of whose loops was selected
+    (with ``--all`` or ``--holes`` every loop is: it is closed)."""
+    if not len(boundary_loops(faces)):
+        return "the mesh is closed: no holes"
+    return "no holes apart from the outer border" + (
+        " and any margin --keep-margins keeps open" if keep_margins else "")
 
 
 def plane_words(plane: PlaneTest | TwoPlanes) -> str:

@@ -47,7 +47,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from surfinpaint.app.fill_options import add_hole_numbers, add_keep_margins
-from surfinpaint.app.fill_report import hole_lines, plane_words, written
+from surfinpaint.app.fill_report import hole_lines, nothing_to_fill, plane_words, written
 from surfinpaint.app.progress import add_quiet, progress_bar
 from surfinpaint.app.progress import console as make_console
 from surfinpaint.app.report_page import (
@@ -504,9 +504,8 @@ def run_report(args: argparse.Namespace) -> int:
     truth = read_mesh(args.truth, data_warning=False) if args.truth else None
     loops = select_holes(vertices, faces, args.holes, keep_margins=args.keep_margins)
     if not loops:
-        console.print(f"{args.mesh}: no holes to fill (apart from the outer border"
-                      + (" and the margins --keep-margins keeps open)" if args.keep_margins
-                         else ")"))
+        console.print(f"{args.mesh}: nothing to fill "
+                      f"({nothing_to_fill(faces, keep_margins=args.keep_margins)})")
     total = 2 + 2 * len(loops)  # the fills, the measurements, the panels
     with progress_bar(not args.quiet, total, "filling") as step:
         comparisons = write_report(vertices, faces, args.output, args.holes, truth=truth,

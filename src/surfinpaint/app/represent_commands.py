@@ -141,6 +141,10 @@ def run_rebuild(args: argparse.Namespace) -> int:
         rep = representation.load_representation(args.representation)
     except FileNotFoundError:
         raise MissingFileError(str(args.representation)) from None
+    except (IsADirectoryError, PermissionError) as exc:  # said as a mesh file's read says it
+        why = "is a directory, not a representation file" if isinstance(
+            exc, IsADirectoryError) else "permission denied: the file cannot be read"
+        raise MeshError(why, path=str(args.representation)) from None
     except (OSError, KeyError, ValueError) as exc:
         raise MeshError(f"not a λ-H representation file ({exc})",
                         path=str(args.representation)) from exc

@@ -1,0 +1,163 @@
+"""What every command says, and leaves, for the inputs and outputs a user gets wrong most
+(session 37): a missing or unreadable input, a mesh with no holes, an output in a folder
+that does not exist. Each names the file, exits as the README says (1 for an error, 0 for
+"nothing to fill"), and leaves nothing half-written."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from surfinpaint.app.cli import main
+from surfinpaint.data import sphere
+from surfinpaint.io.formats import write_mesh
+
+
+def _flat(text: str) -> str:
+    """The text without any whitespace: immune to the console's line wrapping."""
+    return "".join(text.split())
+
+
+def _disk(path: Path) -> Path:
+    """A flat 8 × 8 grid: open only at its outer border."""
+    x, y = np.meshgrid(np.linspace(0, 1, 8), np.linspace(0, 1, 8))
+    vertices = np.column_stack([x.ravel(), y.ravel(), np.zeros(64)])
+    corner = (np.arange(7)[:, None] * 8 + np.arange(7)[None, :]).ravel()
+    faces = np.vstack([np.column_stack([corner, corner + 1, corner + 9]),
+                       np.column_stack([corner, corner + 9, corner + 8])])
+    write_mesh(path, vertices, faces)
+    return path
+
+
+def _closed(path: Path) -> Path:
+    write_mesh(path, *sphere(2))
+    return path
+
+
+def _files(folder: Path) -> list[str]:
+    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*"))
+
+
+# ------------------------------------------------------------- a missing or unreadable input
+
+# the commands that read one input file, with the arguments that follow it (outputs in out/)
+READERS = {
+    "fill": ["-o", "out/filled.ply", "--method", "fair", "-q"],
+    "holes": [],
+    "report": ["-o", "out/report", "-q"],
+    "represent": ["-o", "out/rep.npz"],
+    "rebuild": ["-o", "out/rebuilt.ply"],
+    "batch": ["-o", "out", "--jobs", "1", "-q"],
+}
+
+
+def _unreadable(monkeypatch, path: Path) -> None:
+    """Make ``path`` unreadable: no permission (root reads anything, so opening it, by
+    ``open`` or ``Path.read_bytes``, is made to fail as it fails for other users)."""
+    path.chmod(0)
+    if os.geteuid() != 0:
+        return
+    import builtins
+
+    real_open, real_read_bytes = builtins.open, Path.read_bytes
+
+    def check(file) -> None:
+        if isinstance(file, str | os.PathLike) and Path(file).resolve() == path.resolve():
+            raise PermissionError(13, "Permission denied", os.fspath(file))
+
+    def open_checked(file, *args, **kwargs):
+        check(file)
+        return real_open(file, *args, **kwargs)
+
+    def read_bytes_checked(self: Path) -> bytes:
+        check(self)
+        return real_read_bytes(self)
+
+    monkeypatch.setattr(builtins, "open", open_checked)
+    monkeypatch.setattr(Path, "read_bytes", read_bytes_checked)
+
+
+@pytest.mark.parametrize("problem", ["missing", "directory", "unreadable"])
+@pytest.mark.parametrize("command", sorted(READERS))
+def test_a_bad_input_is_named_exits_1_and_leaves_nothing(tmp_path, capsys, monkeypatch,
+                                                         command, problem):
+    monkeypatch.chdir(tmp_path)
+    name = "scan.npz" if command == "rebuild" else "scan.ply"
+    (tmp_path / "out").mkdir()
+    if problem == "directory":
+        if command == "batch":  # a folder is an input batch searches
+            pytest.skip("batch takes folders")
+        (tmp_path / name).mkdir()
+    elif problem == "unreadable":
+        _closed(tmp_path / "scan.ply")
+        if command == "rebuild":
+            (tmp_path / "scan.ply").rename(tmp_path / name)
+        _unreadable(monkeypatch, tmp_path / name)
+    before = _files(tmp_path)
+    code = main([command, name, *READERS[command]])
+    captured = capsys.readouterr()
+    err = _flat(captured.err)
+    assert code == 1, captured
+    assert "Traceback" not in captured.err
+    expected = {"missing": "no such file", "directory": "is a directory",
+                "unreadable": "permission denied"}[problem]
+    assert _flat(f"{name}: {expected}") in err, captured.err
+    after = _files(tmp_path)
+    if command == "batch":  # its summary names the failed file; nothing else is written
+        assert sorted(set(after) - set(before)) == ["out/summary.csv", "out/summary.json"]
+    else:
+        assert after == before
+
+
+# ------------------------------------------------------------------- a mesh with no holes
+
+@pytest.mark.parametrize(("command", "mesh", "said"), [
+    ("fill", "closed", "closed.ply: nothing to fill (the mesh is closed: no holes)"),
+    ("fill", "disk", "disk.ply: nothing to fill (no holes apart from the outer border)"),
+    ("holes", "closed", "closed.ply: the mesh is closed: no holes"),
+    ("report", "closed", "closed.ply: nothing to fill (the mesh is closed: no holes)"),
+    ("report", "disk", "disk.ply: nothing to fill (no holes apart from the outer border)"),
+])
+def test_a_mesh_without_holes_is_named_with_why_and_exits_0(tmp_path, capsys, monkeypatch,
+                                                            command, mesh, said):
+    # before: `holes` printed an empty table and "The mesh is closed: no holes." without
+    # the file's name; `report` said "no holes to fill (apart from the outer border)" of a
+    # closed mesh too
+    monkeypatch.chdir(tmp_path)
+    path = (_closed if mesh == "closed" else _disk)(Path(f"{mesh}.ply"))
+    argv = {"fill": ["-o", "out.ply"], "holes": [], "report": ["-o", "report", "-q"]}[command]
+    code = main([command, str(path), *argv])
+    captured = capsys.readouterr()
+    assert code == 0, captured
+    printed = _flat(captured.out + captured.err)
+    assert _flat(said) in printed, captured
+    assert "┃hole┃" not in printed  # no table of nothing
+    if command == "fill":
+        assert Path("out.ply").is_file()  # the mesh written unchanged, as it says
+
+
+# ---------------------------------------------------------- an output in a missing folder
+
+@pytest.mark.parametrize("argv", [
+    ["fill", "disk.ply", "-o", "nowhere/filled.ply"],
+    ["fill", "disk.ply", "-o", "filled.ply", "--png", "nowhere/p.png"],
+    ["fill", "disk.ply", "-o", "filled.ply", "--json", "nowhere/r.json"],
+    ["represent", "disk.ply", "-o", "nowhere/rep.npz"],
+    ["represent", "disk.ply", "-o", "rep.npz", "--png", "nowhere/rep.png"],
+    ["represent", "disk.ply", "-o", "rep.npz", "--export", "nowhere/images.npz"],
+    ["rebuild", "rep.npz", "-o", "nowhere/rebuilt.ply"],
+], ids=lambda argv: "-".join(a.lstrip("-") for a in argv[::2]))
+def test_an_output_in_a_missing_folder_is_named_before_any_work(tmp_path, capsys,
+                                                                monkeypatch, argv):
+    monkeypatch.chdir(tmp_path)
+    _disk(Path("disk.ply"))
+    before = _files(tmp_path)
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 1, err
+    bad = next(a for a in argv if a.startswith("nowhere/"))
+    assert _flat(f"'{bad}': directory 'nowhere' does not exist") in _flat(err), err
+    assert _files(tmp_path) == before  # not the other outputs either
