@@ -195,6 +195,13 @@ def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, caps
     row = _summary_row(tmp_path / "out")
     assert row["status"] == "skipped" and "copied again" not in row["message"]
     assert sorted(row["materials"]) == ["new.png", "scan.mtl"]
+    # a copy deleted beside the output is copied again too
+    (tmp_path / "out" / "new.png").unlink()
+    assert _run("batch", source, tmp_path / "out")[0] == 0
+    assert (tmp_path / "out" / "new.png").read_bytes() == TEXTURE
+    assert (output.read_bytes(), output.stat().st_mtime_ns) == filled
+    assert "its materials missing beside the output (new.png): copied again (new.png), the " \
+        "mesh not refilled" in _summary_row(tmp_path / "out")["message"]
     # nothing changed: skipped, the record kept for the next change
     for path in (library, texture, tmp_path / "in" / "new.png", source):
         earlier = output.stat().st_mtime_ns - 10**9  # _later's times may lie ahead

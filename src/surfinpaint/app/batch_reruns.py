@@ -18,7 +18,7 @@ __all__ = ["rerun_row", "skipped_row"]
 
 # How a rerun's note on materials copied again starts: the last part of the row's message,
 # followed only by the copies' warnings; a later rerun's row drops them (what it did is new)
-_RECOPIED = " | its materials changed beside the input"
+_RECOPIED = " | its materials "
 
 
 def skipped_row(job: FileJob, earlier: FileRow | None) -> FileRow:
@@ -42,19 +42,22 @@ def skipped_row(job: FileJob, earlier: FileRow | None) -> FileRow:
 
 
 def rerun_row(job: FileJob, earlier: FileRow | None) -> FileRow | None:
-    """The row of ``job``, whose output is up to date, in a rerun: skipped (:func:`
-    skipped_row`); where a material file an earlier run copied beside the OBJ output
-    (:attr:`FileJob.copied`) changed beside the input since, with the materials copied
-    again first (:func:`~surfinpaint.io.materials.copy_materials`: a copy the user changed
-    is kept, with a warning, which is also raised here) and the new record; None when they
-    cannot be (the OBJ unreadable now): the file is filled again, which says why."""
+    """The row of ``job``, whose output is up to date, in a rerun: skipped
+    (:func:`skipped_row`); where a material file an earlier run copied beside the OBJ
+    output (:attr:`FileJob.copied`) changed beside the input since, or is gone from beside
+    the output, with the materials copied again first
+    (:func:`~surfinpaint.io.materials.copy_materials`: a copy the user changed is kept,
+    with a warning, which is also raised here) and the new record; None when they cannot
+    be (the OBJ unreadable now): the file is filled again, which says why."""
     row = skipped_row(job, earlier)
     if not job.copied:
         return row
     try:
         changed = changed_materials(job.source, dict(job.copied),
                                     job.target.stat().st_mtime_ns)
-        if not changed:
+        missing = [relative for relative, _ in job.copied
+                   if not (job.target.parent / relative).is_file()]
+        if not changed and not missing:
             return row
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -65,7 +68,10 @@ def rerun_row(job: FileJob, earlier: FileRow | None) -> FileRow | None:
         return None
     copied = [(Path(job.output).parent / path.relative_to(job.target.parent)).as_posix()
               for path in materials]
-    message = f"{row.message}{_RECOPIED} ({', '.join(changed)}): " + (
+    why = [f"{what} ({', '.join(files)})" for what, files in (
+        ("changed beside the input", changed), ("missing beside the output", missing))
+        if files]
+    message = f"{row.message}{_RECOPIED}{' and '.join(why)}: " + (
         f"copied again ({', '.join(copied)}), the mesh not refilled" if copied
         else "none copied again")
     for caught_warning in caught:
