@@ -25,12 +25,14 @@ from surfinpaint.app.fill_options import (
     add_all_loops,
     add_fill_options,
     add_hole_numbers,
+    add_islands,
     add_keep_margins,
     add_max_hole_edges,
     add_zip_seams,
     fill_options,
 )
 from surfinpaint.app.fill_report import Summary, count_warnings, hole_lines, print_warnings, tell
+from surfinpaint.app.hole_kinds import hole_kind, island_kinds
 from surfinpaint.app.interrupts import Interrupted, signals_raise
 from surfinpaint.app.outputs import (
     OutputError,
@@ -106,9 +108,11 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
 
 def _holes_table(vertices, faces, title: str, *, holes: list[int] | None = None,
                  include_border: bool = False, keep_margins: bool = False,
-                 max_hole_edges: int | None = None, zip_seams: bool = False) -> list:
+                 max_hole_edges: int | None = None, zip_seams: bool = False,
+                 islands: str = "bridge") -> list:
     """Print ``surfinpaint holes``' table: each loop, and what ``fill`` with these options
-    does with it (fill's own rules: ``select_holes``, ``over_size``, ``left_open``)."""
+    does with it (fill's own rules: ``select_holes``, ``over_size``, ``left_open``, the
+    islands: ``find_islands``)."""
     from rich.console import Console
     from rich.markup import escape
     from rich.table import Table
@@ -133,6 +137,8 @@ def _holes_table(vertices, faces, title: str, *, holes: list[int] | None = None,
     # a loop that spans no area and is not left open is a seam fill zips (--zip-seams)
     zipped = {k for k in tried if zip_seams and left_open[k] is None
               and spanless(vertices, found[k].loop) is not None}
+    kinds = island_kinds(vertices, faces, found, [k for k in chosen if left_open[k] is None],
+                         islands)
     # the title on a line of its own, never wrapped: as a table title it was broken at the
     # table's width, a long path across two lines (no longer found by grep or pasted back)
     Console().print(title, soft_wrap=True, markup=False, highlight=False)
@@ -141,7 +147,7 @@ def _holes_table(vertices, faces, title: str, *, holes: list[int] | None = None,
         table.add_column(name, justify="right" if name != "kind" else "left")
     for i, h in enumerate(found):
         why = left_open.get(i)
-        kind = _kind(h) if why is None else "left open: see below"
+        kind = hole_kind(h) if why is None else "left open: see below"
         if i in zipped:
             kind = "seam of duplicated vertices: zipped (--zip-seams)"
         if i in chosen and h.is_border and why is None:
@@ -150,6 +156,7 @@ def _holes_table(vertices, faces, title: str, *, holes: list[int] | None = None,
             kind = "left open (not in --holes)" if holes is not None else (
                 f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
                 "left open (--keep-margins)")
+        kind = kinds.get(i, kind)
         table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
                       str(h.component), escape(kind))
     Console().print(table)
@@ -160,20 +167,6 @@ def _holes_table(vertices, faces, title: str, *, holes: list[int] | None = None,
     if not found:
         Console().print("The mesh is closed: no holes.")
     return found
-
-
-def _kind(hole) -> str:
-    """The ``kind`` column of ``surfinpaint holes`` (before fill's check of the hole's
-    loop, :func:`~surfinpaint.fill.hole_steps.left_open`)."""
-    if hole.is_border:
-        return "outer border"
-    if hole.spans_no_area:  # never filled: fill leaves it open with a warning
-        return "spans no area (zero-area faces): left open"
-    if hole.runs_along_other_loops:  # never filled either: a seam of unjoined faces
-        return "runs along other loops (faces that do not join): left open"
-    if hole.may_be_border:  # filled by default, with a warning
-        return f"hole (spans {percent_below(hole.span_fraction)} of its surface: the margin?)"
-    return "hole"
 
 
 def cmd_holes(args: argparse.Namespace) -> int:
@@ -188,7 +181,7 @@ def cmd_holes(args: argparse.Namespace) -> int:
     unjoined = unjoined_borders_note(vertices, _holes_table(
         vertices, faces, title, holes=args.holes, include_border=args.all,
         keep_margins=args.keep_margins, max_hole_edges=args.max_hole_edges,
-        zip_seams=args.zip_seams), zip_seams=args.zip_seams)
+        zip_seams=args.zip_seams, islands=args.islands), zip_seams=args.zip_seams)
     if unjoined is not None:
         warnings.warn(f"{args.mesh}: {unjoined}", MeshWarning, stacklevel=1)
     return EXIT_OK
@@ -397,6 +390,7 @@ def _add_holes_parser(sub) -> None:
     add_zip_seams(choice)
     add_all_loops(choice)
     add_keep_margins(choice)
+    add_islands(choice)
     p.set_defaults(func=cmd_holes)
 
 
