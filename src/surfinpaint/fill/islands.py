@@ -213,7 +213,11 @@ def find_islands(vertices: np.ndarray, faces: np.ndarray, found: Sequence[Hole],
     if not holes or not candidates:
         return []
     vertices = np.asarray(vertices, dtype=float)
-    centroids = np.array([vertices[found[c].loop].mean(axis=0) for c in candidates])
+    # one reduction over the candidates' loops (a soup of faces has a loop a face)
+    sizes = np.array([found[c].n_edges for c in candidates])
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    centroids = np.add.reduceat(vertices[np.concatenate([found[c].loop for c in candidates])],
+                                starts, axis=0) / sizes[:, None]
     pairs = []  # (hole diameter, offset, hole, candidate) inside, by the geometry
     for k in holes:
         hole = found[k]
