@@ -25,6 +25,7 @@ from surfinpaint.app.fill_options import (
     add_all_loops,
     add_fill_options,
     add_hole_numbers,
+    add_islands,
     add_keep_margins,
     add_max_hole_edges,
     add_zip_seams,
@@ -116,7 +117,7 @@ def cmd_holes(args: argparse.Namespace) -> int:
     unjoined = unjoined_borders_note(vertices, holes_table(
         vertices, faces, str(args.mesh), title, holes=args.holes, include_border=args.all,
         keep_margins=args.keep_margins, max_hole_edges=args.max_hole_edges,
-        zip_seams=args.zip_seams), zip_seams=args.zip_seams)
+        zip_seams=args.zip_seams, islands=args.islands), zip_seams=args.zip_seams)
     if unjoined is not None:
         warnings.warn(f"{args.mesh}: {unjoined}", MeshWarning, stacklevel=1)
     return EXIT_OK
@@ -323,6 +324,7 @@ def _add_holes_parser(sub) -> None:
     add_zip_seams(choice)
     add_all_loops(choice)
     add_keep_margins(choice)
+    add_islands(choice)
     p.set_defaults(func=cmd_holes)
 
 

@@ -7,10 +7,12 @@ from __future__ import annotations
 import argparse
 
 from surfinpaint.fill.conformal import ConformalOptions, GridOptions
+from surfinpaint.fill.islands import ISLAND_MODES
 from surfinpaint.fill.pipeline import METHODS
 
 __all__ = ["UsageError", "add_all_loops", "add_fill_options", "add_hole_numbers",
-           "add_keep_margins", "add_max_hole_edges", "add_zip_seams", "fill_options",
+           "add_islands", "add_keep_margins", "add_max_hole_edges", "add_zip_seams",
+           "fill_options",
            "hole_list", "positive_int", "whole_number"]
 
 
@@ -100,7 +102,7 @@ def fill_options(args: argparse.Namespace) -> dict:
     return {"method": args.method, "include_border": args.all,
             "keep_margins": args.keep_margins,
             "max_hole_edges": args.max_hole_edges, "repair": args.repair,
-            "zip_seams": args.zip_seams,
+            "zip_seams": args.zip_seams, "islands": args.islands,
             "fair_order": args.fair_order, "options": _conformal_options(args)}
 
 
@@ -148,6 +150,17 @@ def add_keep_margins(parser) -> None:
                         "by default")
 
 
+def add_islands(parser) -> None:
+    """``--islands {bridge,ignore}`` (``islands``: what a hole with a floating piece of
+    surface inside it is filled with)."""
+    parser.add_argument("--islands", choices=ISLAND_MODES, default="bridge",
+                        help="a small piece of surface with one loop lying inside a hole "
+                        "(a scan's floating fragment) is that hole's island: 'bridge' "
+                        "(default) fills the region between the two loops (faired, noted "
+                        "'with its island'), 'ignore' fills the hole as a disk through or "
+                        "by it, with a warning; the island is never deleted")
+
+
 def add_fill_options(parser: argparse.ArgumentParser) -> None:
     """The options that say how holes are filled, shared by ``fill`` and ``batch`` (read
     back by :func:`fill_options`)."""
@@ -158,6 +171,7 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
     add_zip_seams(p)
     add_all_loops(p)
     add_keep_margins(p)
+    add_islands(p)
     p.add_argument("--repair", action="store_true",
                    help="remove the faces around non-manifold edges and bow-tie vertices "
                    "(where separate fans of faces meet) first, flip the fewest faces that "

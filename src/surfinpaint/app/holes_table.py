@@ -4,6 +4,7 @@ same options does with it, by fill's own rules."""
 from __future__ import annotations
 
 from surfinpaint.app.fill_report import nothing_to_fill
+from surfinpaint.app.hole_kinds import hole_kind, island_kinds
 from surfinpaint.fill import hole_steps
 from surfinpaint.fill.holes import (
     find_holes,
@@ -14,14 +15,16 @@ from surfinpaint.fill.holes import (
 )
 from surfinpaint.fill.seams import spanless
 
-__all__ = ["hole_kind", "holes_table"]
+__all__ = ["holes_table"]
 
 
 def holes_table(vertices, faces, name: str, title: str, *, holes: list[int] | None = None,
                 include_border: bool = False, keep_margins: bool = False,
-                max_hole_edges: int | None = None, zip_seams: bool = False) -> list:
+                max_hole_edges: int | None = None, zip_seams: bool = False,
+                islands: str = "bridge") -> list:
     """Print ``surfinpaint holes``' table: each loop, and what ``fill`` with these options
-    does with it (fill's own rules: ``select_holes``, ``over_size``, ``left_open``), under
+    does with it (fill's own rules: ``select_holes``, ``over_size``, ``left_open``, the
+    islands: :func:`~surfinpaint.fill.islands.find_islands`), under
     ``title``; for a mesh without loops, why it has none, naming it ``name``."""
     from rich.console import Console
     from rich.markup import escape
@@ -47,6 +50,8 @@ def holes_table(vertices, faces, name: str, title: str, *, holes: list[int] | No
     # a loop that spans no area and is not left open is a seam fill zips (--zip-seams)
     zipped = {k for k in tried if zip_seams and left_open[k] is None
               and spanless(vertices, found[k].loop) is not None}
+    kinds = island_kinds(vertices, faces, found, [k for k in chosen if left_open[k] is None],
+                         islands)
     # the title on a line of its own, never wrapped: as a table title it was broken at the
     # table's width, a long path across two lines (no longer found by grep or pasted back)
     Console().print(title, soft_wrap=True, markup=False, highlight=False)
@@ -68,6 +73,7 @@ def holes_table(vertices, faces, name: str, title: str, *, holes: list[int] | No
             kind = "left open (not in --holes)" if holes is not None else (
                 f"the margin? (spans {percent_below(h.span_fraction)} of its surface): "
                 "left open (--keep-margins)")
+        kind = kinds.get(i, kind)
         table.add_row(str(i), str(h.n_edges), f"{h.perimeter:.4g}", f"{h.diameter:.4g}",
                       str(h.component), escape(kind))
     Console().print(table)
@@ -77,16 +83,3 @@ def holes_table(vertices, faces, name: str, title: str, *, holes: list[int] | No
                             highlight=False)
     return found
 
-
-def hole_kind(hole) -> str:
-    """The ``kind`` column of ``surfinpaint holes`` (before fill's check of the hole's
-    loop, :func:`~surfinpaint.fill.hole_steps.left_open`)."""
-    if hole.is_border:
-        return "outer border"
-    if hole.spans_no_area:  # never filled: fill leaves it open with a warning
-        return "spans no area (zero-area faces): left open"
-    if hole.runs_along_other_loops:  # never filled either: a seam of unjoined faces
-        return "runs along other loops (faces that do not join): left open"
-    if hole.may_be_border:  # filled by default, with a warning
-        return f"hole (spans {percent_below(hole.span_fraction)} of its surface: the margin?)"
-    return "hole"

@@ -26,7 +26,8 @@ from surfinpaint.geometry.repair import unjoined_bowties
 from surfinpaint.geometry.validation import check_loop, zero_area_faces
 
 __all__ = ["FAIR_NEIGHBOURHOOD_RINGS", "Run", "around_zero_area", "at_hole", "fill_hole",
-           "left_open", "loop_problem", "record", "skip", "stitched", "with_failure"]
+           "left_open", "loop_problem", "record", "skip", "stitched", "warn_at_caller",
+           "with_failure"]
 
 # vertex rings of the surface handed to the faired fill (its fairing needs up to 2)
 FAIR_NEIGHBOURHOOD_RINGS = 3
@@ -34,7 +35,7 @@ FAIR_NEIGHBOURHOOD_RINGS = 3
 ProgressCallback = Callable[[int, int, str], None]
 
 
-def _warn(message: str, category: type[Warning]) -> None:
+def warn_at_caller(message: str, category: type[Warning]) -> None:
     """``warnings.warn`` pointed at the first caller outside ``surfinpaint.fill`` (the line
     that called ``fill_holes``), whichever loop (serial, parallel) this runs in."""
     frame, level = sys._getframe(1), 2  # the frame stacklevel=2 names
@@ -52,7 +53,7 @@ def skip(report: HoleReport, reason: str, category: type[Warning] = HoleWarning,
     report.method = "none"
     message = f"hole {report.index}: {reason}; skipped"
     if stacklevel is None:
-        _warn(message, category)
+        warn_at_caller(message, category)
     else:
         warnings.warn(message, category, stacklevel=stacklevel)
 
@@ -164,12 +165,12 @@ def record(report: HoleReport, fill: Fill) -> None:
     report.plane = fill.plane
     if fill.crossings:
         many = fill.crossings > 1
-        _warn(f"hole {report.index}: {fill.crossings} triangle{'s' * many} of the "
+        warn_at_caller(f"hole {report.index}: {fill.crossings} triangle{'s' * many} of the "
               f"fill cross{'es' * (not many)} the surface around the hole (its "
               "boundary loop folds over itself there): check the result", HoleWarning)
     if fill.failure:
         report.fallback = fill.failure
-        _warn(f"hole {report.index}: conformal fill failed ({fill.failure}); used "
+        warn_at_caller(f"hole {report.index}: conformal fill failed ({fill.failure}); used "
               f"the faired fill (order {fill.fair_order}) instead", HoleWarning)
 
 

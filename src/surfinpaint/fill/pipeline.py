@@ -31,6 +31,8 @@ from surfinpaint.fill.holes import (
     percent_below,
     select_holes,
 )
+from surfinpaint.fill.island_steps import fill_with_islands, joined_islands
+from surfinpaint.fill.islands import Island, check_islands_mode, find_islands
 from surfinpaint.fill.neighbourhood import FilledMesh
 from surfinpaint.fill.objects import display_of, mesh_arrays
 from surfinpaint.fill.results import FillResult, HoleReport
@@ -152,6 +154,7 @@ def fill_holes(
     repair: bool = False,
     validate: bool = True,
     zip_seams: bool = False,
+    islands: str = "bridge",
     progress: ProgressCallback | None = None,
     jobs: int | None = None,
 ) -> FillResult:
@@ -216,6 +219,15 @@ def fill_holes(
         coincident partner (the smaller id) in its place, so the surface comes out closed
         along the seam. The vertices stay as they are (the duplicates unused); the pairs
         are in ``FillResult.merged_vertices``. See :mod:`surfinpaint.fill.seams`.
+    islands : {"bridge", "ignore"}
+        A small piece of surface with one loop that lies inside a hole (a scan's floating
+        fragment: an *island*, :func:`surfinpaint.fill.islands.find_islands`). "bridge"
+        (default): the hole is filled with it, a faired fill of the region between the
+        hole's loop and the island's (:mod:`surfinpaint.fill.annulus`; the λ-H method
+        needs a disk), reported ``faired`` with the note "with its island, piece N (loop
+        m)". "ignore": the hole is filled as a disk through or by the island, which is
+        left as it is, with a warning (as is an island that cannot be joined, e.g. wound
+        opposite to the surface around the hole). The island is never deleted.
     progress : callable(done, total, message), optional
         Called before and after each hole (in hole order).
     jobs : int, optional
@@ -268,13 +280,15 @@ def fill_holes(
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
     _check_flags(include_border=include_border, keep_margins=keep_margins, repair=repair,
                  validate=validate, zip_seams=zip_seams)
+    check_islands_mode(islands)
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, repaired, loops, numbers, incidence, zero_area, unfillable, margins = \
-        _found_holes(vertices, faces, holes, method, include_border=include_border,
-                     keep_margins=keep_margins, repair=repair, validate=validate,
-                     zip_seams=zip_seams)
+    vertices, faces, repaired, loops, numbers, incidence, zero_area, unfillable, margins, \
+        inside = _found_holes(vertices, faces, holes, method, include_border=include_border,
+                              keep_margins=keep_margins, repair=repair, validate=validate,
+                              zip_seams=zip_seams)
     reports = _hole_reports(vertices, loops, numbers, method)
-    todo = _within_size(reports, max_hole_edges)
+    todo, joined = joined_islands(inside, reports, _within_size(reports, max_hole_edges),
+                                  islands)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
     zipped, merged, todo = _open_seams(vertices, faces, todo, zip_seams, unfillable)
     # the incidence made beside the checks is of the prepared faces, not of zipped ones
@@ -282,7 +296,7 @@ def fill_holes(
     run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
               progress=progress, rings=neighbourhood_rings,
               position={id(r): k for k, r in enumerate(reports)})
-    _fill_all(mesh, todo, run, jobs)
+    _fill_all(mesh, todo, run, jobs, joined)
     # after the fills: a hole skipped or failed for any reason was not filled, and its
     # warning says so; this one is for the margin that was filled
     _warn_may_be_border({r.index: margins[r.index] for r in reports
@@ -309,7 +323,8 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool,
     ``triangle_incidence``, their zero-area faces (a warning names the degenerate faces),
     the holes never filled, by number (those that span no area for that,
     :attr:`Hole.spans_no_area`, and those that run along other loops,
-    :attr:`Hole.runs_along_other_loops`) and those that may be the margin;
+    :attr:`Hole.runs_along_other_loops`), those that may be the margin, and the islands
+    in the holes chosen (:func:`find_islands`);
     a large mesh's kernels load on the idle core meanwhile, and the passes that
     need only the edge table run there while the mesh is checked
     (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
@@ -334,7 +349,7 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool,
     unfillable = {k: found[k] for k in numbers
                   if k >= 0 and (found[k].spans_no_area or found[k].runs_along_other_loops)}
     return (vertices, faces, repaired, loops, numbers, incidence, degenerate[1], unfillable,
-            margins)
+            margins, find_islands(vertices, triangles, found, [k for k in numbers if k >= 0]))
 
 
 def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
@@ -375,9 +390,24 @@ def _within_size(reports: list[HoleReport], max_hole_edges: int | None) -> list[
     return todo
 
 
-def _fill_all(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int) -> None:
+def _fill_all(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int,
+              joined: dict[int, list[Island]]) -> None:
     """The holes of ``todo`` filled and stitched into ``mesh`` in their order: in worker
-    processes when worth it (:mod:`surfinpaint.fill.scheduler`), else one after another."""
+    processes when worth it (:mod:`surfinpaint.fill.scheduler`), else one after another;
+    a hole with islands (``joined``: hole number -> its islands) here, in its turn, the
+    holes between such holes as one run each."""
+    start = 0
+    for at in [k for k, r in enumerate(todo) if r.index in joined] + [len(todo)]:
+        _fill_run(mesh, todo[start:at], run, jobs)
+        if at < len(todo):
+            run.starting(todo[at])
+            fill_with_islands(mesh, todo[at], run, joined[todo[at].index])
+            run.finished(todo[at])
+        start = at + 1
+
+
+def _fill_run(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int) -> None:
+    """:func:`_fill_all` for holes without islands."""
     workers = min(jobs, len(todo))
     if parallel.worth_parallel([r.n_edges for r in todo], workers, run.method):
         load_for_workers(run.method)  # once here, not in each worker (fill/warmup.py)

@@ -296,7 +296,9 @@ class HoleReport:
     ``crossings`` how many of the written fill's triangles cross the surface around the hole
     (a warning says so; see :class:`Fill`), ``plane`` the plane test's verdict where the
     faired fill was laid on the plane (or two planes) of the surface around the hole
-    (``note`` says so).
+    (``note`` says so). ``islands``: the loops (by number) of the islands the hole was
+    filled with (:mod:`surfinpaint.fill.islands`: a faired fill of the annulus between the
+    loops; ``note`` names their pieces).
     """
 
     index: int
@@ -320,6 +322,7 @@ class HoleReport:
     zipped: np.ndarray | None = None
     crossings: int = 0
     plane: PlaneTest | TwoPlanes | None = None
+    islands: tuple[int, ...] = ()
 
     @property
     def outcome(self) -> Outcome:

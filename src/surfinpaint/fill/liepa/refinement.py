@@ -376,6 +376,7 @@ def refine_patch(
     max_iterations: int = 50,
     relax_rounds: int = 1000,
     style: str = "liepa",
+    loops: list[np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Refine a hole's patch to the edge density of the surrounding mesh (Liepa 2003).
 
@@ -410,6 +411,10 @@ def refine_patch(
         variant (:mod:`surfinpaint.fill.liepa.flip_passes`: the same split test and scales,
         each round relaxed by one sequential flip pass, at most 10 rounds, stopping when a
         pass flips nothing); ``max_iterations`` and ``relax_rounds`` do not apply.
+    loops : list of int arrays, optional
+        A patch bounded by several loops (a hole with islands: :mod:`surfinpaint.fill.
+        annulus`): each closed loop, whose edges never flip; ``loop`` is then their
+        concatenation (for the scales). None: ``loop`` is the one closed loop.
 
     Returns
     -------
@@ -436,7 +441,10 @@ def refine_patch(
     ids, local, f = _local_patch(patch, loop, len(v))
     pos, lo = v[ids], local[loop]  # new vertices are appended to pos by the rounds
     sigma = _patch_scales(pos, f, lo, sigma_loop)
-    fixed = np.column_stack([lo, np.roll(lo, -1)])  # the loop's edges never flip
+    # the loops' edges never flip
+    fixed = np.column_stack([lo, np.roll(lo, -1)]) if loops is None else np.concatenate(
+        [np.column_stack([local[k], np.roll(local[k], -1)])
+         for k in (np.asarray(k, dtype=np.int64) for k in loops)])
     forbidden = None
     if faces is not None:  # an edge outside the hole made again would be non-manifold
         forbidden = _outside_edges(np.asarray(faces, dtype=np.int64), local)
