@@ -95,6 +95,13 @@ A fifteenth set, the thirteenth holdout (``benchmarks/holdout13_manifest.json``,
 scans made with the portable scanner), holes planned the same way (seeds from 1400), made in
 session 36 after the twelfth holdout had been made and committed before any fill was run on
 them; to be run once by a later session after its changes.
+
+A sixteenth set, the fourteenth holdout (``benchmarks/holdout14_manifest.json``, ``--write
+--holdout14``): 12 fresh meshes (``validation_meshes.HOLDOUT14_SOURCES``, made in
+``holdout14_meshes.py``; all six kinds, a synthetic cortex with polygonal gyri for the brain
+kind; its four scans made with the portable scanner), holes planned the same way (seeds
+from 1500), made in session 37 after the thirteenth holdout had been made and committed
+before any fill was run on them; to be run once by a later session after its changes.
 """
 
 from __future__ import annotations
@@ -139,6 +146,8 @@ HOLDOUT11_MANIFEST = Path(__file__).parent / "holdout11_manifest.json"
 HOLDOUT12_MANIFEST = Path(__file__).parent / "holdout12_manifest.json"
 # a fifteenth set, fresh meshes of session 36 (HOLDOUT13_SOURCES), committed before any fill
 HOLDOUT13_MANIFEST = Path(__file__).parent / "holdout13_manifest.json"
+# a sixteenth set, fresh meshes of session 37 (HOLDOUT14_SOURCES), committed before any fill
+HOLDOUT14_MANIFEST = Path(__file__).parent / "holdout14_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -154,6 +163,7 @@ LATER_SETS = {
     "holdout11": (HOLDOUT11_MANIFEST, "the eleventh holdout set", 1200),
     "holdout12": (HOLDOUT12_MANIFEST, "the twelfth holdout set", 1300),
     "holdout13": (HOLDOUT13_MANIFEST, "the thirteenth holdout set", 1400),
+    "holdout14": (HOLDOUT14_MANIFEST, "the fourteenth holdout set", 1500),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
 }
 
@@ -188,6 +198,7 @@ SPLIT = {
     "holdout11": list(vm.HOLDOUT11_SOURCES),
     "holdout12": list(vm.HOLDOUT12_SOURCES),
     "holdout13": list(vm.HOLDOUT13_SOURCES),
+    "holdout14": list(vm.HOLDOUT14_SOURCES),
 }
 
 
@@ -285,7 +296,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
-    1300, the thirteenth holdout's at 1400)."""
+    1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

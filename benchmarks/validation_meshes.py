@@ -19,8 +19,9 @@ Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout s
 (session 33) in ``holdout9_meshes.py``, holdout set 10's (session 34) in
 ``holdout10_meshes.py``, holdout set 11's (session 35) in ``holdout11_meshes.py``, holdout
 set 12's (session 35) in ``holdout12_meshes.py``, holdout set 13's (session 36) in
-``holdout13_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
-``HOLDOUT13_SOURCES`` to :data:`SOURCES` at its end.
+``holdout13_meshes.py``, holdout set 14's (session 37) in ``holdout14_meshes.py``; this
+module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT14_SOURCES`` to :data:`SOURCES` at its
+end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1908,3 +1909,10 @@ SOURCES.update(HOLDOUT12_SOURCES)
 from holdout13_meshes import HOLDOUT13_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT13_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 14
+
+# Session 37's set (benchmarks/holdout14_manifest.json), as holdout 13's: its own module.
+from holdout14_meshes import HOLDOUT14_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT14_SOURCES)
