@@ -11,14 +11,17 @@ texture coordinates at a UV seam) are continued in the chart the hole's loop lie
 patch's faces joined to the faces along the loop across edges without a seam; each vertex
 with one value on all its corners in that chart is known, and the new vertices' values are
 inpainted from them like a per-vertex attribute (a seam elsewhere in the patch is no
-obstacle). Where a seam reaches the loop, the chart along most of the loop is continued
-across the hole (its values extrapolated to the other loop vertices: the seam runs on along
-the loop there), with a warning. Only where no face along the loop has a value (NaN) do the
-new corners get none. Texture coordinates (two channels) that fold (a new face mirrored
-against the chart) are placed again by the mean-value map (:func:`_unfolded_uv`). Normals
-per corner (hard edges) are the filled surface's, as per vertex: a loop vertex with one
-normal keeps it on the new corners (smooth shading continues), the others take the
-surface's unit normal.
+obstacle). Where seams cut the loop into runs of different charts, the seam is continued
+across the hole instead (:mod:`surfinpaint.fill.seam_charts`): the new faces are split among
+the runs and each part takes its own run's chart, continued only over its share of the
+hole, so each part draws texels from its own chart, not from across the seam. Where that is
+not possible (a seam that meets the loop once) or mirrors more new faces, the chart along
+most of the loop is continued across the hole (its values extrapolated to the other loop
+vertices), with a warning. Only where no face along the loop has a value (NaN) do the new
+corners get none. Texture coordinates (two channels) that fold (a new face mirrored against
+the chart) are placed again by the mean-value map (:func:`_unfolded_uv`). Normals per corner
+(hard edges) are the filled surface's, as per vertex: a loop vertex with one normal keeps it
+on the new corners (smooth shading continues), the others take the surface's unit normal.
 """
 
 from __future__ import annotations
@@ -27,11 +30,8 @@ import warnings
 from collections.abc import Mapping
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.fill.attributes import (
-    DirichletSolve,
     HoleDomain,
     attribute_kind,
     attribute_rows,
@@ -39,11 +39,16 @@ from surfinpaint.fill.attributes import (
     hole_blocks,
     hole_domain,
     inpaint_values,
-    labels_by_indicators,
 )
 from surfinpaint.fill.ids import none_ids
+from surfinpaint.fill.seam_charts import (
+    chart_labels,
+    labels_across_loop,
+    single_values,
+    split_at_seams,
+)
 from surfinpaint.geometry.mean_value import convex_combination, mean_value_weights
-from surfinpaint.geometry.mesh import edge_faces, vertex_normals
+from surfinpaint.geometry.mesh import vertex_normals
 from surfinpaint.geometry.parameterization import signed_areas
 from surfinpaint.io.base import MeshWarning
 
@@ -100,20 +105,8 @@ def fill_face_attributes(
     on_loop = np.zeros(len(vertices), dtype=bool)
     on_loop[np.asarray(loop, dtype=np.int64)] = True
     touching = np.flatnonzero(on_loop[faces].any(axis=1))
-    local = np.concatenate([faces[touching], fill_faces])
-    edges, owners, count = edge_faces(local)
-    pair = (count == 2) & (owners.max(axis=1) >= len(touching))  # an edge of the fill
-    left, right = owners[pair].T
-    centroids = vertices[local].mean(axis=1)
-    weight = (np.linalg.norm(vertices[edges[pair, 0]] - vertices[edges[pair, 1]], axis=1)
-              / np.maximum(np.linalg.norm(centroids[left] - centroids[right], axis=1), 1e-300))
-    W = sp.coo_matrix((np.concatenate([weight, weight]),
-                       (np.concatenate([left, right]), np.concatenate([right, left]))),
-                      shape=(len(local), len(local))).tocsr()
-    graph = (sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W).tocsr()
-    known = np.arange(len(local)) < len(touching)
-    found = labels_by_indicators(DirichletSolve(graph, known),
-                                  [values[touching] for values in copied.values()])
+    found = labels_across_loop(vertices, faces[touching], fill_faces,
+                               [values[touching] for values in copied.values()])
     out.update(zip(copied, found, strict=True))
     return {name: out[name] for name in arrays}
 
@@ -177,22 +170,10 @@ def _chart_faces(faces: np.ndarray, values: np.ndarray, loop: np.ndarray
     edges, loop_edges : int
         The loop's edges along the chart's faces, and all the loop's edges.
     """
+    chart = chart_labels(faces, values)
     corner_edges = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
-    corner_values = np.concatenate([values, np.roll(values, -1, axis=1)],
-                                   axis=2).reshape(len(corner_edges), -1)
     owner = np.repeat(np.arange(len(faces)), 3)
     key = np.sort(corner_edges, axis=1)
-    order = np.lexsort(key.T[::-1])
-    key, owner, corner_values = key[order], owner[order], corner_values[order]
-    twin = np.flatnonzero((key[1:] == key[:-1]).all(axis=1))  # two faces on one edge
-    k = values.shape[2]
-    # the second face runs the edge the other way: its values at (b, a) are at (a, b)
-    swapped = np.concatenate([corner_values[twin + 1, k:], corner_values[twin + 1, :k]], axis=1)
-    joined = twin[(corner_values[twin] == swapped).all(axis=1)]
-    graph = sp.coo_matrix((np.ones(len(joined)), (owner[joined], owner[joined + 1])),
-                          shape=(len(faces), len(faces)))
-    _, chart = connected_components(graph, directed=False)
-    chart[np.isnan(values).any(axis=(1, 2))] = -1  # a face without a value is in no chart
     loop = np.asarray(loop, dtype=np.int64)
     size = int(max(faces.max(), loop.max())) + 1
     loop_keys = np.sort(np.stack([loop, np.roll(loop, -1)], axis=1), axis=1) @ [size, 1]
@@ -228,7 +209,7 @@ def _corner_normals(vertices: np.ndarray, dom: HoleDomain, known: np.ndarray,
 
 
 def _unfolded_uv(dom: HoleDomain, new: np.ndarray, uv: np.ndarray, chart_uv: np.ndarray,
-                 fill_faces: np.ndarray) -> np.ndarray:
+                 fill_faces: np.ndarray) -> tuple[np.ndarray, int]:
     """The inpainted UVs ``uv`` of a patch, or, where they fold (a new face's UV triangle
     oriented against the majority of the chart's faces: texels drawn mirrored), the new
     values placed again by Floater's mean-value map from the same data: each a
@@ -247,15 +228,22 @@ def _unfolded_uv(dom: HoleDomain, new: np.ndarray, uv: np.ndarray, chart_uv: np.
         The corners of the chart's faces.
     fill_faces : (m, 3) int array
         The new faces, in patch ids.
+
+    Returns
+    -------
+    uv : (k, 2) float array
+    mirrored : int
+        The new faces ``uv`` mirrors.
     """
     corners = np.arange(3 * len(chart_uv)).reshape(-1, 3)
     sign = np.sign(np.sign(signed_areas(corners, chart_uv.reshape(-1, 2))).sum())
     folded = int((signed_areas(fill_faces, uv) * sign < 0).sum())
     if sign == 0 or folded == 0:
-        return uv
+        return uv, folded
     placed = uv.copy()
     convex_combination(mean_value_weights(dom.domain, dom.faces), placed, np.flatnonzero(new))
-    return placed if (signed_areas(fill_faces, placed) * sign < 0).sum() < folded else uv
+    again = int((signed_areas(fill_faces, placed) * sign < 0).sum())
+    return (placed, again) if again < folded else (uv, folded)
 
 
 def fill_corner_attributes(
@@ -269,9 +257,11 @@ def fill_corner_attributes(
     :func:`~surfinpaint.fill.attributes.attribute_kind`) are the surface's, as per vertex
     (:func:`_corner_normals`); other values are inpainted biharmonically over the new
     vertices from the corners of the chart the loop lies in (:func:`_chart_faces`: a seam
-    elsewhere in the patch is no obstacle; where a seam reaches the loop, the chart along
-    most of it, with a warning) and clamped to the attribute's range; NaN with a warning
-    where no face along the loop has a value.
+    elsewhere in the patch is no obstacle) and clamped to the attribute's range; where
+    seams cut the loop into runs of different charts, the new faces are split among them
+    (:func:`~surfinpaint.fill.seam_charts.split_at_seams`) unless that mirrors more new
+    faces than the one chart along most of the loop, which is then continued with a
+    warning; NaN with a warning where no face along the loop has a value.
 
     Parameters
     ----------
@@ -313,29 +303,29 @@ def fill_corner_attributes(
         found = _chart_faces(ring_faces, values, loop_local)
         if found is not None:
             chart, edges, loop_edges = found
-            corner_vertex = ring_faces[chart].ravel()
-            low = np.full((len(dom.ids), k), np.inf)
-            high = np.full((len(dom.ids), k), -np.inf)
-            np.minimum.at(low, corner_vertex, values[chart].reshape(-1, k))
-            np.maximum.at(high, corner_vertex, values[chart].reshape(-1, k))
-            # one value on all its corners in the chart (not where a seam ends inside it)
-            single = np.all(low == high, axis=1)
+            single, low = single_values(len(dom.ids), ring_faces[chart], values[chart])
         if found is None or not single.any():
             warnings.warn(f"hole {'' if hole is None else hole}: corner attribute {name!r} "
                           "has no value along the hole's loop: its new faces' corners get "
                           "none (NaN)", MeshWarning, stacklevel=3)
             continue
-        if edges < loop_edges or not single[loop_local].all():
+        seamed = edges < loop_edges or not single[loop_local].all()
+        filled = inpaint_values(dom.domain, dom.faces, single, low)
+        limits = channel_ranges(values.reshape(-1, k))
+        filled = np.clip(filled, limits[0], limits[1])
+        mirrored = 0
+        if k == 2:  # texture coordinates: a new face drawn mirrored is a visible flaw
+            filled, mirrored = _unfolded_uv(dom, ~single, filled, values[chart], local_fill)
+        split = (split_at_seams(vertices[dom.ids], dom.domain, dom.faces, ring_faces, values,
+                                loop_local, local_fill) if seamed else None)
+        if split is not None and split[1] <= mirrored:
+            out[name] = split[0].astype(a.dtype)  # the seam continued across the hole
+            continue
+        if seamed:
             warnings.warn(f"hole {'' if hole is None else hole}: a seam of corner attribute "
                           f"{name!r} reaches the hole's loop: the new faces' values continue "
                           f"the chart along {edges} of its {loop_edges} edges across the hole "
                           "(the seam runs on along the others)", MeshWarning, stacklevel=3)
-        low[~single] = 0.0
-        filled = inpaint_values(dom.domain, dom.faces, single, low)
-        limits = channel_ranges(values.reshape(-1, k))
-        filled = np.clip(filled, limits[0], limits[1])
-        if k == 2:  # texture coordinates: a new face drawn mirrored is a visible flaw
-            filled = _unfolded_uv(dom, ~single, filled, values[chart], local_fill)
         out[name] = filled[local_fill].astype(a.dtype)
     return out
 
