@@ -65,7 +65,7 @@ __all__ = [
     "ATTRIBUTE_KINDS", "DirichletSolve", "HoleDomain", "MAX_LABELS", "attribute_kind",
     "attribute_rows", "channel_ranges", "check_attributes", "fill_hole_attributes",
     "fill_result_attributes", "hole_blocks", "hole_domain", "inpaint_labels", "inpaint_values",
-    "labels_by_indicators",
+    "inpaint_operators", "labels_by_indicators",
 ]
 
 ATTRIBUTE_KINDS = ("values", "normal", "label", "id")
@@ -126,7 +126,7 @@ def attribute_kind(name: str, values: np.ndarray) -> str:
     return "values"
 
 
-def _operators(domain: np.ndarray, faces: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+def inpaint_operators(domain: np.ndarray, faces: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """The cotangent Laplacian (negative semi-definite) and the bilaplacian ``L M⁻¹ L``."""
     L = cotangent_laplacian(domain, faces)
     m = mass_matrix(domain, faces, "voronoi").diagonal()
@@ -212,7 +212,7 @@ def inpaint_values(
         raise ValueError(f"values have {out.shape[0]} rows for {len(domain)} vertices")
     if known.all():
         return out
-    L, Q = _operators(domain, faces)
+    L, Q = inpaint_operators(domain, faces)
     flat = out.reshape(len(out), -1)
     flat[~known] = DirichletSolve(-L if order == 1 else Q, known)(flat[known])
     return flat.reshape(out.shape)
@@ -255,7 +255,7 @@ def inpaint_labels(
     out = labels.copy()
     if known.all():
         return out
-    L, _ = _operators(np.asarray(domain, dtype=float), np.asarray(faces, dtype=np.int64))
+    L, _ = inpaint_operators(np.asarray(domain, dtype=float), np.asarray(faces, dtype=np.int64))
     out[~known] = labels_by_indicators(DirichletSolve(-L, known), [labels[known]])[0]
     return out
 
@@ -477,7 +477,7 @@ def fill_hole_attributes(
             start += width
     labels = [name for name, kind in kinds.items() if kind == "label"]
     if labels:
-        L, _ = _operators(dom.domain, dom.faces)
+        L, _ = inpaint_operators(dom.domain, dom.faces)
         found = labels_by_indicators(DirichletSolve(-L, known),
                                       [arrays[name][dom.ids][known] for name in labels])
         out.update(zip(labels, found, strict=True))

@@ -310,16 +310,19 @@ def fill_corner_attributes(
                           "none (NaN)", MeshWarning, stacklevel=3)
             continue
         seamed = edges < loop_edges or not single[loop_local].all()
+        split = (split_at_seams(vertices[dom.ids], dom.domain, dom.faces, ring_faces, values,
+                                loop_local, local_fill) if seamed else None)
+        if split is not None and split[1] == 0:
+            out[name] = split[0].astype(a.dtype)  # the seam continued across the hole
+            continue
         filled = inpaint_values(dom.domain, dom.faces, single, low)
         limits = channel_ranges(values.reshape(-1, k))
         filled = np.clip(filled, limits[0], limits[1])
         mirrored = 0
         if k == 2:  # texture coordinates: a new face drawn mirrored is a visible flaw
             filled, mirrored = _unfolded_uv(dom, ~single, filled, values[chart], local_fill)
-        split = (split_at_seams(vertices[dom.ids], dom.domain, dom.faces, ring_faces, values,
-                                loop_local, local_fill) if seamed else None)
         if split is not None and split[1] <= mirrored:
-            out[name] = split[0].astype(a.dtype)  # the seam continued across the hole
+            out[name] = split[0].astype(a.dtype)
             continue
         if seamed:
             warnings.warn(f"hole {'' if hole is None else hole}: a seam of corner attribute "

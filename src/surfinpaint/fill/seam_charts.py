@@ -29,7 +29,7 @@ from scipy.sparse.csgraph import connected_components
 from surfinpaint.fill.attributes import (
     DirichletSolve,
     channel_ranges,
-    inpaint_values,
+    inpaint_operators,
     labels_by_indicators,
 )
 from surfinpaint.geometry.mean_value import convex_combination, mean_value_weights
@@ -197,13 +197,16 @@ def _mirrored(faces: np.ndarray, uv: np.ndarray, chart: float) -> np.ndarray:
     return signed_areas(faces, uv) * chart < 0
 
 
-def _part_values(domain: np.ndarray, patch_faces: np.ndarray, known: np.ndarray,
+def _part_values(domain: np.ndarray, bilaplacian: sp.csr_matrix, known: np.ndarray,
                  data: np.ndarray, part: np.ndarray, chart: float) -> np.ndarray:
-    """One arc's chart continued over the patch from ``data`` at ``known`` (vertex values,
-    rows of the patch), clamped to the chart's range unless that mirrors more of its
-    ``part``'s faces against ``chart`` (two channels: a clamp can flatten a face), and with
-    the part's inside placed again by the mean-value map where that mirrors fewer."""
-    filled = inpaint_values(domain, patch_faces, known, data)
+    """One arc's chart continued biharmonically over the patch (``bilaplacian``: the
+    patch's, as :func:`~surfinpaint.fill.attributes.inpaint_values` uses) from ``data`` at
+    ``known`` (vertex values, rows of the patch), clamped to the chart's range unless that
+    mirrors more of its ``part``'s faces against ``chart`` (two channels: a clamp can
+    flatten a face), and with the part's inside placed again by the mean-value map where
+    that mirrors fewer."""
+    filled = data.copy()
+    filled[~known] = DirichletSolve(bilaplacian, known)(data[known])
     limits = channel_ranges(data[known])
     clamped = np.clip(filled, limits[0], limits[1])
     if filled.shape[1] != 2 or chart == 0:
@@ -269,6 +272,7 @@ def split_at_seams(positions: np.ndarray, domain: np.ndarray, patch_faces: np.nd
     along, first = np.unique(arcs.face, return_index=True)
     part_of = labels_across_loop(positions, faces[along], fill_faces, [arcs.arc[first]])[0]
     chart = chart_labels(faces, values)
+    _, bilaplacian = inpaint_operators(domain, patch_faces)
     uv = values.shape[2] == 2
     parts = np.unique(part_of)
     continued, signs = [], np.zeros(len(parts))
@@ -279,7 +283,7 @@ def split_at_seams(positions: np.ndarray, domain: np.ndarray, patch_faces: np.nd
         ids, arc_values = arcs.vertices(loop, which)
         known[ids], data[ids] = True, arc_values
         signs[j] = _chart_sign(values[own]) if uv else 0.0
-        continued.append(_part_values(domain, patch_faces, known, data,
+        continued.append(_part_values(domain, bilaplacian, known, data,
                                       fill_faces[part_of == which], signs[j]))
     label = np.searchsorted(parts, part_of)
     if uv and len(parts) > 1:
