@@ -13,7 +13,12 @@ from surfinpaint import ConformalOptions
 from surfinpaint.data import cube
 from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal import conformal_fill
-from surfinpaint.fill.conformal.checks import check_patch, crossings
+from surfinpaint.fill.conformal.checks import (
+    CrossingError,
+    check_crossings,
+    check_patch,
+    crossings,
+)
 from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mean_value import bad_faces, untangle
@@ -86,6 +91,61 @@ def test_crossings_the_start_has_are_not_held_against_the_fill():
     lifted[[6, 7, 8], 2] = 1.5  # now the far fill triangle pierces its ring triangle too
     with pytest.raises(FillError, match=r"cuts through the surrounding surface \(1 "):
         check_patch(lifted, patch, 2, allowed_crossings=start)
+
+
+def _crossing_fill():
+    """Two fill triangles, the first piercing its ring triangle, the second far from its
+    own: (vertices, patch faces, fill first)."""
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0],  # fill
+                         [0.2, 0.2, -0.5], [0.3, 0.2, 0.5], [0.2, 0.3, 0.5],  # ring
+                         [5, 5, 0], [6, 5, 0], [5, 6, 0],  # fill, far away
+                         [5.2, 5.2, 1.0], [5.3, 5.2, 2.0], [5.2, 5.3, 2.0]], float)  # ring
+    return vertices, np.array([[0, 1, 2], [6, 7, 8], [3, 4, 5], [9, 10, 11]])
+
+
+def test_check_crossings_rejects_more_than_the_allowed_and_says_what_it_found():
+    vertices, patch = _crossing_fill()
+    found = crossings(vertices, patch, 2)
+    with pytest.raises(CrossingError, match=r"cuts through the surrounding surface \(1 ") \
+            as caught:
+        check_crossings(found)
+    assert caught.value.found is found
+    check_crossings(found, found)  # nothing more than allowed: passes
+    with pytest.raises(CrossingError) as whole:
+        check_patch(vertices, patch, 2)  # the whole check's last test, the same message
+    assert str(whole.value) == str(caught.value)
+    np.testing.assert_array_equal(whole.value.found.around, found.around)
+
+
+def test_damped_fill_searches_a_trials_crossings_once(monkeypatch):
+    # the undamped fill keeps the crossing its start has: its check fails, the start's
+    # crossings are found, and the same fill passes against them, undamped; the fill's
+    # own crossings were found by the first check and are not searched again
+    from surfinpaint.fill.conformal import checks
+
+    vertices, patch = _crossing_fill()
+    moving = np.array([6])
+    start = vertices[moving].copy()
+    moved = vertices.copy()
+    moved[6, 2] = 0.25  # the far fill triangle tilts, still clear of its ring triangle
+    searched = []
+
+    def spy(points, *args, **kw):
+        searched.append(points.copy())
+        return crossings(points, *args, **kw)
+
+    monkeypatch.setattr(checks, "crossings", spy)
+    positions, t = checks.damped_fill(moved, start, moving, patch, 2)
+    assert t == 1.0
+    np.testing.assert_array_equal(positions, moved)
+    assert len(searched) == 2  # the fill's, then the start's
+    np.testing.assert_array_equal(searched[0], moved)
+    np.testing.assert_array_equal(searched[1], vertices)
+    # a fill that adds a crossing is still damped (the start's crossings do not excuse it)
+    pierced = vertices.copy()
+    pierced[6, 2] = 3.0  # through the far ring triangle
+    positions, t = checks.damped_fill(pierced, start, moving, patch, 2)
+    assert t < 1.0 and len(crossings(positions, patch, 2).around) == 1
 
 
 def _corrugated(n=30, seed=4, period=7, amplitude=2.5, jitter=0.4, radius=6):
@@ -199,6 +259,46 @@ def test_a_hole_on_a_thin_limb_is_filled_on_an_unevenly_grown_patch(r, around, r
     assert _error(cut, result.vertices, result.faces) < 0.6 * _error(cut, fair3_v, fair3_f)
 
 
+def test_the_whole_border_natural_try_takes_the_grown_patch_and_its_map_made_once(
+        monkeypatch):
+    # where the grown patch is too thin as well, the last try solves on the same grown
+    # patch with its whole border natural: its map is the grown try's, not made again
+    from surfinpaint.data import torus
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.representation.on_mesh import ThinPatchError
+
+    v, f = torus(1.0, 0.15, 64, 10)
+    cut = cut_geodesic_disk(v, f, 0, 0.4)
+    fair_v, fair_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
+    n = len(cut.vertices)
+    vertices = np.vstack([cut.vertices, fair_v])
+    mapped, solves = [], []
+    real_map, real_solve = mesh_pass._mapped_patch, mesh_pass._solve_or_subdivide
+
+    def map_spy(*args, **kw):
+        mapped.append(kw.get("grow", False))
+        return real_map(*args, **kw)
+
+    def thin_unless_all_natural(points, local, uv, free, n_fill, natural, *args):
+        solves.append((local.copy(), uv.copy(), natural.all()))
+        if not natural.all():
+            raise ThinPatchError("the patch is too thin (forced)")
+        return real_solve(points, local, uv, free, n_fill, natural, *args)
+
+    monkeypatch.setattr(mesh_pass, "_mapped_patch", map_spy)
+    monkeypatch.setattr(mesh_pass, "_solve_or_subdivide", thin_unless_all_natural)
+    positions, patch, rings, lambda_h = mesh_pass.inpaint_patch_on_mesh(
+        vertices, cut.faces, cut.loop, fair_f, np.arange(n, len(vertices)))
+    assert mapped == [False, True]  # the grown patch mapped once for its two tries
+    assert [all_natural for _, _, all_natural in solves] == [False, False, True]
+    _, ids, local, uv, _, _ = real_map(vertices, cut.faces, cut.loop, fair_f, 4, grow=True)
+    for got_local, got_uv, _ in solves[1:]:  # the same patch and map as made afresh
+        np.testing.assert_array_equal(got_local, local)
+        np.testing.assert_array_equal(got_uv, uv)
+    np.testing.assert_array_equal(lambda_h.uv, uv)
+    assert np.isfinite(positions).all() and len(positions) == len(fair_v)
+
+
 def test_a_hole_the_coupled_solve_fails_on_is_filled_on_its_patch_subdivided(monkeypatch):
     # on this egg-crate hole (curvature radius ~1 edge length) the lagged iteration, halved
     # or not, and Newton's method all fail on the patch (it fell back to fairing before:
@@ -299,6 +399,9 @@ def test_a_hole_with_no_fixed_point_is_filled_by_the_least_squares_stage(monkeyp
 
     def spy(points, faces, uv, free, **kw):
         calls.append(len(faces))
+        # the failed solve's system, not made again (the same outcome: the test below)
+        assert isinstance(kw["system"], on_mesh._CoupledSystem)
+        assert len(kw["system"].f) == free.sum()
         return on_mesh.least_squares_on_mesh(points, faces, uv, free, **kw)
 
     from surfinpaint.representation import on_mesh
@@ -346,6 +449,39 @@ def test_the_least_squares_stage_reaches_the_fixed_point_where_there_is_one(monk
     h = np.median(np.linalg.norm(points[local[:, 0]] - points[local[:, 1]], axis=1))
     assert np.abs(out - fixed_point).max() < 1e-4 * h
     assert np.abs(fixed_point - points).max() > 0.05 * h  # it moved: not the start
+
+
+def test_the_least_squares_stage_on_the_failed_solve_s_system_is_the_one_on_its_own():
+    # the patch's coupled system is made once (coupled_system) for the solve and, where that
+    # fails, the least-squares stage: the stage's outcome is the same to the bit as on a
+    # system made afresh, and so is a solve's on a given system
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.fill.conformal.mesh_pass import _mapped_patch
+    from surfinpaint.representation import on_mesh
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+
+    def patch(cut):
+        new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
+        vertices = np.vstack([cut.vertices, new_v])
+        _, ids, local, uv, _, _ = _mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
+        return vertices[ids], local, uv, ids >= len(cut.vertices)
+
+    points, local, uv, free = patch(egg_crate(20, 3, 7, 2.5, 0.4, 6))
+    system = on_mesh.coupled_system(points, local, uv, free)
+    with pytest.raises(FillError, match="Newton"):
+        on_mesh.inpaint_on_mesh(points, local, uv, free, system=system)
+    given = on_mesh.least_squares_on_mesh(points, local, uv, free, system=system)
+    fresh = on_mesh.least_squares_on_mesh(points, local, uv, free)
+    assert given[1:] == fresh[1:] and 0 < fresh[1] < np.inf
+    np.testing.assert_array_equal(given[0], fresh[0])
+    points, local, uv, free = patch(egg_crate(20, 0, 8, 0.8, 0.2, 3))  # where it converges
+    system = on_mesh.coupled_system(points, local, uv, free)
+    np.testing.assert_array_equal(on_mesh.inpaint_on_mesh(points, local, uv, free, system=system),
+                                  on_mesh.inpaint_on_mesh(points, local, uv, free))
 
 
 @pytest.mark.parametrize("near_border", [False, True])

@@ -15,11 +15,13 @@ from surfinpaint.fill.selfcheck import (
     _spread_centres,
     hidden_band,
     hidden_ring_scores,
+    hidden_ring_test,
     sibling_reach,
     sibling_scores,
 )
 from surfinpaint.geometry.cutting import cut_geodesic_disk, ring_distances
 from surfinpaint.geometry.mesh import mean_edge_length
+from surfinpaint.geometry.metrics import point_mesh_distances
 
 # the bilaplacian fill alone: the tests' coverage does not depend on the candidates
 FAIR2 = Candidates(options=ConformalOptions(), orders=(2,), s0_order=2, crease_angle=None,
@@ -170,7 +172,43 @@ def _capped_cylinder(n: int = 48, rows: int = 14):
     return np.array(vertices), np.array(faces)
 
 
-def test_hidden_rings_one_ring_shallower_where_they_meet_a_crease_the_hole_lacks():
+@pytest.mark.parametrize(("radius_h", "scores"), [(8.0, True), (12.0, False)])
+def test_the_hidden_ring_test_fills_now_and_scores_when_asked(thin_torus, monkeypatch,
+                                                              radius_h, scores):
+    from surfinpaint.fill import selfcheck
+
+    v, f, h = thin_torus
+    cut = cut_geodesic_disk(v, f, 0, radius_h * h)
+    filled, searched = [], []
+
+    def fill(vertices, faces, loop):
+        filled.append(len(loop))
+        return FAIR2(vertices, faces, loop)
+
+    def distances(points, meshes):
+        searched.append(len(points))
+        return point_mesh_distances(points, meshes)
+
+    monkeypatch.setattr(selfcheck, "point_mesh_distances", distances)
+    detail: dict = {}
+    test = hidden_ring_test(cut.vertices, cut.faces, cut.loop, fill, patch_rings=10,
+                            detail=detail)
+    assert len(filled) == (1 if scores else 0) and searched == [] and detail == {}
+    got = test()
+    assert len(searched) == (1 if scores else 0)
+    expected_detail: dict = {}
+    expected = hidden_ring_scores(cut.vertices, cut.faces, cut.loop, FAIR2, patch_rings=10,
+                                  detail=expected_detail)
+    assert got == expected and bool(got) == scores
+    assert detail.keys() == expected_detail.keys()
+    if scores:
+        np.testing.assert_array_equal(detail["groups"], expected_detail["groups"])
+        np.testing.assert_array_equal(detail["distances"]["fair2"],
+                                      expected_detail["distances"]["fair2"])
+
+
+def test_hidden_rings_one_ring_shallower_where_they_meet_a_crease_the_hole_lacks(
+        monkeypatch):
     """A hole on a cylinder's side half an edge length short of its sharp rim: the 2-ring
     test's enlarged hole reaches the rim and its λ-H fill there is the crease fill, which
     wins it decisively (today's rule kept the smooth λ-H fill of the hole: 1.08 % of its
@@ -189,7 +227,22 @@ def test_hidden_rings_one_ring_shallower_where_they_meet_a_crease_the_hole_lacks
     deep = hidden_ring_scores(cut.vertices, cut.faces, cut.loop,
                               _noting_creases(candidates.for_tests(), creased), hide_rings=2)
     assert any(creased) and deep["conformal"] < DECISIVE * deep["fair2"]
+    from surfinpaint.fill import selfcheck
+
+    searched = []
+
+    def distances(points, meshes):
+        searched.append(len(points))
+        return point_mesh_distances(points, meshes)
+
+    monkeypatch.setattr(selfcheck, "point_mesh_distances", distances)
     verdict = self_check(cut.vertices, cut.faces, cut.loop, candidates)
     assert "one ring shallower" in verdict.scores
     assert not verdict.keep and verdict.faired == "fair2"
     assert verdict.hidden["fair3"] < verdict.hidden["fair2"]
+    # the deeper test's fills were made (they tell a crease fill) but not scored: its
+    # scores are not used where the shallower test scores
+    assert len(searched) == 1
+    shallow = hidden_ring_scores(cut.vertices, cut.faces, cut.loop, candidates.for_tests(),
+                                 hide_rings=1, patch_rings=candidates.options.rings_in_patch)
+    assert verdict.hidden == shallow

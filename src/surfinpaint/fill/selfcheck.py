@@ -11,6 +11,7 @@ the faired fills (:func:`surfinpaint.fill.conformal.choose`).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from itertools import islice
 
 import numpy as np
@@ -26,8 +27,8 @@ from surfinpaint.geometry.metrics import (
     surface_distance_samples,
 )
 
-__all__ = ["advantages_over", "hidden_band", "hidden_ring_scores", "mean_scores",
-           "paired_advantage", "sibling_reach", "sibling_scores"]
+__all__ = ["advantages_over", "hidden_band", "hidden_ring_scores", "hidden_ring_test",
+           "mean_scores", "paired_advantage", "sibling_reach", "sibling_scores"]
 
 
 def _spread_centres(vertices, faces, loop, gap_rings, graph=None):
@@ -288,6 +289,34 @@ def hidden_ring_scores(
         Score per filler (empty when no depth tried leaves one simple hole that ``fill``
         fills).
     """
+    return hidden_ring_test(vertices, faces, loop, fill, hide_rings=hide_rings,
+                            n_samples=n_samples, patch_rings=patch_rings, graph=graph,
+                            min_hide_rings=min_hide_rings, detail=detail)()
+
+
+def hidden_ring_test(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    loop: np.ndarray,
+    fill,
+    *,
+    hide_rings: int = 2,
+    n_samples: int = 2000,
+    patch_rings: int | None = None,
+    graph=None,
+    min_hide_rings: int | None = None,
+    detail: dict | None = None,
+) -> Callable[[], dict[str, float]]:
+    """:func:`hidden_ring_scores` in two steps: the test hole is cut and filled now, and its
+    fills are scored (and ``detail`` filled) when the function returned is called; the
+    arguments and the scores are those of :func:`hidden_ring_scores`.
+
+    Why: the self-check runs the test again one ring shallower where the test's λ-H fill
+    was a crease fill (:func:`~surfinpaint.fill.conformal.selection.hidden_rings_shallower`),
+    which only the fills say, and the deeper test's scores are then used only where the
+    shallower test cannot score: their distances are not searched where it can (session 37
+    helper).
+    """
 
     def run(vertices, faces, loop, ring, rim, depth):
         """The test with ``depth`` rings hidden; None when a loop next to the hidden faces
@@ -304,18 +333,21 @@ def hidden_ring_scores(
             candidates = fill(vertices, kept, enlarged[0])
         except NUMERICAL_ERRORS:
             return {}
-        samples, sampled = sample_surface(vertices, faces[hidden], n_samples, seed=0,
-                                          return_faces=True)
-        made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
-        found = dict(zip(made, point_mesh_distances(samples, [
-            (np.concatenate([vertices, c.vertices]), c.faces) for c in made.values()]),
-            strict=True))
-        if detail is not None:
-            detail["distances"] = found
-            detail["groups"] = sampled
-        return {name: float(found[name].mean()) if name in found else
-                np.inf  # failed on a hole like this one
-                for name in candidates}
+
+        def scores():
+            samples, sampled = sample_surface(vertices, faces[hidden], n_samples, seed=0,
+                                              return_faces=True)
+            made = {name: c for name, c in candidates.items() if not isinstance(c, Exception)}
+            found = dict(zip(made, point_mesh_distances(samples, [
+                (np.concatenate([vertices, c.vertices]), c.faces) for c in made.values()]),
+                strict=True))
+            if detail is not None:
+                detail["distances"] = found
+                detail["groups"] = sampled
+            return {name: float(found[name].mean()) if name in found else
+                    np.inf  # failed on a hole like this one
+                    for name in candidates}
+        return scores if candidates else {}  # (a test with no candidate does not score)
 
     def at_depth(depth):
         if patch_rings is not None:
@@ -341,7 +373,7 @@ def hidden_ring_scores(
         scores = at_depth(depth)
         if scores:
             return scores
-    return {}
+    return dict
 
 
 def paired_advantage(reference: np.ndarray, candidate: np.ndarray, groups: np.ndarray

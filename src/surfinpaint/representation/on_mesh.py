@@ -34,12 +34,10 @@ from surfinpaint.errors import FillError
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import definite_lu
 from surfinpaint.geometry.mesh import (
-    boundary_loops,
     laplacian_and_areas,
     mean_edge_length,
     vertex_adjacency,
     vertex_areas,
-    vertex_normals,
 )
 from surfinpaint.geometry.vertex_measures import vertex_normals_and_areas
 from surfinpaint.representation.coupled_jacobian import (
@@ -49,9 +47,11 @@ from surfinpaint.representation.coupled_jacobian import (
 )
 from surfinpaint.representation.krylov import gmres_cycle
 from surfinpaint.representation.least_squares import AndersonMixing, levenberg_marquardt
+from surfinpaint.representation.vertex_lambda_h import border_vertices, vertex_lambda_h
 from surfinpaint.representation.vertex_sets import ThinPatchError, coupled_vertex_sets
 
-__all__ = ["ThinPatchError", "inpaint_on_mesh", "least_squares_on_mesh", "vertex_lambda_h"]
+__all__ = ["ThinPatchError", "coupled_system", "inpaint_on_mesh", "least_squares_on_mesh",
+           "vertex_lambda_h"]
 
 # a step longer than this many mean edge lengths means the lagged iteration diverges (it
 # contracts by a factor of about 0.3-0.7 per step on the benchmark holes); one still longer
@@ -97,40 +97,6 @@ CONTINUATION_NEWTON = 10
 CONTINUATION_ENVELOPE = (60.0, 0.6)
 
 
-def vertex_lambda_h(points: np.ndarray, faces: np.ndarray, uv: np.ndarray
-                    ) -> tuple[np.ndarray, np.ndarray]:
-    """Conformal factor λ and mean curvature H at the vertices of a conformally mapped mesh.
-
-    Parameters
-    ----------
-    points : (n, 3) float array
-        Vertex positions.
-    faces : (f, 3) int array
-        Triangles, counter-clockwise in the parameter plane.
-    uv : (n, 2) float array
-        A conformal map of the mesh (e.g. :func:`surfinpaint.geometry.parameterization.lscm`).
-
-    Returns
-    -------
-    lam, H : (n,) float arrays
-        ``λ = sqrt(A_3D / A_uv)`` (Voronoi areas) and ``H = n · Δ_uv φ / (2λ²)`` with ``n``
-        the area-weighted vertex normal (``φ_u × φ_v``, method.md §1: H = +1 on the unit
-        sphere whose normal points inward). H is NaN on the mesh's border, where the
-        Laplacian is one-sided.
-    """
-    L, area_uv = laplacian_and_areas(uv, faces)
-    lam2 = vertex_areas(points, faces) / area_uv
-    normals = vertex_normals(points, faces)
-    H = np.einsum("ij,ij->i", L @ points, normals) / (2.0 * lam2 * area_uv)
-    H[_border(faces)] = np.nan
-    return np.sqrt(lam2), H
-
-
-def _border(faces: np.ndarray, table: EdgeTable | None = None) -> np.ndarray:
-    loops = boundary_loops(faces, table)
-    return np.concatenate(loops) if loops else np.zeros(0, dtype=np.int64)
-
-
 def inpaint_on_mesh(
     points: np.ndarray,
     faces: np.ndarray,
@@ -141,6 +107,7 @@ def inpaint_on_mesh(
     tol: float = 1e-3,
     relax: float | None = None,
     natural: np.ndarray | None = None,
+    system: _CoupledSystem | None = None,
 ) -> np.ndarray:
     """Move the ``free`` vertices so that λ and H are biharmonic over them and the surface
     is rebuilt from them, the other vertices fixed.
@@ -184,6 +151,9 @@ def inpaint_on_mesh(
         there, so near the free vertices it is an unknown of the inpainting with natural
         boundary conditions (the biharmonic energy of the one side), and further out the
         mean of its inner neighbours' H.
+    system : optional
+        The patch's coupled system, :func:`coupled_system` of these arguments (made here
+        when None).
 
     Returns
     -------
@@ -213,7 +183,7 @@ def inpaint_on_mesh(
     # cost more than they give (measured: a bunny hole's fill 0.45-0.51 s with two
     # threads, 0.37 s with one)
     with _blas_controller().limit(limits=1, user_api="blas"):
-        system = _CoupledSystem(points, faces, uv, free, natural)
+        system = _CoupledSystem(points, faces, uv, free, natural) if system is None else system
         for weight, steps in attempts:
             try:
                 return _coupled_solve(system, points, steps, tol, weight)
@@ -227,6 +197,24 @@ def inpaint_on_mesh(
             raise FillError(f"{failure}; {exc}") from None
 
 
+def coupled_system(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: np.ndarray,
+                   natural: np.ndarray | None = None) -> _CoupledSystem:
+    """The coupled λ-H system of a patch (:func:`inpaint_on_mesh`'s arguments), for its
+    solve and, where that fails, its least-squares stage (:func:`least_squares_on_mesh`):
+    the same matrices and factorizations, made once. Each solve sets what the system
+    keeps (λ, the last update) from the positions it starts from, so either outcome is
+    the one it has on a system of its own (session 37 helper).
+
+    Raises
+    ------
+    FillError
+        As :func:`inpaint_on_mesh` (a singular system, a patch too thin: ThinPatchError).
+    """
+    with _blas_controller().limit(limits=1, user_api="blas"):
+        return _CoupledSystem(np.asarray(points, dtype=float), np.asarray(faces, dtype=np.int64),
+                              uv, np.asarray(free, dtype=bool), natural)
+
+
 def least_squares_on_mesh(
     points: np.ndarray,
     faces: np.ndarray,
@@ -235,6 +223,7 @@ def least_squares_on_mesh(
     *,
     natural: np.ndarray | None = None,
     tol: float = 1e-3,
+    system: _CoupledSystem | None = None,
 ) -> tuple[np.ndarray, float, float]:
     """The positions nearest to a fixed point of :func:`inpaint_on_mesh`'s coupled system,
     where its solves find none: a local minimum of the fixed-point residual
@@ -269,7 +258,7 @@ def least_squares_on_mesh(
     faces = np.asarray(faces, dtype=np.int64)
     free = np.asarray(free, dtype=bool)
     with _blas_controller().limit(limits=1, user_api="blas"):
-        system = _CoupledSystem(points, faces, uv, free, natural)
+        system = _CoupledSystem(points, faces, uv, free, natural) if system is None else system
         phi, weight = _continuation(system, points, tol)
         f, h = system.f, system.scale
         start = phi[f].copy()
@@ -359,7 +348,7 @@ class _CoupledSystem:
             raise FillError("the parameter map has vertices with no area")
         Q = (L @ sp.diags(1.0 / area) @ L).tocsr()
         table = EdgeTable.build(faces)  # for the border and the edge length
-        border = _border(faces, table)
+        border = border_vertices(faces, table)
         on_natural = np.zeros(len(points), dtype=bool)
         if natural is not None:
             on_natural[border] = np.asarray(natural, dtype=bool)[border]

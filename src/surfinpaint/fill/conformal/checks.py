@@ -12,8 +12,8 @@ from surfinpaint.geometry.intersection import patch_intersects_surroundings, sel
 from surfinpaint.geometry.mesh import edge_faces, face_areas, face_normals
 
 __all__ = ["BLEND_HALVINGS", "DAMPING_STEPS", "FOLD_ANGLE", "CrossingError", "Crossings",
-           "RejectedFill", "blended_fill", "check_patch", "crossings", "damped_fill",
-           "fold_count"]
+           "RejectedFill", "blended_fill", "check_crossings", "check_patch", "crossings",
+           "damped_fill", "fold_count"]
 
 # neighbouring triangles whose normals turn by more than this are a fold-over
 FOLD_ANGLE = 120.0
@@ -71,20 +71,38 @@ def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int
     if folds > allowed_folds:
         more = f" (its start has {allowed_folds})" if allowed_folds else ""
         raise FillError(f"the filled patch folds over at {folds} edges{more}")
-    allowed = allowed_crossings or Crossings.none()
-    found = crossings(vertices, patch_faces, n_fill_faces, self_crossing=self_crossing)
+    check_crossings(crossings(vertices, patch_faces, n_fill_faces, self_crossing=self_crossing),
+                    allowed_crossings)
+
+
+def check_crossings(found: Crossings, allowed: Crossings | None = None) -> None:
+    """:func:`check_patch`'s last test: reject a patch whose crossings ``found`` are more
+    than the ``allowed`` ones.
+
+    Raises
+    ------
+    CrossingError
+        With ``found`` as its attribute (a check of the same patch against other allowed
+        crossings needs no new search: :func:`damped_fill`).
+    """
+    allowed = allowed or Crossings.none()
     around = _new_pairs(found.around, allowed.around)
     if len(around):
         raise CrossingError(f"the filled patch cuts through the surrounding surface "
-                            f"({len(around)} triangle pairs)")
+                            f"({len(around)} triangle pairs)", found)
     itself = _new_pairs(found.itself, allowed.itself)
     if len(itself):
         raise CrossingError(f"the filled patch intersects itself ({len(itself)} triangle "
-                            "pairs)")
+                            "pairs)", found)
 
 
 class CrossingError(FillError):
-    """A filled patch crosses the surface around it or itself."""
+    """A filled patch crosses the surface around it or itself; ``found``: its
+    :class:`Crossings` (None where not given)."""
+
+    def __init__(self, message: str, found: Crossings | None = None):
+        super().__init__(message)
+        self.found = found
 
 
 @dataclass(frozen=True)
@@ -254,14 +272,15 @@ def damped_fill(vertices: np.ndarray, start: np.ndarray, moving: np.ndarray,
                 check_patch(trial, patch_faces, n_fill_faces, self_crossing=self_crossing,
                             crease=crease, allowed_folds=allowed, allowed_crossings=crossed,
                             edges=edges)
-            except CrossingError:
+            except CrossingError as crossing:
                 if crossed is not None:
                     raise
                 crossed = crossings(at_start, patch_faces, n_fill_faces,
                                     self_crossing=self_crossing)
-                check_patch(trial, patch_faces, n_fill_faces, self_crossing=self_crossing,
-                            crease=crease, allowed_folds=allowed, allowed_crossings=crossed,
-                            edges=edges)
+                # the trial passed the other checks and its crossings are found: only they
+                # are checked again, against the start's (the same outcome as a whole
+                # check_patch, without the second search)
+                check_crossings(crossing.found, crossed)
         except FillError as exc:
             first_failure = first_failure or exc
             continue

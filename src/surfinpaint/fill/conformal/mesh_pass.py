@@ -24,6 +24,7 @@ from surfinpaint.geometry.mesh import (
 from surfinpaint.representation.grid_represent import smooth_subdivision
 from surfinpaint.representation.on_mesh import (
     ThinPatchError,
+    coupled_system,
     inpaint_on_mesh,
     least_squares_on_mesh,
 )
@@ -176,9 +177,11 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
         on_border |= natural
     # (grown unevenly, whole border natural): measured on thin tori, the grown patch is
     # 0.61-0.91x the error of the shrunk one with its border natural (docs/convergence.md)
+    mapped = {}  # the last try takes the grown patch and its map again: made once
     for grow, all_natural in ((False, False), (True, False), (True, True)):
-        patch, ids, local, uv, used, map_name = _mapped_patch(
-            vertices, faces, seeds, fill_faces, rings, grow=grow)
+        if grow not in mapped:
+            mapped[grow] = _mapped_patch(vertices, faces, seeds, fill_faces, rings, grow=grow)
+        patch, ids, local, uv, used, map_name = mapped[grow]
         free = np.isin(ids, moving)
         points = vertices[ids]
         # the patch's whole border natural: which it is not, but H near it is left to
@@ -237,9 +240,12 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
         Set when the positions are the least-squares stage's or the lattice's
         (``lattice`` set).
     """
+    system = None  # the patch's coupled system, made once for the solve and the last stage
     try:
+        if free.any():
+            system = coupled_system(points, local, uv, free, natural)
         return inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
-                               natural=natural), None
+                               natural=natural, system=system), None
     except ThinPatchError:
         raise
     except FillError as coarse:
@@ -254,7 +260,7 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
         else:
             return out[:len(points)], None
     positions, residual, weight = least_squares_on_mesh(points, local, uv, free,
-                                                        natural=natural, tol=tol)
+                                                        natural=natural, tol=tol, system=system)
     if residual <= LEAST_SQUARES_RESIDUAL:
         return positions, LeastSquaresFill(residual, weight, failure)
     failure = (f"{failure}; the least-squares stage ends at a residual of {residual:.2g} "

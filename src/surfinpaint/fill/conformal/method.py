@@ -34,7 +34,12 @@ from surfinpaint.fill.conformal.selection import (
 from surfinpaint.fill.creases import CREASE_ANGLE, sharp_edge_rows
 from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane, laid_on_two_planes
 from surfinpaint.fill.results import Fill
-from surfinpaint.fill.selfcheck import advantages_over, hidden_ring_scores, sibling_scores
+from surfinpaint.fill.selfcheck import (
+    advantages_over,
+    hidden_ring_scores,
+    hidden_ring_test,
+    sibling_scores,
+)
 from surfinpaint.fill.two_planes import split_on_two_planes
 from surfinpaint.geometry.cutting import edge_graph
 from surfinpaint.geometry.edges import edge_keys
@@ -158,7 +163,9 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     the cheaper hidden-ring test first, the sibling test only when it can still change the
     outcome (:func:`sibling_test_plan`). Where the hidden-ring test's λ-H fill was a crease
     fill and no crease crosses the hole, the test is run again one ring shallower
-    (:func:`~surfinpaint.fill.conformal.selection.hidden_rings_shallower`)."""
+    (:func:`~surfinpaint.fill.conformal.selection.hidden_rings_shallower`); where that
+    scores, the deeper test's fills are not scored (:func:`hidden_ring_test`: its scores
+    would not be used)."""
     o = candidates.options
     reference = f"fair{candidates.orders[0]}"
     choose_faired = len(candidates.orders) > 1
@@ -167,10 +174,11 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     hidden_detail: dict | None = {} if weigh else None
     sibling_detail: list | None = [] if weigh else None
     creased: list[bool] = []
-    hidden = hidden_ring_scores(vertices, faces, loop,
-                                _noting_creases(candidates.for_tests(), creased),
-                                hide_rings=o.hide_rings, patch_rings=o.rings_in_patch,
-                                graph=graph, detail=hidden_detail)
+    # the test hole filled; its fills scored only where their scores are used (below)
+    deeper = hidden_ring_test(vertices, faces, loop,
+                              _noting_creases(candidates.for_tests(), creased),
+                              hide_rings=o.hide_rings, patch_rings=o.rings_in_patch,
+                              graph=graph, detail=hidden_detail)
     shallower = False
     if hidden_rings_shallower(any(creased), crossed=candidates.crossed,
                               hide_rings=o.hide_rings):
@@ -181,6 +189,8 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                                      detail=shallow_detail)
         if shallow:  # else the deeper test's scores stand
             hidden, hidden_detail, shallower = shallow, shallow_detail, True
+    if not shallower:
+        hidden = deeper()
     run, with_lambda_h = sibling_test_plan(hidden, reference=reference,
                                            choose_faired=choose_faired, shallower=shallower)
     sibling = {}
