@@ -14,12 +14,13 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from surfinpaint.errors import preview
+from surfinpaint.errors import HoleWarning, preview
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import ATTRIBUTE_KINDS, check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
+from surfinpaint.fill.far_crossings import far_crossing_counts
 from surfinpaint.fill.hole_steps import Run, fill_hole, skip
 from surfinpaint.fill.holes import (
     BORDER_SPAN_FRACTION,
@@ -422,9 +423,19 @@ def _fill_run(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int) -> 
 def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
             merged: np.ndarray, attributes: tuple) -> FillResult:
     """The filled mesh with its reports, the faces ``repair`` removed and flipped, merged
-    seam vertices, attributes (vertex, face, kinds) and topology changes (each also a
-    warning, at the caller of ``fill_holes``)."""
+    seam vertices, attributes (vertex, face, kinds), fills that cross the surface away from
+    their hole and topology changes (each also a warning, at the caller of
+    ``fill_holes``)."""
     result = mesh.result(reports, repaired[0])
+    for report, far in zip(reports, far_crossing_counts(
+            result.vertices, mesh.faces, mesh.vertex_faces, result.hole_faces(),
+            [r.loop for r in reports]), strict=True):
+        if far:
+            warnings.warn(f"hole {report.index}: {far} triangle{'s' * (far > 1)} of the fill "
+                          f"cross{'es' * (far == 1)} the surface farther out than the rings "
+                          "around the hole checked as it was filled (a fold or a thin part, "
+                          "near in space): check the result", HoleWarning, stacklevel=3)
+            report.crossings += far
     result.flipped_faces = repaired[1]
     result.merged_vertices = merged
     result = _with_attributes(result, *attributes)
