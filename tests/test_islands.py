@@ -256,8 +256,19 @@ def test_holes_shows_the_island_of_its_hole(tmp_path, capsys, monkeypatch, optio
 def test_fill_prints_the_island_note(tmp_path, capsys):
     v, f, _ = sphere_with_island()
     write_mesh(tmp_path / "island.ply", v, f)
-    assert main(["fill", str(tmp_path / "island.ply"), "-o", str(tmp_path / "out.ply")]) == 0
+    report = tmp_path / "report.json"
+    assert main(["fill", str(tmp_path / "island.ply"), "-o", str(tmp_path / "out.ply"),
+                 "--json", str(report)]) == 0
     assert "with its island, piece 1 (loop 1)" in capsys.readouterr().err  # the console's
+    # the JSON report names the island's loop, and reads back as the same typed record
+    import json
+
+    from surfinpaint.app.fill_report import HoleRecord
+
+    holes = json.loads(report.read_text("utf-8"))["holes"]
+    assert [h["islands"] for h in holes] == [[1]]
+    assert HoleRecord.from_json(holes[0]).islands == (1,)
+    assert HoleRecord.from_json({**holes[0], "islands": []}).islands == ()
 
 
 def test_an_island_that_cannot_be_joined_leaves_the_hole_filled_as_a_disk(monkeypatch):

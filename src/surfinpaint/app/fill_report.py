@@ -299,6 +299,7 @@ class HoleRecord:
     note: str | None
     crossings: int = 0
     plane: dict[str, float] | None = None
+    islands: tuple[int, ...] = ()
 
     @classmethod
     def of(cls, r: HoleReport) -> HoleRecord:
@@ -319,12 +320,14 @@ class HoleRecord:
                        "p_pattern": float(r.plane.p_pattern), "noise": float(r.plane.noise),
                        "vertices": int(r.plane.points), "left_out": int(r.plane.left_out),
                        "past_edges": int(r.plane.past_edges),
-                       "planes": 2 if isinstance(r.plane, TwoPlanes) else 1})
+                       "planes": 2 if isinstance(r.plane, TwoPlanes) else 1},
+                   islands=tuple(int(k) for k in r.islands))
 
     def to_json(self) -> dict[str, Any]:
         """As JSON types: a failed candidate's score is null and named in ``failed``."""
         record = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         record["self_check"] = [_test_json(t) for t in self.self_check]
+        record["islands"] = list(self.islands)
         return record
 
     @classmethod
@@ -332,6 +335,7 @@ class HoleRecord:
         fields = {f.name for f in dataclasses.fields(cls)}
         values = {k: v for k, v in record.items() if k in fields}
         values["self_check"] = tuple(_test_from_json(t) for t in record.get("self_check", ()))
+        values["islands"] = tuple(record.get("islands", ()))
         return cls(**values)
 
 
