@@ -282,7 +282,7 @@ def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdo
     """Session 38's smooth tubes and organic bodies (tuning side, rules may be chosen on
     them): their own split name, meshes and sources, shared with no holdout, half or other
     tuning-side set; 4 smooth and 4 organic meshes, 7 holes each, digests recorded; their
-    generators in their own module, which validation_meshes adds last to ``SOURCES``."""
+    generators in their own module, which validation_meshes adds to ``SOURCES``."""
     import smooth_tuning_meshes
 
     entries = smooth_tuning["meshes"]
@@ -290,7 +290,8 @@ def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdo
     assert (ids == holes_manifest.SPLIT["smooth_tuning"]
             == list(validation_meshes.SMOOTH_TUNING_SOURCES))
     assert validation_meshes.SMOOTH_TUNING_SOURCES is smooth_tuning_meshes.SMOOTH_TUNING_SOURCES
-    assert list(validation_meshes.SOURCES)[-len(ids):] == ids
+    assert all(validation_meshes.SOURCES[i] is smooth_tuning_meshes.SMOOTH_TUNING_SOURCES[i]
+               for i in ids)
     # a tuning-side set: never a holdout by its name, its file or its split
     assert holes_manifest.LATER_SETS["smooth_tuning"][0].name == "smooth_tuning_manifest.json"
     assert "tuning-side" in holes_manifest.LATER_SETS["smooth_tuning"][1]
