@@ -1916,3 +1916,11 @@ SOURCES.update(HOLDOUT13_SOURCES)
 from holdout14_meshes import HOLDOUT14_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT14_SOURCES)
+
+# --------------------------------------------------------------------------- smooth tuning set
+
+# Session 38's tuning-side smooth tubes and organic bodies (benchmarks/smooth_tuning_manifest.
+# json): rules may be chosen on them; their own module, as the holdouts'.
+from smooth_tuning_meshes import SMOOTH_TUNING_SOURCES  # noqa: E402
+
+SOURCES.update(SMOOTH_TUNING_SOURCES)
