@@ -25,6 +25,7 @@ from surfinpaint.representation.grid_represent import smooth_subdivision
 from surfinpaint.representation.on_mesh import (
     ThinPatchError,
     coupled_system,
+    curvature_continuation,
     inpaint_on_mesh,
     least_squares_on_mesh,
 )
@@ -37,6 +38,13 @@ MIN_RINGS = 3
 # many mean edge lengths (the bound on one of its steps, on_mesh.LSQ_TRUST): further from a
 # fixed point it is not a λ-H fill (docs/convergence.md, session 11)
 LEAST_SQUARES_RESIDUAL = 2.0
+# where the coupled solve fails on the patch, the least-squares stage's continuation is made
+# this many solves before the subdivided patch is tried (and on after it where that fails):
+# of its 11 runs that reached the full weight on the tuning side, 10 did so within 8 solves
+# (4-8; an egg-crate's in 19), and no such patch's subdivided solve converged; where the
+# subdivided solve converges (13 holes) the continuation stops short of 1 after 13-25 solves
+# (docs/convergence.md, session 38)
+CONTINUATION_FIRST = 8
 # where that fails too, the patch resampled on a regular lattice of its map, of these
 # spacings (per mean map edge of the fill) in turn (:func:`_on_lattice`)
 LATTICE_PER_EDGE = (2.0, 1.0, 4.0)
@@ -233,6 +241,13 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     before a fallback: the coupled solve on the patch resampled on a regular lattice of its
     map (:func:`_on_lattice`).
 
+    That stage's continuation is made ``CONTINUATION_FIRST`` solves before the subdivided
+    patch's solve (session 38): where it reaches the full curvature weight there, its surface
+    is a fixed point of the patch's own solve, which the subdivided patch's solve (0.3 s on
+    the CAD tuning part cbblock #4, failing) is not needed for; where it does not, the
+    subdivided patch is tried as before and, where that fails too, the continuation goes on
+    from where it stopped (the same surface as made in one go) and least squares from its end.
+
     Returns
     -------
     positions : (n, 3) float array
@@ -251,16 +266,23 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     except FillError as coarse:
         if not subdivide:
             raise
-        fine = _subdivided(points, local, uv, free, n_fill, natural)
-        try:
-            out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3], iterations=iterations,
-                                  tol=tol, natural=fine[4])
-        except FillError as exc:
-            failure = f"{coarse}; on the patch subdivided once: {exc}"
-        else:
-            return out[:len(points)], None
+        failure = str(coarse)
+        # the last stage's continuation first: where it reaches the full weight, its surface is
+        # the patch's fixed point and the subdivided patch's solve is not needed (session 38)
+        continued = None if system is None else curvature_continuation(
+            system, points, tol, solves=CONTINUATION_FIRST)
+        if continued is None or continued[1] < 1.0:
+            fine = _subdivided(points, local, uv, free, n_fill, natural)
+            try:
+                out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3],
+                                      iterations=iterations, tol=tol, natural=fine[4])
+            except FillError as exc:
+                failure = f"{coarse}; on the patch subdivided once: {exc}"
+            else:
+                return out[:len(points)], None
     positions, residual, weight = least_squares_on_mesh(points, local, uv, free,
-                                                        natural=natural, tol=tol, system=system)
+                                                        natural=natural, tol=tol, system=system,
+                                                        continued=continued)
     if residual <= LEAST_SQUARES_RESIDUAL:
         return positions, LeastSquaresFill(residual, weight, failure)
     failure = (f"{failure}; the least-squares stage ends at a residual of {residual:.2g} "
