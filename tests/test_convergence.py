@@ -516,9 +516,9 @@ def test_the_continuation_runs_before_the_subdivided_patch(monkeypatch, first, s
     _, ids, local, uv, _, _ = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
     free, points = ids >= len(cut.vertices), vertices[ids]
     natural = np.zeros(len(ids), dtype=bool)
-    calls = {"solves": 0, "continuations": 0, "subdivided": 0}
-    solve, continuation, subdivide = (mesh_pass.inpaint_on_mesh,
-                                      mesh_pass.curvature_continuation, mesh_pass._subdivided)
+    calls = {"solves": 0, "continuation solves": 0, "subdivided": 0}
+    solve, newton, subdivide = (mesh_pass.inpaint_on_mesh, on_mesh._newton_solve,
+                                mesh_pass._subdivided)
 
     def scripted_solve(*args, **kw):  # the patch's solve fails; the fine one as scripted
         calls["solves"] += 1
@@ -533,12 +533,15 @@ def test_the_continuation_runs_before_the_subdivided_patch(monkeypatch, first, s
         return wrapper
 
     monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", scripted_solve)
-    monkeypatch.setattr(mesh_pass, "curvature_continuation", counted("continuations",
-                                                                     continuation))
+    monkeypatch.setattr(on_mesh, "_newton_solve", counted("continuation solves", newton))
     monkeypatch.setattr(mesh_pass, "_subdivided", counted("subdivided", subdivide))
     out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
                                                20, 1e-3, True)
-    assert calls["continuations"] == 1 and calls["subdivided"] == int(subdivided)
+    assert calls["subdivided"] == int(subdivided)
+    made = calls["continuation solves"]  # the continuation's solves, each made once:
+    one_go = on_mesh.curvature_continuation(on_mesh.coupled_system(points, local, uv, free),
+                                            points)
+    assert made == (one_go[3] if written != "subdivided" else min(first, one_go[3]))
     if written == "subdivided":
         assert stage is None
         fine = subdivide(points, local, uv, free, len(new_f), natural)
@@ -548,6 +551,38 @@ def test_the_continuation_runs_before_the_subdivided_patch(monkeypatch, first, s
     np.testing.assert_array_equal(out, alone[0])
     assert (stage.residual, stage.weight) == alone[1:] and stage.weight == weight
     assert stage.residual < 1e-5 and ("subdivided once" in stage.unsolved) == subdivided
+
+
+# continuations of the tuning side (session 38's log): each solve's weight, + where it
+# converged; the first solves' fold (two failures in a row after a success) or the 8th solve
+# stops them before the subdivided patch is tried, unless they reach weight 1 first
+@pytest.mark.parametrize("sequence, stopped", [
+    ("0.125+ 0.375+ 0.875+ 1+", None),  # brain pial #4, cbblock #4: weight 1, no fold
+    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875+ 1+", None),  # brain white #14: one failure at a time
+    ("0.125- 0.0625- 0.0312+ 0.0938+ 0.219+ 0.469+ 0.969+ 1+", None),  # quad v246: its first
+    # step searched by halving (no solve converged yet), then weight 1 at the 8th solve
+    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875- 0.75- 0.688-", 6),  # brain white #17: a fold
+    ("0.125+ 0.375- 0.25- 0.188-", 3),  # egg n20 s3 p8 a3.0 j0.4 r4
+    ("0.125+ 0.375- 0.25+ 0.5- 0.375- 0.312+", 5),  # quad v219 r2.0
+    ("0.125- 0.0625- 0.0312- 0.0156- 0.0078- 0.0039- 0.002- 0.001-", 8),  # never leaves 0
+    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875+ 0.95- 0.9+ 0.97-", 8),  # no fold: 8 solves
+])
+def test_the_continuation_before_the_subdivided_patch_stops_at_a_fold(sequence, stopped):
+    from surfinpaint.fill.conformal.mesh_pass import continuation_paused
+
+    weight, failures = 0.0, 0
+    for solves, entry in enumerate(sequence.split(), 1):
+        if entry.endswith("+"):
+            weight, failures = float(entry[:-1]), 0
+        else:
+            failures += 1
+        if weight >= 1.0:
+            assert stopped is None  # reached weight 1: the subdivided patch is not needed
+            return
+        if continuation_paused(solves, weight, failures):
+            assert solves == stopped
+            return
+    raise AssertionError("the scripted sequence ended with no decision")
 
 
 def test_a_continuation_stopped_and_resumed_is_the_one_made_in_one_go():

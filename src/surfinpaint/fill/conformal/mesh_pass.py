@@ -39,12 +39,14 @@ MIN_RINGS = 3
 # fixed point it is not a λ-H fill (docs/convergence.md, session 11)
 LEAST_SQUARES_RESIDUAL = 2.0
 # where the coupled solve fails on the patch, the least-squares stage's continuation is made
-# this many solves before the subdivided patch is tried (and on after it where that fails):
-# of its 11 runs that reached the full weight on the tuning side, 10 did so within 8 solves
-# (4-8; an egg-crate's in 19), and no such patch's subdivided solve converged; where the
-# subdivided solve converges (13 holes) the continuation stops short of 1 after 13-25 solves
-# (docs/convergence.md, session 38)
+# this many solves before the subdivided patch is tried (and on after it where that fails),
+# or fewer where it folds first (two failed solves in a row after one that converged): of its
+# 11 runs that reached the full weight on the tuning side, 10 did so within 8 solves and
+# without such a fold (4-8; an egg-crate's in 19), and no such patch's subdivided solve
+# converged; where the subdivided solve converges (13 holes) the continuation stops short of 1
+# after 13-25 solves, and folds after 3-6 (docs/convergence.md, session 38)
 CONTINUATION_FIRST = 8
+CONTINUATION_FOLD = 2
 # where that fails too, the patch resampled on a regular lattice of its map, of these
 # spacings (per mean map edge of the fill) in turn (:func:`_on_lattice`)
 LATTICE_PER_EDGE = (2.0, 1.0, 4.0)
@@ -241,8 +243,9 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     before a fallback: the coupled solve on the patch resampled on a regular lattice of its
     map (:func:`_on_lattice`).
 
-    That stage's continuation is made ``CONTINUATION_FIRST`` solves before the subdivided
-    patch's solve (session 38): where it reaches the full curvature weight there, its surface
+    That stage's continuation is made ``CONTINUATION_FIRST`` solves (or to a fold,
+    :func:`continuation_paused`) before the subdivided patch's solve (session 38): where it
+    reaches the full curvature weight there, its surface
     is a fixed point of the patch's own solve, which the subdivided patch's solve (0.3 s on
     the CAD tuning part cbblock #4, failing) is not needed for; where it does not, the
     subdivided patch is tried as before and, where that fails too, the continuation goes on
@@ -269,8 +272,7 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
         failure = str(coarse)
         # the last stage's continuation first: where it reaches the full weight, its surface is
         # the patch's fixed point and the subdivided patch's solve is not needed (session 38)
-        continued = None if system is None else curvature_continuation(
-            system, points, tol, solves=CONTINUATION_FIRST)
+        continued = None if system is None else _continued_first(system, points, tol)
         if continued is None or continued[1] < 1.0:
             fine = _subdivided(points, local, uv, free, n_fill, natural)
             try:
@@ -290,6 +292,27 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     positions, lattice = _on_lattice(points, local, uv, free, n_fill, natural, iterations,
                                      tol, failure)
     return positions, LeastSquaresFill(residual, weight, failure, lattice=lattice)
+
+
+def _continued_first(system, points, tol):
+    """The least-squares stage's continuation on ``system`` (:func:`curvature_continuation`),
+    solve by solve, until it ends or :func:`continuation_paused` says to try the subdivided
+    patch first; its state, to resume."""
+    state, failures = None, 0
+    while True:
+        before = 0.0 if state is None else state[1]
+        state = curvature_continuation(system, points, tol, solves=1, resume=state)
+        failures = 0 if state[1] > before else failures + 1  # a solve that converged: w rises
+        if state[4] or continuation_paused(state[3], state[1], failures):
+            return state
+
+
+def continuation_paused(solves: int, weight: float, failures: int) -> bool:
+    """Whether the continuation made before the subdivided patch's solve stops after
+    ``solves`` solves, having reached ``weight`` and failed the last ``failures`` in a row:
+    after ``CONTINUATION_FIRST`` solves, or where it folds (``CONTINUATION_FOLD`` failures in
+    a row once a solve converged; before that, failures only look for its first step)."""
+    return solves >= CONTINUATION_FIRST or (weight > 0.0 and failures >= CONTINUATION_FOLD)
 
 
 def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failure):
