@@ -554,32 +554,27 @@ def test_the_continuation_runs_before_the_subdivided_patch(monkeypatch, first, s
 
 
 # continuations of the tuning side (session 38's log): each solve's weight, + where it
-# converged; the first solves' fold (two failures in a row after a success) or the 8th solve
-# stops them before the subdivided patch is tried, unless they reach weight 1 first
+# converged; the first failed solve (or the 8th solve) stops them before the subdivided patch
+# is tried, unless they reach weight 1 first
 @pytest.mark.parametrize("sequence, stopped", [
-    ("0.125+ 0.375+ 0.875+ 1+", None),  # brain pial #4, cbblock #4: weight 1, no fold
-    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875+ 1+", None),  # brain white #14: one failure at a time
-    ("0.125- 0.0625- 0.0312+ 0.0938+ 0.219+ 0.469+ 0.969+ 1+", None),  # quad v246: its first
-    # step searched by halving (no solve converged yet), then weight 1 at the 8th solve
-    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875- 0.75- 0.688-", 6),  # brain white #17: a fold
-    ("0.125+ 0.375- 0.25- 0.188-", 3),  # egg n20 s3 p8 a3.0 j0.4 r4
-    ("0.125+ 0.375- 0.25+ 0.5- 0.375- 0.312+", 5),  # quad v219 r2.0
-    ("0.125- 0.0625- 0.0312- 0.0156- 0.0078- 0.0039- 0.002- 0.001-", 8),  # never leaves 0
-    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875+ 0.95- 0.9+ 0.97-", 8),  # no fold: 8 solves
+    ("0.125+ 0.375+ 0.875+ 1+", None),  # cbblock #4, brain pial #4, #10, white #15: weight 1
+    ("0.125- 0.0625+ 0.188+ 0.438+ 0.938+ 1+", 1),  # animal5 #4: its subdivided patch's fill
+    # (2.9 %) is better than this continuation's fixed point (6.6 %)
+    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875+ 1+", 3),  # brain white #14
+    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875- 0.75- 0.688-", 3),  # brain white #17
+    ("0.125+ 0.25+ 0.5+ 0.75+ 0.875+ 0.9+ 0.95+ 0.97+ 1+", 8),  # 8 solves at most
 ])
-def test_the_continuation_before_the_subdivided_patch_stops_at_a_fold(sequence, stopped):
+def test_the_continuation_before_the_subdivided_patch_stops_at_its_first_failure(sequence,
+                                                                                 stopped):
     from surfinpaint.fill.conformal.mesh_pass import continuation_paused
 
-    weight, failures = 0.0, 0
+    failures = 0
     for solves, entry in enumerate(sequence.split(), 1):
-        if entry.endswith("+"):
-            weight, failures = float(entry[:-1]), 0
-        else:
-            failures += 1
-        if weight >= 1.0:
+        failures += entry.endswith("-")
+        if entry == "1+":
             assert stopped is None  # reached weight 1: the subdivided patch is not needed
             return
-        if continuation_paused(solves, weight, failures):
+        if continuation_paused(solves, failures):
             assert solves == stopped
             return
     raise AssertionError("the scripted sequence ended with no decision")

@@ -39,14 +39,14 @@ MIN_RINGS = 3
 # fixed point it is not a λ-H fill (docs/convergence.md, session 11)
 LEAST_SQUARES_RESIDUAL = 2.0
 # where the coupled solve fails on the patch, the least-squares stage's continuation is made
-# this many solves before the subdivided patch is tried (and on after it where that fails),
-# or fewer where it folds first (two failed solves in a row after one that converged): of its
-# 11 runs that reached the full weight on the tuning side, 10 did so within 8 solves and
-# without such a fold (4-8; an egg-crate's in 19), and no such patch's subdivided solve
-# converged; where the subdivided solve converges (13 holes) the continuation stops short of 1
-# after 13-25 solves, and folds after 3-6 (docs/convergence.md, session 38)
+# first while each of its solves converges, at most this many (and on after the subdivided
+# patch's solve where that fails). Of its 12 runs that reached the full weight on the tuning
+# side, 6 did so with every solve converging (4 solves each: cbblock #4, brain pial #4, #10,
+# white #15, quad v480 r2.0, v149 r3.5), and their subdivided patch's solve failed (the fill
+# is main's); animal5 #4's reached it after a failed first solve where the subdivided patch's
+# converged, and writing the continuation's fixed point there was 2.3 times worse
+# (docs/convergence.md, session 38)
 CONTINUATION_FIRST = 8
-CONTINUATION_FOLD = 2
 # where that fails too, the patch resampled on a regular lattice of its map, of these
 # spacings (per mean map edge of the fill) in turn (:func:`_on_lattice`)
 LATTICE_PER_EDGE = (2.0, 1.0, 4.0)
@@ -243,11 +243,10 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     before a fallback: the coupled solve on the patch resampled on a regular lattice of its
     map (:func:`_on_lattice`).
 
-    That stage's continuation is made ``CONTINUATION_FIRST`` solves (or to a fold,
-    :func:`continuation_paused`) before the subdivided patch's solve (session 38): where it
-    reaches the full curvature weight there, its surface
-    is a fixed point of the patch's own solve, which the subdivided patch's solve (0.3 s on
-    the CAD tuning part cbblock #4, failing) is not needed for; where it does not, the
+    That stage's continuation is made first while its solves converge
+    (:func:`continuation_paused`; session 38): where it runs straight to the full curvature
+    weight, its surface is a fixed point of the patch's own solve, and the subdivided patch's
+    solve (0.3 s on the CAD tuning part cbblock #4, failing) is not made; otherwise the
     subdivided patch is tried as before and, where that fails too, the continuation goes on
     from where it stopped (the same surface as made in one go) and least squares from its end.
 
@@ -302,17 +301,17 @@ def _continued_first(system, points, tol):
     while True:
         before = 0.0 if state is None else state[1]
         state = curvature_continuation(system, points, tol, solves=1, resume=state)
-        failures = 0 if state[1] > before else failures + 1  # a solve that converged: w rises
-        if state[4] or continuation_paused(state[3], state[1], failures):
+        failures += state[1] <= before  # a solve that converged raised the weight
+        if state[4] or continuation_paused(state[3], failures):
             return state
 
 
-def continuation_paused(solves: int, weight: float, failures: int) -> bool:
-    """Whether the continuation made before the subdivided patch's solve stops after
-    ``solves`` solves, having reached ``weight`` and failed the last ``failures`` in a row:
-    after ``CONTINUATION_FIRST`` solves, or where it folds (``CONTINUATION_FOLD`` failures in
-    a row once a solve converged; before that, failures only look for its first step)."""
-    return solves >= CONTINUATION_FIRST or (weight > 0.0 and failures >= CONTINUATION_FOLD)
+def continuation_paused(solves: int, failures: int) -> bool:
+    """Whether the continuation made before the subdivided patch's solve stops there, after
+    ``solves`` solves of which ``failures`` failed: at the first failure (where its path
+    does not run straight to weight 1, the subdivided patch's fill comes first), or after
+    ``CONTINUATION_FIRST`` solves."""
+    return failures > 0 or solves >= CONTINUATION_FIRST
 
 
 def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failure):
