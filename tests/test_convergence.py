@@ -484,6 +484,132 @@ def test_the_least_squares_stage_on_the_failed_solve_s_system_is_the_one_on_its_
                                   on_mesh.inpaint_on_mesh(points, local, uv, free))
 
 
+@pytest.mark.parametrize("first, solves, fine_solves, subdivided, written, weight", [
+    (8, 60, True, False, "continuation", 1.0),  # weight 1 within 8 solves: no subdivided patch
+    (8, 0, True, True, "subdivided", None),      # short of 1: the subdivided patch as before
+    (8, 0, False, True, "least squares", 0.0),   # both fail: least squares from its surface
+    (2, 60, False, True, "least squares", 1.0),  # stopped at 2 solves, resumed after it
+])
+def test_the_continuation_runs_before_the_subdivided_patch(monkeypatch, first, solves,
+                                                           fine_solves, subdivided, written,
+                                                           weight):
+    # where the coupled solve fails on the patch, the least-squares stage's continuation is
+    # made CONTINUATION_FIRST solves first (session 38): where it reaches the full curvature
+    # weight its surface is written and the subdivided patch's solve is skipped (cbblock #4:
+    # 0.3 s of a failing solve); where it stops short the subdivided patch is tried, and where
+    # that fails too the continuation goes on from where it stopped and least squares from its
+    # end. The written positions are those of the stage run on its own (the same bits).
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.representation import on_mesh
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+
+    monkeypatch.setattr(on_mesh, "CONTINUATION_SOLVES", solves)  # 0: it stays at weight 0
+    monkeypatch.setattr(mesh_pass, "CONTINUATION_FIRST", first)
+    cut = egg_crate(20, 0, 8, 0.8, 0.2, 3)  # mild: the continuation reaches weight 1
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    vertices = np.vstack([cut.vertices, new_v])
+    _, ids, local, uv, _, _ = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
+    free, points = ids >= len(cut.vertices), vertices[ids]
+    natural = np.zeros(len(ids), dtype=bool)
+    calls = {"solves": 0, "continuation solves": 0, "subdivided": 0}
+    solve, newton, subdivide = (mesh_pass.inpaint_on_mesh, on_mesh._newton_solve,
+                                mesh_pass._subdivided)
+
+    def scripted_solve(*args, **kw):  # the patch's solve fails; the fine one as scripted
+        calls["solves"] += 1
+        if calls["solves"] == 1 or not fine_solves:
+            raise FillError("scripted: Newton's method fails")
+        return solve(*args, **kw)
+
+    def counted(name, function):
+        def wrapper(*args, **kw):
+            calls[name] += 1
+            return function(*args, **kw)
+        return wrapper
+
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", scripted_solve)
+    monkeypatch.setattr(on_mesh, "_newton_solve", counted("continuation solves", newton))
+    monkeypatch.setattr(mesh_pass, "_subdivided", counted("subdivided", subdivide))
+    out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
+                                               20, 1e-3, True)
+    assert calls["subdivided"] == int(subdivided)
+    made = calls["continuation solves"]  # the continuation's solves, each made once:
+    one_go = on_mesh.curvature_continuation(on_mesh.coupled_system(points, local, uv, free),
+                                            points)
+    assert made == (one_go[3] if written != "subdivided" else min(first, one_go[3]))
+    if written == "subdivided":
+        assert stage is None
+        fine = subdivide(points, local, uv, free, len(new_f), natural)
+        np.testing.assert_array_equal(out, solve(*fine[:4], natural=fine[4])[:len(points)])
+        return
+    alone = on_mesh.least_squares_on_mesh(points, local, uv, free, natural=natural)
+    np.testing.assert_array_equal(out, alone[0])
+    assert (stage.residual, stage.weight) == alone[1:] and stage.weight == weight
+    assert stage.residual < 1e-5 and ("subdivided once" in stage.unsolved) == subdivided
+
+
+# continuations of the tuning side (session 38's log): each solve's weight, + where it
+# converged; the first failed solve (or the 8th solve) stops them before the subdivided patch
+# is tried, unless they reach weight 1 first
+@pytest.mark.parametrize("sequence, stopped", [
+    ("0.125+ 0.375+ 0.875+ 1+", None),  # cbblock #4, brain pial #4, #10, white #15: weight 1
+    ("0.125- 0.0625+ 0.188+ 0.438+ 0.938+ 1+", 1),  # animal5 #4: its subdivided patch's fill
+    # (2.9 %) is better than this continuation's fixed point (6.6 %)
+    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875+ 1+", 3),  # brain white #14
+    ("0.125+ 0.375+ 0.875- 0.625+ 1- 0.875- 0.75- 0.688-", 3),  # brain white #17
+    ("0.125+ 0.25+ 0.5+ 0.75+ 0.875+ 0.9+ 0.95+ 0.97+ 1+", 8),  # 8 solves at most
+])
+def test_the_continuation_before_the_subdivided_patch_stops_at_its_first_failure(sequence,
+                                                                                 stopped):
+    from surfinpaint.fill.conformal.mesh_pass import continuation_paused
+
+    failures = 0
+    for solves, entry in enumerate(sequence.split(), 1):
+        failures += entry.endswith("-")
+        if entry == "1+":
+            assert stopped is None  # reached weight 1: the subdivided patch is not needed
+            return
+        if continuation_paused(solves, failures):
+            assert solves == stopped
+            return
+    raise AssertionError("the scripted sequence ended with no decision")
+
+
+def test_a_continuation_stopped_and_resumed_is_the_one_made_in_one_go():
+    # curvature_continuation stopped after k solves and taken on from there ends where the
+    # continuation made in one go does, to the bit: on an egg-crate patch whose continuation
+    # stops short of weight 1 after many solves, halving its step at a fold
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.fill.conformal.mesh_pass import _mapped_patch
+    from surfinpaint.representation import on_mesh
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+
+    cut = egg_crate(20, 3, 7, 2.5, 0.4, 6)
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
+    vertices = np.vstack([cut.vertices, new_v])
+    _, ids, local, uv, _, _ = _mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
+    points, free = vertices[ids], ids >= len(cut.vertices)
+    system = on_mesh.coupled_system(points, local, uv, free)
+    whole = on_mesh.curvature_continuation(system, points)
+    assert whole[4] and 0 < whole[1] < 1 and whole[3] > 10  # ended short of 1, many solves
+    for k in (1, 3, 8):
+        state = on_mesh.curvature_continuation(system, points, solves=k)
+        assert state[3] == k and not state[4] and system.curvature == 1.0
+        while not state[4]:
+            state = on_mesh.curvature_continuation(system, points, solves=k, resume=state)
+        np.testing.assert_array_equal(state[0], whole[0])
+        assert state[1:] == whole[1:]
+
+
 @pytest.mark.parametrize("near_border", [False, True])
 def test_the_coupled_update_s_analytic_jacobian_matches_central_differences(near_border):
     # the least-squares stage's Jacobian (on_mesh._CoupledSystem.jacobian) against central

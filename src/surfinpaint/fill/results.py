@@ -68,7 +68,8 @@ class LeastSquaresFill:
         did not).
     unsolved : str
         Why the coupled solve failed before (its lagged, halved and Newton attempts, on the
-        patch and on the patch subdivided once).
+        patch and, where the continuation had not reached the full weight in its first
+        solves, on the patch subdivided once).
     lattice : int
         Where the least-squares fill was not near enough either: the free vertices of the
         regular lattice of the patch's map on which the coupled solve found a fixed point

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from threadpoolctl import ThreadpoolController
 
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.edges import EdgeTable
@@ -40,6 +39,7 @@ from surfinpaint.geometry.mesh import (
     vertex_areas,
 )
 from surfinpaint.geometry.vertex_measures import vertex_normals_and_areas
+from surfinpaint.representation.blas_threads import blas_controller
 from surfinpaint.representation.coupled_jacobian import (
     UpdateDerivative,
     lagged_update_jacobian,
@@ -50,8 +50,8 @@ from surfinpaint.representation.least_squares import AndersonMixing, levenberg_m
 from surfinpaint.representation.vertex_lambda_h import border_vertices, vertex_lambda_h
 from surfinpaint.representation.vertex_sets import ThinPatchError, coupled_vertex_sets
 
-__all__ = ["ThinPatchError", "coupled_system", "inpaint_on_mesh", "least_squares_on_mesh",
-           "vertex_lambda_h"]
+__all__ = ["ThinPatchError", "coupled_system", "curvature_continuation", "inpaint_on_mesh",
+           "least_squares_on_mesh", "vertex_lambda_h"]
 
 # a step longer than this many mean edge lengths means the lagged iteration diverges (it
 # contracts by a factor of about 0.3-0.7 per step on the benchmark holes); one still longer
@@ -182,7 +182,7 @@ def inpaint_on_mesh(
     # the dense products here are small (tied ring × free vertices): OpenBLAS's threads
     # cost more than they give (measured: a bunny hole's fill 0.45-0.51 s with two
     # threads, 0.37 s with one)
-    with _blas_controller().limit(limits=1, user_api="blas"):
+    with blas_controller().limit(limits=1, user_api="blas"):
         system = _CoupledSystem(points, faces, uv, free, natural) if system is None else system
         for weight, steps in attempts:
             try:
@@ -210,7 +210,7 @@ def coupled_system(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: 
     FillError
         As :func:`inpaint_on_mesh` (a singular system, a patch too thin: ThinPatchError).
     """
-    with _blas_controller().limit(limits=1, user_api="blas"):
+    with blas_controller().limit(limits=1, user_api="blas"):
         return _CoupledSystem(np.asarray(points, dtype=float), np.asarray(faces, dtype=np.int64),
                               uv, np.asarray(free, dtype=bool), natural)
 
@@ -224,6 +224,7 @@ def least_squares_on_mesh(
     natural: np.ndarray | None = None,
     tol: float = 1e-3,
     system: _CoupledSystem | None = None,
+    continued: list | None = None,
 ) -> tuple[np.ndarray, float, float]:
     """The positions nearest to a fixed point of :func:`inpaint_on_mesh`'s coupled system,
     where its solves find none: a local minimum of the fixed-point residual
@@ -244,7 +245,9 @@ def least_squares_on_mesh(
     Where the coupled system has no root near the start (the inpainted λ and H are not the
     data of a surface there: docs/convergence.md) this is the surface nearest to being one.
 
-    Parameters are those of :func:`inpaint_on_mesh`.
+    Parameters are those of :func:`inpaint_on_mesh`, and ``continued``: stage 1 on
+    ``system`` as far as it was made before (:func:`curvature_continuation`), taken on to its
+    end here.
 
     Returns
     -------
@@ -257,9 +260,11 @@ def least_squares_on_mesh(
     points = np.asarray(points, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     free = np.asarray(free, dtype=bool)
-    with _blas_controller().limit(limits=1, user_api="blas"):
+    with blas_controller().limit(limits=1, user_api="blas"):
         system = _CoupledSystem(points, faces, uv, free, natural) if system is None else system
-        phi, weight = _continuation(system, points, tol)
+        if continued is None or not continued[4]:
+            continued = _continuation(system, points, tol, continued)
+        phi, weight = continued[:2]
         f, h = system.f, system.scale
         start = phi[f].copy()
 
@@ -290,16 +295,31 @@ def least_squares_on_mesh(
     return phi, out.size, weight
 
 
-def _continuation(system, points, tol):
-    """Stage 1 of :func:`least_squares_on_mesh`: the surface at the largest curvature
-    weight reached from the harmonic fill, and that weight (``system.curvature`` is 1 again
-    after it)."""
+def curvature_continuation(system: _CoupledSystem, points: np.ndarray, tol: float = 1e-3, *,
+                           solves: int | None = None, resume: list | None = None) -> list:
+    """Stage 1 of :func:`least_squares_on_mesh` on a patch's coupled system
+    (:func:`coupled_system`) from ``points``, or on from where ``resume`` (an earlier call's
+    outcome) stopped; after ``solves`` more solves at most (and stopped there, to resume) or
+    to its end. Returns ``[surface, weight reached, step, solves, ended]``: a weight of 1 is a
+    fixed point of the coupled solve; continued to its end, the outcome is the same (to the
+    bit) however often it was stopped and resumed."""
+    with blas_controller().limit(limits=1, user_api="blas"):
+        return _continuation(system, np.asarray(points, dtype=float), tol, resume, solves)
+
+
+def _continuation(system, points, tol, state=None, more=None):
+    """Stage 1 of :func:`least_squares_on_mesh`, :func:`curvature_continuation`'s state from
+    the harmonic fill (or on from ``state``, at most ``more`` solves): ``system.curvature`` is 1
+    again after it."""
     try:
-        system.curvature = 0.0
-        phi = points.copy()
-        phi[system.f] = system.update(phi)  # the harmonic fill: no curvature term
-        weight, step, solves = 0.0, CONTINUATION_STEP, 0
-        while weight < 1.0 and step >= CONTINUATION_SMALLEST and solves < CONTINUATION_SOLVES:
+        if state is None:
+            system.curvature = 0.0
+            phi = points.copy()
+            phi[system.f] = system.update(phi)  # the harmonic fill: no curvature term
+            state = [phi, 0.0, CONTINUATION_STEP, 0, False]
+        phi, weight, step, solves, _ = state
+        last = CONTINUATION_SOLVES if more is None else min(solves + more, CONTINUATION_SOLVES)
+        while weight < 1.0 and step >= CONTINUATION_SMALLEST and solves < last:
             trial = min(1.0, weight + step)
             system.curvature = trial
             solves += 1
@@ -311,20 +331,10 @@ def _continuation(system, points, tol):
                 continue
             weight = trial
             step *= 2.0
-        return phi, weight
+        ended = weight >= 1.0 or step < CONTINUATION_SMALLEST or solves >= CONTINUATION_SOLVES
+        return [phi, weight, step, solves, ended]
     finally:
         system.curvature = 1.0
-
-
-_CONTROLLER: list[ThreadpoolController] = []
-
-
-def _blas_controller() -> ThreadpoolController:
-    """The process's thread-pool controller, made at the first λ-H solve (making one lists the
-    loaded libraries: 1-7 ms, which ``threadpool_limits`` paid on every solve; BLAS is loaded)."""
-    if not _CONTROLLER:
-        _CONTROLLER.append(ThreadpoolController())
-    return _CONTROLLER[0]
 
 
 class _Unsettled(FillError):

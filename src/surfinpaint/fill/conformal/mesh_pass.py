@@ -25,6 +25,7 @@ from surfinpaint.representation.grid_represent import smooth_subdivision
 from surfinpaint.representation.on_mesh import (
     ThinPatchError,
     coupled_system,
+    curvature_continuation,
     inpaint_on_mesh,
     least_squares_on_mesh,
 )
@@ -37,6 +38,15 @@ MIN_RINGS = 3
 # many mean edge lengths (the bound on one of its steps, on_mesh.LSQ_TRUST): further from a
 # fixed point it is not a λ-H fill (docs/convergence.md, session 11)
 LEAST_SQUARES_RESIDUAL = 2.0
+# where the coupled solve fails on the patch, the least-squares stage's continuation is made
+# first while each of its solves converges, at most this many (and on after the subdivided
+# patch's solve where that fails). Of its 12 runs that reached the full weight on the tuning
+# side, 6 did so with every solve converging (4 solves each: cbblock #4, brain pial #4, #10,
+# white #15, quad v480 r2.0, v149 r3.5), and their subdivided patch's solve failed (the fill
+# is main's); animal5 #4's reached it after a failed first solve where the subdivided patch's
+# converged, and writing the continuation's fixed point there was 2.3 times worse
+# (docs/convergence.md, session 38)
+CONTINUATION_FIRST = 8
 # where that fails too, the patch resampled on a regular lattice of its map, of these
 # spacings (per mean map edge of the fill) in turn (:func:`_on_lattice`)
 LATTICE_PER_EDGE = (2.0, 1.0, 4.0)
@@ -233,6 +243,13 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     before a fallback: the coupled solve on the patch resampled on a regular lattice of its
     map (:func:`_on_lattice`).
 
+    That stage's continuation is made first while its solves converge
+    (:func:`continuation_paused`; session 38): where it runs straight to the full curvature
+    weight, its surface is a fixed point of the patch's own solve, and the subdivided patch's
+    solve (0.3 s on the CAD tuning part cbblock #4, failing) is not made; otherwise the
+    subdivided patch is tried as before and, where that fails too, the continuation goes on
+    from where it stopped (the same surface as made in one go) and least squares from its end.
+
     Returns
     -------
     positions : (n, 3) float array
@@ -251,16 +268,22 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     except FillError as coarse:
         if not subdivide:
             raise
-        fine = _subdivided(points, local, uv, free, n_fill, natural)
-        try:
-            out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3], iterations=iterations,
-                                  tol=tol, natural=fine[4])
-        except FillError as exc:
-            failure = f"{coarse}; on the patch subdivided once: {exc}"
-        else:
-            return out[:len(points)], None
+        failure = str(coarse)
+        # the last stage's continuation first: where it reaches the full weight, its surface is
+        # the patch's fixed point and the subdivided patch's solve is not needed (session 38)
+        continued = None if system is None else _continued_first(system, points, tol)
+        if continued is None or continued[1] < 1.0:
+            fine = _subdivided(points, local, uv, free, n_fill, natural)
+            try:
+                out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3],
+                                      iterations=iterations, tol=tol, natural=fine[4])
+            except FillError as exc:
+                failure = f"{coarse}; on the patch subdivided once: {exc}"
+            else:
+                return out[:len(points)], None
     positions, residual, weight = least_squares_on_mesh(points, local, uv, free,
-                                                        natural=natural, tol=tol, system=system)
+                                                        natural=natural, tol=tol, system=system,
+                                                        continued=continued)
     if residual <= LEAST_SQUARES_RESIDUAL:
         return positions, LeastSquaresFill(residual, weight, failure)
     failure = (f"{failure}; the least-squares stage ends at a residual of {residual:.2g} "
@@ -268,6 +291,27 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     positions, lattice = _on_lattice(points, local, uv, free, n_fill, natural, iterations,
                                      tol, failure)
     return positions, LeastSquaresFill(residual, weight, failure, lattice=lattice)
+
+
+def _continued_first(system, points, tol):
+    """The least-squares stage's continuation on ``system`` (:func:`curvature_continuation`),
+    solve by solve, until it ends or :func:`continuation_paused` says to try the subdivided
+    patch first; its state, to resume."""
+    state, failures = None, 0
+    while True:
+        before = 0.0 if state is None else state[1]
+        state = curvature_continuation(system, points, tol, solves=1, resume=state)
+        failures += state[1] <= before  # a solve that converged raised the weight
+        if state[4] or continuation_paused(state[3], failures):
+            return state
+
+
+def continuation_paused(solves: int, failures: int) -> bool:
+    """Whether the continuation made before the subdivided patch's solve stops there, after
+    ``solves`` solves of which ``failures`` failed: at the first failure (where its path
+    does not run straight to weight 1, the subdivided patch's fill comes first), or after
+    ``CONTINUATION_FIRST`` solves."""
+    return failures > 0 or solves >= CONTINUATION_FIRST
 
 
 def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failure):
