@@ -103,6 +103,12 @@ kind; its four scans made with the portable scanner), holes planned the same way
 from 1500), made in session 37 after the thirteenth holdout had been made and committed
 before any fill was run on them; to be run once by a later session after its changes.
 
+A tuning-side set of smooth tubes and organic bodies (``benchmarks/smooth_tuning_manifest.json``,
+``--write --smooth-tuning``): 8 meshes (``validation_meshes.SMOOTH_TUNING_SOURCES``, made in
+``smooth_tuning_meshes.py``), holes planned the same way (seeds from 3800), made in session 38
+to study the self-check's mistakes on smooth tubes and organic shapes. Rules may be chosen on
+it.
+
 A seventeenth set, the fifteenth holdout (``benchmarks/holdout15_manifest.json``, ``--write
 --holdout15``): 12 fresh meshes (``validation_meshes.HOLDOUT15_SOURCES``, made in
 ``holdout15_meshes.py``; all six kinds, a synthetic cortex with branched sulci for the brain
@@ -155,6 +161,8 @@ HOLDOUT12_MANIFEST = Path(__file__).parent / "holdout12_manifest.json"
 HOLDOUT13_MANIFEST = Path(__file__).parent / "holdout13_manifest.json"
 # a sixteenth set, fresh meshes of session 37 (HOLDOUT14_SOURCES), committed before any fill
 HOLDOUT14_MANIFEST = Path(__file__).parent / "holdout14_manifest.json"
+# tuning-side smooth tubes and organic bodies of session 38 (SMOOTH_TUNING_SOURCES)
+SMOOTH_TUNING_MANIFEST = Path(__file__).parent / "smooth_tuning_manifest.json"
 # a seventeenth set, fresh meshes of session 38 (HOLDOUT15_SOURCES), committed before any fill
 HOLDOUT15_MANIFEST = Path(__file__).parent / "holdout15_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
@@ -175,6 +183,8 @@ LATER_SETS = {
     "holdout14": (HOLDOUT14_MANIFEST, "the fourteenth holdout set", 1500),
     "holdout15": (HOLDOUT15_MANIFEST, "the fifteenth holdout set", 1600),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
+    "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
+                      "bodies", 3800),
 }
 
 # the sets whose manifests were written before entries recorded their mesh's sha256
@@ -209,6 +219,7 @@ SPLIT = {
     "holdout12": list(vm.HOLDOUT12_SOURCES),
     "holdout13": list(vm.HOLDOUT13_SOURCES),
     "holdout14": list(vm.HOLDOUT14_SOURCES),
+    "smooth_tuning": list(vm.SMOOTH_TUNING_SOURCES),
     "holdout15": list(vm.HOLDOUT15_SOURCES),
 }
 

@@ -54,7 +54,7 @@ FILLED = ("ok", "selected", "fallback")
 # the tuning half every rule was chosen on
 SPLITS = ("validation", "holdout", "holdout2", "holdout3", "holdout4", "holdout5", "holdout6",
           "holdout7", "holdout8", "holdout9", "holdout10", "holdout11", "holdout12", "holdout13",
-          "holdout14", "holdout15", "tuning", "cad_tuning")
+          "holdout14", "holdout15", "tuning", "cad_tuning", "smooth_tuning")
 SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout3": "Holdout set 3", "holdout4": "Holdout set 4",
                "holdout5": "Holdout set 5", "holdout6": "Holdout set 6",
@@ -63,7 +63,8 @@ SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout11": "Holdout set 11", "holdout12": "Holdout set 12",
                "holdout13": "Holdout set 13", "holdout14": "Holdout set 14",
                "holdout15": "Holdout set 15",
-               "cad_tuning": "Tuning-side CAD parts"}
+               "cad_tuning": "Tuning-side CAD parts",
+               "smooth_tuning": "Tuning-side smooth tubes and organic bodies"}
 
 
 def _cut(mesh: vm.BenchMesh, hole: dict):

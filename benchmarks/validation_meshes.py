@@ -1917,6 +1917,14 @@ from holdout14_meshes import HOLDOUT14_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT14_SOURCES)
 
+# --------------------------------------------------------------------------- smooth tuning set
+
+# Session 38's tuning-side smooth tubes and organic bodies (benchmarks/smooth_tuning_manifest.
+# json): rules may be chosen on them; their own module, as the holdouts'.
+from smooth_tuning_meshes import SMOOTH_TUNING_SOURCES  # noqa: E402
+
+SOURCES.update(SMOOTH_TUNING_SOURCES)
+
 # --------------------------------------------------------------------------- holdout 15
 
 # Session 38's set (benchmarks/holdout15_manifest.json), as holdout 14's: its own module.

@@ -86,7 +86,7 @@ def test_reserved_sources_are_never_used():
     # holdouts 8 to 15's generators have their own modules (validation_meshes imports them)
     for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py",
                    "holdout11_meshes.py", "holdout12_meshes.py", "holdout13_meshes.py",
-                   "holdout14_meshes.py", "holdout15_meshes.py"):
+                   "holdout14_meshes.py", "holdout15_meshes.py", "smooth_tuning_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
 
@@ -277,6 +277,48 @@ def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2
     assert sum(h["near_border"] for h in holes) == 3 * 4
 
 
+@pytest.fixture(scope="module")
+def smooth_tuning():
+    return holes_manifest.read(holes_manifest.SMOOTH_TUNING_MANIFEST)
+
+
+def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdout3, cad_tuning,
+                                             holdout4, holdout5, holdout6, holdout7, holdout8,
+                                             holdout9, holdout10, holdout11, holdout12,
+                                             holdout13, holdout14, holdout15,
+                                             smooth_tuning):
+    """Session 38's smooth tubes and organic bodies (tuning side, rules may be chosen on
+    them): their own split name, meshes and sources, shared with no holdout, half or other
+    tuning-side set; 4 smooth and 4 organic meshes, 7 holes each, digests recorded; their
+    generators in their own module, which validation_meshes adds to ``SOURCES``."""
+    import smooth_tuning_meshes
+
+    entries = smooth_tuning["meshes"]
+    ids = [e["mesh"] for e in entries]
+    assert (ids == holes_manifest.SPLIT["smooth_tuning"]
+            == list(validation_meshes.SMOOTH_TUNING_SOURCES))
+    assert validation_meshes.SMOOTH_TUNING_SOURCES is smooth_tuning_meshes.SMOOTH_TUNING_SOURCES
+    assert all(validation_meshes.SOURCES[i] is smooth_tuning_meshes.SMOOTH_TUNING_SOURCES[i]
+               for i in ids)
+    # a tuning-side set: never a holdout by its name, its file or its split
+    assert holes_manifest.LATER_SETS["smooth_tuning"][0].name == "smooth_tuning_manifest.json"
+    assert "tuning-side" in holes_manifest.LATER_SETS["smooth_tuning"][1]
+    assert all(e["split"] == "smooth_tuning" for e in entries)
+    others = [e for m in (manifest, holdout, holdout2, holdout3, cad_tuning, holdout4,
+                          holdout5, holdout6, holdout7, holdout8, holdout9, holdout10,
+                          holdout11, holdout12, holdout13, holdout14, holdout15)
+              for e in m["meshes"]]
+    assert not {e["mesh"] for e in others} & set(ids)
+    assert not {e["source"] for e in others} & {e["source"] for e in entries}
+    assert Counter(e["kind"] for e in entries) == {"smooth": 4, "organic": 4}
+    for entry in entries:
+        source = validation_meshes.SOURCES[entry["mesh"]]
+        assert (source.kind, source.source) == (entry["kind"], entry["source"])
+        assert len(entry["sha256"]) == 64 and entry["n_vertices"] > 0
+        assert [h["radius_h"] for h in entry["holes"]] == list(holes_manifest.RADII_H)
+        assert not any(h["near_border"] or h["on_feature"] for h in entry["holes"])
+
+
 def test_holdout8_sources_come_from_their_own_module():
     """Holdout 8's generators live in benchmarks/holdout8_meshes.py; validation_meshes takes
     its sources from there, so every benchmark finds them in ``SOURCES`` (no mesh is made)."""
@@ -382,7 +424,8 @@ def test_later_holdout_sources_come_from_their_own_module(number, words, first_s
     assert getattr(validation_meshes, f"HOLDOUT{number}_SOURCES") is sources
     for mesh_id, source in sources.items():
         assert validation_meshes.SOURCES[mesh_id] is source
-    ids = list(validation_meshes.SOURCES)
+    ids = [i for i in validation_meshes.SOURCES  # the smooth tuning set is added after them
+           if i not in validation_meshes.SMOOTH_TUNING_SOURCES]
     later = [f"holdout{n}" for n in (11, 12, 13, 14, 15)]  # the last sets of SOURCES, in order
     tail = ids[-12 * len(later):]
     assert tail[12 * later.index(split):][:12] == list(sources)

@@ -14,6 +14,7 @@ import pytest
 from surfinpaint.app.cli import build_parser, main
 from surfinpaint.app.fill_options import fill_options
 from surfinpaint.data import sphere
+from surfinpaint.errors import HoleWarning
 from surfinpaint.fill.holes import find_holes
 from surfinpaint.fill.islands import ISLAND_MAX_OFFSET, find_islands, island_offset
 from surfinpaint.fill.pipeline import fill_holes
@@ -181,6 +182,20 @@ def test_ignore_fills_the_disk_and_warns_naming_the_hole_and_the_island():
         result = fill_holes(v, f, islands="ignore", jobs=1)
     assert result.reports[0].islands == ()
     assert [len(loop) for loop in boundary_loops(result.faces)] == [12]  # the island's, open
+
+
+def test_a_disk_through_the_island_it_ignores_is_said_to_cross_it():
+    # islands="ignore": the λ-H disk over the annulus passes through the cap it leaves; the
+    # check made with the fill looks only at the rings around the hole's loop, so it is the
+    # check after all fills (fill/far_crossings.py) that must count and say it
+    v, f, _ = sphere_with_island()
+    with pytest.warns(MeshWarning, match="islands='ignore'"), \
+            pytest.warns(HoleWarning, match=r"hole 0: \d+ triangles of the fill cross the "
+                         r"surface farther out"):
+        result = fill_holes(v, f, islands="ignore", jobs=1)
+    report = result.reports[0]
+    assert report.outcome == "lambda-h" and report.crossings > 0
+    assert self_intersections(result.vertices, result.faces).size > 0
 
 
 def test_an_island_wound_opposite_is_not_joined_and_said_so():
