@@ -108,6 +108,13 @@ A tuning-side set of smooth tubes and organic bodies (``benchmarks/smooth_tuning
 ``smooth_tuning_meshes.py``), holes planned the same way (seeds from 3800), made in session 38
 to study the self-check's mistakes on smooth tubes and organic shapes. Rules may be chosen on
 it.
+
+A seventeenth set, the fifteenth holdout (``benchmarks/holdout15_manifest.json``, ``--write
+--holdout15``): 12 fresh meshes (``validation_meshes.HOLDOUT15_SOURCES``, made in
+``holdout15_meshes.py``; all six kinds, a synthetic cortex with branched sulci for the brain
+kind; its four scans made with the portable scanner), holes planned the same way (seeds
+from 1600), made in session 38 after the fourteenth holdout had been made and committed
+before any fill was run on them; to be run once by a later session after its changes.
 """
 
 from __future__ import annotations
@@ -156,6 +163,8 @@ HOLDOUT13_MANIFEST = Path(__file__).parent / "holdout13_manifest.json"
 HOLDOUT14_MANIFEST = Path(__file__).parent / "holdout14_manifest.json"
 # tuning-side smooth tubes and organic bodies of session 38 (SMOOTH_TUNING_SOURCES)
 SMOOTH_TUNING_MANIFEST = Path(__file__).parent / "smooth_tuning_manifest.json"
+# a seventeenth set, fresh meshes of session 38 (HOLDOUT15_SOURCES), committed before any fill
+HOLDOUT15_MANIFEST = Path(__file__).parent / "holdout15_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -172,6 +181,7 @@ LATER_SETS = {
     "holdout12": (HOLDOUT12_MANIFEST, "the twelfth holdout set", 1300),
     "holdout13": (HOLDOUT13_MANIFEST, "the thirteenth holdout set", 1400),
     "holdout14": (HOLDOUT14_MANIFEST, "the fourteenth holdout set", 1500),
+    "holdout15": (HOLDOUT15_MANIFEST, "the fifteenth holdout set", 1600),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -210,6 +220,7 @@ SPLIT = {
     "holdout13": list(vm.HOLDOUT13_SOURCES),
     "holdout14": list(vm.HOLDOUT14_SOURCES),
     "smooth_tuning": list(vm.SMOOTH_TUNING_SOURCES),
+    "holdout15": list(vm.HOLDOUT15_SOURCES),
 }
 
 
@@ -307,7 +318,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 500, the fifth holdout's at 600, the sixth holdout's at 700, the seventh
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
-    1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500)."""
+    1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
+    holdout's at 1600)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

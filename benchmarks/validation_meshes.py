@@ -19,9 +19,9 @@ Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout s
 (session 33) in ``holdout9_meshes.py``, holdout set 10's (session 34) in
 ``holdout10_meshes.py``, holdout set 11's (session 35) in ``holdout11_meshes.py``, holdout
 set 12's (session 35) in ``holdout12_meshes.py``, holdout set 13's (session 36) in
-``holdout13_meshes.py``, holdout set 14's (session 37) in ``holdout14_meshes.py``; this
-module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT14_SOURCES`` to :data:`SOURCES` at its
-end.
+``holdout13_meshes.py``, holdout set 14's (session 37) in ``holdout14_meshes.py``, holdout
+set 15's (session 38) in ``holdout15_meshes.py``; this module adds their
+``HOLDOUT8_SOURCES`` to ``HOLDOUT15_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1924,3 +1924,10 @@ SOURCES.update(HOLDOUT14_SOURCES)
 from smooth_tuning_meshes import SMOOTH_TUNING_SOURCES  # noqa: E402
 
 SOURCES.update(SMOOTH_TUNING_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 15
+
+# Session 38's set (benchmarks/holdout15_manifest.json), as holdout 14's: its own module.
+from holdout15_meshes import HOLDOUT15_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT15_SOURCES)
