@@ -128,7 +128,8 @@ def test_a_mesh_without_holes_is_named_with_why_and_exits_0(tmp_path, capsys, mo
     # closed mesh too
     monkeypatch.chdir(tmp_path)
     path = (_closed if mesh == "closed" else _disk)(Path(f"{mesh}.ply"))
-    argv = {"fill": ["-o", "out.ply"], "holes": [], "report": ["-o", "report", "-q"]}[command]
+    # (report without -q: since session 38 its -q leaves out the notices, as fill's does)
+    argv = {"fill": ["-o", "out.ply"], "holes": [], "report": ["-o", "report"]}[command]
     code = main([command, str(path), *argv])
     captured = capsys.readouterr()
     assert code == 0, captured
@@ -161,3 +162,56 @@ def test_an_output_in_a_missing_folder_is_named_before_any_work(tmp_path, capsys
     bad = next(a for a in argv if a.startswith("nowhere/"))
     assert _flat(f"'{bad}': directory 'nowhere' does not exist") in _flat(err), err
     assert _files(tmp_path) == before  # not the other outputs either
+
+
+# ------------------------------------------- a broken mesh file: named, said, no traceback
+
+def _obj(vertices, faces) -> str:
+    return "".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in vertices) + \
+        "".join("f " + " ".join(str(i) for i in face) + "\n" for face in faces)
+
+
+_SQUARE = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (1.0, 1.0, 0.0), (0.0, 1.0, 0.0)]
+# (file name, content, what the message says after "NAME: ")
+BROKEN = [
+    ("empty.ply", "", "file is empty"),
+    ("nan.obj", _obj([*_SQUARE[:3], (float("nan"), 0.0, 0.0)], [(1, 2, 3), (1, 3, 4)]),
+     "1 vertices have NaN or infinite coordinates"),
+    ("range.obj", _obj(_SQUARE, [(1, 2, 3), (1, 3, 9)]),
+     "1 faces use vertex ids >= the vertex count 4"),
+    ("cloud.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+     "y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n",
+     "PLY file has no face element (a point cloud, not a mesh)"),
+    ("fin.obj", _obj([*_SQUARE, (0.5, 0.5, 1.0), (0.5, 0.5, -1.0)],
+                     [(1, 2, 3), (1, 3, 4), (1, 3, 5), (3, 1, 6)]), "1 non-manifold edges"),
+    # session 38: "cannot read as OBJ: OverflowError: Python int too large to convert to C long"
+    ("huge.obj", _obj(_SQUARE, [(1, 2, 99999999999999999999)]),
+     "a face has an index beyond any vertex of the file (4 vertices): it does not fit in 64 "
+     "bits"),
+]
+
+
+@pytest.mark.parametrize("command", ["holes", "fill", "report", "represent", "batch"])
+@pytest.mark.parametrize(("name", "content", "said"), BROKEN, ids=[b[0] for b in BROKEN])
+def test_a_broken_mesh_file_is_named_and_said_in_words(tmp_path, capsys, monkeypatch,
+                                                       command, name, content, said):
+    monkeypatch.chdir(tmp_path)
+    Path(name).write_text(content)
+    argv = {"holes": [], "fill": ["-o", "out.ply", "--method", "fair"],
+            "report": ["-o", "report"], "represent": ["-o", "rep.npz"],
+            "batch": ["-o", "out", "--jobs", "1"]}[command]
+    code = main([command, name, *argv, "-q"])
+    err = capsys.readouterr().err
+    assert code == 1, err
+    assert _flat(f"{name}: {said}") in _flat(err), err
+    assert "Traceback" not in err and "Error:" not in err  # no Python exception's name
+    assert not Path("out.ply").exists() and not Path("rep.npz").exists()
+
+
+def test_faces_naming_texture_coordinates_a_file_lacks_are_a_warning(tmp_path, capsys):
+    # session 38: "f 1/5 2/6 3/7" in an OBJ without vt records read silently
+    path = tmp_path / "scan.obj"
+    path.write_text(_obj(_SQUARE, []) + "f 1/5 2/6 3/7\nf 1 3 4\n")
+    assert main(["fill", str(path), "-o", str(tmp_path / "out.obj"), "-q"]) == 0
+    assert _flat("scan.obj: faces name vt records the file has none of: no uv is kept") in \
+        _flat(capsys.readouterr().err)

@@ -390,7 +390,7 @@ def test_the_commands_list_and_leave_open_a_stray_zero_area_triangle(tmp_path, c
         "face of its piece of surface has zero area" in out
     assert "T-junction" not in out
     out_dir = tmp_path / "report"
-    assert main(["report", str(source), "-o", str(out_dir), "-q"]) == 0
+    assert main(["report", str(source), "-o", str(out_dir)]) == 0  # -q: no hole lines
     out = capsys.readouterr()
     out = out.out + out.err
     assert "hole 1, 3 boundary edges, diameter 1; nothing is written: the loop spans no area" \

@@ -390,3 +390,37 @@ def test_a_trimesh_given_vertex_normals_keeps_them_and_gets_the_new_vertices_nor
     computed = trimesh.Trimesh(cut.vertices, cut.faces, process=False)
     assert computed.vertex_normals.shape == (n, 3)
     assert "normal" not in fill_holes(computed).attributes
+
+
+def test_to_trimesh_gives_only_the_attribute_normal_as_the_meshs_normals():
+    # session 38: any attribute named normals / vertex_normals / vertex_normal (any case)
+    # became the mesh's vertex_normals and left its vertex_attributes: a trimesh's own
+    # vertex_attributes["normals"] (a field of directions, a second set of normals) came
+    # back under another name. Now "normal" only: the name the trimesh's own normals and a
+    # file's are carried under
+    trimesh = pytest.importorskip("trimesh")
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], 0.3)
+    n = len(cut.vertices)
+    field = _noisy_normals(cut.vertices, seed=4)
+    mesh = trimesh.Trimesh(cut.vertices, cut.faces, process=False,
+                           vertex_attributes={"normals": field, "Vertex_Normals": -field})
+    back = fill_holes(mesh).to_trimesh()
+    assert set(back.vertex_attributes) == {"normals", "Vertex_Normals"}
+    assert np.array_equal(back.vertex_attributes["normals"][:n], field)
+    assert np.array_equal(back.vertex_attributes["Vertex_Normals"][:n], -field)
+    computed = trimesh.Trimesh(back.vertices, back.faces, process=False).vertex_normals
+    assert np.array_equal(back.vertex_normals, computed)  # trimesh's own, not the field
+    # the attribute "normal" (a file's normals, as surfinpaint.io names them) is the mesh's
+    result = fill_holes(cut.vertices, cut.faces, attributes={"normal": field})
+    back = result.to_trimesh()
+    assert np.array_equal(back.vertex_normals, result.attributes["normal"])
+    assert "normal" not in back.vertex_attributes
+    # a trimesh with its own normals and an attribute of that name: the attribute is
+    # carried, the normals are not, and a warning says so
+    own = trimesh.Trimesh(cut.vertices, cut.faces, process=False,
+                          vertex_normals=_noisy_normals(cut.vertices),
+                          vertex_attributes={"normal": field})
+    with pytest.warns(MeshWarning, match=r"vertex_attributes\['normal'\] is carried under"):
+        result = fill_holes(own)
+    assert np.array_equal(result.attributes["normal"][:n], field)

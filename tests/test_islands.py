@@ -239,14 +239,17 @@ def _read(path):
 
 
 @pytest.mark.parametrize("command", [["fill", "m.ply", "-o", "out.ply"],
-                                     ["batch", "m.ply", "-o", "out"], ["holes", "m.ply"]])
+                                     ["batch", "m.ply", "-o", "out"], ["holes", "m.ply"],
+                                     ["report", "m.ply", "-o", "out"]])
 def test_every_command_that_fills_or_lists_holes_takes_islands(command):
+    # session 38: report had no --islands (its fills always bridged); the one definition of
+    # the option (fill_options.add_islands) is used by all four
     parser = build_parser()
     assert parser.parse_args(command).islands == "bridge"
     assert parser.parse_args([*command, "--islands", "ignore"]).islands == "ignore"
     with pytest.raises(SystemExit):
         parser.parse_args([*command, "--islands", "delete"])
-    if command[0] != "holes":
+    if command[0] in ("fill", "batch"):
         assert fill_options(parser.parse_args([*command, "--islands", "ignore"]))[
             "islands"] == "ignore"
 
@@ -266,6 +269,22 @@ def test_holes_shows_the_island_of_its_hole(tmp_path, capsys, monkeypatch, optio
                                          if c.strip()] for line in out.splitlines())
             if r and r[0].isdigit()}
     assert rows == {0: hole, 1: island}, out
+
+
+@pytest.mark.parametrize(("options", "written"), [
+    ([], "the faired fill (order 3) with its island (loop 1) is written"),
+    (["--islands", "ignore"], "the λ-H fill (C) is written")])
+def test_report_fills_as_fill_does_with_islands(tmp_path, capsys, options, written):
+    # session 38: `report --islands ignore` was a usage error, its fills always bridged,
+    # and a hole filled with its island was titled "the λ-H fill failed"
+    v, f, _ = sphere_with_island(subdivisions=3)
+    write_mesh(tmp_path / "island.ply", v, f)
+    assert main(["report", str(tmp_path / "island.ply"), "-o", str(tmp_path / "r"),
+                 *options]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines()
+             if line.startswith("hole 0, ")]
+    assert len(lines) == 1 and lines[0].endswith(written), lines
+    assert "failed" not in lines[0] and "rejected" not in lines[0]
 
 
 def test_fill_prints_the_island_note(tmp_path, capsys):

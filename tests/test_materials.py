@@ -150,6 +150,17 @@ def _later(path: Path, than: Path) -> None:
     os.utime(path, ns=(when, when))
 
 
+def _mesh_lines(obj: Path) -> list[bytes]:
+    """The OBJ's lines but its record of copied material files (rewritten by a rerun that
+    copies them again, the mesh itself not refilled)."""
+    return [line for line in obj.read_bytes().splitlines()
+            if not line.startswith(b"# surfinpaint copied ")]
+
+
+def _sha1(path: Path) -> str:
+    return hashlib.sha1(path.read_bytes()).hexdigest()
+
+
 def _summary_row(out: Path) -> dict:
     (row,) = json.loads((out / "summary.json").read_text())["files"]
     return row
@@ -163,7 +174,7 @@ def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, caps
     source = _textured_scan(tmp_path / "in")
     code, output = _run("batch", source, tmp_path / "out")
     assert code == 0
-    filled = (output.read_bytes(), output.stat().st_mtime_ns)
+    filled = _mesh_lines(output)
     row = _summary_row(tmp_path / "out")
     assert row["status"] == "filled"
     assert sorted(row["materials"]) == ["scan.mtl", "textures/skin tex.png"]
@@ -174,7 +185,7 @@ def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, caps
     assert _run("batch", source, tmp_path / "out")[0] == 0
     assert (tmp_path / "out" / "textures" / "skin tex.png").read_bytes() == texture.read_bytes()
     assert "other content" not in capsys.readouterr().err
-    assert (output.read_bytes(), output.stat().st_mtime_ns) == filled  # not refilled
+    assert _mesh_lines(output) == filled  # not refilled
     row = _summary_row(tmp_path / "out")
     assert row["status"] == "skipped" and row["holes_filled"] == 1  # the fill's counts kept
     assert "its materials changed beside the input (textures/skin tex.png): copied again " \
@@ -187,7 +198,7 @@ def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, caps
     assert _run("batch", source, tmp_path / "out")[0] == 0
     assert (tmp_path / "out" / "scan.mtl").read_text() == library.read_text()
     assert (tmp_path / "out" / "new.png").read_bytes() == TEXTURE
-    assert (output.read_bytes(), output.stat().st_mtime_ns) == filled
+    assert _mesh_lines(output) == filled
     assert _summary_row(tmp_path / "out")["status"] == "skipped"
     # touched, not changed (a sync tool's copy): nothing copied, the record kept
     _later(texture, output)
@@ -199,7 +210,7 @@ def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, caps
     (tmp_path / "out" / "new.png").unlink()
     assert _run("batch", source, tmp_path / "out")[0] == 0
     assert (tmp_path / "out" / "new.png").read_bytes() == TEXTURE
-    assert (output.read_bytes(), output.stat().st_mtime_ns) == filled
+    assert _mesh_lines(output) == filled
     assert "its materials missing beside the output (new.png): copied again (new.png), the " \
         "mesh not refilled" in _summary_row(tmp_path / "out")["message"]
     # nothing changed: skipped, the record kept for the next change
@@ -209,6 +220,39 @@ def test_a_batch_rerun_copies_a_changed_texture_and_library_again(tmp_path, caps
     assert _run("batch", source, tmp_path / "out")[0] == 0
     (row,) = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
     assert row["status"] == "skipped" and sorted(row["materials"]) == ["new.png", "scan.mtl"]
+
+
+def test_a_batch_rerun_that_copies_materials_again_rewrites_the_objs_record(tmp_path,
+                                                                            capsys):
+    # session 38: the rerun copied the changed texture but left the OBJ's header record
+    # (written by the fill) at the first copy's SHA-1; a later `fill` into that OBJ then took
+    # the new copy for the user's own and kept it, with a warning, after the texture
+    # changed again
+    source = _textured_scan(tmp_path / "in")
+    code, output = _run("batch", source, tmp_path / "out")
+    assert code == 0
+    filled = _mesh_lines(output)
+    texture = tmp_path / "in" / "textures" / "skin tex.png"
+    copy = tmp_path / "out" / "textures" / "skin tex.png"
+    texture.write_bytes(TEXTURE + b" colour-corrected")
+    _later(texture, output)
+    assert _run("batch", source, tmp_path / "out")[0] == 0
+    assert copy.read_bytes() == texture.read_bytes()
+    record = {"scan.mtl": _sha1(tmp_path / "in" / "scan.mtl"),
+              "textures/skin tex.png": _sha1(texture)}
+    assert recorded_copies(output) == record == _summary_row(tmp_path / "out")["materials"]
+    assert _mesh_lines(output) == filled  # the record rewritten, the mesh not refilled
+    assert not list((tmp_path / "out").rglob(".*.tmp"))  # through the atomic writer
+    # a rerun with nothing changed leaves the OBJ as it is
+    stamp = output.stat().st_mtime_ns
+    assert _run("batch", source, tmp_path / "out")[0] == 0
+    assert output.stat().st_mtime_ns == stamp
+    # the texture changes again: a fill into the same OBJ replaces the copy, unwarned
+    texture.write_bytes(TEXTURE + b" recoloured again")
+    capsys.readouterr()
+    assert main(["fill", str(source), "-o", str(output), "--method", "fair", "-q"]) == 0
+    assert "other content" not in capsys.readouterr().err
+    assert copy.read_bytes() == texture.read_bytes()
 
 
 def test_a_batch_rerun_keeps_a_copy_the_user_changed_with_a_warning(tmp_path, capsys,

@@ -12,7 +12,12 @@ from pathlib import Path
 from surfinpaint.app.batch_inputs import FileJob, picture_path
 from surfinpaint.app.batch_summary import FileRow, named_in_summary
 from surfinpaint.errors import MeshError
-from surfinpaint.io.materials import changed_materials, copy_materials, libraries_of
+from surfinpaint.io.materials import (
+    changed_materials,
+    copy_materials,
+    libraries_of,
+    rewrite_recorded_copies,
+)
 
 __all__ = ["rerun_row", "skipped_row"]
 
@@ -47,8 +52,10 @@ def rerun_row(job: FileJob, earlier: FileRow | None) -> FileRow | None:
     output (:attr:`FileJob.copied`) changed beside the input since, or is gone from beside
     the output, with the materials copied again first
     (:func:`~surfinpaint.io.materials.copy_materials`: a copy the user changed is kept,
-    with a warning, which is also raised here) and the new record; None when they cannot
-    be (the OBJ unreadable now): the file is filled again, which says why."""
+    with a warning, which is also raised here) and the new record, in the row and in the
+    OBJ output's header (:func:`~surfinpaint.io.materials.rewrite_recorded_copies`, which
+    a later ``fill`` into it reads); None when they cannot be (the OBJ unreadable now):
+    the file is filled again, which says why."""
     row = skipped_row(job, earlier)
     if not job.copied:
         return row
@@ -64,6 +71,9 @@ def rerun_row(job: FileJob, earlier: FileRow | None) -> FileRow | None:
             materials = copy_materials(job.source, job.target, libraries_of(job.source),
                                        reserved=(job.picture,) if job.picture else (),
                                        ours=dict(job.copied))
+        # the OBJ's own record of its copies, as fill would have written it (session 38:
+        # it kept the first run's, so a later fill into it kept the new copies, warned)
+        rewrite_recorded_copies(job.target, materials.record)
     except (OSError, MeshError):
         return None
     copied = [(Path(job.output).parent / path.relative_to(job.target.parent)).as_posix()

@@ -49,8 +49,7 @@ from surfinpaint.app.outputs import (
     check_outputs_distinct,
     write_with_materials,
 )
-from surfinpaint.app.progress import LazyConsole, add_quiet, progress_bar
-from surfinpaint.app.progress import console as _console
+from surfinpaint.app.progress import LazyConsole, QuietConsole, add_quiet, progress_bar
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import MeshError
 from surfinpaint.fill import warmup
@@ -124,10 +123,8 @@ def cmd_holes(args: argparse.Namespace) -> int:
 
 
 def cmd_fill(args: argparse.Namespace) -> int:
-    # -q: warnings and errors only (made when one comes: rich unimported otherwise); -qq:
-    # errors only
-    console = _console() if not args.quiet else LazyConsole() if args.quiet == 1 else None
-    say = console.print if not args.quiet else (lambda text: None)
+    out = QuietConsole(args.quiet)  # -q: warnings and errors only; -qq: errors only
+    console, say = out.warnings_console, out.say
     holes = args.holes
     output_format(args.output)  # an unusable output name fails now, not after the fill
     options = fill_options(args)
@@ -140,7 +137,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
         warnings.simplefilter("always")
         mesh = read_mesh_data(args.mesh, overlays=_overlays(args))
         vertices, faces = mesh.vertices, mesh.faces
-        with _progress(not args.quiet) as progress:
+        with _progress(out.progress) as progress:
             result, filled = fill_mesh_data(mesh, holes=holes, progress=progress,
                                             jobs=args.jobs, **options)
         # the OBJ's .mtl and the textures it names, beside the output: its texture shows
@@ -155,7 +152,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
         why = nothing_to_fill(result.faces, keep_margins=args.keep_margins)
         say(f"{args.mesh}: nothing to fill ({why}); wrote the mesh unchanged to {args.output}")
     files = {"input": str(args.mesh), "output": str(args.output), "png": args.png}
-    tell(result, summary, caught, console=console, report=not args.quiet,
+    tell(result, summary, caught, console=console, report=out.progress,
          verbose=args.verbose, json_path=args.json, files=files,
          options={**options, "holes": holes, "jobs": args.jobs})
     carried = [*filled.attributes, *(f"{k} (per face)" for k in filled.face_attributes),
@@ -192,7 +189,7 @@ _STOPPED = ("the files in flight were stopped unfinished, leaving no partial out
 def cmd_batch(args: argparse.Namespace) -> int:
     from rich.markup import escape
 
-    console = _console()
+    out = QuietConsole(args.quiet)
     options = fill_options(args)
     if args.jobs is not None and args.dask_scheduler:
         raise _UsageError("--jobs is for worker processes on this machine; with "
@@ -205,14 +202,14 @@ def cmd_batch(args: argparse.Namespace) -> int:
         raise _UsageError(str(exc)) from None
     client = _dask_client(args.dask_scheduler) if args.dask_scheduler else None
     try:
-        with _progress(not args.quiet, "files") as progress:
+        with _progress(out.progress, "files") as progress:
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
                                     overwrite=args.overwrite, png=args.png, overlays=overlays,
                                     progress=progress, **options)
     except (Interrupted, KeyboardInterrupt) as exc:
         if not isinstance(exc, Interrupted):
             exc = Interrupted(signal.SIGINT)
-        console.print(f"surfinpaint: {exc}; {_STOPPED[client is not None]}; the files done "
+        out.error(f"surfinpaint: {exc}; {_STOPPED[client is not None]}; the files done "
                       f"are in {Path(args.output) / batch.SUMMARY_CSV}, and the same command again "
                       "picks up the rest, the files in flight included")
         return exc.exit_code
@@ -221,17 +218,17 @@ def cmd_batch(args: argparse.Namespace) -> int:
             client.close()
     for row in rows:
         if row.status == "failed":
-            console.print(f"[red]error:[/red] {escape(row.message)}")
-        elif row.message and row.status != "skipped" and args.quiet < 2:
+            out.error(f"[red]error:[/red] {escape(row.message)}")
+        elif row.message and row.status != "skipped":
             named = row.message if row.message.startswith(row.path) else \
                 f"{row.path}: {row.message}"
-            console.print(f"[yellow]warning:[/yellow] {escape(named)}")
+            out.warn(f"[yellow]warning:[/yellow] {escape(named)}")
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
-    if not args.quiet:
+    if out.progress:
         n = len(rows.unknown)
         unknown = f"; {n} file{'s' if n > 1 else ''} of unknown type not filled (listed in " \
             "summary.json)" if n else ""
-        console.print(f"{len(rows)} file{'s' if len(rows) != 1 else ''}: {counts}{unknown}; wrote "
+        out.say(f"{len(rows)} file{'s' if len(rows) != 1 else ''}: {counts}{unknown}; wrote "
                       f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json")
     return EXIT_FAILURE if any(r.status == "failed" for r in rows) else EXIT_OK
 
@@ -252,14 +249,14 @@ def cmd_demo(args: argparse.Namespace) -> int:
     from rich.markup import escape
 
 
-    console = _console()
+    says = QuietConsole(args.quiet)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     source = data.default_demo_path()
     vertices, faces = read_mesh(source)
-    console.print(f"demo mesh: {source} ({len(vertices)} vertices, {len(faces)} faces)")
+    says.say(f"demo mesh: {source} ({len(vertices)} vertices, {len(faces)} faces)")
     holes_table(vertices, faces, "the demo mesh", "holes of the demo mesh")
-    with _progress(True) as progress:
+    with _progress(says.progress) as progress:
         result = fill_holes(vertices, faces, method=args.method, progress=progress)
     filled = out / "filled.ply"
     write_mesh(filled, result.vertices, result.faces)
@@ -269,8 +266,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
     for r in result.reports:
         for line in hole_lines(r):
-            console.print(escape(line))
-    console.print(f"wrote {filled} and {picture}")
+            says.say(escape(line))
+    says.say(f"wrote {filled} and {picture}")
     return EXIT_OK
 
 
@@ -325,6 +322,7 @@ def _add_holes_parser(sub) -> None:
     add_all_loops(choice)
     add_keep_margins(choice)
     add_islands(choice)
+    add_quiet(p)
     p.set_defaults(func=cmd_holes)
 
 
@@ -356,7 +354,7 @@ def _add_fill_parser(sub) -> None:
                    "version (fields: docs/report.md)")
     p.add_argument("-v", "--verbose", action="store_true",
                    help="per hole also the scores in mesh units, the time and the notes")
-    add_quiet(p, "no progress, report or notices: warnings and errors only")
+    add_quiet(p)
     p.set_defaults(func=cmd_fill)
 
 
@@ -395,8 +393,7 @@ def _add_batch_parser(sub) -> None:
                    "per file: ../label/{hemi}.aparc.annot; repeat for more. A file whose "
                    "overlay is missing, or of another format, fails (named in the summary)")
     add_fill_options(p)
-    add_quiet(p, "no progress or end-of-run line: warnings and the failed files' errors "
-              "only")
+    add_quiet(p)
     p.set_defaults(func=cmd_batch)
 
 
@@ -407,6 +404,7 @@ def _add_demo_parser(sub) -> None:
                        "filled mesh and a before/after picture.")
     p.add_argument("-o", "--output", default="demo-out", help="output folder")
     p.add_argument("--method", choices=METHODS, default="conformal")
+    add_quiet(p)
     p.set_defaults(func=cmd_demo)
 
 
@@ -507,7 +505,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             parser = build_parser(_command_word(argv))
             args = parser.parse_args(argv)
             console = LazyConsole()  # made at its first line: a quiet run may print none
-            quiet = getattr(args, "quiet", 0)
+            quiet = args.quiet  # every command's -q (progress.add_quiet)
             if not quiet:
                 _show_notices()
             with warnings.catch_warnings(record=True) as caught:

@@ -50,7 +50,7 @@ from surfinpaint.app.figures import (
     save_figure,
     view_direction,
 )
-from surfinpaint.app.progress import add_quiet, progress_bar
+from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar
 from surfinpaint.app.report import (
     LEGEND,
     PANEL_SIZE,
@@ -423,7 +423,7 @@ def add_experiments_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true",
                    help="coarser meshes and smaller holes (well under a minute)")
     p.add_argument("--cases", help=f"comma-separated subset of: {', '.join(names)}")
-    add_quiet(p, "no progress display")
+    add_quiet(p)
     p.set_defaults(func=run_experiments)
     return p
 
@@ -441,9 +441,9 @@ def run_experiments(args: argparse.Namespace) -> int:
     cases = ([c.strip() for c in args.cases.split(",") if c.strip()] if args.cases
              else [c.name for c in CASES] + [r.name for r in REBUILDS])
     scale = "quick" if args.quick else "full"
-    with progress_bar(not args.quiet, _expected_steps(cases), "experiments") as step:
+    says = QuietConsole(args.quiet)
+    with progress_bar(says.progress, _expected_steps(cases), "experiments") as step:
         results = run_set(args.output, scale, cases=cases, step=step)
-    console = Console(stderr=True, highlight=False)
     hole_names = {c.name for c in CASES}
     for title, (header, rows) in (
             ("hole fills", _summary([r for r in results if r.name in hole_names])),
@@ -456,9 +456,9 @@ def run_experiments(args: argparse.Namespace) -> int:
         for row in rows:
             table.add_row(*row)
         Console().print(table)
-    console.print(f"wrote {Path(args.output) / 'index.html'}")
+    says.say(f"wrote {Path(args.output) / 'index.html'}")
     failed = [r.name for r in results if r.error]
     if failed:
-        console.print(f"[red]failed:[/red] {', '.join(failed)} (see the page)")
+        says.error(f"[red]failed:[/red] {', '.join(failed)} (see the page)")
         return 1
     return 0

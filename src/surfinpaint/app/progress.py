@@ -1,11 +1,13 @@
-"""The one progress display of the command line: a rich progress bar on stderr."""
+"""The one progress display of the command line (a rich progress bar on stderr), and its
+one ``-q`` (:func:`add_quiet`, :class:`QuietConsole`)."""
 
 from __future__ import annotations
 
 import contextlib
 from collections.abc import Iterator
 
-__all__ = ["LazyConsole", "add_quiet", "console", "progress_bar", "stages"]
+__all__ = ["QUIET_HELP", "LazyConsole", "QuietConsole", "add_quiet", "console", "progress_bar",
+           "stages"]
 
 
 def console():
@@ -15,12 +17,17 @@ def console():
     return Console(stderr=True, highlight=False, soft_wrap=True)
 
 
-def add_quiet(parser, what: str) -> None:
-    """The commands' one ``-q``: ``-q`` says ``what`` it leaves out (progress, as a rule);
-    ``-qq`` also leaves out the warnings, so only errors are printed. A warning is how a
-    run says it dropped or changed something, so one ``-q`` keeps them (as pip's does)."""
-    parser.add_argument("-q", "--quiet", action="count", default=0,
-                        help=f"{what}; -qq: errors only")
+#: What ``-q`` does, the same for every command (:class:`QuietConsole` does it).
+QUIET_HELP = ("-q: no progress display, report or notices on stderr, only the warnings and "
+              "errors (what the command writes on stdout, as the table of `holes`, is kept); "
+              "-qq: errors only")
+
+
+def add_quiet(parser) -> None:
+    """The commands' one ``-q``/``--quiet`` (:data:`QUIET_HELP`), read by
+    :class:`QuietConsole`. A warning is how a run says it dropped or changed something, so
+    one ``-q`` keeps them (as pip's does); ``-qq`` leaves them out too."""
+    parser.add_argument("-q", "--quiet", action="count", default=0, help=QUIET_HELP)
 
 
 class LazyConsole:
@@ -30,10 +37,14 @@ class LazyConsole:
     def __init__(self) -> None:
         self._made = None
 
-    def print(self, *args, **kwargs) -> None:
+    def made(self):
+        """The console, made now if not yet."""
         if self._made is None:
             self._made = console()
-        self._made.print(*args, **kwargs)
+        return self._made
+
+    def print(self, *args, **kwargs) -> None:
+        self.made().print(*args, **kwargs)
 
 
 class _Bar:
@@ -118,3 +129,48 @@ def stages(out) -> Iterator:
         yield stage
         if running:
             progress.update(running.pop(), total=1, completed=1)
+
+
+class QuietConsole:
+    """What a command prints on stderr at its ``-q`` level (:func:`add_quiet`), for every
+    command the same: :meth:`say` a notice or a line of the report (not with ``-q``),
+    :meth:`warn` a warning (not with ``-qq``), :meth:`error` an error (always);
+    :attr:`progress` whether a progress display is shown (not with ``-q``). The console is
+    made at its first line: a quiet run that prints nothing never imports rich."""
+
+    def __init__(self, quiet: int = 0) -> None:
+        self.quiet = quiet
+        self._console = LazyConsole()
+
+    @property
+    def progress(self) -> bool:
+        """Whether a progress display is shown."""
+        return not self.quiet
+
+    @property
+    def warnings_console(self) -> LazyConsole | None:
+        """The console warnings are printed on (None with ``-qq``: none is printed)."""
+        return self._console if self.quiet < 2 else None
+
+    def say(self, *args, **kwargs) -> None:
+        """A notice, or a line of the command's report."""
+        if not self.quiet:
+            self._console.print(*args, **kwargs)
+
+    def warn(self, *args, **kwargs) -> None:
+        """A warning (given as the whole line, ``warning:`` included)."""
+        if self.quiet < 2:
+            self._console.print(*args, **kwargs)
+
+    def error(self, *args, **kwargs) -> None:
+        """An error."""
+        self._console.print(*args, **kwargs)
+
+    @contextlib.contextmanager
+    def stages(self) -> Iterator:
+        """:func:`stages` on this console; a callback that shows nothing with ``-q``."""
+        if self.quiet:
+            yield lambda message: None
+            return
+        with stages(self._console.made()) as stage:
+            yield stage

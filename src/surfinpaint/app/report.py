@@ -46,10 +46,9 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import cKDTree
 
-from surfinpaint.app.fill_options import add_hole_numbers, add_keep_margins
+from surfinpaint.app.fill_options import add_hole_numbers, add_islands, add_keep_margins
 from surfinpaint.app.fill_report import hole_lines, nothing_to_fill, plane_words, written
-from surfinpaint.app.progress import add_quiet, progress_bar
-from surfinpaint.app.progress import console as make_console
+from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar
 from surfinpaint.app.report_page import (
     LEGEND,
     HoleComparison,
@@ -114,6 +113,7 @@ def compare_holes(
     step: Step | None = None,
     options: ConformalOptions | None = None,
     keep_margins: bool = False,
+    islands: str = "bridge",
 ) -> tuple[list[HoleComparison], dict]:
     """Fill the given holes by both methods and measure them.
 
@@ -140,6 +140,9 @@ def compare_holes(
     keep_margins : bool
         As :func:`surfinpaint.fill_holes`: with ``loops`` None, the loops that may be a
         margin are left open, not compared.
+    islands : {"bridge", "ignore"}
+        As :func:`surfinpaint.fill_holes` (``--islands``): a hole with an island is filled
+        with it (faired, by both methods) or as a disk through or by it, with a warning.
 
     Returns
     -------
@@ -167,17 +170,18 @@ def compare_holes(
         # the fallbacks are reported in the comparison, not as warnings
         warnings.simplefilter("ignore", UserWarning)
         fair = fill_holes(vertices, faces, holes=holes, method="fair",
-                          keep_margins=keep_margins, validate=False)
+                          keep_margins=keep_margins, validate=False, islands=islands)
         step("conventional fills done")
         options = ConformalOptions() if options is None else options
         conformal = fill_holes(vertices, faces, holes=holes, method="conformal",
-                               keep_margins=keep_margins, validate=False, options=options)
+                               keep_margins=keep_margins, validate=False, options=options,
+                               islands=islands)
         step("conformal fills done")
         # each fill as (vertices starting with the mesh's, the hole's new faces)
         filled = {"fair": [(fair.vertices, p) for p in fair.hole_faces()],
                   "conformal": [(conformal.vertices, p) for p in conformal.hole_faces()]}
         raw, diagnostics = _lambda_h_fills(vertices, faces, loops, conformal,
-                                           filled["conformal"], options, step)
+                                           filled["conformal"], options, step, islands)
     filled["conformal raw"] = raw
     for r in conformal.reports:  # said once, not per method: the warnings above are off
         if r.skipped:
@@ -198,7 +202,7 @@ def compare_holes(
     return out, made
 
 
-def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step):
+def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step, islands):
     """Each hole's λ-H fill before the self-check, as ``(vertices, new faces)`` (None where
     the conformal method failed), and its diagnostics: the written fill where it is the λ-H
     fill, else made again here without the self-check, since the λ-H fill is not made where
@@ -210,7 +214,8 @@ def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step):
                 if r.method == "fair" and not r.fallback and not r.skipped]
     for k in rejected:
         again = fill_holes(vertices, faces, holes=[loops[k]], method="conformal",
-                           validate=False, options=replace(options, select=False))
+                           validate=False, options=replace(options, select=False),
+                           islands=islands)
         if not again.reports[0].fallback:
             raw[k] = (again.vertices, again.hole_faces()[0])
             diagnostics[k] = again.reports[0].diagnostics
@@ -234,6 +239,7 @@ def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray, made: dict) -> H
         on_plane=rc.plane is not None,
         written_panel=panel_fills(made, k).written_in,
         skipped=rc.skipped if rc.outcome in ("skipped", "failed") else None,
+        islands=rc.islands,
     )
 
 
@@ -415,6 +421,7 @@ def write_report(
     step: Step | None = None,
     options: ConformalOptions | None = None,
     keep_margins: bool = False,
+    islands: str = "bridge",
 ) -> list[HoleComparison]:
     """Fill holes by both methods and write a panel per hole and the page indexing them.
 
@@ -436,6 +443,8 @@ def write_report(
     keep_margins : bool
         As :func:`surfinpaint.fill_holes` (``--keep-margins``): with ``holes`` None, the
         loops that may be a margin are left open, as ``fill`` leaves them, and not reported.
+    islands : {"bridge", "ignore"}
+        As :func:`surfinpaint.fill_holes` (``--islands``).
 
     Returns
     -------
@@ -451,7 +460,7 @@ def write_report(
     # filled is skipped with a warning, as by `surfinpaint fill`, not an error
     comparisons, fills = compare_holes(vertices, faces, None if holes is None else loops,
                                        truth=truths, step=step, options=options,
-                                       keep_margins=keep_margins)
+                                       keep_margins=keep_margins, islands=islands)
     for c, index in zip(comparisons, hole_numbers(vertices, faces, loops), strict=True):
         c.index = index  # the numbering of `surfinpaint holes`
     panels_for(vertices, faces, comparisons, fills, out_dir, step=step)
@@ -483,36 +492,37 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
                    "vertices and orient the faces consistently, as `fill --repair` does (the "
                    "holes numbered as by `holes --repair`)")
     add_keep_margins(p)
-    add_quiet(p, "no progress display")
+    add_islands(p)
+    add_quiet(p)
     p.set_defaults(func=run_report)
     return p
 
 
 def run_report(args: argparse.Namespace) -> int:
     """``surfinpaint report``: returns the exit code (0 on success)."""
-    console = make_console()
+    says = QuietConsole(args.quiet)
     # pictures and a page: the file's colours, normals, UVs are not lost, only not drawn
     vertices, faces = read_mesh(args.mesh, data_warning=False)
     if args.repair:
         repair = repair_faces(vertices, faces)
         faces = repair.faces
-        console.print(f"--repair removed {len(repair.removed)} faces around non-manifold "
-                      "edges and bow-tie vertices")
+        says.say(f"--repair removed {len(repair.removed)} faces around non-manifold "
+                 "edges and bow-tie vertices")
         for note in repair.notes():
-            console.print(f"--repair {note}")
+            says.say(f"--repair {note}")
     warn_degenerate(vertices, faces, str(args.mesh))
     truth = read_mesh(args.truth, data_warning=False) if args.truth else None
     loops = select_holes(vertices, faces, args.holes, keep_margins=args.keep_margins)
     if not loops:
-        console.print(f"{args.mesh}: nothing to fill "
-                      f"({nothing_to_fill(faces, keep_margins=args.keep_margins)})")
+        says.say(f"{args.mesh}: nothing to fill "
+                 f"({nothing_to_fill(faces, keep_margins=args.keep_margins)})")
     total = 2 + 2 * len(loops)  # the fills, the measurements, the panels
-    with progress_bar(not args.quiet, total, "filling") as step:
+    with progress_bar(says.progress, total, "filling") as step:
         comparisons = write_report(vertices, faces, args.output, args.holes, truth=truth,
                                    step=step, title=f"surfinpaint report: {args.mesh}",
-                                   keep_margins=args.keep_margins)
+                                   keep_margins=args.keep_margins, islands=args.islands)
     for c in comparisons:
-        console.print(hole_title(c).replace("\n", "; "))
+        says.say(hole_title(c).replace("\n", "; "))
     n = len(comparisons)
-    console.print(f"wrote {Path(args.output) / 'index.html'} and {n} panel{'s' if n != 1 else ''}")
+    says.say(f"wrote {Path(args.output) / 'index.html'} and {n} panel{'s' if n != 1 else ''}")
     return 0

@@ -76,6 +76,10 @@ class HoleComparison:
         Why nothing was written: the hole was skipped or its fill failed (as
         ``surfinpaint fill`` says it, :attr:`~surfinpaint.fill.results.HoleReport.skipped`);
         None: a fill was written.
+    islands : tuple of int
+        The loops (by number) of the islands the hole was filled with
+        (:attr:`~surfinpaint.fill.results.HoleReport.islands`: a faired fill, the λ-H
+        method filling disks only); empty for a hole filled as a disk.
     """
 
     index: int
@@ -93,6 +97,7 @@ class HoleComparison:
     on_plane: bool = False
     written_panel: WrittenPanel = "C"
     skipped: str | None = None
+    islands: tuple[int, ...] = ()
 
 
 def _fmt(x: float, digits: int = 3) -> str:
@@ -239,6 +244,10 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
                        f"fill{order} laid on it is written")
         elif c.fallback == NO_INNER_VERTEX:  # nothing failed, nothing to choose
             written = f"{NO_INNER_VERTEX}; the triangulation is written"
+        elif c.islands:  # nothing failed: the λ-H method fills disks only
+            loops = ", ".join(map(str, c.islands))
+            written = (f"the faired fill{order} with its island{'s' * (len(c.islands) > 1)} "
+                       f"(loop{'s' * (len(c.islands) > 1)} {loops}) is written")
         else:
             why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith(
                 "self-check") else "the self-check rejected the λ-H fill")

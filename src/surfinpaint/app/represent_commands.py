@@ -8,8 +8,7 @@ import argparse
 
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import positive_int, whole_number
-from surfinpaint.app.progress import console as _console
-from surfinpaint.app.progress import stages as _stages
+from surfinpaint.app.progress import QuietConsole, add_quiet
 from surfinpaint.errors import MeshError, MissingFileError
 from surfinpaint.io.formats import read_mesh, write_mesh
 from surfinpaint.lazy import lazy_module
@@ -47,19 +46,23 @@ def target_list(text: str) -> tuple[float, ...]:
     return targets
 
 
-def _print_round_trip(console, check, what: str) -> None:
+def _print_round_trip(says: QuietConsole, check, what: str) -> None:
+    """A round trip's line: a line of the report where it converged, else a warning (kept
+    by ``-q``)."""
     from rich.markup import escape
 
-    colour = "green" if check.converged else "red"
-    console.print(f"{what} [{colour}]{escape(check.summary())}[/{colour}]")
+    if check.converged:
+        says.say(f"{what} [green]{escape(check.summary())}[/green]")
+    else:
+        says.warn(f"[yellow]warning:[/yellow] {what} [red]{escape(check.summary())}[/red]")
 
 
-def _print_export(console, form) -> None:
+def _print_export(says: QuietConsole, form) -> None:
     """A resampled form's own round trip, named by its kind and size."""
     if form.check is None:
         return
     size = exports.form_size(form)
-    _print_round_trip(console, form.check, f"quadtree export ({size}):"
+    _print_round_trip(says, form.check, f"quadtree export ({size}):"
                       if form.discretization == "quadtree" else f"grid export {size}:")
 
 
@@ -90,7 +93,7 @@ def _check_represent_options(args: argparse.Namespace) -> None:
 
 def run_represent(args: argparse.Namespace) -> int:
     """``surfinpaint represent``: returns the exit code (0 on success)."""
-    console = _console()
+    says = QuietConsole(args.quiet)
     _check_represent_options(args)
     vertices, faces = read_mesh(args.mesh)
     grid = _grid_options(args)
@@ -98,45 +101,45 @@ def run_represent(args: argparse.Namespace) -> int:
         grid["resolution"] = args.resolution or 256
     options = {"auto": {}, "mesh": {}, "grid": grid,
                "quadtree": _quadtree_options(args)}[args.discretization]
-    with _stages(console) as stage:
+    with says.stages() as stage:
         rep = representation.represent(
             vertices, faces, discretization=args.discretization, map=args.map,
             check=not args.no_check, progress=stage, **options)
     rep.save(args.output)
     written = [str(args.output)]
     if rep.check is not None:
-        _print_round_trip(console, rep.check, f"{rep.discretization} representation:")
+        _print_round_trip(says, rep.check, f"{rep.discretization} representation:")
     if args.export_grid:
-        with _stages(console) as stage:
+        with says.stages() as stage:
             exported = exports.grid_export(rep, args.resolution,
                                                   check=not args.no_check, progress=stage,
                                                   **grid)
         exported.save(args.export_grid)
         written.append(str(args.export_grid))
-        _print_export(console, exported)
+        _print_export(says, exported)
     if args.export_quadtree:
-        with _stages(console) as stage:
+        with says.stages() as stage:
             trees = exports.quadtree_export(rep, check=not args.no_check,
                                                    progress=stage, **_quadtree_options(args))
         trees.save(args.export_quadtree)
         written.append(str(args.export_quadtree))
-        _print_export(console, trees)
+        _print_export(says, trees)
     if args.export:
-        with _stages(console) as stage:
+        with says.stages() as stage:
             form = exports.resampled_export(rep, check=not args.no_check, progress=stage)
         form.save(args.export)
         written.append(str(args.export))
-        _print_export(console, form)
+        _print_export(says, form)
     if args.png:
         lambda_h_figures.plot_representation(rep, args.png)
         written.append(str(args.png))
-    console.print("wrote " + ", ".join(written))
+    says.say("wrote " + ", ".join(written))
     return 0
 
 
 def run_rebuild(args: argparse.Namespace) -> int:
     """``surfinpaint rebuild``: returns the exit code (0 on success)."""
-    console = _console()
+    says = QuietConsole(args.quiet)
     try:
         rep = representation.load_representation(args.representation)
     except FileNotFoundError:
@@ -155,16 +158,16 @@ def run_rebuild(args: argparse.Namespace) -> int:
             rep.discretization]:
         raise _UsageError(f"--method is for grid representations; a {rep.discretization} "
                           "representation is rebuilt on its own triangles")
-    with _stages(console) as stage:
+    with says.stages() as stage:
         stage(f"rebuilding from λ and H ({args.representation})")
         if rep.discretization == "grid":
             out = representation.rebuild(rep, method=args.method)
         else:
             out = representation.rebuild(rep, progress=stage)
     write_mesh(args.output, out.vertices, out.faces)
-    _print_round_trip(console, representation.round_trip(rep, out),
+    _print_round_trip(says, representation.round_trip(rep, out),
                       "against the stored original:")
-    console.print(f"wrote {args.output}")
+    says.say(f"wrote {args.output}")
     return 0
 
 
@@ -223,6 +226,7 @@ def add_representation_parsers(sub) -> None:
     p.add_argument("--no-check", action="store_true",
                    help="do not rebuild and measure the round trip")
     p.add_argument("--png", help="also write λ and H as images")
+    add_quiet(p)
     p.set_defaults(func=run_represent)
 
     p = sub.add_parser("rebuild", help="rebuild a mesh from a λ-H representation",
@@ -236,4 +240,5 @@ def add_representation_parsers(sub) -> None:
                    "own triangles, coarse to fine; laplacian for grid files of format 1); "
                    "mesh and quadtree files are rebuilt by Newton's method on their own "
                    "triangles")
+    add_quiet(p)
     p.set_defaults(func=run_rebuild)

@@ -14,7 +14,10 @@ What is carried (one name a per-vertex or per-face array, as in ``FillResult.att
   other vertex and face properties (``quality``), which trimesh keeps in its metadata;
   vertex normals given to it (``vertex_normals=``, or a file's read by ``trimesh.load``) as
   the attribute ``"normal"`` (:func:`given_vertex_normals`), which ``to_trimesh`` gives
-  back as ``vertex_normals``.
+  back as ``vertex_normals``: :data:`NORMALS_ATTRIBUTE` is the one name ``to_trimesh``
+  gives as the mesh's normals (the name :mod:`surfinpaint.io` gives a file's normals too);
+  an attribute of any other name, ``"normals"`` or ``"vertex_normals"`` included, comes
+  back in ``vertex_attributes`` under its name, as it went in.
 - ``pyvista.PolyData``: ``point_data`` and ``cell_data`` (polygons fan-triangulated first,
   with a warning; cell data then follow the triangles); its active texture coordinates,
   normals and scalars in ``FillResult.display``, made active again by
@@ -32,7 +35,7 @@ from surfinpaint.fill.face_attributes import fill_result_corner_attributes
 from surfinpaint.io import MeshData, MeshWarning
 from surfinpaint.io.brain import label_overlays
 
-__all__ = ["ACTIVE_ROLES", "COLOUR_NAMES", "NORMAL_NAMES", "display_of", "fill_mesh_data",
+__all__ = ["ACTIVE_ROLES", "COLOUR_NAMES", "NORMALS_ATTRIBUTE", "display_of", "fill_mesh_data",
            "given_vertex_normals", "mesh_arrays", "to_pyvista", "to_trimesh"]
 
 #: Attribute names that ``to_trimesh`` puts in ``visual`` (the first one found) rather than
@@ -40,9 +43,13 @@ __all__ = ["ACTIVE_ROLES", "COLOUR_NAMES", "NORMAL_NAMES", "display_of", "fill_m
 COLOUR_NAMES = ("color", "colour", "colors", "colours", "vertex_colors", "vertex_colours",
                 "rgba", "rgb")
 
-#: Attribute names that ``to_trimesh`` gives as the mesh's ``vertex_normals`` (the first
-#: ``(n, 3)`` float one found) rather than in ``vertex_attributes``.
-NORMAL_NAMES = ("normal", "normals", "vertex_normals", "vertex_normal")
+#: The attribute ``to_trimesh`` gives as the mesh's ``vertex_normals`` (when ``(n, 3)``
+#: float) rather than in ``vertex_attributes``: the name the normals of a trimesh's own
+#: (:func:`given_vertex_normals`) and of a file (:mod:`surfinpaint.io`) are carried under.
+#: Only it (session 38): a user's ``vertex_attributes["normals"]`` (a field of directions, a
+#: second set of normals) came back as the mesh's normals before, and was gone from its
+#: ``vertex_attributes``.
+NORMALS_ATTRIBUTE = "normal"
 
 
 def _library(mesh) -> str | None:
@@ -75,8 +82,12 @@ def _from_trimesh(mesh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
                           f"{len(mesh.vertices)} vertices: not carried", MeshWarning,
                           stacklevel=4)
     normals = given_vertex_normals(mesh)
-    if normals is not None and _normal_name(attributes) is None:
-        attributes["normal"] = normals
+    if normals is not None and NORMALS_ATTRIBUTE in attributes:
+        warnings.warn(f"trimesh: vertex_attributes[{NORMALS_ATTRIBUTE!r}] is carried under "
+                      "the name of the mesh's own vertex normals, which are not carried "
+                      "(trimesh computes the filled mesh's)", MeshWarning, stacklevel=4)
+    elif normals is not None:
+        attributes[NORMALS_ATTRIBUTE] = normals
     _ply_properties(mesh, attributes, face_attributes)
     return np.asarray(mesh.vertices), np.asarray(mesh.faces), attributes, face_attributes
 
@@ -228,9 +239,10 @@ def mesh_arrays(
 
 
 def _normal_name(attributes: Mapping[str, np.ndarray]) -> str | None:
-    return next((key for name in NORMAL_NAMES for key, a in attributes.items()
-                 if key.lower() == name and np.shape(a)[1:] == (3,)
-                 and np.asarray(a).dtype.kind == "f"), None)
+    """:data:`NORMALS_ATTRIBUTE` when ``attributes`` holds it as ``(n, 3)`` floats."""
+    a = attributes.get(NORMALS_ATTRIBUTE)
+    return NORMALS_ATTRIBUTE if a is not None and np.shape(a)[1:] == (3,) and \
+        np.asarray(a).dtype.kind == "f" else None
 
 
 def _colour_name(attributes: Mapping[str, np.ndarray]) -> str | None:
@@ -272,9 +284,9 @@ def to_trimesh(vertices: np.ndarray, faces: np.ndarray,
     colours in ``visual`` (the first attribute named in :data:`COLOUR_NAMES`; when there is
     none, the face attribute so named; when there are no colours, an ``(n, 2)`` attribute
     ``"uv"`` as ``visual.uv`` of a ``TextureVisuals`` with ``display["material"]``, the
-    texture's image, when given: :func:`display_of`), the first attribute named in
-    :data:`NORMAL_NAMES` as ``vertex_normals``, and every other attribute in
-    ``vertex_attributes`` / ``face_attributes``."""
+    texture's image, when given: :func:`display_of`), the attribute
+    :data:`NORMALS_ATTRIBUTE` (``"normal"``) as ``vertex_normals``, and every other
+    attribute in ``vertex_attributes`` / ``face_attributes`` under its own name."""
     import trimesh
 
     attributes = dict(attributes or {})

@@ -22,12 +22,12 @@ import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path, PurePosixPath
 
-from surfinpaint.io.atomic import atomic_path
+from surfinpaint.io.atomic import atomic_open, atomic_path
 from surfinpaint.io.base import MeshWarning, decode_text
 from surfinpaint.io.obj import COPIES_COMMENT, COPIES_KEY, material_libraries
 
 __all__ = ["CopiedMaterials", "changed_materials", "copy_materials", "libraries_of",
-           "material_files", "recorded_copies"]
+           "material_files", "recorded_copies", "rewrite_recorded_copies"]
 
 # MTL statements whose last argument is an image file (after options such as "-s 1 1 1"):
 # every map_* (map_Kd, map_Ks, map_Bump, map_d, map_Pr, ...) and these
@@ -148,6 +148,41 @@ def recorded_copies(obj: str | os.PathLike) -> dict[str, str]:
     except OSError:
         return {}
     return record
+
+
+def rewrite_recorded_copies(obj: str | os.PathLike, record: Mapping[str, str]) -> bool:
+    """Make the record of copied material files in the header of the OBJ ``obj`` (written by
+    surfinpaint: :func:`recorded_copies`) ``record``, a :class:`CopiedMaterials` ``record``:
+    its ``# surfinpaint copied`` comments replaced, after the ``mtllib`` lines, and the rest
+    of the file kept byte for byte; through the atomic writer (the file whole, old or new).
+    For ``batch``, which copies an OBJ's changed materials again without writing the mesh:
+    a later ``fill`` into the OBJ then knows the copies as they are. Returns whether the file
+    was written (not when its record is ``record`` already).
+
+    Raises
+    ------
+    OSError
+        When the file cannot be read or replaced.
+    """
+    comments = [f"{COPIES_COMMENT}{line}\n".encode()
+                for line in CopiedMaterials(record=record).metadata.get(COPIES_KEY,
+                                                                        "").splitlines()]
+    if recorded_copies(obj) == dict(record):
+        return False
+    with open(obj, "rb") as source:
+        header, first_body_line = [], b""
+        while line := source.readline():  # the header: comments and mtllib lines first
+            if not line.startswith((b"#", b"mtllib")):
+                first_body_line = line
+                break
+            if not line.startswith(COPIES_COMMENT.encode()):
+                header.append(line)
+        after = 1 + max((k for k, line in enumerate(header) if line.startswith(b"mtllib")),
+                        default=len(header) - 1)
+        with atomic_open(obj) as target:
+            target.writelines([*header[:after], *comments, *header[after:], first_body_line])
+            shutil.copyfileobj(source, target)
+    return True
 
 
 def _sha1(path: Path) -> str:

@@ -51,6 +51,9 @@ def read_obj(data: bytes, path: Path) -> Parsed:
         vid, tid, nid = (np.array(c.split(), dtype=np.int64) for c in columns)
     except ValueError:
         raise MeshError("a face has a non-integer vertex index") from None
+    except OverflowError:  # said as the reader's own words, not numpy's (session 38)
+        raise MeshError(f"a face has an index beyond any vertex of the file ({len(vertices)} "
+                        "vertices): it does not fit in 64 bits") from None
     if np.any(vid == 0):
         face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(vid == 0)[0], "right"))
         raise MeshError(f"face {face} uses vertex index 0 (OBJ counts from 1)", faces=[face])
@@ -63,6 +66,9 @@ def read_obj(data: bytes, path: Path) -> Parsed:
         out.dropped.append("extra numbers on v lines (not all 'x y z r g b') are not kept")
     for kind, ids, key, width in (("vt", tid, "uv", 2), ("vn", nid, "normal", 3)):
         if not lines[kind]:
+            if ids.size and np.any(ids):  # "f 1/5 2/6 3/7" with no vt: said, not silent
+                out.dropped.append(f"faces name {kind} records the file has none of: "
+                                   f"no {key} is kept")
             continue
         if not ids.size or not np.any(ids):
             out.dropped.append(f"{kind} records not referenced by any face are not kept")
