@@ -122,17 +122,37 @@ def seam_edges(vertices: np.ndarray, loops: Sequence[np.ndarray]) -> list[np.nda
     sizes = [len(loop) for loop in loops]
     cuts = np.cumsum(sizes)[:-1]
     ids, at = np.unique(np.concatenate(loops), return_inverse=True)
-    _, point = np.unique(np.asarray(vertices, dtype=float)[ids], axis=0, return_inverse=True)
-    first = point.ravel()[at.ravel()]
-    second = np.concatenate([np.roll(p, -1) for p in np.split(first, cuts)])
-    keys = np.sort(np.column_stack([first, second]), axis=1)
-    _, key = np.unique(keys, axis=0, return_inverse=True)
+    point = _equal_rows(np.asarray(vertices, dtype=float)[ids])
+    first = point[at.ravel()]
+    # each loop vertex's successor along its loop (the last one's is the loop's first)
+    successor = np.arange(1, len(first) + 1)
+    successor[np.cumsum(sizes) - 1] = np.concatenate([[0], cuts])
+    second = first[successor]
+    # one int64 per unordered pair of points, and per (pair, loop): 1-D uniques, not the
+    # row uniques (axis=0) whose sort of structured rows was most of a soup's time
+    n_points = np.int64(point.max()) + 1
+    _, key = np.unique(np.minimum(first, second) * n_points + np.maximum(first, second),
+                       return_inverse=True)
     key = key.ravel()
     owner = np.repeat(np.arange(len(loops)), sizes)
     # the loops each edge's points appear in, each loop once
-    pairs = np.unique(np.column_stack([key, owner]), axis=0)
-    loops_at = np.bincount(pairs[:, 0], minlength=key.max() + 1)
-    return np.split(loops_at[key] > 1, cuts)
+    pair_loop = np.unique(key * np.int64(len(loops)) + owner)
+    loops_at = np.bincount(pair_loop // len(loops), minlength=key.max() + 1)
+    shared = loops_at[key] > 1
+    # slices, not np.split: its Python cost per piece was most of a triangle soup's time
+    return [shared[a:b] for a, b in zip([0, *cuts.tolist()], np.cumsum(sizes).tolist(),
+                                        strict=True)]
+
+
+def _equal_rows(points: np.ndarray) -> np.ndarray:
+    """One id per row of ``points``, the same for rows with equal coordinates (``==``, as
+    ``np.unique(points, axis=0)`` compares them), numbered in their lexicographic order."""
+    order = np.lexsort(points.T[::-1])
+    ordered = points[order]
+    new = np.r_[True, (ordered[1:] != ordered[:-1]).any(axis=1)] if len(points) else []
+    ids = np.empty(len(points), dtype=np.int64)
+    ids[order] = np.cumsum(new) - 1
+    return ids
 
 
 def percent_below(fraction: float) -> str:
@@ -221,36 +241,86 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     if not loops:
         return []
     _, label = table.vertex_components
-    ordered = sorted(loops, key=lambda l: (label[l[0]], -len(l)))
-    spans: dict[int, float] = {}  # per component, the area its longest loop spans
-    for loop in ordered:
-        component = int(label[loop[0]])
-        if component not in spans:
-            spans[component] = _spanned_area(vertices[loop])
+    lengths = np.array([len(loop) for loop in loops])
+    firsts = label[np.array([loop[0] for loop in loops])]
+    # by component, then longest first (stable: boundary_loops' order among equal lengths)
+    rank = np.lexsort((-lengths, firsts))
+    ordered = [loops[k] for k in rank.tolist()]
+    owner = firsts[rank]
+    perimeters, diameters = _loop_lengths(vertices, ordered)
+    # each component's first loop in that order is its longest
+    longest = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+    spans = dict(zip(owner[longest].tolist(),
+                     _spanned_areas(vertices, [ordered[k] for k in longest.tolist()]).tolist(),
+                     strict=True))
     fractions = _span_fractions(vertices, faces, label, spans)
-    flat = _zero_area_components(vertices, faces, label, spans, ordered)
+    flat = _zero_area_components(label, spans, owner[longest], perimeters[longest],
+                                 vertices, faces)
     # numbered over the components with faces: a vertex no face uses (left where faces were
     # cut away) is a component of its own in the labels and would skip numbers. A face's
     # three vertices share its component (the labels are of its edges), so its first
     # vertex's label is enough: a count of those in place of np.unique of every corner's
     # (651k case: 0.004 instead of 0.04 s, the same sorted ids; docs/scale.md, session 36)
-    surface = np.flatnonzero(np.bincount(label[faces[:, 0]]))
-    holes: list[Hole] = []
-    longest_seen: set[int] = set()
-    for loop, seams in zip(ordered, seam_edges(vertices, ordered), strict=True):
-        points = vertices[loop]
-        perimeter = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).sum())
-        component = int(label[loop[0]])
-        fraction = fractions[component] if component not in longest_seen else float("nan")
-        longest_seen.add(component)
-        holes.append(
-            Hole(loop=loop, n_edges=len(loop), perimeter=perimeter,
-                 diameter=loop_diameter(points),
-                 component=int(np.searchsorted(surface, component)),
-                 is_border=bool(fraction >= BORDER_SPAN_FRACTION), span_fraction=fraction,
-                 spans_no_area=component in flat, seam_edges=seams)
-        )
-    return holes
+    numbers = np.searchsorted(np.flatnonzero(np.bincount(label[faces[:, 0]])), owner)
+    is_longest = np.zeros(len(ordered), dtype=bool)
+    is_longest[longest] = True
+    # one Hole a loop, its numbers computed above for all loops at once (a triangle soup's
+    # 10^5 loops: docs/scale.md, session 38)
+    return [Hole(loop=loop, n_edges=n_edges, perimeter=perimeter, diameter=diameter,
+                 component=number, is_border=bool(fraction >= BORDER_SPAN_FRACTION),
+                 span_fraction=fraction, spans_no_area=component in flat, seam_edges=seams)
+            for loop, n_edges, perimeter, diameter, number, component, fraction, seams in zip(
+                ordered, lengths[rank].tolist(), perimeters.tolist(), diameters.tolist(),
+                numbers.tolist(), owner.tolist(),
+                [fractions[c] if first else float("nan")
+                 for c, first in zip(owner.tolist(), is_longest.tolist(), strict=True)],
+                seam_edges(vertices, ordered), strict=True)]
+
+
+# the loops measured at once are grouped by length, and a group's pairwise differences
+# (diameters) are made in chunks of at most this many point pairs
+_PAIRS_PER_CHUNK = 1 << 20
+
+
+def _by_length(loops: list[np.ndarray], vertices: np.ndarray):
+    """Per loop length ``k``: the positions in ``loops`` of the loops of ``k`` vertices and
+    their points as one ``(m, k, 3)`` array (each row the same values, in the same order, as
+    ``vertices[loop]``: the per-loop formulas applied along its axis 1 give the same bits)."""
+    lengths = np.array([len(loop) for loop in loops])
+    flat = np.concatenate(loops)
+    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    for k in np.unique(lengths).tolist():
+        at = np.flatnonzero(lengths == k)
+        yield at, vertices[flat[starts[at][:, None] + np.arange(k)]]
+
+
+def _loop_lengths(vertices: np.ndarray, loops: list[np.ndarray]
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Each loop's perimeter and diameter (:func:`loop_diameter`), the same bits as loop by
+    loop, with numpy calls per loop length, not per loop."""
+    perimeters, diameters = np.empty(len(loops)), np.empty(len(loops))
+    for at, points in _by_length(loops, vertices):
+        perimeters[at] = np.linalg.norm(points - np.roll(points, -1, axis=1), axis=2).sum(1)
+        k = points.shape[1]
+        if k > 1500:  # the convex hull's way, loop by loop (few loops are this long)
+            diameters[at] = [loop_diameter(p) for p in points]
+            continue
+        step = max(1, _PAIRS_PER_CHUNK // (k * k))
+        for c in range(0, len(at), step):
+            chunk = points[c:c + step]
+            d = chunk[:, :, None, :] - chunk[:, None, :, :]
+            diameters[at[c:c + step]] = np.sqrt((d * d).sum(-1)).max(axis=(1, 2))
+    return perimeters, diameters
+
+
+def _spanned_areas(vertices: np.ndarray, loops: list[np.ndarray]) -> np.ndarray:
+    """:func:`_spanned_area` of each loop, the same bits, with numpy calls per loop length."""
+    out = np.empty(len(loops))
+    for at, points in _by_length(loops, vertices):
+        centred = points - points.mean(axis=1, keepdims=True)
+        vector = np.cross(centred, np.roll(centred, -1, axis=1)).sum(1)
+        out[at] = 0.5 * np.linalg.norm(vector, axis=-1)
+    return out
 
 
 # a component is taken for no border once part of its area alone exceeds the span by this
@@ -272,45 +342,47 @@ def _span_fractions(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
     """
     n = int(label.max()) + 1
     partial = np.zeros(n)
-    areas, undecided = [], set(spans)
+    components = np.fromiter(spans, dtype=np.int64, count=len(spans))
+    spanned = np.fromiter(spans.values(), dtype=float, count=len(spans))
+    # one flag per component, not a set rebuilt a block (a soup has a component a face)
+    undecided = np.ones(len(spans), dtype=bool)
+    areas = []
     for block in face_blocks(len(faces)):
         areas.append(face_areas(vertices, faces[block]))
         partial += np.bincount(label[faces[block, 0]], weights=areas[-1], minlength=n)
-        undecided = {c for c in undecided if spans[c] >= MAY_BE_BORDER_FRACTION * partial[c]
-                     * (1 - _PARTIAL_AREA_MARGIN)}
-        if not undecided:
+        undecided &= spanned >= MAY_BE_BORDER_FRACTION * partial[components] * (
+            1 - _PARTIAL_AREA_MARGIN)
+        if not undecided.any():
             return dict.fromkeys(spans, float("nan"))
     area = np.bincount(label[faces[:, 0]], weights=np.concatenate(areas), minlength=n)
-    return {c: float(span / area[c]) if c in undecided and area[c] > 0 else float("nan")
-            for c, span in spans.items()}
+    own = area[components]
+    known = undecided & (own > 0)
+    fraction = np.full(len(spans), np.nan)
+    fraction[known] = spanned[known] / own[known]
+    return dict(zip(spans, fraction.tolist(), strict=True))
 
 
-def _zero_area_components(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
-                          spans: dict[int, float], ordered: list[np.ndarray]) -> set[int]:
+def _zero_area_components(label: np.ndarray, spans: dict[int, float], components: np.ndarray,
+                          perimeters: np.ndarray, vertices: np.ndarray,
+                          faces: np.ndarray) -> set[int]:
     """The components (of ``label``) with loops whose faces all have zero area
     (:func:`~surfinpaint.geometry.validation.zero_area_faces`). The vector areas of a
     component's loops add up to its faces', so the loop of such a component (a stray
-    degenerate triangle's) spans no area: only the components whose longest loop (the
-    first of ``ordered``'s, ``spans`` its spanned area) spans at most ``_NO_AREA_SPAN``
-    times its perimeter squared are looked at, their faces alone (a closed surface's holes
-    cost nothing more)."""
-    candidates, seen = [], set()
-    for loop in ordered:  # a component's longest loop first
-        component = int(label[loop[0]])
-        if component in seen:
-            continue
-        seen.add(component)
-        points = vertices[loop]
-        perimeter = float(np.linalg.norm(points - np.roll(points, -1, axis=0), axis=1).sum())
-        if spans[component] <= _NO_AREA_SPAN * perimeter * perimeter:
-            candidates.append(component)
+    degenerate triangle's) spans no area: only the components whose longest loop
+    (``spans``: the area it spans; ``perimeters``: its length, per component of
+    ``components``) spans at most ``_NO_AREA_SPAN`` times its perimeter squared are looked
+    at, their faces alone (a closed surface's holes cost nothing more)."""
+    span = np.array([spans[c] for c in components.tolist()])
+    candidates = components[span <= _NO_AREA_SPAN * perimeters * perimeters].tolist()
     if not candidates:
         return set()
     rows = np.flatnonzero(np.isin(label[faces[:, 0]], candidates))
     flat = np.zeros(len(faces), dtype=bool)
     flat[rows[zero_area_faces(vertices, faces[rows])]] = True
     owner = label[faces[rows, 0]]
-    return {c for c in candidates if flat[rows[owner == c]].all()}
+    # a component has no face with area when the count of its faces with area is zero
+    with_area = np.bincount(owner[~flat[rows]], minlength=int(label.max()) + 1)
+    return {c for c in candidates if with_area[c] == 0}
 
 
 # a loop spanning less than this times its perimeter squared may bound zero-area faces only
@@ -417,5 +489,13 @@ def hole_numbers(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.nda
     """
     if found is None:
         found = find_holes(vertices, faces, table, validate=validate)
-    found = {tuple(sorted(map(int, h.loop))): k for k, h in enumerate(found)}
-    return [found.get(tuple(sorted(map(int, loop))), -1) for loop in loops]
+    if not loops or not found:
+        return [-1] * len(loops)
+    # only the found loops whose smallest vertex is one of ``loops``' are keyed (a triangle
+    # soup has a loop a face, and a tuple each cost seconds)
+    sizes = np.array([len(h.loop) for h in found])
+    lowest = np.minimum.reduceat(np.concatenate([h.loop for h in found]),
+                                 np.concatenate([[0], np.cumsum(sizes)[:-1]]))
+    wanted = np.isin(lowest, [np.min(loop) for loop in loops if len(loop)])
+    keyed = {tuple(sorted(map(int, found[k].loop))): k for k in np.flatnonzero(wanted).tolist()}
+    return [keyed.get(tuple(sorted(map(int, loop))), -1) for loop in loops]

@@ -46,8 +46,7 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole], *,
         pairs, and how to join them (merge coincident vertices before filling).
     """
     borders = [k for k, h in enumerate(found) if h.is_border]
-    unjoined = [k for k in borders
-                if found[k].seam_edges is not None and found[k].seam_edges.any()]
+    unjoined = _with_seam_edges(found, borders)
     if not unjoined:
         return None
     ids = np.unique(np.concatenate([np.asarray(h.loop) for h in found]))
@@ -79,3 +78,17 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole], *,
             "mesh.merge_vertices(merge_tex=True, merge_norm=True); PyVista: mesh.clean(); "
             "MeshLab: Merge Close Vertices), then fill; filled from its file (surfinpaint "
             "fill, read_mesh_data), a textured OBJ keeps its seams per face corner")
+
+
+def _with_seam_edges(found, chosen: list[int]) -> list[int]:
+    """The holes of ``chosen`` (positions in ``found``) with an edge on another loop's
+    (:attr:`Hole.seam_edges`), with one reduction over all their flags, not a call per
+    hole (a triangle soup: a border a face)."""
+    flagged = [k for k in chosen if found[k].seam_edges is not None]
+    sizes = np.array([len(found[k].seam_edges) for k in flagged], dtype=np.int64)
+    if not sizes.any():
+        return []
+    flags = np.concatenate([found[k].seam_edges for k in flagged])
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    seamed = np.logical_or.reduceat(flags, np.minimum(starts, len(flags) - 1)) & (sizes > 0)
+    return [flagged[i] for i in np.flatnonzero(seamed).tolist()]

@@ -13,6 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.cycles import simple_cycles
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import laplacian_from_weights
 
@@ -142,6 +143,9 @@ def boundary_loops(faces: np.ndarray, table: EdgeTable | None = None) -> list[np
     # successors per tail; a vertex can start several boundary edges (pinched loops)
     order = np.argsort(half[:, 0], kind="stable")
     half = half[order]
+    cycles = simple_cycles(half)
+    if cycles is not None:
+        return cycles
     # the walk on Python ints and lists: numpy scalars cost several times more per step
     tails, heads = half[:, 0].tolist(), half[:, 1].tolist()
     m = len(tails)
