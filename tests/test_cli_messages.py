@@ -176,9 +176,9 @@ _SQUARE = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (1.0, 1.0, 0.0), (0.0, 1.0, 0.0)]
 BROKEN = [
     ("empty.ply", "", "file is empty"),
     ("nan.obj", _obj([*_SQUARE[:3], (float("nan"), 0.0, 0.0)], [(1, 2, 3), (1, 3, 4)]),
-     "1 vertices have NaN or infinite coordinates"),
+     "1 vertex has NaN or infinite coordinates"),
     ("range.obj", _obj(_SQUARE, [(1, 2, 3), (1, 3, 9)]),
-     "1 faces use vertex ids >= the vertex count 4"),
+     "1 face uses vertex ids >= the vertex count 4"),
     ("cloud.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
      "y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n",
      "PLY file has no face element (a point cloud, not a mesh)"),
@@ -215,3 +215,31 @@ def test_faces_naming_texture_coordinates_a_file_lacks_are_a_warning(tmp_path, c
     assert main(["fill", str(path), "-o", str(tmp_path / "out.obj"), "-q"]) == 0
     assert _flat("scan.obj: faces name vt records the file has none of: no uv is kept") in \
         _flat(capsys.readouterr().err)
+
+
+def _batch_inputs_that_cannot_run(tmp_path: Path) -> dict[str, tuple[list[str], str]]:
+    """Per case: batch's inputs, and the words its message must hold."""
+    (tmp_path / "empty").mkdir()
+    v, f = sphere(1)
+    (tmp_path / "two").mkdir()
+    write_mesh(tmp_path / "two" / "scan.ply", v, f[1:])
+    write_mesh(tmp_path / "two" / "scan.obj", v, f[1:])
+    return {"a folder with no mesh file": (["empty"], "empty: no mesh files there"),
+            "two inputs drawn to one picture": (["two", "--png"], "would both be drawn to")}
+
+
+@pytest.mark.parametrize("case", ["a folder with no mesh file",
+                                  "two inputs drawn to one picture"])
+def test_batch_inputs_that_cannot_run_are_said_in_words_before_any_file(tmp_path, capsys,
+                                                                         monkeypatch, case):
+    # session 38: these printed "error: ValueError: ...", as an unexpected failure would;
+    # they are the user's inputs (errors.InputError), said as the other input problems are
+    monkeypatch.chdir(tmp_path)
+    inputs, expected = _batch_inputs_that_cannot_run(tmp_path)[case]
+    before = _files(tmp_path)
+    code = main(["batch", *inputs, "-o", "out", "-q"])
+    err = capsys.readouterr().err
+    assert code == 1, err
+    assert _flat(expected) in _flat(err), err
+    assert "ValueError" not in err and "Traceback" not in err, err
+    assert _files(tmp_path) == before  # nothing written: no output folder, no summary

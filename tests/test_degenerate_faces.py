@@ -80,7 +80,7 @@ def test_validate_mesh_reports_degenerate_faces_and_leaves_repeated_ones_out():
     report = validate_mesh(sv, sf)
     np.testing.assert_array_equal(report.zero_area_faces, [sliver])
     assert report.boundary_loop_lengths == base.boundary_loop_lengths
-    assert any("1 faces have zero area" in n and f"{sliver} (" in n for n in report.notes)
+    assert any("1 face has zero area" in n and f"{sliver} (" in n for n in report.notes)
     # coincident corners are zero area too
     cv = np.vstack([v, [[3.0, 0, 0], [3.0, 0, 0], [3.0, 1, 0]]])
     cf = np.vstack([f, [[len(v), len(v) + 1, len(v) + 2]]])
@@ -121,7 +121,7 @@ def test_a_face_that_repeats_a_vertex_is_kept_and_changes_no_fill(method, where)
     np.testing.assert_array_equal(result.face_attributes["label"][len(odd):],
                                   plain.face_attributes["label"][len(f):])
     assert [s for s in said if "same vertex twice" in s] == [
-        f"1 faces use the same vertex twice (no triangles: kept as they are, left out of "
+        f"1 face uses the same vertex twice (no triangles: kept as they are, left out of "
         f"the holes and the fills): 11 ({a}, {b}, {a})"]
 
 
@@ -144,7 +144,7 @@ def test_a_zero_area_sliver_away_from_the_hole_leaves_its_fill_bit_identical(met
     # the new vertices are numbered after the sliver's one more original vertex
     np.testing.assert_array_equal(new_f, np.where(plain_f >= len(v), plain_f + 1, plain_f))
     assert [s for s in said if "zero area" in s] == [
-        f"1 faces have zero area (collinear or coincident corners; kept as they are; a hole "
+        f"1 face has zero area (collinear or coincident corners; kept as they are; a hole "
         f"whose fill would reach them is filled from fewer rings where it can, else left "
         f"open): {sliver} "
         f"{tuple(int(x) for x in sf[sliver])}"]
@@ -276,12 +276,12 @@ def test_the_commands_take_a_mesh_with_degenerate_faces(tmp_path, capsys):
     before = source.read_bytes()
     assert main(["holes", str(source)]) == 0
     out = capsys.readouterr()
-    assert "1 faces use the same vertex twice" in out.err and "zero area" in out.err
+    assert "1 face uses the same vertex twice" in out.err and "zero area" in out.err
     assert out.out.count("│ hole") == 1  # one hole, none invented
     target = tmp_path / "filled.ply"
     assert main(["fill", str(source), "-o", str(target), "--method", "fair"]) == 0
     err = capsys.readouterr().err
-    assert err.count("same vertex twice") == 1 and err.count("have zero area") == 1
+    assert err.count("same vertex twice") == 1 and err.count("zero area (collinear") == 1
     got_v, got_f = read_mesh(target)
     np.testing.assert_array_equal(got_v[:len(sv)], sv)
     np.testing.assert_array_equal(got_f[:len(odd)], odd)

@@ -125,3 +125,11 @@ def test_ragged_face_lists_are_refused_naming_the_odd_faces(entry):
     with pytest.raises(MeshError, match=r"most faces have 3 ids, faces 1 \(2 ids\), "
                                         r"3 \(4 ids\) do not"):
         getattr(surfinpaint, entry)(v, faces)
+
+
+@pytest.mark.parametrize(("n", "expected"), [(0, "0 faces have"), (1, "1 face has"),
+                                             (2, "2 faces have"), (101, "101 faces have")])
+def test_how_many_agrees_with_its_count(n, expected):
+    from surfinpaint.errors import how_many
+
+    assert how_many(n, "face has", "faces have") == expected

@@ -113,7 +113,7 @@ def test_array_checks_name_every_offending_row(seed):
     bad_v = v.astype(float).copy()
     bad_v[rows, rng.integers(0, 3, len(rows))] = rng.choice([np.nan, np.inf, -np.inf],
                                                             len(rows))
-    with pytest.raises(MeshError, match=f"{len(rows)} vertices have NaN") as err:
+    with pytest.raises(MeshError, match=f"{len(rows)} vert(ex has|ices have) NaN") as err:
         check_arrays(bad_v, f)
     assert err.value.vertices == rows[:100].tolist()
     for value, words in ((-1 - int(rng.integers(0, 5)), "negative vertex ids"),

@@ -54,6 +54,12 @@ class MissingFileError(MeshError, FileNotFoundError):
         return MissingFileError(str(path))
 
 
+class InputError(ValueError):
+    """A command's inputs that cannot be run as given, found before any file is read: a
+    folder with no mesh file, two inputs whose outputs would be one file, an output that
+    would overwrite its input, a bad ``--overlay`` pattern. The message says which."""
+
+
 class FillError(RuntimeError):
     """A hole could not be filled by the requested method (the caller may fall back)."""
 
@@ -68,6 +74,12 @@ class HoleWarning(UserWarning):
 # what a numerical step raises when it fails: FillError is a RuntimeError, MeshError and
 # numpy's LinAlgError are ValueErrors (scipy's singular factorizations raise RuntimeError)
 NUMERICAL_ERRORS = (ValueError, RuntimeError)
+
+
+def how_many(n: int, one: str, many: str) -> str:
+    """``n`` and the words that agree with it: ``how_many(1, "face has", "faces have")`` is
+    ``"1 face has"``, with 3 ``"3 faces have"``."""
+    return f"{n} {one if n == 1 else many}"
 
 
 def preview(ids: Sequence, limit: int = 10) -> str:

@@ -13,7 +13,7 @@ from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from surfinpaint.errors import MeshError, preview
+from surfinpaint.errors import InputError, MeshError, preview
 from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_gifti_data, is_morphometry, surface_base
 from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format, overlays_with
 
@@ -177,18 +177,18 @@ def check_overlay_patterns(patterns: Sequence[str]) -> tuple[str, ...]:
 
     Raises
     ------
-    ValueError
-        For an unknown placeholder or an unmatched brace.
+    surfinpaint.errors.InputError
+        A ``ValueError``: for an unknown placeholder or an unmatched brace.
     """
     known = ", ".join(f"{{{name}}}" for name in OVERLAY_PLACEHOLDERS)
     for pattern in patterns:
         try:
             fields = _placeholders(pattern)
         except ValueError as exc:
-            raise ValueError(f"--overlay {pattern!r}: {exc} (placeholders: {known})") from None
+            raise InputError(f"--overlay {pattern!r}: {exc} (placeholders: {known})") from None
         unknown = [f for f in fields if f not in OVERLAY_PLACEHOLDERS]
         if unknown:
-            raise ValueError(f"--overlay {pattern!r}: unknown placeholder {{{unknown[0]}}} "
+            raise InputError(f"--overlay {pattern!r}: unknown placeholder {{{unknown[0]}}} "
                              f"(placeholders: {known})")
     return tuple(str(p) for p in patterns)
 
@@ -309,10 +309,10 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
 
     Raises
     ------
-    ValueError
-        When an input names no mesh file, two inputs would be written to the same output
-        (or picture: ``scan.ply`` and ``scan.obj`` with ``png``), or an input would be
-        overwritten by its output.
+    surfinpaint.errors.InputError
+        A ``ValueError``: when an input names no mesh file, two inputs would be written
+        to the same output (or picture: ``scan.ply`` and ``scan.obj`` with ``png``), or
+        an input would be overwritten by its output.
     """
     patterns = check_overlay_patterns(overlays)
     out = Path(out_dir).absolute()
@@ -330,7 +330,7 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
         _warn_unknown(os.fspath(item), strays)
         skipped += strays
         if not expanded:
-            raise ValueError(f"{os.fspath(item)}: no mesh files there (known extensions: "
+            raise InputError(f"{os.fspath(item)}: no mesh files there (known extensions: "
                              f"{', '.join(SUPPORTED_FORMATS)})")
         for found, relative in expanded:
             real = os.path.realpath(found)
@@ -340,18 +340,18 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
             seen.add(real)
             target = out / relative
             if target in targets:
-                raise ValueError(f"{targets[target]} and {found} would both be written to "
+                raise InputError(f"{targets[target]} and {found} would both be written to "
                                  f"{target}; a file argument is written under its name alone: "
                                  "pass their folder, or the glob in quotes ('subjects/*/lh."
                                  "pial'), and the layout below it is kept, or fill them into "
                                  "different output folders")
             if os.path.realpath(target) == real:
-                raise ValueError(f"{found} would be overwritten by its output: choose an "
+                raise InputError(f"{found} would be overwritten by its output: choose an "
                                  "output folder other than the input's (inputs are never "
                                  "modified)")
             picture = picture_path(target) if png else None
             if picture in targets:
-                raise ValueError(f"{targets[picture]} and {found} would both be drawn to "
+                raise InputError(f"{targets[picture]} and {found} would both be drawn to "
                                  f"{picture}; fill them into different output folders or "
                                  "rename one")
             targets[target] = os.fspath(found)
@@ -360,7 +360,7 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
             jobs.append(FileJob(found.absolute(), target, os.fspath(found),
                                 relative.as_posix(), picture, patterns))
     if not jobs:
-        raise ValueError("no input files given")
+        raise InputError("no input files given")
     return Inputs(jobs, skipped)
 
 

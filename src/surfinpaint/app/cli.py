@@ -51,7 +51,7 @@ from surfinpaint.app.outputs import (
 )
 from surfinpaint.app.progress import LazyConsole, QuietConsole, add_quiet, progress_bar
 from surfinpaint.app.represent_commands import add_representation_parsers
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import InputError, MeshError
 from surfinpaint.fill import warmup
 from surfinpaint.fill.holes import (
     warn_degenerate,
@@ -461,7 +461,7 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> 
             exc = exc.with_path(source)  # problems found after reading: name the file
         console.print(f"[red]error:[/red] {_escape(str(exc))}")
         return EXIT_FAILURE
-    except NotImplementedError as exc:
+    except (InputError, NotImplementedError) as exc:
         console.print(f"[red]error:[/red] {_escape(str(exc))}")
         return EXIT_FAILURE
     except (OSError, ValueError, RuntimeError) as exc:

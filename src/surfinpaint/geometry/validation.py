@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, preview
+from surfinpaint.errors import MeshError, how_many, preview
 from surfinpaint.geometry.degenerate import repeated_vertex_faces, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_blocks
@@ -131,7 +131,8 @@ def face_ids(faces, *, path: str | None = None) -> np.ndarray:
     if bad.size:
         shown = ", ".join(f"{int(i)} {f[i].tolist()}" for i in bad[:5])
         more = f" and {bad.size - 5} more" if bad.size > 5 else ""
-        raise _fail(f"{bad.size} faces have vertex ids that are not whole numbers: "
+        raise _fail(f"{how_many(bad.size, 'face has', 'faces have')} vertex ids that are not "
+                    "whole numbers: "
                     f"{shown}{more}", path, faces=bad[:100].tolist())
     return f.astype(np.int64)
 
@@ -183,15 +184,18 @@ def check_arrays(vertices: np.ndarray, faces: np.ndarray, *, path: str | None = 
     # of a mesh: the per-row masks cost ~30x more); the rows only to name the offenders
     if not np.isfinite(v).all():
         bad = np.flatnonzero(~np.isfinite(v).all(axis=1))
-        raise _fail(f"{bad.size} vertices have NaN or infinite coordinates: {preview(bad)}",
+        raise _fail(f"{how_many(bad.size, 'vertex has', 'vertices have')} NaN or infinite "
+                    f"coordinates: {preview(bad)}",
                     path, vertices=bad[:100].tolist())
     if f.min() < 0:
         negative = np.flatnonzero((f < 0).any(axis=1))
-        raise _fail(f"{negative.size} faces have negative vertex ids: {preview(negative)}",
+        raise _fail(f"{how_many(negative.size, 'face has', 'faces have')} negative vertex "
+                    f"ids: {preview(negative)}",
                     path, faces=negative[:100].tolist())
     if f.max() >= len(v):
         high = np.flatnonzero((f >= len(v)).any(axis=1))
-        raise _fail(f"{high.size} faces use vertex ids >= the vertex count {len(v)} "
+        raise _fail(f"{how_many(high.size, 'face uses', 'faces use')} vertex ids >= the "
+                    f"vertex count {len(v)} "
                     f"(largest {int(f.max())}): {preview(high)}", path,
                     faces=high[:100].tolist())
 
@@ -232,11 +236,12 @@ def degenerate_notes(faces: np.ndarray, repeated: np.ndarray, flat: np.ndarray) 
     twice; ``flat``: zero area), one sentence for each kind found, naming them."""
     notes = []
     if repeated.size:
-        notes.append(f"{repeated.size} faces use the same vertex twice (no triangles: kept "
-                     "as they are, left out of the holes and the fills): "
+        notes.append(f"{how_many(repeated.size, 'face uses', 'faces use')} the same vertex "
+                     "twice (no triangles: kept as they are, left out of the holes and the fills): "
                      f"{face_text(repeated, faces)}")
     if flat.size:
-        notes.append(f"{flat.size} faces have zero area (collinear or coincident corners; "
+        notes.append(f"{how_many(flat.size, 'face has', 'faces have')} zero area (collinear "
+                     "or coincident corners; "
                      "kept as they are; a hole whose fill would reach them is filled from "
                      f"fewer rings where it can, else left open): {face_text(flat, faces)}")
     return notes
@@ -343,7 +348,8 @@ def check_topology(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | N
     f = np.asarray(faces, dtype=np.int64)
     repeated = repeated_vertex_faces(f)
     if repeated.size:
-        raise _fail(f"{repeated.size} faces use the same vertex twice (leave them out: "
+        raise _fail(f"{how_many(repeated.size, 'face uses', 'faces use')} the same vertex "
+                    "twice (leave them out: "
                     f"triangle_rows): {face_text(repeated, f)}", path,
                     faces=repeated[:100].tolist())
 
