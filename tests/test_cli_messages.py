@@ -6,6 +6,7 @@ that does not exist. Each names the file, exits as the README says (1 for an err
 from __future__ import annotations
 
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -243,3 +244,108 @@ def test_batch_inputs_that_cannot_run_are_said_in_words_before_any_file(tmp_path
     assert _flat(expected) in _flat(err), err
     assert "ValueError" not in err and "Traceback" not in err, err
     assert _files(tmp_path) == before  # nothing written: no output folder, no summary
+
+
+# ---------------------------------------- every warning printed for an input names it
+
+DEGENERATE = "1 face uses the same vertex twice"
+
+
+def _odd(path: Path) -> Path:
+    """A wavy 10 × 10 grid with a hole in its middle and a face that repeats a vertex (a
+    warning of the fill itself, which names no file)."""
+    x, y = np.meshgrid(np.linspace(0, 1, 10), np.linspace(0, 1, 10))
+    vertices = np.column_stack([x.ravel(), y.ravel(), 0.05 * np.sin(3 * x.ravel())])
+    corner = (np.arange(9)[:, None] * 10 + np.arange(9)[None, :]).ravel()
+    faces = np.vstack([np.column_stack([corner, corner + 1, corner + 11]),
+                       np.column_stack([corner, corner + 11, corner + 10])])
+    centre = vertices[faces].mean(axis=1)[:, :2]
+    faces = np.vstack([faces[np.linalg.norm(centre - 0.5, axis=1) > 0.2], [[0, 1, 1]]])
+    write_mesh(path, vertices, faces)
+    return path
+
+
+# the commands that print warnings of one input, on odd.ply (as given: ./odd.ply too), and
+# the warning each must print once
+NAMED_WARNINGS = {
+    "fill": (["fill", "odd.ply", "-o", "out.ply", "--method", "fair"], DEGENERATE),
+    "fill -q": (["fill", "odd.ply", "-o", "out.ply", "--method", "fair", "-q"], DEGENERATE),
+    "fill ./": (["fill", "./odd.ply", "-o", "out.ply", "--method", "fair"], DEGENERATE),
+    "holes": (["holes", "odd.ply"], DEGENERATE),
+    "report": (["report", "odd.ply", "-o", "report"], DEGENERATE),
+    "batch": (["batch", "odd.ply", "-o", "out", "--jobs", "1", "--method", "fair"],
+              DEGENERATE),
+    # a warning of the representation's own (unnamed), and a round trip that misses
+    "represent": (["represent", "disk.ply", "-o", "rep.npz"], "a warning of the map"),
+    "rebuild": (["rebuild", "rep.npz", "-o", "rebuilt.ply"],
+                "against the stored original: missed by 9 %"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(NAMED_WARNINGS))
+def test_every_warning_printed_for_an_input_starts_with_its_name_once(tmp_path, capsys,
+                                                                      monkeypatch, case):
+    # session 39: `fill` printed the fill's own warnings (a degenerate face) without the
+    # file's name, while `batch` and `holes` named it; `represent`/`rebuild` named none
+    from surfinpaint.representation import represent as representation
+
+    monkeypatch.chdir(tmp_path)
+    _odd(tmp_path / "odd.ply")
+    _disk(tmp_path / "disk.ply")
+    if case == "rebuild":
+        assert main(["represent", "disk.ply", "-o", "rep.npz", "-q"]) == 0
+
+        class Missed:
+            converged = False
+
+            def summary(self) -> str:
+                return "missed by 9 %"
+
+        monkeypatch.setattr(representation, "round_trip", lambda rep, out: Missed())
+    real = representation.represent
+
+    def warning_represent(*args, **kwargs):
+        warnings.warn("a warning of the map", UserWarning, stacklevel=2)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(representation, "represent", warning_represent)
+    capsys.readouterr()
+    argv, expected = NAMED_WARNINGS[case]
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    name = argv[1]
+    warned = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert warned, err
+    assert all(line.startswith(f"warning: {name}: ") for line in warned), warned
+    assert sum(expected in line for line in warned) == 1, warned  # once, not twice
+    assert f"{name}: {name}" not in err and "odd.ply: odd.ply" not in err
+
+
+def test_the_python_apis_warning_is_a_warning_once_and_names_no_file(tmp_path):
+    # the command line names the file; fill_holes, given arrays, warns in its category
+    from surfinpaint.fill.pipeline import fill_holes
+    from surfinpaint.io import MeshWarning
+    from surfinpaint.io.formats import read_mesh
+
+    vertices, faces = read_mesh(_odd(tmp_path / "odd.ply"))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fill_holes(vertices, faces, method="fair", jobs=1)
+    said = [w for w in caught if DEGENERATE in str(w.message)]
+    assert len(said) == 1 and issubclass(said[0].category, MeshWarning)
+    assert str(said[0].message).startswith(DEGENERATE)
+
+
+@pytest.mark.parametrize(("text", "source", "said"), [
+    ("a face repeats", "scan.ply", "scan.ply: a face repeats"),
+    ("scan.ply: a face repeats", "scan.ply", "scan.ply: a face repeats"),
+    ("scan.ply: a face repeats", "./scan.ply", "scan.ply: a face repeats"),  # as Path says it
+    ("./scan.ply: a face repeats", "./scan.ply", "./scan.ply: a face repeats"),
+    ("scan.ply.bak: other", "scan.ply", "scan.ply: scan.ply.bak: other"),  # another file
+    ("scanning done", "scan", "scan: scanning done"),  # a word, not the name
+    ("a face repeats", None, "a face repeats"),
+])
+def test_named(text, source, said):
+    from surfinpaint.app.progress import named
+
+    assert named(text, source) == said

@@ -1,5 +1,6 @@
 """Fills that reach through surface far from their hole along the mesh but near in space
-(:mod:`surfinpaint.fill.far_crossings`): counted and warned after the fill, fills unchanged."""
+(:mod:`surfinpaint.fill.far_crossings`): counted and warned after the fill, fills unchanged;
+and, since session 39, two holes' fills that cross each other."""
 
 from __future__ import annotations
 
@@ -12,10 +13,12 @@ from scipy.sparse.csgraph import dijkstra
 
 from surfinpaint.data import default_demo_mesh, fsaverage5, sphere
 from surfinpaint.errors import HoleWarning
-from surfinpaint.fill.far_crossings import far_crossing_counts
+from surfinpaint.fill import pipeline
+from surfinpaint.fill.far_crossings import crossing_fill_pairs, far_crossing_counts
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.degenerate import triangle_incidence
+from surfinpaint.io import MeshWarning
 
 
 def _pial_disk_hole():
@@ -90,3 +93,111 @@ def test_no_warning_where_no_fill_crosses(method):
         result = fill_holes(cut.vertices, cut.faces, method=method, jobs=1)
     assert [r.crossings for r in result.reports] == [0, 0]
     assert not [w for w in caught if "farther out than the rings" in str(w.message)]
+
+
+# ------------------------------------------------ two fills that cross each other (session 39)
+
+
+def _two_spheres(gap: float, cap: float = 30.0):
+    """Two unit spheres, their centres ``gap`` apart along z, each with a hole of ``cap``
+    degrees around the pole that faces the other. At ``gap`` 1.9 the spheres would cross
+    at 18 degrees from those poles, inside both holes: what is left of them does not cross,
+    but the fills, each continuing its sphere over its hole, cross each other (and nothing
+    else); at 2.3 the spheres are apart."""
+    v, f = sphere(3)
+    centre = v[f].mean(axis=1)
+    height = centre[:, 2] / np.linalg.norm(centre, axis=1)
+    top, bottom = f[height < np.cos(np.radians(cap))], f[height > -np.cos(np.radians(cap))]
+    return np.vstack([v, v + [0.0, 0.0, gap]]), np.vstack([top, bottom + len(v)])
+
+
+@pytest.mark.parametrize("method", ["fair", "conformal"])
+def test_two_fills_that_cross_each_other_are_warned_naming_both_holes(method, monkeypatch):
+    v, f = _two_spheres(1.9)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fill_holes(v, f, method=method, jobs=1)
+    said = [w for w in caught if str(w.message).startswith("holes 0 and 1:")]
+    assert len(said) == 1 and said[0].category is MeshWarning  # not said by hole lines
+    first, second = result.reports
+    assert first.crossings > 0 and second.crossings > 0  # nothing else crosses: all theirs
+    assert str(said[0].message) == (
+        f"holes 0 and 1: {first.crossings} triangles of hole 0's fill cross "
+        f"{second.crossings} of hole 1's (two holes near in space, each filled without the "
+        "other's fill): check the result")
+    assert not [w for w in caught if "farther out than the rings" in str(w.message)]
+    # the check only looks: without it, the same fills, bit for bit
+    monkeypatch.setattr(pipeline, "crossing_fill_pairs", lambda vertices, hole_faces: [])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        unchecked = fill_holes(v, f, method=method, jobs=1)
+    assert unchecked.vertices.tobytes() == result.vertices.tobytes()
+    assert unchecked.faces.tobytes() == result.faces.tobytes()
+    assert [r.crossings for r in unchecked.reports] == [0, 0]
+
+
+@pytest.mark.parametrize("method", ["fair", "conformal"])
+def test_two_fills_near_but_apart_are_not_warned(method):
+    v, f = _two_spheres(2.3)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fill_holes(v, f, method=method, jobs=1)
+    assert [r.outcome for r in result.reports] == (
+        ["faired"] * 2 if method == "fair" else ["lambda-h"] * 2)
+    assert [r.crossings for r in result.reports] == [0, 0]
+    assert not [w for w in caught if str(w.message).startswith("holes ")]
+
+
+def _triangle(corner, normal_axis: int = 2, size: float = 1.0) -> np.ndarray:
+    """A right triangle at ``corner`` in the plane across ``normal_axis``."""
+    a, b = [k for k in range(3) if k != normal_axis]
+    t = np.zeros((3, 3))
+    t[1, a], t[2, b] = size, size
+    return t + np.asarray(corner, float)
+
+
+# fills as lists of triangles (corner positions), and the crossing pairs expected
+PAIR_CASES = {
+    "none": ([], []),
+    "one fill": ([[_triangle((0, 0, 0))]], []),
+    "far apart": ([[_triangle((0, 0, 0))], [_triangle((5, 5, 5))]], []),
+    # the boxes overlap, the triangles do not meet
+    "boxes only": ([[_triangle((0, 0, 0))], [_triangle((0.8, 0.8, -0.5), 0)]], []),
+    "crossing": ([[_triangle((0, 0, 0))], [_triangle((0.2, -0.5, -0.5), 0, 2)]],
+                 [(0, 1, 1, 1)]),
+    # the second and third fills' boxes start inside the first's, the third's x range
+    # after the second's: the sweep must pair the first with both
+    "first with two": ([[_triangle((-1, -1, 0), size=4)], [_triangle((0.5, 0, -0.5), 0)],
+                        [_triangle((2, 0, -0.5), 0)], [_triangle((9, 9, 9))]],
+                       [(0, 1, 1, 1), (0, 2, 1, 1)]),
+    # two triangles of one fill cross the other's one
+    "counted per fill": ([[_triangle((0, 0, 0)), _triangle((0, 0, 0.2))],
+                          [_triangle((0.2, -0.5, -0.5), 0, 2)]], [(0, 1, 2, 1)]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(PAIR_CASES))
+def test_crossing_fill_pairs(case):
+    fills, expected = PAIR_CASES[case]
+    positions, faces, n = [], [], 0
+    for fill in fills:
+        faces.append(np.arange(n, n + 3 * len(fill)).reshape(-1, 3))
+        positions += fill
+        n += 3 * len(fill)
+    vertices = np.vstack(positions) if positions else np.zeros((0, 3))
+    assert [tuple(p) for p in crossing_fill_pairs(vertices, faces)] == expected
+    # an empty fill (a zipped seam) in front changes nothing but the positions
+    shifted = [(a + 1, b + 1, na, nb) for a, b, na, nb in expected]
+    assert [tuple(p) for p in crossing_fill_pairs(
+        vertices, [np.empty((0, 3), int), *faces])] == shifted
+
+
+def test_fills_that_share_a_loop_vertex_touch_there_without_crossing():
+    # two fans around one vertex, on either side of it in one plane: they share a corner
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]])
+    assert crossing_fill_pairs(v, [np.array([[0, 1, 2]]), np.array([[0, 3, 4]])]) == []
+    # the same second fill turned into the first's plane: it overlaps beyond the corner
+    v[3] = [0.5, 0.5, 0.0]
+    v[4] = [0.5, -0.2, 0.0]
+    assert [tuple(p) for p in crossing_fill_pairs(
+        v, [np.array([[0, 1, 2]]), np.array([[0, 3, 4]])])] == [(0, 1, 1, 1)]

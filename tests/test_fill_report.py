@@ -210,7 +210,8 @@ def test_each_warning_is_printed_once_with_its_count(three_holes, tmp_path, caps
                  "--jobs", "1", "--json", str(report)]) == 0
     err = capsys.readouterr().err
     assert err.count("the same remark for every hole") == 1
-    assert _flat("warning: the same remark for every hole (×3)") in _flat(err)
+    # named for the file, as every warning the command line prints (session 39)
+    assert _flat(f"warning: {path}: the same remark for every hole (×3)") in _flat(err)
     seen = json.loads(report.read_text("utf-8"))["warnings"]
     assert {"message": "the same remark for every hole", "category": "UserWarning",
             "count": 3} in seen

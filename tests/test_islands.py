@@ -281,10 +281,53 @@ def test_report_fills_as_fill_does_with_islands(tmp_path, capsys, options, writt
     write_mesh(tmp_path / "island.ply", v, f)
     assert main(["report", str(tmp_path / "island.ply"), "-o", str(tmp_path / "r"),
                  *options]) == 0
-    lines = [line for line in capsys.readouterr().err.splitlines()
-             if line.startswith("hole 0, ")]
+    # the disk through the island crosses it: since session 39 the title says so last
+    lines = [re.sub(r"; \d+ of its triangles cross the surface$", "", line)
+             for line in capsys.readouterr().err.splitlines() if line.startswith("hole 0, ")]
     assert len(lines) == 1 and lines[0].endswith(written), lines
     assert "failed" not in lines[0] and "rejected" not in lines[0]
+
+
+@pytest.mark.parametrize("quiet", [False, True])
+def test_report_says_its_fills_warnings_named_once_and_lists_them_on_its_page(
+        tmp_path, capsys, monkeypatch, quiet):
+    # session 39: `report` ran its fills with the warnings off: `--islands ignore`'s and a
+    # fill reaching through the island were said nowhere
+    monkeypatch.chdir(tmp_path)
+    v, f, _ = sphere_with_island(subdivisions=3)
+    write_mesh("island.ply", v, f)
+    assert main(["report", "island.ply", "-o", "r", "--islands", "ignore",
+                 *(["-q"] if quiet else [])]) == 0
+    err = capsys.readouterr().err
+    island = ("hole 0: piece 1 (loop 1) lies inside it, an island; islands='ignore' "
+              "(--islands ignore): the hole is filled as a disk through or by it, the island "
+              "left as it is")
+    crossing = re.compile(r"hole 0: (\d+) triangles of the fill cross the surface farther "
+                          r"out than the rings around the hole")
+    warned = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert all(line.startswith("warning: island.ply: hole 0: ") for line in warned), warned
+    assert [line for line in warned if island in line] == [f"warning: island.ply: {island}"]
+    # the crossing is said once: in the hole's title where the titles are printed (as
+    # `fill` says it in the hole's line), else as a warning
+    crossed = [crossing.search(line) for line in warned if crossing.search(line)]
+    titles = [line for line in err.splitlines() if line.startswith("hole 0, ")]
+    if quiet:
+        assert len(crossed) == 1 and not titles
+        count = int(crossed[0].group(1))
+    else:
+        assert not crossed and len(titles) == 1
+        count = int(re.search(r"; (\d+) of its triangles cross the surface$",
+                              titles[0]).group(1))
+    assert count > 0
+    # the page lists every warning of the fills, under "Warnings"
+    page = (tmp_path / "r" / "index.md").read_text("utf-8")
+    listed = page[page.index("## Warnings"):].splitlines()
+    assert f"- {island}" in listed
+    (listed_crossing,) = [line for line in listed if crossing.search(line)]
+    assert listed_crossing.startswith("- hole 0: ")
+    assert int(crossing.search(listed_crossing).group(1)) == count
+    html = (tmp_path / "r" / "index.html").read_text("utf-8")
+    assert "<h2>Warnings</h2>" in html and "<li>hole 0: piece 1 (loop 1) lies inside it" in html
 
 
 def test_fill_prints_the_island_note(tmp_path, capsys):

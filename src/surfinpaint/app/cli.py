@@ -49,7 +49,13 @@ from surfinpaint.app.outputs import (
     check_outputs_distinct,
     write_with_materials,
 )
-from surfinpaint.app.progress import LazyConsole, QuietConsole, add_quiet, progress_bar
+from surfinpaint.app.progress import (
+    LazyConsole,
+    QuietConsole,
+    add_quiet,
+    progress_bar,
+    warning_line,
+)
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import InputError, MeshError
 from surfinpaint.fill import warmup
@@ -154,7 +160,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
     files = {"input": str(args.mesh), "output": str(args.output), "png": args.png}
     tell(result, summary, caught, console=console, report=out.progress,
          verbose=args.verbose, json_path=args.json, files=files,
-         options={**options, "holes": holes, "jobs": args.jobs})
+         options={**options, "holes": holes, "jobs": args.jobs}, source=args.mesh)
     carried = [*filled.attributes, *(f"{k} (per face)" for k in filled.face_attributes),
                *(f"{k} (per corner)" for k in filled.corner_attributes)]
     if carried and len(result.vertices) > len(vertices):
@@ -220,9 +226,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
         if row.status == "failed":
             out.error(f"[red]error:[/red] {escape(row.message)}")
         elif row.message and row.status != "skipped":
-            named = row.message if row.message.startswith(row.path) else \
-                f"{row.path}: {row.message}"
-            out.warn(f"[yellow]warning:[/yellow] {escape(named)}")
+            out.warn(warning_line(row.message, row.path))
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     if out.progress:
         n = len(rows.unknown)
@@ -443,9 +447,17 @@ def _check_outputs(args: argparse.Namespace) -> None:
         check_output_directory(path, option)
 
 
+def _input_name(args: argparse.Namespace) -> str | None:
+    """The one input file the command reads, as the user named it (None: ``batch``'s
+    many, ``demo``'s bundled mesh, ``experiments``): its errors and warnings start with
+    it."""
+    source = getattr(args, "mesh", None) or getattr(args, "representation", None)
+    return None if source is None else str(source)
+
+
 def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> int:
     """Run one command, mapping each kind of failure to its exit code and one message."""
-    source = getattr(args, "mesh", None) or getattr(args, "representation", None)
+    source = _input_name(args)
     try:
         _check_outputs(args)
         return args.func(args)
@@ -511,8 +523,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 code = _run(parser, args, console)
-            if quiet < 2:
-                print_warnings(console, count_warnings(caught))
+            if quiet < 2:  # those the command did not print itself, named as it does
+                print_warnings(console, count_warnings(caught), source=_input_name(args))
             return code
         except (Interrupted, KeyboardInterrupt) as exc:
             if not isinstance(exc, Interrupted):  # a Ctrl-C that came before our handler

@@ -18,7 +18,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from surfinpaint.errors import HoleWarning
+from surfinpaint.app.progress import named, warning_line
+from surfinpaint.errors import HoleWarning, how_many
 from surfinpaint.fill.results import FillResult, HoleReport, TestScores
 from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
 from surfinpaint.geometry.mesh import boundary_loops
@@ -197,7 +198,8 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
     if report.outcome in ("lambda-h", "faired"):
         head += f", {report.new_vertices} new vertices, {report.new_faces} new faces"
         if report.crossings:
-            head += f", {report.crossings} of them crossing the surface around the hole"
+            # near the hole, farther out, or another hole's fill (fill.far_crossings)
+            head += f", {report.crossings} of them crossing the surface"
     if verbose:
         head += f" ({report.seconds:.2f} s)"
     lines = [head]
@@ -226,7 +228,8 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
 
 def summary_lines(summary: Summary) -> list[str]:
     """The closing summary: the counts, what was added, the time."""
-    return [f"{summary.holes_found} holes found: {summary.lambda_h} filled by the λ-H fill, "
+    found = how_many(summary.holes_found, "hole found", "holes found")
+    return [f"{found}: {summary.lambda_h} filled by the λ-H fill, "
             f"{summary.faired} by a faired fill, "
             + (f"{summary.zipped} seam{'s' * (summary.zipped > 1)} zipped, "
                if summary.zipped else "")
@@ -371,29 +374,38 @@ def write_json_report(path: str | os.PathLike, document: Mapping[str, Any]) -> N
 # ------------------------------------------------------------------------------ telling
 
 
-def print_warnings(console, counted: Iterable[WarningCount]) -> None:
-    """Each warning once on ``console``, with how many times it came when more than once."""
-    counted = list(counted)
-    if not counted:  # a quiet run that warns of nothing never imports rich
-        return
-    from rich.markup import escape
-
+def print_warnings(console, counted: Iterable[WarningCount], *,
+                   source: str | os.PathLike | None = None, holes_said: bool = False) -> None:
+    """Each warning once on ``console``, with how many times it came when more than once,
+    named for the input ``source`` (:func:`~surfinpaint.app.progress.warning_line`: the one
+    form of every command's warnings). ``holes_said``: the lines of each hole were printed
+    (``fill``'s report, ``report``'s titles), so a
+    :class:`~surfinpaint.errors.HoleWarning`, which says the same, is left out."""
+    left_out = _hole_warning_names() if holes_said else set()
+    # "x" and "SOURCE: x" are one warning once named: the command's check of the file and
+    # the fill each saying it (`report`'s degenerate faces), so counted once, not added
+    merged: dict[str, int] = {}
     for w in counted:
-        times = f" (×{w.count})" if w.count > 1 else ""
-        console.print(f"[yellow]warning:[/yellow] {escape(w.message)}{times}")
+        if w.category not in left_out:
+            text = named(w.message, source)
+            merged[text] = max(merged.get(text, 0), w.count)
+    if not merged:  # a quiet run that warns of nothing never imports rich
+        return
+    for text, count in merged.items():
+        console.print(warning_line(text, count=count))
 
 
 def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.WarningMessage], *,
          console=None, verbose: bool = False, json_path: str | os.PathLike | None = None,
          files: Mapping[str, str | None] | None = None,
-         options: Mapping[str, Any] | None = None, report: bool = True
-         ) -> list[WarningCount]:
+         options: Mapping[str, Any] | None = None, report: bool = True,
+         source: str | os.PathLike | None = None) -> list[WarningCount]:
     """Say what a fill did: write the ``--json`` report (``json_path``), and print on
     ``console`` (None: print nothing) the lines of each hole and the summary (``report``)
-    and each warning caught once (with the report, not a
+    and each warning caught once, named for the input ``source`` (with the report, not a
     :class:`~surfinpaint.errors.HoleWarning`: the hole's lines say it; without it, every
-    warning: ``-q`` keeps them). Returns the warnings counted (all of them: the ``--json``
-    report lists them too)."""
+    warning: ``-q`` keeps them; :func:`print_warnings`). Returns the warnings counted (all
+    of them: the ``--json`` report lists them too)."""
     seen = count_warnings(caught)
     if json_path is not None:
         write_json_report(json_path, report_document(result, summary, warnings_seen=seen,
@@ -401,7 +413,7 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
     if console is None:
         return seen
     if not report:
-        print_warnings(console, seen)
+        print_warnings(console, seen, source=source)
         return seen
     from rich.markup import escape  # only when printing: a quiet run never imports rich
 
@@ -412,6 +424,5 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
         for line in summary_lines(summary):
             console.print(escape(line))
     # what the hole lines said already is not said again
-    said = _hole_warning_names()
-    print_warnings(console, [w for w in seen if w.category not in said])
+    print_warnings(console, seen, source=source, holes_said=True)
     return seen

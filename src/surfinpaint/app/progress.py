@@ -4,10 +4,11 @@ one ``-q`` (:func:`add_quiet`, :class:`QuietConsole`)."""
 from __future__ import annotations
 
 import contextlib
+import os
 from collections.abc import Iterator
 
-__all__ = ["QUIET_HELP", "LazyConsole", "QuietConsole", "add_quiet", "console", "progress_bar",
-           "stages"]
+__all__ = ["QUIET_HELP", "LazyConsole", "QuietConsole", "add_quiet", "console", "named",
+           "progress_bar", "stages", "warning_line"]
 
 
 def console():
@@ -28,6 +29,30 @@ def add_quiet(parser) -> None:
     :class:`QuietConsole`. A warning is how a run says it dropped or changed something, so
     one ``-q`` keeps them (as pip's does); ``-qq`` leaves them out too."""
     parser.add_argument("-q", "--quiet", action="count", default=0, help=QUIET_HELP)
+
+
+def named(text: str, source: str | os.PathLike | None) -> str:
+    """``text`` said of the input ``source``: ``"SOURCE: text"``, or ``text`` unchanged
+    where it starts with that name already (the readers' warnings do, in either spelling
+    of the path: ``./scan.ply`` or ``scan.ply``) or there is no input (None).
+
+    Every warning the command line prints for an input goes through here (with
+    :func:`warning_line`): in a batch log of thousands of files, each line says which."""
+    if source is None:
+        return text
+    given = os.fspath(source)
+    if any(text.startswith(f"{name}:") for name in (given, os.path.normpath(given))):
+        return text
+    return f"{given}: {text}"
+
+
+def warning_line(text: str, source: str | os.PathLike | None = None, count: int = 1) -> str:
+    """The line that prints one warning (rich markup): ``warning: SOURCE: text``
+    (:func:`named`), with ``(×count)`` when it came more than once."""
+    from rich.markup import escape  # only when a warning is printed
+
+    times = f" (×{count})" if count > 1 else ""
+    return f"[yellow]warning:[/yellow] {escape(named(text, source))}{times}"
 
 
 class LazyConsole:

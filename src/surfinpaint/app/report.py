@@ -47,7 +47,14 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from surfinpaint.app.fill_options import add_hole_numbers, add_islands, add_keep_margins
-from surfinpaint.app.fill_report import hole_lines, nothing_to_fill, plane_words, written
+from surfinpaint.app.fill_report import (
+    count_warnings,
+    hole_lines,
+    nothing_to_fill,
+    plane_words,
+    print_warnings,
+    written,
+)
 from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar
 from surfinpaint.app.report_page import (
     LEGEND,
@@ -144,6 +151,14 @@ def compare_holes(
         As :func:`surfinpaint.fill_holes` (``--islands``): a hole with an island is filled
         with it (faired, by both methods) or as a disk through or by it, with a warning.
 
+    Warns
+    -----
+    Each warning of the conformal method's fills (the fill ``surfinpaint fill`` writes:
+    an island left unjoined, a fill that crosses the surface, ...) once, in its category,
+    and a :class:`~surfinpaint.errors.HoleWarning` for a hole skipped without one; the
+    conventional fills' and the fills made again are not said (they repeat them, or are
+    of fills not written).
+
     Returns
     -------
     comparisons : list of HoleComparison
@@ -166,26 +181,36 @@ def compare_holes(
     if truth is not None and len(truth) != len(loops):
         raise ValueError(f"{len(truth)} truth patches for {len(loops)} holes")
     step = step or (lambda message, advance=1: None)
+    options = ConformalOptions() if options is None else options
+    # the warnings of the fill `surfinpaint fill` writes, said once below; the other
+    # fills' are not (they repeat them, or are of fills not written)
     with warnings.catch_warnings():
-        # the fallbacks are reported in the comparison, not as warnings
         warnings.simplefilter("ignore", UserWarning)
         fair = fill_holes(vertices, faces, holes=holes, method="fair",
                           keep_margins=keep_margins, validate=False, islands=islands)
-        step("conventional fills done")
-        options = ConformalOptions() if options is None else options
+    step("conventional fills done")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         conformal = fill_holes(vertices, faces, holes=holes, method="conformal",
                                keep_margins=keep_margins, validate=False, options=options,
                                islands=islands)
-        step("conformal fills done")
-        # each fill as (vertices starting with the mesh's, the hole's new faces)
-        filled = {"fair": [(fair.vertices, p) for p in fair.hole_faces()],
-                  "conformal": [(conformal.vertices, p) for p in conformal.hole_faces()]}
+    step("conformal fills done")
+    # each fill as (vertices starting with the mesh's, the hole's new faces)
+    filled = {"fair": [(fair.vertices, p) for p in fair.hole_faces()],
+              "conformal": [(conformal.vertices, p) for p in conformal.hole_faces()]}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
         raw, diagnostics = _lambda_h_fills(vertices, faces, loops, conformal,
                                            filled["conformal"], options, step, islands)
     filled["conformal raw"] = raw
-    for r in conformal.reports:  # said once, not per method: the warnings above are off
+    said = {}  # each text once, in the order the fill said them
+    for w in caught:
+        said.setdefault(str(w.message), w.category)
+    for r in conformal.reports:  # a hole skipped without a warning of its own
         if r.skipped:
-            warnings.warn(f"hole {r.index}: {r.skipped}; skipped", HoleWarning, stacklevel=2)
+            said.setdefault(f"hole {r.index}: {r.skipped}; skipped", HoleWarning)
+    for text, category in said.items():
+        warnings.warn(text, category, stacklevel=2)
     patches = {name: [None if p is None else _compact(*p) for p in fills]
                for name, fills in filled.items()}
     made = {"fair": fair, "conformal": conformal, "filled": filled,
@@ -240,6 +265,7 @@ def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray, made: dict) -> H
         written_panel=panel_fills(made, k).written_in,
         skipped=rc.skipped if rc.outcome in ("skipped", "failed") else None,
         islands=rc.islands,
+        crossings=rc.crossings if rc.outcome in ("lambda-h", "faired") else 0,
     )
 
 
@@ -449,6 +475,11 @@ def write_report(
     Returns
     -------
     list of HoleComparison
+
+    Warns
+    -----
+    The warnings of the fills (:func:`compare_holes`), each once; the page lists them too,
+    under "Warnings".
     """
 
     vertices = np.asarray(vertices, dtype=float)
@@ -458,16 +489,23 @@ def write_report(
     started = time.perf_counter()
     # holes the caller did not name are chosen by fill_holes' rule: one that cannot be
     # filled is skipped with a warning, as by `surfinpaint fill`, not an error
-    comparisons, fills = compare_holes(vertices, faces, None if holes is None else loops,
-                                       truth=truths, step=step, options=options,
-                                       keep_margins=keep_margins, islands=islands)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        comparisons, fills = compare_holes(vertices, faces, None if holes is None else loops,
+                                           truth=truths, step=step, options=options,
+                                           keep_margins=keep_margins, islands=islands)
     for c, index in zip(comparisons, hole_numbers(vertices, faces, loops), strict=True):
         c.index = index  # the numbering of `surfinpaint holes`
     panels_for(vertices, faces, comparisons, fills, out_dir, step=step)
     text = (f"{len(vertices)} vertices, {len(faces)} faces, {len(loops)} holes; "
             f"{time.perf_counter() - started:.1f} s in all.")
-    write_page(out_dir, [{"title": "Holes", "text": text, "comparisons": comparisons}],
-               title, LEGEND)
+    sections = [{"title": "Holes", "text": text, "comparisons": comparisons}]
+    said = [str(w.message) for w in caught]
+    if said:  # on the page, as `fill --json` lists them, and to the caller
+        sections.append({"title": "Warnings", "items": said})
+    write_page(out_dir, sections, title, LEGEND)
+    for w in caught:
+        warnings.warn(w.message, w.category, stacklevel=2)
     return comparisons
 
 
@@ -510,19 +548,27 @@ def run_report(args: argparse.Namespace) -> int:
                  "edges and bow-tie vertices")
         for note in repair.notes():
             says.say(f"--repair {note}")
-    warn_degenerate(vertices, faces, str(args.mesh))
-    truth = read_mesh(args.truth, data_warning=False) if args.truth else None
-    loops = select_holes(vertices, faces, args.holes, keep_margins=args.keep_margins)
-    if not loops:
-        says.say(f"{args.mesh}: nothing to fill "
-                 f"({nothing_to_fill(faces, keep_margins=args.keep_margins)})")
-    total = 2 + 2 * len(loops)  # the fills, the measurements, the panels
-    with progress_bar(says.progress, total, "filling") as step:
-        comparisons = write_report(vertices, faces, args.output, args.holes, truth=truth,
-                                   step=step, title=f"surfinpaint report: {args.mesh}",
-                                   keep_margins=args.keep_margins, islands=args.islands)
+    with warnings.catch_warnings(record=True) as caught:
+        # said once below, with the fills' (which say the degenerate faces again)
+        warnings.simplefilter("always")
+        warn_degenerate(vertices, faces, str(args.mesh))
+        truth = read_mesh(args.truth, data_warning=False) if args.truth else None
+        loops = select_holes(vertices, faces, args.holes, keep_margins=args.keep_margins)
+        if not loops:
+            says.say(f"{args.mesh}: nothing to fill "
+                     f"({nothing_to_fill(faces, keep_margins=args.keep_margins)})")
+        total = 2 + 2 * len(loops)  # the fills, the measurements, the panels
+        with progress_bar(says.progress, total, "filling") as step:
+            comparisons = write_report(vertices, faces, args.output, args.holes, truth=truth,
+                                       step=step, title=f"surfinpaint report: {args.mesh}",
+                                       keep_margins=args.keep_margins, islands=args.islands)
     for c in comparisons:
         says.say(hole_title(c).replace("\n", "; "))
+    # as `fill` says them: named, each once, those of a hole left to its title when the
+    # titles are printed
+    if says.warnings_console is not None:
+        print_warnings(says.warnings_console, count_warnings(caught), source=args.mesh,
+                       holes_said=says.progress)
     n = len(comparisons)
     says.say(f"wrote {Path(args.output) / 'index.html'} and {n} panel{'s' if n != 1 else ''}")
     return 0

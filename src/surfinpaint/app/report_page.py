@@ -13,6 +13,7 @@ from typing import Literal
 
 import numpy as np
 
+from surfinpaint.errors import how_many
 from surfinpaint.fill.conformal.method import NO_INNER_VERTEX
 from surfinpaint.io.atomic import atomic_open
 
@@ -80,6 +81,9 @@ class HoleComparison:
         The loops (by number) of the islands the hole was filled with
         (:attr:`~surfinpaint.fill.results.HoleReport.islands`: a faired fill, the λ-H
         method filling disks only); empty for a hole filled as a disk.
+    crossings : int
+        The written fill's triangles that cross the surface or another hole's fill
+        (:attr:`~surfinpaint.fill.results.HoleReport.crossings`; 0 for a clean fill).
     """
 
     index: int
@@ -98,6 +102,7 @@ class HoleComparison:
     written_panel: WrittenPanel = "C"
     skipped: str | None = None
     islands: tuple[int, ...] = ()
+    crossings: int = 0
 
 
 def _fmt(x: float, digits: int = 3) -> str:
@@ -192,7 +197,8 @@ def write_page(out_dir: str | os.PathLike,
 
     Each section is a dict with ``title``, optional ``text``, ``comparisons`` (a list of
     :class:`HoleComparison`, shown as a table with their pictures) and/or ``table``
-    (``(header, rows)``) and ``pictures`` (file names relative to ``out_dir``).
+    (``(header, rows)``), ``items`` (lines shown as a list: the warnings) and ``pictures``
+    (file names relative to ``out_dir``).
     """
     out_dir = Path(out_dir)
     md = [f"# {title}", ""]
@@ -206,6 +212,10 @@ def write_page(out_dir: str | os.PathLike,
         if section.get("text"):
             md += [section["text"], ""]
             body.append(f"<p>{html.escape(section['text'])}</p>")
+        if section.get("items"):
+            md += [f"- {item}" for item in section["items"]] + [""]
+            body.append("<ul>" + "".join(f"<li>{html.escape(item)}</li>"
+                                         for item in section["items"]) + "</ul>")
         tables = []
         pictures = list(section.get("pictures", []))
         if section.get("comparisons"):
@@ -254,6 +264,9 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
             written = f"{why}; the faired fill{order} is written"
         if c.written_panel in ("B", "W"):  # where (C) does not draw it
             written += f" ({c.written_panel})"
+    if c.crossings and not c.skipped:  # said here as `fill`'s hole line says it
+        crossing = how_many(c.crossings, "of its triangles crosses", "of its triangles cross")
+        written += f"; {crossing} the surface"
     text = (f"{name + ': ' if name else ''}hole {c.index}, {c.n_edges} boundary edges, "
             f"diameter {_fmt(c.diameter)}; {written}")
     if c.errors:

@@ -8,7 +8,7 @@ import argparse
 
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import positive_int, whole_number
-from surfinpaint.app.progress import QuietConsole, add_quiet
+from surfinpaint.app.progress import QuietConsole, add_quiet, warning_line
 from surfinpaint.errors import MeshError, MissingFileError
 from surfinpaint.io.formats import read_mesh, write_mesh
 from surfinpaint.lazy import lazy_module
@@ -46,24 +46,24 @@ def target_list(text: str) -> tuple[float, ...]:
     return targets
 
 
-def _print_round_trip(says: QuietConsole, check, what: str) -> None:
+def _print_round_trip(says: QuietConsole, check, what: str, source: str) -> None:
     """A round trip's line: a line of the report where it converged, else a warning (kept
-    by ``-q``)."""
+    by ``-q``) named for the input ``source``, as every command's warnings are."""
     from rich.markup import escape
 
     if check.converged:
         says.say(f"{what} [green]{escape(check.summary())}[/green]")
     else:
-        says.warn(f"[yellow]warning:[/yellow] {what} [red]{escape(check.summary())}[/red]")
+        says.warn(warning_line(f"{what} {check.summary()}", source))
 
 
-def _print_export(says: QuietConsole, form) -> None:
+def _print_export(says: QuietConsole, form, source: str) -> None:
     """A resampled form's own round trip, named by its kind and size."""
     if form.check is None:
         return
     size = exports.form_size(form)
     _print_round_trip(says, form.check, f"quadtree export ({size}):"
-                      if form.discretization == "quadtree" else f"grid export {size}:")
+                      if form.discretization == "quadtree" else f"grid export {size}:", source)
 
 
 def _check_represent_options(args: argparse.Namespace) -> None:
@@ -108,7 +108,8 @@ def run_represent(args: argparse.Namespace) -> int:
     rep.save(args.output)
     written = [str(args.output)]
     if rep.check is not None:
-        _print_round_trip(says, rep.check, f"{rep.discretization} representation:")
+        _print_round_trip(says, rep.check, f"{rep.discretization} representation:",
+                          str(args.mesh))
     if args.export_grid:
         with says.stages() as stage:
             exported = exports.grid_export(rep, args.resolution,
@@ -116,20 +117,20 @@ def run_represent(args: argparse.Namespace) -> int:
                                                   **grid)
         exported.save(args.export_grid)
         written.append(str(args.export_grid))
-        _print_export(says, exported)
+        _print_export(says, exported, str(args.mesh))
     if args.export_quadtree:
         with says.stages() as stage:
             trees = exports.quadtree_export(rep, check=not args.no_check,
                                                    progress=stage, **_quadtree_options(args))
         trees.save(args.export_quadtree)
         written.append(str(args.export_quadtree))
-        _print_export(says, trees)
+        _print_export(says, trees, str(args.mesh))
     if args.export:
         with says.stages() as stage:
             form = exports.resampled_export(rep, check=not args.no_check, progress=stage)
         form.save(args.export)
         written.append(str(args.export))
-        _print_export(says, form)
+        _print_export(says, form, str(args.mesh))
     if args.png:
         lambda_h_figures.plot_representation(rep, args.png)
         written.append(str(args.png))
@@ -166,7 +167,7 @@ def run_rebuild(args: argparse.Namespace) -> int:
             out = representation.rebuild(rep, progress=stage)
     write_mesh(args.output, out.vertices, out.faces)
     _print_round_trip(says, representation.round_trip(rep, out),
-                      "against the stored original:")
+                      "against the stored original:", str(args.representation))
     says.say(f"wrote {args.output}")
     return 0
 

@@ -7,9 +7,16 @@ the mesh: the other bank of a brain's fold, the other side of a thin part. The n
 a hole is filled in may not even hold that surface. :func:`far_crossing_counts` checks each
 fill against the rest of the original faces near it, after all fills; the pipeline warns
 where it finds any. No fill is changed by it.
+
+Each hole is filled without the others' fills (they may be made at once, in worker
+processes), so two holes near in space can have fills that cross each other:
+:func:`crossing_fill_pairs` finds them, after all fills, and the pipeline warns naming both
+holes. No fill is changed by it either.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -17,7 +24,7 @@ import scipy.sparse as sp
 from surfinpaint.fill.parallel import CROSSING_RINGS
 from surfinpaint.geometry.intersection import intersecting_pairs
 
-__all__ = ["far_crossing_counts"]
+__all__ = ["CrossingFills", "crossing_fill_pairs", "far_crossing_counts"]
 
 
 def _within_rings(faces: np.ndarray, vertex_faces: sp.csr_matrix, loop: np.ndarray,
@@ -92,3 +99,63 @@ def far_crossing_counts(vertices: np.ndarray, faces: np.ndarray, vertex_faces: s
         pairs = intersecting_pairs(v, fill, other) if len(other) else ()
         counts.append(int(len(np.unique(pairs[:, 0]))) if len(pairs) else 0)
     return counts
+
+
+class CrossingFills(NamedTuple):
+    """Two fills that cross each other: their positions in the list of fills, and how
+    many triangles of each cross the other's."""
+
+    first: int
+    second: int
+    first_triangles: int
+    second_triangles: int
+
+
+def crossing_fill_pairs(vertices: np.ndarray,
+                        hole_faces: list[np.ndarray]) -> list[CrossingFills]:
+    """The pairs of fills whose triangles cross (pierce or overlap) each other.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+        The filled mesh's vertices.
+    hole_faces : list of (k, 3) int arrays
+        Each fill's faces (ids into ``vertices``).
+
+    Returns
+    -------
+    list of CrossingFills
+        In the order of the first fill, then the second (``first < second``). Fills that
+        share loop vertices (two holes meeting at a vertex) touch there, which is not a
+        crossing (:func:`~surfinpaint.geometry.intersection.triangles_intersect`).
+
+    Notes
+    -----
+    Only the pairs whose bounding boxes overlap are tested, triangle by triangle
+    (:func:`~surfinpaint.geometry.intersection.intersecting_pairs`): the boxes are swept
+    along x (sorted by their low x, each box meets the run of those that start before it
+    ends), then compared in y and z. Fills far apart, the rule, cost one box each.
+    """
+    v = np.asarray(vertices, dtype=float)
+    fills = [np.asarray(f, dtype=np.int64).reshape(-1, 3) for f in hole_faces]
+    made = np.flatnonzero([len(f) > 0 for f in fills])
+    if len(made) < 2:
+        return []
+    low = np.array([v[fills[k]].min(axis=(0, 1)) for k in made])
+    high = np.array([v[fills[k]].max(axis=(0, 1)) for k in made])
+    # the sweep: by low x, box i meets in x the boxes after it that start before it ends
+    order = np.argsort(low[:, 0], kind="stable")
+    ends = np.searchsorted(low[order, 0], high[order, 0], side="right")
+    runs = np.maximum(ends - np.arange(1, len(order) + 1), 0)
+    first = np.repeat(np.arange(len(order)), runs)
+    second = np.arange(len(first)) - np.repeat(np.cumsum(runs) - runs, runs) + first + 1
+    a, b = order[first], order[second]
+    meet = ((low[a] <= high[b]) & (low[b] <= high[a])).all(axis=1)
+    a, b = np.minimum(a[meet], b[meet]), np.maximum(a[meet], b[meet])
+    out = []
+    for i, j in sorted(zip(made[a].tolist(), made[b].tolist(), strict=True)):
+        pairs = intersecting_pairs(v, fills[i], fills[j])
+        if len(pairs):
+            out.append(CrossingFills(i, j, len(np.unique(pairs[:, 0])),
+                                     len(np.unique(pairs[:, 1]))))
+    return out

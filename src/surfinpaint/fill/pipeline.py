@@ -14,13 +14,13 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from surfinpaint.errors import HoleWarning, preview
+from surfinpaint.errors import HoleWarning, how_many, preview
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import ATTRIBUTE_KINDS, check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
-from surfinpaint.fill.far_crossings import far_crossing_counts
+from surfinpaint.fill.far_crossings import crossing_fill_pairs, far_crossing_counts
 from surfinpaint.fill.hole_steps import Run, fill_hole, skip
 from surfinpaint.fill.holes import (
     BORDER_SPAN_FRACTION,
@@ -427,8 +427,9 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
     their hole and topology changes (each also a warning, at the caller of
     ``fill_holes``)."""
     result = mesh.result(reports, repaired[0])
+    hole_faces = result.hole_faces()
     for report, far in zip(reports, far_crossing_counts(
-            result.vertices, mesh.faces, mesh.vertex_faces, result.hole_faces(),
+            result.vertices, mesh.faces, mesh.vertex_faces, hole_faces,
             [r.loop for r in reports]), strict=True):
         if far:
             warnings.warn(f"hole {report.index}: {far} triangle{'s' * (far > 1)} of the fill "
@@ -436,6 +437,17 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
                           "around the hole checked as it was filled (a fold or a thin part, "
                           "near in space): check the result", HoleWarning, stacklevel=3)
             report.crossings += far
+    for pair in crossing_fill_pairs(result.vertices, hole_faces):
+        one, other = reports[pair.first], reports[pair.second]
+        # not a HoleWarning: the hole lines count these triangles, only this names both
+        warnings.warn(f"holes {one.index} and {other.index}: "
+                      f"{how_many(pair.first_triangles, 'triangle', 'triangles')} of hole "
+                      f"{one.index}'s fill cross{'es' * (pair.first_triangles == 1)} "
+                      f"{pair.second_triangles} of hole {other.index}'s (two holes near in "
+                      "space, each filled without the other's fill): check the result",
+                      MeshWarning, stacklevel=3)
+        one.crossings += pair.first_triangles
+        other.crossings += pair.second_triangles
     result.flipped_faces = repaired[1]
     result.merged_vertices = merged
     result = _with_attributes(result, *attributes)

@@ -295,11 +295,13 @@ class HoleReport:
     that a crease crossing the hole was continued across it (``crease_failure``: that its crease
     fill failed and it was filled as smooth), ``diagnostics`` what the λ-H pass used, and
     ``crossings`` how many of the written fill's triangles cross the surface around the hole
-    (a warning says so; see :class:`Fill`), ``plane`` the plane test's verdict where the
-    faired fill was laid on the plane (or two planes) of the surface around the hole
-    (``note`` says so). ``islands``: the loops (by number) of the islands the hole was
-    filled with (:mod:`surfinpaint.fill.islands`: a faired fill of the annulus between the
-    loops; ``note`` names their pieces).
+    (see :class:`Fill`), farther out, or another hole's fill
+    (:mod:`surfinpaint.fill.far_crossings`; a warning says so, naming both holes for the
+    last), ``plane`` the plane test's verdict where the faired fill was laid on the plane
+    (or two planes) of the surface around the hole (``note`` says so). ``islands``: the
+    loops (by number) of the islands the hole was filled with
+    (:mod:`surfinpaint.fill.islands`: a faired fill of the annulus between the loops;
+    ``note`` names their pieces).
     """
 
     index: int
