@@ -167,7 +167,7 @@ def test_a_hole_whose_neighbourhood_holds_a_zero_area_face_is_skipped_or_refused
     f[beside] = rolled
     sv, sf, sliver = _sliver(v, f, beside)
     plain, _ = _fill(v, f, method="fair")
-    with pytest.warns(HoleWarning, match=rf"hole 0: 1 faces of zero area .* lie in the "
+    with pytest.warns(HoleWarning, match=rf"hole 0: 1 face of zero area .* lies in the "
                                          rf"neighbourhood its fill uses: {sliver} "):
         result = fill_holes(sv, sf, method="fair", jobs=1)
     skipped, other = result.reports
@@ -178,7 +178,7 @@ def test_a_hole_whose_neighbourhood_holds_a_zero_area_face_is_skipped_or_refused
     np.testing.assert_array_equal(result.vertices[len(sv):],
                                   plain.vertices[-other.new_vertices:])
     # named by the caller: an error naming the hole and the face
-    with pytest.raises(MeshError, match=rf"hole 0: 1 faces of zero area.*{sliver} ") as err:
+    with pytest.raises(MeshError, match=rf"hole 0: 1 face of zero area.*{sliver} ") as err:
         fill_holes(sv, sf, holes=[0], method="fair", jobs=1)
     assert err.value.faces == [sliver]
 
@@ -247,7 +247,7 @@ def test_the_lambda_h_fill_works_around_a_zero_area_face_outside_the_faired_fill
         np.testing.assert_array_equal(result.faces, serial.faces)
     first = result.reports[0]
     assert first.outcome == "faired" and first.fallback.startswith(
-        f"not tried: 1 faces of zero area (collinear or coincident corners) lie in the rings "
+        f"not tried: 1 face of zero area (collinear or coincident corners) lies in the rings "
         f"it and its self-check use: {sliver} ")
     assert f"hole 0: conformal fill failed ({first.fallback}); used the faired fill (order 2) "\
         "instead" in said
@@ -261,7 +261,7 @@ def test_the_lambda_h_fill_works_around_a_zero_area_face_outside_the_faired_fill
 @pytest.mark.parametrize("method", ["fair", "conformal"])
 def test_a_zero_area_face_within_the_faired_fills_rings_leaves_the_hole_open(method):
     v, f, sv, sf, sliver = _sliver_rings_away(2)
-    with pytest.warns(HoleWarning, match=rf"hole 0: 1 faces of zero area .*: {sliver} "):
+    with pytest.warns(HoleWarning, match=rf"hole 0: 1 face of zero area .*: {sliver} "):
         result = fill_holes(sv, sf, method=method, jobs=1)
     assert result.reports[0].skipped and len(result.faces) == len(sf)
 
@@ -320,7 +320,7 @@ def test_report_skips_a_hole_beside_a_zero_area_face_unless_it_is_named(tmp_path
     assert main(["report", str(source), "-o", str(out_dir)]) == 0
     out = capsys.readouterr()
     out = out.out + out.err
-    said = f"hole 0: 1 faces of zero area (collinear or coincident corners) lie in the " \
+    said = f"hole 0: 1 face of zero area (collinear or coincident corners) lies in the " \
            f"neighbourhood its fill uses: {sliver} "
     # the hole's title says it, as `fill`'s hole line does; not again as a warning (session
     # 39: the warnings printed as `fill` prints them)

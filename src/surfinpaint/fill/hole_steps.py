@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from surfinpaint.errors import HoleWarning, MeshError
+from surfinpaint.errors import HoleWarning, MeshError, how_many
 from surfinpaint.fill import parallel
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
@@ -58,6 +58,12 @@ def skip(report: HoleReport, reason: str, category: type[Warning] = HoleWarning,
         warnings.warn(message, category, stacklevel=stacklevel)
 
 
+def _zero_area_faces_lie(n: int) -> str:
+    """``n`` faces of zero area, said with the verb that agrees: "1 face ... lies"."""
+    return how_many(n, "face of zero area (collinear or coincident corners) lies",
+                    "faces of zero area (collinear or coincident corners) lie")
+
+
 def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
     """Why the hole cannot be filled (None: it can); a hole the caller named is an error.
 
@@ -67,8 +73,8 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
     A neighbourhood that holds faces of zero area is refused too: the fill's cotangent
     weights, normals and conformal map are undefined on them."""
     if len(local.zero_area):
-        message = (f"{len(local.zero_area)} faces of zero area (collinear or coincident "
-                   f"corners) lie in the neighbourhood its fill uses: {local.zero_area_text}"
+        message = (f"{_zero_area_faces_lie(len(local.zero_area))} in the neighbourhood its "
+                   f"fill uses: {local.zero_area_text}"
                    "; their angles and normals are undefined")
         if explicit:
             raise MeshError(f"hole {index}: {message}; a hole not named (leave it out of "
@@ -142,8 +148,8 @@ def around_zero_area(mesh: FilledMesh, local: Local, run: Run
     near = mesh.cut(local.loop, FAIR_NEIGHBOURHOOD_RINGS)
     if len(near.zero_area):
         return local, run, None  # refused by loop_problem
-    why = (f"not tried: {len(local.zero_area)} faces of zero area (collinear or coincident "
-           f"corners) lie in the rings it and its self-check use: {local.zero_area_text}; "
+    why = (f"not tried: {_zero_area_faces_lie(len(local.zero_area))} in the rings it and "
+           f"its self-check use: {local.zero_area_text}; "
            f"none in the faired fill's {FAIR_NEIGHBOURHOOD_RINGS}")
     return near, dataclasses.replace(run, method="fair"), why
 

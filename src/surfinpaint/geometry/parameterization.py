@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse import csgraph
 
-from surfinpaint.errors import MeshError, preview
+from surfinpaint.errors import MeshError, how_many, preview
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import (
     factorized_definite,
@@ -141,8 +141,10 @@ def _check_triangles(v: np.ndarray, f: np.ndarray) -> np.ndarray:
     scale = max(float(np.ptp(v[used], axis=0).max()), 1e-300)
     degenerate = np.flatnonzero(area <= 1e-14 * scale**2)
     if len(degenerate):
+        said = how_many(len(degenerate), "degenerate (zero-area) triangle",
+                        "degenerate (zero-area) triangles")
         raise MeshError(
-            f"{len(degenerate)} degenerate (zero-area) triangles: faces {preview(degenerate)}",
+            f"{said}: faces {preview(degenerate)}",
             faces=degenerate,
         )
     return used
