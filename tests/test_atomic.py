@@ -65,6 +65,28 @@ def test_the_content_reaches_the_disk_before_the_rename(tmp_path, monkeypatch, w
     assert target.read_bytes() == b"12345"
 
 
+def test_a_read_only_target_is_replaced(tmp_path, monkeypatch):
+    # the temporary file is synced while it is still the writer's own (0o600): given the
+    # target's read-only mode first, a user who is not root could not open it to fsync it
+    # (simulated here, as root may open anything)
+    real_open = os.open
+
+    def permission_checked_open(path, flags, *args, **kwargs):
+        writes = flags & (os.O_WRONLY | os.O_RDWR)
+        if writes and os.path.exists(path) and not os.stat(path).st_mode & 0o200:
+            raise PermissionError(13, "Permission denied", path)
+        return real_open(path, flags, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", permission_checked_open)
+    target = tmp_path / "frozen.txt"
+    target.write_text("old")
+    target.chmod(0o444)
+    with atomic_open(target, "w") as handle:
+        handle.write("new")
+    assert target.read_text() == "new"
+    assert target.stat().st_mode & 0o777 == 0o444
+
+
 def test_success_replaces_with_normal_mode_and_keeps_an_existing_mode(tmp_path):
     new = tmp_path / "new.bin"
     with atomic_open(new) as handle:

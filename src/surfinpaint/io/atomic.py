@@ -49,8 +49,8 @@ def atomic_path(path: str | os.PathLike, *, suffix: str = ".tmp") -> Iterator[st
     """Yield the name of a temporary file that replaces ``path`` when the block succeeds.
 
     For writers that want a file name (matplotlib, VTK, nibabel); :func:`atomic_open` for a
-    handle. When the block succeeds the file (which the block must have closed) is given its
-    permissions, fsynced and renamed onto ``path``.
+    handle. When the block succeeds the file (which the block must have closed) is fsynced,
+    given its permissions and renamed onto ``path``.
 
     Parameters
     ----------
@@ -70,8 +70,8 @@ def atomic_path(path: str | os.PathLike, *, suffix: str = ".tmp") -> Iterator[st
     tmp = _create_temporary(directory, target.name, suffix)
     try:
         yield tmp
+        _sync(tmp)  # before the chmod: a read-only target's mode would refuse the open
         os.chmod(tmp, new_file_mode(target))
-        _sync(tmp)
         os.replace(tmp, target)
     except BaseException:
         _remove(tmp)
@@ -108,7 +108,8 @@ def _create_temporary(directory: Path, name: str, suffix: str) -> str:
 
 
 def _sync(tmp: str) -> None:
-    """Write the content of the (closed) file ``tmp`` to the disk before it is renamed."""
+    """Write the content of the (closed) file ``tmp``, still private and writable by its
+    owner, to the disk before it is renamed."""
     # read-write: fsync needs a writable descriptor on some systems (Windows' _commit)
     fd = os.open(tmp, os.O_RDWR | getattr(os, "O_BINARY", 0))
     try:
