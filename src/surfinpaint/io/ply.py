@@ -394,18 +394,34 @@ def write_ply(fh, tmp: str, mesh: MeshData, ascii: bool) -> None:
     lines += [f"property {_PLY_NAMES[a.dtype.str[1:]]} {n}" for n, a in fcols]
     lines += [f"property list uchar {_PLY_NAMES[a.dtype.str[1:]]} {n}" for n, a in corners]
     fh.write(("\n".join(lines) + "\nend_header\n").encode("utf-8"))
-    face_cols = ([("\0n", np.full(len(f), 3, np.uint8)), ("\0i", f.astype("i4"))] + fcols
+    face_cols = ([("\0n", np.full(len(f), 3, np.uint8)), ("\0i", f)] + fcols
                  + [c for n, a in corners
                     for c in ((f"{n}\0n", np.full(len(f), a.shape[1], np.uint8)), (n, a))])
     for cols in (vcols, face_cols):
         if ascii:
             _ascii_rows(fh, cols)
         else:
-            fields = [(n, "<" + a.dtype.str[1:], a.shape[1:]) for n, a in cols]
-            rec = np.empty(len(cols[0][1]), dtype=fields)
-            for n, a in cols:
-                rec[n] = a
-            fh.write(rec.view(np.uint8))  # its bytes, without a copy of them
+            _binary_rows(fh, cols, {"\0i": "<i4"})  # the corners' ids as the header's int
+
+
+# rows encoded and written per block of this many: a block's record buffer (1.5 MB for
+# x y z doubles) is reused, where one record array per element was fresh memory the size of
+# the element's bytes (32 MB for the 651k case's output: 47 -> 30 ms CPU, session 39)
+BINARY_BLOCK_ROWS = 65536
+
+
+def _binary_rows(fh, cols: list[tuple[str, np.ndarray]], types: dict[str, str]) -> None:
+    """Little-endian binary rows: the columns interleaved, one record per row, the columns
+    in the record types ``types`` where named there (cast as numpy's ``astype`` does), else
+    in their own."""
+    fields = [(n, types.get(n, "<" + a.dtype.str[1:]), a.shape[1:]) for n, a in cols]
+    n_rows = len(cols[0][1])
+    records = np.empty(min(n_rows, BINARY_BLOCK_ROWS), dtype=fields)
+    for start in range(0, n_rows, BINARY_BLOCK_ROWS):
+        block = records[:min(BINARY_BLOCK_ROWS, n_rows - start)]
+        for n, a in cols:
+            block[n] = a[start:start + len(block)]
+        fh.write(block.view(np.uint8))  # its bytes, without a copy of them
 
 
 def _ascii_rows(fh, cols: list[tuple[str, np.ndarray]]) -> None:
