@@ -45,6 +45,7 @@ from surfinpaint.representation.coupled_jacobian import (
     lagged_update_jacobian,
     newton_step,
 )
+from surfinpaint.representation.curvature_pull import start_pull
 from surfinpaint.representation.krylov import gmres_cycle
 from surfinpaint.representation.least_squares import AndersonMixing, levenberg_marquardt
 from surfinpaint.representation.vertex_lambda_h import border_vertices, vertex_lambda_h
@@ -198,12 +199,12 @@ def inpaint_on_mesh(
 
 
 def coupled_system(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: np.ndarray,
-                   natural: np.ndarray | None = None) -> _CoupledSystem:
+                   natural: np.ndarray | None = None, pull: float = 0.0) -> _CoupledSystem:
     """The coupled λ-H system of a patch (:func:`inpaint_on_mesh`'s arguments), for its
     solve and, where that fails, its least-squares stage (:func:`least_squares_on_mesh`):
     the same matrices and factorizations, made once. Each solve sets what the system
     keeps (λ, the last update) from the positions it starts from, so either outcome is
-    the one it has on a system of its own (session 37 helper).
+    the one it has on a system of its own (session 37 helper). ``pull``: :mod:`.curvature_pull`.
 
     Raises
     ------
@@ -212,7 +213,7 @@ def coupled_system(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: 
     """
     with blas_controller().limit(limits=1, user_api="blas"):
         return _CoupledSystem(np.asarray(points, dtype=float), np.asarray(faces, dtype=np.int64),
-                              uv, np.asarray(free, dtype=bool), natural)
+                              uv, np.asarray(free, dtype=bool), natural, pull)
 
 
 def least_squares_on_mesh(
@@ -348,12 +349,11 @@ class _CoupledSystem:
     # the curvature term's weight: the rebuild solves L φ = curvature · M 2λ²H n
     curvature = 1.0
 
-    def __init__(self, points, faces, uv, free, natural=None):
+    def __init__(self, points, faces, uv, free, natural=None, pull=0.0):
         self.points, self.faces = points, faces
         f = self.f = np.flatnonzero(free)
         fixed = np.flatnonzero(~free)
-        L, area = laplacian_and_areas(uv, faces)
-        self.area = area
+        L, area = self.L, self.area = laplacian_and_areas(uv, faces)
         if (area <= 0).any():
             raise FillError("the parameter map has vertices with no area")
         Q = (L @ sp.diags(1.0 / area) @ L).tocsr()
@@ -372,13 +372,15 @@ class _CoupledSystem:
         self.L_ff = L_ff  # (the Newton steps' L̃ = L_ff ⊗ I₃)
         L_tf, L_tk = L_t[:, f], L_t[:, fixed]
         Q_ff, self.Q_ft, self.Q_fs = Q_f[:, U].tocsc(), Q_f[:, tied], Q_f[:, stencil]
+        Q_ff, self.h_pull, Q_lam, self.lam_pull = start_pull(Q_ff, Q_rows_f[:, f], points,
+                                                             faces, uv, f, area, pull)
         self.Q_fk, self.fixed = Q_rows_f[:, fixed], fixed
         try:
             # L_ff (the stiffness matrix with the fixed vertices out) and Q's blocks are
             # definite: factored without pivoting (geometry.linalg.definite_lu)
             self.L_lu, self.Q_lu = definite_lu(L_ff), definite_lu(Q_ff)
-            # λ has data on the crease (its one-sided areas): the plain biharmonic over f
-            self.lam_lu = self.Q_lu if len(crease) == 0 else definite_lu(Q_rows_f[:, f])
+            # λ: the biharmonic over f (its data on a crease are its one-sided areas)
+            self.lam_lu = self.Q_lu if not (len(crease) or pull) else definite_lu(Q_lam)
         except RuntimeError as exc:  # SuperLU: exactly singular
             raise FillError(f"the λ-H system on the patch is singular: {exc}") from exc
         self.g = self.L_lu.solve(-(L_fk @ points[fixed]))
@@ -397,7 +399,6 @@ class _CoupledSystem:
             self.inner[border] = 0.0
             self.adjacency = A.astype(float)[self.natural_data]  # the mesh's neighbours
             self.weight = np.maximum(self.adjacency @ self.inner, 1.0)
-        self.L = L
         self.H_stencil = self.stencil_H(points)
         # λ changes at the vertices whose faces touch a free one, the normals likewise
         self.moving = np.union1d(f, reach)
@@ -458,7 +459,7 @@ class _CoupledSystem:
         normals, areas = vertex_normals_and_areas(phi, self.near)  # at the moving vertices
         m = self.moving
         lam[m] = np.sqrt(areas[m] / area[m])
-        lam[f] = self.lam_lu.solve(-(self.Q_fk @ lam[self.fixed]))
+        lam[f] = self.lam_lu.solve(self.lam_pull - self.Q_fk @ lam[self.fixed])
         s = 2.0 * lam**2
         w_n = normals[tied] / (area[tied] * s[tied])[:, None]  # (t, 3)
         d_n = normals[f] * (area[f] * s[f])[:, None]  # (m, 3)
@@ -469,7 +470,7 @@ class _CoupledSystem:
         if self.n_crease:  # H on a crease: no φ
             K = np.hstack([K, np.zeros((len(tied), self.n_crease))])
         b = (-(self.Q_ft @ np.einsum("ij,ij->i", w_n, self.L_t_phi))
-             - self.Q_fs @ H_stencil)
+             - self.Q_fs @ H_stencil + self.h_pull)  # (h_pull: 0 without a pull)
         y = self.Q_lu.solve(b)
         Y = self.Y
         try:

@@ -213,7 +213,7 @@ class Candidates:
                 positions, patch, used, mesh = inpaint_patch_on_mesh(
                     all_v, faces, loop, new_f, moving, rings=rings,
                     iterations=o.solver_iterations, tol=tol, cut_edges=cut_edges,
-                    subdivide=not test, lattice_after=lattice_after)
+                    subdivide=not test, lattice_after=lattice_after, pull=o.curvature_pull)
                 all_v[moving] = positions
             diagnostics = LambdaHDiagnostics("mesh", used, mesh=mesh)
         else:

@@ -65,6 +65,7 @@ def inpaint_patch_on_mesh(
     cut_edges: np.ndarray | None = None,
     subdivide: bool = True,
     lattice_after: str = "",
+    pull: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray, int, MeshLambdaH]:
     """λ-H inpainting of a filled hole on its patch's own triangles
     (:func:`surfinpaint.representation.on_mesh.inpaint_on_mesh`).
@@ -108,6 +109,9 @@ def inpaint_patch_on_mesh(
         (a fold-over at every damping step: the caller's retry,
         :meth:`surfinpaint.fill.conformal.candidates.Candidates.lambda_h`). Not on the
         sides of a crease.
+    pull : float
+        H's inpainting pulled towards the start's own H by this weight
+        (:mod:`surfinpaint.representation.curvature_pull`); 0 (default): not.
 
     Returns
     -------
@@ -130,15 +134,15 @@ def inpaint_patch_on_mesh(
     if cut_edges is None:
         return _inpaint_piece(vertices, faces, loop, fill_faces, moving, rings=rings,
                               iterations=iterations, tol=tol, subdivide=subdivide,
-                              lattice_after=lattice_after)
+                              lattice_after=lattice_after, pull=pull)
     if lattice_after:
         raise FillError(f"{lattice_after}; no lattice on the sides of a crease")
     return _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, rings=rings,
-                                 iterations=iterations, tol=tol)
+                                 iterations=iterations, tol=tol, pull=pull)
 
 
 def _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, *, rings,
-                          iterations, tol):
+                          iterations, tol, pull=0.0):
     """:func:`inpaint_patch_on_mesh` with ``cut_edges``: the mesh cut open along the crease
     and each side of it inpainted as a patch of its own (:func:`_inpaint_piece`, the larger
     fill first), the crease a natural border. The patch returned is the fill's faces and
@@ -159,7 +163,7 @@ def _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, *, rin
         seeds = np.unique(piece_fill[~free[piece_fill]])
         new, patch, piece_rings, lambda_h = _inpaint_piece(
             points, cut_known, seeds, piece_fill, piece_moving, rings=rings,
-            iterations=iterations, tol=tol, natural=natural)
+            iterations=iterations, tol=tol, natural=natural, pull=pull)
         positions[order[np.searchsorted(moving[order], parent[piece_moving])]] = new
         ring_faces.append(parent[patch[len(piece_fill):]])
         first = first or lambda_h
@@ -171,7 +175,7 @@ def _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, *, rin
 
 
 def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterations, tol,
-                   natural=None, subdivide=False, lattice_after=""):
+                   natural=None, subdivide=False, lattice_after="", pull=0.0):
     """:func:`inpaint_patch_on_mesh` of one patch, grown from ``seeds`` over ``faces``.
 
     Where the patch is too thin for the biharmonic stencil (its rings stopped short, e.g.
@@ -200,13 +204,14 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
         try:
             if lattice_after:
                 new_points, lattice = _on_lattice(points, local, uv, free, len(fill_faces),
-                                                  natural_ids, iterations, tol, lattice_after)
+                                                  natural_ids, iterations, tol, lattice_after,
+                                                  pull)
                 least_squares = LeastSquaresFill(np.nan, np.nan, lattice_after,
                                                  lattice=lattice, folded=lattice_after)
             else:
                 new_points, least_squares = _solve_or_subdivide(
                     points, local, uv, free, len(fill_faces), natural_ids, iterations, tol,
-                    subdivide)
+                    subdivide, pull)
             break
         except ThinPatchError:
             if all_natural:
@@ -218,7 +223,7 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
 
 
 def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, tol,
-                        subdivide):
+                        subdivide, pull=0.0):
     """The coupled solve on the patch, and where it fails (not for want of rings), on the
     patch split once into four onto its smooth interpolant (:func:`_subdivided`), read back
     at the patch's own vertices.
@@ -260,7 +265,7 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     system = None  # the patch's coupled system, made once for the solve and the last stage
     try:
         if free.any():
-            system = coupled_system(points, local, uv, free, natural)
+            system = coupled_system(points, local, uv, free, natural, pull)
         return inpaint_on_mesh(points, local, uv, free, iterations=iterations, tol=tol,
                                natural=natural, system=system), None
     except ThinPatchError:
@@ -276,7 +281,8 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
             fine = _subdivided(points, local, uv, free, n_fill, natural)
             try:
                 out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3],
-                                      iterations=iterations, tol=tol, natural=fine[4])
+                                      iterations=iterations, tol=tol, natural=fine[4],
+                                      system=coupled_system(*fine, pull) if pull else None)
             except FillError as exc:
                 failure = f"{coarse}; on the patch subdivided once: {exc}"
             else:
@@ -289,7 +295,7 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     failure = (f"{failure}; the least-squares stage ends at a residual of {residual:.2g} "
                f"edge lengths (curvature weight {weight:.2g} reached)")
     positions, lattice = _on_lattice(points, local, uv, free, n_fill, natural, iterations,
-                                     tol, failure)
+                                     tol, failure, pull)
     return positions, LeastSquaresFill(residual, weight, failure, lattice=lattice)
 
 
@@ -314,7 +320,8 @@ def continuation_paused(solves: int, failures: int) -> bool:
     return failures > 0 or solves >= CONTINUATION_FIRST
 
 
-def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failure):
+def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failure,
+                pull=0.0):
     """The coupled solve on the patch resampled on an equilateral lattice of its map
     (:func:`~surfinpaint.fill.conformal.lattice.lattice_patch`), of the spacings
     ``LATTICE_PER_EDGE`` in turn, read back at the patch's free vertices; and the number of
@@ -342,7 +349,10 @@ def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failu
                 continue
             spacings.append(lattice.spacing)
             fine = inpaint_on_mesh(lattice.points, lattice.faces, lattice.uv, lattice.free,
-                                   iterations=iterations, tol=tol)
+                                   iterations=iterations, tol=tol,
+                                   system=coupled_system(lattice.points, lattice.faces,
+                                                         lattice.uv, lattice.free, pull=pull)
+                                   if pull else None)
         except FillError as exc:
             reasons.append(f"{per_edge:g} per edge: {exc}")
             continue

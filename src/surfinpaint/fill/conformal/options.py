@@ -193,6 +193,11 @@ class ConformalOptions:
         (:func:`surfinpaint.fill.conformal.selection.demoted`); else the next choice down.
         Default ``SIGNIFICANCE`` = 2.326 (one-sided 1 %; docs/selfcheck.md, "Session 26: a
         noise-aware self-check on scans"). None: the scores alone decide.
+    curvature_pull : float
+        Mesh discretization: the biharmonic inpainting of H over the hole pulled towards
+        S0's own H with this weight (:mod:`surfinpaint.representation.curvature_pull`).
+        0 (default): not pulled. A candidate of session 39 (docs/error_sources.md), not
+        adopted.
     """
 
     start: str = "fair"
@@ -212,6 +217,7 @@ class ConformalOptions:
     s0_refinement: str = "liepa"
     plane_test: bool = True
     significance: float | None = SIGNIFICANCE
+    curvature_pull: float = 0.0
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
@@ -228,6 +234,8 @@ class ConformalOptions:
             _positive_number("solver_tol", self.solver_tol)
         if self.significance is not None:
             _positive_number("significance", self.significance)
+        if self.curvature_pull != 0.0:
+            _positive_number("curvature_pull", self.curvature_pull)
         _positive_int("hide_rings", self.hide_rings)
         _positive_int("siblings", self.siblings, minimum=0)
         _positive_int("gap_rings", self.gap_rings, minimum=0)
