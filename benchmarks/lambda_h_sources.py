@@ -43,6 +43,7 @@ on every hole of a tuning-side set, with the self-check on (``conformal``), and 
 measures against main's rows of ``smooth_selfcheck_study.py`` (its fair2, fair3 and CGAL
 fills; the written fill replaced by the candidate's):
 
+    python benchmarks/lambda_h_sources.py --pulls 0,0.03,0.1 --out /tmp/w.jsonl  # 30 holes
     python benchmarks/lambda_h_sources.py --set smooth_tuning --pull 0.1 --out /tmp/p.jsonl
     python benchmarks/lambda_h_sources.py --compare main_rows.jsonl ... --with /tmp/p.jsonl
 """
@@ -356,6 +357,31 @@ def run(out: Path, wanted) -> None:
               + f" ({row['seconds']:.0f} s) {row['notes']}", file=sys.stderr, flush=True)
 
 
+def run_pulls(weights: list[float], out: Path) -> None:
+    """The library's λ-H fill (S0 = fair3, ``Candidates.lambda_h``) with each
+    ``curvature_pull`` of ``weights`` on the 30 holes: errors ``w<weight>``."""
+    for which, mesh_id, k, cut in cuts(MISSES + WINS):
+        vertices, faces, loop = cut.vertices, cut.faces, cut.loop
+        s0 = faired_fills(vertices, faces, loop, [2, 3])[3][:2]  # as Candidates makes S0
+        row = {"set": which, "mesh": mesh_id, "hole": k,
+               "group": "miss" if (which, mesh_id, k) in MISSES else "win"}
+        for w in weights:
+            options = ConformalOptions(curvature_pull=w)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                try:
+                    lh = Candidates.for_hole(vertices, faces, loop, options).lambda_h(
+                        vertices, faces, loop, s0)
+                    row[f"w{w:g}"] = error_pct(np.vstack([vertices, lh.vertices]), lh.faces,
+                                               cut)
+                except FillError:
+                    row[f"w{w:g}"] = float("nan")
+        with out.open("a") as fh:
+            fh.write(json.dumps(row) + "\n")
+        print(f"{mesh_id} #{k}: " + " ".join(f"{w:g} {row[f'w{w:g}']:.3f}" for w in weights),
+              file=sys.stderr, flush=True)
+
+
 def run_set(which: str, pull: float, out: Path, samples: int = 10000) -> None:
     """The written fill (self-check on) with ``curvature_pull=pull`` on every hole of the
     set ``which``, scored as ``smooth_selfcheck_study.py`` scores ``conformal``."""
@@ -459,6 +485,7 @@ def main() -> None:
     parser.add_argument("--only", choices=("miss", "win"))
     parser.add_argument("--set", choices=(*study.SETS, "animals"))
     parser.add_argument("--pull", type=float, default=0.1)
+    parser.add_argument("--pulls", help="weights, comma-separated: the 30 holes' λ-H fills")
     parser.add_argument("--compare", type=Path, nargs="*")
     parser.add_argument("--with", dest="candidate", type=Path, nargs="*")
     args = parser.parse_args()
@@ -470,6 +497,9 @@ def main() -> None:
         return
     if args.set:
         run_set(args.set, args.pull, args.out)
+        return
+    if args.pulls:
+        run_pulls([float(w) for w in args.pulls.split(",")], args.out)
         return
     wanted = {"miss": MISSES, "win": WINS}.get(args.only, MISSES + WINS)
     run(args.out, wanted)
