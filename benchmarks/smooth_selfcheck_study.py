@@ -94,12 +94,15 @@ def recording(records: list):
     return self_check
 
 
-def _holes(which: str):
-    """(mesh id, kind, hole number, hole, cut) of a set."""
+def holes_of(which: str, meshes=None):
+    """(mesh id, kind, hole number, hole, cut) of a set (of its meshes ``meshes`` only, when
+    given)."""
     if which == "animals":
         for seed in range(N_ANIMALS):
-            mesh = animals.animal(seed)
             name = f"animal{seed}"
+            if meshes is not None and name not in meshes:
+                continue
+            mesh = animals.animal(seed)
             holes = holes_manifest.plan_holes(mesh.vertices, mesh.faces, "organic", 2000 + seed,
                                               name)
             for k, hole in enumerate(holes):
@@ -108,6 +111,8 @@ def _holes(which: str):
         return
     for entry in holes_manifest.read(SETS[which])["meshes"]:
         if which == "tuning" and entry["split"] != "tuning":
+            continue
+        if meshes is not None and entry["mesh"] not in meshes:
             continue
         mesh = vm.load_entry(entry)
         for k, hole in enumerate(entry["holes"]):
@@ -118,7 +123,7 @@ def run(which: str, out: Path, samples: int) -> None:
     done = {(r["mesh"], r["hole"]) for r in read(out)} if out.exists() else set()
     records: list = []
     method.self_check = recording(records)
-    for mesh_id, kind, k, hole, cut in _holes(which):
+    for mesh_id, kind, k, hole, cut in holes_of(which):
         if (mesh_id, k) in done:
             continue
         t0 = time.perf_counter()
