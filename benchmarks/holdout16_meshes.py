@@ -9,7 +9,8 @@ manifold3d remeshing), holdouts 11 and 12's level-set and radial-surface helpers
 portable scanner's (``simulated_scan(..., portable=True)``: the same bits under every BLAS
 kernel). Import :mod:`validation_meshes` first, not this module (an import cycle otherwise).
 
-All six kinds, as holdouts 11 to 15: 4 simulated range scans of 4 of the others, 2 organic
+All six kinds, as holdouts 11 to 15: 4 simulated range scans of 4 of the others (the
+first of a brain-kind surface among them), 2 organic
 shapes, 3 CAD parts, 1 tooth, 1 smooth level set and 1 brain-like surface (a synthetic
 cortex whose sulci are open arcs nested round a lateral fissure on each side, not a real
 brain) (``benchmarks/holdout16_manifest.json``, docs/validation.md "Holdout set 16").
@@ -368,8 +369,10 @@ HOLDOUT16_SOURCES: dict[str, Source] = {
                                                     portable=True)),
     "scan_heart": Source("range_scan", "simulated scan of the heart (portable scanner)",
                          vm._scan(_heart, (0.5, 0.8, 0.3), 177, portable=True)),
-    "scan_grille": Source("range_scan", "simulated scan of the vent grille CAD part (portable "
-                          "scanner)", vm._scan(_grille, (0.3, -0.4, 0.9), 178, portable=True)),
+    "scan_arcuate_cortex": Source("range_scan", "simulated scan of the synthetic cortex with "
+                                  "arcuate sulci (portable scanner)",
+                                  vm._scan(_arcuate_cortex, (0.9, -0.3, 0.3), 178,
+                                           portable=True)),
     "crab": Source("organic", "crab, broad shell, eyes on stalks, two claws with a gap between "
                    "the fingers, eight bent walking legs (level set), remeshed", _crab),
     "heart": Source("organic", "heart, ventricles ending in an apex, atria with ear-like "
