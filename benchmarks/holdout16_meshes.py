@@ -9,11 +9,11 @@ manifold3d remeshing), holdouts 11 and 12's level-set and radial-surface helpers
 portable scanner's (``simulated_scan(..., portable=True)``: the same bits under every BLAS
 kernel). Import :mod:`validation_meshes` first, not this module (an import cycle otherwise).
 
-All six kinds, as holdouts 11 to 15: 4 simulated range scans of 4 of the others (the
-first of a brain-kind surface among them), 2 organic
-shapes, 3 CAD parts, 1 tooth, 1 smooth level set and 1 brain-like surface (a synthetic
-cortex whose sulci are open arcs nested round a lateral fissure on each side, not a real
-brain) (``benchmarks/holdout16_manifest.json``, docs/validation.md "Holdout set 16").
+All six kinds, as holdouts 11 to 15: 4 simulated range scans of 4 of the others (one of
+them the first scan of a brain-kind surface), 2 organic shapes, 3 CAD parts, 1 tooth, 1
+smooth level set and 1 brain-like surface (a synthetic cortex whose sulci are open arcs
+nested round a lateral fissure on each side, not a real brain)
+(``benchmarks/holdout16_manifest.json``, docs/validation.md "Holdout set 16").
 
 The level sets' insides and the radial heights are written with Python floats and
 :mod:`math` (no numpy transcendental on arrays, whose SIMD loops differ between CPUs), so a
