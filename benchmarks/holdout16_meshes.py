@@ -34,7 +34,7 @@ from validation_meshes import BenchMesh, Source
 # --------------------------------------------------------------------------- organic
 
 
-def _crab_leg(side: float, k: int) -> list[float]:
+def _crab_leg(side: float, k: int) -> list[tuple]:
     """The two segments of walking leg ``k`` (0 at the front) on ``side`` (-1, 1), as
     ``(start, end, start radius, end radius)``: from the shell's edge out and up to a knee,
     then out and down to a pointed tip on the ground."""
