@@ -115,6 +115,13 @@ A seventeenth set, the fifteenth holdout (``benchmarks/holdout15_manifest.json``
 kind; its four scans made with the portable scanner), holes planned the same way (seeds
 from 1600), made in session 38 after the fourteenth holdout had been made and committed
 before any fill was run on them; to be run once by a later session after its changes.
+
+An eighteenth set, the sixteenth holdout (``benchmarks/holdout16_manifest.json``, ``--write
+--holdout16``): 12 fresh meshes (``validation_meshes.HOLDOUT16_SOURCES``, made in
+``holdout16_meshes.py``; all six kinds, a synthetic cortex with arcuate sulci for the brain
+kind; its four scans made with the portable scanner), holes planned the same way (seeds
+from 1700), made in session 39 after the fifteenth holdout had been made and committed
+before any fill was run on them; to be run once by a later session after its changes.
 """
 
 from __future__ import annotations
@@ -165,6 +172,8 @@ HOLDOUT14_MANIFEST = Path(__file__).parent / "holdout14_manifest.json"
 SMOOTH_TUNING_MANIFEST = Path(__file__).parent / "smooth_tuning_manifest.json"
 # a seventeenth set, fresh meshes of session 38 (HOLDOUT15_SOURCES), committed before any fill
 HOLDOUT15_MANIFEST = Path(__file__).parent / "holdout15_manifest.json"
+# an eighteenth set, fresh meshes of session 39 (HOLDOUT16_SOURCES), committed before any fill
+HOLDOUT16_MANIFEST = Path(__file__).parent / "holdout16_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -182,6 +191,7 @@ LATER_SETS = {
     "holdout13": (HOLDOUT13_MANIFEST, "the thirteenth holdout set", 1400),
     "holdout14": (HOLDOUT14_MANIFEST, "the fourteenth holdout set", 1500),
     "holdout15": (HOLDOUT15_MANIFEST, "the fifteenth holdout set", 1600),
+    "holdout16": (HOLDOUT16_MANIFEST, "the sixteenth holdout set", 1700),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -221,6 +231,7 @@ SPLIT = {
     "holdout14": list(vm.HOLDOUT14_SOURCES),
     "smooth_tuning": list(vm.SMOOTH_TUNING_SOURCES),
     "holdout15": list(vm.HOLDOUT15_SOURCES),
+    "holdout16": list(vm.HOLDOUT16_SOURCES),
 }
 
 
@@ -319,7 +330,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
-    holdout's at 1600)."""
+    holdout's at 1600, the sixteenth holdout's at 1700)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

@@ -20,8 +20,9 @@ Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout s
 ``holdout10_meshes.py``, holdout set 11's (session 35) in ``holdout11_meshes.py``, holdout
 set 12's (session 35) in ``holdout12_meshes.py``, holdout set 13's (session 36) in
 ``holdout13_meshes.py``, holdout set 14's (session 37) in ``holdout14_meshes.py``, holdout
-set 15's (session 38) in ``holdout15_meshes.py``; this module adds their
-``HOLDOUT8_SOURCES`` to ``HOLDOUT15_SOURCES`` to :data:`SOURCES` at its end.
+set 15's (session 38) in ``holdout15_meshes.py``, holdout set 16's (session 39) in
+``holdout16_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
+``HOLDOUT16_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1942,3 +1943,10 @@ SOURCES.update(SMOOTH_TUNING_SOURCES)
 from holdout15_meshes import HOLDOUT15_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT15_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 16
+
+# Session 39's set (benchmarks/holdout16_manifest.json), as holdout 15's: its own module.
+from holdout16_meshes import HOLDOUT16_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT16_SOURCES)
