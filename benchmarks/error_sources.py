@@ -64,9 +64,10 @@ def _error(patch_v, patch_f, cut) -> float:
     return 100.0 * d["mean"] / cut.diameter
 
 
-def _truth_as_fill(cut):
-    """The cut mesh's vertices plus the removed interior vertices, and the removed faces
-    over them (the truth as an initial fill)."""
+def truth_as_fill(cut) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The cut mesh's vertices followed by the removed interior vertices, the removed faces
+    over them, and the ids of those interior vertices (the truth as a fill, or as an
+    initial fill)."""
     n = len(cut.vertices)
     hole = cut.holes[0]
     where = np.full(int(max(cut.kept.max(), hole.truth_ids.max())) + 1, -1)
@@ -106,7 +107,7 @@ def hole_row(cut) -> list[float]:
                     {"options": ConformalOptions(select=False, discretization="grid")}):
         res = fill_holes(cut.vertices, cut.faces, [cut.loop], **options)
         out.append(_error(*hole_patch_of(res.vertices, res.faces, n, cut.faces), cut))
-    truth = _truth_as_fill(cut)
+    truth = truth_as_fill(cut)
     fair_v, fair_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
     faired = (np.vstack([cut.vertices, fair_v]), fair_f, n + np.arange(len(fair_v)))
     for s0, estimate_on, inpainting, grid_points in (

@@ -72,11 +72,11 @@ def main() -> None:
             try:
                 row = [es._variant(s0, fill, moving, cut, estimate_on="known",
                                    inpainting=True) / fair for s0 in (cap, up, down)]
-                row.append(es._variant(*es._truth_as_fill(cut), cut, estimate_on="known",
+                row.append(es._variant(*es.truth_as_fill(cut), cut, estimate_on="known",
                                        inpainting=True) / fair)
                 row += [es._variant(s0, fill, moving, cut, estimate_on="known",
                                     inpainting=True, grid_points=True) for s0 in (cap, up)]
-                row.append(es._variant(*es._truth_as_fill(cut), cut, estimate_on="known",
+                row.append(es._variant(*es.truth_as_fill(cut), cut, estimate_on="known",
                                        inpainting=True, grid_points=True))
             except Exception as exc:  # noqa: BLE001 - a failed hole is a row, not a crash
                 print(f"| {name} | {k} | failed: {exc} |")

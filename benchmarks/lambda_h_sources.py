@@ -67,6 +67,7 @@ import scipy.sparse as sp
 sys.path.insert(0, str(Path(__file__).parent))
 import accuracy  # noqa: E402
 import smooth_selfcheck_study as study  # noqa: E402
+from error_sources import truth_as_fill  # noqa: E402
 
 from surfinpaint.errors import FillError  # noqa: E402
 from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
@@ -125,20 +126,6 @@ def error_pct(points: np.ndarray, fill_faces: np.ndarray, cut) -> float:
     d = surface_distance(points[ids], local.reshape(-1, 3), cut.truth_vertices,
                          cut.truth_faces, n_samples=SAMPLES)
     return 100.0 * d["mean"] / cut.diameter
-
-
-def truth_as_fill(cut) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The cut mesh's vertices followed by the removed interior vertices, the removed faces
-    over them, and the ids of those interior vertices (the truth as a fill)."""
-    n = len(cut.vertices)
-    hole = cut.holes[0]
-    where = np.full(int(max(cut.kept.max(), hole.truth_ids.max())) + 1, -1)
-    where[cut.kept] = np.arange(n)
-    local = where[hole.truth_ids]
-    new = np.flatnonzero(local < 0)
-    local[new] = n + np.arange(len(new))
-    return (np.vstack([cut.vertices, hole.truth_vertices[new]]), local[hole.truth_faces],
-            n + np.arange(len(new)))
 
 
 def projected(points: np.ndarray, cut) -> np.ndarray:
