@@ -203,13 +203,7 @@ def compare_holes(
         raw, diagnostics = _lambda_h_fills(vertices, faces, loops, conformal,
                                            filled["conformal"], options, step, islands)
     filled["conformal raw"] = raw
-    said = {}  # each text once, in the order the fill said them
-    for w in caught:
-        said.setdefault(str(w.message), w.category)
-    for r in conformal.reports:  # a hole skipped without a warning of its own
-        if r.skipped:
-            said.setdefault(f"hole {r.index}: {r.skipped}; skipped", HoleWarning)
-    for text, category in said.items():
+    for text, category in _said_once(caught, conformal.reports).items():
         warnings.warn(text, category, stacklevel=2)
     patches = {name: [None if p is None else _compact(*p) for p in fills]
                for name, fills in filled.items()}
@@ -225,6 +219,19 @@ def compare_holes(
         out.append(comp)
         step(f"hole {k}: measured")
     return out, made
+
+
+def _said_once(caught, reports) -> dict[str, type[Warning]]:
+    """The warnings ``caught`` during the written fill, each text once in the order the fill
+    said them, with its category; and a :class:`HoleWarning` for each hole of ``reports``
+    skipped without a warning of its own."""
+    said = {}
+    for w in caught:
+        said.setdefault(str(w.message), w.category)
+    for r in reports:
+        if r.skipped:
+            said.setdefault(f"hole {r.index}: {r.skipped}; skipped", HoleWarning)
+    return said
 
 
 def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step, islands):
