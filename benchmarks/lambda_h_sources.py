@@ -224,25 +224,26 @@ def hole_row(cut) -> dict:
         notes.append(f"λ-H: {str(exc)[:80]}")
     all_v = np.vstack([vertices, s0[0]])
     moving = n + np.arange(len(s0[0]))
-    try:
-        new, *_ = inpaint_patch_on_mesh(all_v, faces, loop, s0[1], moving, rings=rings,
-                                        iterations=options.solver_iterations, tol=SOLVER_TOL)
-        direct = all_v.copy()
-        direct[moving] = new
-        row["λ-H direct"] = error_pct(direct, s0[1], cut)
-    except FillError as exc:
-        notes.append(f"direct: {str(exc)[:80]}")
+
+    def coupled_solve_from(start: np.ndarray, column: str, label: str) -> None:
+        """The coupled solve alone from the fill vertices of ``start``: its error in
+        ``row[column]``, or its failure in the notes."""
+        try:
+            new, *_ = inpaint_patch_on_mesh(start, faces, loop, s0[1], moving, rings=rings,
+                                            iterations=options.solver_iterations,
+                                            tol=SOLVER_TOL)
+        except FillError as exc:
+            notes.append(f"{label}: {str(exc)[:80]}")
+            return
+        solved = start.copy()
+        solved[moving] = new
+        row[column] = error_pct(solved, s0[1], cut)
+
+    coupled_solve_from(all_v, "λ-H direct", "direct")
     on_truth = all_v.copy()
     on_truth[moving] = projected(all_v[moving], cut)
     row["on truth"] = error_pct(on_truth, s0[1], cut)
-    try:
-        new, *_ = inpaint_patch_on_mesh(on_truth, faces, loop, s0[1], moving, rings=rings,
-                                        iterations=options.solver_iterations, tol=SOLVER_TOL)
-        from_truth = on_truth.copy()
-        from_truth[moving] = new
-        row["λ-H proj"] = error_pct(from_truth, s0[1], cut)
-    except FillError as exc:
-        notes.append(f"λ-H proj: {str(exc)[:80]}")
+    coupled_solve_from(on_truth, "λ-H proj", "λ-H proj")
     truth, truth_faces, inner = truth_as_fill(cut)
     whole = np.vstack([faces, truth_faces])
     fair3 = fair(truth, whole, inner, 3)
