@@ -248,7 +248,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     return EXIT_FAILURE if failed else EXIT_OK
 
 
-def _written_for(out_dir: str, row) -> dict[str, str]:
+def _written_for(out_dir: str, row: batch.FileRow) -> dict[str, str]:
     """The files batch wrote for ``row`` (its output and picture), in each spelling its
     message may name them (:func:`~surfinpaint.app.batch_summary.named_in_summary`: from
     where the input's name is, or absolute), each as "writing"."""
