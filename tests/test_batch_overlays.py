@@ -180,9 +180,11 @@ def test_batch_messages_name_files_from_where_the_inputs_are_named():
     from surfinpaint.app.batch_summary import named_in_summary
 
     job = FileJob(Path("/tmp/x/in/a.obj"), Path("/tmp/x/out/a.obj"), "in/a.obj", "a.obj")
+    # the output as its materials are named (session 40: it was "a.obj", its path in the
+    # output folder, which read as the input where that is a.obj too)
     assert named_in_summary(job, "/tmp/x/out/a.obj: /tmp/x/out/s.mtl differs from "
                             "/tmp/x/in/s.mtl; /data/tmp/x/y.png") == (
-        "a.obj: out/s.mtl differs from in/s.mtl; /data/tmp/x/y.png")
+        "out/a.obj: out/s.mtl differs from in/s.mtl; /data/tmp/x/y.png")
     given_whole = FileJob(Path("/tmp/x/in/a.obj"), Path("/tmp/x/out/a.obj"),
                           "/tmp/x/in/a.obj", "a.obj")  # named absolute: kept absolute
     assert named_in_summary(given_whole, "/tmp/x/in/s.mtl") == "/tmp/x/in/s.mtl"

@@ -120,7 +120,9 @@ def test_a_picture_that_fails_leaves_the_mesh_written_and_says_why(tmp_path, mon
     assert main(["batch", str(scans / "a.ply"), str(scans / "sub"), "-o", str(out),
                  "--jobs", "1", "--png", "--method", "fair"]) == 1
     err = capsys.readouterr().err
-    assert "warning:" in err and "a.png: picture not drawn: OSError: No space left" in err
+    # the input named, then the picture it was writing (session 40: "a.ply: a.png: ...")
+    assert f"warning: {scans / 'a.ply'} (writing {out / 'a.png'}): picture not drawn: " \
+        "OSError: No space left" in err, err
     assert "1 failed" in err and "2 filled" in err
     rows = read_summary(out)
     assert [r.status for r in rows] == ["filled", "filled", "closed", "failed"]

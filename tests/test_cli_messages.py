@@ -349,3 +349,167 @@ def test_named(text, source, said):
     from surfinpaint.app.progress import named
 
     assert named(text, source) == said
+
+
+# ------------------------- a warning that names another file: each file named once, clearly
+
+
+def _with_materials(path: Path) -> Path:
+    """``odd.ply``'s mesh (a hole, a face repeating a vertex) as an OBJ naming a material
+    library beside it."""
+    odd = _odd(path.with_name("odd-mesh.ply"))
+    from surfinpaint.io.formats import read_mesh
+
+    vertices, faces = read_mesh(odd, data_warning=False)
+    write_mesh(path, vertices, faces)
+    path.write_text(f"mtllib {path.stem}.mtl\n" + path.read_text())
+    path.with_suffix(".mtl").write_text("newmtl skin\nKd 1 1 1\n")
+    return path
+
+
+def _coloured(path: Path) -> Path:
+    """``odd.ply``'s mesh with a colour per vertex, which an STL cannot store."""
+    from surfinpaint.io.formats import MeshData, read_mesh, write_mesh_data
+
+    vertices, faces = read_mesh(_odd(path.with_name("odd-mesh.ply")), data_warning=False)
+    write_mesh_data(path, MeshData(vertices, faces,
+                                   {"color": np.full((len(vertices), 3), 200, np.uint8)}))
+    return path
+
+
+def _truth_with_lines(path: Path) -> Path:
+    """The mesh ``odd.ply`` was cut from, as an OBJ with a line record (not kept: its
+    reader warns, naming it)."""
+    x, y = np.meshgrid(np.linspace(0, 1, 10), np.linspace(0, 1, 10))
+    vertices = np.column_stack([x.ravel(), y.ravel(), 0.05 * np.sin(3 * x.ravel())])
+    corner = (np.arange(9)[:, None] * 10 + np.arange(9)[None, :]).ravel()
+    faces = np.vstack([np.column_stack([corner, corner + 1, corner + 11]),
+                       np.column_stack([corner, corner + 11, corner + 10])])
+    write_mesh(path, vertices, faces)
+    path.write_text(path.read_text() + "l 1 2\n")
+    return path
+
+
+MATERIALS_KEPT = "out/scan.mtl exists with other content than"
+# per case: the inputs made, the command, and the one warning line it must print for the
+# other file (after "warning: "); session 40: each read "INPUT: OTHER: ..."
+OTHER_FILE_WARNINGS = {
+    "fill writing an OBJ whose materials differ": (
+        ["fill", "scan.obj", "-o", "out/scan.obj"],
+        f"scan.obj (writing out/scan.obj): {MATERIALS_KEPT} scan.mtl"),
+    "fill writing an STL, which drops the colours": (
+        ["fill", "col.ply", "-o", "out/col.stl"],
+        "col.ply (writing out/col.stl): STL stores triangles only: per-vertex color not "
+        "written"),
+    # the input scan.obj filled into out/scan.obj, "scan.obj" in the output folder: its
+    # materials' warning read as one of the input ("scan.obj: out/scan.mtl ...")
+    "batch of a file named as its output": (
+        ["batch", "scan.obj", "-o", "out", "--jobs", "1"],
+        f"scan.obj (writing out/scan.obj): {MATERIALS_KEPT} scan.mtl"),
+    "batch of a folder": (
+        ["batch", "in", "-o", "out", "--jobs", "1"],
+        f"in/scan.obj (writing out/scan.obj): {MATERIALS_KEPT} in/scan.mtl"),
+    "report reading a truth": (
+        ["report", "odd.ply", "--truth", "truth.obj", "-o", "report"],
+        "odd.ply (reading truth.obj): OBJ records l (smoothing groups, lines, points, ...) "
+        "are not kept"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(OTHER_FILE_WARNINGS))
+@pytest.mark.parametrize("quiet", [[], ["-q"]])
+def test_a_warning_of_another_file_names_the_input_and_that_file_once(tmp_path, capsys,
+                                                                       monkeypatch, case,
+                                                                       quiet):
+    monkeypatch.chdir(tmp_path)
+    _odd(tmp_path / "odd.ply")
+    _with_materials(tmp_path / "scan.obj")
+    (tmp_path / "in").mkdir()
+    _with_materials(tmp_path / "in" / "scan.obj")
+    _coloured(tmp_path / "col.ply")
+    _truth_with_lines(tmp_path / "truth.obj")
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "scan.mtl").write_text("newmtl mine\n")  # the user's: kept
+    argv, expected = OTHER_FILE_WARNINGS[case]
+    capsys.readouterr()
+    assert main([*argv, "--method", "fair", *quiet] if argv[0] != "report"
+                else [*argv, *quiet]) == 0
+    warned = [line for line in capsys.readouterr().err.splitlines()
+              if line.startswith("warning:")]
+    said = [line for line in warned if expected in line]
+    assert len(said) == 1 and said[0].startswith(f"warning: {expected}"), warned
+    name = argv[1]
+    # every warning starts with the input's name, and none names a file twice in a row
+    assert all(line.startswith(f"warning: {name}") for line in warned), warned
+    assert not any(f"{other}: " in line.split(")", 1)[0] for line in warned
+                   for other in ("out/", "truth.obj")), warned
+
+
+@pytest.mark.parametrize(("text", "other_files", "said"), [
+    ("out/scan.obj: its .mtl differs", {"out/scan.obj": "writing"},
+     "scan.obj (writing out/scan.obj): its .mtl differs"),
+    ("out/scan.obj: x", {"./out/scan.obj": "writing"}, "scan.obj (writing out/scan.obj): x"),
+    ("truth.ply: x", {"truth.ply": "reading"}, "scan.obj (reading truth.ply): x"),
+    ("scan.obj: x", {"scan.obj": "writing"}, "scan.obj: x"),  # --in-place: the input first
+    ("out/scan.obj.bak: x", {"out/scan.obj": "writing"}, "scan.obj: out/scan.obj.bak: x"),
+    ("hole 2: x", {"out/scan.obj": "writing"}, "scan.obj: hole 2: x"),
+])
+def test_named_with_other_files(text, other_files, said):
+    from surfinpaint.app.progress import named
+
+    assert named(text, "scan.obj", other_files) == said
+    assert named(text, None, other_files) == text  # no input: the text as it is
+
+
+# ------------------------------------------------ a batch of many files, a few of them bad
+
+# per bad file: how it is made, and the reason its error line must give
+BAD_FILES = {
+    "unreadable.ply": (lambda path, v, f: path.write_bytes(b"ply\nformat garbage\n\x00\x01"),
+                       "PLY header has no 'end_header' line"),
+    "empty.ply": (lambda path, v, f: path.write_bytes(b""), "file is empty"),
+    "no-faces.obj": (lambda path, v, f: path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
+                     "mesh has no faces"),
+    "non-manifold.ply": (lambda path, v, f: write_mesh(
+        path, np.vstack([v, [[0.0, 0.0, 3.0]]]),
+        np.vstack([f, [[f[0, 0], f[0, 1], len(v)]]])), "non-manifold edges"),
+}
+
+
+@pytest.mark.parametrize("quiet", [[], ["-q"], ["-qq"]])
+def test_a_batch_names_each_bad_file_writes_the_others_and_ends_with_the_count(
+        tmp_path, capsys, monkeypatch, quiet):
+    # session 40: what a lab sees when a few files of many are bad; with -q or -qq the run
+    # ended with the bad files' lines and no count (the summary line is a report line)
+    from surfinpaint.app.batch import read_summary
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+
+    monkeypatch.chdir(tmp_path)
+    v, f = sphere(1)
+    cut = cut_geodesic_disk(v, f, 0, 0.6)
+    good = [Path("scans") / f"subject{k}" / "scan.ply" for k in range(8)]
+    for path in good:
+        path.parent.mkdir(parents=True)
+        write_mesh(path, cut.vertices, cut.faces)
+    for name, (make, _) in BAD_FILES.items():
+        make(Path("scans") / name, cut.vertices, cut.faces)
+    capsys.readouterr()
+    code = main(["batch", "scans", "-o", "out", "--jobs", "1", "--method", "fair", *quiet])
+    lines = capsys.readouterr().err.splitlines()
+    assert code == 1, lines
+    errors = [line for line in lines if line.startswith("error: ")]
+    for name, (_, reason) in BAD_FILES.items():  # one line each, naming it and why
+        (said,) = [line for line in errors if f"scans/{name}" in line]
+        assert said.startswith(f"error: scans/{name}: ") and reason in said, said
+    assert all((Path("out") / path.relative_to("scans")).is_file() for path in good)
+    rows = read_summary(Path("out"))
+    assert sorted(r.status for r in rows) == ["failed"] * 4 + ["filled"] * 8
+    total = len(good) + len(BAD_FILES)
+    if quiet:
+        assert lines[-1] == f"error: 4 of {total} files failed (each named above; all in " \
+            "out/summary.csv)", lines
+        assert len(errors) == 5 and not [line for line in lines if line not in errors]
+    else:
+        assert lines[-1] == f"{total} files: 8 filled, 0 unfilled, 0 closed, 4 failed, 0 " \
+            "skipped; wrote out/summary.csv and summary.json", lines
+        assert len(errors) == 4

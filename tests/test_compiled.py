@@ -10,7 +10,6 @@ import os
 import subprocess
 import sys
 import textwrap
-import time
 from pathlib import Path
 
 import numpy as np
@@ -90,21 +89,30 @@ def test_kernel_is_built_once():
     assert k.get() is k.get()
 
 
-def _wait_for_background(env: dict, timeout: float = 600.0) -> None:
-    """Until the background compilation started under ``env`` has released its lock."""
+def _wait_for_release(path: str | Path) -> None:
+    """Until the process holding the lock file ``path`` lets it go: the background
+    compilation holds it from its start to its end (surfinpaint.fill.warmup.main), and the
+    kernel releases it when that process ends in any way (done, failed, killed), so this
+    returns when the compilation has ended, however long a loaded machine takes.
+
+    Not a wall-clock budget: the compilation runs at nice 19 in a niced scheduling group,
+    so beside other work (other test runs at a load of 5-15) it gets a sliver of a core and
+    outlasted the 600 s this test waited before (sessions 38-39); it passes alone and in CI.
+    Waiting on its end keeps every check below as it was (the detached, lowest-priority
+    process itself filled the cache); a compilation that never ends would hang the test,
+    and that would be its failure to see, not a machine's load."""
+    with open(path) as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # blocks until the holder lets it go
+
+
+def _wait_for_background(env: dict) -> None:
+    """Until the background compilation started under ``env`` has ended
+    (:func:`_wait_for_release` on its lock)."""
     path = subprocess.run([sys.executable, "-c", "from surfinpaint.compiled import lock_path; "
                            "print(lock_path())"], env=env, capture_output=True, text=True,
                           check=True).stdout.strip()
     assert Path(path).exists(), "no background compilation was started"
-    with open(path) as lock:
-        deadline = time.monotonic() + timeout
-        while True:
-            try:
-                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                return
-            except BlockingIOError:
-                assert time.monotonic() < deadline, "the background compilation hangs"
-                time.sleep(0.2)
+    _wait_for_release(path)
 
 
 def test_a_first_run_fills_with_the_numpy_versions_while_one_process_compiles(tmp_path):
@@ -286,11 +294,12 @@ def test_the_background_process_runs_detached_at_the_lowest_priority_holding_the
     fcntl.flock(fd, fcntl.LOCK_EX)
     compiled._spawn_builder(fd, str(path))
     os.close(fd)  # the child's copy holds the lock now
+    # the stand-in holds the lock (its copy of fd) until it ends, its report written: wait
+    # on that, not on a clock (a niced process beside other work starts late; see
+    # _wait_for_release)
+    _wait_for_release(path)
     report = tmp_path / "k.lock.out"
-    deadline = time.monotonic() + 120
-    while not report.exists() or not report.read_text():
-        assert time.monotonic() < deadline, "the background process did not start"
-        time.sleep(0.05)
+    assert report.exists(), "the background process did not start"
     sid, nice, group, held = report.read_text().split()
     assert int(sid) != os.getsid(0) and nice == "19" and group == "19" and held == "held"
 

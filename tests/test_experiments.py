@@ -56,3 +56,24 @@ def test_experiment_names_are_unique_and_checked(tmp_path):
         run_set(tmp_path, "quick", cases=["sphere"])
     with pytest.raises(ValueError, match="scale"):
         run_set(tmp_path, "huge", cases=["cube"])
+
+
+def test_every_warning_of_an_experiment_names_it(tmp_path, monkeypatch, capsys):
+    # session 40: the experiments have no input file, so a fill's warning was printed as
+    # "warning: hole 0: ..." naming no case (the full set prints none today; a warning of
+    # the fills is made here, as report's test makes them)
+    from test_report import _fills_that_warn
+
+    from surfinpaint.app.cli import main
+
+    _fills_that_warn(monkeypatch, {"fair": [("hole 0: of both", UserWarning),
+                                            ("hole 0: of the conventional fill", UserWarning)],
+                                   "conformal": [("hole 0: of both", UserWarning)]})
+    assert main(["experiments", "--cases", "cube,snowman", "-o", str(tmp_path)]) == 0
+    warned = [line for line in capsys.readouterr().err.splitlines()
+              if line.startswith("warning:")]
+    assert warned == [
+        "warning: cube: hole 0: of both",
+        "warning: cube: hole 0: of the conventional fill (conventional fill)",
+        "warning: snowman: hole 0: of both",
+        "warning: snowman: hole 0: of the conventional fill (conventional fill)"], warned

@@ -274,7 +274,11 @@ def test_a_batch_rerun_keeps_a_copy_the_user_changed_with_a_warning(tmp_path, ca
     kept = "out/scan.mtl exists with other content than in/scan.mtl: kept, not replaced " \
         "(changed since an earlier run copied it)"
     assert kept in row["message"]
-    assert kept in capsys.readouterr().err  # a warning, though the file was skipped
+    err = capsys.readouterr().err
+    assert kept in err  # a warning, though the file was skipped
+    # naming the input, then the output it is of, each once (session 40: "in/scan.obj:
+    # scan.obj: out/scan.mtl ...")
+    assert f"warning: in/scan.obj (writing out/scan.obj): {kept}" in " ".join(err.split())
     assert str(tmp_path) not in row["message"]  # named as given, not by absolute paths
     assert "scan.mtl" not in row["materials"]  # not ours any more: never replaced later
 

@@ -319,3 +319,81 @@ def test_page_without_truth_has_no_error_columns(tmp_path):
     assert text.index("(hole3.png)") < text.index("(hole5.png)")
     assert 'src="hole5.png"' in page.read_text()
     assert not list(tmp_path.glob("*.tmp"))
+
+
+def _fills_that_warn(monkeypatch, said: dict) -> None:
+    """Make ``report``'s fills warn, besides their own warnings, ``said[method]``: (text,
+    category) pairs, each time a fill of that method runs."""
+    import warnings
+
+    from surfinpaint.app import report as report_module
+
+    real = report_module.fill_holes
+
+    def fill_and_warn(*args, **kwargs):
+        for text, category in said.get(kwargs.get("method"), ()):
+            warnings.warn(text, category, stacklevel=2)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(report_module, "fill_holes", fill_and_warn)
+
+
+# what each fill warns, and how `report` must say each (after "warning: odd.ply: ")
+FILLS_WARN = {"fair": [("hole 0: the conventional fill's own", UserWarning),
+                       ("hole 0: a conventional HoleWarning", "HoleWarning"),
+                       ("hole 0: said by both", UserWarning)],
+              "conformal": [("hole 0: the conformal fill's own", UserWarning),
+                            ("hole 0: said by both", UserWarning)]}
+FILLS_SAID = ["hole 0: the conformal fill's own (conformal fill)",
+              "hole 0: said by both",
+              "hole 0: the conventional fill's own (conventional fill)",
+              "hole 0: a conventional HoleWarning (conventional fill)"]
+
+
+@pytest.mark.parametrize("quiet", [[], ["-q"]])
+def test_report_says_the_warnings_of_both_fills_each_once_saying_which(tmp_path, capsys,
+                                                                       monkeypatch, quiet):
+    # session 40: only the conformal (written) fill's warnings were said; the conventional
+    # fill's, which the page draws beside it, were dropped
+    from test_cli_messages import DEGENERATE, _odd
+
+    from surfinpaint.app.cli import main
+    from surfinpaint.errors import HoleWarning
+
+    monkeypatch.chdir(tmp_path)
+    _odd(tmp_path / "odd.ply")
+    _fills_that_warn(monkeypatch, {method: [
+        (text, HoleWarning if category == "HoleWarning" else category)
+        for text, category in said] for method, said in FILLS_WARN.items()})
+    assert main(["report", "odd.ply", "-o", "r", *quiet]) == 0
+    warned = [line for line in capsys.readouterr().err.splitlines()
+              if line.startswith("warning:")]
+    # each once, in this order, the conventional fill's HoleWarning too (a title says the
+    # written fill only); the mesh's own warning as before, once
+    assert [line for line in warned if DEGENERATE not in line] == [
+        f"warning: odd.ply: {text}" for text in FILLS_SAID], warned
+    assert sum(DEGENERATE in line for line in warned) == 1, warned
+    listed = (tmp_path / "r" / "index.md").read_text("utf-8").split("## Warnings")[1]
+    assert [line[2:] for line in listed.splitlines()
+            if line.startswith("- hole 0: ")] == FILLS_SAID
+
+
+@pytest.mark.parametrize(("conformal", "conventional", "said"), [
+    ({}, {}, {}),
+    ({"a": UserWarning}, {"a": UserWarning}, {"a": UserWarning}),  # both: as it is
+    ({"a": UserWarning}, {}, {"a (conformal fill)": UserWarning}),
+    ({}, {"a": UserWarning}, {"a (conventional fill)": UserWarning}),
+    ({}, {"a": "HoleWarning"}, {"a (conventional fill)": UserWarning}),  # not left to a title
+    ({"a": "HoleWarning"}, {}, {"a (conformal fill)": "HoleWarning"}),
+    ({"b": UserWarning, "a": UserWarning}, {"a": UserWarning, "c": UserWarning},
+     {"b (conformal fill)": UserWarning, "a": UserWarning, "c (conventional fill)": UserWarning}),
+])
+def test_fills_warnings(conformal, conventional, said):
+    from surfinpaint.app.report_warnings import fills_warnings
+    from surfinpaint.errors import HoleWarning
+
+    def typed(warned):
+        return {text: HoleWarning if c == "HoleWarning" else c for text, c in warned.items()}
+
+    got = fills_warnings(typed(conformal), typed(conventional))
+    assert list(got.items()) == list(typed(said).items())

@@ -44,6 +44,7 @@ from surfinpaint.app.batch_inputs import (
 )
 from surfinpaint.app.batch_reruns import rerun_row
 from surfinpaint.app.batch_summary import (
+    MESSAGE_SEPARATOR,
     STATUSES,
     SUMMARY_CSV,
     SUMMARY_JSON,
@@ -65,8 +66,9 @@ from surfinpaint.fill.warmup import warm_kernels
 from surfinpaint.io.formats import MeshData, read_mesh_data
 from surfinpaint.lazy import lazy_module
 
-__all__ = ["FileJob", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
-           "fill_file", "fill_files", "find_inputs", "read_summary", "write_summary"]
+__all__ = ["MESSAGE_SEPARATOR", "FileJob", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV",
+           "SUMMARY_JSON", "fill_file", "fill_files", "find_inputs", "read_summary",
+           "write_summary"]
 
 #: How often a file whose worker process died is tried again (alone) before it is reported
 #: failed: Dask's default ``distributed.scheduler.allowed-failures`` too.
@@ -98,7 +100,7 @@ def _draw(job: FileJob, mesh: MeshData, result: FillResult) -> str:
     try:
         figures.before_after(mesh.vertices, mesh.faces, result, job.picture)
     except Exception as exc:  # the picture's failure is the row's note, not the file's
-        return named_in_summary(job, f"{job.picture_output}: picture not drawn: "
+        return named_in_summary(job, f"{job.picture}: picture not drawn: "
                                 f"{type(exc).__name__}: {exc}")
     return ""
 
@@ -143,7 +145,8 @@ def fill_file(job: FileJob, options: Mapping[str, Any],
             return FileRow(job.name, job.output, "failed",
                            seconds=time.perf_counter() - started, message=error_text(job, exc))
         unfinished = _draw(job, mesh, result)
-    message = " | ".join(t for t in (fill_messages(job, result, caught), unfinished) if t)
+    message = MESSAGE_SEPARATOR.join(
+        t for t in (fill_messages(job, result, caught), unfinished) if t)
     return dataclasses.replace(row_of(job, result, time.perf_counter() - started, message,
                                       None if unfinished else job.picture_output),
                                materials=materials.record)

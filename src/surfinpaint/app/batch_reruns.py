@@ -6,11 +6,13 @@ the mesh (the fill does not read them)."""
 from __future__ import annotations
 
 import dataclasses
+import os
 import warnings
 from pathlib import Path
 
 from surfinpaint.app.batch_inputs import FileJob, picture_path
-from surfinpaint.app.batch_summary import FileRow, named_in_summary
+from surfinpaint.app.batch_summary import MESSAGE_SEPARATOR, FileRow, named_in_summary
+from surfinpaint.app.progress import named
 from surfinpaint.errors import MeshError
 from surfinpaint.io.materials import (
     changed_materials,
@@ -23,7 +25,7 @@ __all__ = ["rerun_row", "skipped_row"]
 
 # How a rerun's note on materials copied again starts: the last part of the row's message,
 # followed only by the copies' warnings; a later rerun's row drops them (what it did is new)
-_RECOPIED = " | its materials "
+_RECOPIED = f"{MESSAGE_SEPARATOR}its materials "
 
 
 def skipped_row(job: FileJob, earlier: FileRow | None) -> FileRow:
@@ -84,8 +86,10 @@ def rerun_row(job: FileJob, earlier: FileRow | None) -> FileRow | None:
     message = f"{row.message}{_RECOPIED}{' and '.join(why)}: " + (
         f"copied again ({', '.join(copied)}), the mesh not refilled" if copied
         else "none copied again")
+    # said as batch says a filled file's: the input, and the output where it is written
+    written = {named_in_summary(job, os.fspath(job.target)): "writing"}
     for caught_warning in caught:
         text = named_in_summary(job, str(caught_warning.message))
-        warnings.warn(f"{job.name}: {text}", caught_warning.category, stacklevel=2)
-        message += f" | {text}"
+        warnings.warn(named(text, job.name, written), caught_warning.category, stacklevel=2)
+        message += f"{MESSAGE_SEPARATOR}{text}"
     return dataclasses.replace(row, message=message, materials=materials.record)

@@ -22,7 +22,8 @@ from surfinpaint.errors import MeshError
 from surfinpaint.fill.pipeline import METHODS, FillResult
 from surfinpaint.io.atomic import atomic_open
 
-__all__ = ["FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON", "error_text",
+__all__ = ["MESSAGE_SEPARATOR", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
+           "error_text",
            "fill_messages", "named_in_summary", "read_summary", "read_unknown_files",
            "row_of", "write_summary"]
 
@@ -31,6 +32,8 @@ Status = Literal["filled", "unfilled", "closed", "failed", "skipped"]
 STATUSES: tuple[str, ...] = ("filled", "unfilled", "closed", "failed", "skipped")
 
 SUMMARY_CSV, SUMMARY_JSON = "summary.csv", "summary.json"
+#: What joins a row's warnings and notes into its ``message``.
+MESSAGE_SEPARATOR = " | "
 
 
 @dataclass(frozen=True)
@@ -80,13 +83,13 @@ class FileRow:
 
 def named_in_summary(job: FileJob, text: str) -> str:
     """``text`` naming files as the summary does (workers see absolute paths): the input by
-    its ``path`` (as given), the output by its ``output`` (relative to the output folder),
-    a ``--overlay`` file from where the input's name is (``..`` resolved), and any other
-    file below the folder the input's name is relative to (where the batch was started,
-    for an input given by a relative name) relative to that folder, as ``fill`` names the
-    files given to it."""
-    text = text.replace(os.fspath(job.source), job.name).replace(os.fspath(job.target),
-                                                                 job.output)
+    its ``path`` (as given), a ``--overlay`` file from where the input's name is (``..``
+    resolved), and any other file below the folder the input's name is relative to (where
+    the batch was started, for an input given by a relative name) relative to that folder,
+    as ``fill`` names the files given to it: the output and its materials too
+    (``out/scan.obj: out/scan.mtl ...``; the output named relative to the output folder,
+    as its ``output`` column, read as the input where both are ``scan.obj``)."""
+    text = text.replace(os.fspath(job.source), job.name)
     try:
         overlays = job.overlay_files()
     except MeshError:  # its error names the pattern
@@ -117,7 +120,7 @@ def fill_messages(job: FileJob, result: FillResult,
     if len(result.removed_faces):
         texts.append(f"repair removed {len(result.removed_faces)} faces around non-manifold "
                      "edges and bow-tie vertices")
-    return " | ".join(texts)
+    return MESSAGE_SEPARATOR.join(texts)
 
 
 def row_of(job: FileJob, result: FillResult, seconds: float, message: str,

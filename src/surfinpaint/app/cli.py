@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import logging
+import os
 import signal
 import sys
 import time
@@ -19,7 +20,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from surfinpaint import __version__
-from surfinpaint.app.batch_inputs import check_overlay_patterns
+from surfinpaint.app.batch_inputs import check_overlay_patterns, picture_path
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import (
     add_all_loops,
@@ -57,7 +58,7 @@ from surfinpaint.app.progress import (
     warning_line,
 )
 from surfinpaint.app.represent_commands import add_representation_parsers
-from surfinpaint.errors import InputError, MeshError
+from surfinpaint.errors import InputError, MeshError, how_many
 from surfinpaint.fill import warmup
 from surfinpaint.fill.holes import (
     warn_degenerate,
@@ -160,7 +161,8 @@ def cmd_fill(args: argparse.Namespace) -> int:
     files = {"input": str(args.mesh), "output": str(args.output), "png": args.png}
     tell(result, summary, caught, console=console, report=out.progress,
          verbose=args.verbose, json_path=args.json, files=files,
-         options={**options, "holes": holes, "jobs": args.jobs}, source=args.mesh)
+         options={**options, "holes": holes, "jobs": args.jobs}, source=args.mesh,
+         other_files=_other_files(args))
     carried = [*filled.attributes, *(f"{k} (per face)" for k in filled.face_attributes),
                *(f"{k} (per corner)" for k in filled.corner_attributes)]
     if carried and len(result.vertices) > len(vertices):
@@ -226,15 +228,34 @@ def cmd_batch(args: argparse.Namespace) -> int:
         if row.status == "failed":
             out.error(f"[red]error:[/red] {escape(row.message)}")
         elif row.message and row.status != "skipped":
-            out.warn(warning_line(row.message, row.path))
+            # each of the row's warnings on a line of its own, naming the input, and the
+            # output where the warning is of writing it
+            written = _written_for(args.output, row)
+            for text in row.message.split(batch.MESSAGE_SEPARATOR):
+                out.warn(warning_line(text, row.path, other_files=written))
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
+    failed = sum(r.status == "failed" for r in rows)
     if out.progress:
         n = len(rows.unknown)
         unknown = f"; {n} file{'s' if n > 1 else ''} of unknown type not filled (listed in " \
             "summary.json)" if n else ""
         out.say(f"{len(rows)} file{'s' if len(rows) != 1 else ''}: {counts}{unknown}; wrote "
                       f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json")
-    return EXIT_FAILURE if any(r.status == "failed" for r in rows) else EXIT_OK
+    elif failed:  # -q, -qq: a log of thousands of files still ends with how many failed
+        out.error(f"[red]error:[/red] {failed} of {how_many(len(rows), 'file', 'files')} "
+                  f"failed (each named above; all in "
+                  f"{escape(str(Path(args.output) / batch.SUMMARY_CSV))})")
+    return EXIT_FAILURE if failed else EXIT_OK
+
+
+def _written_for(out_dir: str, row: batch.FileRow) -> dict[str, str]:
+    """The files batch wrote for ``row`` (its output and picture), in each spelling its
+    message may name them (:func:`~surfinpaint.app.batch_summary.named_in_summary`: from
+    where the input's name is, or absolute), each as "writing"."""
+    relative = [row.output, picture_path(Path(row.output)).as_posix()]
+    return {spelled: "writing" for name in relative for spelled in (
+        os.path.join(out_dir, name), os.path.abspath(os.path.join(out_dir, name)),
+        os.fspath(Path(out_dir).absolute() / name))}
 
 
 def _dask_client(address: str):
@@ -455,6 +476,22 @@ def _input_name(args: argparse.Namespace) -> str | None:
     return None if source is None else str(source)
 
 
+def _other_files(args: argparse.Namespace) -> dict[str, str]:
+    """The files the command reads or writes besides its one input (:func:`_input_name`),
+    each with what it does with it ("writing" an output, "reading" ``--truth`` or an
+    ``--overlay``): a warning that starts with one is said as ``INPUT (writing OUT): ...``
+    (:func:`~surfinpaint.app.progress.named`)."""
+    source = _input_name(args)
+    if source is None:  # batch, demo, experiments: nothing is named for an input
+        return {}
+    files = {str(path): "writing" for attribute, _, kind in _OUTPUTS.get(args.command, ())
+             if kind == "file" and (path := getattr(args, attribute, None)) is not None}
+    read = [getattr(args, a, None) for a in _INPUTS] + list(getattr(args, "overlay", None) or ())
+    files.update({str(path): "reading" for path in read
+                  if path is not None and str(path) != source and str(path) not in files})
+    return files
+
+
 def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> int:
     """Run one command, mapping each kind of failure to its exit code and one message."""
     source = _input_name(args)
@@ -524,7 +561,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 warnings.simplefilter("always")
                 code = _run(parser, args, console)
             if quiet < 2:  # those the command did not print itself, named as it does
-                print_warnings(console, count_warnings(caught), source=_input_name(args))
+                print_warnings(console, count_warnings(caught), source=_input_name(args),
+                               other_files=_other_files(args))
             return code
         except (Interrupted, KeyboardInterrupt) as exc:
             if not isinstance(exc, Interrupted):  # a Ctrl-C that came before our handler

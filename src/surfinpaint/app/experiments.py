@@ -50,7 +50,7 @@ from surfinpaint.app.figures import (
     save_figure,
     view_direction,
 )
-from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar
+from surfinpaint.app.progress import QuietConsole, add_quiet, named, progress_bar
 from surfinpaint.app.report import (
     LEGEND,
     PANEL_SIZE,
@@ -359,6 +359,11 @@ def run_set(out_dir: str | Path, scale: str = "full", *, cases: list[str] | None
     -------
     list of CaseResult, hole cases first.
 
+    Warns
+    -----
+    The warnings of each experiment (its fills': :func:`~surfinpaint.app.report.compare_holes`),
+    each starting with the experiment's name (``"brain: hole 2: ..."``).
+
     Raises
     ------
     ValueError
@@ -379,13 +384,19 @@ def run_set(out_dir: str | Path, scale: str = "full", *, cases: list[str] | None
     for item, run in [(c, _run_case) for c in CASES] + [(r, _run_rebuild) for r in REBUILDS]:
         if item.name not in cases:
             continue
-        try:
-            results.append(run(item, scale, out_dir, step))
-        except (ValueError, RuntimeError, OSError, MeshError, np.linalg.LinAlgError) as exc:
-            # one failed experiment is reported on the page; the others still run
-            results.append(CaseResult(item.name, item.title, item.note,
-                                      error=f"{type(exc).__name__}: {exc}"))
-            step(f"{item.name}: failed", 0)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                results.append(run(item, scale, out_dir, step))
+            except (ValueError, RuntimeError, OSError, MeshError, np.linalg.LinAlgError) as exc:
+                # one failed experiment is reported on the page; the others still run
+                results.append(CaseResult(item.name, item.title, item.note,
+                                          error=f"{type(exc).__name__}: {exc}"))
+                step(f"{item.name}: failed", 0)
+        # the experiments have no input file: each warning names its case, as a command's
+        # warnings name their input ("brain: hole 2: ...")
+        for w in caught:
+            warnings.warn(named(str(w.message), item.name), w.category, stacklevel=2)
     holes = [r for r in results if r.name in {c.name for c in CASES}]
     sections = []
     if holes:

@@ -375,10 +375,13 @@ def write_json_report(path: str | os.PathLike, document: Mapping[str, Any]) -> N
 
 
 def print_warnings(console, counted: Iterable[WarningCount], *,
-                   source: str | os.PathLike | None = None, holes_said: bool = False) -> None:
+                   source: str | os.PathLike | None = None, holes_said: bool = False,
+                   other_files: Mapping[str | os.PathLike, str] | None = None) -> None:
     """Each warning once on ``console``, with how many times it came when more than once,
     named for the input ``source`` (:func:`~surfinpaint.app.progress.warning_line`: the one
-    form of every command's warnings). ``holes_said``: the lines of each hole were printed
+    form of every command's warnings; a warning that starts with one of ``other_files``,
+    the command's outputs say, names it as what the command does with it: ``scan.obj
+    (writing out/scan.obj): ...``). ``holes_said``: the lines of each hole were printed
     (``fill``'s report, ``report``'s titles), so a
     :class:`~surfinpaint.errors.HoleWarning`, which says the same, is left out."""
     left_out = _hole_warning_names() if holes_said else set()
@@ -387,7 +390,7 @@ def print_warnings(console, counted: Iterable[WarningCount], *,
     merged: dict[str, int] = {}
     for w in counted:
         if w.category not in left_out:
-            text = named(w.message, source)
+            text = named(w.message, source, other_files)
             merged[text] = max(merged.get(text, 0), w.count)
     if not merged:  # a quiet run that warns of nothing never imports rich
         return
@@ -399,10 +402,12 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
          console=None, verbose: bool = False, json_path: str | os.PathLike | None = None,
          files: Mapping[str, str | None] | None = None,
          options: Mapping[str, Any] | None = None, report: bool = True,
-         source: str | os.PathLike | None = None) -> list[WarningCount]:
+         source: str | os.PathLike | None = None,
+         other_files: Mapping[str | os.PathLike, str] | None = None) -> list[WarningCount]:
     """Say what a fill did: write the ``--json`` report (``json_path``), and print on
     ``console`` (None: print nothing) the lines of each hole and the summary (``report``)
-    and each warning caught once, named for the input ``source`` (with the report, not a
+    and each warning caught once, named for the input ``source`` and the command's
+    ``other_files`` (with the report, not a
     :class:`~surfinpaint.errors.HoleWarning`: the hole's lines say it; without it, every
     warning: ``-q`` keeps them; :func:`print_warnings`). Returns the warnings counted (all
     of them: the ``--json`` report lists them too)."""
@@ -413,7 +418,7 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
     if console is None:
         return seen
     if not report:
-        print_warnings(console, seen, source=source)
+        print_warnings(console, seen, source=source, other_files=other_files)
         return seen
     from rich.markup import escape  # only when printing: a quiet run never imports rich
 
@@ -424,5 +429,5 @@ def tell(result: FillResult, summary: Summary, caught: Iterable[warnings.Warning
         for line in summary_lines(summary):
             console.print(escape(line))
     # what the hole lines said already is not said again
-    print_warnings(console, seen, source=source, holes_said=True)
+    print_warnings(console, seen, source=source, holes_said=True, other_files=other_files)
     return seen

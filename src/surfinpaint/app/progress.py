@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import os
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 
 __all__ = ["QUIET_HELP", "LazyConsole", "QuietConsole", "add_quiet", "console", "named",
            "progress_bar", "stages", "warning_line"]
@@ -31,28 +31,50 @@ def add_quiet(parser) -> None:
     parser.add_argument("-q", "--quiet", action="count", default=0, help=QUIET_HELP)
 
 
-def named(text: str, source: str | os.PathLike | None) -> str:
-    """``text`` said of the input ``source``: ``"SOURCE: text"``, or ``text`` unchanged
-    where it starts with that name already (the readers' warnings do, in either spelling
-    of the path: ``./scan.ply`` or ``scan.ply``) or there is no input (None).
+def _spelled_first(text: str, path: str | os.PathLike) -> str | None:
+    """How ``text`` spells ``path`` where it starts with it and a colon (as given, or as
+    ``Path`` spells it: ``./scan.ply`` or ``scan.ply``); None where it does not."""
+    given = os.fspath(path)
+    return next((name for name in dict.fromkeys((given, os.path.normpath(given)))
+                 if text.startswith(f"{name}:")), None)
+
+
+def named(text: str, source: str | os.PathLike | None,
+          other_files: Mapping[str | os.PathLike, str] | None = None) -> str:
+    """``text`` said of the input ``source``, each file named once:
+
+    - ``"SOURCE: text"``;
+    - ``text`` unchanged where it starts with that name already (the readers' warnings
+      do) or there is no input (None);
+    - ``"SOURCE (VERB FILE): rest"`` where it starts with the name of another file of the
+      command instead, one of ``other_files``, each mapped to what the command does with it
+      (``{"out/scan.obj": "writing"}``): the writers' warnings start with the output's
+      name (its materials, what its format cannot store), and ``scan.obj: out/scan.obj:
+      ...`` read as two names of one file.
+
+    Either spelling of a path is recognised: ``./scan.ply`` or ``scan.ply``.
 
     Every warning the command line prints for an input goes through here (with
     :func:`warning_line`): in a batch log of thousands of files, each line says which."""
-    if source is None:
+    if source is None or _spelled_first(text, source) is not None:
         return text
     given = os.fspath(source)
-    if any(text.startswith(f"{name}:") for name in (given, os.path.normpath(given))):
-        return text
+    for path, verb in (other_files or {}).items():
+        spelled = _spelled_first(text, path)
+        if spelled is not None:
+            return f"{given} ({verb} {spelled}):{text[len(spelled) + 1:]}"
     return f"{given}: {text}"
 
 
-def warning_line(text: str, source: str | os.PathLike | None = None, count: int = 1) -> str:
+def warning_line(text: str, source: str | os.PathLike | None = None, count: int = 1,
+                 other_files: Mapping[str | os.PathLike, str] | None = None) -> str:
     """The line that prints one warning (rich markup): ``warning: SOURCE: text``
-    (:func:`named`), with ``(×count)`` when it came more than once."""
+    (:func:`named`, ``other_files`` as there), with ``(×count)`` when it came more than
+    once."""
     from rich.markup import escape  # only when a warning is printed
 
     times = f" (×{count})" if count > 1 else ""
-    return f"[yellow]warning:[/yellow] {escape(named(text, source))}{times}"
+    return f"[yellow]warning:[/yellow] {escape(named(text, source, other_files))}{times}"
 
 
 class LazyConsole:

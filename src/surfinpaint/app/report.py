@@ -65,7 +65,8 @@ from surfinpaint.app.report_page import (
     write_page,
 )
 from surfinpaint.app.report_panel import PANEL_SIZE, Patch, hole_panel
-from surfinpaint.errors import HoleWarning, MeshError
+from surfinpaint.app.report_warnings import fills_warnings, said_once
+from surfinpaint.errors import MeshError
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes, warn_degenerate
 from surfinpaint.fill.pipeline import fill_holes
@@ -153,11 +154,12 @@ def compare_holes(
 
     Warns
     -----
-    Each warning of the conformal method's fills (the fill ``surfinpaint fill`` writes:
-    an island left unjoined, a fill that crosses the surface, ...) once, in its category,
-    and a :class:`~surfinpaint.errors.HoleWarning` for a hole skipped without one; the
-    conventional fills' and the fills made again are not said (they repeat them, or are
-    of fills not written).
+    Each warning of the conventional and the conformal fills (an island left unjoined, a
+    fill that crosses the surface, ...) once, in its category, saying which fill it came
+    from where only one gave it
+    (:func:`~surfinpaint.app.report_warnings.fills_warnings`), and a
+    :class:`~surfinpaint.errors.HoleWarning` for a hole skipped without one; the λ-H fills
+    made again for the panels are not said (they repeat the conformal fill's).
 
     Returns
     -------
@@ -182,10 +184,11 @@ def compare_holes(
         raise ValueError(f"{len(truth)} truth patches for {len(loops)} holes")
     step = step or (lambda message, advance=1: None)
     options = ConformalOptions() if options is None else options
-    # the warnings of the fill `surfinpaint fill` writes, said once below; the other
-    # fills' are not (they repeat them, or are of fills not written)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
+    # the warnings of both fills drawn, said once below saying which fill each is of; the
+    # λ-H fills made again are not said (they repeat the conformal fill's, of fills not
+    # written)
+    with warnings.catch_warnings(record=True) as caught_fair:
+        warnings.simplefilter("always")
         fair = fill_holes(vertices, faces, holes=holes, method="fair",
                           keep_margins=keep_margins, validate=False, islands=islands)
     step("conventional fills done")
@@ -203,7 +206,8 @@ def compare_holes(
         raw, diagnostics = _lambda_h_fills(vertices, faces, loops, conformal,
                                            filled["conformal"], options, step, islands)
     filled["conformal raw"] = raw
-    for text, category in _said_once(caught, conformal.reports).items():
+    for text, category in fills_warnings(said_once(caught, conformal.reports),
+                                         said_once(caught_fair, fair.reports)).items():
         warnings.warn(text, category, stacklevel=2)
     patches = {name: [None if p is None else _compact(*p) for p in fills]
                for name, fills in filled.items()}
@@ -219,19 +223,6 @@ def compare_holes(
         out.append(comp)
         step(f"hole {k}: measured")
     return out, made
-
-
-def _said_once(caught, reports) -> dict[str, type[Warning]]:
-    """The warnings ``caught`` during the written fill, each text once in the order the fill
-    said them, with its category; and a :class:`HoleWarning` for each hole of ``reports``
-    skipped without a warning of its own."""
-    said = {}
-    for w in caught:
-        said.setdefault(str(w.message), w.category)
-    for r in reports:
-        if r.skipped:
-            said.setdefault(f"hole {r.index}: {r.skipped}; skipped", HoleWarning)
-    return said
 
 
 def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step, islands):
@@ -575,7 +566,8 @@ def run_report(args: argparse.Namespace) -> int:
     # titles are printed
     if says.warnings_console is not None:
         print_warnings(says.warnings_console, count_warnings(caught), source=args.mesh,
-                       holes_said=says.progress)
+                       holes_said=says.progress,
+                       other_files={str(args.truth): "reading"} if args.truth else None)
     n = len(comparisons)
     says.say(f"wrote {Path(args.output) / 'index.html'} and {n} panel{'s' if n != 1 else ''}")
     return 0
