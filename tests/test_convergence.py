@@ -580,6 +580,75 @@ def test_the_continuation_before_the_subdivided_patch_stops_at_its_first_failure
     raise AssertionError("the scripted sequence ended with no decision")
 
 
+# where the subdivided patch's solve fails too, the continuation made first is taken on only
+# where it had not raised the weight when it stopped (session 40): its weight there, whether
+# it stopped at a failed solve, and whether it is taken on. The tuning side's continuations
+# stall at 0 or after 1-2 converging solves; 4 converging ones reach weight 1
+@pytest.mark.parametrize("weight, stalled, resumed", [
+    (0.0, True, True),  # first solve failed: animal5 #4, brain white #5 (2.2 % taken on
+    # against 3.3 % without), quad v501 r2.0 (4.0 % against 12.8 %)
+    (0.125, True, False),  # second solve failed: egg n20 s5 p8 a3.0 j0.4 r6
+    (0.375, True, False),  # third failed: CAD channel #5, ribplate #2, brain white #14
+    (0.875, True, False),
+    (0.375, False, True),  # stopped by CONTINUATION_FIRST, not at a failure: taken on
+])
+def test_the_continuation_is_taken_on_after_the_subdivided_patch_only_from_weight_zero(
+        weight, stalled, resumed):
+    from surfinpaint.fill.conformal.mesh_pass import continuation_resumed
+
+    assert continuation_resumed(weight, stalled) == resumed
+
+
+def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_weight(
+        monkeypatch):
+    # both coupled solves fail (scripted: the patch's does, the subdivided one is costly) on
+    # an egg-crate patch whose continuation converges at weights 0.125 and 0.375 and fails
+    # at 0.875 (a fold): the continuation is not taken on after the subdivided patch, and
+    # Levenberg-Marquardt starts from its surface at 0.375; taken on, it would reach 0.494
+    # (14 more solves, the path of sessions 38-39)
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.representation import on_mesh
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+
+    cut = egg_crate(20, 3, 7, 2.5, 0.4, 6)
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
+    vertices = np.vstack([cut.vertices, new_v])
+    _, ids, local, uv, _, _ = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
+    free, points = ids >= len(cut.vertices), vertices[ids]
+    natural = np.zeros(len(ids), dtype=bool)
+    calls = {"solves": 0, "continuation solves": 0}
+    newton = on_mesh._newton_solve
+
+    def failing_solve(*args, **kw):
+        calls["solves"] += 1
+        raise FillError("scripted: Newton's method fails")
+
+    def counted(*args, **kw):
+        calls["continuation solves"] += 1
+        return newton(*args, **kw)
+
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", failing_solve)
+    monkeypatch.setattr(on_mesh, "_newton_solve", counted)
+    out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
+                                               20, 1e-3, True)
+    assert calls == {"solves": 2, "continuation solves": 3}  # patch, subdivided; 3 solves
+    monkeypatch.setattr(on_mesh, "_newton_solve", newton)
+    system = on_mesh.coupled_system(points, local, uv, free, natural)
+    stalled = on_mesh.curvature_continuation(system, points, solves=3)
+    assert stalled[1] == 0.375 and not stalled[4]
+    alone = on_mesh.least_squares_on_mesh(points, local, uv, free, natural=natural,
+                                          continued=[*stalled[:4], True])
+    np.testing.assert_array_equal(out, alone[0])
+    assert (stage.residual, stage.weight) == alone[1:] and "subdivided once" in stage.unsolved
+    taken_on = on_mesh.curvature_continuation(system, points, resume=stalled)
+    assert 0.375 < taken_on[1] < 1.0  # what the rule gives up: a fold short of weight 1
+
+
 def test_a_continuation_stopped_and_resumed_is_the_one_made_in_one_go():
     # curvature_continuation stopped after k solves and taken on from there ends where the
     # continuation made in one go does, to the bit: on an egg-crate patch whose continuation

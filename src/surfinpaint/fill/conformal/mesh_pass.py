@@ -40,12 +40,12 @@ MIN_RINGS = 3
 LEAST_SQUARES_RESIDUAL = 2.0
 # where the coupled solve fails on the patch, the least-squares stage's continuation is made
 # first while each of its solves converges, at most this many (and on after the subdivided
-# patch's solve where that fails). Of its 12 runs that reached the full weight on the tuning
-# side, 6 did so with every solve converging (4 solves each: cbblock #4, brain pial #4, #10,
-# white #15, quad v480 r2.0, v149 r3.5), and their subdivided patch's solve failed (the fill
-# is main's); animal5 #4's reached it after a failed first solve where the subdivided patch's
-# converged, and writing the continuation's fixed point there was 2.3 times worse
-# (docs/convergence.md, session 38)
+# patch's solve where that fails, if its first solve failed: continuation_resumed). Of its
+# 12 runs that reached the full weight on the tuning side, 6 did so with every solve
+# converging (4 solves each: cbblock #4, brain pial #4, #10, white #15, quad v480 r2.0, v149
+# r3.5), and their subdivided patch's solve failed (the fill is main's); animal5 #4's
+# reached it after a failed first solve where the subdivided patch's converged, and writing
+# the continuation's fixed point there was 2.3 times worse (docs/convergence.md, session 38)
 CONTINUATION_FIRST = 8
 # where that fails too, the patch resampled on a regular lattice of its map, of these
 # spacings (per mean map edge of the fill) in turn (:func:`_on_lattice`)
@@ -248,7 +248,9 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     weight, its surface is a fixed point of the patch's own solve, and the subdivided patch's
     solve (0.3 s on the CAD tuning part cbblock #4, failing) is not made; otherwise the
     subdivided patch is tried as before and, where that fails too, the continuation goes on
-    from where it stopped (the same surface as made in one go) and least squares from its end.
+    from where it stopped (the same surface as made in one go) and least squares from its end,
+    except where it stopped at a fold after raising the weight: least squares from there
+    (:func:`continuation_resumed`; session 40).
 
     Returns
     -------
@@ -271,7 +273,8 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
         failure = str(coarse)
         # the last stage's continuation first: where it reaches the full weight, its surface is
         # the patch's fixed point and the subdivided patch's solve is not needed (session 38)
-        continued = None if system is None else _continued_first(system, points, tol)
+        continued, stalled = ((None, False) if system is None
+                              else _continued_first(system, points, tol))
         if continued is None or continued[1] < 1.0:
             fine = _subdivided(points, local, uv, free, n_fill, natural)
             try:
@@ -281,6 +284,8 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
                 failure = f"{coarse}; on the patch subdivided once: {exc}"
             else:
                 return out[:len(points)], None
+    if continued is not None and not continuation_resumed(continued[1], stalled):
+        continued = [*continued[:4], True]  # ended: least squares from where it stopped
     positions, residual, weight = least_squares_on_mesh(points, local, uv, free,
                                                         natural=natural, tol=tol, system=system,
                                                         continued=continued)
@@ -296,14 +301,14 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
 def _continued_first(system, points, tol):
     """The least-squares stage's continuation on ``system`` (:func:`curvature_continuation`),
     solve by solve, until it ends or :func:`continuation_paused` says to try the subdivided
-    patch first; its state, to resume."""
+    patch first; its state, to resume, and whether it stopped at a failed solve."""
     state, failures = None, 0
     while True:
         before = 0.0 if state is None else state[1]
         state = curvature_continuation(system, points, tol, solves=1, resume=state)
         failures += state[1] <= before  # a solve that converged raised the weight
         if state[4] or continuation_paused(state[3], failures):
-            return state
+            return state, failures > 0
 
 
 def continuation_paused(solves: int, failures: int) -> bool:
@@ -312,6 +317,24 @@ def continuation_paused(solves: int, failures: int) -> bool:
     does not run straight to weight 1, the subdivided patch's fill comes first), or after
     ``CONTINUATION_FIRST`` solves."""
     return failures > 0 or solves >= CONTINUATION_FIRST
+
+
+def continuation_resumed(weight: float, stalled: bool) -> bool:
+    """Whether the continuation made before the subdivided patch's solve is taken on after
+    that solve fails too, from ``weight`` where it stopped (``stalled``: at a failed solve):
+    not where it stalled after raising the weight (a fold of its path; Levenberg–Marquardt
+    starts where it stopped), else yes.
+
+    Why: there it goes on bisecting its step at the fold down to ``CONTINUATION_SMALLEST``,
+    most of those solves failing (CAD channel #5: 14 more solves, a third of a second, for
+    0.07 more weight), and least squares from where it stopped is as close to the truth on
+    the tuning side's 11 such holes (CAD channel #5, ribplate #2, 7 egg-crates, brain white
+    #14, quad v361 r3.5: 0.47-1.01 times the error of the fill made before; channel #5 0.68
+    times the CPU; docs/convergence.md, session 40). Where its first solve failed (weight
+    0), taken on, it creeps from the harmonic fill to surfaces least squares does not find
+    from there (brain white #5: 2.2 % against 3.3 % without, quad v501 r2.0: 4.0 % against
+    12.8 %): as before."""
+    return weight <= 0.0 or not stalled
 
 
 def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failure):
