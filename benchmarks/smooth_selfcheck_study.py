@@ -75,8 +75,17 @@ def _evidence(vertices, faces, loop, candidates, verdict) -> dict:
                              siblings=o.siblings, gap_rings=o.gap_rings,
                              patch_rings=o.rings_in_patch, graph=graph, detail=sd)
     edge = float(np.linalg.norm(vertices[loop] - vertices[np.roll(loop, -1)], axis=1).mean())
+    plane = known_plane(vertices, faces, loop)
+    # session 40: how far apart the two faired fills are (one triangulation, so vertex by
+    # vertex), to weigh against the noise: a truth-free signal for fair3 against fair2
+    faired = candidates.faired(vertices, faces, loop)
+    apart = np.linalg.norm(faired["fair2"].vertices - faired["fair3"].vertices, axis=1) \
+        if {"fair2", "fair3"} <= set(faired) else np.zeros(0)
     return {"hidden": hidden, "sibling": sibling, "shallower": shallower,
-            "sigma": float(known_plane(vertices, faces, loop).noise),
+            "p_curvature": float(plane.p_curvature),
+            "fair23_rms": float(np.sqrt(np.mean(apart**2))) if len(apart) else 0.0,
+            "fair23_max": float(apart.max()) if len(apart) else 0.0,
+            "sigma": float(plane.noise),
             "sigma4": float(known_plane(vertices, faces, loop, rings=4).noise), "edge": edge,
             "crossed": bool(candidates.crossed), "n_edges": len(loop),
             "lib_hidden": dict(verdict.hidden), "lib_sibling": dict(verdict.sibling),
@@ -120,16 +129,17 @@ def holes_of(which: str, meshes=None):
             yield entry["mesh"], entry["kind"], k, hole, validation._cut(mesh, hole)
 
 
-def run(which: str, out: Path, samples: int) -> None:
+def run(which: str, out: Path, samples: int, meshes: list[str] | None = None) -> None:
     done = {(r["mesh"], r["hole"]) for r in read(out)} if out.exists() else set()
     records: list = []
     method.self_check = recording(records)
-    for mesh_id, kind, k, hole, cut in holes_of(which):
+    for mesh_id, kind, k, hole, cut in holes_of(which, meshes):
         if (mesh_id, k) in done:
             continue
         t0 = time.perf_counter()
         row = {"set": which, "mesh": mesh_id, "kind": kind, "hole": k,
-               "radius_h": hole["radius_h"], "errors": {}, "status": {}}
+               "radius_h": hole["radius_h"], "near_border": bool(hole["near_border"]),
+               "errors": {}, "status": {}}
         records.clear()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -475,6 +485,7 @@ def main(argv=None) -> None:
     parser.add_argument("--set", choices=(*SETS, "animals"))
     parser.add_argument("--out", type=Path)
     parser.add_argument("--samples", type=int, default=10000)
+    parser.add_argument("--meshes", default=None, help="comma-separated mesh ids of the set")
     parser.add_argument("--replay", nargs="+", default=None)
     parser.add_argument("--changes", action="store_true")
     parser.add_argument("--misses", action="store_true")
@@ -493,7 +504,7 @@ def main(argv=None) -> None:
                 print(f"\n{name}:")
                 print("\n".join(changed(rows, rule)) or "(none)")
         return
-    run(args.set, args.out, args.samples)
+    run(args.set, args.out, args.samples, args.meshes.split(",") if args.meshes else None)
 
 
 if __name__ == "__main__":
