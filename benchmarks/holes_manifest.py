@@ -122,6 +122,13 @@ An eighteenth set, the sixteenth holdout (``benchmarks/holdout16_manifest.json``
 kind; its four scans made with the portable scanner), holes planned the same way (seeds
 from 1700), made in session 39 after the fifteenth holdout had been made and committed
 before any fill was run on them; to be run once by a later session after its changes.
+
+A tuning-side set of range scans of curved shapes (``benchmarks/curved_scans_manifest.json``,
+``--write --curved-scans``): 14 portable scans (``validation_meshes.CURVED_SCAN_SOURCES``,
+made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and the tuning
+half's curved meshes, holes planned the same way (seeds from 3600), made in session 40 to study
+the bilaplacian fill kept where the trilaplacian one is twice as close on scans. Rules may be
+chosen on it.
 """
 
 from __future__ import annotations
@@ -174,6 +181,8 @@ SMOOTH_TUNING_MANIFEST = Path(__file__).parent / "smooth_tuning_manifest.json"
 HOLDOUT15_MANIFEST = Path(__file__).parent / "holdout15_manifest.json"
 # an eighteenth set, fresh meshes of session 39 (HOLDOUT16_SOURCES), committed before any fill
 HOLDOUT16_MANIFEST = Path(__file__).parent / "holdout16_manifest.json"
+# tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
+CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -195,6 +204,8 @@ LATER_SETS = {
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
+    "curved_scans": (CURVED_SCANS_MANIFEST, "the tuning-side range scans of curved shapes",
+                     3600),
 }
 
 # the sets whose manifests were written before entries recorded their mesh's sha256
@@ -232,6 +243,7 @@ SPLIT = {
     "smooth_tuning": list(vm.SMOOTH_TUNING_SOURCES),
     "holdout15": list(vm.HOLDOUT15_SOURCES),
     "holdout16": list(vm.HOLDOUT16_SOURCES),
+    "curved_scans": list(vm.CURVED_SCAN_SOURCES),
 }
 
 
@@ -330,7 +342,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
-    holdout's at 1600, the sixteenth holdout's at 1700)."""
+    holdout's at 1600, the sixteenth holdout's at 1700; the smooth tuning set's at 3800, the
+    curved scans set's at 3600)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

@@ -53,7 +53,8 @@ from surfinpaint.geometry.cutting import cut_geodesic_disk, edge_graph  # noqa: 
 METHODS = ("fair", "fair3", "conformal_raw", "conformal", "cgal")
 SHALLOWER = "hidden rings one ring shallower"
 SETS = {"tuning": holes_manifest.MANIFEST, "cad_tuning": holes_manifest.CAD_TUNING_MANIFEST,
-        "smooth_tuning": holes_manifest.SMOOTH_TUNING_MANIFEST}
+        "smooth_tuning": holes_manifest.SMOOTH_TUNING_MANIFEST,
+        "curved_scans": holes_manifest.CURVED_SCANS_MANIFEST}
 N_ANIMALS = 12
 
 
@@ -74,8 +75,17 @@ def _evidence(vertices, faces, loop, candidates, verdict) -> dict:
                              siblings=o.siblings, gap_rings=o.gap_rings,
                              patch_rings=o.rings_in_patch, graph=graph, detail=sd)
     edge = float(np.linalg.norm(vertices[loop] - vertices[np.roll(loop, -1)], axis=1).mean())
+    plane = known_plane(vertices, faces, loop)
+    # session 40: how far apart the two faired fills are (one triangulation, so vertex by
+    # vertex), to weigh against the noise: a truth-free signal for fair3 against fair2
+    faired = candidates.faired(vertices, faces, loop)
+    apart = np.linalg.norm(faired["fair2"].vertices - faired["fair3"].vertices, axis=1) \
+        if {"fair2", "fair3"} <= set(faired) else np.zeros(0)
     return {"hidden": hidden, "sibling": sibling, "shallower": shallower,
-            "sigma": float(known_plane(vertices, faces, loop).noise),
+            "p_curvature": float(plane.p_curvature),
+            "fair23_rms": float(np.sqrt(np.mean(apart**2))) if len(apart) else 0.0,
+            "fair23_max": float(apart.max()) if len(apart) else 0.0,
+            "sigma": float(plane.noise),
             "sigma4": float(known_plane(vertices, faces, loop, rings=4).noise), "edge": edge,
             "crossed": bool(candidates.crossed), "n_edges": len(loop),
             "lib_hidden": dict(verdict.hidden), "lib_sibling": dict(verdict.sibling),
@@ -119,16 +129,17 @@ def holes_of(which: str, meshes=None):
             yield entry["mesh"], entry["kind"], k, hole, validation._cut(mesh, hole)
 
 
-def run(which: str, out: Path, samples: int) -> None:
+def run(which: str, out: Path, samples: int, meshes: list[str] | None = None) -> None:
     done = {(r["mesh"], r["hole"]) for r in read(out)} if out.exists() else set()
     records: list = []
     method.self_check = recording(records)
-    for mesh_id, kind, k, hole, cut in holes_of(which):
+    for mesh_id, kind, k, hole, cut in holes_of(which, meshes):
         if (mesh_id, k) in done:
             continue
         t0 = time.perf_counter()
         row = {"set": which, "mesh": mesh_id, "kind": kind, "hole": k,
-               "radius_h": hole["radius_h"], "errors": {}, "status": {}}
+               "radius_h": hole["radius_h"], "near_border": bool(hole["near_border"]),
+               "errors": {}, "status": {}}
         records.clear()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -397,7 +408,8 @@ def measures(rows: list[dict], rule) -> dict:
 
 def table(rows: list[dict]) -> str:
     groups = [("union", rows)] + [(s, [r for r in rows if r["set"] == s])
-                                  for s in ("tuning", "cad_tuning", "animals", "smooth_tuning")]
+                                  for s in ("tuning", "cad_tuning", "animals", "smooth_tuning",
+                                            "curved_scans")]
     lines = ["| rule | set | holes | median / CGAL | worst mesh / fair2 | holes > 1.5× | "
              "best pick | mean log regret |", "|---|---|---|---|---|---|---|---|"]
     for name, rule in RULES.items():
@@ -468,14 +480,92 @@ def misses(rows: list[dict], above: float = 1.1) -> str:
     return "\n".join(lines + [x for _, x in sorted(out, reverse=True)])
 
 
+# --------------------------------------------------------------------------- signals
+# session 40: on scans, where the library writes fair2, which truth-free number tells the
+# holes where fair3 is 1.5x closer ("missed") from those where fair2 is 1.5x closer
+
+
+def signals(row: dict) -> dict[str, float]:
+    """A row's truth-free signals (nan where a test did not run): the two tests' fair3 / fair2
+    scores and fair3's advantages in standard errors, the plane test's curvature p-value
+    (log10) and noise σ per loop edge, the two faired fills' distance (rms, max) in σ and
+    per edge, the hole's radius in σ, its boundary edges, and whether it is near the border."""
+    ev = row["evidence"]
+    hidden, sibling = ev["hidden"], ev["sibling"]
+    sigma, edge = np.float64(ev["sigma"]), np.float64(ev["edge"])  # σ 0: inf, not an error
+
+    def ratio(scores: dict) -> float:
+        return scores["fair3"] / scores["fair2"] if {"fair2", "fair3"} <= set(scores) \
+            else np.nan
+
+    def t(test: str) -> float:
+        a, se = _adv(ev, "fair2", test, "fair3")
+        return a / se if np.isfinite(a) and se > 0 else np.nan
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {"hidden f3/f2": ratio(hidden), "sibling f3/f2": ratio(sibling),
+                "t hidden f3": t("hidden"), "t sibling f3": t("sibling"),
+                "log10 p curvature": float(np.log10(max(ev.get("p_curvature", np.nan),
+                                                        1e-300))),
+                "sigma / edge": sigma / edge,
+                "fair2-fair3 rms / sigma": ev.get("fair23_rms", np.nan) / sigma,
+                "fair2-fair3 max / sigma": ev.get("fair23_max", np.nan) / sigma,
+                "fair2-fair3 rms / edge": ev.get("fair23_rms", np.nan) / edge,
+                "radius / sigma": row["radius_h"] * edge / sigma,
+                "boundary edges": float(ev["n_edges"]),
+                "near border": float(row.get("near_border", np.nan))}
+
+
+def best_threshold(values: np.ndarray, ratio: np.ndarray) -> dict | None:
+    """The one-sided threshold on ``values`` that, writing fair3 instead of fair2 on its
+    side, catches the most holes where fair3 is 1.5x closer (``ratio`` = fair2 / fair3 error
+    >= 1.5) less those where fair2 is 1.5x closer (ratio <= 1/1.5), fewest switched on a tie;
+    None where no threshold catches one."""
+    best = None
+    for threshold in np.unique(values[np.isfinite(values)]):
+        for side in (">=", "<="):
+            switched = values >= threshold if side == ">=" else values <= threshold
+            caught = int((switched & (ratio >= 1.5)).sum())
+            broken = int((switched & (ratio <= 1 / 1.5)).sum())
+            key = (caught - broken, -int(switched.sum()))
+            if caught and (best is None or key > best["key"]):
+                best = {"key": key, "side": side, "threshold": float(threshold),
+                        "switched": int(switched.sum()), "caught": caught, "broken": broken}
+    return best
+
+
+def screen(rows: list[dict]) -> str:
+    """Each signal's best threshold over the scan holes where the library writes fair2."""
+    picked = [r for r in rows if r["kind"] == "range_scan" and r["evidence"] is not None
+              and library_rule(r["evidence"]) == "fair2"]
+    ratio = np.array([r["errors"]["fair"] / r["errors"]["fair3"] for r in picked])
+    table = [signals(r) for r in picked]
+    lines = [f"{len(picked)} scan holes where fair2 is written: fair3 1.5x closer on "
+             f"{int((ratio >= 1.5).sum())}, fair2 1.5x closer on "
+             f"{int((ratio <= 1 / 1.5).sum())}", "",
+             "| signal | best threshold | holes switched to fair3 | fair3 1.5× closer among "
+             "them | fair2 1.5× closer among them |", "|---|---|---|---|---|"]
+    for name in table[0] if table else []:
+        best = best_threshold(np.array([s[name] for s in table], float), ratio)
+        if best is None:
+            lines.append(f"| {name} | — | 0 | 0 | 0 |")
+            continue
+        lines.append(f"| {name} | {best['side']} {best['threshold']:.3g} | {best['switched']} "
+                     f"| {best['caught']} | {best['broken']} |")
+    return "\n".join(lines)
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--set", choices=(*SETS, "animals"))
     parser.add_argument("--out", type=Path)
     parser.add_argument("--samples", type=int, default=10000)
+    parser.add_argument("--meshes", default=None, help="comma-separated mesh ids of the set")
     parser.add_argument("--replay", nargs="+", default=None)
     parser.add_argument("--changes", action="store_true")
     parser.add_argument("--misses", action="store_true")
+    parser.add_argument("--screen", action="store_true",
+                        help="with --replay: each truth-free signal's best threshold (scans)")
     args = parser.parse_args(argv)
     if args.replay:
         rows = read(*args.replay)
@@ -486,12 +576,14 @@ def main(argv=None) -> None:
         print(table(rows))
         if args.misses:
             print("\n" + misses(rows))
+        if args.screen:
+            print("\n" + screen(rows))
         if args.changes:
             for name, rule in list(RULES.items())[1:]:
                 print(f"\n{name}:")
                 print("\n".join(changed(rows, rule)) or "(none)")
         return
-    run(args.set, args.out, args.samples)
+    run(args.set, args.out, args.samples, args.meshes.split(",") if args.meshes else None)
 
 
 if __name__ == "__main__":

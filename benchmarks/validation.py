@@ -54,7 +54,8 @@ FILLED = ("ok", "selected", "fallback")
 # the tuning half every rule was chosen on
 SPLITS = ("validation", "holdout", "holdout2", "holdout3", "holdout4", "holdout5", "holdout6",
           "holdout7", "holdout8", "holdout9", "holdout10", "holdout11", "holdout12", "holdout13",
-          "holdout14", "holdout15", "holdout16", "tuning", "cad_tuning", "smooth_tuning")
+          "holdout14", "holdout15", "holdout16", "tuning", "cad_tuning", "smooth_tuning",
+          "curved_scans")
 SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout3": "Holdout set 3", "holdout4": "Holdout set 4",
                "holdout5": "Holdout set 5", "holdout6": "Holdout set 6",
@@ -64,7 +65,8 @@ SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout13": "Holdout set 13", "holdout14": "Holdout set 14",
                "holdout15": "Holdout set 15", "holdout16": "Holdout set 16",
                "cad_tuning": "Tuning-side CAD parts",
-               "smooth_tuning": "Tuning-side smooth tubes and organic bodies"}
+               "smooth_tuning": "Tuning-side smooth tubes and organic bodies",
+               "curved_scans": "Tuning-side range scans of curved shapes"}
 
 
 def _cut(mesh: vm.BenchMesh, hole: dict):

@@ -1950,3 +1950,11 @@ SOURCES.update(HOLDOUT15_SOURCES)
 from holdout16_meshes import HOLDOUT16_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT16_SOURCES)
+
+# --------------------------------------------------------------------------- curved scans set
+
+# Session 40's tuning-side range scans of curved shapes (benchmarks/curved_scans_manifest.json):
+# rules may be chosen on them; their own module, as the smooth tuning set's.
+from curved_scans_meshes import CURVED_SCAN_SOURCES  # noqa: E402
+
+SOURCES.update(CURVED_SCAN_SOURCES)

@@ -87,7 +87,7 @@ def test_reserved_sources_are_never_used():
     for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py",
                    "holdout11_meshes.py", "holdout12_meshes.py", "holdout13_meshes.py",
                    "holdout14_meshes.py", "holdout15_meshes.py", "holdout16_meshes.py",
-                   "smooth_tuning_meshes.py"):
+                   "smooth_tuning_meshes.py", "curved_scans_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
 
@@ -437,8 +437,9 @@ def test_later_holdout_sources_come_from_their_own_module(number, words, first_s
     assert getattr(validation_meshes, f"HOLDOUT{number}_SOURCES") is sources
     for mesh_id, source in sources.items():
         assert validation_meshes.SOURCES[mesh_id] is source
-    ids = [i for i in validation_meshes.SOURCES  # the smooth tuning set is added after them
-           if i not in validation_meshes.SMOOTH_TUNING_SOURCES]
+    ids = [i for i in validation_meshes.SOURCES  # the tuning-side sets are added after them
+           if i not in validation_meshes.SMOOTH_TUNING_SOURCES
+           and i not in validation_meshes.CURVED_SCAN_SOURCES]
     later = [f"holdout{n}" for n in (11, 12, 13, 14, 15, 16)]  # the last sets of SOURCES, in order
     tail = ids[-12 * len(later):]
     assert tail[12 * later.index(split):][:12] == list(sources)
@@ -461,3 +462,62 @@ def test_manifests_record_digests_from_holdout_13_on():
         entries = holes_manifest.read(path)["meshes"]
         has = {"sha256" in e for e in entries}
         assert has == ({False} if split in holes_manifest.UNDIGESTED else {True}), split
+
+
+def test_the_curved_scans_set_is_its_own_set():
+    """Session 40's range scans of curved shapes (tuning side, rules may be chosen on them):
+    their own split name, meshes and sources, shared with no holdout, half or other set; 14
+    portable scans whose noise seeds (3500-3513) no other scan uses, of tuning-side sources
+    only (the smooth tuning set, animals.py's animals, the tuning half), none a holdout's;
+    the holes as every scan's (radii as planned, 1, 3 and 5 next to the border), digests
+    recorded; the generators in their own module, which validation_meshes adds to
+    ``SOURCES`` last."""
+    import curved_scans_meshes
+
+    sources = curved_scans_meshes.CURVED_SCAN_SOURCES
+    entries = holes_manifest.read(holes_manifest.CURVED_SCANS_MANIFEST)["meshes"]
+    ids = [e["mesh"] for e in entries]
+    assert ids == holes_manifest.SPLIT["curved_scans"] == list(sources)
+    assert validation_meshes.CURVED_SCAN_SOURCES is sources
+    assert list(validation_meshes.SOURCES)[-len(sources):] == ids
+    assert all(validation_meshes.SOURCES[i] is sources[i] for i in ids)
+    # a tuning-side set: never a holdout by its name, its file or its split
+    path, words, first_seed = holes_manifest.LATER_SETS["curved_scans"]
+    assert path.name == "curved_scans_manifest.json" and "tuning-side" in words
+    assert first_seed == 3600 and not set(ids) & set(holes_manifest.UNDIGESTED)
+    others = [e for split, (p, _, _) in holes_manifest.LATER_SETS.items()
+              if split != "curved_scans" for e in holes_manifest.read(p)["meshes"]]
+    others += holes_manifest.read()["meshes"]
+    assert not {e["mesh"] for e in others} & set(ids)
+    assert not {e["source"] for e in others} & {e["source"] for e in entries}
+    # the scanned meshes: the smooth tuning set's, the tuning half's or animals.py's
+    scanned, seeds = [], []
+    for source in sources.values():
+        cells = dict(zip(source.make.__code__.co_freevars,
+                         (c.cell_contents for c in source.make.__closure__), strict=True))
+        assert cells["portable"] is True, source.source
+        seeds.append(cells["seed"])
+        inner = dict(zip(cells["source"].__code__.co_freevars,
+                         (c.cell_contents for c in cells["source"].__closure__), strict=True))
+        scanned.append(inner.get("mesh_id", "animal"))
+    assert seeds == list(range(3500, 3514))
+    tuning_side = (set(holes_manifest.SPLIT["tuning"])
+                   | set(validation_meshes.SMOOTH_TUNING_SOURCES) | {"animal"})
+    assert set(scanned) <= tuning_side
+    assert scanned.count("animal") == 4
+    for entry in entries:
+        source = validation_meshes.SOURCES[entry["mesh"]]
+        assert entry["split"] == "curved_scans" and entry["kind"] == "range_scan"
+        assert (source.kind, source.source) == (entry["kind"], entry["source"])
+        assert len(entry["sha256"]) == 64 and entry["n_vertices"] > 0
+        radii = [h["radius_h"] for h in entry["holes"]]
+        assert radii == [r for r in holes_manifest.RADII_H if r in radii]
+        for hole in entry["holes"]:
+            k = holes_manifest.RADII_H.index(hole["radius_h"])
+            assert hole["near_border"] == (k in holes_manifest.NEAR_BORDER), entry["mesh"]
+            assert not hole["on_feature"]
+            assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
+    # a hole that could not be cut is skipped: radii 7 and 10 h on the knot tube, 10 h on the
+    # bone and on the decimated animal
+    assert sum(len(e["holes"]) for e in entries) == 94
+    assert sum(h["near_border"] for e in entries for h in e["holes"]) == 3 * 14

@@ -127,3 +127,52 @@ def test_measures_of_hand_made_rows():
     assert m["log_regret"] == pytest.approx(np.mean(np.log([1.0, 4.0, 2.0])))
     fixed = study.measures(rows, study.rule_demoted_to_fair3)
     assert fixed["above15"] == 0
+
+
+def test_signals_of_a_row():
+    """Session 40's truth-free signals, read from a row's evidence (nan where a test did not
+    run); the study's numbers are in σ and edge units."""
+    ev = evidence({"fair2": 1.0, "fair3": 1.5}, {}, adv2={"hidden": {"fair3": (-0.5, 0.25)}},
+                  sigma=0.2, edge=0.5, p_curvature=1e-3, fair23_rms=0.1, fair23_max=0.4)
+    s = study.signals({"evidence": ev, "radius_h": 4, "near_border": True})
+    assert s["hidden f3/f2"] == pytest.approx(1.5) and np.isnan(s["sibling f3/f2"])
+    assert s["t hidden f3"] == pytest.approx(-2.0) and np.isnan(s["t sibling f3"])
+    assert s["log10 p curvature"] == pytest.approx(-3.0)
+    assert s["sigma / edge"] == pytest.approx(0.4)
+    assert s["fair2-fair3 rms / sigma"] == pytest.approx(0.5)
+    assert s["fair2-fair3 max / sigma"] == pytest.approx(2.0)
+    assert s["fair2-fair3 rms / edge"] == pytest.approx(0.2)
+    assert s["radius / sigma"] == pytest.approx(10.0)  # 4 edges of 0.5 over σ 0.2
+    assert (s["boundary edges"], s["near border"]) == (30.0, 1.0)
+
+
+@pytest.mark.parametrize(("values", "ratios", "expected"), [
+    # fair3 1.5x closer on the two largest values, fair2 1.5x closer on the rest: >= 5
+    ([1, 2, 3, 5, 6], [0.5, 0.5, 0.6, 2.0, 1.6], (">=", 5.0, 2, 2, 0)),
+    # the same below: <= 2
+    ([1, 2, 3, 5, 6], [2.0, 1.6, 0.5, 0.5, 1.0], ("<=", 2.0, 2, 2, 0)),
+    # a missed hole between right ones: catching it breaks one either way (the first side
+    # found is kept on a tie)
+    ([1, 2, 3], [0.5, 2.0, 0.5], (">=", 2.0, 2, 1, 1)),
+    # nothing to catch
+    ([1, 2], [0.5, 1.0], None),
+])
+def test_best_threshold(values, ratios, expected):
+    best = study.best_threshold(np.array(values, float), np.array(ratios))
+    if expected is None:
+        assert best is None
+        return
+    got = (best["side"], best["threshold"], best["switched"], best["caught"], best["broken"])
+    assert got == expected
+
+
+def test_screen_reads_only_scan_holes_where_fair2_is_written():
+    scan = {"kind": "range_scan", "radius_h": 3, "near_border": False}
+    rows = [dict(row(dict(ERRORS, fair=2.0, fair3=1.0), FAIR2), **scan),  # missed
+            dict(row(dict(ERRORS, fair=1.0, fair3=2.0), FAIR2), **scan),  # fair2 right
+            dict(row(dict(ERRORS, fair=2.0, fair3=1.0), DECISIVE), **scan),  # λ-H written
+            dict(row(dict(ERRORS, fair=2.0, fair3=1.0), FAIR2), kind="organic", radius_h=3)]
+    text = study.screen(rows)
+    assert text.startswith("2 scan holes where fair2 is written: fair3 1.5x closer on 1, "
+                           "fair2 1.5x closer on 1")
+    assert "| radius / sigma |" in text
