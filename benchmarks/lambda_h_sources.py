@@ -50,6 +50,19 @@ is an option on branch ``s39-lhstudy`` (``2b4c433``) only: it failed the bar.
     python benchmarks/lambda_h_sources.py --set smooth_tuning --option curvature_pull \
         --values 0.1 --out /tmp/p.jsonl
     python benchmarks/lambda_h_sources.py --compare main_rows.jsonl ... --with /tmp/p.jsonl
+
+Session 40: truth-free disagreements between predictions of H per hole (``h_signals``:
+the λ-H fill's own H, the trilaplacian fill's, the biharmonic and harmonic continuations
+of the rim's), on the 30 holes or on every hole of a set, how they separate the holes
+above 1.5× the better faired fill among main's written λ-H fills (main's rows of
+``smooth_selfcheck_study.py``), and a veto (the λ-H fill not kept where a signal is above
+τ) replayed from those rows:
+
+    python benchmarks/lambda_h_sources.py --signals --out /tmp/s.jsonl              # 30 holes
+    python benchmarks/lambda_h_sources.py --table /tmp/s.jsonl
+    python benchmarks/lambda_h_sources.py --signals --set animals --out /tmp/a.jsonl
+    python benchmarks/lambda_h_sources.py --compare main_rows.jsonl ... --with /tmp/a.jsonl \
+        --signal-table          # or: --sweep --values 0.5,1 [--instead faired]
 """
 
 from __future__ import annotations
