@@ -50,6 +50,19 @@ is an option on branch ``s39-lhstudy`` (``2b4c433``) only: it failed the bar.
     python benchmarks/lambda_h_sources.py --set smooth_tuning --option curvature_pull \
         --values 0.1 --out /tmp/p.jsonl
     python benchmarks/lambda_h_sources.py --compare main_rows.jsonl ... --with /tmp/p.jsonl
+
+Session 40: truth-free disagreements between predictions of H per hole (``h_signals``:
+the λ-H fill's own H, the trilaplacian fill's, the biharmonic and harmonic continuations
+of the rim's), on the 30 holes or on every hole of a set, how they separate the holes
+above 1.5× the better faired fill among main's written λ-H fills (main's rows of
+``smooth_selfcheck_study.py``), and a veto (the λ-H fill not kept where a signal is above
+τ) replayed from those rows:
+
+    python benchmarks/lambda_h_sources.py --signals --out /tmp/s.jsonl              # 30 holes
+    python benchmarks/lambda_h_sources.py --table /tmp/s.jsonl
+    python benchmarks/lambda_h_sources.py --signals --set animals --out /tmp/a.jsonl
+    python benchmarks/lambda_h_sources.py --compare main_rows.jsonl ... --with /tmp/a.jsonl \
+        --signal-table          # or: --sweep --values 0.5,1 [--instead faired]
 """
 
 from __future__ import annotations
@@ -322,6 +335,255 @@ def hole_row(cut) -> dict:
     return row
 
 
+# --------------------------------------------------------------------------- session 40
+# truth-free disagreements between predictions of H over the hole (session 40's screen:
+# docs/error_sources.md "Session 40 (helper)"): does the λ-H fill's prediction of H disagree
+# with other predictions where it is unreliable?
+SIGNALS = ("d lh-f3", "d bih-f3", "d harm-bih", "d lh-bih", "d harm-f3", "d lh-f3 rim",
+           "d bih-f3 rim", "d lh-f3 3d", "d pos")
+
+
+def h_signals(vertices, faces, loop, lh_vertices, f3_vertices, fill_faces, rings) -> dict:
+    """Truth-free disagreements between predictions of H over the hole's new vertices, for a
+    λ-H fill and the trilaplacian fill on the same triangles ``fill_faces``.
+
+    Each surface's H is measured on its own LSCM map of the patch (the fill and ``rings``
+    rings, fewer while the map flips a triangle; ``vertex_lambda_h``). ``bih`` and ``harm``
+    are the biharmonic (``L M⁻¹ L``) and harmonic continuations of the λ-H patch's H from
+    the known vertices, on its map. ``d a-b``: RMS of (a − b) over the new vertices divided
+    by the RMS of b there; ``… rim``: divided by the RMS of H on the known vertices of the
+    patch instead (the rim's own scale); ``d lh-f3 3d``: H from the 3D cotangent Laplacian
+    (no map); ``d pos``: RMS distance of the two fills' new vertices in mean edge lengths
+    of the loop. Missing keys: that prediction could not be made.
+    """
+    n = len(vertices)
+    lh_all = np.vstack([vertices, lh_vertices])
+    f3_all = np.vstack([vertices, f3_vertices])
+    edge = float(np.mean(np.linalg.norm(vertices[loop] - vertices[np.roll(loop, 1)], axis=1)))
+    out = {"d pos": float(np.sqrt(np.mean(((lh_vertices - f3_vertices) ** 2).sum(axis=1))))
+           / edge}
+    mapped = mapped_truth_patch(lh_all, faces, loop, fill_faces, rings)
+    if mapped is None:
+        return out
+    ids, local, uv = mapped
+    free = ids >= n
+    H_lh = vertex_lambda_h(lh_all[ids], local, uv)[1]
+    H_f3 = vertex_lambda_h(f3_all[ids], local, parameterization.lscm(f3_all[ids], local))[1]
+    H3_lh = vertex_lambda_h(lh_all[ids], local, lh_all[ids])[1]
+    H3_f3 = vertex_lambda_h(f3_all[ids], local, f3_all[ids])[1]
+    rim = np.sqrt(np.nanmean(H_lh[~free] ** 2))
+    predictions = {"lh": H_lh[free], "f3": H_f3[free]}
+    L, area = laplacian_and_areas(uv, local)
+    for name, Q in (("bih", (L @ sp.diags(1.0 / area) @ L).tocsr()), ("harm", L.tocsr())):
+        try:
+            predictions[name] = biharmonic(H_lh, Q, free)[free]
+        except FillError:
+            pass
+
+    def rms(x):  # a numpy float: a flat fill's zero H gives inf or NaN, not an error
+        return np.sqrt(np.mean(x**2))
+
+    for a, b in (("lh", "f3"), ("bih", "f3"), ("harm", "bih"), ("lh", "bih"), ("harm", "f3")):
+        if a in predictions and b in predictions:
+            out[f"d {a}-{b}"] = float(rms(predictions[a] - predictions[b])
+                                      / rms(predictions[b]))
+            if f"d {a}-{b} rim" in SIGNALS:
+                out[f"d {a}-{b} rim"] = float(rms(predictions[a] - predictions[b]) / rim)
+    out["d lh-f3 3d"] = float(rms(H3_lh[free] - H3_f3[free]) / rms(H3_f3[free]))
+    return out
+
+
+def signal_row(cut) -> dict:
+    """The faired and λ-H fills' errors (as ``hole_row``'s) and :func:`h_signals` of one
+    hole; the signals are left out for a crease fill (its two sides are filled on their own,
+    on other triangles than the trilaplacian fill's) or a failed λ-H fill."""
+    vertices, faces, loop = cut.vertices, cut.faces, cut.loop
+    options = ConformalOptions()
+    row: dict = {"notes": ""}
+    made = faired_fills(vertices, faces, loop, [2, 3])
+    for order in (2, 3):
+        new_v, new_f, _ = made[order]
+        row[f"fair{order}"] = error_pct(np.vstack([vertices, new_v]), new_f, cut)
+    s0 = made[3][:2]
+    try:
+        lh = Candidates.for_hole(vertices, faces, loop, options).lambda_h(vertices, faces,
+                                                                          loop, s0)
+    except FillError as exc:
+        row["λ-H"], row["notes"] = float("nan"), f"λ-H: {str(exc)[:80]}"
+        return row
+    row["λ-H"] = error_pct(np.vstack([vertices, lh.vertices]), lh.faces, cut)
+    row["crease"] = bool(lh.crease)
+    if not lh.crease and np.array_equal(lh.faces, s0[1]):
+        row.update(h_signals(vertices, faces, loop, lh.vertices, s0[0], s0[1],
+                             options.rings_in_patch))
+    return row
+
+
+def run_signals(out: Path, which: str | None) -> None:
+    """:func:`signal_row` of the 30 holes (``which`` None) or of every hole of a set."""
+    done = {(r["set"], r["mesh"], r["hole"]) for r in study.read(out)} if out.exists() else set()
+    if which is None:
+        holes = ((s, m, k, c) for s, m, k, c in cuts([w for w in MISSES + WINS
+                                                        if w not in done]))
+    else:
+        holes = ((which, m, k, c) for m, _, k, _, c in study.holes_of(which)
+                 if (which, m, k) not in done)
+    for which_set, mesh_id, k, cut in holes:
+        t0 = time.perf_counter()
+        with warnings.catch_warnings(), np.errstate(divide="ignore", invalid="ignore"):
+            warnings.simplefilter("ignore")
+            row = signal_row(cut)
+        key = (which_set, mesh_id, k)
+        row.update({"set": which_set, "mesh": mesh_id, "hole": k, "edges": len(cut.loop),
+                    "group": "miss" if key in MISSES else "win" if key in WINS else "",
+                    "seconds": time.perf_counter() - t0})
+        with out.open("a") as fh:
+            fh.write(json.dumps(row, default=float) + "\n")
+        print(f"{which_set} {mesh_id} #{k}: λ-H {row['λ-H']:.3f} fair3 {row['fair3']:.3f} "
+              + " ".join(f"{c} {row[c]:.3f}" for c in SIGNALS if c in row)
+              + f" ({row['seconds']:.0f} s) {row['notes']}", file=sys.stderr, flush=True)
+
+
+def separation(miss: np.ndarray, win: np.ndarray) -> tuple[float, int, float]:
+    """How well a signal, larger on misses, separates ``miss`` from ``win`` values: the
+    probability that a miss's value is above a win's (ties half), and the fewest holes on
+    the wrong side of one threshold (misses at or below it plus wins above it) with the
+    smallest such threshold."""
+    auc = float(np.mean((miss[:, None] > win[None, :]) + 0.5 * (miss[:, None] == win[None, :])))
+    cuts_at = np.concatenate([[-np.inf], np.sort(np.concatenate([miss, win]))])
+    wrong = [(int(np.sum(miss <= t) + np.sum(win > t)), t) for t in cuts_at]
+    fewest, tau = min(wrong, key=lambda x: (x[0], x[1]))
+    return auc, fewest, float(tau)
+
+
+def screen_table(rows: list[dict]) -> str:
+    """Per signal: medians over misses and wins, the separation (:func:`separation`) on the
+    holes where the signal was made; then every hole's signals."""
+    out = ["| signal | misses: median (n) | wins: median (n) | P(miss > win) | fewest wrong "
+           "at one threshold (τ) |", "|---|---|---|---|---|"]
+    for c in SIGNALS:
+        x = {g: np.array([r[c] for r in rows if r["group"] == g and np.isfinite(r.get(c,
+                                                                                       np.nan))])
+             for g in ("miss", "win")}
+        if not len(x["miss"]) or not len(x["win"]):
+            continue
+        auc, fewest, tau = separation(x["miss"], x["win"])
+        out.append(f"| {c} | {np.median(x['miss']):.3f} ({len(x['miss'])}) | "
+                   f"{np.median(x['win']):.3f} ({len(x['win'])}) | {auc:.2f} | "
+                   f"{fewest} / {len(x['miss']) + len(x['win'])} ({tau:.3f}) |")
+    out += ["", "| group | hole | λ-H / better faired | " + " | ".join(SIGNALS) + " |",
+            "|---|---|---|" + "---|" * len(SIGNALS)]
+    for r in sorted(rows, key=lambda r: (r["group"] != "miss", r["set"], r["mesh"], r["hole"])):
+        ratio = r["λ-H"] / min(r["fair2"], r["fair3"])
+        out.append(f"| {r['group']} | {r['mesh']} #{r['hole']} | {ratio:.2f} | " + " | ".join(
+            f"{r[c]:.3f}" if np.isfinite(r.get(c, np.nan)) else "—" for c in SIGNALS) + " |")
+    return "\n".join(out)
+
+
+def vetoed(main_rows: list[dict], signal_rows: list[dict], signal: str, tau: float,
+           instead: str = "fair3") -> list[dict]:
+    """Candidate rows (for :func:`compare`) of a veto replayed on main's rows of
+    ``smooth_selfcheck_study.py``: where main wrote the λ-H fill (status ``ok``) and
+    ``signal`` of that hole is above ``tau``, the written error is ``instead``'s
+    (``"fair3"``, or ``"faired"``: the faired fill the self-check would write next,
+    its ``lib_faired``); elsewhere main's. A hole without the signal is not vetoed."""
+    said = {(r["set"], r["mesh"], r["hole"]): r.get(signal, float("nan")) for r in signal_rows}
+    out = []
+    for r in main_rows:
+        key = (r["set"], r["mesh"], r["hole"])
+        error = r["errors"]["conformal"]
+        if r["status"]["conformal"] == "ok" and said.get(key, float("nan")) > tau:
+            name = "fair3" if instead == "fair3" else r["evidence"]["lib_faired"]
+            error = r["errors"]["fair" if name == "fair2" else name]
+        out.append({"set": r["set"], "mesh": r["mesh"], "hole": r["hole"], "error": error})
+    return out
+
+
+def written_signal_table(main_rows: list[dict], signal_rows: list[dict]) -> str:
+    """On every hole where main wrote the λ-H fill (status ``ok``) and the signals were
+    made: per signal, how it separates the holes above 1.5× the better faired fill from the
+    others (:func:`separation`), per set and on the union; then the holes above 1.5× with
+    the rank of their signal among the set's written λ-H fills (1: the largest)."""
+    said = {(r["set"], r["mesh"], r["hole"]): r for r in signal_rows}
+    holes = []
+    for r in main_rows:
+        key = (r["set"], r["mesh"], r["hole"])
+        if r["status"]["conformal"] == "ok" and key in said:
+            e = r["errors"]
+            holes.append((r["set"], key, e["conformal"] / min(e["fair"], e["fair3"]), said[key]))
+    out = ["| signal | set | written λ-H fills with it | above 1.5×: median | others: median "
+           "| P(above > other) | fewest wrong at one threshold (τ) |",
+           "|---|---|---|---|---|---|---|"]
+    for c in SIGNALS:
+        for which in [*dict.fromkeys(h[0] for h in holes), "union"]:
+            hs = [h for h in holes if which in ("union", h[0])
+                  and np.isfinite(h[3].get(c, np.nan))]
+            above = np.array([h[3][c] for h in hs if h[2] > 1.5])
+            other = np.array([h[3][c] for h in hs if h[2] <= 1.5])
+            if not len(above) or not len(other):
+                out.append(f"| {c} | {which} | {len(hs)} | — | {np.median(other):.3f} | — | — |")
+                continue
+            auc, fewest, tau = separation(above, other)
+            out.append(f"| {c} | {which} | {len(hs)} | {np.median(above):.3f} "
+                       f"({len(above)}) | {np.median(other):.3f} | {auc:.2f} | {fewest} "
+                       f"({tau:.3f}) |")
+    out += ["", "| set | hole | written / better faired | " + " | ".join(
+        f"{c} (rank)" for c in SIGNALS) + " |", "|---|---|---|" + "---|" * len(SIGNALS)]
+    for which, key, ratio, sig in holes:
+        if ratio <= 1.5:
+            continue
+        cells = []
+        for c in SIGNALS:
+            if not np.isfinite(sig.get(c, np.nan)):
+                cells.append("—")
+                continue
+            same = [h[3].get(c, np.nan) for h in holes if h[0] == which]
+            rank = 1 + int(np.sum(np.array(same) > sig[c]))
+            cells.append(f"{sig[c]:.3f} ({rank} / {int(np.isfinite(same).sum())})")
+        out.append(f"| {which} | {key[1]} #{key[2]} | {ratio:.2f} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def veto_sweep(main_rows: list[dict], signal_rows: list[dict], taus: list[float],
+               instead: str = "fair3") -> str:
+    """Issue 14's measures per set for the veto of every signal at every τ (:func:`vetoed`),
+    one line each, and whether it passes the bar: fewer holes above 1.5× on the union and
+    no set's per-hole median / CGAL or worst mesh / fair2 worse than main's."""
+    sets = list(dict.fromkeys(r["set"] for r in main_rows))
+
+    def measures(written_rows):
+        new = {(r["set"], r["mesh"], r["hole"]): r["error"] for r in written_rows}
+        out = {}
+        for which in sets:
+            rs = [r for r in main_rows if r["set"] == which]
+            out[which] = written_measures(rs, np.array([new[(r["set"], r["mesh"], r["hole"])]
+                                                        for r in rs]))
+        return out
+
+    base = measures([{"set": r["set"], "mesh": r["mesh"], "hole": r["hole"],
+                      "error": r["errors"]["conformal"]} for r in main_rows])
+    lines = ["| signal | τ | vetoed | " + " | ".join(f"{w}: median / CGAL, worst / fair2, "
+                                                      "> 1.5×" for w in sets)
+             + " | > 1.5× (union) | passes |", "|---|---|---|" + "---|" * len(sets) + "---|---|",
+             "| main | | 0 | " + " | ".join(f"{base[w][0]:.3f}, {base[w][1][0]:.3f}, "
+                                            f"{base[w][2]}" for w in sets)
+             + f" | {sum(base[w][2] for w in sets)} | |"]
+    for c in SIGNALS:
+        for tau in taus:
+            rows = vetoed(main_rows, signal_rows, c, tau, instead)
+            changed = sum(a["error"] != r["errors"]["conformal"]
+                          for a, r in zip(rows, main_rows, strict=True))
+            m = measures(rows)
+            worse = [w for w in sets if m[w][0] > base[w][0] + 1e-12
+                     or m[w][1][0] > base[w][1][0] + 1e-12]
+            above = sum(m[w][2] for w in sets)
+            ok = above < sum(base[w][2] for w in sets) and not worse
+            lines.append(f"| {c} | {tau:g} | {changed} | " + " | ".join(
+                f"{m[w][0]:.3f}, {m[w][1][0]:.3f}, {m[w][2]}" for w in sets)
+                + f" | {above} | {'yes' if ok else 'no'} |")
+    return "\n".join(lines)
+
+
 def cuts(wanted):
     """(set, mesh, hole, cut) of the holes ``wanted``, in their sets' order."""
     for which in dict.fromkeys(s for s, _, _ in wanted):
@@ -483,12 +745,42 @@ def main() -> None:
     parser.add_argument("--values", help="its values, comma-separated (--set: the first)")
     parser.add_argument("--compare", type=Path, nargs="*")
     parser.add_argument("--with", dest="candidate", type=Path, nargs="*")
+    parser.add_argument("--signals", action="store_true",
+                        help="the truth-free disagreements of H (the 30 holes, or --set's)")
+    parser.add_argument("--veto", choices=SIGNALS,
+                        help="with --compare main rows --with signal rows: the λ-H fill "
+                             "not kept where this signal is above each of --values")
+    parser.add_argument("--signal-table", action="store_true",
+                        help="with --compare main rows --with signal rows: how each signal "
+                             "separates main's written λ-H fills above 1.5×")
+    parser.add_argument("--sweep", action="store_true",
+                        help="with --compare main rows --with signal rows: every signal's "
+                             "veto at each of --values, one line each")
+    parser.add_argument("--instead", choices=("fair3", "faired"), default="fair3")
     args = parser.parse_args()
     if args.table:
-        print(table(study.read(*args.table)))
+        rows = study.read(*args.table)
+        print(table(rows) if "λ-H proj" in rows[0] else screen_table(rows))
+        return
+    if args.compare and args.signal_table:
+        print(written_signal_table(study.read(*args.compare), study.read(*args.candidate)))
+        return
+    if args.compare and args.sweep:
+        print(veto_sweep(study.read(*args.compare), study.read(*args.candidate),
+                         [float(t) for t in args.values.split(",")], args.instead))
+        return
+    if args.compare and args.veto:
+        main_rows, signal_rows = study.read(*args.compare), study.read(*args.candidate)
+        for tau in (float(t) for t in args.values.split(",")):
+            print(f"\n### veto: {args.veto} > {tau:g}, {args.instead} written instead\n")
+            print(compare(main_rows, vetoed(main_rows, signal_rows, args.veto, tau,
+                                            args.instead)))
         return
     if args.compare:
         print(compare(study.read(*args.compare), study.read(*args.candidate)))
+        return
+    if args.signals:
+        run_signals(args.out, args.set)
         return
     values = [float(w) for w in args.values.split(",")] if args.values else []
     if args.set:

@@ -13,7 +13,9 @@ import scipy.sparse as sp
 from test_on_mesh import grid_mesh
 
 from surfinpaint.errors import FillError
-from surfinpaint.geometry.mesh import laplacian_and_areas
+from surfinpaint.fill.conformal.own_h import own_h_departure
+from surfinpaint.fill.results import Fill
+from surfinpaint.geometry.mesh import boundary_loops, laplacian_and_areas
 from surfinpaint.representation.analytic import isothermal_torus
 from surfinpaint.representation.vertex_lambda_h import vertex_lambda_h
 
@@ -77,3 +79,82 @@ def test_the_measures_of_written_fills():
     # the candidate's rows decide which holes count; the changed hole is listed
     assert "| smooth_tuning | 1 | 3.000, 3.000 (b), 1 | 1.000, 1.000 (b), 0 |" in text
     assert "smooth_tuning b #0: 3.000 → 1.000 (0.33×" in text
+
+
+def torus_with_a_hole():
+    """The torus patch of :func:`torus_hole` renumbered as a cut mesh and its fill: (known
+    vertices, known faces, the hole's loop, the removed vertices, the fill's faces)."""
+    truth, faces, _, free = torus_hole(0.25)
+    order = np.concatenate([np.flatnonzero(~free), np.flatnonzero(free)])
+    new_id = np.empty(len(order), dtype=np.int64)
+    new_id[order] = np.arange(len(order))
+    faces = new_id[faces]
+    points = truth[order]
+    n = int(np.sum(~free))
+    in_fill = (faces >= n).any(axis=1)
+    loops = boundary_loops(faces[~in_fill])
+    loop = min(loops, key=len)  # the hole's (the patch's own border is longer)
+    return points[:n], faces[~in_fill], loop, points[n:], faces[in_fill]
+
+
+def test_the_signals_are_zero_between_equal_fills_and_see_a_bump():
+    vertices, faces, loop, removed, fill_faces = torus_with_a_hole()
+    same = sources.h_signals(vertices, faces, loop, removed, removed, fill_faces, 4)
+    assert same["d lh-f3"] == 0.0 and same["d pos"] == 0.0 and same["d lh-f3 3d"] == 0.0
+    # the torus' H is smooth: its continuations from the rim are close to it, not equal
+    assert 1e-6 < same["d lh-bih"] < 0.05 and same["d harm-bih"] > same["d lh-bih"]
+    centre = removed.mean(axis=0)
+    rim = np.linalg.norm(vertices[loop] - centre, axis=1).min()
+    spread = np.linalg.norm(removed - centre, axis=1)
+    # outwards, largest mid-hole and flat where it meets the rim
+    bump = removed + 0.03 * np.clip(1.0 - (spread / rim) ** 2, 0.0, None)[:, None] ** 3 \
+        * (centre / np.linalg.norm(centre))
+    moved = sources.h_signals(vertices, faces, loop, bump, removed, fill_faces, 4)
+    assert moved["d lh-f3"] > 0.1 and moved["d pos"] > 0.03 and moved["d lh-f3 3d"] > 0.1
+    # the rim hardly sees the bump: its continuation stays near the torus' H (measured 0.034)
+    assert moved["d bih-f3"] < 0.3 * moved["d lh-f3"]
+    assert moved["d lh-bih"] > 0.1
+
+
+def test_the_separation_of_a_signal():
+    auc, fewest, tau = sources.separation(np.array([3.0, 4.0, 1.0]), np.array([0.5, 2.0]))
+    assert auc == pytest.approx(5 / 6)  # 1.0 is below 2.0 only
+    assert (fewest, tau) == (1, 0.5)  # misses ≤ 0.5: none; wins above: 2.0
+    assert sources.separation(np.array([1.0]), np.array([1.0]))[0] == 0.5
+
+
+def test_a_veto_writes_the_faired_fill_where_the_signal_is_above_tau():
+    main = [dict(row("a", k, 1.0, 2.0, 0.5, 2.0), status={"conformal": status},
+                 evidence={"lib_faired": "fair2"})
+            for k, status in enumerate(("ok", "ok", "selected", "ok"))]
+    signals = [{"set": "smooth_tuning", "mesh": "a", "hole": k, "d lh-f3": d}
+               for k, d in ((0, 0.9), (1, 0.1), (2, 0.9))]  # hole 3: no signal
+    got = [r["error"] for r in sources.vetoed(main, signals, "d lh-f3", 0.5)]
+    assert got == [0.5, 1.0, 1.0, 1.0]  # only a kept λ-H fill is vetoed
+    got = [r["error"] for r in sources.vetoed(main, signals, "d lh-f3", 0.5, "faired")]
+    assert got == [2.0, 1.0, 1.0, 1.0]
+
+
+def test_a_veto_passes_the_bar_only_with_fewer_holes_above_and_nothing_worse():
+    main = [dict(row("a", 0, 3.0, 2.0, 1.0, 2.0), status={"conformal": "ok"}),
+            dict(row("a", 1, 1.0, 2.0, 4.0, 2.0), status={"conformal": "ok"}),
+            dict(row("b", 0, 1.0, 1.0, 1.0, 1.0), status={"conformal": "selected"})]
+    signals = [{"set": "smooth_tuning", "mesh": "a", "hole": k, "d lh-f3": d}
+               for k, d in ((0, 0.9), (1, 0.5))]
+    lines = sources.veto_sweep(main, signals, [0.7, 0.3]).splitlines()
+    assert "| main | | 0 | 1.000, 1.000, 1 | 1 | |" in lines
+    # a #0 vetoed: 3.0 → 1.0 (fair3), below 1.5×; the medians only fall
+    assert "| d lh-f3 | 0.7 | 1 | 0.500, 1.000, 0 | 0 | yes |" in lines
+    # a #1 vetoed too: 1.0 → 4.0, now above 1.5×, and mesh a's median / fair2 rises
+    assert "| d lh-f3 | 0.3 | 2 | 1.000, 1.250, 1 | 1 | no |" in lines
+
+
+def test_the_studys_own_h_signal_is_the_librarys():
+    vertices, faces, loop, removed, fill_faces = torus_with_a_hole()
+    centre = removed.mean(axis=0)
+    spread = np.linalg.norm(removed - centre, axis=1)
+    bump = removed + 0.05 * np.clip(1.0 - (spread / spread.max()) ** 2, 0.0, None)[:, None] \
+        * (centre / np.linalg.norm(centre))
+    study = sources.h_signals(vertices, faces, loop, bump, removed, fill_faces, 4)["d lh-bih"]
+    library = own_h_departure(vertices, faces, loop, Fill(bump, fill_faces, "conformal"), 4)
+    assert study > 0.1 and library == pytest.approx(study, rel=1e-12)
