@@ -13,8 +13,6 @@ import scipy.sparse as sp
 from test_on_mesh import grid_mesh
 
 from surfinpaint.errors import FillError
-from surfinpaint.fill.conformal.own_h import own_h_departure
-from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.mesh import boundary_loops, laplacian_and_areas
 from surfinpaint.representation.analytic import isothermal_torus
 from surfinpaint.representation.vertex_lambda_h import vertex_lambda_h
@@ -147,14 +145,3 @@ def test_a_veto_passes_the_bar_only_with_fewer_holes_above_and_nothing_worse():
     assert "| d lh-f3 | 0.7 | 1 | 0.500, 1.000, 0 | 0 | yes |" in lines
     # a #1 vetoed too: 1.0 → 4.0, now above 1.5×, and mesh a's median / fair2 rises
     assert "| d lh-f3 | 0.3 | 2 | 1.000, 1.250, 1 | 1 | no |" in lines
-
-
-def test_the_studys_own_h_signal_is_the_librarys():
-    vertices, faces, loop, removed, fill_faces = torus_with_a_hole()
-    centre = removed.mean(axis=0)
-    spread = np.linalg.norm(removed - centre, axis=1)
-    bump = removed + 0.05 * np.clip(1.0 - (spread / spread.max()) ** 2, 0.0, None)[:, None] \
-        * (centre / np.linalg.norm(centre))
-    study = sources.h_signals(vertices, faces, loop, bump, removed, fill_faces, 4)["d lh-bih"]
-    library = own_h_departure(vertices, faces, loop, Fill(bump, fill_faces, "conformal"), 4)
-    assert study > 0.1 and library == pytest.approx(study, rel=1e-12)

@@ -24,7 +24,6 @@ from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.conformal.checks import blended_fill
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
-from surfinpaint.fill.conformal.own_h import keeps_own_h, own_h_departure
 from surfinpaint.fill.conformal.selection import (
     Verdict,
     choose,
@@ -149,8 +148,6 @@ def conformal_fill(
         if verdict.make:
             s0 = candidates.initial(vertices, faces, loop, faired)
             own = candidates.lambda_h(vertices, faces, loop, s0)
-            if verdict.keep:
-                verdict = _own_h_checked(vertices, faces, loop, own, verdict, options)
             if verdict.keep:
                 return replace(own, verdict=verdict,
                                selection=verdict.sentence(kept=True, failed=False))
@@ -447,20 +444,6 @@ def _on_plane(faired: Fill, plane: PlaneTest) -> Fill:
     return replace(faired, vertices=new, plane=plane,
                    selection=f"{plane.sentence()}: the faired fill (order "
                              f"{faired.fair_order}) laid on it, no self-check")
-
-
-def _own_h_checked(vertices, faces, loop, own: Fill, verdict: Verdict,
-                   options: ConformalOptions) -> Verdict:
-    """The verdict that kept ``own``, or the same verdict not keeping it (its faired choice
-    is then written) where :func:`~.own_h.keeps_own_h` says so."""
-    crease = bool(own.crease)
-    departure = None if crease else own_h_departure(vertices, faces, loop, own,
-                                                    options.rings_in_patch)
-    if keeps_own_h(departure, crease):
-        return verdict
-    return replace(verdict, keep=False, lost=(
-        f"the λ-H fill's own H is {departure:.2f} (relative RMS) off the biharmonic "
-        "continuation of its rim's",))
 
 
 def _faired_choice(faired: dict[str, Fill], verdict: Verdict,
