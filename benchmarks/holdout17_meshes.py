@@ -59,7 +59,7 @@ def _penguin() -> BenchMesh:
         return _smooth_max(parts, 0.02)
 
     return vm._level_set_mesh(inside, [-0.34, -0.32, -0.04, 0.34, 0.34, 0.92], 0.01,
-                              PENGUIN_H)
+                              PENGUIN_H, SURFACE_CHECK)
 
 
 def _mouse() -> BenchMesh:
@@ -92,7 +92,8 @@ def _mouse() -> BenchMesh:
                   zip(tail[:-1], tail[1:], radii[:-1], radii[1:], strict=True)]
         return _smooth_max(parts, 0.015)
 
-    return vm._level_set_mesh(inside, [-0.2, -0.4, -0.03, 0.36, 0.5, 0.4], 0.01, MOUSE_H)
+    return vm._level_set_mesh(inside, [-0.2, -0.4, -0.03, 0.36, 0.5, 0.4], 0.01, MOUSE_H,
+                              SURFACE_CHECK)
 
 
 # --------------------------------------------------------------------------- CAD
@@ -112,7 +113,9 @@ def _rocker_arm() -> BenchMesh:
                + m3.CrossSection.batch_hull([m3.CrossSection.circle(0.1, 48),
                                              m3.CrossSection.circle(0.062, 32).translate(push)]))
     arm = m3.Manifold.extrude(outline, 0.08).translate((0.0, 0.0, -0.04))
-    boss = m3.Manifold.cylinder(0.16, 0.1, -1, 48, True)
+    # the boss wider than the arm's round end (0.12 against 0.1): with the same radius the
+    # arm's sides were tangent to it and the remeshing left 2 faces crossing there
+    boss = m3.Manifold.cylinder(0.16, 0.12, -1, 48, True)
     pad = (m3.Manifold.cylinder(0.08, 0.035, -1, 32, True).rotate((90.0, 0.0, 0.0))
            .translate((valve[0] - 0.005, valve[1], -0.04)))  # its lower half below the arm
     nut = m3.Manifold.cylinder(0.045, 0.055, -1, 6).translate((push[0], push[1], 0.035))
@@ -126,7 +129,7 @@ def _rocker_arm() -> BenchMesh:
         .translate((0.235, -0.025, 0.02)))  # 0.02 deep into the top face
     oil = m3.Manifold.cylinder(0.4, 0.011, -1, 16, True).translate((0.39, -0.046, 0.0))
     holes = m3.Manifold.batch_boolean([bore, *mouths, screw, pocket, oil], m3.OpType.Add)
-    return vm._manifold_mesh(solid - holes, ROCKER_H, refine=0.03)
+    return vm._manifold_mesh(solid - holes, ROCKER_H, refine=0.03, surface_check=SURFACE_CHECK)
 
 
 def _pipe_strap() -> BenchMesh:
@@ -153,7 +156,7 @@ def _pipe_strap() -> BenchMesh:
         0.028, m3.JoinType.Round, circular_segments=24), 0.2).translate((-0.35, 0.0, -0.1))
     part = (m3.Manifold.batch_boolean([band, rib, feet], m3.OpType.Add)
             - m3.Manifold.batch_boolean([bolt, slot], m3.OpType.Add))
-    return vm._manifold_mesh(part, STRAP_H, refine=0.03)
+    return vm._manifold_mesh(part, STRAP_H, refine=0.03, surface_check=SURFACE_CHECK)
 
 
 def _yoke() -> BenchMesh:
@@ -182,7 +185,7 @@ def _yoke() -> BenchMesh:
     screw = (m3.Manifold.cylinder(0.15, 0.015, -1, 16).rotate((0.0, 90.0, 0.0))
              .translate((0.0, 0.0, -0.1)))  # radial, through one wall into the bore
     holes = m3.Manifold.batch_boolean([bore, key, cross, screw], m3.OpType.Add)
-    return vm._manifold_mesh(solid - holes, YOKE_H, refine=0.03)
+    return vm._manifold_mesh(solid - holes, YOKE_H, refine=0.03, surface_check=SURFACE_CHECK)
 
 
 # --------------------------------------------------------------------------- teeth
@@ -211,7 +214,7 @@ def _triconodont() -> BenchMesh:
         return _smooth_max([crown, neck, *roots], 0.025)
 
     return vm._level_set_mesh(inside, [-0.24, -0.44, -0.64, 0.24, 0.44, 0.62], 0.012,
-                              TRICONODONT_H)
+                              TRICONODONT_H, SURFACE_CHECK)
 
 
 # --------------------------------------------------------------------------- smooth
@@ -232,7 +235,7 @@ def _cooling_tower() -> BenchMesh:
         return _smooth_min([wall, z, 0.9 - z], 0.015)
 
     return vm._level_set_mesh(inside, [-0.6, -0.56, -0.03, 0.6, 0.56, 0.93], 0.01,
-                              TOWER_H)
+                              TOWER_H, SURFACE_CHECK)
 
 
 # --------------------------------------------------------------------------- brain-like
@@ -289,7 +292,7 @@ def _stellate_cortex() -> BenchMesh:
         depth = max(depth, 2.2 * midline / math.cosh(ux / FISSURE_WIDTH))
         return r - SPOKE_DEPTH * depth
 
-    return _radial_surface(radius, STELLATE_H)
+    return _radial_surface(radius, STELLATE_H, SURFACE_CHECK)
 
 
 # (direction round the centre in radians, outer end in radians, where it forks or 0)
@@ -302,6 +305,10 @@ SPOKE_DEPTH, SPOKE_WIDTH, FISSURE_WIDTH = 0.065, 0.045, 0.035
 PENGUIN_H, MOUSE_H, ROCKER_H, STRAP_H, YOKE_H, TRICONODONT_H = (
     0.012, 0.01, 0.012, 0.012, 0.012, 0.014)
 TOWER_H, STELLATE_H = 0.012, 0.016
+# every remeshing passes PyMeshLab's surface-distance check (checksurfdist) explicitly: left
+# to the filter, it is a leftover byte of the heap, which can differ between processes
+# (validation_meshes._remesh; holdout 16's hose barb)
+SURFACE_CHECK = True
 
 
 # A nineteenth set, made in session 40 after holdout 16 had been made: all six kinds, the
@@ -320,7 +327,7 @@ HOLDOUT17_SOURCES: dict[str, Source] = {
                                           portable=True)),
     "scan_rocker_arm": Source("range_scan", "simulated scan of the rocker arm CAD part "
                               "(portable scanner)",
-                              vm._scan(_rocker_arm, (0.3, -0.5, 0.8), 181, portable=True)),
+                              vm._scan(_rocker_arm, (0.3, -0.6, 0.7), 181, portable=True)),
     "scan_yoke": Source("range_scan", "simulated scan of the universal joint yoke CAD part "
                         "(portable scanner)", vm._scan(_yoke, (0.5, -0.6, 0.6), 182,
                                                        portable=True)),
