@@ -268,17 +268,18 @@ def _folded_hemisphere() -> BenchMesh:
     return _radial_surface(radius, FOLDED_H)
 
 
-def _radial_surface(radius, h: float) -> BenchMesh:
+def _radial_surface(radius, h: float, surface_check: bool | None = None) -> BenchMesh:
     """The closed surface ``r = radius(ux, uy, uz)`` over the unit directions (Python
     floats in, a float out: the same bits on every CPU), sampled at an icosphere's vertices
     and remeshed to edge length ``h``: a radial height field, for folded brain-like shapes
-    that level sets make non-manifold."""
+    that level sets make non-manifold (``surface_check``: ``validation_meshes._remesh``'s)."""
     from surfinpaint import data
 
     v, f = data.sphere(6)
     v = v / np.sqrt((v * v).sum(axis=1))[:, None]  # unit directions
     r = np.array([radius(float(a), float(b), float(c)) for a, b, c in v])
-    return vm._mesh(*vm._remesh(v * r[:, None], f, h, feature_deg=180.0))
+    return vm._mesh(*vm._remesh(v * r[:, None], f, h, feature_deg=180.0,
+                                surface_check=surface_check))
 
 
 FOLD_FREQUENCY, FOLD_DEPTH, FOLD_WIDTH = 16.0, 0.08, 0.6

@@ -123,6 +123,14 @@ kind; its four scans made with the portable scanner), holes planned the same way
 from 1700), made in session 39 after the fifteenth holdout had been made and committed
 before any fill was run on them; to be run once by a later session after its changes.
 
+A nineteenth set, the seventeenth holdout (``benchmarks/holdout17_manifest.json``, ``--write
+--holdout17``): 12 fresh meshes (``validation_meshes.HOLDOUT17_SOURCES``, made in
+``holdout17_meshes.py``; all six kinds, a synthetic cortex with radiating sulci for the
+brain kind; its four scans made with the portable scanner), holes planned the same way
+(seeds from 1800), made in session 40 after the sixteenth holdout had been made and
+committed before any fill was run on them; to be run once by a later session after its
+changes.
+
 A tuning-side set of range scans of curved shapes (``benchmarks/curved_scans_manifest.json``,
 ``--write --curved-scans``): 14 portable scans (``validation_meshes.CURVED_SCAN_SOURCES``,
 made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and the tuning
@@ -181,6 +189,8 @@ SMOOTH_TUNING_MANIFEST = Path(__file__).parent / "smooth_tuning_manifest.json"
 HOLDOUT15_MANIFEST = Path(__file__).parent / "holdout15_manifest.json"
 # an eighteenth set, fresh meshes of session 39 (HOLDOUT16_SOURCES), committed before any fill
 HOLDOUT16_MANIFEST = Path(__file__).parent / "holdout16_manifest.json"
+# a nineteenth set, fresh meshes of session 40 (HOLDOUT17_SOURCES), committed before any fill
+HOLDOUT17_MANIFEST = Path(__file__).parent / "holdout17_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
@@ -201,6 +211,7 @@ LATER_SETS = {
     "holdout14": (HOLDOUT14_MANIFEST, "the fourteenth holdout set", 1500),
     "holdout15": (HOLDOUT15_MANIFEST, "the fifteenth holdout set", 1600),
     "holdout16": (HOLDOUT16_MANIFEST, "the sixteenth holdout set", 1700),
+    "holdout17": (HOLDOUT17_MANIFEST, "the seventeenth holdout set", 1800),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -243,6 +254,7 @@ SPLIT = {
     "smooth_tuning": list(vm.SMOOTH_TUNING_SOURCES),
     "holdout15": list(vm.HOLDOUT15_SOURCES),
     "holdout16": list(vm.HOLDOUT16_SOURCES),
+    "holdout17": list(vm.HOLDOUT17_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
 }
 
@@ -342,8 +354,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
-    holdout's at 1600, the sixteenth holdout's at 1700; the smooth tuning set's at 3800, the
-    curved scans set's at 3600)."""
+    holdout's at 1600, the sixteenth holdout's at 1700, the seventeenth holdout's at 1800;
+    the smooth tuning set's at 3800, the curved scans set's at 3600)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0
