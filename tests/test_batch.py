@@ -454,9 +454,12 @@ def test_a_dask_cluster_fills_every_file_even_when_a_worker_dies(tmp_path):
         assert all("profile" not in names and "heartbeat" in names
                    for names in callbacks.values()), callbacks
         client.register_plugin(KillOnce())
-        rows = fill_files([scans], out, client=client, **FAIR)
+        heard: list[FileRow] = []
+        rows = fill_files([scans], out, client=client, on_result=heard.append, **FAIR)
     assert marker.exists()  # a worker died mid-task, and Dask ran its task again
     _check_rows(rows, expected)
+    # each file's row given once, in this process, as its task came back
+    assert sorted(heard, key=lambda r: r.path) == sorted(rows, key=lambda r: r.path)
     _check_outputs(out, expected)
 
 
@@ -630,3 +633,41 @@ def test_a_file_that_kills_its_worker_every_time_ends_as_a_failed_row(tmp_path):
     assert killer.message in done.stderr
     _check_rows(rows, expected)
     _check_outputs(out, expected)  # the others written, nothing of the killer
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_on_result_gets_each_row_as_its_file_finishes(tmp_path, jobs):
+    # session 40: a caller (the command line) can say a bad file's error while the others
+    # are still being filled. The bad file, the largest, is started first (costliest first,
+    # by size on a first run); it fails at once while the good ones are filled
+    scans = tmp_path / "scans"
+    scans.mkdir()
+    v, f = _holey(*sphere(1), 1)
+    good = [f"good{k}.ply" for k in range(5)]
+    for name in good:
+        write_mesh(scans / name, v, f)
+    (scans / "bad.ply").write_bytes(b"ply\nformat garbage\n" + b"\x00" * 10 *
+                                    (scans / "good0.ply").stat().st_size)
+    heard: list[tuple[FileRow, int]] = []  # each row given, and the files done by then
+    done = [0]
+
+    def progress(n, total, message):
+        done[0] = n
+
+    rows = fill_files([scans], tmp_path / "out", jobs=jobs, method="fair", progress=progress,
+                      on_result=lambda row: heard.append((row, done[0])))
+    given = [row for row, _ in heard]
+    assert sorted(given, key=lambda r: r.path) == sorted(rows, key=lambda r: r.path)
+    # each row before progress hears of its file
+    assert [n for _, n in heard] == list(range(len(rows)))
+    order = [Path(row.path).name for row in given]
+    assert given[order.index("bad.ply")].status == "failed"
+    assert order.index("bad.ply") < max(order.index(name) for name in good), order
+    if jobs == 1:
+        assert order[0] == "bad.ply", order
+    # a rerun: the up-to-date files' rows as they are found, then the bad file's again
+    heard.clear()
+    rows = fill_files([scans], tmp_path / "out", jobs=jobs, method="fair",
+                      on_result=lambda row: heard.append((row, 0)))
+    assert [row.status for row, _ in heard] == ["skipped"] * 5 + ["failed"]
+    assert sorted(row.path for row, _ in heard) == sorted(row.path for row in rows)

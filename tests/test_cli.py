@@ -299,7 +299,7 @@ def test_a_fill_that_fails_leaves_no_progress_bar_before_its_error(tmp_path, cap
                np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]]))
     assert main(["fill", str(fin), "-o", str(tmp_path / "out.ply")]) == 1
     err = capsys.readouterr().err
-    assert err.startswith(f"error: {fin}: 1 non-manifold edges"), err
+    assert err.startswith(f"error: {fin}: 1 non-manifold edge "), err
     # a fill that succeeds still leaves its bar's last line in the log
     assert main(["fill", str(path), "-o", str(tmp_path / "out.ply")]) == 0
     assert "━" in capsys.readouterr().err
@@ -821,10 +821,10 @@ def _not_disks() -> dict:
                             "genus 1 (Euler characteristic -1, 1 boundary loop), a disk has "
                             "genus 0"),
         "two pieces": (two, "2 connected components, a disk has one"),
-        "pinched": (pinched, "pinched) boundary vertices, where two boundary loops touch: "
-                    "vertices 0; a disk's boundary is one loop through each of its vertices "
-                    "once"),
-        "fin": (fin, "non-manifold edges (more than two faces): (0, 1); a disk is a "
+        "pinched": (pinched, "1 non-manifold (pinched) boundary vertex, where two boundary "
+                    "loops touch: 0; a disk's boundary is one loop through each of its "
+                    "vertices once"),
+        "fin": (fin, "1 non-manifold edge (more than two faces): (0, 1); a disk is a "
                 "manifold surface with one boundary loop"),
     }
 

@@ -6,6 +6,7 @@ that does not exist. Each names the file, exits as the README says (1 for an err
 from __future__ import annotations
 
 import os
+import sys
 import warnings
 from pathlib import Path
 
@@ -184,7 +185,7 @@ BROKEN = [
      "y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n",
      "PLY file has no face element (a point cloud, not a mesh)"),
     ("fin.obj", _obj([*_SQUARE, (0.5, 0.5, 1.0), (0.5, 0.5, -1.0)],
-                     [(1, 2, 3), (1, 3, 4), (1, 3, 5), (3, 1, 6)]), "1 non-manifold edges"),
+                     [(1, 2, 3), (1, 3, 4), (1, 3, 5), (3, 1, 6)]), "1 non-manifold edge ("),
     # session 38: "cannot read as OBJ: OverflowError: Python int too large to convert to C long"
     ("huge.obj", _obj(_SQUARE, [(1, 2, 99999999999999999999)]),
      "a face has an index beyond any vertex of the file (4 vertices): it does not fit in 64 "
@@ -472,7 +473,7 @@ BAD_FILES = {
                      "mesh has no faces"),
     "non-manifold.ply": (lambda path, v, f: write_mesh(
         path, np.vstack([v, [[0.0, 0.0, 3.0]]]),
-        np.vstack([f, [[f[0, 0], f[0, 1], len(v)]]])), "non-manifold edges"),
+        np.vstack([f, [[f[0, 0], f[0, 1], len(v)]]])), "1 non-manifold edge ("),
 }
 
 
@@ -513,3 +514,68 @@ def test_a_batch_names_each_bad_file_writes_the_others_and_ends_with_the_count(
         assert lines[-1] == f"{total} files: 8 filled, 0 unfilled, 0 closed, 4 failed, 0 " \
             "skipped; wrote out/summary.csv and summary.json", lines
         assert len(errors) == 4
+
+
+def _bad_first_batch(root: Path) -> tuple[Path, list[Path]]:
+    """A folder of three good files and a bad one (an unreadable PLY) that the batch starts
+    first: the largest (the files are started costliest first, by size on a first run)."""
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+
+    v, f = sphere(1)
+    cut = cut_geodesic_disk(v, f, 0, 0.6)
+    good = [root / f"good{k}.ply" for k in range(3)]
+    for path in good:
+        write_mesh(path, cut.vertices, cut.faces)
+    bad = root / "bad.ply"
+    bad.write_bytes(b"ply\nformat garbage\n" + b"\x00" * (4 * max(p.stat().st_size
+                                                                  for p in good)))
+    return bad, good
+
+
+# rich's colours, and its cursor moves and line erasures, which redraw the bar in a terminal
+_COLOUR, _CONTROL = r"\x1b\[[0-9;]*m", r"\x1b\[[0-9;?]*[A-Za-z]|\r"
+
+
+@pytest.mark.parametrize("quiet", [[], ["-q"], ["-qq"]])
+def test_a_batch_says_a_bad_file_when_it_fails_not_at_the_end(tmp_path, capsys, monkeypatch,
+                                                               quiet):
+    # session 40: the error lines came only when the whole run ended. The bad file is
+    # started first; each file's start is marked on stderr, so its error line must come
+    # before the last good file starts. Without -q, stderr is made a terminal (rich redraws
+    # its bar there): the error line must come out whole, above the bar
+    import re
+
+    from surfinpaint.app import batch
+
+    monkeypatch.chdir(tmp_path)
+    Path("scans").mkdir()
+    bad, good = _bad_first_batch(Path("scans"))
+    filled = batch.fill_file
+
+    def marked(job, options, hole_progress=None):
+        sys.stderr.write(f"\nstarting {job.name}\n")
+        return filled(job, options, hole_progress)
+
+    monkeypatch.setattr(batch, "fill_file", marked)
+    if not quiet:
+        monkeypatch.setenv("TTY_COMPATIBLE", "1")
+        monkeypatch.setenv("COLUMNS", "200")
+    capsys.readouterr()
+    code = main(["batch", "scans", "-o", "out", "--jobs", "1", "--method", "fair", *quiet])
+    text = capsys.readouterr().err
+    plain = re.sub(_CONTROL, "\n", re.sub(_COLOUR, "", text))
+    lines = [line for line in plain.splitlines() if line.strip()]
+    assert code == 1, text
+    error = "error: scans/bad.ply: PLY header has no 'end_header' line (truncated or not PLY)"
+    assert lines.count(error) == 1, lines
+    starts = [lines.index(f"starting scans/{p.name}") for p in [bad, *good]]
+    assert starts[0] < lines.index(error) < max(starts[1:]), lines
+    assert sorted(r.status for r in batch.read_summary(Path("out"))) == \
+        ["failed"] + ["filled"] * 3
+    said = [line for line in lines if not line.startswith("starting ")]
+    if quiet:  # the error, and the count at the end, as before
+        assert said == [error, "error: 1 of 4 files failed (each named above; all in "
+                        "out/summary.csv)"], lines
+    else:
+        assert said[-1] == "4 files: 3 filled, 0 unfilled, 0 closed, 1 failed, 0 skipped; " \
+            "wrote out/summary.csv and summary.json", lines

@@ -30,8 +30,8 @@ def _nonmanifold(v, f):
     (lambda v, f: (v, np.vstack([f, [0, 1, -1]])), "negative vertex ids", "faces"),
     (lambda v, f: (v, f[:, :2]), "faces must be an", None),
     (lambda v, f: (np.where(np.arange(len(v))[:, None] == 3, np.nan, v), f), "NaN", "vertices"),
-    (lambda v, f: _nonmanifold(v, f), "non-manifold edges", "edges"),
-    (lambda v, f: (v, np.vstack([f, f[-1:]])), "duplicate faces", "faces"),
+    (lambda v, f: _nonmanifold(v, f), "1 non-manifold edge ", "edges"),
+    (lambda v, f: (v, np.vstack([f, f[-1:]])), "1 duplicate face:", "faces"),
 ])
 def test_find_holes_refuses_what_fill_holes_refuses(holed, broken, match, ids):
     # before: IndexError / "negative axis 0 index" from numpy, a non-manifold edge called
@@ -51,7 +51,7 @@ def test_find_holes_refuses_what_fill_holes_refuses(holed, broken, match, ids):
 def test_find_holes_checks_loops_given_directly(holed):
     v, f = _nonmanifold(*holed)
     loop = find_holes(*holed)[0].loop
-    with pytest.raises(MeshError, match="non-manifold edges"):
+    with pytest.raises(MeshError, match="1 non-manifold edge "):
         select_holes(v, f, [loop])
 
 

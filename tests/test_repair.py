@@ -35,7 +35,7 @@ def _grid_with_fin():
 
 def test_fin():
     v, f, (a, b) = _grid_with_fin()
-    with pytest.raises(MeshError, match="non-manifold edges"):
+    with pytest.raises(MeshError, match="1 non-manifold edge "):
         validate_mesh(v, f)
     v0, f0 = v.copy(), f.copy()
     kept, removed = remove_nonmanifold_faces(v, f)

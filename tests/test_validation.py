@@ -156,7 +156,7 @@ def test_repeated_vertex_in_face_is_reported_and_left_out_of_the_topology(tetrah
 def test_duplicate_faces_even_with_other_orientation(tetrahedron):
     v, f = tetrahedron
     bad = np.concatenate([f, [[3, 2, 1]]])  # face 3 is (1, 2, 3)
-    assert _rejects(v, bad, "1 duplicate faces", "4 (same vertices as 3)").faces == [4]
+    assert _rejects(v, bad, "1 duplicate face:", "4 (same vertices as 3)").faces == [4]
 
 
 def test_zero_area_faces_are_reported():
@@ -179,8 +179,59 @@ def test_thin_but_real_triangle_is_accepted():
 def test_nonmanifold_edge_is_named():
     v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1]])
     f = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])  # three faces on edge (0, 1)
-    err = _rejects(v, f, "1 non-manifold edges", "(0, 1) in 3 faces")
+    err = _rejects(v, f, "1 non-manifold edge (", "(0, 1) in 3 faces")
     assert err.edges == [(0, 1)]
+
+
+def _fins(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A triangle with a fin of two more faces on ``n`` of its edges: ``n`` edges of three
+    faces."""
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [-1, 0, 0],
+                  [0, 0, -1]])
+    fins = [[1, 0, 3], [0, 1, 4], [2, 0, 5], [0, 2, 6]][:2 * n]
+    return v, np.array([[0, 1, 2], *fins])
+
+
+def _tetrahedron_plus(copies: int = 0, loose: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """The tetrahedron with ``copies`` of its first faces again and ``loose`` vertices that
+    no face uses."""
+    v, f = tetrahedron_mesh()
+    return np.vstack([v, np.full((loose, 3), 2.0)]), np.vstack([f, f[:copies]])
+
+
+# session 40: "1 non-manifold edges" and its siblings; each count agrees with its noun
+@pytest.mark.parametrize(("mesh", "said"), [
+    (lambda: _fins(1), "m.obj: 1 non-manifold edge (shared by more than two faces): (0, 1)"),
+    (lambda: _fins(2), "m.obj: 2 non-manifold edges (shared by more than two faces): "),
+    (lambda: _tetrahedron_plus(copies=1), "m.obj: 1 duplicate face: 4 (same vertices as 0)"),
+    (lambda: _tetrahedron_plus(copies=2), "m.obj: 2 duplicate faces: "),
+])
+def test_a_count_of_one_or_two_agrees_with_its_noun(mesh, said):
+    with pytest.raises(MeshError) as info:
+        validate_mesh(*mesh(), path="m.obj")
+    assert str(info.value).startswith(said), str(info.value)
+
+
+@pytest.mark.parametrize(("loose", "said"), [
+    (1, "1 unreferenced vertex (kept untouched): 4"),
+    (2, "2 unreferenced vertices (kept untouched): 4, 5"),
+])
+def test_a_count_of_unreferenced_vertices_agrees_with_its_noun(loose, said):
+    assert validate_mesh(*_tetrahedron_plus(loose=loose)).notes == [said]
+
+
+@pytest.mark.parametrize(("n_bad", "said"), [
+    (1, "1 loop edge is not a boundary edge of the mesh: "),
+    (2, "2 loop edges are not boundary edges of the mesh: "),
+])
+def test_a_count_of_loop_edges_agrees_with_its_noun(n_bad, said):
+    # a grid's border with one vertex, then two, moved inside: the edges into it are no
+    # boundary edges (a loop of 3 vertices, the fewest, for the border's corner cut)
+    v, f = grid_mesh(3, 3)
+    loop = {1: [0, 1, 4], 2: [0, 4, 8, 3]}[n_bad]
+    with pytest.raises(MeshError) as info:
+        check_loop(f, np.array(loop))
+    assert said in str(info.value), str(info.value)
 
 
 def test_inconsistent_orientation_names_edge_and_faces():
@@ -336,7 +387,7 @@ def test_duplicate_faces_say_what_repair_does_with_them(tetrahedron):
     from surfinpaint import fill_holes
 
     v, f = tetrahedron
-    _rejects(v, np.concatenate([f, f[3:]]), "1 duplicate faces",
+    _rejects(v, np.concatenate([f, f[3:]]), "1 duplicate face:",
              "--repair (repair=True) removes the faces around")
     s = trimesh.creation.icosphere(2)
     v, f = np.asarray(s.vertices), np.asarray(s.faces)

@@ -262,11 +262,11 @@ def _flipped(v, f):
     # find_holes runs beside the checks on meshes they refuse: their errors are raised,
     # in their order (a duplicate before a non-manifold edge, as validate_mesh names them;
     # a zero-area face is no error)
-    (lambda v, f: _zero_area_face(v, np.vstack([f, f[9:10]])), "1 duplicate faces", None),
-    (lambda v, f: _zero_area_face(*_fin(v, np.vstack([f, f[9:10]]))), "1 duplicate faces",
+    (lambda v, f: _zero_area_face(v, np.vstack([f, f[9:10]])), "1 duplicate face:", None),
+    (lambda v, f: _zero_area_face(*_fin(v, np.vstack([f, f[9:10]]))), "1 duplicate face:",
      None),
-    (lambda v, f: _zero_area_face(*_fin(v, f)), "non-manifold edges", None),
-    (_fin, "non-manifold edges", None),
+    (lambda v, f: _zero_area_face(*_fin(v, f)), "non-manifold edge", None),
+    (_fin, "non-manifold edge", None),
     (_flipped, "inconsistent face orientation: 3 shared edges", None),
 ])
 def test_the_passes_beside_the_table_keep_the_errors_and_their_order(monkeypatch, large,

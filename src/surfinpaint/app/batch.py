@@ -10,7 +10,8 @@ Every output is written atomically (a complete file or none), so an interrupted 
 worker killed mid-file, leaves no partial output, and a rerun skips the outputs that are
 newer than every file their fill reads: it picks up where the last run stopped. The progress
 callback hears of each file done and, from this process and local workers (not from Dask
-workers), of the holes of the files in flight.
+workers), of the holes of the files in flight; the ``on_result`` callback gets each file's
+row as that file finishes (the command line prints a bad file's error then, not at the end).
 """
 
 from __future__ import annotations
@@ -75,6 +76,7 @@ __all__ = ["MESSAGE_SEPARATOR", "FileJob", "FileRow", "FileRows", "STATUSES", "S
 WORKER_RETRIES = 3
 
 ProgressCallback = Callable[[int, int, str], None]
+ResultCallback = Callable[[FileRow], None]
 
 # imported by the first picture: a batch without pictures does without the module
 figures = lazy_module("surfinpaint.app.figures")
@@ -173,18 +175,25 @@ def _remove_temporaries(jobs: Iterable[FileJob]) -> None:
 
 
 class _Rows:
-    """The rows of a run as they come in, and the progress callback told of each, and of
-    the holes of the files in flight."""
+    """The rows of a run as they come in, the result callback given each, and the progress
+    callback told of each, and of the holes of the files in flight."""
 
-    def __init__(self, total: int, progress: ProgressCallback | None) -> None:
-        self.total, self.progress = total, progress
+    def __init__(self, total: int, progress: ProgressCallback | None,
+                 on_result: ResultCallback | None = None) -> None:
+        self.total, self.progress, self.on_result = total, progress, on_result
         self.by_name: dict[str, FileRow] = {}
         self.holes: dict[str, str] = {}  # the hole progress of each file in flight
 
     def add(self, row: FileRow, *, quiet: bool = False) -> None:
+        """Record ``row``; unless ``quiet`` (the run is being stopped: no callback may run
+        then), give it to the result callback, then tell the progress callback."""
         self.by_name[row.path] = row
         self.holes.pop(row.path, None)
-        if self.progress is not None and not quiet:
+        if quiet:
+            return
+        if self.on_result is not None:
+            self.on_result(row)
+        if self.progress is not None:
             self.progress(len(self.by_name), self.total, f"{row.path}: {row.status}")
 
     def hole(self, name: str, done: int, total: int, message: str) -> None:
@@ -438,7 +447,8 @@ def _check_options(options: Mapping[str, Any]) -> None:
 
 def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
             out_dir: str | os.PathLike, overwrite: bool, progress: ProgressCallback | None,
-            png: bool, overlays: Sequence[str]) -> tuple[Inputs, list[FileJob], _Rows]:
+            png: bool, overlays: Sequence[str], on_result: ResultCallback | None = None,
+            ) -> tuple[Inputs, list[FileJob], _Rows]:
     """The input files (:func:`find_inputs`), those to fill (the others recorded in the
     rows as skipped), costliest first, and the rows."""
     paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
@@ -446,7 +456,7 @@ def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
     todo = find_inputs(paths, out, png=png, overlays=overlays)
     out.mkdir(parents=True, exist_ok=True)
     earlier = {row.path: row for row in read_summary(out)}
-    rows = _Rows(len(todo), progress)
+    rows = _Rows(len(todo), progress, on_result)
     if progress is not None:
         progress(0, len(todo), f"{len(todo)} files")
     pending = []
@@ -480,6 +490,7 @@ def fill_files(
     png: bool = False,
     overlays: Sequence[str] = (),
     progress: ProgressCallback | None = None,
+    on_result: ResultCallback | None = None,
     **fill_options: Any,
 ) -> list[FileRow]:
     """Fill the holes of many mesh files, in parallel, into ``out_dir``.
@@ -519,6 +530,16 @@ def fill_files(
         ``done`` and ``total`` counting files; and, without a Dask client, as the holes of
         the files in flight start and finish, ``message`` naming each such file with its
         holes done and found (``done`` still the files done).
+    on_result : callable(FileRow), optional
+        Called with each input file's :class:`FileRow` (the row of the summary and of the
+        returned list) as soon as that file is recorded: in the order the files finish (not
+        the inputs'), the skipped files' rows first, as they are found up to date; before
+        ``progress`` hears of that file. With worker processes and on a Dask cluster alike
+        (its results are gathered as each task ends), in this process. So a caller can
+        report a failed row (``status == "failed"``, ``message`` the error) while the others
+        are still being filled. Not called for the files whose results arrive while an
+        interrupted run is being stopped (they are in the summary); an exception it raises
+        stops the files in flight, as an interrupt does, and propagates.
     **fill_options
         Passed to :func:`surfinpaint.fill_holes` for every file: ``method``, ``options``
         (a :class:`~surfinpaint.ConformalOptions`), ``fair_order``, ``include_border``,
@@ -551,7 +572,8 @@ def fill_files(
     launched = _launch(n_jobs, progress is not None, _method(fill_options)) \
         if client is None and n_jobs > 1 else None
     try:
-        todo, pending, rows = _listed(inputs, out_dir, overwrite, progress, png, overlays)
+        todo, pending, rows = _listed(inputs, out_dir, overwrite, progress, png, overlays,
+                                      on_result)
     except BaseException:
         if launched is not None:
             _stop_workers(launched[0])

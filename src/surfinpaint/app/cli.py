@@ -210,10 +210,14 @@ def cmd_batch(args: argparse.Namespace) -> int:
         raise _UsageError(str(exc)) from None
     client = _dask_client(args.dask_scheduler) if args.dask_scheduler else None
     try:
-        with _progress(out.progress, "files") as progress:
+        # each file's error or warnings as it finishes, above the bar: a bad file early in
+        # a run of hours is said then, not at the end
+        with progress_bar(out.progress, None, "files") as bar, out.above(bar):
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
                                     overwrite=args.overwrite, png=args.png, overlays=overlays,
-                                    progress=progress, **options)
+                                    progress=bar.update if out.progress else None,
+                                    on_result=lambda row: _say_row(out, row, args.output),
+                                    **options)
     except (Interrupted, KeyboardInterrupt) as exc:
         if not isinstance(exc, Interrupted):
             exc = Interrupted(signal.SIGINT)
@@ -224,15 +228,6 @@ def cmd_batch(args: argparse.Namespace) -> int:
     finally:
         if client is not None:
             client.close()
-    for row in rows:
-        if row.status == "failed":
-            out.error(f"[red]error:[/red] {escape(row.message)}")
-        elif row.message and row.status != "skipped":
-            # each of the row's warnings on a line of its own, naming the input, and the
-            # output where the warning is of writing it
-            written = _written_for(args.output, row)
-            for text in row.message.split(batch.MESSAGE_SEPARATOR):
-                out.warn(warning_line(text, row.path, other_files=written))
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     failed = sum(r.status == "failed" for r in rows)
     if out.progress:
@@ -246,6 +241,21 @@ def cmd_batch(args: argparse.Namespace) -> int:
                   f"failed (each named above; all in "
                   f"{escape(str(Path(args.output) / batch.SUMMARY_CSV))})")
     return EXIT_FAILURE if failed else EXIT_OK
+
+
+def _say_row(out: QuietConsole, row: batch.FileRow, out_dir: str) -> None:
+    """Say what went wrong with the file of ``row`` (``fill_files``'s ``on_result``): its
+    error, or each of its warnings on a line of its own, naming the input, and the output
+    where the warning is of writing it (a skipped file's were said by the run that wrote
+    it)."""
+    from rich.markup import escape
+
+    if row.status == "failed":
+        out.error(f"[red]error:[/red] {escape(row.message)}")
+    elif row.message and row.status != "skipped":
+        written = _written_for(out_dir, row)
+        for text in row.message.split(batch.MESSAGE_SEPARATOR):
+            out.warn(warning_line(text, row.path, other_files=written))
 
 
 def _written_for(out_dir: str, row: batch.FileRow) -> dict[str, str]:

@@ -112,6 +112,12 @@ class _Bar:
             self._progress.update(self._task, completed=done, total=total,
                                   description=message, refresh=True)
 
+    @property
+    def console(self):
+        """The console the bar is drawn on (None for a no-op bar): a line printed on it
+        while the bar is shown goes above the bar, which rich draws again below it."""
+        return None if self._progress is None else self._progress.console
+
 
 @contextlib.contextmanager
 def progress_bar(enabled: bool, total: int | None = None, description: str = ""
@@ -212,6 +218,20 @@ class QuietConsole:
     def error(self, *args, **kwargs) -> None:
         """An error."""
         self._console.print(*args, **kwargs)
+
+    @contextlib.contextmanager
+    def above(self, bar: _Bar) -> Iterator[None]:
+        """While the progress bar ``bar`` (:func:`progress_bar`) is shown, print on its
+        console: a line said while the bar runs (a batch's bad file, as it fails) goes
+        above the bar instead of through it. A no-op bar changes nothing."""
+        if bar.console is None:
+            yield
+            return
+        own, self._console = self._console, bar.console
+        try:
+            yield
+        finally:
+            self._console = own
 
     @contextlib.contextmanager
     def stages(self) -> Iterator:

@@ -86,18 +86,20 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     if len(nonmanifold):
         e = [tuple(map(int, edges[k])) for k in nonmanifold[:10]]
         raise MeshError(
-            f"{len(nonmanifold)} non-manifold edges (more than two faces): {preview(e)}; "
-            "a disk is a manifold surface with one boundary loop",
+            f"{how_many(len(nonmanifold), 'non-manifold edge', 'non-manifold edges')} (more "
+            f"than two faces): {preview(e)}; a disk is a manifold surface with one boundary "
+            "loop",
             edges=e,
         )
     half = np.stack([f[:, [1, 2]], f[:, [2, 0]], f[:, [0, 1]]], axis=1)[count[face_edge] == 1]
     tails, outgoing = np.unique(half[:, 0], return_counts=True)
     pinched = tails[outgoing > 1]
     if len(pinched):
+        said = how_many(len(pinched), "non-manifold (pinched) boundary vertex",
+                        "non-manifold (pinched) boundary vertices")
         raise MeshError(
-            f"{len(pinched)} non-manifold (pinched) boundary vertices, where two boundary "
-            f"loops touch: vertices {preview(pinched)}; a disk's boundary is one loop "
-            "through each of its vertices once",
+            f"{said}, where two boundary loops touch: {preview(pinched)}; a disk's boundary "
+            "is one loop through each of its vertices once",
             vertices=pinched,
         )
     graph = sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),

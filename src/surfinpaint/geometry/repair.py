@@ -19,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.orientation import (
     orient_faces,
@@ -309,8 +309,9 @@ def unjoined_bowties(faces: np.ndarray, loop: np.ndarray) -> np.ndarray:
     bad = np.flatnonzero((sk[pos] != wanted) | (right - pos != 1))
     if bad.size:
         edges = [(int(loop[i]), int(nxt[i])) for i in bad[:100]]
-        raise MeshError(f"{bad.size} loop edges are not boundary edges of the mesh: "
-                        f"{edges[:10]}", edges=edges)
+        said = how_many(bad.size, "loop edge is not a boundary edge",
+                        "loop edges are not boundary edges")
+        raise MeshError(f"{said} of the mesh: {edges[:10]}", edges=edges)
     h = order[pos]  # the one half-edge of each loop edge (loop[i], loop[i + 1])
     head_corner = h - h % 3 + (h % 3 + 1) % 3
     # corners of loop[i] and of loop[i + 1] in the face holding that edge

@@ -3,17 +3,16 @@
 :func:`validate_mesh` rejects what no later step can work with (broken arrays, duplicate
 faces, non-manifold edges, inconsistent orientation) and reports the rest (components,
 unreferenced vertices, boundary loops, bow-tie vertices, degenerate faces) in a
-:class:`MeshReport`. Everything is vectorized: a million-face mesh validates in about a
-couple of seconds.
+:class:`MeshReport`. Everything is vectorized: a million-face mesh validates in seconds.
 
 Degenerate faces are reported, not refused. A face that uses a vertex twice is no triangle:
 its two edges between the same two vertices run both ways and join nothing, so it is left
 out of the topology (:mod:`surfinpaint.geometry.degenerate`: the edges, holes and checks); a
-fill keeps it in the output as it is. A face of three
-distinct vertices with zero area (:func:`zero_area_faces`) is a triangle of the surface,
-joined to its neighbours; only a fill's numerics break on it (cotangent weights, normals,
-the conformal map), so a hole whose fill's neighbourhood holds one is filled from fewer
-rings where it can, else left open (:mod:`surfinpaint.fill.hole_steps`).
+fill keeps it in the output as it is. A face of three distinct vertices with zero area
+(:func:`zero_area_faces`) is a triangle of the surface, joined to its neighbours; only a
+fill's numerics break on it (cotangent weights, normals, the conformal map), so a hole
+whose fill's neighbourhood holds one is filled from fewer rings where it can, else left
+open (:mod:`surfinpaint.fill.hole_steps`).
 """
 
 from __future__ import annotations
@@ -132,8 +131,7 @@ def face_ids(faces, *, path: str | None = None) -> np.ndarray:
         shown = ", ".join(f"{int(i)} {f[i].tolist()}" for i in bad[:5])
         more = f" and {bad.size - 5} more" if bad.size > 5 else ""
         raise _fail(f"{how_many(bad.size, 'face has', 'faces have')} vertex ids that are not "
-                    "whole numbers: "
-                    f"{shown}{more}", path, faces=bad[:100].tolist())
+                    f"whole numbers: {shown}{more}", path, faces=bad[:100].tolist())
     return f.astype(np.int64)
 
 
@@ -315,10 +313,11 @@ def validate_mesh(vertices: np.ndarray, faces: np.ndarray, *, path: str | None =
     if n_components > 1:
         report.notes.append(f"{n_components} separate components")
     if unreferenced.size:
-        report.notes.append(f"{unreferenced.size} unreferenced vertices (kept untouched): "
-                            f"{preview(unreferenced)}")
+        said = how_many(unreferenced.size, "unreferenced vertex", "unreferenced vertices")
+        report.notes.append(f"{said} (kept untouched): {preview(unreferenced)}")
     if bowtie.size:
-        report.notes.append(f"{bowtie.size} non-manifold (bow-tie) vertices: {preview(bowtie)}")
+        report.notes.append(how_many(bowtie.size, "non-manifold (bow-tie) vertex",
+                                     "non-manifold (bow-tie) vertices") + f": {preview(bowtie)}")
     report.notes += degenerate_notes(every, repeated, flat)
     return report
 
@@ -359,7 +358,6 @@ def check_topology(vertices: np.ndarray, faces: np.ndarray, table: EdgeTable | N
         table.check_faces(f)
     pairs = table.interior_pairs()  # for both edge checks
     _check_duplicates(table, path, pairs)
-
     _check_edges(table, path, pairs)
     # per coordinate on 1-D arrays: several times faster than np.cross on (f, 3) gathers
     return table, zero_area_faces(v, f)
@@ -412,9 +410,9 @@ def _check_duplicates(table: EdgeTable, path: str | None, pairs=None) -> None:
                      for a, b in zip(first[:10], dup[:10], strict=True)], len(dup))
     # their edges are shared by three or more faces where the copies meet others: what
     # --repair removes (a lone doubled triangle it leaves, so the hint says where)
-    raise _fail(f"{dup.size} duplicate faces: {text}; where the copies meet other faces, "
-                "--repair (repair=True) removes the faces around them and fills the holes "
-                "that leaves", path, faces=dup[:100].tolist())
+    raise _fail(f"{how_many(dup.size, 'duplicate face', 'duplicate faces')}: {text}; where the "
+                "copies meet other faces, --repair (repair=True) removes the faces around "
+                "them and fills the holes that leaves", path, faces=dup[:100].tolist())
 
 
 def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
@@ -428,9 +426,9 @@ def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
         text = _listing([f"({a}, {b}) in {int(count[i])} faces"
                          for (a, b), i in zip(edges[:10], nonmanifold[:10], strict=True)],
                         nonmanifold.size)
-        raise _fail(f"{nonmanifold.size} non-manifold edges (shared by more than two faces): "
-                    f"{text}; --repair (repair=True) removes the faces around them and fills "
-                    "the holes that leaves", path, edges=edges)
+        raise _fail(f"{how_many(nonmanifold.size, 'non-manifold edge', 'non-manifold edges')} "
+                    f"(shared by more than two faces): {text}; --repair (repair=True) removes "
+                    "the faces around them and fills the holes that leaves", path, edges=edges)
     # interior edge: its two half-edges must run in opposite directions
     h1, h2 = table.interior_pairs() if pairs is None else pairs
     clash = np.flatnonzero(table.forward[h1] == table.forward[h2])
@@ -442,18 +440,19 @@ def _check_edges(table: EdgeTable, path: str | None, pairs=None) -> None:
         text = _listing([f"({a}, {b}) in faces {int(p // 3)} and {int(q // 3)}"
                          for (a, b), p, q in zip(edges[:10], h1[:10], h2[:10], strict=True)],
                         clash.size)
-        raise _fail(f"inconsistent face orientation: {clash.size} shared edges are traversed "
-                    f"in the same direction by both faces: {text}; {_reorient_hint(table)}",
-                    path, edges=edges, faces=faces_bad[:100].tolist())
+        said = how_many(clash.size, "shared edge is", "shared edges are")
+        raise _fail(f"inconsistent face orientation: {said} traversed in the same direction "
+                    f"by both faces: {text}; {_reorient_hint(table)}", path, edges=edges,
+                    faces=faces_bad[:100].tolist())
 
 
 def _reorient_hint(table: EdgeTable) -> str:
     """How to fix the orientation error: ``--repair`` for orientable pieces, nothing for the
     non-orientable ones (named)."""
     _, flipped, bad = orient_faces(table.faces)
-    hint = (f"--repair (repair=True) reorients each piece consistently, flipping "
-            f"{len(flipped)} faces (as trimesh.repair.fix_winding or MeshLab's Re-Orient all "
-            "faces coherently do)")
+    hint = ("--repair (repair=True) reorients each piece consistently, flipping "
+            f"{how_many(len(flipped), 'face', 'faces')} (as trimesh.repair.fix_winding or "
+            "MeshLab's Re-Orient all faces coherently do)")
     if not bad:
         return hint
     pieces = _listing([f"{len(p)} faces ({', '.join(str(int(t)) for t in p[:5])}"
@@ -571,7 +570,7 @@ def check_loop(faces: np.ndarray, loop: np.ndarray, *, path: str | None = None) 
     f = np.asarray(faces, dtype=np.int64)
     loop = np.asarray(loop, dtype=np.int64).ravel()
     if len(loop) < 3:
-        raise _fail(f"boundary loop has {len(loop)} vertices, needs at least 3", path,
+        raise _fail(f"boundary loop needs at least 3 vertices, has {len(loop)}", path,
                     vertices=loop.tolist())
     values, counts = np.unique(loop, return_counts=True)
     if np.any(counts > 1):
@@ -589,8 +588,9 @@ def check_loop(faces: np.ndarray, loop: np.ndarray, *, path: str | None = None) 
     if not on_boundary.all():
         bad = np.flatnonzero(~on_boundary)
         edges = [(int(a[i]), int(b[i])) for i in bad[:100]]
-        raise _fail(f"{bad.size} loop edges are not boundary edges of the mesh: "
-                    f"{preview(edges)}", path, edges=edges)
+        said = how_many(bad.size, "loop edge is not a boundary edge",
+                        "loop edges are not boundary edges")
+        raise _fail(f"{said} of the mesh: {preview(edges)}", path, edges=edges)
     bowtie = np.intersect1d(ids[_bowtie(table)], loop)
     if bowtie.size:
         raise _fail(f"hole boundary passes through non-manifold (bow-tie) vertices "
