@@ -258,10 +258,10 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
                                  [run.rings_of(r) for r in todo], run)
     schedule = _Schedule(mesh, todo, run, workers, token)
     # one BLAS thread here too: the cuts and checks made here share the cores with workers.
-    # The process's controller, made here before the workers fork, is the one they use: made
-    # once a process, not once a call here and twice a worker (its own and the λ-H solves';
-    # making one lists the loaded libraries: 15-23 ms in the 651k command, 2-6 ms in a worker,
-    # docs/scale.md, session 41)
+    # The process's controller (made with the conformal kernels, warmup.warm_kernels, else
+    # here), made before the workers fork, is the one they use: once a process, not once a
+    # call here and twice a worker (its own and the λ-H solves'; making one lists the loaded
+    # libraries: 15-23 ms in the 651k command, 2-6 ms in a worker; docs/scale.md, session 41)
     blas = blas_threads.blas_controller().limit(limits=1)
     executor = parallel.pool(workers)
     try:
