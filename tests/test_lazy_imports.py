@@ -37,7 +37,7 @@ def test_the_pipeline_imports_threadpoolctl_and_scipy_spatial_at_their_first_use
     assert _modules_after(start + "\nfrom surfinpaint.fill import warmup\n"
                           "warmup.warm_kernels('conformal')", late) == set(late)
     assert _modules_after(start + "\nfrom surfinpaint.fill import scheduler\n"
-                          "scheduler.threadpoolctl.threadpool_limits",
+                          "scheduler.blas_threads.blas_controller",
                           ("threadpoolctl",)) == {"threadpoolctl"}
 
 

@@ -24,6 +24,7 @@ from surfinpaint.fill.neighbourhood import FilledMesh
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.io.formats import read_mesh, write_mesh
+from surfinpaint.representation import blas_threads
 
 # ``holed`` (conftest.py): six holes on a sphere, the sixth dependent on the fifth
 
@@ -145,6 +146,30 @@ def test_warnings_and_progress_in_hole_order(holed, forked, monkeypatch):
                 for j in (1, 2)}
     assert len(messages[1]) == 6 and len(set(messages[1])) > 1
     assert messages[1] == messages[2]
+
+
+def test_one_blas_controller_made_before_the_workers_fork(holed, filled, forked, monkeypatch,
+                                                          tmp_path):
+    """The BLAS thread-pool controller (making one lists the loaded libraries) is made once,
+    here, before the workers fork: they inherit it for their one-thread limit and their λ-H
+    solves, and make none (on main each worker made two and this process one more per
+    call). The same fill as one after another."""
+    made = tmp_path / "made"
+    controller = blas_threads.ThreadpoolController
+
+    def counted(*args, **kwargs):
+        with made.open("a") as out:
+            out.write(f"{os.getpid()}\n")
+        return controller(*args, **kwargs)
+
+    monkeypatch.setattr(blas_threads, "_CONTROLLER", [])  # none made yet in this process
+    monkeypatch.setattr(blas_threads, "ThreadpoolController", counted)
+    vertices, faces, _ = holed
+    both = fill_holes(vertices, faces, method="conformal", jobs=2)
+    assert made.read_text().split() == [str(os.getpid())]
+    assert sum(r.outcome == "lambda-h" for r in both.reports) > 0  # λ-H solves ran
+    assert np.array_equal(both.vertices, filled["conformal"][0].vertices)
+    assert np.array_equal(both.faces, filled["conformal"][0].faces)
 
 
 def test_worker_error_raised_as_serial(holed, forked, monkeypatch):

@@ -18,6 +18,7 @@ from surfinpaint.geometry import metrics
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
 from surfinpaint.geometry.validation import validate_mesh
+from surfinpaint.representation import blas_threads
 
 numba = pytest.importorskip("numba")
 
@@ -33,6 +34,23 @@ def _dispatchers():
             "measures": vertex_measures._MEASURES_KERNEL.get(),
             "blocks": face_derivatives._BLOCKS_KERNEL.get(),
             "rhs": face_derivatives._RHS_KERNEL.get()}
+
+
+@pytest.mark.parametrize("method, made", [("conformal", 1), ("fair", 0)])
+def test_loading_the_kernels_makes_the_blas_controller_for_conformal_fills(monkeypatch, method,
+                                                                          made):
+    """The λ-H fill's BLAS thread-pool controller is made with its kernels (beside the
+    passes; forked workers inherit it), once: not where the holes start. A faired fill makes
+    none (its fills use no BLAS limit)."""
+    count = []
+    controller = blas_threads.ThreadpoolController
+    monkeypatch.setattr(blas_threads, "_CONTROLLER", [])  # none made yet in this process
+    monkeypatch.setattr(blas_threads, "ThreadpoolController",
+                        lambda: count.append(1) or controller())
+    warmup.warm_kernels(method)
+    warmup.warm_kernels(method)
+    assert len(count) == made
+    assert (blas_threads.blas_controller() is not None) and len(count) == 1
 
 
 def test_the_warmup_mesh_is_a_valid_annulus_with_the_hole_given():

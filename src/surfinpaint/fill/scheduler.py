@@ -50,9 +50,9 @@ from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
 from surfinpaint.fill.results import Fill, HoleReport
 from surfinpaint.lazy import lazy_module
 
-# imported at the first parallel fill (9-17 ms of every process's start otherwise; the
-# conformal method's modules import it too, on the thread that loads the kernels)
-threadpoolctl = lazy_module("threadpoolctl")
+# imported at the first parallel fill (threadpoolctl: 9-17 ms of every process's start
+# otherwise; the conformal method's modules import it too, on the thread that loads the kernels)
+blas_threads = lazy_module("surfinpaint.representation.blas_threads")
 
 __all__ = ["Outcome", "fill_cut_here", "fill_in_parallel", "fill_sent", "reached"]
 
@@ -98,17 +98,14 @@ def reached(ids: np.ndarray, loops: list[np.ndarray]) -> np.ndarray:
     return np.unique(owner[ids[at] == flat])
 
 
-_CONTROLLER: list = []  # the worker's threadpoolctl.ThreadpoolController
-
-
 def _recorded(call, *args) -> tuple[object, list[parallel.WarningRecord]]:
     """``call(*args)`` with one BLAS thread (the parallelism is over holes), and the
     warnings it raised, for the parent to issue again in hole order. The thread-pool
-    controller is made once a worker (making one lists the loaded libraries: ~2 ms, which
-    a ``threadpool_limits`` call paid on every hole)."""
-    if not _CONTROLLER:
-        _CONTROLLER.append(threadpoolctl.ThreadpoolController())
-    with warnings.catch_warnings(record=True) as caught, _CONTROLLER[0].limit(limits=1):
+    controller is the process's (:func:`~surfinpaint.representation.blas_threads.
+    blas_controller`, the λ-H solves' too): a forked worker inherits the one the parent made
+    before forking it."""
+    with warnings.catch_warnings(record=True) as caught, \
+            blas_threads.blas_controller().limit(limits=1):
         warnings.simplefilter("always")
         answer = call(*args)
     return answer, [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
@@ -260,8 +257,12 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
         _INHERITED[token] = _Job(mesh, [r.loop for r in todo], [r.index for r in todo],
                                  [run.rings_of(r) for r in todo], run)
     schedule = _Schedule(mesh, todo, run, workers, token)
-    # one BLAS thread here too: the cuts and checks made here share the cores with workers
-    blas = threadpoolctl.threadpool_limits(limits=1)
+    # one BLAS thread here too: the cuts and checks made here share the cores with workers.
+    # The process's controller (made with the conformal kernels, warmup.warm_kernels, else
+    # here), made before the workers fork, is the one they use: once a process, not once a
+    # call here and twice a worker (its own and the λ-H solves'; making one lists the loaded
+    # libraries: 15-23 ms in the 651k command, 2-6 ms in a worker; docs/scale.md, session 41)
+    blas = blas_threads.blas_controller().limit(limits=1)
     executor = parallel.pool(workers)
     try:
         announced = 0  # progress: the holes whose start was announced

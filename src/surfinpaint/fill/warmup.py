@@ -50,6 +50,8 @@ from surfinpaint.representation import face_derivatives
 
 # the conformal self-check's distances: a faired fill never imports them
 metrics = lazy_module("surfinpaint.geometry.metrics")
+# the BLAS thread-pool controller (threadpoolctl: not imported by the command line's start)
+blas_threads = lazy_module("surfinpaint.representation.blas_threads")
 
 __all__ = ["BESIDE_MIN_FACES", "Beside", "compile_kernels", "kernels_loaded", "load_ahead",
            "load_for_workers", "loading_beside", "main", "warm_kernels", "warmup_mesh"]
@@ -89,9 +91,16 @@ def warm_kernels(method: str = "conformal") -> None:
     """Load (or compile) the kernels a fill by ``method`` ("conformal" or "fair") uses by
     running them once on :func:`warmup_mesh`; a no-op once they are loaded in this process
     and without numba. For "conformal" the λ-H fill's modules are imported too (a faired fill
-    never imports them), so that forked workers inherit them as they inherit the kernels."""
+    never imports them) and the process's BLAS thread-pool controller made
+    (:func:`~surfinpaint.representation.blas_threads.blas_controller`), so that forked
+    workers inherit them as they inherit the kernels."""
     if method == "conformal":
         parallel.conformal_method.module  # noqa: B018  (imported now)
+        # made here, beside the passes, not where the holes start: the λ-H solves and the
+        # parallel fill's one-thread limits use it, and forked workers inherit it (making
+        # one lists the loaded libraries: 15-23 ms in the 651k command; docs/scale.md,
+        # session 41)
+        blas_threads.blas_controller()
     if _done[method].is_set() or importlib.util.find_spec("numba") is None:
         _done[method].set()
         return
