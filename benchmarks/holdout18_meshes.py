@@ -41,7 +41,7 @@ from validation_meshes import BenchMesh, Source
 def _owl() -> BenchMesh:
     """An owl perched on a branch (holdout 18): an egg-shaped body and a broad head with no
     neck between them, two ear tufts (capsules flattened front to back), two large round eyes
-    and a small hooked beak, two folded wings along its sides (flattened capsules), a short
+    and a small beak pointing down, two folded wings along its sides (flattened capsules), a short
     tail behind, and three talons of each foot curled over a round branch running side to
     side under it (smooth unions, manifold3d level set), isotropically remeshed with no
     feature kept."""
