@@ -131,6 +131,13 @@ brain kind; its four scans made with the portable scanner), holes planned the sa
 committed before any fill was run on them; to be run once by a later session after its
 changes.
 
+A twentieth set, the eighteenth holdout (``benchmarks/holdout18_manifest.json``, ``--write
+--holdout18``): 12 fresh meshes (``validation_meshes.HOLDOUT18_SOURCES``, made in
+``holdout18_meshes.py``; all six kinds, a synthetic cortex with pinnate sulci for the brain
+kind; its four scans made with the portable scanner), holes planned the same way (seeds
+from 1900), made in session 41 after the seventeenth holdout had been made and committed
+before any fill was run on them; to be run once by a later session after its changes.
+
 A tuning-side set of range scans of curved shapes (``benchmarks/curved_scans_manifest.json``,
 ``--write --curved-scans``): 14 portable scans (``validation_meshes.CURVED_SCAN_SOURCES``,
 made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and the tuning
@@ -191,6 +198,8 @@ HOLDOUT15_MANIFEST = Path(__file__).parent / "holdout15_manifest.json"
 HOLDOUT16_MANIFEST = Path(__file__).parent / "holdout16_manifest.json"
 # a nineteenth set, fresh meshes of session 40 (HOLDOUT17_SOURCES), committed before any fill
 HOLDOUT17_MANIFEST = Path(__file__).parent / "holdout17_manifest.json"
+# a twentieth set, fresh meshes of session 41 (HOLDOUT18_SOURCES), committed before any fill
+HOLDOUT18_MANIFEST = Path(__file__).parent / "holdout18_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
@@ -212,6 +221,7 @@ LATER_SETS = {
     "holdout15": (HOLDOUT15_MANIFEST, "the fifteenth holdout set", 1600),
     "holdout16": (HOLDOUT16_MANIFEST, "the sixteenth holdout set", 1700),
     "holdout17": (HOLDOUT17_MANIFEST, "the seventeenth holdout set", 1800),
+    "holdout18": (HOLDOUT18_MANIFEST, "the eighteenth holdout set", 1900),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -255,6 +265,7 @@ SPLIT = {
     "holdout15": list(vm.HOLDOUT15_SOURCES),
     "holdout16": list(vm.HOLDOUT16_SOURCES),
     "holdout17": list(vm.HOLDOUT17_SOURCES),
+    "holdout18": list(vm.HOLDOUT18_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
 }
 
@@ -354,7 +365,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 800, the eighth holdout's at 900, the ninth holdout's at 1000, the tenth
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
-    holdout's at 1600, the sixteenth holdout's at 1700, the seventeenth holdout's at 1800;
+    holdout's at 1600, the sixteenth holdout's at 1700, the seventeenth holdout's at 1800,
+    the eighteenth holdout's at 1900;
     the smooth tuning set's at 3800, the curved scans set's at 3600)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]

@@ -21,9 +21,9 @@ Holdout set 8's generators (session 32) are in ``holdout8_meshes.py``, holdout s
 set 12's (session 35) in ``holdout12_meshes.py``, holdout set 13's (session 36) in
 ``holdout13_meshes.py``, holdout set 14's (session 37) in ``holdout14_meshes.py``, holdout
 set 15's (session 38) in ``holdout15_meshes.py``, holdout set 16's (session 39) in
-``holdout16_meshes.py``, holdout set 17's (session 40) in ``holdout17_meshes.py``; this
-module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT17_SOURCES`` to :data:`SOURCES` at its
-end.
+``holdout16_meshes.py``, holdout set 17's (session 40) in ``holdout17_meshes.py``, holdout
+set 18's (session 41) in ``holdout18_meshes.py``; this module adds their
+``HOLDOUT8_SOURCES`` to ``HOLDOUT18_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1972,6 +1972,13 @@ SOURCES.update(HOLDOUT16_SOURCES)
 from holdout17_meshes import HOLDOUT17_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT17_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 18
+
+# Session 41's set (benchmarks/holdout18_manifest.json), as holdout 17's: its own module.
+from holdout18_meshes import HOLDOUT18_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT18_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 

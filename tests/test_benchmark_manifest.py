@@ -83,11 +83,11 @@ def test_reserved_sources_are_never_used():
     assert "libcgal" not in code and "cgal-demo" not in code and "/cgal" not in code
     assert "right" not in code
     assert '"left"' in code
-    # holdouts 8 to 17's generators have their own modules (validation_meshes imports them)
+    # holdouts 8 to 18's generators have their own modules (validation_meshes imports them)
     for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py",
                    "holdout11_meshes.py", "holdout12_meshes.py", "holdout13_meshes.py",
                    "holdout14_meshes.py", "holdout15_meshes.py", "holdout16_meshes.py",
-                   "holdout17_meshes.py",
+                   "holdout17_meshes.py", "holdout18_meshes.py",
                    "smooth_tuning_meshes.py", "curved_scans_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
@@ -203,6 +203,16 @@ def holdout17():
     return holes_manifest.read(holes_manifest.HOLDOUT17_MANIFEST)
 
 
+@pytest.fixture(scope="module")
+def holdout18():
+    return holes_manifest.read(holes_manifest.HOLDOUT18_MANIFEST)
+
+
+@pytest.fixture(scope="module")
+def curved_scans():
+    return holes_manifest.read(holes_manifest.CURVED_SCANS_MANIFEST)
+
+
 @pytest.mark.parametrize(("split", "sources"), [
     ("holdout2", validation_meshes.HOLDOUT2_SOURCES),  # run once after session 26's defaults
     ("holdout3", validation_meshes.HOLDOUT3_SOURCES),  # run once after session 28's
@@ -220,34 +230,37 @@ def holdout17():
     ("holdout15", validation_meshes.HOLDOUT15_SOURCES),  # session 38, after holdout 14 was made
     ("holdout16", validation_meshes.HOLDOUT16_SOURCES),  # session 39, after holdout 15 was made
     ("holdout17", validation_meshes.HOLDOUT17_SOURCES),  # session 40, after holdout 16 was made
+    ("holdout18", validation_meshes.HOLDOUT18_SOURCES),  # session 41, after holdout 17 was made
 ])
 def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
                                                       cad_tuning, holdout4, holdout5, holdout6,
                                                       holdout7, holdout8, holdout9, holdout10,
                                                       holdout11, holdout12, holdout13,
                                                       holdout14, holdout15, holdout16,
-                                                      holdout17, smooth_tuning, split, sources):
-    """The second to seventeenth holdout sets: their own meshes, from sources no earlier set
+                                                      holdout17, holdout18, smooth_tuning,
+                                                      curved_scans, split, sources):
+    """The second to eighteenth holdout sets: their own meshes, from sources no earlier set
     uses (the two halves, the holdouts before them; from the fourth on also the tuning-side
-    CAD parts, from the sixteenth on also the smooth tuning set), every kind but brain
-    surfaces (the eleventh to seventeenth: every kind, their brain a synthetic folded
-    surface), at least 3 range scans, 7 holes a mesh."""
+    CAD parts, from the sixteenth on also the smooth tuning set, from the eighteenth on also
+    the curved scans), every kind but brain surfaces (the eleventh to eighteenth: every kind,
+    their brain a synthetic folded surface), at least 3 range scans, 7 holes a mesh."""
     sets = {"holdout2": holdout2, "holdout3": holdout3, "holdout4": holdout4,
             "holdout5": holdout5, "holdout6": holdout6, "holdout7": holdout7,
             "holdout8": holdout8, "holdout9": holdout9, "holdout10": holdout10,
             "holdout11": holdout11, "holdout12": holdout12, "holdout13": holdout13,
             "holdout14": holdout14, "holdout15": holdout15, "holdout16": holdout16,
-            "holdout17": holdout17}
+            "holdout17": holdout17, "holdout18": holdout18}
     this = sets[split]
     ids = [e["mesh"] for e in this["meshes"]]
     assert ids == holes_manifest.SPLIT[split] == list(sources)
     earlier = manifest["meshes"] + holdout["meshes"]
     # every set before this one in the order they were made (the tuning-side CAD parts in
     # session 29, between holdouts 3 and 4; the smooth tuning set in session 38, merged after
-    # holdout 15's manifest was committed, so before holdout 16)
+    # holdout 15's manifest was committed, so before holdout 16; the curved scans in session
+    # 40, after holdout 17)
     made = [holdout2, holdout3, cad_tuning, holdout4, holdout5, holdout6, holdout7, holdout8,
             holdout9, holdout10, holdout11, holdout12, holdout13, holdout14, holdout15,
-            smooth_tuning, holdout16, holdout17]
+            smooth_tuning, holdout16, holdout17, curved_scans, holdout18]
     for earlier_set in made[:next(i for i, m in enumerate(made) if m is this)]:
         earlier = earlier + earlier_set["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
@@ -263,7 +276,8 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
             assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
     kinds = Counter(e["kind"] for e in this["meshes"])
     assert set(kinds) == (KINDS if split in ("holdout11", "holdout12", "holdout13", "holdout14",
-                                             "holdout15", "holdout16", "holdout17")
+                                             "holdout15", "holdout16", "holdout17",
+                                             "holdout18")
                           else KINDS - {"brain"})
     assert kinds["range_scan"] >= 3
     holes = [h for e in this["meshes"] for h in e["holes"]]
@@ -277,7 +291,7 @@ def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2
                                                      holdout7, holdout8, holdout9, holdout10,
                                                      holdout11, holdout12, holdout13,
                                                      holdout14, holdout15, holdout16,
-                                                     holdout17):
+                                                     holdout17, holdout18):
     """Session 29's machined parts (tuning side, rules may be chosen on them): their own
     meshes and sources, shared with no other set, machined parts and scans of them only."""
     cad = cad_tuning
@@ -285,7 +299,7 @@ def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2
     assert ids == holes_manifest.SPLIT["cad_tuning"] == list(validation_meshes.CAD_TUNING_SOURCES)
     others = [e for m in (manifest, holdout, holdout2, holdout3, holdout4, holdout5, holdout6,
                           holdout7, holdout8, holdout9, holdout10, holdout11, holdout12,
-                          holdout13, holdout14, holdout15, holdout16, holdout17)
+                          holdout13, holdout14, holdout15, holdout16, holdout17, holdout18)
               for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
@@ -306,7 +320,7 @@ def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdo
                                              holdout4, holdout5, holdout6, holdout7, holdout8,
                                              holdout9, holdout10, holdout11, holdout12,
                                              holdout13, holdout14, holdout15, holdout16,
-                                             holdout17, smooth_tuning):
+                                             holdout17, holdout18, smooth_tuning):
     """Session 38's smooth tubes and organic bodies (tuning side, rules may be chosen on
     them): their own split name, meshes and sources, shared with no holdout, half or other
     tuning-side set; 4 smooth and 4 organic meshes, 7 holes each, digests recorded; their
@@ -327,7 +341,7 @@ def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdo
     others = [e for m in (manifest, holdout, holdout2, holdout3, cad_tuning, holdout4,
                           holdout5, holdout6, holdout7, holdout8, holdout9, holdout10,
                           holdout11, holdout12, holdout13, holdout14, holdout15, holdout16,
-                          holdout17)
+                          holdout17, holdout18)
               for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in entries}
@@ -407,9 +421,9 @@ def test_holdout11_sources_come_from_their_own_module():
 
 
 @pytest.mark.parametrize("split", ["holdout12", "holdout13", "holdout14", "holdout15",
-                                   "holdout16", "holdout17"])
+                                   "holdout16", "holdout17", "holdout18"])
 def test_later_holdout_manifest_counts(split):
-    """The twelfth to seventeenth holdouts' manifests as committed before any fill: 12 meshes
+    """The twelfth to eighteenth holdouts' manifests as committed before any fill: 12 meshes
     in their module's order, 84 holes, 3 near the border on each of the 4 scans, 4 on a sharp
     edge or corner on each of the 3 CAD parts, every other hole neither."""
     entries = holes_manifest.read(holes_manifest.LATER_SETS[split][0])["meshes"]
@@ -432,13 +446,14 @@ def test_later_holdout_manifest_counts(split):
     (15, "the fifteenth holdout set", 1600, [171, 172, 173, 174], "_branched_cortex"),
     (16, "the sixteenth holdout set", 1700, [175, 176, 177, 178], "_arcuate_cortex"),
     (17, "the seventeenth holdout set", 1800, [179, 180, 181, 182], "_stellate_cortex"),
+    (18, "the eighteenth holdout set", 1900, [183, 184, 185, 186], "_pinnate_cortex"),
 ])
 def test_later_holdout_sources_come_from_their_own_module(number, words, first_seed, seeds,
                                                           brain):
-    """Holdouts 12 to 17's generators live in benchmarks/holdout<N>_meshes.py, as holdout
+    """Holdouts 12 to 18's generators live in benchmarks/holdout<N>_meshes.py, as holdout
     11's in theirs; validation_meshes adds them to ``SOURCES`` in the order they were made,
     after holdout 11's; their scans are the portable scanner's with seeds of their own
-    (159-162, 163-166, 167-170, 171-174, 175-178, 179-182); their brain-kind mesh is a
+    (159-162, 163-166, 167-170, 171-174, 175-178, 179-182, 183-186); their brain-kind mesh is a
     synthetic one, no real brain (no mesh is made)."""
     import importlib
 
@@ -451,7 +466,7 @@ def test_later_holdout_sources_come_from_their_own_module(number, words, first_s
     ids = [i for i in validation_meshes.SOURCES  # the tuning-side sets are added after them
            if i not in validation_meshes.SMOOTH_TUNING_SOURCES
            and i not in validation_meshes.CURVED_SCAN_SOURCES]
-    later = [f"holdout{n}" for n in (11, 12, 13, 14, 15, 16, 17)]  # SOURCES' last sets, in order
+    later = [f"holdout{n}" for n in range(11, 19)]  # SOURCES' last sets, in order
     tail = ids[-12 * len(later):]
     assert tail[12 * later.index(split):][:12] == list(sources)
     assert holes_manifest.LATER_SETS[split][1:] == (words, first_seed)
@@ -534,16 +549,17 @@ def test_the_curved_scans_set_is_its_own_set():
     assert sum(h["near_border"] for e in entries for h in e["holes"]) == 3 * 14
 
 
-def test_holdout17_generators_pass_the_surface_check(monkeypatch):
-    """Holdout 17's generators pass PyMeshLab's surface-distance check to every remeshing
-    (``surface_check=True``), not the filter's default, which is a leftover byte of the heap
-    (docs/validation.md "Holdout set 17"): every level set, manifold3d part and radial
-    surface of the set is asked for with it (the meshing itself is replaced: no mesh is
-    made)."""
+@pytest.mark.parametrize("number", [17, 18])
+def test_holdout_generators_pass_the_surface_check(monkeypatch, number):
+    """Holdouts 17 and 18's generators pass PyMeshLab's surface-distance check to every
+    remeshing (``surface_check=True``), not the filter's default, which is a leftover byte
+    of the heap (docs/validation.md "Holdout set 17"): every level set, manifold3d part and
+    radial surface of the set is asked for with it (the meshing itself is replaced: no mesh
+    is made)."""
+    import importlib
     import inspect
 
-    import holdout17_meshes
-
+    module = importlib.import_module(f"holdout{number}_meshes")
     asked = []
 
     def recording(real):
@@ -557,9 +573,8 @@ def test_holdout17_generators_pass_the_surface_check(monkeypatch):
                         recording(validation_meshes._level_set_mesh))
     monkeypatch.setattr(validation_meshes, "_manifold_mesh",
                         recording(validation_meshes._manifold_mesh))
-    monkeypatch.setattr(holdout17_meshes, "_radial_surface",
-                        recording(holdout17_meshes._radial_surface))
-    for source in holdout17_meshes.HOLDOUT17_SOURCES.values():
+    monkeypatch.setattr(module, "_radial_surface", recording(module._radial_surface))
+    for source in getattr(module, f"HOLDOUT{number}_SOURCES").values():
         if source.kind != "range_scan":  # the scans are made from these meshes
             source.make()
     assert sorted(name for name, _ in asked) == (["_level_set_mesh"] * 4
