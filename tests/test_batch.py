@@ -477,7 +477,7 @@ def test_cli_batch_exit_codes_and_shared_fill_options(tmp_path, capsys):
                  "fair", "-q"]) == 0
     # -q: the warnings and errors only (no bar, no end-of-run line); -qq: errors only
     assert capsys.readouterr().err.splitlines() == [
-        f"warning: {scans / 'subject1' / 'quads.obj'}: 3 polygon face(s) with more than "
+        f"warning: {scans / 'subject1' / 'quads.obj'}: 3 polygon faces with more than "
         "three corners were fan-triangulated"]
     assert main(["batch", *good, "-o", str(out / "quieter"), "--jobs", "1", "--method",
                  "fair", "-qq"]) == 0

@@ -60,6 +60,7 @@ from surfinpaint.app.batch_summary import (
 )
 from surfinpaint.app.outputs import write_with_materials
 from surfinpaint.compiled import announce_once_across
+from surfinpaint.errors import how_many
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.parallel import start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
@@ -201,7 +202,7 @@ class _Rows:
         the files in flight and their holes the message."""
         if self.progress is None or name in self.by_name:
             return  # a late word from a file already recorded
-        self.holes[name] = f"{name}: {done}/{total} holes ({message})"
+        self.holes[name] = f"{name}: {done}/{how_many(total, 'hole', 'holes')} ({message})"
         self.progress(len(self.by_name), self.total, " · ".join(self.holes.values()))
 
     def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:
@@ -362,7 +363,8 @@ def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
         fruitless = fruitless + 1 if len(rows.by_name) == done_before else 0
         if fruitless == WORKER_RETRIES and workers > 1:
             raise RuntimeError(
-                f"the worker processes died {fruitless} times before finishing any file; "
+                f"the worker processes died {how_many(fruitless, 'time', 'times')} before "
+                "finishing any file; "
                 "can they start? (a script that calls fill_files needs the "
                 "`if __name__ == '__main__':` guard where workers are not forked: they "
                 "import it)")
@@ -392,7 +394,7 @@ def _run_local(jobs: Sequence[FileJob], options: Mapping[str, Any], n_jobs: int,
         # one file at a time: a worker that dies now names the file that killed it
         suspects = _run_pool(suspects, options, 1, rows)
     for job in suspects:
-        rows.add(_worker_died(job, f"tried {WORKER_RETRIES + 1} times"))
+        rows.add(_worker_died(job, f"tried {how_many(WORKER_RETRIES + 1, 'time', 'times')}"))
 
 
 def _run_dask(jobs: Sequence[FileJob], options: Mapping[str, Any], client: Any,
@@ -458,7 +460,7 @@ def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
     earlier = {row.path: row for row in read_summary(out)}
     rows = _Rows(len(todo), progress, on_result)
     if progress is not None:
-        progress(0, len(todo), f"{len(todo)} files")
+        progress(0, len(todo), how_many(len(todo), 'file', 'files'))
     pending = []
     for job in todo:
         before = earlier.get(job.name)

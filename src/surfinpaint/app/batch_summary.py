@@ -18,7 +18,7 @@ from typing import Any, Literal
 
 from surfinpaint.app.batch_inputs import FileJob, UnknownFile
 from surfinpaint.app.fill_report import HoleRecord, plain
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.fill.pipeline import METHODS, FillResult
 from surfinpaint.io.atomic import atomic_open
 
@@ -118,7 +118,8 @@ def fill_messages(job: FileJob, result: FillResult,
     texts += [f"hole {r.index}: skipped ({r.skipped})" for r in result.reports if r.skipped
               and not any(f"hole {r.index}: {r.skipped}" in t for t in texts)]
     if len(result.removed_faces):
-        texts.append(f"repair removed {len(result.removed_faces)} faces around non-manifold "
+        removed = how_many(len(result.removed_faces), "face", "faces")
+        texts.append(f"repair removed {removed} around non-manifold "
                      "edges and bow-tie vertices")
     return MESSAGE_SEPARATOR.join(texts)
 

@@ -37,7 +37,7 @@ from typing import IO
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, MissingFileError
+from surfinpaint.errors import MeshError, MissingFileError, agreeing, how_many
 from surfinpaint.geometry.validation import check_arrays
 from surfinpaint.io.atomic import atomic_open
 from surfinpaint.io.base import (
@@ -395,9 +395,10 @@ def _assemble(parsed: Parsed, corners: np.ndarray | None, owner: np.ndarray | No
         per_face = (values.reshape(len(faces), 3, *values.shape[1:]) if corners is None
                     else values[corners])
         corner_attributes[key] = per_face.astype(dtype, copy=False)
-        seams.append(f"{key} differs between the faces around {len(where)} vertices (a seam; "
-                     f"e.g. vertices {ids(where, 5)}): kept per face corner "
-                     f"(corner_attributes[{key!r}]), not per vertex")
+        seams.append(f"{key} differs between the faces around "
+                     f"{how_many(len(where), 'vertex', 'vertices')} (a seam; e.g. "
+                     f"{agreeing(len(where), 'vertex', 'vertices')} {ids(where, 5)}): kept per "
+                     f"face corner (corner_attributes[{key!r}]), not per vertex")
     return MeshData(parsed.vertices, faces, attributes,
                     {k: np.array(a) if owner is None else np.asarray(a)[owner]
                      for k, a in parsed.face_attributes.items()},

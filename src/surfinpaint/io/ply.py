@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.io.base import Parsed, describe, write_rows
 from surfinpaint.io.meshdata import MeshData, group_columns, split_columns
 
@@ -141,7 +141,8 @@ def _ply_data(out: Parsed, elements: list, parsed: dict, key: str) -> None:
     for name, count, props in elements:
         if name not in ("vertex", "face"):
             if count:
-                out.dropped.append(f"PLY element {name!r} ({count} records) is not kept")
+                out.dropped.append(f"PLY element {name!r} "
+                                   f"({how_many(count, 'record', 'records')}) is not kept")
             continue
         columns = {}
         for prop, t, c in props:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.geometry.mesh import face_normals
 from surfinpaint.io.base import Parsed, RenumberedWarning, decode_text
 from surfinpaint.io.meshdata import MeshData
@@ -168,7 +168,8 @@ def warn_stl_numbering(faces: np.ndarray, n_vertices: int, name: str) -> None:
     used = first_use_order(faces)
     if len(used) != n_vertices or np.any(used != np.arange(n_vertices)):
         dropped = n_vertices - len(used)
-        lost = f"{dropped} unreferenced vertices are dropped and " if dropped else ""
+        lost = (f"{how_many(dropped, 'unreferenced vertex is', 'unreferenced vertices are')} "
+                "dropped and " if dropped else "")
         warnings.warn(
             f"{name}: STL stores only triangles; {lost}vertices will be renumbered by first "
             "use on reading",
