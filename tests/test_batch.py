@@ -44,6 +44,10 @@ from surfinpaint.io.formats import (
 )
 
 FAIR = {"method": "fair"}
+# a binary PLY's header, which the pre-flight passes; what follows it, no reader does
+PLY_HEADER_ONLY = (b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                   b"property float y\nproperty float z\nelement face 1\nproperty list uchar "
+                   b"int vertex_indices\nend_header\n")
 
 
 def _holey(vertices, faces, n_holes: int, radius: float = 2.5):
@@ -639,14 +643,15 @@ def test_a_file_that_kills_its_worker_every_time_ends_as_a_failed_row(tmp_path):
 def test_on_result_gets_each_row_as_its_file_finishes(tmp_path, jobs):
     # session 40: a caller (the command line) can say a bad file's error while the others
     # are still being filled. The bad file, the largest, is started first (costliest first,
-    # by size on a first run); it fails at once while the good ones are filled
+    # by size on a first run); it fails at once while the good ones are filled. Its header
+    # is a PLY's, so the pre-flight passes it (session 41): it fails as it is read whole
     scans = tmp_path / "scans"
     scans.mkdir()
     v, f = _holey(*sphere(1), 1)
     good = [f"good{k}.ply" for k in range(5)]
     for name in good:
         write_mesh(scans / name, v, f)
-    (scans / "bad.ply").write_bytes(b"ply\nformat garbage\n" + b"\x00" * 10 *
+    (scans / "bad.ply").write_bytes(PLY_HEADER_ONLY + b"\x00" * 10 *
                                     (scans / "good0.ply").stat().st_size)
     heard: list[tuple[FileRow, int]] = []  # each row given, and the files done by then
     done = [0]

@@ -51,6 +51,7 @@ from surfinpaint.app.batch_summary import (
     SUMMARY_JSON,
     FileRow,
     FileRows,
+    checked_row,
     error_text,
     fill_messages,
     named_in_summary,
@@ -471,6 +472,9 @@ def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
         # up to date: skipped, its changed materials (.mtl, textures) copied again
         row = rerun_row(job, before) \
             if not overwrite and up_to_date(job) else None
+        # each file to fill checked cheaply before any is filled: a bad one is said now, not
+        # when the largest-first order reaches it (an empty or truncated file: near the end)
+        row = checked_row(job) if row is None else row
         if row is not None:
             rows.add(row)
         else:

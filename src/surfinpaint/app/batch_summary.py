@@ -21,11 +21,11 @@ from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.errors import MeshError, how_many
 from surfinpaint.fill.pipeline import METHODS, FillResult
 from surfinpaint.io.atomic import atomic_open
+from surfinpaint.io.formats import check_file
 
 __all__ = ["MESSAGE_SEPARATOR", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
-           "error_text",
-           "fill_messages", "named_in_summary", "read_summary", "read_unknown_files",
-           "row_of", "write_summary"]
+           "checked_row", "error_text", "fill_messages", "named_in_summary", "read_summary",
+           "read_unknown_files", "row_of", "write_summary"]
 
 Status = Literal["filled", "unfilled", "closed", "failed", "skipped"]
 #: The statuses of a :class:`FileRow`, in the order the summary counts them.
@@ -148,6 +148,17 @@ def error_text(job: FileJob, exc: Exception) -> str:
         text = named_in_summary(job, str(exc if exc.path else exc.with_path(job.name)))
         return text if text.startswith(job.name) else f"{job.name}: {text}"
     return named_in_summary(job, f"{job.name}: {type(exc).__name__}: {exc}")
+
+
+def checked_row(job: FileJob) -> FileRow | None:
+    """The failed row of a file that fails its pre-flight (:func:`~surfinpaint.io.formats.
+    check_file`: missing, unreadable, empty, of unknown format or with a header its reader
+    cannot parse), with the message its fill would give; None for a file that passes."""
+    try:
+        check_file(job.source)
+    except MeshError as exc:
+        return FileRow(job.name, job.output, "failed", message=error_text(job, exc))
+    return None
 
 
 def _csv_columns() -> list[str]:

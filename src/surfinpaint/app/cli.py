@@ -213,7 +213,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
     try:
         # each file's error or warnings as it finishes, above the bar: a bad file early in
         # a run of hours is said then, not at the end
-        with progress_bar(out.progress, None, "files") as bar, out.above(bar):
+        with progress_bar(out.progress, None, "files") as bar, out.above(bar), \
+                _warned_now(out, args):
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
                                     overwrite=args.overwrite, png=args.png, overlays=overlays,
                                     progress=bar.update if out.progress else None,
@@ -242,6 +243,17 @@ def cmd_batch(args: argparse.Namespace) -> int:
                   f"failed (each named above; all in "
                   f"{escape(str(Path(args.output) / batch.SUMMARY_CSV))})")
     return EXIT_FAILURE if failed else EXIT_OK
+
+
+@contextlib.contextmanager
+def _warned_now(out: QuietConsole, args: argparse.Namespace) -> Iterator[None]:
+    """Each warning of this process said as it comes, as ``main`` would say it at the end:
+    ``batch``'s own (files of unknown type skipped, found before any file is filled); the
+    files' warnings are their rows' (:func:`_say_row`)."""
+    with warnings.catch_warnings():
+        warnings.showwarning = lambda message, *_, **__: out.warn(warning_line(
+            str(message), _input_name(args), other_files=_other_files(args)))
+        yield
 
 
 def _say_row(out: QuietConsole, row: batch.FileRow, out_dir: str) -> None:
