@@ -59,13 +59,14 @@ READERS = {
 
 def _unreadable(monkeypatch, path: Path) -> None:
     """Make ``path`` unreadable: no permission (root reads anything, so opening it, by
-    ``open`` or ``Path.read_bytes``, is made to fail as it fails for other users)."""
+    ``open``, ``Path.open`` or ``Path.read_bytes``, is made to fail as it fails for other
+    users)."""
     path.chmod(0)
     if os.geteuid() != 0:
         return
     import builtins
 
-    real_open, real_read_bytes = builtins.open, Path.read_bytes
+    real_open, real_read_bytes, real_path_open = builtins.open, Path.read_bytes, Path.open
 
     def check(file) -> None:
         if isinstance(file, str | os.PathLike) and Path(file).resolve() == path.resolve():
@@ -79,8 +80,13 @@ def _unreadable(monkeypatch, path: Path) -> None:
         check(self)
         return real_read_bytes(self)
 
+    def path_open_checked(self: Path, *args, **kwargs):
+        check(self)
+        return real_path_open(self, *args, **kwargs)
+
     monkeypatch.setattr(builtins, "open", open_checked)
     monkeypatch.setattr(Path, "read_bytes", read_bytes_checked)
+    monkeypatch.setattr(Path, "open", path_open_checked)
 
 
 @pytest.mark.parametrize("problem", ["missing", "directory", "unreadable"])

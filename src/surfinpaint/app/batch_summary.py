@@ -10,6 +10,7 @@ import io
 import json
 import os
 import re
+import time
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -153,11 +154,14 @@ def error_text(job: FileJob, exc: Exception) -> str:
 def checked_row(job: FileJob) -> FileRow | None:
     """The failed row of a file that fails its pre-flight (:func:`~surfinpaint.io.formats.
     check_file`: missing, unreadable, empty, of unknown format or with a header its reader
-    cannot parse), with the message its fill would give; None for a file that passes."""
+    cannot parse), with the message its fill would give and the check's seconds; None for
+    a file that passes."""
+    started = time.perf_counter()
     try:
         check_file(job.source)
     except MeshError as exc:
-        return FileRow(job.name, job.output, "failed", message=error_text(job, exc))
+        return FileRow(job.name, job.output, "failed", seconds=time.perf_counter() - started,
+                       message=error_text(job, exc))
     return None
 
 
