@@ -203,7 +203,7 @@ class _Rows:
         the files in flight and their holes the message."""
         if self.progress is None or name in self.by_name:
             return  # a late word from a file already recorded
-        self.holes[name] = f"{name}: {done}/{how_many(total, 'hole', 'holes')} ({message})"
+        self.holes[name] = f"{name}: {done}/{total} holes ({message})"  # "of N holes"
         self.progress(len(self.by_name), self.total, " · ".join(self.holes.values()))
 
     def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:

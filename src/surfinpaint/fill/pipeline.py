@@ -448,9 +448,8 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
         warnings.warn(f"holes {one.index} and {other.index}: "
                       f"{how_many(pair.first_triangles, 'triangle', 'triangles')} of hole "
                       f"{one.index}'s fill cross{agreeing(pair.first_triangles, 'es', '')} "
-                      f"{how_many(pair.second_triangles, 'triangle', 'triangles')} of hole "
-                      f"{other.index}'s (two holes near in space, each filled without the "
-                      "other's fill): check the result",
+                      f"{pair.second_triangles} of hole {other.index}'s (two holes near in "
+                      "space, each filled without the other's fill): check the result",
                       MeshWarning, stacklevel=3)
         one.crossings += pair.first_triangles
         other.crossings += pair.second_triangles

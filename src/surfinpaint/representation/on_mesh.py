@@ -569,7 +569,7 @@ def _newton_solve(system, points, tol, steps, envelope=None):
         if float(np.abs(r).max()) > SETTLED:
             raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
                              f"residual of {np.abs(r).max():.2g} edge lengths after "
-                             f"{steps} steps")
+                             f"{how_many(steps, 'step', 'steps')}")
     phi = points.copy()
     phi[f] = x
     return phi
