@@ -5,7 +5,8 @@ glob patterns, fills each one in a worker (:func:`fill_file`, a top-level functi
 worker processes and Dask workers can import it), and writes ``summary.csv`` and
 ``summary.json`` with one :class:`FileRow` per input file.
 
-A file that cannot be read or filled becomes a ``failed`` row; the others are still written.
+A file that cannot be read or filled becomes a ``failed`` row, the others still written; each
+is checked cheaply before any is filled (:func:`surfinpaint.io.formats.check_file`).
 Every output is written atomically (a complete file or none), so an interrupted run, or a
 worker killed mid-file, leaves no partial output, and a rerun skips the outputs that are
 newer than every file their fill reads: it picks up where the last run stopped. The progress
@@ -538,8 +539,8 @@ def fill_files(
         holes done and found (``done`` still the files done).
     on_result : callable(FileRow), optional
         Called with each input file's :class:`FileRow` (the row of the summary and of the
-        returned list) as soon as that file is recorded: in the order the files finish (not
-        the inputs'), the skipped files' rows first, as they are found up to date; before
+        returned list) as soon as that file is recorded: first, in the inputs' order, those
+        up to date (skipped) or failing the pre-flight, then as the files finish; before
         ``progress`` hears of that file. With worker processes and on a Dask cluster alike
         (its results are gathered as each task ends), in this process. So a caller can
         report a failed row (``status == "failed"``, ``message`` the error) while the others
