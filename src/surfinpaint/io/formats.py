@@ -453,7 +453,8 @@ def _parsing(fmt: str, name: str) -> Iterator[None]:
 
 #: Per format, its reader's own check of a header, ``check(head, size)``; most bytes read
 _HEADERS: dict[str, tuple[Callable[[bytes, int], object], int]] = {
-    "ply": (ply_layout, HEADER_BYTES), "off": (off_header, 1 << 16),
+    "ply": (lambda head, size: ply_layout(head), HEADER_BYTES),
+    "off": (lambda head, size: off_header(head), 1 << 16),
     "stl": (stl_header, 1 << 13), "freesurfer": (freesurfer_header, 1 << 13)}
 
 

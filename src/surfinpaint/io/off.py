@@ -20,12 +20,12 @@ from surfinpaint.io.base import (
 from surfinpaint.io.meshdata import MeshData
 
 
-def off_header(head: bytes, size: int | None = None) -> tuple[str, int, int, list[str]]:
+def off_header(head: bytes) -> tuple[str, int, int, list[str]]:
     """The keyword (``OFF``, ``COFF``, ...), vertex and face counts of an OFF file whose
     first bytes are ``head`` (or all of it), and its data lines after the header; raises
     :class:`MeshError` for a header :func:`read_off` cannot read (a binary file, no
-    ``OFF`` keyword, no or a bad count line). ``size`` (the file's, unused) makes it a
-    header check of :func:`surfinpaint.io.formats.check_file`."""
+    ``OFF`` keyword, no or a bad count line): also the header check of
+    :func:`surfinpaint.io.formats.check_file`."""
     text = decode_text(head, "OFF")
     if "#" in text:
         text = re.sub(r"#[^\r\n]*", "", text)

@@ -90,14 +90,12 @@ def ply_is_ascii(head: bytes) -> bool:
     return found is not None and found.group(1) == b"ascii"
 
 
-def ply_layout(head: bytes, size: int | None = None) -> tuple[str, list, int, list[str],
-                                                                list[str], str]:
+def ply_layout(head: bytes) -> tuple[str, list, int, list[str], list[str], str]:
     """The header of a PLY file whose first bytes are ``head`` (its first
     :data:`HEADER_BYTES`, or all of it) as :func:`_ply_header` parses it, and the name of
     the faces' list of vertex ids; raises :class:`MeshError` for a header :func:`read_ply`
     cannot read (no ``end_header``, no vertex or face element, no ``x, y, z``, no list of
-    vertex ids). ``size`` (the file's, unused) makes it a header check of
-    :func:`surfinpaint.io.formats.check_file`."""
+    vertex ids): also the header check of :func:`surfinpaint.io.formats.check_file`."""
     fmt, elements, offset, notes, free_text = _ply_header(head)
     names = [e[0] for e in elements]
     if "vertex" not in names:
