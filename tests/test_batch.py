@@ -44,6 +44,10 @@ from surfinpaint.io.formats import (
 )
 
 FAIR = {"method": "fair"}
+# a binary PLY's header, which the pre-flight passes; what follows it, no reader does
+PLY_HEADER_ONLY = (b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                   b"property float y\nproperty float z\nelement face 1\nproperty list uchar "
+                   b"int vertex_indices\nend_header\n")
 
 
 def _holey(vertices, faces, n_holes: int, radius: float = 2.5):
@@ -388,8 +392,8 @@ def test_an_interrupted_run_leaves_no_partial_output_and_a_rerun_completes_it(tm
     (out / "subject1" / ".sphere.obj.x1y2z3.tmp").write_text("half a mesh")
 
     def interrupt(done, total, message):
-        if done:
-            raise KeyboardInterrupt
+        if done and not message.endswith(": failed"):  # a file filled, not the bad one's
+            raise KeyboardInterrupt  # pre-flight, said before any file is filled
 
     with pytest.raises(KeyboardInterrupt):
         fill_files([scans], out, jobs=2, progress=interrupt, **FAIR)
@@ -477,7 +481,7 @@ def test_cli_batch_exit_codes_and_shared_fill_options(tmp_path, capsys):
                  "fair", "-q"]) == 0
     # -q: the warnings and errors only (no bar, no end-of-run line); -qq: errors only
     assert capsys.readouterr().err.splitlines() == [
-        f"warning: {scans / 'subject1' / 'quads.obj'}: 3 polygon face(s) with more than "
+        f"warning: {scans / 'subject1' / 'quads.obj'}: 3 polygon faces with more than "
         "three corners were fan-triangulated"]
     assert main(["batch", *good, "-o", str(out / "quieter"), "--jobs", "1", "--method",
                  "fair", "-qq"]) == 0
@@ -639,14 +643,15 @@ def test_a_file_that_kills_its_worker_every_time_ends_as_a_failed_row(tmp_path):
 def test_on_result_gets_each_row_as_its_file_finishes(tmp_path, jobs):
     # session 40: a caller (the command line) can say a bad file's error while the others
     # are still being filled. The bad file, the largest, is started first (costliest first,
-    # by size on a first run); it fails at once while the good ones are filled
+    # by size on a first run); it fails at once while the good ones are filled. Its header
+    # is a PLY's, so the pre-flight passes it (session 41): it fails as it is read whole
     scans = tmp_path / "scans"
     scans.mkdir()
     v, f = _holey(*sphere(1), 1)
     good = [f"good{k}.ply" for k in range(5)]
     for name in good:
         write_mesh(scans / name, v, f)
-    (scans / "bad.ply").write_bytes(b"ply\nformat garbage\n" + b"\x00" * 10 *
+    (scans / "bad.ply").write_bytes(PLY_HEADER_ONLY + b"\x00" * 10 *
                                     (scans / "good0.ply").stat().st_size)
     heard: list[tuple[FileRow, int]] = []  # each row given, and the files done by then
     done = [0]

@@ -317,7 +317,7 @@ def test_batch_names_each_skipped_hole_once(tmp_path, capsys):
     (row,) = json.loads((tmp_path / "out" / "summary.json").read_text())["files"]
     for hole in (0, 1):
         assert row["message"].count(f"hole {hole}:") == 1, row["message"]
-    assert row["message"].count(f"bow-tie) vertices {centre}") == 2
+    assert row["message"].count(f"bow-tie) vertex {centre}:") == 2
 
 
 def test_bowtie_hole_named_explicitly_is_an_error(tmp_path, capsys):

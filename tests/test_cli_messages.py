@@ -15,7 +15,8 @@ import pytest
 
 from surfinpaint.app.cli import main
 from surfinpaint.data import sphere
-from surfinpaint.io.formats import write_mesh
+from surfinpaint.errors import MeshError
+from surfinpaint.io.formats import read_mesh, write_mesh
 
 
 def _flat(text: str) -> str:
@@ -58,13 +59,14 @@ READERS = {
 
 def _unreadable(monkeypatch, path: Path) -> None:
     """Make ``path`` unreadable: no permission (root reads anything, so opening it, by
-    ``open`` or ``Path.read_bytes``, is made to fail as it fails for other users)."""
+    ``open``, ``Path.open`` or ``Path.read_bytes``, is made to fail as it fails for other
+    users)."""
     path.chmod(0)
     if os.geteuid() != 0:
         return
     import builtins
 
-    real_open, real_read_bytes = builtins.open, Path.read_bytes
+    real_open, real_read_bytes, real_path_open = builtins.open, Path.read_bytes, Path.open
 
     def check(file) -> None:
         if isinstance(file, str | os.PathLike) and Path(file).resolve() == path.resolve():
@@ -78,8 +80,13 @@ def _unreadable(monkeypatch, path: Path) -> None:
         check(self)
         return real_read_bytes(self)
 
+    def path_open_checked(self: Path, *args, **kwargs):
+        check(self)
+        return real_path_open(self, *args, **kwargs)
+
     monkeypatch.setattr(builtins, "open", open_checked)
     monkeypatch.setattr(Path, "read_bytes", read_bytes_checked)
+    monkeypatch.setattr(Path, "open", path_open_checked)
 
 
 @pytest.mark.parametrize("problem", ["missing", "directory", "unreadable"])
@@ -517,8 +524,9 @@ def test_a_batch_names_each_bad_file_writes_the_others_and_ends_with_the_count(
 
 
 def _bad_first_batch(root: Path) -> tuple[Path, list[Path]]:
-    """A folder of three good files and a bad one (an unreadable PLY) that the batch starts
-    first: the largest (the files are started costliest first, by size on a first run)."""
+    """A folder of three good files and a bad one that the batch starts first: the largest
+    (the files are started costliest first, by size on a first run). Its header is a PLY's
+    (the pre-flight passes it), its body is not: it fails as it is filled."""
     from surfinpaint.geometry.cutting import cut_geodesic_disk
 
     v, f = sphere(1)
@@ -527,8 +535,10 @@ def _bad_first_batch(root: Path) -> tuple[Path, list[Path]]:
     for path in good:
         write_mesh(path, cut.vertices, cut.faces)
     bad = root / "bad.ply"
-    bad.write_bytes(b"ply\nformat garbage\n" + b"\x00" * (4 * max(p.stat().st_size
-                                                                  for p in good)))
+    bad.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float "
+                    b"x\nproperty float y\nproperty float z\nelement face 1\nproperty list "
+                    b"uchar int vertex_indices\nend_header\n"
+                    + b"\x00" * (4 * max(p.stat().st_size for p in good)))
     return bad, good
 
 
@@ -566,7 +576,10 @@ def test_a_batch_says_a_bad_file_when_it_fails_not_at_the_end(tmp_path, capsys, 
     plain = re.sub(_CONTROL, "\n", re.sub(_COLOUR, "", text))
     lines = [line for line in plain.splitlines() if line.strip()]
     assert code == 1, text
-    error = "error: scans/bad.ply: PLY header has no 'end_header' line (truncated or not PLY)"
+    with pytest.raises(MeshError) as unread:
+        read_mesh(bad)
+    error = f"error: {unread.value}"
+    assert error.startswith("error: scans/bad.ply: trailing data: ")
     assert lines.count(error) == 1, lines
     starts = [lines.index(f"starting scans/{p.name}") for p in [bad, *good]]
     assert starts[0] < lines.index(error) < max(starts[1:]), lines

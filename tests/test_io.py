@@ -312,10 +312,10 @@ def test_permission_error_is_reported(tmp_path, shuffled, monkeypatch):
     path = tmp_path / "locked.ply"
     write_mesh(path, *shuffled)
 
-    def denied(self):
+    def denied(self, *args, **kwargs):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(type(path), "read_bytes", denied)
+    monkeypatch.setattr(type(path), "open", denied)  # Path.read_bytes opens it so too
     _raises(path, "permission denied")
 
 

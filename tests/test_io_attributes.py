@@ -182,7 +182,7 @@ def test_read_mesh_without_the_data_warning_keeps_the_others(tmp_path):
         _, two = read_mesh(quads, data_warning=False)
     assert len(two) == 2
     assert [type(w.message) for w in caught] == [MeshWarning]
-    assert "1 polygon face(s) with more than three corners were fan-triangulated" in str(
+    assert "1 polygon face with more than three corners was fan-triangulated" in str(
         caught[0].message)
 
 
@@ -268,7 +268,7 @@ def test_obj_unreferenced_vertex_writes_no_nan_and_its_vt_is_named(tmp_path):
     f = f[~(f == lonely).any(axis=1)]
     path = tmp_path / "cut.obj"
     path.write_text(_obj_text(v, f, uv, normals))
-    with pytest.warns(MeshWarning, match=r"1 of 20 vt records are not referenced"):
+    with pytest.warns(MeshWarning, match=r"1 of 20 vt records is not referenced"):
         mesh = read_mesh_data(path)
     assert np.isnan(mesh.attributes["uv"][lonely]).all()
     write_mesh_data(tmp_path / "out.obj", mesh)

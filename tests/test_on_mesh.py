@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import surfinpaint.representation.on_mesh as mesh_inpainting
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, how_many
 from surfinpaint.fill.liepa.fairing import fair
 from surfinpaint.representation.analytic import (
     enneper,
@@ -262,12 +262,12 @@ def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajec
             mesh_inpainting._newton_solve(system, points, 1e-3, steps)
             assert system.steps == len(trajectory) - 1
         else:  # it runs to its last step and fails there, as before the envelope
-            with pytest.raises(FillError, match=f"after {steps} steps"):
+            with pytest.raises(FillError, match=f"after {how_many(steps, 'step', 'steps')}"):
                 mesh_inpainting._newton_solve(system, points, 1e-3, steps)
             assert system.steps == steps
     else:
-        with pytest.raises(FillError, match=f"after {given_up_after} steps, more than a "
-                                            "converging stage has"):
+        after = how_many(given_up_after, "step", "steps")
+        with pytest.raises(FillError, match=f"after {after}, more than a converging stage has"):
             mesh_inpainting._newton_solve(system, points, 1e-3, steps)
         assert system.steps == given_up_after
 
@@ -307,7 +307,8 @@ def test_a_newton_stage_is_given_up_where_it_stalls(monkeypatch, name, trajector
         mesh_inpainting._newton_solve(system, points, 1e-3, steps)
         assert system.steps == len(trajectory) - 1
     else:
-        with pytest.raises(FillError, match=f"after {given_up_after} steps, stalled"):
+        after = how_many(given_up_after, "step", "steps")
+        with pytest.raises(FillError, match=f"after {after}, stalled"):
             mesh_inpainting._newton_solve(system, points, 1e-3, steps)
         assert system.steps == given_up_after
         # the continuation's solves have their own envelope and no stall test
@@ -345,12 +346,12 @@ def test_a_continuation_solve_is_given_up_above_its_envelope(monkeypatch, name, 
         solve()
         assert system.steps == len(trajectory) - 1
     elif given_up_after is None:
-        with pytest.raises(FillError, match=f"after {steps} steps$"):
+        with pytest.raises(FillError, match=f"after {how_many(steps, 'step', 'steps')}$"):
             solve()
         assert system.steps == steps
     else:
-        with pytest.raises(FillError, match=f"after {given_up_after} steps, more than a "
-                                            "converging stage has"):
+        after = how_many(given_up_after, "step", "steps")
+        with pytest.raises(FillError, match=f"after {after}, more than a converging stage has"):
             solve()
         assert system.steps == given_up_after
     # the Newton stage's own envelope (session 27) is wider: none of these is given up there

@@ -85,7 +85,7 @@ def test_check_disk_components_and_degenerate_and_pinched():
     with pytest.raises(MeshError, match="2 connected components"):
         check_disk(v, np.array([[0, 1, 2], [3, 4, 5]]))
     v2 = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0.5, 0.5, 0.0]])
-    with pytest.raises(MeshError, match=r"^1 degenerate \(zero-area\) triangle: faces 1$") as err:
+    with pytest.raises(MeshError, match=r"^1 degenerate \(zero-area\) triangle: face 1$") as err:
         check_disk(v2, np.array([[0, 1, 2], [0, 2, 3]]))
     assert err.value.faces == [1]
     bowtie = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0.0]])

@@ -76,10 +76,25 @@ class HoleWarning(UserWarning):
 NUMERICAL_ERRORS = (ValueError, RuntimeError)
 
 
+def agreeing(n: int, one: str, many: str) -> str:
+    """The words of ``one`` and ``many`` that agree with the count ``n``: ``one`` for 1,
+    ``many`` for any other count (0 too: "0 faces"). The one rule every count and noun
+    of a message follows (:func:`how_many`); alone where the count is a list after the
+    words, as in ``f"vertices {preview(ids)}"``: ``agreeing(len(ids), "vertex",
+    "vertices")``."""
+    return one if n == 1 else many
+
+
 def how_many(n: int, one: str, many: str) -> str:
-    """``n`` and the words that agree with it: ``how_many(1, "face has", "faces have")`` is
-    ``"1 face has"``, with 3 ``"3 faces have"``."""
-    return f"{n} {one if n == 1 else many}"
+    """``n`` and the words that agree with it (:func:`agreeing`): ``how_many(1, "face has",
+    "faces have")`` is ``"1 face has"``, with 3 ``"3 faces have"``."""
+    return f"{n} {agreeing(n, one, many)}"
+
+
+def mesh_size(n_vertices: int, n_faces: int) -> str:
+    """A mesh's size in words, each count agreeing with its noun (:func:`how_many`):
+    ``"1 vertex, 0 faces"``, ``"3 vertices, 1 face"``."""
+    return f"{how_many(n_vertices, 'vertex', 'vertices')}, {how_many(n_faces, 'face', 'faces')}"
 
 
 def preview(ids: Sequence, limit: int = 10) -> str:

@@ -5,7 +5,8 @@ glob patterns, fills each one in a worker (:func:`fill_file`, a top-level functi
 worker processes and Dask workers can import it), and writes ``summary.csv`` and
 ``summary.json`` with one :class:`FileRow` per input file.
 
-A file that cannot be read or filled becomes a ``failed`` row; the others are still written.
+A file that cannot be read or filled becomes a ``failed`` row, the others still written; each
+is checked cheaply before any is filled (:func:`surfinpaint.io.formats.check_file`).
 Every output is written atomically (a complete file or none), so an interrupted run, or a
 worker killed mid-file, leaves no partial output, and a rerun skips the outputs that are
 newer than every file their fill reads: it picks up where the last run stopped. The progress
@@ -51,6 +52,7 @@ from surfinpaint.app.batch_summary import (
     SUMMARY_JSON,
     FileRow,
     FileRows,
+    checked_row,
     error_text,
     fill_messages,
     named_in_summary,
@@ -60,6 +62,7 @@ from surfinpaint.app.batch_summary import (
 )
 from surfinpaint.app.outputs import write_with_materials
 from surfinpaint.compiled import announce_once_across
+from surfinpaint.errors import how_many
 from surfinpaint.fill.objects import fill_mesh_data
 from surfinpaint.fill.parallel import start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
@@ -201,7 +204,7 @@ class _Rows:
         the files in flight and their holes the message."""
         if self.progress is None or name in self.by_name:
             return  # a late word from a file already recorded
-        self.holes[name] = f"{name}: {done}/{total} holes ({message})"
+        self.holes[name] = f"{name}: {done}/{total} holes ({message})"  # "of N holes"
         self.progress(len(self.by_name), self.total, " · ".join(self.holes.values()))
 
     def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:
@@ -362,7 +365,8 @@ def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
         fruitless = fruitless + 1 if len(rows.by_name) == done_before else 0
         if fruitless == WORKER_RETRIES and workers > 1:
             raise RuntimeError(
-                f"the worker processes died {fruitless} times before finishing any file; "
+                f"the worker processes died {how_many(fruitless, 'time', 'times')} before "
+                "finishing any file; "
                 "can they start? (a script that calls fill_files needs the "
                 "`if __name__ == '__main__':` guard where workers are not forked: they "
                 "import it)")
@@ -392,7 +396,7 @@ def _run_local(jobs: Sequence[FileJob], options: Mapping[str, Any], n_jobs: int,
         # one file at a time: a worker that dies now names the file that killed it
         suspects = _run_pool(suspects, options, 1, rows)
     for job in suspects:
-        rows.add(_worker_died(job, f"tried {WORKER_RETRIES + 1} times"))
+        rows.add(_worker_died(job, f"tried {how_many(WORKER_RETRIES + 1, 'time', 'times')}"))
 
 
 def _run_dask(jobs: Sequence[FileJob], options: Mapping[str, Any], client: Any,
@@ -458,7 +462,7 @@ def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
     earlier = {row.path: row for row in read_summary(out)}
     rows = _Rows(len(todo), progress, on_result)
     if progress is not None:
-        progress(0, len(todo), f"{len(todo)} files")
+        progress(0, len(todo), how_many(len(todo), 'file', 'files'))
     pending = []
     for job in todo:
         before = earlier.get(job.name)
@@ -469,6 +473,9 @@ def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
         # up to date: skipped, its changed materials (.mtl, textures) copied again
         row = rerun_row(job, before) \
             if not overwrite and up_to_date(job) else None
+        # each file to fill checked cheaply before any is filled: a bad one is said now, not
+        # when the largest-first order reaches it (an empty or truncated file: near the end)
+        row = checked_row(job) if row is None else row
         if row is not None:
             rows.add(row)
         else:
@@ -532,8 +539,8 @@ def fill_files(
         holes done and found (``done`` still the files done).
     on_result : callable(FileRow), optional
         Called with each input file's :class:`FileRow` (the row of the summary and of the
-        returned list) as soon as that file is recorded: in the order the files finish (not
-        the inputs'), the skipped files' rows first, as they are found up to date; before
+        returned list) as soon as that file is recorded: first, in the inputs' order, those
+        up to date (skipped) or failing the pre-flight, then as the files finish; before
         ``progress`` hears of that file. With worker processes and on a Dask cluster alike
         (its results are gathered as each task ends), in this process. So a caller can
         report a failed row (``status == "failed"``, ``message`` the error) while the others

@@ -13,7 +13,7 @@ from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from surfinpaint.errors import InputError, MeshError, preview
+from surfinpaint.errors import InputError, MeshError, how_many, preview
 from surfinpaint.io.brain import OVERLAY_SUFFIXES, is_gifti_data, is_morphometry, surface_base
 from surfinpaint.io.formats import SUPPORTED_FORMATS, files_read, output_format, overlays_with
 
@@ -274,7 +274,7 @@ def _warn_unknown(item: str, unknown: Sequence[UnknownFile]) -> None:
         return
     n = len(unknown)
     where = f"in {item}" if Path(item).is_dir() else f"matched by {item!r}"
-    warnings.warn(f"skipped {n} file{'s' if n > 1 else ''} of unknown type {where}: "
+    warnings.warn(f"skipped {how_many(n, 'file', 'files')} of unknown type {where}: "
                   f"{preview([u.relative for u in unknown], 3)} (not filled: known mesh "
                   f"extensions: {', '.join(SUPPORTED_FORMATS)})",
                   UnknownFilesWarning, stacklevel=3)

@@ -10,6 +10,7 @@ import io
 import json
 import os
 import re
+import time
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -18,14 +19,14 @@ from typing import Any, Literal
 
 from surfinpaint.app.batch_inputs import FileJob, UnknownFile
 from surfinpaint.app.fill_report import HoleRecord, plain
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.fill.pipeline import METHODS, FillResult
 from surfinpaint.io.atomic import atomic_open
+from surfinpaint.io.formats import check_file
 
 __all__ = ["MESSAGE_SEPARATOR", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
-           "error_text",
-           "fill_messages", "named_in_summary", "read_summary", "read_unknown_files",
-           "row_of", "write_summary"]
+           "checked_row", "error_text", "fill_messages", "named_in_summary", "read_summary",
+           "read_unknown_files", "row_of", "write_summary"]
 
 Status = Literal["filled", "unfilled", "closed", "failed", "skipped"]
 #: The statuses of a :class:`FileRow`, in the order the summary counts them.
@@ -118,7 +119,8 @@ def fill_messages(job: FileJob, result: FillResult,
     texts += [f"hole {r.index}: skipped ({r.skipped})" for r in result.reports if r.skipped
               and not any(f"hole {r.index}: {r.skipped}" in t for t in texts)]
     if len(result.removed_faces):
-        texts.append(f"repair removed {len(result.removed_faces)} faces around non-manifold "
+        removed = how_many(len(result.removed_faces), "face", "faces")
+        texts.append(f"repair removed {removed} around non-manifold "
                      "edges and bow-tie vertices")
     return MESSAGE_SEPARATOR.join(texts)
 
@@ -147,6 +149,20 @@ def error_text(job: FileJob, exc: Exception) -> str:
         text = named_in_summary(job, str(exc if exc.path else exc.with_path(job.name)))
         return text if text.startswith(job.name) else f"{job.name}: {text}"
     return named_in_summary(job, f"{job.name}: {type(exc).__name__}: {exc}")
+
+
+def checked_row(job: FileJob) -> FileRow | None:
+    """The failed row of a file that fails its pre-flight (:func:`~surfinpaint.io.formats.
+    check_file`: missing, unreadable, empty, of unknown format or with a header its reader
+    cannot parse), with the message its fill would give and the check's seconds; None for
+    a file that passes."""
+    started = time.perf_counter()
+    try:
+        check_file(job.source)
+    except MeshError as exc:
+        return FileRow(job.name, job.output, "failed", seconds=time.perf_counter() - started,
+                       message=error_text(job, exc))
+    return None
 
 
 def _csv_columns() -> list[str]:

@@ -58,7 +58,7 @@ from surfinpaint.app.progress import (
     warning_line,
 )
 from surfinpaint.app.represent_commands import add_representation_parsers
-from surfinpaint.errors import InputError, MeshError, how_many
+from surfinpaint.errors import InputError, MeshError, how_many, mesh_size
 from surfinpaint.fill import warmup
 from surfinpaint.fill.holes import (
     warn_degenerate,
@@ -113,7 +113,7 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
 
 def cmd_holes(args: argparse.Namespace) -> int:
     vertices, faces = read_mesh(args.mesh, data_warning=False)  # it only lists the holes
-    title = f"{args.mesh}: {len(vertices)} vertices, {len(faces)} faces"
+    title = f"{args.mesh}: {mesh_size(len(vertices), len(faces))}"
     if args.repair:
         repair = repair_faces(vertices, faces)
         faces = repair.faces
@@ -152,7 +152,8 @@ def cmd_fill(args: argparse.Namespace) -> int:
                                          reserved=[p for p in (args.png, args.json) if p])
     summary = Summary.of(result, time.perf_counter() - started)
     if len(result.removed_faces):
-        say(f"--repair removed {len(result.removed_faces)} faces around non-manifold "
+        removed = how_many(len(result.removed_faces), "face", "faces")
+        say(f"--repair removed {removed} around non-manifold "
             "edges and bow-tie vertices; the holes they left were filled too")
     if not result.reports:
         # a closed surface has no outer border to speak of (fsaverage's pial surface)
@@ -212,7 +213,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
     try:
         # each file's error or warnings as it finishes, above the bar: a bad file early in
         # a run of hours is said then, not at the end
-        with progress_bar(out.progress, None, "files") as bar, out.above(bar):
+        with progress_bar(out.progress, None, "files") as bar, out.above(bar), \
+                _warned_now(out, args):
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
                                     overwrite=args.overwrite, png=args.png, overlays=overlays,
                                     progress=bar.update if out.progress else None,
@@ -232,15 +234,26 @@ def cmd_batch(args: argparse.Namespace) -> int:
     failed = sum(r.status == "failed" for r in rows)
     if out.progress:
         n = len(rows.unknown)
-        unknown = f"; {n} file{'s' if n > 1 else ''} of unknown type not filled (listed in " \
+        unknown = f"; {how_many(n, 'file', 'files')} of unknown type not filled (listed in " \
             "summary.json)" if n else ""
-        out.say(f"{len(rows)} file{'s' if len(rows) != 1 else ''}: {counts}{unknown}; wrote "
+        out.say(f"{how_many(len(rows), 'file', 'files')}: {counts}{unknown}; wrote "
                       f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json")
     elif failed:  # -q, -qq: a log of thousands of files still ends with how many failed
         out.error(f"[red]error:[/red] {failed} of {how_many(len(rows), 'file', 'files')} "
                   f"failed (each named above; all in "
                   f"{escape(str(Path(args.output) / batch.SUMMARY_CSV))})")
     return EXIT_FAILURE if failed else EXIT_OK
+
+
+@contextlib.contextmanager
+def _warned_now(out: QuietConsole, args: argparse.Namespace) -> Iterator[None]:
+    """Each warning of this process said as it comes, as ``main`` would say it at the end:
+    ``batch``'s own (files of unknown type skipped, found before any file is filled); the
+    files' warnings are their rows' (:func:`_say_row`)."""
+    with warnings.catch_warnings():
+        warnings.showwarning = lambda message, *_, **__: out.warn(warning_line(
+            str(message), _input_name(args), other_files=_other_files(args)))
+        yield
 
 
 def _say_row(out: QuietConsole, row: batch.FileRow, out_dir: str) -> None:
@@ -289,7 +302,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     source = data.default_demo_path()
     vertices, faces = read_mesh(source)
-    says.say(f"demo mesh: {source} ({len(vertices)} vertices, {len(faces)} faces)")
+    says.say(f"demo mesh: {source} ({mesh_size(len(vertices), len(faces))})")
     holes_table(vertices, faces, "the demo mesh", "holes of the demo mesh")
     with _progress(says.progress) as progress:
         result = fill_holes(vertices, faces, method=args.method, progress=progress)

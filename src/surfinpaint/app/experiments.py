@@ -60,7 +60,7 @@ from surfinpaint.app.report import (
     write_page,
 )
 from surfinpaint.app.report_page import WRITTEN_ERROR
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, agreeing, how_many
 from surfinpaint.geometry.cutting import cut_geodesic_disk, cut_holes
 from surfinpaint.geometry.mesh import boundary_loops, connected_components
 from surfinpaint.geometry.metrics import surface_distance
@@ -300,7 +300,8 @@ def _run_rebuild(item: Rebuild, scale: str, out_dir: Path, step) -> CaseResult:
     picture = f"{item.name}.png"
     r = result.rebuild
     rebuild_panel(rep, rebuilt, out_dir / picture,
-                  f"{item.title}: {r['vertices']} vertices, grid {r['grid']}; distance to the "
+                  f"{item.title}: {how_many(r['vertices'], 'vertex', 'vertices')}, grid "
+                  f"{r['grid']}; distance to the "
                   f"original {r['mean']:.3g} % mean, {r['hausdorff']:.3g} % Hausdorff "
                   "(of the disk diameter)")
     result.pictures = [picture]
@@ -375,7 +376,8 @@ def run_set(out_dir: str | Path, scale: str = "full", *, cases: list[str] | None
     cases = known if cases is None else list(cases)
     unknown = sorted(set(cases) - set(known))
     if unknown:
-        raise ValueError(f"unknown experiment(s) {unknown}; choose from {known}")
+        raise ValueError(f"{agreeing(len(unknown), 'unknown experiment', 'unknown experiments')} "
+                         f"{unknown}; choose from {known}")
     step = step or (lambda message, advance=1: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

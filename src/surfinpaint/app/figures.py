@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint.app.fill_report import written
+from surfinpaint.errors import how_many
 from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
 from surfinpaint.io.atomic import atomic_path
 
@@ -152,7 +153,7 @@ def before_after_figure(vertices: np.ndarray, faces: np.ndarray, result, *,
     fig = Figure(figsize=(14, 5.6 + 3.0 * (rows - 1)), dpi=100, layout="constrained")
     grid = fig.add_gridspec(rows, 2 * max(len(shown), 1),
                             height_ratios=[1.6, 1.0][:rows])
-    titles = (f"with {len(filled)} hole{'s' if len(filled) != 1 else ''}",
+    titles = (f"with {how_many(len(filled), 'hole', 'holes')}",
               "filled: " + ", ".join(sorted({r.method for r, _ in filled})) if filled
               else "nothing filled")
     half = grid.ncols // 2

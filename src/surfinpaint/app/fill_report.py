@@ -112,7 +112,8 @@ def written(report: HoleReport) -> str:
         on_plane = "" if report.plane is None else f", laid on {plane_words(report.plane)}"
         return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')}{on_plane})"
     if outcome == "zipped":
-        return f"seam zipped ({len(report.zipped)} duplicate vertices merged)"
+        merged = how_many(len(report.zipped), "duplicate vertex", "duplicate vertices")
+        return f"seam zipped ({merged} merged)"
     return f"{outcome}: {report.skipped}"
 
 
@@ -196,7 +197,8 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
     head = (f"hole {report.index}: {report.n_edges} boundary edges, diameter "
             f"{report.diameter:.3g} mesh units → {written(report)}")
     if report.outcome in ("lambda-h", "faired"):
-        head += f", {report.new_vertices} new vertices, {report.new_faces} new faces"
+        head += (f", {how_many(report.new_vertices, 'new vertex', 'new vertices')}, "
+                 f"{how_many(report.new_faces, 'new face', 'new faces')}")
         if report.crossings:
             # near the hole, farther out, or another hole's fill (fill.far_crossings)
             head += f", {report.crossings} of them crossing the surface"
@@ -217,7 +219,8 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
     if verbose:
         if diagnostics is not None:
             lines.append(f"  λ-H pass: {diagnostics.discretization} discretization, "
-                         f"{diagnostics.rings} rings of known surface, damping "
+                         f"{how_many(diagnostics.rings, 'ring', 'rings')} of known surface, "
+                         "damping "
                          f"{diagnostics.damping:.2g}"
                          + (f", map {diagnostics.mesh.map}" if diagnostics.mesh else ""))
         for note in (report.crease, report.crease_failure):
@@ -231,11 +234,12 @@ def summary_lines(summary: Summary) -> list[str]:
     found = how_many(summary.holes_found, "hole found", "holes found")
     return [f"{found}: {summary.lambda_h} filled by the λ-H fill, "
             f"{summary.faired} by a faired fill, "
-            + (f"{summary.zipped} seam{'s' * (summary.zipped > 1)} zipped, "
+            + (f"{how_many(summary.zipped, 'seam', 'seams')} zipped, "
                if summary.zipped else "")
             + f"{summary.skipped} skipped, "
-            f"{summary.failed} failed; {summary.new_vertices} new vertices, "
-            f"{summary.new_faces} new faces; {summary.seconds:.1f} s"]
+            f"{summary.failed} failed; "
+            f"{how_many(summary.new_vertices, 'new vertex', 'new vertices')}, "
+            f"{how_many(summary.new_faces, 'new face', 'new faces')}; {summary.seconds:.1f} s"]
 
 
 # ------------------------------------------------------------------------------ as JSON

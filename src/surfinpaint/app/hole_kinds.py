@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from surfinpaint.errors import agreeing
 from surfinpaint.fill.holes import Hole, percent_below
 from surfinpaint.fill.islands import find_islands
 
@@ -36,8 +37,8 @@ def island_kinds(vertices: np.ndarray, faces: np.ndarray, found: list[Hole],
         held = [i for i in islands if i.hole == hole]
         joined = [i.loop for i in held if mode == "bridge" and not i.opposite]
         loops = ", ".join(str(i.loop) for i in held)
-        them = "them" if len(held) > 1 else "it"
-        kinds[hole] = (f"hole with island loop{'s' * (len(held) > 1)} {loops}: "
+        them = agreeing(len(held), "it", "them")
+        kinds[hole] = (f"hole with island {agreeing(len(held), 'loop', 'loops')} {loops}: "
                        + (f"filled with {them}" if len(joined) == len(held) else
                           "filled as a disk through or by "
                           + (f"{them} (--islands ignore)" if mode == "ignore" else

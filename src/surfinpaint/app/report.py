@@ -66,7 +66,7 @@ from surfinpaint.app.report_page import (
 )
 from surfinpaint.app.report_panel import PANEL_SIZE, Patch, hole_panel
 from surfinpaint.app.report_warnings import fills_warnings, said_once
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many, mesh_size
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes, warn_degenerate
 from surfinpaint.fill.pipeline import fill_holes
@@ -181,7 +181,8 @@ def compare_holes(
     loops = select_holes(vertices, faces, named, keep_margins=keep_margins)
     holes = None if named is None else loops
     if truth is not None and len(truth) != len(loops):
-        raise ValueError(f"{len(truth)} truth patches for {len(loops)} holes")
+        raise ValueError(f"{how_many(len(truth), 'truth patch', 'truth patches')} for "
+                         f"{how_many(len(loops), 'hole', 'holes')}")
     step = step or (lambda message, advance=1: None)
     options = ConformalOptions() if options is None else options
     # the warnings of both fills drawn, said once below saying which fill each is of; the
@@ -495,7 +496,7 @@ def write_report(
     for c, index in zip(comparisons, hole_numbers(vertices, faces, loops), strict=True):
         c.index = index  # the numbering of `surfinpaint holes`
     panels_for(vertices, faces, comparisons, fills, out_dir, step=step)
-    text = (f"{len(vertices)} vertices, {len(faces)} faces, {len(loops)} holes; "
+    text = (f"{mesh_size(len(vertices), len(faces))}, {how_many(len(loops), 'hole', 'holes')}; "
             f"{time.perf_counter() - started:.1f} s in all.")
     sections = [{"title": "Holes", "text": text, "comparisons": comparisons}]
     said = [str(w.message) for w in caught]
@@ -542,7 +543,8 @@ def run_report(args: argparse.Namespace) -> int:
     if args.repair:
         repair = repair_faces(vertices, faces)
         faces = repair.faces
-        says.say(f"--repair removed {len(repair.removed)} faces around non-manifold "
+        removed = how_many(len(repair.removed), "face", "faces")
+        says.say(f"--repair removed {removed} around non-manifold "
                  "edges and bow-tie vertices")
         for note in repair.notes():
             says.say(f"--repair {note}")
@@ -569,5 +571,5 @@ def run_report(args: argparse.Namespace) -> int:
                        holes_said=says.progress,
                        other_files={str(args.truth): "reading"} if args.truth else None)
     n = len(comparisons)
-    says.say(f"wrote {Path(args.output) / 'index.html'} and {n} panel{'s' if n != 1 else ''}")
+    says.say(f"wrote {Path(args.output) / 'index.html'} and {how_many(n, 'panel', 'panels')}")
     return 0

@@ -13,7 +13,7 @@ from typing import Literal
 
 import numpy as np
 
-from surfinpaint.errors import how_many
+from surfinpaint.errors import agreeing, how_many
 from surfinpaint.fill.conformal.method import NO_INNER_VERTEX
 from surfinpaint.io.atomic import atomic_open
 
@@ -256,8 +256,9 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
             written = f"{NO_INNER_VERTEX}; the triangulation is written"
         elif c.islands:  # nothing failed: the λ-H method fills disks only
             loops = ", ".join(map(str, c.islands))
-            written = (f"the faired fill{order} with its island{'s' * (len(c.islands) > 1)} "
-                       f"(loop{'s' * (len(c.islands) > 1)} {loops}) is written")
+            n = len(c.islands)
+            written = (f"the faired fill{order} with its {agreeing(n, 'island', 'islands')} "
+                       f"({agreeing(n, 'loop', 'loops')} {loops}) is written")
         else:
             why = ("the λ-H fill failed" if c.fallback and not c.fallback.startswith(
                 "self-check") else "the self-check rejected the λ-H fill")

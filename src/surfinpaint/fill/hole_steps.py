@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from surfinpaint.errors import HoleWarning, MeshError, how_many
+from surfinpaint.errors import HoleWarning, MeshError, agreeing, how_many
 from surfinpaint.fill import parallel
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
@@ -170,9 +170,9 @@ def record(report: HoleReport, fill: Fill) -> None:
     report.crossings = fill.crossings
     report.plane = fill.plane
     if fill.crossings:
-        many = fill.crossings > 1
-        warn_at_caller(f"hole {report.index}: {fill.crossings} triangle{'s' * many} of the "
-              f"fill cross{'es' * (not many)} the surface around the hole (its "
+        triangles = how_many(fill.crossings, "triangle", "triangles")
+        warn_at_caller(f"hole {report.index}: {triangles} of the "
+              f"fill cross{agreeing(fill.crossings, 'es', '')} the surface around the hole (its "
               "boundary loop folds over itself there): check the result", HoleWarning)
     if fill.failure:
         report.fallback = fill.failure

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_areas, face_blocks, orient_loop
@@ -471,7 +471,8 @@ def select_holes(
             raise ValueError(f"hole indices must be integers, got {index!r}")
         if not 0 <= int(index) < len(found):
             raise MeshError(
-                f"hole index {index} out of range: the mesh has {len(found)} boundary loops"
+                f"hole index {index} out of range: the mesh has "
+                f"{how_many(len(found), 'boundary loop', 'boundary loops')}"
             )
         chosen.setdefault(int(index), found[int(index)].loop)
     return list(chosen.values())

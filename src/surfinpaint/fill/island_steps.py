@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from surfinpaint.errors import NUMERICAL_ERRORS
+from surfinpaint.errors import NUMERICAL_ERRORS, agreeing
 from surfinpaint.fill.annulus import annulus_fill
 from surfinpaint.fill.hole_steps import (
     FAIR_NEIGHBOURHOOD_RINGS,
@@ -44,7 +44,7 @@ ISLAND_FAIR_ORDER = {"conformal": 3, "fair": 2}
 def island_note(islands: list[Island]) -> str:
     """``with its island, piece 1 (loop 3)``: the note of a hole filled with its islands."""
     named = ", ".join(f"piece {i.piece} (loop {i.loop})" for i in islands)
-    return f"with its island{'s' * (len(islands) > 1)}, {named}"
+    return f"with its {agreeing(len(islands), 'island', 'islands')}, {named}"
 
 
 def _not_joined(island: Island, why: str) -> str:

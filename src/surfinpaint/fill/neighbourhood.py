@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from surfinpaint.errors import how_many
 from surfinpaint.fill.results import Fill, FillResult, HoleReport
 from surfinpaint.geometry.degenerate import triangle_incidence
 from surfinpaint.geometry.validation import face_text, zero_area_faces
@@ -114,7 +115,8 @@ def zero_area_reason(local_vertices: np.ndarray, fill: Fill) -> str | None:
     new_f = np.asarray(fill.faces, dtype=np.int64)
     degenerate = len(zero_area_faces(np.concatenate([local_vertices, new_v]), new_f))
     if degenerate:
-        return (f"the fill would add {degenerate} zero-area triangles (the loop spans no "
+        triangles = how_many(degenerate, "zero-area triangle", "zero-area triangles")
+        return (f"the fill would add {triangles} (the loop spans no "
                 "area: a slit or a T-junction)")
     return None
 

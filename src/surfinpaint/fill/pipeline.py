@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from surfinpaint.errors import HoleWarning, how_many, preview
+from surfinpaint.errors import HoleWarning, agreeing, how_many, preview
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import ATTRIBUTE_KINDS, check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
@@ -100,12 +100,16 @@ def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
         if zipped is not None:
             faces = zipped
             report.method, report.zipped = "zipped", slit.merges
-            report.note = (f"seam zipped: {len(slit.merges)} duplicate vertices merged "
+            merged_count = how_many(len(slit.merges), "duplicate vertex", "duplicate vertices")
+            report.note = (f"seam zipped: {merged_count} merged "
                            f"into their coincident partners{rest}")
             merged.append(slit.merges)
-            warnings.warn(f"hole {report.index}: a seam of {len(slit.merges)} coincident "
-                          "vertex pairs zipped: the faces use vertices "
-                          f"{preview(slit.merges[:, 1])} in place of their duplicates "
+            n_pairs = len(slit.merges)
+            pairs = how_many(n_pairs, "coincident vertex pair", "coincident vertex pairs")
+            warnings.warn(f"hole {report.index}: a seam of {pairs} zipped: the faces use "
+                          f"{agreeing(n_pairs, 'vertex', 'vertices')} "
+                          f"{preview(slit.merges[:, 1])} in place of "
+                          f"{agreeing(n_pairs, 'its duplicate', 'their duplicates')} "
                           f"{preview(slit.merges[:, 0])} (left unused){rest}",
                           MeshWarning, stacklevel=3)
             continue
@@ -432,8 +436,9 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
             result.vertices, mesh.faces, mesh.vertex_faces, hole_faces,
             [r.loop for r in reports]), strict=True):
         if far:
-            warnings.warn(f"hole {report.index}: {far} triangle{'s' * (far > 1)} of the fill "
-                          f"cross{'es' * (far == 1)} the surface farther out than the rings "
+            triangles = how_many(far, "triangle", "triangles")
+            warnings.warn(f"hole {report.index}: {triangles} of the fill "
+                          f"cross{agreeing(far, 'es', '')} the surface farther out than the rings "
                           "around the hole checked as it was filled (a fold or a thin part, "
                           "near in space): check the result", HoleWarning, stacklevel=3)
             report.crossings += far
@@ -442,7 +447,7 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
         # not a HoleWarning: the hole lines count these triangles, only this names both
         warnings.warn(f"holes {one.index} and {other.index}: "
                       f"{how_many(pair.first_triangles, 'triangle', 'triangles')} of hole "
-                      f"{one.index}'s fill cross{'es' * (pair.first_triangles == 1)} "
+                      f"{one.index}'s fill cross{agreeing(pair.first_triangles, 'es', '')} "
                       f"{pair.second_triangles} of hole {other.index}'s (two holes near in "
                       "space, each filled without the other's fill): check the result",
                       MeshWarning, stacklevel=3)

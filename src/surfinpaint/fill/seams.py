@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from surfinpaint.errors import HoleWarning
+from surfinpaint.errors import HoleWarning, how_many
 from surfinpaint.io.base import MeshWarning
 from surfinpaint.lazy import lazy_module
 
@@ -103,8 +103,9 @@ class Slit:
     def describe(self) -> str:
         """What the loop is, in words."""
         if self.is_seam:
-            return (f"the loop spans no area: a seam of {len(self.merges)} coincident vertex "
-                    "pairs (duplicated vertices)")
+            pairs = how_many(len(self.merges), "coincident vertex pair",
+                             "coincident vertex pairs")
+            return f"the loop spans no area: a seam of {pairs} (duplicated vertices)"
         return ("the loop spans no area: a slit whose two sides coincide but do not pair up "
                 "vertex for vertex (a T-junction)")
 
@@ -278,8 +279,9 @@ def spanless(vertices: np.ndarray, loop: np.ndarray) -> tuple[Slit, str, str] | 
     if part is None:
         return None
     # a seam along part of a loop that bounds no disk (an open tube's)
-    return (Slit(part), f"the loop runs back along itself: a seam of {len(part)} coincident "
-            "vertex pairs joins two parts of it (duplicated vertices), so no disk fills it",
+    pairs = how_many(len(part), "coincident vertex pair joins", "coincident vertex pairs join")
+    return (Slit(part), f"the loop runs back along itself: a seam of {pairs} two parts of it "
+            "(duplicated vertices), so no disk fills it",
             "; the rest of the loop is left open")
 
 

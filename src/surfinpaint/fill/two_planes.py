@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, how_many
 from surfinpaint.fill.creases import Crease, cut_along, split_fill
 from surfinpaint.geometry.flatness import meeting_line
 from surfinpaint.geometry.mesh import connected_components, face_cross
@@ -99,7 +99,8 @@ def split_on_two_planes(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarra
         c, m = planes[plane_of[-1]]
         laid[inner] = allv[inner] - np.outer((allv[inner] - c) @ m, m)
     if len(plane_of) != 2 or plane_of[0] == plane_of[1]:
-        raise FillError(f"the split gave {len(plane_of)} sides, not one on each plane")
+        raise FillError(f"the split gave {how_many(len(plane_of), 'side', 'sides')}, not one "
+                        "on each plane")
     _check_unfolded(face_cross(allv, new_f), face_cross(laid, new_f))
     if not np.isfinite(laid).all():
         raise FillError("laid on their planes, the sides' positions are not finite")

@@ -18,6 +18,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from surfinpaint.errors import agreeing, how_many
 from surfinpaint.fill.holes import Hole
 
 __all__ = ["unjoined_borders_note"]
@@ -62,10 +63,15 @@ def unjoined_borders_note(vertices: np.ndarray, found: Sequence[Hole], *,
     pairs = ", ".join(f"{int(ids[order[i]])} = {int(ids[order[i + 1]])}" for i in heads[:5])
     if len(heads) > 5:
         pairs += f" and {len(heads) - 5} more points"
-    which = (f"all {len(borders)} outer borders" if len(unjoined) == len(borders)
-             else f"{len(unjoined)} of the {len(borders)} outer borders")
-    return (f"{which} run along other boundary edges: {int(copied.sum())} boundary "
-            f"vertices lie exactly on another vertex (the mesh gives faces their own "
+    if len(unjoined) == len(borders):
+        which = ("the one outer border runs" if len(borders) == 1
+                 else f"all {len(borders)} outer borders run")
+    else:
+        which = (f"{len(unjoined)} of the {len(borders)} outer borders "
+                 f"{agreeing(len(unjoined), 'runs', 'run')}")
+    copies = how_many(int(copied.sum()), "boundary vertex lies", "boundary vertices lie")
+    return (f"{which} along other boundary edges: {copies} exactly on another vertex (the "
+            f"mesh gives faces their own "
             f"copies of the vertices they share, as exporters do with per-face normals or "
             f"texture coordinates, trimesh along texture seams and PyVista's OBJ reader at "
             f"every face; e.g. vertices {pairs}), "

@@ -15,7 +15,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components as _cc
 from scipy.sparse.csgraph import dijkstra
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.geometry.edges import EdgeTable, edge_keys
 from surfinpaint.geometry.mesh import boundary_loops, faces_at, unique_edges, vertex_faces
 
@@ -362,8 +362,9 @@ def cut_holes(vertices: np.ndarray, faces: np.ndarray, centers: Sequence,
         border = new_id[np.unique(f[reg])[keep_v[np.unique(f[reg])]]]
         mine = [lp for lp in loops if np.isin(lp, border).all()]
         if len(mine) != 1:
-            raise ValueError(f"hole {k} (radius {radii_arr[k]:g}) leaves {len(mine)} boundary "
-                             "loops instead of one: use a smaller radius")
+            raise ValueError(f"hole {k} (radius {radii_arr[k]:g}) leaves "
+                             f"{how_many(len(mine), 'boundary loop', 'boundary loops')} "
+                             "instead of one: use a smaller radius")
         loop = mine[0]
         tid = np.unique(f[reg])
         p = out_v[loop]

@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from surfinpaint.errors import how_many
 from surfinpaint.lazy import lazy_module
 
 # the F and normal tails (fdtrc, ndtr, ndtri; scipy.stats would cost 1 s): imported at the
@@ -85,13 +86,15 @@ class PlaneTest:
 
     def sentence(self) -> str:
         """The verdict in words, for a hole's report."""
-        trimmed = (f"; {self.left_out} vertices off it on one side left out" if self.left_out
-                   else "")
+        trimmed = (f"; {how_many(self.left_out, 'vertex', 'vertices')} off it on one side "
+                   "left out" if self.left_out else "")
         if self.past_edges:
-            trimmed += f"; {self.past_edges} vertices past the part's sharp edges left out"
+            trimmed += (f"; {how_many(self.past_edges, 'vertex', 'vertices')} past the part's "
+                        "sharp edges left out")
         return (f"the known surface around the hole is a plane within its noise "
                 f"(σ = {self.noise:.3g}; curvature p = {self.p_curvature:.2g}, pattern "
-                f"p = {self.p_pattern:.2g}, {self.points} vertices{trimmed})")
+                f"p = {self.p_pattern:.2g}, "
+                f"{how_many(self.points, 'vertex', 'vertices')}{trimmed})")
 
 
 

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import numpy as np
 import scipy.sparse as sp
 
-from surfinpaint.errors import MeshError, preview
+from surfinpaint.errors import MeshError, agreeing, preview
 from surfinpaint.geometry.cycles import simple_cycles
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import laplacian_from_weights
@@ -306,16 +306,16 @@ def orient_loop(faces: np.ndarray, loop: np.ndarray | Sequence[int], *,
                 "boundary edge of the mesh", edges=bad[:10])
     bad = edges_at(np.flatnonzero((forward < 0) & (backward < 0)))
     if bad:
-        raise MeshError(f"loop edges {preview(bad)} are not edges of the mesh", edges=bad[:10])
+        raise MeshError(f"loop {agreeing(len(bad), 'edge', 'edges')} {preview(bad)} "
+                        f"{agreeing(len(bad), 'is not an edge', 'are not edges')} of the mesh",
+                        edges=bad[:10])
     if (forward >= 0).all():
         return loop
     if (backward >= 0).all():
         return loop[::-1].copy()
     bad = edges_at(np.flatnonzero(forward < 0))
-    raise MeshError(
-        f"loop is not consistently oriented with the mesh faces at edges {preview(bad)}",
-        edges=bad[:10],
-    )
+    raise MeshError(f"loop is not consistently oriented with the mesh faces at "
+                    f"{agreeing(len(bad), 'edge', 'edges')} {preview(bad)}", edges=bad[:10])
 
 
 def vertex_adjacency(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:

@@ -17,6 +17,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from surfinpaint.errors import how_many
 from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 
@@ -157,9 +158,9 @@ def outward_note(turned: list[np.ndarray], shown: int = 10) -> str:
     """
     many = len(turned) != 1
     faces = "; ".join(
-        f"{len(t)} faces ({', '.join(str(int(i)) for i in t[:shown])}"
+        f"{how_many(len(t), 'face', 'faces')} ({', '.join(str(int(i)) for i in t[:shown])}"
         f"{', ...' if len(t) > shown else ''})" for t in turned)
-    return (f"turned {len(turned)} closed piece{'s' * many} outward "
+    return (f"turned {how_many(len(turned), 'closed piece', 'closed pieces')} outward "
             f"(negative volume): {'their' if many else 'its'} {faces} flipped")
 
 
@@ -172,5 +173,5 @@ def orientation_note(flipped: np.ndarray, shown: int = 10) -> str:
     """
     ids = ", ".join(str(int(t)) for t in flipped[:shown])
     more = ", ..." if len(flipped) > shown else ""
-    return (f"flipped {len(flipped)} face{'s' if len(flipped) != 1 else ''} ({ids}{more}) "
+    return (f"flipped {how_many(len(flipped), 'face', 'faces')} ({ids}{more}) "
             "to orient each piece of the surface consistently")

@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse import csgraph
 
-from surfinpaint.errors import MeshError, how_many, preview
+from surfinpaint.errors import MeshError, agreeing, how_many, preview
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import (
     factorized_definite,
@@ -118,8 +118,8 @@ def disk_boundary(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     genus = (2 - n_loops - chi) // 2
     if genus != 0:
         raise MeshError(
-            f"mesh has genus {genus} (Euler characteristic {chi}, {n_loops} boundary loop"
-            f"{'s' if n_loops > 1 else ''}), a disk has genus 0"
+            f"mesh has genus {genus} (Euler characteristic {chi}, "
+            f"{how_many(n_loops, 'boundary loop', 'boundary loops')}), a disk has genus 0"
         )
     if n_loops > 1:
         lengths = ", ".join(str(len(lp)) for lp in loops[:10])
@@ -137,7 +137,8 @@ def _check_triangles(v: np.ndarray, f: np.ndarray) -> np.ndarray:
         raise MeshError(f"a disk needs at least one triangle; faces have shape {f.shape}")
     if f.min() < 0 or f.max() >= len(v):
         bad = np.flatnonzero((f < 0).any(axis=1) | (f >= len(v)).any(axis=1))
-        raise MeshError(f"faces {preview(bad)} refer to missing vertices", faces=bad)
+        raise MeshError(f"{agreeing(len(bad), 'face', 'faces')} {preview(bad)} "
+                        f"{agreeing(len(bad), 'refers', 'refer')} to missing vertices", faces=bad)
     area = face_areas(v, f)
     used = np.unique(f)
     scale = max(float(np.ptp(v[used], axis=0).max()), 1e-300)
@@ -146,7 +147,7 @@ def _check_triangles(v: np.ndarray, f: np.ndarray) -> np.ndarray:
         said = how_many(len(degenerate), "degenerate (zero-area) triangle",
                         "degenerate (zero-area) triangles")
         raise MeshError(
-            f"{said}: faces {preview(degenerate)}",
+            f"{said}: {agreeing(len(degenerate), 'face', 'faces')} {preview(degenerate)}",
             faces=degenerate,
         )
     return used
@@ -352,7 +353,8 @@ def rectangular_conformal_map(
     loop = disk_boundary(v, f)
     n = len(v)
     if len(loop) < 4:
-        raise MeshError(f"boundary has only {len(loop)} vertices, a rectangle needs 4",
+        raise MeshError(f"boundary has only {how_many(len(loop), 'vertex', 'vertices')}, a "
+                        "rectangle needs 4",
                         vertices=loop)
     if corners is None:
         pos = _boundary_corners(v, loop)

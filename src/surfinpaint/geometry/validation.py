@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, how_many, preview
+from surfinpaint.errors import MeshError, agreeing, how_many, mesh_size, preview
 from surfinpaint.geometry.degenerate import repeated_vertex_faces, triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_blocks
@@ -86,10 +86,10 @@ class MeshReport:
     def summary(self) -> str:
         """A few lines of text for the CLI."""
         head = f"{self.path}: " if self.path else ""
-        lines = [f"{head}{self.n_vertices} vertices, {self.n_faces} faces, "
-                 f"{self.n_components} component(s), {self.n_boundary_loops} boundary loop(s)"]
-        lines += self.notes
-        return "\n".join(lines)
+        loops = how_many(self.n_boundary_loops, "boundary loop", "boundary loops")
+        return "\n".join([f"{head}{mesh_size(self.n_vertices, self.n_faces)}, "
+                          f"{how_many(self.n_components, 'component', 'components')}, {loops}",
+                          *self.notes])
 
 
 def _fail(message: str, path: str | None, **ids) -> MeshError:
@@ -455,9 +455,9 @@ def _reorient_hint(table: EdgeTable) -> str:
             "MeshLab's Re-Orient all faces coherently do)")
     if not bad:
         return hint
-    pieces = _listing([f"{len(p)} faces ({', '.join(str(int(t)) for t in p[:5])}"
+    pieces = _listing([f"{how_many(len(p), 'face', 'faces')} ({', '.join(map(str, p[:5]))}"
                        f"{', ...' if len(p) > 5 else ''})" for p in bad[:10]], len(bad))
-    told = (f"{len(bad)} non-orientable piece{'s' if len(bad) > 1 else ''} (like a Möbius "
+    told = (f"{how_many(len(bad), 'non-orientable piece', 'non-orientable pieces')} (like a Möbius "
             f"strip: no orientation of it is consistent, --repair leaves it as it is): {pieces}")
     return f"{told}; elsewhere {hint}" if len(flipped) else told
 
@@ -593,8 +593,8 @@ def check_loop(faces: np.ndarray, loop: np.ndarray, *, path: str | None = None) 
         raise _fail(f"{said} of the mesh: {preview(edges)}", path, edges=edges)
     bowtie = np.intersect1d(ids[_bowtie(table)], loop)
     if bowtie.size:
-        raise _fail(f"hole boundary passes through non-manifold (bow-tie) vertices "
-                    f"{preview(bowtie)}: the faces there form several fans, so filling the "
-                    "hole would leave a non-manifold surface (--repair, repair=True, removes "
-                    "the faces of all but the largest fan there first)", path,
-                    vertices=bowtie[:100].tolist())
+        raise _fail("hole boundary passes through non-manifold (bow-tie) "
+                    f"{agreeing(bowtie.size, 'vertex', 'vertices')} {preview(bowtie)}: the "
+                    "faces there form several fans, so filling the hole would leave a "
+                    "non-manifold surface (--repair, repair=True, removes the faces of all but "
+                    "the largest fan there first)", path, vertices=bowtie[:100].tolist())

@@ -8,7 +8,7 @@ from typing import IO
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, preview
+from surfinpaint.errors import MeshError, agreeing, how_many, preview
 
 __all__ = ["DataNotReturnedWarning", "MeshWarning"]
 
@@ -77,7 +77,8 @@ def triangulate(counts: np.ndarray, name: str) -> tuple[np.ndarray, np.ndarray]:
         return np.arange(3 * len(counts)).reshape(-1, 3), np.arange(len(counts))
     n_poly = int(np.count_nonzero(counts > 3))
     warnings.warn(
-        f"{name}: {n_poly} polygon face(s) with more than three corners were fan-triangulated",
+        f"{name}: {how_many(n_poly, 'polygon face', 'polygon faces')} with more than three "
+        f"corners {agreeing(n_poly, 'was', 'were')} fan-triangulated",
         MeshWarning,
         stacklevel=4,
     )

@@ -89,21 +89,28 @@ def read_gifti(data: bytes, path: Path) -> Parsed:
     return out
 
 
+def freesurfer_header(head: bytes, size: int) -> None:
+    """Raise the :class:`MeshError` :func:`read_freesurfer` raises for a FreeSurfer file of
+    ``size`` bytes starting with ``head`` (its first 4096 + 13 bytes, or all of it) whose
+    magic bytes are wrong or that is shorter than its header announces."""
+    if head[:3] not in (FREESURFER_MAGIC, _MORPH_MAGIC):
+        raise MeshError("not a FreeSurfer surface (magic bytes are not FF FF FE)")
+    if head[:3] == FREESURFER_MAGIC:
+        # the two creation lines end in "\n\n"; the counts follow as big-endian int32
+        end = head.find(b"\n\n", 3, 3 + 4096)
+        if end < 0 or end + 10 > min(size, len(head)):
+            raise MeshError("FreeSurfer surface is truncated (no header)")
+        nv, nf = struct.unpack_from(">ii", head, end + 2)
+        need = end + 10 + 12 * nv + 12 * nf
+        if nv < 0 or nf < 0 or size < need:
+            raise MeshError(f"FreeSurfer surface is truncated (header announces {nv} vertices "
+                            f"and {nf} faces = {need} bytes, the file has {size})")
+
+
 def read_freesurfer(data: bytes, path: Path) -> Parsed:
     from nibabel.freesurfer import read_geometry
 
-    if data[:3] not in (FREESURFER_MAGIC, _MORPH_MAGIC):
-        raise MeshError("not a FreeSurfer surface (magic bytes are not FF FF FE)")
-    if data[:3] == FREESURFER_MAGIC:
-        # the two creation lines end in "\n\n"; the counts follow as big-endian int32
-        end = data.find(b"\n\n", 3, 3 + 4096)
-        if end < 0 or end + 10 > len(data):
-            raise MeshError("FreeSurfer surface is truncated (no header)")
-        nv, nf = struct.unpack_from(">ii", data, end + 2)
-        need = end + 10 + 12 * nv + 12 * nf
-        if nv < 0 or nf < 0 or len(data) < need:
-            raise MeshError(f"FreeSurfer surface is truncated (header announces {nv} vertices "
-                            f"and {nf} faces = {need} bytes, the file has {len(data)})")
+    freesurfer_header(data, len(data))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # nibabel warns about missing volume info footers
         vertices, faces, info, stamp = read_geometry(str(path), read_metadata=True,

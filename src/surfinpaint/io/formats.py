@@ -16,8 +16,8 @@ PLY, OBJ, OFF and ascii STL are parsed here rather than by trimesh: with ``proce
 trimesh still drops unreferenced OBJ vertices, splits vertices on texture seams, leaves
 negative OBJ indices unresolved with ``maintain_order=True``, regroups polygon faces
 (triangles first), misreads binary PLY with mixed polygon sizes, writes OBJ/OFF with ten
-significant digits, and prints tracebacks on stderr for a malformed ascii STL. nibabel reads
-and writes GIFTI and FreeSurfer.
+significant digits, and prints tracebacks on stderr for a malformed ascii STL. nibabel
+reads and writes GIFTI and FreeSurfer. :func:`check_file` checks a file's header alone.
 
 One module per format family (:mod:`~surfinpaint.io.ply`, :mod:`~surfinpaint.io.obj`,
 :mod:`~surfinpaint.io.off`, :mod:`~surfinpaint.io.stl`, :mod:`~surfinpaint.io.brain`); this one
@@ -28,16 +28,17 @@ existing file is either fully replaced or left as it was.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import ExitStack
 from pathlib import Path
 from typing import IO
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, MissingFileError
+from surfinpaint.errors import MeshError, MissingFileError, agreeing, how_many
 from surfinpaint.geometry.validation import check_arrays
 from surfinpaint.io.atomic import atomic_open
 from surfinpaint.io.base import (
@@ -50,6 +51,7 @@ from surfinpaint.io.base import (
 )
 from surfinpaint.io.brain import (
     FREESURFER_MAGIC,
+    freesurfer_header,
     overlay_outputs,
     overlays_beside,
     read_freesurfer,
@@ -64,10 +66,18 @@ from surfinpaint.io.brain import (
 )
 from surfinpaint.io.meshdata import MeshData, per_vertex, seam_vertices
 from surfinpaint.io.obj import missing_libraries, read_obj, unstored_obj, write_obj
-from surfinpaint.io.off import read_off, unstored_off, write_off
-from surfinpaint.io.ply import ply_is_ascii, read_ply, unstored_ply, write_ply
+from surfinpaint.io.off import off_header, read_off, unstored_off, write_off
+from surfinpaint.io.ply import (
+    HEADER_BYTES,
+    ply_is_ascii,
+    ply_layout,
+    read_ply,
+    unstored_ply,
+    write_ply,
+)
 from surfinpaint.io.stl import (
     read_stl,
+    stl_header,
     stl_is_ascii,
     unstored_stl,
     warn_stl_numbering,
@@ -75,8 +85,8 @@ from surfinpaint.io.stl import (
 )
 
 __all__ = ["SUPPORTED_FORMATS", "DataNotReturnedWarning", "MeshData", "MeshWarning",
-           "ascii_like", "files_read", "files_written", "output_format", "overlays_with",
-           "read_mesh", "read_mesh_data", "write_mesh", "write_mesh_data"]
+           "ascii_like", "check_file", "files_read", "files_written", "output_format",
+           "overlays_with", "read_mesh", "read_mesh_data", "write_mesh", "write_mesh_data"]
 
 _FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
 
@@ -272,17 +282,9 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     p = Path(path)
     name = str(path)
     data = _read_bytes(p)
-    fmt = _format_of(p)
-    if data[:3] == FREESURFER_MAGIC and fmt in (None, "freesurfer"):
-        fmt = "freesurfer"
-    if fmt is None:
-        raise _unknown_format(p)
-    try:
+    fmt = _format_read(p, data)
+    with _parsing(fmt, name):
         parsed = _READERS[fmt](data, p)
-    except MeshError as err:
-        raise err.with_path(name) from None
-    except Exception as exc:  # any parser failure means a bad file
-        raise MeshError(f"cannot read as {_LABELS[fmt]}: {describe(exc)}", path=name) from None
     flat = np.asarray(parsed.flat, dtype=np.int64)
     counts = np.asarray(parsed.counts)
     if len(counts) and counts.min() == 3 == counts.max() and len(flat) == 3 * len(counts):
@@ -395,9 +397,10 @@ def _assemble(parsed: Parsed, corners: np.ndarray | None, owner: np.ndarray | No
         per_face = (values.reshape(len(faces), 3, *values.shape[1:]) if corners is None
                     else values[corners])
         corner_attributes[key] = per_face.astype(dtype, copy=False)
-        seams.append(f"{key} differs between the faces around {len(where)} vertices (a seam; "
-                     f"e.g. vertices {ids(where, 5)}): kept per face corner "
-                     f"(corner_attributes[{key!r}]), not per vertex")
+        seams.append(f"{key} differs between the faces around "
+                     f"{how_many(len(where), 'vertex', 'vertices')} (a seam; e.g. "
+                     f"{agreeing(len(where), 'vertex', 'vertices')} {ids(where, 5)}): kept per "
+                     f"face corner (corner_attributes[{key!r}]), not per vertex")
     return MeshData(parsed.vertices, faces, attributes,
                     {k: np.array(a) if owner is None else np.asarray(a)[owner]
                      for k, a in parsed.face_attributes.items()},
@@ -408,15 +411,16 @@ _LABELS = {"ply": "PLY", "obj": "OBJ", "stl": "STL", "off": "OFF", "gii": "GIFTI
            "gii.gz": "gzip-compressed GIFTI", "freesurfer": "a FreeSurfer surface"}
 
 
-
-def _read_bytes(p: Path) -> bytes:
+def _read_bytes(p: Path, limit: int = -1) -> bytes:
+    """The bytes of the mesh file ``p`` (its first ``limit``), or the reason it has none."""
     name = str(p)
     if not p.exists():
         raise MissingFileError(name)
     if p.is_dir():
         raise MeshError("is a directory, not a mesh file", path=name)
     try:
-        data = p.read_bytes()
+        with p.open("rb") as fh:
+            data = fh.read(limit)
     except PermissionError:
         raise MeshError("permission denied: the file cannot be read", path=name) from None
     except OSError as exc:
@@ -425,6 +429,51 @@ def _read_bytes(p: Path) -> bytes:
         raise MeshError("file is empty", path=name)
     return data
 
+
+def _format_read(p: Path, head: bytes) -> str:
+    """The format ``p`` is read as: by its name, or FreeSurfer's by its magic bytes."""
+    fmt = _format_of(p)
+    if head[:3] == FREESURFER_MAGIC and fmt in (None, "freesurfer"):
+        return "freesurfer"
+    if fmt is None:
+        raise _unknown_format(p)
+    return fmt
+
+
+@contextlib.contextmanager
+def _parsing(fmt: str, name: str) -> Iterator[None]:
+    """A reader's error names the file; any other failure of a parser means a bad file."""
+    try:
+        yield
+    except MeshError as err:
+        raise err.with_path(name) from None
+    except Exception as exc:
+        raise MeshError(f"cannot read as {_LABELS[fmt]}: {describe(exc)}", path=name) from None
+
+
+#: Per format, its reader's own check of a header, ``check(head, size)``; most bytes read
+_HEADERS: dict[str, tuple[Callable[[bytes, int], object], int]] = {
+    "ply": (lambda head, size: ply_layout(head), HEADER_BYTES),
+    "off": (lambda head, size: off_header(head), 1 << 16),
+    "stl": (stl_header, 1 << 13), "freesurfer": (freesurfer_header, 1 << 13)}
+
+
+def check_file(path: str | os.PathLike) -> None:
+    """Raise the :class:`MeshError` :func:`read_mesh` would raise, word for word, for a file
+    missing, unreadable, empty, of unknown format or whose header its reader cannot parse
+    (``_HEADERS``; OBJ has none, GIFTI's XML is left to the reader), reading its first 8 KiB
+    (PLY: up to 1 MiB, OFF: 64 KiB, where that is too short): ``batch``'s pre-flight."""
+    p = Path(path)
+    head = _read_bytes(p, 1 << 13)
+    fmt = _format_read(p, head)
+    if fmt not in _HEADERS:
+        return
+    (check, limit), size = _HEADERS[fmt], p.stat().st_size
+    with _parsing(fmt, str(path)):
+        try:
+            check(head, size)
+        except MeshError:  # a header longer than the first bytes: read as far as the reader
+            check(_read_bytes(p, limit) if len(head) < min(size, limit) else head, size)
 
 
 _READERS: dict[str, Callable[[bytes, Path], Parsed]] = {

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, agreeing, how_many
 from surfinpaint.io.base import Parsed, decode_text, tokens_per_line, write_rows, xyz_rows
 from surfinpaint.io.meshdata import MeshData
 
@@ -84,7 +84,9 @@ def read_obj(data: bytes, path: Path) -> Parsed:
         out.corner_values[key] = values
         unused = len(table) - len(np.unique(index[ids != 0]))
         if unused:
-            out.dropped.append(f"{unused} of {len(table)} {kind} records are not referenced "
+            records = how_many(len(table), f"{kind} record", f"{kind} records")
+            out.dropped.append(f"{unused} of {records} {agreeing(unused, 'is', 'are')} not "
+                               "referenced "
                                "by any face and are not kept")
     if present & {"o", "g", "usemtl", "mtllib"}:
         _labels(out, _LABEL_OR_FACE.findall(text))

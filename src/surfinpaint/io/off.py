@@ -20,8 +20,13 @@ from surfinpaint.io.base import (
 from surfinpaint.io.meshdata import MeshData
 
 
-def read_off(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    text = decode_text(data, "OFF")
+def off_header(head: bytes) -> tuple[str, int, int, list[str]]:
+    """The keyword (``OFF``, ``COFF``, ...), vertex and face counts of an OFF file whose
+    first bytes are ``head`` (or all of it), and its data lines after the header; raises
+    :class:`MeshError` for a header :func:`read_off` cannot read (a binary file, no
+    ``OFF`` keyword, no or a bad count line): also the header check of
+    :func:`surfinpaint.io.formats.check_file`."""
+    text = decode_text(head, "OFF")
     if "#" in text:
         text = re.sub(r"#[^\r\n]*", "", text)
     lines = [ln for ln in text.splitlines() if ln and not ln.isspace()]
@@ -42,6 +47,11 @@ def read_off(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarra
         raise MeshError(f"bad count line {' '.join(rest)[:60]!r}") from None
     if nv < 0 or nf < 0:
         raise MeshError(f"negative counts in the header ({nv} vertices, {nf} faces)")
+    return keyword, nv, nf, body
+
+
+def read_off(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    keyword, nv, nf, body = off_header(data)
     if len(body) < nv + nf:
         raise MeshError(f"file is truncated: header announces {nv} vertices and {nf} faces, "
                         f"found {len(body)} data lines")

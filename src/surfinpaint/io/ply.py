@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.io.base import Parsed, describe, write_rows
 from surfinpaint.io.meshdata import MeshData, group_columns, split_columns
 
@@ -21,6 +21,8 @@ _PLY_TYPES = {
 
 
 _END_HEADER = re.compile(rb"^[ \t]*end_header[ \t]*(?:\r\n|\n|\r|$)", re.MULTILINE)
+#: How far into a PLY file its ``end_header`` line is looked for.
+HEADER_BYTES = 1 << 20
 
 
 def _ply_header(data: bytes) -> tuple[str, list, int, list[str], list[str]]:
@@ -31,7 +33,7 @@ def _ply_header(data: bytes) -> tuple[str, list, int, list[str], list[str]]:
     if not data.startswith(b"ply"):
         raise MeshError("not a PLY file (does not start with 'ply')")
     # the line that is exactly end_header (a comment may mention the word)
-    end = _END_HEADER.search(data, 0, 1 << 20)
+    end = _END_HEADER.search(data, 0, HEADER_BYTES)
     if end is None:
         raise MeshError("PLY header has no 'end_header' line (truncated or not PLY)")
     body = end.end()
@@ -88,8 +90,13 @@ def ply_is_ascii(head: bytes) -> bool:
     return found is not None and found.group(1) == b"ascii"
 
 
-def read_ply(data: bytes, path: Path) -> Parsed:
-    fmt, elements, offset, notes, free_text = _ply_header(data)
+def ply_layout(head: bytes) -> tuple[str, list, int, list[str], list[str], str]:
+    """The header of a PLY file whose first bytes are ``head`` (its first
+    :data:`HEADER_BYTES`, or all of it) as :func:`_ply_header` parses it, and the name of
+    the faces' list of vertex ids; raises :class:`MeshError` for a header :func:`read_ply`
+    cannot read (no ``end_header``, no vertex or face element, no ``x, y, z``, no list of
+    vertex ids): also the header check of :func:`surfinpaint.io.formats.check_file`."""
+    fmt, elements, offset, notes, free_text = _ply_header(head)
     names = [e[0] for e in elements]
     if "vertex" not in names:
         raise MeshError("PLY file has no vertex element")
@@ -103,6 +110,11 @@ def read_ply(data: bytes, path: Path) -> Parsed:
                fprops[0] if len(fprops) == 1 else None)
     if key is None:
         raise MeshError("PLY face element has no vertex_indices list")
+    return fmt, elements, offset, notes, free_text, key
+
+
+def read_ply(data: bytes, path: Path) -> Parsed:
+    fmt, elements, offset, notes, free_text, key = ply_layout(data)
     if fmt == "ascii":
         tokens = data[offset:].split()
         try:
@@ -141,7 +153,8 @@ def _ply_data(out: Parsed, elements: list, parsed: dict, key: str) -> None:
     for name, count, props in elements:
         if name not in ("vertex", "face"):
             if count:
-                out.dropped.append(f"PLY element {name!r} ({count} records) is not kept")
+                out.dropped.append(f"PLY element {name!r} "
+                                   f"({how_many(count, 'record', 'records')}) is not kept")
             continue
         columns = {}
         for prop, t, c in props:

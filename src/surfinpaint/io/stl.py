@@ -9,17 +9,16 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many
 from surfinpaint.geometry.mesh import face_normals
 from surfinpaint.io.base import Parsed, RenumberedWarning, decode_text
 from surfinpaint.io.meshdata import MeshData
 
 
 def read_stl(data: bytes, path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    stl_header(data, len(data))
     corners, facet_attributes = _binary_corners(data)
     if corners is None:
-        if not _says_solid(data):
-            raise MeshError(_not_binary(data))
         corners = _read_stl_ascii(data)
     if len(corners) == 0:
         raise MeshError("STL file has no triangles")
@@ -51,24 +50,35 @@ def _binary_corners(data: bytes) -> tuple[np.ndarray | None, np.ndarray | None]:
     A few bytes after the announced triangles (less than one 50-byte record: some exporters
     pad to an even or aligned length) are accepted, unless the file reads as ascii STL.
     """
-    if len(data) < 84:
+    if not _binary_fits(data, len(data)):
         return None, None
     n = struct.unpack_from("<I", data, 80)[0]
-    excess = len(data) - (84 + 50 * n)
-    if excess == 0 or (0 < excess < 50 and not _looks_ascii(data)):
-        rec = np.frombuffer(data, _STL_DTYPE, count=n, offset=84)
-        return rec["corners"].reshape(-1, 3).astype(np.float64), rec["attr"].astype(np.uint16)
-    return None, None
+    rec = np.frombuffer(data, _STL_DTYPE, count=n, offset=84)
+    return rec["corners"].reshape(-1, 3).astype(np.float64), rec["attr"].astype(np.uint16)
+
+
+def _binary_fits(head: bytes, size: int) -> bool:
+    """Whether an STL file of ``size`` bytes starting with ``head`` (its first 4096 bytes,
+    or all of it) is read as binary: its size is what the triangle count in its header
+    announces, or a few bytes more unless it reads as ascii (:func:`_binary_corners`)."""
+    if size < 84:
+        return False
+    excess = size - (84 + 50 * struct.unpack_from("<I", head, 80)[0])
+    return excess == 0 or (0 < excess < 50 and not _looks_ascii(head))
 
 
 def stl_is_ascii(head: bytes, size: int) -> bool:
     """Whether an STL file of ``size`` bytes starting with ``head`` (its first 4096 bytes, or
     all of it) is ascii, by the rule :func:`read_stl` reads it with."""
-    if size >= 84:
-        excess = size - (84 + 50 * struct.unpack_from("<I", head, 80)[0])
-        if excess == 0 or (0 < excess < 50 and not _looks_ascii(head)):
-            return False
-    return _says_solid(head)
+    return not _binary_fits(head, size) and _says_solid(head)
+
+
+def stl_header(head: bytes, size: int) -> None:
+    """Raise the :class:`MeshError` :func:`read_stl` raises for an STL file of ``size``
+    bytes starting with ``head`` (its first 4096 bytes, or all of it) that is neither a
+    binary STL of its size nor says ``solid`` (a truncated binary STL, not an STL)."""
+    if not _binary_fits(head, size) and not _says_solid(head):
+        raise MeshError(_not_binary(head, size))
 
 
 def _says_solid(data: bytes) -> bool:
@@ -79,15 +89,15 @@ def _looks_ascii(data: bytes) -> bool:
     return _says_solid(data) and re.search(rb"(?i)(?<!\S)facet(?!\S)", data[:4096]) is not None
 
 
-def _not_binary(data: bytes) -> str:
-    if len(data) < 84:
-        return f"not an STL file (only {len(data)} bytes, no 'solid' keyword)"
-    n = struct.unpack_from("<I", data, 80)[0]
+def _not_binary(head: bytes, size: int) -> str:
+    if size < 84:
+        return f"not an STL file (only {size} bytes, no 'solid' keyword)"
+    n = struct.unpack_from("<I", head, 80)[0]
     need = 84 + 50 * n
-    if len(data) < need:
+    if size < need:
         return (f"not an STL file, or a truncated binary STL (the header announces {n} "
-                f"triangles = {need} bytes, the file has {len(data)})")
-    return (f"not an STL file, or a binary STL with trailing data ({len(data) - need} bytes "
+                f"triangles = {need} bytes, the file has {size})")
+    return (f"not an STL file, or a binary STL with trailing data ({size - need} bytes "
             f"after the {n} triangles its header announces)")
 
 
@@ -168,7 +178,8 @@ def warn_stl_numbering(faces: np.ndarray, n_vertices: int, name: str) -> None:
     used = first_use_order(faces)
     if len(used) != n_vertices or np.any(used != np.arange(n_vertices)):
         dropped = n_vertices - len(used)
-        lost = f"{dropped} unreferenced vertices are dropped and " if dropped else ""
+        lost = (f"{how_many(dropped, 'unreferenced vertex is', 'unreferenced vertices are')} "
+                "dropped and " if dropped else "")
         warnings.warn(
             f"{name}: STL stores only triangles; {lost}vertices will be renumbered by first "
             "use on reading",

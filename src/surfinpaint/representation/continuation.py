@@ -31,6 +31,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from surfinpaint.errors import how_many
+
 __all__ = ["Continuation", "arclength_continuation"]
 
 # corrector: chord steps per attempt, the attempts (Δs halved each time) per step, and
@@ -225,6 +227,8 @@ def _correct(residual, lu, y, tau, tau_row, ds, factor, budget):
 def _end(best, best_score, x, y, used, crossings, why):
     if best is not None:
         return Continuation(best, False, used, crossings, float(y[-1]), best_score,
-                            f"{why}; the best of {crossings} crossings of t = 1 returned")
+                            f"{why}; the best of {how_many(crossings, 'crossing', 'crossings')} "
+                            "of t = 1 returned")
     return Continuation(x, False, used, crossings, float(y[-1]), np.inf,
-                        f"{why} (t = {y[-1]:.3g}, {crossings} crossings of t = 1)")
+                        f"{why} (t = {y[-1]:.3g}, "
+                        f"{how_many(crossings, 'crossing', 'crossings')} of t = 1)")

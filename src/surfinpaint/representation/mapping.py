@@ -6,7 +6,7 @@ import warnings
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, preview
+from surfinpaint.errors import MeshError, agreeing, how_many, preview
 from surfinpaint.geometry import mean_value
 from surfinpaint.geometry.parameterization import flipped_faces, lscm, rectangular_conformal_map
 
@@ -58,9 +58,10 @@ def parameterize(vertices: np.ndarray, faces: np.ndarray, map: str = "rectangula
         raise ValueError(f"unknown conformal map {map!r}; choose from {MAPS}")
     flipped = flipped_faces(faces, uv)
     if len(flipped):
-        message = (f"the {map} map folds {len(flipped)} of {len(faces)} triangles over "
-                   f"(faces {preview(flipped)}); the mesh probably has badly shaped "
-                   "triangles there")
+        message = (f"the {map} map folds {len(flipped)} of "
+                   f"{how_many(len(faces), 'triangle', 'triangles')} over "
+                   f"({agreeing(len(flipped), 'face', 'faces')} {preview(flipped)}); the mesh "
+                   "probably has badly shaped triangles there")
         if strict:
             raise MeshError(message, faces=flipped[:100])
         if untangle:

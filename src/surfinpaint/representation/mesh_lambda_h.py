@@ -44,6 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from surfinpaint.errors import how_many
 from surfinpaint.geometry.linalg import factorized_ordered
 from surfinpaint.geometry.linalg import nested_dissection as dissection_order
 from surfinpaint.geometry.mesh import (
@@ -549,9 +550,9 @@ def rebuild_on_mesh(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, lam: 
     r = system.residual(x, 1.0)
     size = np.linalg.norm((system.L @ x).ravel()[system.idx]) or 1.0
     if ok:
-        message = f"{method} converged in {used} steps"
+        message = f"{method} converged in {how_many(used, 'step', 'steps')}"
     else:
-        message = f"did not converge: {used} steps ({method})"
+        message = f"did not converge: {how_many(used, 'step', 'steps')} ({method})"
     message += (f", vertex areas within {mismatch:.1e} of λ's"
                 + (f" ({note})" if note else ""))
     return MeshSolve(x, ok, used, float(step), float(np.linalg.norm(r) / size), method,

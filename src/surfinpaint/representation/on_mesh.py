@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, how_many
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import definite_lu
 from surfinpaint.geometry.mesh import (
@@ -545,12 +545,13 @@ def _newton_solve(system, points, tol, steps, envelope=None):
         if size < tol:
             break
         if k and size > bound * rate**k:
-            raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
-                             f"residual of {size:.2g} edge lengths after {k} steps, more "
-                             f"than a converging stage has")
+            raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a residual "
+                             f"of {size:.2g} edge lengths after {how_many(k, 'step', 'steps')}, "
+                             "more than a converging stage has")
         if envelope is None and _stalled(sizes, size):
-            raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
-                             f"residual of {size:.2g} edge lengths after {k} steps, stalled "
+            raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a residual "
+                             f"of {size:.2g} edge lengths after {how_many(k, 'step', 'steps')}, "
+                             "stalled "
                              f"(above {NEWTON_STALL_RATIO} of it {NEWTON_STALL_STEPS} before)")
         sizes.append(size)
         if len(f) <= NEWTON_ANALYTIC_MAX:
@@ -568,7 +569,7 @@ def _newton_solve(system, points, tol, steps, envelope=None):
         if float(np.abs(r).max()) > SETTLED:
             raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a "
                              f"residual of {np.abs(r).max():.2g} edge lengths after "
-                             f"{steps} steps")
+                             f"{how_many(steps, 'step', 'steps')}")
     phi = points.copy()
     phi[f] = x
     return phi

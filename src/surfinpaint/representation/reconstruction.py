@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, how_many
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.lazy import lazy_module
 from surfinpaint.representation.fields import (
@@ -242,8 +242,10 @@ def _require_support(
         where = "the grid border" if outside.any() else "nodes outside the domain"
         kind = "4-neighbour" if structure.sum() == 5 else "8-neighbour"
         raise ValueError(
-            f"the unknown region needs {rings} ring(s) ({kind}) of known nodes around it for "
-            f"the {method} method, but it comes within reach of {where} at {len(idx)} nodes, "
+            f"the unknown region needs {how_many(rings, 'ring', 'rings')} ({kind}) of known "
+            "nodes around it for "
+            f"the {method} method, but it comes within reach of {where} at "
+            f"{how_many(len(idx), 'node', 'nodes')}, "
             f"e.g. {_nodes(idx)}; add known data around the region or shrink it"
         )
 

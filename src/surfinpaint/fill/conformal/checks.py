@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, how_many
 from surfinpaint.geometry.intersection import patch_intersects_surroundings, self_intersections
 from surfinpaint.geometry.mesh import edge_faces, face_areas, face_normals
 
@@ -70,7 +70,7 @@ def check_patch(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int
     folds = fold_count(vertices, patch_faces, n_fill_faces, crease=crease, edges=edges)
     if folds > allowed_folds:
         more = f" (its start has {allowed_folds})" if allowed_folds else ""
-        raise FillError(f"the filled patch folds over at {folds} edges{more}")
+        raise FillError(f"the filled patch folds over at {how_many(folds, 'edge', 'edges')}{more}")
     check_crossings(crossings(vertices, patch_faces, n_fill_faces, self_crossing=self_crossing),
                     allowed_crossings)
 
@@ -89,11 +89,11 @@ def check_crossings(found: Crossings, allowed: Crossings | None = None) -> None:
     around = _new_pairs(found.around, allowed.around)
     if len(around):
         raise CrossingError(f"the filled patch cuts through the surrounding surface "
-                            f"({len(around)} triangle pairs)", found)
+                            f"({how_many(len(around), 'triangle pair', 'triangle pairs')})", found)
     itself = _new_pairs(found.itself, allowed.itself)
     if len(itself):
-        raise CrossingError(f"the filled patch intersects itself ({len(itself)} triangle "
-                            "pairs)", found)
+        raise CrossingError("the filled patch intersects itself "
+                            f"({how_many(len(itself), 'triangle pair', 'triangle pairs')})", found)
 
 
 class CrossingError(FillError):

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, how_many
 from surfinpaint.fill.conformal.options import GridOptions
 from surfinpaint.fill.results import GridLambdaH
 from surfinpaint.geometry import parameterization
@@ -78,8 +78,9 @@ def patch_grid(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int,
         # in or next to the fill would corrupt the grid where it matters
         fill_vertices = np.unique(local[:n_fill_faces])
         if np.isin(local[flipped], fill_vertices).any():
-            raise FillError(f"the conformal map of the patch folds ({len(flipped)} flipped "
-                            "faces at the fill)")
+            raise FillError("the conformal map of the patch folds "
+                            f"({how_many(len(flipped), 'flipped face', 'flipped faces')} at the "
+                            "fill)")
         keep = np.ones(len(local), dtype=bool)
         keep[flipped] = False
         n_fill_faces = int(keep[:n_fill_faces].sum())

@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.spatial import cKDTree
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, how_many
 from surfinpaint.geometry.mean_value import convex_combination
 from surfinpaint.geometry.mesh import (
     boundary_loops,
@@ -153,7 +153,8 @@ def lattice_patch(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: n
     n_edges = len(unique_edges(kept)[0])
     loops = boundary_loops(kept)
     if len(loops) != 1 or len(ids) - n_edges + len(kept) != 1 or not lat_free.any():
-        raise FillError(f"the lattice around the hole is not a disk ({len(loops)} borders)")
+        borders = how_many(len(loops), "border", "borders")
+        raise FillError(f"the lattice around the hole is not a disk ({borders})")
     # the known surface's interpolant takes its gradients from the known triangles only
     known = faces[n_fill:]
     gradients = vertex_gradients(uv, faces, points).reshape(len(points), 2, 3)

@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from surfinpaint.errors import FillError
+from surfinpaint.errors import FillError, how_many
 from surfinpaint.fill.conformal.checks import fold_count
 from surfinpaint.fill.conformal.lattice import lattice_patch, tutte_positions
 from surfinpaint.fill.conformal.patch import grown_patch, hole_patch, hole_patch_and_boundary
@@ -449,6 +449,7 @@ def _mapped_patch(vertices, faces, seeds, fill_faces, rings, grow=False):
     uv = mean_value.mean_value_map(vertices[ids], local)
     flipped = parameterization.flipped_faces(local, uv)
     if len(flipped):  # only round-off can do this
-        raise FillError(f"the map of the patch folds ({len(flipped)} flipped faces, with "
+        raise FillError("the map of the patch folds "
+                        f"({how_many(len(flipped), 'flipped face', 'flipped faces')}, with "
                         "LSCM at every ring count and with the mean-value map)")
     return patch, ids, local, uv, used, "mean-value"
