@@ -69,10 +69,11 @@ def brain_holes(seed=1):
 
 class StageClock:
     """CPU seconds and lagged updates of the least-squares stage's two parts (the
-    continuation and Levenberg–Marquardt), per hole: ``on_mesh``'s functions wrapped."""
+    continuation and Levenberg–Marquardt), per hole: ``least_squares_stage``'s functions
+    wrapped."""
 
     def __init__(self):
-        from surfinpaint.representation import on_mesh
+        from surfinpaint.representation import least_squares_stage, on_mesh
         self.reset()
         self.part = None
         update = on_mesh._CoupledSystem.update
@@ -84,7 +85,8 @@ class StageClock:
 
         on_mesh._CoupledSystem.update = counted
         for name, part in (("_continuation", "cont"), ("levenberg_marquardt", "lm")):
-            setattr(on_mesh, name, self.timed(getattr(on_mesh, name), part))
+            setattr(least_squares_stage, name,
+                    self.timed(getattr(least_squares_stage, name), part))
 
     def reset(self):
         self.seconds = {"cont": 0.0, "lm": 0.0}

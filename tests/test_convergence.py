@@ -23,6 +23,7 @@ from surfinpaint.fill.liepa.baseline import faired_fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.mean_value import bad_faces, untangle
 from surfinpaint.geometry.parameterization import collapsed_faces, flipped_faces
+from surfinpaint.representation import least_squares_stage as lsq_stage
 
 RAW = ConformalOptions(select=False)
 
@@ -216,7 +217,7 @@ def test_newton_s_steps_converge_quadratically_on_the_analytic_jacobian(monkeypa
 
     monkeypatch.setattr(on_mesh, "_line_search", recorded)
     system = on_mesh._CoupledSystem(points, faces, uv, free, kw["natural"])
-    on_mesh._newton_solve(system, points, 1e-12, 12)
+    on_mesh.newton_solve(system, points, 1e-12, 12)
     assert sizes[-1] < 1e-12
     near = [(a, b) for a, b in zip(sizes, sizes[1:], strict=False) if 1e-12 < a < 1e-2]
     assert len(near) >= 2
@@ -402,7 +403,7 @@ def test_a_hole_with_no_fixed_point_is_filled_by_the_least_squares_stage(monkeyp
         # the failed solve's system, not made again (the same outcome: the test below)
         assert isinstance(kw["system"], on_mesh._CoupledSystem)
         assert len(kw["system"].f) == free.sum()
-        return on_mesh.least_squares_on_mesh(points, faces, uv, free, **kw)
+        return lsq_stage.least_squares_on_mesh(points, faces, uv, free, **kw)
 
     from surfinpaint.representation import on_mesh
     monkeypatch.setattr(mesh_pass, "least_squares_on_mesh", spy)
@@ -434,7 +435,7 @@ def test_the_least_squares_stage_reaches_the_fixed_point_where_there_is_one(monk
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from eggcrate import egg_crate
 
-    monkeypatch.setattr(on_mesh, "CONTINUATION_SOLVES", solves)
+    monkeypatch.setattr(lsq_stage, "CONTINUATION_SOLVES", solves)
     cut = egg_crate(20, 0, 8, 0.8, 0.2, 3)
     new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
     n = len(cut.vertices)
@@ -443,7 +444,7 @@ def test_the_least_squares_stage_reaches_the_fixed_point_where_there_is_one(monk
     free = ids >= n
     points = vertices[ids]
     fixed_point = on_mesh.inpaint_on_mesh(points, local, uv, free, tol=1e-9, iterations=200)
-    out, residual, weight = on_mesh.least_squares_on_mesh(points, local, uv, free, tol=1e-3)
+    out, residual, weight = lsq_stage.least_squares_on_mesh(points, local, uv, free, tol=1e-3)
     assert weight == (1.0 if solves else 0.0)
     assert residual < 1e-5
     h = np.median(np.linalg.norm(points[local[:, 0]] - points[local[:, 1]], axis=1))
@@ -474,8 +475,8 @@ def test_the_least_squares_stage_on_the_failed_solve_s_system_is_the_one_on_its_
     system = on_mesh.coupled_system(points, local, uv, free)
     with pytest.raises(FillError, match="Newton"):
         on_mesh.inpaint_on_mesh(points, local, uv, free, system=system)
-    given = on_mesh.least_squares_on_mesh(points, local, uv, free, system=system)
-    fresh = on_mesh.least_squares_on_mesh(points, local, uv, free)
+    given = lsq_stage.least_squares_on_mesh(points, local, uv, free, system=system)
+    fresh = lsq_stage.least_squares_on_mesh(points, local, uv, free)
     assert given[1:] == fresh[1:] and 0 < fresh[1] < np.inf
     np.testing.assert_array_equal(given[0], fresh[0])
     points, local, uv, free = patch(egg_crate(20, 0, 8, 0.8, 0.2, 3))  # where it converges
@@ -508,7 +509,8 @@ def test_the_continuation_runs_before_the_subdivided_patch(monkeypatch, first, s
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from eggcrate import egg_crate
 
-    monkeypatch.setattr(on_mesh, "CONTINUATION_SOLVES", solves)  # 0: it stays at weight 0
+    # 0 solves: it stays at weight 0
+    monkeypatch.setattr(lsq_stage, "CONTINUATION_SOLVES", solves)
     monkeypatch.setattr(mesh_pass, "CONTINUATION_FIRST", first)
     cut = egg_crate(20, 0, 8, 0.8, 0.2, 3)  # mild: the continuation reaches weight 1
     new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
@@ -517,7 +519,7 @@ def test_the_continuation_runs_before_the_subdivided_patch(monkeypatch, first, s
     free, points = ids >= len(cut.vertices), vertices[ids]
     natural = np.zeros(len(ids), dtype=bool)
     calls = {"solves": 0, "continuation solves": 0, "subdivided": 0}
-    solve, newton, subdivide = (mesh_pass.inpaint_on_mesh, on_mesh._newton_solve,
+    solve, newton, subdivide = (mesh_pass.inpaint_on_mesh, lsq_stage.newton_solve,
                                 mesh_pass._subdivided)
 
     def scripted_solve(*args, **kw):  # the patch's solve fails; the fine one as scripted
@@ -533,21 +535,22 @@ def test_the_continuation_runs_before_the_subdivided_patch(monkeypatch, first, s
         return wrapper
 
     monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", scripted_solve)
-    monkeypatch.setattr(on_mesh, "_newton_solve", counted("continuation solves", newton))
+    monkeypatch.setattr(lsq_stage, "newton_solve",
+                        counted("continuation solves", newton))
     monkeypatch.setattr(mesh_pass, "_subdivided", counted("subdivided", subdivide))
     out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
                                                20, 1e-3, True)
     assert calls["subdivided"] == int(subdivided)
     made = calls["continuation solves"]  # the continuation's solves, each made once:
-    one_go = on_mesh.curvature_continuation(on_mesh.coupled_system(points, local, uv, free),
-                                            points)
+    one_go = lsq_stage.curvature_continuation(on_mesh.coupled_system(points, local, uv, free),
+                                              points)
     assert made == (one_go[3] if written != "subdivided" else min(first, one_go[3]))
     if written == "subdivided":
         assert stage is None
         fine = subdivide(points, local, uv, free, len(new_f), natural)
         np.testing.assert_array_equal(out, solve(*fine[:4], natural=fine[4])[:len(points)])
         return
-    alone = on_mesh.least_squares_on_mesh(points, local, uv, free, natural=natural)
+    alone = lsq_stage.least_squares_on_mesh(points, local, uv, free, natural=natural)
     np.testing.assert_array_equal(out, alone[0])
     assert (stage.residual, stage.weight) == alone[1:] and stage.weight == weight
     assert stage.residual < 1e-5 and ("subdivided once" in stage.unsolved) == subdivided
@@ -622,7 +625,7 @@ def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_w
     free, points = ids >= len(cut.vertices), vertices[ids]
     natural = np.zeros(len(ids), dtype=bool)
     calls = {"solves": 0, "continuation solves": 0}
-    newton = on_mesh._newton_solve
+    newton = lsq_stage.newton_solve
 
     def failing_solve(*args, **kw):
         calls["solves"] += 1
@@ -633,19 +636,19 @@ def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_w
         return newton(*args, **kw)
 
     monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", failing_solve)
-    monkeypatch.setattr(on_mesh, "_newton_solve", counted)
+    monkeypatch.setattr(lsq_stage, "newton_solve", counted)
     out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
                                                20, 1e-3, True)
     assert calls == {"solves": 2, "continuation solves": 3}  # patch, subdivided; 3 solves
-    monkeypatch.setattr(on_mesh, "_newton_solve", newton)
+    monkeypatch.setattr(lsq_stage, "newton_solve", newton)
     system = on_mesh.coupled_system(points, local, uv, free, natural)
-    stalled = on_mesh.curvature_continuation(system, points, solves=3)
+    stalled = lsq_stage.curvature_continuation(system, points, solves=3)
     assert stalled[1] == 0.375 and not stalled[4]
-    alone = on_mesh.least_squares_on_mesh(points, local, uv, free, natural=natural,
+    alone = lsq_stage.least_squares_on_mesh(points, local, uv, free, natural=natural,
                                           continued=[*stalled[:4], True])
     np.testing.assert_array_equal(out, alone[0])
     assert (stage.residual, stage.weight) == alone[1:] and "subdivided once" in stage.unsolved
-    taken_on = on_mesh.curvature_continuation(system, points, resume=stalled)
+    taken_on = lsq_stage.curvature_continuation(system, points, resume=stalled)
     assert 0.375 < taken_on[1] < 1.0  # what the rule gives up: a fold short of weight 1
 
 
@@ -668,13 +671,13 @@ def test_a_continuation_stopped_and_resumed_is_the_one_made_in_one_go():
     _, ids, local, uv, _, _ = _mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
     points, free = vertices[ids], ids >= len(cut.vertices)
     system = on_mesh.coupled_system(points, local, uv, free)
-    whole = on_mesh.curvature_continuation(system, points)
+    whole = lsq_stage.curvature_continuation(system, points)
     assert whole[4] and 0 < whole[1] < 1 and whole[3] > 10  # ended short of 1, many solves
     for k in (1, 3, 8):
-        state = on_mesh.curvature_continuation(system, points, solves=k)
+        state = lsq_stage.curvature_continuation(system, points, solves=k)
         assert state[3] == k and not state[4] and system.curvature == 1.0
         while not state[4]:
-            state = on_mesh.curvature_continuation(system, points, solves=k, resume=state)
+            state = lsq_stage.curvature_continuation(system, points, solves=k, resume=state)
         np.testing.assert_array_equal(state[0], whole[0])
         assert state[1:] == whole[1:]
 

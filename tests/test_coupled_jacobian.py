@@ -73,7 +73,7 @@ def test_the_products_are_the_dense_jacobian_s():
     derivative = UpdateDerivative(system, phi)
     np.testing.assert_allclose(derivative.apply(V), J @ V, rtol=0, atol=1e-10 * np.abs(J).max())
     v = V[:, 0]
-    # Newton–Krylov's product (on_mesh._newton_solve): the residual's Jacobian J − I
+    # Newton–Krylov's product (on_mesh.newton_solve): the residual's Jacobian J − I
     np.testing.assert_allclose(derivative.residual_product(v), J @ v - v, rtol=0,
                                atol=1e-10 * np.abs(J).max())
 
@@ -112,7 +112,7 @@ def test_newton_krylov_on_exact_products_converges_on_a_large_patch():
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(on_mesh, "_line_search", recorded)
-        out = on_mesh._newton_solve(system, points, 1e-10, 12)
+        out = on_mesh.newton_solve(system, points, 1e-10, 12)
     residual = np.abs(system.update(out) - out[system.f]).max() / system.scale
     assert residual < 1e-10 and len(sizes) <= 6
 

@@ -8,6 +8,7 @@ import pytest
 import surfinpaint.representation.on_mesh as mesh_inpainting
 from surfinpaint.errors import FillError, how_many
 from surfinpaint.fill.liepa.fairing import fair
+from surfinpaint.representation import least_squares_stage
 from surfinpaint.representation.analytic import (
     enneper,
     grid,
@@ -259,16 +260,16 @@ def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajec
     steps = mesh_inpainting.NEWTON_STEPS
     if given_up_after is None:
         if trajectory[-1] < 1e-3:
-            mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+            mesh_inpainting.newton_solve(system, points, 1e-3, steps)
             assert system.steps == len(trajectory) - 1
         else:  # it runs to its last step and fails there, as before the envelope
             with pytest.raises(FillError, match=f"after {how_many(steps, 'step', 'steps')}"):
-                mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+                mesh_inpainting.newton_solve(system, points, 1e-3, steps)
             assert system.steps == steps
     else:
         after = how_many(given_up_after, "step", "steps")
         with pytest.raises(FillError, match=f"after {after}, more than a converging stage has"):
-            mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+            mesh_inpainting.newton_solve(system, points, 1e-3, steps)
         assert system.steps == given_up_after
 
 
@@ -304,17 +305,17 @@ def test_a_newton_stage_is_given_up_where_it_stalls(monkeypatch, name, trajector
     system = _scripted(monkeypatch, trajectory)
     points, steps = np.zeros((4, 3)), mesh_inpainting.NEWTON_STEPS
     if given_up_after is None:
-        mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+        mesh_inpainting.newton_solve(system, points, 1e-3, steps)
         assert system.steps == len(trajectory) - 1
     else:
         after = how_many(given_up_after, "step", "steps")
         with pytest.raises(FillError, match=f"after {after}, stalled"):
-            mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+            mesh_inpainting.newton_solve(system, points, 1e-3, steps)
         assert system.steps == given_up_after
         # the continuation's solves have their own envelope and no stall test
         system.steps = 0
         with pytest.raises(FillError, match="more than a converging stage has"):
-            mesh_inpainting._newton_solve(system, points, 1e-3, steps, (1e9, 0.5))
+            mesh_inpainting.newton_solve(system, points, 1e-3, steps, (1e9, 0.5))
         assert system.steps > given_up_after
 
 
@@ -336,11 +337,11 @@ def test_a_newton_stage_is_given_up_where_it_stalls(monkeypatch, name, trajector
 def test_a_continuation_solve_is_given_up_above_its_envelope(monkeypatch, name, trajectory,
                                                              given_up_after):
     system = _scripted(monkeypatch, trajectory)
-    points, steps = np.zeros((4, 3)), mesh_inpainting.CONTINUATION_NEWTON
+    points, steps = np.zeros((4, 3)), least_squares_stage.CONTINUATION_NEWTON
 
     def solve():
-        return mesh_inpainting._newton_solve(system, points, 1e-3, steps,
-                                             mesh_inpainting.CONTINUATION_ENVELOPE)
+        return mesh_inpainting.newton_solve(system, points, 1e-3, steps,
+                                             least_squares_stage.CONTINUATION_ENVELOPE)
 
     if given_up_after is None and trajectory[-1] < 1e-3:
         solve()
@@ -357,4 +358,4 @@ def test_a_continuation_solve_is_given_up_above_its_envelope(monkeypatch, name, 
     # the Newton stage's own envelope (session 27) is wider: none of these is given up there
     system.steps = 0
     if trajectory[-1] < 1e-3:
-        mesh_inpainting._newton_solve(system, points, 1e-3, steps)
+        mesh_inpainting.newton_solve(system, points, 1e-3, steps)

@@ -55,8 +55,8 @@ class GridLambdaH:
 class LeastSquaresFill:
     """The λ-H fill's last stage was used: the coupled solve found no fixed point, and the
     fill is the patch's positions nearest to one
-    (:func:`surfinpaint.representation.on_mesh.least_squares_on_mesh`: continuation in the
-    curvature weight, then least squares).
+    (:func:`surfinpaint.representation.least_squares_stage.least_squares_on_mesh`: continuation
+    in the curvature weight, then least squares).
 
     Attributes
     ----------

@@ -1,5 +1,5 @@
 """One cycle of GMRES for Newton–Krylov's steps on large patches
-(:func:`surfinpaint.representation.on_mesh._newton_solve`).
+(:func:`surfinpaint.representation.on_mesh.newton_solve`).
 
 Why not ``scipy.sparse.linalg.gmres``: its Arnoldi step orthogonalizes against the basis
 one vector at a time (modified Gram–Schmidt) and updates its Givens rotations by fancy

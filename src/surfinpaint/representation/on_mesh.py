@@ -21,7 +21,9 @@ edge; solved one after the other (inpaint, then rebuild) the same discretization
 worse than bilaplacian fairing on the benchmark holes.
 
 Where the lagged iteration diverges, its fixed point is found by Newton–Krylov steps on the
-fixed-point residual, bounded in edge lengths and line-searched (docs/convergence.md).
+fixed-point residual, bounded in edge lengths and line-searched (docs/convergence.md); where
+that fails too, the caller's last stage is the positions nearest a fixed point
+(:mod:`surfinpaint.representation.least_squares_stage`).
 """
 
 from __future__ import annotations
@@ -46,12 +48,12 @@ from surfinpaint.representation.coupled_jacobian import (
     newton_step,
 )
 from surfinpaint.representation.krylov import gmres_cycle
-from surfinpaint.representation.least_squares import AndersonMixing, levenberg_marquardt
+from surfinpaint.representation.least_squares import AndersonMixing
 from surfinpaint.representation.vertex_lambda_h import border_vertices, vertex_lambda_h
 from surfinpaint.representation.vertex_sets import ThinPatchError, coupled_vertex_sets
 
-__all__ = ["ThinPatchError", "coupled_system", "curvature_continuation", "inpaint_on_mesh",
-           "least_squares_on_mesh", "vertex_lambda_h"]
+__all__ = ["ThinPatchError", "coupled_system", "inpaint_on_mesh", "newton_solve",
+           "vertex_lambda_h"]
 
 # a step longer than this many mean edge lengths means the lagged iteration diverges (it
 # contracts by a factor of about 0.3-0.7 per step on the benchmark holes); one still longer
@@ -82,19 +84,6 @@ NEWTON_ENVELOPE_RATE = 0.85
 NEWTON_STALL_STEPS = 3
 NEWTON_STALL_RATIO = 0.99
 NEWTON_STALL_LEVEL = 10.0
-# the least-squares stage where Newton's method fails too (least_squares_on_mesh): Levenberg-
-# Marquardt steps of at most LSQ_TRUST edge lengths, LSQ_STEPS steps, LSQ_JACOBIANS Jacobians
-LSQ_TRUST = 2.0
-LSQ_STEPS = 30
-LSQ_JACOBIANS = 12
-# its continuation in the curvature weight (least_squares_on_mesh, stage 1)
-CONTINUATION_STEP = 0.125
-CONTINUATION_SMALLEST = 1e-3
-CONTINUATION_SOLVES = 60
-CONTINUATION_NEWTON = 10
-# its solves' envelope (as NEWTON_ENVELOPE's): 2.1 times the 28.3 * 0.6**k below which every
-# continuation solve that converged on the tuning side stayed (convergence.md, session 28)
-CONTINUATION_ENVELOPE = (60.0, 0.6)
 
 
 def inpaint_on_mesh(
@@ -128,7 +117,7 @@ def inpaint_on_mesh(
     solution is taken in full (``relax=1``) or in part; by default (``relax=None``) in
     full, and when that diverges or does not settle, once more from the start by halves
     with three times the iterations (needed on some folded brain patches), and when that
-    fails too, the fixed point is found by Newton's method (:func:`_newton_solve`: on
+    fails too, the fixed point is found by Newton's method (:func:`newton_solve`: on
     strongly curved patches the iteration overshoots although a fixed point lies near
     the start).
 
@@ -192,7 +181,7 @@ def inpaint_on_mesh(
         if relax is not None:
             raise FillError(str(failure)) from None
         try:
-            return _newton_solve(system, points, tol, NEWTON_STEPS)
+            return newton_solve(system, points, tol, NEWTON_STEPS)
         except _Unsettled as exc:
             raise FillError(f"{failure}; {exc}") from None
 
@@ -200,7 +189,8 @@ def inpaint_on_mesh(
 def coupled_system(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: np.ndarray,
                    natural: np.ndarray | None = None) -> _CoupledSystem:
     """The coupled λ-H system of a patch (:func:`inpaint_on_mesh`'s arguments), for its
-    solve and, where that fails, its least-squares stage (:func:`least_squares_on_mesh`):
+    solve and, where that fails, its least-squares stage
+    (:func:`~surfinpaint.representation.least_squares_stage.least_squares_on_mesh`):
     the same matrices and factorizations, made once. Each solve sets what the system
     keeps (λ, the last update) from the positions it starts from, so either outcome is
     the one it has on a system of its own (session 37 helper).
@@ -213,128 +203,6 @@ def coupled_system(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: 
     with blas_controller().limit(limits=1, user_api="blas"):
         return _CoupledSystem(np.asarray(points, dtype=float), np.asarray(faces, dtype=np.int64),
                               uv, np.asarray(free, dtype=bool), natural)
-
-
-def least_squares_on_mesh(
-    points: np.ndarray,
-    faces: np.ndarray,
-    uv: np.ndarray,
-    free: np.ndarray,
-    *,
-    natural: np.ndarray | None = None,
-    tol: float = 1e-3,
-    system: _CoupledSystem | None = None,
-    continued: list | None = None,
-) -> tuple[np.ndarray, float, float]:
-    """The positions nearest to a fixed point of :func:`inpaint_on_mesh`'s coupled system,
-    where its solves find none: a local minimum of the fixed-point residual
-    ``R(φ) = update(φ) − φ_f`` (in mean edge lengths), reached in two stages.
-
-    1. Continuation in the curvature term's weight w (the rebuild ``L φ = w M 2λ²H n``):
-       from the harmonic fill (w = 0) w is raised towards 1 in steps (first
-       ``CONTINUATION_STEP``, doubled after a step Newton's method corrects, halved after
-       one it cannot, down to ``CONTINUATION_SMALLEST``; at most ``CONTINUATION_SOLVES``
-       corrections of ``CONTINUATION_NEWTON`` Newton steps each). Where the path reaches
-       w = 1 that is a fixed point Newton's method from the start did not reach.
-    2. Otherwise Levenberg–Marquardt steps on ``R`` at w = 1 from the surface at the largest
-       w reached (:func:`~surfinpaint.representation.least_squares.levenberg_marquardt`;
-       the residual's Jacobian analytic, :meth:`_CoupledSystem.jacobian`; each step at most
-       ``LSQ_TRUST`` edge lengths, ``LSQ_STEPS`` steps and ``LSQ_JACOBIANS`` Jacobians at
-       most).
-
-    Where the coupled system has no root near the start (the inpainted λ and H are not the
-    data of a surface there: docs/convergence.md) this is the surface nearest to being one.
-
-    Parameters are those of :func:`inpaint_on_mesh`, and ``continued``: stage 1 on
-    ``system`` as far as it was made before (:func:`curvature_continuation`), taken on to its
-    end here.
-
-    Returns
-    -------
-    positions : (n, 3) float array
-    residual : float
-        ``R``'s largest entry at them, in mean edge lengths (at w = 1).
-    weight : float
-        The largest w the continuation reached.
-    """
-    points = np.asarray(points, dtype=float)
-    faces = np.asarray(faces, dtype=np.int64)
-    free = np.asarray(free, dtype=bool)
-    with blas_controller().limit(limits=1, user_api="blas"):
-        system = _CoupledSystem(points, faces, uv, free, natural) if system is None else system
-        if continued is None or not continued[4]:
-            continued = _continuation(system, points, tol, continued)
-        phi, weight = continued[:2]
-        f, h = system.f, system.scale
-        start = phi[f].copy()
-
-        def residual(y):
-            trial = phi.copy()
-            trial[f] = start + h * y.reshape(-1, 3)
-            try:
-                return ((system.update(trial) - trial[f]) / h).ravel()
-            except FillError:
-                return np.full(y.size, np.nan)
-
-        def jacobian(y, r):  # R's Jacobian in y: update's, minus the identity
-            trial = phi.copy()
-            trial[f] = start + h * y.reshape(-1, 3)
-            J = system.jacobian(trial)
-            J[np.diag_indices_from(J)] -= 1.0
-            return J
-
-        n = 3 * len(f)
-        if weight >= 1.0:
-            size = float(np.abs(residual(np.zeros(n))).max())
-            return phi, size, weight
-        out = levenberg_marquardt(residual, np.zeros(n), jacobian=jacobian, steps=LSQ_STEPS,
-                                  jacobians=LSQ_JACOBIANS, max_step=LSQ_TRUST,
-                                  tol=tol * 1e-2)
-    phi = phi.copy()
-    phi[f] = start + h * out.x.reshape(-1, 3)
-    return phi, out.size, weight
-
-
-def curvature_continuation(system: _CoupledSystem, points: np.ndarray, tol: float = 1e-3, *,
-                           solves: int | None = None, resume: list | None = None) -> list:
-    """Stage 1 of :func:`least_squares_on_mesh` on a patch's coupled system
-    (:func:`coupled_system`) from ``points``, or on from where ``resume`` (an earlier call's
-    outcome) stopped; after ``solves`` more solves at most (and stopped there, to resume) or
-    to its end. Returns ``[surface, weight reached, step, solves, ended]``: a weight of 1 is a
-    fixed point of the coupled solve; continued to its end, the outcome is the same (to the
-    bit) however often it was stopped and resumed."""
-    with blas_controller().limit(limits=1, user_api="blas"):
-        return _continuation(system, np.asarray(points, dtype=float), tol, resume, solves)
-
-
-def _continuation(system, points, tol, state=None, more=None):
-    """Stage 1 of :func:`least_squares_on_mesh`, :func:`curvature_continuation`'s state from
-    the harmonic fill (or on from ``state``, at most ``more`` solves): ``system.curvature`` is 1
-    again after it."""
-    try:
-        if state is None:
-            system.curvature = 0.0
-            phi = points.copy()
-            phi[system.f] = system.update(phi)  # the harmonic fill: no curvature term
-            state = [phi, 0.0, CONTINUATION_STEP, 0, False]
-        phi, weight, step, solves, _ = state
-        last = CONTINUATION_SOLVES if more is None else min(solves + more, CONTINUATION_SOLVES)
-        while weight < 1.0 and step >= CONTINUATION_SMALLEST and solves < last:
-            trial = min(1.0, weight + step)
-            system.curvature = trial
-            solves += 1
-            try:
-                phi = _newton_solve(system, phi, tol, CONTINUATION_NEWTON,
-                                    CONTINUATION_ENVELOPE)
-            except FillError:
-                step /= 2.0
-                continue
-            weight = trial
-            step *= 2.0
-        ended = weight >= 1.0 or step < CONTINUATION_SMALLEST or solves >= CONTINUATION_SOLVES
-        return [phi, weight, step, solves, ended]
-    finally:
-        system.curvature = 1.0
 
 
 class _Unsettled(FillError):
@@ -462,7 +330,7 @@ class _CoupledSystem:
         s = 2.0 * lam**2
         w_n = normals[tied] / (area[tied] * s[tied])[:, None]  # (t, 3)
         d_n = normals[f] * (area[f] * s[f])[:, None]  # (m, 3)
-        if self.curvature != 1.0:  # the curvature term scaled (least_squares_on_mesh)
+        if self.curvature != 1.0:  # the curvature term scaled (least_squares_stage)
             d_n = self.curvature * d_n
         # H at the tied ring = w_n · (L_tk φ_k + L_tf φ_f), φ_f = g + L_ff⁻¹ (d_n H)
         K = self.Z_t * (w_n @ d_n.T)  # Σ_c w_n,c Z_t d_n,c: (t, m)
@@ -513,7 +381,7 @@ def _coupled_solve(system, points, iterations, tol, relax):
     return phi
 
 
-def _newton_solve(system, points, tol, steps, envelope=None):
+def newton_solve(system, points, tol, steps, envelope=None):
     """The fixed point of the lagged iteration found by Newton's method where the iteration
     itself diverges: the residual ``R(φ_f) = update(φ) − φ_f`` (in mean edge lengths) is
     driven to zero by Newton steps, each bounded to ``TRUST`` edge lengths and halved until

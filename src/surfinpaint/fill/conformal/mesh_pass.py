@@ -22,21 +22,19 @@ from surfinpaint.geometry.mesh import (
     unique_edges,
 )
 from surfinpaint.representation.grid_represent import smooth_subdivision
-from surfinpaint.representation.on_mesh import (
-    ThinPatchError,
-    coupled_system,
+from surfinpaint.representation.least_squares_stage import (
     curvature_continuation,
-    inpaint_on_mesh,
     least_squares_on_mesh,
 )
+from surfinpaint.representation.on_mesh import ThinPatchError, coupled_system, inpaint_on_mesh
 
 __all__ = ["inpaint_patch_on_mesh"]
 
 # the fewest rings of surface a patch keeps where the conformal map flips triangles
 MIN_RINGS = 3
 # the least-squares stage's fill is kept only where the λ-H update moves it by at most this
-# many mean edge lengths (the bound on one of its steps, on_mesh.LSQ_TRUST): further from a
-# fixed point it is not a λ-H fill (docs/convergence.md, session 11)
+# many mean edge lengths (the bound on one of its steps, least_squares_stage.LSQ_TRUST):
+# further from a fixed point it is not a λ-H fill (docs/convergence.md, session 11)
 LEAST_SQUARES_RESIDUAL = 2.0
 # where the coupled solve fails on the patch, the least-squares stage's continuation is made
 # first while each of its solves converges, at most this many (and on after the subdivided
@@ -232,7 +230,8 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     so every fill that worked before is unchanged.
 
     Where that fails too, the next stage: the patch's positions nearest to a fixed point
-    (:func:`~surfinpaint.representation.on_mesh.least_squares_on_mesh`: a continuation in
+    (:func:`~surfinpaint.representation.least_squares_stage.least_squares_on_mesh`: a
+    continuation in
     the curvature weight from the harmonic fill, then least squares at full weight, on the
     patch itself), kept where their residual is at most
     ``LEAST_SQUARES_RESIDUAL`` edge lengths. Measured (docs/convergence.md, session 11):
