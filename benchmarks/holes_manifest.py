@@ -137,6 +137,12 @@ made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and
 half's curved meshes, holes planned the same way (seeds from 3600), made in session 40 to study
 the bilaplacian fill kept where the trilaplacian one is twice as close on scans. Rules may be
 chosen on it.
+
+A tuning-side set of thin smooth walls (``benchmarks/thin_shells_manifest.json``, ``--write
+--thin-shells``): 6 closed shells and thickened sheets 2-6 edges thick with saddle-shaped
+parts (``validation_meshes.THIN_SHELL_SOURCES``, made in ``thin_shells_meshes.py``), holes
+planned the same way (seeds from 4100), made in session 41 to study the λ-H fill kept where
+it loses on thin walls. Rules may be chosen on it.
 """
 
 from __future__ import annotations
@@ -193,6 +199,8 @@ HOLDOUT16_MANIFEST = Path(__file__).parent / "holdout16_manifest.json"
 HOLDOUT17_MANIFEST = Path(__file__).parent / "holdout17_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
+# tuning-side thin smooth walls with saddle-shaped parts of session 41 (THIN_SHELL_SOURCES)
+THIN_SHELLS_MANIFEST = Path(__file__).parent / "thin_shells_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -217,6 +225,8 @@ LATER_SETS = {
                       "bodies", 3800),
     "curved_scans": (CURVED_SCANS_MANIFEST, "the tuning-side range scans of curved shapes",
                      3600),
+    "thin_shells": (THIN_SHELLS_MANIFEST, "the tuning-side thin smooth walls with "
+                    "saddle-shaped parts", 4100),
 }
 
 # the sets whose manifests were written before entries recorded their mesh's sha256
@@ -256,6 +266,7 @@ SPLIT = {
     "holdout16": list(vm.HOLDOUT16_SOURCES),
     "holdout17": list(vm.HOLDOUT17_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
+    "thin_shells": list(vm.THIN_SHELL_SOURCES),
 }
 
 
@@ -355,7 +366,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
     holdout's at 1600, the sixteenth holdout's at 1700, the seventeenth holdout's at 1800;
-    the smooth tuning set's at 3800, the curved scans set's at 3600)."""
+    the smooth tuning set's at 3800, the curved scans set's at 3600, the thin shells set's
+    at 4100)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0
