@@ -144,6 +144,12 @@ made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and
 half's curved meshes, holes planned the same way (seeds from 3600), made in session 40 to study
 the bilaplacian fill kept where the trilaplacian one is twice as close on scans. Rules may be
 chosen on it.
+
+A tuning-side set of thin smooth walls (``benchmarks/thin_shells_manifest.json``, ``--write
+--thin-shells``): 6 closed shells and thickened sheets 2-6 edges thick with saddle-shaped
+parts (``validation_meshes.THIN_SHELL_SOURCES``, made in ``thin_shells_meshes.py``), holes
+planned the same way (seeds from 4100), made in session 41 to study the λ-H fill kept where
+it loses on thin walls. Rules may be chosen on it.
 """
 
 from __future__ import annotations
@@ -202,6 +208,8 @@ HOLDOUT17_MANIFEST = Path(__file__).parent / "holdout17_manifest.json"
 HOLDOUT18_MANIFEST = Path(__file__).parent / "holdout18_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
+# tuning-side thin smooth walls with saddle-shaped parts of session 41 (THIN_SHELL_SOURCES)
+THIN_SHELLS_MANIFEST = Path(__file__).parent / "thin_shells_manifest.json"
 # the sets with their own manifest: split -> (default file, in words, first hole seed)
 LATER_SETS = {
     "holdout": (HOLDOUT_MANIFEST, "the holdout set", 100),
@@ -227,6 +235,8 @@ LATER_SETS = {
                       "bodies", 3800),
     "curved_scans": (CURVED_SCANS_MANIFEST, "the tuning-side range scans of curved shapes",
                      3600),
+    "thin_shells": (THIN_SHELLS_MANIFEST, "the tuning-side thin smooth walls with "
+                    "saddle-shaped parts", 4100),
 }
 
 # the sets whose manifests were written before entries recorded their mesh's sha256
@@ -267,6 +277,7 @@ SPLIT = {
     "holdout17": list(vm.HOLDOUT17_SOURCES),
     "holdout18": list(vm.HOLDOUT18_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
+    "thin_shells": list(vm.THIN_SHELL_SOURCES),
 }
 
 
@@ -367,7 +378,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
     holdout's at 1600, the sixteenth holdout's at 1700, the seventeenth holdout's at 1800,
     the eighteenth holdout's at 1900;
-    the smooth tuning set's at 3800, the curved scans set's at 3600)."""
+    the smooth tuning set's at 3800, the curved scans set's at 3600, the thin shells set's
+    at 4100)."""
     meshes = []
     ids = [i for s in splits for i in SPLIT[s]]
     first = LATER_SETS[splits[0]][2] if len(splits) == 1 and splits[0] in LATER_SETS else 0

@@ -54,7 +54,8 @@ METHODS = ("fair", "fair3", "conformal_raw", "conformal", "cgal")
 SHALLOWER = "hidden rings one ring shallower"
 SETS = {"tuning": holes_manifest.MANIFEST, "cad_tuning": holes_manifest.CAD_TUNING_MANIFEST,
         "smooth_tuning": holes_manifest.SMOOTH_TUNING_MANIFEST,
-        "curved_scans": holes_manifest.CURVED_SCANS_MANIFEST}
+        "curved_scans": holes_manifest.CURVED_SCANS_MANIFEST,
+        "thin_shells": holes_manifest.THIN_SHELLS_MANIFEST}
 N_ANIMALS = 12
 
 
@@ -409,7 +410,7 @@ def measures(rows: list[dict], rule) -> dict:
 def table(rows: list[dict]) -> str:
     groups = [("union", rows)] + [(s, [r for r in rows if r["set"] == s])
                                   for s in ("tuning", "cad_tuning", "animals", "smooth_tuning",
-                                            "curved_scans")]
+                                            "curved_scans", "thin_shells")]
     lines = ["| rule | set | holes | median / CGAL | worst mesh / fair2 | holes > 1.5× | "
              "best pick | mean log regret |", "|---|---|---|---|---|---|---|---|"]
     for name, rule in RULES.items():

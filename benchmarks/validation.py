@@ -55,7 +55,7 @@ FILLED = ("ok", "selected", "fallback")
 SPLITS = ("validation", "holdout", "holdout2", "holdout3", "holdout4", "holdout5", "holdout6",
           "holdout7", "holdout8", "holdout9", "holdout10", "holdout11", "holdout12", "holdout13",
           "holdout14", "holdout15", "holdout16", "holdout17", "holdout18", "tuning",
-          "cad_tuning", "smooth_tuning", "curved_scans")
+          "cad_tuning", "smooth_tuning", "curved_scans", "thin_shells")
 SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout3": "Holdout set 3", "holdout4": "Holdout set 4",
                "holdout5": "Holdout set 5", "holdout6": "Holdout set 6",
@@ -67,7 +67,8 @@ SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout17": "Holdout set 17", "holdout18": "Holdout set 18",
                "cad_tuning": "Tuning-side CAD parts",
                "smooth_tuning": "Tuning-side smooth tubes and organic bodies",
-               "curved_scans": "Tuning-side range scans of curved shapes"}
+               "curved_scans": "Tuning-side range scans of curved shapes",
+               "thin_shells": "Tuning-side thin smooth walls with saddle-shaped parts"}
 
 
 def _cut(mesh: vm.BenchMesh, hole: dict):

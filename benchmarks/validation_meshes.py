@@ -1987,3 +1987,11 @@ SOURCES.update(HOLDOUT18_SOURCES)
 from curved_scans_meshes import CURVED_SCAN_SOURCES  # noqa: E402
 
 SOURCES.update(CURVED_SCAN_SOURCES)
+
+# --------------------------------------------------------------------------- thin shells set
+
+# Session 41's tuning-side thin smooth walls with saddle-shaped parts (benchmarks/
+# thin_shells_manifest.json): rules may be chosen on them; their own module.
+from thin_shells_meshes import THIN_SHELL_SOURCES  # noqa: E402
+
+SOURCES.update(THIN_SHELL_SOURCES)

@@ -88,7 +88,7 @@ def test_reserved_sources_are_never_used():
                    "holdout11_meshes.py", "holdout12_meshes.py", "holdout13_meshes.py",
                    "holdout14_meshes.py", "holdout15_meshes.py", "holdout16_meshes.py",
                    "holdout17_meshes.py", "holdout18_meshes.py",
-                   "smooth_tuning_meshes.py", "curved_scans_meshes.py"):
+                   "smooth_tuning_meshes.py", "curved_scans_meshes.py", "thin_shells_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
 
@@ -465,7 +465,8 @@ def test_later_holdout_sources_come_from_their_own_module(number, words, first_s
         assert validation_meshes.SOURCES[mesh_id] is source
     ids = [i for i in validation_meshes.SOURCES  # the tuning-side sets are added after them
            if i not in validation_meshes.SMOOTH_TUNING_SOURCES
-           and i not in validation_meshes.CURVED_SCAN_SOURCES]
+           and i not in validation_meshes.CURVED_SCAN_SOURCES
+           and i not in validation_meshes.THIN_SHELL_SOURCES]
     later = [f"holdout{n}" for n in range(11, 19)]  # SOURCES' last sets, in order
     tail = ids[-12 * len(later):]
     assert tail[12 * later.index(split):][:12] == list(sources)
@@ -505,7 +506,10 @@ def test_the_curved_scans_set_is_its_own_set():
     ids = [e["mesh"] for e in entries]
     assert ids == holes_manifest.SPLIT["curved_scans"] == list(sources)
     assert validation_meshes.CURVED_SCAN_SOURCES is sources
-    assert list(validation_meshes.SOURCES)[-len(sources):] == ids
+    # added after every other set but the thin shells (session 41), which follow it
+    later = list(validation_meshes.SOURCES)[
+        -len(sources) - len(validation_meshes.THIN_SHELL_SOURCES):]
+    assert later[:len(sources)] == ids
     assert all(validation_meshes.SOURCES[i] is sources[i] for i in ids)
     # a tuning-side set: never a holdout by its name, its file or its split
     path, words, first_seed = holes_manifest.LATER_SETS["curved_scans"]
@@ -580,3 +584,41 @@ def test_holdout_generators_pass_the_surface_check(monkeypatch, number):
     assert sorted(name for name, _ in asked) == (["_level_set_mesh"] * 4
                                                  + ["_manifold_mesh"] * 3 + ["_radial_surface"])
     assert all(check is True for _, check in asked), asked
+
+
+def test_the_thin_shells_set_is_its_own_set():
+    """Session 41's thin smooth walls (tuning side, rules may be chosen on them): their own
+    split name, meshes and sources, shared with no holdout, half or other set (holdout 17's
+    cooling tower is a hyperboloid; this set's neck is a catenoid); 9 smooth meshes, 7 holes
+    each as planned (every radius, none by a border or a feature), seeds from 4100, digests
+    recorded; the generators in their own module, which validation_meshes adds to
+    ``SOURCES`` last."""
+    import thin_shells_meshes
+
+    sources = thin_shells_meshes.THIN_SHELL_SOURCES
+    entries = holes_manifest.read(holes_manifest.THIN_SHELLS_MANIFEST)["meshes"]
+    ids = [e["mesh"] for e in entries]
+    assert ids == holes_manifest.SPLIT["thin_shells"] == list(sources) and len(ids) == 9
+    assert validation_meshes.THIN_SHELL_SOURCES is sources
+    assert list(validation_meshes.SOURCES)[-len(sources):] == ids
+    assert all(validation_meshes.SOURCES[i] is sources[i] for i in ids)
+    # a tuning-side set: never a holdout by its name, its file or its split
+    path, words, first_seed = holes_manifest.LATER_SETS["thin_shells"]
+    assert path.name == "thin_shells_manifest.json" and "tuning-side" in words
+    assert first_seed == 4100 and not set(ids) & set(holes_manifest.UNDIGESTED)
+    others = [e for split, (p, _, _) in holes_manifest.LATER_SETS.items()
+              if split != "thin_shells" for e in holes_manifest.read(p)["meshes"]]
+    others += holes_manifest.read()["meshes"]
+    assert not {e["mesh"] for e in others} & set(ids)
+    assert not {e["source"] for e in others} & {e["source"] for e in entries}
+    assert not any("hyperboloid" in e["source"] for e in entries)
+    for entry in entries:
+        source = validation_meshes.SOURCES[entry["mesh"]]
+        assert entry["split"] == "thin_shells" and entry["kind"] == "smooth"
+        assert (source.kind, source.source) == (entry["kind"], entry["source"])
+        assert "wall" in entry["source"]
+        assert len(entry["sha256"]) == 64 and entry["n_vertices"] > 0
+        assert [h["radius_h"] for h in entry["holes"]] == list(holes_manifest.RADII_H)
+        assert not any(h["near_border"] or h["on_feature"] for h in entry["holes"])
+        for hole in entry["holes"]:
+            assert hole["radius"] == pytest.approx(hole["radius_h"] * entry["h"], rel=1e-12)
