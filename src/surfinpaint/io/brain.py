@@ -61,7 +61,8 @@ def _gifti_xml(xml: bytes, whole: bool) -> None:
     """Raise for GIFTI XML (its start, or ``whole``) whose root element is not ``<GIFTI>``,
     that is no XML at all, or (``whole``) that has no ``<DataArray>``."""
     xml = xml.removeprefix(b"\xef\xbb\xbf")
-    start = xml[_XML_PROLOGUE.match(xml).end():][:64]
+    end = _XML_PROLOGUE.match(xml).end()
+    start = xml[end:end + 64]  # not xml[end:] (a copy of all of it)
     root = re.match(rb"<([A-Za-z_][\w:.-]*)", start)
     if root and root[1] != b"GIFTI":
         raise MeshError(f"not a GIFTI file (its XML root element is <{root[1].decode()}>, "
