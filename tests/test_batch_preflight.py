@@ -5,18 +5,23 @@ before any file is filled, not when the largest-first order reaches it."""
 
 from __future__ import annotations
 
+import gzip
 import io
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from surfinpaint.app import batch
+from surfinpaint.app.batch_inputs import UnknownFilesWarning
 from surfinpaint.app.cli import main
 from surfinpaint.data import sphere
 from surfinpaint.errors import MeshError
 from surfinpaint.geometry.cutting import cut_geodesic_disk
-from surfinpaint.io.formats import check_file, read_mesh, write_mesh
+from surfinpaint.io.base import RenumberedWarning
+from surfinpaint.io.brain import check_overlay
+from surfinpaint.io.formats import check_file, read_mesh, read_mesh_data, write_mesh
 
 
 def _good_mesh():
@@ -26,7 +31,11 @@ def _good_mesh():
 
 
 def _written(path: Path, ascii: bool = False) -> bytes:
-    write_mesh(path, *_good_mesh(), ascii=ascii)
+    if path.suffix == ".stl":  # said, and expected: STL keeps no vertex order
+        with pytest.warns(RenumberedWarning, match="renumbered by first use"):
+            write_mesh(path, *_good_mesh(), ascii=ascii)
+    else:
+        write_mesh(path, *_good_mesh(), ascii=ascii)
     return path.read_bytes()
 
 
@@ -53,6 +62,18 @@ BAD_FILES = {
     "binary.off": (lambda p: b"OFF\n3 1 0\n\x00\x01", "not a text OFF file"),
     "lh.pial": (_freesurfer_cut, "FreeSurfer surface is truncated"),
     "rh.white": (lambda p: b"not a surface at all", "not a FreeSurfer surface"),
+    # session 41 (second): a text file named .obj or .gii, an OBJ of points, an HTML page
+    "readme.obj": (lambda p: b"# notes\nThis folder holds the scans of May.\n" * 20,
+                   "OBJ file has no vertices (no 'v' line)"),
+    "points.obj": (lambda p: b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "OBJ file has no faces"),
+    "binary.obj": (lambda p: b"v 0 0 0\n\x00\x01\x02", "not a text OBJ file"),
+    "readme.gii": (lambda p: b"Surfaces of subject 3, see below.\n", "not a GIFTI file (not XML"),
+    "page.gii": (lambda p: b"<?xml version='1.0'?>\n<!-- saved -->\n<html><body/></html>",
+                 "its XML root element is <html>, not <GIFTI>"),
+    "readme.gii.gz": (lambda p: gzip.compress(b"Surfaces of subject 3.\n"),
+                      "not a GIFTI file (not XML"),
+    "empty_root.gii": (lambda p: b"<?xml version='1.0'?><GIFTI Version='1.0'></GIFTI>",
+                       "GIFTI file has no DataArray"),
 }
 
 
@@ -153,6 +174,127 @@ def test_check_file_reads_only_the_head_of_a_large_file(tmp_path, monkeypatch):
     assert sum(given) == long_header.stat().st_size
 
 
+def test_check_file_reads_a_small_obj_whole_and_a_large_one_from_its_head(tmp_path,
+                                                                          monkeypatch):
+    small, large = tmp_path / "small.obj", tmp_path / "large.obj"
+    write_mesh(small, *sphere(3))
+    write_mesh(large, *sphere(6))
+    assert (1 << 13) < small.stat().st_size < 1 << 18 < large.stat().st_size
+    given = _count_reads(monkeypatch)
+    check_file(small)  # its first 8 KiB (the format), then all of it for its v and f lines
+    assert given == [1 << 13, small.stat().st_size], given
+    given.clear()
+    check_file(large)
+    assert sum(given) <= 1 << 13, given
+    # a text file with its only v and f lines past the first 8 KiB: no 'v' line in the head
+    # is no failure, the lines are found in the whole
+    late = tmp_path / "late.obj"
+    late.write_bytes(b"# exported notes\n" * 1000 + small.read_bytes())
+    assert late.stat().st_size > 1 << 13
+    assert check_file(late) is None
+
+
+def _surface_and_overlay(root: Path, make) -> tuple[Path, Path]:
+    """A FreeSurfer surface ``surf/lh.pial`` and the overlay named by ``make``'s file in
+    ``label/`` (``make(path, n)`` writes it for ``n`` vertices; None: it is missing)."""
+    (root / "surf").mkdir(parents=True)
+    (root / "label").mkdir()
+    surface = root / "surf" / "lh.pial"
+    _written(surface)
+    name, write = make
+    overlay = root / "label" / name
+    if write is not None:
+        write(overlay, len(read_mesh(surface)[0]))
+    return surface, overlay
+
+
+def _morph(path: Path, n: int) -> None:
+    nib = pytest.importorskip("nibabel")
+    nib.freesurfer.write_morph_data(str(path), np.linspace(1, 3, n).astype(np.float32))
+
+
+def _shape_gii(path: Path, n: int) -> None:
+    nib = pytest.importorskip("nibabel")
+    image = nib.gifti.GiftiImage(darrays=[nib.gifti.GiftiDataArray(
+        np.linspace(1, 3, n).astype(np.float32), intent="NIFTI_INTENT_SHAPE")])
+    path.write_bytes(image.to_bytes())
+
+
+# overlay: its file name, how it is written (None: missing), the reader's reason
+BAD_OVERLAYS = {
+    "missing": (("lh.thickness", None), "no such file"),
+    "empty": (("lh.thickness", lambda p, n: p.write_bytes(b"")), "overlay file is empty"),
+    "truncated": (("lh.thickness", lambda p, n: (_morph(p, n), p.write_bytes(
+        p.read_bytes()[:100]))), "FreeSurfer overlay is truncated (its header announces"),
+    "text as curv": (("lh.thickness", lambda p, n: p.write_text("thickness in mm\n")),
+                     "not a FreeSurfer overlay (no FF FF FF magic bytes)"),
+    "text as gifti": (("lh.thickness.shape.gii", lambda p, n: p.write_text("thickness\n")),
+                      "not a GIFTI file (not XML"),
+    "folder": (("lh.thickness", lambda p, n: p.mkdir()), "cannot read the overlay"),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD_OVERLAYS))
+def test_check_overlay_says_what_the_reader_says_word_for_word(tmp_path, case):
+    make, said = BAD_OVERLAYS[case]
+    surface, overlay = _surface_and_overlay(tmp_path, make)
+    with pytest.raises(MeshError) as checked:
+        check_overlay(overlay)
+    with pytest.raises(MeshError) as read:
+        read_mesh_data(surface, overlays=[overlay])
+    assert str(checked.value) == str(read.value)
+    assert str(read.value).startswith(f"{overlay}: ") and said in str(read.value)
+
+
+@pytest.mark.parametrize("make", [("lh.thickness", _morph),
+                                  ("lh.thickness.shape.gii", _shape_gii)])
+def test_check_overlay_passes_a_good_overlay(tmp_path, make):
+    surface, overlay = _surface_and_overlay(tmp_path, make)
+    assert "thickness" in read_mesh_data(surface, overlays=[overlay]).attributes
+    assert check_overlay(overlay) is None
+
+
+def test_a_batch_gives_a_bad_overlays_row_before_it_fills_any(tmp_path, monkeypatch):
+    # batch --overlay: each surface's overlay checked in the pre-flight, its fill's words
+    subjects = tmp_path / "subjects"
+    for k, case in enumerate(["truncated", "text as curv"]):
+        _surface_and_overlay(subjects / f"sub-bad{k}", BAD_OVERLAYS[case][0])
+    for k in range(2):
+        _surface_and_overlay(subjects / f"sub-good{k}", ("lh.thickness", _morph))
+    inputs = sorted(subjects.glob("sub-*/surf/lh.pial"))
+
+    def run(out: str) -> tuple[list[str], dict[str, str]]:
+        events: list[str] = []
+        filled = batch.fill_file
+
+        def marked(job, options, hole_progress=None):
+            events.append(f"fill {job.name}")
+            return filled(job, options, hole_progress)
+
+        monkeypatch.setattr(batch, "fill_file", marked)
+        # the text file named lh.thickness is no morphometry file: a stray, said
+        with pytest.warns(UnknownFilesWarning, match="sub-bad1/label/lh.thickness"):
+            rows = batch.fill_files([subjects], tmp_path / out, jobs=1, method="fair",
+                                    overlays=["../label/{hemi}.thickness"],
+                                    on_result=lambda row: events.append(
+                                        f"{row.status} {row.path}"))
+        return events, {r.path: r.message for r in rows if r.status == "failed"}
+
+    events, failed = run("out")
+    bad = [str(p) for p in inputs if "sub-bad" in str(p)]
+    assert events[:2] == [f"failed {name}" for name in bad], events
+    assert all(e.startswith("fill ") or e.startswith("filled ") for e in events[2:]), events
+    assert sorted(failed) == bad
+    for name, (_, reason) in zip(bad, [BAD_OVERLAYS["truncated"],
+                                          BAD_OVERLAYS["text as curv"]], strict=True):
+        assert reason in failed[name], failed[name]
+    # the same message as the fill gives without the pre-flight: one implementation
+    monkeypatch.setattr(batch, "checked_row", lambda job: None)
+    unchecked_events, unchecked = run("out2")
+    assert f"fill {bad[0]}" in unchecked_events  # now found when it is filled
+    assert unchecked == failed
+
+
 def _batch_folder(root: Path) -> tuple[list[Path], list[Path]]:
     """Four good files and the bad ones (:data:`BAD_FILES`), the bad ones smaller (a good
     file is a sphere with a hole: larger than each bad one but the truncated STL, which is
@@ -180,9 +322,10 @@ def test_a_batch_gives_every_bad_files_row_before_it_fills_any(tmp_path, monkeyp
             return filled(job, options, hole_progress)
 
         monkeypatch.setattr(batch, "fill_file", marked)
-    rows = batch.fill_files([tmp_path / "scans"], tmp_path / "out", jobs=jobs, method="fair",
-                            on_result=lambda row: events.append(
-                                f"{row.status} {Path(row.path).name}"))
+    with pytest.warns(UnknownFilesWarning, match="notes.txt"):
+        rows = batch.fill_files([tmp_path / "scans"], tmp_path / "out", jobs=jobs,
+                                method="fair", on_result=lambda row: events.append(
+                                    f"{row.status} {Path(row.path).name}"))
     n_bad = len(bad)
     # each bad file's row first, in the inputs' order, before any file is filled
     assert events[:n_bad] == [f"failed {p.name}" for p in sorted(bad)], events

@@ -477,7 +477,7 @@ BAD_FILES = {
                        "PLY header has no 'end_header' line"),
     "empty.ply": (lambda path, v, f: path.write_bytes(b""), "file is empty"),
     "no-faces.obj": (lambda path, v, f: path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
-                     "mesh has no faces"),
+                     "OBJ file has no faces"),
     "non-manifold.ply": (lambda path, v, f: write_mesh(
         path, np.vstack([v, [[0.0, 0.0, 3.0]]]),
         np.vstack([f, [[f[0, 0], f[0, 1], len(v)]]])), "1 non-manifold edge ("),

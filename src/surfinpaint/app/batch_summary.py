@@ -22,6 +22,7 @@ from surfinpaint.app.fill_report import HoleRecord, plain
 from surfinpaint.errors import MeshError, how_many
 from surfinpaint.fill.pipeline import METHODS, FillResult
 from surfinpaint.io.atomic import atomic_open
+from surfinpaint.io.brain import check_overlay
 from surfinpaint.io.formats import check_file
 
 __all__ = ["MESSAGE_SEPARATOR", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
@@ -154,11 +155,14 @@ def error_text(job: FileJob, exc: Exception) -> str:
 def checked_row(job: FileJob) -> FileRow | None:
     """The failed row of a file that fails its pre-flight (:func:`~surfinpaint.io.formats.
     check_file`: missing, unreadable, empty, of unknown format or with a header its reader
-    cannot parse), with the message its fill would give and the check's seconds; None for
-    a file that passes."""
+    cannot parse; and each overlay of ``--overlay``, with those beside the surface:
+    :func:`~surfinpaint.io.brain.check_overlay`), with the message its fill would give and
+    the check's seconds; None for a file that passes."""
     started = time.perf_counter()
     try:
         check_file(job.source)
+        for overlay in job.overlays_read() if job.overlays else ():
+            check_overlay(overlay)
     except MeshError as exc:
         return FileRow(job.name, job.output, "failed", seconds=time.perf_counter() - started,
                        message=error_text(job, exc))

@@ -52,6 +52,7 @@ from surfinpaint.io.base import (
 from surfinpaint.io.brain import (
     FREESURFER_MAGIC,
     freesurfer_header,
+    gifti_header,
     overlay_outputs,
     overlays_beside,
     read_freesurfer,
@@ -65,7 +66,7 @@ from surfinpaint.io.brain import (
     write_gifti_gz,
 )
 from surfinpaint.io.meshdata import MeshData, per_vertex, seam_vertices
-from surfinpaint.io.obj import missing_libraries, read_obj, unstored_obj, write_obj
+from surfinpaint.io.obj import missing_libraries, obj_header, read_obj, unstored_obj, write_obj
 from surfinpaint.io.off import off_header, read_off, unstored_off, write_off
 from surfinpaint.io.ply import (
     HEADER_BYTES,
@@ -332,11 +333,8 @@ def files_read(path: str | os.PathLike, *,
     p = Path(path)
     fmt = _format_of(p)
     if fmt is None:
-        try:
-            with open(p, "rb") as fh:
-                fmt = "freesurfer" if fh.read(3) == FREESURFER_MAGIC else None
-        except OSError:
-            fmt = None
+        with contextlib.suppress(OSError), open(p, "rb") as fh:
+            fmt = "freesurfer" if fh.read(3) == FREESURFER_MAGIC else None
     return [p, *(_overlay_files(p, fmt, overlays) or [])]
 
 
@@ -451,29 +449,31 @@ def _parsing(fmt: str, name: str) -> Iterator[None]:
         raise MeshError(f"cannot read as {_LABELS[fmt]}: {describe(exc)}", path=name) from None
 
 
-#: Per format, its reader's own check of a header, ``check(head, size)``; most bytes read
-_HEADERS: dict[str, tuple[Callable[[bytes, int], object], int]] = {
-    "ply": (lambda head, size: ply_layout(head), HEADER_BYTES),
-    "off": (lambda head, size: off_header(head), 1 << 16),
-    "stl": (stl_header, 1 << 13), "freesurfer": (freesurfer_header, 1 << 13)}
+#: Per format, its reader's check of a header ``check(head, size)``, the most bytes given
+#: whole (OBJ: its v and f lines), the most given when the first 8 KiB fail
+_HEADERS: dict[str, tuple[Callable[[bytes, int], object], int, int]] = {
+    "ply": (lambda head, size: ply_layout(head), 0, HEADER_BYTES),
+    "off": (lambda head, size: off_header(head), 0, 1 << 16),
+    "stl": (stl_header, 0, 0), "freesurfer": (freesurfer_header, 0, 0),
+    "obj": (obj_header, 1 << 18, 0), "gii": (gifti_header, 0, 0),
+    "gii.gz": (gifti_header, 0, 0)}
 
 
 def check_file(path: str | os.PathLike) -> None:
     """Raise the :class:`MeshError` :func:`read_mesh` would raise, word for word, for a file
     missing, unreadable, empty, of unknown format or whose header its reader cannot parse
-    (``_HEADERS``; OBJ has none, GIFTI's XML is left to the reader), reading its first 8 KiB
-    (PLY: up to 1 MiB, OFF: 64 KiB, where that is too short): ``batch``'s pre-flight."""
+    (``_HEADERS``; GIFTI: its XML root), from its first 8 KiB (PLY: up to 1 MiB, OFF: 64 KiB
+    where that is too short; an OBJ up to 256 KiB whole, its v and f lines): the pre-flight."""
     p = Path(path)
     head = _read_bytes(p, 1 << 13)
-    fmt = _format_read(p, head)
-    if fmt not in _HEADERS:
-        return
-    (check, limit), size = _HEADERS[fmt], p.stat().st_size
+    fmt, size = _format_read(p, head), p.stat().st_size
+    check, first, most = _HEADERS[fmt]
+    head = _read_bytes(p) if len(head) < size <= first else head  # small enough: whole
     with _parsing(fmt, str(path)):
         try:
             check(head, size)
         except MeshError:  # a header longer than the first bytes: read as far as the reader
-            check(_read_bytes(p, limit) if len(head) < min(size, limit) else head, size)
+            check(_read_bytes(p, most) if len(head) < min(size, most) else head, size)
 
 
 _READERS: dict[str, Callable[[bytes, Path], Parsed]] = {

@@ -30,12 +30,32 @@ _MTLLIB = re.compile(r"^[ \t]*mtllib(?![^ \t\r\n])[ \t]*([^\r\n]*)", re.MULTILIN
 _LABELS = {"object": "o", "group": "g", "material": "usemtl"}
 
 
-def read_obj(data: bytes, path: Path) -> Parsed:
-    text = decode_text(data, "OBJ")
+def obj_header(head: bytes, size: int) -> None:
+    """Raise the :class:`MeshError` :func:`read_obj` raises first for an OBJ file of ``size``
+    bytes starting with ``head``: a binary file, or (``head`` the whole file) one with no
+    vertex or no face line (a text file named ``.obj``): the check of
+    :func:`surfinpaint.io.formats.check_file`, given a small file whole."""
+    text = decode_text(head, "OBJ")
+    if len(head) >= size:
+        _records(text)
+
+
+def _records(text: str) -> tuple[list, set[str], dict[str, list[str]]]:
+    """The v/vt/vn/f records of an OBJ's text, its other keywords, and the lines of each
+    record kind; raises for a file with no vertex or no face line (not a mesh)."""
     records = _RECORD.findall(text)
     present = set(_KEYWORD.findall(text))
     lines = {kind: _lines(records, kind) if kind in present | {"v", "f"} else []
              for kind in ("v", "vt", "vn", "f")}
+    for kind, what in (("v", "vertices"), ("f", "faces")):
+        if not lines[kind]:
+            raise MeshError(f"OBJ file has no {what} (no '{kind}' line)")
+    return records, present, lines
+
+
+def read_obj(data: bytes, path: Path) -> Parsed:
+    text = decode_text(data, "OBJ")
+    records, present, lines = _records(text)
     vertices = xyz_rows(lines["v"])
     flines = lines["f"]
     counts = tokens_per_line(flines)
