@@ -8,6 +8,7 @@ from __future__ import annotations
 import gzip
 import io
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -293,6 +294,52 @@ def test_a_batch_gives_a_bad_overlays_row_before_it_fills_any(tmp_path, monkeypa
     unchecked_events, unchecked = run("out2")
     assert f"fill {bad[0]}" in unchecked_events  # now found when it is filled
     assert unchecked == failed
+
+
+# a bad overlay the reader finds beside lh.pial: the subject's morphometry file, and one
+# named after the surface (a text file named lh.thickness is no morphometry file: not read)
+BESIDE = {"truncated lh.thickness": ("lh.thickness", "truncated"),
+          "text lh.pial.thickness.shape.gii": ("lh.pial.thickness.shape.gii", "text as gifti")}
+
+
+@pytest.mark.parametrize("case", BESIDE)
+def test_a_batch_checks_the_overlays_beside_a_surface_without_overlay(tmp_path, monkeypatch,
+                                                                      case):
+    # no --overlay: the reader still reads the overlays beside lh.pial and fails the
+    # surface on a bad one, so the pre-flight checks them too, in the reader's words
+    name, kind = BESIDE[case]
+    make = BAD_OVERLAYS[kind][0][1]
+    subjects = tmp_path / "subjects"
+    surface = _surface_and_overlay(subjects / "sub-good", ("lh.thickness", _morph))[0]
+    bad = subjects / "sub-bad" / "surf" / "lh.pial"
+    bad.parent.mkdir(parents=True)
+    bad.write_bytes(surface.read_bytes())
+    make(bad.parent / name, len(read_mesh(surface)[0]))
+
+    def run(out: str) -> tuple[list[str], dict[str, str]]:
+        events: list[str] = []
+        filled = batch.fill_file
+
+        def marked(job, options, hole_progress=None):
+            events.append(f"fill {job.name}")
+            return filled(job, options, hole_progress)
+
+        monkeypatch.setattr(batch, "fill_file", marked)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UnknownFilesWarning)  # a text lh.thickness
+            rows = batch.fill_files([subjects], tmp_path / out, jobs=1, method="fair",
+                                    on_result=lambda row: events.append(
+                                        f"{row.status} {row.path}"))
+        return events, {r.path: r.message for r in rows if r.status == "failed"}
+
+    events, failed = run("out")
+    assert events[0] == f"failed {bad}", events
+    assert list(failed) == [str(bad)] and BAD_OVERLAYS[kind][1] in failed[str(bad)]
+    assert f"fill {bad}" not in events and f"fill {surface}" in events
+    # the fill, unchecked, fails the surface with the same message
+    monkeypatch.setattr(batch, "checked_row", lambda job: None)
+    unchecked_events, unchecked = run("out2")
+    assert f"fill {bad}" in unchecked_events and unchecked == failed
 
 
 def _batch_folder(root: Path) -> tuple[list[Path], list[Path]]:

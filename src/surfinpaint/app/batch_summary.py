@@ -23,7 +23,7 @@ from surfinpaint.errors import MeshError, how_many
 from surfinpaint.fill.pipeline import METHODS, FillResult
 from surfinpaint.io.atomic import atomic_open
 from surfinpaint.io.brain import check_overlay
-from surfinpaint.io.formats import check_file
+from surfinpaint.io.formats import check_file, files_read
 
 __all__ = ["MESSAGE_SEPARATOR", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
            "checked_row", "error_text", "fill_messages", "named_in_summary", "read_summary",
@@ -155,13 +155,14 @@ def error_text(job: FileJob, exc: Exception) -> str:
 def checked_row(job: FileJob) -> FileRow | None:
     """The failed row of a file that fails its pre-flight (:func:`~surfinpaint.io.formats.
     check_file`: missing, unreadable, empty, of unknown format or with a header its reader
-    cannot parse; and each overlay of ``--overlay``, with those beside the surface:
-    :func:`~surfinpaint.io.brain.check_overlay`), with the message its fill would give and
-    the check's seconds; None for a file that passes."""
+    cannot parse; and each overlay its fill reads, those beside the surface and those of
+    ``--overlay``: :func:`~surfinpaint.io.brain.check_overlay`), with the message its fill
+    would give and the check's seconds; None for a file that passes."""
     started = time.perf_counter()
     try:
         check_file(job.source)
-        for overlay in job.overlays_read() if job.overlays else ():
+        # the reader fails a surface on any overlay it reads, found beside it or given
+        for overlay in job.overlays_read() if job.overlays else files_read(job.source)[1:]:
             check_overlay(overlay)
     except MeshError as exc:
         return FileRow(job.name, job.output, "failed", seconds=time.perf_counter() - started,
