@@ -8,7 +8,6 @@ from __future__ import annotations
 import gzip
 import io
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -255,6 +254,24 @@ def test_check_overlay_passes_a_good_overlay(tmp_path, make):
     assert check_overlay(overlay) is None
 
 
+def _batch_events(monkeypatch, folder: Path, out: Path, **options
+                  ) -> tuple[list[str], dict[str, str]]:
+    """``batch.fill_files([folder], out, **options)`` one file at a time, faired: what
+    happened in order (``fill NAME`` as a fill starts, ``STATUS NAME`` as a row is said)
+    and the failed rows' messages by path."""
+    events: list[str] = []
+    filled = batch.fill_file
+
+    def marked(job, fill_options, hole_progress=None):
+        events.append(f"fill {job.name}")
+        return filled(job, fill_options, hole_progress)
+
+    monkeypatch.setattr(batch, "fill_file", marked)
+    rows = batch.fill_files([folder], out, jobs=1, method="fair", **options,
+                            on_result=lambda row: events.append(f"{row.status} {row.path}"))
+    return events, {r.path: r.message for r in rows if r.status == "failed"}
+
+
 def test_a_batch_gives_a_bad_overlays_row_before_it_fills_any(tmp_path, monkeypatch):
     # batch --overlay: each surface's overlay checked in the pre-flight, its fill's words
     subjects = tmp_path / "subjects"
@@ -265,21 +282,10 @@ def test_a_batch_gives_a_bad_overlays_row_before_it_fills_any(tmp_path, monkeypa
     inputs = sorted(subjects.glob("sub-*/surf/lh.pial"))
 
     def run(out: str) -> tuple[list[str], dict[str, str]]:
-        events: list[str] = []
-        filled = batch.fill_file
-
-        def marked(job, options, hole_progress=None):
-            events.append(f"fill {job.name}")
-            return filled(job, options, hole_progress)
-
-        monkeypatch.setattr(batch, "fill_file", marked)
         # the text file named lh.thickness is no morphometry file: a stray, said
         with pytest.warns(UnknownFilesWarning, match="sub-bad1/label/lh.thickness"):
-            rows = batch.fill_files([subjects], tmp_path / out, jobs=1, method="fair",
-                                    overlays=["../label/{hemi}.thickness"],
-                                    on_result=lambda row: events.append(
-                                        f"{row.status} {row.path}"))
-        return events, {r.path: r.message for r in rows if r.status == "failed"}
+            return _batch_events(monkeypatch, subjects, tmp_path / out,
+                                 overlays=["../label/{hemi}.thickness"])
 
     events, failed = run("out")
     bad = [str(p) for p in inputs if "sub-bad" in str(p)]
@@ -316,29 +322,13 @@ def test_a_batch_checks_the_overlays_beside_a_surface_without_overlay(tmp_path, 
     bad.write_bytes(surface.read_bytes())
     make(bad.parent / name, len(read_mesh(surface)[0]))
 
-    def run(out: str) -> tuple[list[str], dict[str, str]]:
-        events: list[str] = []
-        filled = batch.fill_file
-
-        def marked(job, options, hole_progress=None):
-            events.append(f"fill {job.name}")
-            return filled(job, options, hole_progress)
-
-        monkeypatch.setattr(batch, "fill_file", marked)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UnknownFilesWarning)  # a text lh.thickness
-            rows = batch.fill_files([subjects], tmp_path / out, jobs=1, method="fair",
-                                    on_result=lambda row: events.append(
-                                        f"{row.status} {row.path}"))
-        return events, {r.path: r.message for r in rows if r.status == "failed"}
-
-    events, failed = run("out")
+    events, failed = _batch_events(monkeypatch, subjects, tmp_path / "out")
     assert events[0] == f"failed {bad}", events
     assert list(failed) == [str(bad)] and BAD_OVERLAYS[kind][1] in failed[str(bad)]
     assert f"fill {bad}" not in events and f"fill {surface}" in events
     # the fill, unchecked, fails the surface with the same message
     monkeypatch.setattr(batch, "checked_row", lambda job: None)
-    unchecked_events, unchecked = run("out2")
+    unchecked_events, unchecked = _batch_events(monkeypatch, subjects, tmp_path / "out2")
     assert f"fill {bad}" in unchecked_events and unchecked == failed
 
 
