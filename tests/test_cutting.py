@@ -269,3 +269,17 @@ def test_a_band_around_a_tube_is_decided_on_the_whole_mesh(monkeypatch):
     assert whole_calls[-1]  # the windows could not tell
     monkeypatch.setattr(cutting, "WINDOW_RINGS", ())
     assert _same(windowed, _outcome(v, f, [0], [0.3]))
+
+
+def test_compact_keeps_only_the_faces_vertices_in_id_order():
+    from surfinpaint.geometry.cutting import compact
+
+    v = np.arange(24, dtype=float).reshape(8, 3)
+    f = np.array([[6, 2, 4], [4, 2, 7]])
+    cv, cf, ids = compact(v, f)
+    assert ids.tolist() == [2, 4, 6, 7]
+    assert cf.tolist() == [[2, 0, 1], [1, 0, 3]]
+    np.testing.assert_array_equal(cv, v[ids])
+    np.testing.assert_array_equal(ids[cf], f)  # the same triangles, renumbered
+    ev, ef, eids = compact(v, np.empty((0, 3), int))
+    assert ev.shape == (0, 3) and ef.shape == (0, 3) and eids.size == 0

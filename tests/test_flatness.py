@@ -219,9 +219,9 @@ def test_the_report_draws_the_fill_laid_on_its_plane_as_written(tmp_path, monkey
     shown_v, shown_f = drawn.conformal
     np.testing.assert_array_equal(shown_v[n:], written.vertices[n:])
     np.testing.assert_array_equal(shown_f, written.new_faces)
-    raw_v, _ = fills["filled"]["conformal raw"][0]  # the λ-H fill, still made for (E)/(G)
+    raw_v, _ = fills.lambda_h_fills[0]  # the λ-H fill, still made for (E)/(G)
     assert not np.allclose(raw_v[n:], written.vertices[n:])
-    assert fills["diagnostics"][0] is not None
+    assert fills.diagnostics[0] is not None
     # the error of what is written: the laid fill against the removed patch
     ids, inverse = np.unique(written.new_faces, return_inverse=True)
     d = surface_distance(written.vertices[ids], inverse.reshape(-1, 3), *truth,
@@ -241,7 +241,7 @@ def test_the_report_draws_the_fill_laid_on_its_plane_as_written(tmp_path, monkey
     monkeypatch.setattr(report, "hole_panel", spy)
     report.panels_for(cut.vertices, cut.faces, [c], fills, tmp_path)
     ((args, kwargs),) = drawn
-    assert args[4] is fills["filled"]["conformal"][0]  # (C): the written fill
+    assert args[4] is fills.written_fills[0]  # (C): the written fill
     titles = kwargs["titles"]
     assert titles["C"] == "(C) conformal: faired fill laid on its plane (written)"
     assert "not written" in titles["E"] and "not written" in titles["G"]

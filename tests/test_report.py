@@ -110,14 +110,14 @@ def test_compare_holes_measures_both_fills(holed_sphere):
             assert e["mean"] <= e["hausdorff"]
     # what `fill` writes is the conformal fill where the self-check kept it, and the
     # method's own (triharmonic) faired fill elsewhere
-    written = fills["conformal"]
+    written = fills.conformal
     offset = written.n_original_vertices
     for c, hole, report in zip(comparisons, cut.holes, written.reports, strict=True):
         new = written.vertices[offset: offset + report.new_vertices]
         offset += report.new_vertices
         # not on a plane: (C) draws the λ-H fill, kept or rejected by the self-check
         assert not c.on_plane
-        assert panel_fills(fills, c.index).conformal is fills["filled"]["conformal raw"][c.index]
+        assert panel_fills(fills, c.index).conformal is fills.lambda_h_fills[c.index]
         if c.kept:
             assert c.errors["conformal"] == c.errors["conformal raw"]
             assert c.written_panel == "C" and panel_fills(fills, c.index).written is None
@@ -127,7 +127,7 @@ def test_compare_holes_measures_both_fills(holed_sphere):
             assert np.array_equal(new, alone.vertices[len(cut.vertices):])
     # each fill's vertices start with the mesh's, unchanged
     for name in ("fair", "conformal", "conformal raw"):
-        for fill_v, fill_f in fills["filled"][name]:
+        for fill_v, fill_f in fills.by_method()[name]:
             assert np.array_equal(fill_v[: len(cut.vertices)], cut.vertices)
             assert fill_f.max() < len(fill_v)
 
@@ -162,7 +162,7 @@ def test_every_hole_panel_draws_the_written_fill(lens_holes, tmp_path, monkeypat
     from surfinpaint.app import report
 
     cut, comparisons, fills = lens_holes
-    outcomes = [(r.method, r.fair_order, r.fallback) for r in fills["conformal"].reports]
+    outcomes = [(r.method, r.fair_order, r.fallback) for r in fills.conformal.reports]
     assert outcomes == [("conformal", None, None), ("fair", 3, None), ("fair", 2, None)]
     written = fill_holes(cut.vertices, cut.faces, holes=[x.loop for x in cut.holes],
                          method="conformal")
@@ -177,11 +177,11 @@ def test_every_hole_panel_draws_the_written_fill(lens_holes, tmp_path, monkeypat
         np.testing.assert_array_equal(got_f, want_f)
         np.testing.assert_array_equal(got_v, want_v)
     # λ-H fill written: as before, (C) draws it, no fourth panel
-    assert drawn[0].conformal is fills["filled"]["conformal raw"][0]
+    assert drawn[0].conformal is fills.lambda_h_fills[0]
     assert drawn[0].written is None and drawn[0].titles == {"C": "(C) conformal fill (written)"}
     # trilaplacian fill written: (B) and (C) draw other fills, (W) draws it
     assert not np.array_equal(_patch(*drawn[1].fair)[0], _patch(*drawn[1].written)[0])
-    assert drawn[1].conformal is fills["filled"]["conformal raw"][1]
+    assert drawn[1].conformal is fills.lambda_h_fills[1]
     assert drawn[1].titles == {"C": "(C) conformal fill (rejected by the self-check)",
                                "W": "(W) written: faired fill (order 3)"}
     # bilaplacian fill written: it is (B)'s, titled so

@@ -61,7 +61,7 @@ from surfinpaint.app.report import (
 )
 from surfinpaint.app.report_page import WRITTEN_ERROR
 from surfinpaint.errors import MeshError, agreeing, how_many
-from surfinpaint.geometry.cutting import cut_geodesic_disk, cut_holes
+from surfinpaint.geometry.cutting import compact, cut_geodesic_disk, cut_holes
 from surfinpaint.geometry.mesh import boundary_loops, connected_components
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.representation.represent import rebuild, represent
@@ -106,8 +106,7 @@ def face_scan() -> tuple[np.ndarray, np.ndarray]:
     v, f = data.pymeshlab_sample("rangemaps/face000.ply")
     _, label = connected_components(f, len(v))
     f = f[label[f[:, 0]] == np.argmax(np.bincount(label[f[:, 0]]))]
-    used, inverse = np.unique(f, return_inverse=True)
-    return v[used], inverse.reshape(-1, 3)
+    return compact(v, f)[:2]
 
 
 def face_sites(vertices: np.ndarray) -> np.ndarray:
@@ -235,7 +234,7 @@ def _run_case(case: Case, scale: str, out_dir: Path, step) -> CaseResult:
                step=lambda message, advance=1: step(f"{case.name}: {message}", advance))
     for c in comparisons:
         c.picture = f"{case.name}/{c.picture}"
-    before_after(cut.vertices, cut.faces, fills["conformal"], folder / "overview.png")
+    before_after(cut.vertices, cut.faces, fills.conformal, folder / "overview.png")
     result.pictures = [f"{case.name}/overview.png"]
     result.comparisons = comparisons
     result.seconds = time.perf_counter() - started

@@ -44,7 +44,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from surfinpaint.app.fill_options import add_hole_numbers, add_islands, add_keep_margins
 from surfinpaint.app.fill_report import (
@@ -65,12 +64,14 @@ from surfinpaint.app.report_page import (
     write_page,
 )
 from surfinpaint.app.report_panel import PANEL_SIZE, Patch, hole_panel
+from surfinpaint.app.report_truth import hole_truths
 from surfinpaint.app.report_warnings import fills_warnings, said_once
-from surfinpaint.errors import MeshError, how_many, mesh_size
+from surfinpaint.errors import how_many, mesh_size
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.holes import hole_numbers, loop_diameter, select_holes, warn_degenerate
 from surfinpaint.fill.pipeline import fill_holes
-from surfinpaint.geometry.mesh import connected_components
+from surfinpaint.fill.results import FillResult, LambdaHDiagnostics
+from surfinpaint.geometry.cutting import compact
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.geometry.repair import repair_faces
 from surfinpaint.io.formats import read_mesh
@@ -78,6 +79,7 @@ from surfinpaint.io.formats import read_mesh
 __all__ = [
     "LEGEND",
     "PANEL_SIZE",
+    "ComparedFills",
     "HoleComparison",
     "PanelFills",
     "add_report_parser",
@@ -98,9 +100,43 @@ Step = Callable[..., None]
 # --------------------------------------------------------------------------- fills
 
 
-def _compact(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    ids, inverse = np.unique(faces, return_inverse=True)
-    return vertices[ids], inverse.reshape(-1, 3)
+@dataclass(frozen=True)
+class ComparedFills:
+    """What :func:`compare_holes` made, hole by hole (the ``k``-th entry of each list is
+    the hole of ``loops[k]``).
+
+    A hole's fill is ``(vertices, faces)``: the vertices of the whole filled mesh (they
+    start with the holed mesh's) and the hole's new faces.
+
+    Attributes
+    ----------
+    fair, conformal : FillResult
+        The ``"fair"`` and the ``"conformal"`` method's fill of the mesh.
+    fair_fills, written_fills : list of (vertices, faces)
+        Each hole's fill by the ``"fair"`` method, and by the ``"conformal"`` method: the
+        fill ``surfinpaint fill`` writes.
+    lambda_h_fills : list of (vertices, faces) or None
+        Each hole's λ-H fill before the self-check and the plane test (made again with
+        ``select=False`` where it is not the written fill); None where it failed.
+    diagnostics : list of LambdaHDiagnostics or None
+        The λ-H fill's :class:`~surfinpaint.fill.results.LambdaHDiagnostics` (None where it
+        failed).
+    loops : list of (k,) int arrays
+        The holes' loops, oriented.
+    """
+
+    fair: FillResult
+    conformal: FillResult
+    fair_fills: list[Patch]
+    written_fills: list[Patch]
+    lambda_h_fills: list[Patch | None]
+    diagnostics: list[LambdaHDiagnostics | None]
+    loops: list[np.ndarray]
+
+    def by_method(self) -> dict[str, list[Patch | None]]:
+        """Each hole's fill under the method names of :attr:`HoleComparison.errors`."""
+        return {"fair": self.fair_fills, "conformal": self.written_fills,
+                "conformal raw": self.lambda_h_fills}
 
 
 def _error(patch: tuple[np.ndarray, np.ndarray] | None,
@@ -122,7 +158,7 @@ def compare_holes(
     options: ConformalOptions | None = None,
     keep_margins: bool = False,
     islands: str = "bridge",
-) -> tuple[list[HoleComparison], dict]:
+) -> tuple[list[HoleComparison], ComparedFills]:
     """Fill the given holes by both methods and measure them.
 
     Parameters
@@ -164,15 +200,8 @@ def compare_holes(
     Returns
     -------
     comparisons : list of HoleComparison
-    fills : dict
-        ``"fair"`` and ``"conformal"``: the :class:`~surfinpaint.fill.pipeline.FillResult` of each
-        method; ``"filled"``: per method (``"fair"``, ``"conformal"``, ``"conformal raw"``)
-        each hole's fill as ``(vertices, faces)`` (the vertices start with the mesh's, the
-        faces are the hole's new ones; ``"conformal"`` is what ``surfinpaint fill`` writes,
-        ``"conformal raw"`` the λ-H fill before the self-check and the plane test, None
-        where the conformal method failed); ``"loops"``: the oriented loops;
-        ``"diagnostics"``: each hole's :class:`~surfinpaint.fill.results.LambdaHDiagnostics`
-        of the λ-H fill (None when it failed).
+    fills : ComparedFills
+        Each method's fill of each hole, and the λ-H fill's diagnostics.
     """
 
     vertices = np.asarray(vertices, dtype=float)
@@ -199,21 +228,20 @@ def compare_holes(
                                keep_margins=keep_margins, validate=False, options=options,
                                islands=islands)
     step("conformal fills done")
-    # each fill as (vertices starting with the mesh's, the hole's new faces)
-    filled = {"fair": [(fair.vertices, p) for p in fair.hole_faces()],
-              "conformal": [(conformal.vertices, p) for p in conformal.hole_faces()]}
+    written_fills = [(conformal.vertices, p) for p in conformal.hole_faces()]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         raw, diagnostics = _lambda_h_fills(vertices, faces, loops, conformal,
-                                           filled["conformal"], options, step, islands)
-    filled["conformal raw"] = raw
+                                           written_fills, options, step, islands)
     for text, category in fills_warnings(said_once(caught, conformal.reports),
                                          said_once(caught_fair, fair.reports)).items():
         warnings.warn(text, category, stacklevel=2)
-    patches = {name: [None if p is None else _compact(*p) for p in fills]
-               for name, fills in filled.items()}
-    made = {"fair": fair, "conformal": conformal, "filled": filled,
-            "diagnostics": diagnostics, "loops": loops}
+    made = ComparedFills(fair=fair, conformal=conformal,
+                         fair_fills=[(fair.vertices, p) for p in fair.hole_faces()],
+                         written_fills=written_fills, lambda_h_fills=raw,
+                         diagnostics=diagnostics, loops=list(loops))
+    patches = {name: [None if p is None else compact(*p)[:2] for p in fills]
+               for name, fills in made.by_method().items()}
 
     out = []
     for k, loop in enumerate(loops):
@@ -247,10 +275,10 @@ def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step, i
     return raw, diagnostics
 
 
-def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray, made: dict) -> HoleComparison:
-    """Hole ``k``'s comparison, without the errors: what each method made and wrote
-    (``made`` as :func:`compare_holes` returns it)."""
-    rc, rf = made["conformal"].reports[k], made["fair"].reports[k]
+def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray,
+                made: ComparedFills) -> HoleComparison:
+    """Hole ``k``'s comparison, without the errors: what each method made and wrote."""
+    rc, rf = made.conformal.reports[k], made.fair.reports[k]
     return HoleComparison(
         index=k, n_edges=len(loop), diameter=loop_diameter(vertices[loop]),
         seconds={"fair": rf.seconds, "conformal": rc.seconds},
@@ -266,61 +294,6 @@ def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray, made: dict) -> H
         islands=rc.islands,
         crossings=rc.crossings if rc.outcome in ("lambda-h", "faired") else 0,
     )
-
-
-def hole_truths(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.ndarray],
-                truth_vertices: np.ndarray,
-                truth_faces: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """The patch of a complete mesh that fills each hole of a mesh cut from it.
-
-    The holed mesh's vertices are found among the truth's by position; the truth faces that
-    the holed mesh lacks are grouped into connected pieces, and each hole gets the piece
-    through its boundary vertices.
-
-    Returns
-    -------
-    list of (vertices, faces) or None
-        One truth patch per hole; None for a hole the truth has as well.
-
-    Raises
-    ------
-    MeshError
-        When a boundary vertex of a hole is not a vertex of the truth (the truth must be the
-        mesh the holes were cut from).
-    """
-    tv = np.asarray(truth_vertices, float)
-    tf = np.asarray(truth_faces, np.int64)
-    scale = float(np.ptp(tv, axis=0).max()) or 1.0
-    dist, match = cKDTree(tv).query(np.asarray(vertices, float))
-    found = dist <= 1e-6 * scale
-    used = np.unique(np.asarray(faces))
-    if not found[used].any():
-        raise MeshError("none of the mesh's vertices is a vertex of the truth: --truth must "
-                        "be the complete mesh the holes were cut from")
-    missing = [int(v) for loop in loops for v in loop if not found[v]]
-    if missing:
-        raise MeshError("boundary vertices of the holes are not vertices of the truth mesh "
-                        "(--truth must be the mesh the holes were cut from)",
-                        vertices=missing[:20])
-    # faces of the holed mesh in truth ids; faces with an unmatched vertex match nothing
-    mapped = np.sort(np.where(found[faces], match[faces], -1), axis=1)
-    key = np.sort(tf, axis=1)
-    base = len(tv) + 1
-    if base < 2**20:  # one int64 code per face
-        present = np.unique(((mapped[:, 0] * base) + mapped[:, 1]) * base + mapped[:, 2])
-        codes = (key[:, 0] * base + key[:, 1]) * base + key[:, 2]
-        absent = tf[~np.isin(codes, present)]
-    else:  # codes would overflow
-        known = set(map(tuple, mapped.tolist()))
-        absent = tf[np.array([tuple(k) not in known for k in key.tolist()], bool)]
-    _, label = connected_components(absent, len(tv))
-    out = []
-    for loop in loops:
-        pieces = np.unique(label[match[loop]])
-        piece_faces = absent[np.isin(label[absent[:, 0]], pieces)] if len(absent) else absent
-        # a hole the truth has too (a scanner's own hole) has no truth: None
-        out.append(_compact(tv, piece_faces) if len(piece_faces) else None)
-    return out
 
 
 # --------------------------------------------------------------------------- panels
@@ -364,17 +337,17 @@ def _same_fill(a: Patch | None, b: Patch | None) -> bool:
     missing."""
     if a is None or b is None:
         return False
-    (av, af), (bv, bf) = _compact(*a), _compact(*b)
+    (av, af, _), (bv, bf, _) = compact(*a), compact(*b)
     return np.array_equal(af, bf) and np.array_equal(av, bv)
 
 
-def panel_fills(fills: dict, k: int) -> PanelFills:
+def panel_fills(fills: ComparedFills, k: int) -> PanelFills:
     """What each 3D panel of a hole draws, and which draws the written fill (see the module
     docstring).
 
     Parameters
     ----------
-    fills : dict
+    fills : ComparedFills
         As :func:`compare_holes` returns it.
     k : int
         The hole's position in ``fills`` (not its ``index``).
@@ -383,24 +356,23 @@ def panel_fills(fills: dict, k: int) -> PanelFills:
     -------
     PanelFills
     """
-    report = fills["conformal"].reports[k]
-    filled = fills["filled"]
+    report = fills.conformal.reports[k]
     on_plane = report.plane is not None
     # the fill laid on the plane is the conformal method's own, like neither (B) nor the
     # λ-H fill: (C) draws it; elsewhere (C) draws the λ-H fill, kept or not, so that a
     # rejected one can be judged
-    conformal = filled["conformal" if on_plane else "conformal raw"][k]
-    written = filled["conformal"][k] if report.outcome in ("lambda-h", "faired") else None
+    conformal = (fills.written_fills if on_plane else fills.lambda_h_fills)[k]
+    written = fills.written_fills[k] if report.outcome in ("lambda-h", "faired") else None
     # the written fill is drawn once, in the first panel that draws exactly it: one more
     # panel only where it is new to the eye (the trilaplacian fill, as a rule)
     written_in: WrittenPanel = None
     if written is not None:
         written_in = ("C" if _same_fill(written, conformal)
-                      else "B" if _same_fill(written, filled["fair"][k]) else "W")
+                      else "B" if _same_fill(written, fills.fair_fills[k]) else "W")
     titles = {}
     if written_in == "B":
         titles["B"] = "(B) conventional fill (faired, written)"
-    if fills["fair"].reports[k].outcome == "skipped":
+    if fills.fair.reports[k].outcome == "skipped":
         titles["B"] = "(B) conventional fill (skipped)"
     state = ("written" if written_in == "C" else "skipped" if report.outcome == "skipped"
              else "failed" if conformal is None else "rejected by the self-check")
@@ -409,11 +381,11 @@ def panel_fills(fills: dict, k: int) -> PanelFills:
                    else f"(C) conformal fill ({state})")
     if written_in == "W":
         titles["W"] = f"(W) written: faired fill (order {report.fair_order})"
-    if on_plane and fills["diagnostics"][k] is not None:
+    if on_plane and fills.diagnostics[k] is not None:
         # (E)/(G) are of the λ-H fill, which (C) does not draw
         titles["E"] = "(E) inpainted λ (λ-H fill, not written)"
         titles["G"] = "(G) inpainted H (λ-H fill, not written)"
-    return PanelFills(fair=filled["fair"][k], conformal=conformal,
+    return PanelFills(fair=fills.fair_fills[k], conformal=conformal,
                       written=written if written_in == "W" else None, written_in=written_in,
                       titles=titles)
 
@@ -427,8 +399,8 @@ def panels_for(vertices, faces, comparisons, fills, out_dir, prefix="hole",
     for k, c in enumerate(comparisons):
         drawn = panel_fills(fills, k)
         picture = f"{prefix}{c.index}.png"
-        hole_panel(vertices, faces, fills["loops"][k], drawn.fair, drawn.conformal,
-                   fills["diagnostics"][k], out_dir / picture, written=drawn.written,
+        hole_panel(vertices, faces, fills.loops[k], drawn.fair, drawn.conformal,
+                   fills.diagnostics[k], out_dir / picture, written=drawn.written,
                    titles=drawn.titles, suptitle=hole_title(c, name))
         c.picture = picture
         if step:

@@ -19,7 +19,7 @@ from surfinpaint.errors import MeshError, how_many
 from surfinpaint.geometry.edges import EdgeTable, edge_keys
 from surfinpaint.geometry.mesh import boundary_loops, faces_at, unique_edges, vertex_faces
 
-__all__ = ["CutHole", "CutResult", "cut_geodesic_disk", "cut_holes", "edge_graph",
+__all__ = ["CutHole", "CutResult", "compact", "cut_geodesic_disk", "cut_holes", "edge_graph",
            "ring_distances", "submesh"]
 
 
@@ -472,3 +472,18 @@ def submesh(vertices: np.ndarray, faces: np.ndarray, keep: np.ndarray
     remap = np.full(len(vertices), -1, dtype=np.int64)
     remap[ids] = np.arange(len(ids))
     return np.asarray(vertices)[ids], remap[sub], ids
+
+
+def compact(vertices: np.ndarray, faces: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The faces with only the vertices they use, numbered in the order of their ids.
+
+    Returns
+    -------
+    vertices, faces : arrays
+        The faces' vertices (in increasing original id) and the faces in their numbering.
+    ids : (k,) int array
+        Original id of each returned vertex (sorted).
+    """
+    ids, local = np.unique(np.asarray(faces, dtype=np.int64), return_inverse=True)
+    return np.asarray(vertices)[ids], local.reshape(-1, 3), ids
