@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from surfinpaint.app import batch
+from surfinpaint.app import batch, batch_listing
 from surfinpaint.app.batch_inputs import UnknownFilesWarning
 from surfinpaint.app.cli import main
 from surfinpaint.data import sphere
@@ -296,7 +296,7 @@ def test_a_batch_gives_a_bad_overlays_row_before_it_fills_any(tmp_path, monkeypa
                                           BAD_OVERLAYS["text as curv"]], strict=True):
         assert reason in failed[name], failed[name]
     # the same message as the fill gives without the pre-flight: one implementation
-    monkeypatch.setattr(batch, "checked_row", lambda job: None)
+    monkeypatch.setattr(batch_listing, "checked_row", lambda job: None)
     unchecked_events, unchecked = run("out2")
     assert f"fill {bad[0]}" in unchecked_events  # now found when it is filled
     assert unchecked == failed
@@ -327,7 +327,7 @@ def test_a_batch_checks_the_overlays_beside_a_surface_without_overlay(tmp_path, 
     assert list(failed) == [str(bad)] and BAD_OVERLAYS[kind][1] in failed[str(bad)]
     assert f"fill {bad}" not in events and f"fill {surface}" in events
     # the fill, unchecked, fails the surface with the same message
-    monkeypatch.setattr(batch, "checked_row", lambda job: None)
+    monkeypatch.setattr(batch_listing, "checked_row", lambda job: None)
     unchecked_events, unchecked = _batch_events(monkeypatch, subjects, tmp_path / "out2")
     assert f"fill {bad}" in unchecked_events and unchecked == failed
 

@@ -6,7 +6,8 @@ worker processes and Dask workers can import it), and writes ``summary.csv`` and
 ``summary.json`` with one :class:`FileRow` per input file.
 
 A file that cannot be read or filled becomes a ``failed`` row, the others still written; each
-is checked cheaply before any is filled (:func:`surfinpaint.io.formats.check_file`).
+is checked cheaply before any is filled (:func:`surfinpaint.io.formats.check_file`), as the
+inputs are listed (:mod:`surfinpaint.app.batch_listing`); this module runs the fills.
 Every output is written atomically (a complete file or none), so an interrupted run, or a
 worker killed mid-file, leaves no partial output, and a rerun skips the outputs that are
 newer than every file their fill reads: it picks up where the last run stopped. The progress
@@ -19,7 +20,6 @@ from __future__ import annotations
 
 import dataclasses
 import gc
-import glob
 import os
 import signal
 import threading
@@ -27,24 +27,23 @@ import time
 import uuid
 import warnings
 from collections import deque
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
-from queue import Empty
 from typing import Any
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from surfinpaint.app.batch_inputs import (
-    FileJob,
-    Inputs,
-    find_inputs,
-    largest_cost_first,
-    up_to_date,
+from surfinpaint.app.batch_inputs import FileJob, find_inputs
+from surfinpaint.app.batch_listing import (
+    ProgressCallback,
+    ResultCallback,
+    RunRows,
+    list_jobs,
+    remove_temporaries,
 )
-from surfinpaint.app.batch_reruns import rerun_row
 from surfinpaint.app.batch_summary import (
     MESSAGE_SEPARATOR,
     STATUSES,
@@ -52,7 +51,6 @@ from surfinpaint.app.batch_summary import (
     SUMMARY_JSON,
     FileRow,
     FileRows,
-    checked_row,
     error_text,
     fill_messages,
     named_in_summary,
@@ -77,9 +75,6 @@ __all__ = ["MESSAGE_SEPARATOR", "FileJob", "FileRow", "FileRows", "STATUSES", "S
 #: How often a file whose worker process died is tried again (alone) before it is reported
 #: failed: Dask's default ``distributed.scheduler.allowed-failures`` too.
 WORKER_RETRIES = 3
-
-ProgressCallback = Callable[[int, int, str], None]
-ResultCallback = Callable[[FileRow], None]
 
 # imported by the first picture: a batch without pictures does without the module
 figures = lazy_module("surfinpaint.app.figures")
@@ -162,69 +157,7 @@ def _worker_died(job: FileJob, why: str) -> FileRow:
                    message=f"{job.name}: the worker process died while filling it ({why})")
 
 
-def _remove_temporaries(jobs: Iterable[FileJob]) -> None:
-    """Delete what a worker killed mid-write left: the temporary files of the atomic writer
-    (:mod:`surfinpaint.io.atomic`: ``.NAME.XXXXXX.tmp`` next to the target, and
-    ``.NAME.XXXXXX.png`` next to the picture). Only called while no worker writes them."""
-    for job in jobs:
-        for path, suffix in ((job.target, ".tmp"), (job.picture, ".png")):
-            if path is None:
-                continue
-            for leftover in path.parent.glob(f".{glob.escape(path.name)}.*{suffix}"):
-                leftover.unlink(missing_ok=True)
-
-
 # ------------------------------------------------------------------------- the runners
-
-
-class _Rows:
-    """The rows of a run as they come in, the result callback given each, and the progress
-    callback told of each, and of the holes of the files in flight."""
-
-    def __init__(self, total: int, progress: ProgressCallback | None,
-                 on_result: ResultCallback | None = None) -> None:
-        self.total, self.progress, self.on_result = total, progress, on_result
-        self.by_name: dict[str, FileRow] = {}
-        self.holes: dict[str, str] = {}  # the hole progress of each file in flight
-
-    def add(self, row: FileRow, *, quiet: bool = False) -> None:
-        """Record ``row``; unless ``quiet`` (the run is being stopped: no callback may run
-        then), give it to the result callback, then tell the progress callback."""
-        self.by_name[row.path] = row
-        self.holes.pop(row.path, None)
-        if quiet:
-            return
-        if self.on_result is not None:
-            self.on_result(row)
-        if self.progress is not None:
-            self.progress(len(self.by_name), self.total, f"{row.path}: {row.status}")
-
-    def hole(self, name: str, done: int, total: int, message: str) -> None:
-        """A file in flight is at hole ``done`` of ``total``: the files done stay the count,
-        the files in flight and their holes the message."""
-        if self.progress is None or name in self.by_name:
-            return  # a late word from a file already recorded
-        self.holes[name] = f"{name}: {done}/{total} holes ({message})"  # "of N holes"
-        self.progress(len(self.by_name), self.total, " · ".join(self.holes.values()))
-
-    def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:
-        """The ``hole_progress`` of :func:`fill_file` for ``job`` filled in this process."""
-        if self.progress is None:
-            return None
-        return lambda done, total, message: self.hole(job.name, done, total, message)
-
-    def read(self, queue: Any) -> None:
-        """Show what the workers sent through ``queue`` so far."""
-        while True:
-            try:
-                self.hole(*queue.get_nowait())
-            except Empty:
-                return
-
-    def ordered(self, jobs: Inputs) -> FileRows:
-        """The rows in the inputs' order (files not done, after an interrupt, left out)."""
-        return FileRows([self.by_name[job.name] for job in jobs if job.name in self.by_name],
-                        jobs.unknown)
 
 
 def _start_worker(queue: Any | None, method: str, told: Any = None) -> None:
@@ -271,7 +204,7 @@ def _launch(workers: int, progress: bool, method: str) -> _Launched:
 
 
 def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], workers: int,
-           rows: _Rows, holes: Any | None) -> list[FileJob]:
+           rows: RunRows, holes: Any | None) -> list[FileJob]:
     """Keep ``workers`` files of ``queue`` in flight on ``pool`` until the queue is empty or
     a worker dies (the pool is then broken); returns the files that were in flight then.
     ``holes``: the queue the workers send their holes' progress through, if any."""
@@ -335,7 +268,7 @@ def _stop_workers(pool: ProcessPoolExecutor) -> None:
 
 
 def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
-              rows: _Rows, launched: _Launched | None = None) -> list[FileJob]:
+              rows: RunRows, launched: _Launched | None = None) -> list[FileJob]:
     """Fill ``jobs`` on ``workers`` processes (:func:`_launch`; ``launched``: the first
     pool, started earlier, which is shut down here in any case). A dead worker breaks the
     pool: a new one takes the files not yet started; the files in flight then are returned.
@@ -360,7 +293,7 @@ def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,
             lost = _drain(pool, queue, options, workers, rows, holes)
         if holes is not None:
             holes.close()
-        _remove_temporaries(lost)
+        remove_temporaries(lost)
         suspects += lost
         fruitless = fruitless + 1 if len(rows.by_name) == done_before else 0
         if fruitless == WORKER_RETRIES and workers > 1:
@@ -380,7 +313,7 @@ def _method(options: Mapping[str, Any]) -> str:
 
 
 def _run_local(jobs: Sequence[FileJob], options: Mapping[str, Any], n_jobs: int,
-               rows: _Rows, launched: _Launched | None = None) -> None:
+               rows: RunRows, launched: _Launched | None = None) -> None:
     """One file after another in this process (``n_jobs=1``), or on worker processes (the
     first pool ``launched`` earlier, if given). The files in flight when a worker died are
     tried again, each alone (so that the one that kills its worker is found), up to
@@ -400,7 +333,7 @@ def _run_local(jobs: Sequence[FileJob], options: Mapping[str, Any], n_jobs: int,
 
 
 def _run_dask(jobs: Sequence[FileJob], options: Mapping[str, Any], client: Any,
-              rows: _Rows) -> None:
+              rows: RunRows) -> None:
     """Every file a task on the Dask cluster of ``client`` (its workers must see the
     inputs and the output folder at the same paths). The scheduler retries the task of a
     worker that died; after its ``allowed-failures`` the file is a failed row."""
@@ -447,44 +380,6 @@ def _check_options(options: Mapping[str, Any]) -> None:
     vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
     faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
     fill_holes(vertices, faces, **options)
-
-
-def _listed(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
-            out_dir: str | os.PathLike, overwrite: bool, progress: ProgressCallback | None,
-            png: bool, overlays: Sequence[str], on_result: ResultCallback | None = None,
-            ) -> tuple[Inputs, list[FileJob], _Rows]:
-    """The input files (:func:`find_inputs`), those to fill (the others recorded in the
-    rows as skipped), costliest first, and the rows."""
-    paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
-    out = Path(out_dir)
-    todo = find_inputs(paths, out, png=png, overlays=overlays)
-    out.mkdir(parents=True, exist_ok=True)
-    earlier = {row.path: row for row in read_summary(out)}
-    rows = _Rows(len(todo), progress, on_result)
-    if progress is not None:
-        progress(0, len(todo), how_many(len(todo), 'file', 'files'))
-    pending = []
-    for job in todo:
-        before = earlier.get(job.name)
-        if before is not None and before.output == job.output and before.materials:
-            # the materials the last run copied: copied again if they changed, unless the
-            # copies did (their SHA-1 recorded)
-            job = dataclasses.replace(job, copied=tuple(sorted(before.materials.items())))
-        # up to date: skipped, its changed materials (.mtl, textures) copied again
-        row = rerun_row(job, before) \
-            if not overwrite and up_to_date(job) else None
-        # each file to fill checked cheaply before any is filled: a bad one is said now, not
-        # when the largest-first order reaches it (an empty or truncated file: near the end)
-        row = checked_row(job) if row is None else row
-        if row is not None:
-            rows.add(row)
-        else:
-            pending.append(job)
-    _remove_temporaries(pending)
-    # the costliest files first (by the earlier run's seconds, else by size), so that the
-    # workers run out of work at about the same time
-    pending = largest_cost_first(pending, {name: row.seconds for name, row in earlier.items()})
-    return todo, pending, rows
 
 
 def fill_files(
@@ -561,7 +456,9 @@ def fill_files(
         output (local workers are ended; a Dask cluster's tasks are cancelled, and one
         already running there may still write its output, whole), the summary of the files
         done is written, and the interrupt propagates; a rerun fills the rest, the files
-        that were in flight included.
+        that were in flight included. Likewise while the files are listed and checked,
+        before any is filled (:func:`~surfinpaint.app.batch_listing.list_jobs`: the files
+        not judged yet keep their rows of the earlier summary).
 
     Raises
     ------
@@ -579,8 +476,8 @@ def fill_files(
     launched = _launch(n_jobs, progress is not None, _method(fill_options)) \
         if client is None and n_jobs > 1 else None
     try:
-        todo, pending, rows = _listed(inputs, out_dir, overwrite, progress, png, overlays,
-                                      on_result)
+        todo, pending, rows = list_jobs(inputs, out_dir, overwrite, progress, png, overlays,
+                                        on_result, fill_options)
     except BaseException:
         if launched is not None:
             _stop_workers(launched[0])
@@ -593,8 +490,8 @@ def fill_files(
             _run_local(pending, fill_options, n_jobs, rows, launched)
     finally:
         if client is None:  # no local worker is left writing: what a killed one left can go
-            _remove_temporaries(pending)
+            remove_temporaries(pending)
         write_summary(rows.ordered(todo), out, fill_options, todo.unknown)
     if client is not None:
-        _remove_temporaries(pending)
+        remove_temporaries(pending)
     return rows.ordered(todo)

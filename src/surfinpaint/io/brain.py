@@ -4,30 +4,37 @@ FreeSurfer ``curv``, ``thickness``, ``sulc``, ... and, when given, ``.annot``) r
 surface and written beside the output; a segmentation's label table and a GIFTI pointset's
 coordinate system are kept in the metadata and written back.
 
-nibabel is imported inside the functions: it is needed only when such files are used.
+nibabel is imported inside the functions: it is needed only when such files are used. The
+header checks each reader makes first are :mod:`surfinpaint.io.brain_checks`'s (those public
+before, ``FREESURFER_MAGIC``, ``gifti_header``, ``morph_header``, ``check_overlay``,
+``freesurfer_header``, are still importable from here).
 """
 
 from __future__ import annotations
 
-import contextlib
 import gzip
 import json
-import os
 import re
-import struct
 import warnings
-import zlib
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, MissingFileError
+from surfinpaint.errors import MeshError
 from surfinpaint.io.base import Parsed, describe
+from surfinpaint.io.brain_checks import FREESURFER_MAGIC as FREESURFER_MAGIC
+from surfinpaint.io.brain_checks import (
+    MORPH_MAGIC,
+    check_overlay,
+    freesurfer_header,
+    gifti_xml,
+    overlay_errors,
+    overlay_header,
+)
+from surfinpaint.io.brain_checks import gifti_header as gifti_header
+from surfinpaint.io.brain_checks import morph_header as morph_header
 from surfinpaint.io.meshdata import MeshData
-
-FREESURFER_MAGIC = b"\xff\xff\xfe"
-_MORPH_MAGIC = b"\xff\xff\xff"
 
 #: FreeSurfer's per-vertex files beside ``lh.*`` / ``rh.*`` surfaces in a subject's ``surf/``.
 FREESURFER_OVERLAYS = ("curv", "sulc", "thickness", "area", "volume", "jacobian_white",
@@ -52,49 +59,11 @@ def _gunzip(data: bytes) -> bytes:
         raise MeshError(f"corrupt gzip data ({describe(exc)})") from None
 
 
-#: What may come before an XML file's root element: blanks, ``<?xml ...?>``, comments and
-#: ``<!DOCTYPE ...>`` (GIFTI's has no internal subset)
-_XML_PROLOGUE = re.compile(rb"(?:\s+|<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)*", re.S)
-
-
-def _gifti_xml(xml: bytes, whole: bool) -> None:
-    """Raise for GIFTI XML (its start, or ``whole``) whose root element is not ``<GIFTI>``,
-    that is no XML at all, or (``whole``) that has no ``<DataArray>``."""
-    xml = xml.removeprefix(b"\xef\xbb\xbf")
-    end = _XML_PROLOGUE.match(xml).end()
-    start = xml[end:end + 64]  # not xml[end:] (a copy of all of it)
-    root = re.match(rb"<([A-Za-z_][\w:.-]*)", start)
-    if root and root[1] != b"GIFTI":
-        raise MeshError(f"not a GIFTI file (its XML root element is <{root[1].decode()}>, "
-                        "not <GIFTI>)")
-    if start and not start.startswith(b"<"):
-        raise MeshError(f"not a GIFTI file (not XML: it starts {start[:24]!r})")
-    if whole and (not start or b"<DataArray" not in xml):
-        raise MeshError("GIFTI file has no DataArray (no surface and no data)")
-
-
-def gifti_header(head: bytes, size: int) -> None:
-    """Raise the :class:`MeshError` :func:`read_gifti` (or :func:`read_overlays`) raises
-    first for a GIFTI file (plain or gzip-compressed) of ``size`` bytes starting with
-    ``head``: not XML, an XML root that is not ``<GIFTI>``, or (``head`` the whole file) no
-    ``DataArray``: the check of :func:`surfinpaint.io.formats.check_file`. A gzip stream is
-    inflated as far as ``head`` goes; its errors are left to the reader."""
-    whole = len(head) >= size
-    if head[:2] == b"\x1f\x8b":
-        stream = zlib.decompressobj(zlib.MAX_WBITS | 16)
-        try:
-            head = stream.decompress(head, 1 << 16)
-        except zlib.error:
-            return
-        whole = stream.eof and not stream.unused_data  # one gzip member, inflated whole
-    _gifti_xml(head, whole)
-
-
 def read_gifti(data: bytes, path: Path) -> Parsed:
     import nibabel as nib
 
     xml = _gunzip(data)
-    _gifti_xml(xml, whole=True)
+    gifti_xml(xml, whole=True)
     image = nib.gifti.GiftiImage.from_bytes(xml)
     points = image.get_arrays_from_intent("NIFTI_INTENT_POINTSET")
     triangles = image.get_arrays_from_intent("NIFTI_INTENT_TRIANGLE")
@@ -130,24 +99,6 @@ def read_gifti(data: bytes, path: Path) -> Parsed:
             out.dropped.append(f"GIFTI data array {name!r} (shape {values.shape}, not one row "
                                "per vertex) is not kept")
     return out
-
-
-def freesurfer_header(head: bytes, size: int) -> None:
-    """Raise the :class:`MeshError` :func:`read_freesurfer` raises for a FreeSurfer file of
-    ``size`` bytes starting with ``head`` (its first 4096 + 13 bytes, or all of it) whose
-    magic bytes are wrong or that is shorter than its header announces."""
-    if head[:3] not in (FREESURFER_MAGIC, _MORPH_MAGIC):
-        raise MeshError("not a FreeSurfer surface (magic bytes are not FF FF FE)")
-    if head[:3] == FREESURFER_MAGIC:
-        # the two creation lines end in "\n\n"; the counts follow as big-endian int32
-        end = head.find(b"\n\n", 3, 3 + 4096)
-        if end < 0 or end + 10 > min(size, len(head)):
-            raise MeshError("FreeSurfer surface is truncated (no header)")
-        nv, nf = struct.unpack_from(">ii", head, end + 2)
-        need = end + 10 + 12 * nv + 12 * nf
-        if nv < 0 or nf < 0 or size < need:
-            raise MeshError(f"FreeSurfer surface is truncated (header announces {nv} vertices "
-                            f"and {nf} faces = {need} bytes, the file has {size})")
 
 
 def read_freesurfer(data: bytes, path: Path) -> Parsed:
@@ -250,7 +201,7 @@ def is_morphometry(p: Path) -> bool:
     ``lh.sulc``, by its magic bytes ``FF FF FF``."""
     try:
         with open(p, "rb") as fh:
-            return p.is_file() and fh.read(3) == _MORPH_MAGIC
+            return p.is_file() and fh.read(3) == MORPH_MAGIC
     except OSError:
         return False
 
@@ -323,57 +274,6 @@ def _read_annot(p: Path) -> tuple[np.ndarray, str]:
     return np.asarray(labels, dtype=np.int32), json.dumps(table)
 
 
-@contextlib.contextmanager
-def _overlay_errors(p: Path) -> Iterator[None]:
-    """An overlay's reader's error names the overlay; any other failure: it cannot be read."""
-    try:
-        yield
-    except MeshError as err:
-        raise err.with_path(str(p)) from None
-    except FileNotFoundError:
-        raise MissingFileError(str(p)) from None
-    except Exception as exc:
-        raise MeshError(f"cannot read the overlay: {describe(exc)}", path=str(p)) from None
-
-
-def morph_header(head: bytes, size: int) -> None:
-    """Raise for a FreeSurfer morphometry file of ``size`` bytes starting with ``head`` (its
-    first 15 bytes or more) shorter than its header announces: nibabel's reader would give
-    fewer values (or, for a file without the ``FF FF FF`` magic bytes, read as an old-format
-    curv file, a text file's first bytes as the count)."""
-    if head[:3] == _MORPH_MAGIC:
-        count = struct.unpack_from(">i", head, 3)[0] if len(head) >= 7 else -1
-        need, kind = 15 + 4 * count, "FreeSurfer overlay is truncated"
-    else:
-        count = int.from_bytes(head[:3], "big")
-        need, kind = 6 + 2 * count, ("not a FreeSurfer overlay (no FF FF FF magic bytes), or an "
-                                     "old-format curv file that is truncated")
-    if count < 0 or size < need:
-        raise MeshError(f"{kind} (its header announces {max(count, 0)} values = {need} bytes, "
-                        f"the file has {size})")
-
-
-def _overlay_header(p: Path, head: bytes, size: int) -> None:
-    """Raise for an overlay ``p`` of ``size`` bytes starting with ``head`` whose header its
-    reader cannot read (``.annot``: only an empty one)."""
-    if size == 0:
-        raise MeshError("overlay file is empty")
-    name = p.name.lower()
-    if name.endswith((".gii", ".gii.gz")):
-        gifti_header(head, size)
-    elif not name.endswith(".annot"):
-        morph_header(head, size)
-
-
-def check_overlay(path: str | Path) -> None:
-    """Raise the :class:`MeshError` :func:`read_overlays` raises first for the overlay file
-    ``path``, word for word, when it is missing, unreadable, empty or its header is bad, from
-    its first 8 KiB (``batch``'s pre-flight); not whether it has one value per vertex."""
-    p = Path(path)
-    with _overlay_errors(p), open(p, "rb") as fh:
-        _overlay_header(p, fh.read(1 << 13), os.fstat(fh.fileno()).st_size)
-
-
 def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
                   guessed: Sequence[Path] = ()
                   ) -> tuple[dict[str, np.ndarray], dict[str, str], list[str]]:
@@ -397,10 +297,10 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
     for p in files:
         p = Path(p)
         table = None
-        with _overlay_errors(p):
+        with overlay_errors(p):
             if p.name.lower().endswith((".gii", ".gii.gz")):
                 data = p.read_bytes()
-                _overlay_header(p, data, len(data))
+                overlay_header(p, data, len(data))
                 image = nib.gifti.GiftiImage.from_bytes(_gunzip(data))
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)

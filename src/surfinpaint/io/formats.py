@@ -17,7 +17,9 @@ trimesh still drops unreferenced OBJ vertices, splits vertices on texture seams,
 negative OBJ indices unresolved with ``maintain_order=True``, regroups polygon faces
 (triangles first), misreads binary PLY with mixed polygon sizes, writes OBJ/OFF with ten
 significant digits, and prints tracebacks on stderr for a malformed ascii STL. nibabel
-reads and writes GIFTI and FreeSurfer. :func:`check_file` checks a file's header alone.
+reads and writes GIFTI and FreeSurfer. :func:`check_file` checks a file's header alone
+(:mod:`~surfinpaint.io.filetypes`: with the format by name, the bytes read and a reader's
+errors worded, which the readers here share).
 
 One module per format family (:mod:`~surfinpaint.io.ply`, :mod:`~surfinpaint.io.obj`,
 :mod:`~surfinpaint.io.off`, :mod:`~surfinpaint.io.stl`, :mod:`~surfinpaint.io.brain`); this one
@@ -31,14 +33,14 @@ from __future__ import annotations
 import contextlib
 import os
 import warnings
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from contextlib import ExitStack
 from pathlib import Path
 from typing import IO
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, MissingFileError, agreeing, how_many
+from surfinpaint.errors import MeshError, agreeing, how_many
 from surfinpaint.geometry.validation import check_arrays
 from surfinpaint.io.atomic import atomic_open
 from surfinpaint.io.base import (
@@ -50,9 +52,6 @@ from surfinpaint.io.base import (
     triangulate,
 )
 from surfinpaint.io.brain import (
-    FREESURFER_MAGIC,
-    freesurfer_header,
-    gifti_header,
     overlay_outputs,
     overlays_beside,
     read_freesurfer,
@@ -65,99 +64,27 @@ from surfinpaint.io.brain import (
     write_gifti,
     write_gifti_gz,
 )
+from surfinpaint.io.brain_checks import FREESURFER_MAGIC
+from surfinpaint.io.filetypes import (
+    SUPPORTED_FORMATS,
+    ascii_like,
+    check_file,
+    format_of,
+    format_read,
+    output_format,
+    parsing,
+    read_bytes,
+    unknown_format,
+)
 from surfinpaint.io.meshdata import MeshData, per_vertex, seam_vertices
-from surfinpaint.io.obj import missing_libraries, obj_header, read_obj, unstored_obj, write_obj
-from surfinpaint.io.off import off_header, read_off, unstored_off, write_off
-from surfinpaint.io.ply import (
-    HEADER_BYTES,
-    ply_is_ascii,
-    ply_layout,
-    read_ply,
-    unstored_ply,
-    write_ply,
-)
-from surfinpaint.io.stl import (
-    read_stl,
-    stl_header,
-    stl_is_ascii,
-    unstored_stl,
-    warn_stl_numbering,
-    write_stl,
-)
+from surfinpaint.io.obj import missing_libraries, read_obj, unstored_obj, write_obj
+from surfinpaint.io.off import read_off, unstored_off, write_off
+from surfinpaint.io.ply import read_ply, unstored_ply, write_ply
+from surfinpaint.io.stl import read_stl, unstored_stl, warn_stl_numbering, write_stl
 
 __all__ = ["SUPPORTED_FORMATS", "DataNotReturnedWarning", "MeshData", "MeshWarning",
            "ascii_like", "check_file", "files_read", "files_written", "output_format",
            "overlays_with", "read_mesh", "read_mesh_data", "write_mesh", "write_mesh_data"]
-
-_FREESURFER_SUFFIXES = (".pial", ".white", ".inflated", ".sphere", ".orig", ".smoothwm")
-
-
-#: File extensions understood by :func:`read_mesh` and :func:`write_mesh`, with a description.
-SUPPORTED_FORMATS: dict[str, str] = {
-    ".ply": "PLY, ascii or binary (written binary unless ascii=True)",
-    ".obj": "Wavefront OBJ (v and f records)",
-    ".stl": "STL, ascii or binary (a triangle soup: equal corners are merged on reading; "
-            "written binary unless ascii=True)",
-    ".off": "OFF (Geomview object file format)",
-    ".gii": "GIFTI surface (pointset and triangle arrays, float32)",
-    ".gii.gz": "gzip-compressed GIFTI surface",
-    **{s: "FreeSurfer surface (float32; also lh.*/rh.* names and FF FF FE magic)"
-       for s in _FREESURFER_SUFFIXES},
-}
-
-
-def _format_of(path: Path) -> str | None:
-    """Format key for a file name, or None when the name says nothing."""
-    name = path.name.lower()
-    if name.endswith(".gii.gz"):
-        return "gii.gz"
-    suffix = path.suffix.lower()
-    if suffix in (".ply", ".obj", ".stl", ".off", ".gii"):
-        return suffix[1:]
-    if suffix in _FREESURFER_SUFFIXES:
-        return "freesurfer"
-    return None
-
-
-def output_format(path: str | os.PathLike) -> str:
-    """The format :func:`write_mesh` would write ``path`` in.
-
-    Raises
-    ------
-    MeshError
-        When the file name selects no supported format (checked before long work starts).
-    """
-    p = Path(path)
-    fmt = _format_of(p)
-    if fmt is None:
-        raise _unknown_format(p)
-    return fmt
-
-
-def ascii_like(source: str | os.PathLike, target: str | os.PathLike) -> bool:
-    """Whether to write ``target`` as ascii to keep ``source``'s encoding: ``target`` has
-    ``source``'s format, PLY or STL, and ``source`` is stored as ascii (what ``fill`` and
-    ``batch`` pass to :func:`write_mesh_data`: an ascii scan stays ascii). False when
-    ``source`` cannot be read (its reader reports that)."""
-    fmt = _format_of(Path(source))
-    if fmt not in ("ply", "stl") or _format_of(Path(target)) != fmt:
-        return False
-    try:
-        with open(source, "rb") as fh:
-            head = fh.read(4096)
-            size = os.fstat(fh.fileno()).st_size
-    except OSError:
-        return False
-    return stl_is_ascii(head, size) if fmt == "stl" else ply_is_ascii(head)
-
-
-def _unknown_format(path: Path) -> MeshError:
-    return MeshError(
-        f"unknown mesh format {''.join(path.suffixes) or '(no extension)'!r}; supported: "
-        + ", ".join(SUPPORTED_FORMATS),
-        path=str(path),
-    )
-
 
 # --------------------------------------------------------------------------------- reading
 
@@ -282,9 +209,9 @@ def _read(path: str | os.PathLike, *, overlays: bool | Sequence
     """The mesh, what the file holds that is not carried, and the notes on seams."""
     p = Path(path)
     name = str(path)
-    data = _read_bytes(p)
-    fmt = _format_read(p, data)
-    with _parsing(fmt, name):
+    data = read_bytes(p)
+    fmt = format_read(p, data)
+    with parsing(fmt, name):
         parsed = _READERS[fmt](data, p)
     flat = np.asarray(parsed.flat, dtype=np.int64)
     counts = np.asarray(parsed.counts)
@@ -331,7 +258,7 @@ def files_read(path: str | os.PathLike, *,
     [PosixPath('scan.ply')]
     """
     p = Path(path)
-    fmt = _format_of(p)
+    fmt = format_of(p)
     if fmt is None:
         with contextlib.suppress(OSError), open(p, "rb") as fh:
             fmt = "freesurfer" if fh.read(3) == FREESURFER_MAGIC else None
@@ -369,7 +296,7 @@ def files_written(path: str | os.PathLike, mesh: MeshData) -> list[Path]:
     [PosixPath('out.ply')]
     """
     p = Path(path)
-    fmt = _format_of(p)
+    fmt = format_of(p)
     beside = overlay_outputs(p, mesh, fmt) if fmt in ("gii", "gii.gz", "freesurfer") else []
     return [p, *(target for target, _ in beside)]
 
@@ -403,77 +330,6 @@ def _assemble(parsed: Parsed, corners: np.ndarray | None, owner: np.ndarray | No
                     {k: np.array(a) if owner is None else np.asarray(a)[owner]
                      for k, a in parsed.face_attributes.items()},
                     corner_attributes, parsed.metadata), seams
-
-
-_LABELS = {"ply": "PLY", "obj": "OBJ", "stl": "STL", "off": "OFF", "gii": "GIFTI",
-           "gii.gz": "gzip-compressed GIFTI", "freesurfer": "a FreeSurfer surface"}
-
-
-def _read_bytes(p: Path, limit: int = -1) -> bytes:
-    """The bytes of the mesh file ``p`` (its first ``limit``), or the reason it has none."""
-    name = str(p)
-    if not p.exists():
-        raise MissingFileError(name)
-    if p.is_dir():
-        raise MeshError("is a directory, not a mesh file", path=name)
-    try:
-        with p.open("rb") as fh:
-            data = fh.read(limit)
-    except PermissionError:
-        raise MeshError("permission denied: the file cannot be read", path=name) from None
-    except OSError as exc:
-        raise MeshError(f"cannot read the file: {exc.strerror or exc}", path=name) from None
-    if not data:
-        raise MeshError("file is empty", path=name)
-    return data
-
-
-def _format_read(p: Path, head: bytes) -> str:
-    """The format ``p`` is read as: by its name, or FreeSurfer's by its magic bytes."""
-    fmt = _format_of(p)
-    if head[:3] == FREESURFER_MAGIC and fmt in (None, "freesurfer"):
-        return "freesurfer"
-    if fmt is None:
-        raise _unknown_format(p)
-    return fmt
-
-
-@contextlib.contextmanager
-def _parsing(fmt: str, name: str) -> Iterator[None]:
-    """A reader's error names the file; any other failure of a parser means a bad file."""
-    try:
-        yield
-    except MeshError as err:
-        raise err.with_path(name) from None
-    except Exception as exc:
-        raise MeshError(f"cannot read as {_LABELS[fmt]}: {describe(exc)}", path=name) from None
-
-
-#: Per format, its reader's check of a header ``check(head, size)``, the most bytes given
-#: whole (OBJ: its v and f lines), the most given when the first 8 KiB fail
-_HEADERS: dict[str, tuple[Callable[[bytes, int], object], int, int]] = {
-    "ply": (lambda head, size: ply_layout(head), 0, HEADER_BYTES),
-    "off": (lambda head, size: off_header(head), 0, 1 << 16),
-    "stl": (stl_header, 0, 0), "freesurfer": (freesurfer_header, 0, 0),
-    "obj": (obj_header, 1 << 18, 0), "gii": (gifti_header, 0, 0),
-    "gii.gz": (gifti_header, 0, 0)}
-
-
-def check_file(path: str | os.PathLike) -> None:
-    """Raise the :class:`MeshError` :func:`read_mesh` would raise, word for word, for a file
-    missing, unreadable, empty, of unknown format or whose header its reader cannot parse
-    (``_HEADERS``; GIFTI: its XML root), from its first 8 KiB (PLY: up to 1 MiB, OFF: 64 KiB
-    where that is too short; an OBJ up to 256 KiB whole, its v and f lines): the pre-flight."""
-    p = Path(path)
-    head = _read_bytes(p, 1 << 13)
-    fmt, size = _format_read(p, head), p.stat().st_size
-    check, first, most = _HEADERS[fmt]
-    head = _read_bytes(p) if len(head) < size <= first else head  # small enough: whole
-    with _parsing(fmt, str(path)):
-        try:
-            check(head, size)
-        except MeshError:  # a header longer than the first bytes: read as far as the reader
-            check(_read_bytes(p, most) if len(head) < min(size, most) else head, size)
 
 
 _READERS: dict[str, Callable[[bytes, Path], Parsed]] = {
@@ -565,9 +421,9 @@ def write_mesh_data(path: str | os.PathLike, mesh: MeshData, *, ascii: bool = Fa
 def _write(path: str | os.PathLike, mesh: MeshData, *, ascii: bool) -> None:
     p = Path(path)
     name = str(path)
-    fmt = _format_of(p)
+    fmt = format_of(p)
     if fmt is None:
-        raise _unknown_format(p)
+        raise unknown_format(p)
     check_arrays(mesh.vertices, mesh.faces, path=name)
     mesh = MeshData(np.asarray(mesh.vertices).astype(np.float64, copy=False),
                     np.asarray(mesh.faces).astype(np.int64, copy=False), mesh.attributes,

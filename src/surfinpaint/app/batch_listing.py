@@ -1,0 +1,172 @@
+"""A batch's listing: its input files found, each judged before any is filled (up to date:
+skipped; failing its pre-flight: failed; else to fill, costliest first), and the run's rows
+as they come in, from the listing and then from the runners of
+:func:`surfinpaint.app.batch.fill_files`.
+
+An interrupt (Ctrl-C, the command line's SIGTERM) or a callback's error while the files are
+listed and judged writes the summary as one during the fills does: the files done (skipped,
+failed) recorded, the others left to the rerun (:func:`list_jobs`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import glob
+import os
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from pathlib import Path
+from queue import Empty
+from typing import Any
+
+from surfinpaint.app.batch_inputs import (
+    FileJob,
+    Inputs,
+    find_inputs,
+    largest_cost_first,
+    up_to_date,
+)
+from surfinpaint.app.batch_reruns import rerun_row
+from surfinpaint.app.batch_summary import (
+    SUMMARY_JSON,
+    FileRow,
+    FileRows,
+    checked_row,
+    read_summary,
+    write_summary,
+)
+from surfinpaint.errors import how_many
+
+__all__ = ["ProgressCallback", "ResultCallback", "RunRows", "list_jobs", "remove_temporaries"]
+
+ProgressCallback = Callable[[int, int, str], None]
+ResultCallback = Callable[[FileRow], None]
+
+
+def remove_temporaries(jobs: Iterable[FileJob]) -> None:
+    """Delete what a worker killed mid-write left: the temporary files of the atomic writer
+    (:mod:`surfinpaint.io.atomic`: ``.NAME.XXXXXX.tmp`` next to the target, and
+    ``.NAME.XXXXXX.png`` next to the picture). Only called while no worker writes them."""
+    for job in jobs:
+        for path, suffix in ((job.target, ".tmp"), (job.picture, ".png")):
+            if path is None:
+                continue
+            for leftover in path.parent.glob(f".{glob.escape(path.name)}.*{suffix}"):
+                leftover.unlink(missing_ok=True)
+
+
+class RunRows:
+    """The rows of a run as they come in, the result callback given each, and the progress
+    callback told of each, and of the holes of the files in flight."""
+
+    def __init__(self, total: int, progress: ProgressCallback | None,
+                 on_result: ResultCallback | None = None) -> None:
+        self.total, self.progress, self.on_result = total, progress, on_result
+        self.by_name: dict[str, FileRow] = {}
+        self.holes: dict[str, str] = {}  # the hole progress of each file in flight
+
+    def add(self, row: FileRow, *, quiet: bool = False) -> None:
+        """Record ``row``; unless ``quiet`` (the run is being stopped: no callback may run
+        then), give it to the result callback, then tell the progress callback."""
+        self.by_name[row.path] = row
+        self.holes.pop(row.path, None)
+        if quiet:
+            return
+        if self.on_result is not None:
+            self.on_result(row)
+        if self.progress is not None:
+            self.progress(len(self.by_name), self.total, f"{row.path}: {row.status}")
+
+    def hole(self, name: str, done: int, total: int, message: str) -> None:
+        """A file in flight is at hole ``done`` of ``total``: the files done stay the count,
+        the files in flight and their holes the message."""
+        if self.progress is None or name in self.by_name:
+            return  # a late word from a file already recorded
+        self.holes[name] = f"{name}: {done}/{total} holes ({message})"  # "of N holes"
+        self.progress(len(self.by_name), self.total, " · ".join(self.holes.values()))
+
+    def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:
+        """The ``hole_progress`` of :func:`~surfinpaint.app.batch.fill_file` for ``job``
+        filled in this process."""
+        if self.progress is None:
+            return None
+        return lambda done, total, message: self.hole(job.name, done, total, message)
+
+    def read(self, queue: Any) -> None:
+        """Show what the workers sent through ``queue`` so far."""
+        while True:
+            try:
+                self.hole(*queue.get_nowait())
+            except Empty:
+                return
+
+    def ordered(self, jobs: Inputs, unreached: Mapping[str, FileRow] | None = None
+                ) -> FileRows:
+        """The rows in the inputs' order (files not done, after an interrupt, left out);
+        a file not recorded that ``unreached`` names (an interrupted listing had not judged
+        it yet) with its row there."""
+        rows = {**(unreached or {}), **self.by_name}
+        return FileRows([rows[job.name] for job in jobs if job.name in rows], jobs.unknown)
+
+
+def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
+              out_dir: str | os.PathLike, overwrite: bool, progress: ProgressCallback | None,
+              png: bool, overlays: Sequence[str], on_result: ResultCallback | None = None,
+              options: Mapping[str, Any] | None = None,
+              ) -> tuple[Inputs, list[FileJob], RunRows]:
+    """The input files (:func:`~surfinpaint.app.batch_inputs.find_inputs`), those to fill
+    (the others recorded in the rows: skipped as up to date, or failed by their pre-flight,
+    :func:`~surfinpaint.app.batch_summary.checked_row`), costliest first, and the rows.
+
+    On an interrupt, or an error of a callback, while the files are judged, the summary is
+    written (with ``options``) before it propagates, as during the fills: the rows recorded
+    so far and, for the files not yet judged, their rows of the earlier summary, which this
+    run has not looked at (so an interrupted rerun forgets none of its skipped rows' counts
+    and copied materials); the others, to fill, left out. An interrupt while the files are
+    found leaves an earlier summary as it is, else writes an empty one."""
+    paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
+    out = Path(out_dir)
+    try:
+        todo = find_inputs(paths, out, png=png, overlays=overlays)
+    except Exception:
+        raise  # bad inputs: the caller's error, before anything is done
+    except BaseException:
+        # interrupted before any file was judged: nothing done, which the summary says
+        if not (out / SUMMARY_JSON).is_file():
+            out.mkdir(parents=True, exist_ok=True)
+            write_summary([], out, options)
+        raise
+    out.mkdir(parents=True, exist_ok=True)
+    earlier = {row.path: row for row in read_summary(out)}
+    rows = RunRows(len(todo), progress, on_result)
+    pending: list[FileJob] = []
+    judged = 0
+    try:
+        if progress is not None:
+            progress(0, len(todo), how_many(len(todo), 'file', 'files'))
+        for job in todo:
+            before = earlier.get(job.name)
+            if before is not None and before.output == job.output and before.materials:
+                # the materials the last run copied: copied again if they changed, unless
+                # the copies did (their SHA-1 recorded)
+                job = dataclasses.replace(job, copied=tuple(sorted(before.materials.items())))
+            # up to date: skipped, its changed materials (.mtl, textures) copied again
+            row = rerun_row(job, before) if not overwrite and up_to_date(job) else None
+            # each file to fill checked cheaply before any is filled: a bad one is said now,
+            # not when the largest-first order reaches it (an empty or truncated file: near
+            # the end)
+            row = checked_row(job) if row is None else row
+            if row is not None:
+                rows.add(row)
+            else:
+                pending.append(job)
+            judged += 1
+    except BaseException:
+        unreached = {job.name: earlier[job.name] for job in todo[judged:]
+                     if job.name in earlier and earlier[job.name].output == job.output}
+        write_summary(rows.ordered(todo, unreached), out, options, todo.unknown)
+        raise
+    remove_temporaries(pending)
+    # the costliest files first (by the earlier run's seconds, else by size), so that the
+    # workers run out of work at about the same time
+    pending = largest_cost_first(pending, {name: row.seconds for name, row in earlier.items()})
+    return todo, pending, rows
