@@ -250,4 +250,6 @@ def test_the_command_interrupted_while_checking_says_so_and_exits_130(tmp_path, 
     assert "a_empty.ply" in said and "file is empty" in said, said  # said as it came
     assert f"the files done are in {out / SUMMARY_CSV}" in said, said
     assert "picks up the rest" in said and "Traceback" not in said, said
+    # nothing was in flight: it says the files were being listed, not that fills stopped
+    assert "no file was being filled yet" in said and "in flight" not in said, said
     assert [(r.output, r.status) for r in read_summary(out)] == [("a_empty.ply", "failed")]

@@ -58,6 +58,7 @@ from surfinpaint.app.batch_summary import (
     row_of,
     write_summary,
 )
+from surfinpaint.app.interrupts import Interrupted
 from surfinpaint.app.outputs import write_with_materials
 from surfinpaint.compiled import announce_once_across
 from surfinpaint.errors import how_many
@@ -458,7 +459,8 @@ def fill_files(
         done is written, and the interrupt propagates; a rerun fills the rest, the files
         that were in flight included. Likewise while the files are listed and checked,
         before any is filled (:func:`~surfinpaint.app.batch_listing.list_jobs`: the files
-        not judged yet keep their rows of the earlier summary).
+        not judged yet keep their rows of the earlier summary); the interrupt's
+        ``while_listing`` attribute is then True.
 
     Raises
     ------
@@ -478,9 +480,11 @@ def fill_files(
     try:
         todo, pending, rows = list_jobs(inputs, out_dir, overwrite, progress, png, overlays,
                                         on_result, fill_options)
-    except BaseException:
+    except BaseException as exc:
         if launched is not None:
             _stop_workers(launched[0])
+        if isinstance(exc, KeyboardInterrupt | Interrupted):
+            exc.while_listing = True  # no file was being filled: the command says so
         raise
     out = Path(out_dir)
     try:

@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import logging
-import os
 import signal
 import sys
 import time
@@ -20,7 +19,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from surfinpaint import __version__
-from surfinpaint.app.batch_inputs import check_overlay_patterns, picture_path
+from surfinpaint.app.batch_command import add_batch_parser
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import (
     add_all_loops,
@@ -55,7 +54,6 @@ from surfinpaint.app.progress import (
     QuietConsole,
     add_quiet,
     progress_bar,
-    warning_line,
 )
 from surfinpaint.app.represent_commands import add_representation_parsers
 from surfinpaint.errors import InputError, MeshError, how_many, mesh_size
@@ -189,110 +187,6 @@ def _overlays(args: argparse.Namespace) -> bool | list:
         raise _UsageError(f"--overlay: {exc}") from None
 
 
-# what an interrupted batch did with the files in flight (fill_files), locally / on Dask
-_STOPPED = ("the files in flight were stopped unfinished, leaving no partial output",
-            "the files in flight were cancelled on the cluster (a task already running "
-            "there may still write its output, whole; none is left partial)")
-
-
-def cmd_batch(args: argparse.Namespace) -> int:
-    from rich.markup import escape
-
-    out = QuietConsole(args.quiet)
-    options = fill_options(args)
-    if args.jobs is not None and args.dask_scheduler:
-        raise _UsageError("--jobs is for worker processes on this machine; with "
-                          "--dask-scheduler the cluster's workers fill the files")
-    if args.jobs is not None and args.jobs < 1:
-        raise _UsageError(f"--jobs must be at least 1, got {args.jobs}")
-    try:
-        overlays = check_overlay_patterns(args.overlay or ())
-    except ValueError as exc:
-        raise _UsageError(str(exc)) from None
-    client = _dask_client(args.dask_scheduler) if args.dask_scheduler else None
-    try:
-        # each file's error or warnings as it finishes, above the bar: a bad file early in
-        # a run of hours is said then, not at the end
-        with progress_bar(out.progress, None, "files") as bar, out.above(bar), \
-                _warned_now(out, args):
-            rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
-                                    overwrite=args.overwrite, png=args.png, overlays=overlays,
-                                    progress=bar.update if out.progress else None,
-                                    on_result=lambda row: _say_row(out, row, args.output),
-                                    **options)
-    except (Interrupted, KeyboardInterrupt) as exc:
-        if not isinstance(exc, Interrupted):
-            exc = Interrupted(signal.SIGINT)
-        out.error(f"surfinpaint: {exc}; {_STOPPED[client is not None]}; the files done "
-                      f"are in {Path(args.output) / batch.SUMMARY_CSV}, and the same command again "
-                      "picks up the rest, the files in flight included")
-        return exc.exit_code
-    finally:
-        if client is not None:
-            client.close()
-    counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
-    failed = sum(r.status == "failed" for r in rows)
-    if out.progress:
-        n = len(rows.unknown)
-        unknown = f"; {how_many(n, 'file', 'files')} of unknown type not filled (listed in " \
-            "summary.json)" if n else ""
-        out.say(f"{how_many(len(rows), 'file', 'files')}: {counts}{unknown}; wrote "
-                      f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json")
-    elif failed:  # -q, -qq: a log of thousands of files still ends with how many failed
-        out.error(f"[red]error:[/red] {failed} of {how_many(len(rows), 'file', 'files')} "
-                  f"failed (each named above; all in "
-                  f"{escape(str(Path(args.output) / batch.SUMMARY_CSV))})")
-    return EXIT_FAILURE if failed else EXIT_OK
-
-
-@contextlib.contextmanager
-def _warned_now(out: QuietConsole, args: argparse.Namespace) -> Iterator[None]:
-    """Each warning of this process said as it comes, as ``main`` would say it at the end:
-    ``batch``'s own (files of unknown type skipped, found before any file is filled); the
-    files' warnings are their rows' (:func:`_say_row`)."""
-    with warnings.catch_warnings():
-        warnings.showwarning = lambda message, *_, **__: out.warn(warning_line(
-            str(message), _input_name(args), other_files=_other_files(args)))
-        yield
-
-
-def _say_row(out: QuietConsole, row: batch.FileRow, out_dir: str) -> None:
-    """Say what went wrong with the file of ``row`` (``fill_files``'s ``on_result``): its
-    error, or each of its warnings on a line of its own, naming the input, and the output
-    where the warning is of writing it (a skipped file's were said by the run that wrote
-    it)."""
-    from rich.markup import escape
-
-    if row.status == "failed":
-        out.error(f"[red]error:[/red] {escape(row.message)}")
-    elif row.message and row.status != "skipped":
-        written = _written_for(out_dir, row)
-        for text in row.message.split(batch.MESSAGE_SEPARATOR):
-            out.warn(warning_line(text, row.path, other_files=written))
-
-
-def _written_for(out_dir: str, row: batch.FileRow) -> dict[str, str]:
-    """The files batch wrote for ``row`` (its output and picture), in each spelling its
-    message may name them (:func:`~surfinpaint.app.batch_summary.named_in_summary`: from
-    where the input's name is, or absolute), each as "writing"."""
-    relative = [row.output, picture_path(Path(row.output)).as_posix()]
-    return {spelled: "writing" for name in relative for spelled in (
-        os.path.join(out_dir, name), os.path.abspath(os.path.join(out_dir, name)),
-        os.fspath(Path(out_dir).absolute() / name))}
-
-
-def _dask_client(address: str):
-    try:
-        from distributed import Client
-    except ImportError as exc:
-        raise _UsageError("--dask-scheduler needs Dask's 'distributed' package: "
-                          "pip install 'surfinpaint[dask]'") from exc
-    try:
-        return Client(address, timeout=30)
-    except (OSError, TimeoutError) as exc:
-        raise OSError(f"cannot reach the Dask scheduler at {address}: {exc}") from exc
-
-
 def cmd_demo(args: argparse.Namespace) -> int:
     from rich.markup import escape
 
@@ -342,7 +236,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _add_holes_parser(sub)
     _add_fill_parser(sub)
-    _add_batch_parser(sub)
+    add_batch_parser(sub)
     add_representation_parsers(sub)
     _add_demo_parser(sub)
     if command not in _LIGHT_COMMANDS:
@@ -404,45 +298,6 @@ def _add_fill_parser(sub) -> None:
                    help="per hole also the scores in mesh units, the time and the notes")
     add_quiet(p)
     p.set_defaults(func=cmd_fill)
-
-
-def _add_batch_parser(sub) -> None:
-    """``batch``: many files."""
-    p = sub.add_parser("batch", help="fill many mesh files, on all cores or a Dask cluster",
-                       description="Fill the holes of every mesh file named by INPUT "
-                       "(files, folders searched recursively, glob patterns) into OUTDIR, "
-                       "mirroring their layout, and write OUTDIR/summary.csv and "
-                       "summary.json (one row per file). A bad file is reported and the "
-                       "others still written (exit 1 if any failed). A rerun skips outputs "
-                       "newer than their input and any overlay beside it, so an interrupted "
-                       "run picks up where it stopped.")
-    p.add_argument("inputs", nargs="+", metavar="INPUT", help="mesh file, folder or glob")
-    p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="output folder")
-    p.add_argument("--jobs", type=int, metavar="N",
-                   help="worker processes on this machine (default: all cores; 1: one file "
-                   "after another in this process)")
-    p.add_argument("--dask-scheduler", metavar="ADDRESS",
-                   help="run every file as a task on this Dask cluster (tcp://host:port; "
-                   "its workers must see the files at the same paths; start them with "
-                   "--nthreads 1 --preload surfinpaint.app.dask_worker)")
-    p.add_argument("--overwrite", action="store_true",
-                   help="refill files whose output is newer than their input")
-    p.add_argument("--png", action="store_true",
-                   help="also draw each file's before/after picture beside its output "
-                   "(OUTDIR/sub/scan.png for OUTDIR/sub/scan.ply; lh.pial.png for lh.pial), "
-                   "in the worker that filled it; a picture that fails is a warning, the "
-                   "mesh is still written")
-    p.add_argument("--overlay", action="append", metavar="PATTERN",
-                   help="an overlay read with each GIFTI or FreeSurfer surface besides those "
-                   "found beside it: a path from the surface's folder, {name} (its file "
-                   "name), {stem} (the name without .gii) and {hemi} (the hemisphere as the "
-                   "name writes it: lh/rh for lh.white, L/R for BIDS hemi-L or Workbench "
-                   ".L., left/right for nilearn's pial_left) filled in "
-                   "per file: ../label/{hemi}.aparc.annot; repeat for more. A file whose "
-                   "overlay is missing, or of another format, fails (named in the summary)")
-    add_fill_options(p)
-    add_quiet(p)
-    p.set_defaults(func=cmd_batch)
 
 
 def _add_demo_parser(sub) -> None:
