@@ -22,8 +22,9 @@ set 12's (session 35) in ``holdout12_meshes.py``, holdout set 13's (session 36) 
 ``holdout13_meshes.py``, holdout set 14's (session 37) in ``holdout14_meshes.py``, holdout
 set 15's (session 38) in ``holdout15_meshes.py``, holdout set 16's (session 39) in
 ``holdout16_meshes.py``, holdout set 17's (session 40) in ``holdout17_meshes.py``, holdout
-set 18's (session 41) in ``holdout18_meshes.py``; this module adds their
-``HOLDOUT8_SOURCES`` to ``HOLDOUT18_SOURCES`` to :data:`SOURCES` at its end.
+set 18's (session 41) in ``holdout18_meshes.py``, holdout set 19's (session 42) in
+``holdout19_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
+``HOLDOUT19_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -1979,6 +1980,13 @@ SOURCES.update(HOLDOUT17_SOURCES)
 from holdout18_meshes import HOLDOUT18_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT18_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 19
+
+# Session 42's set (benchmarks/holdout19_manifest.json), as holdout 18's: its own module.
+from holdout19_meshes import HOLDOUT19_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT19_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 
