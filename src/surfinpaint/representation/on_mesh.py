@@ -84,6 +84,12 @@ NEWTON_ENVELOPE_RATE = 0.85
 NEWTON_STALL_STEPS = 3
 NEWTON_STALL_RATIO = 0.99
 NEWTON_STALL_LEVEL = 10.0
+# or, at any level, where its last NEWTON_FLAT_STEPS + 1 residuals lie within a factor
+# NEWTON_FLAT_BAND of each other: no converging stage on the tuning side had more than 4 in a
+# row within 1 % (animal5 #4's plateau at 1.36 edge lengths), failing ones creep so for 10-20
+# steps to their last or to one no step lowers (docs/convergence.md, session 42 helper)
+NEWTON_FLAT_STEPS = 6
+NEWTON_FLAT_BAND = 1.01
 
 
 def inpaint_on_mesh(
@@ -387,8 +393,8 @@ def newton_solve(system, points, tol, steps, envelope=None):
     driven to zero by Newton steps, each bounded to ``TRUST`` edge lengths and halved until
     ``|R|`` decreases, and given up where ``|R|`` after step k is above
     ``A ρ^k`` (no converging stage was; ``envelope`` (A, ρ), by default ``NEWTON_ENVELOPE``
-    and ``NEWTON_ENVELOPE_RATE``, which add :func:`_stalled`'s test). Each step is
-    solved exactly with R's analytic Jacobian on patches of at most
+    and ``NEWTON_ENVELOPE_RATE``, which add :func:`_stalled`'s and :func:`_flat`'s tests). Each
+    step is solved exactly with R's analytic Jacobian on patches of at most
     ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by one
     GMRES cycle on its exact products on larger ones (Newton–Krylov,
     :class:`.UpdateDerivative`, :func:`.krylov.gmres_cycle`).
@@ -421,6 +427,11 @@ def newton_solve(system, points, tol, steps, envelope=None):
                              f"of {size:.2g} edge lengths after {how_many(k, 'step', 'steps')}, "
                              "stalled "
                              f"(above {NEWTON_STALL_RATIO} of it {NEWTON_STALL_STEPS} before)")
+        if envelope is None and _flat(sizes, size):
+            raise _Unsettled(f"the λ-H fill does not settle under Newton's method: a residual "
+                             f"of {size:.2g} edge lengths after {how_many(k, 'step', 'steps')}, "
+                             f"flat (within {NEWTON_FLAT_BAND - 1:.0%} over the last "
+                             f"{NEWTON_FLAT_STEPS})")
         sizes.append(size)
         if len(f) <= NEWTON_ANALYTIC_MAX:
             dx = newton_step(system, points, x, r)
@@ -449,6 +460,17 @@ def _stalled(sizes, size):
     ``NEWTON_STALL_RATIO`` of its value ``NEWTON_STALL_STEPS`` steps before."""
     return (len(sizes) >= NEWTON_STALL_STEPS and size > NEWTON_STALL_LEVEL
             and size > NEWTON_STALL_RATIO * sizes[-NEWTON_STALL_STEPS])
+
+
+def _flat(sizes, size):
+    """Whether a Newton stage whose residual was ``sizes`` before its steps and is ``size`` now
+    has crept at one level: its last ``NEWTON_FLAT_STEPS`` + 1 residuals within a factor
+    ``NEWTON_FLAT_BAND`` of each other, whatever the level (:func:`_stalled` needs a level
+    and a fall over 3 steps)."""
+    if len(sizes) < NEWTON_FLAT_STEPS:
+        return False
+    window = [*sizes[-NEWTON_FLAT_STEPS:], size]
+    return max(window) <= NEWTON_FLAT_BAND * min(window)
 
 
 def _line_search(residual, x, r, dx):
