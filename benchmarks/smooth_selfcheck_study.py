@@ -22,6 +22,11 @@ file (``holdout17``); ``--holes`` limits a run to listed holes (``mesh#k``):
 
     python benchmarks/smooth_selfcheck_study.py --manifest benchmarks/holdout17_manifest.json \
         --holes penguin#3,penguin#4 --out /tmp/st/holdout17.jsonl
+    python benchmarks/smooth_selfcheck_study.py --replay /tmp/st/*.jsonl --screen-kept
+
+:func:`library_rule` replays session 42's library (a kept λ-H fill of a hole of >= 50 edges
+that the siblings find significantly farther than fair3 is not kept); rows recorded before it
+replay as differing on the holes it changes (:func:`library_rule_s41` is the library before).
 """
 
 from __future__ import annotations
@@ -46,6 +51,7 @@ import validation_meshes as vm  # noqa: E402
 from surfinpaint.fill.conformal import method  # noqa: E402
 from surfinpaint.fill.conformal.method import known_plane  # noqa: E402
 from surfinpaint.fill.conformal.selection import (  # noqa: E402
+    FAIR3_VETO_EDGES,
     choose,
     demoted,
     sibling_test_plan,
@@ -186,7 +192,21 @@ def _adv(ev: dict, ref: str, test: str, name: str) -> tuple[float, float]:
 
 
 def library_rule(ev: dict) -> str:
-    """The library's choice, replayed from the row's evidence (sibling test as planned)."""
+    """The library's choice, replayed from the row's evidence: :func:`library_rule_s41` and
+    session 42's veto (a kept λ-H fill of a hole of at least ``FAIR3_VETO_EDGES`` boundary
+    edges that the sibling holes find farther than fair3 by more than 2.326 standard errors
+    is not kept: the faired fill the library chooses without it, :func:`_faired`)."""
+    pick = library_rule_s41(ev)
+    if pick == "conformal" and ev["n_edges"] >= FAIR3_VETO_EDGES:
+        a, se = _adv(ev, "fair3", "sibling", "conformal")
+        if -a > 2.326 * se:
+            return _faired(ev)
+    return pick
+
+
+def library_rule_s41(ev: dict) -> str:
+    """The library's choice before session 42, replayed from the row's evidence (sibling test
+    as planned)."""
     hidden = ev["hidden"]
     run_sib, with_lh = sibling_test_plan(hidden, shallower=ev["shallower"])
     sibling = {} if not run_sib else (ev["sibling"] if with_lh else
@@ -351,7 +371,8 @@ def rule_a_and_b(ev: dict) -> str:
     return rule_demoted_to_fair3(ev) if pick == library_rule(ev) else pick
 
 
-RULES = {"library (main 54b1d7a)": library_rule,
+RULES = {"library (session 42: the fair3 veto on holes of >= 50 edges)": library_rule,
+         "library before session 42 (main d6188f7)": library_rule_s41,
          "(a) λ-H must beat fair3 on the hidden rings": rule_lh_beats_fair3,
          "(a') fair3 where it beats a kept λ-H fill by 2.326 se": rule_lh_beats_fair3_significant,
          "(b) fair3 where the λ-H fill beat fair2 but was not kept": rule_demoted_to_fair3,
@@ -670,8 +691,11 @@ def main(argv=None) -> None:
     if args.manifest is not None:
         which = args.manifest.name.removesuffix(".json").removesuffix("_manifest")
         SETS[which] = args.manifest
-    run(which, args.out, args.samples, args.meshes.split(",") if args.meshes else None,
-        set(args.holes.split(",")) if args.holes else None)
+    holes = set(args.holes.split(",")) if args.holes else None
+    # only the listed holes' meshes are loaded (a holdout set's scans take minutes to make)
+    meshes = args.meshes.split(",") if args.meshes else \
+        sorted({h.rsplit("#", 1)[0] for h in holes}) if holes else None
+    run(which, args.out, args.samples, meshes, holes)
 
 
 if __name__ == "__main__":
