@@ -23,10 +23,6 @@ file (``holdout17``); ``--holes`` limits a run to listed holes (``mesh#k``):
     python benchmarks/smooth_selfcheck_study.py --manifest benchmarks/holdout17_manifest.json \
         --holes penguin#3,penguin#4 --out /tmp/st/holdout17.jsonl
     python benchmarks/smooth_selfcheck_study.py --replay /tmp/st/*.jsonl --screen-kept
-
-:func:`library_rule` replays session 42's library (a kept λ-H fill of a hole of >= 50 edges
-that the siblings find significantly farther than fair3 is not kept); rows recorded before it
-replay as differing on the holes it changes (:func:`library_rule_s41` is the library before).
 """
 
 from __future__ import annotations
@@ -51,7 +47,6 @@ import validation_meshes as vm  # noqa: E402
 from surfinpaint.fill.conformal import method  # noqa: E402
 from surfinpaint.fill.conformal.method import known_plane  # noqa: E402
 from surfinpaint.fill.conformal.selection import (  # noqa: E402
-    FAIR3_VETO_EDGES,
     choose,
     demoted,
     sibling_test_plan,
@@ -192,21 +187,7 @@ def _adv(ev: dict, ref: str, test: str, name: str) -> tuple[float, float]:
 
 
 def library_rule(ev: dict) -> str:
-    """The library's choice, replayed from the row's evidence: :func:`library_rule_s41` and
-    session 42's veto (a kept λ-H fill of a hole of at least ``FAIR3_VETO_EDGES`` boundary
-    edges that the sibling holes find farther than fair3 by more than 2.326 standard errors
-    is not kept: the faired fill the library chooses without it, :func:`_faired`)."""
-    pick = library_rule_s41(ev)
-    if pick == "conformal" and ev["n_edges"] >= FAIR3_VETO_EDGES:
-        a, se = _adv(ev, "fair3", "sibling", "conformal")
-        if -a > 2.326 * se:
-            return _faired(ev)
-    return pick
-
-
-def library_rule_s41(ev: dict) -> str:
-    """The library's choice before session 42, replayed from the row's evidence (sibling test
-    as planned)."""
+    """The library's choice, replayed from the row's evidence (sibling test as planned)."""
     hidden = ev["hidden"]
     run_sib, with_lh = sibling_test_plan(hidden, shallower=ev["shallower"])
     sibling = {} if not run_sib else (ev["sibling"] if with_lh else
@@ -371,8 +352,7 @@ def rule_a_and_b(ev: dict) -> str:
     return rule_demoted_to_fair3(ev) if pick == library_rule(ev) else pick
 
 
-RULES = {"library (session 42: the fair3 veto on holes of >= 50 edges)": library_rule,
-         "library before session 42 (main d6188f7)": library_rule_s41,
+RULES = {"library (main 54b1d7a)": library_rule,
          "(a) λ-H must beat fair3 on the hidden rings": rule_lh_beats_fair3,
          "(a') fair3 where it beats a kept λ-H fill by 2.326 se": rule_lh_beats_fair3_significant,
          "(b) fair3 where the λ-H fill beat fair2 but was not kept": rule_demoted_to_fair3,

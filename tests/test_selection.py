@@ -11,13 +11,7 @@ import numpy as np
 import pytest
 
 from surfinpaint.fill.conformal import Verdict, choose, sibling_test_plan
-from surfinpaint.fill.conformal.selection import (
-    DECISIVE,
-    FAIR3_VETO_EDGES,
-    hidden_rings_shallower,
-    loses_to_fair3,
-    without_lambda_h,
-)
+from surfinpaint.fill.conformal.selection import DECISIVE, hidden_rings_shallower
 
 INF = np.inf
 
@@ -226,52 +220,3 @@ def test_shallower_rings_skip_siblings_that_could_only_rank_the_faired_fills():
     assert sibling_test_plan(hidden) == (True, False)
     assert sibling_test_plan(hidden, shallower=True) == (False, False)
     assert sibling_test_plan(s(1, 1.2, 0.8), shallower=True) == (True, True)
-
-
-# session 42: a kept λ-H fill of a large hole that the sibling holes find significantly
-# farther than fair3 is not kept. (keep, boundary edges, the sibling test's advantage of the
-# λ-H fill over fair3 (advantage, standard error) or None: no record, vetoed)
-FAIR3_VETO_CASES = {
-    "large hole, fair3 closer by 3 se": (True, 60, (-0.3, 0.1), True),
-    "at the edge count": (True, FAIR3_VETO_EDGES, (-0.3, 0.1), True),
-    "one edge short": (True, FAIR3_VETO_EDGES - 1, (-0.3, 0.1), False),
-    "fair3 closer by 2 se only": (True, 60, (-0.2, 0.1), False),
-    "λ-H closer than fair3": (True, 60, (0.3, 0.1), False),
-    "no sibling record": (True, 60, None, False),
-    "λ-H failed on a sibling (no advantage)": (True, 60, (np.nan, np.nan), False),
-    "not kept": (False, 60, (-0.3, 0.1), False),
-}
-
-
-@pytest.mark.parametrize("case", list(FAIR3_VETO_CASES))
-def test_loses_to_fair3(case):
-    keep, edges, advantage, vetoed = FAIR3_VETO_CASES[case]
-    verdict = Verdict(keep=keep, make=keep, faired="fair2", reference="fair2")
-    over_fair3 = {} if advantage is None else {"conformal": advantage, "fair2": (0.1, 0.1)}
-    assert loses_to_fair3(verdict, over_fair3, 2.326, n_edges=edges) is vetoed
-
-
-# (hidden-ring scores, sibling scores, advantages over fair2, shallower, faired fill written)
-HIDDEN_F3 = s(1, 0.5, 0.3)  # the λ-H fill first, then fair3
-WITHOUT_LH_CASES = {
-    "fair3 first on both tests, significantly": (
-        HIDDEN_F3, s(1, 0.8, 0.9), {"hidden": {"fair3": (0.5, 0.1), "conformal": (0.7, 0.1)}},
-        False, "fair3"),
-    "fair3 first, not significantly: fair2": (
-        HIDDEN_F3, s(1, 0.8, 0.9), {"hidden": {"fair3": (0.1, 0.1)}}, False, "fair2"),
-    "fair3 first on the hidden rings, loses the siblings: fair2": (
-        HIDDEN_F3, s(1, 1.3, 0.9), {"hidden": {"fair3": (0.5, 0.1)}}, False, "fair2"),
-    "fair2 first on the hidden rings: the siblings are not asked": (
-        s(1, 1.2, 0.3), s(1, 0.5, 0.9), {"hidden": {"fair3": (-0.2, 0.1)},
-                                         "sibling": {"fair3": (0.5, 0.01)}}, False, "fair2"),
-    "shallower rings: the reference": (
-        HIDDEN_F3, s(1, 0.8, 0.9), {"hidden": {"fair3": (0.5, 0.1)}}, True, "fair2"),
-}
-
-
-@pytest.mark.parametrize("case", list(WITHOUT_LH_CASES))
-def test_without_lambda_h(case):
-    hidden, sibling, advantages, shallower, faired = WITHOUT_LH_CASES[case]
-    v = without_lambda_h(hidden, sibling, advantages, 2.326, shallower=shallower)
-    assert (v.keep, v.faired) == (False, faired)
-    assert "conformal" not in v.hidden and "conformal" not in v.sibling

@@ -228,16 +228,3 @@ def test_a_manifest_instead_of_a_set(monkeypatch, tmp_path):
     which, out, samples, meshes, holes = calls[0]
     assert which == "holdout17" and study.SETS["holdout17"] == manifest
     assert holes == {"penguin#3", "mouse#6"} and meshes == ["mouse", "penguin"]
-
-
-def test_the_library_rule_replays_the_fair3_veto():
-    """Session 42: a kept λ-H fill of a hole of >= 50 edges that the siblings find farther
-    than fair3 by more than 2.326 standard errors is replayed as not kept (the faired fill
-    the library chooses without it: fair3, first and significant on the hidden rings)."""
-    lost = dict(DECISIVE, n_edges=60, adv3={"hidden": {"conformal": (-0.1, 0.01)},
-                                            "sibling": {"conformal": (-0.3, 0.1)}})
-    assert study.library_rule_s41(lost) == "conformal"
-    assert study.library_rule(lost) == "fair3"
-    assert study.library_rule(dict(lost, n_edges=49)) == "conformal"
-    weak = dict(lost, adv3={"sibling": {"conformal": (-0.2, 0.1)}})  # 2 se
-    assert study.library_rule(weak) == "conformal"

@@ -25,14 +25,11 @@ from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.conformal.checks import blended_fill
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
 from surfinpaint.fill.conformal.selection import (
-    FAIR3_VETO_EDGES,
     Verdict,
     choose,
     demoted,
     hidden_rings_shallower,
-    loses_to_fair3,
     sibling_test_plan,
-    without_lambda_h,
 )
 from surfinpaint.fill.creases import CREASE_ANGLE, sharp_edge_rows
 from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane, laid_on_two_planes
@@ -208,41 +205,7 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     if weigh:
         verdict = demoted(verdict, advantages_over(hidden_detail, sibling_detail, reference),
                           o.significance, crossed=candidates.crossed)
-        if verdict.keep and choose_faired and len(loop) >= FAIR3_VETO_EDGES:
-            verdict = _against_fair3(verdict, vertices, faces, loop, candidates, graph,
-                                     hidden_detail, sibling if run else None, sibling_detail,
-                                     shallower=shallower)
     return verdict
-
-
-def _against_fair3(verdict: Verdict, vertices, faces, loop, candidates: Candidates, graph,
-                   hidden_detail: dict, sibling: dict | None, sibling_detail: list, *,
-                   shallower: bool) -> Verdict:
-    """A kept λ-H fill of a large hole weighed against fair3 on the sibling holes
-    (:func:`~surfinpaint.fill.conformal.selection.loses_to_fair3`; the sibling test is run
-    here where its decisive hidden-ring win skipped it): the verdict unchanged, or the faired
-    fill the same tests choose without it
-    (:func:`~surfinpaint.fill.conformal.selection.without_lambda_h`)."""
-    o = candidates.options
-    if sibling is None:
-        sibling_detail = []
-        sibling = sibling_scores(vertices, faces, loop, _lambda_h_until_it_fails(candidates),
-                                 siblings=o.siblings, gap_rings=o.gap_rings,
-                                 patch_rings=o.rings_in_patch, graph=graph,
-                                 detail=sibling_detail)
-    over_fair3 = advantages_over(hidden_detail, sibling_detail, "fair3").get("sibling", {})
-    if not loses_to_fair3(verdict, over_fair3, o.significance, n_edges=len(loop)):
-        return verdict
-    faired = without_lambda_h(verdict.hidden, sibling,
-                              advantages_over(hidden_detail, sibling_detail, verdict.reference),
-                              o.significance, reference=verdict.reference,
-                              crossed=candidates.crossed, shallower=shallower)
-    adv, se = over_fair3["conformal"]
-    return replace(faired, hidden=verdict.hidden, sibling=dict(sibling),
-                   lost=tuple(dict.fromkeys((*verdict.lost, "sibling holes"))),
-                   scores=f"{verdict.scores}; sibling holes: λ-H farther than trilaplacian by "
-                   f"{-adv / se:.1f} standard errors on a hole of {len(loop)} edges, the λ-H "
-                   "fill not kept")
 
 
 def _lambda_h_until_it_fails(candidates: Candidates, with_lambda_h: bool = True):

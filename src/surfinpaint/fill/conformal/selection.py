@@ -18,16 +18,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-__all__ = ["DECISIVE", "FAIR3_VETO_EDGES", "Verdict", "choose", "demoted",
-           "hidden_rings_shallower", "loses_to_fair3", "sibling_test_plan", "without_lambda_h"]
+__all__ = ["DECISIVE", "Verdict", "choose", "demoted", "hidden_rings_shallower",
+           "sibling_test_plan"]
 
 # a λ-H fill this many times closer than the faired fill on the hidden rings is kept
 # without the sibling test (on the benchmark the sibling test never overturned one)
 DECISIVE = 0.5
-
-# session 42 (docs/selfcheck.md): on a hole of at least this many boundary edges, a kept λ-H
-# fill that the sibling holes find significantly farther than fair3 is not kept
-FAIR3_VETO_EDGES = 50
 
 Scores = Mapping[str, float]
 
@@ -283,64 +279,3 @@ def demoted(verdict: Verdict, advantages: Mapping[str, Mapping[str, tuple[float,
     return replace(verdict, keep=keep, make=keep or failed_on_a_test, faired=faired,
                    scores=verdict.scores + f"; not significant at {z:g} standard errors, "
                    f"{'the λ-H fill' if verdict.keep and not keep else 'fair3'} not kept")
-
-
-def loses_to_fair3(verdict: Verdict, sibling_over_fair3: Mapping[str, tuple[float, float]],
-                   z: float, *, n_edges: int) -> bool:
-    """Whether a kept λ-H fill is not kept after all: on a hole of at least
-    ``FAIR3_VETO_EDGES`` boundary edges, the sibling holes find it farther than fair3 by more
-    than ``z`` standard errors.
-
-    Measured (docs/selfcheck.md, "Session 42 (helper)"): the λ-H fills kept by the
-    hidden-ring test that lose by 1.5x or more to a faired fill cluster on large holes, where
-    the hidden-ring test ranks the λ-H fill first with confidence and the sibling holes
-    (never run where its hidden-ring win is decisive) see fair3 closer.
-
-    Parameters
-    ----------
-    verdict : Verdict
-        :func:`demoted`'s (or :func:`choose`'s).
-    sibling_over_fair3 : dict
-        The sibling test's advantages over fair3 (:func:`surfinpaint.fill.selfcheck.
-        advantages_over` with ``reference="fair3"``, its ``"sibling"`` entry).
-    z : float
-        Standard errors.
-    n_edges : int
-        The hole's boundary edges.
-
-    Examples
-    --------
-    >>> kept = Verdict(keep=True, make=True, faired="fair2", reference="fair2")
-    >>> loses_to_fair3(kept, {"conformal": (-0.3, 0.1)}, 2.326, n_edges=60)
-    True
-    >>> loses_to_fair3(kept, {"conformal": (-0.3, 0.1)}, 2.326, n_edges=40)  # small hole
-    False
-    >>> loses_to_fair3(kept, {"conformal": (-0.2, 0.1)}, 2.326, n_edges=60)  # 2 se
-    False
-    """
-    if not verdict.keep or n_edges < FAIR3_VETO_EDGES:
-        return False
-    adv, se = sibling_over_fair3.get("conformal", (np.nan, np.inf))
-    return bool(-adv > z * se)
-
-
-def without_lambda_h(hidden: Scores, sibling: Scores,
-                     advantages: Mapping[str, Mapping[str, tuple[float, float]]], z: float, *,
-                     reference: str = "fair2", crossed: bool = False,
-                     shallower: bool = False) -> Verdict:
-    """The verdict the self-check gives where the λ-H fill is not a candidate: the faired
-    fill chosen by the same tests (:func:`sibling_test_plan`, :func:`choose`,
-    :func:`demoted`) from the scores and ``advantages`` over ``reference`` of the faired
-    fills (the λ-H fill's are dropped; the sibling test's only where the plan runs it)."""
-
-    def faired_only(scores):
-        return {k: v for k, v in scores.items() if k != "conformal"}
-
-    hidden = faired_only(hidden)
-    run, _ = sibling_test_plan(hidden, reference=reference, shallower=shallower)
-    sibling = faired_only(sibling) if run else {}
-    verdict = choose(hidden, sibling, reference=reference, crossed=crossed,
-                     shallower=shallower)
-    kept = {test: faired_only(a) for test, a in advantages.items()
-            if test == "hidden" or run}
-    return demoted(verdict, kept, z, crossed=crossed)
