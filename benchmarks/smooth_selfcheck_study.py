@@ -15,6 +15,14 @@ replayed from a row without any fill (:func:`library_rule` reproduces the librar
 
     python benchmarks/smooth_selfcheck_study.py --set smooth_tuning --out /tmp/st/smooth.jsonl
     python benchmarks/smooth_selfcheck_study.py --replay /tmp/st/*.jsonl
+
+Session 42: ``--manifest`` takes any holes manifest instead of ``--set`` (the spent holdout
+sets, as tuning-side study data for the λ-H fills that lose), its rows' set named after the
+file (``holdout17``); ``--holes`` limits a run to listed holes (``mesh#k``):
+
+    python benchmarks/smooth_selfcheck_study.py --manifest benchmarks/holdout17_manifest.json \
+        --holes penguin#3,penguin#4 --out /tmp/st/holdout17.jsonl
+    python benchmarks/smooth_selfcheck_study.py --replay /tmp/st/*.jsonl --screen-kept
 """
 
 from __future__ import annotations
@@ -130,12 +138,15 @@ def holes_of(which: str, meshes=None):
             yield entry["mesh"], entry["kind"], k, hole, validation._cut(mesh, hole)
 
 
-def run(which: str, out: Path, samples: int, meshes: list[str] | None = None) -> None:
+def run(which: str, out: Path, samples: int, meshes: list[str] | None = None,
+        holes: set[str] | None = None) -> None:
+    """Every hole of the set ``which`` (of ``meshes``, of ``holes`` as ``mesh#k``, when given)
+    not yet in ``out``: the five methods' errors and the self-check's evidence, a row each."""
     done = {(r["mesh"], r["hole"]) for r in read(out)} if out.exists() else set()
     records: list = []
     method.self_check = recording(records)
     for mesh_id, kind, k, hole, cut in holes_of(which, meshes):
-        if (mesh_id, k) in done:
+        if (mesh_id, k) in done or (holes is not None and f"{mesh_id}#{k}" not in holes):
             continue
         t0 = time.perf_counter()
         row = {"set": which, "mesh": mesh_id, "kind": kind, "hole": k,
@@ -408,9 +419,9 @@ def measures(rows: list[dict], rule) -> dict:
 
 
 def table(rows: list[dict]) -> str:
+    # every set of the rows, in their order (session 42: holdout sets too)
     groups = [("union", rows)] + [(s, [r for r in rows if r["set"] == s])
-                                  for s in ("tuning", "cad_tuning", "animals", "smooth_tuning",
-                                            "curved_scans", "thin_shells")]
+                                  for s in dict.fromkeys(r["set"] for r in rows)]
     lines = ["| rule | set | holes | median / CGAL | worst mesh / fair2 | holes > 1.5× | "
              "best pick | mean log regret |", "|---|---|---|---|---|---|---|---|"]
     for name, rule in RULES.items():
@@ -556,9 +567,76 @@ def screen(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+# session 42: where the library keeps the λ-H fill, which truth-free number tells the holes
+# where it is 1.5x farther than the faired fill a veto would write from those where it is
+# 1.5x closer
+
+
+def kept_signals(row: dict) -> dict[str, float]:
+    """A kept λ-H fill's truth-free signals from its row's evidence (nan where a test did not
+    score it): its advantage in standard errors over fair2 and over fair3 on each test, its
+    score over the better faired fill's on each test, the two tests' disagreement (the log of
+    the hidden-ring ratio over the siblings' ratio), whether it failed on the hidden-ring hole,
+    the hole's boundary edges, the plane test's curvature p-value (log10), its noise σ per
+    loop edge, and the two faired fills' rms distance per edge."""
+    ev = row["evidence"]
+
+    def t(ref: str, test: str) -> float:
+        a, se = _adv(ev, ref, test, "conformal")
+        return a / se if np.isfinite(a) and se > 0 else np.nan
+
+    def over_faired(scores: dict) -> float:
+        faired = min(scores.get("fair2", np.nan), scores.get("fair3", np.nan))
+        lh = scores.get("conformal", np.nan)
+        return lh / faired if faired > 0 and np.isfinite(lh) else np.nan
+
+    hidden, sibling = over_faired(ev["hidden"]), over_faired(ev["sibling"])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {"t hidden λ-H over fair2": t("fair2", "hidden"),
+                "t hidden λ-H over fair3": t("fair3", "hidden"),
+                "t siblings λ-H over fair2": t("fair2", "sibling"),
+                "t siblings λ-H over fair3": t("fair3", "sibling"),
+                "hidden λ-H / better faired": hidden, "siblings λ-H / better faired": sibling,
+                "log hidden / siblings ratio": float(np.log(hidden / sibling)),
+                "failed on the hidden rings": float(_failed_hidden(ev)),
+                "boundary edges": float(ev["n_edges"]),
+                "log10 p curvature": float(np.log10(max(ev.get("p_curvature", np.nan),
+                                                        1e-300))),
+                "sigma / edge": ev["sigma"] / ev["edge"],
+                "fair2-fair3 rms / edge": ev.get("fair23_rms", np.nan) / ev["edge"]}
+
+
+def screen_kept(rows: list[dict]) -> str:
+    """Each :func:`kept_signals` signal's best one-sided threshold (:func:`best_threshold`)
+    over the holes where the library keeps the λ-H fill: vetoing it writes the faired fill
+    the library would choose without it (:func:`_faired`), catching holes where the λ-H fill
+    is 1.5x farther than that fill ("losses caught") less those where it is 1.5x closer
+    ("wins lost")."""
+    kept = [r for r in rows if r["evidence"] is not None
+            and library_rule(r["evidence"]) == "conformal"]
+    ratio = np.array([outcome(r, "conformal") / outcome(r, _faired(r["evidence"]))
+                      for r in kept])
+    table = [kept_signals(r) for r in kept]
+    lines = [f"{len(kept)} holes where the λ-H fill is kept: 1.5x farther than the faired "
+             f"fill a veto writes on {int((ratio >= 1.5).sum())}, 1.5x closer on "
+             f"{int((ratio <= 1 / 1.5).sum())}", "",
+             "| signal | threshold (veto side) | vetoed | losses caught | wins lost |",
+             "|---|---|---|---|---|"]
+    for name in table[0] if table else []:
+        best = best_threshold(np.array([s[name] for s in table], float), ratio)
+        lines.append(f"| {name} | — | 0 | 0 | 0 |" if best is None else
+                     f"| {name} | {best['side']} {best['threshold']:.3g} | "
+                     f"{best['switched']} | {best['caught']} | {best['broken']} |")
+    return "\n".join(lines)
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--set", choices=(*SETS, "animals"))
+    parser.add_argument("--manifest", type=Path, default=None,
+                        help="a holes manifest instead of --set (its rows' set: the file's "
+                        "name before _manifest)")
+    parser.add_argument("--holes", default=None, help="comma-separated holes, mesh#k")
     parser.add_argument("--out", type=Path)
     parser.add_argument("--samples", type=int, default=10000)
     parser.add_argument("--meshes", default=None, help="comma-separated mesh ids of the set")
@@ -567,6 +645,9 @@ def main(argv=None) -> None:
     parser.add_argument("--misses", action="store_true")
     parser.add_argument("--screen", action="store_true",
                         help="with --replay: each truth-free signal's best threshold (scans)")
+    parser.add_argument("--screen-kept", action="store_true",
+                        help="with --replay: each signal's best threshold for vetoing a kept "
+                        "λ-H fill")
     args = parser.parse_args(argv)
     if args.replay:
         rows = read(*args.replay)
@@ -579,12 +660,22 @@ def main(argv=None) -> None:
             print("\n" + misses(rows))
         if args.screen:
             print("\n" + screen(rows))
+        if args.screen_kept:
+            print("\n" + screen_kept(rows))
         if args.changes:
             for name, rule in list(RULES.items())[1:]:
                 print(f"\n{name}:")
                 print("\n".join(changed(rows, rule)) or "(none)")
         return
-    run(args.set, args.out, args.samples, args.meshes.split(",") if args.meshes else None)
+    which = args.set
+    if args.manifest is not None:
+        which = args.manifest.name.removesuffix(".json").removesuffix("_manifest")
+        SETS[which] = args.manifest
+    holes = set(args.holes.split(",")) if args.holes else None
+    # only the listed holes' meshes are loaded (a holdout set's scans take minutes to make)
+    meshes = args.meshes.split(",") if args.meshes else \
+        sorted({h.rsplit("#", 1)[0] for h in holes}) if holes else None
+    run(which, args.out, args.samples, meshes, holes)
 
 
 if __name__ == "__main__":

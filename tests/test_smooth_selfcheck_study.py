@@ -176,3 +176,55 @@ def test_screen_reads_only_scan_holes_where_fair2_is_written():
     assert text.startswith("2 scan holes where fair2 is written: fair3 1.5x closer on 1, "
                            "fair2 1.5x closer on 1")
     assert "| radius / sigma |" in text
+
+
+def test_kept_signals_of_a_row():
+    """Session 42's signals of a kept λ-H fill, read from its row's evidence (nan where a test
+    did not score it)."""
+    ev = evidence({"fair2": 1.0, "fair3": 0.5, "conformal": 0.25},
+                  {"fair2": 1.0, "fair3": 2.0, "conformal": 1.0},
+                  adv2={"hidden": {"conformal": (0.75, 0.25)}},
+                  adv3={"hidden": {"conformal": (0.25, 0.125)},
+                        "sibling": {"conformal": (-1.0, 0.5)}},
+                  n_edges=52, sigma=0.2, edge=0.5, p_curvature=1e-3, fair23_rms=0.1)
+    s = study.kept_signals({"evidence": ev})
+    assert s["t hidden λ-H over fair2"] == pytest.approx(3.0)
+    assert s["t hidden λ-H over fair3"] == pytest.approx(2.0)
+    assert np.isnan(s["t siblings λ-H over fair2"])
+    assert s["t siblings λ-H over fair3"] == pytest.approx(-2.0)
+    assert s["hidden λ-H / better faired"] == pytest.approx(0.5)
+    assert s["siblings λ-H / better faired"] == pytest.approx(1.0)
+    assert s["log hidden / siblings ratio"] == pytest.approx(np.log(0.5))
+    assert s["failed on the hidden rings"] == 0.0
+    assert s["boundary edges"] == 52.0 and s["log10 p curvature"] == pytest.approx(-3.0)
+    assert s["sigma / edge"] == pytest.approx(0.4)
+    assert s["fair2-fair3 rms / edge"] == pytest.approx(0.2)
+    failed = study.kept_signals({"evidence": evidence({"fair2": 1.0, "conformal": np.inf})})
+    assert failed["failed on the hidden rings"] == 1.0
+    assert np.isnan(failed["hidden λ-H / better faired"])
+
+
+def test_screen_kept_reads_only_kept_lambda_h_fills():
+    # DECISIVE keeps the λ-H fill; a veto writes fair2 (the library's faired fill without it)
+    lost = row(dict(ERRORS, fair=1.0, conformal=2.0, conformal_raw=2.0), dict(DECISIVE,
+                                                                             n_edges=60))
+    won = row(dict(ERRORS, fair=2.0, conformal=0.5), dict(DECISIVE, n_edges=20))
+    not_kept = row(dict(ERRORS, fair=1.0, conformal=1.0), dict(FAIR2, n_edges=70))
+    text = study.screen_kept([lost, won, not_kept])
+    assert text.startswith("2 holes where the λ-H fill is kept: 1.5x farther than the faired "
+                           "fill a veto writes on 1, 1.5x closer on 1")
+    assert "| boundary edges | >= 60 | 1 | 1 | 0 |" in text
+
+
+def test_a_manifest_instead_of_a_set(monkeypatch, tmp_path):
+    """``--manifest`` runs a holes manifest's holes as a set named after the file, and
+    ``--holes`` limits the run to the listed holes."""
+    calls = []
+    monkeypatch.setattr(study, "run", lambda *a: calls.append(a))
+    monkeypatch.setattr(study, "SETS", dict(study.SETS))
+    manifest = tmp_path / "holdout17_manifest.json"
+    study.main(["--manifest", str(manifest), "--holes", "penguin#3,mouse#6",
+                "--out", str(tmp_path / "o.jsonl")])
+    which, out, samples, meshes, holes = calls[0]
+    assert which == "holdout17" and study.SETS["holdout17"] == manifest
+    assert holes == {"penguin#3", "mouse#6"} and meshes == ["mouse", "penguin"]
