@@ -274,6 +274,23 @@ def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajec
         assert system.steps == given_up_after
 
 
+def _given_up(monkeypatch, trajectory, given_up_after, why):
+    """Run a scripted Newton stage: it converges (``given_up_after`` None), or is given up
+    after that many steps with ``why`` in its message. Returns the system and the solve's
+    arguments, for the checks that follow."""
+    system = _scripted(monkeypatch, trajectory)
+    points, steps = np.zeros((4, 3)), mesh_inpainting.NEWTON_STEPS
+    if given_up_after is None:
+        mesh_inpainting.newton_solve(system, points, 1e-3, steps)
+        assert system.steps == len(trajectory) - 1
+    else:
+        after = how_many(given_up_after, "step", "steps")
+        with pytest.raises(FillError, match=f"after {after}, {why}"):
+            mesh_inpainting.newton_solve(system, points, 1e-3, steps)
+        assert system.steps == given_up_after
+    return system, points, steps
+
+
 @pytest.mark.parametrize("name, trajectory, given_up_after", [
     # stages that converged on the tuning side (docs/convergence.md, session 34 (helper 2))
     # keep going: an animal's slow descent (the least fall in 3 steps above 5 edge lengths,
@@ -303,16 +320,8 @@ def test_a_newton_stage_is_given_up_above_its_envelope(monkeypatch, name, trajec
 ])
 def test_a_newton_stage_is_given_up_where_it_stalls(monkeypatch, name, trajectory,
                                                     given_up_after):
-    system = _scripted(monkeypatch, trajectory)
-    points, steps = np.zeros((4, 3)), mesh_inpainting.NEWTON_STEPS
-    if given_up_after is None:
-        mesh_inpainting.newton_solve(system, points, 1e-3, steps)
-        assert system.steps == len(trajectory) - 1
-    else:
-        after = how_many(given_up_after, "step", "steps")
-        with pytest.raises(FillError, match=f"after {after}, stalled"):
-            mesh_inpainting.newton_solve(system, points, 1e-3, steps)
-        assert system.steps == given_up_after
+    system, points, steps = _given_up(monkeypatch, trajectory, given_up_after, "stalled")
+    if given_up_after is not None:
         # the continuation's solves have their own envelope and no stall test
         system.steps = 0
         with pytest.raises(FillError, match="more than a converging stage has"):
@@ -345,16 +354,9 @@ def test_a_newton_stage_is_given_up_where_it_stalls(monkeypatch, name, trajector
 ])
 def test_a_newton_stage_is_given_up_where_it_creeps_flat(monkeypatch, name, trajectory,
                                                          given_up_after):
-    system = _scripted(monkeypatch, trajectory)
-    points, steps = np.zeros((4, 3)), mesh_inpainting.NEWTON_STEPS
+    system, points, steps = _given_up(monkeypatch, trajectory, given_up_after, "flat")
     if given_up_after is None:
-        mesh_inpainting.newton_solve(system, points, 1e-3, steps)
-        assert system.steps == len(trajectory) - 1
         return
-    after = how_many(given_up_after, "step", "steps")
-    with pytest.raises(FillError, match=f"after {after}, flat"):
-        mesh_inpainting.newton_solve(system, points, 1e-3, steps)
-    assert system.steps == given_up_after
     # without the test it runs on (to its last step, or to where no step lowers it)
     monkeypatch.setattr(mesh_inpainting, "NEWTON_FLAT_STEPS", 10**6)
     system.steps = 0
