@@ -371,10 +371,10 @@ def score(cut: CutResult, method: str, case: str, hole: int, radius_h: float,
         row.note = (row.note + "; " if row.note else "") + "hole not closed or non-manifold"
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=n_samples)
     scale = 100.0 / cut.diameter
-    row.mean_pct = d["mean"] * scale
-    row.hausdorff_pct = d["hausdorff"] * scale
-    row.mean_ab_pct = d["mean_ab"] * scale
-    row.mean_ba_pct = d["mean_ba"] * scale
+    row.mean_pct = d.mean * scale
+    row.hausdorff_pct = d.hausdorff * scale
+    row.mean_ab_pct = d.mean_ab * scale
+    row.mean_ba_pct = d.mean_ba * scale
     return row
 
 

@@ -42,9 +42,9 @@ from surfinpaint.fill.attributes import (
     hole_domain,
     inpaint_values,
 )
+from surfinpaint.geometry.closest_point import closest_point_on_triangles
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length, vertex_normals
-from surfinpaint.geometry.metrics import closest_point_on_triangles
 
 MAPS = ("curv", "sulc", "thick")
 RULES = ("biharmonic", "biharmonic-3d", "harmonic", "nearest")

@@ -87,7 +87,7 @@ def main() -> None:
             pv, pf = patch_mesh(cut.vertices, nv, nf)
             d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces,
                                  n_samples=args.samples)
-            res[method] = (100 * d["mean"] / diam, 100 * d["hausdorff"] / diam, dt, len(nf))
+            res[method] = (100 * d.mean / diam, 100 * d.hausdorff / diam, dt, len(nf))
         rows.append((name, len(cut.loop), res))
 
     print("| hole | loop edges | ours mean % | CGAL mean % | ours/CGAL | ours Hausdorff % "

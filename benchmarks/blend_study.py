@@ -60,7 +60,7 @@ def hole_row(cut, samples: int) -> dict:
     def error(new_vertices, faces):
         pv, pf = hole_patch_of(np.vstack([cut.vertices, new_vertices]), faces, n, cut.faces)
         d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=samples)
-        return 100.0 * d["mean"] / cut.diameter
+        return 100.0 * d.mean / cut.diameter
 
     row = {name: error(v, f) for name, (v, f, _) in made.items()}
     row["raw_fallback"] = made["raw"][2]

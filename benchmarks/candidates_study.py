@@ -84,7 +84,7 @@ def truth_errors(cut, fills, samples: int) -> dict[str, float]:
         f = np.concatenate([cut.faces, c.faces])
         pv, pf = hole_patch_of(v, f, len(cut.vertices), cut.faces)
         d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=samples)
-        out[name] = float(d["mean"] * 100.0 / cut.diameter)
+        out[name] = float(d.mean * 100.0 / cut.diameter)
     return out
 
 

@@ -78,7 +78,7 @@ def _error(cut, new_v, new_f) -> float:
     f = np.concatenate([cut.faces, new_f])
     pv, pf = hole_patch_of(v, f, len(cut.vertices), cut.faces)
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=10000)
-    return float(d["mean"] * 100.0 / cut.diameter)
+    return float(d.mean * 100.0 / cut.diameter)
 
 
 def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:

@@ -52,7 +52,7 @@ def _options(config: dict) -> ConformalOptions:
 def _error(cut, result) -> float:
     pv, pf = hole_patch_of(result.vertices, result.faces, len(cut.vertices), cut.faces)
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=4000)
-    return d["mean"] / cut.diameter
+    return d.mean / cut.diameter
 
 
 def main() -> None:

@@ -60,7 +60,7 @@ def error(cut, new_v, new_f) -> float:
     pv, pf = hole_patch_of(vertices, np.vstack([cut.faces, new_f]), len(cut.vertices),
                            cut.faces)
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=4000)
-    return 100.0 * d["mean"] / cut.diameter
+    return 100.0 * d.mean / cut.diameter
 
 
 def main() -> None:

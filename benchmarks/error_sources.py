@@ -61,7 +61,7 @@ COLUMNS = ("fair", "fair3", "conformal", "S0=truth", "clean data", "true λ,H",
 def _error(patch_v, patch_f, cut) -> float:
     d = surface_distance(patch_v, patch_f, cut.truth_vertices, cut.truth_faces,
                          n_samples=4000)
-    return 100.0 * d["mean"] / cut.diameter
+    return 100.0 * d.mean / cut.diameter
 
 
 def truth_as_fill(cut) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

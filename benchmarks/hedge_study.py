@@ -52,7 +52,7 @@ def blend_errors(vertices, faces, fills, truth_vertices, truth_faces, diameter, 
         moved = np.tensordot(np.asarray(w, float) / STEPS, new, axes=1)
         d = surface_distance(*selfcheck_table._patch(vertices, faces, moved, pf),
                              truth_vertices, truth_faces, n_samples=n_samples)
-        out[",".join(map(str, w))] = 100.0 * d["mean"] / diameter
+        out[",".join(map(str, w))] = 100.0 * d.mean / diameter
     return {"blends": out}
 
 

@@ -130,7 +130,7 @@ def _score(v, result, report, truth_faces, diameter, with_faces=None):
         pv = np.vstack([pv, v])
         pf = np.vstack([pf, with_faces + offset])
     d = surface_distance(pv, pf, v, truth_faces)
-    return 100.0 * d["mean"] / diameter
+    return 100.0 * d.mean / diameter
 
 
 def run_case(name: str) -> dict:

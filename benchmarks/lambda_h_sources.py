@@ -138,7 +138,7 @@ def error_pct(points: np.ndarray, fill_faces: np.ndarray, cut) -> float:
     ids, local = np.unique(fill_faces, return_inverse=True)
     d = surface_distance(points[ids], local.reshape(-1, 3), cut.truth_vertices,
                          cut.truth_faces, n_samples=SAMPLES)
-    return 100.0 * d["mean"] / cut.diameter
+    return 100.0 * d.mean / cut.diameter
 
 
 def projected(points: np.ndarray, cut) -> np.ndarray:

@@ -145,7 +145,7 @@ def _error(cut, new_vertices, patch, n_samples) -> float:
     f = np.vstack([cut.faces, patch])
     pv, pf = hole_patch_of(v, f, len(cut.vertices), cut.faces)
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=n_samples)
-    return float(d["mean"] * 100.0 / cut.diameter)
+    return float(d.mean * 100.0 / cut.diameter)
 
 
 def hole_row(cut, methods, n_samples: int) -> dict:

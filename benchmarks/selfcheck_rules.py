@@ -58,7 +58,7 @@ def hole_scores(cut) -> dict:
             continue
         d = surface_distance(np.vstack([cut.vertices, fill.vertices]), fill.faces,
                              cut.truth_vertices, cut.truth_faces, n_samples=4000)
-        true[name] = 100.0 * d["mean"] / cut.diameter
+        true[name] = 100.0 * d.mean / cut.diameter
     tests = candidates.for_tests()
     rings = candidates.options.rings_in_patch
     return {"true": true, "crossed": candidates.crossed,

@@ -63,7 +63,7 @@ def _patch(vertices, faces, new_vertices, new_faces):
 def _true_error(vertices, faces, fill, truth_vertices, truth_faces, diameter, n_samples):
     d = surface_distance(*_patch(vertices, faces, fill.vertices, fill.faces),
                          truth_vertices, truth_faces, n_samples=n_samples)
-    return 100.0 * d["mean"] / diameter
+    return 100.0 * d.mean / diameter
 
 
 def _between(vertices, faces, fills, diameter, n_samples) -> dict:
@@ -73,7 +73,7 @@ def _between(vertices, faces, fills, diameter, n_samples) -> dict:
             if not isinstance(f, Exception)}
     names = sorted(made)
     return {f"{a}|{b}": 100.0 * surface_distance(*made[a], *made[b],
-                                                 n_samples=n_samples)["mean"] / diameter
+                                                 n_samples=n_samples).mean / diameter
             for i, a in enumerate(names) for b in names[i + 1:]}
 
 

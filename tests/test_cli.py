@@ -775,7 +775,7 @@ def test_represent_and_rebuild_round_trip(tmp_path, capsys):
                  f"{grid.check.floor_mean:.3g}") in err
     v3, _ = read_mesh(out)
     assert np.abs(v3 - v).max() > 0  # rebuilt from the grid, not copied
-    assert surface_distance(v3, f, v, f, n_samples=4000)["mean"] < 1e-3 * diag
+    assert surface_distance(v3, f, v, f, n_samples=4000).mean < 1e-3 * diag
     # the options reach represent()
     assert main(["represent", str(mesh), "-o", str(rep_path), "--discretization", "grid",
                  "--resolution", "32", "--sampling", "pl", "--subdivide", "0", "--map",

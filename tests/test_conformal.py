@@ -28,7 +28,7 @@ GRID_RAW = ConformalOptions(select=False, discretization="grid")
 def error(cut, result):
     pv, pf = hole_patch_of(result.vertices, result.faces, len(cut.vertices), cut.faces)
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=4000)
-    return d["mean"] / cut.diameter
+    return d.mean / cut.diameter
 
 
 @pytest.fixture(scope="module")
@@ -299,7 +299,7 @@ def _patch_error(cut, new_v, new_f):
     pv, pf = hole_patch_of(vertices, np.vstack([cut.faces, new_f]), len(cut.vertices),
                            cut.faces)
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=4000)
-    return d["mean"] / cut.diameter
+    return d.mean / cut.diameter
 
 
 def test_too_few_known_rings_for_gauss_codazzi_retries_the_laplacian_form(sphere_hole,

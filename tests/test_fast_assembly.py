@@ -7,8 +7,9 @@ import scipy.sparse as sp
 import trimesh
 
 from surfinpaint.geometry import mesh
+from surfinpaint.geometry.closest_point import closest_point_on_triangles
 from surfinpaint.geometry.linalg import laplacian_from_weights
-from surfinpaint.geometry.metrics import _TriangleIndex, closest_point_on_triangles
+from surfinpaint.geometry.metrics import _TriangleIndex
 
 
 def scipy_chain(i, j, w, n):

@@ -30,7 +30,7 @@ def stereographic_patch(n: int, radius: float = 2.0):
 def relative_distance(v2, f2, v, f):
     d = surface_distance(v2, f2, v, f, n_samples=10000)
     diag = float(np.linalg.norm(np.ptp(v, axis=0)))
-    return d["mean"] / diag, d["hausdorff"] / diag
+    return d.mean / diag, d.hausdorff / diag
 
 
 # ------------------------------------------------------------------------ analytic λ and H

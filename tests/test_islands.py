@@ -160,7 +160,7 @@ def test_the_sphere_case_closes_into_one_piece_near_the_truth():
     # the removed annulus: 0.042 % of the hole diameter measured (order 3; the disk fill
     # through the island, islands="ignore", 0.27 %)
     pv, pf = hole_patch_of(result.vertices, result.faces, len(v), f)
-    distance = surface_distance(pv, pf, v, ring)["mean"]
+    distance = surface_distance(pv, pf, v, ring).mean
     assert 100 * distance / report.diameter < 0.08
 
 

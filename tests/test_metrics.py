@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
+import surfinpaint
 from surfinpaint import data
 from surfinpaint.geometry import metrics
+from surfinpaint.geometry.closest_point import closest_point_on_triangles
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.geometry.metrics import (
-    closest_point_on_triangles,
+    SurfaceDistance,
     hole_patch_of,
     point_mesh_distance,
     point_mesh_distances,
@@ -152,7 +156,34 @@ def test_triangles_with_a_zero_length_edge_give_the_segment_distance():
 def test_distance_of_a_mesh_to_itself_is_zero():
     v, f = data.torus(n_major=32, n_minor=12)
     d = surface_distance(v, f, v, f, n_samples=3000)
-    assert d["mean"] < 1e-14 and d["hausdorff"] < 1e-14
+    assert d.mean < 1e-14 and d.hausdorff < 1e-14
+
+
+def test_surface_distance_is_a_typed_result_with_the_numbers_of_the_dict_it_replaced():
+    # the docstring's case, sphere against 1.1 x sphere, computed as the former dict was,
+    # from the public pieces: every field must be the same float to the bit
+    v, f = data.sphere(3)
+    w = 1.1 * v
+    d = surface_distance(v, f, w, f, n_samples=3000, seed=5)
+    former, squares = {}, []
+    for side, (va, vb) in {"ab": (v, w), "ba": (w, v)}.items():
+        samples = point_mesh_distance(sample_surface(va, f, 3000, 5), vb, f)
+        corners = point_mesh_distance(va[np.unique(f)], vb, f)
+        former[f"mean_{side}"] = float(samples.mean())
+        former[f"max_{side}"] = float(max(samples.max(), corners.max()))
+        squares.append(samples**2)
+    former["mean"] = 0.5 * (former["mean_ab"] + former["mean_ba"])
+    former["hausdorff"] = max(former["max_ab"], former["max_ba"])
+    former["rms"] = float(np.sqrt(np.concatenate(squares).mean()))
+    assert isinstance(d, SurfaceDistance) and surfinpaint.SurfaceDistance is SurfaceDistance
+    assert dataclasses.asdict(d) == former
+    assert all(type(value) is float for value in dataclasses.asdict(d).values())
+    # the two sides differ here, so a swap of A and B would show
+    assert d.mean_ab != d.mean_ba and d.max_ab != d.max_ba
+    assert d.mean == (d.mean_ab + d.mean_ba) / 2
+    assert d.hausdorff == max(d.max_ab, d.max_ba)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        d.mean = 0.0
 
 
 def test_concentric_spheres():
@@ -161,8 +192,8 @@ def test_concentric_spheres():
     v, f = data.sphere(4)
     d = surface_distance(v, f, 1.2 * v, f, n_samples=5000)
     for key in ("mean", "mean_ab", "mean_ba", "hausdorff"):
-        assert d[key] == pytest.approx(0.2, rel=5e-3)
-    assert d["hausdorff"] <= 0.2 + 1e-12
+        assert getattr(d, key) == pytest.approx(0.2, rel=5e-3)
+    assert d.hausdorff <= 0.2 + 1e-12
 
 
 def test_rectangle_in_a_larger_rectangle_analytic():
@@ -171,11 +202,11 @@ def test_rectangle_in_a_larger_rectangle_analytic():
     va, fa = rectangle(1.0)
     vb, fb = rectangle(2.0, nx=16)
     d = surface_distance(va, fa, vb, fb, n_samples=40000)
-    assert d["mean_ab"] < 1e-14
-    assert d["mean_ba"] == pytest.approx(0.25, abs=0.005)
-    assert d["max_ab"] < 1e-14
-    assert d["hausdorff"] == pytest.approx(1.0, abs=1e-12)
-    assert d["mean"] == pytest.approx(0.125, abs=0.003)
+    assert d.mean_ab < 1e-14
+    assert d.mean_ba == pytest.approx(0.25, abs=0.005)
+    assert d.max_ab < 1e-14
+    assert d.hausdorff == pytest.approx(1.0, abs=1e-12)
+    assert d.mean == pytest.approx(0.125, abs=0.003)
 
 
 def test_cap_against_whole_sphere_hausdorff():
@@ -186,8 +217,8 @@ def test_cap_against_whole_sphere_hausdorff():
     tv, tf = cut.truth_vertices, cut.truth_faces
     theta = np.arccos(np.clip(tv @ v[0], -1, 1)).max()
     d = surface_distance(tv, tf, v, f, n_samples=4000)
-    assert d["max_ab"] < 1e-12
-    assert d["hausdorff"] == pytest.approx(2 * np.cos(theta / 2), rel=2e-3)
+    assert d.max_ab < 1e-12
+    assert d.hausdorff == pytest.approx(2 * np.cos(theta / 2), rel=2e-3)
 
 
 def test_samples_are_area_uniform_and_reproducible():
@@ -215,7 +246,7 @@ def test_hole_patch_of_recovers_the_truth():
     pv, pf = hole_patch_of(filled_v, filled_f, len(hv), hf)
     assert len(pf) == len(cut.truth_faces)
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=2000)
-    assert d["hausdorff"] < 1e-14
+    assert d.hausdorff < 1e-14
     # without the original faces, patch faces on boundary vertices only are missed
     pv2, pf2 = hole_patch_of(filled_v, filled_f, len(hv))
     only_boundary = (new_id[cut.truth_faces] < len(hv)).all(axis=1).sum()
@@ -229,6 +260,6 @@ def test_mean_surface_distances_match_surface_distance():
     v, f = sphere(3)
     patches = [(1.05 * v, f), (v + [0.02, 0.0, 0.0], f), (v, f)]
     means = mean_surface_distances(patches, v, f, n_samples=3000)
-    expected = [surface_distance(pv, pf, v, f, n_samples=3000)["mean"] for pv, pf in patches]
+    expected = [surface_distance(pv, pf, v, f, n_samples=3000).mean for pv, pf in patches]
     np.testing.assert_allclose(means, expected, rtol=1e-12, atol=1e-15)
     assert means[2] < 1e-12 < means[1] < means[0]

@@ -53,10 +53,10 @@ def test_peer_fills_only_the_given_hole_accurately(name):
     d = surface_distance(allv[ids], remap[new_f], target.truth_vertices, target.truth_faces,
                          n_samples=3000)
     if SMOOTH[name]:
-        assert d["mean"] < 0.01 * target.diameter
+        assert d.mean < 0.01 * target.diameter
         assert np.abs(np.linalg.norm(new_v, axis=1) - 1).max() < 0.02
     else:
-        assert d["mean"] < 0.05 * target.diameter
+        assert d.mean < 0.05 * target.diameter
         assert np.linalg.norm(new_v, axis=1).max() < 1.001  # inside the ball, not wild
 
 
@@ -93,7 +93,7 @@ def test_cgal_trilaplacian_fairing_differs_and_follows_a_sphere_closer():
         new_v, new_f = peers.PEERS[name](cut.vertices, cut.faces, hole.loop)
         errors[name] = surface_distance(np.vstack([cut.vertices, new_v]), new_f,
                                         hole.truth_vertices, hole.truth_faces,
-                                        n_samples=4000)["mean"]
+                                        n_samples=4000).mean
         assert len(new_v) and new_f.max() >= n
     # the continuity argument reaches CGAL: C2 fairing follows the sphere's curvature
     assert errors["cgal3"] < 0.8 * errors["cgal"], errors

@@ -335,7 +335,7 @@ def test_cli_exports_and_rebuilds_a_quadtree(tmp_path, capsys, tall_finger):
         in err
     w, g = read_mesh(out)
     np.testing.assert_array_equal(g, f)
-    assert surface_distance(w, f, v, f, n_samples=4000)["mean"] < 1e-3 * diagonal(v)
+    assert surface_distance(w, f, v, f, n_samples=4000).mean < 1e-3 * diagonal(v)
     # the quadtree as the representation itself, drawn on its finest tree
     png = tmp_path / "tree.png"
     assert main(["represent", str(mesh), "-o", str(tmp_path / "q.npz"), "--discretization",

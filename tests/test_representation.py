@@ -206,8 +206,8 @@ def test_self_check_numbers_are_stored_and_correct(tmp_path):
     check = rep.check
     out = rebuild(rep)
     d = surface_distance(out.vertices, f, v, f, n_samples=20000)
-    assert check.mean == pytest.approx(d["mean"], rel=1e-6, abs=1e-15)
-    assert check.hausdorff == pytest.approx(d["hausdorff"], rel=1e-6, abs=1e-15)
+    assert check.mean == pytest.approx(d.mean, rel=1e-6, abs=1e-15)
+    assert check.hausdorff == pytest.approx(d.hausdorff, rel=1e-6, abs=1e-15)
     assert check.diagonal == pytest.approx(diagonal(v))
     assert check.mean_percent == pytest.approx(100 * check.mean / check.diagonal)
     path = tmp_path / "rep.npz"

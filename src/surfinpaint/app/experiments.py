@@ -291,8 +291,8 @@ def _run_rebuild(item: Rebuild, scale: str, out_dir: Path, step) -> CaseResult:
     moved = np.linalg.norm(rebuilt - dv, axis=1)
     result.rebuild = {
         "vertices": len(dv), "grid": f"{rep.grid.shape[0]}×{rep.grid.shape[1]}",
-        "diameter": diameter, "mean": 100 * d["mean"] / diameter,
-        "hausdorff": 100 * d["hausdorff"] / diameter,
+        "diameter": diameter, "mean": 100 * d.mean / diameter,
+        "hausdorff": 100 * d.hausdorff / diameter,
         "vertex_rms": 100 * float(np.sqrt((moved**2).mean())) / diameter,
         "vertex_max": 100 * float(moved.max()) / diameter,
     }

@@ -145,7 +145,7 @@ def _error(patch: tuple[np.ndarray, np.ndarray] | None,
     if patch is None or truth is None or len(patch[1]) == 0:
         return {"mean": float("nan"), "hausdorff": float("nan")}
     d = surface_distance(patch[0], patch[1], truth[0], truth[1], n_samples=10000)
-    return {"mean": 100.0 * d["mean"] / diameter, "hausdorff": 100.0 * d["hausdorff"] / diameter}
+    return {"mean": 100.0 * d.mean / diameter, "hausdorff": 100.0 * d.hausdorff / diameter}
 
 
 def compare_holes(

@@ -3,109 +3,18 @@
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from surfinpaint.compiled import Kernel, run
+from surfinpaint.geometry.closest_point import closest_point_on_triangles
 from surfinpaint.geometry.mesh import face_areas
 
-__all__ = ["closest_point_on_triangles", "hole_patch_of", "mean_surface_distances",
-           "point_mesh_distance", "point_mesh_distances", "sample_surface", "surface_distance",
+__all__ = ["SurfaceDistance", "hole_patch_of", "mean_surface_distances", "point_mesh_distance",
+           "point_mesh_distances", "sample_surface", "surface_distance",
            "surface_distance_samples"]
-
-
-_FLAT = 1e-20  # |ab × ac|² / (|ab|² |ac|²) below this: a degenerate triangle
-
-
-def _closest_on_edges(p, a, b, c, rows: np.ndarray) -> np.ndarray:
-    """Closest point to ``p`` on the three edges of each triangle (only ``rows`` computed;
-    the others are left zero)."""
-    out = np.zeros_like(p)
-    best = np.full(len(p), np.inf)
-    for u, w in ((a, b), (b, c), (c, a)):
-        e = w[rows] - u[rows]
-        t = _fraction(np.einsum("ij,ij->i", p[rows] - u[rows], e), np.einsum("ij,ij->i", e, e))
-        q = u[rows] + t[:, None] * e
-        d = ((q - p[rows]) ** 2).sum(axis=1)
-        closer = d < best[rows]
-        idx = np.flatnonzero(rows)[closer]
-        out[idx], best[idx] = q[closer], d[closer]
-    return out
-
-
-def _fraction(num: np.ndarray, den: np.ndarray) -> np.ndarray:
-    """``num / den`` clipped to [0, 1]; 0 where ``den`` (a squared edge length) is 0: the
-    closest point of a zero-length edge is its first end."""
-    safe = den > 0
-    return np.clip(np.divide(num, np.where(safe, den, 1.0)), 0, 1) * safe
-
-
-def closest_point_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray,
-                               c: np.ndarray) -> np.ndarray:
-    """Closest point to ``p[i]`` on triangle ``(a[i], b[i], c[i])``, for all ``i`` at once.
-
-    Exact (Ericson, *Real-Time Collision Detection*, §5.1.5): the Voronoi regions of the
-    vertices, edges and face are tested in turn. Degenerate triangles are handled (the
-    closest point on their segments is returned).
-
-    Parameters
-    ----------
-    p, a, b, c : (m, 3) float arrays
-
-    Returns
-    -------
-    (m, 3) float array
-    """
-    ab, ac, ap = b - a, c - a, p - a
-    d1 = np.einsum("ij,ij->i", ab, ap)
-    d2 = np.einsum("ij,ij->i", ac, ap)
-    bp = p - b
-    d3 = np.einsum("ij,ij->i", ab, bp)
-    d4 = np.einsum("ij,ij->i", ac, bp)
-    cp = p - c
-    d5 = np.einsum("ij,ij->i", ab, cp)
-    d6 = np.einsum("ij,ij->i", ac, cp)
-    va = d3 * d6 - d5 * d4
-    vb = d5 * d2 - d1 * d6
-    vc = d1 * d4 - d3 * d2
-
-    out = np.empty_like(p)
-    done = np.zeros(len(p), bool)
-
-    def put(mask, value):
-        m = mask & ~done
-        out[m] = value[m] if value.ndim == 2 else value
-        done[:] |= m
-
-    # degenerate triangles (repeated or collinear corners): the region tests below do not
-    # hold there (a zero-length ab sends every point to a); nearest point of the three edges
-    cross = np.cross(ab, ac)
-    flat = np.einsum("ij,ij->i", cross, cross) <= _FLAT * np.einsum(
-        "ij,ij->i", ab, ab) * np.einsum("ij,ij->i", ac, ac)
-    if flat.any():
-        put(flat, _closest_on_edges(p, a, b, c, flat))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        put((d1 <= 0) & (d2 <= 0), a)
-        put((d3 >= 0) & (d4 <= d3), b)
-        put((d6 >= 0) & (d5 <= d6), c)
-        t = _fraction(d1, d1 - d3)
-        put((vc <= 0) & (d1 >= 0) & (d3 <= 0), a + t[:, None] * ab)
-        t = _fraction(d2, d2 - d6)
-        put((vb <= 0) & (d2 >= 0) & (d6 <= 0), a + t[:, None] * ac)
-        t = _fraction(d4 - d3, (d4 - d3) + (d5 - d6))
-        put((va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0), b + t[:, None] * (c - b))
-        denom = va + vb + vc
-        v = vb / denom
-        w = vc / denom
-        inside = a + v[:, None] * ab + w[:, None] * ac
-        put(np.isfinite(inside).all(axis=1), inside)
-    if not done.all():  # degenerate triangles: nearest of the three vertices
-        rest = ~done
-        cand = np.stack([a[rest], b[rest], c[rest]], 1)
-        k = np.argmin(((cand - p[rest, None]) ** 2).sum(-1), axis=1)
-        out[rest] = cand[np.arange(len(k)), k]
-    return out
 
 
 def _min_distance_numpy(points: np.ndarray, tri: np.ndarray, cand: np.ndarray,
@@ -144,7 +53,7 @@ def _min_distance_loops(points, tri, cand, start, out):  # pragma: no cover - co
             nx, ny, nz = aby * acz - abz * acy, abz * acx - abx * acz, abx * acy - aby * acx
             ab2 = abx * abx + aby * aby + abz * abz
             ac2 = acx * acx + acy * acy + acz * acz
-            if nx * nx + ny * ny + nz * nz <= 1e-20 * ab2 * ac2:  # degenerate (see _FLAT)
+            if nx * nx + ny * ny + nz * nz <= 1e-20 * ab2 * ac2:  # degenerate (closest_point)
                 for e in range(3):  # nearest point of its three edges
                     if e == 0:
                         ux, uy, uz, wx, wy, wz = ax, ay, az, bx, by, bz
@@ -456,9 +365,37 @@ def sample_surface(vertices: np.ndarray, faces: np.ndarray, n_samples: int,
     return (points, t) if return_faces else points
 
 
+@dataclass(frozen=True)
+class SurfaceDistance:
+    """The two-sided distance between surfaces A and B (:func:`surface_distance`), in the
+    meshes' units.
+
+    Attributes
+    ----------
+    mean_ab, mean_ba : float
+        Mean distance of A's samples to B, and of B's samples to A.
+    mean : float
+        ``(mean_ab + mean_ba) / 2``.
+    hausdorff : float
+        The largest distance either way, ``max(max_ab, max_ba)``.
+    max_ab, max_ba : float
+        The one-sided maxima, over the samples and the vertices.
+    rms : float
+        Root mean square over both sample sets.
+    """
+
+    mean_ab: float
+    mean_ba: float
+    mean: float
+    hausdorff: float
+    max_ab: float
+    max_ba: float
+    rms: float
+
+
 def surface_distance(patch_vertices: np.ndarray, patch_faces: np.ndarray,
                      truth_vertices: np.ndarray, truth_faces: np.ndarray,
-                     n_samples: int = 20000, seed: int = 0) -> dict[str, float]:
+                     n_samples: int = 20000, seed: int = 0) -> SurfaceDistance:
     """Two-sided distance between two triangle meshes (a filled patch and its ground truth).
 
     Each surface is sampled area-uniformly (``n_samples`` points, fixed seed) and every
@@ -477,41 +414,37 @@ def surface_distance(patch_vertices: np.ndarray, patch_faces: np.ndarray,
 
     Returns
     -------
-    dict
-        ``mean_ab``: mean distance from A to B; ``mean_ba``: from B to A; ``mean``: their
-        average; ``hausdorff``: the largest distance either way; ``max_ab``, ``max_ba``: the
-        one-sided maxima; ``rms``: root mean square over both sample sets.
+    SurfaceDistance
+        The means, maxima and RMS of the distances A to B and B to A.
 
     Examples
     --------
     >>> from surfinpaint.data import sphere
     >>> v, f = sphere(3)
     >>> d = surface_distance(v, f, 1.1 * v, f)
-    >>> bool(abs(d["mean"] - 0.1) < 0.005)
+    >>> bool(abs(d.mean - 0.1) < 0.005)
     True
     """
-    out = {}
-    sides = (("ab", patch_vertices, patch_faces, truth_vertices, truth_faces),
-             ("ba", truth_vertices, truth_faces, patch_vertices, patch_faces))
-    sq = []
-    for name, va, fa, vb, fb in sides:
+    means, maxima, sq = [], [], []
+    for va, fa, vb, fb in ((patch_vertices, patch_faces, truth_vertices, truth_faces),
+                           (truth_vertices, truth_faces, patch_vertices, patch_faces)):
         va = np.asarray(va, float)
         fa = np.asarray(fa, np.int64)
         index = _TriangleIndex(vb, fb)
         d = index.distance(sample_surface(va, fa, n_samples, seed))
         dv = index.distance(va[np.unique(fa)])
-        out[f"mean_{name}"] = float(d.mean())
-        out[f"max_{name}"] = float(max(d.max(), dv.max()))
+        means.append(float(d.mean()))
+        maxima.append(float(max(d.max(), dv.max())))
         sq.append(d**2)
-    out["mean"] = 0.5 * (out["mean_ab"] + out["mean_ba"])
-    out["hausdorff"] = max(out["max_ab"], out["max_ba"])
-    out["rms"] = float(np.sqrt(np.concatenate(sq).mean()))
-    return out
+    return SurfaceDistance(mean_ab=means[0], mean_ba=means[1],
+                           mean=0.5 * (means[0] + means[1]), hausdorff=max(maxima),
+                           max_ab=maxima[0], max_ba=maxima[1],
+                           rms=float(np.sqrt(np.concatenate(sq).mean())))
 
 
 def mean_surface_distances(patches, truth_vertices: np.ndarray, truth_faces: np.ndarray,
                            n_samples: int = 20000, seed: int = 0) -> list[float]:
-    """``surface_distance(patch, truth)["mean"]`` for several patches against one truth,
+    """``surface_distance(patch, truth).mean`` for several patches against one truth,
     with the truth's samples and search structure made once (the same numbers, less work).
 
     Parameters

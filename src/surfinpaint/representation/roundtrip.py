@@ -133,7 +133,7 @@ def _distances(v: np.ndarray, w: np.ndarray, f: np.ndarray, samples: int
     if not np.isfinite(w).all():
         return math.inf, math.inf, math.inf
     d = surface_distance(w, f, v, f, n_samples=samples)
-    return float(d["mean"]), float(d["hausdorff"]), float(np.linalg.norm(w - v, axis=1).max())
+    return d.mean, d.hausdorff, float(np.linalg.norm(w - v, axis=1).max())
 
 
 def save_npz(path: str | os.PathLike, arrays: dict[str, np.ndarray],
