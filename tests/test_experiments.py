@@ -45,8 +45,8 @@ def test_rebuild_reproduces_the_brain_disk(tmp_path, monkeypatch):
     r = result.rebuild
     # (λ, H) of the surface itself: the rebuild is the original to well under 1 % of the
     # disk diameter (the hole fills' errors are several %)
-    assert r["mean"] < 0.5 and r["vertex_max"] < 2.0
-    assert np.isfinite([r["mean"], r["hausdorff"], r["vertex_rms"]]).all()
+    assert r.mean < 0.5 and r.vertex_max < 2.0
+    assert np.isfinite([r.mean, r.hausdorff, r.vertex_rms]).all()
 
 
 def test_experiment_names_are_unique_and_checked(tmp_path):

@@ -226,7 +226,7 @@ def test_the_report_draws_the_fill_laid_on_its_plane_as_written(tmp_path, monkey
     ids, inverse = np.unique(written.new_faces, return_inverse=True)
     d = surface_distance(written.vertices[ids], inverse.reshape(-1, 3), *truth,
                          n_samples=10000)
-    assert c.errors["conformal"]["mean"] == pytest.approx(100 * d.mean / c.diameter)
+    assert c.errors["conformal"].mean == pytest.approx(100 * d.mean / c.diameter)
     assert c.errors["conformal"] != c.errors["conformal raw"]
     header, (row,) = table_rows([c])
     assert "laid on its plane" in row[header.index("conformal outcome")]

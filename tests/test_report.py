@@ -18,7 +18,7 @@ from surfinpaint.app.report import (
     panel_fills,
     table_rows,
 )
-from surfinpaint.app.report_page import WRITTEN_ERROR
+from surfinpaint.app.report_page import WRITTEN_ERROR, TruthDistance
 from surfinpaint.data import lens, sphere
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.pipeline import fill_holes
@@ -55,7 +55,7 @@ def test_hole_truths_rejects_an_unrelated_truth(holed_sphere):
 
 
 def test_hole_title_says_which_fill_is_written():
-    errors = {name: {"mean": m, "hausdorff": 2 * m}
+    errors = {name: TruthDistance(m, 2 * m)
               for name, m in (("fair", 0.3), ("conformal", 0.2), ("conformal raw", 0.5))}
     rejected = HoleComparison(index=2, n_edges=40, diameter=1.5, kept=False,
                               fallback="self-check (hidden rings) preferred ...", fair_order=3,
@@ -106,8 +106,8 @@ def test_compare_holes_measures_both_fills(holed_sphere):
         # a sphere cap fill is within a few % of the hole diameter of the truth; the
         # patch-vs-nothing distance would be ~ the cap height, 10-20 %
         for method, e in c.errors.items():
-            assert 0 < e["mean"] < 3.0, (method, e)
-            assert e["mean"] <= e["hausdorff"]
+            assert 0 < e.mean < 3.0, (method, e)
+            assert e.mean <= e.hausdorff
     # what `fill` writes is the conformal fill where the self-check kept it, and the
     # method's own (triharmonic) faired fill elsewhere
     written = fills.conformal

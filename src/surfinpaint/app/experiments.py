@@ -59,7 +59,7 @@ from surfinpaint.app.report import (
     panels_for,
     write_page,
 )
-from surfinpaint.app.report_page import WRITTEN_ERROR
+from surfinpaint.app.report_page import WRITTEN_ERROR, TruthDistance
 from surfinpaint.errors import MeshError, agreeing, how_many
 from surfinpaint.geometry.cutting import compact, cut_geodesic_disk, cut_holes
 from surfinpaint.geometry.mesh import boundary_loops, connected_components
@@ -205,15 +205,43 @@ REBUILDS = (
 # --------------------------------------------------------------------------- running
 
 
+@dataclass(frozen=True)
+class RebuildError:
+    """How far a λ-H rebuild is from the disk it was represented from, in % of the disk's
+    diameter.
+
+    Attributes
+    ----------
+    vertices : int
+        The disk's vertices.
+    grid : str
+        The representation's grid, ``"rows×columns"``.
+    diameter : float
+        The disk's diameter (mesh units).
+    mean, hausdorff : float
+        The two-sided mean and the Hausdorff surface distance.
+    vertex_rms, vertex_max : float
+        How far the vertices moved: root mean square and largest.
+    """
+
+    vertices: int
+    grid: str
+    diameter: float
+    mean: float
+    hausdorff: float
+    vertex_rms: float
+    vertex_max: float
+
+
 @dataclass
 class CaseResult:
-    """What one experiment measured."""
+    """What one experiment measured (``rebuild``: a rebuild experiment's, else None)."""
 
     name: str
     title: str
     note: str
     comparisons: list[HoleComparison] = field(default_factory=list)
-    rebuild: dict = field(default_factory=dict)
+    rebuild: RebuildError | None = None
     pictures: list[str] = field(default_factory=list)
     seconds: float = 0.0
     error: str | None = None
@@ -289,19 +317,18 @@ def _run_rebuild(item: Rebuild, scale: str, out_dir: Path, step) -> CaseResult:
     diameter = disk.diameter
     d = surface_distance(rebuilt, df, dv, df, n_samples=10000)
     moved = np.linalg.norm(rebuilt - dv, axis=1)
-    result.rebuild = {
-        "vertices": len(dv), "grid": f"{rep.grid.shape[0]}×{rep.grid.shape[1]}",
-        "diameter": diameter, "mean": 100 * d.mean / diameter,
-        "hausdorff": 100 * d.hausdorff / diameter,
-        "vertex_rms": 100 * float(np.sqrt((moved**2).mean())) / diameter,
-        "vertex_max": 100 * float(moved.max()) / diameter,
-    }
+    result.rebuild = RebuildError(
+        vertices=len(dv), grid=f"{rep.grid.shape[0]}×{rep.grid.shape[1]}",
+        diameter=diameter, mean=100 * d.mean / diameter,
+        hausdorff=100 * d.hausdorff / diameter,
+        vertex_rms=100 * float(np.sqrt((moved**2).mean())) / diameter,
+        vertex_max=100 * float(moved.max()) / diameter)
     picture = f"{item.name}.png"
     r = result.rebuild
     rebuild_panel(rep, rebuilt, out_dir / picture,
-                  f"{item.title}: {how_many(r['vertices'], 'vertex', 'vertices')}, grid "
-                  f"{r['grid']}; distance to the "
-                  f"original {r['mean']:.3g} % mean, {r['hausdorff']:.3g} % Hausdorff "
+                  f"{item.title}: {how_many(r.vertices, 'vertex', 'vertices')}, grid "
+                  f"{r.grid}; distance to the "
+                  f"original {r.mean:.3g} % mean, {r.hausdorff:.3g} % Hausdorff "
                   "(of the disk diameter)")
     result.pictures = [picture]
     result.seconds = time.perf_counter() - started
@@ -309,10 +336,10 @@ def _run_rebuild(item: Rebuild, scale: str, out_dir: Path, step) -> CaseResult:
     return result
 
 
-def _pair(error: dict) -> str:
-    if not np.isfinite(error["mean"]):
+def _pair(error: TruthDistance) -> str:
+    if not error.measured:
         return "failed"
-    return f"{error['mean']:.3g} / {error['hausdorff']:.3g}"
+    return f"{error.mean:.3g} / {error.hausdorff:.3g}"
 
 
 def _summary(results: list[CaseResult]) -> tuple[list[str], list[list[str]]]:
@@ -334,9 +361,10 @@ def _summary(results: list[CaseResult]) -> tuple[list[str], list[list[str]]]:
 def _rebuild_table(results: list[CaseResult]) -> tuple[list[str], list[list[str]]]:
     header = ["case", "vertices", "grid", "mean %", "Hausdorff %", "vertex RMS %",
               "vertex max %"]
-    rows = [[r.name, str(r.rebuild["vertices"]), r.rebuild["grid"]]
-            + [f"{r.rebuild[k]:.3g}" for k in ("mean", "hausdorff", "vertex_rms", "vertex_max")]
-            if r.rebuild else [r.name, "–", "–", f"failed: {r.error}", "–", "–", "–"]
+    rows = [[r.name, str(r.rebuild.vertices), r.rebuild.grid]
+            + [f"{x:.3g}" for x in (r.rebuild.mean, r.rebuild.hausdorff, r.rebuild.vertex_rms,
+                                    r.rebuild.vertex_max)]
+            if r.rebuild is not None else [r.name, "–", "–", f"failed: {r.error}", "–", "–", "–"]
             for r in results]
     return header, rows
 

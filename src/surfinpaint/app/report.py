@@ -57,7 +57,9 @@ from surfinpaint.app.fill_report import (
 from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar
 from surfinpaint.app.report_page import (
     LEGEND,
+    NOT_MEASURED,
     HoleComparison,
+    TruthDistance,
     WrittenPanel,
     hole_title,
     table_rows,
@@ -140,12 +142,12 @@ class ComparedFills:
 
 
 def _error(patch: tuple[np.ndarray, np.ndarray] | None,
-           truth: tuple[np.ndarray, np.ndarray] | None, diameter: float) -> dict[str, float]:
-
+           truth: tuple[np.ndarray, np.ndarray] | None, diameter: float) -> TruthDistance:
+    """A compacted fill's distance to its truth patch, in % of the hole's diameter."""
     if patch is None or truth is None or len(patch[1]) == 0:
-        return {"mean": float("nan"), "hausdorff": float("nan")}
+        return NOT_MEASURED
     d = surface_distance(patch[0], patch[1], truth[0], truth[1], n_samples=10000)
-    return {"mean": 100.0 * d.mean / diameter, "hausdorff": 100.0 * d.hausdorff / diameter}
+    return TruthDistance(100.0 * d.mean / diameter, 100.0 * d.hausdorff / diameter)
 
 
 def compare_holes(

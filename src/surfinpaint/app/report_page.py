@@ -17,8 +17,8 @@ from surfinpaint.errors import agreeing, how_many
 from surfinpaint.fill.conformal.method import NO_INNER_VERTEX
 from surfinpaint.io.atomic import atomic_open
 
-__all__ = ["LEGEND", "WRITTEN_ERROR", "HoleComparison", "WrittenPanel", "hole_title",
-           "table_rows", "write_page"]
+__all__ = ["LEGEND", "NOT_MEASURED", "WRITTEN_ERROR", "HoleComparison", "TruthDistance",
+           "WrittenPanel", "hole_title", "table_rows", "write_page"]
 
 #: The 3D panel of a hole that draws the fill ``surfinpaint fill`` writes: (B) the
 #: conventional fill, (C) the conformal method's own, (W) a panel of its own; None where
@@ -54,11 +54,10 @@ class HoleComparison:
         dict of the errors of its candidates (``"conformal"``, ``"fair2"``, ``"fair3"``).
     fair_order : int or None
         Fairing order of the faired fill the conformal method wrote (None: it kept its own).
-    errors : dict
+    errors : dict of str to TruthDistance
         With a ground truth: per fill (``"fair"``, ``"conformal"`` = what ``fill`` writes,
-        ``"conformal raw"`` = the λ-H fill before the self-check and the plane test) the
-        two-sided mean distance and Hausdorff distance to the truth in % of the hole
-        diameter.
+        ``"conformal raw"`` = the λ-H fill before the self-check and the plane test) its
+        :class:`TruthDistance`.
     picture : str or None
         File name of the panel.
     written : str or None
@@ -95,7 +94,7 @@ class HoleComparison:
     fallback: str | None = None
     scores: dict = field(default_factory=dict)
     fair_order: int | None = None
-    errors: dict = field(default_factory=dict)
+    errors: dict[str, TruthDistance] = field(default_factory=dict)
     picture: str | None = None
     written: str | None = None
     on_plane: bool = False
@@ -103,6 +102,31 @@ class HoleComparison:
     skipped: str | None = None
     islands: tuple[int, ...] = ()
     crossings: int = 0
+
+
+@dataclass(frozen=True)
+class TruthDistance:
+    """A fill's distance to the removed surface, in % of the hole's diameter
+    (:attr:`HoleComparison.errors`); NaN where it was not measured (no truth, or no fill).
+
+    Attributes
+    ----------
+    mean : float
+        The two-sided mean distance (the benchmarks' error).
+    hausdorff : float
+        The largest distance either way.
+    """
+
+    mean: float
+    hausdorff: float
+
+    @property
+    def measured(self) -> bool:
+        """Whether there was a fill and a truth to measure."""
+        return bool(np.isfinite(self.mean))
+
+
+NOT_MEASURED = TruthDistance(float("nan"), float("nan"))
 
 
 def _fmt(x: float, digits: int = 3) -> str:
@@ -121,12 +145,12 @@ def _outcome(c: HoleComparison) -> str:
 
 def _error_text(c: HoleComparison, method: str) -> str:
     """"mean / Hausdorff" of one fill; "no truth" or "failed" when not measured."""
-    if not c.errors or not np.isfinite(c.errors["fair"]["mean"]):
+    if not c.errors or not c.errors["fair"].measured:
         return "no truth"
     e = c.errors[method]
-    if not np.isfinite(e["mean"]):
+    if not e.measured:
         return "failed"
-    return f"{_fmt(e['mean'])} / {_fmt(e['hausdorff'])}"
+    return f"{_fmt(e.mean)} / {_fmt(e.hausdorff)}"
 
 
 # the error column of the fill `surfinpaint fill` writes (the "conformal" errors)
