@@ -31,6 +31,7 @@ import validation_meshes as vm  # noqa: E402
 
 from surfinpaint.app.figures import (  # noqa: E402
     HoleFrame,
+    MeshView,
     add_scale_bar,
     crop_to_ink,
     frame_hole,
@@ -66,12 +67,11 @@ def side_views(vertices, faces, frame: HoleFrame, fills) -> list[np.ndarray]:
     views = []
     for fill in fills:
         if fill is None:
-            views.append({"vertices": np.zeros((0, 3)), "faces": np.zeros((0, 3), int)})
+            views.append(MeshView(np.zeros((0, 3)), np.zeros((0, 3), int)))
             continue
         all_vertices, patch = fill
         kept = np.concatenate([faces[near], patch])
-        views.append({"vertices": all_vertices, "faces": kept,
-                      "highlight": np.arange(near.sum(), len(kept))})
+        views.append(MeshView(all_vertices, kept, highlight=np.arange(near.sum(), len(kept))))
     return render_views(views, centre=frame.centre, direction=frame.up,
                         distance=20.0 * frame.half_height, size=SIZE, up=frame.direction,
                         half_height=0.6 * frame.half_height)

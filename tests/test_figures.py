@@ -73,11 +73,11 @@ def test_nothing_is_drawn_over_the_hole():
     view = close_up(v, f, loop, frame)
     from matplotlib.path import Path as Outline
 
-    uv, depth = frame.project(view["vertices"])
-    centres = uv[view["faces"]].mean(axis=1)
-    inside = Outline(uv[view["loops"][0]]).contains_points(centres)
+    uv, depth = frame.project(view.vertices)
+    centres = uv[view.faces].mean(axis=1)
+    inside = Outline(uv[view.loops[0]]).contains_points(centres)
     # the upper bank (z = gap, in front of the hole) is in the picture around the hole
-    assert (view["vertices"][view["faces"]][..., 2] > 0.39).all(axis=1).any()
+    assert (view.vertices[view.faces][..., 2] > 0.39).all(axis=1).any()
     # but none of it over the hole
     assert not inside.any()
 
@@ -145,3 +145,26 @@ def test_before_after_close_ups_say_which_fill_was_written():
         titles = [ax.get_title() for ax in before_after_figure(v, f, result).axes]
         assert f"hole {report.index} ({report.n_edges} edges),\nbefore" in titles
         assert f"hole {report.index} ({report.n_edges} edges),\nafter: {expected}" in titles
+
+
+def test_render_meshes_draws_each_mesh_view_as_a_panel(tmp_path, monkeypatch):
+    """A :class:`MeshView` per panel: the highlighted patch in its colour, the loop in red,
+    side by side at the window's size."""
+    from PIL import Image
+
+    from surfinpaint.app.figures import PATCH, MeshView, render_meshes
+    from surfinpaint.data import sphere
+
+    monkeypatch.delenv("DISPLAY", raising=False)
+    v, f = sphere(2)
+    loop = np.unique(f[:3])  # any vertices: drawn as a closed red line
+    panels = [MeshView(v, f, loops=[loop], title="before"),
+              MeshView(v, f, highlight=np.arange(len(f) // 2), title="after")]
+    path = render_meshes(panels, tmp_path / "panels.png", window_size=(400, 200))
+    rgb = np.asarray(Image.open(path).convert("RGB")).astype(int)
+    assert rgb.shape == (200, 400, 3)
+    patch = np.array([int(PATCH[k:k + 2], 16) for k in (1, 3, 5)])
+    orange = (np.abs(rgb - patch).sum(axis=2) < 90)
+    red = (rgb[..., 0] > 150) & (rgb[..., 1] < 90) & (rgb[..., 2] < 90)
+    assert orange[:, 200:].sum() > 100 and orange[:, :200].sum() < 10  # highlight: right only
+    assert red[:, :200].sum() > 20  # the loop: left

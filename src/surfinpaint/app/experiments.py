@@ -44,6 +44,7 @@ import numpy as np
 
 from surfinpaint import data
 from surfinpaint.app.figures import (
+    MeshView,
     before_after,
     grid_image,
     render_views,
@@ -279,8 +280,7 @@ def rebuild_panel(rep, rebuilt: np.ndarray, path: Path, suptitle: str) -> Path:
     radius = float(np.linalg.norm(v - centre, axis=1).max())
     direction = view_direction(v, f, [np.unique(f)])
     images = render_views(
-        [{"vertices": v, "faces": f, "loops": [loop]},
-         {"vertices": rebuilt, "faces": f, "loops": [loop]}],
+        [MeshView(v, f, loops=[loop]), MeshView(rebuilt, f, loops=[loop])],
         centre=centre, direction=direction, distance=1.05 * radius / np.tan(np.radians(15)),
         size=(700, 520))
     fig = Figure(figsize=(PANEL_SIZE[0] / 100, PANEL_SIZE[1] / 100), dpi=100,

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -18,14 +19,45 @@ from surfinpaint.errors import how_many
 from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
 from surfinpaint.io.atomic import atomic_path
 
-__all__ = ["HoleFrame", "add_legend", "add_scale_bar", "before_after", "before_after_figure",
-           "close_up",
-           "crop_to_ink", "frame_hole", "grid_image", "render_hole", "render_meshes",
-           "render_views", "save_figure", "view_direction"]
+__all__ = ["HoleFrame", "MeshView", "add_legend", "add_scale_bar", "before_after",
+           "before_after_figure", "close_up", "crop_to_ink", "frame_hole", "grid_image",
+           "render_hole", "render_meshes", "render_views", "save_figure", "view_direction"]
 
 SURFACE = "#d9d4c7"
 PATCH = "#e8833a"
 BORDER = "#c0392b"
+
+
+@dataclass(frozen=True)
+class MeshView:
+    """One mesh as a picture draws it (a panel of :func:`render_meshes`, a view of
+    :func:`render_views`).
+
+    Attributes
+    ----------
+    vertices, faces : arrays
+        The mesh (no faces: an empty view).
+    highlight : (k,) int array, optional
+        Faces drawn in the patch colour (a fill's new faces).
+    loops : sequence of (m,) int arrays
+        Boundary loops drawn as red lines.
+    edges : bool, optional
+        Whether the triangles' edges are drawn; None: where the mesh is small enough for
+        them to be seen.
+    title : str
+        The panel's title (:func:`render_meshes`).
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    highlight: np.ndarray | None = None
+    loops: Sequence[np.ndarray] = ()
+    edges: bool | None = None
+    title: str = ""
+
+
+#: an empty view (a fill that failed: its panel left blank)
+_NOTHING = MeshView(np.zeros((0, 3)), np.zeros((0, 3), int))
 
 
 def _pv_mesh(vertices: np.ndarray, faces: np.ndarray):
@@ -47,7 +79,7 @@ def view_direction(vertices: np.ndarray, faces: np.ndarray, loops) -> np.ndarray
 
 
 def render_meshes(
-    panels: list[dict],
+    panels: list[MeshView],
     path: str | os.PathLike,
     *,
     direction: np.ndarray | None = None,
@@ -55,9 +87,8 @@ def render_meshes(
 ) -> Path:
     """Render side-by-side panels to a PNG, all seen from the same camera.
 
-    Each panel is a dict with ``vertices``, ``faces``, optional ``highlight`` (face ids drawn
-    in the patch colour), optional ``loops`` (boundary loops drawn as red lines) and ``title``.
-    The PNG is written atomically.
+    Each panel is a :class:`MeshView` (its edges drawn, unless it says otherwise, below 20000
+    faces). The PNG is written atomically.
     """
     import pyvista as pv
 
@@ -67,27 +98,28 @@ def render_meshes(
     plotter = pv.Plotter(off_screen=True, shape=(1, len(panels)), window_size=window_size,
                          border=False)
     plotter.set_background("white")
-    centre = np.mean([np.asarray(p["vertices"]).mean(axis=0) for p in panels], axis=0)
-    extent = max(np.ptp(np.asarray(p["vertices"]), axis=0).max() for p in panels)
+    centre = np.mean([np.asarray(p.vertices).mean(axis=0) for p in panels], axis=0)
+    extent = max(np.ptp(np.asarray(p.vertices), axis=0).max() for p in panels)
     direction = np.array([1.0, 0.6, 0.8]) if direction is None else np.asarray(direction)
     direction = direction / np.linalg.norm(direction)
     up = np.array([0.0, 0.0, 1.0]) if abs(direction[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
     for k, panel in enumerate(panels):
         plotter.subplot(0, k)
-        mesh = _pv_mesh(panel["vertices"], panel["faces"])
-        colours = np.tile(np.array([0.85, 0.83, 0.78]), (len(panel["faces"]), 1))
-        highlight = panel.get("highlight")
+        mesh = _pv_mesh(panel.vertices, panel.faces)
+        colours = np.tile(np.array([0.85, 0.83, 0.78]), (len(panel.faces), 1))
+        highlight = panel.highlight
         if highlight is not None and len(highlight):
             colours[np.asarray(highlight)] = (0.91, 0.51, 0.23)
         mesh.cell_data["colour"] = (colours * 255).astype(np.uint8)
         plotter.add_mesh(mesh, scalars="colour", rgb=True, smooth_shading=False,
-                         specular=0.2, show_edges=len(panel["faces"]) < 20000,
+                         specular=0.2, show_edges=(len(panel.faces) < 20000
+                                                   if panel.edges is None else panel.edges),
                          edge_color="#8a8578", line_width=0.3)
-        for loop in panel.get("loops") or []:
-            pts = np.asarray(panel["vertices"])[np.append(loop, loop[0])]
+        for loop in panel.loops:
+            pts = np.asarray(panel.vertices)[np.append(loop, loop[0])]
             plotter.add_lines(np.repeat(pts, 2, axis=0)[1:-1], color=BORDER, width=3)
-        if panel.get("title"):
-            plotter.add_text(panel["title"], font_size=11, color="black")
+        if panel.title:
+            plotter.add_text(panel.title, font_size=11, color="black")
         plotter.camera_position = [tuple(centre + 2.0 * extent * direction), tuple(centre),
                                    tuple(up)]
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -143,9 +175,9 @@ def before_after_figure(vertices: np.ndarray, faces: np.ndarray, result, *,
     radius = float(np.linalg.norm(vertices - centre, axis=1).max())
     loops = [r.loop for r, _ in filled]
     overview = crop_to_ink(render_views(
-        [{"vertices": vertices, "faces": faces, "loops": loops, "edges": False},
-         {"vertices": result.vertices, "faces": result.faces, "edges": False,
-          "highlight": np.arange(first, len(result.faces))}],
+        [MeshView(vertices, faces, loops=loops, edges=False),
+         MeshView(result.vertices, result.faces, edges=False,
+                  highlight=np.arange(first, len(result.faces)))],
         centre=centre, direction=direction, distance=1.05 * radius / np.tan(np.radians(15)),
         size=(700, 560)))
     shown = sorted(range(len(filled)), key=lambda k: -filled[k][0].n_edges)[:close_ups]
@@ -267,7 +299,7 @@ def frame_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
 
 
 def close_up(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, frame: HoleFrame,
-             *, patch: np.ndarray | None = None, aspect: float = 1.25) -> dict:
+             *, patch: np.ndarray | None = None, aspect: float = 1.25) -> MeshView:
     """The part of the surface that a picture framed by ``frame`` should show.
 
     Kept: the faces in the picture's rectangle (``aspect`` = width / height) within a ball
@@ -281,9 +313,9 @@ def close_up(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, frame: H
 
     Returns
     -------
-    dict
-        ``vertices``, ``faces``, ``highlight`` (ids of the patch faces, or None) and
-        ``loops``, as :func:`render_views` takes them.
+    MeshView
+        The kept faces (compactly numbered), ``highlight`` the patch's (or None), and the
+        hole's loop.
     """
     from matplotlib.path import Path as Outline
 
@@ -309,8 +341,8 @@ def close_up(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, frame: H
     ids, local = np.unique(kept, return_inverse=True)
     lookup = np.full(len(vertices), -1)
     lookup[ids] = np.arange(len(ids))
-    return {"vertices": vertices[ids], "faces": local.reshape(-1, 3), "highlight": highlight,
-            "loops": [lookup[loop]]}
+    return MeshView(vertices[ids], local.reshape(-1, 3), highlight=highlight,
+                    loops=[lookup[loop]])
 
 
 def render_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
@@ -338,7 +370,7 @@ def render_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     views = [close_up(vertices, faces, loop, frame, aspect=aspect)]
     for fill in fills:
         if fill is None:
-            views.append({"vertices": np.zeros((0, 3)), "faces": np.zeros((0, 3), int)})
+            views.append(_NOTHING)
         else:
             views.append(close_up(fill[0], faces, loop, frame, patch=fill[1], aspect=aspect))
     images = render_views(views, centre=frame.centre, direction=frame.direction,
@@ -419,7 +451,7 @@ def _quiet_vtk() -> None:
 
 
 def render_views(
-    views: list[dict],
+    views: list[MeshView],
     *,
     centre: np.ndarray,
     direction: np.ndarray,
@@ -432,10 +464,9 @@ def render_views(
 
     Parameters
     ----------
-    views : list of dict
-        As the panels of :func:`render_meshes`: ``vertices``, ``faces``, optional
-        ``highlight`` (face ids in the patch colour), ``loops`` (drawn in red) and
-        ``edges`` (draw the triangles' edges; default: for fewer than 30000 faces).
+    views : list of MeshView
+        The meshes, one a view (edges drawn, unless a view says otherwise, below 30000
+        faces).
     centre, direction, distance :
         The camera looks at ``centre`` from ``centre + distance · direction``.
     size : (width, height)
@@ -465,20 +496,21 @@ def render_views(
         plotter.set_background("white")
         for k, view in enumerate(views):
             plotter.subplot(0, k)
-            faces = np.asarray(view["faces"])
+            faces = np.asarray(view.faces)
             if len(faces):
-                mesh = _pv_mesh(view["vertices"], faces)
+                mesh = _pv_mesh(view.vertices, faces)
                 colours = np.tile(np.array([0.85, 0.83, 0.78]), (len(faces), 1))
-                highlight = view.get("highlight")
+                highlight = view.highlight
                 if highlight is not None and len(highlight):
                     colours[np.asarray(highlight)] = (0.91, 0.51, 0.23)
                 mesh.cell_data["colour"] = (colours * 255).astype(np.uint8)
                 plotter.add_mesh(mesh, scalars="colour", rgb=True, smooth_shading=False,
                                  specular=0.25,
-                                 show_edges=view.get("edges", len(faces) < 30000),
+                                 show_edges=(len(faces) < 30000 if view.edges is None
+                                             else view.edges),
                                  edge_color="#8a8578", line_width=0.4)
-            for loop in view.get("loops") or []:
-                pts = np.asarray(view["vertices"])[np.append(loop, loop[0])]
+            for loop in view.loops:
+                pts = np.asarray(view.vertices)[np.append(loop, loop[0])]
                 plotter.add_lines(np.repeat(pts, 2, axis=0)[1:-1], color=BORDER, width=3)
             plotter.camera_position = [tuple(centre + distance * direction), tuple(centre),
                                        tuple(_up_vector(direction) if up is None else up)]
