@@ -18,7 +18,7 @@ from surfinpaint.app.report import (
     panel_fills,
     table_rows,
 )
-from surfinpaint.app.report_page import WRITTEN_ERROR, TruthDistance
+from surfinpaint.app.report_page import WRITTEN_ERROR, PageSection, TruthDistance
 from surfinpaint.data import lens, sphere
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.pipeline import fill_holes
@@ -313,7 +313,7 @@ def test_page_without_truth_has_no_error_columns(tmp_path):
     assert not any("mean" in h for h in header)
     assert [r[0] for r in rows] == ["3", "5"]
     assert "kept" in rows[0][-1] and "FillError: folds" in rows[1][-1]
-    md, page = write_page(tmp_path, [{"title": "Holes", "comparisons": comparisons}], "t")
+    md, page = write_page(tmp_path, [PageSection("Holes", comparisons=comparisons)], "t")
     text = md.read_text()
     assert "(hole3.png)" in text and "(hole5.png)" in text
     assert text.index("(hole3.png)") < text.index("(hole5.png)")

@@ -60,7 +60,7 @@ from surfinpaint.app.report import (
     panels_for,
     write_page,
 )
-from surfinpaint.app.report_page import WRITTEN_ERROR, TruthDistance
+from surfinpaint.app.report_page import WRITTEN_ERROR, PageSection, TruthDistance
 from surfinpaint.errors import MeshError, agreeing, how_many
 from surfinpaint.geometry.cutting import compact, cut_geodesic_disk, cut_holes
 from surfinpaint.geometry.mesh import boundary_loops, connected_components
@@ -429,19 +429,20 @@ def run_set(out_dir: str | Path, scale: str = "full", *, cases: list[str] | None
     holes = [r for r in results if r.name in {c.name for c in CASES}]
     sections = []
     if holes:
-        sections.append({"title": "Summary: distance to the truth", "table": _summary(holes),
-                         "text": "Two-sided mean / Hausdorff distance between each fill and "
-                         "the removed patch, in % of the hole diameter."})
+        sections.append(PageSection(
+            "Summary: distance to the truth", table=_summary(holes),
+            text="Two-sided mean / Hausdorff distance between each fill and the removed "
+            "patch, in % of the hole diameter."))
     rebuilds = [r for r in results if r.name in {c.name for c in REBUILDS}]
     if rebuilds:
-        sections.append({"title": "Summary: λ-H rebuilds", "table": _rebuild_table(rebuilds),
-                         "text": "Distance between the rebuilt and the original disk (mean, "
-                         "Hausdorff; vertex displacement RMS and maximum), in % of the disk "
-                         "diameter."})
+        sections.append(PageSection(
+            "Summary: λ-H rebuilds", table=_rebuild_table(rebuilds),
+            text="Distance between the rebuilt and the original disk (mean, Hausdorff; "
+            "vertex displacement RMS and maximum), in % of the disk diameter."))
     for r in results:
         note = f"FAILED: {r.error}" if r.error else f"{r.note} ({r.seconds:.1f} s)"
-        sections.append({"title": r.title, "text": note,
-                         "comparisons": r.comparisons, "pictures": r.pictures})
+        sections.append(PageSection(r.title, text=note, comparisons=r.comparisons,
+                                    pictures=r.pictures))
     write_page(out_dir, sections, f"surfinpaint experiments ({scale})",
                f"Scale {scale!r}, {time.perf_counter() - started:.0f} s in all. " + LEGEND)
     return results

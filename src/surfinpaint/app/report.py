@@ -59,6 +59,7 @@ from surfinpaint.app.report_page import (
     LEGEND,
     NOT_MEASURED,
     HoleComparison,
+    PageSection,
     TruthDistance,
     WrittenPanel,
     hole_title,
@@ -472,10 +473,10 @@ def write_report(
     panels_for(vertices, faces, comparisons, fills, out_dir, step=step)
     text = (f"{mesh_size(len(vertices), len(faces))}, {how_many(len(loops), 'hole', 'holes')}; "
             f"{time.perf_counter() - started:.1f} s in all.")
-    sections = [{"title": "Holes", "text": text, "comparisons": comparisons}]
+    sections = [PageSection("Holes", text=text, comparisons=comparisons)]
     said = [str(w.message) for w in caught]
     if said:  # on the page, as `fill --json` lists them, and to the caller
-        sections.append({"title": "Warnings", "items": said})
+        sections.append(PageSection("Warnings", items=said))
     write_page(out_dir, sections, title, LEGEND)
     for w in caught:
         warnings.warn(w.message, w.category, stacklevel=2)

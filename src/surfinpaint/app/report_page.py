@@ -17,8 +17,8 @@ from surfinpaint.errors import agreeing, how_many
 from surfinpaint.fill.conformal.method import NO_INNER_VERTEX
 from surfinpaint.io.atomic import atomic_open
 
-__all__ = ["LEGEND", "NOT_MEASURED", "WRITTEN_ERROR", "HoleComparison", "TruthDistance",
-           "WrittenPanel", "hole_title", "table_rows", "write_page"]
+__all__ = ["LEGEND", "NOT_MEASURED", "WRITTEN_ERROR", "HoleComparison", "PageSection",
+           "TruthDistance", "WrittenPanel", "hole_title", "table_rows", "write_page"]
 
 #: The 3D panel of a hole that draws the fill ``surfinpaint fill`` writes: (B) the
 #: conventional fill, (C) the conformal method's own, (W) a panel of its own; None where
@@ -215,15 +215,37 @@ def _write_text(path: Path, text: str) -> None:
         handle.write(text)
 
 
-def write_page(out_dir: str | os.PathLike,
-               sections: Sequence[dict], title: str, intro: str = "") -> tuple[Path, Path]:
-    """Write ``index.md`` and ``index.html`` in ``out_dir``.
+@dataclass(frozen=True)
+class PageSection:
+    """One section of a page (:func:`write_page`), drawn in this order.
 
-    Each section is a dict with ``title``, optional ``text``, ``comparisons`` (a list of
-    :class:`HoleComparison`, shown as a table with their pictures) and/or ``table``
-    (``(header, rows)``), ``items`` (lines shown as a list: the warnings) and ``pictures``
-    (file names relative to ``out_dir``).
+    Attributes
+    ----------
+    title : str
+    text : str
+        A paragraph.
+    items : sequence of str
+        Lines shown as a list (the warnings).
+    comparisons : sequence of HoleComparison
+        Shown as a table, followed by their pictures.
+    table : (header, rows) or None
+        A table of strings.
+    pictures : sequence of str
+        File names relative to the page's folder, after the comparisons' pictures.
     """
+
+    title: str
+    text: str = ""
+    items: Sequence[str] = ()
+    comparisons: Sequence[HoleComparison] = ()
+    table: tuple[list[str], list[list[str]]] | None = None
+    pictures: Sequence[str] = ()
+
+
+def write_page(out_dir: str | os.PathLike,
+               sections: Sequence[PageSection], title: str, intro: str = "") -> tuple[Path, Path]:
+    """Write ``index.md`` and ``index.html`` in ``out_dir``, one :class:`PageSection` after
+    another."""
     out_dir = Path(out_dir)
     md = [f"# {title}", ""]
     body = [f"<h1>{html.escape(title)}</h1>"]
@@ -231,22 +253,22 @@ def write_page(out_dir: str | os.PathLike,
         md += [intro, ""]
         body.append(f"<p>{html.escape(intro)}</p>")
     for section in sections:
-        md += [f"## {section['title']}", ""]
-        body.append(f"<h2>{html.escape(section['title'])}</h2>")
-        if section.get("text"):
-            md += [section["text"], ""]
-            body.append(f"<p>{html.escape(section['text'])}</p>")
-        if section.get("items"):
-            md += [f"- {item}" for item in section["items"]] + [""]
+        md += [f"## {section.title}", ""]
+        body.append(f"<h2>{html.escape(section.title)}</h2>")
+        if section.text:
+            md += [section.text, ""]
+            body.append(f"<p>{html.escape(section.text)}</p>")
+        if section.items:
+            md += [f"- {item}" for item in section.items] + [""]
             body.append("<ul>" + "".join(f"<li>{html.escape(item)}</li>"
-                                         for item in section["items"]) + "</ul>")
+                                         for item in section.items) + "</ul>")
         tables = []
-        pictures = list(section.get("pictures", []))
-        if section.get("comparisons"):
-            tables.append(table_rows(section["comparisons"]))
-            pictures = [c.picture for c in section["comparisons"] if c.picture] + pictures
-        if section.get("table"):
-            tables.append(section["table"])
+        pictures = list(section.pictures)
+        if section.comparisons:
+            tables.append(table_rows(section.comparisons))
+            pictures = [c.picture for c in section.comparisons if c.picture] + pictures
+        if section.table:
+            tables.append(section.table)
         for header, rows in tables:
             md += [_markdown_table(header, rows), ""]
             body.append(_html_table(header, rows))
