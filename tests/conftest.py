@@ -85,3 +85,15 @@ def holed():
     centers = [np.array(c) / np.linalg.norm(c) for c in SIX_HOLES]
     cut = cut_holes(vertices, faces, centers, 0.2)
     return cut.vertices, cut.faces, [h.loop for h in cut.holes]
+
+
+def mark_fill_starts(monkeypatch, batch, say) -> None:
+    """Make ``batch.fill_file`` call ``say(job)`` as each file's fill starts in this process
+    (the batch tests' way of seeing the order of fills and messages)."""
+    filled = batch.fill_file
+
+    def marked(job, options, hole_progress=None):
+        say(job)
+        return filled(job, options, hole_progress)
+
+    monkeypatch.setattr(batch, "fill_file", marked)

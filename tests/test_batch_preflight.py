@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import mark_fill_starts
 
 from surfinpaint.app import batch, batch_listing
 from surfinpaint.app.batch_inputs import UnknownFilesWarning
@@ -260,13 +261,7 @@ def _batch_events(monkeypatch, folder: Path, out: Path, **options
     happened in order (``fill NAME`` as a fill starts, ``STATUS NAME`` as a row is said)
     and the failed rows' messages by path."""
     events: list[str] = []
-    filled = batch.fill_file
-
-    def marked(job, fill_options, hole_progress=None):
-        events.append(f"fill {job.name}")
-        return filled(job, fill_options, hole_progress)
-
-    monkeypatch.setattr(batch, "fill_file", marked)
+    mark_fill_starts(monkeypatch, batch, lambda job: events.append(f"fill {job.name}"))
     rows = batch.fill_files([folder], out, jobs=1, method="fair", **options,
                             on_result=lambda row: events.append(f"{row.status} {row.path}"))
     return events, {r.path: r.message for r in rows if r.status == "failed"}
@@ -352,13 +347,8 @@ def test_a_batch_gives_every_bad_files_row_before_it_fills_any(tmp_path, monkeyp
     good, bad = _batch_folder(tmp_path)
     events: list[str] = []
     if jobs == 1:  # filled in this process: each fill's start is seen
-        filled = batch.fill_file
-
-        def marked(job, options, hole_progress=None):
-            events.append(f"fill {Path(job.name).name}")
-            return filled(job, options, hole_progress)
-
-        monkeypatch.setattr(batch, "fill_file", marked)
+        mark_fill_starts(monkeypatch, batch,
+                         lambda job: events.append(f"fill {Path(job.name).name}"))
     with pytest.warns(UnknownFilesWarning, match="notes.txt"):
         rows = batch.fill_files([tmp_path / "scans"], tmp_path / "out", jobs=jobs,
                                 method="fair", on_result=lambda row: events.append(
@@ -383,13 +373,8 @@ def test_the_command_says_each_bad_file_at_once_and_counts_it(tmp_path, capsys, 
                                                               quiet):
     monkeypatch.chdir(tmp_path)
     good, bad = _batch_folder(Path("."))
-    filled = batch.fill_file
-
-    def marked(job, options, hole_progress=None):
-        sys.stderr.write(f"\nstarting {job.name}\n")
-        return filled(job, options, hole_progress)
-
-    monkeypatch.setattr(batch, "fill_file", marked)
+    mark_fill_starts(monkeypatch, batch,
+                     lambda job: sys.stderr.write(f"\nstarting {job.name}\n"))
     monkeypatch.setattr(sys, "stdin", io.StringIO())
     capsys.readouterr()
     code = main(["batch", "scans", "-o", "out", "--jobs", "1", "--method", "fair", *quiet])

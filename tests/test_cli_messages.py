@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import mark_fill_starts
 
 from surfinpaint.app.cli import main
 from surfinpaint.data import sphere
@@ -560,13 +561,8 @@ def test_a_batch_says_a_bad_file_when_it_fails_not_at_the_end(tmp_path, capsys, 
     monkeypatch.chdir(tmp_path)
     Path("scans").mkdir()
     bad, good = _bad_first_batch(Path("scans"))
-    filled = batch.fill_file
-
-    def marked(job, options, hole_progress=None):
-        sys.stderr.write(f"\nstarting {job.name}\n")
-        return filled(job, options, hole_progress)
-
-    monkeypatch.setattr(batch, "fill_file", marked)
+    mark_fill_starts(monkeypatch, batch,
+                     lambda job: sys.stderr.write(f"\nstarting {job.name}\n"))
     if not quiet:
         monkeypatch.setenv("TTY_COMPATIBLE", "1")
         monkeypatch.setenv("COLUMNS", "200")
