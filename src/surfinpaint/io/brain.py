@@ -22,12 +22,13 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint.errors import MeshError
-from surfinpaint.io.base import Parsed, describe
+from surfinpaint.io.base import Parsed
 from surfinpaint.io.brain_checks import FREESURFER_MAGIC as FREESURFER_MAGIC
 from surfinpaint.io.brain_checks import (
     MORPH_MAGIC,
     check_overlay,
     freesurfer_header,
+    gifti_inflate,
     gifti_xml,
     overlay_errors,
     overlay_header,
@@ -50,20 +51,11 @@ LABEL_TABLE = "labels."
 COORDINATE_SYSTEM = "coordsys"
 
 
-def _gunzip(data: bytes) -> bytes:
-    if data[:2] != b"\x1f\x8b":
-        return data
-    try:
-        return gzip.decompress(data)
-    except (OSError, EOFError) as exc:
-        raise MeshError(f"corrupt gzip data ({describe(exc)})") from None
-
-
 def read_gifti(data: bytes, path: Path) -> Parsed:
     import nibabel as nib
 
-    xml = _gunzip(data)
-    gifti_xml(xml, whole=True)
+    xml = gifti_inflate(data)
+    gifti_xml(xml)
     image = nib.gifti.GiftiImage.from_bytes(xml)
     points = image.get_arrays_from_intent("NIFTI_INTENT_POINTSET")
     triangles = image.get_arrays_from_intent("NIFTI_INTENT_TRIANGLE")
@@ -299,9 +291,9 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
         table = None
         with overlay_errors(p):
             if p.name.lower().endswith((".gii", ".gii.gz")):
-                data = p.read_bytes()
-                overlay_header(p, data, len(data))
-                image = nib.gifti.GiftiImage.from_bytes(_gunzip(data))
+                xml = gifti_inflate(p.read_bytes())
+                overlay_header(p, xml, len(xml))
+                image = nib.gifti.GiftiImage.from_bytes(xml)
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
                 table = _gifti_label_table(image) if values.ndim == 1 else None
