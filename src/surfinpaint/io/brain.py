@@ -28,6 +28,7 @@ from surfinpaint.io.brain_checks import (
     MORPH_MAGIC,
     check_overlay,
     freesurfer_header,
+    gifti_arrays,
     gifti_inflate,
     gifti_xml,
     overlay_errors,
@@ -52,11 +53,10 @@ COORDINATE_SYSTEM = "coordsys"
 
 
 def read_gifti(data: bytes, path: Path) -> Parsed:
-    import nibabel as nib
 
     xml = gifti_inflate(data)
-    gifti_xml(xml)
-    image = nib.gifti.GiftiImage.from_bytes(xml)
+    gifti_xml(xml, arrays=False)
+    image = _gifti_image(xml)
     points = image.get_arrays_from_intent("NIFTI_INTENT_POINTSET")
     triangles = image.get_arrays_from_intent("NIFTI_INTENT_TRIANGLE")
     if not points:
@@ -91,6 +91,19 @@ def read_gifti(data: bytes, path: Path) -> Parsed:
             out.dropped.append(f"GIFTI data array {name!r} (shape {values.shape}, not one row "
                                "per vertex) is not kept")
     return out
+
+
+def _gifti_image(xml: bytes):
+    """nibabel's image of GIFTI XML; where nibabel fails, a DataArray whose data are corrupt
+    is said as ``batch``'s pre-flight says it (:func:`~surfinpaint.io.brain_checks.
+    gifti_arrays`, not run first: it costs about as much as nibabel's own decoding)."""
+    import nibabel as nib
+
+    try:
+        return nib.gifti.GiftiImage.from_bytes(xml)
+    except Exception:
+        gifti_arrays(xml)
+        raise
 
 
 def read_freesurfer(data: bytes, path: Path) -> Parsed:
@@ -282,7 +295,6 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
         Naming the overlay file, when it cannot be read or (not one of ``guessed``) has not
         ``n`` values.
     """
-    import nibabel as nib
     from nibabel.freesurfer import read_morph_data
 
     out, tables, dropped = {}, {}, []
@@ -292,8 +304,8 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
         with overlay_errors(p):
             if p.name.lower().endswith((".gii", ".gii.gz")):
                 xml = gifti_inflate(p.read_bytes())
-                overlay_header(p, xml, len(xml))
-                image = nib.gifti.GiftiImage.from_bytes(xml)
+                overlay_header(p, xml, len(xml), arrays=False)
+                image = _gifti_image(xml)
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
                 table = _gifti_label_table(image) if values.ndim == 1 else None

@@ -38,11 +38,12 @@ _XML_PROLOGUE = re.compile(rb"(?:\s+|<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)*", re
 _GIFTI_END = re.compile(rb"</GIFTI\s*>(?:\s|<\?.*?\?>|<!--.*?-->)*", re.S)
 
 
-def gifti_xml(xml: bytes) -> None:
+def gifti_xml(xml: bytes, arrays: bool = True) -> None:
     """Raise for a GIFTI file's XML (all of it) whose root element is not ``<GIFTI>``, that
     is no XML at all, that does not end with the root's closing tag (a file cut short), that
-    has no ``<DataArray>``, or one of whose DataArrays' data are corrupt
-    (:func:`gifti_arrays`)."""
+    has no ``<DataArray>``, or (``arrays``) one of whose DataArrays' data are corrupt
+    (:func:`gifti_arrays`: as costly as inflating them, which a reader does anyway; the
+    readers check them only when nibabel fails, for its words)."""
     xml = xml.removeprefix(b"\xef\xbb\xbf")
     end = _XML_PROLOGUE.match(xml).end()
     start = xml[end:end + 64]  # not xml[end:] (a copy of all of it)
@@ -58,7 +59,8 @@ def gifti_xml(xml: bytes) -> None:
                         "</GIFTI>)")
     if not start or b"<DataArray" not in xml:
         raise MeshError("GIFTI file has no DataArray (no surface and no data)")
-    gifti_arrays(xml)
+    if arrays:
+        gifti_arrays(xml)
 
 
 def _gifti_ends(xml: bytes) -> bool:
@@ -79,14 +81,15 @@ def gifti_inflate(data: bytes) -> bytes:
         raise MeshError(f"corrupt gzip data ({describe(exc)})") from None
 
 
-def gifti_header(data: bytes) -> None:
+def gifti_header(data: bytes, arrays: bool = True) -> None:
     """Raise the :class:`MeshError` :func:`~surfinpaint.io.brain.read_gifti` (or
     :func:`~surfinpaint.io.brain.read_overlays`) raises first for a GIFTI file (plain or
     gzip-compressed) whose bytes are ``data`` (all of them): a gzip stream corrupt or cut
     short, not XML, an XML root that is not ``<GIFTI>``, no closing tag (a truncated file),
-    no ``DataArray``, or a DataArray whose data are corrupt (:func:`gifti_arrays`): the
-    check of :func:`surfinpaint.io.formats.check_file` and :func:`check_overlay`."""
-    gifti_xml(gifti_inflate(data))
+    no ``DataArray``, or (``arrays``) a DataArray whose data are corrupt
+    (:func:`gifti_arrays`): the check of :func:`surfinpaint.io.formats.check_file` and
+    :func:`check_overlay`."""
+    gifti_xml(gifti_inflate(data), arrays)
 
 
 #: A DataArray's start tag, its attributes, and the attributes' names and values
@@ -143,6 +146,8 @@ def _array_problem(attrs: dict[str, str], payload: bytes) -> str | None:
     want = math.prod(dims)
     shape = f"{' × '.join(f'Dim{i}' for i in range(rank))} = {' × '.join(map(str, dims))}"
     if encoding == "ASCII":
+        if b"#" in payload:  # nibabel's loadtxt cuts comments: the reader's
+            return None
         have = len(payload.split())
         return None if have == want else f"{shape} = {want} values, its data hold {have}"
     try:
@@ -292,14 +297,15 @@ def annot_table(table: bytes) -> None:
                             "entries)")
 
 
-def overlay_header(p: Path, head: bytes, size: int) -> None:
+def overlay_header(p: Path, head: bytes, size: int, arrays: bool = True) -> None:
     """Raise for an overlay ``p`` of ``size`` bytes starting with ``head`` (a GIFTI file:
-    all of it, :func:`gifti_header`) whose header its reader cannot read."""
+    all of it, :func:`gifti_header`, its data checked if ``arrays``) whose header its
+    reader cannot read."""
     if size == 0:
         raise MeshError("overlay file is empty")
     name = p.name.lower()
     if name.endswith((".gii", ".gii.gz")):
-        gifti_header(head)
+        gifti_header(head, arrays)
     elif name.endswith(".annot"):
         annot_header(head, size)
     else:
