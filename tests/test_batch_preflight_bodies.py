@@ -16,22 +16,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 from test_batch_preflight import _batch_events, _count_reads, _surface_and_overlay
+from test_batch_preflight_ends import _annot, _said
 
 from surfinpaint.app.cli import main
 from surfinpaint.data import sphere
-from surfinpaint.errors import MeshError
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 from surfinpaint.io import brain_checks
 from surfinpaint.io.brain import check_overlay
 from surfinpaint.io.formats import check_file, read_mesh, read_mesh_data, write_mesh
 
 nib = pytest.importorskip("nibabel")
-
-
-def _said(call, path) -> str:
-    with pytest.raises(MeshError) as raised:
-        call(path)
-    return str(raised.value)
 
 
 def _holed(level: int = 1) -> tuple[np.ndarray, np.ndarray]:
@@ -187,12 +181,6 @@ def test_a_gifti_cut_just_after_a_tag_is_said_by_the_check(tmp_path, tag):
 
 
 # ------------------------------------------------------------ an .annot's colour table
-
-
-def _annot(path: Path, n: int) -> None:
-    ctab = np.array([[255, 0, 0, 0, 0], [0, 255, 0, 0, 0], [0, 0, 255, 0, 0]])
-    nib.freesurfer.write_annot(str(path), np.arange(n) % 3, ctab, [b"a", b"b", b"c"],
-                               fill_ctab=True)
 
 
 def _table_at(n: int) -> int:
