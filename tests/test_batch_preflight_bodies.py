@@ -122,8 +122,10 @@ def test_a_gifti_with_corrupt_data_is_said_by_the_check_in_the_readers_words(tmp
 @pytest.mark.parametrize("encoding", ["GZipBase64Binary", "Base64Binary", "ASCII"])
 def test_a_good_gifti_of_each_encoding_passes(tmp_path, encoding):
     good = tmp_path / "good.gii"
-    # line breaks in the payload, as some writers wrap base64: the reader takes them
-    good.write_bytes(_gifti_bytes(encoding).replace(b"<Data>", b"<Data>\n", 1))
+    # line breaks in the payload, as some writers wrap base64, and a '>' in a quoted
+    # attribute value: the reader takes them
+    data = _gifti_bytes(encoding).replace(b"<Data>", b"<Data>\n", 1)
+    good.write_bytes(data.replace(b'ExternalFileName=""', b'ExternalFileName="a>b"', 1))
     assert len(read_mesh(good)[0]) == N
     assert check_file(good) is None
 

@@ -92,8 +92,9 @@ def gifti_header(data: bytes, arrays: bool = True) -> None:
     gifti_xml(gifti_inflate(data), arrays)
 
 
-#: A DataArray's start tag, its attributes, and the attributes' names and values
-_DATA_ARRAY = re.compile(rb"<DataArray\b([^>]*)>")
+#: A DataArray's start tag, its attributes (a quoted value may hold a ``>``), and the
+#: attributes' names and values
+_DATA_ARRAY = re.compile(rb"""<DataArray\b((?:[^>"']|"[^"]*"|'[^']*')*)>""")
 _ATTRIBUTE = re.compile(rb"""([\w:.-]+)\s*=\s*(?:"([^"]*)"|'([^']*)')""")
 #: GIFTI's encodings (as nibabel names them: each by its code, label or name) of data held
 #: in the file; ``ExternalFileBinary`` data, in another file, are left to the reader
@@ -118,6 +119,9 @@ def gifti_arrays(xml: bytes) -> None:
         attrs = {m[1].decode(): (m[2] if m[3] is None else m[3]).decode("utf-8", "replace")
                  for m in _ATTRIBUTE.finditer(tag[1])}
         end = xml.find(b"</DataArray", tag.end())
+        after = xml.find(b"<DataArray", tag.end())
+        if tag[1].endswith(b"/") or 0 <= after < end:  # no data of its own: the reader's
+            continue
         begin = xml.find(b"<Data>", tag.end(), end)
         stop = xml.find(b"</Data>", begin, end)
         if begin < 0 or stop < 0:

@@ -2,9 +2,9 @@
 :mod:`surfinpaint.io.formats` reads a file as (by its name, or FreeSurfer's magic bytes), why
 a file has no bytes to read (missing, a folder, unreadable, empty), how a reader's failure
 is worded, and :func:`check_file`, the pre-flight of ``batch``, which raises what the reader
-would raise for a bad header from a file's first (and, for a large OBJ, last) bytes, or a
-GIFTI file's whole. The reader
-and the check share each step here, so that both say the same words.
+would raise for a bad header from a file's first (and, for a large OBJ, last) bytes, or for
+a GIFTI file from all of it. The reader and the check share each step here, so that both
+say the same words.
 """
 
 from __future__ import annotations
