@@ -22,12 +22,14 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint.errors import MeshError
-from surfinpaint.io.base import Parsed, describe
+from surfinpaint.io.base import Parsed
 from surfinpaint.io.brain_checks import FREESURFER_MAGIC as FREESURFER_MAGIC
 from surfinpaint.io.brain_checks import (
     MORPH_MAGIC,
     check_overlay,
     freesurfer_header,
+    gifti_arrays,
+    gifti_inflate,
     gifti_xml,
     overlay_errors,
     overlay_header,
@@ -50,21 +52,11 @@ LABEL_TABLE = "labels."
 COORDINATE_SYSTEM = "coordsys"
 
 
-def _gunzip(data: bytes) -> bytes:
-    if data[:2] != b"\x1f\x8b":
-        return data
-    try:
-        return gzip.decompress(data)
-    except (OSError, EOFError) as exc:
-        raise MeshError(f"corrupt gzip data ({describe(exc)})") from None
-
-
 def read_gifti(data: bytes, path: Path) -> Parsed:
-    import nibabel as nib
 
-    xml = _gunzip(data)
-    gifti_xml(xml, whole=True)
-    image = nib.gifti.GiftiImage.from_bytes(xml)
+    xml = gifti_inflate(data)
+    gifti_xml(xml, arrays=False)
+    image = _gifti_image(xml)
     points = image.get_arrays_from_intent("NIFTI_INTENT_POINTSET")
     triangles = image.get_arrays_from_intent("NIFTI_INTENT_TRIANGLE")
     if not points:
@@ -99,6 +91,19 @@ def read_gifti(data: bytes, path: Path) -> Parsed:
             out.dropped.append(f"GIFTI data array {name!r} (shape {values.shape}, not one row "
                                "per vertex) is not kept")
     return out
+
+
+def _gifti_image(xml: bytes):
+    """nibabel's image of GIFTI XML; where nibabel fails, a DataArray whose data are corrupt
+    is said as ``batch``'s pre-flight says it (:func:`~surfinpaint.io.brain_checks.
+    gifti_arrays`, not run first: it costs about as much as nibabel's own decoding)."""
+    import nibabel as nib
+
+    try:
+        return nib.gifti.GiftiImage.from_bytes(xml)
+    except Exception:
+        gifti_arrays(xml)
+        raise
 
 
 def read_freesurfer(data: bytes, path: Path) -> Parsed:
@@ -290,7 +295,6 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
         Naming the overlay file, when it cannot be read or (not one of ``guessed``) has not
         ``n`` values.
     """
-    import nibabel as nib
     from nibabel.freesurfer import read_morph_data
 
     out, tables, dropped = {}, {}, []
@@ -299,9 +303,9 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
         table = None
         with overlay_errors(p):
             if p.name.lower().endswith((".gii", ".gii.gz")):
-                data = p.read_bytes()
-                overlay_header(p, data, len(data))
-                image = nib.gifti.GiftiImage.from_bytes(_gunzip(data))
+                xml = gifti_inflate(p.read_bytes())
+                overlay_header(p, xml, len(xml), arrays=False)
+                image = _gifti_image(xml)
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
                 table = _gifti_label_table(image) if values.ndim == 1 else None

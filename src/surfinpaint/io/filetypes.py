@@ -2,14 +2,16 @@
 :mod:`surfinpaint.io.formats` reads a file as (by its name, or FreeSurfer's magic bytes), why
 a file has no bytes to read (missing, a folder, unreadable, empty), how a reader's failure
 is worded, and :func:`check_file`, the pre-flight of ``batch``, which raises what the reader
-would raise for a bad header from a file's first (and, for GIFTI, last) bytes. The reader
-and the check share each step here, so that both say the same words.
+would raise for a bad header from a file's first (and, for a large OBJ, last) bytes, or for
+a GIFTI file from all of it. The reader and the check share each step here, so that both
+say the same words.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -17,7 +19,6 @@ from surfinpaint.errors import MeshError, MissingFileError
 from surfinpaint.io.base import describe
 from surfinpaint.io.brain_checks import (
     FREESURFER_MAGIC,
-    GIFTI_TAIL_BYTES,
     freesurfer_header,
     gifti_header,
 )
@@ -153,25 +154,26 @@ def parsing(fmt: str, name: str) -> Iterator[None]:
 
 
 #: Per format, its reader's check of a header ``check(head, size, tail)``, the most bytes
-#: given whole (OBJ: its v and f lines), the most given when the first 8 KiB fail, and the
-#: file's last bytes given as ``tail`` (GIFTI: its closing tag; else none, an empty tail)
+#: given whole (OBJ: its v and f lines; GIFTI: its data, all), the most given when a check
+#: of fewer fails (a large OBJ whose last line is cut short: all of it, for the line's
+#: number), and the file's last bytes given as ``tail`` (OBJ: its last line; else none)
 _HEADERS: dict[str, tuple[Callable[[bytes, int, bytes], object], int, int, int]] = {
     "ply": (lambda head, size, tail: ply_layout(head), 0, HEADER_BYTES, 0),
     "off": (lambda head, size, tail: off_header(head), 0, 1 << 16, 0),
     "stl": (lambda head, size, tail: stl_header(head, size), 0, 0, 0),
     "freesurfer": (lambda head, size, tail: freesurfer_header(head, size), 0, 0, 0),
-    "obj": (lambda head, size, tail: obj_header(head, size), 1 << 18, 0, 0),
-    "gii": (gifti_header, 0, 0, GIFTI_TAIL_BYTES),
-    # a gzip stream's end says nothing of its XML's without inflating all of it
-    "gii.gz": (lambda head, size, tail: gifti_header(head, size), 0, 0, 0)}
+    "obj": (obj_header, 1 << 18, sys.maxsize, 1 << 12),
+    "gii": (lambda head, size, tail: gifti_header(head), sys.maxsize, 0, 0),
+    "gii.gz": (lambda head, size, tail: gifti_header(head), sys.maxsize, 0, 0)}
 
 
 def check_file(path: str | os.PathLike) -> None:
     """Raise the :class:`MeshError` :func:`~surfinpaint.io.formats.read_mesh` would raise,
     word for word, for a file missing, unreadable, empty, of unknown format or whose header
-    its reader cannot parse (``_HEADERS``; GIFTI: its XML root, and a ``.gii``'s closing
-    tag in its last 4 KiB), from its first 8 KiB (PLY: up to 1 MiB, OFF: 64 KiB where that
-    is too short; an OBJ up to 256 KiB whole, its v and f lines): the pre-flight."""
+    its reader cannot parse (``_HEADERS``), from its first 8 KiB (PLY: up to 1 MiB, OFF:
+    64 KiB where that is too short; an OBJ up to 256 KiB whole, its v and f lines, a larger
+    one from its first 8 KiB and its last line; a GIFTI file whole, for its end and its
+    data): the pre-flight."""
     p = Path(path)
     head = read_bytes(p, 1 << 13)
     fmt, size = format_read(p, head), p.stat().st_size
@@ -182,4 +184,6 @@ def check_file(path: str | os.PathLike) -> None:
         try:
             check(head, size, tail)
         except MeshError:  # a header longer than the first bytes: read as far as the reader
-            check(read_bytes(p, most) if len(head) < min(size, most) else head, size, tail)
+            if len(head) < min(size, most):
+                head = read_bytes(p, most if most < size else -1)
+            check(head, size, tail)

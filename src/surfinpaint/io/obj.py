@@ -30,14 +30,54 @@ _MTLLIB = re.compile(r"^[ \t]*mtllib(?![^ \t\r\n])[ \t]*([^\r\n]*)", re.MULTILIN
 _LABELS = {"object": "o", "group": "g", "material": "usemtl"}
 
 
-def obj_header(head: bytes, size: int) -> None:
+def obj_header(head: bytes, size: int, tail: bytes = b"") -> None:
     """Raise the :class:`MeshError` :func:`read_obj` raises first for an OBJ file of ``size``
-    bytes starting with ``head``: a binary file, or (``head`` the whole file) one with no
-    vertex or no face line (a text file named ``.obj``): the check of
-    :func:`surfinpaint.io.formats.check_file`, given a small file whole."""
+    bytes starting with ``head`` and ending with ``tail``: a binary file, or (``head`` the
+    whole file) one that ends in a line cut short (:func:`obj_last_line`) or has no vertex
+    or no face line (a text file named ``.obj``): the check of
+    :func:`surfinpaint.io.formats.check_file`, given a small file whole. A large file whose
+    last line (in ``tail``) is cut short raises too, without the line's number: the check
+    then gives it whole, for the reader's words."""
     text = decode_text(head, "OBJ")
     if len(head) >= size:
+        obj_last_line(head)
         _records(text)
+    elif _cut_short(tail) is not None:
+        raise MeshError("OBJ file ends in a line cut short")
+
+
+def obj_last_line(data: bytes) -> None:
+    """Raise for an OBJ file's bytes ``data`` (all of them) that end in a record cut short
+    (the file does not end with a newline and its last line is a face with fewer than
+    three corners, or a vertex with fewer than three coordinates or one that is not a
+    number), naming the line by its number (from 1): a file cut short mid-line, found
+    before its faces are read."""
+    problem = _cut_short(data)
+    if problem is not None:
+        line = data.count(b"\n") + 1
+        raise MeshError(f"OBJ file ends in a line cut short (line {line}, with no newline "
+                        f"after it, is {problem})")
+
+
+def _cut_short(data: bytes) -> str | None:
+    """What the last line of an OBJ file ending with ``data`` is when the reader rejects it
+    (a face of fewer than three corners, a vertex of fewer than three coordinates or one
+    not a number) and the file ends in it (no newline after it); else None."""
+    last = data[data.rfind(b"\n") + 1:].decode("latin-1")
+    record = _RECORD.match(last)
+    if record is None:
+        return None
+    kind, values = record[1], record[2].partition("#")[0].split()
+    if kind == "f" and len(values) < 3:
+        return f"a face with fewer than three corners: {last!r}"
+    if kind == "v" and len(values) < 3:
+        return f"a vertex with fewer than three coordinates: {last!r}"
+    if kind == "v":
+        try:
+            np.array(values, dtype=np.float64)
+        except ValueError:
+            return f"a vertex with a coordinate that is not a number: {last!r}"
+    return None
 
 
 def _records(text: str) -> tuple[list, set[str], dict[str, list[str]]]:
@@ -55,6 +95,7 @@ def _records(text: str) -> tuple[list, set[str], dict[str, list[str]]]:
 
 def read_obj(data: bytes, path: Path) -> Parsed:
     text = decode_text(data, "OBJ")
+    obj_last_line(data)
     records, present, lines = _records(text)
     vertices = xyz_rows(lines["v"])
     flines = lines["f"]
