@@ -145,6 +145,14 @@ kind; its four scans made with the portable scanner), holes planned the same way
 from 2000), made in session 42 after the eighteenth holdout had been run once and committed
 before any fill was run on them; to be run once by a later session after its changes.
 
+A twenty-second set, the twentieth holdout (``benchmarks/holdout20_manifest.json``,
+``--write --holdout20``): 12 fresh meshes (``validation_meshes.HOLDOUT20_SOURCES``, made in
+``holdout20_meshes.py``; all six kinds, a synthetic cortex with meandering sulci for the
+brain kind; its four scans made with the portable scanner), holes planned the same way
+(seeds from 2100), made in session 43 after the nineteenth holdout had been run once and
+committed before any fill was run on them; to be run once by a later session after its
+changes.
+
 A tuning-side set of range scans of curved shapes (``benchmarks/curved_scans_manifest.json``,
 ``--write --curved-scans``): 14 portable scans (``validation_meshes.CURVED_SCAN_SOURCES``,
 made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and the tuning
@@ -215,6 +223,8 @@ HOLDOUT17_MANIFEST = Path(__file__).parent / "holdout17_manifest.json"
 HOLDOUT18_MANIFEST = Path(__file__).parent / "holdout18_manifest.json"
 # a twenty-first set, fresh meshes of session 42 (HOLDOUT19_SOURCES), committed before any fill
 HOLDOUT19_MANIFEST = Path(__file__).parent / "holdout19_manifest.json"
+# a twenty-second set, fresh meshes of session 43 (HOLDOUT20_SOURCES), committed before any fill
+HOLDOUT20_MANIFEST = Path(__file__).parent / "holdout20_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
 # tuning-side thin smooth walls with saddle-shaped parts of session 41 (THIN_SHELL_SOURCES)
@@ -240,6 +250,7 @@ LATER_SETS = {
     "holdout17": (HOLDOUT17_MANIFEST, "the seventeenth holdout set", 1800),
     "holdout18": (HOLDOUT18_MANIFEST, "the eighteenth holdout set", 1900),
     "holdout19": (HOLDOUT19_MANIFEST, "the nineteenth holdout set", 2000),
+    "holdout20": (HOLDOUT20_MANIFEST, "the twentieth holdout set", 2100),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -287,6 +298,7 @@ SPLIT = {
     "holdout17": list(vm.HOLDOUT17_SOURCES),
     "holdout18": list(vm.HOLDOUT18_SOURCES),
     "holdout19": list(vm.HOLDOUT19_SOURCES),
+    "holdout20": list(vm.HOLDOUT20_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
     "thin_shells": list(vm.THIN_SHELL_SOURCES),
 }
@@ -388,7 +400,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 1100, the eleventh holdout's at 1200, the twelfth holdout's at
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
     holdout's at 1600, the sixteenth holdout's at 1700, the seventeenth holdout's at 1800,
-    the eighteenth holdout's at 1900, the nineteenth holdout's at 2000;
+    the eighteenth holdout's at 1900, the nineteenth holdout's at 2000, the twentieth
+    holdout's at 2100;
     the smooth tuning set's at 3800, the curved scans set's at 3600, the thin shells set's
     at 4100)."""
     meshes = []
