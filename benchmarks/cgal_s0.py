@@ -29,7 +29,7 @@ of two columns over the holes, as a table; ``--out``: the rows as JSON.)
 
 Session 43: ``--manifest`` takes a spent holdout set (9–18) instead of the tuning half, and
 ``--holes brain`` every hole of a manifest's brain-kind meshes (tuning split only in
-``holes_manifest.json``)::
+``holes_manifest.json``), ``--triangulation-only`` the two triangulations unrefined::
 
     .venv/bin/python benchmarks/cgal_s0.py --manifest benchmarks/holdout17_manifest.json \
         --holes brain --out h17.json
@@ -88,6 +88,20 @@ def _error(cut, new_v, new_f) -> float:
     pv, pf = hole_patch_of(v, f, len(cut.vertices), cut.faces)
     d = surface_distance(pv, pf, cut.truth_vertices, cut.truth_faces, n_samples=10000)
     return float(d.mean * 100.0 / cut.diameter)
+
+
+def triangulation_row(cut) -> dict[str, float]:
+    """The triangulations alone, unrefined and unfaired: CGAL's ``triangulate_hole``
+    (``ctri``) and ours (``dp``: the 3D-Delaunay-restricted dynamic program), and whether
+    they are the same set of faces (``same``: 1 or 0)."""
+    v, f, loop = cut.vertices, cut.faces, cut.loop
+    _, ctri, _, _ = accuracy._run_peer(_cgal_step("triangulate_hole"), v, f, loop)
+    ours = minimum_weight_triangulation(v, loop, f)
+    empty = np.zeros((0, 3))
+    same = {tuple(sorted(t)) for t in ctri[len(f):].tolist()} == \
+        {tuple(sorted(t)) for t in ours.tolist()}
+    return {"tri:ctri": _error(cut, empty, ctri[len(f):]), "tri:dp": _error(cut, empty, ours),
+            "same": float(same)}
 
 
 def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
@@ -162,6 +176,8 @@ def main(argv=None):
     parser.add_argument("--out", default=None, help="write the rows as JSON here")
     parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST),
                         help="the tuning half's manifest (default) or a spent holdout set's")
+    parser.add_argument("--triangulation-only", action="store_true",
+                        help="only the two triangulations, unrefined (ctri, ours)")
     parser.add_argument("--refinement-only", action="store_true",
                         help="only CGAL's triangulation refined three ways (ctri, cref, "
                              "ctri+cstyle), each faired by ours")
@@ -182,8 +198,9 @@ def main(argv=None):
         mesh = meshes.setdefault(name, vm.load_entry(manifest[name]))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            row = hole_row(validation._cut(mesh, manifest[name]["holes"][int(k)]),
-                           args.refinement_only)
+            cut = validation._cut(mesh, manifest[name]["holes"][int(k)])
+            row = triangulation_row(cut) if args.triangulation_only else \
+                hole_row(cut, args.refinement_only)
         rows.append((spec, row))
         print(spec, " ".join(f"{a} {b:.3f}" for a, b in row.items()), file=sys.stderr,
               flush=True)
