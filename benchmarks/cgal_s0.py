@@ -14,7 +14,9 @@ of fills that mix CGAL's steps (through the ``cgal`` package's ``triangulate_hol
 - ``cref+fair{k}``: CGAL's triangulation and refinement, our fairing;
 - ``cref+clamped{k}``: the same with CGAL's non-negative clamped cotangents
   (``operator="clamped"``);
-- ``cdt+fair{k}``: our planar constrained Delaunay triangulation (``search="cdt"``).
+- ``cdt+fair{k}``: our planar constrained Delaunay triangulation (``search="cdt"``);
+- ``clamped{k}``: ours with CGAL's clamped weights (session 43: is it the weights?);
+- ``n:<column>``: the new vertices of a column's patch (refinement density).
 
 Run::
 
@@ -24,6 +26,13 @@ Run::
 
 (``--holes tuning``: every hole of the tuning meshes; ``--ratios a/b,...``: per-hole ratios
 of two columns over the holes, as a table; ``--out``: the rows as JSON.)
+
+Session 43: ``--manifest`` takes a spent holdout set (9–18) instead of the tuning half, and
+``--holes brain`` every hole of a manifest's brain-kind meshes (tuning split only in
+``holes_manifest.json``), ``--triangulation-only`` the two triangulations unrefined::
+
+    .venv/bin/python benchmarks/cgal_s0.py --manifest benchmarks/holdout17_manifest.json \
+        --holes brain --out h17.json
 """
 
 from __future__ import annotations
@@ -81,6 +90,20 @@ def _error(cut, new_v, new_f) -> float:
     return float(d.mean * 100.0 / cut.diameter)
 
 
+def triangulation_row(cut) -> dict[str, float]:
+    """The triangulations alone, unrefined and unfaired: CGAL's ``triangulate_hole``
+    (``ctri``) and ours (``dp``: the 3D-Delaunay-restricted dynamic program), and whether
+    they are the same set of faces (``same``: 1 or 0)."""
+    v, f, loop = cut.vertices, cut.faces, cut.loop
+    _, ctri, _, _ = accuracy._run_peer(_cgal_step("triangulate_hole"), v, f, loop)
+    ours = minimum_weight_triangulation(v, loop, f)
+    empty = np.zeros((0, 3))
+    same = {tuple(sorted(t)) for t in ctri[len(f):].tolist()} == \
+        {tuple(sorted(t)) for t in ours.tolist()}
+    return {"tri:ctri": _error(cut, empty, ctri[len(f):]), "tri:dp": _error(cut, empty, ours),
+            "same": float(same)}
+
+
 def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
     """The columns of the module docstring for one hole; ``refinement_only``: only CGAL's
     triangulation refined three ways (ctri, cref, ctri+cstyle), each faired by ours."""
@@ -97,6 +120,7 @@ def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
         for peer in ("cgal", "cgal3"):
             cv, cf, _, _ = accuracy._run_peer(peers.PEERS[peer], v, f, loop)
             out[peer] = _error(cut, cv[n:], cf[m:])
+        out["n:cgal"] = float(len(cv) - n)
     _, ctri, _, _ = accuracy._run_peer(_cgal_step("triangulate_hole"), v, f, loop)
     rv, rf, _, _ = accuracy._run_peer(_cgal_step("triangulate_and_refine_hole"), v, f, loop)
     tris = {"ctri": ctri[m:]}
@@ -106,9 +130,13 @@ def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
         if not refinement_only:
             own = faired_fills(v, f, loop, (order,))[order]
             out[f"fair{order}"] = _error(cut, own[0], own[1])
+            out["n:fair"] = float(len(own[0]))
+            clamped = faired_fills(v, f, loop, (order,), operator="clamped")[order]
+            out[f"clamped{order}"] = _error(cut, clamped[0], clamped[1])
         for name, tri in tris.items():
             new_v, patch = refine_patch(v, tri, loop, faces=f, style="liepa")
             out[f"{name}+fair{order}"] = _error(cut, fair_on(new_v, patch, order), patch)
+            out[f"n:{name}"] = float(len(new_v))
         new_v, patch = refine_patch(v, ctri[m:], loop, faces=f, style="cgal")
         out[f"ctri+cstyle+fair{order}"] = _error(cut, fair_on(new_v, patch, order), patch)
         out[f"cref+fair{order}"] = _error(cut, fair_on(rv[n:], rf[m:], order), rf[m:])
@@ -116,6 +144,14 @@ def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
             out[f"cref+clamped{order}"] = _error(
                 cut, fair_on(rv[n:], rf[m:], order, "clamped"), rf[m:])
     return out
+
+
+def _studied(entry: dict) -> bool:
+    """A manifest entry this study may look at: the tuning half, or a spent holdout set 9-18
+    (never the validation half, nor holdout 19 and later)."""
+    split = entry["split"]
+    return split == "tuning" or (split.startswith("holdout")
+                                 and split[7:].isdigit() and 9 <= int(split[7:]) <= 18)
 
 
 def _print_ratios(rows, pairs) -> None:
@@ -138,26 +174,33 @@ def main(argv=None):
                         help="mesh#hole, comma-separated, or 'tuning' (every tuning hole)")
     parser.add_argument("--ratios", default="", help="column/column pairs, comma-separated")
     parser.add_argument("--out", default=None, help="write the rows as JSON here")
+    parser.add_argument("--manifest", default=str(holes_manifest.MANIFEST),
+                        help="the tuning half's manifest (default) or a spent holdout set's")
+    parser.add_argument("--triangulation-only", action="store_true",
+                        help="only the two triangulations, unrefined (ctri, ours)")
     parser.add_argument("--refinement-only", action="store_true",
                         help="only CGAL's triangulation refined three ways (ctri, cref, "
                              "ctri+cstyle), each faired by ours")
     args = parser.parse_args(argv)
-    manifest = {e["mesh"]: e for e in holes_manifest.read(holes_manifest.MANIFEST)["meshes"]}
+    manifest = {e["mesh"]: e for e in holes_manifest.read(Path(args.manifest))["meshes"]}
     specs = args.holes.split(",")
-    if args.holes == "tuning":
-        specs = [f"{e['mesh']}#{k}" for e in manifest.values() if e["split"] == "tuning"
+    if args.holes in ("tuning", "brain"):
+        specs = [f"{e['mesh']}#{k}" for e in manifest.values() if _studied(e)
+                 and (args.holes == "tuning" or e.get("kind") == "brain")
                  for k in range(len(e["holes"]))]
     meshes: dict = {}
     rows = []
     for spec in specs:
         name, k = spec.split("#")
-        if manifest[name]["split"] != "tuning":
-            raise SystemExit(f"{name} is a validation mesh: study the tuning half only")
-        mesh = meshes.setdefault(name, vm.load(name))
+        if not _studied(manifest[name]):
+            raise SystemExit(f"{name} is in {manifest[name]['split']}: study the tuning half "
+                             "and the spent holdouts 9-18 only")
+        mesh = meshes.setdefault(name, vm.load_entry(manifest[name]))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            row = hole_row(validation._cut(mesh, manifest[name]["holes"][int(k)]),
-                           args.refinement_only)
+            cut = validation._cut(mesh, manifest[name]["holes"][int(k)])
+            row = triangulation_row(cut) if args.triangulation_only else \
+                hole_row(cut, args.refinement_only)
         rows.append((spec, row))
         print(spec, " ".join(f"{a} {b:.3f}" for a, b in row.items()), file=sys.stderr,
               flush=True)
@@ -166,7 +209,7 @@ def main(argv=None):
     if args.ratios:
         _print_ratios(rows, args.ratios.split(","))
         return
-    cols = list(rows[0][1])
+    cols = [c for c in rows[0][1] if not c.startswith("n:")]
     print("| hole | " + " | ".join(cols) + " |")
     print("|---|" + "---|" * len(cols))
     for spec, row in rows:
