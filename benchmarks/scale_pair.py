@@ -38,6 +38,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--workdir", type=Path, default=Path("/tmp/surfinpaint-scale"))
     parser.add_argument("extra", nargs="*", help="more arguments of the fill command")
     args = parser.parse_args(argv)
+    if args.rounds < 1 or "=" not in args.trees:
+        parser.error("give NAME=SRC trees and at least one round")
     trees = dict(item.split("=", 1) for item in args.trees.split(","))
     args.workdir.mkdir(parents=True, exist_ok=True)
     case = make_case(args.workdir, "bumpy-sphere-651k", 8, 10, 12.0)
