@@ -11,13 +11,14 @@ new tree's cache first (``SURFINPAINT_COMPILE=foreground``, one run), or its fir
 the numpy kernels while the background compilation fills it (docs/scale.md, session 42).
 
     PYTHONPATH=src python benchmarks/scale_pair.py main=/tmp/main/src,branch=src [--rounds 8]
-        [--workdir /tmp/surfinpaint-scale] [-- extra fill arguments]
+        [--workdir /tmp/surfinpaint-scale] [--fill-args="--method fair"]
 """
 
 from __future__ import annotations
 
 import argparse
 import hashlib
+import shlex
 import statistics
 import sys
 from pathlib import Path
@@ -36,7 +37,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("trees", help="NAME=SRC[,NAME=SRC...]: the first is the reference")
     parser.add_argument("--rounds", type=int, default=8)
     parser.add_argument("--workdir", type=Path, default=Path("/tmp/surfinpaint-scale"))
-    parser.add_argument("extra", nargs="*", help="more arguments of the fill command")
+    parser.add_argument("--fill-args", default="",
+                        help='more arguments of the fill command, e.g. --fill-args="--method fair"')
     args = parser.parse_args(argv)
     if args.rounds < 1 or "=" not in args.trees:
         parser.error("give NAME=SRC trees and at least one round")
@@ -49,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
         env["PYTHONPATH"] = str(Path(trees[name]).resolve())
         out = args.workdir / f"pair-{name}.out.ply"
         result = run_child([sys.executable, "-m", "surfinpaint", "fill", str(case.path), "-o",
-                            str(out), "-q", *args.extra], env)
+                            str(out), "-q", *shlex.split(args.fill_args)], env)
         return result, digest(out)
 
     names = list(trees)
