@@ -470,6 +470,13 @@ def submesh(vertices: np.ndarray, faces: np.ndarray, keep: np.ndarray
     return np.asarray(vertices)[ids], sub, ids
 
 
+# renumber marks the ids used in an array as long as the largest id while that is at most
+# this many times the faces' corners, else sorts the corners: the faster of the two (session
+# 43, random faces, 300 to 30,000 of them, timed in turn: the mask 1.7-12x faster at 2 and
+# 8 times, the two about even at 32, the sort 1.3-7.8x faster at 128)
+_SCATTER_SPAN = 16
+
+
 def renumber(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The vertices the faces use and the faces renumbered onto them.
 
@@ -486,8 +493,16 @@ def renumber(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         ``faces`` in local ids (``ids[local_faces] == faces``).
     """
     f = np.asarray(faces, dtype=np.int64)
-    ids, local = np.unique(f, return_inverse=True)
-    return ids, local.reshape(-1, 3)
+    n = int(f.max()) + 1 if f.size else 0
+    if n > _SCATTER_SPAN * f.size:  # a few faces of a large mesh: sort them
+        ids, local = np.unique(f, return_inverse=True)
+        return ids, local.reshape(-1, 3)
+    used = np.zeros(n, dtype=bool)
+    used[f] = True
+    ids = np.flatnonzero(used)
+    at = np.empty(n, dtype=np.int64)
+    at[ids] = np.arange(len(ids))
+    return ids, at[f].reshape(-1, 3)
 
 
 def compact(vertices: np.ndarray, faces: np.ndarray
