@@ -60,3 +60,12 @@ def test_the_default_sets_are_the_196_tuning_side_holes():
     entries = fill_fingerprints.tuning_entries(list(fill_fingerprints.DEFAULT_SETS))
     assert {e["split"] for _, e in entries} == {"tuning", "cad_tuning"}
     assert sum(len(e["holes"]) for _, e in entries) == 196
+
+
+def test_a_mesh_this_machine_cannot_make_is_skipped_and_named(monkeypatch, capsys):
+    def differs(entry):
+        raise RuntimeError(f"{entry['mesh']} has the manifest's counts but not its bytes")
+
+    monkeypatch.setattr(fill_fingerprints.vm, "load_entry", differs)
+    assert fill_fingerprints.run(["cad_tuning"], meshes=["shaft"]) == {}
+    assert "skipping cad_tuning/shaft: shaft has the manifest's counts" in capsys.readouterr().err
