@@ -24,6 +24,8 @@ on another machine make a reference from main first::
     python benchmarks/fill_fingerprints.py --check before.json            # on the change
     python benchmarks/fill_fingerprints.py --check benchmarks/fill_fingerprints_reference.json
 
+``--numpy-kernels`` fills with every numba kernel's numpy version instead (slower): checked
+against a reference it shows that they give the compiled kernels' bits (session 43: all 196).
 ``--check`` prints how many holes kept both digests and each hole that did not, and exits 1
 when a written position changed.
 """
@@ -33,6 +35,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import os
 import platform
 import subprocess
 import sys
@@ -41,6 +44,10 @@ from pathlib import Path
 
 import numpy as np
 
+# the compiled kernels on every fill, also on a cold numba cache: the digests are those of
+# what a warm install writes (each numpy version should give the same bits; session 43 found
+# one that did not, in the self-check's distances)
+os.environ.setdefault("SURFINPAINT_COMPILE", "foreground")
 sys.path.insert(0, str(Path(__file__).parent))
 import holes_manifest  # noqa: E402
 import validation  # noqa: E402
@@ -161,7 +168,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--meshes", default=None, help="comma-separated mesh ids (a subset)")
     parser.add_argument("--out", default=None, help="write the fingerprints as JSON here")
     parser.add_argument("--check", default=None, help="compare with this earlier --out")
+    parser.add_argument("--numpy-kernels", action="store_true",
+                        help="fill with every numba kernel's numpy version (each should give "
+                        "the compiled kernel's digests)")
     args = parser.parse_args(argv)
+    if args.numpy_kernels:
+        from surfinpaint import compiled
+        compiled.Kernel.get = lambda self: None  # run() then calls the numpy version
     sets = args.sets.split(",")
     holes = run(sets, args.meshes.split(",") if args.meshes else None)
     if args.out:

@@ -15,7 +15,9 @@
    thread's: a phase's CPU counts what ran beside it). A large mesh's ``find_holes`` and
    ``triangle_incidence`` (``vertex_faces``) run on a thread beside the topology checks
    (session 24): their wall overlaps the checks'; the kernels load on another from before
-   the read.
+   the read. This process imported numpy before the program's settings (huge pages
+   ``madvise``d, the BLAS threads): ``benchmarks/scale_timeline.py`` times the command as
+   the program runs it, per thread, with page faults.
 
 The mesh is the one ``benchmarks/scale.py`` makes (generated here when missing). Run the
 same command on two checkouts, alternated, to compare them:
@@ -44,7 +46,7 @@ import surfinpaint.fill.conformal.method as method  # noqa: E402
 from surfinpaint.fill import neighbourhood, pipeline, selfcheck  # noqa: E402
 from surfinpaint.fill.conformal.options import ConformalOptions  # noqa: E402
 from surfinpaint.fill.holes import find_holes  # noqa: E402
-from surfinpaint.fill.warmup import warm_kernels  # noqa: E402
+from surfinpaint.fill.warmup import Beside, warm_kernels  # noqa: E402
 from surfinpaint.io.formats import read_mesh  # noqa: E402
 
 
@@ -75,7 +77,7 @@ def process_phases(path: Path, out: Path, method: str) -> list[tuple[str, float,
     spent: dict[str, float] = {}
     wall: dict[str, float] = {}
     for owner, name, label in (
-            (cli, "read_mesh_data", "read"), (cli, "write_mesh_data", "write"),
+            (cli, "read_mesh_data", "read"), (cli, "write_with_materials", "write"),
             (pipeline, "check_arrays", "array checks"),
             (pipeline.EdgeTable, "build", "edge table"),
             (pipeline, "check_topology", "topology checks"),
@@ -105,9 +107,7 @@ def hole_parts(vertices: np.ndarray, faces: np.ndarray) -> dict[str, float]:
             (method, "sibling_scores", "sibling test"),
             (candidates, "faired_fills", "faired fills"),
             (candidates, "inpaint_patch_on_mesh", "λ-H passes"),
-            # the self-check's scores: every point-to-mesh search and its sampling (the
-            # searches of candidates after the first bypass _TriangleIndex.distance)
-            (selfcheck, "mean_surface_distances", "distances"),
+            # the self-check's scores: every point-to-mesh search and its sampling
             (selfcheck, "point_mesh_distances", "distances")):
         _timed(owner, name, label, spent)
     warm_kernels()
@@ -124,9 +124,10 @@ def whole_mesh(vertices: np.ndarray, faces: np.ndarray, calls: int = 3) -> list[
     out = []
     for _ in range(calls):
         started = time.process_time()
-        v, f, _, table = pipeline._prepared(vertices, faces, False, True)
+        v, _, triangles, _, table, _, _, _ = pipeline._prepared(vertices, faces, False, True,
+                                                                Beside(False))
         middle = time.process_time()
-        find_holes(v, f, table, validate=False)
+        find_holes(v, triangles, table, validate=False)
         out.append((middle - started, time.process_time() - middle))
     return out
 

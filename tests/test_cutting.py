@@ -271,6 +271,25 @@ def test_a_band_around_a_tube_is_decided_on_the_whole_mesh(monkeypatch):
     assert _same(windowed, _outcome(v, f, [0], [0.3]))
 
 
+def test_renumber_numbers_the_used_vertices_in_id_order():
+    from surfinpaint.geometry.cutting import renumber
+
+    f = np.array([[6, 2, 4], [4, 2, 7], [9, 6, 7]])
+    ids, local = renumber(f)
+    assert ids.tolist() == [2, 4, 6, 7, 9]
+    assert local.tolist() == [[2, 0, 1], [1, 0, 3], [4, 2, 3]]
+    np.testing.assert_array_equal(ids[local], f)  # the same triangles, renumbered
+    ids, local = renumber(f[:1].astype(np.int32))
+    assert ids.tolist() == [2, 4, 6] and local.tolist() == [[2, 0, 1]]
+    ids, local = renumber(np.empty((0, 3), int))
+    assert ids.size == 0 and local.shape == (0, 3)
+    # ids far apart (sorted) and close together (marked): the same numbering
+    for spread in (1, 10**6):
+        ids, local = renumber(f * spread)
+        assert ids.tolist() == [2 * spread, 4 * spread, 6 * spread, 7 * spread, 9 * spread]
+        assert local.tolist() == [[2, 0, 1], [1, 0, 3], [4, 2, 3]]
+
+
 def test_compact_keeps_only_the_faces_vertices_in_id_order():
     from surfinpaint.geometry.cutting import compact
 

@@ -383,6 +383,32 @@ def _check_options(options: Mapping[str, Any]) -> None:
     fill_holes(vertices, faces, **options)
 
 
+def _local_workers(jobs: int | None, client: Any) -> int:
+    """The worker processes :func:`fill_files` starts on this machine for ``jobs`` (None:
+    the cores this process may use; unused with a Dask ``client``, which ``jobs`` must
+    then not be given with)."""
+    if jobs is not None and client is not None:
+        raise ValueError("jobs= is for worker processes on this machine; a Dask client's "
+                         "cluster has its own workers")
+    if jobs is not None and (not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 1):
+        raise ValueError(f"jobs must be a positive integer, got {jobs!r}")
+    return jobs or _cores()
+
+
+def _listed(launched: _Launched | None, *listing: Any) -> tuple:
+    """:func:`~surfinpaint.app.batch_listing.list_jobs` of ``listing`` (its arguments); if
+    it raises, the workers ``launched`` are stopped and an interrupt is marked
+    ``while_listing``."""
+    try:
+        return list_jobs(*listing)
+    except BaseException as exc:
+        if launched is not None:
+            _stop_workers(launched[0])
+        if isinstance(exc, KeyboardInterrupt | Interrupted):
+            exc.while_listing = True  # no file was being filled: the command says so
+        raise
+
+
 def fill_files(
     inputs: Sequence[str | os.PathLike] | str | os.PathLike,
     out_dir: str | os.PathLike,
@@ -467,25 +493,13 @@ def fill_files(
     ValueError
         Bad options or inputs (no mesh file, two inputs onto one output, ...).
     """
-    if jobs is not None and client is not None:
-        raise ValueError("jobs= is for worker processes on this machine; a Dask client's "
-                         "cluster has its own workers")
-    if jobs is not None and (not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 1):
-        raise ValueError(f"jobs must be a positive integer, got {jobs!r}")
+    n_jobs = _local_workers(jobs, client)
     _check_options(fill_options)
-    n_jobs = jobs or _cores()
     # the local workers start, and load the kernels, while the inputs are listed and checked
     launched = _launch(n_jobs, progress is not None, _method(fill_options)) \
         if client is None and n_jobs > 1 else None
-    try:
-        todo, pending, rows = list_jobs(inputs, out_dir, overwrite, progress, png, overlays,
-                                        on_result, fill_options)
-    except BaseException as exc:
-        if launched is not None:
-            _stop_workers(launched[0])
-        if isinstance(exc, KeyboardInterrupt | Interrupted):
-            exc.while_listing = True  # no file was being filled: the command says so
-        raise
+    todo, pending, rows = _listed(launched, inputs, out_dir, overwrite, progress, png,
+                                  overlays, on_result, fill_options)
     out = Path(out_dir)
     try:
         if client is not None:

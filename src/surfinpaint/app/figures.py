@@ -16,6 +16,7 @@ import numpy as np
 
 from surfinpaint.app.fill_report import written
 from surfinpaint.errors import how_many
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
 from surfinpaint.io.atomic import atomic_path
 
@@ -338,11 +339,10 @@ def close_up(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, frame: H
     if patch is not None and len(patch):
         highlight = np.arange(len(kept), len(kept) + len(patch))
         kept = np.concatenate([kept, np.asarray(patch)])
-    ids, local = np.unique(kept, return_inverse=True)
-    lookup = np.full(len(vertices), -1)
+    ids, local = renumber(kept)
+    lookup = np.full(len(vertices), -1)  # -1: a loop vertex outside the picture
     lookup[ids] = np.arange(len(ids))
-    return MeshView(vertices[ids], local.reshape(-1, 3), highlight=highlight,
-                    loops=[lookup[loop]])
+    return MeshView(vertices[ids], local, highlight=highlight, loops=[lookup[loop]])
 
 
 def render_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,

@@ -206,30 +206,34 @@ def compare_holes(
     fills : ComparedFills
         Each method's fill of each hole, and the λ-H fill's diagnostics.
     """
-
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
     named = None if loops is None else list(loops)  # None: chosen by fill_holes' rule
     loops = select_holes(vertices, faces, named, keep_margins=keep_margins)
-    holes = None if named is None else loops
     if truth is not None and len(truth) != len(loops):
         raise ValueError(f"{how_many(len(truth), 'truth patch', 'truth patches')} for "
                          f"{how_many(len(loops), 'hole', 'holes')}")
     step = step or (lambda message, advance=1: None)
     options = ConformalOptions() if options is None else options
-    # the warnings of both fills drawn, said once below saying which fill each is of; the
-    # λ-H fills made again are not said (they repeat the conformal fill's, of fills not
-    # written)
-    with warnings.catch_warnings(record=True) as caught_fair:
-        warnings.simplefilter("always")
-        fair = fill_holes(vertices, faces, holes=holes, method="fair",
-                          keep_margins=keep_margins, validate=False, islands=islands)
+    made = _both_fills(vertices, faces, loops, None if named is None else loops,
+                       step=step, options=options, keep_margins=keep_margins, islands=islands)
+    return _measured(vertices, made, truth, step), made
+
+
+def _both_fills(vertices, faces, loops, holes, *, step, options, keep_margins, islands
+                ) -> ComparedFills:
+    """:func:`compare_holes`' fills of ``loops`` (``holes``: as given to ``fill_holes``),
+    conventional, conformal and λ-H before the self-check, with the warnings of the first
+    two said once each, saying which fill each is of (at the caller of ``compare_holes``);
+    the λ-H fills made again are not said (they repeat the conformal fill's, of fills not
+    written)."""
+    fair, caught_fair = _with_warnings(fill_holes, vertices, faces, holes=holes, method="fair",
+                                       keep_margins=keep_margins, validate=False,
+                                       islands=islands)
     step("conventional fills done")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        conformal = fill_holes(vertices, faces, holes=holes, method="conformal",
-                               keep_margins=keep_margins, validate=False, options=options,
-                               islands=islands)
+    conformal, caught = _with_warnings(fill_holes, vertices, faces, holes=holes,
+                                       method="conformal", keep_margins=keep_margins,
+                                       validate=False, options=options, islands=islands)
     step("conformal fills done")
     written_fills = [(conformal.vertices, p) for p in conformal.hole_faces()]
     with warnings.catch_warnings():
@@ -238,23 +242,37 @@ def compare_holes(
                                            written_fills, options, step, islands)
     for text, category in fills_warnings(said_once(caught, conformal.reports),
                                          said_once(caught_fair, fair.reports)).items():
-        warnings.warn(text, category, stacklevel=2)
-    made = ComparedFills(fair=fair, conformal=conformal,
+        warnings.warn(text, category, stacklevel=3)
+    return ComparedFills(fair=fair, conformal=conformal,
                          fair_fills=[(fair.vertices, p) for p in fair.hole_faces()],
                          written_fills=written_fills, lambda_h_fills=raw,
                          diagnostics=diagnostics, loops=list(loops))
+
+
+def _with_warnings(call: Callable, *args, **kwargs) -> tuple:
+    """``call(*args, **kwargs)`` and the warnings it gave (every one, none shown)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = call(*args, **kwargs)
+    return result, caught
+
+
+def _measured(vertices: np.ndarray, made: ComparedFills,
+              truth: Sequence[tuple[np.ndarray, np.ndarray]] | None,
+              step: Callable) -> list[HoleComparison]:
+    """Each hole's comparison (:func:`_comparison`) and, with ``truth``, each fill's errors
+    against its hole's truth patch."""
     patches = {name: [None if p is None else compact(*p)[:2] for p in fills]
                for name, fills in made.by_method().items()}
-
     out = []
-    for k, loop in enumerate(loops):
+    for k, loop in enumerate(made.loops):
         comp = _comparison(k, loop, vertices, made)
         if truth is not None:
             comp.errors = {name: _error(patches[name][k], truth[k], comp.diameter)
                            for name in ("fair", "conformal", "conformal raw")}
         out.append(comp)
         step(f"hole {k}: measured")
-    return out, made
+    return out
 
 
 def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step, islands):

@@ -51,6 +51,7 @@ import scipy.sparse as sp
 
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.ids import is_id_name, none_ids
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.degenerate import triangle_incidence
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import cotangent_laplacian, faces_near, mass_matrix, vertex_normals
@@ -347,16 +348,15 @@ def hole_domain(
         patch = np.concatenate([fill_faces, faces_near(faces, loop, k - 1, n)])
         if k == rings:
             widest = patch
-        ids, local = np.unique(patch, return_inverse=True)
-        local = local.reshape(-1, 3)
+        ids, local = renumber(patch)
         try:
             uv = lscm(vertices[ids], local)
         except (MeshError, RuntimeError):
             continue
         if np.isfinite(uv).all() and len(flipped_faces(local, uv)) == 0:
             return HoleDomain(ids, local, uv, True, k)
-    ids, local = np.unique(widest, return_inverse=True)
-    return HoleDomain(ids, local.reshape(-1, 3), vertices[ids], False, rings)
+    ids, local = renumber(widest)
+    return HoleDomain(ids, local, vertices[ids], False, rings)
 
 
 def channel_ranges(values: np.ndarray) -> np.ndarray:

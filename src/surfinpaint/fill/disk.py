@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from surfinpaint.fill.liepa.baseline import conventional_fill
+from surfinpaint.geometry.cutting import compact
 from surfinpaint.geometry.mesh import boundary_loops, connected_components, face_areas
 from surfinpaint.geometry.parameterization import check_disk, pinched_vertices
 
@@ -63,9 +64,6 @@ def disk_from_mesh(vertices: np.ndarray, faces: np.ndarray, *, fill_holes: bool 
             new_v, new_f = conventional_fill(v, f, loop)
             v = np.vstack([v, new_v])
             f = np.vstack([f, new_f])
-    used = np.unique(f)
-    remap = np.full(len(v), -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    v, f = v[used], remap[f]
+    v, f, _ = compact(v, f)
     check_disk(v, f)
     return v, f

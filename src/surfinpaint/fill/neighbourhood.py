@@ -13,6 +13,7 @@ import scipy.sparse as sp
 
 from surfinpaint.errors import how_many
 from surfinpaint.fill.results import Fill, FillResult, HoleReport
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.degenerate import triangle_incidence
 from surfinpaint.geometry.validation import face_text, zero_area_faces
 
@@ -147,12 +148,12 @@ class FilledMesh:
         picked, picked_added = neighbourhood_faces(self.faces, self.vertex_faces, added, loop,
                                                    rings)
         faces_global = np.concatenate([self.faces[picked], added[picked_added]])
-        ids, local_faces = np.unique(faces_global, return_inverse=True)
+        ids, local_faces = renumber(faces_global)
         flat = picked[np.isin(picked, self.zero_area)] if len(self.zero_area) else \
             self.zero_area
         return Local(loop=loop, ids=ids, faces_global=faces_global,
                      vertices=gather_positions(self.vertices, self.vertex_blocks, ids),
-                     faces=local_faces.reshape(-1, 3), local_loop=np.searchsorted(ids, loop),
+                     faces=local_faces, local_loop=np.searchsorted(ids, loop),
                      zero_area=flat, zero_area_text=face_text(flat, self.faces))
 
     def stitch(self, local: Local, fill: Fill) -> str | None:

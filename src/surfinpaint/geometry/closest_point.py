@@ -19,13 +19,22 @@ def _closest_on_edges(p, a, b, c, rows: np.ndarray) -> np.ndarray:
     best = np.full(len(p), np.inf)
     for u, w in ((a, b), (b, c), (c, a)):
         e = w[rows] - u[rows]
-        t = _fraction(np.einsum("ij,ij->i", p[rows] - u[rows], e), np.einsum("ij,ij->i", e, e))
+        t = _fraction(_dot(p[rows] - u[rows], e), _dot(e, e))
         q = u[rows] + t[:, None] * e
         d = ((q - p[rows]) ** 2).sum(axis=1)
         closer = d < best[rows]
         idx = np.flatnonzero(rows)[closer]
         out[idx], best[idx] = q[closer], d[closer]
     return out
+
+
+def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Row dot products added left to right, ``(x0 y0 + x1 y1) + x2 y2``: the order of the
+    compiled distance kernel (``metrics._min_distance_loops``), so that the numpy version
+    gives its numbers bit for bit (numpy's ``einsum`` adds a row in another order, and the
+    self-check's scores then differed in the last digit between a cold and a warm numba
+    cache: session 43)."""
+    return (x[:, 0] * y[:, 0] + x[:, 1] * y[:, 1]) + x[:, 2] * y[:, 2]
 
 
 def _fraction(num: np.ndarray, den: np.ndarray) -> np.ndarray:
@@ -52,14 +61,14 @@ def closest_point_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray,
     (m, 3) float array
     """
     ab, ac, ap = b - a, c - a, p - a
-    d1 = np.einsum("ij,ij->i", ab, ap)
-    d2 = np.einsum("ij,ij->i", ac, ap)
+    d1 = _dot(ab, ap)
+    d2 = _dot(ac, ap)
     bp = p - b
-    d3 = np.einsum("ij,ij->i", ab, bp)
-    d4 = np.einsum("ij,ij->i", ac, bp)
+    d3 = _dot(ab, bp)
+    d4 = _dot(ac, bp)
     cp = p - c
-    d5 = np.einsum("ij,ij->i", ab, cp)
-    d6 = np.einsum("ij,ij->i", ac, cp)
+    d5 = _dot(ab, cp)
+    d6 = _dot(ac, cp)
     va = d3 * d6 - d5 * d4
     vb = d5 * d2 - d1 * d6
     vc = d1 * d4 - d3 * d2
@@ -75,8 +84,7 @@ def closest_point_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray,
     # degenerate triangles (repeated or collinear corners): the region tests below do not
     # hold there (a zero-length ab sends every point to a); nearest point of the three edges
     cross = np.cross(ab, ac)
-    flat = np.einsum("ij,ij->i", cross, cross) <= _FLAT * np.einsum(
-        "ij,ij->i", ab, ab) * np.einsum("ij,ij->i", ac, ac)
+    flat = _dot(cross, cross) <= _FLAT * _dot(ab, ab) * _dot(ac, ac)
     if flat.any():
         put(flat, _closest_on_edges(p, a, b, c, flat))
     with np.errstate(divide="ignore", invalid="ignore"):

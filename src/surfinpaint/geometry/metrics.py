@@ -10,6 +10,7 @@ from scipy.spatial import cKDTree
 
 from surfinpaint.compiled import Kernel, run
 from surfinpaint.geometry.closest_point import closest_point_on_triangles
+from surfinpaint.geometry.cutting import compact
 from surfinpaint.geometry.mesh import face_areas
 
 __all__ = ["SurfaceDistance", "hole_patch_of", "mean_surface_distances", "point_mesh_distance",
@@ -524,8 +525,4 @@ def hole_patch_of(result_vertices: np.ndarray, result_faces: np.ndarray, n_origi
         else:  # codes would overflow int64
             known = set(map(tuple, original.tolist()))
             new |= np.array([tuple(k) not in known for k in key.tolist()], bool)
-    pf = f[new]
-    ids = np.unique(pf)
-    remap = np.full(len(v), -1)
-    remap[ids] = np.arange(len(ids))
-    return v[ids], remap[pf]
+    return compact(v, f[new])[:2]

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse.linalg as spla
 
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.mesh import cotangent_laplacian
 from surfinpaint.representation.area_newton import rebuild_with_areas
 from surfinpaint.representation.grid import Grid, interpolate
@@ -108,10 +109,7 @@ def grid_triangles(domain: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarr
     i, j = np.nonzero(cell)
     a, b, c, d = i * M + j, (i + 1) * M + j, (i + 1) * M + j + 1, i * M + j + 1
     f = np.vstack([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
-    nodes = np.unique(f)
-    remap = np.full(N * M, -1, dtype=np.int64)
-    remap[nodes] = np.arange(len(nodes))
-    f = remap[f]
+    nodes, f = renumber(f)
     e = np.sort(np.vstack([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
     key = e[:, 0] * max(len(nodes), 1) + e[:, 1]
     unique, count = np.unique(key, return_counts=True)

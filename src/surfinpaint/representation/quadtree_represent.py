@@ -52,6 +52,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from surfinpaint.errors import MeshError
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.overlap import border_crossings
 from surfinpaint.geometry.point_location import locate_points
@@ -315,10 +316,8 @@ def _tree_level(disk: _MappedDisk, target: float, diagonal: float, max_depth: in
     located = disk.locate(uv)
     inside = located[0] >= 0
     faces = faces[inside[faces].all(axis=1)]
-    used = np.unique(faces)
-    remap = np.full(len(uv), -1)
-    remap[used] = np.arange(len(used))
-    faces, uv, keys = remap[faces], uv[used], tree.keys[used]
+    used, faces = renumber(faces)
+    uv, keys = uv[used], tree.keys[used]
     phi = disk.sample(tuple(a[used] for a in located), sampling)
     table = EdgeTable.build(faces, len(uv))
     known = np.zeros(len(uv), dtype=bool)

@@ -13,6 +13,7 @@ from surfinpaint.errors import FillError, how_many
 from surfinpaint.fill.conformal.options import GridOptions
 from surfinpaint.fill.results import GridLambdaH
 from surfinpaint.geometry import parameterization
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.mesh import unique_edges
 from surfinpaint.representation import reconstruction
 from surfinpaint.representation.estimation import robust_lambda_h
@@ -68,8 +69,7 @@ def patch_grid(vertices: np.ndarray, patch_faces: np.ndarray, n_fill_faces: int,
     FillError
         When the map flips faces at the fill, or the grid would exceed ``max_nodes``.
     """
-    ids, local = np.unique(patch_faces, return_inverse=True)
-    local = local.reshape(-1, 3)
+    ids, local = renumber(patch_faces)
     points = vertices[ids]
     uv = parameterization.lscm(points, local)
     flipped = parameterization.flipped_faces(local, uv)

@@ -22,6 +22,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from surfinpaint.errors import FillError, how_many
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.mean_value import convex_combination
 from surfinpaint.geometry.mesh import (
     boundary_loops,
@@ -142,14 +143,13 @@ def lattice_patch(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: n
     depth[near] = np.where(found >= 0, np.nan_to_num(weights, nan=-np.inf).min(axis=1),
                            -np.inf)
     kept = lattice_faces[(holder >= 0)[lattice_faces].all(axis=1)]
-    ids, kept = np.unique(kept, return_inverse=True)
-    kept = kept.reshape(-1, 3)
+    ids, kept = renumber(kept)
     lat_free = (holder[ids] < n_fill) & (depth[ids] > INSIDE)
     count, label = connected_components(kept, len(ids))
     if count > 1 and lat_free.any():  # the piece around the hole
         piece = kept[label[kept[:, 0]] == np.bincount(label[lat_free]).argmax()]
-        sub, kept = np.unique(piece, return_inverse=True)
-        kept, ids, lat_free = kept.reshape(-1, 3), ids[sub], lat_free[sub]
+        sub, kept = renumber(piece)
+        ids, lat_free = ids[sub], lat_free[sub]
     n_edges = len(unique_edges(kept)[0])
     loops = boundary_loops(kept)
     if len(loops) != 1 or len(ids) - n_edges + len(kept) != 1 or not lat_free.any():

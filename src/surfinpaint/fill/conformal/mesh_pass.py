@@ -15,6 +15,7 @@ from surfinpaint.fill.conformal.patch import grown_patch, hole_patch, hole_patch
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import LeastSquaresFill, MeshLambdaH
 from surfinpaint.geometry import mean_value, parameterization
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.mesh import (
     boundary_halfedges,
     connected_components,
@@ -429,8 +430,7 @@ def _mapped_patch(vertices, faces, seeds, fill_faces, rings, grow=False):
     for k in range(rings, MIN_RINGS - 1, -1):
         patch, used, boundary = ((grown_patch(faces, seeds, fill_faces, k), k, None) if grow
                                  else hole_patch_and_boundary(faces, seeds, fill_faces, k))
-        ids, local = np.unique(patch, return_inverse=True)
-        local = local.reshape(-1, 3)
+        ids, local = renumber(patch)
         # a patch of full rings was found a disk with this boundary: LSCM need not check
         # its topology again (through the module: tests stand in for the flip test)
         uv = parameterization.lscm(vertices[ids], local, boundary=None if boundary is None
@@ -439,8 +439,7 @@ def _mapped_patch(vertices, faces, seeds, fill_faces, rings, grow=False):
             return patch, ids, local, uv, used, "lscm"
     patch, used = ((grown_patch(faces, seeds, fill_faces, rings), rings) if grow
                    else hole_patch(faces, seeds, fill_faces, rings))
-    ids, local = np.unique(patch, return_inverse=True)
-    local = local.reshape(-1, 3)
+    ids, local = renumber(patch)
     uv = mean_value.untangle(vertices[ids], local,
                                    parameterization.lscm(vertices[ids], local))
     if uv is not None:

@@ -14,6 +14,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import MeshError, preview
+from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import laplacian_and_areas, unique_edges
 
@@ -236,18 +237,12 @@ class _Region:
         touching, reach = _grow(faces, rows_mask)
         for _ in range(INTRINSIC_MARGIN if operator == "intrinsic" else 0):
             touching, reach = _grow(faces, reach)
-        sub = faces[touching]
-        used = np.zeros(n, dtype=bool)
-        used[sub.ravel()] = True
-        lonely = free_ids[~used[free_ids]]
+        self.ids, self.f = renumber(faces[touching])
+        lonely = free_ids[~np.isin(free_ids, self.ids)]
         if len(lonely):
             raise MeshError(f"free vertices {preview(lonely.tolist())} are in no face",
                             vertices=lonely[:10].tolist())
         self.order, self.free_ids = order, free_ids
-        self.ids = np.flatnonzero(used)
-        local = np.full(n, -1, dtype=np.int64)
-        local[self.ids] = np.arange(len(self.ids))
-        self.f = local[sub]
         self.is_free = mask[self.ids]
         self.in_rows = rows_mask[self.ids]
         if cut is not None:
