@@ -4,6 +4,7 @@ versions while one background process compiles (surfinpaint/compiled.py)."""
 
 from __future__ import annotations
 
+import ctypes
 import fcntl
 import logging
 import os
@@ -228,6 +229,40 @@ def test_a_signal_while_a_kernel_runs_is_raised_as_itself(monkeypatch, context, 
     monkeypatch.setenv(MODE_VARIABLE, "foreground")
     with pytest.raises(raised):
         compiled.run(fn, _dispatcher_with(context), lambda: -1)
+
+
+def _through_ctypes_callback(error):
+    """A kernel call that runs Python code in a ctypes callback, as llvmlite runs numba's
+    object-cache hooks, the code raising ``error``: ctypes cannot propagate it, reports it
+    to ``sys.unraisablehook`` and the call goes on, returning 7."""
+    def raising():
+        raise error
+    callback = ctypes.CFUNCTYPE(None)(raising)
+
+    def call(kernel):
+        callback()
+        return 7
+    return call
+
+
+@pytest.mark.parametrize("error", [_Stopped(), KeyboardInterrupt()])
+def test_a_signal_lost_in_a_ctypes_callback_is_raised_when_the_call_returns(monkeypatch,
+                                                                            error):
+    namespace: dict = {}
+    exec(compile("def thrice(x):\n    return 3 * x\n", "<no file>", "exec"), namespace)
+    fn = kernel(namespace["thrice"])
+    monkeypatch.setenv(MODE_VARIABLE, "foreground")
+    reported: list = []
+    monkeypatch.setattr(sys, "unraisablehook", reported.append)
+    with pytest.raises(type(error)) as raised:
+        compiled.run(fn, _through_ctypes_callback(error), lambda: -1)
+    assert raised.value is error and reported == []
+    # an ordinary exception there is no signal: reported as before, and the call's result
+    # stands; outside a kernel call nothing is kept either
+    assert compiled.run(fn, _through_ctypes_callback(ValueError("a bug")), lambda: -1) == 7
+    assert [r.exc_value.args for r in reported] == [("a bug",)]
+    _through_ctypes_callback(error)(None)
+    assert reported[-1].exc_value is error
 
 
 def _fresh_launch(monkeypatch, tmp_path: Path) -> list:

@@ -121,6 +121,46 @@ def test_signal_while_filling_stops_with_one_line(tmp_path, signum, code):
     _assert_stopped(proc, code, out_dir)
 
 
+# A fill whose numba object-cache hook (called by llvmlite through a ctypes callback, while a
+# kernel is compiled or loaded from the disk cache) sends the process a signal the first time
+# it runs: the handler's exception comes inside the callback, where Python cannot raise it.
+_SIGNAL_IN_CALLBACK = """
+import os, signal, sys
+from numba.core import codegen
+real = getattr(codegen.CPUCodeLibrary, sys.argv[1]).__func__
+sent = []
+def hooked(cls, *args):
+    if not sent:
+        sent.append(1)
+        os.kill(os.getpid(), int(sys.argv[2]))
+    return real(cls, *args)
+setattr(codegen.CPUCodeLibrary, sys.argv[1], classmethod(hooked))
+from surfinpaint.app.cli import main
+sys.exit(main(sys.argv[3:]))
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+@pytest.mark.parametrize("hook", ["_object_compiled_hook", "_object_getbuffer_hook"])
+def test_signal_while_a_kernel_compiles_stops_with_one_line(tmp_path, hook, signum, code):
+    # an empty numba cache and foreground compilation: the fill compiles its first kernel
+    # in the process, and the signal comes inside llvmlite's callback; it must not be lost
+    # ("Exception ignored on calling ctypes callback function", the fill going on to exit 0)
+    pytest.importorskip("numba")
+    source = _holey(tmp_path)
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    cache = tmp_path / "numba-cache"
+    cache.mkdir()
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), SURFINPAINT_COMPILE="foreground")
+    proc = subprocess.Popen([sys.executable, "-c", _SIGNAL_IN_CALLBACK, hook,
+                             str(int(signum)), "fill",
+                             str(source), "-o", str(out_dir / "filled.ply"), "-q"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    _assert_stopped(proc, code, out_dir)
+
+
 def test_output_directory_is_checked_before_the_input_is_read(tmp_path):
     # the input is a named pipe nobody writes to: reading it would block for ever, so a
     # prompt exit shows that the output was checked first

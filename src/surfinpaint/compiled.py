@@ -54,7 +54,8 @@ _state: dict = {"listening": False, "told": False, "launched": None}
 _OURS: set = set()  # the Python functions handed to kernel()
 _UNCACHED: set = set()  # kernels numba has no disk cache for
 _spent: dict = {}  # kernel -> estimated seconds its numpy version has cost this process
-_local = threading.local()  # .cached_only: the current call may load a kernel, not compile
+_local = threading.local()  # .cached_only: the current call may load a kernel, not compile;
+# .lost: signal handlers' exceptions lost in ctypes callbacks during the current call
 _launch_lock = threading.Lock()
 
 
@@ -182,14 +183,59 @@ def _called(compiled, call: Callable):
     Why: numba's dispatcher runs Python code (loading a cached kernel, boxing its result);
     a handler that raises there comes back as ``SystemError: ... returned a result with an
     exception set``, the handler's exception only its context, and a Ctrl-C would end in
-    a traceback instead of the command line's one line."""
+    a traceback instead of the command line's one line. Worse, llvmlite calls numba's
+    object-cache hooks (compiling a kernel, or loading it from the disk cache) through
+    ctypes callbacks, where an exception cannot propagate: Python reports it as
+    "Exception ignored on calling ctypes callback function" and the call goes on, the
+    signal lost (the command line's handler ignores further ones). Such an exception is
+    kept (:func:`_keep_lost_signal`) and raised here once the call returns."""
+    _hook_unraisable()
+    outer = getattr(_local, "lost", None)
+    lost = _local.lost = []
     try:
-        return call(compiled)
-    except SystemError as exc:
-        context = exc.__context__
-        if context is not None and not isinstance(context, Exception):
-            raise context from None
+        try:
+            result = call(compiled)
+        except SystemError as exc:
+            context = exc.__context__
+            if _is_signal_exception(context):
+                raise context from None
+            raise
+    except BaseException:
+        _raise_lost(lost)
         raise
+    finally:
+        _local.lost = outer
+    _raise_lost(lost)
+    return result
+
+
+def _raise_lost(lost: list) -> None:
+    if lost:
+        raise lost[0] from None
+
+
+def _is_signal_exception(exc) -> bool:
+    """What a signal handler raises: KeyboardInterrupt, the command line's Interrupted
+    (BaseExceptions that are not Exceptions)."""
+    return isinstance(exc, BaseException) and not isinstance(exc, Exception)
+
+
+def _keep_lost_signal(unraisable) -> None:
+    """``sys.unraisablehook`` (installed by :func:`_hook_unraisable`): during a kernel call
+    in this thread, a signal handler's exception that Python could not raise (it came in a
+    ctypes callback) is kept for :func:`_called`, not printed; anything else goes to the
+    hook that was there before."""
+    lost = getattr(_local, "lost", None)
+    if lost is not None and _is_signal_exception(unraisable.exc_value):
+        lost.append(unraisable.exc_value)
+        return
+    _state["unraisablehook"](unraisable)
+
+
+def _hook_unraisable() -> None:
+    if sys.unraisablehook is not _keep_lost_signal:
+        _state["unraisablehook"] = sys.unraisablehook
+        sys.unraisablehook = _keep_lost_signal
 
 
 def lock_path() -> str:
