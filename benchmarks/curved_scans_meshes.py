@@ -14,7 +14,9 @@ used: five meshes of the smooth tuning set (a figure-eight knot tube, a ball wit
 a piglet, an octopus, a ram's horn), four of ``animals.py``'s animals (two as remeshed, one
 Loop-subdivided, one decimated), and five of the tuning half's curved meshes (bunny, blob_a,
 bone, snowman, torus). Their holes are planned by ``holes_manifest.plan_holes`` as every
-set's scans are (holes 1, 3 and 5 next to the border), from seed 3600 on.
+set's scans are (holes 1, 3 and 5 next to the border), from seed 3600 on. The snowman is
+made with the C library's ``exp`` and ``log`` (:func:`c_library`): session 40's machine had no
+AVX-512, whose numpy loops round them otherwise (docs/validation.md "Session 43 (helper)").
 :mod:`validation_meshes` imports :data:`CURVED_SCAN_SOURCES` from here at its end (import it
 first, not this module).
 """
