@@ -14,15 +14,22 @@ used: five meshes of the smooth tuning set (a figure-eight knot tube, a ball wit
 a piglet, an octopus, a ram's horn), four of ``animals.py``'s animals (two as remeshed, one
 Loop-subdivided, one decimated), and five of the tuning half's curved meshes (bunny, blob_a,
 bone, snowman, torus). Their holes are planned by ``holes_manifest.plan_holes`` as every
-set's scans are (holes 1, 3 and 5 next to the border), from seed 3600 on.
+set's scans are (holes 1, 3 and 5 next to the border), from seed 3600 on. The snowman is
+made with the C library's ``exp`` and ``log`` (:func:`c_library`): session 40's machine had no
+AVX-512, whose numpy loops round them otherwise (docs/validation.md "Session 43 (helper)").
 :mod:`validation_meshes` imports :data:`CURVED_SCAN_SOURCES` from here at its end (import it
 first, not this module).
 """
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import validation_meshes as vm
 from validation_meshes import BenchMesh, Source
+
+from surfinpaint import data
 
 # the faces of the decimated animal's coarse mesh (animals.animal(decimated=...)): a
 # modeller's low-poly body whose facets the scan sees
@@ -34,6 +41,36 @@ def _tuning_source(mesh_id: str):
     (the smooth tuning set is added to ``SOURCES`` after this module is imported)."""
     def make() -> BenchMesh:
         return vm.SOURCES[mesh_id].make()
+    return make
+
+
+def c_library(function):
+    """``function`` (``math.exp``, ``math.log``) elementwise over a float array: the C
+    library's, as numpy computes it without its AVX-512 loops (session 43: numpy's AVX-512
+    ``exp`` and ``log`` round other last bits, which moved cscan_snowman's source)."""
+    elementwise = np.frompyfunc(function, 1, 1)
+
+    def apply(values) -> np.ndarray:
+        return elementwise(np.asarray(values, float)).astype(float)
+
+    return apply
+
+
+# the tuning half's sources whose generator takes its blend's exp and log (its
+# validation_meshes.SOURCES entry is data.snowman(edge_length=0.04) with numpy's)
+_BLENDED_TUNING_SOURCES = {
+    "snowman": lambda exp, log: data.snowman(edge_length=0.04, exp=exp, log=log)}
+
+
+def _c_library_source(mesh_id: str):
+    """The tuning half's ``mesh_id`` with its blend's ``exp`` and ``log`` the C library's
+    (:func:`c_library`): for the snowman, the bytes session 40 scanned (that machine's numpy
+    had no AVX-512 loops), on every CPU. The tuning half's own snowman keeps numpy's: its
+    manifest's centres are vertices of the AVX-512 one (docs/validation.md, "Session 43
+    (helper): cscan_snowman's bytes")."""
+    def make() -> BenchMesh:
+        return vm._mesh(*_BLENDED_TUNING_SOURCES[mesh_id](c_library(math.exp),
+                                                          c_library(math.log)))
     return make
 
 
@@ -93,7 +130,8 @@ CURVED_SCAN_SOURCES: dict[str, Source] = {
                          _scan_of(_tuning_source("bone"), (-0.6, 0.4, 0.7), 3511)),
     "cscan_snowman": Source("range_scan", "simulated scan of surfinpaint.data.snowman(0.04) "
                             "(portable scanner)",
-                            _scan_of(_tuning_source("snowman"), (0.7, 0.6, 0.4), 3512)),
+                            _scan_of(_c_library_source("snowman"), (0.7, 0.6, 0.4),
+                                   3512)),
     "cscan_torus": Source("range_scan", "simulated scan of surfinpaint.data.torus(160, 64), "
                           "obliquely (portable scanner)",
                           _scan_of(_tuning_source("torus"), (0.3, -0.4, 0.6), 3513)),

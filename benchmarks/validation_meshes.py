@@ -1842,6 +1842,11 @@ def _differs(mesh: BenchMesh, entry: dict) -> str | None:
     return None
 
 
+# numpy's SIMD dispatch targets with AVX-512 (numpy 2.x names), switched off by
+# NPY_DISABLE_CPU_FEATURES before numpy is imported
+NUMPY_WITHOUT_AVX512 = "X86_V4 AVX512_ICL AVX512_SPR"
+
+
 def load_entry(entry: dict, *, fresh_tries: int = 2) -> BenchMesh:
     """The mesh of a hole manifest's ``entry`` (``mesh``, ``n_vertices``, ``n_faces``, and
     from holdout set 13 on ``sha256``: :func:`mesh_digest`), checked against it.
@@ -1873,12 +1878,16 @@ def load_entry(entry: dict, *, fresh_tries: int = 2) -> BenchMesh:
     if why is not None:
         # session 38: "its source changed" alone sent the reader to the code, where holdout
         # 6's scan_clevis differed by its BLAS's rounding (scan_arithmetic)
+        # session 43: cscan_snowman's was numpy's AVX-512 exp and log, which the machine that
+        # made the manifest did not have; NPY_DISABLE_CPU_FEATURES tells that case apart
         raise RuntimeError(
             f"{why}, also made in {fresh_tries} fresh processes: the set cannot be rerun as "
             "committed here. Either its source changed, or this machine makes another mesh "
             "from the same code (a library's version, the CPU's or BLAS's rounding: "
-            "docs/validation.md, 'Session 38 (helper)'); a manifest is never rewritten to "
-            "match")
+            "docs/validation.md, 'Session 38 (helper)'; numpy's AVX-512 loops round exp, "
+            "log and others otherwise than the C library: if NPY_DISABLE_CPU_FEATURES="
+            f"'{NUMPY_WITHOUT_AVX512}' makes the manifest's mesh, its generator needs them "
+            "portable, 'Session 43 (helper)'); a manifest is never rewritten to match")
     return mesh
 
 

@@ -219,7 +219,9 @@ def test_a_mesh_that_differs_from_its_manifest_entry_is_made_again(monkeypatch,
     else:
         with pytest.warns(UserWarning), pytest.raises(
                 RuntimeError, match="sphere .* cannot be rerun as committed here. Either its "
-                "source changed, or this machine makes another mesh from the same code"):
+                "source changed, or this machine makes another mesh from the same code .*"
+                "NPY_DISABLE_CPU_FEATURES='X86_V4 AVX512_ICL AVX512_SPR' makes the "
+                "manifest's mesh"):
             validation_meshes.load_entry(_entry(good))
         assert made == ["sphere", "sphere"]
 
@@ -300,3 +302,68 @@ def test_an_explicit_surface_check_gives_the_same_mesh_whatever_the_heap_holds()
         outputs.append(run.stdout.split())
     assert outputs[0] == outputs[1]
     assert int(outputs[0][0]) == 566  # the checked remeshing's mesh, not the unchecked 496
+
+
+_SIMD_HASHES = """
+import hashlib, json, sys
+sys.path.insert(0, {benchmarks!r})
+import numpy as np
+import validation_meshes as vm
+import curved_scans_meshes as cs
+
+
+def digest(mesh):
+    return hashlib.sha256(mesh.vertices.tobytes() + mesh.faces.tobytes()).hexdigest()
+
+
+print(json.dumps({{"numpy": digest(vm.SOURCES["snowman"].make()),
+                  "c_library": digest(cs._c_library_source("snowman")())}}))
+"""
+
+
+def test_the_curved_scans_snowman_is_the_same_under_numpys_simd_dispatch():
+    """cscan_snowman's source (the tuning half's snowman with the C library's exp and log)
+    has one set of bytes with and without numpy's AVX-512 and AVX2 loops (switched off with
+    NPY_DISABLE_CPU_FEATURES), and they are numpy's snowman's without AVX-512: what session
+    40's machine scanned. Skipped where numpy's own snowman does not change (no AVX-512 here:
+    nothing compared). Session 43: numpy's AVX-512 exp and log moved the snowman's last
+    bits, so its scan had the manifest's counts but not its bytes."""
+    code = _SIMD_HASHES.format(benchmarks=str(Path(__file__).resolve().parents[1]
+                                              / "benchmarks"))
+    hashes = {}
+    without_avx512 = validation_meshes.NUMPY_WITHOUT_AVX512
+    for disabled in ("", without_avx512, "X86_V3 " + without_avx512):
+        env = {**os.environ, "NPY_DISABLE_CPU_FEATURES": disabled}
+        run = subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                             capture_output=True, text=True)
+        hashes[disabled] = json.loads(run.stdout.splitlines()[-1])
+    if len({h["numpy"] for h in hashes.values()}) == 1:
+        pytest.skip("numpy's SIMD loops give the snowman the same bits here: nothing compared")
+    assert len({h["c_library"] for h in hashes.values()}) == 1
+    assert hashes[""]["c_library"] == hashes[without_avx512]["numpy"]
+
+
+def test_the_curved_scans_snowman_is_the_tuning_halfs_snowman():
+    """The C library's exp and log move the snowman by last bits only: the tuning half's
+    mesh (same faces, vertices within 1e-12), and ``c_library`` is ``math``'s function
+    elementwise."""
+    import curved_scans_meshes
+
+    ours = curved_scans_meshes._c_library_source("snowman")()
+    tuning = validation_meshes.SOURCES["snowman"].make()
+    np.testing.assert_array_equal(ours.faces, tuning.faces)
+    assert np.abs(ours.vertices - tuning.vertices).max() < 1e-12
+    x = np.array([[-30.0, -1e-3], [0.5, 2.0]])
+    exp = curved_scans_meshes.c_library(math.exp)(x)
+    assert exp.shape == x.shape and exp.dtype == float
+    assert exp.ravel().tolist() == [math.exp(v) for v in x.ravel()]
+
+
+def test_cscan_snowman_is_its_manifests_bytes():
+    """cscan_snowman is made as its manifest has it (sha256) in this process, on every CPU:
+    it was the one curved scan this machine (numpy with AVX-512 loops) made otherwise."""
+    entries = json.loads((Path(__file__).resolve().parents[1] / "benchmarks"
+                          / "curved_scans_manifest.json").read_text())["meshes"]
+    entry = next(e for e in entries if e["mesh"] == "cscan_snowman")
+    mesh = validation_meshes.load_entry(entry, fresh_tries=0)
+    assert validation_meshes.mesh_digest(mesh) == entry["sha256"]

@@ -136,11 +136,13 @@ def _revolution(rho: np.ndarray, z: np.ndarray, edge_length: float,
     return np.concatenate(pts), faces
 
 
-def _smooth_union_profile(centres, radii, blend: float, n: int = 20000):
+def _smooth_union_profile(centres, radii, blend: float, n: int = 20000, exp=np.exp,
+                          log=np.log):
     """Dense profile (ρ, z) of the smooth union of balls on the z axis.
 
     ρ(z)² = smax_i(r_i² − (z − c_i)²) with the log-sum-exp smooth maximum of width ``blend``,
-    so the surface is smooth everywhere, including the necks and the two poles.
+    so the surface is smooth everywhere, including the necks and the two poles. ``exp`` and
+    ``log`` compute that maximum (numpy's by default; see :func:`snowman`).
     """
     centres = np.asarray(centres, float)
     radii = np.asarray(radii, float)
@@ -149,7 +151,7 @@ def _smooth_union_profile(centres, radii, blend: float, n: int = 20000):
         zz = np.atleast_1d(zz)
         q = (radii[None, :] ** 2 - (zz[:, None] - centres[None, :]) ** 2) / blend
         qm = q.max(axis=1, keepdims=True)
-        return blend * (qm[:, 0] + np.log(np.exp(q - qm).sum(axis=1)))
+        return blend * (qm[:, 0] + log(exp(q - qm).sum(axis=1)))
 
     lo = (centres - radii).min()
     hi = (centres + radii).max()
@@ -323,7 +325,8 @@ def lens(edge_length: float = 0.05, radius: float = 1.5) -> tuple[np.ndarray, np
     return v, _outward(v, f)
 
 
-def snowman(edge_length: float = 0.06) -> tuple[np.ndarray, np.ndarray]:
+def snowman(edge_length: float = 0.06, *, exp=np.exp, log=np.log
+            ) -> tuple[np.ndarray, np.ndarray]:
     """Snowman: three balls on the z axis blended into one smooth surface.
 
     Balls of radii 1, 0.7, 0.5 centred at z = 0, 1.45, 2.6; the surface of revolution of
@@ -335,13 +338,17 @@ def snowman(edge_length: float = 0.06) -> tuple[np.ndarray, np.ndarray]:
     ----------
     edge_length : float
         Target edge length.
+    exp, log : callable
+        The blend's elementwise functions: numpy's AVX-512 loops give other last bits than
+        its others (the C library's), so a caller that needs fixed bytes passes its own.
 
     Returns
     -------
     vertices, faces
         About ``19.6 / edge_length²`` vertices (5443 at the default), outward oriented.
     """
-    rho, z = _smooth_union_profile([0.0, 1.45, 2.6], [1.0, 0.7, 0.5], blend=0.2)
+    rho, z = _smooth_union_profile([0.0, 1.45, 2.6], [1.0, 0.7, 0.5], blend=0.2, exp=exp,
+                                   log=log)
     v, f = _revolution(rho, z, edge_length)
     return v, _outward(v, f)
 
