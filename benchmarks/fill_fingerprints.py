@@ -17,7 +17,8 @@ curved_scans, thin_shells). Holdout sets and the validation half are refused: th
 filled to choose anything.
 
 Digests depend on the machine's floating point (CPU, BLAS): compare two runs made on one
-machine. ``fill_fingerprints_reference.json`` is main's, with the machine it was made on;
+machine. ``fill_fingerprints_reference.json`` is main's on all five tuning-side sets (409
+holes; a check of fewer sets compares the holes both have), with the machine it was made on;
 on another machine make a reference from main first::
 
     python benchmarks/fill_fingerprints.py --out before.json              # on main
