@@ -52,7 +52,6 @@ os.environ.setdefault("SURFINPAINT_COMPILE", "foreground")
 sys.path.insert(0, str(Path(__file__).parent))
 import holes_manifest  # noqa: E402
 import validation  # noqa: E402
-import validation_meshes as vm  # noqa: E402
 
 from surfinpaint import fill_holes  # noqa: E402
 
@@ -117,12 +116,10 @@ def run(sets: list[str], meshes: list[str] | None = None) -> dict[str, dict]:
     for name, entry in tuning_entries(sets):
         if meshes and entry["mesh"] not in meshes:
             continue
-        try:
-            mesh = vm.load_entry(entry)  # checked against the manifest's digest
-        except (FileNotFoundError, ModuleNotFoundError, RuntimeError) as exc:
-            # a mesh this machine cannot make as committed has no comparable fills: skipped,
-            # and said so (its holes are then missing from both sides of a --check)
-            print(f"note: skipping {name}/{entry['mesh']}: {exc}", file=sys.stderr)
+        # a mesh this machine cannot make as committed has no comparable fills: skipped, and
+        # said so (its holes are then missing from both sides of a --check)
+        mesh = validation.loaded_or_none(entry, f"{name}/{entry['mesh']}")
+        if mesh is None:
             continue
         for k, hole in enumerate(entry["holes"]):
             key = f"{name}/{entry['mesh']}#{k}"

@@ -81,6 +81,18 @@ def _cut(mesh: vm.BenchMesh, hole: dict):
     return replace(cut, holes=[replace(h, truth_vertices=mesh.truth[h.truth_ids])])
 
 
+def loaded_or_none(entry: dict, label: str | None = None) -> vm.BenchMesh | None:
+    """The mesh of a manifest entry, checked against it (:func:`validation_meshes.load_entry`),
+    or None with a note on stderr where this machine cannot make it (a source that is not
+    installed, or a mesh made with other bytes than the manifest's): its holes are skipped,
+    and said so."""
+    try:
+        return vm.load_entry(entry)
+    except (FileNotFoundError, ModuleNotFoundError, RuntimeError) as exc:
+        print(f"note: skipping {label or entry['mesh']}: {exc}", file=sys.stderr)
+        return None
+
+
 def run(manifest: dict, methods: list[str], samples: int, partial: Path | None,
         meshes: list[str] | None = None, max_holes: int | None = None) -> list[dict]:
     rows = []
@@ -89,10 +101,8 @@ def run(manifest: dict, methods: list[str], samples: int, partial: Path | None,
     for entry in order:
         if meshes and entry["mesh"] not in meshes:
             continue
-        try:
-            mesh = vm.load_entry(entry)  # checked against the manifest's counts
-        except (FileNotFoundError, ModuleNotFoundError, RuntimeError) as exc:
-            print(f"note: skipping {entry['mesh']}: {exc}", file=sys.stderr)
+        mesh = loaded_or_none(entry)
+        if mesh is None:
             continue
         h = mean_edge_length(mesh.vertices, mesh.faces)
         for k, hole in enumerate(entry["holes"][:max_holes]):

@@ -66,6 +66,6 @@ def test_a_mesh_this_machine_cannot_make_is_skipped_and_named(monkeypatch, capsy
     def differs(entry):
         raise RuntimeError(f"{entry['mesh']} has the manifest's counts but not its bytes")
 
-    monkeypatch.setattr(fill_fingerprints.vm, "load_entry", differs)
+    monkeypatch.setattr(fill_fingerprints.validation.vm, "load_entry", differs)
     assert fill_fingerprints.run(["cad_tuning"], meshes=["shaft"]) == {}
     assert "skipping cad_tuning/shaft: shaft has the manifest's counts" in capsys.readouterr().err
