@@ -261,13 +261,14 @@ def _feather_chart(ux, uy, uz) -> tuple[float, float, float]:
     return t, math.atan2(uz, abs(ux)), math.cos(t)
 
 
-def _feather_depth(t, p, scale) -> float:
+def _feather_depth(t, p, scale, segments=None) -> float:
     """The pinnate sulci's depth (0 to 1) at chart point (t, p): one long wavy sulcus along
     the side (:func:`_spine`) and :data:`BARBS` branching off it obliquely backwards, up and
     down in turn, each ending blind (``tanh`` fades); distances in the chart with ``p``
-    scaled by ``scale`` (``cos t``)."""
+    scaled by ``scale`` (``cos t``). ``segments`` replaces :data:`FEATHER_SEGMENTS` (in
+    their form) for another pattern of straight sulci (holdout 21's en echelon dashes)."""
     depth = 0.0
-    for (t0, p0), (t1, p1), fade0, fade1 in FEATHER_SEGMENTS:
+    for (t0, p0), (t1, p1), fade0, fade1 in FEATHER_SEGMENTS if segments is None else segments:
         dt, dp = t1 - t0, (p1 - p0) * scale
         qt, qp = t - t0, (p - p0) * scale
         length2 = dt * dt + dp * dp

@@ -153,6 +153,14 @@ brain kind; its four scans made with the portable scanner), holes planned the sa
 committed before any fill was run on them; to be run once by a later session after its
 changes.
 
+A twenty-third set, the twenty-first holdout (``benchmarks/holdout21_manifest.json``,
+``--write --holdout21``): 12 fresh meshes (``validation_meshes.HOLDOUT21_SOURCES``, made in
+``holdout21_meshes.py``; all six kinds, a synthetic cortex with en echelon sulci for the
+brain kind; its four scans made with the portable scanner), holes planned the same way
+(seeds from 2200), made in session 44 after the twentieth holdout had been made and
+committed before any fill was run on them; to be run once by a later session after its
+changes.
+
 A tuning-side set of range scans of curved shapes (``benchmarks/curved_scans_manifest.json``,
 ``--write --curved-scans``): 14 portable scans (``validation_meshes.CURVED_SCAN_SOURCES``,
 made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and the tuning
@@ -225,6 +233,8 @@ HOLDOUT18_MANIFEST = Path(__file__).parent / "holdout18_manifest.json"
 HOLDOUT19_MANIFEST = Path(__file__).parent / "holdout19_manifest.json"
 # a twenty-second set, fresh meshes of session 43 (HOLDOUT20_SOURCES), committed before any fill
 HOLDOUT20_MANIFEST = Path(__file__).parent / "holdout20_manifest.json"
+# a twenty-third set, fresh meshes of session 44 (HOLDOUT21_SOURCES), committed before any fill
+HOLDOUT21_MANIFEST = Path(__file__).parent / "holdout21_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
 # tuning-side thin smooth walls with saddle-shaped parts of session 41 (THIN_SHELL_SOURCES)
@@ -251,6 +261,7 @@ LATER_SETS = {
     "holdout18": (HOLDOUT18_MANIFEST, "the eighteenth holdout set", 1900),
     "holdout19": (HOLDOUT19_MANIFEST, "the nineteenth holdout set", 2000),
     "holdout20": (HOLDOUT20_MANIFEST, "the twentieth holdout set", 2100),
+    "holdout21": (HOLDOUT21_MANIFEST, "the twenty-first holdout set", 2200),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -299,6 +310,7 @@ SPLIT = {
     "holdout18": list(vm.HOLDOUT18_SOURCES),
     "holdout19": list(vm.HOLDOUT19_SOURCES),
     "holdout20": list(vm.HOLDOUT20_SOURCES),
+    "holdout21": list(vm.HOLDOUT21_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
     "thin_shells": list(vm.THIN_SHELL_SOURCES),
 }
@@ -401,7 +413,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
     holdout's at 1600, the sixteenth holdout's at 1700, the seventeenth holdout's at 1800,
     the eighteenth holdout's at 1900, the nineteenth holdout's at 2000, the twentieth
-    holdout's at 2100;
+    holdout's at 2100, the twenty-first holdout's at 2200;
     the smooth tuning set's at 3800, the curved scans set's at 3600, the thin shells set's
     at 4100)."""
     meshes = []

@@ -23,9 +23,9 @@ set 12's (session 35) in ``holdout12_meshes.py``, holdout set 13's (session 36) 
 set 15's (session 38) in ``holdout15_meshes.py``, holdout set 16's (session 39) in
 ``holdout16_meshes.py``, holdout set 17's (session 40) in ``holdout17_meshes.py``, holdout
 set 18's (session 41) in ``holdout18_meshes.py``, holdout set 19's (session 42) in
-``holdout19_meshes.py``, holdout set 20's (session 43) in ``holdout20_meshes.py``; this
-module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT20_SOURCES`` to :data:`SOURCES` at its
-end.
+``holdout19_meshes.py``, holdout set 20's (session 43) in ``holdout20_meshes.py``, holdout
+set 21's (session 44) in ``holdout21_meshes.py``; this module adds their
+``HOLDOUT8_SOURCES`` to ``HOLDOUT21_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2004,6 +2004,13 @@ SOURCES.update(HOLDOUT19_SOURCES)
 from holdout20_meshes import HOLDOUT20_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT20_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 21
+
+# Session 44's set (benchmarks/holdout21_manifest.json), as holdout 20's: its own module.
+from holdout21_meshes import HOLDOUT21_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT21_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 

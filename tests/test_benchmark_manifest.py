@@ -83,13 +83,13 @@ def test_reserved_sources_are_never_used():
     assert "libcgal" not in code and "cgal-demo" not in code and "/cgal" not in code
     assert "right" not in code
     assert '"left"' in code
-    # holdouts 8 to 20's generators have their own modules (validation_meshes imports them)
+    # holdouts 8 to 21's generators have their own modules (validation_meshes imports them)
     for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py",
                    "holdout11_meshes.py", "holdout12_meshes.py", "holdout13_meshes.py",
                    "holdout14_meshes.py", "holdout15_meshes.py", "holdout16_meshes.py",
                    "holdout17_meshes.py", "holdout18_meshes.py", "holdout19_meshes.py",
-                   "holdout20_meshes.py", "smooth_tuning_meshes.py", "curved_scans_meshes.py",
-                   "thin_shells_meshes.py"):
+                   "holdout20_meshes.py", "holdout21_meshes.py", "smooth_tuning_meshes.py",
+                   "curved_scans_meshes.py", "thin_shells_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
 
@@ -220,6 +220,11 @@ def holdout20():
 
 
 @pytest.fixture(scope="module")
+def holdout21():
+    return holes_manifest.read(holes_manifest.HOLDOUT21_MANIFEST)
+
+
+@pytest.fixture(scope="module")
 def curved_scans():
     return holes_manifest.read(holes_manifest.CURVED_SCANS_MANIFEST)
 
@@ -249,6 +254,7 @@ def thin_shells():
     ("holdout18", validation_meshes.HOLDOUT18_SOURCES),  # session 41, after holdout 17 was made
     ("holdout19", validation_meshes.HOLDOUT19_SOURCES),  # session 42, after holdout 18 was run
     ("holdout20", validation_meshes.HOLDOUT20_SOURCES),  # session 43, after holdout 19 was run
+    ("holdout21", validation_meshes.HOLDOUT21_SOURCES),  # session 44, after holdout 20 was made
 ])
 def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
                                                       cad_tuning, holdout4, holdout5, holdout6,
@@ -256,13 +262,14 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
                                                       holdout11, holdout12, holdout13,
                                                       holdout14, holdout15, holdout16,
                                                       holdout17, holdout18, holdout19,
-                                                      holdout20, smooth_tuning, curved_scans,
-                                                      thin_shells, split, sources):
-    """The second to twentieth holdout sets: their own meshes, from sources no earlier set
+                                                      holdout20, holdout21, smooth_tuning,
+                                                      curved_scans, thin_shells, split,
+                                                      sources):
+    """The second to twenty-first holdout sets: their own meshes, from sources no earlier set
     uses (the two halves, the holdouts before them; from the fourth on also the tuning-side
     CAD parts, from the sixteenth on also the smooth tuning set, from the eighteenth on also
     the curved scans, from the nineteenth on also the thin shells), every kind but brain
-    surfaces (the eleventh to twentieth: every kind, their brain a synthetic folded
+    surfaces (the eleventh to twenty-first: every kind, their brain a synthetic folded
     surface), at least 3 range scans, 7 holes a mesh."""
     sets = {"holdout2": holdout2, "holdout3": holdout3, "holdout4": holdout4,
             "holdout5": holdout5, "holdout6": holdout6, "holdout7": holdout7,
@@ -270,7 +277,7 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
             "holdout11": holdout11, "holdout12": holdout12, "holdout13": holdout13,
             "holdout14": holdout14, "holdout15": holdout15, "holdout16": holdout16,
             "holdout17": holdout17, "holdout18": holdout18, "holdout19": holdout19,
-            "holdout20": holdout20}
+            "holdout20": holdout20, "holdout21": holdout21}
     this = sets[split]
     ids = [e["mesh"] for e in this["meshes"]]
     assert ids == holes_manifest.SPLIT[split] == list(sources)
@@ -282,7 +289,7 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
     made = [holdout2, holdout3, cad_tuning, holdout4, holdout5, holdout6, holdout7, holdout8,
             holdout9, holdout10, holdout11, holdout12, holdout13, holdout14, holdout15,
             smooth_tuning, holdout16, holdout17, curved_scans, holdout18, thin_shells,
-            holdout19, holdout20]
+            holdout19, holdout20, holdout21]
     for earlier_set in made[:next(i for i, m in enumerate(made) if m is this)]:
         earlier = earlier + earlier_set["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
@@ -299,7 +306,8 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
     kinds = Counter(e["kind"] for e in this["meshes"])
     assert set(kinds) == (KINDS if split in ("holdout11", "holdout12", "holdout13", "holdout14",
                                              "holdout15", "holdout16", "holdout17",
-                                             "holdout18", "holdout19", "holdout20")
+                                             "holdout18", "holdout19", "holdout20",
+                                             "holdout21")
                           else KINDS - {"brain"})
     assert kinds["range_scan"] >= 3
     holes = [h for e in this["meshes"] for h in e["holes"]]
@@ -314,7 +322,7 @@ def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2
                                                      holdout11, holdout12, holdout13,
                                                      holdout14, holdout15, holdout16,
                                                      holdout17, holdout18, holdout19,
-                                                     holdout20):
+                                                     holdout20, holdout21):
     """Session 29's machined parts (tuning side, rules may be chosen on them): their own
     meshes and sources, shared with no other set, machined parts and scans of them only."""
     cad = cad_tuning
@@ -323,7 +331,7 @@ def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2
     others = [e for m in (manifest, holdout, holdout2, holdout3, holdout4, holdout5, holdout6,
                           holdout7, holdout8, holdout9, holdout10, holdout11, holdout12,
                           holdout13, holdout14, holdout15, holdout16, holdout17, holdout18,
-                          holdout19, holdout20)
+                          holdout19, holdout20, holdout21)
               for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
@@ -345,7 +353,7 @@ def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdo
                                              holdout9, holdout10, holdout11, holdout12,
                                              holdout13, holdout14, holdout15, holdout16,
                                              holdout17, holdout18, holdout19, holdout20,
-                                             smooth_tuning):
+                                             holdout21, smooth_tuning):
     """Session 38's smooth tubes and organic bodies (tuning side, rules may be chosen on
     them): their own split name, meshes and sources, shared with no holdout, half or other
     tuning-side set; 4 smooth and 4 organic meshes, 7 holes each, digests recorded; their
@@ -366,7 +374,7 @@ def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdo
     others = [e for m in (manifest, holdout, holdout2, holdout3, cad_tuning, holdout4,
                           holdout5, holdout6, holdout7, holdout8, holdout9, holdout10,
                           holdout11, holdout12, holdout13, holdout14, holdout15, holdout16,
-                          holdout17, holdout18, holdout19, holdout20)
+                          holdout17, holdout18, holdout19, holdout20, holdout21)
               for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in entries}
@@ -447,9 +455,9 @@ def test_holdout11_sources_come_from_their_own_module():
 
 @pytest.mark.parametrize("split", ["holdout12", "holdout13", "holdout14", "holdout15",
                                    "holdout16", "holdout17", "holdout18", "holdout19",
-                                   "holdout20"])
+                                   "holdout20", "holdout21"])
 def test_later_holdout_manifest_counts(split):
-    """The twelfth to twentieth holdouts' manifests as committed before any fill: 12 meshes
+    """The twelfth to twenty-first holdouts' manifests as committed before any fill: 12 meshes
     in their module's order, 84 holes, 3 near the border on each of the 4 scans, 4 on a sharp
     edge or corner on each of the 3 CAD parts, every other hole neither."""
     entries = holes_manifest.read(holes_manifest.LATER_SETS[split][0])["meshes"]
@@ -475,14 +483,15 @@ def test_later_holdout_manifest_counts(split):
     (18, "the eighteenth holdout set", 1900, [183, 184, 185, 186], "_pinnate_cortex"),
     (19, "the nineteenth holdout set", 2000, [187, 188, 189, 190], "_spiral_cortex"),
     (20, "the twentieth holdout set", 2100, [191, 192, 193, 194], "_meander_cortex"),
+    (21, "the twenty-first holdout set", 2200, [195, 196, 197, 198], "_echelon_cortex"),
 ])
 def test_later_holdout_sources_come_from_their_own_module(number, words, first_seed, seeds,
                                                           brain):
-    """Holdouts 12 to 20's generators live in benchmarks/holdout<N>_meshes.py, as holdout
+    """Holdouts 12 to 21's generators live in benchmarks/holdout<N>_meshes.py, as holdout
     11's in theirs; validation_meshes adds them to ``SOURCES`` in the order they were made,
     after holdout 11's; their scans are the portable scanner's with seeds of their own
-    (159-162, 163-166, 167-170, 171-174, 175-178, 179-182, 183-186, 187-190, 191-194);
-    their brain-kind mesh is a synthetic one, no real brain (no mesh is made)."""
+    (159-162, 163-166, 167-170, 171-174, 175-178, 179-182, 183-186, 187-190, 191-194,
+    195-198); their brain-kind mesh is a synthetic one, no real brain (no mesh is made)."""
     import importlib
 
     module = importlib.import_module(f"holdout{number}_meshes")
@@ -495,7 +504,7 @@ def test_later_holdout_sources_come_from_their_own_module(number, words, first_s
            if i not in validation_meshes.SMOOTH_TUNING_SOURCES
            and i not in validation_meshes.CURVED_SCAN_SOURCES
            and i not in validation_meshes.THIN_SHELL_SOURCES]
-    later = [f"holdout{n}" for n in range(11, 21)]  # SOURCES' last sets, in order
+    later = [f"holdout{n}" for n in range(11, 22)]  # SOURCES' last sets, in order
     tail = ids[-12 * len(later):]
     assert tail[12 * later.index(split):][:12] == list(sources)
     assert holes_manifest.LATER_SETS[split][1:] == (words, first_seed)
@@ -581,13 +590,14 @@ def test_the_curved_scans_set_is_its_own_set():
     assert sum(h["near_border"] for e in entries for h in e["holes"]) == 3 * 14
 
 
-@pytest.mark.parametrize("number", [17, 18, 19, 20])
-def test_holdout_generators_pass_the_surface_check(monkeypatch, number):
-    """Holdouts 17 to 20's generators pass PyMeshLab's surface-distance check to every
+@pytest.mark.parametrize("number, level_sets, radial", [(17, 4, 1), (18, 4, 1), (19, 4, 1),
+                                                      (20, 4, 1), (21, 3, 2)])
+def test_holdout_generators_pass_the_surface_check(monkeypatch, number, level_sets, radial):
+    """Holdouts 17 to 21's generators pass PyMeshLab's surface-distance check to every
     remeshing (``surface_check=True``), not the filter's default, which is a leftover byte
     of the heap (docs/validation.md "Holdout set 17"): every level set, manifold3d part and
     radial surface of the set is asked for with it (the meshing itself is replaced: no mesh
-    is made)."""
+    is made); holdout 21 makes its smooth mesh, the golf ball, as a radial surface too."""
     import importlib
     import inspect
 
@@ -609,8 +619,9 @@ def test_holdout_generators_pass_the_surface_check(monkeypatch, number):
     for source in getattr(module, f"HOLDOUT{number}_SOURCES").values():
         if source.kind != "range_scan":  # the scans are made from these meshes
             source.make()
-    assert sorted(name for name, _ in asked) == (["_level_set_mesh"] * 4
-                                                 + ["_manifold_mesh"] * 3 + ["_radial_surface"])
+    assert sorted(name for name, _ in asked) == (["_level_set_mesh"] * level_sets
+                                                 + ["_manifold_mesh"] * 3
+                                                 + ["_radial_surface"] * radial)
     assert all(check is True for _, check in asked), asked
 
 

@@ -17,7 +17,7 @@ cgal_s0 = pytest.importorskip("cgal_s0")
 @pytest.mark.parametrize("split, studied", [
     ("tuning", True), ("holdout9", True), ("holdout18", True),
     ("validation", False), ("holdout19", False), ("holdout8", False), ("holdout", False),
-    ("holdout20", False),
+    ("holdout20", False), ("holdout21", False),
 ])
 def test_only_the_tuning_half_and_spent_holdouts_9_to_18_are_studied(split, studied):
     assert cgal_s0._studied({"split": split}) is studied
