@@ -57,7 +57,8 @@ ALL_METHODS = ("fair", "fair1", "fair3", "conformal", "conformal_raw", "conforma
                "conformal_grid", "conformal_grid_raw", "conformal_cdt", "conformal_cdt_raw",
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
-               "conformal_signif", "conformal_nosignif", "conventional", "cgal", "cgal3",
+               "conformal_signif", "conformal_nosignif", "conformal_sfair35", "conformal_sfair40",
+               "conventional", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # a row's note where the plane test laid the faired fill on the plane (no self-check ran)
@@ -83,6 +84,10 @@ CONFORMAL_VARIANTS = {
     # default since session 26; "conformal_nosignif" the scores alone, as before
     "conformal_signif": {"significance": 2.326},
     "conformal_nosignif": {"significance": None},
+    # the bilaplacian candidate as a thin-plate smoothing fill of 0.35 or 0.4 mean edges
+    # (docs/candidates.md, "Session 44 (helper)": for range scans)
+    "conformal_sfair35": {"fair_smoothing": 0.35},
+    "conformal_sfair40": {"fair_smoothing": 0.4},
 }
 
 

@@ -16,6 +16,8 @@ of fills that mix CGAL's steps (through the ``cgal`` package's ``triangulate_hol
   (``operator="clamped"``);
 - ``cdt+fair{k}``: our planar constrained Delaunay triangulation (``search="cdt"``);
 - ``clamped{k}``: ours with CGAL's clamped weights (session 43: is it the weights?);
+- ``cstyle+fair{k}`` / ``cstyle+clamped{k}``: ours with the CGAL-style refinement, with
+  our cotangent or CGAL's clamped weights (session 44);
 - ``n:<column>``: the new vertices of a column's patch (refinement density).
 
 Run::
@@ -29,7 +31,14 @@ of two columns over the holes, as a table; ``--out``: the rows as JSON.)
 
 Session 43: ``--manifest`` takes a spent holdout set (9–18) instead of the tuning half, and
 ``--holes brain`` every hole of a manifest's brain-kind meshes (tuning split only in
-``holes_manifest.json``), ``--triangulation-only`` the two triangulations unrefined::
+``holes_manifest.json``), ``--triangulation-only`` the two triangulations unrefined.
+Session 44: any tuning-side set and the spent holdouts 9-19; ``--holes scan`` every hole of
+a manifest's range scans, ``--orders 2`` the bilaplacian columns only::
+
+    .venv/bin/python benchmarks/cgal_s0.py --manifest benchmarks/curved_scans_manifest.json \
+        --holes scan --orders 2 --out s0_cscan.json
+
+Session 43::
 
     .venv/bin/python benchmarks/cgal_s0.py --manifest benchmarks/holdout17_manifest.json \
         --holes brain --out h17.json
@@ -104,9 +113,10 @@ def triangulation_row(cut) -> dict[str, float]:
             "same": float(same)}
 
 
-def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
+def hole_row(cut, refinement_only: bool = False, orders=(2, 3)) -> dict[str, float]:
     """The columns of the module docstring for one hole; ``refinement_only``: only CGAL's
-    triangulation refined three ways (ctri, cref, ctri+cstyle), each faired by ours."""
+    triangulation refined three ways (ctri, cref, ctri+cstyle), each faired by ours;
+    ``orders``: the fairing orders (2: bilaplacian, 3: trilaplacian) and CGAL's of each."""
     v, f, loop = cut.vertices, cut.faces, cut.loop
     n, m = len(v), len(f)
 
@@ -117,7 +127,7 @@ def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
 
     out = {}
     if not refinement_only:
-        for peer in ("cgal", "cgal3"):
+        for peer in [("cgal", "cgal3")[order - 2] for order in orders]:
             cv, cf, _, _ = accuracy._run_peer(peers.PEERS[peer], v, f, loop)
             out[peer] = _error(cut, cv[n:], cf[m:])
         out["n:cgal"] = float(len(cv) - n)
@@ -126,13 +136,17 @@ def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
     tris = {"ctri": ctri[m:]}
     if not refinement_only:
         tris["cdt"] = minimum_weight_triangulation(v, loop, f, search="cdt")
-    for order in (2, 3):
+    for order in orders:
         if not refinement_only:
             own = faired_fills(v, f, loop, (order,))[order]
             out[f"fair{order}"] = _error(cut, own[0], own[1])
             out["n:fair"] = float(len(own[0]))
             clamped = faired_fills(v, f, loop, (order,), operator="clamped")[order]
             out[f"clamped{order}"] = _error(cut, clamped[0], clamped[1])
+            for operator, label in (("cotan", "fair"), ("clamped", "clamped")):
+                cstyle = faired_fills(v, f, loop, (order,), operator=operator,
+                                      refinement="cgal")[order]
+                out[f"cstyle+{label}{order}"] = _error(cut, cstyle[0], cstyle[1])
         for name, tri in tris.items():
             new_v, patch = refine_patch(v, tri, loop, faces=f, style="liepa")
             out[f"{name}+fair{order}"] = _error(cut, fair_on(new_v, patch, order), patch)
@@ -146,12 +160,16 @@ def hole_row(cut, refinement_only: bool = False) -> dict[str, float]:
     return out
 
 
+TUNING_SIDE_SETS = ("tuning", "cad_tuning", "smooth_tuning", "curved_scans", "thin_shells")
+SELECTIONS = {"tuning": None, "brain": "brain", "scan": "range_scan"}  # --holes: kind
+
+
 def _studied(entry: dict) -> bool:
-    """A manifest entry this study may look at: the tuning half, or a spent holdout set 9-18
-    (never the validation half, nor holdout 19 and later)."""
+    """A manifest entry this study may look at: the tuning half or a tuning-side set, or a
+    spent holdout set 9-19 (never the validation half, nor holdout 20 and later)."""
     split = entry["split"]
-    return split == "tuning" or (split.startswith("holdout")
-                                 and split[7:].isdigit() and 9 <= int(split[7:]) <= 18)
+    return split in TUNING_SIDE_SETS or (split.startswith("holdout") and split[7:].isdigit()
+                                         and 9 <= int(split[7:]) <= 19)
 
 
 def _print_ratios(rows, pairs) -> None:
@@ -178,29 +196,32 @@ def main(argv=None):
                         help="the tuning half's manifest (default) or a spent holdout set's")
     parser.add_argument("--triangulation-only", action="store_true",
                         help="only the two triangulations, unrefined (ctri, ours)")
+    parser.add_argument("--orders", default="2,3",
+                        help="fairing orders, comma-separated (2: bilaplacian, 3: trilaplacian)")
     parser.add_argument("--refinement-only", action="store_true",
                         help="only CGAL's triangulation refined three ways (ctri, cref, "
                              "ctri+cstyle), each faired by ours")
     args = parser.parse_args(argv)
     manifest = {e["mesh"]: e for e in holes_manifest.read(Path(args.manifest))["meshes"]}
     specs = args.holes.split(",")
-    if args.holes in ("tuning", "brain"):
+    if args.holes in SELECTIONS:
+        kind = SELECTIONS[args.holes]
         specs = [f"{e['mesh']}#{k}" for e in manifest.values() if _studied(e)
-                 and (args.holes == "tuning" or e.get("kind") == "brain")
-                 for k in range(len(e["holes"]))]
+                 and kind in (None, e.get("kind")) for k in range(len(e["holes"]))]
     meshes: dict = {}
     rows = []
     for spec in specs:
         name, k = spec.split("#")
         if not _studied(manifest[name]):
-            raise SystemExit(f"{name} is in {manifest[name]['split']}: study the tuning half "
-                             "and the spent holdouts 9-18 only")
+            raise SystemExit(f"{name} is in {manifest[name]['split']}: study the tuning side "
+                             "and the spent holdouts 9-19 only")
         mesh = meshes.setdefault(name, vm.load_entry(manifest[name]))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cut = validation._cut(mesh, manifest[name]["holes"][int(k)])
             row = triangulation_row(cut) if args.triangulation_only else \
-                hole_row(cut, args.refinement_only)
+                hole_row(cut, args.refinement_only,
+                                     tuple(int(o) for o in args.orders.split(",")))
         rows.append((spec, row))
         print(spec, " ".join(f"{a} {b:.3f}" for a, b in row.items()), file=sys.stderr,
               flush=True)

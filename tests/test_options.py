@@ -49,6 +49,8 @@ def sphere_hole():
     ({"discretization": "grid", "grid": {"spacing": 0.3}}, "grid must be a GridOptions"),
     ({"s0_search": "greedy"}, "s0_search must be one of"),
     ({"s0_refinement": "isotropic"}, "s0_refinement must be one of"),
+    ({"fair_smoothing": 0.0}, "fair_smoothing"),
+    ({"fair_smoothing": -1.0}, "fair_smoothing"),
 ])
 def test_bad_conformal_options(kwargs, match):
     with pytest.raises(ValueError, match=match):
@@ -164,7 +166,7 @@ def test_typed_results_of_the_raw_and_the_faired_fill(sphere_hole):
 
 
 @pytest.mark.parametrize("s0", [{"s0_search": "cdt"}, {"s0_refinement": "cgal"},
-                                {"s0_search": "delaunay"}])
+                                {"s0_search": "delaunay"}, {"fair_smoothing": 0.35}])
 def test_the_raw_fill_falls_back_on_the_triangulation_its_options_ask_for(sphere_hole, s0,
                                                                           monkeypatch):
     # without a verdict (select=False) a failed λ-H fill is replaced by the bilaplacian fill
@@ -182,6 +184,7 @@ def test_the_raw_fill_falls_back_on_the_triangulation_its_options_ask_for(sphere
     fill = conformal_fill(cut.vertices, cut.faces, cut.loop, options=options)
     want_v, want_f, _ = faired_fills(cut.vertices, cut.faces, cut.loop, (2,),
                                      search=options.s0_search,
-                                     refinement=options.s0_refinement)[2]
+                                     refinement=options.s0_refinement,
+                                     smoothing=options.fair_smoothing)[2]
     assert fill.kind == "fair" and fill.failure == "FillError: made to fail"
     assert np.array_equal(fill.vertices, want_v) and np.array_equal(fill.faces, want_f)

@@ -79,7 +79,8 @@ class Candidates:
         """The faired candidates ``"fair<k>"`` (one triangulation and refinement shared)."""
         made = faired_fills(vertices, faces, loop, sorted(self.orders),
                             search=self.options.s0_search,
-                            refinement=self.options.s0_refinement)
+                            refinement=self.options.s0_refinement,
+                            smoothing=self.options.fair_smoothing)
         return {f"fair{k}": Fill(made[k][0], made[k][1], "fair", fair_order=made[k][2])
                 for k in self.orders}
 
@@ -93,7 +94,8 @@ class Candidates:
                 return s0.vertices, s0.faces
             new_v, new_f, _ = faired_fills(vertices, faces, loop, [self.s0_order],
                                            search=self.options.s0_search,
-                                           refinement=self.options.s0_refinement
+                                           refinement=self.options.s0_refinement,
+                                           smoothing=self.options.fair_smoothing
                                            )[self.s0_order]
             return new_v, new_f
         new_v, new_f = conventional_fill(vertices, faces, loop, refine=True, fair=False,

@@ -468,7 +468,8 @@ def _fall_back(vertices, faces, loop, faired, verdict, exc: FillError,
         order = fair_order or 2
         new_v, new_f, used = faired_fills(vertices, faces, loop, (order,),
                                           search=options.s0_search,
-                                          refinement=options.s0_refinement)[order]
+                                          refinement=options.s0_refinement,
+                                          smoothing=options.fair_smoothing)[order]
         fallback = Fill(new_v, new_f, "fair", fair_order=used, failure=failure)
     return _blended(len(vertices), fallback, getattr(exc, "rejected", None)) or fallback
 

@@ -170,6 +170,13 @@ class ConformalOptions:
         The refinement under S0 and the faired candidates
         (:func:`surfinpaint.fill.liepa.refinement.refine_patch`'s ``style``: Liepa's
         relaxation to convergence, or CGAL's single flip passes; docs/candidates.md).
+    fair_smoothing : float, optional
+        The bilaplacian candidate fair2 (and its fallback) as a thin-plate smoothing fill
+        of this smoothing length, in mean edge lengths: the known vertices within 2 rings
+        of the loop are followed within their noise, not fixed
+        (:func:`surfinpaint.fill.liepa.baseline.faired_fills`' ``smoothing``; for range
+        scans, docs/candidates.md, "Session 44 (helper)"). None (default): the bilaplacian
+        fill.
     plane_test : bool
         With ``select``: where the known surface within 2 rings of the loop is a plane
         within its noise (neither a quadric's curvature nor a pattern in the plane's
@@ -210,6 +217,7 @@ class ConformalOptions:
     grid: GridOptions | None = None
     s0_search: str = "delaunay"
     s0_refinement: str = "liepa"
+    fair_smoothing: float | None = None
     plane_test: bool = True
     significance: float | None = SIGNIFICANCE
 
@@ -228,6 +236,8 @@ class ConformalOptions:
             _positive_number("solver_tol", self.solver_tol)
         if self.significance is not None:
             _positive_number("significance", self.significance)
+        if self.fair_smoothing is not None:
+            _positive_number("fair_smoothing", self.fair_smoothing)
         _positive_int("hide_rings", self.hide_rings)
         _positive_int("siblings", self.siblings, minimum=0)
         _positive_int("gap_rings", self.gap_rings, minimum=0)

@@ -11,16 +11,22 @@ import numpy as np
 
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.fill.liepa.fairing import fair as fair_patch
-from surfinpaint.fill.liepa.fairing import fair_orders
+from surfinpaint.fill.liepa.fairing import fair_orders, fair_smoothed
 from surfinpaint.fill.liepa.refinement import refine_patch
 from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.flatness import meeting_line
-from surfinpaint.geometry.mesh import faces_near, orient_loop
+from surfinpaint.geometry.mesh import faces_near, k_ring, mean_edge_length, orient_loop
 from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conventional_fill", "faired_fill", "faired_fills", "laid_on_plane",
            "laid_on_two_planes"]
+
+# the bilaplacian smoothing fill (faired_fills' ``smoothing``): the known vertices within
+# SOFT_RINGS rings of the loop are its data, its energy is summed over SMOOTHING_RINGS
+# rings (the data's L M⁻¹ L rows complete)
+SOFT_RINGS = 2
+SMOOTHING_RINGS = 4
 
 
 def conventional_fill(
@@ -177,10 +183,15 @@ def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order
 
 def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                  orders=(2, 3), *, search: str = "delaunay", operator: str = "cotan",
-                 refinement: str = "liepa") -> dict[int, tuple[np.ndarray, np.ndarray, int]]:
+                 refinement: str = "liepa", smoothing: float | None = None
+                 ) -> dict[int, tuple[np.ndarray, np.ndarray, int]]:
     """:func:`faired_fill` for several fairing orders, sharing the triangulation and the
     refinement (those of the order-2 fill); ``search``, ``operator`` and ``refinement`` as in
-    :func:`conventional_fill`.
+    :func:`conventional_fill`. ``smoothing``: the order-2 fill is the thin-plate smoothing
+    fill (:func:`~surfinpaint.fill.liepa.fairing.fair_smoothed`, cotangent weights) of
+    smoothing length ``smoothing`` mean edges of the known surface around the hole, the
+    known vertices within 2 rings of the loop its data (for range scans: session 44); None
+    (default): the bilaplacian fill.
 
     Returns
     -------
@@ -208,6 +219,9 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                           max(max(wanted) - 2, 0))
     made = fair_orders(np.vstack([v, initial_v]), np.vstack([near, patch]),
                        np.arange(n, n + len(initial_v)), wanted, operator=operator)
+    if smoothing is not None and 2 in made and not isinstance(made[2], MeshError):
+        made[2] = _smoothed(v, faces, np.asarray(loop, dtype=np.int64).ravel(), initial_v,
+                            patch, smoothing)
     out = {}
     for order in orders:
         used = order if not isinstance(made[order], MeshError) else min(order, 2)
@@ -215,6 +229,21 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
             raise FillError(f"cannot fill the hole: {made[used]}") from made[used]
         out[order] = (_finite(made[used][n:]), patch, used)
     return out
+
+
+def _smoothed(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+              new_vertices: np.ndarray, patch: np.ndarray, smoothing: float) -> np.ndarray:
+    """All positions (original, then the new vertices') of :func:`faired_fills`' order-2
+    smoothing fill with smoothing length ``smoothing`` mean edges."""
+    n = len(vertices)
+    near = faces_near(faces, loop, SMOOTHING_RINGS, n)
+    stiffness = (smoothing * mean_edge_length(vertices, near)) ** 4
+    soft = np.flatnonzero(k_ring(faces, loop, SOFT_RINGS, n))
+    try:
+        return fair_smoothed(np.vstack([vertices, new_vertices]), np.vstack([near, patch]),
+                             np.arange(n, n + len(new_vertices)), soft, stiffness)
+    except MeshError as err:
+        return err
 
 
 def laid_on_plane(new_vertices: np.ndarray, centre: np.ndarray, normal: np.ndarray

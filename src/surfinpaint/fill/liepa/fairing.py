@@ -18,7 +18,7 @@ from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import laplacian_and_areas, unique_edges
 
-__all__ = ["OPERATORS", "fair", "fair_orders", "laplacian_and_mass"]
+__all__ = ["OPERATORS", "fair", "fair_orders", "fair_smoothed", "laplacian_and_mass"]
 
 OPERATORS = ("cotan", "clamped", "intrinsic")
 # rings of faces beyond the operator's rows given to the intrinsic Delaunay triangulation:
@@ -215,6 +215,70 @@ def fair_orders(
                                       shared[1:] if region is top and shared else None)
         except MeshError as exc:
             out[order] = exc
+    return out
+
+
+def fair_smoothed(vertices: np.ndarray, faces: np.ndarray, free: np.ndarray,
+                  soft: np.ndarray, stiffness: float) -> np.ndarray:
+    """A thin-plate smoothing fill: the free vertices of the positions that minimise
+    ``stiffness · xᵀ L M⁻¹ L x + Σ_{i in soft} m_i |x_i − p_i|²`` over the free and the
+    ``soft`` vertices, every other vertex of ``faces`` fixed (``L``, ``M``: the cotangent
+    Laplacian and the Voronoi masses of ``faces``, ``p`` the input positions).
+
+    Why: the bilaplacian fill (:func:`fair`, order 2) takes its boundary data, positions and
+    slopes, from the loop and the ring beyond it as they are; on a range scan their noise
+    is carried into the hole (docs/candidates.md, "Session 44 (helper)"). Here the known
+    vertices near the loop are data to be followed within their noise, not fixed values:
+    the fill continues a smoothed surface (a smoothing spline of smoothing length
+    ``stiffness ** 0.25``). ``stiffness`` → 0 gives :func:`fair` of order 2 with the soft
+    vertices fixed.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    faces : (f, 3) int array
+        The faces the energy is summed over: the fill and a few rings of the known surface
+        around it (a vertex of theirs that is neither free nor soft is fixed).
+    free : (m,) int array
+        The vertices to place (the fill's new vertices).
+    soft : (k,) int array
+        Known vertices whose positions are data: followed, not kept (their positions are
+        not changed in the result).
+    stiffness : float
+        Weight of the bending energy, in length⁴ (``(c h)⁴`` for a smoothing length of
+        ``c`` edges of length ``h``).
+
+    Returns
+    -------
+    (n, 3) float array
+        ``vertices`` with the free vertices' new positions.
+
+    Raises
+    ------
+    MeshError
+        If the system is singular.
+    """
+    v = np.asarray(vertices, dtype=float)
+    ids, f = renumber(np.asarray(faces, dtype=np.int64))
+    x = v[ids]
+    lap, mass = laplacian_and_mass(x, f)
+    is_free = np.isin(ids, free)
+    data = np.where(np.isin(ids, soft) & ~is_free, mass, 0.0)
+    moving = is_free | (data > 0)
+    bending = (lap @ sp.diags(1.0 / np.maximum(mass, 1e-300)) @ lap).tocsc()
+    a = stiffness * bending[moving][:, moving] + sp.diags(data[moving])
+    rhs = data[moving, None] * x[moving] - stiffness * (bending[moving][:, ~moving]
+                                                        @ x[~moving])
+    try:  # definite: the bending energy is semi-definite, the data terms and the fixed
+        # vertices anchor every free vertex
+        sol = factorized_definite(a.tocsc())(np.asarray(rhs))
+    except RuntimeError:  # SuperLU: exactly singular
+        sol = np.full((int(moving.sum()), 3), np.nan)
+    if not np.isfinite(sol).all():
+        raise MeshError("smoothing fairing system is singular (degenerate triangles around "
+                        "the free vertices?)")
+    out = v.copy()
+    out[ids[is_free]] = sol[is_free[moving]]
     return out
 
 
