@@ -11,6 +11,7 @@ import math
 import os
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -367,3 +368,116 @@ def test_cscan_snowman_is_its_manifests_bytes():
     entry = next(e for e in entries if e["mesh"] == "cscan_snowman")
     mesh = validation_meshes.load_entry(entry, fresh_tries=0)
     assert validation_meshes.mesh_digest(mesh) == entry["sha256"]
+
+
+def _manifest_entry(manifest: str, mesh_id: str) -> dict:
+    entries = json.loads((Path(__file__).resolve().parents[1] / "benchmarks"
+                          / manifest).read_text())["meshes"]
+    return next(e for e in entries if e["mesh"] == mesh_id)
+
+
+def test_a_mesh_with_numpys_bytes_without_avx512_loads_with_a_warning(monkeypatch):
+    """Session 44: an entry's ``sha256_without_avx512`` mesh (numpy's other SIMD kernels) is
+    returned at once, with a warning naming the entry and the case, not an error: the
+    benchmark still runs on a CPU without AVX-512, and says its numbers are not the
+    README's."""
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    with_avx512 = validation_meshes.BenchMesh(np.eye(4, 3), faces)
+    without = validation_meshes.BenchMesh(np.eye(4, 3) + 1e-16, faces)  # same counts
+    entry = {**_entry(with_avx512), "mesh": "tooth",
+             "sha256": validation_meshes.mesh_digest(with_avx512),
+             "sha256_without_avx512": validation_meshes.mesh_digest(without)}
+    made = []
+    monkeypatch.setattr(validation_meshes, "load", lambda mesh_id: without)
+    monkeypatch.setattr(validation_meshes, "_load_in_fresh_process",
+                        lambda mesh_id: made.append(mesh_id) or without)
+    with pytest.warns(validation_meshes.OtherSimdMeshWarning,
+                      match="tooth is made here with other bytes than the manifest's: those "
+                            "numpy gives it without its AVX-512 loops .* not comparable with "
+                            "the README's"):
+        assert validation_meshes.load_entry(entry) is without
+    assert made == []
+    # the manifest's own bytes load without a word
+    monkeypatch.setattr(validation_meshes, "load", lambda mesh_id: with_avx512)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert validation_meshes.load_entry(entry) is with_avx512
+
+
+def test_a_changed_byte_of_the_tooth_fails_naming_it(monkeypatch):
+    """The tuning half's tooth, one bit of one coordinate flipped (not the other SIMD
+    kernels' bytes either): load_entry makes it again, then fails naming the tooth."""
+    entry = _manifest_entry("holes_manifest.json", "tooth")
+    tooth = validation_meshes.load("tooth")
+    assert validation_meshes.mesh_digest(tooth) in (entry["sha256"],
+                                                    entry["sha256_without_avx512"])
+    vertices = tooth.vertices.copy()
+    vertices.view(np.uint64)[7, 1] ^= np.uint64(1)
+    changed = validation_meshes.BenchMesh(vertices, tooth.faces)
+    monkeypatch.setattr(validation_meshes, "load", lambda mesh_id: changed)
+    monkeypatch.setattr(validation_meshes, "_load_in_fresh_process", lambda mesh_id: changed)
+    with pytest.warns(UserWarning), pytest.raises(
+            RuntimeError, match="tooth has the manifest's counts but not its bytes .* cannot "
+                                "be rerun as committed here"):
+        validation_meshes.load_entry(entry)
+
+
+_LOAD_SIMD_ENTRIES = """
+import json, sys, warnings
+sys.path.insert(0, {benchmarks!r})
+import validation_meshes as vm
+
+out = {{}}
+for entry in json.loads({entries!r}):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mesh = vm.load_entry(entry, fresh_tries=0)
+    out[entry["mesh"]] = [vm.mesh_digest(mesh), [type(w.message).__name__ for w in caught]]
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or os.uname().machine != "x86_64",
+                    reason="numpy's x86 dispatch targets")
+def test_every_simd_dependent_entry_loads_under_either_numpy_dispatch():
+    """Every manifest entry with a ``sha256_without_avx512`` (session 44) loads in a fresh
+    process with numpy's AVX-512 loops off as that mesh, with an OtherSimdMeshWarning and
+    no error; by default as one of its two meshes, and without a warning where it is the
+    manifest's (a CPU with AVX-512)."""
+    bench = Path(__file__).resolve().parents[1] / "benchmarks"
+    entries = [e for p in sorted(bench.glob("*manifest*.json"))
+               for e in json.loads(p.read_text())["meshes"] if "sha256_without_avx512" in e]
+    assert {e["mesh"] for e in entries} >= {"tooth", "premolar", "snowman"}
+    code = _LOAD_SIMD_ENTRIES.format(benchmarks=str(bench), entries=json.dumps(entries))
+    loaded = {}
+    for disabled in ("", validation_meshes.NUMPY_WITHOUT_AVX512):
+        env = {**os.environ, "NPY_DISABLE_CPU_FEATURES": disabled}
+        run = subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                             capture_output=True, text=True)
+        loaded[disabled] = json.loads(run.stdout.splitlines()[-1])
+    for entry in entries:
+        digest, caught = loaded[validation_meshes.NUMPY_WITHOUT_AVX512][entry["mesh"]]
+        assert (digest, caught) == (entry["sha256_without_avx512"],
+                                    ["OtherSimdMeshWarning"]), entry["mesh"]
+        digest, caught = loaded[""][entry["mesh"]]
+        assert (digest, caught) in ((entry["sha256"], []), (
+            entry["sha256_without_avx512"], ["OtherSimdMeshWarning"])), entry["mesh"]
+
+
+def test_every_manifest_entry_records_its_meshs_sha256():
+    """Session 44: every entry of every manifest has its mesh's sha256 (load_entry checks
+    the bytes, not the counts alone), or says why not in ``sha256_missing``; an entry whose
+    bytes depend on numpy's SIMD kernels has both digests, and they differ."""
+    bench = Path(__file__).resolve().parents[1] / "benchmarks"
+    manifests = sorted(bench.glob("*manifest*.json"))
+    assert len(manifests) >= 25
+    for path in manifests:
+        for entry in json.loads(path.read_text())["meshes"]:
+            where = f"{path.name}: {entry['mesh']}"
+            if "sha256_missing" in entry:
+                assert "sha256" not in entry and len(entry["sha256_missing"]) > 20, where
+                continue
+            assert len(entry["sha256"]) == 64 and int(entry["sha256"], 16) >= 0, where
+            other = entry.get("sha256_without_avx512", entry["sha256"])
+            assert len(other) == 64 and int(other, 16) >= 0, where
+            assert ("sha256_without_avx512" in entry) == (other != entry["sha256"]), where
