@@ -817,3 +817,40 @@ def test_a_lattice_fill_read_back_at_folded_map_positions_is_read_again_at_tutte
     np.testing.assert_array_equal(kept, at_start)
     plain = mesh_pass._read_back(lattice, solution, quadric(uv), faces, uv, free, n_fill)
     np.testing.assert_array_equal(plain, lattice.read_back(solution, quadric(uv)))
+
+
+def test_a_tangled_patch_is_mapped_once_and_untangled_from_its_lscm(monkeypatch):
+    """Where LSCM leaves bad triangles at every ring count, the patch of the rings asked for is
+    untangled from the LSCM made for it first (session 44 helper: it was mapped again, and a
+    patch whose rings stopped short once per ring count): no patch is mapped twice, and the
+    map untangled is that patch's LSCM to the bit."""
+    from types import SimpleNamespace
+
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.geometry import mean_value, parameterization
+
+    v, f = cube(12)
+    cut = cut_geodesic_disk(v, f, np.array([0.5, 0.5, 1.0]), 0.2)
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    vertices = np.vstack([cut.vertices, new_v])
+    real_lscm, mapped, untangled = parameterization.lscm, [], []
+
+    def lscm(points, faces, **kw):
+        mapped.append(faces.tobytes())
+        return real_lscm(points, faces, **kw)
+
+    def untangle(points, faces, uv):
+        untangled.append(uv)
+        return uv
+
+    # every map has a bad triangle: each ring count is tried, then the untangling
+    monkeypatch.setattr(parameterization, "lscm", lscm)
+    monkeypatch.setattr(mesh_pass, "mean_value", SimpleNamespace(
+        bad_faces=lambda *a: np.array([0]), untangle=untangle,
+        mean_value_map=mean_value.mean_value_map))
+    patch, ids, local, uv, used, name = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop,
+                                                                new_f, 4)
+    assert name == "lscm-untangled" and used == 4
+    assert len(mapped) == len(set(mapped)) == 2  # 4 rings, then 3
+    assert mapped[0] == local.tobytes() and untangled[0] is uv
+    assert np.array_equal(uv, real_lscm(vertices[ids], local))  # its topology checked again

@@ -427,7 +427,9 @@ def _mapped_patch(vertices, faces, seeds, fill_faces, rings, grow=False):
     -------
     patch, ids, local, uv, rings used, map name ("lscm", "lscm-untangled" or "mean-value")
     """
-    for k in range(rings, MIN_RINGS - 1, -1):
+    first = None  # the ``rings``-ring patch and its LSCM, which the untangling starts from
+    k = rings
+    while k >= MIN_RINGS:
         patch, used, boundary = ((grown_patch(faces, seeds, fill_faces, k), k, None) if grow
                                  else hole_patch_and_boundary(faces, seeds, fill_faces, k))
         ids, local = renumber(patch)
@@ -437,11 +439,18 @@ def _mapped_patch(vertices, faces, seeds, fill_faces, rings, grow=False):
                                    else np.searchsorted(ids, boundary))
         if len(mean_value.bad_faces(vertices[ids], local, uv)) == 0:
             return patch, ids, local, uv, used, "lscm"
-    patch, used = ((grown_patch(faces, seeds, fill_faces, rings), rings) if grow
-                   else hole_patch(faces, seeds, fill_faces, rings))
-    ids, local = renumber(patch)
-    uv = mean_value.untangle(vertices[ids], local,
-                                   parameterization.lscm(vertices[ids], local))
+        first = first or (patch, used, ids, local, uv)
+        # fewer rings than ``k`` were a disk: each k down to ``used`` gives this patch again
+        k = min(k, used) - 1
+    if first is None:
+        patch, used = ((grown_patch(faces, seeds, fill_faces, rings), rings) if grow
+                       else hole_patch(faces, seeds, fill_faces, rings))
+        ids, local = renumber(patch)
+        first = (patch, used, ids, local, parameterization.lscm(vertices[ids], local))
+    # the ``rings``-ring patch's LSCM made above: the same map (its boundary is the loop
+    # LSCM finds, session 44 helper)
+    patch, used, ids, local, uv = first
+    uv = mean_value.untangle(vertices[ids], local, uv)
     if uv is not None:
         return patch, ids, local, uv, used, "lscm-untangled"
     uv = mean_value.mean_value_map(vertices[ids], local)
