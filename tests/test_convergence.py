@@ -602,18 +602,30 @@ def test_the_continuation_is_taken_on_after_the_subdivided_patch_only_from_weigh
     assert continuation_resumed(weight, stalled) == resumed
 
 
-def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_weight(
-        monkeypatch):
-    # both coupled solves fail (scripted: the patch's does, the subdivided one is costly) on
-    # an egg-crate patch whose continuation converges at weights 0.125 and 0.375 and fails
-    # at 0.875 (a fold): the continuation is not taken on after the subdivided patch, and
-    # Levenberg-Marquardt starts from its surface at 0.375; taken on, it would reach 0.494
-    # (14 more solves, the path of sessions 38-39)
+def _failing(calls):
+    """A coupled solve that fails (scripted), counted in ``calls["solves"]``."""
+    def failing_solve(*args, **kw):
+        calls["solves"] += 1
+        raise FillError("scripted: Newton's method fails")
+    return failing_solve
+
+
+def _counting(calls, name, function):
+    """``function``, its calls counted in ``calls[name]``."""
+    def counted(*args, **kw):
+        calls[name] += 1
+        return function(*args, **kw)
+    return counted
+
+
+def _stalling_egg_crate_patch():
+    """An egg-crate hole's patch (its trilaplacian fill, 4 rings) whose continuation converges
+    at weights 0.125 and 0.375 and fails at 0.875: points, faces, map, free and natural masks,
+    and the fill's face count."""
     import sys
     from pathlib import Path
 
     from surfinpaint.fill.conformal import mesh_pass
-    from surfinpaint.representation import on_mesh
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from eggcrate import egg_crate
@@ -622,22 +634,27 @@ def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_w
     new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
     vertices = np.vstack([cut.vertices, new_v])
     _, ids, local, uv, _, _ = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
-    free, points = ids >= len(cut.vertices), vertices[ids]
-    natural = np.zeros(len(ids), dtype=bool)
+    return (vertices[ids], local, uv, ids >= len(cut.vertices), len(new_f),
+            np.zeros(len(ids), dtype=bool))
+
+
+def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_weight(
+        monkeypatch):
+    # both coupled solves fail (scripted: the patch's does, the subdivided one is costly) on
+    # an egg-crate patch whose continuation converges at weights 0.125 and 0.375 and fails
+    # at 0.875 (a fold): the continuation is not taken on after the subdivided patch, and
+    # Levenberg-Marquardt starts from its surface at 0.375; taken on, it would reach 0.494
+    # (14 more solves, the path of sessions 38-39)
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.representation import on_mesh
+
+    points, local, uv, free, n_fill, natural = _stalling_egg_crate_patch()
     calls = {"solves": 0, "continuation solves": 0}
     newton = lsq_stage.newton_solve
-
-    def failing_solve(*args, **kw):
-        calls["solves"] += 1
-        raise FillError("scripted: Newton's method fails")
-
-    def counted(*args, **kw):
-        calls["continuation solves"] += 1
-        return newton(*args, **kw)
-
-    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", failing_solve)
-    monkeypatch.setattr(lsq_stage, "newton_solve", counted)
-    out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", _failing(calls))
+    monkeypatch.setattr(lsq_stage, "newton_solve", _counting(calls, "continuation solves",
+                                                             newton))
+    out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, n_fill, natural,
                                                20, 1e-3, True)
     assert calls == {"solves": 2, "continuation solves": 3}  # patch, subdivided; 3 solves
     monkeypatch.setattr(lsq_stage, "newton_solve", newton)
@@ -658,40 +675,21 @@ def test_a_large_patch_whose_continuation_stalled_after_raising_the_weight_is_no
     # weight, counted large (SUBDIVIDED_SKIP_FREE at its free vertices): the subdivided patch's
     # solve is not made (session 44 helper) and least squares starts where the continuation
     # stalled, as where that solve is made and fails: the same positions
-    import sys
-    from pathlib import Path
-
     from surfinpaint.fill.conformal import mesh_pass
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    from eggcrate import egg_crate
-
-    cut = egg_crate(20, 3, 7, 2.5, 0.4, 6)
-    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
-    vertices = np.vstack([cut.vertices, new_v])
-    _, ids, local, uv, _, _ = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
-    free, points = ids >= len(cut.vertices), vertices[ids]
-    natural = np.zeros(len(ids), dtype=bool)
+    points, local, uv, free, n_fill, natural = _stalling_egg_crate_patch()
     calls = {"solves": 0, "subdivided": 0}
-    subdivide = mesh_pass._subdivided
-
-    def failing_solve(*args, **kw):
-        calls["solves"] += 1
-        raise FillError("scripted: Newton's method fails")
-
-    def counted(*args, **kw):
-        calls["subdivided"] += 1
-        return subdivide(*args, **kw)
 
     def solved(skip_free):
         monkeypatch.setattr(mesh_pass, "SUBDIVIDED_SKIP_FREE", skip_free)
         calls.update(solves=0, subdivided=0)
-        out = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
+        out = mesh_pass._solve_or_subdivide(points, local, uv, free, n_fill, natural,
                                             20, 1e-3, True)
         return out, dict(calls)
 
-    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", failing_solve)
-    monkeypatch.setattr(mesh_pass, "_subdivided", counted)
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", _failing(calls))
+    monkeypatch.setattr(mesh_pass, "_subdivided", _counting(calls, "subdivided",
+                                                            mesh_pass._subdivided))
     (tried, tried_stage), tried_calls = solved(int(free.sum()) + 1)
     (skipped, skipped_stage), skipped_calls = solved(int(free.sum()))
     assert tried_calls == {"solves": 2, "subdivided": 1}
