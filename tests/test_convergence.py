@@ -602,18 +602,30 @@ def test_the_continuation_is_taken_on_after_the_subdivided_patch_only_from_weigh
     assert continuation_resumed(weight, stalled) == resumed
 
 
-def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_weight(
-        monkeypatch):
-    # both coupled solves fail (scripted: the patch's does, the subdivided one is costly) on
-    # an egg-crate patch whose continuation converges at weights 0.125 and 0.375 and fails
-    # at 0.875 (a fold): the continuation is not taken on after the subdivided patch, and
-    # Levenberg-Marquardt starts from its surface at 0.375; taken on, it would reach 0.494
-    # (14 more solves, the path of sessions 38-39)
+def _failing(calls):
+    """A coupled solve that fails (scripted), counted in ``calls["solves"]``."""
+    def failing_solve(*args, **kw):
+        calls["solves"] += 1
+        raise FillError("scripted: Newton's method fails")
+    return failing_solve
+
+
+def _counting(calls, name, function):
+    """``function``, its calls counted in ``calls[name]``."""
+    def counted(*args, **kw):
+        calls[name] += 1
+        return function(*args, **kw)
+    return counted
+
+
+def _stalling_egg_crate_patch():
+    """An egg-crate hole's patch (its trilaplacian fill, 4 rings) whose continuation converges
+    at weights 0.125 and 0.375 and fails at 0.875: points, faces, map, free and natural masks,
+    and the fill's face count."""
     import sys
     from pathlib import Path
 
     from surfinpaint.fill.conformal import mesh_pass
-    from surfinpaint.representation import on_mesh
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from eggcrate import egg_crate
@@ -622,22 +634,27 @@ def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_w
     new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
     vertices = np.vstack([cut.vertices, new_v])
     _, ids, local, uv, _, _ = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
-    free, points = ids >= len(cut.vertices), vertices[ids]
-    natural = np.zeros(len(ids), dtype=bool)
+    return (vertices[ids], local, uv, ids >= len(cut.vertices), len(new_f),
+            np.zeros(len(ids), dtype=bool))
+
+
+def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_weight(
+        monkeypatch):
+    # both coupled solves fail (scripted: the patch's does, the subdivided one is costly) on
+    # an egg-crate patch whose continuation converges at weights 0.125 and 0.375 and fails
+    # at 0.875 (a fold): the continuation is not taken on after the subdivided patch, and
+    # Levenberg-Marquardt starts from its surface at 0.375; taken on, it would reach 0.494
+    # (14 more solves, the path of sessions 38-39)
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.representation import on_mesh
+
+    points, local, uv, free, n_fill, natural = _stalling_egg_crate_patch()
     calls = {"solves": 0, "continuation solves": 0}
     newton = lsq_stage.newton_solve
-
-    def failing_solve(*args, **kw):
-        calls["solves"] += 1
-        raise FillError("scripted: Newton's method fails")
-
-    def counted(*args, **kw):
-        calls["continuation solves"] += 1
-        return newton(*args, **kw)
-
-    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", failing_solve)
-    monkeypatch.setattr(lsq_stage, "newton_solve", counted)
-    out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", _failing(calls))
+    monkeypatch.setattr(lsq_stage, "newton_solve", _counting(calls, "continuation solves",
+                                                             newton))
+    out, stage = mesh_pass._solve_or_subdivide(points, local, uv, free, n_fill, natural,
                                                20, 1e-3, True)
     assert calls == {"solves": 2, "continuation solves": 3}  # patch, subdivided; 3 solves
     monkeypatch.setattr(lsq_stage, "newton_solve", newton)
@@ -650,6 +667,55 @@ def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_w
     assert (stage.residual, stage.weight) == alone[1:] and "subdivided once" in stage.unsolved
     taken_on = lsq_stage.curvature_continuation(system, points, resume=stalled)
     assert 0.375 < taken_on[1] < 1.0  # what the rule gives up: a fold short of weight 1
+
+
+def test_a_large_patch_whose_continuation_stalled_after_raising_the_weight_is_not_subdivided(
+        monkeypatch):
+    # the patch of test_least_squares_starts_where_the_continuation_stalled_after_raising_the_
+    # weight, counted large (SUBDIVIDED_SKIP_FREE at its free vertices): the subdivided patch's
+    # solve is not made (session 44 helper) and least squares starts where the continuation
+    # stalled, as where that solve is made and fails: the same positions
+    from surfinpaint.fill.conformal import mesh_pass
+
+    points, local, uv, free, n_fill, natural = _stalling_egg_crate_patch()
+    calls = {"solves": 0, "subdivided": 0}
+
+    def solved(skip_free):
+        monkeypatch.setattr(mesh_pass, "SUBDIVIDED_SKIP_FREE", skip_free)
+        calls.update(solves=0, subdivided=0)
+        out = mesh_pass._solve_or_subdivide(points, local, uv, free, n_fill, natural,
+                                            20, 1e-3, True)
+        return out, dict(calls)
+
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", _failing(calls))
+    monkeypatch.setattr(mesh_pass, "_subdivided", _counting(calls, "subdivided",
+                                                            mesh_pass._subdivided))
+    (tried, tried_stage), tried_calls = solved(int(free.sum()) + 1)
+    (skipped, skipped_stage), skipped_calls = solved(int(free.sum()))
+    assert tried_calls == {"solves": 2, "subdivided": 1}
+    assert skipped_calls == {"solves": 1, "subdivided": 0}
+    np.testing.assert_array_equal(skipped, tried)
+    assert (skipped_stage.residual, skipped_stage.weight) == (tried_stage.residual,
+                                                              tried_stage.weight)
+    assert "subdivided patch not tried" in skipped_stage.unsolved
+
+
+@pytest.mark.parametrize("weight, stalled, n_free, skipped", [
+    (0.375, True, 121, True),  # CAD channel #5: its subdivided patch (535 free) fails
+    (0.875, True, 157, True),  # holdout 18 junction_box #6 (688 free) fails
+    (0.375, True, 8, False),  # egg n20 s0 p6 a2.5 j0.3 r5: its subdivided patch converges
+    (0.0, True, 121, False),  # the first solve failed: tried (animal5 #4's converged)
+    (1.0, False, 121, False),  # weight 1 reached: not needed (not tried either)
+])
+def test_the_subdivided_patch_is_skipped_only_on_a_large_patch_past_weight_zero(
+        weight, stalled, n_free, skipped):
+    from surfinpaint.fill.conformal.mesh_pass import SUBDIVIDED_SKIP_FREE, subdivision_skipped
+    from surfinpaint.representation.on_mesh import NEWTON_ANALYTIC_MAX
+
+    assert subdivision_skipped(weight, stalled, n_free) == skipped
+    # a patch skipped has a subdivided patch (4.4-6 times its free vertices) that Newton's
+    # steps would solve by GMRES, where none converged on the tuning side
+    assert NEWTON_ANALYTIC_MAX < 4.4 * SUBDIVIDED_SKIP_FREE
 
 
 def test_a_continuation_stopped_and_resumed_is_the_one_made_in_one_go():
@@ -817,3 +883,40 @@ def test_a_lattice_fill_read_back_at_folded_map_positions_is_read_again_at_tutte
     np.testing.assert_array_equal(kept, at_start)
     plain = mesh_pass._read_back(lattice, solution, quadric(uv), faces, uv, free, n_fill)
     np.testing.assert_array_equal(plain, lattice.read_back(solution, quadric(uv)))
+
+
+def test_a_tangled_patch_is_mapped_once_and_untangled_from_its_lscm(monkeypatch):
+    """Where LSCM leaves bad triangles at every ring count, the patch of the rings asked for is
+    untangled from the LSCM made for it first (session 44 helper: it was mapped again, and a
+    patch whose rings stopped short once per ring count): no patch is mapped twice, and the
+    map untangled is that patch's LSCM to the bit."""
+    from types import SimpleNamespace
+
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.geometry import mean_value, parameterization
+
+    v, f = cube(12)
+    cut = cut_geodesic_disk(v, f, np.array([0.5, 0.5, 1.0]), 0.2)
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    vertices = np.vstack([cut.vertices, new_v])
+    real_lscm, mapped, untangled = parameterization.lscm, [], []
+
+    def lscm(points, faces, **kw):
+        mapped.append(faces.tobytes())
+        return real_lscm(points, faces, **kw)
+
+    def untangle(points, faces, uv):
+        untangled.append(uv)
+        return uv
+
+    # every map has a bad triangle: each ring count is tried, then the untangling
+    monkeypatch.setattr(parameterization, "lscm", lscm)
+    monkeypatch.setattr(mesh_pass, "mean_value", SimpleNamespace(
+        bad_faces=lambda *a: np.array([0]), untangle=untangle,
+        mean_value_map=mean_value.mean_value_map))
+    patch, ids, local, uv, used, name = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop,
+                                                                new_f, 4)
+    assert name == "lscm-untangled" and used == 4
+    assert len(mapped) == len(set(mapped)) == 2  # 4 rings, then 3
+    assert mapped[0] == local.tobytes() and untangled[0] is uv
+    assert np.array_equal(uv, real_lscm(vertices[ids], local))  # its topology checked again

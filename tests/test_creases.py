@@ -334,3 +334,23 @@ def test_corner_point_rule(points, directions, corner):
         assert found is not None and np.linalg.norm(found) < 0.025
     else:
         assert np.allclose(found, corner, atol=1e-12)
+
+
+def test_the_hole_s_creases_are_searched_once(monkeypatch):
+    """The creases across the hole are found once, for the candidates (``crossed``) and for
+    the hole's own λ-H fill along them (session 44 helper): the same creases, the same fill."""
+    from surfinpaint import ConformalOptions
+    from surfinpaint.fill.conformal import candidates, conformal_fill
+
+    cut = _cube_hole()
+    searched = []
+    real = candidates.hole_creases
+
+    def counting(vertices, faces, loop, **kw):
+        searched.append(np.asarray(loop).tobytes())
+        return real(vertices, faces, loop, **kw)
+
+    monkeypatch.setattr(candidates, "hole_creases", counting)
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop, ConformalOptions(select=False))
+    assert fill.kind == "conformal" and fill.crease is not None
+    assert searched.count(np.asarray(cut.loop).tobytes()) == 1

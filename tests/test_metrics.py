@@ -282,3 +282,19 @@ def test_mean_surface_distances_match_surface_distance():
     expected = [surface_distance(pv, pf, v, f, n_samples=3000).mean for pv, pf in patches]
     np.testing.assert_allclose(means, expected, rtol=1e-12, atol=1e-15)
     assert means[2] < 1e-12 < means[1] < means[0]
+
+
+def test_points_the_slack_leaves_open_are_searched_without_a_query():
+    """Points whose nearest centroids from another search do not bound them are searched in
+    the ball their distance to those triangles bounds (session 44 helper): the same bits as a
+    search of their own, and no KD-tree query."""
+    v, f = data.sphere(2)
+    rng = np.random.default_rng(5)
+    p = v[rng.integers(len(v), size=400)] * rng.uniform(0.9, 1.1, size=(400, 1))
+    first = metrics._TriangleIndex(v, f)
+    _, dist, near = first.nearest(p)
+    moved = v + 0.05 * rng.normal(size=v.shape)
+    index = metrics._TriangleIndex(moved, f)
+    got = index.distance_after(p, dist, near, np.inf)  # every point left open
+    assert np.array_equal(got, point_mesh_distance(p, moved, f))
+    assert index._tree is None

@@ -54,6 +54,10 @@ class Candidates:
         A crease crosses the hole itself: its test holes are filled along it too, where one
         sharp edge left between them and a corner is enough (the crease is known from the
         hole), and a test hole that is not crossed says nothing about the crease fill.
+    creases : tuple of Crease
+        The creases that cross the hole (:func:`~surfinpaint.fill.creases.hole_creases`),
+        found once for ``crossed`` and for the hole's own λ-H fill (:meth:`lambda_h`'s
+        ``creases``).
     """
 
     options: ConformalOptions
@@ -61,6 +65,7 @@ class Candidates:
     s0_order: int
     crease_angle: float | None
     crossed: bool
+    creases: tuple = ()
 
     @classmethod
     def for_hole(cls, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
@@ -69,10 +74,11 @@ class Candidates:
         for (None: S0 trilaplacian, faired candidates of orders 2 and 3)."""
         angle = options.crease_angle if options.creases and \
             options.discretization == "mesh" else None
-        crossed = angle is not None and len(hole_creases(vertices, faces, loop, angle=angle)) > 0
+        creases = () if angle is None else tuple(hole_creases(vertices, faces, loop,
+                                                              angle=angle))
         return cls(options=options, orders=(2, 3) if fair_order is None else (fair_order,),
                    s0_order=S0_ORDER if fair_order is None else fair_order,
-                   crease_angle=angle, crossed=crossed)
+                   crease_angle=angle, crossed=len(creases) > 0, creases=creases)
 
     def faired(self, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray
                ) -> dict[str, Fill]:
@@ -105,7 +111,7 @@ class Candidates:
 
     def lambda_h(self, vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                  s0: tuple[np.ndarray, np.ndarray], *, test: bool = False,
-                 crease_only: bool = False) -> Fill:
+                 crease_only: bool = False, creases: tuple | None = None) -> Fill:
         """The λ-H fill from S0; along a crease that crosses the hole when one does (as a
         smooth hole when that fails).
 
@@ -119,16 +125,23 @@ class Candidates:
         crosses scores only a crease fill (:meth:`for_tests`), so the smooth fill would be
         made and thrown away.
 
+        ``creases``: the hole's creases where the caller has them (:attr:`creases`, found
+        by :meth:`for_hole` on the same hole with the same arguments); searched here when
+        None.
+
         Raises
         ------
         FillError
             When the λ-H fill fails: a numerical failure of any step (``NUMERICAL_ERRORS``)
             is turned into one here.
         """
-        creases = []
-        if self.crease_angle is not None:
+        if self.crease_angle is None:
+            creases = []
+        elif creases is None:
             creases = hole_creases(vertices, faces, loop, angle=self.crease_angle,
                                    min_edges=1 if test and self.crossed else CREASE_EDGES)
+        else:
+            creases = list(creases)
         crease_failure = None
         if creases:
             try:

@@ -124,7 +124,7 @@ def conformal_fill(
     try:
         if not options.select:
             s0 = candidates.initial(vertices, faces, loop)
-            return candidates.lambda_h(vertices, faces, loop, s0)
+            return candidates.lambda_h(vertices, faces, loop, s0, creases=candidates.creases)
         # the faired fills are cheap; the λ-H fill of the hole is made once it has won
         faired = candidates.faired(vertices, faces, loop)
         reference = faired[f"fair{candidates.orders[0]}"]
@@ -147,7 +147,7 @@ def conformal_fill(
         verdict = self_check(vertices, faces, loop, candidates)
         if verdict.make:
             s0 = candidates.initial(vertices, faces, loop, faired)
-            own = candidates.lambda_h(vertices, faces, loop, s0)
+            own = candidates.lambda_h(vertices, faces, loop, s0, creases=candidates.creases)
             if verdict.keep:
                 return replace(own, verdict=verdict,
                                selection=verdict.sentence(kept=True, failed=False))
