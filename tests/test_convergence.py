@@ -669,55 +669,6 @@ def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_w
     assert 0.375 < taken_on[1] < 1.0  # what the rule gives up: a fold short of weight 1
 
 
-def test_a_large_patch_whose_continuation_stalled_after_raising_the_weight_is_not_subdivided(
-        monkeypatch):
-    # the patch of test_least_squares_starts_where_the_continuation_stalled_after_raising_the_
-    # weight, counted large (SUBDIVIDED_SKIP_FREE at its free vertices): the subdivided patch's
-    # solve is not made (session 44 helper) and least squares starts where the continuation
-    # stalled, as where that solve is made and fails: the same positions
-    from surfinpaint.fill.conformal import mesh_pass
-
-    points, local, uv, free, n_fill, natural = _stalling_egg_crate_patch()
-    calls = {"solves": 0, "subdivided": 0}
-
-    def solved(skip_free):
-        monkeypatch.setattr(mesh_pass, "SUBDIVIDED_SKIP_FREE", skip_free)
-        calls.update(solves=0, subdivided=0)
-        out = mesh_pass._solve_or_subdivide(points, local, uv, free, n_fill, natural,
-                                            20, 1e-3, True)
-        return out, dict(calls)
-
-    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", _failing(calls))
-    monkeypatch.setattr(mesh_pass, "_subdivided", _counting(calls, "subdivided",
-                                                            mesh_pass._subdivided))
-    (tried, tried_stage), tried_calls = solved(int(free.sum()) + 1)
-    (skipped, skipped_stage), skipped_calls = solved(int(free.sum()))
-    assert tried_calls == {"solves": 2, "subdivided": 1}
-    assert skipped_calls == {"solves": 1, "subdivided": 0}
-    np.testing.assert_array_equal(skipped, tried)
-    assert (skipped_stage.residual, skipped_stage.weight) == (tried_stage.residual,
-                                                              tried_stage.weight)
-    assert "subdivided patch not tried" in skipped_stage.unsolved
-
-
-@pytest.mark.parametrize("weight, stalled, n_free, skipped", [
-    (0.375, True, 121, True),  # CAD channel #5: its subdivided patch (535 free) fails
-    (0.875, True, 157, True),  # holdout 18 junction_box #6 (688 free) fails
-    (0.375, True, 8, False),  # egg n20 s0 p6 a2.5 j0.3 r5: its subdivided patch converges
-    (0.0, True, 121, False),  # the first solve failed: tried (animal5 #4's converged)
-    (1.0, False, 121, False),  # weight 1 reached: not needed (not tried either)
-])
-def test_the_subdivided_patch_is_skipped_only_on_a_large_patch_past_weight_zero(
-        weight, stalled, n_free, skipped):
-    from surfinpaint.fill.conformal.mesh_pass import SUBDIVIDED_SKIP_FREE, subdivision_skipped
-    from surfinpaint.representation.on_mesh import NEWTON_ANALYTIC_MAX
-
-    assert subdivision_skipped(weight, stalled, n_free) == skipped
-    # a patch skipped has a subdivided patch (4.4-6 times its free vertices) that Newton's
-    # steps would solve by GMRES, where none converged on the tuning side
-    assert NEWTON_ANALYTIC_MAX < 4.4 * SUBDIVIDED_SKIP_FREE
-
-
 def test_a_continuation_stopped_and_resumed_is_the_one_made_in_one_go():
     # curvature_continuation stopped after k solves and taken on from there ends where the
     # continuation made in one go does, to the bit: on an egg-crate patch whose continuation

@@ -46,10 +46,6 @@ LEAST_SQUARES_RESIDUAL = 2.0
 # reached it after a failed first solve where the subdivided patch's converged, and writing
 # the continuation's fixed point there was 2.3 times worse (docs/convergence.md, session 38)
 CONTINUATION_FIRST = 8
-# the subdivided patch's solve is not tried on a patch of at least this many free vertices
-# where that continuation raised the curvature weight and then stalled (subdivision_skipped):
-# its subdivided patch has 4.4-6 times as many, above on_mesh.NEWTON_ANALYTIC_MAX (session 44)
-SUBDIVIDED_SKIP_FREE = 50
 # where that fails too, the patch resampled on a regular lattice of its map, of these
 # spacings (per mean map edge of the fill) in turn (:func:`_on_lattice`)
 LATTICE_PER_EDGE = (2.0, 1.0, 4.0)
@@ -279,10 +275,7 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
         # the patch's fixed point and the subdivided patch's solve is not needed (session 38)
         continued, stalled = ((None, False) if system is None
                               else _continued_first(system, points, tol))
-        if continued is not None and subdivision_skipped(continued[1], stalled, len(system.f)):
-            failure = (f"{coarse}; the subdivided patch not tried (the continuation stalled "
-                       f"at the curvature weight {continued[1]:.2g})")
-        elif continued is None or continued[1] < 1.0:
+        if continued is None or continued[1] < 1.0:
             fine = _subdivided(points, local, uv, free, n_fill, natural)
             try:
                 out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3],
@@ -324,27 +317,6 @@ def continuation_paused(solves: int, failures: int) -> bool:
     does not run straight to weight 1, the subdivided patch's fill comes first), or after
     ``CONTINUATION_FIRST`` solves."""
     return failures > 0 or solves >= CONTINUATION_FIRST
-
-
-def subdivision_skipped(weight: float, stalled: bool, n_free: int) -> bool:
-    """Whether the subdivided patch's solve is left out on a patch of ``n_free`` free vertices
-    after the continuation made first stopped at ``weight`` below 1 (``stalled``: at a failed
-    solve): where it raised the weight and then stalled (where it is not taken on either,
-    :func:`continuation_resumed`: least squares starts where it stopped) on a patch of at
-    least ``SUBDIVIDED_SKIP_FREE`` free vertices.
-
-    Why: there the subdivided patch's solve is the failing path's costliest stage (0.05-0.19
-    s of CPU on such patches, 12-20 % of the slowest holes' fill) and seldom converges: on
-    the tuning side (the five tuning-side sets' 409 holes, benchmarks/lambda_h_fallbacks.py's
-    egg-crate, quadruped and brain families, spent holdout 18) it failed on 4 of the 6 such
-    patches of at least 50 free vertices (brain white #14 94, CAD channel #5 121, holdout 18
-    lathe_dog #6 106, junction_box #6 157), and where it converged (brain white #17 53, #22
-    82) least squares from where the continuation stopped is 0.89 and 1.31 times its error.
-    On smaller patches it converged on 9 of 16 egg-crates, at 0.004-0.025 s: tried as
-    before (docs/convergence.md, session 44 helper). Where the first solve failed (weight 0)
-    it is tried as before too: there it converged where the continuation could not
-    (animal5 #4, session 38)."""
-    return stalled and 0.0 < weight < 1.0 and n_free >= SUBDIVIDED_SKIP_FREE
 
 
 def continuation_resumed(weight: float, stalled: bool) -> bool:
