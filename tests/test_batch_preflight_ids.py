@@ -8,19 +8,24 @@ without allocating it)."""
 
 from __future__ import annotations
 
+import json
 import struct
 from pathlib import Path
 
 import numpy as np
 import pytest
-from test_batch_preflight import _batch_events
-from test_batch_preflight_bodies import _holed, _large_obj
-from test_batch_preflight_ends import _said
+from test_batch_preflight import _batch_events, _surface_and_overlay
+from test_batch_preflight_bodies import _holed, _large_obj, _old_format_annot
+from test_batch_preflight_ends import _annot, _said
 
 from surfinpaint.app.cli import main
+from surfinpaint.io.base import MeshWarning
+from surfinpaint.io.brain import check_overlay
 from surfinpaint.io.filetypes import check_file
 from surfinpaint.io.formats import read_mesh, read_mesh_data, write_mesh
 from surfinpaint.io.obj import obj_ids_plain
+
+nib = pytest.importorskip("nibabel")
 
 # ------------------------------------------------------------------------ OBJ face ids
 
@@ -143,3 +148,95 @@ def test_a_batch_fails_a_large_obj_with_a_bad_face_id_before_any_fill(tmp_path, 
     code = main(["fill", str(scans / "bad.obj"), "-o", str(tmp_path / "f.obj"), "-q"])
     assert code == 1 and not (tmp_path / "f.obj").exists()
     assert "".join(said.split()) in "".join(capsys.readouterr().err.split())
+
+
+# ------------------------------------------------------------- .annot labels and tables
+
+
+def _annot_36(path: Path, n: int) -> None:
+    """An ``.annot`` of 36 areas (aparc's count), some vertices unlabelled (value 0)."""
+    ctab = np.array([[25 * k % 256, 40 * k % 256, 90 * k % 256, 0, 0] for k in range(36)])
+    labels = (np.arange(n) * 7) % 36
+    labels[::11] = -1  # written as value 0: no label
+    nib.freesurfer.write_annot(str(path), labels, ctab, [f"area{k}".encode() for k in
+                                                          range(36)], fill_ctab=True)
+
+
+def _annot_with(path: Path, n: int, values: dict[int, int]) -> None:
+    """:func:`_annot` of ``n`` vertices with the label values of some vertices replaced."""
+    _annot(path, n)
+    data = bytearray(path.read_bytes())
+    for vertex, value in values.items():
+        struct.pack_into(">i", data, 4 + 8 * vertex + 4, value)
+    path.write_bytes(bytes(data))
+
+
+@pytest.mark.parametrize("make", [_annot, _annot_36, _old_format_annot])
+def test_an_annots_labels_and_table_are_nibabels(tmp_path, make):
+    surface, overlay = _surface_and_overlay(tmp_path, ("lh.aparc.annot", make))
+    mesh = read_mesh_data(surface, overlays=[overlay])
+    labels, ctab, names = nib.freesurfer.read_annot(str(overlay))
+    assert np.array_equal(mesh.attributes["aparc"], labels)
+    table = json.loads(mesh.metadata["labels.aparc"])
+    assert [row[:2] for row in table] == [[k, name.decode()] for k, name in enumerate(names)]
+    assert np.allclose([row[2:] for row in table], np.column_stack(
+        [ctab[:, :3] / 255, 1 - ctab[:, 3] / 255]))
+
+
+def test_labels_not_in_the_colour_table_are_unlabelled_and_said(tmp_path):
+    # 511 lies between the table's colours (nibabel gave its vertices a neighbour's
+    # label, silently), 16777215 past them all (nibabel: an IndexError)
+    odd = {5: 511, 6: 511, 9: 0xFFFFFF}
+    surface, overlay = _surface_and_overlay(
+        tmp_path, ("lh.aparc.annot", lambda path, n: _annot_with(path, n, odd)))
+    expected = (f"{surface}: overlay lh.aparc.annot: 3 vertices have label values its colour "
+                "table does not hold, read as no label (-1): 511 (RGB 255 1 0) on 2 "
+                "vertices, 16777215 (RGB 255 255 255) on 1 vertex")
+    with pytest.warns(MeshWarning) as said:
+        labels = read_mesh_data(surface, overlays=[overlay]).attributes["aparc"]
+    assert [str(w.message) for w in said] == [expected]
+    want = np.arange(len(labels)) % 3
+    want[list(odd)] = -1
+    assert np.array_equal(labels, want)
+    assert check_overlay(overlay) is None  # readable: a warning, not an error
+
+
+def _huge_table(path: Path, n: int, announced: int = 2**31 - 1) -> None:
+    """:func:`_annot` whose colour table announces ``announced`` entries (it holds 3)."""
+    _annot(path, n)
+    data = bytearray(path.read_bytes())
+    struct.pack_into(">i", data, 4 + 8 * n + 8, announced)
+    path.write_bytes(bytes(data))
+
+
+def _huge_old_table(path: Path, n: int) -> None:
+    """:func:`_old_format_annot` whose entry count says 2**31 - 1."""
+    _old_format_annot(path, n)
+    data = bytearray(path.read_bytes())
+    struct.pack_into(">i", data, 4 + 8 * n + 4, 2**31 - 1)
+    path.write_bytes(bytes(data))
+
+
+@pytest.mark.parametrize("make", [_huge_table, _huge_old_table])
+def test_a_colour_table_announcing_billions_of_entries_fails_without_allocating(
+        tmp_path, monkeypatch, make):
+    def allocating(*args, **kwargs):  # nibabel allocates the size a table announces
+        raise AssertionError("nibabel's read_annot called")
+
+    monkeypatch.setattr(nib.freesurfer, "read_annot", allocating)
+    monkeypatch.setattr(nib.freesurfer.io, "read_annot", allocating)
+    surface, overlay = _surface_and_overlay(tmp_path, ("lh.aparc.annot", make))
+    said = _said(lambda p: read_mesh_data(surface, overlays=[p]), overlay)
+    assert said == (f"{overlay}: FreeSurfer annotation's colour table announces 2147483647 "
+                    "entries, more than the 16777216 colours a label value can name (a "
+                    "corrupt table; not read)")
+    assert _said(check_overlay, overlay) == said
+
+
+def test_a_colour_table_of_as_many_entries_as_colours_is_read(tmp_path):
+    # the limit itself: 2**24 announced, 3 held (nothing allocated for the 2**24)
+    surface, overlay = _surface_and_overlay(
+        tmp_path, ("lh.aparc.annot", lambda path, n: _huge_table(path, n, 1 << 24)))
+    assert check_overlay(overlay) is None
+    labels = read_mesh_data(surface, overlays=[overlay]).attributes["aparc"]
+    assert np.array_equal(labels, np.arange(len(labels)) % 3)
