@@ -161,6 +161,41 @@ def test_signal_while_a_kernel_compiles_stops_with_one_line(tmp_path, hook, sign
     _assert_stopped(proc, code, out_dir)
 
 
+_SIGNAL_IN_DEL = """
+import os, sys
+from llvmlite.binding import ffi
+real = ffi.ObjectRef.__del__
+sent = []
+def hooked(self):
+    if not sent:
+        sent.append(1)
+        os.kill(os.getpid(), int(sys.argv[1]))
+    return real(self)
+ffi.ObjectRef.__del__ = hooked
+from surfinpaint.app.cli import main
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+def test_signal_in_a_finalizer_while_a_kernel_is_made_stops_with_one_line(tmp_path, signum,
+                                                                         code):
+    # llvmlite frees its objects in a __del__ (Python code, where an exception cannot
+    # propagate: "Exception ignored in ..."); its first one in a fill comes as numba makes
+    # the first kernel's dispatcher (compiled.kernel, outside any kernel call: session 44),
+    # on a warm cache too. A signal arriving there must not be lost (the fill going on to
+    # write its output and exit 0)
+    pytest.importorskip("numba")
+    source = _holey(tmp_path)
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-c", _SIGNAL_IN_DEL, str(int(signum)), "fill",
+                             str(source), "-o", str(out_dir / "filled.ply"), "-q"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _assert_stopped(proc, code, out_dir)
+
+
 def test_output_directory_is_checked_before_the_input_is_read(tmp_path):
     # the input is a named pipe nobody writes to: reading it would block for ever, so a
     # prompt exit shows that the output was checked first
