@@ -154,16 +154,12 @@ def _array_problem(attrs: dict[str, str], payload: bytes) -> str | None:
             return None
         have = len(payload.split())
         return None if have == want else f"{shape} = {want} values, its data hold {have}"
-    size = _VALUE_BYTES.get(attrs.get("DataType", ""))
-    # the output's buffer made at the size the dimensions announce (up to 64 MiB: a wrong
-    # Dim0 allocates no more): zlib then does not grow it as it inflates (-9 % of the time
-    # of a 160k-vertex .func.gii's check, session 44)
-    guess = min(want * size, 1 << 26) if size else zlib.DEF_BUF_SIZE
     try:
         raw = binascii.a2b_base64(payload)
-        raw = zlib.decompress(raw, bufsize=max(guess, 1)) if encoding == "gzip" else raw
+        raw = zlib.decompress(raw) if encoding == "gzip" else raw
     except (binascii.Error, zlib.error) as exc:
         return f"its {attrs['Encoding']} data do not decode ({exc})"
+    size = _VALUE_BYTES.get(attrs.get("DataType", ""))
     if size is None or len(raw) == want * size:
         return None
     return (f"{shape} = {want} values of {attrs['DataType']} = {want * size} bytes, its data "
