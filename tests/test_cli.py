@@ -109,7 +109,7 @@ def _bad_file(kind: str, folder: Path) -> tuple[Path, list[str]]:
         f[211, 2] = 999
         p = folder / "big.obj"
         p.write_text(_obj_text(v, f))
-        return p, ["211", "999"]
+        return p, ["face 211", "vertex index 1000"]  # as written: OBJ counts from 1
     if kind == "negative-index":
         p = folder / "negative.off"
         p.write_text(_off_text(v, f).replace(

@@ -188,7 +188,7 @@ BROKEN = [
     ("nan.obj", _obj([*_SQUARE[:3], (float("nan"), 0.0, 0.0)], [(1, 2, 3), (1, 3, 4)]),
      "1 vertex has NaN or infinite coordinates"),
     ("range.obj", _obj(_SQUARE, [(1, 2, 3), (1, 3, 9)]),
-     "1 face uses vertex ids >= the vertex count 4"),
+     "face 1 (line 6) uses vertex index 9, past the file's 4 vertices"),
     ("cloud.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
      "y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n",
      "PLY file has no face element (a point cloud, not a mesh)"),

@@ -21,7 +21,9 @@ import numpy as np
 import pytest
 from conftest import grid_mesh
 
+from surfinpaint.app import interrupts
 from surfinpaint.app.cli import main
+from surfinpaint.app.interrupts import Interrupted, signals_raise
 from surfinpaint.data import sphere
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.mesh import mean_edge_length
@@ -135,7 +137,9 @@ def hooked(cls, *args):
         os.kill(os.getpid(), int(sys.argv[2]))
     return real(cls, *args)
 setattr(codegen.CPUCodeLibrary, sys.argv[1], classmethod(hooked))
+from surfinpaint.app import interrupts
 from surfinpaint.app.cli import main
+from surfinpaint.app.interrupts import Interrupted, signals_raise
 sys.exit(main(sys.argv[3:]))
 """
 
@@ -159,6 +163,97 @@ def test_signal_while_a_kernel_compiles_stops_with_one_line(tmp_path, hook, sign
                              str(source), "-o", str(out_dir / "filled.ply"), "-q"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     _assert_stopped(proc, code, out_dir)
+
+
+_SIGNAL_IN_DEL = """
+import os, sys
+from llvmlite.binding import ffi
+real = ffi.ObjectRef.__del__
+sent = []
+def hooked(self):
+    if not sent:
+        sent.append(1)
+        os.kill(os.getpid(), int(sys.argv[1]))
+    return real(self)
+ffi.ObjectRef.__del__ = hooked
+from surfinpaint.app import interrupts
+from surfinpaint.app.cli import main
+from surfinpaint.app.interrupts import Interrupted, signals_raise
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+def test_signal_in_a_finalizer_while_a_kernel_is_made_stops_with_one_line(tmp_path, signum,
+                                                                         code):
+    # llvmlite frees its objects in a __del__ (Python code, where an exception cannot
+    # propagate: "Exception ignored in ..."); its first one in a fill comes as numba makes
+    # the first kernel's dispatcher (compiled.kernel, outside any kernel call: session 44),
+    # on a warm cache too. A signal arriving there must not be lost (the fill going on to
+    # write its output and exit 0)
+    pytest.importorskip("numba")
+    source = _holey(tmp_path)
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-c", _SIGNAL_IN_DEL, str(int(signum)), "fill",
+                             str(source), "-o", str(out_dir / "filled.ply"), "-q"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _assert_stopped(proc, code, out_dir)
+
+
+_SIGNAL_IN_GC_CALLBACK = """
+import gc, os, signal, sys
+sent = []
+def callback(phase, info):  # once the command line's handlers are set
+    handler = getattr(signal.getsignal(signal.SIGTERM), "__name__", "")
+    if phase == "start" and not sent and handler == "_raise_interrupted":
+        sent.append(1)
+        os.kill(os.getpid(), int(sys.argv[1]))
+gc.callbacks.append(callback)
+from surfinpaint.app.cli import main
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+def test_signal_in_a_gc_callback_during_a_fill_stops_with_one_line(tmp_path, signum, code):
+    # a callback the garbage collector runs (exceptions there are only reported), outside
+    # any kernel call: on main the fill went on, wrote its output and exited 0 (session 44)
+    source = _holey(tmp_path)
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-c", _SIGNAL_IN_GC_CALLBACK, str(int(signum)),
+                             "fill", str(source), "-o", str(out_dir / "filled.ply"), "-q"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _assert_stopped(proc, code, out_dir)
+
+
+class _SendsInDel:
+    """An object whose ``__del__`` sends ``signum`` to its own process: the handler runs,
+    and raises, inside the finalizer, where Python can only report the exception."""
+
+    def __init__(self, signum: int) -> None:
+        self.signum = signum
+
+    def __del__(self) -> None:
+        os.kill(os.getpid(), self.signum)
+
+
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+def test_a_signal_lost_in_a_finalizer_is_sent_again(signum, code):
+    # any library's finalizer (zipfile's, at an import in a fill; session 44): the signal
+    # must not be lost there, nor every later one ignored
+    before = signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)
+    with pytest.raises(Interrupted) as raised, signals_raise():
+        _SendsInDel(int(signum))  # dropped at once: the handler's exception is lost there
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline:
+            time.sleep(0.001)
+    assert raised.value.exit_code == code
+    assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before
+    assert sys.unraisablehook is not interrupts._send_again
 
 
 def test_output_directory_is_checked_before_the_input_is_read(tmp_path):

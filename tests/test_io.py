@@ -387,13 +387,15 @@ def test_no_vertices(tmp_path):
 
 def test_out_of_range_and_negative_indices_name_faces(tmp_path):
     (tmp_path / "r.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\nf 1 9 3\n")
-    err = _raises(tmp_path / "r.obj", "2 faces", ">= the vertex count 3", "1, 2")
+    err = _raises(tmp_path / "r.obj", "face 1 (line 5) uses vertex index 7, past the file's 3 "
+                  "vertices; 2 faces do: 1, 2")
     assert err.faces == [1, 2]
     (tmp_path / "r.off").write_text("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 -1 2\n")
     err = _raises(tmp_path / "r.off", "negative", "1")
     assert err.faces == [1]
     (tmp_path / "n.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n")
-    _raises(tmp_path / "n.obj", "negative", "0")
+    _raises(tmp_path / "n.obj", "face 0 (line 4) uses vertex index -4, a negative index past "
+            "the first vertex (it counts back from the 3 vertices before the face)")
 
 
 def test_nan_and_inf_name_vertices(tmp_path):

@@ -29,13 +29,14 @@ compiled and nothing is left half-made.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import logging
 import os
 import sys
 import tempfile
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 __all__ = ["BACKGROUND_MESSAGE", "BUILDER", "COMPILING_MESSAGE", "MODE_VARIABLE", "Kernel",
            "NotCompiled", "announce_once_across", "kernel", "lock_path", "run"]
@@ -122,6 +123,12 @@ def kernel(func: Callable, **options) -> Callable | None:
     Where numba finds no writable cache location at all, the kernel is compiled without a
     disk cache (every process then compiles it once, in the process) rather than failing.
     """
+    with _signals_kept():  # numba's first dispatcher makes and frees llvmlite's objects
+        return _jitted(func, options)
+
+
+def _jitted(func: Callable, options: dict) -> Callable | None:
+    """:func:`kernel`'s dispatcher (or None without numba)."""
     try:
         import numba
     except ImportError:  # pragma: no cover - numba is optional
@@ -189,24 +196,33 @@ def _called(compiled, call: Callable):
     "Exception ignored on calling ctypes callback function" and the call goes on, the
     signal lost (the command line's handler ignores further ones). Such an exception is
     kept (:func:`_keep_lost_signal`) and raised here once the call returns."""
-    _hook_unraisable()
-    outer = getattr(_local, "lost", None)
-    lost = _local.lost = []
-    try:
+    with _signals_kept():
         try:
-            result = call(compiled)
+            return call(compiled)
         except SystemError as exc:
             context = exc.__context__
             if _is_signal_exception(context):
                 raise context from None
             raise
+
+
+@contextlib.contextmanager
+def _signals_kept() -> Iterator[None]:
+    """Within the block, a signal handler's exception that Python reports as unraisable (in
+    a ctypes callback, or a ``__del__``: llvmlite frees its objects in ``__del__``) is kept,
+    and raised as itself when the block ends (session 43: kernel calls; 44: making a
+    kernel's dispatcher, where numba makes its first code generator)."""
+    _hook_unraisable()
+    outer = getattr(_local, "lost", None)
+    lost = _local.lost = []
+    try:
+        yield
     except BaseException:
         _raise_lost(lost)
         raise
     finally:
         _local.lost = outer
     _raise_lost(lost)
-    return result
 
 
 def _raise_lost(lost: list) -> None:
@@ -221,10 +237,11 @@ def _is_signal_exception(exc) -> bool:
 
 
 def _keep_lost_signal(unraisable) -> None:
-    """``sys.unraisablehook`` (installed by :func:`_hook_unraisable`): during a kernel call
-    in this thread, a signal handler's exception that Python could not raise (it came in a
-    ctypes callback) is kept for :func:`_called`, not printed; anything else goes to the
-    hook that was there before."""
+    """``sys.unraisablehook`` (installed by :func:`_hook_unraisable`): within
+    :func:`_signals_kept` in this thread (a kernel call, a kernel's making), a signal
+    handler's exception that Python could not raise (it came in a ctypes callback or a
+    ``__del__``) is kept, not printed; anything else goes to the hook that was there
+    before."""
     lost = getattr(_local, "lost", None)
     if lost is not None and _is_signal_exception(unraisable.exc_value):
         lost.append(unraisable.exc_value)

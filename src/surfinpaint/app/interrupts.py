@@ -11,7 +11,9 @@ other exception. The command line catches it and exits with 128 + the signal num
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 
@@ -46,20 +48,62 @@ def _raise_interrupted(signum: int, frame) -> None:
     raise Interrupted(signum)
 
 
+#: Seconds after which a signal lost in a finalizer or callback is sent again (from another
+#: thread: by then the place it was lost in has returned)
+AGAIN_AFTER = 0.01
+_state: dict = {}  # "previous": the unraisable hook before ours; "again": the timer
+
+
+def _send_again(unraisable) -> None:
+    """``sys.unraisablehook`` within :func:`signals_raise`: :class:`Interrupted` raised by
+    the handler where Python cannot raise it (a ``__del__``, a weakref callback, a ctypes
+    callback: "Exception ignored in ...") would be lost, and every later signal ignored;
+    instead the handlers are set again and the signal is sent again :data:`AGAIN_AFTER`
+    seconds later, to land outside that place (sending it from here would run the handler
+    inside this hook, where it is lost again). Anything else goes to the previous hook."""
+    exc = unraisable.exc_value
+    if not isinstance(exc, Interrupted) or \
+            threading.current_thread() is not threading.main_thread():
+        _state["previous"](unraisable)
+        return
+    for s in HANDLED:
+        signal.signal(s, _raise_interrupted)
+    again = _state["again"] = threading.Timer(AGAIN_AFTER, os.kill, (os.getpid(), exc.signum))
+    again.daemon = True
+    again.start()
+
+
 @contextlib.contextmanager
 def signals_raise() -> Iterator[None]:
-    """Within the block, SIGINT and SIGTERM raise :class:`Interrupted` in the main thread.
+    """Within the block, SIGINT and SIGTERM raise :class:`Interrupted` in the main thread,
+    even when they come in a finalizer or callback (:func:`_send_again`).
 
     Outside the main thread (where Python cannot install handlers) the block runs unchanged.
     """
-    if threading.current_thread() is not threading.main_thread():
+    if threading.current_thread() is not threading.main_thread() \
+            or sys.unraisablehook is _send_again:  # in the main thread's block already
         yield
         return
     previous = {s: signal.getsignal(s) for s in HANDLED}
+    _state["previous"] = hook = sys.unraisablehook
     try:
         for s in HANDLED:
             signal.signal(s, _raise_interrupted)
+        sys.unraisablehook = _send_again
         yield
+        _raise_pending()
     finally:
+        if sys.unraisablehook is _send_again:
+            sys.unraisablehook = hook
+        _state.pop("again", None)
         for s, handler in previous.items():
             signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+
+
+def _raise_pending() -> None:
+    """A signal lost just before the block's end and not yet sent again: raised now (sent
+    after the block, it would meet the previous handler)."""
+    again = _state.get("again")
+    if again is not None and again.is_alive():
+        again.cancel()
+        raise Interrupted(again.args[1])

@@ -21,11 +21,13 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError
+from surfinpaint.errors import MeshError, how_many, preview
 from surfinpaint.io.base import Parsed
 from surfinpaint.io.brain_checks import FREESURFER_MAGIC as FREESURFER_MAGIC
 from surfinpaint.io.brain_checks import (
     MORPH_MAGIC,
+    annot_header,
+    annot_table,
     check_overlay,
     freesurfer_header,
     gifti_arrays,
@@ -267,16 +269,42 @@ def _gifti_label_table(image) -> str | None:
                        for lab in labels])
 
 
-def _read_annot(p: Path) -> tuple[np.ndarray, str]:
-    """A FreeSurfer ``.annot`` file's labels (indices into its colour table, -1 where none)
-    and its table as :data:`LABEL_TABLE` JSON."""
-    from nibabel.freesurfer import read_annot
+def _read_annot(p: Path) -> tuple[np.ndarray, str, list[str]]:
+    """A FreeSurfer ``.annot`` file's labels (per vertex, the index of the colour table
+    entry of its colour; -1 for value 0, as nibabel's ``read_annot``), its table as
+    :data:`LABEL_TABLE` JSON, and a note on values no entry holds: read as -1, no label
+    (nibabel gives them a neighbouring entry's index, or fails past the largest). Read here,
+    not by nibabel, which allocates the table's announced size (:func:`annot_table`)."""
+    data = p.read_bytes()
+    start = annot_header(data, len(data))
+    values = np.frombuffer(data, ">i4", (start - 4) // 4, 4)[1::2].astype(np.int64)
+    entries = {index: (name, rgbt) for index, name, rgbt in annot_table(data[start:])}
+    index = np.array(sorted(entries), dtype=np.int64)
+    rgbt = np.array([entries[k][1] for k in index.tolist()], dtype=np.int64).reshape(-1, 4)
+    packed = rgbt[:, 0] + (rgbt[:, 1] << 8) + (rgbt[:, 2] << 16)
+    order = np.argsort(packed, kind="stable")  # equal colours: the lowest index
+    at = np.minimum(np.searchsorted(packed[order], values), max(len(order) - 1, 0))
+    found = (packed[order][at] == values) if len(order) else np.zeros(len(values), bool)
+    labels = np.where(found & (values != 0), index[order][at] if len(order) else -1, -1)
+    table = [[k, entries[k][0].decode("utf-8", "replace"), r / 255, g / 255, b / 255,
+              1 - t / 255] for k, (r, g, b, t) in zip(index.tolist(), rgbt.tolist(),
+                                                       strict=True)]
+    return labels.astype(np.int32), json.dumps(table), _unknown_labels(p, values[
+        ~found & (values != 0)])
 
-    labels, ctab, names = read_annot(str(p))
-    table = [[k, name.decode("utf-8", "replace") if isinstance(name, bytes) else str(name),
-              row[0] / 255, row[1] / 255, row[2] / 255, 1 - row[3] / 255]
-             for k, (row, name) in enumerate(zip(ctab.tolist(), names, strict=True))]
-    return np.asarray(labels, dtype=np.int32), json.dumps(table)
+
+def _unknown_labels(p: Path, values: np.ndarray) -> list[str]:
+    """The note on an ``.annot``'s vertices whose label values (``values``) its colour
+    table does not hold: each value (its red, green, blue) and on how many vertices."""
+    if not len(values):
+        return []
+    kinds, counts = np.unique(values, return_counts=True)
+    rgb = [f"{v} (RGB {v & 255} {v >> 8 & 255} {v >> 16 & 255}) on "
+           f"{how_many(c, 'vertex', 'vertices')}"
+           for v, c in zip(kinds.tolist(), counts.tolist(), strict=True)]
+    said = how_many(len(values), "vertex has a label value", "vertices have label values")
+    return [f"overlay {p.name}: {said} its colour table does not hold, read as no label "
+            f"(-1): {preview(rgb, 5)}"]
 
 
 def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
@@ -300,7 +328,7 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
     out, tables, dropped = {}, {}, []
     for p in files:
         p = Path(p)
-        table = None
+        table, notes = None, []
         with overlay_errors(p):
             if p.name.lower().endswith((".gii", ".gii.gz")):
                 xml = gifti_inflate(p.read_bytes())
@@ -311,8 +339,9 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
                 table = _gifti_label_table(image) if values.ndim == 1 else None
             else:
                 check_overlay(p)
-                values, table = (_read_annot(p) if p.name.lower().endswith(".annot") else
-                                 (np.asarray(read_morph_data(str(p))), None))
+                values, table, notes = (
+                    _read_annot(p) if p.name.lower().endswith(".annot") else
+                    (np.asarray(read_morph_data(str(p))), None, []))
         if (values.ndim == 0 or len(values) != n) and p in guessed:
             dropped.append(f"overlay {p.name} has {len(values) if values.ndim else 0} values, "
                            f"the surface {n} vertices: another surface's, not read")
@@ -331,6 +360,7 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
             dropped.append(f"overlay {p.name} would be named {taken!r} like an earlier "
                            f"overlay; it is kept as {name!r}")
         out[name] = values
+        dropped += notes
         if table is not None:
             tables[LABEL_TABLE + name] = table
     return out, tables, dropped

@@ -22,7 +22,7 @@ from pathlib import Path
 from surfinpaint.errors import MeshError, MissingFileError
 from surfinpaint.io.base import describe
 
-__all__ = ["FREESURFER_MAGIC", "MORPH_MAGIC", "annot_header",
+__all__ = ["ANNOT_TABLE_MAX", "FREESURFER_MAGIC", "MORPH_MAGIC", "annot_header",
            "annot_table", "check_overlay", "freesurfer_header", "gifti_arrays", "gifti_header",
            "gifti_inflate", "gifti_xml", "morph_header", "overlay_errors", "overlay_header"]
 
@@ -256,49 +256,66 @@ class _TableFields:
     def ints(self, n: int, entry: int | None = None) -> tuple[int, ...]:
         return struct.unpack_from(f">{n}i", self.table, self._skip(4 * n, entry))
 
-    def text(self, entry: int | None = None) -> None:
+    def text(self, entry: int | None = None) -> bytes:
+        """A string after its length (trailing NUL bytes cut, as numpy's ``S`` type)."""
         (length,) = self.ints(1, entry)
         if length < 0:
             raise MeshError(f"FreeSurfer annotation's colour table is corrupt "
                             f"({self._where(entry)} has a name of {length} bytes)")
-        self._skip(length, entry)
+        at = self._skip(length, entry)
+        return self.table[at:at + length].rstrip(b"\0")
 
 
-def annot_table(table: bytes) -> None:
-    """Raise for the colour table of a FreeSurfer ``.annot`` file, ``table`` (its bytes from
-    :func:`annot_header`'s offset to the end), that nibabel's ``read_annot`` cannot read:
-    no table (its flag is 0), a format version other than 2 or the old one (a positive
-    entry count), an entry cut short by the file's end or with a negative name length, or
-    (version 2) an entry whose index is not below the table's announced size (nibabel: an
-    ``IndexError``; a negative index, which nibabel counts from the end and so writes over
-    another entry, too). Messages name the entry, from 0. Labels not in the table are left
-    to the reader."""
+#: The most entries a colour table may announce: the colours (24 bits, ``R + G·256 +
+#: B·65536``) a vertex's label value can name; nibabel allocates what a table announces
+ANNOT_TABLE_MAX = 1 << 24
+
+
+def annot_table(table: bytes) -> list[tuple[int, bytes, tuple[int, ...]]]:
+    """The entries of the colour table of a FreeSurfer ``.annot`` file, ``table`` (its bytes
+    from :func:`annot_header`'s offset to the end): per entry its index, name and red,
+    green, blue and transparency, in the file's order (the old format's index: its place).
+    Raises where nibabel's ``read_annot`` cannot read the table: no table (its flag is 0),
+    a format version other than 2 or the old one (a positive entry count), an entry cut
+    short by the file's end or with a negative name length, or (version 2) an entry whose
+    index is not below the table's announced size (nibabel: an ``IndexError``; a negative
+    index, which nibabel counts from the end and so writes over another entry, too); and
+    where nibabel would allocate a table larger than label values can name
+    (:data:`ANNOT_TABLE_MAX` entries). Messages name the entry, from 0."""
     fields = _TableFields(table)
     flag, entries = fields.ints(2)
     if not flag:
         raise MeshError("FreeSurfer annotation has no colour table (its flag after the "
                         "labels is 0)")
     if entries > 0:  # the old format: the count, the table's file name, then the entries
+        _no_more_than(entries, "entries")
         fields.entries = entries
         fields.text()
-        for k in range(entries):
-            fields.text(k)
-            fields.ints(4, k)  # red, green, blue, transparency
-        return
+        return [(k, fields.text(k), fields.ints(4, k)) for k in range(entries)]
     if entries != -2:
         raise MeshError(f"FreeSurfer annotation's colour table is of version {-entries} "
                         "(versions 2 and the old format are read)")
     (size,) = fields.ints(1)
+    _no_more_than(size, "entries")
     fields.text()
     (fields.entries,) = fields.ints(1)
+    out = []
     for k in range(fields.entries):
         (index,) = fields.ints(1, k)
-        fields.text(k)
-        fields.ints(4, k)
+        out.append((index, fields.text(k), fields.ints(4, k)))
         if not 0 <= index < size:
             raise MeshError(f"FreeSurfer annotation's colour table entry {k} has index "
                             f"{index}, outside 0 to {size - 1} (the table announces {size} "
                             "entries)")
+    return out
+
+
+def _no_more_than(size: int, what: str) -> None:
+    """Raise for a colour table that announces more than :data:`ANNOT_TABLE_MAX` entries."""
+    if size > ANNOT_TABLE_MAX:
+        raise MeshError(f"FreeSurfer annotation's colour table announces {size} {what}, more "
+                        f"than the {ANNOT_TABLE_MAX} colours a label value can name (a "
+                        "corrupt table; not read)")
 
 
 def overlay_header(p: Path, head: bytes, size: int, arrays: bool = True) -> None:

@@ -3,12 +3,15 @@ ids kept in file order; texture coordinates and normals per face corner."""
 
 from __future__ import annotations
 
+import itertools
 import re
+import warnings
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, agreeing, how_many
+from surfinpaint.errors import MeshError, agreeing, how_many, preview
 from surfinpaint.io.base import Parsed, decode_text, tokens_per_line, write_rows, xyz_rows
 from surfinpaint.io.meshdata import MeshData
 
@@ -19,6 +22,8 @@ _LABEL_OR_FACE = re.compile(r"^[ \t]*(usemtl|g|o|mtllib|f)(?![^ \t\r\n])[ \t]*([
 # the keywords of all records but the many v and f ones (a scan that returns few matches)
 _KEYWORD = re.compile(r"^[ \t]*(?!v[ \t]|f[ \t])([A-Za-z_]\w*)", re.MULTILINE)
 _CORNER = re.compile(r"(?<!\S)(-?\d+)(?:/(-?\d*))?(?:/(-?\d*))?(?!\S)")
+#: where each face record starts (the ``f`` records of ``_RECORD``)
+_FACE_START = re.compile(r"^[ \t]*f[ \t]+", re.MULTILINE)
 _KNOWN = {"v", "vt", "vn", "f", "usemtl", "g", "o", "mtllib"}
 #: The ``metadata`` of a mesh written as OBJ that records the material files copied beside
 #: it: one ``SHA1 path`` a line (:func:`surfinpaint.io.materials.recorded_copies`), written
@@ -80,6 +85,90 @@ def _cut_short(data: bytes) -> str | None:
     return None
 
 
+#: Byte classes of the pre-flight's face-id screen: what a face line's corners may hold
+_DIGIT, _MINUS, _SLASH, _BLANK = 1, 2, 3, 4
+_CLASS = np.zeros(256, np.int8)
+_CLASS[np.frombuffer(b"0123456789", np.uint8)] = _DIGIT
+_CLASS[[ord("-"), ord("/")]] = _MINUS, _SLASH
+_CLASS[np.frombuffer(b" \t\r\n", np.uint8)] = _BLANK
+
+
+def obj_ids_plain(chunks: Iterable[bytes]) -> bool:
+    """Whether an OBJ file's faces certainly name only its vertices (ids 1 to the number of
+    ``v`` records), from its bytes in ``chunks``, read in turn (numpy over each, no line
+    parsed in Python): the pre-flight's screen of a file's face ids, which costs a small
+    part of :func:`read_obj`. False when an id is 0, negative or past the vertex count, or
+    when the screen cannot tell (a line indented, a comment or anything but digits, ``-``
+    and ``/`` on a face line, an id of more than 18 digits): then only the reader can say."""
+    vertices, largest, rest, start = 0, 0, b"", True
+    for chunk in itertools.chain(chunks, [None]):
+        data = rest + chunk if chunk is not None else rest  # None: the last line
+        if start and len(data) < 3 and chunk is not None:  # not yet past a byte-order mark
+            rest = data
+            continue
+        data, start = (data.removeprefix(b"\xef\xbb\xbf") if start else data), False
+        cut = data.rfind(b"\n") + 1 if chunk is not None else len(data)
+        rest, data = data[cut:], data[:cut]
+        counts = _chunk_ids(np.frombuffer(data, np.uint8)) if data else (0, 0)
+        if counts is None:
+            return False
+        vertices, largest = vertices + counts[0], max(largest, counts[1])
+    return largest <= vertices
+
+
+def _chunk_ids(data: np.ndarray) -> tuple[int, int] | None:
+    """The ``v`` records and the largest face vertex id (0: none) of whole OBJ lines
+    ``data``; None when a face has an id below 1 or the screen cannot tell
+    (:func:`obj_ids_plain`)."""
+    starts = np.r_[0, np.flatnonzero(data[:-1] == 10) + 1]
+    lengths = np.diff(np.r_[starts, len(data)])
+    kind = data[starts]
+    if np.any((kind == 32) | (kind == 9)):  # indented: the reader's regex is needed
+        return None
+    blank_after = np.zeros(len(starts), bool)
+    two = lengths > 1
+    blank_after[two] = _CLASS[data[starts[two] + 1]] == _BLANK
+    vertices = int(np.count_nonzero((kind == ord("v")) & blank_after))
+    faces = (kind == ord("f")) & blank_after
+    if not np.any(faces):
+        return vertices, 0
+    text = data.copy()
+    text[starts[faces]] = 32  # the keyword
+    text = text[np.repeat(faces, lengths)]
+    ids = _first_components(text)
+    if ids is None or len(ids) == 0 or ids.min() < 1:
+        return None
+    return vertices, int(ids.max())
+
+
+def _first_components(text: np.ndarray) -> np.ndarray | None:
+    """The first number of each corner (``7`` of ``7/3/1``) of face lines' bytes ``text``
+    (keywords blanked), or None when a byte or a number's form is not plain."""
+    cls = _CLASS[text]
+    if not cls.all():
+        return None
+    blank = cls == _BLANK
+    edges = np.flatnonzero(blank[1:] != blank[:-1]) + 1  # where corners start and end
+    starts = edges[::2] if blank[0] else np.r_[0, edges[1::2]]
+    if np.any(cls[starts] == _SLASH):
+        return None
+    slash = cls == _SLASH
+    if slash.any():  # blank each corner from its first slash on
+        at = np.where(blank | slash, np.arange(len(cls), dtype=np.int32), -1)
+        cut = slash[np.maximum.accumulate(at)]
+        text = np.where(cut, np.uint8(32), text)
+    ends = np.r_[edges, len(cls)][1::2] if blank[0] else edges[::2]
+    if len(starts) and np.max(ends[:len(starts)] - starts) > 18:  # past int64: the reader's
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            ids = np.fromstring(text.tobytes(), dtype=np.int64, sep=" ")
+        except (ValueError, DeprecationWarning):
+            return None
+    return ids if len(ids) == len(starts) else None
+
+
 def _records(text: str) -> tuple[list, set[str], dict[str, list[str]]]:
     """The v/vt/vn/f records of an OBJ's text, its other keywords, and the lines of each
     record kind; raises for a file with no vertex or no face line (not a mesh)."""
@@ -115,10 +204,8 @@ def read_obj(data: bytes, path: Path) -> Parsed:
     except OverflowError:  # said as the reader's own words, not numpy's (session 38)
         raise MeshError(f"a face has an index beyond any vertex of the file ({len(vertices)} "
                         "vertices): it does not fit in 64 bits") from None
-    if np.any(vid == 0):
-        face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(vid == 0)[0], "right"))
-        raise MeshError(f"face {face} uses vertex index 0 (OBJ counts from 1)", faces=[face])
     out = Parsed(vertices, counts, _resolve(vid, records, "v", counts))
+    _check_vertex_ids(vid, out.flat, counts, len(vertices), text)
     ntok = tokens_per_line(lines["v"])
     if len(ntok) and np.all(ntok == 6):
         values = np.array(" ".join(lines["v"]).split(), dtype=np.float64).reshape(-1, 6)
@@ -158,6 +245,34 @@ def read_obj(data: bytes, path: Path) -> Parsed:
         out.dropped.append(f"OBJ records {', '.join(other)} (smoothing groups, lines, "
                            "points, ...) are not kept")
     return out
+
+
+def _check_vertex_ids(ids: np.ndarray, index: np.ndarray, counts: np.ndarray, count: int,
+                      text: str) -> None:
+    """Raise for faces whose vertex ids (as written, ``ids``; from 0, ``index``) name no
+    vertex of the file's ``count``: 0, a negative id counting back past the first vertex, or
+    an id past the last. The message names the first such face (from 0), its line (from 1)
+    and id, and how many faces do so."""
+    bad = (ids == 0) | (index < 0) | (index >= count)
+    if not np.any(bad):
+        return
+    corners = np.flatnonzero(bad)
+    faces = np.unique(np.searchsorted(np.cumsum(counts), corners, "right"))
+    value, first = int(ids[corners[0]]), int(index[corners[0]])
+    why = ("0 (OBJ counts from 1)" if value == 0 else
+           f"{value}, a negative index past the first vertex (it counts back from the "
+           f"{how_many(first - value, 'vertex', 'vertices')} before the face)"
+           if first < 0 else f"{value}, past the file's {how_many(count, 'vertex', 'vertices')}")
+    more = f"; {how_many(len(faces), 'face does', 'faces do')}: {preview(faces)}" \
+        if len(faces) > 1 else ""
+    raise MeshError(f"face {faces[0]} (line {_face_line(text, int(faces[0]))}) uses vertex "
+                    f"index {why}{more}", faces=faces[:100].tolist())
+
+
+def _face_line(text: str, face: int) -> int:
+    """The line (from 1) of the OBJ text's face ``face`` (from 0): for a message only."""
+    start = next(itertools.islice(_FACE_START.finditer(text), face, None)).start()
+    return text.count("\n", 0, start) + 1
 
 
 def _lines(records: list, kind: str) -> list[str]:
