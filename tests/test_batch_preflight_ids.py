@@ -1,10 +1,10 @@
 """``batch``'s pre-flight of what names what (session 44): an OBJ's face ids past its
-vertices (0, a negative id counting back past the first vertex, an id past the last), in a
-file of any size, said by the check and the reader in the same words (the file, the face,
-its line and the id); a FreeSurfer ``.annot``'s labels that its colour table does not hold
-(a warning naming the overlay, the values and how many vertices; such vertices unlabelled),
-and a colour table announcing more entries than label values can name (an error, read
-without allocating it)."""
+vertices (0, a negative id counting back past the first vertex, an id past the last), said
+by the reader (the file, the face, its line and the id) and, in an OBJ the check reads whole
+(up to 256 KiB), by the check in the same words (a larger one's by its fill); a FreeSurfer
+``.annot``'s labels that its colour table does not hold (a warning naming the overlay,
+the values and how many vertices; such vertices unlabelled), and a colour table announcing
+more entries than label values can name (an error, read without allocating it)."""
 
 from __future__ import annotations
 
@@ -57,8 +57,9 @@ BAD_IDS = {  # the face's line -> what the message says of it (the OBJ has n ver
 @pytest.mark.parametrize("case", BAD_IDS)
 def test_an_objs_face_id_past_its_vertices_is_said_by_the_check_and_the_reader(
         tmp_path, case, size):
-    # a large OBJ (over the 256 KiB the check reads whole) was passed by the check before
-    # (only the reader found it, without the line); a small one too
+    # the reader names the face, its line and the id (before session 44 it said neither);
+    # the check says the same of an OBJ it reads whole and leaves a larger one's ids to the
+    # reader (screening them cost 241x the pre-flight of an OBJ listing)
     whole = tmp_path / "whole.obj"
     if size == "large":
         data = _large_obj(whole)
@@ -73,7 +74,10 @@ def test_an_objs_face_id_past_its_vertices_is_said_by_the_check_and_the_reader(
     path.write_bytes(bad)
     said = _said(read_mesh, path)
     assert said == f"{path}: face {face} (line {number}) {words(n)}"
-    assert _said(check_file, path) == said
+    if size == "small":
+        assert _said(check_file, path) == said
+    else:
+        assert check_file(path) is None
 
 
 def test_every_face_past_the_vertices_is_counted_and_named(tmp_path):
@@ -86,7 +90,6 @@ def test_every_face_past_the_vertices_is_counted_and_named(tmp_path):
     said = _said(read_mesh, path)
     assert said.endswith(f"uses vertex index {n + 7}, past the file's {n} vertices; 3 faces "
                          "do: 7, 900, 901"), said
-    assert _said(check_file, path) == said
 
 
 def test_good_objs_with_negative_and_textured_ids_pass_the_check(tmp_path):
@@ -129,8 +132,10 @@ def test_the_screen_clears_plain_ids_in_range_read_in_any_chunks(text):
     assert obj_ids_plain(text[k:k + 1] for k in range(len(text))) is SCREENED[text]
 
 
-def test_a_batch_fails_a_large_obj_with_a_bad_face_id_before_any_fill(tmp_path, monkeypatch,
-                                                                       capsys):
+def test_a_batch_fails_a_large_obj_with_a_bad_face_id_in_the_readers_words(
+        tmp_path, monkeypatch, capsys):
+    # its pre-flight passes it (its ids are left to the reader): the file fails at its fill,
+    # alone, in the reader's words, and the others are filled
     scans = tmp_path / "scans"
     scans.mkdir()
     data = _large_obj(scans / "whole.obj")
@@ -141,8 +146,9 @@ def test_a_batch_fails_a_large_obj_with_a_bad_face_id_before_any_fill(tmp_path, 
     write_mesh(scans / "good.obj", *_holed())
     before = {p: p.read_bytes() for p in scans.iterdir()}
     events, failed = _batch_events(monkeypatch, scans, tmp_path / "out")
-    assert events == [f"failed {scans / 'bad.obj'}", f"fill {scans / 'good.obj'}",
-                      f"filled {scans / 'good.obj'}"], events
+    assert sorted(events) == sorted([f"fill {scans / 'bad.obj'}", f"failed {scans / 'bad.obj'}",
+                                     f"fill {scans / 'good.obj'}",
+                                     f"filled {scans / 'good.obj'}"]), events
     assert failed == {str(scans / "bad.obj"): said}
     assert {p: p.read_bytes() for p in scans.iterdir()} == before  # inputs untouched
     code = main(["fill", str(scans / "bad.obj"), "-o", str(tmp_path / "f.obj"), "-q"])
