@@ -35,6 +35,7 @@ import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
 from holdout14_meshes import _smooth_min
+from holdout17_meshes import _with_midline_fissure
 from holdout18_meshes import _feather_chart, _feather_depth
 from validation_meshes import BenchMesh, Source
 
@@ -288,8 +289,7 @@ def _lattice_cortex() -> BenchMesh:
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.78) ** 2 + (uz / 0.54) ** 2)
         t, p, scale = _feather_chart(ux, uy, uz)
         depth = _feather_depth(t, p, scale, LATTICE_SEGMENTS)
-        midline = 0.5 + 0.5 * math.tanh((uz + 0.2) / 0.12)  # the fissure fades underneath
-        depth = max(depth, 2.2 * midline / math.cosh(ux / LATTICE_FISSURE_WIDTH))
+        depth = _with_midline_fissure(depth, ux, uz, LATTICE_FISSURE_WIDTH)
         return r - LATTICE_DEPTH * depth
 
     return _radial_surface(radius, LATTICE_H, SURFACE_CHECK)
