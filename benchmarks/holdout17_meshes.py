@@ -268,6 +268,14 @@ def _stellate_depth(ux, uy, uz, centre) -> float:
     return depth
 
 
+def _with_midline_fissure(depth: float, ux: float, uz: float, width: float) -> float:
+    """A sulcal ``depth`` at the unit direction (ux, uz) (1 a sulcus's deepest) with a deep
+    midline fissure over the top: 2.2 times as deep, ``1 / cosh(ux / width)`` across, fading
+    out underneath (the synthetic cortices of holdouts 17 to 22; Python floats)."""
+    midline = 0.5 + 0.5 * math.tanh((uz + 0.2) / 0.12)  # the fissure fades underneath
+    return max(depth, 2.2 * midline / math.cosh(ux / width))
+
+
 def _stellate_cortex() -> BenchMesh:
     """A synthetic cortex with radiating sulci (holdout 17; brain-like, not a brain): an
     ovoid long front to back, narrower at the front and flattened underneath, split over
@@ -288,8 +296,7 @@ def _stellate_cortex() -> BenchMesh:
         low = min(r, floor)
         r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
         depth = max(_stellate_depth(ux, uy, uz, c) for c in centres)
-        midline = 0.5 + 0.5 * math.tanh((uz + 0.2) / 0.12)  # the fissure fades underneath
-        depth = max(depth, 2.2 * midline / math.cosh(ux / FISSURE_WIDTH))
+        depth = _with_midline_fissure(depth, ux, uz, FISSURE_WIDTH)
         return r - SPOKE_DEPTH * depth
 
     return _radial_surface(radius, STELLATE_H, SURFACE_CHECK)

@@ -33,6 +33,7 @@ import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
 from holdout14_meshes import _smooth_min
+from holdout17_meshes import _with_midline_fissure
 from holdout18_meshes import _feather_chart
 from validation_meshes import BenchMesh, Source
 
@@ -291,8 +292,7 @@ def _meander_cortex() -> BenchMesh:
         low = min(r, floor)
         r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
         depth = _meander_depth(*_feather_chart(ux, uy, uz))
-        midline = 0.5 + 0.5 * math.tanh((uz + 0.2) / 0.12)  # the fissure fades underneath
-        depth = max(depth, 2.2 * midline / math.cosh(ux / FISSURE_WIDTH))
+        depth = _with_midline_fissure(depth, ux, uz, FISSURE_WIDTH)
         return r - SULCUS_DEPTH * depth
 
     return _radial_surface(radius, MEANDER_H, SURFACE_CHECK)

@@ -34,6 +34,7 @@ import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
 from holdout14_meshes import _smooth_min
+from holdout17_meshes import _with_midline_fissure
 from holdout18_meshes import _feather_chart, _feather_depth
 from validation_meshes import BenchMesh, Source
 
@@ -262,8 +263,7 @@ def _echelon_cortex() -> BenchMesh:
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.8) ** 2 + (uz / 0.56) ** 2)
         t, p, scale = _feather_chart(ux, uy, uz)
         depth = _feather_depth(t, p, scale, ECHELON_SEGMENTS)
-        midline = 0.5 + 0.5 * math.tanh((uz + 0.2) / 0.12)  # the fissure fades underneath
-        depth = max(depth, 2.2 * midline / math.cosh(ux / ECHELON_FISSURE_WIDTH))
+        depth = _with_midline_fissure(depth, ux, uz, ECHELON_FISSURE_WIDTH)
         return r - ECHELON_DEPTH * depth
 
     return _radial_surface(radius, ECHELON_H, SURFACE_CHECK)

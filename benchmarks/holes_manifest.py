@@ -161,6 +161,13 @@ brain kind; its four scans made with the portable scanner), holes planned the sa
 committed before any fill was run on them; to be run once by a later session after its
 changes.
 
+A twenty-fourth set, the twenty-second holdout (``benchmarks/holdout22_manifest.json``,
+``--write --holdout22``): 12 fresh meshes (``validation_meshes.HOLDOUT22_SOURCES``, made in
+``holdout22_meshes.py``; all six kinds, a synthetic cortex with lattice sulci for the brain
+kind; its four scans made with the portable scanner), holes planned the same way (seeds
+from 2300), made in session 45 after the twenty-first holdout had been made and committed
+before any fill was run on them; to be run once by a later session after its changes.
+
 A tuning-side set of range scans of curved shapes (``benchmarks/curved_scans_manifest.json``,
 ``--write --curved-scans``): 14 portable scans (``validation_meshes.CURVED_SCAN_SOURCES``,
 made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and the tuning
@@ -235,6 +242,8 @@ HOLDOUT19_MANIFEST = Path(__file__).parent / "holdout19_manifest.json"
 HOLDOUT20_MANIFEST = Path(__file__).parent / "holdout20_manifest.json"
 # a twenty-third set, fresh meshes of session 44 (HOLDOUT21_SOURCES), committed before any fill
 HOLDOUT21_MANIFEST = Path(__file__).parent / "holdout21_manifest.json"
+# a twenty-fourth set, fresh meshes of session 45 (HOLDOUT22_SOURCES), committed before any fill
+HOLDOUT22_MANIFEST = Path(__file__).parent / "holdout22_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
 # tuning-side thin smooth walls with saddle-shaped parts of session 41 (THIN_SHELL_SOURCES)
@@ -262,6 +271,7 @@ LATER_SETS = {
     "holdout19": (HOLDOUT19_MANIFEST, "the nineteenth holdout set", 2000),
     "holdout20": (HOLDOUT20_MANIFEST, "the twentieth holdout set", 2100),
     "holdout21": (HOLDOUT21_MANIFEST, "the twenty-first holdout set", 2200),
+    "holdout22": (HOLDOUT22_MANIFEST, "the twenty-second holdout set", 2300),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -306,6 +316,7 @@ SPLIT = {
     "holdout19": list(vm.HOLDOUT19_SOURCES),
     "holdout20": list(vm.HOLDOUT20_SOURCES),
     "holdout21": list(vm.HOLDOUT21_SOURCES),
+    "holdout22": list(vm.HOLDOUT22_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
     "thin_shells": list(vm.THIN_SHELL_SOURCES),
 }
@@ -410,7 +421,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     1300, the thirteenth holdout's at 1400, the fourteenth holdout's at 1500, the fifteenth
     holdout's at 1600, the sixteenth holdout's at 1700, the seventeenth holdout's at 1800,
     the eighteenth holdout's at 1900, the nineteenth holdout's at 2000, the twentieth
-    holdout's at 2100, the twenty-first holdout's at 2200;
+    holdout's at 2100, the twenty-first holdout's at 2200, the twenty-second holdout's at
+    2300;
     the smooth tuning set's at 3800, the curved scans set's at 3600, the thin shells set's
     at 4100)."""
     meshes = []

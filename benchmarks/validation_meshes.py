@@ -24,8 +24,9 @@ set 15's (session 38) in ``holdout15_meshes.py``, holdout set 16's (session 39) 
 ``holdout16_meshes.py``, holdout set 17's (session 40) in ``holdout17_meshes.py``, holdout
 set 18's (session 41) in ``holdout18_meshes.py``, holdout set 19's (session 42) in
 ``holdout19_meshes.py``, holdout set 20's (session 43) in ``holdout20_meshes.py``, holdout
-set 21's (session 44) in ``holdout21_meshes.py``; this module adds their
-``HOLDOUT8_SOURCES`` to ``HOLDOUT21_SOURCES`` to :data:`SOURCES` at its end.
+set 21's (session 44) in ``holdout21_meshes.py``, holdout set 22's (session 45) in
+``holdout22_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
+``HOLDOUT22_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2046,6 +2047,13 @@ SOURCES.update(HOLDOUT20_SOURCES)
 from holdout21_meshes import HOLDOUT21_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT21_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 22
+
+# Session 45's set (benchmarks/holdout22_manifest.json), as holdout 21's: its own module.
+from holdout22_meshes import HOLDOUT22_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT22_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 
