@@ -4,10 +4,11 @@ vertices around a hole, in mesh units and in edges, with a sign of whether it is
 Each vertex's position is predicted from its neighbours within 2 rings (a quadric height field
 fitted in the frame of its normal, the vertex itself left out) and the prediction's residual
 scaled by its standard error; the noise level is the residuals' robust spread (1.4826 × their
-median absolute value). Independent noise leaves residuals that are, if anything, opposed
-between neighbouring vertices (a vertex raised by its noise lowers its neighbours'
-predictions); shape that no quadric of 2 rings fits (a cortex folded at the mesh's scale, a
-part's crease, a coarse tessellation) leaves residuals alike between neighbours. Why: the
+median absolute value). Two signs tell noise from shape that no quadric of 2 rings fits (a
+cortex folded at the mesh's scale, a tooth's fissures, a coarse tessellation): independent
+noise leaves residuals that are, if anything, opposed between neighbouring vertices (a vertex
+raised by its noise lowers its neighbours' predictions), where shape leaves them alike; and
+noise gives the same spread from fits over 3 rings, where shape gives more. Why: the
 smoothing fill (:func:`surfinpaint.fill.liepa.fairing.fair_smoothed`) gains on range scans and
 costs on clean meshes; this tells them apart (docs/candidates.md, "Session 45 (helper)").
 """
@@ -19,8 +20,13 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from surfinpaint.geometry.mesh import (faces_near, k_ring, mean_edge_length, vertex_adjacency,
-                                       vertex_normals)
+from surfinpaint.geometry.mesh import (
+    faces_near,
+    k_ring,
+    mean_edge_length,
+    vertex_adjacency,
+    vertex_normals,
+)
 
 __all__ = ["NoiseEstimate", "surface_noise"]
 
@@ -47,17 +53,26 @@ class NoiseEstimate:
         (NaN with fewer than 4 such edges).
     vertices : int
         How many vertices were measured.
+    wide_sigma : float
+        ``sigma`` from quadrics fitted over 3 rings instead of 2: about ``sigma`` for noise,
+        larger for shape the quadrics do not follow.
     """
 
     sigma: float
     edge: float
     correlation: float
     vertices: int
+    wide_sigma: float = float("nan")
 
     @property
     def relative(self) -> float:
         """``sigma`` in mean edge lengths."""
         return self.sigma / self.edge if self.edge > 0 else float("nan")
+
+    @property
+    def scale_ratio(self) -> float:
+        """``wide_sigma / sigma``: about 1 for noise (NaN for a noise-free surface)."""
+        return self.wide_sigma / self.sigma if self.sigma > 0 else float("nan")
 
 
 def surface_noise(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
@@ -87,32 +102,38 @@ def surface_noise(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     measured[loop] = False
     ids = np.flatnonzero(measured)
     edge = mean_edge_length(v, faces_near(faces, loop, rings, n))
-    residual = _left_out_residuals(v, faces, ids)
+    residual = _left_out_residuals(v, faces, ids, 2)
     kept = np.isfinite(residual)
     if not kept.any():
         return NoiseEstimate(float("nan"), edge, float("nan"), 0)
     sigma = MAD_TO_SD * float(np.median(np.abs(residual[kept])))
+    wide = _left_out_residuals(v, faces, ids, 3)
+    wide_sigma = MAD_TO_SD * float(np.median(np.abs(wide[np.isfinite(wide)])))
     return NoiseEstimate(sigma, edge, _edge_correlation(faces, ids[kept], residual[kept], n),
-                         int(kept.sum()))
+                         int(kept.sum()), wide_sigma)
 
 
-def _two_rings(faces: np.ndarray, n: int, ids: np.ndarray) -> sp.csr_matrix:
-    """Rows ``ids`` of the 2-ring incidence (a vertex not its own neighbour)."""
+def _rings_of(faces: np.ndarray, n: int, ids: np.ndarray, rings: int) -> sp.csr_matrix:
+    """Rows ``ids`` of the ``rings``-ring incidence (a vertex not its own neighbour)."""
     adjacency = vertex_adjacency(faces, n).tocsr()
-    rows = adjacency[ids]
-    two = ((rows + rows @ adjacency) > 0).tocoo()
-    keep = two.col != ids[two.row]
+    reach = adjacency[ids]
+    for _ in range(rings - 1):
+        reach = reach + reach @ adjacency
+    reach = (reach > 0).tocoo()
+    keep = reach.col != ids[reach.row]
     return sp.csr_matrix((np.ones(int(keep.sum()), dtype=np.int8),
-                          (two.row[keep], two.col[keep])), shape=(len(ids), n))
+                          (reach.row[keep], reach.col[keep])), shape=(len(ids), n))
 
 
-def _left_out_residuals(v: np.ndarray, faces: np.ndarray, ids: np.ndarray) -> np.ndarray:
-    """Each vertex of ``ids``: its height over the quadric fitted to its 2-ring neighbours in
-    its normal's frame, divided by the prediction's standard error in units of the noise
-    (``sqrt(1 + leverage)``); NaN with fewer than :data:`MIN_NEIGHBOURS` neighbours."""
+def _left_out_residuals(v: np.ndarray, faces: np.ndarray, ids: np.ndarray,
+                        rings: int) -> np.ndarray:
+    """Each vertex of ``ids``: its height over the quadric fitted to its neighbours within
+    ``rings`` rings in its normal's frame, divided by the prediction's standard error in
+    units of the noise (``sqrt(1 + leverage)``); NaN with fewer than
+    :data:`MIN_NEIGHBOURS` neighbours."""
     if len(ids) == 0:
         return np.zeros(0)
-    rows = _two_rings(faces, len(v), ids)
+    rows = _rings_of(faces, len(v), ids, rings)
     count = np.diff(rows.indptr)
     valid = (np.arange(count.max(initial=0))[None, :] < count[:, None])
     neighbour = np.zeros(valid.shape, dtype=np.int64)
