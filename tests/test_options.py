@@ -250,3 +250,19 @@ def test_the_zero_area_fallback_fills_with_the_conformal_options_smoothing():
     with pytest.raises(ValueError, match="options apply to method='conformal'"):
         fill_holes(cut.vertices, cut.faces, method="fair",
                    options=ConformalOptions(fair_smoothing=0.35))
+
+
+def test_the_fair_method_is_the_bilaplacian_baseline_whatever_the_conformal_default(
+        monkeypatch):
+    # method="fair" is the conventional fill the benchmarks compare with: never smoothed,
+    # also if the conformal method's default were "auto" (made so here)
+    import surfinpaint.fill.pipeline as pipeline
+    from surfinpaint.fill.liepa.baseline import faired_fills
+
+    cut = _noisy_sphere_hole()
+    monkeypatch.setattr(pipeline, "ConformalOptions",
+                        lambda **kw: ConformalOptions(**{"fair_smoothing": "auto", **kw}))
+    result = fill_holes(cut.vertices, cut.faces, method="fair")
+    plain = faired_fills(cut.vertices, cut.faces, cut.loop, (2,))[2][0]
+    assert np.allclose(np.sort(result.vertices[len(cut.vertices):], axis=0),
+                       np.sort(plain, axis=0), atol=1e-12)
