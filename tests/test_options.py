@@ -51,6 +51,7 @@ def sphere_hole():
     ({"s0_refinement": "isotropic"}, "s0_refinement must be one of"),
     ({"fair_smoothing": 0.0}, "fair_smoothing"),
     ({"fair_smoothing": -1.0}, "fair_smoothing"),
+    ({"fair_smoothing": "always"}, "fair_smoothing must be a positive number, 'auto' or None"),
 ])
 def test_bad_conformal_options(kwargs, match):
     with pytest.raises(ValueError, match=match):
@@ -188,3 +189,80 @@ def test_the_raw_fill_falls_back_on_the_triangulation_its_options_ask_for(sphere
                                      smoothing=options.fair_smoothing)[2]
     assert fill.kind == "fair" and fill.failure == "FillError: made to fail"
     assert np.array_equal(fill.vertices, want_v) and np.array_equal(fill.faces, want_f)
+
+
+def _noisy_sphere_hole(seed: int = 0):
+    """sphere(3) with normal noise of 0.03 mean edges (a range scan's), a hole cut in it."""
+    from surfinpaint.geometry.mesh import mean_edge_length, vertex_normals
+
+    v, f = sphere(3)
+    noise = 0.03 * mean_edge_length(v, f) * np.random.default_rng(seed).standard_normal(len(v))
+    return cut_geodesic_disk(v + vertex_normals(v, f) * noise[:, None], f, 0, 0.5)
+
+
+@pytest.mark.parametrize(("noisy", "smoothing"), [(True, 0.35), (False, None)])
+def test_auto_smoothing_is_decided_once_per_hole_from_its_noise(sphere_hole, noisy, smoothing,
+                                                                 monkeypatch):
+    # every faired fill of the hole's self-check (the candidates and the test holes') is
+    # made with the length its own surroundings' noise gives: the smoothing fill on the
+    # noisy sphere, the bilaplacian fill on the clean one
+    import surfinpaint.fill.conformal.candidates as candidates
+    from surfinpaint.errors import FillError
+    from surfinpaint.fill.conformal.candidates import Candidates
+
+    asked = []
+    made = candidates.faired_fills
+
+    def spy(*args, smoothing=None, **kwargs):
+        asked.append(smoothing)
+        return made(*args, smoothing=smoothing, **kwargs)
+
+    def fails(self, *args, **kwargs):
+        raise FillError("made to fail")
+
+    monkeypatch.setattr(candidates, "faired_fills", spy)
+    monkeypatch.setattr(Candidates, "lambda_h", fails)  # the faired fills are what is tested
+    cut = _noisy_sphere_hole() if noisy else sphere_hole
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop,
+                          options=ConformalOptions(fair_smoothing="auto", plane_test=False))
+    assert asked and set(asked) == {smoothing}
+    fixed = conformal_fill(cut.vertices, cut.faces, cut.loop,
+                           options=ConformalOptions(fair_smoothing=smoothing,
+                                                    plane_test=False))
+    assert np.array_equal(fill.vertices, fixed.vertices)
+
+
+def test_the_zero_area_fallback_fills_with_the_conformal_options_smoothing():
+    # fill_holes writes the faired fill where zero-area faces lie in the self-check's rings
+    # (hole_steps.around_zero_area): a fallback of the conformal method, with its smoothing;
+    # method="fair" itself (the baseline) takes no options
+    from surfinpaint.fill.liepa.baseline import faired_fills
+    from surfinpaint.fill.parallel import fill_local
+
+    cut = _noisy_sphere_hole()
+    smoothed = faired_fills(cut.vertices, cut.faces, cut.loop, (2,), smoothing=0.35)[2][0]
+    plain = faired_fills(cut.vertices, cut.faces, cut.loop, (2,))[2][0]
+    assert np.abs(smoothed - plain).max() > 1e-6
+    for smoothing, want in ((0.35, smoothed), ("auto", smoothed), (None, plain)):
+        fill = fill_local(cut.vertices, cut.faces, cut.loop, "fair",
+                          ConformalOptions(fair_smoothing=smoothing), None)
+        assert np.array_equal(fill.vertices, want)
+    with pytest.raises(ValueError, match="options apply to method='conformal'"):
+        fill_holes(cut.vertices, cut.faces, method="fair",
+                   options=ConformalOptions(fair_smoothing=0.35))
+
+
+def test_the_fair_method_is_the_bilaplacian_baseline_whatever_the_conformal_default(
+        monkeypatch):
+    # method="fair" is the conventional fill the benchmarks compare with: never smoothed,
+    # also if the conformal method's default were "auto" (made so here)
+    import surfinpaint.fill.pipeline as pipeline
+    from surfinpaint.fill.liepa.baseline import faired_fills
+
+    cut = _noisy_sphere_hole()
+    monkeypatch.setattr(pipeline, "ConformalOptions",
+                        lambda **kw: ConformalOptions(**{"fair_smoothing": "auto", **kw}))
+    result = fill_holes(cut.vertices, cut.faces, method="fair")
+    plain = faired_fills(cut.vertices, cut.faces, cut.loop, (2,))[2][0]
+    assert np.allclose(np.sort(result.vertices[len(cut.vertices):], axis=0),
+                       np.sort(plain, axis=0), atol=1e-12)

@@ -29,7 +29,7 @@ import numpy as np
 
 from surfinpaint.errors import NUMERICAL_ERRORS, FillError, MeshError
 from surfinpaint.fill.conformal import ConformalOptions
-from surfinpaint.fill.liepa.baseline import faired_fill
+from surfinpaint.fill.liepa.baseline import faired_fills
 from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.intersection import patch_intersects_surroundings
 from surfinpaint.lazy import lazy_module
@@ -104,8 +104,10 @@ def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method
                options: ConformalOptions, fair_order: int | None) -> Fill:
     """Fill one hole of a neighbourhood (local ids) with ``method``, with the count of its
     triangles that cross the surface around it (:func:`crossing_faces`)."""
-    if method == "fair":
-        new_v, new_f, used = faired_fill(vertices, faces, loop, fair_order or 2)
+    if method == "fair":  # the baseline, or the conformal method's fallback (its smoothing)
+        order = fair_order or 2
+        new_v, new_f, used = faired_fills(vertices, faces, loop, (order,),
+                                          smoothing=options.fair_smoothing)[order]
         fill = Fill(new_v, new_f, "fair", fair_order=used)
     else:
         fill = conformal_method.conformal_fill(vertices, faces, loop, options,

@@ -9,6 +9,7 @@ the new faces follow them.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from collections.abc import Callable, Sequence
 
@@ -138,6 +139,9 @@ def _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings
         if value is not None and (isinstance(value, bool)
                                   or not isinstance(value, int | np.integer) or value < 1):
             raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    if method == "fair":  # the conventional baseline: never the smoothing fill, whatever
+        # the conformal method's default (its faired fallbacks take the conformal options')
+        return dataclasses.replace(ConformalOptions(), fair_smoothing=None)
     return ConformalOptions() if options is None else options
 
 

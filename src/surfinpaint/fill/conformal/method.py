@@ -32,7 +32,12 @@ from surfinpaint.fill.conformal.selection import (
     sibling_test_plan,
 )
 from surfinpaint.fill.creases import CREASE_ANGLE, sharp_edge_rows
-from surfinpaint.fill.liepa.baseline import faired_fills, laid_on_plane, laid_on_two_planes
+from surfinpaint.fill.liepa.baseline import (
+    faired_fills,
+    laid_on_plane,
+    laid_on_two_planes,
+    smoothing_for_hole,
+)
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import (
     advantages_over,
@@ -118,6 +123,10 @@ def conformal_fill(
     options = ConformalOptions() if options is None else options
     check_fair_order(fair_order)
     faces = face_ids(faces)  # whole-number floats taken, never truncated
+    if isinstance(options.fair_smoothing, str):  # "auto": decided once, on the hole's own
+        # surroundings; the self-check's test holes (hidden rings, siblings) follow it
+        options = replace(options, fair_smoothing=smoothing_for_hole(
+            vertices, faces, loop, options.fair_smoothing))
     candidates = Candidates.for_hole(vertices, faces, loop, options, fair_order)
     faired: dict[str, Fill] = {}
     verdict = None

@@ -170,13 +170,19 @@ class ConformalOptions:
         The refinement under S0 and the faired candidates
         (:func:`surfinpaint.fill.liepa.refinement.refine_patch`'s ``style``: Liepa's
         relaxation to convergence, or CGAL's single flip passes; docs/candidates.md).
-    fair_smoothing : float, optional
+    fair_smoothing : float or "auto", optional
         The bilaplacian candidate fair2 (and its fallback) as a thin-plate smoothing fill
         of this smoothing length, in mean edge lengths: the known vertices within 2 rings
         of the loop are followed within their noise, not fixed
         (:func:`surfinpaint.fill.liepa.baseline.faired_fills`' ``smoothing``; for range
-        scans, docs/candidates.md, "Session 44 (helper)"). None (default): the bilaplacian
-        fill.
+        scans, docs/candidates.md, "Session 44 (helper)"). "auto": decided once per hole
+        from a truth-free estimate of the noise of the known surface around it, 0.35 where
+        it is a noisy scan's and none elsewhere
+        (:func:`surfinpaint.fill.liepa.baseline.smoothing_for_hole`; docs/candidates.md,
+        "Session 45 (helper)"). None (default): the bilaplacian fill. Also the faired fill
+        :func:`surfinpaint.fill_holes` writes instead where zero-area faces lie in the
+        self-check's rings (a fallback of this method); ``method="fair"``, the conventional
+        baseline, never smooths.
     plane_test : bool
         With ``select``: where the known surface within 2 rings of the loop is a plane
         within its noise (neither a quadric's curvature nor a pattern in the plane's
@@ -217,7 +223,7 @@ class ConformalOptions:
     grid: GridOptions | None = None
     s0_search: str = "delaunay"
     s0_refinement: str = "liepa"
-    fair_smoothing: float | None = None
+    fair_smoothing: float | str | None = None
     plane_test: bool = True
     significance: float | None = SIGNIFICANCE
 
@@ -236,7 +242,10 @@ class ConformalOptions:
             _positive_number("solver_tol", self.solver_tol)
         if self.significance is not None:
             _positive_number("significance", self.significance)
-        if self.fair_smoothing is not None:
+        if isinstance(self.fair_smoothing, str) and self.fair_smoothing != "auto":
+            raise ValueError("fair_smoothing must be a positive number, 'auto' or None, got "
+                             f"{self.fair_smoothing!r}")
+        if self.fair_smoothing is not None and not isinstance(self.fair_smoothing, str):
             _positive_number("fair_smoothing", self.fair_smoothing)
         _positive_int("hide_rings", self.hide_rings)
         _positive_int("siblings", self.siblings, minimum=0)

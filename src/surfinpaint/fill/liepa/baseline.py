@@ -17,16 +17,30 @@ from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.flatness import meeting_line
 from surfinpaint.geometry.mesh import faces_near, k_ring, mean_edge_length, orient_loop
+from surfinpaint.geometry.surface_noise import surface_noise
 from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conventional_fill", "faired_fill", "faired_fills", "laid_on_plane",
-           "laid_on_two_planes"]
+           "laid_on_two_planes", "smoothing_for_hole"]
 
 # the bilaplacian smoothing fill (faired_fills' ``smoothing``): the known vertices within
 # SOFT_RINGS rings of the loop are its data, its energy is summed over SMOOTHING_RINGS
 # rings (the data's L M⁻¹ L rows complete)
 SOFT_RINGS = 2
 SMOOTHING_RINGS = 4
+# smoothing="auto" (:func:`smoothing_for_hole`): the smoothing length, in mean edges, where
+# the known surface within NOISE_RINGS rings of the loop reads as a range scan's noise
+# (:func:`surfinpaint.geometry.surface_noise.surface_noise`): NOISY_SIGMA to NOISY_SIGMA_MAX
+# mean edges (above it: shape at the mesh's scale, or a noise the length was not chosen
+# for), residuals no more alike between neighbours than NOISY_CORRELATION, and no more
+# spread from fits over 3 rings than NOISY_SCALE times that over 2 (all chosen on the
+# tuning side only, by a rule written down first; docs/candidates.md, "Session 45 (helper)")
+AUTO_SMOOTHING = 0.35
+NOISE_RINGS = 3
+NOISY_SIGMA = 0.015
+NOISY_SIGMA_MAX = 0.08
+NOISY_CORRELATION = -0.1
+NOISY_SCALE = 1.3
 
 
 def conventional_fill(
@@ -181,16 +195,43 @@ def faired_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, order
     return faired_fills(vertices, faces, loop, (order,))[order]
 
 
+def smoothing_for_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                       smoothing: float | str | None) -> float | None:
+    """The smoothing length :func:`faired_fills` uses for ``smoothing``: a number or None as
+    given; for "auto", :data:`AUTO_SMOOTHING` where the known surface around the loop is a
+    noisy one (a range scan's) and None elsewhere.
+
+    Why: the thin-plate smoothing fill gains on range scans, whose noise the bilaplacian
+    fill carries into the hole, and costs on clean meshes (docs/candidates.md, sessions 44
+    and 45). Noisy: the noise estimate of the known vertices within :data:`NOISE_RINGS` rings
+    of the loop (:func:`~surfinpaint.geometry.surface_noise.surface_noise`) is
+    :data:`NOISY_SIGMA` to :data:`NOISY_SIGMA_MAX` mean edges, its residuals are not alike
+    between neighbours (correlation at most :data:`NOISY_CORRELATION`) and fits over 3 rings
+    find about as much (at most :data:`NOISY_SCALE` times): independent noise, not shape
+    finer than the fits (a folded cortex, a tooth's fissures, a part's crease).
+    """
+    if not isinstance(smoothing, str):
+        return smoothing
+    if smoothing != "auto":
+        raise ValueError(f"smoothing must be a positive number, 'auto' or None, got "
+                         f"{smoothing!r}")
+    noise = surface_noise(vertices, faces, loop, rings=NOISE_RINGS)
+    noisy = (NOISY_SIGMA <= noise.relative <= NOISY_SIGMA_MAX
+             and noise.correlation <= NOISY_CORRELATION and noise.scale_ratio <= NOISY_SCALE)
+    return AUTO_SMOOTHING if noisy else None
+
+
 def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                  orders=(2, 3), *, search: str = "delaunay", operator: str = "cotan",
-                 refinement: str = "liepa", smoothing: float | None = None
+                 refinement: str = "liepa", smoothing: float | str | None = None
                  ) -> dict[int, tuple[np.ndarray, np.ndarray, int]]:
     """:func:`faired_fill` for several fairing orders, sharing the triangulation and the
     refinement (those of the order-2 fill); ``search``, ``operator`` and ``refinement`` as in
     :func:`conventional_fill`. ``smoothing``: the order-2 fill is the thin-plate smoothing
     fill (:func:`~surfinpaint.fill.liepa.fairing.fair_smoothed`, cotangent weights) of
     smoothing length ``smoothing`` mean edges of the known surface around the hole, the
-    known vertices within 2 rings of the loop its data (for range scans: session 44); None
+    known vertices within 2 rings of the loop its data (for range scans: session 44); "auto":
+    that fill where the surface around the loop is noisy (:func:`smoothing_for_hole`); None
     (default): the bilaplacian fill.
 
     Returns
@@ -205,6 +246,7 @@ def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     """
     v = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces, dtype=np.int64)
+    smoothing = smoothing_for_hole(v, faces, loop, smoothing)
     initial_v, patch = conventional_fill(v, faces, loop, refine=True, fair=False,
                                          search=search, refinement=refinement)
     initial_v = np.asarray(initial_v, dtype=float)
