@@ -13,7 +13,7 @@ from surfinpaint.fill.pipeline import METHODS
 __all__ = ["UsageError", "add_all_loops", "add_fill_options", "add_hole_numbers",
            "add_islands", "add_keep_margins", "add_max_hole_edges", "add_zip_seams",
            "fill_options",
-           "hole_list", "positive_int", "whole_number"]
+           "hole_list", "positive_int", "smoothing_length", "whole_number"]
 
 
 class UsageError(Exception):
@@ -67,6 +67,27 @@ def whole_number(minimum: int):
 positive_int = whole_number(1)
 
 
+def smoothing_length(text: str) -> float | str | None:
+    """``--fair-smoothing``: "auto", "off" (None) or a positive length in mean edges (an
+    argparse ``type``).
+
+    Examples
+    --------
+    >>> smoothing_length("auto"), smoothing_length("off"), smoothing_length("0.4")
+    ('auto', None, 0.4)
+    """
+    if text in ("auto", "off"):
+        return None if text == "off" else text
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value > 0.0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"expected auto, off or a positive length in mean "
+                                         f"edges, got {text!r}")
+    return value
+
+
 def _conformal_options(args: argparse.Namespace):
     """The conformal method's options from the flags of ``fill`` (None with ``--method
     fair``; conformal flags with it are a usage error)."""
@@ -83,12 +104,13 @@ def _conformal_options(args: argparse.Namespace):
             ("--discretization grid", args.discretization == "grid"),
             ("--no-creases", args.no_creases), ("--crease-angle", args.crease_angle),
             ("--no-plane-test", args.no_plane_test),
+            ("--fair-smoothing", args.fair_smoothing != "auto"),
             ("--inpaint", args.inpaint), ("--reconstruct", args.reconstruct)) if value]
         if given:
             raise UsageError(f"{', '.join(given)}: options of --method conformal")
         return None
     kw = {"discretization": args.discretization, "creases": not args.no_creases,
-          "plane_test": not args.no_plane_test}
+          "plane_test": not args.no_plane_test, "fair_smoothing": args.fair_smoothing}
     if args.crease_angle is not None:
         kw["crease_angle"] = args.crease_angle
     if args.discretization == "grid":
@@ -190,6 +212,12 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
                    "it (by default, where that surface is a plane within its noise, as on "
                    "a range scan's flat face, or two planes meeting at a scanned edge, it "
                    "is, and no self-check runs)")
+    p.add_argument("--fair-smoothing", type=smoothing_length, default="auto",
+                   metavar="{auto,off,LENGTH}",
+                   help="the bilaplacian candidate as a thin-plate smoothing fill that "
+                   "follows the known surface around the hole within its noise: 'auto' "
+                   "(default) where that surface reads as a range scan's noise, 'off' "
+                   "never, or always with this smoothing length in mean edges")
     p.add_argument("--crease-angle", type=float, metavar="DEG",
                    help="turn between neighbouring faces (degrees) above which an edge is "
                    "part of a crease (default 60)")

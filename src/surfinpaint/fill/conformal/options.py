@@ -179,7 +179,8 @@ class ConformalOptions:
         from a truth-free estimate of the noise of the known surface around it, 0.35 where
         it is a noisy scan's and none elsewhere
         (:func:`surfinpaint.fill.liepa.baseline.smoothing_for_hole`; docs/candidates.md,
-        "Session 45 (helper)"). None (default): the bilaplacian fill. Also the faired fill
+        "Session 45 (helper)"; the default since session 45). None: the bilaplacian fill
+        everywhere. Also the faired fill
         :func:`surfinpaint.fill_holes` writes instead where zero-area faces lie in the
         self-check's rings (a fallback of this method); ``method="fair"``, the conventional
         baseline, never smooths.
@@ -223,7 +224,7 @@ class ConformalOptions:
     grid: GridOptions | None = None
     s0_search: str = "delaunay"
     s0_refinement: str = "liepa"
-    fair_smoothing: float | str | None = None
+    fair_smoothing: float | str | None = "auto"
     plane_test: bool = True
     significance: float | None = SIGNIFICANCE
 
