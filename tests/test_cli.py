@@ -584,6 +584,39 @@ def test_fill_crease_options_are_passed_on(tmp_path, capsys):
     assert not bad.exists()
 
 
+def test_fill_fair_smoothing_flag_is_passed_on(tmp_path, capsys):
+    # a range scan's noise (0.03 mean edges along the normal) around a hole in a sphere: the
+    # default ("auto") and a given length write the smoothing fill, "off" the bilaplacian
+    # fill; each exactly as fill_holes with that option
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+    from surfinpaint.geometry.mesh import mean_edge_length, vertex_normals
+
+    v, f = sphere(3)
+    noise = 0.03 * mean_edge_length(v, f) * np.random.default_rng(0).standard_normal(len(v))
+    cut = cut_geodesic_disk(v + vertex_normals(v, f) * noise[:, None], f, 0, 0.5)
+    path = tmp_path / "scan.ply"
+    write_mesh(path, cut.vertices, cut.faces)
+    written = {}
+    for flags, smoothing in (([], "auto"), (["--fair-smoothing", "off"], None),
+                             (["--fair-smoothing", "0.5"], 0.5)):
+        out = tmp_path / "out.ply"
+        assert main(["fill", str(path), "-o", str(out), "-q", "--no-plane-test",
+                     *flags]) == 0
+        written[smoothing] = read_mesh(out)[0]
+        expected = fill_holes(cut.vertices, cut.faces, options=ConformalOptions(
+            plane_test=False, fair_smoothing=smoothing)).vertices
+        np.testing.assert_allclose(written[smoothing], expected, rtol=0, atol=1e-6)
+    assert np.abs(written["auto"] - written[None]).max() > 1e-6
+    for bad in ("-1", "0", "inf", "nan", "always"):
+        with pytest.raises(SystemExit) as exc:
+            main(["fill", str(path), "-o", str(tmp_path / "bad.ply"), "--fair-smoothing", bad])
+        assert exc.value.code == 2 and "--fair-smoothing" in capsys.readouterr().err
+    assert main(["fill", str(path), "-o", str(tmp_path / "bad.ply"), "--method", "fair",
+                 "--fair-smoothing", "off", "-q"]) == 2
+    assert "optionsof--methodconformal" in _flat(capsys.readouterr().err)
+    assert not (tmp_path / "bad.ply").exists()
+
+
 def test_fill_overwrites_an_existing_output_completely(tmp_path, capsys):
     v, f = _holey_sphere()
     path = tmp_path / "in.off"
