@@ -28,17 +28,16 @@ is, and a variable the user set is always kept.
 
 Modules that the command line's packages import but no command uses are deferred
 (:data:`UNUSED_MODULES`, :func:`~surfinpaint.lazy.defer_modules`): each runs only where
-something reads one of its attributes. On the 651k case (docs/scale.md, session 45) the
-start and the kernels' loading hold the interpreter's lock, one after the other, until
-the workers fork, so every import cut there is a cut of the whole:
+something reads one of its attributes. The command line's import runs alone, before the
+read and the kernels' loading start, so what it imports is on the whole command's path
+(651k case, docs/scale.md, session 45):
 
 - scipy's array-API layer (imported by ``scipy.sparse``) lists numpy's attributes with
   ``hasattr``, which imports each of numpy's lazily loaded submodules; ``numpy.f2py`` and
   ``numpy.testing`` alone (with ``charset_normalizer``, ``unittest``, ``email``,
-  ``importlib.metadata``) were ~30 ms of the command line's ~190 ms import;
-- ``scipy.spatial`` imports ``scipy.spatial.transform`` (rotations; with ``scipy.constants``
-  ~15 ms) and numba imports ``yaml`` (~8 ms) in case a ``.numba_config.yaml`` is there
-  to read (then it is read as before).
+  ``importlib.metadata``) were ~30 ms of the command line's ~190 ms import. (Deferring
+  ``scipy.spatial.transform`` and ``yaml``, which the kernels' loading imports unused,
+  gained nothing measurable once that loading made no collections.)
 """
 
 from __future__ import annotations
@@ -59,10 +58,9 @@ HUGEPAGE_VARIABLE = "NUMPY_MADVISE_HUGEPAGE"
 # that order; MKL: its own, then OpenMP's); the first two are the ones set here
 BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "GOTO_NUM_THREADS",
                          "OMP_NUM_THREADS")
-# imported by the packages the program uses, used by no command (whatever reads one of
-# their attributes still gets it): numpy's lazily loaded submodules, then two more
-UNUSED_MODULES = ("numpy.f2py", "numpy.testing", "numpy.char", "numpy.rec", "numpy.ctypeslib",
-                  "scipy.spatial.transform", "yaml")
+# numpy's lazily loaded submodules that scipy imports and no command uses (whatever reads
+# one of their attributes still gets it)
+UNUSED_MODULES = ("numpy.f2py", "numpy.testing", "numpy.char", "numpy.rec", "numpy.ctypeslib")
 
 
 def process_settings(environ: dict[str, str] | None = None) -> dict[str, str]:
