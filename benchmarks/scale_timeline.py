@@ -3,12 +3,13 @@ each stage's start and end (ms from the launcher's start of the process), its th
 thread CPU and its page faults, then the process's and its workers' CPU, system time and
 page faults.
 
-The command runs as the program runs it (``app.program``'s settings made before numpy is
-imported, the imports without collections, ``gc.freeze``), in a child process of this
-script, with ``PYTHONPYCACHEPREFIX`` set as ``benchmarks/scale.py`` sets it. The stages are
-the functions the fill calls, wrapped where the caller looks them up; a stage on another
-thread (the kernels' loading, the passes beside the checks) is named with that thread. The
-forked workers' holes are not broken down (``benchmarks/scale_parts.py``: the holes by part).
+The command runs as the program runs it (``app.program.command_line``: the settings made
+before numpy is imported, the imports without collections, ``gc.freeze``), in a child
+process of this script, with ``PYTHONPYCACHEPREFIX`` set as ``benchmarks/scale.py`` sets
+it. The stages are the functions the fill calls, wrapped where the caller looks them up; a
+stage on another thread (the kernels' loading, the passes beside the checks) is named with
+that thread. The forked workers' holes are not broken down (``benchmarks/scale_parts.py``:
+the holes by part).
 
     PYTHONPATH=src python benchmarks/scale_timeline.py [--workdir /tmp/surfinpaint-scale]
         [--runs 3] [--method conformal]
@@ -43,14 +44,18 @@ def timed(name, f):
                          time.perf_counter() - T0, time.thread_time() - cpu, faults() - flt))
     return wrapper
 from surfinpaint.app import program
-program.process_settings()
-gc.disable()
 start, cpu, flt = time.perf_counter(), time.thread_time(), faults()
+if hasattr(program, "command_line"):  # the program's start (session 45)
+    program.command_line()
+else:
+    program.process_settings()
+    gc.disable()
+    from surfinpaint.app import cli
+    gc.freeze()
+    gc.enable()
 from surfinpaint.app import cli
 rows.append(("import the command line", "MainThread", start - T0, time.perf_counter() - T0,
              time.thread_time() - cpu, faults() - flt))
-gc.freeze()
-gc.enable()
 from surfinpaint.fill import neighbourhood, pipeline, warmup
 for owner, names in ((cli, ("read_mesh_data", "fill_mesh_data", "write_with_materials")),
                      (warmup, ("warm_kernels",)),

@@ -28,7 +28,8 @@ CYCLE_BREAKING = {("fill/objects.py", "surfinpaint.fill.pipeline"),
                   ("app/batch_summary.py", "surfinpaint"), ("app/fill_report.py", "surfinpaint")}
 # imports inside a function that must come after the process's settings (numpy reads them
 # when it is imported), each explained where it stands
-AFTER_SETTINGS = {("app/program.py", "surfinpaint.app.cli")}
+AFTER_SETTINGS = {("app/program.py", "surfinpaint.app.cli"),
+                  ("app/program.py", "surfinpaint.fill.warmup")}
 
 
 def _modules():

@@ -168,3 +168,67 @@ def test_loading_the_conformal_kernels_imports_the_lambda_h_fill():
     code = "from surfinpaint.fill import warmup; warmup.warm_kernels('conformal')"
     assert "surfinpaint.fill.conformal.method" in _modules_after(
         code, ("surfinpaint.fill.conformal.method",))
+
+
+# ------------------------------------------- modules other packages import unused (defer_modules)
+
+
+def _run(code: str, *paths) -> list[str]:
+    """The words ``code`` prints in a fresh interpreter (``paths`` first on its sys.path)."""
+    probe = f"import sys\nsys.path[:0] = {[str(p) for p in paths]!r}\n" + code
+    return subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          check=True, timeout=120).stdout.split()
+
+
+def _package(root) -> None:
+    """``pkg``, whose ``__init__`` imports its submodule ``sub`` (``from . import sub``) as
+    scipy.spatial imports its ``transform``; ``sub`` takes 50 ms to run and counts its runs
+    in the module ``runs``."""
+    (root / "pkg").mkdir()
+    (root / "pkg" / "__init__.py").write_text("from . import sub\n")
+    (root / "pkg" / "sub.py").write_text("import time, runs\ntime.sleep(0.05)\n"
+                                         "runs.count += 1\nVALUE = object()\n")
+    (root / "runs.py").write_text("count = 0\n")
+
+
+def test_a_deferred_module_runs_once_at_its_first_attribute_read(tmp_path):
+    _package(tmp_path)
+    out = _run("import threading, types\n"
+               "from surfinpaint.lazy import DeferredModule, defer_modules\n"
+               "print(*defer_modules(('pkg.sub', 'no_such_module_here')))\n"
+               "import pkg, runs\n"
+               "print(type(pkg.sub).__name__, runs.count)\n"
+               "from pkg import sub\n"  # a stand-in held before the module ran
+               "got = []\n"
+               "threads = [threading.Thread(target=lambda: got.append(sub.VALUE))\n"
+               "           for _ in range(8)]\n"
+               "[t.start() for t in threads]; [t.join() for t in threads]\n"
+               "real = sys.modules['pkg.sub']\n"
+               "print(runs.count, len(got), all(g is real.VALUE for g in got),\n"
+               "      type(real) is types.ModuleType, pkg.sub is real)\n"
+               "try:\n    import no_such_module_here\nexcept ModuleNotFoundError:\n"
+               "    print('missing')\n", tmp_path)
+    # a module that is not there is not stood in for: its import still fails
+    assert out == ["pkg.sub", "DeferredModule", "0", "1", "8", "True", "True", "True",
+                   "missing"]
+
+
+def test_the_check_sees_the_package_run_its_submodule(tmp_path):
+    # the test above would pass vacuously if importing pkg did not run pkg.sub
+    _package(tmp_path)
+    assert _run("import pkg, runs\nprint(runs.count)\n", tmp_path) == ["1"]
+
+
+def test_the_program_starts_without_numpys_unused_submodules():
+    start = ("from surfinpaint.app import program\n"
+             "program.command_line()\n"
+             "print(*(type(sys.modules[m]).__name__ for m in program.UNUSED_MODULES))\n"
+             "import numpy as np\n"  # still there for whatever reads them
+             "np.testing.assert_array_equal(np.char.upper(['a']), ['A'])\n"
+             "print(type(sys.modules['numpy.testing']).__name__)\n")
+    names = ("f2py", "testing", "char", "rec", "ctypeslib")
+    assert _run(start) == ["DeferredModule"] * len(names) + ["module"]
+    # scipy (with the command line) imports each of them otherwise
+    plain = ("from surfinpaint.app import cli\n"
+             f"print(*(f'numpy.{{m}}' in sys.modules for m in {names!r}))\n")
+    assert _run(plain) == ["True"] * len(names)

@@ -5,6 +5,8 @@ thread joined before a hole is filled (fill/warmup.py)."""
 from __future__ import annotations
 
 import multiprocessing
+import subprocess
+import sys
 import threading
 from concurrent.futures import ProcessPoolExecutor
 
@@ -338,3 +340,45 @@ def test_a_load_started_ahead_is_started_once_and_joined_by_the_next_fill(monkey
     assert started == ["fair"] and warmup._ahead == []
     warmup.load_ahead("fair")  # loaded: nothing
     assert started == ["fair"] and warmup._ahead == []
+
+
+def _collections_while_loading_ahead(freeze: bool) -> list[int]:
+    """In a fresh process (the collector's state is the process's): the collections run on
+    the loading thread of ``load_ahead``, the objects frozen meanwhile, whether the
+    collector is on after the thread is joined, and whether the kernels were loaded."""
+    code = ("import gc, sys, threading\n"
+            "from surfinpaint.fill import warmup\n"
+            "seen = []\n"
+            "gc.callbacks.append(lambda phase, info: phase == 'start' and seen.append(\n"
+            "    threading.current_thread().name))\n"
+            + ("warmup.freeze_loaded()\n" if freeze else "") +
+            "before = gc.get_freeze_count()\n"
+            "warmup.load_ahead('conformal')\n"
+            "with warmup.loading_beside(0, 'conformal'):\n"  # joins it
+            "    pass\n"
+            "print(seen.count('surfinpaint-warmup'), gc.get_freeze_count() - before,\n"
+            "      int(gc.isenabled()), int(warmup.kernels_loaded('conformal')))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, timeout=300).stdout.split()
+    return [int(x) for x in out]
+
+
+def test_a_process_that_ends_after_its_command_loads_without_collections():
+    # the program's process (app/program.py): numba's objects live to its end; made
+    # without collections and frozen, no collection walks them (docs/scale.md, session 45)
+    collections, frozen, enabled, loaded = _collections_while_loading_ahead(freeze=True)
+    assert (collections, enabled, loaded) == (0, 1, 1) and frozen > 10_000
+    # a library caller's process is left as it was: collected as it goes, nothing frozen
+    collections, frozen, enabled, loaded = _collections_while_loading_ahead(freeze=False)
+    assert collections > 0 and (frozen, enabled, loaded) == (0, 1, 1)
+
+
+def test_the_program_sets_its_loading_to_freeze_and_a_library_import_does_not():
+    code = ("from surfinpaint.fill import warmup\n"
+            "print(warmup._freezing.is_set())\n"
+            "from surfinpaint.app import program\n"
+            "program.command_line()\n"
+            "print(warmup._freezing.is_set())\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, timeout=120).stdout.split()
+    assert out == ["False", "True"]

@@ -31,13 +31,14 @@ compiles every kernel into numba's disk cache.
 from __future__ import annotations
 
 import functools
+import gc
 import importlib.util
 import os
 import sys
 import threading
 from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from typing import TypeVar
 
 import numpy as np
@@ -53,8 +54,9 @@ metrics = lazy_module("surfinpaint.geometry.metrics")
 # the BLAS thread-pool controller (threadpoolctl: not imported by the command line's start)
 blas_threads = lazy_module("surfinpaint.representation.blas_threads")
 
-__all__ = ["BESIDE_MIN_FACES", "Beside", "compile_kernels", "kernels_loaded", "load_ahead",
-           "load_for_workers", "loading_beside", "main", "warm_kernels", "warmup_mesh"]
+__all__ = ["BESIDE_MIN_FACES", "Beside", "compile_kernels", "freeze_loaded", "kernels_loaded",
+           "load_ahead", "load_for_workers", "loading_beside", "main", "warm_kernels",
+           "warmup_mesh"]
 
 # below this many faces the whole-mesh passes take too little time to hide the loading
 BESIDE_MIN_FACES = 100_000
@@ -63,6 +65,8 @@ T = TypeVar("T")
 
 # the kernels each method uses, loaded (the conformal method's include the faired fill's)
 _done = {"fair": threading.Event(), "conformal": threading.Event()}
+# set by a process that ends after its command (freeze_loaded)
+_freezing = threading.Event()
 
 
 def warmup_mesh() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -160,8 +164,8 @@ def load_ahead(method: str) -> None:
     for it."""
     if _done[method].is_set() or _ahead:
         return
-    thread = threading.Thread(target=_quietly, args=(method,), name="surfinpaint-warmup",
-                              daemon=True)
+    thread = threading.Thread(target=_quietly, args=(method, _freezing.is_set()),
+                              name="surfinpaint-warmup", daemon=True)
     thread.start()
     _ahead.append(thread)
 
@@ -195,13 +199,38 @@ def loading_beside(n_faces: int, method: str) -> Iterator[Beside]:
             _ahead.pop().join()
 
 
-def _quietly(method: str) -> None:
+def freeze_loaded() -> None:
+    """For a process that ends after its command (the program's, :mod:`surfinpaint.app.
+    program`): the thread :func:`load_ahead` starts then loads without garbage collections
+    and freezes what it made (``gc.freeze``). numba's types and registries, ~85k objects
+    that live to the end, were otherwise walked as they were made by ~190 collections
+    (27-33 ms of the thread's ~290 ms CPU on the 651k case, on the path to the workers'
+    fork; docs/scale.md, session 45) and by later full ones."""
+    _freezing.set()
+
+
+@contextmanager
+def _frozen_when_made() -> Iterator[None]:
+    """No collection while the block runs; the objects alive after it frozen (those of
+    other threads too: in a process that ends after its command, nothing is lost)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        if enabled:
+            gc.enable()
+
+
+def _quietly(method: str, frozen: bool = False) -> None:
     # a failure here is not the caller's: the first hole then loads or compiles the kernels
     # itself and raises whatever there is to raise
-    try:
-        warm_kernels(method)
-    except Exception:  # noqa: BLE001
-        pass
+    with _frozen_when_made() if frozen else nullcontext():
+        try:
+            warm_kernels(method)
+        except Exception:  # noqa: BLE001
+            pass
 
 
 def compile_kernels() -> None:
