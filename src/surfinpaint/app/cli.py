@@ -286,9 +286,11 @@ def _add_fill_parser(sub) -> None:
     p.add_argument("--overlay", action="append", metavar="FILE",
                    help="a per-vertex overlay of a GIFTI or FreeSurfer surface, filled in at "
                    "the new vertices and written beside OUT (a GIFTI data file such as "
-                   "nilearn's sulc_left.gii.gz, or a FreeSurfer morphometry file; repeat for "
-                   "more); the overlays named after the surface (SURFACE.NAME.shape.gii, "
-                   "lh.sulc beside lh.pial, ...) are read without it")
+                   "nilearn's sulc_left.gii.gz, or a FreeSurfer morphometry file; a "
+                   "segmentation, .label.gii, .annot or .label, is filled as labels and "
+                   "written as .label.gii; repeat for more); the overlays named after the "
+                   "surface (SURFACE.NAME.shape.gii, lh.sulc beside lh.pial, ...) are read "
+                   "without it")
     p.add_argument("--png", help="also write a before/after picture")
     p.add_argument("--json", metavar="REPORT",
                    help="also write the report as JSON: per hole what was written and the "

@@ -1,8 +1,8 @@
 """Brain surfaces: GIFTI (``.gii``, ``.gii.gz``) and FreeSurfer geometry files, via nibabel,
 with their per-vertex overlays (GIFTI ``.shape.gii`` / ``.func.gii`` / ``.label.gii``,
-FreeSurfer ``curv``, ``thickness``, ``sulc``, ... and, when given, ``.annot``) read beside the
-surface and written beside the output; a segmentation's label table and a GIFTI pointset's
-coordinate system are kept in the metadata and written back.
+FreeSurfer ``curv``, ``thickness``, ``sulc``, ... and, when given, ``.annot`` and ``.label``)
+read beside the surface and written beside the output; a segmentation's label table and a
+GIFTI pointset's coordinate system are kept in the metadata and written back.
 
 nibabel is imported inside the functions: it is needed only when such files are used. The
 header checks each reader makes first are :mod:`surfinpaint.io.brain_checks`'s (those public
@@ -33,6 +33,7 @@ from surfinpaint.io.brain_checks import (
     gifti_arrays,
     gifti_inflate,
     gifti_xml,
+    label_file,
     overlay_errors,
     overlay_header,
 )
@@ -242,7 +243,7 @@ def overlay_name(overlay: Path, surface: Path | None = None) -> str:
     """The attribute name of an overlay file: ``lh.pial.thickness.shape.gii`` beside
     ``lh.pial.gii`` -> ``thickness``; ``lh.curv`` -> ``curv``."""
     name = overlay.name
-    for suffix in (*_GIFTI_DATA, ".annot"):
+    for suffix in (*_GIFTI_DATA, ".annot", ".label"):
         if name.lower().endswith(suffix):
             name = name[:-len(suffix)]
             break
@@ -293,6 +294,28 @@ def _read_annot(p: Path) -> tuple[np.ndarray, str, list[str]]:
         ~found & (values != 0)])
 
 
+def _read_label(p: Path, n: int, name: str) -> tuple[np.ndarray, str, list[str]]:
+    """A FreeSurfer ``.label`` file as a segmentation of a surface of ``n`` vertices: 1 at
+    the vertices it lists, 0 elsewhere, its table (0, 1 ``name``) as
+    :data:`LABEL_TABLE` JSON (0 named "unknown", as in FreeSurfer's tables: nibabel reads
+    a GIFTI label without a name as one without a ``label``), and a note when its value
+    column, not read, holds values."""
+    data = p.read_bytes()
+    if not data:
+        overlay_header(p, data, 0)  # the words every reader says of an empty overlay
+    ids, stats = label_file(data)
+    if len(ids) and ids.max() >= n:
+        out = np.unique(ids[ids >= n])
+        raise MeshError(f"label lists {how_many(len(out), 'vertex', 'vertices')} the surface "
+                        f"does not have ({preview(out.tolist(), 5)}; it has {n} vertices)")
+    values = np.zeros(n, np.int32)
+    values[ids] = 1
+    notes = [f"overlay {p.name}: its value column (not all 0) is not read: the label is 1 at "
+             "the vertices it lists, 0 elsewhere"] if stats.any() else []
+    table = [[0, "unknown", 0.0, 0.0, 0.0, 0.0], [1, name, 1.0, 1.0, 1.0, 1.0]]
+    return values, json.dumps(table), notes
+
+
 def _unknown_labels(p: Path, values: np.ndarray) -> list[str]:
     """The note on an ``.annot``'s vertices whose label values (``values``) its colour
     table does not hold: each value (its red, green, blue) and on how many vertices."""
@@ -310,9 +333,9 @@ def _unknown_labels(p: Path, values: np.ndarray) -> list[str]:
 def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
                   guessed: Sequence[Path] = ()
                   ) -> tuple[dict[str, np.ndarray], dict[str, str], list[str]]:
-    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry and
-    ``.annot`` files), the label tables of the segmentations among them (metadata
-    ``labels.NAME``, :data:`LABEL_TABLE`), and what they hold that is not kept as read (a
+    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry,
+    ``.annot`` and ``.label`` files), the label tables of the segmentations among them
+    (metadata ``labels.NAME``, :data:`LABEL_TABLE`), and what they hold that is not kept as read (a
     second overlay of the same name, kept under its file name; an overlay of ``guessed``
     without ``n`` values, not read: :func:`subject_overlays` of the surface, which may
     belong to another surface).
@@ -337,6 +360,8 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
                 table = _gifti_label_table(image) if values.ndim == 1 else None
+            elif p.name.lower().endswith(".label"):
+                values, table, notes = _read_label(p, n, overlay_name(p, surface))
             else:
                 check_overlay(p)
                 values, table, notes = (
