@@ -51,6 +51,9 @@ _GIFTI_DATA = (*OVERLAY_SUFFIXES, ".gii.gz", ".gii")
 #: red, green, blue, alpha]``, colours 0..1): the overlay is a segmentation, filled as labels
 #: and written as ``.label.gii`` with its table.
 LABEL_TABLE = "labels."
+#: Metadata key prefix of an overlay read from a ``.func.gii`` (``func.NAME``: JSON list of
+#: its data arrays' intent codes, a time series' say): written back as ``.func.gii`` with them.
+FUNCTIONAL = "func."
 #: Metadata key of a GIFTI pointset's coordinate system (JSON: dataspace, xformspace, xform).
 COORDINATE_SYSTEM = "coordsys"
 
@@ -351,7 +354,7 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
     out, tables, dropped = {}, {}, []
     for p in files:
         p = Path(p)
-        table, notes = None, []
+        table, notes, intents = None, [], None
         with overlay_errors(p):
             if p.name.lower().endswith((".gii", ".gii.gz")):
                 xml = gifti_inflate(p.read_bytes())
@@ -360,6 +363,8 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
                 table = _gifti_label_table(image) if values.ndim == 1 else None
+                if table is None and p.name.lower().endswith(".func.gii"):
+                    intents = json.dumps([int(a.intent) for a in image.darrays])
             elif p.name.lower().endswith(".label"):
                 values, table, notes = _read_label(p, n, overlay_name(p, surface))
             else:
@@ -388,6 +393,8 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
         dropped += notes
         if table is not None:
             tables[LABEL_TABLE + name] = table
+        if intents is not None:
+            tables[FUNCTIONAL + name] = intents
     return out, tables, dropped
 
 
@@ -424,13 +431,15 @@ def unstored_freesurfer(mesh: MeshData) -> list[str]:
     return unstored_brain(mesh) + [f"metadata {k!r} is not stored in a FreeSurfer surface"
                                    for k in mesh.metadata
                                    if k not in ("create_stamp", "volume_info")
-                                   and not k.startswith(LABEL_TABLE)]
+                                   and not k.startswith((LABEL_TABLE, FUNCTIONAL))]
 
 
 def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Callable]]:
     """The overlay files written beside a surface, each as (path, write(handle)).
 
-    GIFTI: ``BASE.NAME.shape.gii`` (``BASE``: the output's name without ``.gii``/``.gii.gz``);
+    GIFTI: ``BASE.NAME.shape.gii`` (``BASE``: the output's name without ``.gii``/``.gii.gz``;
+    an overlay read from a ``.func.gii``, :data:`FUNCTIONAL`: ``BASE.NAME.func.gii``, each
+    array with the intent it had);
     FreeSurfer: ``OUT.NAME`` morphometry files (float32) for 1-D arrays, ``OUT.NAME.shape.gii``
     for arrays of several columns. Float arrays are stored as float32, integers as int32.
     A segmentation (an attribute with a label table in the metadata, :data:`LABEL_TABLE`)
@@ -440,6 +449,7 @@ def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Ca
     out = []
     for name, a in _writable(mesh).items():
         table = mesh.metadata.get(LABEL_TABLE + name)
+        intents = mesh.metadata.get(FUNCTIONAL + name)
         name = _safe(name)
         if table is not None and a.ndim == 1 and a.dtype.kind in "iub":
             base = path.name if fmt == "freesurfer" else surface_base(path)
@@ -448,20 +458,24 @@ def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Ca
             out.append((path.with_name(f"{path.name}.{name}"), _morph_writer(a)))
         else:
             base = path.name if fmt == "freesurfer" else surface_base(path)
-            out.append((path.with_name(f"{base}.{name}.shape.gii"), _shape_writer(a)))
+            kind = "shape" if intents is None else "func"
+            out.append((path.with_name(f"{base}.{name}.{kind}.gii"), _shape_writer(a, intents)))
     return out
 
 
-def _shape_writer(a: np.ndarray) -> Callable:
+def _shape_writer(a: np.ndarray, intents: str | None = None) -> Callable:
+    """Writes ``a`` as a GIFTI data file, an array a column, each with its intent from
+    ``intents`` (:data:`FUNCTIONAL` JSON, one a column) or ``NIFTI_INTENT_SHAPE``."""
     def write(fh) -> None:
         import nibabel as nib
 
         columns = [a] if a.ndim == 1 else [a[:, k] for k in range(a.shape[1])]
+        codes = json.loads(intents) if intents else []
+        codes = codes if len(codes) == len(columns) else ["NIFTI_INTENT_SHAPE"] * len(columns)
         arrays = []
-        for c in columns:
+        for c, intent in zip(columns, codes, strict=True):
             values, dtype = _gifti_type(np.ascontiguousarray(c))
-            arrays.append(nib.gifti.GiftiDataArray(values, intent="NIFTI_INTENT_SHAPE",
-                                                   datatype=dtype))
+            arrays.append(nib.gifti.GiftiDataArray(values, intent=intent, datatype=dtype))
         fh.write(nib.gifti.GiftiImage(darrays=arrays).to_bytes())
     return write
 
@@ -493,7 +507,8 @@ def gifti_bytes(mesh: MeshData) -> bytes:
     import nibabel as nib
 
     meta = {k: v for k, v in mesh.metadata.items()
-            if not k.startswith(("pointset.", LABEL_TABLE)) and k != COORDINATE_SYSTEM}
+            if not k.startswith(("pointset.", LABEL_TABLE, FUNCTIONAL))
+            and k != COORDINATE_SYSTEM}
     point_meta = {k[len("pointset."):]: v for k, v in mesh.metadata.items()
                   if k.startswith("pointset.")}
     coordsys = None
