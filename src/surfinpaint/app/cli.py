@@ -167,8 +167,12 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if carried and len(result.vertices) > len(vertices):
         say(f"attributes filled in at the new vertices and faces: {', '.join(carried)}")
     if args.png:
-        figures.before_after(vertices, faces, result, args.png)
-        say(f"wrote {args.png}")
+        try:
+            figures.before_after(vertices, faces, result, args.png)
+            say(f"wrote {args.png}")
+        except Exception as exc:  # as in a batch: a warning, the mesh is written
+            warnings.warn(f"{args.png}: picture not drawn: {type(exc).__name__}: {exc}",
+                          MeshWarning, stacklevel=1)
     # the overlays beside a brain surface are files of their own: each is named
     written = [str(args.output), *(str(p) for p in files_written(args.output, filled)[1:]),
                *map(str, materials)]
@@ -291,7 +295,8 @@ def _add_fill_parser(sub) -> None:
                    "written as .label.gii; repeat for more); the overlays named after the "
                    "surface (SURFACE.NAME.shape.gii, lh.sulc beside lh.pial, ...) are read "
                    "without it")
-    p.add_argument("--png", help="also write a before/after picture")
+    p.add_argument("--png", help="also write a before/after picture (one that cannot be "
+                   "drawn is a warning; the mesh is still written)")
     p.add_argument("--json", metavar="REPORT",
                    help="also write the report as JSON: per hole what was written and the "
                    "self-check's scores, the summary, the warnings, the options and the "
