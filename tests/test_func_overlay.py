@@ -6,6 +6,7 @@ for ``*.func.gii`` found nothing).
 
 from __future__ import annotations
 
+import json
 import warnings
 
 import numpy as np
@@ -52,4 +53,34 @@ def test_a_func_gii_overlay_is_written_back_as_func_gii_with_its_intents(tmp_pat
     # read again with its surface, the overlay is found and keeps its kind
     again = read_mesh_data(tmp_path / "lh.pial.filled.gii")
     assert again.attributes["task"].shape[0] == len(written.darrays[0].data)
-    assert again.metadata["func.task"] == str(codes)
+    assert [a["intent"] for a in json.loads(again.metadata["gifti.task"])["arrays"]] == codes
+
+
+def test_a_gifti_overlays_metadata_is_written_back(tmp_path, capsys):
+    # nilearn's sulc_left.gii.gz holds its file's metadata (UserName, Date, ...) and its
+    # array's (Name, ShapeDataType); a fill wrote the numbers only, without a word
+    s = trimesh.creation.icosphere(3)
+    cut = cut_holes(np.asarray(s.vertices), np.asarray(s.faces), [0, 40], [0.35, 0.3])
+    v, f = cut.vertices.astype(np.float32), cut.faces.astype(np.int32)
+    nib.save(nib.gifti.GiftiImage(darrays=[
+        nib.gifti.GiftiDataArray(v, intent="NIFTI_INTENT_POINTSET"),
+        nib.gifti.GiftiDataArray(f, intent="NIFTI_INTENT_TRIANGLE")]), tmp_path / "lh.pial.gii")
+    sulc = _array(v[:, 2], "NIFTI_INTENT_SHAPE")
+    sulc.meta = nib.gifti.GiftiMetaData({"Name": "lh.sulc", "ShapeDataType": "SulcalDepth"})
+    file_meta = {"UserName": "lab", "Date": "Fri Mar 24 18:13:50 2023"}
+    nib.save(nib.gifti.GiftiImage(darrays=[sulc], meta=nib.gifti.GiftiMetaData(file_meta)),
+             tmp_path / "lh.pial.sulc.shape.gii")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["fill", str(tmp_path / "lh.pial.gii"), "-o",
+                     str(tmp_path / "out.gii"), "--method", "fair", "-q"]) == 0
+    written = nib.load(tmp_path / "out.sulc.shape.gii")
+    assert dict(written.meta) == file_meta
+    assert dict(written.darrays[0].meta) == {"Name": "lh.sulc", "ShapeDataType": "SulcalDepth"}
+    np.testing.assert_array_equal(written.darrays[0].data[:len(v)], v[:, 2])
+    # a FreeSurfer output writes a morphometry file, which holds no metadata: said
+    assert main(["fill", str(tmp_path / "lh.pial.gii"), "-o", str(tmp_path / "lh.out.white"),
+                 "--method", "fair", "-q"]) == 0
+    assert "overlay 'sulc': its GIFTI metadata is not stored in a FreeSurfer morphometry " \
+        "file" in capsys.readouterr().err
+    assert (tmp_path / "lh.out.white.sulc").is_file()
