@@ -20,6 +20,24 @@ from surfinpaint.io import read_mesh_data
 nib = pytest.importorskip("nibabel")
 
 
+def _surface(tmp_path) -> np.ndarray:
+    """``lh.pial.gii``: a sphere with two holes; its vertices."""
+    s = trimesh.creation.icosphere(3)
+    cut = cut_holes(np.asarray(s.vertices), np.asarray(s.faces), [0, 40], [0.35, 0.3])
+    v, f = cut.vertices.astype(np.float32), cut.faces.astype(np.int32)
+    nib.save(nib.gifti.GiftiImage(darrays=[
+        nib.gifti.GiftiDataArray(v, intent="NIFTI_INTENT_POINTSET"),
+        nib.gifti.GiftiDataArray(f, intent="NIFTI_INTENT_TRIANGLE")]), tmp_path / "lh.pial.gii")
+    return v
+
+
+def _fill(tmp_path, output: str) -> int:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return main(["fill", str(tmp_path / "lh.pial.gii"), "-o", str(tmp_path / output),
+                     "--method", "fair", "-q"])
+
+
 def _array(values, intent):
     return nib.gifti.GiftiDataArray(np.asarray(values, np.float32), intent=intent,
                                     datatype="NIFTI_TYPE_FLOAT32")
@@ -29,20 +47,12 @@ def _array(values, intent):
                                      ["NIFTI_INTENT_TTEST", "NIFTI_INTENT_ZSCORE"],
                                      ["NIFTI_INTENT_NONE"]])
 def test_a_func_gii_overlay_is_written_back_as_func_gii_with_its_intents(tmp_path, intents):
-    s = trimesh.creation.icosphere(3)
-    cut = cut_holes(np.asarray(s.vertices), np.asarray(s.faces), [0, 40], [0.35, 0.3])
-    v, f = cut.vertices.astype(np.float32), cut.faces.astype(np.int32)
-    nib.save(nib.gifti.GiftiImage(darrays=[
-        nib.gifti.GiftiDataArray(v, intent="NIFTI_INTENT_POINTSET"),
-        nib.gifti.GiftiDataArray(f, intent="NIFTI_INTENT_TRIANGLE")]), tmp_path / "lh.pial.gii")
+    v = _surface(tmp_path)
     columns = [np.sin(v[:, 0] * 3 + k) for k in range(len(intents))]
     arrays = [_array(c, i) for c, i in zip(columns, intents, strict=True)]
     nib.save(nib.gifti.GiftiImage(darrays=arrays),
              tmp_path / "lh.pial.task.func.gii")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        assert main(["fill", str(tmp_path / "lh.pial.gii"), "-o",
-                     str(tmp_path / "lh.pial.filled.gii"), "--method", "fair", "-q"]) == 0
+    assert _fill(tmp_path, "lh.pial.filled.gii") == 0
     assert not (tmp_path / "lh.pial.filled.task.shape.gii").exists()
     written = nib.load(tmp_path / "lh.pial.filled.task.func.gii")
     codes = [nib.nifti1.intent_codes.code[i] for i in intents]
@@ -59,28 +69,19 @@ def test_a_func_gii_overlay_is_written_back_as_func_gii_with_its_intents(tmp_pat
 def test_a_gifti_overlays_metadata_is_written_back(tmp_path, capsys):
     # nilearn's sulc_left.gii.gz holds its file's metadata (UserName, Date, ...) and its
     # array's (Name, ShapeDataType); a fill wrote the numbers only, without a word
-    s = trimesh.creation.icosphere(3)
-    cut = cut_holes(np.asarray(s.vertices), np.asarray(s.faces), [0, 40], [0.35, 0.3])
-    v, f = cut.vertices.astype(np.float32), cut.faces.astype(np.int32)
-    nib.save(nib.gifti.GiftiImage(darrays=[
-        nib.gifti.GiftiDataArray(v, intent="NIFTI_INTENT_POINTSET"),
-        nib.gifti.GiftiDataArray(f, intent="NIFTI_INTENT_TRIANGLE")]), tmp_path / "lh.pial.gii")
+    v = _surface(tmp_path)
     sulc = _array(v[:, 2], "NIFTI_INTENT_SHAPE")
     sulc.meta = nib.gifti.GiftiMetaData({"Name": "lh.sulc", "ShapeDataType": "SulcalDepth"})
     file_meta = {"UserName": "lab", "Date": "Fri Mar 24 18:13:50 2023"}
     nib.save(nib.gifti.GiftiImage(darrays=[sulc], meta=nib.gifti.GiftiMetaData(file_meta)),
              tmp_path / "lh.pial.sulc.shape.gii")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        assert main(["fill", str(tmp_path / "lh.pial.gii"), "-o",
-                     str(tmp_path / "out.gii"), "--method", "fair", "-q"]) == 0
+    assert _fill(tmp_path, "out.gii") == 0
     written = nib.load(tmp_path / "out.sulc.shape.gii")
     assert dict(written.meta) == file_meta
     assert dict(written.darrays[0].meta) == {"Name": "lh.sulc", "ShapeDataType": "SulcalDepth"}
     np.testing.assert_array_equal(written.darrays[0].data[:len(v)], v[:, 2])
     # a FreeSurfer output writes a morphometry file, which holds no metadata: said
-    assert main(["fill", str(tmp_path / "lh.pial.gii"), "-o", str(tmp_path / "lh.out.white"),
-                 "--method", "fair", "-q"]) == 0
+    assert _fill(tmp_path, "lh.out.white") == 0
     assert "overlay 'sulc': its GIFTI metadata is not stored in a FreeSurfer morphometry " \
         "file" in capsys.readouterr().err
     assert (tmp_path / "lh.out.white.sulc").is_file()
