@@ -176,3 +176,24 @@ def test_a_dask_cluster_draws_the_pictures_too(tmp_path):
         rows = fill_files([_folder(tmp_path)], out, client=client, png=True, **FAIR)
     _check_pictures(out, rows)
     assert all(r.seconds > 0 for r in rows)
+
+
+def test_fill_png_that_fails_is_a_warning_as_in_a_batch(tmp_path, monkeypatch, capsys):
+    # session 45: `fill --png` ended in a traceback and exit 1 after writing the mesh and
+    # its report, where `batch --png` says the same failure in a warning
+    from matplotlib.figure import Figure
+
+    def fails(self, path, **kwargs):
+        raise OSError("No space left on device")
+
+    monkeypatch.setattr(Figure, "savefig", fails)
+    mesh, out, png = tmp_path / "a.ply", tmp_path / "out.ply", tmp_path / "a.png"
+    write_mesh(mesh, *_holey(*sphere(2), 1))
+    assert main(["fill", str(mesh), "-o", str(out), "--png", str(png), "--method", "fair",
+                 "--json", str(tmp_path / "a.json")]) == 0
+    err = capsys.readouterr().err
+    assert f"warning: {mesh} (writing {png}): picture not drawn: OSError: No space left " \
+        "on device" in err, err
+    assert "Traceback" not in err and f"wrote {out}" in err
+    assert out.is_file() and (tmp_path / "a.json").is_file() and not png.exists()
+    assert [p for p in tmp_path.rglob(".*")] == []

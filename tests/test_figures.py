@@ -168,3 +168,31 @@ def test_render_meshes_draws_each_mesh_view_as_a_panel(tmp_path, monkeypatch):
     red = (rgb[..., 0] > 150) & (rgb[..., 1] < 90) & (rgb[..., 2] < 90)
     assert orange[:, 200:].sum() > 100 and orange[:, :200].sum() < 10  # highlight: right only
     assert red[:, :200].sum() > 20  # the loop: left
+
+
+def _long_thin_tube(length: float = 50.0, radius: float = 0.2, sides: int = 6):
+    """A hexagonal tube one face long, capped at its far end and open at z = 0: its loop
+    of ``sides`` edges is a hole whose every face reaches ``length`` away (an ant's leg in
+    PyVista's ``ant.ply``, a thin part's end)."""
+    angle = 2 * np.pi * np.arange(sides) / sides
+    ring = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), np.zeros(sides)])
+    v = np.vstack([ring, ring + [0, 0, length], [[0, 0, length]]])
+    k, nxt = np.arange(sides), (np.arange(sides) + 1) % sides
+    f = np.vstack([np.column_stack([k, nxt, sides + nxt]),
+                   np.column_stack([k, sides + nxt, sides + k]),
+                   np.column_stack([sides + k, sides + nxt, np.full(sides, 2 * sides)])])
+    return v, f
+
+
+def test_a_hole_whose_faces_all_reach_far_is_drawn_with_its_loop(tmp_path):
+    # PyVista's ant: `fill --png` failed with IndexError (no face of the hole's close-up
+    # was near enough, its loop's ids -1) and `batch --png` drew no picture
+    v, f = _long_thin_tube()
+    result = fill_holes(v, f, method="fair")
+    assert [r.n_edges for r in result.reports if not r.skipped] == [6]
+    loop = result.reports[0].loop
+    view = close_up(v, f, loop, frame_hole(v, f, loop))
+    assert (view.loops[0] >= 0).all()
+    np.testing.assert_array_equal(view.vertices[view.loops[0]], v[loop])
+    path = before_after(v, f, result, tmp_path / "tube.png")
+    assert path.stat().st_size > 0

@@ -83,6 +83,7 @@ def test_the_quick_start_python_block_runs_as_written(bundled, capsys):
     written = surfinpaint.read_mesh_data("filled.ply")
     assert written.vertices.shape == filled.vertices.shape
     assert not surfinpaint.find_holes(written.vertices, written.faces)
+    assert Path("before_after.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_fill_holes_takes_a_trimesh_and_a_polydata_and_gives_them_back(bundled):
@@ -118,6 +119,11 @@ def test_fill_holes_takes_a_trimesh_and_a_polydata_and_gives_them_back(bundled):
     assert {"merge_tex", "merge_norm"} <= set(
         inspect.signature(trimesh.Trimesh.merge_vertices).parameters)
     assert "mesh.merge_vertices(merge_tex=True, merge_norm=True)" in paragraph
+    # the picture, in a notebook: the paragraph's call, on the PolyData's own arrays
+    assert "`surfinpaint.before_after_figure(mesh.vertices, mesh.faces, result)`" in paragraph
+    figure = surfinpaint.before_after_figure(polydata.points, polydata.regular_faces, result)
+    # the whole mesh before and after, and each of its 2 holes before and after
+    assert type(figure).__name__ == "Figure" and len(figure.axes) == 6
 
 
 def test_the_representation_commands_run_as_written(bundled, capsys):

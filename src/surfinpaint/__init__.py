@@ -28,6 +28,8 @@ _EXPORTS = {
     "FileRow": "surfinpaint.app.batch",
     "FileRows": "surfinpaint.app.batch",
     "fill_files": "surfinpaint.app.batch",
+    "before_after": "surfinpaint.app.figures",
+    "before_after_figure": "surfinpaint.app.figures",
     "FillError": "surfinpaint.errors",
     "HoleWarning": "surfinpaint.errors",
     "MeshError": "surfinpaint.errors",

@@ -57,10 +57,11 @@ def run_batch(args: argparse.Namespace) -> int:
         # a run of hours is said then, not at the end
         with progress_bar(out.progress, None, "files") as bar, out.above(bar), \
                 _warned_now(out):
+            logged = _LoggedRows(out, bar)
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
                                     overwrite=args.overwrite, png=args.png, overlays=overlays,
-                                    progress=bar.update if out.progress else None,
-                                    on_result=lambda row: _say_row(out, row, args.output),
+                                    progress=logged.update if out.progress else None,
+                                    on_result=lambda row: logged.say(row, args.output),
                                     **options)
     except (Interrupted, KeyboardInterrupt) as exc:
         said = _STOPPED[2 if getattr(exc, "while_listing", False) else client is not None]
@@ -112,6 +113,32 @@ def _say_row(out: QuietConsole, row: batch.FileRow, out_dir: str) -> None:
         written = _written_for(out_dir, row)
         for text in row.message.split(batch.MESSAGE_SEPARATOR):
             out.warn(warning_line(text, row.path, other_files=written))
+
+
+class _LoggedRows:
+    """``fill_files``' ``progress`` and ``on_result`` for the bar ``bar``: each file's
+    problems as it finishes (:func:`_say_row`), and where stderr is no terminal (a log of an
+    overnight run, where rich draws the bar once, at the end) a line per file done too, so
+    the log shows how far the run is: ``3/40 scans/a.ply: filled, 2 of 2 holes, 1.2 s``."""
+
+    def __init__(self, out: QuietConsole, bar) -> None:
+        self.out, self.bar, self.done, self.total = out, bar, 0, None
+        self.log = bar.console is not None and not bar.console.is_terminal
+
+    def update(self, done: int, total: int, message: str) -> None:
+        self.total = total
+        self.bar.update(done, total, message)
+
+    def say(self, row: batch.FileRow, out_dir: str) -> None:
+        from rich.markup import escape
+
+        _say_row(self.out, row, out_dir)
+        self.done += 1
+        if self.log and row.status != "failed":  # a failed file's error said it
+            holes = (f", {row.holes_filled} of {how_many(row.holes_found, 'hole', 'holes')}"
+                     if row.holes_found else "")
+            self.out.say(f"{self.done}/{self.total or '?'} {escape(row.path)}: {row.status}"
+                         f"{holes}, {row.seconds:.1f} s")
 
 
 def _written_for(out_dir: str, row: batch.FileRow) -> dict[str, str]:

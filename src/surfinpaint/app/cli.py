@@ -18,6 +18,8 @@ import warnings
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
+import numpy as np
+
 from surfinpaint import __version__
 from surfinpaint.app.batch_command import add_batch_parser
 from surfinpaint.app.fill_options import UsageError as _UsageError
@@ -56,7 +58,7 @@ from surfinpaint.app.progress import (
     progress_bar,
 )
 from surfinpaint.app.represent_commands import add_representation_parsers
-from surfinpaint.errors import InputError, MeshError, how_many, mesh_size
+from surfinpaint.errors import InputError, MeshError, agreeing, how_many, mesh_size, preview
 from surfinpaint.fill import warmup
 from surfinpaint.fill.holes import (
     warn_degenerate,
@@ -112,6 +114,8 @@ def _progress(enabled: bool, what: str = "filling") -> Iterator:
 def cmd_holes(args: argparse.Namespace) -> int:
     vertices, faces = read_mesh(args.mesh, data_warning=False)  # it only lists the holes
     title = f"{args.mesh}: {mesh_size(len(vertices), len(faces))}"
+    if len(unused := _on_no_face(len(vertices), faces)):  # the vertices' count, then this
+        title = title.replace(", ", f" ({len(unused)} on no face), ", 1)
     if args.repair:
         repair = repair_faces(vertices, faces)
         faces = repair.faces
@@ -153,6 +157,12 @@ def cmd_fill(args: argparse.Namespace) -> int:
         removed = how_many(len(result.removed_faces), "face", "faces")
         say(f"--repair removed {removed} around non-manifold "
             "edges and bow-tie vertices; the holes they left were filled too")
+    if len(unused := _on_no_face(len(vertices), result.faces)):
+        k = len(unused)
+        say(f"{how_many(k, 'vertex', 'vertices')} of the input {agreeing(k, 'lies', 'lie')} "
+            f"on no face ({preview(unused.tolist(), 5)}): kept at "
+            f"{agreeing(k, 'its id', 'their ids')}, with {agreeing(k, 'its', 'their')} "
+            "values, on no face of the output either (a fill adds vertices of its own)")
     if not result.reports:
         # a closed surface has no outer border to speak of (fsaverage's pial surface)
         why = nothing_to_fill(result.faces, keep_margins=args.keep_margins)
@@ -167,13 +177,25 @@ def cmd_fill(args: argparse.Namespace) -> int:
     if carried and len(result.vertices) > len(vertices):
         say(f"attributes filled in at the new vertices and faces: {', '.join(carried)}")
     if args.png:
-        figures.before_after(vertices, faces, result, args.png)
-        say(f"wrote {args.png}")
+        try:
+            figures.before_after(vertices, faces, result, args.png)
+            say(f"wrote {args.png}")
+        except Exception as exc:  # as in a batch: a warning, the mesh is written
+            warnings.warn(f"{args.png}: picture not drawn: {type(exc).__name__}: {exc}",
+                          MeshWarning, stacklevel=1)
     # the overlays beside a brain surface are files of their own: each is named
     written = [str(args.output), *(str(p) for p in files_written(args.output, filled)[1:]),
                *map(str, materials)]
     say(f"wrote {', '.join(written)}" + (f" and {args.json}" if args.json else ""))
     return EXIT_OK
+
+
+def _on_no_face(n: int, faces: np.ndarray) -> np.ndarray:
+    """The ids below ``n`` that no face uses: a brain lab that cut a region's faces keeps
+    its vertices (and their overlay values) at their ids, in the hole, on no face."""
+    used = np.zeros(max(n, int(faces.max(initial=-1)) + 1), bool)
+    used[faces.ravel()] = True
+    return np.flatnonzero(~used[:n])
 
 
 def _overlays(args: argparse.Namespace) -> bool | list:
@@ -286,10 +308,13 @@ def _add_fill_parser(sub) -> None:
     p.add_argument("--overlay", action="append", metavar="FILE",
                    help="a per-vertex overlay of a GIFTI or FreeSurfer surface, filled in at "
                    "the new vertices and written beside OUT (a GIFTI data file such as "
-                   "nilearn's sulc_left.gii.gz, or a FreeSurfer morphometry file; repeat for "
-                   "more); the overlays named after the surface (SURFACE.NAME.shape.gii, "
-                   "lh.sulc beside lh.pial, ...) are read without it")
-    p.add_argument("--png", help="also write a before/after picture")
+                   "nilearn's sulc_left.gii.gz, or a FreeSurfer morphometry file; a "
+                   "segmentation, .label.gii, .annot or .label, is filled as labels and "
+                   "written as .label.gii; repeat for more); the overlays named after the "
+                   "surface (SURFACE.NAME.shape.gii, lh.sulc beside lh.pial, ...) are read "
+                   "without it")
+    p.add_argument("--png", help="also write a before/after picture (one that cannot be "
+                   "drawn is a warning; the mesh is still written)")
     p.add_argument("--json", metavar="REPORT",
                    help="also write the report as JSON: per hole what was written and the "
                    "self-check's scores, the summary, the warnings, the options and the "

@@ -309,8 +309,8 @@ def close_up(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, frame: H
     (they would hide the hole or its fill: another bank of a sulcus, an overhang) or behind
     (they would show through the hole), except the rim's own faces (those touching the
     loop's one-ring), which belong to the picture even where the surface folds under the
-    loop. ``patch`` (faces over ``vertices``, e.g. a fill's
-    new faces) is kept whole and highlighted.
+    loop, and the faces on the loop itself, however far they reach. ``patch`` (faces over
+    ``vertices``, e.g. a fill's new faces) is kept whole and highlighted.
 
     Returns
     -------
@@ -332,7 +332,10 @@ def close_up(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, frame: H
     near = (np.linalg.norm(vertices - frame.centre, axis=1) <= 2.5 * aspect * h)[faces].all(1)
     rim = k_ring(faces, loop, 1, len(vertices))[faces].any(axis=1)
     over_hole = Outline(uv[loop]).contains_points(centres) & ~rim
-    kept = faces[in_picture & near & ~over_hole]
+    # the faces on the loop always: long ones (a thin tube's end) reach out of the ball,
+    # and without them the loop's vertices would have no place in the view
+    on_loop = np.isin(faces, loop).any(axis=1)
+    kept = faces[(in_picture & near & ~over_hole) | on_loop]
     _, label = connected_components(kept, len(vertices))
     kept = kept[np.isin(label[kept[:, 0]], label[loop])]
     highlight = None

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
+from surfinpaint.errors import how_many
 from surfinpaint.fill.objects import to_pyvista, to_trimesh
 
 if TYPE_CHECKING:
@@ -411,6 +412,20 @@ class FillResult:
     #: arrays: :func:`surfinpaint.fill.objects.display_of`), given back by ``to_trimesh`` and
     #: ``to_pyvista``
     display: dict[str, object] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        # a notebook shows this for `result`: the counts, not pages of arrays
+        outcomes: dict[str, int] = {}
+        for report in self.reports:
+            outcomes[report.outcome] = outcomes.get(report.outcome, 0) + 1
+        said = ", ".join(f"{n} {outcome}" for outcome, n in outcomes.items()) or "none"
+        extra = {"attributes": list(self.attributes),
+                 "face_attributes": list(self.face_attributes)}
+        return (f"FillResult({len(self.vertices)} vertices "
+                f"({len(self.vertices) - self.n_original_vertices} new), {len(self.faces)} "
+                f"faces ({len(self.faces) - self.n_original_faces} new), "
+                f"{how_many(len(self.reports), 'hole', 'holes')}: {said}"
+                + "".join(f", {k}={v}" for k, v in extra.items() if v) + ")")
 
     @property
     def new_faces(self) -> np.ndarray:

@@ -1,8 +1,8 @@
 """Brain surfaces: GIFTI (``.gii``, ``.gii.gz``) and FreeSurfer geometry files, via nibabel,
 with their per-vertex overlays (GIFTI ``.shape.gii`` / ``.func.gii`` / ``.label.gii``,
-FreeSurfer ``curv``, ``thickness``, ``sulc``, ... and, when given, ``.annot``) read beside the
-surface and written beside the output; a segmentation's label table and a GIFTI pointset's
-coordinate system are kept in the metadata and written back.
+FreeSurfer ``curv``, ``thickness``, ``sulc``, ... and, when given, ``.annot`` and ``.label``)
+read beside the surface and written beside the output; a segmentation's label table and a
+GIFTI pointset's coordinate system are kept in the metadata and written back.
 
 nibabel is imported inside the functions: it is needed only when such files are used. The
 header checks each reader makes first are :mod:`surfinpaint.io.brain_checks`'s (those public
@@ -33,6 +33,7 @@ from surfinpaint.io.brain_checks import (
     gifti_arrays,
     gifti_inflate,
     gifti_xml,
+    label_file,
     overlay_errors,
     overlay_header,
 )
@@ -50,6 +51,10 @@ _GIFTI_DATA = (*OVERLAY_SUFFIXES, ".gii.gz", ".gii")
 #: red, green, blue, alpha]``, colours 0..1): the overlay is a segmentation, filled as labels
 #: and written as ``.label.gii`` with its table.
 LABEL_TABLE = "labels."
+#: Metadata key prefix of what a GIFTI data overlay holds besides its numbers (``gifti.NAME``:
+#: JSON ``{"kind": "func" or "shape", "meta": {...}, "arrays": [{"intent": code, "meta":
+#: {...}}, ...]}``: its file's and arrays' metadata, a ``.func.gii``'s intents), written back.
+GIFTI_OVERLAY = "gifti."
 #: Metadata key of a GIFTI pointset's coordinate system (JSON: dataspace, xformspace, xform).
 COORDINATE_SYSTEM = "coordsys"
 
@@ -242,7 +247,7 @@ def overlay_name(overlay: Path, surface: Path | None = None) -> str:
     """The attribute name of an overlay file: ``lh.pial.thickness.shape.gii`` beside
     ``lh.pial.gii`` -> ``thickness``; ``lh.curv`` -> ``curv``."""
     name = overlay.name
-    for suffix in (*_GIFTI_DATA, ".annot"):
+    for suffix in (*_GIFTI_DATA, ".annot", ".label"):
         if name.lower().endswith(suffix):
             name = name[:-len(suffix)]
             break
@@ -293,6 +298,40 @@ def _read_annot(p: Path) -> tuple[np.ndarray, str, list[str]]:
         ~found & (values != 0)])
 
 
+def _gifti_record(p: Path, image) -> str | None:
+    """A GIFTI data overlay's :data:`GIFTI_OVERLAY` JSON, or None where it holds nothing but
+    its numbers (no metadata, every array's intent the one it is written with)."""
+    kind = "func" if p.name.lower().endswith(".func.gii") else "shape"
+    arrays = [{"intent": int(a.intent), "meta": dict(a.meta)} for a in image.darrays]
+    plain = (1002, 2005)  # NIFTI_INTENT_LABEL, NIFTI_INTENT_SHAPE: what the writers use
+    if kind == "shape" and not image.meta and all(
+            not a["meta"] and a["intent"] in plain for a in arrays):
+        return None
+    return json.dumps({"kind": kind, "meta": dict(image.meta), "arrays": arrays})
+
+
+def _read_label(p: Path, n: int, name: str) -> tuple[np.ndarray, str, list[str]]:
+    """A FreeSurfer ``.label`` file as a segmentation of a surface of ``n`` vertices: 1 at
+    the vertices it lists, 0 elsewhere, its table (0, 1 ``name``) as
+    :data:`LABEL_TABLE` JSON (0 named "unknown", as in FreeSurfer's tables: nibabel reads
+    a GIFTI label without a name as one without a ``label``), and a note when its value
+    column, not read, holds values."""
+    data = p.read_bytes()
+    if not data:
+        overlay_header(p, data, 0)  # the words every reader says of an empty overlay
+    ids, stats = label_file(data)
+    if len(ids) and ids.max() >= n:
+        out = np.unique(ids[ids >= n])
+        raise MeshError(f"label lists {how_many(len(out), 'vertex', 'vertices')} the surface "
+                        f"does not have ({preview(out.tolist(), 5)}; it has {n} vertices)")
+    values = np.zeros(n, np.int32)
+    values[ids] = 1
+    notes = [f"overlay {p.name}: its value column (not all 0) is not read: the label is 1 at "
+             "the vertices it lists, 0 elsewhere"] if stats.any() else []
+    table = [[0, "unknown", 0.0, 0.0, 0.0, 0.0], [1, name, 1.0, 1.0, 1.0, 1.0]]
+    return values, json.dumps(table), notes
+
+
 def _unknown_labels(p: Path, values: np.ndarray) -> list[str]:
     """The note on an ``.annot``'s vertices whose label values (``values``) its colour
     table does not hold: each value (its red, green, blue) and on how many vertices."""
@@ -310,9 +349,9 @@ def _unknown_labels(p: Path, values: np.ndarray) -> list[str]:
 def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
                   guessed: Sequence[Path] = ()
                   ) -> tuple[dict[str, np.ndarray], dict[str, str], list[str]]:
-    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry and
-    ``.annot`` files), the label tables of the segmentations among them (metadata
-    ``labels.NAME``, :data:`LABEL_TABLE`), and what they hold that is not kept as read (a
+    """Per-vertex arrays from overlay files (GIFTI data files, FreeSurfer morphometry,
+    ``.annot`` and ``.label`` files), the label tables of the segmentations among them
+    (metadata ``labels.NAME``, :data:`LABEL_TABLE`), and what they hold that is not kept as read (a
     second overlay of the same name, kept under its file name; an overlay of ``guessed``
     without ``n`` values, not read: :func:`subject_overlays` of the surface, which may
     belong to another surface).
@@ -328,7 +367,7 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
     out, tables, dropped = {}, {}, []
     for p in files:
         p = Path(p)
-        table, notes = None, []
+        table, notes, record = None, [], None
         with overlay_errors(p):
             if p.name.lower().endswith((".gii", ".gii.gz")):
                 xml = gifti_inflate(p.read_bytes())
@@ -337,6 +376,9 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
                 arrays = [np.asarray(a.data) for a in image.darrays]
                 values = arrays[0] if len(arrays) == 1 else np.column_stack(arrays)
                 table = _gifti_label_table(image) if values.ndim == 1 else None
+                record = _gifti_record(p, image)
+            elif p.name.lower().endswith(".label"):
+                values, table, notes = _read_label(p, n, overlay_name(p, surface))
             else:
                 check_overlay(p)
                 values, table, notes = (
@@ -363,6 +405,8 @@ def read_overlays(files: Sequence[Path], n: int, surface: Path | None = None, *,
         dropped += notes
         if table is not None:
             tables[LABEL_TABLE + name] = table
+        if record is not None:
+            tables[GIFTI_OVERLAY + name] = record
     return out, tables, dropped
 
 
@@ -395,17 +439,24 @@ def unstored_brain(mesh: MeshData) -> list[str]:
 
 
 def unstored_freesurfer(mesh: MeshData) -> list[str]:
-    """What a FreeSurfer surface and its overlays cannot store."""
+    """What a FreeSurfer surface and its overlays cannot store: a GIFTI overlay's metadata
+    where it becomes a morphometry file."""
+    morph = [k for k, a in _writable(mesh).items()
+             if a.ndim == 1 and LABEL_TABLE + k not in mesh.metadata]
     return unstored_brain(mesh) + [f"metadata {k!r} is not stored in a FreeSurfer surface"
                                    for k in mesh.metadata
                                    if k not in ("create_stamp", "volume_info")
-                                   and not k.startswith(LABEL_TABLE)]
+                                   and not k.startswith((LABEL_TABLE, GIFTI_OVERLAY))] + [
+        f"overlay {k!r}: its GIFTI metadata is not stored in a FreeSurfer morphometry file"
+        for k in morph if GIFTI_OVERLAY + k in mesh.metadata]
 
 
 def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Callable]]:
     """The overlay files written beside a surface, each as (path, write(handle)).
 
-    GIFTI: ``BASE.NAME.shape.gii`` (``BASE``: the output's name without ``.gii``/``.gii.gz``);
+    GIFTI: ``BASE.NAME.shape.gii`` (``BASE``: the output's name without ``.gii``/``.gii.gz``;
+    an overlay read from a ``.func.gii``: ``BASE.NAME.func.gii``; each GIFTI file with the
+    metadata and intents it was read with, :data:`GIFTI_OVERLAY`);
     FreeSurfer: ``OUT.NAME`` morphometry files (float32) for 1-D arrays, ``OUT.NAME.shape.gii``
     for arrays of several columns. Float arrays are stored as float32, integers as int32.
     A segmentation (an attribute with a label table in the metadata, :data:`LABEL_TABLE`)
@@ -415,33 +466,49 @@ def overlay_outputs(path: Path, mesh: MeshData, fmt: str) -> list[tuple[Path, Ca
     out = []
     for name, a in _writable(mesh).items():
         table = mesh.metadata.get(LABEL_TABLE + name)
+        record = json.loads(mesh.metadata.get(GIFTI_OVERLAY + name, "{}"))
         name = _safe(name)
         if table is not None and a.ndim == 1 and a.dtype.kind in "iub":
             base = path.name if fmt == "freesurfer" else surface_base(path)
-            out.append((path.with_name(f"{base}.{name}.label.gii"), _label_writer(a, table)))
+            out.append((path.with_name(f"{base}.{name}.label.gii"),
+                        _label_writer(a, table, record)))
         elif fmt == "freesurfer" and a.ndim == 1:
             out.append((path.with_name(f"{path.name}.{name}"), _morph_writer(a)))
         else:
             base = path.name if fmt == "freesurfer" else surface_base(path)
-            out.append((path.with_name(f"{base}.{name}.shape.gii"), _shape_writer(a)))
+            kind = record.get("kind", "shape")
+            out.append((path.with_name(f"{base}.{name}.{kind}.gii"), _shape_writer(a, record)))
     return out
 
 
-def _shape_writer(a: np.ndarray) -> Callable:
+def _as_read(record: dict, n_arrays: int, intent: str) -> tuple[dict, list[dict]]:
+    """A :data:`GIFTI_OVERLAY` record's file metadata and, when it has ``n_arrays``, its
+    arrays' intents and metadata (else ``intent`` and none)."""
+    arrays = record.get("arrays", [])
+    if len(arrays) != n_arrays:
+        arrays = [{"intent": intent, "meta": {}}] * n_arrays
+    return record.get("meta", {}), arrays
+
+
+def _shape_writer(a: np.ndarray, record: dict) -> Callable:
+    """Writes ``a`` as a GIFTI data file, an array a column, each with its intent and
+    metadata as read (:data:`GIFTI_OVERLAY` ``record``), else ``NIFTI_INTENT_SHAPE``."""
     def write(fh) -> None:
         import nibabel as nib
 
         columns = [a] if a.ndim == 1 else [a[:, k] for k in range(a.shape[1])]
+        meta, read = _as_read(record, len(columns), "NIFTI_INTENT_SHAPE")
         arrays = []
-        for c in columns:
+        for c, r in zip(columns, read, strict=True):
             values, dtype = _gifti_type(np.ascontiguousarray(c))
-            arrays.append(nib.gifti.GiftiDataArray(values, intent="NIFTI_INTENT_SHAPE",
-                                                   datatype=dtype))
-        fh.write(nib.gifti.GiftiImage(darrays=arrays).to_bytes())
+            arrays.append(nib.gifti.GiftiDataArray(values, intent=r["intent"], datatype=dtype,
+                                                   meta=nib.gifti.GiftiMetaData(r["meta"])))
+        fh.write(nib.gifti.GiftiImage(darrays=arrays,
+                                      meta=nib.gifti.GiftiMetaData(meta)).to_bytes())
     return write
 
 
-def _label_writer(a: np.ndarray, table: str) -> Callable:
+def _label_writer(a: np.ndarray, table: str, record: dict) -> Callable:
     def write(fh) -> None:
         import nibabel as nib
 
@@ -450,9 +517,12 @@ def _label_writer(a: np.ndarray, table: str) -> Callable:
             label = nib.gifti.GiftiLabel(key, *rgba)
             label.label = text
             labels.labels.append(label)
+        meta, (read,) = _as_read(record, 1, "NIFTI_INTENT_LABEL")
         values = nib.gifti.GiftiDataArray(a.astype(np.int32), intent="NIFTI_INTENT_LABEL",
-                                          datatype="NIFTI_TYPE_INT32")
-        fh.write(nib.gifti.GiftiImage(darrays=[values], labeltable=labels).to_bytes())
+                                          datatype="NIFTI_TYPE_INT32",
+                                          meta=nib.gifti.GiftiMetaData(read["meta"]))
+        fh.write(nib.gifti.GiftiImage(darrays=[values], labeltable=labels,
+                                      meta=nib.gifti.GiftiMetaData(meta)).to_bytes())
     return write
 
 
@@ -468,7 +538,8 @@ def gifti_bytes(mesh: MeshData) -> bytes:
     import nibabel as nib
 
     meta = {k: v for k, v in mesh.metadata.items()
-            if not k.startswith(("pointset.", LABEL_TABLE)) and k != COORDINATE_SYSTEM}
+            if not k.startswith(("pointset.", LABEL_TABLE, GIFTI_OVERLAY))
+            and k != COORDINATE_SYSTEM}
     point_meta = {k[len("pointset."):]: v for k, v in mesh.metadata.items()
                   if k.startswith("pointset.")}
     coordsys = None

@@ -1,9 +1,10 @@
 """The header checks of brain surfaces and their overlays (GIFTI, FreeSurfer surfaces,
-morphometry and ``.annot`` files): the first step of each reader of
+morphometry, ``.annot`` and ``.label`` files): the first step of each reader of
 :mod:`surfinpaint.io.brain`, which calls them before nibabel, and the whole of ``batch``'s
 pre-flight of such a file (:func:`surfinpaint.io.formats.check_file`, :func:`check_overlay`),
 which gives them the file's first bytes (a GIFTI file: all of it, for its end and its data;
-an ``.annot``: its colour table too): the check and the reader say the same words.
+an ``.annot``: its colour table too; a ``.label``: all of it): the check and the reader say
+the same words.
 """
 
 from __future__ import annotations
@@ -19,12 +20,15 @@ import zlib
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
+
 from surfinpaint.errors import MeshError, MissingFileError
 from surfinpaint.io.base import describe
 
 __all__ = ["ANNOT_TABLE_MAX", "FREESURFER_MAGIC", "MORPH_MAGIC", "annot_header",
            "annot_table", "check_overlay", "freesurfer_header", "gifti_arrays", "gifti_header",
-           "gifti_inflate", "gifti_xml", "morph_header", "overlay_errors", "overlay_header"]
+           "gifti_inflate", "gifti_xml", "label_file", "morph_header", "overlay_errors",
+           "overlay_header"]
 
 FREESURFER_MAGIC = b"\xff\xff\xfe"
 MORPH_MAGIC = b"\xff\xff\xff"
@@ -218,6 +222,31 @@ def morph_header(head: bytes, size: int) -> None:
                         f"the file has {size})")
 
 
+def label_file(data: bytes) -> tuple[np.ndarray, np.ndarray]:
+    """The vertex numbers and values of a FreeSurfer ``.label`` file (all of it: a comment
+    line, the vertex count, then ``vertex x y z value`` per line, as ``mri_label2label`` and
+    nibabel's ``read_label`` have them); raise where it is not one, or lists another number
+    of vertices than its count announces (a file cut short)."""
+    lines = data.decode("utf-8", "replace").splitlines()
+    count = lines[1].strip() if len(lines) > 1 else ""
+    if not count.isdigit():
+        raise MeshError("not a FreeSurfer label (its second line should be its vertex count, "
+                        f"it reads {count[:24]!r})")
+    fields = " ".join(lines[2:]).split()
+    if len(fields) != 5 * int(count):
+        raise MeshError(f"FreeSurfer label is truncated, or not one: its header announces "
+                        f"{count} vertices (5 numbers each), {len(fields)} numbers follow")
+    try:
+        rows = np.array(fields, dtype=float).reshape(-1, 5)
+    except ValueError:
+        raise MeshError("FreeSurfer label: not every entry is a number") from None
+    ids = rows[:, 0]
+    if len(ids) and ((ids < 0).any() or (ids != np.round(ids)).any()):
+        raise MeshError("FreeSurfer label: a vertex number is not a whole number >= 0: "
+                        f"{ids[(ids < 0) | (ids != np.round(ids))][0]:g}")
+    return ids.astype(np.int64), rows[:, 4]
+
+
 def annot_header(head: bytes, size: int) -> int:
     """Raise for a FreeSurfer ``.annot`` file of ``size`` bytes starting with ``head`` (its
     first 4 bytes or more) too short for what its header announces: its vertex count
@@ -329,6 +358,8 @@ def overlay_header(p: Path, head: bytes, size: int, arrays: bool = True) -> None
         gifti_header(head, arrays)
     elif name.endswith(".annot"):
         annot_header(head, size)
+    elif name.endswith(".label"):
+        label_file(head)
     else:
         morph_header(head, size)
 
@@ -337,13 +368,14 @@ def check_overlay(path: str | Path) -> None:
     """Raise the :class:`MeshError` :func:`~surfinpaint.io.brain.read_overlays` raises
     first for the overlay file ``path``, word for word, when it is missing, unreadable,
     empty, its header is bad (from its first 8 KiB), an ``.annot``'s colour table is
-    (:func:`annot_table`, read from where it starts), or a GIFTI file, read whole, is
+    (:func:`annot_table`, read from where it starts), a ``.label``, read whole, is no label
+    (:func:`label_file`), or a GIFTI file, read whole, is
     truncated or its data corrupt (:func:`gifti_header`): ``batch``'s pre-flight; not
     whether it has one value per vertex."""
     p = Path(path)
     name = p.name.lower()
     with overlay_errors(p), open(p, "rb") as fh:
-        head = fh.read(-1 if name.endswith((".gii", ".gii.gz")) else 1 << 13)
+        head = fh.read(-1 if name.endswith((".gii", ".gii.gz", ".label")) else 1 << 13)
         size = os.fstat(fh.fileno()).st_size
         overlay_header(p, head, size)
         if name.endswith(".annot"):
