@@ -58,7 +58,7 @@ ALL_METHODS = ("fair", "fair1", "fair3", "conformal", "conformal_raw", "conforma
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
                "conformal_signif", "conformal_nosignif", "conformal_sfair35", "conformal_sfair40",
-               "conformal_sfauto", "conventional", "cgal", "cgal3",
+               "conformal_sfauto", "conformal_nosmooth", "conventional", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # a row's note where the plane test laid the faired fill on the plane (no self-check ran)
@@ -90,7 +90,8 @@ CONFORMAL_VARIANTS = {
     "conformal_sfair40": {"fair_smoothing": 0.4},
     # ... where a truth-free noise estimate says the hole's surroundings are a noisy scan's
     # (docs/candidates.md, "Session 45 (helper)")
-    "conformal_sfauto": {"fair_smoothing": "auto"},
+    "conformal_sfauto": {"fair_smoothing": "auto"},  # the default since session 45
+    "conformal_nosmooth": {"fair_smoothing": None},  # the default before session 45
 }
 
 
