@@ -113,3 +113,41 @@ def test_smoothing_for_hole_passes_numbers_through_and_refuses_other_words():
     assert smoothing_for_hole(cut.vertices, cut.faces, cut.loop, None) is None
     with pytest.raises(ValueError, match="auto"):
         smoothing_for_hole(cut.vertices, cut.faces, cut.loop, "always")
+
+
+@pytest.mark.parametrize("noisy", [_noisy_plane, _noisy_sphere])
+def test_the_estimate_reads_only_the_faces_near_the_hole_and_gives_the_whole_meshs_numbers(
+        noisy):
+    # the fits, normals and edges of the measured vertices from the faces within rings + 2
+    # of the loop: bit for bit what the whole mesh's faces give (the region's cost only)
+    from surfinpaint.geometry import surface_noise as sn
+    from surfinpaint.geometry.mesh import faces_near, k_ring
+
+    cut = noisy(1)
+    n = len(cut.vertices)
+    measured = k_ring(cut.faces, cut.loop, 3, n)
+    measured[cut.loop] = False
+    ids = np.flatnonzero(measured)
+    region = faces_near(cut.faces, cut.loop, 3 + 2, n)
+    assert len(region) < len(cut.faces)
+    for rings in (2, 3):
+        whole = sn._left_out_residuals(cut.vertices, cut.faces, ids, rings)
+        assert np.array_equal(sn._left_out_residuals(cut.vertices, region, ids, rings), whole,
+                              equal_nan=True)
+    kept = np.isfinite(whole)
+    assert sn._edge_correlation(region, ids[kept], whole[kept], n) == \
+        sn._edge_correlation(cut.faces, ids[kept], whole[kept], n)
+    # one ring fewer in the region loses faces the 3-ring fits need: the test can fail
+    short = faces_near(cut.faces, cut.loop, 3, n)
+    assert not np.array_equal(sn._left_out_residuals(cut.vertices, short, ids, 3),
+                              sn._left_out_residuals(cut.vertices, cut.faces, ids, 3),
+                              equal_nan=True)
+
+
+def test_without_the_wide_fits_the_estimate_is_the_same_but_for_them():
+    cut = _noisy_sphere(2)
+    full = surface_noise(cut.vertices, cut.faces, cut.loop)
+    narrow = surface_noise(cut.vertices, cut.faces, cut.loop, wide=False)
+    assert (narrow.sigma, narrow.edge, narrow.correlation, narrow.vertices) == \
+        (full.sigma, full.edge, full.correlation, full.vertices)
+    assert np.isfinite(full.wide_sigma) and np.isnan(narrow.wide_sigma)

@@ -215,10 +215,14 @@ def smoothing_for_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray
     if smoothing != "auto":
         raise ValueError(f"smoothing must be a positive number, 'auto' or None, got "
                          f"{smoothing!r}")
+    # the 3-ring fits only where the 2-ring ones already read as noise (most clean holes
+    # stop here: a default fill's cost on them, session 45)
+    noise = surface_noise(vertices, faces, loop, rings=NOISE_RINGS, wide=False)
+    if not (NOISY_SIGMA <= noise.relative <= NOISY_SIGMA_MAX
+            and noise.correlation <= NOISY_CORRELATION):
+        return None
     noise = surface_noise(vertices, faces, loop, rings=NOISE_RINGS)
-    noisy = (NOISY_SIGMA <= noise.relative <= NOISY_SIGMA_MAX
-             and noise.correlation <= NOISY_CORRELATION and noise.scale_ratio <= NOISY_SCALE)
-    return AUTO_SMOOTHING if noisy else None
+    return AUTO_SMOOTHING if noise.scale_ratio <= NOISY_SCALE else None
 
 
 def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
