@@ -53,8 +53,9 @@ from surfinpaint.geometry.metrics import hole_patch_of, surface_distance
 sys.path.insert(0, str(Path(__file__).parent))
 import peers  # noqa: E402
 
-ALL_METHODS = ("fair", "fair1", "fair3", "conformal", "conformal_raw", "conformal_smooth",
-               "conformal_grid", "conformal_grid_raw", "conformal_cdt", "conformal_cdt_raw",
+ALL_METHODS = ("fair", "fair1", "fair3", "fair_sfauto", "conformal", "conformal_raw",
+               "conformal_smooth", "conformal_grid", "conformal_grid_raw", "conformal_cdt",
+               "conformal_cdt_raw",
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
                "conformal_signif", "conformal_nosignif", "conformal_sfair35", "conformal_sfair40",
@@ -278,12 +279,12 @@ def _run_conventional(vertices, faces, loop):
 
 
 def _run_faired(vertices, faces, loop, order: int, search: str = "delaunay",
-                refinement: str = "liepa"):
+                refinement: str = "liepa", smoothing: float | str | None = None):
     from surfinpaint.fill.liepa.baseline import faired_fills
 
     t0 = time.perf_counter()
     nv, nf, _ = faired_fills(vertices, faces, loop, (order,), search=search,
-                             refinement=refinement)[order]
+                             refinement=refinement, smoothing=smoothing)[order]
     dt = time.perf_counter() - t0
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
@@ -299,6 +300,9 @@ def run_method(method: str, vertices, faces, loop):
         return _run_ours("fair", vertices, faces, loop, fair_order=3)
     if method == "fair1":  # harmonic (membrane) fairing: positions only, no ring slopes
         return _run_ours("fair", vertices, faces, loop, fair_order=1)
+    if method == "fair_sfauto":  # the default's bilaplacian candidate, as its self-check
+        # sees it: smoothed where the noise gate opens (session 45), else the `fair` column's
+        return _run_faired(vertices, faces, loop, 2, smoothing="auto")
     if method == "conventional":
         return _run_conventional(vertices, faces, loop)
     if method in ("fair_cdt", "fair3_cdt"):  # the faired candidates of conformal_cdt

@@ -60,3 +60,29 @@ def test_a_file_without_the_peers_rows_gives_no_peer_measures():
     assert hl["worst_mesh_vs_fair"] == ("a", pytest.approx(1.75))
     text = validation.report(rows, [m for m in METHODS if m != "cgal"], "tuning")
     assert "no peers' rows" in text and "1.750 (a)" in text
+
+
+def test_the_chooser_scores_the_smoothed_bilaplacian_candidate_when_its_column_is_there():
+    # hole ("a", 1): the default wrote the smoothed fair2 (0.9), closer than the plain `fair`
+    # column (1.0): the best of its candidates, scored against fair_sfauto; scored against
+    # `fair` it would be a miss (0.9 / 1.0 < 1, a "better than best" that is not a choice)
+    rows = [_row("a", 0, m, e) for m, e in
+            (("fair", 1.0), ("fair_sfauto", 1.0), ("fair3", 2.0), ("conformal_raw", 0.5),
+             ("conformal", 0.5), ("cgal", 1.0))]
+    rows += [_row("a", 1, m, e) for m, e in
+             (("fair", 1.0), ("fair_sfauto", 0.9), ("fair3", 3.0), ("conformal_raw", 2.0),
+              ("conformal", 0.9), ("cgal", 1.0))]
+    hl = validation.headline(rows, ["fair", "fair_sfauto", "fair3", "conformal_raw",
+                                    "conformal", "cgal"])
+    assert hl["chooser_candidates"] == ("fair_sfauto", "fair3", "conformal_raw")
+    assert hl["chooser_best"] == (2, 2)
+    assert hl["chooser_median_regret"] == pytest.approx(1.0)
+    assert hl["oracle_over_cgal"] == pytest.approx(np.median([0.5, 0.9]))
+    # the same rows without the column (a run made before it existed): the plain `fair`
+    old = [r for r in rows if r["method"] != "fair_sfauto"]
+    hl = validation.headline(old, ["fair", "fair3", "conformal_raw", "conformal", "cgal"])
+    assert hl["chooser_candidates"] == ("fair", "fair3", "conformal_raw")
+    assert hl["chooser_median_regret"] == pytest.approx(np.median([1.0, 0.9]))
+    text = validation.report(rows, ["fair", "fair_sfauto", "fair3", "conformal_raw",
+                                    "conformal", "cgal"], "tuning")
+    assert "best of fair_sfauto/fair3/conformal_raw (within 1 %) | 2 / 2 (100 %)" in text

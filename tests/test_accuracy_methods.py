@@ -1,0 +1,47 @@
+"""``benchmarks/accuracy.py``'s bilaplacian columns: ``fair`` (the conventional baseline,
+never smoothed) and ``fair_sfauto`` (the default's bilaplacian candidate as its self-check
+sees it: the smoothing fill where the noise gate opens). The validation tables score the
+self-check as a chooser against the second; where the gate stays closed they must be the
+same fill, where it opens another one."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from surfinpaint.geometry.cutting import cut_geodesic_disk
+from surfinpaint.geometry.mesh import mean_edge_length, vertex_normals
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+sys.path.insert(0, str(BENCH))
+accuracy = pytest.importorskip("accuracy")
+
+
+def _sphere_hole(noise_edges: float):
+    sphere = trimesh.creation.icosphere(4)
+    v, f = np.asarray(sphere.vertices), np.asarray(sphere.faces)
+    h = mean_edge_length(v, f)
+    noise = noise_edges * h * np.random.default_rng(3).standard_normal(len(v))
+    v = v + vertex_normals(v, f) * noise[:, None]
+    return cut_geodesic_disk(v, f, v[21], 4.0 * h)
+
+
+@pytest.mark.parametrize("noise_edges, same", [(0.0, True), (0.03, False)])
+def test_fair_sfauto_is_the_plain_bilaplacian_fill_unless_the_noise_gate_opens(noise_edges,
+                                                                               same):
+    cut = _sphere_hole(noise_edges)
+    plain_v, plain_f, _, _ = accuracy.run_method("fair", cut.vertices, cut.faces, cut.loop)
+    auto_v, auto_f, _, _ = accuracy.run_method("fair_sfauto", cut.vertices, cut.faces,
+                                               cut.loop)
+    np.testing.assert_array_equal(plain_f, auto_f)  # one triangulation and refinement
+    n = len(cut.vertices)
+    np.testing.assert_array_equal(plain_v[:n], auto_v[:n])  # the known surface untouched
+    moved = np.abs(plain_v[n:] - auto_v[n:]).max() / mean_edge_length(cut.vertices, cut.faces)
+    if same:
+        assert moved == 0.0
+    else:  # the smoothing fill: measurably another fill (not a rounding difference)
+        assert moved > 1e-3
