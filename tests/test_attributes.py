@@ -154,6 +154,37 @@ def test_inpainting_reproduces_a_linear_function_on_a_plane(order):
     assert np.abs(out - values).max() < 1e-10
 
 
+@pytest.mark.parametrize("gap", [np.nan, np.inf])
+def test_a_known_value_without_data_is_inpainted_not_spread(gap):
+    # session 46's fuzz campaign: one NaN (or inf) among the known values of a channel made
+    # every unknown value of that channel NaN; now that vertex is solved for with the
+    # unknown ones, in that channel only, and the others' solve is untouched
+    v, f = grid_mesh(12, 12)  # the gaps two rings from the border: linear is reproduced
+    values = np.column_stack([2 * v[:, 0] - v[:, 1] + 0.5, v[:, 1]])
+    known = ~((np.abs(v[:, 0] - 0.5) < 0.2) & (np.abs(v[:, 1] - 0.5) < 0.2))
+    beside = np.flatnonzero(known & (np.abs(v[:, 0] - 0.5) < 0.3)
+                            & (np.abs(v[:, 1] - 0.5) < 0.3))[:2]
+    given = values.copy()
+    given[beside, 0] = gap
+    out = inpaint_values(v[:, :2], f, known, given)
+    assert np.abs(out[~known] - values[~known]).max() < 1e-10
+    np.testing.assert_array_equal(out[known], given[known])  # the data kept, gaps too
+    np.testing.assert_array_equal(out[:, 1], inpaint_values(v[:, :2], f, known, values)[:, 1])
+    # a channel with no data at all stays without
+    given[known, 0] = np.nan
+    assert np.isnan(inpaint_values(v[:, :2], f, known, given)[~known, 0]).all()
+
+
+def test_fill_holes_inpaints_an_overlay_with_a_gap_beside_the_hole(holed_sphere):
+    v, f = holed_sphere
+    result = fill_holes(v, f, method="fair")
+    z = v[:, 2].copy()
+    z[result.reports[0].loop[:3]] = np.nan  # a medial wall's NaN reaching the loop
+    out = fill_result_attributes(result, {"z": z})["z"]
+    new = result.vertices[len(v):, 2]
+    assert np.isfinite(out[len(v):]).all() and np.abs(out[len(v):] - new).max() < 0.05
+
+
 def test_inpaint_labels_keeps_the_only_label_and_invents_none():
     v, f = grid_mesh(6, 6)
     known = ~((np.abs(v[:, 0] - 0.5) < 0.3) & (np.abs(v[:, 1] - 0.5) < 0.3))

@@ -159,10 +159,8 @@ def _check_known(known: np.ndarray, n: int) -> np.ndarray:
     return known
 
 
-def inpaint_values(
-    domain: np.ndarray, faces: np.ndarray, known: np.ndarray, values: np.ndarray,
-    order: int = 2,
-) -> np.ndarray:
+def inpaint_values(domain: np.ndarray, faces: np.ndarray, known: np.ndarray,
+                   values: np.ndarray, order: int = 2) -> np.ndarray:
     """Harmonic or biharmonic inpainting of per-vertex values, all channels in one solve.
 
     The unknown vertices' values minimize the Dirichlet (``order=1``: ``L x = 0`` there) or
@@ -177,7 +175,7 @@ def inpaint_values(
     known : (n,) bool array
         Vertices whose values are data. Every unknown vertex must be connected to one.
     values : (n,) or (n, c) array
-        Rows of the unknown vertices are ignored.
+        Rows of the unknown vertices are ignored; a known row's NaN or inf is no data.
     order : {1, 2}
 
     Returns
@@ -215,7 +213,15 @@ def inpaint_values(
         return out
     L, Q = inpaint_operators(domain, faces)
     flat = out.reshape(len(out), -1)
-    flat[~known] = DirichletSolve(-L if order == 1 else Q, known)(flat[known])
+    # a known vertex without a finite value has no data (a NaN overlay's gap): it is solved
+    # for with the unknown ones in the channels it lacks, so that one gap by a hole does not
+    # make every new value NaN (session 46); a channel with no data at all gets NaN
+    gaps = known[:, None] & ~np.isfinite(flat)
+    patterns, of_column = np.unique(gaps, axis=1, return_inverse=True)
+    for k, gap in enumerate(patterns.T):
+        data, columns = known & ~gap, of_column.reshape(-1) == k
+        flat[np.ix_(~known, columns)] = (DirichletSolve(-L if order == 1 else Q, data)(
+            flat[np.ix_(data, columns)])[(~known)[~data]] if data.any() else np.nan)
     return flat.reshape(out.shape)
 
 
@@ -308,10 +314,8 @@ class HoleDomain:
     rings: int
 
 
-def hole_domain(
-    vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
-    rings: int = 3,
-) -> HoleDomain:
+def hole_domain(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                fill_faces: np.ndarray, rings: int = 3) -> HoleDomain:
     """The patch of a filled hole and its conformal map.
 
     The patch is ``fill_faces`` plus the faces of ``faces`` within ``rings`` rings of the
@@ -403,8 +407,7 @@ def fill_hole_attributes(
     vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
     new_ids: np.ndarray, attributes: Mapping[str, np.ndarray], *,
     kinds: Mapping[str, str] | None = None, ranges: Mapping[str, np.ndarray] | None = None,
-    rings: int = 3, order: int = 2,
-) -> dict[str, np.ndarray]:
+    rings: int = 3, order: int = 2) -> dict[str, np.ndarray]:
     """Values of every per-vertex attribute at the new vertices of one filled hole.
 
     The rules by kind are the module's (:mod:`surfinpaint.fill.attributes`): continuous
