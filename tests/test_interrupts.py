@@ -361,3 +361,42 @@ def test_finished_and_failed_writes_leave_nothing_registered(tmp_path):
         raise OSError("disk full")
     assert atomic.remove_unfinished() == []
     assert sorted(os.listdir(tmp_path)) == ["a.txt"]
+
+
+def _cut_short_import(signum: int):
+    """A picture whose drawing imports a pybind11 extension (matplotlib's) that ``signum``
+    interrupts: pybind11 turns any exception raised in a module's initialization into
+    ``ImportError("initialization failed")`` caused by it."""
+    def draw(*args, **kwargs):
+        try:
+            os.kill(os.getpid(), signum)
+            time.sleep(20)
+        except BaseException as exc:
+            raise ImportError("initialization failed") from exc
+    return draw
+
+
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+def test_a_signal_that_cuts_an_import_short_stops_the_command(tmp_path, monkeypatch, capsys,
+                                                              signum, code):
+    # session 46's fuzz campaign: a SIGTERM while --png imported matplotlib became "picture
+    # not drawn: ImportError: initialization failed", a warning, and exit 0
+    from surfinpaint.app import figures
+
+    monkeypatch.setattr(figures, "before_after", _cut_short_import(int(signum)))
+    source = _holey(tmp_path)
+    assert main(["fill", str(source), "-o", str(tmp_path / "out.ply"), "-q",
+                 "--png", str(tmp_path / "out.png")]) == code
+    err = capsys.readouterr().err
+    assert err.strip().splitlines()[-1].startswith("surfinpaint: interrupted"), err
+    assert "picture not drawn" not in err
+    # a batch's picture, drawn where the file was filled (here: in this process)
+    assert main(["batch", str(source), "-o", str(tmp_path / "batch"), "-q", "--png",
+                 "--jobs", "1"]) == code
+    err = capsys.readouterr().err
+    assert err.strip().splitlines()[-1].startswith("surfinpaint: interrupted"), err
+    # and where nothing catches the ImportError on the way (the demo's picture)
+    assert main(["demo", "-o", str(tmp_path / "demo"), "-q"]) == code
+    err = capsys.readouterr().err
+    assert err.strip().splitlines()[-1].startswith("surfinpaint: interrupted"), err
+    assert "Traceback" not in err and "ImportError" not in err, err

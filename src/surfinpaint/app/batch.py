@@ -58,7 +58,7 @@ from surfinpaint.app.batch_summary import (
     row_of,
     write_summary,
 )
-from surfinpaint.app.interrupts import Interrupted
+from surfinpaint.app.interrupts import Interrupted, raise_interruption
 from surfinpaint.app.outputs import write_with_materials
 from surfinpaint.compiled import announce_once_across
 from surfinpaint.errors import how_many
@@ -101,6 +101,7 @@ def _draw(job: FileJob, mesh: MeshData, result: FillResult) -> str:
     try:
         figures.before_after(mesh.vertices, mesh.faces, result, job.picture)
     except Exception as exc:  # the picture's failure is the row's note, not the file's
+        raise_interruption(exc)
         return named_in_summary(job, f"{job.picture}: picture not drawn: "
                                 f"{type(exc).__name__}: {exc}")
     return ""
@@ -143,6 +144,7 @@ def fill_file(job: FileJob, options: Mapping[str, Any],
                                              len(mesh.vertices), ours=dict(job.copied),
                                              reserved=[job.picture] if job.picture else [])
         except Exception as exc:  # any failure of one file is that file's row, not the batch's
+            raise_interruption(exc)
             return FileRow(job.name, job.output, "failed",
                            seconds=time.perf_counter() - started, message=error_text(job, exc))
         unfinished = _draw(job, mesh, result)

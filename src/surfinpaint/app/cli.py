@@ -42,7 +42,12 @@ from surfinpaint.app.fill_report import (
     tell,
 )
 from surfinpaint.app.holes_table import holes_table
-from surfinpaint.app.interrupts import Interrupted, signals_raise
+from surfinpaint.app.interrupts import (
+    Interrupted,
+    interruptions_raised,
+    raise_interruption,
+    signals_raise,
+)
 from surfinpaint.app.outputs import (
     OutputError,
     OutputOverwritesInput,
@@ -181,6 +186,7 @@ def cmd_fill(args: argparse.Namespace) -> int:
             figures.before_after(vertices, faces, result, args.png)
             say(f"wrote {args.png}")
         except Exception as exc:  # as in a batch: a warning, the mesh is written
+            raise_interruption(exc)
             warnings.warn(f"{args.png}: picture not drawn: {type(exc).__name__}: {exc}",
                           MeshWarning, stacklevel=1)
     # the overlays beside a brain surface are files of their own: each is named
@@ -400,7 +406,8 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, console) -> 
     source = _input_name(args)
     try:
         _check_outputs(args)
-        return args.func(args)
+        with interruptions_raised():
+            return args.func(args)
     except (_UsageError, OutputOverwritesInput) as exc:
         parser.print_usage(sys.stderr)
         console.print(f"surfinpaint: error: {_escape(str(exc))}")

@@ -48,6 +48,32 @@ def _raise_interrupted(signum: int, frame) -> None:
     raise Interrupted(signum)
 
 
+def raise_interruption(exc: BaseException) -> None:
+    """Raise the interruption (:class:`Interrupted`, :exc:`KeyboardInterrupt`) that caused
+    ``exc``, if one did; for an ``except Exception`` that would otherwise swallow it. An
+    extension module's import that a signal cuts short raises an exception *caused by* the
+    interruption (pybind11's ``ImportError: initialization failed``, matplotlib's modules):
+    without this, a SIGTERM while ``--png`` imported matplotlib was a warning, and the
+    command exited 0 (session 46)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, Interrupted | KeyboardInterrupt):
+            raise exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+
+
+@contextlib.contextmanager
+def interruptions_raised() -> Iterator[None]:
+    """Within the block, an exception an interruption caused is raised as that interruption
+    (:func:`raise_interruption`)."""
+    try:
+        yield
+    except Exception as exc:
+        raise_interruption(exc)
+        raise
+
+
 #: Seconds after which a signal lost in a finalizer or callback is sent again (from another
 #: thread: by then the place it was lost in has returned)
 AGAIN_AFTER = 0.01
