@@ -31,7 +31,10 @@ from scipy.sparse.csgraph import connected_components
 from surfinpaint.errors import FillError, MeshError
 from surfinpaint.fill.liepa.fairing import fair
 from surfinpaint.fill.liepa.refinement import boundary_scales, refine_patch
-from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
+from surfinpaint.fill.liepa.triangulation import (
+    existing_diagonals,
+    minimum_weight_triangulation,
+)
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import edge_faces, face_normals, faces_near, orient_loop
 
@@ -493,6 +496,9 @@ def split_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     # no diagonal between two points of a crease: its triangles would be flat slivers
     chords = np.array([(p, q) for path in paths for i, p in enumerate(path)
                        for q in path[i + 2:]], dtype=np.int64).reshape(-1, 2)
+    # nor one that is a mesh edge already: a loop along two sides of a face would get the
+    # face again from its third side, a duplicate (session 46's fuzz campaign, PyVista's nut)
+    chords = np.vstack([chords, loop[np.argwhere(existing_diagonals(faces, loop, n))]])
     fill_faces = []
     try:
         for region in regions:

@@ -31,7 +31,7 @@ from surfinpaint.lazy import lazy_module
 # imported at its first use (see fill/holes.py)
 spatial = lazy_module("scipy.spatial")
 
-__all__ = ["CDT_MAX_EDGES", "SEARCHES", "minimum_weight_triangulation"]
+__all__ = ["CDT_MAX_EDGES", "SEARCHES", "existing_diagonals", "minimum_weight_triangulation"]
 
 SEARCHES = ("delaunay", "all", "cdt")
 # the planar CDT's chord tests are O(k³) in memory-bound numpy: beyond this many loop
@@ -152,7 +152,7 @@ def _surroundings(v: np.ndarray, loop: np.ndarray, faces: np.ndarray | None
     owner, _ = halfedge_faces(faces, loop)
     f = faces[owner]
     boundary_normal = _unit(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]))
-    return boundary_normal, _existing_diagonals(faces, loop, len(v))
+    return boundary_normal, existing_diagonals(faces, loop, len(v))
 
 
 def _avoided_diagonals(loop: np.ndarray, avoid: np.ndarray, n: int) -> np.ndarray:
@@ -210,7 +210,7 @@ def _non_delaunay_diagonals(p: np.ndarray) -> np.ndarray | None:
     return ~ok
 
 
-def _existing_diagonals(faces: np.ndarray, loop: np.ndarray, n: int) -> np.ndarray:
+def existing_diagonals(faces: np.ndarray, loop: np.ndarray, n: int) -> np.ndarray:
     """(k, k) mask of loop-vertex pairs (i < j, not loop edges) already joined by an edge."""
     k = len(loop)
     pos = np.full(n, -1, dtype=np.int64)
