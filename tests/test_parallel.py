@@ -6,7 +6,11 @@ from __future__ import annotations
 import multiprocessing
 import os
 import re
+import signal
+import subprocess
+import sys
 import threading
+import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
 
@@ -420,3 +424,43 @@ def test_a_bar_whose_total_is_not_known_yet_says_so(capsys):
     with progress_bar(True, None, "filling") as bar:
         bar.update(2, 5, "hole 2")
     assert "2/5" in capsys.readouterr().err
+
+
+_KILLED_PARENT = """
+import os, sys, time
+from surfinpaint.fill import parallel
+with parallel.pool(2) as workers:
+    pids = set()
+    while len(pids) < 2:  # until both workers have run a task
+        pids |= {f.result() for f in [workers.submit(os.getpid) for _ in range(4)]}
+    print(*pids, flush=True)
+    time.sleep(120)
+"""
+
+
+def _gone(pid: int) -> bool:
+    """No such process, or a zombie (nobody reaps orphans in some containers)."""
+    try:
+        with open(f"/proc/{pid}/status") as status:
+            return any(line.split()[:2] == ["State:", "Z"] for line in status)
+    except FileNotFoundError:
+        return True
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="reads /proc")
+def test_workers_end_when_their_parent_is_killed():
+    # session 46's fuzz campaign: `fill` killed with SIGKILL left its two forked workers
+    # waiting for ever on a task queue whose write end they hold themselves
+    proc = subprocess.Popen([sys.executable, "-c", _KILLED_PARENT], stdout=subprocess.PIPE,
+                            text=True)
+    pids = [int(p) for p in proc.stdout.readline().split()]
+    assert len(pids) == 2 and proc.pid not in pids
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    deadline = time.monotonic() + 30  # they look every PARENT_CHECK_EVERY (1 s)
+    while not all(_gone(p) for p in pids) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    left = [p for p in pids if not _gone(p)]
+    for p in left:
+        os.kill(p, signal.SIGKILL)
+    assert left == []

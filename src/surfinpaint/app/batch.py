@@ -63,7 +63,7 @@ from surfinpaint.app.outputs import write_with_materials
 from surfinpaint.compiled import announce_once_across
 from surfinpaint.errors import how_many
 from surfinpaint.fill.objects import fill_mesh_data
-from surfinpaint.fill.parallel import start_context
+from surfinpaint.fill.parallel import exit_with_parent, start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.fill.warmup import warm_kernels
 from surfinpaint.io.formats import MeshData, read_mesh_data
@@ -170,8 +170,10 @@ def _start_worker(queue: Any | None, method: str, told: Any = None) -> None:
     file instead). ``queue`` takes the hole progress of the worker's files to the parent
     (None: nobody listens). The compiled kernels of ``method`` are loaded now, while the
     parent still lists and checks the inputs (:func:`_launch`), not in the first file; on a
-    cold cache the first worker to compile says so, the others not (``told``)."""
+    cold cache the first worker to compile says so, the others not (``told``). A worker
+    ends with its parent (:func:`~surfinpaint.fill.parallel.exit_with_parent`)."""
     global _HOLE_PROGRESS
+    exit_with_parent()
     if told is not None:
         announce_once_across(told)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
