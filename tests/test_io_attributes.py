@@ -408,6 +408,25 @@ def test_noff_float_normals_and_colours(tmp_path):
         np.testing.assert_array_equal(again.attributes[key], mesh.attributes[key])
 
 
+def test_obj_says_it_drops_the_uv_and_normal_of_a_vertex_on_no_face(tmp_path):
+    # session 46's fuzz campaign: `fill --repair` of an OBJ removed the faces of a fin's
+    # vertex; OBJ stores uv and normals per face corner, so that vertex's uv was lost, and
+    # nothing said so
+    v, f = grid_mesh(2, 2)
+    v = np.vstack([v, [[5.0, 5, 5], [6.0, 6, 6]]])
+    uv = np.vstack([v[:-2, :2], [[0.5, 0.5], [np.nan, np.nan]]])  # the last has none
+    normal = np.tile([0.0, 0, 1], (len(v), 1))
+    with pytest.warns(MeshWarning) as record:
+        write_mesh(tmp_path / "a.obj", v, f, attributes={"uv": uv, "normal": normal})
+    said = [str(w.message) for w in record if "no face" in str(w.message)]
+    assert said == [f"{tmp_path / 'a.obj'}: OBJ stores uv and normal per face corner: the "
+                    "uv of 1 vertex on no face (9) not written, the normal of 2 vertices on "
+                    "no face (9, 10) not written"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # every vertex on a face: nothing to say
+        write_mesh(tmp_path / "b.obj", v[:-2], f, attributes={"uv": uv[:-2]})
+
+
 # ------------------------------------------------------------------------------ STL
 
 

@@ -373,11 +373,29 @@ def unstored_obj(mesh: MeshData) -> list[str]:
               if k not in kept or kept[k][0] != "corner"]
     out = [f"OBJ stores uv, normal and rgb color: {', '.join(names)} not written"] if names \
         else []
+    out += _on_no_face(mesh, kept)
     out += [f"metadata {k!r} is not stored in OBJ" for k in mesh.metadata
             if k not in ("mtllib", COPIES_KEY)]
     if "color" in kept and mesh.attributes["color"].dtype == np.uint8:
         out.append("8-bit color is written as OBJ's float r g b (value / 255)")
     return out
+
+
+def _on_no_face(mesh: MeshData, kept: dict) -> list[str]:
+    """A note naming the vertices on no face whose per-vertex uv or normal has a value:
+    OBJ stores them per face corner, so they are lost (session 46: a vertex whose faces
+    ``fill --repair`` removed)."""
+    used = np.zeros(len(mesh.vertices), dtype=bool)
+    used[mesh.faces] = True
+    lost = []
+    for key in ("uv", "normal"):
+        where, values = kept.get(key, ("", None))
+        if where == "vertex":
+            ids = np.flatnonzero(~used & ~np.isnan(np.asarray(values, float)).all(axis=1))
+            if ids.size:
+                lost.append(f"the {key} of {how_many(ids.size, 'vertex', 'vertices')} on no "
+                            f"face ({preview(ids.tolist())}) not written")
+    return [f"OBJ stores uv and normal per face corner: {', '.join(lost)}"] if lost else []
 
 
 def missing_libraries(mesh: MeshData, directory: Path) -> list[str]:
