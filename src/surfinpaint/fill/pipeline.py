@@ -238,7 +238,7 @@ def fill_holes(
                                   _within_size(reports, max_hole_edges), islands)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
     zipped, merged, todo = open_seams(found.vertices, found.faces, todo, zip_seams,
-                                       found.unfillable)
+                                      found.unfillable)
     mesh = _mesh_to_fill(found, zipped)
     run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(found.loops),
               progress=progress, rings=neighbourhood_rings,
@@ -247,7 +247,11 @@ def fill_holes(
     # after the fills: a hole skipped or failed for any reason was not filled, and its
     # warning says so; this one is for the margin that was filled
     _warn_may_be_border(_filled_margins(found.margins, reports), stacklevel=3)
-    result = _result(mesh, reports, found, merged, attributes)
+    # the result: what the per-hole checks could not see warned, the attributes carried
+    result = _result(mesh, reports, found, merged)
+    _warn_crossings(result, mesh, reports)
+    result = _with_attributes(result, attributes)
+    _warn_topology(result)
     result.display = display
     return result
 
@@ -398,12 +402,20 @@ def _fill_run(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int) -> 
 
 
 def _result(mesh: FilledMesh, reports: list[HoleReport], found: _FoundHoles,
-            merged: np.ndarray, attributes: _Attributes) -> FillResult:
-    """The filled mesh with its reports, the faces ``repair`` removed and flipped, merged
-    seam vertices, attributes (vertex, face, kinds), fills that cross the surface away from
-    their hole and topology changes (each also a warning, at the caller of
-    ``fill_holes``)."""
+            merged: np.ndarray) -> FillResult:
+    """The filled mesh with its reports, the faces ``repair`` removed and flipped and the
+    merged seam vertices."""
     result = mesh.result(reports, found.removed_faces)
+    result.flipped_faces = found.flipped_faces
+    result.merged_vertices = merged
+    return result
+
+
+def _warn_crossings(result: FillResult, mesh: FilledMesh, reports: list[HoleReport]) -> None:
+    """Count the fills' triangles that cross the surface away from their hole, or another
+    hole's fill, in the holes' reports, each crossing also a warning (at the caller of
+    ``fill_holes``): each hole was checked only against the rings around it, as it was
+    filled."""
     hole_faces = result.hole_faces()
     for report, far in zip(reports, far_crossing_counts(
             result.vertices, mesh.faces, mesh.vertex_faces, hole_faces,
@@ -426,13 +438,15 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], found: _FoundHoles,
                       MeshWarning, stacklevel=3)
         one.crossings += pair.first_triangles
         other.crossings += pair.second_triangles
-    result.flipped_faces = found.flipped_faces
-    result.merged_vertices = merged
-    result = _with_attributes(result, attributes)
+
+
+def _warn_topology(result: FillResult) -> None:
+    """The fills that may have changed the surface's topology (:func:`topology_changes`:
+    two fills that close a tube's two ends) into ``result.topology``, each also a warning
+    (at the caller of ``fill_holes``)."""
     result.topology = topology_changes(result)
     for change in result.topology:
         warnings.warn(change.message, MeshWarning, stacklevel=3)
-    return result
 
 
 @dataclasses.dataclass
