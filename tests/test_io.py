@@ -190,7 +190,9 @@ def test_obj_negative_normal_ids_after_an_unused_uv_record(tmp_path):
                     "vt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
                     "vn 0 0 1\nvn 0 1 0\nvn 1 0 0\n"
                     "f 1/1/-3 2/2/-3 3/3/-3\nf 1/1/-2 3/3/-2 4/2/-1\n")
-    with pytest.warns(MeshWarning, match="1 of 4 vt records"):
+    # (the count and its verbs agree: "1 of 4 vt records is not referenced ... and is not kept")
+    with pytest.warns(MeshWarning, match="1 of 4 vt records is not referenced by any face and "
+                                         "is not kept"):
         mesh = mio.read_mesh_data(path)
     np.testing.assert_array_equal(mesh.faces, [[0, 1, 2], [0, 2, 3]])
     normals = mesh.corner_attributes.get("normal")

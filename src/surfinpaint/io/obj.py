@@ -249,8 +249,9 @@ def _corner_values(out: Parsed, lines: list[str], ids: np.ndarray, records: list
     unused = len(table) - len(np.unique(index[ids != 0]))
     if unused:
         counted = how_many(len(table), f"{kind} record", f"{kind} records")
-        out.dropped.append(f"{unused} of {counted} {agreeing(unused, 'is', 'are')} not "
-                           "referenced by any face and are not kept")
+        verb = agreeing(unused, "is", "are")
+        out.dropped.append(f"{unused} of {counted} {verb} not referenced by any face and "
+                           f"{verb} not kept")
 
 
 def _check_vertex_ids(ids: np.ndarray, index: np.ndarray, counts: np.ndarray, count: int,
