@@ -26,6 +26,7 @@ from surfinpaint.geometry.metrics import (
     sample_surface,
     surface_distance_samples,
 )
+from surfinpaint.geometry.rows import rows_any
 
 __all__ = ["advantages_over", "hidden_band", "hidden_ring_scores", "hidden_ring_test",
            "mean_scores", "paired_advantage", "sibling_reach", "sibling_scores"]
@@ -232,7 +233,7 @@ def hidden_band(faces: np.ndarray, ring: np.ndarray, hide_rings: int):
         The boundary loops of ``kept`` (None when they do not close).
     """
     near = ring <= hide_rings - 1
-    hidden = near[faces].any(axis=1)
+    hidden = rows_any(near[faces])
     kept = faces[~hidden]
     border = (ring <= hide_rings) & ~near
     try:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from surfinpaint.geometry.rows import rows_all, rows_any
 from surfinpaint.lazy import lazy_module
 
 # imported at its first use (see fill/holes.py)
@@ -128,8 +129,8 @@ def triangles_intersect(
         return np.zeros(0, dtype=bool)
     # shared[i, p, q]: corner p of A is corner q of B
     shared = fa[:, :, None] == fb[:, None, :]
-    shared_a = shared.any(axis=2)
-    shared_b = shared.any(axis=1)
+    shared_a = rows_any(shared)
+    shared_b = rows_any(shared.swapaxes(1, 2))
     n_shared = shared_a.sum(axis=1)
     origin = v[fa[:, 0]]
     a = v[fa] - origin[:, None]
@@ -149,8 +150,8 @@ def triangles_intersect(
     da = np.einsum("kij,kj->ki", a - b[:, :1], nb)
     db[shared_b] = 0.0
     da[shared_a] = 0.0
-    apart = ((db > eps[:, None]).all(1) | (db < -eps[:, None]).all(1)
-             | (da > eps[:, None]).all(1) | (da < -eps[:, None]).all(1))
+    apart = (rows_all(db > eps[:, None]) | rows_all(db < -eps[:, None])
+             | rows_all(da > eps[:, None]) | rows_all(da < -eps[:, None]))
 
     line, sine = _unit(np.cross(na, nb))
     coplanar = sine < COPLANAR_SIN
@@ -198,7 +199,7 @@ def _candidates(vertices: np.ndarray, fa: np.ndarray, fb: np.ndarray,
         keep &= i < j
     i, j = i[keep], j[keep]
     box = ((pa[i].min(1) <= pb[j].max(1) + 1e-12) & (pb[j].min(1) <= pa[i].max(1) + 1e-12))
-    keep = box.all(axis=1)
+    keep = rows_all(box)
     return i[keep], j[keep]
 
 

@@ -16,6 +16,7 @@ from surfinpaint.errors import MeshError, agreeing, preview
 from surfinpaint.geometry.cycles import simple_cycles
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import laplacian_from_weights
+from surfinpaint.geometry.rows import rows_any
 
 __all__ = [
     "boundary_halfedges",
@@ -235,7 +236,7 @@ def halfedge_faces(faces: np.ndarray, loop: np.ndarray) -> tuple[np.ndarray, np.
     n = int(max(faces.max(initial=-1), loop.max())) + 1
     on_loop = np.zeros(n, dtype=bool)
     on_loop[loop] = True
-    near = np.flatnonzero(on_loop[faces].any(axis=1))
+    near = np.flatnonzero(rows_any(on_loop[faces]))
     f = faces[near]
     tail = f.ravel()
     head = f[:, [1, 2, 0]].ravel()
@@ -336,7 +337,7 @@ def k_ring(faces: np.ndarray, seeds: np.ndarray, k: int, n_vertices: int) -> np.
     mask[np.asarray(seeds, dtype=np.int64)] = True
     for _ in range(k):
         count = int(mask.sum())
-        mask[f[mask[f].any(axis=1)]] = True
+        mask[f[rows_any(mask[f])]] = True
         if mask.sum() == count:
             break
     return mask
@@ -356,8 +357,8 @@ def faces_near(faces: np.ndarray, seeds: np.ndarray, rings: int, n_vertices: int
     mask = np.zeros(n_vertices, dtype=bool)
     mask[np.asarray(seeds, dtype=np.int64)] = True
     for _ in range(rings):
-        mask[faces[mask[faces].any(axis=1)].ravel()] = True
-    return faces[mask[faces].any(axis=1)]
+        mask[faces[rows_any(mask[faces])].ravel()] = True
+    return faces[rows_any(mask[faces])]
 
 
 def vertex_faces(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
@@ -584,7 +585,7 @@ def _voronoi_corners(vertices: np.ndarray, faces: np.ndarray, cot: np.ndarray) -
         corner[:, k] = (length2[:, (k + 2) % 3] * cot[:, (k + 2) % 3]
                         + length2[:, (k + 1) % 3] * cot[:, (k + 1) % 3]) / 8.0
     obtuse = cot < 0
-    any_obtuse = obtuse.any(axis=1)
+    any_obtuse = rows_any(obtuse)
     corner[any_obtuse] = np.where(obtuse[any_obtuse], area[any_obtuse, None] / 2,
                                   area[any_obtuse, None] / 4)
     return corner

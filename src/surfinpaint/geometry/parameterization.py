@@ -37,6 +37,7 @@ from surfinpaint.geometry.mesh import (
     cotangent_laplacian,
     face_areas,
 )
+from surfinpaint.geometry.rows import rows_any
 
 __all__ = [
     "angle_distortion",
@@ -513,7 +514,7 @@ def collapsed_faces(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray, *,
     (k,) int array of face ids.
     """
     squashed = _corner_angles(uv, faces) < ratio * _corner_angles(vertices, faces)
-    return np.flatnonzero(squashed.any(axis=1))
+    return np.flatnonzero(rows_any(squashed))
 
 
 def distortion_histogram(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray,

@@ -1,0 +1,61 @@
+import numpy as np
+import pytest
+
+from surfinpaint.geometry.mesh import faces_near, k_ring
+from surfinpaint.geometry.rows import rows_all, rows_any
+
+SHAPES = [(0, 3), (6, 0), (1, 1), (9, 2), (9, 3), (5, 4), (4, 3, 3), (2000, 3), (3,)]
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_rows_any_and_all_are_numpys_any_and_all_over_the_last_axis(shape):
+    rng = np.random.default_rng(len(shape) * 100 + shape[-1])
+    for p in (0.0, 0.2, 0.8, 1.0):  # all False, mixed, all True
+        a = rng.random(shape) < p
+        assert np.array_equal(rows_any(a), a.any(axis=-1))
+        assert np.array_equal(rows_all(a), a.all(axis=-1))
+        assert np.asarray(rows_any(a)).dtype == bool
+
+
+def test_rows_of_numbers_count_nonzero_and_nan_as_true():
+    a = np.array([[0.0, 0.0, 0.0], [0.0, -0.0, 2.5], [np.nan, 0.0, 0.0], [1, 1, np.inf]])
+    assert rows_any(a).tolist() == a.any(axis=1).tolist() == [False, True, True, True]
+    assert rows_all(a).tolist() == a.all(axis=1).tolist() == [False, False, False, True]
+    ids = np.array([[0, 3, 1], [2, 2, 2]])
+    assert rows_all(ids).tolist() == [False, True]
+
+
+def test_rows_of_a_strided_view_and_the_input_left_unchanged():
+    rng = np.random.default_rng(7)
+    shared = rng.random((50, 3, 3)) < 0.3
+    kept = shared.copy()
+    # the middle axis, as the triangle test reduces it
+    assert np.array_equal(rows_any(shared.swapaxes(1, 2)), shared.any(axis=1))
+    assert np.array_equal(rows_all(shared[:, ::2, :]), shared[:, ::2, :].all(axis=-1))
+    assert np.array_equal(shared, kept)  # the columns are combined in a copy
+
+
+def test_rows_need_an_axis():
+    with pytest.raises(ValueError, match="at least one axis"):
+        rows_any(np.bool_(True))
+
+
+def _grid_faces(n=7):
+    idx = np.arange(n * n).reshape(n, n)
+    a, b, c, d = idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]
+    return np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3),
+                           np.stack([a, c, d], -1).reshape(-1, 3)])
+
+
+def test_ring_growth_through_rows_any_is_the_mask_any_growth():
+    faces = _grid_faces()
+    n = int(faces.max()) + 1
+    for rings in (0, 1, 2, 3):
+        mask = np.zeros(n, bool)
+        mask[[24]] = True
+        for _ in range(rings):
+            mask[faces[mask[faces].any(axis=1)].ravel()] = True
+        assert np.array_equal(faces_near(faces, np.array([24]), rings, n),
+                              faces[mask[faces].any(axis=1)])
+    ring = k_ring(faces, np.array([0]), 2, n)
+    assert np.flatnonzero(ring).tolist() == [0, 1, 2, 7, 8, 9, 14, 15, 16]
