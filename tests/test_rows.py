@@ -2,7 +2,15 @@ import numpy as np
 import pytest
 
 from surfinpaint.geometry.mesh import faces_near, k_ring
-from surfinpaint.geometry.rows import rows_all, rows_any
+from surfinpaint.geometry.rows import (
+    row_max,
+    row_means,
+    row_min,
+    row_norms,
+    row_sums,
+    rows_all,
+    rows_any,
+)
 
 SHAPES = [(0, 3), (6, 0), (1, 1), (9, 2), (9, 3), (5, 4), (4, 3, 3), (2000, 3), (3,)]
 
@@ -59,3 +67,50 @@ def test_ring_growth_through_rows_any_is_the_mask_any_growth():
                               faces[mask[faces].any(axis=1)])
     ring = k_ring(faces, np.array([0]), 2, n)
     assert np.flatnonzero(ring).tolist() == [0, 1, 2, 7, 8, 9, 14, 15, 16]
+
+
+def _hard_floats(shape, seed):
+    """Floats over 20 decades with signed zeros and exact ties: sums that depend on order."""
+    rng = np.random.default_rng(seed)
+    x = rng.standard_normal(shape) * 10.0 ** rng.integers(-10, 10, shape)
+    x[rng.random(shape) < 0.05] = 0.0
+    x[rng.random(shape) < 0.05] *= -0.0
+    return x
+
+
+def _same_bits(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+@pytest.mark.parametrize("shape", [(500, 3), (500, 2), (300, 3, 3), (200, 4), (50, 7), (40, 8),
+                                   (40, 12), (9, 1)])
+def test_row_sums_norms_means_maxima_minima_are_numpys_to_the_bit(shape):
+    x = _hard_floats(shape, sum(shape))
+    assert _same_bits(row_sums(x), x.sum(axis=-1))
+    assert _same_bits(row_norms(x), np.linalg.norm(x, axis=-1))
+    assert _same_bits(row_means(x), x.mean(axis=-1))
+    assert _same_bits(row_max(x), x.max(axis=-1))
+    assert _same_bits(row_min(x), x.min(axis=-1))
+    if x.ndim == 3:  # a middle axis, as the triangle tests reduce corners
+        assert _same_bits(row_means(x.swapaxes(1, 2)), x.mean(axis=1))
+        assert _same_bits(row_max(x.swapaxes(1, 2)), x.max(axis=1))
+
+
+def test_a_sum_in_another_order_differs_so_the_order_is_checked():
+    # the control: the data above tell left-to-right sums from others
+    x = _hard_floats((500, 3), 503)
+    assert not _same_bits(x[:, 0] + (x[:, 1] + x[:, 2]), x.sum(axis=-1))
+
+
+def test_float_rows_of_integers_nan_and_empty_rows():
+    ids = np.array([[3, 4], [0, 0]])
+    assert _same_bits(row_norms(ids), np.linalg.norm(ids, axis=-1))
+    assert _same_bits(row_means(ids), ids.mean(axis=-1))
+    x = np.array([[1.0, np.nan, 2.0], [np.inf, 1.0, -np.inf]])
+    with np.errstate(invalid="ignore"):  # inf - inf
+        for ours, numpys in ((row_max, np.max), (row_min, np.min), (row_sums, np.sum)):
+            assert _same_bits(ours(x), numpys(x, axis=-1))
+    assert _same_bits(row_sums(np.zeros((4, 0))), np.zeros((4, 0)).sum(axis=-1))
+    with pytest.raises(ValueError, match="zero-size"):
+        row_max(np.zeros((4, 0)))

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from surfinpaint.geometry.rows import rows_all, rows_any
+from surfinpaint.geometry.rows import row_max, row_means, row_min, row_norms, rows_all, rows_any
 from surfinpaint.lazy import lazy_module
 
 # imported at its first use (see fill/holes.py)
@@ -42,7 +42,7 @@ COPLANAR_SIN = 1e-6
 
 
 def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    norm = np.linalg.norm(v, axis=-1)
+    norm = row_norms(v)
     return np.divide(v, norm[..., None], out=np.zeros_like(v), where=norm[..., None] > 0), norm
 
 
@@ -137,8 +137,8 @@ def triangles_intersect(
     b = v[fb] - origin[:, None]
     na, area_a = _unit(np.cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]))
     nb, area_b = _unit(np.cross(b[:, 1] - b[:, 0], b[:, 2] - b[:, 0]))
-    longest = np.maximum(np.linalg.norm(a - np.roll(a, 1, axis=1), axis=2).max(1),
-                         np.linalg.norm(b - np.roll(b, 1, axis=1), axis=2).max(1))
+    longest = np.maximum(row_max(row_norms(a - np.roll(a, 1, axis=1))),
+                         row_max(row_norms(b - np.roll(b, 1, axis=1))))
     eps = REL_TOL * longest
     # a pair that shares vertices intersects only by overlapping beyond them; one that shares
     # none intersects when it touches
@@ -183,9 +183,9 @@ def _candidates(vertices: np.ndarray, fa: np.ndarray, fb: np.ndarray,
     """
     v = np.asarray(vertices, dtype=float)
     pa, pb = v[fa], v[fb]
-    ca, cb = pa.mean(axis=1), pb.mean(axis=1)
-    ra = np.linalg.norm(pa - ca[:, None], axis=2).max(axis=1)
-    rb = np.linalg.norm(pb - cb[:, None], axis=2).max(axis=1)
+    ca, cb = row_means(pa.swapaxes(1, 2)), row_means(pb.swapaxes(1, 2))
+    ra = row_max(row_norms(pa - ca[:, None]))
+    rb = row_max(row_norms(pb - cb[:, None]))
     # a little slack so that touching spheres are kept
     reach = 1.0 + 1e-9
     tree_a = spatial.cKDTree(ca)
@@ -198,7 +198,9 @@ def _candidates(vertices: np.ndarray, fa: np.ndarray, fb: np.ndarray,
     if same:
         keep &= i < j
     i, j = i[keep], j[keep]
-    box = ((pa[i].min(1) <= pb[j].max(1) + 1e-12) & (pb[j].min(1) <= pa[i].max(1) + 1e-12))
+    # corners' coordinates (m, axis, corner): their minima and maxima by axis
+    qa, qb = pa[i].swapaxes(1, 2), pb[j].swapaxes(1, 2)
+    box = (row_min(qa) <= row_max(qb) + 1e-12) & (row_min(qb) <= row_max(qa) + 1e-12)
     keep = rows_all(box)
     return i[keep], j[keep]
 

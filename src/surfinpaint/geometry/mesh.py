@@ -16,7 +16,7 @@ from surfinpaint.errors import MeshError, agreeing, preview
 from surfinpaint.geometry.cycles import simple_cycles
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import laplacian_from_weights
-from surfinpaint.geometry.rows import rows_any
+from surfinpaint.geometry.rows import row_norms, rows_any
 
 __all__ = [
     "boundary_halfedges",
@@ -405,8 +405,7 @@ def edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     f = np.asarray(faces, dtype=np.int64)
     p0, p1, p2 = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
     return np.stack(
-        [np.linalg.norm(p2 - p1, axis=1), np.linalg.norm(p0 - p2, axis=1),
-         np.linalg.norm(p1 - p0, axis=1)],
+        [row_norms(p2 - p1), row_norms(p0 - p2), row_norms(p1 - p0)],
         axis=1,
     )
 
@@ -422,7 +421,7 @@ def mean_edge_length(vertices: np.ndarray, faces: np.ndarray,
         edges = table.edges
     if len(edges) == 0:
         return 0.0
-    return float(np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1).mean())
+    return float(row_norms(v[edges[:, 0]] - v[edges[:, 1]]).mean())
 
 
 def _face_cross_columns(vertices: np.ndarray, faces: np.ndarray) -> list[np.ndarray]:
@@ -481,7 +480,7 @@ def face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(f, 3) unit normals, right-handed with the face order; zero for degenerate faces."""
     c = face_cross(vertices, faces)
-    norm = np.linalg.norm(c, axis=1, keepdims=True)
+    norm = row_norms(c)[:, None]
     return np.divide(c, norm, out=np.zeros_like(c), where=norm > 0)
 
 
@@ -492,7 +491,7 @@ def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     n = np.zeros((len(vertices), 3))
     for k in range(3):
         np.add.at(n, f[:, k], c)
-    norm = np.linalg.norm(n, axis=1, keepdims=True)
+    norm = row_norms(n)[:, None]
     return np.divide(n, norm, out=np.zeros_like(n), where=norm > 0)
 
 
@@ -508,7 +507,7 @@ def _cotangents(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         if v.shape[1] == 2:
             cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
         else:
-            cross = np.linalg.norm(np.cross(a, b), axis=1)
+            cross = row_norms(np.cross(a, b))
         cot[:, k] = dot / np.maximum(cross, 1e-300)
     return cot
 

@@ -37,7 +37,7 @@ from surfinpaint.geometry.mesh import (
     cotangent_laplacian,
     face_areas,
 )
-from surfinpaint.geometry.rows import rows_any
+from surfinpaint.geometry.rows import row_norms, rows_any
 
 __all__ = [
     "angle_distortion",
@@ -474,8 +474,7 @@ def _corner_angles(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
     for k in range(3):
         a = p[f[:, (k + 1) % 3]] - p[f[:, k]]
         b = p[f[:, (k + 2) % 3]] - p[f[:, k]]
-        cos = np.einsum("ij,ij->i", a, b) / np.maximum(
-            np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
+        cos = np.einsum("ij,ij->i", a, b) / np.maximum(row_norms(a) * row_norms(b), 1e-300)
         out[:, k] = np.arccos(np.clip(cos, -1.0, 1.0))
     return out
 

@@ -34,7 +34,7 @@ from surfinpaint.fill.liepa.flip_passes import (
 )
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import unique_edges
-from surfinpaint.geometry.rows import rows_all, rows_any
+from surfinpaint.geometry.rows import row_means, row_norms, rows_all, rows_any
 
 __all__ = ["REFINEMENTS", "boundary_scales", "delaunay_flip", "refine_patch"]
 
@@ -520,9 +520,9 @@ def _liepa_rounds(pos, f, sigma, fixed, forbidden, density, max_iterations, rela
     # no relaxation before the first split: flipping the bare triangulation's long diagonals
     # would change its shape, while flips between split pieces (nearly coplanar) do not
     for _ in range(max_iterations):
-        centroid = pos[f].mean(axis=1)
-        sigma_c = sigma[f].mean(axis=1)
-        dist = density * np.linalg.norm(pos[f] - centroid[:, None, :], axis=2)
+        centroid = row_means(pos[f].swapaxes(1, 2))
+        sigma_c = row_means(sigma[f])
+        dist = density * row_norms(pos[f] - centroid[:, None, :])
         split = rows_all((dist > sigma_c[:, None]) & (dist > sigma[f]))
         if not split.any():
             break
