@@ -18,7 +18,7 @@ from scipy.sparse.csgraph import dijkstra
 from surfinpaint.errors import MeshError, how_many
 from surfinpaint.geometry.edges import EdgeTable, edge_keys
 from surfinpaint.geometry.mesh import boundary_loops, faces_at, unique_edges, vertex_faces
-from surfinpaint.geometry.rows import rows_all, rows_any
+from surfinpaint.geometry.rows import row_norms, rows_all, rows_any
 
 __all__ = ["CutHole", "CutResult", "compact", "cut_geodesic_disk", "cut_holes", "edge_graph",
            "renumber", "ring_distances", "submesh"]
@@ -107,7 +107,7 @@ class _Topology:
         if (count > 2).any():
             bad = edges[count > 2][:10]
             raise MeshError("mesh is not edge-manifold", edges=[tuple(e) for e in bad.tolist()])
-        length = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
+        length = row_norms(vertices[edges[:, 0]] - vertices[edges[:, 1]])
         # zero-length edges would vanish from the sparse graph; keep them connected
         length = np.maximum(length, 1e-300)
         self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])),

@@ -62,8 +62,8 @@ def _interval(t: np.ndarray, d: np.ndarray, eps: np.ndarray) -> tuple[np.ndarray
         valid.append(cross[:, None])
     vals = np.concatenate(vals, axis=1)
     valid = np.concatenate(valid, axis=1)
-    lo = np.where(valid, vals, np.inf).min(axis=1)
-    hi = np.where(valid, vals, -np.inf).max(axis=1)
+    lo = row_min(np.where(valid, vals, np.inf))
+    hi = row_max(np.where(valid, vals, -np.inf))
     return lo, hi
 
 

@@ -167,8 +167,8 @@ def pinched_vertices(faces: np.ndarray) -> np.ndarray:
 def _far_pair(vertices: np.ndarray, loop: np.ndarray) -> tuple[int, int]:
     """Two boundary vertices roughly farthest apart (two sweeps of farthest point)."""
     p = vertices[loop]
-    a = int(np.argmax(np.linalg.norm(p - p[0], axis=1)))
-    b = int(np.argmax(np.linalg.norm(p - p[a], axis=1)))
+    a = int(np.argmax(row_norms(p - p[0])))
+    b = int(np.argmax(row_norms(p - p[a])))
     return int(loop[a]), int(loop[b])
 
 

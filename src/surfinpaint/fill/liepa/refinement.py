@@ -72,7 +72,7 @@ def _edge_length_sums(v: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.
     """Per vertex of ``v``: the summed length of its (undirected) edges in ``faces``, and
     their number."""
     edges, _, _ = unique_edges(faces)
-    length = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1)
+    length = row_norms(v[edges[:, 0]] - v[edges[:, 1]])
     total = np.bincount(edges.ravel(), weights=np.repeat(length, 2), minlength=len(v))
     return total, np.bincount(edges.ravel(), minlength=len(v))
 

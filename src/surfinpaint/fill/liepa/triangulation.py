@@ -26,6 +26,7 @@ import numpy as np
 from surfinpaint.compiled import Kernel, run
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.mesh import halfedge_faces, orient_loop
+from surfinpaint.geometry.rows import row_norms
 from surfinpaint.lazy import lazy_module
 
 # imported at its first use (see fill/holes.py)
@@ -49,7 +50,7 @@ _DEGENERATE_BEND = 3.0
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
-    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    norm = row_norms(v)[..., None]
     return np.divide(v, norm, out=np.zeros_like(v), where=norm > 0)
 
 
