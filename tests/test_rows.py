@@ -3,6 +3,7 @@ import pytest
 
 from surfinpaint.geometry.mesh import faces_near, k_ring
 from surfinpaint.geometry.rows import (
+    row_cross,
     row_max,
     row_means,
     row_min,
@@ -114,3 +115,14 @@ def test_float_rows_of_integers_nan_and_empty_rows():
     assert _same_bits(row_sums(np.zeros((4, 0))), np.zeros((4, 0)).sum(axis=-1))
     with pytest.raises(ValueError, match="zero-size"):
         row_max(np.zeros((4, 0)))
+
+
+def test_row_cross_is_numpys_cross_to_the_bit():
+    a, b = _hard_floats((400, 3), 11), _hard_floats((400, 3), 12)
+    assert _same_bits(row_cross(a, b), np.cross(a, b))
+    assert _same_bits(row_cross(a[:, None], b[None, :5]), np.cross(a[:, None], b[None, :5]))
+    assert _same_bits(row_cross(a, b[:1]), np.cross(a, b[:1]))  # broadcast
+    ints = np.array([[1, 2, 3], [4, 5, 6]])
+    assert _same_bits(row_cross(ints, ints[::-1]), np.cross(ints, ints[::-1]))
+    with pytest.raises(ValueError, match="rows of 3"):
+        row_cross(a[:, :2], b[:, :2])

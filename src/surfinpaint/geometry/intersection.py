@@ -20,7 +20,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from surfinpaint.geometry.rows import row_max, row_means, row_min, row_norms, rows_all, rows_any
+from surfinpaint.geometry.rows import (
+    row_cross,
+    row_max,
+    row_means,
+    row_min,
+    row_norms,
+    rows_all,
+    rows_any,
+)
 from surfinpaint.lazy import lazy_module
 
 # imported at its first use (see fill/holes.py)
@@ -75,7 +83,7 @@ def _coplanar_overlap(a: np.ndarray, b: np.ndarray, normal: np.ndarray,
     the other begins.
     """
     e1, _ = _unit(a[:, 1] - a[:, 0])
-    e2 = np.cross(normal, e1)
+    e2 = row_cross(normal, e1)
     origin = a[:, :1]
     pa = np.stack([np.einsum("kij,kj->ki", a - origin, e) for e in (e1, e2)], axis=-1)
     pb = np.stack([np.einsum("kij,kj->ki", b - origin, e) for e in (e1, e2)], axis=-1)
@@ -135,8 +143,8 @@ def triangles_intersect(
     origin = v[fa[:, 0]]
     a = v[fa] - origin[:, None]
     b = v[fb] - origin[:, None]
-    na, area_a = _unit(np.cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]))
-    nb, area_b = _unit(np.cross(b[:, 1] - b[:, 0], b[:, 2] - b[:, 0]))
+    na, area_a = _unit(row_cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]))
+    nb, area_b = _unit(row_cross(b[:, 1] - b[:, 0], b[:, 2] - b[:, 0]))
     longest = np.maximum(row_max(row_norms(a - np.roll(a, 1, axis=1))),
                          row_max(row_norms(b - np.roll(b, 1, axis=1))))
     eps = REL_TOL * longest
@@ -153,7 +161,7 @@ def triangles_intersect(
     apart = (rows_all(db > eps[:, None]) | rows_all(db < -eps[:, None])
              | rows_all(da > eps[:, None]) | rows_all(da < -eps[:, None]))
 
-    line, sine = _unit(np.cross(na, nb))
+    line, sine = _unit(row_cross(na, nb))
     coplanar = sine < COPLANAR_SIN
     result = np.zeros(k, dtype=bool)
 

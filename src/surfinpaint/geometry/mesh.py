@@ -16,7 +16,7 @@ from surfinpaint.errors import MeshError, agreeing, preview
 from surfinpaint.geometry.cycles import simple_cycles
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import laplacian_from_weights
-from surfinpaint.geometry.rows import row_norms, rows_any
+from surfinpaint.geometry.rows import row_cross, row_norms, rows_any
 
 __all__ = [
     "boundary_halfedges",
@@ -507,7 +507,7 @@ def _cotangents(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         if v.shape[1] == 2:
             cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
         else:
-            cross = row_norms(np.cross(a, b))
+            cross = row_norms(row_cross(a, b))
         cot[:, k] = dot / np.maximum(cross, 1e-300)
     return cot
 

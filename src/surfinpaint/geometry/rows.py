@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["row_max", "row_means", "row_min", "row_norms", "row_sums", "rows_all",
-           "rows_any"]
+__all__ = ["row_cross", "row_max", "row_means", "row_min", "row_norms", "row_sums",
+           "rows_all", "rows_any"]
 
 # numpy sums a reduced axis of fewer elements than this left to right (pairwise beyond)
 _LEFT_TO_RIGHT = 8
@@ -84,6 +84,25 @@ def row_norms(a: np.ndarray) -> np.ndarray:
         return np.linalg.norm(a, axis=-1)
     squares = _folded(np.add, a * a, 0.0)
     return np.sqrt(squares, out=squares)
+
+
+def row_cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.cross(a, b)`` of (..., 3) arrays, by the same products and differences in the
+    same order (the same bits), without its axis handling (most of its time on the
+    self-check's small arrays: 28 against 5 us for 50 rows).
+
+    >>> row_cross(np.array([[1.0, 0.0, 0.0]]), np.array([[0.0, 1.0, 0.0]])).tolist()
+    [[0.0, 0.0, 1.0]]
+    """
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape[-1:] != (3,) or b.shape[-1:] != (3,):
+        raise ValueError(f"row_cross needs rows of 3, got shapes {a.shape} and {b.shape}")
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape), np.result_type(a, b))
+    for k in range(3):  # out_k = a_i b_j - a_j b_i, as np.cross computes it
+        i, j = (k + 1) % 3, (k + 2) % 3
+        np.multiply(a[..., i], b[..., j], out=out[..., k])
+        out[..., k] -= a[..., j] * b[..., i]
+    return out
 
 
 def _floats(a) -> np.ndarray:
