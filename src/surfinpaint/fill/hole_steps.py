@@ -33,6 +33,7 @@ from surfinpaint.fill.seams import (
 )
 from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.repair import unjoined_bowties
+from surfinpaint.geometry.rows import rows_any
 from surfinpaint.geometry.validation import check_loop, zero_area_faces
 from surfinpaint.io.base import MeshWarning
 
@@ -93,7 +94,7 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
                             faces=local.zero_area[:100].tolist())
         return message
     on_loop = np.isin(local.faces_global, local.loop)
-    touching = local.faces_global[on_loop.any(axis=1)]
+    touching = local.faces_global[rows_any(on_loop)]
     try:
         check_loop(touching, local.loop)
     except MeshError as exc:
@@ -104,7 +105,7 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
                 raise MeshError(f"hole {index}: {exc.message}", vertices=exc.vertices,
                                 edges=exc.edges) from None
             return exc.message
-    if on_loop[on_loop.any(axis=1)].all():
+    if on_loop[rows_any(on_loop)].all():
         # a lone triangle or a strip one face wide: the loop bounds nothing but the faces
         # along it, and a fill would lay a second sheet on them (duplicate faces)
         return "the loop bounds only the faces along it (a lone sheet)"

@@ -32,6 +32,7 @@ from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.liepa.baseline import faired_fills
 from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.intersection import patch_intersects_surroundings
+from surfinpaint.geometry.rows import rows_any
 from surfinpaint.lazy import lazy_module
 
 # the λ-H fill at its first use: a faired fill never imports it (a forked worker finds it
@@ -90,8 +91,8 @@ def crossing_faces(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     near = np.zeros(len(vertices), dtype=bool)
     near[loop] = True
     for _ in range(CROSSING_RINGS):
-        near[faces[near[faces].any(axis=1)]] = True
-    around = faces[near[faces].any(axis=1)]
+        near[faces[rows_any(near[faces])]] = True
+    around = faces[rows_any(near[faces])]
     new_f = np.asarray(fill.faces, dtype=np.int64).reshape(-1, 3)
     if not len(new_f) or not len(around):
         return 0
