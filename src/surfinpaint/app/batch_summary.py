@@ -76,6 +76,9 @@ class FileRow:
     #: ``summary.json`` only): a rerun copies one again when the input's changed and the
     #: copy did not.
     materials: Mapping[str, str] = field(default_factory=dict)
+    #: Of the holes filled, those whose written fill is the smoothing fill (``fair_smoothing``:
+    #: :attr:`~surfinpaint.fill.results.HoleReport.smoothed`; each hole's why in ``holes``).
+    smoothed: int | None = None
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -140,7 +143,8 @@ def row_of(job: FileJob, result: FillResult, seconds: float, message: str,
                    holes_found=len(result.reports), holes_filled=filled, kept=kept,
                    new_vertices=len(result.vertices) - result.n_original_vertices,
                    seconds=seconds, message=message,
-                   holes=tuple(HoleRecord.of(r) for r in result.reports), picture=picture)
+                   holes=tuple(HoleRecord.of(r) for r in result.reports), picture=picture,
+                   smoothed=sum(r.smoothed for r in result.reports))
 
 
 def error_text(job: FileJob, exc: Exception) -> str:
@@ -173,7 +177,7 @@ def checked_row(job: FileJob) -> FileRow | None:
 def _csv_columns() -> list[str]:
     return ["path", "output", "status", "holes_found", "holes_filled",
             *[f"kept_{m}" for m in METHODS], "new_vertices", "seconds", "message",
-            "picture"]  # added last: readers by position keep working
+            "picture", "smoothed"]  # added last: readers by position keep working
 
 
 def _csv_record(row: FileRow) -> dict[str, Any]:
