@@ -237,6 +237,7 @@ def record(report: HoleReport, fill: Fill) -> None:
     report.crease_failure = fill.crease_failure
     report.crossings = fill.crossings
     report.plane = fill.plane
+    report.smoothing = fill.smoothing
     if fill.crossings:
         triangles = how_many(fill.crossings, "triangle", "triangles")
         warn_at_caller(f"hole {report.index}: {triangles} of the "

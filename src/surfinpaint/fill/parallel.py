@@ -29,7 +29,7 @@ import numpy as np
 
 from surfinpaint.errors import NUMERICAL_ERRORS, FillError, MeshError
 from surfinpaint.fill.conformal import ConformalOptions
-from surfinpaint.fill.liepa.baseline import faired_fills
+from surfinpaint.fill.liepa.baseline import faired_fills, smoothing_decision
 from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.intersection import patch_intersects_surroundings
 from surfinpaint.geometry.rows import rows_any
@@ -107,9 +107,11 @@ def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method
     triangles that cross the surface around it (:func:`crossing_faces`)."""
     if method == "fair":  # the baseline, or the conformal method's fallback (its smoothing)
         order = fair_order or 2
-        new_v, new_f, used = faired_fills(vertices, faces, loop, (order,),
-                                          smoothing=options.fair_smoothing)[order]
-        fill = Fill(new_v, new_f, "fair", fair_order=used)
+        smoothing = smoothing_decision(vertices, faces, loop, options.fair_smoothing)
+        new_v, new_f, used = faired_fills(
+            vertices, faces, loop, (order,),
+            smoothing=None if smoothing is None else smoothing.length)[order]
+        fill = Fill(new_v, new_f, "fair", fair_order=used, smoothing=smoothing)
     else:
         fill = conformal_method.conformal_fill(vertices, faces, loop, options,
                                                fair_order=fair_order)

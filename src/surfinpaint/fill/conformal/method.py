@@ -36,7 +36,7 @@ from surfinpaint.fill.liepa.baseline import (
     faired_fills,
     laid_on_plane,
     laid_on_two_planes,
-    smoothing_for_hole,
+    smoothing_decision,
 )
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import (
@@ -124,10 +124,18 @@ def conformal_fill(
     options = ConformalOptions() if options is None else options
     check_fair_order(fair_order)
     faces = face_ids(faces)  # whole-number floats taken, never truncated
-    if isinstance(options.fair_smoothing, str):  # "auto": decided once, on the hole's own
-        # surroundings; the self-check's test holes (hidden rings, siblings) follow it
-        options = replace(options, fair_smoothing=smoothing_for_hole(
-            vertices, faces, loop, options.fair_smoothing))
+    # "auto": decided once, on the hole's own surroundings; the self-check's test holes
+    # (hidden rings, siblings) follow it; recorded on the fill for its report
+    smoothing = smoothing_decision(vertices, faces, loop, options.fair_smoothing)
+    if smoothing is not None:
+        options = replace(options, fair_smoothing=smoothing.length)
+    return replace(_decided_fill(vertices, faces, loop, options, fair_order),
+                   smoothing=smoothing)
+
+
+def _decided_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                  options: ConformalOptions, fair_order: int | None) -> Fill:
+    """:func:`conformal_fill` once its options' smoothing is a length (or None)."""
     candidates = Candidates.for_hole(vertices, faces, loop, options, fair_order)
     faired: dict[str, Fill] = {}
     verdict = None
