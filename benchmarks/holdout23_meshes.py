@@ -33,7 +33,7 @@ import math
 import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
-from holdout14_meshes import _smooth_min
+from holdout14_meshes import _flattened_underneath, _smooth_min
 from holdout15_meshes import _flat_capsule
 from holdout17_meshes import _with_midline_fissure
 from holdout18_meshes import _feather_chart
@@ -320,9 +320,7 @@ def _annular_cortex() -> BenchMesh:
     def radius(ux, uy, uz):
         lateral = 0.48 * (1.0 + 0.06 * uy)  # fuller at the front (+y)
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.8) ** 2 + (uz / 0.53) ** 2)
-        floor = -0.36 / uz if uz < 0.0 else 10.0  # flattened underneath, blended
-        low = min(r, floor)
-        r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
+        r = _flattened_underneath(r, uz, 0.36)  # flattened underneath, blended
         depth = _ring_depth(*_feather_chart(ux, uy, uz))
         depth = _with_midline_fissure(depth, ux, uz, RING_FISSURE_WIDTH)
         return r - RING_DEPTH * depth
