@@ -25,31 +25,10 @@ import time
 import numpy as np
 from scipy import ndimage
 
-from surfinpaint.representation.analytic import (
-    enneper,
-    grid,
-    isothermal_torus,
-    stereographic_sphere,
-)
+from surfinpaint.representation.analytic import SURFACES, grid, removed_disk
 from surfinpaint.representation.fields import lambda_h
 from surfinpaint.representation.inpainting import inpaint
 from surfinpaint.representation.reconstruction import METHODS, reconstruct
-
-SURFACES = {
-    "enneper": (enneper, (-1.0, 1.0, -1.0, 1.0)),
-    "sphere": (stereographic_sphere, (-1.0, 1.0, -1.0, 1.0)),
-    "torus": (lambda u, v: isothermal_torus(u, v, 2.0, 1.0), (-1.0, 1.0, 0.0, 2.0)),
-}
-
-
-def case(name: str, n: int, radius: float = 0.3):
-    f, ext = SURFACES[name]
-    u, v, h = grid(n, ext)
-    phi, lam, H = f(u, v)
-    cu, cv = 0.5 * (ext[0] + ext[1]) + 0.1, 0.5 * (ext[2] + ext[3]) - 0.05
-    known = (u - cu) ** 2 + (v - cv) ** 2 > radius**2
-    return phi, lam, H, known, h
-
 
 VARIANTS = {  # label -> reconstruct arguments
     "gauss-codazzi": {"method": "gauss-codazzi"},
@@ -103,7 +82,7 @@ def main() -> None:
         for method in VARIANTS:
             rows = []
             for n in args.sizes:
-                phi, lam, H, known, h = case(name, n)
+                phi, lam, H, known, h = removed_disk(name, n)
                 e_exact, t = rebuild_error(lam, H, phi, known, h, method)
                 ld, Hd = lambda_h(phi, h)
                 e_disc, _ = rebuild_error(ld, Hd, phi, known, h, method)
@@ -131,7 +110,7 @@ def noise_table(n: int, seeds: int = 5) -> None:
     print("| surface | method | noise | " + " | ".join(f for f, _ in fits) + " |")
     print("|---|---|---|" + "---|" * len(fits))
     for name in SURFACES:
-        phi, _, _, known, h = case(name, n)
+        phi, _, _, known, h = removed_disk(name, n)
         ld, Hd = lambda_h(phi, h)
         omega = ndimage.binary_dilation(~known, np.ones((3, 3), bool), iterations=2)
         for method in METHODS:

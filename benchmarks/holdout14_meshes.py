@@ -30,6 +30,15 @@ from holdout12_meshes import _ellipsoid
 from validation_meshes import BenchMesh, Source
 
 
+def _flattened_underneath(r: float, uz: float, floor: float) -> float:
+    """The radius ``r`` of an ovoid in the unit direction whose z component is ``uz``,
+    flattened underneath at ``z = -floor`` and blended (log-sum-exp, width 0.03): the
+    synthetic cortices of holdouts 14 to 23 (Python floats)."""
+    cut = -floor / uz if uz < 0.0 else 10.0
+    low = min(r, cut)
+    return low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - cut) / 0.03))
+
+
 def _smooth_min(values, k: float) -> float:
     """A smooth minimum (log-sum-exp) of ``values`` with blending width ``k``: a rounded
     intersection of insides."""
@@ -331,9 +340,7 @@ def _polygyral_brain() -> BenchMesh:
         for side in (-1.0, 1.0):  # the temporal bulges
             r += 0.08 * math.exp(-((ux - side * 0.62) ** 2 + (uy - 0.2) ** 2
                                    + (uz + 0.45) ** 2) / 0.08)
-        floor = -0.34 / uz if uz < 0.0 else 10.0  # flattened underneath, blended
-        low = min(r, floor)
-        r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
+        r = _flattened_underneath(r, uz, 0.34)  # flattened underneath, blended
         # the cells measured on warped, front-back stretched directions: long, bent gyri
         wx = ux + 0.15 * math.sin(3.0 * uy + 1.0)
         wy = 0.6 * (uy + 0.15 * math.sin(2.5 * uz + 2.0))

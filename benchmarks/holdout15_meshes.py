@@ -27,7 +27,7 @@ import numpy as np
 import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
-from holdout14_meshes import _smooth_min
+from holdout14_meshes import _flattened_underneath, _smooth_min
 from validation_meshes import BenchMesh, Source
 
 
@@ -361,9 +361,7 @@ def _branched_cortex() -> BenchMesh:
     def radius(ux, uy, uz):
         lateral = 0.55 * (1.0 - 0.12 * uy)  # narrower at the front (+y)
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.8) ** 2 + (uz / 0.55) ** 2)
-        floor = -0.36 / uz if uz < 0.0 else 10.0  # flattened underneath, blended
-        low = min(r, floor)
-        r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
+        r = _flattened_underneath(r, uz, 0.36)  # flattened underneath, blended
         nearest = min(_arc_distance(ux, uy, uz, arc) for arc in arcs)
         depth = BRANCH_DEPTH * (1.0 + 0.3 * math.sin(2.0 * ux - 3.0 * uz + 1.0))
         return r - depth / math.cosh(nearest / BRANCH_WIDTH)

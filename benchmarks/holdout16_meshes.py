@@ -27,7 +27,7 @@ import math
 import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
-from holdout14_meshes import _smooth_min
+from holdout14_meshes import _flattened_underneath, _smooth_min
 from holdout15_meshes import _flat_capsule
 from validation_meshes import BenchMesh, Source
 
@@ -328,9 +328,7 @@ def _arcuate_cortex() -> BenchMesh:
     def radius(ux, uy, uz):
         lateral = 0.5 * (1.0 - 0.15 * uy)  # narrower at the front (+y)
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.75) ** 2 + (uz / 0.5) ** 2)
-        floor = -0.32 / uz if uz < 0.0 else 10.0  # flattened underneath, blended
-        low = min(r, floor)
-        r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
+        r = _flattened_underneath(r, uz, 0.32)  # flattened underneath, blended
         for side in (-1.0, 1.0):  # the bulbs, front and below
             r += 0.05 * math.exp(-((ux - side * 0.12) ** 2 + (uy - 0.93) ** 2
                                    + (uz + 0.3) ** 2) / (2.0 * 0.08**2))

@@ -27,7 +27,7 @@ import math
 import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
-from holdout14_meshes import _smooth_min
+from holdout14_meshes import _flattened_underneath, _smooth_min
 from holdout15_meshes import _flat_capsule
 from validation_meshes import BenchMesh, Source
 
@@ -292,9 +292,7 @@ def _stellate_cortex() -> BenchMesh:
     def radius(ux, uy, uz):
         lateral = 0.52 * (1.0 - 0.12 * uy)  # narrower at the front (+y)
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.78) ** 2 + (uz / 0.52) ** 2)
-        floor = -0.34 / uz if uz < 0.0 else 10.0  # flattened underneath, blended
-        low = min(r, floor)
-        r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
+        r = _flattened_underneath(r, uz, 0.34)  # flattened underneath, blended
         depth = max(_stellate_depth(ux, uy, uz, c) for c in centres)
         depth = _with_midline_fissure(depth, ux, uz, FISSURE_WIDTH)
         return r - SPOKE_DEPTH * depth

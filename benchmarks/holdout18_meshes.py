@@ -31,7 +31,7 @@ import math
 import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
-from holdout14_meshes import _smooth_min
+from holdout14_meshes import _flattened_underneath, _smooth_min
 from holdout15_meshes import _flat_capsule
 from holdout17_meshes import _with_midline_fissure
 from validation_meshes import BenchMesh, Source
@@ -317,9 +317,7 @@ def _pinnate_cortex() -> BenchMesh:
     def radius(ux, uy, uz):
         lateral = 0.5 * (1.0 - 0.08 * uy + 0.02 * uy * uy)  # 1.1 at the back, 0.94 at the front
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.8) ** 2 + (uz / 0.55) ** 2)
-        floor = -0.36 / uz if uz < 0.0 else 10.0  # flattened underneath, blended
-        low = min(r, floor)
-        r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
+        r = _flattened_underneath(r, uz, 0.36)  # flattened underneath, blended
         depth = _feather_depth(*_feather_chart(ux, uy, uz))
         depth = _with_midline_fissure(depth, ux, uz, FISSURE_WIDTH)
         return r - SULCUS_DEPTH * depth

@@ -32,7 +32,7 @@ import math
 import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
-from holdout14_meshes import _smooth_min
+from holdout14_meshes import _flattened_underneath, _smooth_min
 from holdout15_meshes import _flat_capsule
 from holdout17_meshes import _with_midline_fissure
 from holdout18_meshes import _feather_chart
@@ -326,9 +326,7 @@ def _spiral_cortex() -> BenchMesh:
     def radius(ux, uy, uz):
         lateral = 0.5 * (1.0 + 0.06 * uy)  # 1.06 at the front, 0.94 at the back
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.76) ** 2 + (uz / 0.52) ** 2)
-        floor = -0.34 / uz if uz < 0.0 else 10.0  # flattened underneath, blended
-        low = min(r, floor)
-        r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
+        r = _flattened_underneath(r, uz, 0.34)  # flattened underneath, blended
         depth = _spiral_depth(*_feather_chart(ux, uy, uz))
         depth = _with_midline_fissure(depth, ux, uz, FISSURE_WIDTH)
         return r - SULCUS_DEPTH * depth

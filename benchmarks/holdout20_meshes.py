@@ -32,7 +32,7 @@ import math
 import validation_meshes as vm
 from holdout11_meshes import _capsule, _radial_surface, _smooth_max
 from holdout12_meshes import _ellipsoid
-from holdout14_meshes import _smooth_min
+from holdout14_meshes import _flattened_underneath, _smooth_min
 from holdout17_meshes import _with_midline_fissure
 from holdout18_meshes import _feather_chart
 from validation_meshes import BenchMesh, Source
@@ -288,9 +288,7 @@ def _meander_cortex() -> BenchMesh:
     def radius(ux, uy, uz):
         lateral = 0.5 * (1.0 + 0.05 * (1.0 - 2.0 * uy * uy))  # widest across the middle
         r = 1.0 / math.sqrt((ux / lateral) ** 2 + (uy / 0.78) ** 2 + (uz / 0.5) ** 2)
-        floor = -0.33 / uz if uz < 0.0 else 10.0  # flattened underneath, blended
-        low = min(r, floor)
-        r = low - 0.03 * math.log(math.exp((low - r) / 0.03) + math.exp((low - floor) / 0.03))
+        r = _flattened_underneath(r, uz, 0.33)  # flattened underneath, blended
         depth = _meander_depth(*_feather_chart(ux, uy, uz))
         depth = _with_midline_fissure(depth, ux, uz, FISSURE_WIDTH)
         return r - SULCUS_DEPTH * depth

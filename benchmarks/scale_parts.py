@@ -124,10 +124,9 @@ def whole_mesh(vertices: np.ndarray, faces: np.ndarray, calls: int = 3) -> list[
     out = []
     for _ in range(calls):
         started = time.process_time()
-        v, _, triangles, _, table, _, _, _ = pipeline._prepared(vertices, faces, False, True,
-                                                                Beside(False))
+        prepared = pipeline._prepared(vertices, faces, False, True, Beside(False))
         middle = time.process_time()
-        find_holes(v, triangles, table, validate=False)
+        find_holes(prepared.vertices, prepared.triangles, prepared.table, validate=False)
         out.append((middle - started, time.process_time() - middle))
     return out
 

@@ -25,8 +25,9 @@ set 15's (session 38) in ``holdout15_meshes.py``, holdout set 16's (session 39) 
 set 18's (session 41) in ``holdout18_meshes.py``, holdout set 19's (session 42) in
 ``holdout19_meshes.py``, holdout set 20's (session 43) in ``holdout20_meshes.py``, holdout
 set 21's (session 44) in ``holdout21_meshes.py``, holdout set 22's (session 45) in
-``holdout22_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
-``HOLDOUT22_SOURCES`` to :data:`SOURCES` at its end.
+``holdout22_meshes.py``, holdout set 23's (session 46) in ``holdout23_meshes.py``; this
+module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT23_SOURCES`` to :data:`SOURCES` at its
+end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2054,6 +2055,13 @@ SOURCES.update(HOLDOUT21_SOURCES)
 from holdout22_meshes import HOLDOUT22_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT22_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 23
+
+# Session 46's set (benchmarks/holdout23_manifest.json), as holdout 22's: its own module.
+from holdout23_meshes import HOLDOUT23_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT23_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 

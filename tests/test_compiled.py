@@ -368,3 +368,10 @@ def test_a_batch_on_a_cold_cache_says_compiling_once_not_once_per_worker(tmp_pat
     assert run.stderr.count(COMPILING_MESSAGE) == 1, run.stderr
     assert "3 files: 3 filled" in run.stderr
     assert list((tmp_path / "cache").rglob("triangulation._dp_loops-*.nbi"))
+
+
+def test_the_two_cold_cache_lines_say_which_process_does_what():
+    # both can come in one batch (session 46): the background line, then a worker past its
+    # budget compiling; each says what its process does, so the two do not contradict
+    assert "compiles them itself, and says so" in BACKGROUND_MESSAGE
+    assert COMPILING_MESSAGE.startswith("compiling surfinpaint's numba kernels in this process")

@@ -452,6 +452,62 @@ def test_the_least_squares_stage_reaches_the_fixed_point_where_there_is_one(monk
     assert np.abs(fixed_point - points).max() > 0.05 * h  # it moved: not the start
 
 
+def test_the_least_squares_steps_are_left_out_on_a_patch_too_large_for_their_dense_jacobian(
+        monkeypatch):
+    # the mild egg-crate hole of the test above, no continuation: the steps reach the fixed
+    # point (above); with the cap below the patch's unknowns they are not made (their dense
+    # Jacobian: minutes and gigabytes on a scan's 374-edge hole), the start is returned with
+    # its own residual, and the reason names the count
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.fill.conformal.mesh_pass import _mapped_patch
+    from surfinpaint.representation import least_squares
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+
+    monkeypatch.setattr(lsq_stage, "CONTINUATION_SOLVES", 0)
+    cut = egg_crate(20, 0, 8, 0.8, 0.2, 3)
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 2)
+    vertices = np.vstack([cut.vertices, new_v])
+    _, ids, local, uv, _, _ = _mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
+    free = ids >= len(cut.vertices)
+    points = vertices[ids]
+    unknowns = 3 * int(free.sum())
+    assert lsq_stage.least_squares_steps_left_out(int(free.sum())) == ""  # under the cap
+    monkeypatch.setattr(lsq_stage, "LSQ_MAX_UNKNOWNS", unknowns - 1)
+    monkeypatch.setattr(lsq_stage, "levenberg_marquardt",
+                        lambda *a, **k: pytest.fail("the steps were made"))
+    out, residual, weight = lsq_stage.least_squares_on_mesh(points, local, uv, free, tol=1e-3)
+    assert weight == 0.0 and residual > 1e-3  # the harmonic start, not the fixed point
+    assert least_squares.levenberg_marquardt is not lsq_stage.levenberg_marquardt
+    assert lsq_stage.least_squares_steps_left_out(int(free.sum())) == (
+        f"its least-squares steps left out: {unknowns} unknowns, more than {unknowns - 1}")
+
+
+def test_a_fill_whose_least_squares_steps_are_left_out_says_so(monkeypatch):
+    # the egg-crate hole the least-squares stage fills (test above): with the cap below its
+    # patch the stage ends where the continuation stopped (weight 0.375, residual 0.81 edge
+    # lengths); with the stage's acceptance below that, the next stage's record says why
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+
+    from surfinpaint.fill.conformal import mesh_pass
+
+    monkeypatch.setattr(lsq_stage, "LSQ_MAX_UNKNOWNS", 3)
+    monkeypatch.setattr(mesh_pass, "LEAST_SQUARES_RESIDUAL", 0.5)
+    cut = egg_crate(20, 3, 7, 2.5, 0.4, 6)
+    result = conformal_fill(cut.vertices, cut.faces, cut.loop, RAW)
+    stage = result.diagnostics.mesh.least_squares
+    assert 0.5 < stage.residual <= 2.0 and stage.weight < 1
+    assert "(curvature weight 0.38 reached; its least-squares steps left out: " in \
+        stage.unsolved and "unknowns, more than 3)" in stage.unsolved
+
+
 def test_the_least_squares_stage_on_the_failed_solve_s_system_is_the_one_on_its_own():
     # the patch's coupled system is made once (coupled_system) for the solve and, where that
     # fails, the least-squares stage: the stage's outcome is the same to the bit as on a

@@ -182,6 +182,25 @@ def test_obj_unusual_order_seams_negative_indices_and_quads(tmp_path):
     np.testing.assert_array_equal(f, [[1, 0, 4], [1, 4, 3], [0, 1, 3], [1, 0, 3], [4, 0, 1]])
 
 
+def test_obj_negative_normal_ids_after_an_unused_uv_record(tmp_path):
+    # the vt records' warning once shadowed the record list the vn ids are resolved with:
+    # a negative vn id after an unused vt record was refused ("not enough values to unpack")
+    path = tmp_path / "n.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                    "vt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
+                    "vn 0 0 1\nvn 0 1 0\nvn 1 0 0\n"
+                    "f 1/1/-3 2/2/-3 3/3/-3\nf 1/1/-2 3/3/-2 4/2/-1\n")
+    # (the count and its verbs agree: "1 of 4 vt records is not referenced ... and is not kept")
+    with pytest.warns(MeshWarning, match="1 of 4 vt records is not referenced by any face and "
+                                         "is not kept"):
+        mesh = mio.read_mesh_data(path)
+    np.testing.assert_array_equal(mesh.faces, [[0, 1, 2], [0, 2, 3]])
+    normals = mesh.corner_attributes.get("normal")
+    if normals is None:  # one normal a vertex: kept per vertex
+        normals = mesh.attributes["normal"][mesh.faces]
+    np.testing.assert_array_equal(normals, [[[0, 0, 1]] * 3, [[0, 1, 0], [0, 1, 0], [1, 0, 0]]])
+
+
 def test_off_with_comments_colours_and_polygons(tmp_path):
     path = tmp_path / "u.off"
     path.write_text("""COFF # header comment

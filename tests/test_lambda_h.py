@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from surfinpaint.representation.analytic import (
+    SURFACES,
     enneper,
     grid,
     isothermal_torus,
@@ -18,17 +19,6 @@ from surfinpaint.representation.fields import (
 )
 
 SIZES = (17, 33, 65)
-
-
-def torus(u, v):
-    return isothermal_torus(u, v, 2.0, 1.0)
-
-
-SURFACES = {
-    "enneper": (enneper, (-1.0, 1.0, -1.0, 1.0)),
-    "sphere": (stereographic_sphere, (-1.0, 1.0, -1.0, 1.0)),
-    "torus": (torus, (-1.0, 1.0, 0.0, 2.0)),
-}
 
 
 def errors(name):
@@ -67,7 +57,7 @@ def test_enneper_H_is_zero_to_roundoff():
 
 def test_torus_mean_curvature_changes_sign_correctly():
     u, v, h = grid(65, (-1.0, 1.0, 0.0, 2.0))
-    phi, lam, H = torus(u, v)
+    phi, lam, H = isothermal_torus(u, v)  # R = 2, r = 1
     assert H.max() < 0  # outward normal: H < 0 everywhere on a torus with R = 2r
     n = normals(phi, h)
     centre = np.stack([2 * np.cos(u), 2 * np.sin(u), 0 * u], axis=-1)

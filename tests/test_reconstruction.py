@@ -7,35 +7,16 @@ import pytest
 
 from surfinpaint.errors import FillError
 from surfinpaint.representation.analytic import (
+    SURFACES,
     enneper,
     grid,
-    isothermal_torus,
+    removed_disk,
     stereographic_sphere,
 )
 from surfinpaint.representation.fields import lambda_h
 from surfinpaint.representation.reconstruction import METHODS, reconstruct
 
 SIZES = (17, 33, 65)
-
-
-def torus(u, v):
-    return isothermal_torus(u, v, 2.0, 1.0)
-
-
-SURFACES = {
-    "enneper": (enneper, (-1.0, 1.0, -1.0, 1.0)),
-    "sphere": (stereographic_sphere, (-1.0, 1.0, -1.0, 1.0)),
-    "torus": (torus, (-1.0, 1.0, 0.0, 2.0)),
-}
-
-
-def disk_case(name, n, radius=0.3):
-    f, ext = SURFACES[name]
-    u, v, h = grid(n, ext)
-    phi, lam, H = f(u, v)
-    cu, cv = 0.5 * (ext[0] + ext[1]) + 0.1, 0.5 * (ext[2] + ext[3]) - 0.05
-    known = (u - cu) ** 2 + (v - cv) ** 2 > radius**2
-    return phi, lam, H, known, h
 
 
 def rel_error(out, phi, known):
@@ -49,7 +30,7 @@ def rel_error(out, phi, known):
 def test_disk_rebuild_converges_second_order(name, method, data):
     errs = []
     for n in SIZES:
-        phi, lam, H, known, h = disk_case(name, n)
+        phi, lam, H, known, h = removed_disk(name, n)
         if data == "discrete":  # λ, H of the discrete surface itself
             lam, H = lambda_h(phi, h)
         given = np.where(known[..., None], phi, np.nan)
@@ -67,7 +48,7 @@ def test_disk_rebuild_converges_second_order(name, method, data):
 def test_gauss_codazzi_normal_integration_converges(name):
     errs = []
     for n in SIZES:
-        phi, lam, H, known, h = disk_case(name, n)
+        phi, lam, H, known, h = removed_disk(name, n)
         out = reconstruct(lam, H, phi, known, h, integrate="normal")
         errs.append(rel_error(out, phi, known))
     errs = np.array(errs)
@@ -80,7 +61,7 @@ def test_laplacian_form_is_exact_where_the_discretization_is():
     # Δh is exact on Enneper's cubic coordinates, so the discrete λ, H reproduce φ to
     # round-off. (On general surfaces Δhφ has an O(h²) tangential part that (λ, H) do not
     # carry, so no rebuild from them alone can be exact to round-off.)
-    phi, _, _, known, h = disk_case("enneper", 33)
+    phi, _, _, known, h = removed_disk("enneper", 33)
     lam, H = lambda_h(phi, h)
     out = reconstruct(lam, H, phi, known, h, method="laplacian")
     assert np.abs(out - phi).max() < 1e-13
@@ -88,7 +69,7 @@ def test_laplacian_form_is_exact_where_the_discretization_is():
 
 @pytest.mark.parametrize("method", METHODS)
 def test_inputs_unchanged_and_phi_inside_ignored(method):
-    phi, lam, H, known, h = disk_case("sphere", 33)
+    phi, lam, H, known, h = removed_disk("sphere", 33)
     garbage = phi.copy()
     garbage[~known] = 1e3
     args = [a.copy() for a in (lam, H, garbage, known)]
@@ -119,7 +100,7 @@ def test_irregular_domain(method):
 def test_missing_lambda_H_on_known_nodes_is_filled_from_phi(method):
     # NaN (λ, H) on known nodes is replaced by lambda_h of the known surface where that is
     # defined (not on the first known ring, whose stencils reach into the unknown region).
-    phi, lam, H, known, h = disk_case("torus", 33)
+    phi, lam, H, known, h = removed_disk("torus", 33)
     lam_k, H_k = lambda_h(np.where(known[..., None], phi, np.nan), h)
     lam_nan = np.where(np.isfinite(lam_k), np.nan, lam)
     H_nan = np.where(np.isfinite(H_k), np.nan, H)
@@ -147,7 +128,7 @@ def test_region_touching_domain_edge_raises():
 
 
 def test_gauss_codazzi_needs_three_rings():
-    phi, lam, H, _, h = disk_case("sphere", 17)
+    phi, lam, H, _, h = removed_disk("sphere", 17)
     known = np.ones((17, 17), bool)
     known[8, 3] = False  # 3 rings to the border: fine
     reconstruct(lam, H, phi, known, h)
@@ -166,7 +147,7 @@ def test_grid_too_small():
 
 
 def test_bad_inputs():
-    phi, lam, H, known, h = disk_case("sphere", 17)
+    phi, lam, H, known, h = removed_disk("sphere", 17)
     with pytest.raises(ValueError, match="method"):
         reconstruct(lam, H, phi, known, h, method="magic")
     with pytest.raises(ValueError, match="options"):
@@ -188,14 +169,14 @@ def test_bad_inputs():
 
 
 def test_nothing_unknown_returns_copy():
-    phi, lam, H, _, h = disk_case("sphere", 9)
+    phi, lam, H, _, h = removed_disk("sphere", 9)
     known = np.ones((9, 9), bool)
     out = reconstruct(lam, H, phi, known, h)
     assert np.array_equal(out, phi) and out is not phi
 
 
 def test_laplacian_iteration_budget_warns():
-    phi, lam, H, known, h = disk_case("sphere", 33)
+    phi, lam, H, known, h = removed_disk("sphere", 33)
     with warnings.catch_warnings(record=True) as w:
         warnings.simplefilter("always")
         reconstruct(lam, H, phi, known, h, method="laplacian", max_iter=1)

@@ -43,11 +43,14 @@ __all__ = ["BACKGROUND_MESSAGE", "BUILDER", "COMPILING_MESSAGE", "MODE_VARIABLE"
 
 logger = logging.getLogger("surfinpaint")
 
-COMPILING_MESSAGE = ("compiling surfinpaint's numba kernels (first run after an install only; "
-                     "a few seconds, cached for later runs)")
+# both can come in one run (a worker past its budget compiles after the background line):
+# each says what the process does, so that together they do not read as a contradiction
+COMPILING_MESSAGE = ("compiling surfinpaint's numba kernels in this process (first run after an "
+                     "install only; a few seconds, cached for later runs)")
 BACKGROUND_MESSAGE = ("surfinpaint's numba kernels are not compiled yet (first run after an "
                       "install): this run uses their numpy versions (the same results) while a "
-                      "background process compiles them for later runs")
+                      "background process compiles them for later runs; a process whose numpy "
+                      "versions cost more than compiling compiles them itself, and says so")
 MODE_VARIABLE = "SURFINPAINT_COMPILE"  # "background" (the default) or "foreground"
 BUILDER = "surfinpaint.fill.warmup"  # its main(lock_fd, lock_path) compiles every kernel
 

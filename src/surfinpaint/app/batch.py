@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from surfinpaint.app.batch_inputs import FileJob, find_inputs
+from surfinpaint.app.batch_inputs import FileJob, Inputs, find_inputs
 from surfinpaint.app.batch_listing import (
     ProgressCallback,
     ResultCallback,
@@ -497,14 +497,35 @@ def fill_files(
     ValueError
         Bad options or inputs (no mesh file, two inputs onto one output, ...).
     """
+    # bad arguments are the caller's error, found before any file is read
     n_jobs = _local_workers(jobs, client)
     _check_options(fill_options)
     # the local workers start, and load the kernels, while the inputs are listed and checked
-    launched = _launch(n_jobs, progress is not None, _method(fill_options)) \
-        if client is None and n_jobs > 1 else None
+    launched = _early_pool(n_jobs, client, progress is not None, fill_options)
     todo, pending, rows = _listed(launched, inputs, out_dir, overwrite, progress, png,
                                   overlays, on_result, fill_options)
-    out = Path(out_dir)
+    # the files filled: the summary is written in any case, an interrupted run's too
+    _fill_and_summarise(todo, pending, rows, Path(out_dir), fill_options, n_jobs, client,
+                        launched)
+    return rows.ordered(todo)
+
+
+def _early_pool(n_jobs: int, client: Any, progress: bool,
+                fill_options: Mapping[str, Any]) -> _Launched | None:
+    """The local workers of :func:`fill_files`, started before the inputs are listed (so
+    that they load the kernels meanwhile: :func:`_launch`); None with a Dask ``client``
+    or with one job (the files are then filled in this process)."""
+    if client is None and n_jobs > 1:
+        return _launch(n_jobs, progress, _method(fill_options))
+    return None
+
+
+def _fill_and_summarise(todo: Inputs, pending: Sequence[FileJob], rows: RunRows, out: Path,
+                        fill_options: Mapping[str, Any], n_jobs: int, client: Any,
+                        launched: _Launched | None) -> None:
+    """Fill the ``pending`` files of ``todo`` (on the Dask cluster of ``client``, else here:
+    :func:`_run_local`) and write the summary of ``todo``'s rows into ``out``, also when the
+    run is interrupted; the temporary files a stopped fill left are removed."""
     try:
         if client is not None:
             _run_dask(pending, fill_options, client, rows)
@@ -514,6 +535,5 @@ def fill_files(
         if client is None:  # no local worker is left writing: what a killed one left can go
             remove_temporaries(pending)
         write_summary(rows.ordered(todo), out, fill_options, todo.unknown)
-    if client is not None:
+    if client is not None:  # every task ended (an interrupted one may still be writing)
         remove_temporaries(pending)
-    return rows.ordered(todo)

@@ -21,6 +21,7 @@ from surfinpaint.lazy import lazy_module
 
 # imported at its first use (surfinpaint.lazy), as the command line's other heavy parts
 batch = lazy_module("surfinpaint.app.batch")
+batch_summary = lazy_module("surfinpaint.app.batch_summary")
 
 __all__ = ["add_batch_parser", "run_batch"]
 
@@ -74,6 +75,7 @@ def run_batch(args: argparse.Namespace) -> int:
     finally:
         if client is not None:
             client.close()
+    _say_other_options(out, rows, options, args.output)
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     failed = sum(r.status == "failed" for r in rows)
     if out.progress:
@@ -87,6 +89,26 @@ def run_batch(args: argparse.Namespace) -> int:
                   f"failed (each named above; all in "
                   f"{escape(str(Path(args.output) / batch.SUMMARY_CSV))})")
     return 1 if failed else 0
+
+
+def _say_other_options(out: QuietConsole, rows, options: dict, out_dir: str) -> None:
+    """One warning where files were skipped as up to date but written with other fill
+    options than this run's: a rerun with other options (``--fair-smoothing off`` on a few
+    files) otherwise leaves them as they were, without a word (session 46)."""
+    other = [(r, batch_summary.option_changes(r.options, options)) for r in rows
+             if r.status == "skipped"]
+    other = [(r, changes) for r, changes in other if changes]
+    if not other:
+        return
+    row, changes = other[0]
+    files = how_many(len(other), "file was", "files were")
+    names = ", ".join(r.path for r, _ in other[:3]) + (
+        f" and {len(other) - 3} more" if len(other) > 3 else "")
+    out.warn(warning_line(
+        f"{files} skipped as up to date ({names}), but an earlier run filled them with other "
+        f"options ({row.path + ': ' if len(other) > 1 else ''}{', '.join(changes)}): kept "
+        f"as they were; --overwrite refills them with this run's "
+        f"({Path(out_dir) / 'summary.json'} records each file's)"))
 
 
 @contextlib.contextmanager

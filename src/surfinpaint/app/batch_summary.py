@@ -26,8 +26,8 @@ from surfinpaint.io.brain import check_overlay
 from surfinpaint.io.formats import check_file, files_read
 
 __all__ = ["MESSAGE_SEPARATOR", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
-           "checked_row", "error_text", "fill_messages", "named_in_summary", "read_summary",
-           "read_unknown_files", "row_of", "write_summary"]
+           "checked_row", "error_text", "fill_messages", "named_in_summary", "option_changes",
+           "read_summary", "read_unknown_files", "row_of", "write_summary"]
 
 Status = Literal["filled", "unfilled", "closed", "failed", "skipped"]
 #: The statuses of a :class:`FileRow`, in the order the summary counts them.
@@ -76,6 +76,14 @@ class FileRow:
     #: ``summary.json`` only): a rerun copies one again when the input's changed and the
     #: copy did not.
     materials: Mapping[str, str] = field(default_factory=dict)
+    #: Of the holes filled, those whose written fill is the smoothing fill (``fair_smoothing``:
+    #: :attr:`~surfinpaint.fill.results.HoleReport.smoothed`; each hole's why in ``holes``).
+    smoothed: int | None = None
+    #: The fill options the output was written with (in ``summary.json`` only, as its
+    #: ``options``): this run's, or a skipped file's earlier run's, so that a rerun with
+    #: other options can say which files it did not refill (:func:`option_changes`); set
+    #: when the summary is written, so not compared (the rows ``fill_files`` returns have None).
+    options: Mapping[str, Any] | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -140,7 +148,8 @@ def row_of(job: FileJob, result: FillResult, seconds: float, message: str,
                    holes_found=len(result.reports), holes_filled=filled, kept=kept,
                    new_vertices=len(result.vertices) - result.n_original_vertices,
                    seconds=seconds, message=message,
-                   holes=tuple(HoleRecord.of(r) for r in result.reports), picture=picture)
+                   holes=tuple(HoleRecord.of(r) for r in result.reports), picture=picture,
+                   smoothed=sum(r.smoothed for r in result.reports))
 
 
 def error_text(job: FileJob, exc: Exception) -> str:
@@ -173,12 +182,12 @@ def checked_row(job: FileJob) -> FileRow | None:
 def _csv_columns() -> list[str]:
     return ["path", "output", "status", "holes_found", "holes_filled",
             *[f"kept_{m}" for m in METHODS], "new_vertices", "seconds", "message",
-            "picture"]  # added last: readers by position keep working
+            "picture", "smoothed"]  # added last: readers by position keep working
 
 
 def _csv_record(row: FileRow) -> dict[str, Any]:
     record = dataclasses.asdict(dataclasses.replace(row, holes=()))
-    del record["holes"], record["materials"]  # summary.json only
+    del record["holes"], record["materials"], record["options"]  # summary.json only
     kept = record.pop("kept")
     record.update({f"kept_{m}": kept.get(m, 0) if row.holes_found is not None else None
                    for m in METHODS})
@@ -210,8 +219,11 @@ def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
     writer = csv.DictWriter(text, fieldnames=_csv_columns(), lineterminator="\n")
     writer.writeheader()
     writer.writerows(_csv_record(row) for row in rows)
-    document = {"surfinpaint": __version__, "options": plain(dict(options or {})),
-                "files": [{**plain(dataclasses.replace(row, holes=())),
+    now = plain(dict(options or {}))
+    # a skipped file keeps the options of the run that wrote it
+    document = {"surfinpaint": __version__, "options": now,
+                "files": [{**plain(dataclasses.replace(
+                    row, holes=(), options=row.options if row.status == "skipped" else now)),
                            "holes": [h.to_json() for h in row.holes]} for row in rows],
                 "unknown_files": {"count": len(unknown), "paths": [u.path for u in unknown]}}
     with atomic_open(out / SUMMARY_CSV, "w") as handle:
@@ -228,11 +240,26 @@ def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
     its seconds into the order a rerun's files are started in)."""
     try:
         document = json.loads((Path(out_dir) / SUMMARY_JSON).read_text(encoding="utf-8"))
+        # a summary before session 46 has the run's options only
         return [FileRow(**{**entry, "holes": tuple(HoleRecord.from_json(h) for h in
-                                                   entry.get("holes", ()))})
+                                                   entry.get("holes", ())),
+                           "options": entry.get("options", document.get("options"))})
                 for entry in document["files"]]
     except (OSError, ValueError, KeyError, TypeError):
         return []
+
+
+def option_changes(before: Mapping[str, Any] | None, now: Mapping[str, Any]) -> list[str]:
+    """The fill options that differ between ``before`` (a row's :attr:`FileRow.options`)
+    and ``now`` (as ``summary.json`` records them), each as ``name before -> now``, a
+    conformal option by its own name; empty where ``before`` is unknown (None)."""
+    if before is None:
+        return []
+    flat = [{**{k: v for k, v in o.items() if k != "options"}, **(o.get("options") or {})}
+            for o in (before, plain(dict(now)))]
+    return [f"{name} {flat[0].get(name)!r} -> {flat[1].get(name)!r}"
+            for name in sorted(set(flat[0]) | set(flat[1]))
+            if flat[0].get(name) != flat[1].get(name)]
 
 
 def read_unknown_files(out_dir: str | os.PathLike) -> list[str]:

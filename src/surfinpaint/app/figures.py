@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.app.fill_report import written
+from surfinpaint.app.fill_report import outcome_words, written
 from surfinpaint.errors import how_many
 from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
@@ -187,7 +187,7 @@ def before_after_figure(vertices: np.ndarray, faces: np.ndarray, result, *,
     grid = fig.add_gridspec(rows, 2 * max(len(shown), 1),
                             height_ratios=[1.6, 1.0][:rows])
     titles = (f"with {how_many(len(filled), 'hole', 'holes')}",
-              "filled: " + ", ".join(sorted({r.method for r, _ in filled})) if filled
+              "filled: " + outcome_words([r for r, _ in filled]) if filled
               else "nothing filled")
     half = grid.ncols // 2
     for k, (image, title) in enumerate(zip(overview, titles, strict=True)):

@@ -10,7 +10,8 @@ from surfinpaint.fill.conformal import ConformalOptions, GridOptions
 from surfinpaint.fill.islands import ISLAND_MODES
 from surfinpaint.fill.pipeline import METHODS
 
-__all__ = ["UsageError", "add_all_loops", "add_fill_options", "add_hole_numbers",
+__all__ = ["UsageError", "add_all_loops", "add_fair_smoothing", "add_fill_options",
+           "add_hole_numbers",
            "add_islands", "add_keep_margins", "add_max_hole_edges", "add_zip_seams",
            "fill_options",
            "hole_list", "positive_int", "smoothing_length", "whole_number"]
@@ -133,6 +134,18 @@ def fill_options(args: argparse.Namespace) -> dict:
 # such a fill does
 
 
+def add_fair_smoothing(parser) -> None:
+    """``--fair-smoothing`` (``ConformalOptions.fair_smoothing``): ``fill``, ``batch`` and
+    ``report``, which draws the fill ``fill`` with it writes."""
+    parser.add_argument("--fair-smoothing", type=smoothing_length, default="auto",
+                        metavar="{auto,off,LENGTH}",
+                        help="the bilaplacian candidate as a thin-plate smoothing fill that "
+                        "follows the known surface around the hole within its noise: 'auto' "
+                        "(default) where that surface reads as a range scan's noise, 'off' "
+                        "never, or always with this smoothing length in mean edges (the "
+                        "report says per hole which were smoothed, and -v why not)")
+
+
 def add_max_hole_edges(parser) -> None:
     """``--max-hole-edges N`` (``max_hole_edges``: holes over N boundary edges skipped)."""
     parser.add_argument("--max-hole-edges", type=positive_int, metavar="N",
@@ -212,12 +225,7 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
                    "it (by default, where that surface is a plane within its noise, as on "
                    "a range scan's flat face, or two planes meeting at a scanned edge, it "
                    "is, and no self-check runs)")
-    p.add_argument("--fair-smoothing", type=smoothing_length, default="auto",
-                   metavar="{auto,off,LENGTH}",
-                   help="the bilaplacian candidate as a thin-plate smoothing fill that "
-                   "follows the known surface around the hole within its noise: 'auto' "
-                   "(default) where that surface reads as a range scan's noise, 'off' "
-                   "never, or always with this smoothing length in mean edges")
+    add_fair_smoothing(p)
     p.add_argument("--crease-angle", type=float, metavar="DEG",
                    help="turn between neighbouring faces (degrees) above which an edge is "
                    "part of a crease (default 60)")

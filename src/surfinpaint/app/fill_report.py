@@ -20,7 +20,7 @@ from typing import Any
 
 from surfinpaint.app.progress import named, warning_line
 from surfinpaint.errors import HoleWarning, how_many
-from surfinpaint.fill.results import FillResult, HoleReport, TestScores
+from surfinpaint.fill.results import FillResult, HoleReport, Smoothing, TestScores
 from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.io.atomic import atomic_open
@@ -63,6 +63,8 @@ class Summary:
     seconds: float
     #: seams of duplicated vertices zipped (``--zip-seams``)
     zipped: int = 0
+    #: of the faired fills, those that are the smoothing fill (``HoleReport.smoothed``)
+    smoothed: int = 0
 
     @classmethod
     def of(cls, result: FillResult, seconds: float) -> Summary:
@@ -71,7 +73,7 @@ class Summary:
                    outcomes.count("skipped"), outcomes.count("failed"),
                    len(result.vertices) - result.n_original_vertices,
                    len(result.faces) - result.n_original_faces, seconds,
-                   outcomes.count("zipped"))
+                   outcomes.count("zipped"), sum(r.smoothed for r in result.reports))
 
 
 def _hole_warning_names() -> set[str]:
@@ -110,11 +112,25 @@ def written(report: HoleReport) -> str:
         return "λ-H fill"
     if outcome == "faired":
         on_plane = "" if report.plane is None else f", laid on {plane_words(report.plane)}"
-        return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')}{on_plane})"
+        smoothed = ", smoothed" if report.smoothed else ""
+        return f"faired fill ({FAIRING.get(report.fair_order, 'order ?')}{smoothed}{on_plane})"
     if outcome == "zipped":
         merged = how_many(len(report.zipped), "duplicate vertex", "duplicate vertices")
         return f"seam zipped ({merged} merged)"
     return f"{outcome}: {report.skipped}"
+
+
+def outcome_words(reports: Sequence[HoleReport]) -> str:
+    """What was written for ``reports``, counted in the words of their hole lines (the
+    pictures' overview: "1 λ-H fill, 3 faired fills (1 smoothed)"; was the ``--method``
+    names, "conformal, fair", where the close-ups say "λ-H fill" and "faired fill")."""
+    lambda_h = sum(r.outcome == "lambda-h" for r in reports)
+    faired = sum(r.outcome == "faired" for r in reports)
+    smoothed = sum(r.smoothed for r in reports)
+    words = ([how_many(lambda_h, "λ-H fill", "λ-H fills")] if lambda_h else []) + (
+        [how_many(faired, "faired fill", "faired fills")
+         + (f" ({smoothed} smoothed)" if smoothed else "")] if faired else [])
+    return ", ".join(words) or "none"
 
 
 def _percent(score: float | None, diameter: float) -> str:
@@ -212,6 +228,9 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
             lines += ["  " + t for t in tests]
         else:
             lines.append(f"  {_verdict(report)}")
+    smoothing = smoothing_line(report, verbose)
+    if smoothing:
+        lines.append(smoothing)
     diagnostics = report.diagnostics
     least_squares = diagnostics.mesh.least_squares if diagnostics and diagnostics.mesh else None
     if least_squares is not None:
@@ -229,11 +248,26 @@ def hole_lines(report: HoleReport, verbose: bool = False) -> list[str]:
     return lines
 
 
+def smoothing_line(report: HoleReport, shut_too: bool) -> str | None:
+    """The line on the bilaplacian fill's smoothing (``fair_smoothing``): where it was
+    smoothed, always (the written fill, or a candidate the self-check compared); where the
+    noise gate stayed shut, with ``shut_too`` only (``-v``: a clean mesh's every hole);
+    none for a fill without a vertex inside the hole."""
+    smoothing = report.smoothing
+    if (smoothing is None or report.outcome not in ("lambda-h", "faired")
+            or not report.new_vertices):  # a bare triangulation: nothing was smoothed
+        return None
+    if smoothing.length is None and not shut_too:
+        return None
+    return f"  bilaplacian fill {smoothing.sentence()}"
+
+
 def summary_lines(summary: Summary) -> list[str]:
     """The closing summary: the counts, what was added, the time."""
     found = how_many(summary.holes_found, "hole found", "holes found")
     return [f"{found}: {summary.lambda_h} filled by the λ-H fill, "
-            f"{summary.faired} by a faired fill, "
+            f"{summary.faired} by a faired fill"
+            + (f" ({summary.smoothed} smoothed)" if summary.smoothed else "") + ", "
             + (f"{how_many(summary.zipped, 'seam', 'seams')} zipped, "
                if summary.zipped else "")
             + f"{summary.skipped} skipped, "
@@ -265,6 +299,18 @@ def plain(value: Any) -> Any:
 
 def _score(value: float | None) -> float | None:
     return value if value is not None and math.isfinite(value) else None
+
+
+def _smoothing_json(smoothing: Smoothing | None) -> dict[str, Any] | None:
+    """A :class:`~surfinpaint.fill.results.Smoothing` as JSON types: the length (null: not
+    smoothed), the option, why, and the noise estimate in mean edges (null where none)."""
+    if smoothing is None:
+        return None
+    noise = smoothing.noise
+    return {"length": smoothing.length, "asked": smoothing.asked, "why": smoothing.why,
+            "noise": None if noise is None else _score(float(noise.relative)),
+            "correlation": None if noise is None else _score(float(noise.correlation)),
+            "scale_ratio": None if noise is None else _score(float(noise.scale_ratio))}
 
 
 def _test_json(test: TestScores) -> dict[str, Any]:
@@ -307,6 +353,8 @@ class HoleRecord:
     crossings: int = 0
     plane: dict[str, float] | None = None
     islands: tuple[int, ...] = ()
+    smoothed: bool = False
+    smoothing: dict[str, Any] | None = None
 
     @classmethod
     def of(cls, r: HoleReport) -> HoleRecord:
@@ -328,7 +376,8 @@ class HoleRecord:
                        "vertices": int(r.plane.points), "left_out": int(r.plane.left_out),
                        "past_edges": int(r.plane.past_edges),
                        "planes": 2 if isinstance(r.plane, TwoPlanes) else 1},
-                   islands=tuple(int(k) for k in r.islands))
+                   islands=tuple(int(k) for k in r.islands), smoothed=r.smoothed,
+                   smoothing=_smoothing_json(r.smoothing))
 
     def to_json(self) -> dict[str, Any]:
         """As JSON types: a failed candidate's score is null and named in ``failed``."""

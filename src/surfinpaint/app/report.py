@@ -45,13 +45,19 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint.app.fill_options import add_hole_numbers, add_islands, add_keep_margins
+from surfinpaint.app.fill_options import (
+    add_fair_smoothing,
+    add_hole_numbers,
+    add_islands,
+    add_keep_margins,
+)
 from surfinpaint.app.fill_report import (
     count_warnings,
     hole_lines,
     nothing_to_fill,
     plane_words,
     print_warnings,
+    smoothing_line,
     written,
 )
 from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar
@@ -308,13 +314,22 @@ def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray,
         scores={} if rc.verdict is None else {
             name.replace(" ", "_"): scores for name, scores in rc.verdict.tests.items()},
         fair_order=rc.fair_order,
-        written="; ".join([written(rc), *(line.strip() for line in hole_lines(rc)[1:])]),
+        written="; ".join([written(rc), *(line.strip() for line in hole_lines(rc)[1:]),
+                           *_shut_smoothing(rc)]),
         on_plane=rc.plane is not None,
         written_panel=panel_fills(made, k).written_in,
         skipped=rc.skipped if rc.outcome in ("skipped", "failed") else None,
         islands=rc.islands,
         crossings=rc.crossings if rc.outcome in ("lambda-h", "faired") else 0,
+        smoothed=rc.smoothed,
     )
+
+
+def _shut_smoothing(report) -> list[str]:
+    """The page says why a hole's bilaplacian fill was not smoothed too (``fill`` with
+    ``-v``): a scan's user asks which holes were."""
+    line = smoothing_line(report, shut_too=True)
+    return [line.strip()] if line and report.smoothing.length is None else []
 
 
 # --------------------------------------------------------------------------- panels
@@ -401,7 +416,8 @@ def panel_fills(fills: ComparedFills, k: int) -> PanelFills:
                    if on_plane
                    else f"(C) conformal fill ({state})")
     if written_in == "W":
-        titles["W"] = f"(W) written: faired fill (order {report.fair_order})"
+        titles["W"] = (f"(W) written: faired fill (order {report.fair_order}"
+                       + (", smoothed)" if report.smoothed else ")"))
     if on_plane and fills.diagnostics[k] is not None:
         # (E)/(G) are of the λ-H fill, which (C) does not draw
         titles["E"] = "(E) inpainted λ (λ-H fill, not written)"
@@ -523,6 +539,7 @@ def add_report_parser(subparsers) -> argparse.ArgumentParser:
                    "holes numbered as by `holes --repair`)")
     add_keep_margins(p)
     add_islands(p)
+    add_fair_smoothing(p)
     add_quiet(p)
     p.set_defaults(func=run_report)
     return p
@@ -554,7 +571,9 @@ def run_report(args: argparse.Namespace) -> int:
         with progress_bar(says.progress, total, "filling") as step:
             comparisons = write_report(vertices, faces, args.output, args.holes, truth=truth,
                                        step=step, title=f"surfinpaint report: {args.mesh}",
-                                       keep_margins=args.keep_margins, islands=args.islands)
+                                       keep_margins=args.keep_margins, islands=args.islands,
+                                       options=ConformalOptions(
+                                           fair_smoothing=args.fair_smoothing))
     for c in comparisons:
         says.say(hole_title(c).replace("\n", "; "))
     # as `fill` says them: named, each once, those of a hole left to its title when the

@@ -83,6 +83,10 @@ class HoleComparison:
     crossings : int
         The written fill's triangles that cross the surface or another hole's fill
         (:attr:`~surfinpaint.fill.results.HoleReport.crossings`; 0 for a clean fill).
+    smoothed : bool
+        The written fill is the bilaplacian smoothing fill
+        (:attr:`~surfinpaint.fill.results.HoleReport.smoothed`): not the conventional
+        fill (B), which goes through the surface's noise.
     """
 
     index: int
@@ -102,6 +106,7 @@ class HoleComparison:
     skipped: str | None = None
     islands: tuple[int, ...] = ()
     crossings: int = 0
+    smoothed: bool = False
 
 
 @dataclass(frozen=True)
@@ -294,7 +299,8 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
     elif c.kept:
         written = "the λ-H fill (C) is written"
     else:
-        order = f" (order {c.fair_order})" if c.fair_order else ""
+        order = (f" (order {c.fair_order}{', smoothed' if c.smoothed else ''})"
+                 if c.fair_order else "")
         if c.on_plane:
             written = (f"the surface around it is a plane within its noise; the faired "
                        f"fill{order} laid on it is written")

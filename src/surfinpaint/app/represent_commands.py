@@ -174,6 +174,12 @@ def run_rebuild(args: argparse.Namespace) -> int:
 
 def add_representation_parsers(sub) -> None:
     """``surfinpaint represent`` and ``rebuild``."""
+    _add_represent_parser(sub)
+    _add_rebuild_parser(sub)
+
+
+def _add_represent_parser(sub) -> None:
+    """``surfinpaint represent``: a mesh to its λ-H representation."""
     p = sub.add_parser("represent", help="λ-H representation of a disk-like mesh",
                        description="Conformally map a disk-topology MESH to the plane and "
                        "store its conformal factor λ and mean curvature H, on the mesh's own "
@@ -230,6 +236,9 @@ def add_representation_parsers(sub) -> None:
     add_quiet(p)
     p.set_defaults(func=run_represent)
 
+
+def _add_rebuild_parser(sub) -> None:
+    """``surfinpaint rebuild``: a λ-H representation back to a mesh."""
     p = sub.add_parser("rebuild", help="rebuild a mesh from a λ-H representation",
                        description="Rebuild the surface from the (λ, H) stored in a .npz "
                        "written by `surfinpaint represent`, and print its distance to the "

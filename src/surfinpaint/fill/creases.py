@@ -205,6 +205,33 @@ def hole_creases(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     edges, turn = sharp_edges(v, local, angle)
     if len(edges) == 0:
         return []
+    ends = _crease_ends(v, loop, _loop_chains(v, loop, edges, min_edges))
+    pairs = paired_ends(np.array([i for i, _, _ in ends]), len(loop),
+                        v[[c[0] for _, c, _ in ends]], np.array([d for _, _, d in ends]))
+    key = edge_keys(edges[:, 0], edges[:, 1], n)
+    creases = [Crease(ends=np.array([ends[a][0], ends[b][0]]),
+                      chains=[ends[a][1], ends[b][1]],
+                      directions=np.array([ends[a][2], ends[b][2]]),
+                      angle=_mean_turn(turn, key, [ends[a][1], ends[b][1]], n))
+               for a, b in pairs]
+    if creases or len(ends) < 3:
+        return creases
+    ends.sort(key=lambda e: e[0])
+    corner = corner_point(v[[c[0] for _, c, _ in ends]], np.array([d for _, _, d in ends]),
+                          float(np.linalg.norm(v[loop] - v[np.roll(loop, 1)], axis=1).mean()))
+    if corner is None:
+        return []
+    chains_ = [c for _, c, _ in ends]
+    return [Crease(ends=np.array([i for i, _, _ in ends]), chains=chains_,
+                   directions=np.array([d for _, _, d in ends]),
+                   angle=_mean_turn(turn, key, chains_, n), corner=corner)]
+
+
+def _loop_chains(v: np.ndarray, loop: np.ndarray, edges: np.ndarray, min_edges: int
+                 ) -> list[tuple[int, np.ndarray]]:
+    """The chains of sharp ``edges`` that start at a vertex of ``loop`` (:func:`_chain`),
+    long enough to be a crease: ``(the loop position, the chain's vertices)`` each."""
+    n = len(v)
     adjacency = sp.csr_matrix((np.ones(2 * len(edges)), (edges.ravel(), edges[:, ::-1].ravel())),
                               shape=(n, n))
     on_loop = np.zeros(n, dtype=bool)
@@ -218,55 +245,45 @@ def hole_creases(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
         # sharp edges meet at its far end): an edge, not noise, cut short by the corner
         if len(chain) - 1 >= min_edges or (len(chain) > 1 and sharp_degree[chain[-1]] >= 3):
             chains.append((int(i), np.asarray(chain)))
+    return chains
+
+
+def _chain_tangent(v: np.ndarray, chain: np.ndarray) -> np.ndarray:
+    """The chain's unit tangent into the hole at its loop vertex (its first)."""
+    # by the one-sided second-order difference (a chord would bend the continuation of a
+    # curved crease)
+    if len(chain) > 2:
+        d = 3 * v[chain[0]] - 4 * v[chain[1]] + v[chain[2]]
+    else:  # a single edge (allowed with min_edges=1): its direction
+        d = v[chain[0]] - v[chain[1]]
+    return d / np.linalg.norm(d)
+
+
+def _crease_ends(v: np.ndarray, loop: np.ndarray, chains: list[tuple[int, np.ndarray]]
+                 ) -> list[tuple[int, np.ndarray, np.ndarray]]:
+    """Where each chain enters the hole: ``(the loop position, the chain, its tangent)``."""
     k = len(loop)
-
-    def tangent(chain):
-        # the chain's tangent into the hole at its loop vertex, by the one-sided second-order
-        # difference (a chord would bend the continuation of a curved crease)
-        if len(chain) > 2:
-            d = 3 * v[chain[0]] - 4 * v[chain[1]] + v[chain[2]]
-        else:  # a single edge (allowed with min_edges=1): its direction
-            d = v[chain[0]] - v[chain[1]]
-        return d / np.linalg.norm(d)
-
     cos_along = np.cos(np.radians(CREASE_ALONG_LOOP))
     ends = []
     for i, chain in chains:
         # where the crease runs on along the loop's edges, it enters the hole further on
         for _ in range(k):
-            direction = tangent(chain)
+            direction = _chain_tangent(v, chain)
             steps = [(j, v[loop[j]] - v[loop[i]]) for j in ((i - 1) % k, (i + 1) % k)]
             ahead = [j for j, step in steps if int(loop[j]) not in chain
                      and step @ direction > cos_along * np.linalg.norm(step)]
             if not ahead:
                 break
             i, chain = ahead[0], np.concatenate([[loop[ahead[0]]], chain])
-        ends.append((i, chain, tangent(chain)))
-    pairs = paired_ends(np.array([i for i, _, _ in ends]), k,
-                        v[[c[0] for _, c, _ in ends]], np.array([d for _, _, d in ends]))
-    key = edge_keys(edges[:, 0], edges[:, 1], n)
+        ends.append((i, chain, _chain_tangent(v, chain)))
+    return ends
 
-    def mean_turn(chain_list) -> float:
-        # (the chains' edges along the loop have one face: no turn to measure there)
-        chain_edges = np.concatenate([np.column_stack([c[:-1], c[1:]]) for c in chain_list])
-        return float(turn[np.isin(key, edge_keys(chain_edges[:, 0], chain_edges[:, 1],
-                                                 n))].mean())
 
-    creases = [Crease(ends=np.array([ends[a][0], ends[b][0]]),
-                      chains=[ends[a][1], ends[b][1]],
-                      directions=np.array([ends[a][2], ends[b][2]]),
-                      angle=mean_turn([ends[a][1], ends[b][1]])) for a, b in pairs]
-    if creases or len(ends) < 3:
-        return creases
-    ends.sort(key=lambda e: e[0])
-    corner = corner_point(v[[c[0] for _, c, _ in ends]], np.array([d for _, _, d in ends]),
-                          float(np.linalg.norm(v[loop] - v[np.roll(loop, 1)], axis=1).mean()))
-    if corner is None:
-        return []
-    chains_ = [c for _, c, _ in ends]
-    return [Crease(ends=np.array([i for i, _, _ in ends]), chains=chains_,
-                   directions=np.array([d for _, _, d in ends]), angle=mean_turn(chains_),
-                   corner=corner)]
+def _mean_turn(turn: np.ndarray, key: np.ndarray, chains: list[np.ndarray], n: int) -> float:
+    """The mean turn of the sharp edges (``turn``, by their ``key``) along ``chains``."""
+    # (the chains' edges along the loop have one face: no turn to measure there)
+    chain_edges = np.concatenate([np.column_stack([c[:-1], c[1:]]) for c in chains])
+    return float(turn[np.isin(key, edge_keys(chain_edges[:, 0], chain_edges[:, 1], n))].mean())
 
 
 def corner_point(points: np.ndarray, directions: np.ndarray, scale: float

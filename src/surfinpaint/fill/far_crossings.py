@@ -23,6 +23,7 @@ import scipy.sparse as sp
 
 from surfinpaint.fill.parallel import CROSSING_RINGS
 from surfinpaint.geometry.intersection import intersecting_pairs
+from surfinpaint.geometry.rows import row_norms
 
 __all__ = ["CrossingFills", "crossing_fill_pairs", "far_crossing_counts"]
 
@@ -82,7 +83,7 @@ def far_crossing_counts(vertices: np.ndarray, faces: np.ndarray, vertex_faces: s
             counts.append(0)
             continue
         corners = v[fill]
-        reach = float(np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2).max())
+        reach = float(row_norms(corners - np.roll(corners, 1, axis=1)).max())
         low, high = corners.min(axis=(0, 1)) - reach, corners.max(axis=(0, 1)) + reach
         boxed = np.flatnonzero((axes[0] >= low[0]) & (axes[0] <= high[0]))
         for k in (1, 2):

@@ -1,7 +1,9 @@
 """One hole, start to end: cut its neighbourhood, check its loop, fill it, stitch the fill in
 and say what happened in its report. The serial loop of :mod:`surfinpaint.fill.pipeline` runs
 these steps one hole after another; :mod:`surfinpaint.fill.parallel` runs the cut, the check
-and the fill in worker processes and the rest here, in hole order.
+and the fill in worker processes and the rest here, in hole order. Before any hole is filled,
+the loops that span no area are zipped or left open (:func:`open_seams`; what ``surfinpaint
+holes`` says of them: :func:`left_open`).
 """
 
 from __future__ import annotations
@@ -15,19 +17,29 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from surfinpaint.errors import HoleWarning, MeshError, agreeing, how_many
+from surfinpaint.errors import HoleWarning, MeshError, agreeing, how_many, preview
 from surfinpaint.fill import parallel
 from surfinpaint.fill.conformal import ConformalOptions
+from surfinpaint.fill.holes import Hole
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
 from surfinpaint.fill.results import Fill, HoleReport
-from surfinpaint.fill.seams import spanless, zip_or_leave
+from surfinpaint.fill.seams import (
+    ALONG_OTHER_LOOPS,
+    ALONG_OTHER_LOOPS_NOT_ZIPPED,
+    NO_AREA_FACES,
+    SlitWarning,
+    spanless,
+    zip_or_leave,
+)
 from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.repair import unjoined_bowties
+from surfinpaint.geometry.rows import rows_any
 from surfinpaint.geometry.validation import check_loop, zero_area_faces
+from surfinpaint.io.base import MeshWarning
 
 __all__ = ["FAIR_NEIGHBOURHOOD_RINGS", "Run", "around_zero_area", "at_hole", "fill_hole",
-           "left_open", "loop_problem", "record", "skip", "stitched", "warn_at_caller",
-           "with_failure"]
+           "left_open", "loop_problem", "open_seams", "record", "skip", "stitched",
+           "warn_at_caller", "with_failure"]
 
 # vertex rings of the surface handed to the faired fill (its fairing needs up to 2)
 FAIR_NEIGHBOURHOOD_RINGS = 3
@@ -82,7 +94,7 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
                             faces=local.zero_area[:100].tolist())
         return message
     on_loop = np.isin(local.faces_global, local.loop)
-    touching = local.faces_global[on_loop.any(axis=1)]
+    touching = local.faces_global[rows_any(on_loop)]
     try:
         check_loop(touching, local.loop)
     except MeshError as exc:
@@ -93,7 +105,7 @@ def loop_problem(local: Local, index: int, explicit: bool) -> str | None:
                 raise MeshError(f"hole {index}: {exc.message}", vertices=exc.vertices,
                                 edges=exc.edges) from None
             return exc.message
-    if on_loop[on_loop.any(axis=1)].all():
+    if on_loop[rows_any(on_loop)].all():
         # a lone triangle or a strip one face wide: the loop bounds nothing but the faces
         # along it, and a fill would lay a second sheet on them (duplicate faces)
         return "the loop bounds only the faces along it (a lone sheet)"
@@ -136,6 +148,62 @@ def left_open(vertices: np.ndarray, faces: np.ndarray, loops: list[np.ndarray], 
     return out
 
 
+def open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
+                zip_seams: bool, unfillable: dict[int, Hole]
+                ) -> tuple[np.ndarray, np.ndarray, list[HoleReport]]:
+    """The holes of ``todo`` whose loop spans no area (:func:`find_slit`, or a loop of a
+    piece of surface whose faces all have zero area: :attr:`Hole.spans_no_area`), runs back
+    along itself over a seam (:func:`find_seam_part`) or runs along other loops edge for
+    edge (:attr:`Hole.runs_along_other_loops`) taken out of it, before anything is filled:
+    seams zipped with ``zip_seams`` (the faces returned use each kept vertex in place of its
+    duplicate), the others skipped with a SlitWarning. ``unfillable``: the holes of the
+    first and last kind, by number.
+
+    Returns the faces, the merged ``(duplicate, kept)`` pairs and the holes left to fill
+    (their loops in the zipped faces' ids).
+    """
+    left, merged = [], []
+    for report in todo:
+        hole = unfillable.get(report.index)
+        if hole is not None and hole.spans_no_area:  # not zipped: faces would repeat a vertex
+            skip(report, NO_AREA_FACES, SlitWarning, stacklevel=4)
+            continue
+        found = spanless(vertices, report.loop)
+        if found is None and hole is not None:  # along other loops
+            skip(report, ALONG_OTHER_LOOPS_NOT_ZIPPED if zip_seams else ALONG_OTHER_LOOPS,
+                 SlitWarning, stacklevel=4)
+            continue
+        if found is None:
+            left.append(report)
+            continue
+        slit, reason, rest = found
+        zipped, why = zip_or_leave(faces, slit, reason, zip_seams)
+        if zipped is not None:
+            faces = zipped
+            report.method, report.zipped = "zipped", slit.merges
+            merged_count = how_many(len(slit.merges), "duplicate vertex", "duplicate vertices")
+            report.note = (f"seam zipped: {merged_count} merged "
+                           f"into their coincident partners{rest}")
+            merged.append(slit.merges)
+            n_pairs = len(slit.merges)
+            pairs = how_many(n_pairs, "coincident vertex pair", "coincident vertex pairs")
+            warnings.warn(f"hole {report.index}: a seam of {pairs} zipped: the faces use "
+                          f"{agreeing(n_pairs, 'vertex', 'vertices')} "
+                          f"{preview(slit.merges[:, 1])} in place of "
+                          f"{agreeing(n_pairs, 'its duplicate', 'their duplicates')} "
+                          f"{preview(slit.merges[:, 0])} (left unused){rest}",
+                          MeshWarning, stacklevel=3)
+            continue
+        skip(report, why, SlitWarning, stacklevel=4)
+    pairs = np.concatenate(merged) if merged else np.empty((0, 2), dtype=np.int64)
+    if len(pairs):  # a later loop through a duplicate (a bow-tie there) goes through its partner
+        mapping = np.arange(len(vertices))
+        mapping[pairs[:, 0]] = pairs[:, 1]
+        for report in left:
+            report.loop = mapping[report.loop]
+    return faces, pairs, left
+
+
 def around_zero_area(mesh: FilledMesh, local: Local, run: Run
                      ) -> tuple[Local, Run, str | None]:
     """The neighbourhood and the run a hole is filled with, and why they are not those
@@ -169,6 +237,7 @@ def record(report: HoleReport, fill: Fill) -> None:
     report.crease_failure = fill.crease_failure
     report.crossings = fill.crossings
     report.plane = fill.plane
+    report.smoothing = fill.smoothing
     if fill.crossings:
         triangles = how_many(fill.crossings, "triangle", "triangles")
         warn_at_caller(f"hole {report.index}: {triangles} of the "

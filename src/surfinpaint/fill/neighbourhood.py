@@ -15,6 +15,7 @@ from surfinpaint.errors import how_many
 from surfinpaint.fill.results import Fill, FillResult, HoleReport
 from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.degenerate import triangle_incidence
+from surfinpaint.geometry.rows import rows_any
 from surfinpaint.geometry.validation import face_text, zero_area_faces
 
 __all__ = ["FilledMesh", "Local", "gather_positions", "neighbourhood_faces", "zero_area_reason"]
@@ -70,7 +71,7 @@ def neighbourhood_faces(
         picked.append(new)
         grown = faces[new].ravel()
         if at_added[frontier].any():
-            new_added = np.flatnonzero(in_region[added].any(axis=1))
+            new_added = np.flatnonzero(rows_any(in_region[added]))
             picked_added.append(new_added)
             grown = np.concatenate([grown, added[new_added].ravel()])
         frontier = _distinct(grown[~in_region[grown]], vertex_stamp)

@@ -30,9 +30,10 @@ import numpy as np
 
 from surfinpaint.errors import NUMERICAL_ERRORS, FillError, MeshError
 from surfinpaint.fill.conformal import ConformalOptions
-from surfinpaint.fill.liepa.baseline import faired_fills
+from surfinpaint.fill.liepa.baseline import faired_fills, smoothing_decision
 from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.intersection import patch_intersects_surroundings
+from surfinpaint.geometry.rows import rows_any
 from surfinpaint.lazy import lazy_module
 
 # the λ-H fill at its first use: a faired fill never imports it (a forked worker finds it
@@ -91,8 +92,8 @@ def crossing_faces(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     near = np.zeros(len(vertices), dtype=bool)
     near[loop] = True
     for _ in range(CROSSING_RINGS):
-        near[faces[near[faces].any(axis=1)]] = True
-    around = faces[near[faces].any(axis=1)]
+        near[faces[rows_any(near[faces])]] = True
+    around = faces[rows_any(near[faces])]
     new_f = np.asarray(fill.faces, dtype=np.int64).reshape(-1, 3)
     if not len(new_f) or not len(around):
         return 0
@@ -107,9 +108,11 @@ def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method
     triangles that cross the surface around it (:func:`crossing_faces`)."""
     if method == "fair":  # the baseline, or the conformal method's fallback (its smoothing)
         order = fair_order or 2
-        new_v, new_f, used = faired_fills(vertices, faces, loop, (order,),
-                                          smoothing=options.fair_smoothing)[order]
-        fill = Fill(new_v, new_f, "fair", fair_order=used)
+        smoothing = smoothing_decision(vertices, faces, loop, options.fair_smoothing)
+        new_v, new_f, used = faired_fills(
+            vertices, faces, loop, (order,),
+            smoothing=None if smoothing is None else smoothing.length)[order]
+        fill = Fill(new_v, new_f, "fair", fair_order=used, smoothing=smoothing)
     else:
         fill = conformal_method.conformal_fill(vertices, faces, loop, options,
                                                fair_order=fair_order)

@@ -15,14 +15,14 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from surfinpaint.errors import HoleWarning, agreeing, how_many, preview
+from surfinpaint.errors import HoleWarning, agreeing, how_many
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import ATTRIBUTE_KINDS, check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
 from surfinpaint.fill.far_crossings import crossing_fill_pairs, far_crossing_counts
-from surfinpaint.fill.hole_steps import Run, fill_hole, skip
+from surfinpaint.fill.hole_steps import Run, fill_hole, open_seams
 from surfinpaint.fill.holes import (
     BORDER_SPAN_FRACTION,
     Hole,
@@ -39,14 +39,6 @@ from surfinpaint.fill.neighbourhood import FilledMesh
 from surfinpaint.fill.objects import display_of, mesh_arrays
 from surfinpaint.fill.results import FillResult, HoleReport
 from surfinpaint.fill.scheduler import fill_in_parallel
-from surfinpaint.fill.seams import (
-    ALONG_OTHER_LOOPS,
-    ALONG_OTHER_LOOPS_NOT_ZIPPED,
-    NO_AREA_FACES,
-    SlitWarning,
-    spanless,
-    zip_or_leave,
-)
 from surfinpaint.fill.topology import topology_changes
 from surfinpaint.fill.unjoined import unjoined_borders_note
 from surfinpaint.fill.warmup import Beside, load_for_workers, loading_beside
@@ -66,62 +58,6 @@ __all__ = ["FillResult", "HoleReport", "fill_holes", "METHODS"]
 
 METHODS = ("conformal", "fair")
 ProgressCallback = Callable[[int, int, str], None]
-
-
-def _open_seams(vertices: np.ndarray, faces: np.ndarray, todo: list[HoleReport],
-                zip_seams: bool, unfillable: dict[int, Hole]
-                ) -> tuple[np.ndarray, np.ndarray, list[HoleReport]]:
-    """The holes of ``todo`` whose loop spans no area (:func:`find_slit`, or a loop of a
-    piece of surface whose faces all have zero area: :attr:`Hole.spans_no_area`), runs back
-    along itself over a seam (:func:`find_seam_part`) or runs along other loops edge for
-    edge (:attr:`Hole.runs_along_other_loops`) taken out of it, before anything is filled:
-    seams zipped with ``zip_seams`` (the faces returned use each kept vertex in place of its
-    duplicate), the others skipped with a SlitWarning. ``unfillable``: the holes of the
-    first and last kind, by number.
-
-    Returns the faces, the merged ``(duplicate, kept)`` pairs and the holes left to fill
-    (their loops in the zipped faces' ids).
-    """
-    left, merged = [], []
-    for report in todo:
-        hole = unfillable.get(report.index)
-        if hole is not None and hole.spans_no_area:  # not zipped: faces would repeat a vertex
-            skip(report, NO_AREA_FACES, SlitWarning, stacklevel=4)
-            continue
-        found = spanless(vertices, report.loop)
-        if found is None and hole is not None:  # along other loops
-            skip(report, ALONG_OTHER_LOOPS_NOT_ZIPPED if zip_seams else ALONG_OTHER_LOOPS,
-                 SlitWarning, stacklevel=4)
-            continue
-        if found is None:
-            left.append(report)
-            continue
-        slit, reason, rest = found
-        zipped, why = zip_or_leave(faces, slit, reason, zip_seams)
-        if zipped is not None:
-            faces = zipped
-            report.method, report.zipped = "zipped", slit.merges
-            merged_count = how_many(len(slit.merges), "duplicate vertex", "duplicate vertices")
-            report.note = (f"seam zipped: {merged_count} merged "
-                           f"into their coincident partners{rest}")
-            merged.append(slit.merges)
-            n_pairs = len(slit.merges)
-            pairs = how_many(n_pairs, "coincident vertex pair", "coincident vertex pairs")
-            warnings.warn(f"hole {report.index}: a seam of {pairs} zipped: the faces use "
-                          f"{agreeing(n_pairs, 'vertex', 'vertices')} "
-                          f"{preview(slit.merges[:, 1])} in place of "
-                          f"{agreeing(n_pairs, 'its duplicate', 'their duplicates')} "
-                          f"{preview(slit.merges[:, 0])} (left unused){rest}",
-                          MeshWarning, stacklevel=3)
-            continue
-        skip(report, why, SlitWarning, stacklevel=4)
-    pairs = np.concatenate(merged) if merged else np.empty((0, 2), dtype=np.int64)
-    if len(pairs):  # a later loop through a duplicate (a bow-tie there) goes through its partner
-        mapping = np.arange(len(vertices))
-        mapping[pairs[:, 0]] = pairs[:, 1]
-        for report in left:
-            report.loop = mapping[report.loop]
-    return faces, pairs, left
 
 
 def _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings
@@ -284,35 +220,38 @@ def fill_holes(
     vertices, faces, attributes, face_attributes = mesh_arrays(vertices, faces, attributes,
                                                                face_attributes)
     # bad arguments are the caller's error, found before any hole is filled
-    attributes, attribute_kinds, face_kinds = _checked_attributes(
-        len(vertices), len(faces), attributes, face_attributes, attribute_kinds)
+    attributes = _checked_attributes(len(vertices), len(faces), attributes, face_attributes,
+                                     attribute_kinds)
     options = _checked(method, options, fair_order, max_hole_edges, neighbourhood_rings)
     _check_flags(include_border=include_border, keep_margins=keep_margins, repair=repair,
                  validate=validate, zip_seams=zip_seams)
     check_islands_mode(islands)
     jobs = parallel.resolve_jobs(jobs)
-    vertices, faces, repaired, loops, numbers, incidence, zero_area, unfillable, margins, \
-        inside = _found_holes(vertices, faces, holes, method, include_border=include_border,
-                              keep_margins=keep_margins, repair=repair, validate=validate,
-                              zip_seams=zip_seams)
-    reports = _hole_reports(vertices, loops, numbers, method)
-    todo, joined = joined_islands(inside, reports, _within_size(reports, max_hole_edges),
-                                  islands)
+    # the mesh checked (and repaired) and its holes found, the kernels loading meanwhile
+    found = _found_holes(vertices, faces, holes, method, include_border=include_border,
+                         keep_margins=keep_margins, repair=repair, validate=validate,
+                         zip_seams=zip_seams)
+    del vertices, faces  # the found mesh's from here: a converted copy of the input is freed
+    # the plan: a report a hole; those over the size limit skipped, those with islands apart
+    reports = _hole_reports(found.vertices, found.loops, found.numbers, method)
+    todo, joined = joined_islands(found.islands, reports,
+                                  _within_size(reports, max_hole_edges), islands)
     # before anything is filled: a zipped seam changes the faces the other holes are cut from
-    zipped, merged, todo = _open_seams(vertices, faces, todo, zip_seams, unfillable)
-    # the incidence made beside the checks is of the prepared faces, not of zipped ones
-    mesh = FilledMesh(vertices, zipped, incidence if zipped is faces else None, zero_area)
-    run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(loops),
+    zipped, merged, todo = open_seams(found.vertices, found.faces, todo, zip_seams,
+                                      found.unfillable)
+    mesh = _mesh_to_fill(found, zipped)
+    run = Run(method, options, fair_order, explicit=holes is not None, n_holes=len(found.loops),
               progress=progress, rings=neighbourhood_rings,
               position={id(r): k for k, r in enumerate(reports)})
     _fill_all(mesh, todo, run, jobs, joined)
     # after the fills: a hole skipped or failed for any reason was not filled, and its
     # warning says so; this one is for the margin that was filled
-    _warn_may_be_border({r.index: margins[r.index] for r in reports
-                         if r.index in margins and r.outcome in ("lambda-h", "faired")},
-                        stacklevel=3)
-    result = _result(mesh, reports, repaired, merged,
-                     (attributes, face_attributes, attribute_kinds, face_kinds))
+    _warn_may_be_border(_filled_margins(found.margins, reports), stacklevel=3)
+    # the result: what the per-hole checks could not see warned, the attributes carried
+    result = _result(mesh, reports, found, merged)
+    _warn_crossings(result, mesh, reports)
+    result = _with_attributes(result, attributes)
+    _warn_topology(result)
     result.display = display
     return result
 
@@ -324,9 +263,27 @@ def _check_flags(**flags) -> None:
             raise ValueError(f"{name} must be True or False, got {flag!r}")
 
 
+@dataclasses.dataclass
+class _FoundHoles:
+    """The mesh :func:`_found_holes` made ready and what it found in it."""
+
+    vertices: np.ndarray  # float64
+    faces: np.ndarray  # what ``repair`` kept (the input's otherwise)
+    removed_faces: np.ndarray  # by ``repair``: ids into the input faces
+    flipped_faces: np.ndarray  # by ``repair``: ids into the input faces
+    loops: list[np.ndarray]  # the loops to fill
+    numbers: list[int]  # their find_holes numbers (-1: none of its loops)
+    incidence: object  # the faces' triangle_incidence
+    zero_area: np.ndarray  # the faces of zero area, which no neighbourhood may hold
+    unfillable: dict[int, Hole]  # never filled: they span no area or run along other loops
+    margins: dict[int, Hole]  # may be the surface's margin (holes=None only)
+    islands: list[Island]  # the islands in the holes chosen
+
+
 def _found_holes(vertices, faces, holes, method: str, *, include_border: bool,
-                 keep_margins: bool, repair: bool, validate: bool, zip_seams: bool = False):
-    """The mesh prepared (:func:`_prepared`; ``repair``'s removed and flipped faces), the
+                 keep_margins: bool, repair: bool, validate: bool,
+                 zip_seams: bool = False) -> _FoundHoles:
+    """The mesh prepared (:func:`_prepared`: ``repair``'s removed and flipped faces), the
     loops to fill, their :func:`find_holes`
     numbers (the outer border counts, whatever was selected), the faces'
     ``triangle_incidence``, their zero-area faces (a warning names the degenerate faces),
@@ -338,16 +295,16 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool,
     need only the edge table run there while the mesh is checked
     (:func:`~surfinpaint.fill.warmup.loading_beside`)."""
     with loading_beside(len(faces), method) as beside:
-        vertices, faces, triangles, repaired, table, found, incidence, degenerate = \
-            _prepared(vertices, faces, repair, validate, beside)
-        found = found()  # after the checks: their errors come first
+        prepared = _prepared(vertices, faces, repair, validate, beside)
+        vertices, triangles = prepared.vertices, prepared.triangles
+        found = prepared.found()  # after the checks: their errors come first
         loops = select_holes(vertices, triangles, holes, include_border=include_border,
-                             keep_margins=keep_margins, table=table, validate=False,
+                             keep_margins=keep_margins, table=prepared.table, validate=False,
                              found=found)
-        del table  # the holes are found: its memory is free for the fills
+        prepared.table = None  # the holes are found: its memory is free for the fills
         numbers = hole_numbers(vertices, triangles, loops, found=found)
-        incidence = incidence()  # before the thread is joined
-    for note in degenerate_notes(faces, *degenerate):
+        incidence = prepared.incidence()  # before the thread is joined
+    for note in degenerate_notes(prepared.faces, prepared.repeated, prepared.zero_area):
         warnings.warn(note, MeshWarning, stacklevel=3)
     unjoined = unjoined_borders_note(vertices, found, zip_seams=zip_seams)
     if unjoined is not None:  # else nothing says why a soup of faces has nothing filled
@@ -357,8 +314,10 @@ def _found_holes(vertices, faces, holes, method: str, *, include_border: bool,
         k: found[k] for k in numbers if k >= 0 and found[k].may_be_border}
     unfillable = {k: found[k] for k in numbers
                   if k >= 0 and (found[k].spans_no_area or found[k].runs_along_other_loops)}
-    return (vertices, faces, repaired, loops, numbers, incidence, degenerate[1], unfillable,
-            margins, find_islands(vertices, triangles, found, [k for k in numbers if k >= 0]))
+    return _FoundHoles(
+        vertices, prepared.faces, prepared.removed_faces, prepared.flipped_faces, loops,
+        numbers, incidence, prepared.zero_area, unfillable, margins,
+        find_islands(vertices, triangles, found, [k for k in numbers if k >= 0]))
 
 
 def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
@@ -375,6 +334,20 @@ def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
                 "keep it open with --keep-margins, --holes or --max-hole-edges "
                 "(keep_margins=, holes=, max_hole_edges=)",
                 MeshWarning, stacklevel=stacklevel)
+
+
+def _filled_margins(margins: dict[int, Hole], reports: list[HoleReport]) -> dict[int, Hole]:
+    """The holes of ``margins`` (by number) that were filled (λ-H or faired)."""
+    return {r.index: margins[r.index] for r in reports
+            if r.index in margins and r.outcome in ("lambda-h", "faired")}
+
+
+def _mesh_to_fill(found: _FoundHoles, faces: np.ndarray) -> FilledMesh:
+    """The mesh the holes are cut from and stitched into: ``faces`` are the found mesh's
+    with any seam zipped (:func:`~surfinpaint.fill.hole_steps.open_seams`)."""
+    # the incidence made beside the checks is of the prepared faces, not of zipped ones
+    return FilledMesh(found.vertices, faces,
+                      found.incidence if faces is found.faces else None, found.zero_area)
 
 
 def _hole_reports(vertices: np.ndarray, loops: Sequence[np.ndarray], numbers: list[int],
@@ -428,13 +401,21 @@ def _fill_run(mesh: FilledMesh, todo: list[HoleReport], run: Run, jobs: int) -> 
         run.finished(report)
 
 
-def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
-            merged: np.ndarray, attributes: tuple) -> FillResult:
-    """The filled mesh with its reports, the faces ``repair`` removed and flipped, merged
-    seam vertices, attributes (vertex, face, kinds), fills that cross the surface away from
-    their hole and topology changes (each also a warning, at the caller of
-    ``fill_holes``)."""
-    result = mesh.result(reports, repaired[0])
+def _result(mesh: FilledMesh, reports: list[HoleReport], found: _FoundHoles,
+            merged: np.ndarray) -> FillResult:
+    """The filled mesh with its reports, the faces ``repair`` removed and flipped and the
+    merged seam vertices."""
+    result = mesh.result(reports, found.removed_faces)
+    result.flipped_faces = found.flipped_faces
+    result.merged_vertices = merged
+    return result
+
+
+def _warn_crossings(result: FillResult, mesh: FilledMesh, reports: list[HoleReport]) -> None:
+    """Count the fills' triangles that cross the surface away from their hole, or another
+    hole's fill, in the holes' reports, each crossing also a warning (at the caller of
+    ``fill_holes``): each hole was checked only against the rings around it, as it was
+    filled."""
     hole_faces = result.hole_faces()
     for report, far in zip(reports, far_crossing_counts(
             result.vertices, mesh.faces, mesh.vertex_faces, hole_faces,
@@ -457,16 +438,29 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], repaired: tuple,
                       MeshWarning, stacklevel=3)
         one.crossings += pair.first_triangles
         other.crossings += pair.second_triangles
-    result.flipped_faces = repaired[1]
-    result.merged_vertices = merged
-    result = _with_attributes(result, *attributes)
+
+
+def _warn_topology(result: FillResult) -> None:
+    """The fills that may have changed the surface's topology (:func:`topology_changes`:
+    two fills that close a tube's two ends) into ``result.topology``, each also a warning
+    (at the caller of ``fill_holes``)."""
     result.topology = topology_changes(result)
     for change in result.topology:
         warnings.warn(change.message, MeshWarning, stacklevel=3)
-    return result
 
 
-def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds):
+@dataclasses.dataclass
+class _Attributes:
+    """The attributes the fill carries to the new vertices and faces, with their kinds."""
+
+    vertex: dict[str, np.ndarray]
+    face: dict[str, np.ndarray]
+    vertex_kinds: dict[str, str]
+    face_kinds: dict[str, str]  # those given: the others are found from the values
+
+
+def _checked_attributes(n_vertices, n_faces, attributes, face_attributes,
+                        kinds) -> _Attributes:
     """The vertex attributes and their kinds, checked (:func:`check_attributes`), the
     face attributes' row counts, and the kinds given for face attributes."""
     kinds = dict(kinds or {})
@@ -480,10 +474,26 @@ def _checked_attributes(n_vertices, n_faces, attributes, face_attributes, kinds)
                              f"rows, the mesh has {n_faces} faces")
     if any(kind not in ATTRIBUTE_KINDS for kind in face_kinds.values()):
         raise ValueError(f"unknown attribute kinds {face_kinds}: use one of {ATTRIBUTE_KINDS}")
-    return attributes, kinds, face_kinds
+    return _Attributes(attributes, face_attributes, kinds, face_kinds)
 
 
-def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
+@dataclasses.dataclass
+class _Prepared:
+    """The mesh as :func:`_prepared` makes it ready for the hole search."""
+
+    vertices: np.ndarray  # float64
+    faces: np.ndarray  # what ``repair`` kept (the input's otherwise)
+    triangles: np.ndarray  # the faces that repeat no vertex
+    removed_faces: np.ndarray  # by ``repair``: ids into the input faces
+    flipped_faces: np.ndarray  # by ``repair``: ids into the input faces
+    table: EdgeTable | None  # of ``triangles``, when validated
+    found: Callable[[], list[Hole]]  # find_holes' list, when the thread has it
+    incidence: Callable[[], object]  # the faces' triangle_incidence, likewise
+    repeated: np.ndarray  # the faces that repeat a vertex
+    zero_area: np.ndarray  # the faces of zero area
+
+
+def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside) -> _Prepared:
     """The mesh as arrays and its triangles (:func:`triangle_rows`), with ``repair`` the
     faces around non-manifold edges removed and the rest oriented (which faces were removed
     and flipped, the flips warned), with ``validate`` checked; the
@@ -503,10 +513,10 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     if validate:  # shapes, dtypes and ids first: the repair and the edge table index by them
         check_arrays(vertices, faces)
     vertices = np.asarray(vertices, dtype=np.float64)
-    repaired = (np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
+    removed, flipped = np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
     if repair:
         repair = repair_faces(vertices, faces)
-        faces, repaired = repair.faces, (repair.removed, repair.flipped)
+        faces, removed, flipped = repair.faces, repair.removed, repair.flipped
         for note in repair.notes():
             warnings.warn(f"repair {note}", MeshWarning, stacklevel=4)
     triangles, repeated, rows = triangle_rows(faces)  # a face that repeats a vertex joins none
@@ -518,15 +528,16 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside):
     else:  # checked by the caller, but the fills must know where they cannot go
         flat = zero_area_faces(vertices, triangles)
     flat = flat if rows is None else rows[flat]
-    return vertices, faces, triangles, repaired, table, found, incidence, (repeated, flat)
+    return _Prepared(vertices, faces, triangles, removed, flipped, table, found, incidence,
+                     repeated, flat)
 
 
-def _with_attributes(result: FillResult, attributes, face_attributes, kinds,
-                     face_kinds) -> FillResult:
+def _with_attributes(result: FillResult, attributes: _Attributes) -> FillResult:
     """The attributes of the filled mesh, new rows by the rules of fill/attributes.py."""
-    if attributes:
-        result.attributes = fill_result_attributes(result, attributes, kinds=kinds)
-    if face_attributes:
-        result.face_attributes = fill_result_face_attributes(result, face_attributes,
-                                                             face_kinds)
+    if attributes.vertex:
+        result.attributes = fill_result_attributes(result, attributes.vertex,
+                                                   kinds=attributes.vertex_kinds)
+    if attributes.face:
+        result.face_attributes = fill_result_face_attributes(result, attributes.face,
+                                                             attributes.face_kinds)
     return result

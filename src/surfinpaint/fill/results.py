@@ -17,9 +17,44 @@ from surfinpaint.fill.objects import to_pyvista, to_trimesh
 if TYPE_CHECKING:
     from surfinpaint.fill.conformal.selection import Verdict
     from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
+    from surfinpaint.geometry.surface_noise import NoiseEstimate
 
 __all__ = ["Fill", "FillResult", "GridLambdaH", "HoleReport", "LambdaHDiagnostics",
-           "LeastSquaresFill", "MeshLambdaH", "Outcome", "TestScores", "TopologyChange"]
+           "LeastSquaresFill", "MeshLambdaH", "Outcome", "Smoothing", "TestScores",
+           "TopologyChange"]
+
+
+@dataclass(frozen=True)
+class Smoothing:
+    """Whether a hole's bilaplacian fill was the thin-plate smoothing fill, which follows
+    the known surface around the hole within its noise instead of through every point
+    (``ConformalOptions.fair_smoothing``; docs/candidates.md, sessions 44 and 45), and why.
+
+    Attributes
+    ----------
+    length : float or None
+        The smoothing length used, in mean edge lengths of the surface around the hole;
+        None: the plain bilaplacian fill (the noise gate stayed shut, or smoothing off).
+    asked : float or "auto"
+        The option: "auto" decides per hole from ``noise``; a number is used as given.
+    why : str
+        Why, in words: the estimate and the sign of it that decided.
+    noise : NoiseEstimate, optional
+        For "auto": the estimate of the known surface's noise that decided
+        (:func:`surfinpaint.geometry.surface_noise.surface_noise`; its ``wide_sigma`` is NaN
+        where the 2-ring fits already shut the gate).
+    """
+
+    length: float | None
+    asked: float | str
+    why: str
+    noise: NoiseEstimate | None = None
+
+    def sentence(self) -> str:
+        """Smoothed or not, and why, in words."""
+        if self.length is None:
+            return f"not smoothed: {self.why}"
+        return f"smoothed (length {self.length:.2g} edges): {self.why}"
 
 
 @dataclass(frozen=True)
@@ -214,6 +249,11 @@ class Fill:
         The known surface around the hole was a plane within its noise (the conformal
         method's ``plane_test``), or two planes meeting at an edge (``two_plane_test``),
         and this faired fill was laid on it.
+    smoothing : Smoothing, optional
+        How the hole's bilaplacian fill was made where smoothing was asked for
+        (``fair_smoothing`` "auto", the default, or a length): smoothed or not, and why.
+        It is the written fill where ``kind`` is "fair" with ``fair_order`` 2 and no
+        ``plane``; else a candidate the self-check compared. None: not asked for.
     """
 
     vertices: np.ndarray
@@ -228,6 +268,7 @@ class Fill:
     diagnostics: LambdaHDiagnostics | None = None
     crossings: int = 0
     plane: PlaneTest | TwoPlanes | None = None
+    smoothing: Smoothing | None = None
 
     @property
     def notes(self) -> str | None:
@@ -302,7 +343,9 @@ class HoleReport:
     (or two planes) of the surface around the hole (``note`` says so). ``islands``: the
     loops (by number) of the islands the hole was filled with
     (:mod:`surfinpaint.fill.islands`: a faired fill of the annulus between the loops;
-    ``note`` names their pieces).
+    ``note`` names their pieces). ``smoothing``: whether the hole's bilaplacian fill was
+    the smoothing fill, and why (see :class:`Fill`; :attr:`smoothed` says whether the
+    written fill is it).
     """
 
     index: int
@@ -327,6 +370,16 @@ class HoleReport:
     crossings: int = 0
     plane: PlaneTest | TwoPlanes | None = None
     islands: tuple[int, ...] = ()
+    smoothing: Smoothing | None = None
+
+    @property
+    def smoothed(self) -> bool:
+        """The written fill is the smoothing fill: the bilaplacian one where its smoothing
+        was used, with vertices inside the hole, not laid on a plane (which replaces its
+        heights)."""
+        return (self.outcome == "faired" and self.fair_order == 2 and self.plane is None
+                and self.new_vertices > 0  # a bare triangulation: nothing to smooth
+                and self.smoothing is not None and self.smoothing.length is not None)
 
     @property
     def outcome(self) -> Outcome:
@@ -418,7 +471,10 @@ class FillResult:
         outcomes: dict[str, int] = {}
         for report in self.reports:
             outcomes[report.outcome] = outcomes.get(report.outcome, 0) + 1
-        said = ", ".join(f"{n} {outcome}" for outcome, n in outcomes.items()) or "none"
+        smoothed = sum(report.smoothed for report in self.reports)
+        said = ", ".join(f"{n} {outcome}" + (f" ({smoothed} smoothed)" if smoothed
+                                               and outcome == "faired" else "")
+                         for outcome, n in outcomes.items()) or "none"
         extra = {"attributes": list(self.attributes),
                  "face_attributes": list(self.face_attributes)}
         return (f"FillResult({len(self.vertices)} vertices "

@@ -26,6 +26,7 @@ from surfinpaint.geometry.metrics import (
     sample_surface,
     surface_distance_samples,
 )
+from surfinpaint.geometry.rows import row_norms, rows_any
 
 __all__ = ["advantages_over", "hidden_band", "hidden_ring_scores", "hidden_ring_test",
            "mean_scores", "paired_advantage", "sibling_reach", "sibling_scores"]
@@ -150,7 +151,7 @@ def _local_cut(vertices, faces, centre, radius, patch_rings, graph):
     (ring <= r0) and, with the rim beyond r0, its distances are those of the whole mesh;
     the cleanup and the fill's patch must stay ``patch_rings + 2`` rings inside."""
     ring = ring_distances(faces, len(vertices), centre, graph=graph)
-    close = (np.linalg.norm(vertices - vertices[centre], axis=1) <= radius)
+    close = (row_norms(vertices - vertices[centre]) <= radius)
     close &= np.isfinite(ring)
     r0 = float(ring[close].max())
     reach = r0 + patch_rings + 4
@@ -232,7 +233,7 @@ def hidden_band(faces: np.ndarray, ring: np.ndarray, hide_rings: int):
         The boundary loops of ``kept`` (None when they do not close).
     """
     near = ring <= hide_rings - 1
-    hidden = near[faces].any(axis=1)
+    hidden = rows_any(near[faces])
     kept = faces[~hidden]
     border = (ring <= hide_rings) & ~near
     try:

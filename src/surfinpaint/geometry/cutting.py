@@ -18,6 +18,7 @@ from scipy.sparse.csgraph import dijkstra
 from surfinpaint.errors import MeshError, how_many
 from surfinpaint.geometry.edges import EdgeTable, edge_keys
 from surfinpaint.geometry.mesh import boundary_loops, faces_at, unique_edges, vertex_faces
+from surfinpaint.geometry.rows import row_norms, rows_all, rows_any
 
 __all__ = ["CutHole", "CutResult", "compact", "cut_geodesic_disk", "cut_holes", "edge_graph",
            "renumber", "ring_distances", "submesh"]
@@ -106,7 +107,7 @@ class _Topology:
         if (count > 2).any():
             bad = edges[count > 2][:10]
             raise MeshError("mesh is not edge-manifold", edges=[tuple(e) for e in bad.tolist()])
-        length = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
+        length = row_norms(vertices[edges[:, 0]] - vertices[edges[:, 1]])
         # zero-length edges would vanish from the sparse graph; keep them connected
         length = np.maximum(length, 1e-300)
         self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])),
@@ -176,7 +177,7 @@ class _Patch:
                    same)
 
     def face_graph(self, mask: np.ndarray) -> sp.csr_matrix:
-        p = self.pairs[mask[self.pairs].all(axis=1)]
+        p = self.pairs[rows_all(mask[self.pairs])]
         m = len(self.faces)
         return sp.coo_matrix((np.ones(len(p)), (p[:, 0], p[:, 1])), shape=(m, m)).tocsr()
 
@@ -254,8 +255,8 @@ def _region(topo: _Topology, center: int, radius: float) -> np.ndarray:
 def _clean(patch: _Patch, center: int, radius: float, dist: np.ndarray) -> np.ndarray | None:
     """Mask over ``patch``'s faces of the faces to remove (None: the window is too small)."""
     faces = patch.faces
-    removed = (dist <= radius)[faces].all(axis=1)
-    touching = (faces == center).any(axis=1)
+    removed = rows_all((dist <= radius)[faces])
+    touching = rows_any(faces == center)
     if not (removed & touching).any():
         raise ValueError(
             f"radius {radius:g} around vertex {center} contains no whole face: make it larger")
@@ -466,7 +467,7 @@ def submesh(vertices: np.ndarray, faces: np.ndarray, keep: np.ndarray
         Original id of each submesh vertex (sorted).
     """
     f = np.asarray(faces, dtype=np.int64)
-    ids, sub = renumber(f[keep[f].all(axis=1)])
+    ids, sub = renumber(f[rows_all(keep[f])])
     return np.asarray(vertices)[ids], sub, ids
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from surfinpaint.errors import how_many
+from surfinpaint.geometry.rows import rows_all
 from surfinpaint.lazy import lazy_module
 
 # the F and normal tails (fdtrc, ndtr, ndtri; scipy.stats would cost 1 s): imported at the
@@ -321,7 +322,7 @@ def trimmed_plane_test(points: np.ndarray, edges: np.ndarray | None = None, *,
     kept_edges = None
     if edges is not None:
         edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
-        kept_edges = local[edges[inliers[edges].all(axis=1)]]
+        kept_edges = local[edges[rows_all(inliers[edges])]]
     test = plane_test(points[inliers], kept_edges, alpha=alpha)
     return PlaneTest(test.flat, test.p_curvature, test.p_pattern, test.centre, test.normal,
                      test.noise, test.points, left_out)
@@ -365,7 +366,7 @@ def part_plane_test(points: np.ndarray, edges: np.ndarray | None, kept: np.ndarr
     kept_edges = None
     if edges is not None:
         edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
-        kept_edges = local[edges[kept[edges].all(axis=1)]]
+        kept_edges = local[edges[rows_all(kept[edges])]]
     return replace(plane_test(points[kept], kept_edges, alpha=alpha), left_out=n - m)
 
 
@@ -453,7 +454,7 @@ def two_plane_test(points: np.ndarray, normals: np.ndarray, edges: np.ndarray | 
         group_edges = None
         if edges is not None:
             edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
-            group_edges = local[edges[group[edges].all(axis=1)]]
+            group_edges = local[edges[rows_all(group[edges])]]
         tests.append(plane_test(points[group], group_edges, alpha=alpha))
     # across the line by more than three of its plane's noise (or rounding)
     extent = float(np.ptp(points, axis=0).max())

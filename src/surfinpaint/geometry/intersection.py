@@ -20,6 +20,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from surfinpaint.geometry.rows import (
+    row_cross,
+    row_max,
+    row_means,
+    row_min,
+    row_norms,
+    rows_all,
+    rows_any,
+)
 from surfinpaint.lazy import lazy_module
 
 # imported at its first use (see fill/holes.py)
@@ -41,7 +50,7 @@ COPLANAR_SIN = 1e-6
 
 
 def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    norm = np.linalg.norm(v, axis=-1)
+    norm = row_norms(v)
     return np.divide(v, norm[..., None], out=np.zeros_like(v), where=norm[..., None] > 0), norm
 
 
@@ -61,8 +70,8 @@ def _interval(t: np.ndarray, d: np.ndarray, eps: np.ndarray) -> tuple[np.ndarray
         valid.append(cross[:, None])
     vals = np.concatenate(vals, axis=1)
     valid = np.concatenate(valid, axis=1)
-    lo = np.where(valid, vals, np.inf).min(axis=1)
-    hi = np.where(valid, vals, -np.inf).max(axis=1)
+    lo = row_min(np.where(valid, vals, np.inf))
+    hi = row_max(np.where(valid, vals, -np.inf))
     return lo, hi
 
 
@@ -74,7 +83,7 @@ def _coplanar_overlap(a: np.ndarray, b: np.ndarray, normal: np.ndarray,
     the other begins.
     """
     e1, _ = _unit(a[:, 1] - a[:, 0])
-    e2 = np.cross(normal, e1)
+    e2 = row_cross(normal, e1)
     origin = a[:, :1]
     pa = np.stack([np.einsum("kij,kj->ki", a - origin, e) for e in (e1, e2)], axis=-1)
     pb = np.stack([np.einsum("kij,kj->ki", b - origin, e) for e in (e1, e2)], axis=-1)
@@ -128,16 +137,16 @@ def triangles_intersect(
         return np.zeros(0, dtype=bool)
     # shared[i, p, q]: corner p of A is corner q of B
     shared = fa[:, :, None] == fb[:, None, :]
-    shared_a = shared.any(axis=2)
-    shared_b = shared.any(axis=1)
+    shared_a = rows_any(shared)
+    shared_b = rows_any(shared.swapaxes(1, 2))
     n_shared = shared_a.sum(axis=1)
     origin = v[fa[:, 0]]
     a = v[fa] - origin[:, None]
     b = v[fb] - origin[:, None]
-    na, area_a = _unit(np.cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]))
-    nb, area_b = _unit(np.cross(b[:, 1] - b[:, 0], b[:, 2] - b[:, 0]))
-    longest = np.maximum(np.linalg.norm(a - np.roll(a, 1, axis=1), axis=2).max(1),
-                         np.linalg.norm(b - np.roll(b, 1, axis=1), axis=2).max(1))
+    na, area_a = _unit(row_cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]))
+    nb, area_b = _unit(row_cross(b[:, 1] - b[:, 0], b[:, 2] - b[:, 0]))
+    longest = np.maximum(row_max(row_norms(a - np.roll(a, 1, axis=1))),
+                         row_max(row_norms(b - np.roll(b, 1, axis=1))))
     eps = REL_TOL * longest
     # a pair that shares vertices intersects only by overlapping beyond them; one that shares
     # none intersects when it touches
@@ -149,10 +158,10 @@ def triangles_intersect(
     da = np.einsum("kij,kj->ki", a - b[:, :1], nb)
     db[shared_b] = 0.0
     da[shared_a] = 0.0
-    apart = ((db > eps[:, None]).all(1) | (db < -eps[:, None]).all(1)
-             | (da > eps[:, None]).all(1) | (da < -eps[:, None]).all(1))
+    apart = (rows_all(db > eps[:, None]) | rows_all(db < -eps[:, None])
+             | rows_all(da > eps[:, None]) | rows_all(da < -eps[:, None]))
 
-    line, sine = _unit(np.cross(na, nb))
+    line, sine = _unit(row_cross(na, nb))
     coplanar = sine < COPLANAR_SIN
     result = np.zeros(k, dtype=bool)
 
@@ -182,9 +191,9 @@ def _candidates(vertices: np.ndarray, fa: np.ndarray, fb: np.ndarray,
     """
     v = np.asarray(vertices, dtype=float)
     pa, pb = v[fa], v[fb]
-    ca, cb = pa.mean(axis=1), pb.mean(axis=1)
-    ra = np.linalg.norm(pa - ca[:, None], axis=2).max(axis=1)
-    rb = np.linalg.norm(pb - cb[:, None], axis=2).max(axis=1)
+    ca, cb = row_means(pa.swapaxes(1, 2)), row_means(pb.swapaxes(1, 2))
+    ra = row_max(row_norms(pa - ca[:, None]))
+    rb = row_max(row_norms(pb - cb[:, None]))
     # a little slack so that touching spheres are kept
     reach = 1.0 + 1e-9
     tree_a = spatial.cKDTree(ca)
@@ -197,8 +206,10 @@ def _candidates(vertices: np.ndarray, fa: np.ndarray, fb: np.ndarray,
     if same:
         keep &= i < j
     i, j = i[keep], j[keep]
-    box = ((pa[i].min(1) <= pb[j].max(1) + 1e-12) & (pb[j].min(1) <= pa[i].max(1) + 1e-12))
-    keep = box.all(axis=1)
+    # corners' coordinates (m, axis, corner): their minima and maxima by axis
+    qa, qb = pa[i].swapaxes(1, 2), pb[j].swapaxes(1, 2)
+    box = (row_min(qa) <= row_max(qb) + 1e-12) & (row_min(qb) <= row_max(qa) + 1e-12)
+    keep = rows_all(box)
     return i[keep], j[keep]
 
 

@@ -16,6 +16,7 @@ from surfinpaint.errors import MeshError, agreeing, preview
 from surfinpaint.geometry.cycles import simple_cycles
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.linalg import laplacian_from_weights
+from surfinpaint.geometry.rows import row_cross, row_norms, rows_any
 
 __all__ = [
     "boundary_halfedges",
@@ -235,7 +236,7 @@ def halfedge_faces(faces: np.ndarray, loop: np.ndarray) -> tuple[np.ndarray, np.
     n = int(max(faces.max(initial=-1), loop.max())) + 1
     on_loop = np.zeros(n, dtype=bool)
     on_loop[loop] = True
-    near = np.flatnonzero(on_loop[faces].any(axis=1))
+    near = np.flatnonzero(rows_any(on_loop[faces]))
     f = faces[near]
     tail = f.ravel()
     head = f[:, [1, 2, 0]].ravel()
@@ -336,7 +337,7 @@ def k_ring(faces: np.ndarray, seeds: np.ndarray, k: int, n_vertices: int) -> np.
     mask[np.asarray(seeds, dtype=np.int64)] = True
     for _ in range(k):
         count = int(mask.sum())
-        mask[f[mask[f].any(axis=1)]] = True
+        mask[f[rows_any(mask[f])]] = True
         if mask.sum() == count:
             break
     return mask
@@ -356,8 +357,8 @@ def faces_near(faces: np.ndarray, seeds: np.ndarray, rings: int, n_vertices: int
     mask = np.zeros(n_vertices, dtype=bool)
     mask[np.asarray(seeds, dtype=np.int64)] = True
     for _ in range(rings):
-        mask[faces[mask[faces].any(axis=1)].ravel()] = True
-    return faces[mask[faces].any(axis=1)]
+        mask[faces[rows_any(mask[faces])].ravel()] = True
+    return faces[rows_any(mask[faces])]
 
 
 def vertex_faces(faces: np.ndarray, n_vertices: int) -> sp.csr_matrix:
@@ -404,8 +405,7 @@ def edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     f = np.asarray(faces, dtype=np.int64)
     p0, p1, p2 = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
     return np.stack(
-        [np.linalg.norm(p2 - p1, axis=1), np.linalg.norm(p0 - p2, axis=1),
-         np.linalg.norm(p1 - p0, axis=1)],
+        [row_norms(p2 - p1), row_norms(p0 - p2), row_norms(p1 - p0)],
         axis=1,
     )
 
@@ -421,7 +421,7 @@ def mean_edge_length(vertices: np.ndarray, faces: np.ndarray,
         edges = table.edges
     if len(edges) == 0:
         return 0.0
-    return float(np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1).mean())
+    return float(row_norms(v[edges[:, 0]] - v[edges[:, 1]]).mean())
 
 
 def _face_cross_columns(vertices: np.ndarray, faces: np.ndarray) -> list[np.ndarray]:
@@ -480,7 +480,7 @@ def face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(f, 3) unit normals, right-handed with the face order; zero for degenerate faces."""
     c = face_cross(vertices, faces)
-    norm = np.linalg.norm(c, axis=1, keepdims=True)
+    norm = row_norms(c)[:, None]
     return np.divide(c, norm, out=np.zeros_like(c), where=norm > 0)
 
 
@@ -491,7 +491,7 @@ def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     n = np.zeros((len(vertices), 3))
     for k in range(3):
         np.add.at(n, f[:, k], c)
-    norm = np.linalg.norm(n, axis=1, keepdims=True)
+    norm = row_norms(n)[:, None]
     return np.divide(n, norm, out=np.zeros_like(n), where=norm > 0)
 
 
@@ -507,7 +507,7 @@ def _cotangents(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         if v.shape[1] == 2:
             cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
         else:
-            cross = np.linalg.norm(np.cross(a, b), axis=1)
+            cross = row_norms(row_cross(a, b))
         cot[:, k] = dot / np.maximum(cross, 1e-300)
     return cot
 
@@ -584,7 +584,7 @@ def _voronoi_corners(vertices: np.ndarray, faces: np.ndarray, cot: np.ndarray) -
         corner[:, k] = (length2[:, (k + 2) % 3] * cot[:, (k + 2) % 3]
                         + length2[:, (k + 1) % 3] * cot[:, (k + 1) % 3]) / 8.0
     obtuse = cot < 0
-    any_obtuse = obtuse.any(axis=1)
+    any_obtuse = rows_any(obtuse)
     corner[any_obtuse] = np.where(obtuse[any_obtuse], area[any_obtuse, None] / 2,
                                   area[any_obtuse, None] / 4)
     return corner

@@ -12,6 +12,7 @@ from surfinpaint.compiled import Kernel, run
 from surfinpaint.geometry.closest_point import closest_point_on_triangles
 from surfinpaint.geometry.cutting import compact
 from surfinpaint.geometry.mesh import face_areas
+from surfinpaint.geometry.rows import row_max, row_means, row_sums
 
 __all__ = ["SurfaceDistance", "hole_patch_of", "mean_surface_distances", "point_mesh_distance",
            "point_mesh_distances", "sample_surface", "surface_distance",
@@ -167,8 +168,8 @@ class _TriangleIndex:
     def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
         self.faces = np.asarray(faces, np.int64)
         self.tri = np.asarray(vertices, float)[self.faces]
-        self.centroid = self.tri.mean(axis=1)
-        self.rho = np.sqrt(((self.tri - self.centroid[:, None]) ** 2).sum(-1).max())
+        self.centroid = row_means(self.tri.swapaxes(1, 2))
+        self.rho = np.sqrt(row_sums((self.tri - self.centroid[:, None]) ** 2).max())
         self._tree = None
         self._by_x = None  # an axis, the centroids' order on it, their coordinates so ordered
         self.use_numba = True
@@ -282,8 +283,8 @@ class _TriangleIndex:
         of the same faces on moved vertices: a triangle ``T`` outside a point's ``near`` has
         its centroid at least ``dist[:, -1] − |Δg_T|`` from it here, so
         ``dist(p, T) >= dist[:, -1] − (|Δg_T| + ρ_T)``."""
-        moved = np.sqrt(((self.centroid - other.centroid) ** 2).sum(axis=1))
-        rho = np.sqrt(((self.tri - self.centroid[:, None]) ** 2).sum(-1).max(axis=1))
+        moved = np.sqrt(row_sums((self.centroid - other.centroid) ** 2))
+        rho = np.sqrt(row_max(row_sums((self.tri - self.centroid[:, None]) ** 2)))
         return float((moved + rho).max())
 
     def distances_moving(self, samples) -> list[np.ndarray]:

@@ -37,6 +37,7 @@ from surfinpaint.geometry.mesh import (
     cotangent_laplacian,
     face_areas,
 )
+from surfinpaint.geometry.rows import row_norms, rows_any
 
 __all__ = [
     "angle_distortion",
@@ -166,8 +167,8 @@ def pinched_vertices(faces: np.ndarray) -> np.ndarray:
 def _far_pair(vertices: np.ndarray, loop: np.ndarray) -> tuple[int, int]:
     """Two boundary vertices roughly farthest apart (two sweeps of farthest point)."""
     p = vertices[loop]
-    a = int(np.argmax(np.linalg.norm(p - p[0], axis=1)))
-    b = int(np.argmax(np.linalg.norm(p - p[a], axis=1)))
+    a = int(np.argmax(row_norms(p - p[0])))
+    b = int(np.argmax(row_norms(p - p[a])))
     return int(loop[a]), int(loop[b])
 
 
@@ -473,8 +474,7 @@ def _corner_angles(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
     for k in range(3):
         a = p[f[:, (k + 1) % 3]] - p[f[:, k]]
         b = p[f[:, (k + 2) % 3]] - p[f[:, k]]
-        cos = np.einsum("ij,ij->i", a, b) / np.maximum(
-            np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
+        cos = np.einsum("ij,ij->i", a, b) / np.maximum(row_norms(a) * row_norms(b), 1e-300)
         out[:, k] = np.arccos(np.clip(cos, -1.0, 1.0))
     return out
 
@@ -513,7 +513,7 @@ def collapsed_faces(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray, *,
     (k,) int array of face ids.
     """
     squashed = _corner_angles(uv, faces) < ratio * _corner_angles(vertices, faces)
-    return np.flatnonzero(squashed.any(axis=1))
+    return np.flatnonzero(rows_any(squashed))
 
 
 def distortion_histogram(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray,

@@ -27,6 +27,7 @@ from surfinpaint.geometry.mesh import (
     vertex_adjacency,
     vertex_normals,
 )
+from surfinpaint.geometry.rows import row_cross, row_norms
 
 __all__ = ["NoiseEstimate", "surface_noise"]
 
@@ -151,9 +152,9 @@ def _left_out_residuals(v: np.ndarray, faces: np.ndarray, ids: np.ndarray,
     neighbour[valid] = rows.indices
     normal = vertex_normals(v, faces)[ids]
     helper = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-    first = np.cross(normal, helper)
-    first /= np.linalg.norm(first, axis=1, keepdims=True)
-    second = np.cross(normal, first)
+    first = row_cross(normal, helper)
+    first /= row_norms(first)[:, None]
+    second = row_cross(normal, first)
     offset = v[neighbour] - v[ids][:, None, :]
     scale = np.sqrt(np.mean(np.einsum("mkj,mkj->mk", offset, offset)[valid]))  # conditioning
     x = np.einsum("mkj,mj->mk", offset, first) / scale

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from surfinpaint.compiled import Kernel, run
+from surfinpaint.geometry.rows import rows_any
 
 __all__ = ["vertex_normals_and_areas"]
 
@@ -62,7 +63,7 @@ def _measures_numpy(v: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarra
     corner = (length2[:, [2, 0, 1]] * cot[:, [2, 0, 1]]
               + length2[:, [1, 2, 0]] * cot[:, [1, 2, 0]]) / 8.0
     obtuse = cot < 0
-    any_obtuse = obtuse.any(axis=1)
+    any_obtuse = rows_any(obtuse)
     corner[any_obtuse] = np.where(obtuse[any_obtuse], area[any_obtuse, None] / 2,
                                   area[any_obtuse, None] / 4)
     return normals, np.bincount(ids, corner.T.ravel(), minlength=n).astype(float, copy=False)

@@ -270,7 +270,8 @@ def _gifti_label_table(image) -> str | None:
     labels = image.labeltable.labels
     if not labels and not any(a.intent == 1002 for a in image.darrays):  # NIFTI_INTENT_LABEL
         return None
-    return json.dumps([[int(lab.key), str(lab.label or ""), *(float(c) for c in lab.rgba)]
+    return json.dumps([[int(lab.key), str(getattr(lab, "label", None) or ""),
+                        *(float(c) for c in lab.rgba)]
                        for lab in labels])
 
 
@@ -434,8 +435,19 @@ def unstored_brain(mesh: MeshData) -> list[str]:
              if k not in kept]
     names += [f"per-face {k}" for k in mesh.face_attributes]
     names += [f"per-corner {k}" for k in mesh.corner_attributes]
-    return [f"GIFTI and FreeSurfer store per-vertex numbers only: {', '.join(names)} not "
-            "written"] if names else []
+    return ([f"GIFTI and FreeSurfer store per-vertex numbers only: {', '.join(names)} not "
+             "written"] if names else []) + [
+        f"overlay {k!r}: label {key} has no name: written as {_label_name(key, '')!r} "
+        "(nibabel cannot read a label table entry without one)"
+        for k in kept if LABEL_TABLE + k in mesh.metadata
+        for key, text, *_ in json.loads(mesh.metadata[LABEL_TABLE + k]) if not text]
+
+
+def _label_name(key: int, text: str) -> str:
+    """A label table entry's name as written: an empty one named by its key (nibabel reads
+    a ``<Label>`` without text as having no ``label``, and its ``get_labels_as_dict``
+    fails)."""
+    return text or f"label {key}"
 
 
 def unstored_freesurfer(mesh: MeshData) -> list[str]:
@@ -515,7 +527,7 @@ def _label_writer(a: np.ndarray, table: str, record: dict) -> Callable:
         labels = nib.gifti.GiftiLabelTable()
         for key, text, *rgba in json.loads(table):
             label = nib.gifti.GiftiLabel(key, *rgba)
-            label.label = text
+            label.label = _label_name(key, text)
             labels.labels.append(label)
         meta, (read,) = _as_read(record, 1, "NIFTI_INTENT_LABEL")
         values = nib.gifti.GiftiDataArray(a.astype(np.int32), intent="NIFTI_INTENT_LABEL",

@@ -213,29 +213,7 @@ def read_obj(data: bytes, path: Path) -> Parsed:
     elif len(ntok) and np.any(ntok > 4):
         out.dropped.append("extra numbers on v lines (not all 'x y z r g b') are not kept")
     for kind, ids, key, width in (("vt", tid, "uv", 2), ("vn", nid, "normal", 3)):
-        if not lines[kind]:
-            if ids.size and np.any(ids):  # "f 1/5 2/6 3/7" with no vt: said, not silent
-                out.dropped.append(f"faces name {kind} records the file has none of: "
-                                   f"no {key} is kept")
-            continue
-        if not ids.size or not np.any(ids):
-            out.dropped.append(f"{kind} records not referenced by any face are not kept")
-            continue
-        table = _columns(lines[kind], width, kind, out)
-        index = _resolve(ids, records, kind, counts)
-        bad = (ids != 0) & ((index < 0) | (index >= len(table)))
-        if np.any(bad):
-            face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(bad)[0], "right"))
-            raise MeshError(f"face {face} uses a {kind} index out of range", faces=[face])
-        values = np.full((len(ids), width), np.nan)
-        values[ids != 0] = table[index[ids != 0]]
-        out.corner_values[key] = values
-        unused = len(table) - len(np.unique(index[ids != 0]))
-        if unused:
-            records = how_many(len(table), f"{kind} record", f"{kind} records")
-            out.dropped.append(f"{unused} of {records} {agreeing(unused, 'is', 'are')} not "
-                               "referenced "
-                               "by any face and are not kept")
+        _corner_values(out, lines[kind], ids, records, counts, kind, key, width)
     if present & {"o", "g", "usemtl", "mtllib"}:
         _labels(out, _LABEL_OR_FACE.findall(text))
     if "mtllib" in present:
@@ -245,6 +223,35 @@ def read_obj(data: bytes, path: Path) -> Parsed:
         out.dropped.append(f"OBJ records {', '.join(other)} (smoothing groups, lines, "
                            "points, ...) are not kept")
     return out
+
+
+def _corner_values(out: Parsed, lines: list[str], ids: np.ndarray, records: list,
+                   counts: np.ndarray, kind: str, key: str, width: int) -> None:
+    """The faces' corner values ``key`` from the ``kind`` records (``lines``; ``ids``, the
+    faces' ids of them, 0 where a corner names none) into ``out``, what is not kept said."""
+    if not lines:
+        if ids.size and np.any(ids):  # "f 1/5 2/6 3/7" with no vt: said, not silent
+            out.dropped.append(f"faces name {kind} records the file has none of: "
+                               f"no {key} is kept")
+        return
+    if not ids.size or not np.any(ids):
+        out.dropped.append(f"{kind} records not referenced by any face are not kept")
+        return
+    table = _columns(lines, width, kind, out)
+    index = _resolve(ids, records, kind, counts)
+    bad = (ids != 0) & ((index < 0) | (index >= len(table)))
+    if np.any(bad):
+        face = int(np.searchsorted(np.cumsum(counts), np.flatnonzero(bad)[0], "right"))
+        raise MeshError(f"face {face} uses a {kind} index out of range", faces=[face])
+    values = np.full((len(ids), width), np.nan)
+    values[ids != 0] = table[index[ids != 0]]
+    out.corner_values[key] = values
+    unused = len(table) - len(np.unique(index[ids != 0]))
+    if unused:
+        counted = how_many(len(table), f"{kind} record", f"{kind} records")
+        verb = agreeing(unused, "is", "are")
+        out.dropped.append(f"{unused} of {counted} {verb} not referenced by any face and "
+                           f"{verb} not kept")
 
 
 def _check_vertex_ids(ids: np.ndarray, index: np.ndarray, counts: np.ndarray, count: int,

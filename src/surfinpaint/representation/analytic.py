@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["enneper", "grid", "isothermal_torus", "stereographic_sphere"]
+__all__ = ["SURFACES", "enneper", "grid", "isothermal_torus", "removed_disk",
+           "stereographic_sphere"]
 
 
 def grid(
@@ -104,3 +105,36 @@ def isothermal_torus(
     phi = np.stack([rho * np.cos(theta), rho * np.sin(theta), r * np.sin(psi)], axis=-1)
     H = -(R + 2 * r * np.cos(psi)) / (2 * r * rho)
     return phi, rho, H
+
+
+#: The surfaces the grid level is checked and measured on (method.md §7): name -> (the
+#: surface, as the functions above, and its parameter rectangle ``(u0, u1, v0, v1)``); the
+#: torus with its default radii R = 2, r = 1.
+SURFACES = {
+    "enneper": (enneper, (-1.0, 1.0, -1.0, 1.0)),
+    "sphere": (stereographic_sphere, (-1.0, 1.0, -1.0, 1.0)),
+    "torus": (isothermal_torus, (-1.0, 1.0, 0.0, 2.0)),
+}
+
+
+def removed_disk(name: str, n: int, radius: float = 0.3
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
+    """The rebuild case of :data:`SURFACES`' ``name`` on an ``n × n`` :func:`grid`: the
+    nodes within ``radius`` of a point beside the rectangle's centre (+0.1 in u, −0.05 in
+    v) are the removed disk.
+
+    Returns
+    -------
+    phi, lam, H : arrays
+        The surface and its exact λ and H on the grid.
+    known : (n, n) bool array
+        False on the removed disk.
+    h : float
+        The grid spacing.
+    """
+    surface, extent = SURFACES[name]
+    u, v, h = grid(n, extent)
+    phi, lam, H = surface(u, v)
+    cu, cv = 0.5 * (extent[0] + extent[1]) + 0.1, 0.5 * (extent[2] + extent[3]) - 0.05
+    known = (u - cu) ** 2 + (v - cv) ** 2 > radius**2
+    return phi, lam, H, known, h

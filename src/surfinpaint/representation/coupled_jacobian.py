@@ -10,6 +10,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from surfinpaint.geometry.mesh import vertex_areas
+from surfinpaint.geometry.rows import rows_any
 from surfinpaint.representation.face_derivatives import kept_blocks, update_rhs
 from surfinpaint.representation.mesh_lambda_h import (
     area_vectors,
@@ -249,7 +250,7 @@ def _corner_area_derivative(phi, faces):
         d_corner[:, k] = (d_top / (8.0 * norm)[:, None, None]
                           - (top / (8.0 * norm**2))[:, None, None] * d_norm)
     obtuse = dot < 0
-    any_obtuse = obtuse.any(axis=1)
+    any_obtuse = rows_any(obtuse)
     share = np.where(obtuse, 0.25, 0.125)[any_obtuse]  # of |cross|, twice the face's area
     d_corner[any_obtuse] = share[:, :, None, None] * d_norm[any_obtuse][:, None]
     return d_corner
@@ -308,7 +309,7 @@ class FaceBlocks:
         self.area_flat = (i_m[..., None] * self.shape[1] + 3 * j_col[..., None]
                           + np.arange(3))[kept].ravel()  # (kept, 3)
         # the kept pairs' faces, corners i (their vertex's normal) and j (the one moved)
-        self.with_free = kept.any(axis=1)  # the faces with a free corner
+        self.with_free = rows_any(kept)  # the faces with a free corner
         self.kept = kept[self.with_free]
         face, which = np.nonzero(kept)
         self.vertex_i, self.face_j = faces[face, pair[which, 0]], (face, pair[which, 1])

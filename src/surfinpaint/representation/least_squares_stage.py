@@ -19,13 +19,18 @@ from surfinpaint.representation.blas_threads import blas_controller
 from surfinpaint.representation.least_squares import levenberg_marquardt
 from surfinpaint.representation.on_mesh import coupled_system, newton_solve
 
-__all__ = ["curvature_continuation", "least_squares_on_mesh"]
+__all__ = ["curvature_continuation", "least_squares_on_mesh", "least_squares_steps_left_out"]
 
 # the least-squares stage where Newton's method fails too (least_squares_on_mesh): Levenberg-
 # Marquardt steps of at most LSQ_TRUST edge lengths, LSQ_STEPS steps, LSQ_JACOBIANS Jacobians
 LSQ_TRUST = 2.0
 LSQ_STEPS = 30
 LSQ_JACOBIANS = 12
+# ... and only on patches of at most LSQ_MAX_UNKNOWNS unknowns (3 a moved vertex): its Jacobian
+# is dense, O(n^2) memory and O(n^3) time a solve (a scan's 374-edge hole, 6618 unknowns:
+# 200 s and 350 MB a matrix; 1500 unknowns about 2 s). Every use on the tuning-side families
+# (eggcrate, the coarse quadruped, the brain probes) had at most 282 (session 46)
+LSQ_MAX_UNKNOWNS = 1500
 # its continuation in the curvature weight (least_squares_on_mesh, stage 1)
 CONTINUATION_STEP = 0.125
 CONTINUATION_SMALLEST = 1e-3
@@ -62,7 +67,8 @@ def least_squares_on_mesh(
        w reached (:func:`~surfinpaint.representation.least_squares.levenberg_marquardt`;
        the residual's Jacobian analytic, the coupled system's ``jacobian``; each step at most
        ``LSQ_TRUST`` edge lengths, ``LSQ_STEPS`` steps and ``LSQ_JACOBIANS`` Jacobians at
-       most).
+       most). Left out on a patch of more than ``LSQ_MAX_UNKNOWNS`` unknowns
+       (:func:`least_squares_steps_left_out`): the surface at the largest w is returned.
 
     Where the coupled system has no root near the start (the inpainted λ and H are not the
     data of a surface there: docs/convergence.md) this is the surface nearest to being one.
@@ -107,7 +113,7 @@ def least_squares_on_mesh(
             return J
 
         n = 3 * len(f)
-        if weight >= 1.0:
+        if weight >= 1.0 or least_squares_steps_left_out(len(f)):
             size = float(np.abs(residual(np.zeros(n))).max())
             return phi, size, weight
         out = levenberg_marquardt(residual, np.zeros(n), jacobian=jacobian, steps=LSQ_STEPS,
@@ -116,6 +122,16 @@ def least_squares_on_mesh(
     phi = phi.copy()
     phi[f] = start + h * out.x.reshape(-1, 3)
     return phi, out.size, weight
+
+
+def least_squares_steps_left_out(n_moved: int) -> str:
+    """Why :func:`least_squares_on_mesh` leaves its Levenberg–Marquardt steps out on a patch
+    of ``n_moved`` moved vertices ("" where it makes them): more than ``LSQ_MAX_UNKNOWNS``
+    unknowns, whose dense Jacobian would take minutes and gigabytes (the stage's outcome is
+    then the surface its continuation reached)."""
+    n = 3 * n_moved
+    return (f"its least-squares steps left out: {n} unknowns, more than {LSQ_MAX_UNKNOWNS}"
+            if n > LSQ_MAX_UNKNOWNS else "")
 
 
 def curvature_continuation(system, points: np.ndarray, tol: float = 1e-3, *,

@@ -40,6 +40,7 @@ from surfinpaint.geometry.mesh import (
     vertex_adjacency,
     vertex_areas,
 )
+from surfinpaint.geometry.rows import rows_any
 from surfinpaint.geometry.vertex_measures import vertex_normals_and_areas
 from surfinpaint.representation.blas_threads import blas_controller
 from surfinpaint.representation.coupled_jacobian import (
@@ -275,7 +276,7 @@ class _CoupledSystem:
         self.H_stencil = self.stencil_H(points)
         # λ changes at the vertices whose faces touch a free one, the normals likewise
         self.moving = np.union1d(f, reach)
-        self.near = faces[np.isin(faces, self.moving).any(axis=1)]
+        self.near = faces[rows_any(np.isin(faces, self.moving))]
 
     def stencil_H(self, phi):
         """H at the stencil's data vertices from the positions ``phi`` (the same bits as from
@@ -303,7 +304,7 @@ class _CoupledSystem:
         if self._read is None or self._read[0] is not adjacency:
             read = (np.union1d(self.stencil, adjacency.indices) if len(self.natural_data)
                     else self.stencil)
-            self._read = (adjacency, read, self.faces[np.isin(self.faces, read).any(axis=1)],
+            self._read = (adjacency, read, self.faces[rows_any(np.isin(self.faces, read))],
                           self.L[read])
         return self._read[1:]
 

@@ -26,6 +26,7 @@ from surfinpaint.representation.grid_represent import smooth_subdivision
 from surfinpaint.representation.least_squares_stage import (
     curvature_continuation,
     least_squares_on_mesh,
+    least_squares_steps_left_out,
 )
 from surfinpaint.representation.on_mesh import ThinPatchError, coupled_system, inpaint_on_mesh
 
@@ -291,8 +292,10 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
                                                         continued=continued)
     if residual <= LEAST_SQUARES_RESIDUAL:
         return positions, LeastSquaresFill(residual, weight, failure)
+    left_out = least_squares_steps_left_out(int(free.sum()))
+    reached = f"curvature weight {weight:.2g} reached" + (f"; {left_out}" if left_out else "")
     failure = (f"{failure}; the least-squares stage ends at a residual of {residual:.2g} "
-               f"edge lengths (curvature weight {weight:.2g} reached)")
+               f"edge lengths ({reached})")
     positions, lattice = _on_lattice(points, local, uv, free, n_fill, natural, iterations,
                                      tol, failure)
     return positions, LeastSquaresFill(residual, weight, failure, lattice=lattice)

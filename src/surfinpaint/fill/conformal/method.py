@@ -36,7 +36,7 @@ from surfinpaint.fill.liepa.baseline import (
     faired_fills,
     laid_on_plane,
     laid_on_two_planes,
-    smoothing_for_hole,
+    smoothing_decision,
 )
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import (
@@ -58,6 +58,7 @@ from surfinpaint.geometry.flatness import (
     two_plane_test,
 )
 from surfinpaint.geometry.mesh import edge_faces, k_ring, unique_edges, vertex_normals
+from surfinpaint.geometry.rows import rows_all, rows_any
 from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conformal_fill"]
@@ -123,10 +124,18 @@ def conformal_fill(
     options = ConformalOptions() if options is None else options
     check_fair_order(fair_order)
     faces = face_ids(faces)  # whole-number floats taken, never truncated
-    if isinstance(options.fair_smoothing, str):  # "auto": decided once, on the hole's own
-        # surroundings; the self-check's test holes (hidden rings, siblings) follow it
-        options = replace(options, fair_smoothing=smoothing_for_hole(
-            vertices, faces, loop, options.fair_smoothing))
+    # "auto": decided once, on the hole's own surroundings; the self-check's test holes
+    # (hidden rings, siblings) follow it; recorded on the fill for its report
+    smoothing = smoothing_decision(vertices, faces, loop, options.fair_smoothing)
+    if smoothing is not None:
+        options = replace(options, fair_smoothing=smoothing.length)
+    return replace(_decided_fill(vertices, faces, loop, options, fair_order),
+                   smoothing=smoothing)
+
+
+def _decided_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                  options: ConformalOptions, fair_order: int | None) -> Fill:
+    """:func:`conformal_fill` once its options' smoothing is a length (or None)."""
     candidates = Candidates.for_hole(vertices, faces, loop, options, fair_order)
     faired: dict[str, Fill] = {}
     verdict = None
@@ -323,7 +332,7 @@ def _local(faces, mask):
     in local ids."""
     local = np.full(len(mask), -1)
     local[mask] = np.arange(int(mask.sum()))
-    return local, local[unique_edges(faces[mask[faces].all(axis=1)])[0]]
+    return local, local[unique_edges(faces[rows_all(mask[faces])])[0]]
 
 
 def on_loop_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
@@ -356,9 +365,9 @@ def on_loop_plane(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     ids = np.flatnonzero(among)
     on = np.zeros(len(vertices), dtype=bool)
     on[ids] = np.abs((vertices[ids] - centre) @ normal) <= tolerance
-    edges = unique_edges(faces[among[faces].all(axis=1)])[0]
+    edges = unique_edges(faces[rows_all(among[faces])])[0]
     local = np.cumsum(on) - 1
-    edges = local[edges[on[edges].all(axis=1)]]
+    edges = local[edges[rows_all(on[edges])]]
     m = int(on.sum())
     graph = sp.coo_matrix((np.ones(len(edges)), tuple(edges.T)), shape=(m, m))
     labels = np.full(len(vertices), -1)
@@ -390,7 +399,7 @@ def own_face(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, *,
     """
     if near is None:
         near = k_ring(faces, loop, rings, len(vertices))
-    inside = faces[near[faces].all(axis=1)]
+    inside = faces[rows_all(near[faces])]
     table = edge_faces(inside)
     edges, owners, count = table
     n = len(vertices)
@@ -416,7 +425,7 @@ def known_two_planes(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, 
     :func:`_ring`'s of those rings, where the caller has it. The vertex normals are summed
     over the faces at those vertices only (in the faces' order: the same bits)."""
     near, local, edges = _ring(vertices, faces, loop, rings) if ring is None else ring
-    at_near = faces[near[faces].any(axis=1)]
+    at_near = faces[rows_any(near[faces])]
     planes = two_plane_test(vertices[near], vertex_normals(vertices, at_near)[near], edges,
                             alpha=PLANE_ALPHA)
     if planes is None or planes.second_side[local[loop]].all() or \

@@ -7,6 +7,7 @@ import numpy as np
 from surfinpaint.errors import FillError
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, faces_near
+from surfinpaint.geometry.rows import rows_any
 
 __all__ = ["disk_loop", "grown_patch", "hole_patch", "hole_patch_and_boundary", "is_disk"]
 
@@ -105,7 +106,7 @@ def grown_patch(faces: np.ndarray, loop: np.ndarray, fill_faces: np.ndarray,
     mask[np.asarray(loop, dtype=np.int64)] = True
     depth[mask] = 0
     for k in range(1, rings + 1):
-        mask[near[mask[near].any(axis=1)].ravel()] = True
+        mask[near[rows_any(mask[near])].ravel()] = True
         depth[mask & (depth > k)] = k
     order = near[np.argsort(depth[near].min(axis=1), kind="stable")]
     count: dict[tuple[int, int], int] = {}

@@ -14,6 +14,7 @@ from surfinpaint.fill.liepa.fairing import fair as fair_patch
 from surfinpaint.fill.liepa.fairing import fair_orders, fair_smoothed
 from surfinpaint.fill.liepa.refinement import refine_patch
 from surfinpaint.fill.liepa.triangulation import minimum_weight_triangulation
+from surfinpaint.fill.results import Smoothing
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.flatness import meeting_line
 from surfinpaint.geometry.mesh import faces_near, k_ring, mean_edge_length, orient_loop
@@ -21,7 +22,7 @@ from surfinpaint.geometry.surface_noise import surface_noise
 from surfinpaint.geometry.validation import face_ids
 
 __all__ = ["conventional_fill", "faired_fill", "faired_fills", "laid_on_plane",
-           "laid_on_two_planes", "smoothing_for_hole"]
+           "laid_on_two_planes", "smoothing_decision", "smoothing_for_hole"]
 
 # the bilaplacian smoothing fill (faired_fills' ``smoothing``): the known vertices within
 # SOFT_RINGS rings of the loop are its data, its energy is summed over SMOOTHING_RINGS
@@ -199,30 +200,60 @@ def smoothing_for_hole(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray
                        smoothing: float | str | None) -> float | None:
     """The smoothing length :func:`faired_fills` uses for ``smoothing``: a number or None as
     given; for "auto", :data:`AUTO_SMOOTHING` where the known surface around the loop is a
-    noisy one (a range scan's) and None elsewhere.
-
-    Why: the thin-plate smoothing fill gains on range scans, whose noise the bilaplacian
-    fill carries into the hole, and costs on clean meshes (docs/candidates.md, sessions 44
-    and 45). Noisy: the noise estimate of the known vertices within :data:`NOISE_RINGS` rings
-    of the loop (:func:`~surfinpaint.geometry.surface_noise.surface_noise`) is
-    :data:`NOISY_SIGMA` to :data:`NOISY_SIGMA_MAX` mean edges, its residuals are not alike
-    between neighbours (correlation at most :data:`NOISY_CORRELATION`) and fits over 3 rings
-    find about as much (at most :data:`NOISY_SCALE` times): independent noise, not shape
-    finer than the fits (a folded cortex, a tooth's fissures, a part's crease).
-    """
+    noisy one (a range scan's) and None elsewhere (:func:`smoothing_decision`)."""
     if not isinstance(smoothing, str):
         return smoothing
+    return smoothing_decision(vertices, faces, loop, smoothing).length
+
+
+def smoothing_decision(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                       smoothing: float | str | None) -> Smoothing | None:
+    """:func:`smoothing_for_hole`'s length with what decided it, for the hole's report
+    (None where ``smoothing`` is None: not asked for).
+
+    Why "auto" decides so: the thin-plate smoothing fill gains on range scans, whose noise
+    the bilaplacian fill carries into the hole, and costs on clean meshes (docs/candidates.md,
+    sessions 44 and 45). Noisy: the noise estimate of the known vertices within
+    :data:`NOISE_RINGS` rings of the loop (:func:`~surfinpaint.geometry.surface_noise.
+    surface_noise`) is :data:`NOISY_SIGMA` to :data:`NOISY_SIGMA_MAX` mean edges, its
+    residuals are not alike between neighbours (correlation at most :data:`NOISY_CORRELATION`)
+    and fits over 3 rings find about as much (at most :data:`NOISY_SCALE` times): independent
+    noise, not shape finer than the fits (a folded cortex, a tooth's fissures, a part's crease).
+    """
+    if smoothing is None:
+        return None
+    if not isinstance(smoothing, str):
+        return Smoothing(smoothing, smoothing, f"fair_smoothing={smoothing:g} given")
     if smoothing != "auto":
         raise ValueError(f"smoothing must be a positive number, 'auto' or None, got "
                          f"{smoothing!r}")
     # the 3-ring fits only where the 2-ring ones already read as noise (most clean holes
     # stop here: a default fill's cost on them, session 45)
     noise = surface_noise(vertices, faces, loop, rings=NOISE_RINGS, wide=False)
-    if not (NOISY_SIGMA <= noise.relative <= NOISY_SIGMA_MAX
-            and noise.correlation <= NOISY_CORRELATION):
-        return None
-    noise = surface_noise(vertices, faces, loop, rings=NOISE_RINGS)
-    return AUTO_SMOOTHING if noise.scale_ratio <= NOISY_SCALE else None
+    shut = _not_noise(noise)
+    if shut is None:
+        noise = surface_noise(vertices, faces, loop, rings=NOISE_RINGS)
+        if not noise.scale_ratio <= NOISY_SCALE:
+            shut = (f"fits over 3 rings find {noise.scale_ratio:.2g}x the 2-ring ones' "
+                    f"spread (noise: up to {NOISY_SCALE:g}x): shape, not noise")
+    said = f"noise {noise.relative:.2g} edges"
+    if shut is not None:
+        return Smoothing(None, smoothing, f"{said}, but {shut}", noise)
+    return Smoothing(AUTO_SMOOTHING, smoothing,
+                     f"{said} around it, read as a scanner's (neighbours' correlation "
+                     f"{noise.correlation:.2g}, 3-ring/2-ring {noise.scale_ratio:.2g})", noise)
+
+
+def _not_noise(noise) -> str | None:
+    """Why the 2-ring estimate ``noise`` does not read as a scanner's noise (None: it does)."""
+    if not noise.relative >= NOISY_SIGMA:
+        return f"below {NOISY_SIGMA:g}: a clean surface"
+    if not noise.relative <= NOISY_SIGMA_MAX:
+        return f"above {NOISY_SIGMA_MAX:g}: shape at the mesh's scale, or coarser noise"
+    if not noise.correlation <= NOISY_CORRELATION:
+        return (f"neighbours' residuals are alike (correlation {noise.correlation:.2g}; "
+                f"noise: up to {NOISY_CORRELATION:g}): shape finer than the fits")
+    return None
 
 
 def faired_fills(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,

@@ -17,6 +17,7 @@ from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.linalg import factorized_definite
 from surfinpaint.geometry.mesh import laplacian_and_areas, unique_edges
+from surfinpaint.geometry.rows import rows_all, rows_any
 
 __all__ = ["OPERATORS", "fair", "fair_orders", "fair_smoothed", "laplacian_and_mass"]
 
@@ -48,7 +49,7 @@ def laplacian_and_mass(vertices: np.ndarray, faces: np.ndarray, operator: str = 
 
 def _grow(faces: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """One ring: (faces touching ``mask``, mask grown by those faces' vertices)."""
-    touching = mask[faces].any(axis=1)
+    touching = rows_any(mask[faces])
     grown = mask.copy()
     grown[faces[touching].ravel()] = True
     return touching, grown
@@ -58,7 +59,7 @@ def _check_anchored(f: np.ndarray, is_free: np.ndarray, ids: np.ndarray) -> None
     """Every connected group of free vertices must have an edge to a fixed vertex, or the
     system is singular (translations of the group are in its null space)."""
     e, _, _ = unique_edges(f)
-    both = is_free[e].all(axis=1)
+    both = rows_all(is_free[e])
     m = len(is_free)
     graph = sp.coo_matrix((np.ones(both.sum()), (e[both, 0], e[both, 1])), shape=(m, m))
     _, label = connected_components(graph, directed=False)

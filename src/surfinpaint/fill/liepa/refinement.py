@@ -34,6 +34,7 @@ from surfinpaint.fill.liepa.flip_passes import (
 )
 from surfinpaint.geometry.edges import edge_keys
 from surfinpaint.geometry.mesh import unique_edges
+from surfinpaint.geometry.rows import row_means, row_norms, rows_all, rows_any
 
 __all__ = ["REFINEMENTS", "boundary_scales", "delaunay_flip", "refine_patch"]
 
@@ -59,7 +60,7 @@ def boundary_scales(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -
     loop = np.asarray(loop, dtype=np.int64)
     on_loop = np.zeros(len(v), dtype=bool)
     on_loop[loop] = True
-    total, count = _edge_length_sums(v, faces[on_loop[faces].any(axis=1)])
+    total, count = _edge_length_sums(v, faces[rows_any(on_loop[faces])])
     if (count[loop] == 0).any():
         lonely = loop[count[loop] == 0]
         raise MeshError(f"loop vertices {preview(lonely.tolist())} have no edges in the mesh",
@@ -71,7 +72,7 @@ def _edge_length_sums(v: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.
     """Per vertex of ``v``: the summed length of its (undirected) edges in ``faces``, and
     their number."""
     edges, _, _ = unique_edges(faces)
-    length = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1)
+    length = row_norms(v[edges[:, 0]] - v[edges[:, 1]])
     total = np.bincount(edges.ravel(), weights=np.repeat(length, 2), minlength=len(v))
     return total, np.bincount(edges.ravel(), minlength=len(v))
 
@@ -519,10 +520,10 @@ def _liepa_rounds(pos, f, sigma, fixed, forbidden, density, max_iterations, rela
     # no relaxation before the first split: flipping the bare triangulation's long diagonals
     # would change its shape, while flips between split pieces (nearly coplanar) do not
     for _ in range(max_iterations):
-        centroid = pos[f].mean(axis=1)
-        sigma_c = sigma[f].mean(axis=1)
-        dist = density * np.linalg.norm(pos[f] - centroid[:, None, :], axis=2)
-        split = ((dist > sigma_c[:, None]) & (dist > sigma[f])).all(axis=1)
+        centroid = row_means(pos[f].swapaxes(1, 2))
+        sigma_c = row_means(sigma[f])
+        dist = density * row_norms(pos[f] - centroid[:, None, :])
+        split = rows_all((dist > sigma_c[:, None]) & (dist > sigma[f]))
         if not split.any():
             break
         t = np.flatnonzero(split)
@@ -548,5 +549,5 @@ def _outside_edges(faces: np.ndarray, local: np.ndarray) -> np.ndarray:
     if len(near) == 0:
         return np.empty((0, 2), dtype=np.int64)
     e, _, _ = unique_edges(near)
-    e = e[inside[e].all(axis=1)]
+    e = e[rows_all(inside[e])]
     return local[e]

@@ -26,6 +26,7 @@ import numpy as np
 from surfinpaint.compiled import Kernel, run
 from surfinpaint.errors import MeshError, preview
 from surfinpaint.geometry.mesh import halfedge_faces, orient_loop
+from surfinpaint.geometry.rows import row_cross, row_norms
 from surfinpaint.lazy import lazy_module
 
 # imported at its first use (see fill/holes.py)
@@ -49,7 +50,7 @@ _DEGENERATE_BEND = 3.0
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
-    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    norm = row_norms(v)[..., None]
     return np.divide(v, norm, out=np.zeros_like(v), where=norm > 0)
 
 
@@ -151,7 +152,7 @@ def _surroundings(v: np.ndarray, loop: np.ndarray, faces: np.ndarray | None
         return np.full((k, 3), np.nan), np.zeros((k, k), dtype=bool)
     owner, _ = halfedge_faces(faces, loop)
     f = faces[owner]
-    boundary_normal = _unit(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]))
+    boundary_normal = _unit(row_cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]))
     return boundary_normal, existing_diagonals(faces, loop, len(v))
 
 
