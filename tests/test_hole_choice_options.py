@@ -252,3 +252,34 @@ def test_every_command_that_chooses_loops_takes_keep_margins(command):
     parser = build_parser()
     assert parser.parse_args(command).keep_margins is False
     assert parser.parse_args([*command, "--keep-margins"]).keep_margins is True
+
+
+@pytest.mark.parametrize("holes, error, message", [
+    # a loop naming a vertex the mesh does not have: said by its id, not as an edge that
+    # does not join (fuzz campaign, session 46)
+    ("beyond", "MeshError", r"hole loop vertex {n5} out of range: the mesh has {n} vertices"),
+    ("negative", "MeshError", r"hole loop vertex -1 out of range"),
+    # a bool is no hole's name (True was hole 1), a fractional id no vertex's (0.5 was 0)
+    ("bool", "ValueError", r"hole indices must be integers, got True"),
+    ("fraction", "ValueError", r"a hole loop's vertex ids must be integers, got 0\.5"),
+])
+def test_a_given_hole_that_names_nothing_of_the_mesh_is_refused_by_what_it_names(
+        holes, error, message):
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], 3 * mean_edge_length(v, f))
+    n = len(cut.vertices)
+    loop = [int(i) for i in cut.holes[0].loop]
+    given = {"beyond": [loop[:2] + [n + 5]], "negative": [[-1] + loop[:2]],
+             "fraction": [[0.5] + loop[1:]], "bool": [True]}[holes]
+    with pytest.raises(Exception, match=message.format(n=n, n5=n + 5)) as raised:
+        fill_holes(cut.vertices, cut.faces, holes=given)
+    assert type(raised.value).__name__ == error
+
+
+def test_a_given_loop_of_whole_number_floats_is_the_loop():
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], 3 * mean_edge_length(v, f))
+    as_ints = fill_holes(cut.vertices, cut.faces, holes=[cut.holes[0].loop])
+    as_floats = fill_holes(cut.vertices, cut.faces, holes=[cut.holes[0].loop.astype(float)])
+    np.testing.assert_array_equal(as_ints.vertices, as_floats.vertices)
+    np.testing.assert_array_equal(as_ints.faces, as_floats.faces)

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from surfinpaint.errors import MeshError, how_many
+from surfinpaint.errors import MeshError, agreeing, how_many, preview
 from surfinpaint.geometry.degenerate import triangle_rows
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import boundary_loops, face_areas, face_blocks, orient_loop
@@ -444,10 +444,10 @@ def select_holes(
     Raises
     ------
     MeshError
-        When the mesh is refused (as by :func:`find_holes`), an index is out of range or a
-        loop is not a boundary loop of the mesh.
+        When the mesh is refused (as by :func:`find_holes`), an index is out of range, a
+        loop names a vertex the mesh does not have or is not a boundary loop of the mesh.
     ValueError
-        A hole index that is not a whole number.
+        A hole index that is not a whole number (a bool too: ``True`` is no hole's name).
     """
     if holes is None:
         if found is None:
@@ -458,6 +458,8 @@ def select_holes(
     if not all(np.ndim(h) == 0 for h in holes):  # loops given by their vertex ids
         if validate and found is None:
             find_holes(vertices, faces, table)  # the mesh checked all the same
+        for loop in holes:
+            _check_loop_ids(loop, len(vertices))
         unique: dict[tuple, np.ndarray] = {}
         for loop in holes:  # by its vertices: any start, any direction
             unique.setdefault(tuple(sorted(np.asarray(loop).tolist())), loop)
@@ -467,7 +469,7 @@ def select_holes(
         found = find_holes(vertices, faces, table, validate=validate)
     chosen: dict[int, np.ndarray] = {}
     for index in holes:
-        if int(index) != index:
+        if isinstance(index, bool | np.bool_) or int(index) != index:
             raise ValueError(f"hole indices must be integers, got {index!r}")
         if not 0 <= int(index) < len(found):
             raise MeshError(
@@ -500,3 +502,20 @@ def hole_numbers(vertices: np.ndarray, faces: np.ndarray, loops: Sequence[np.nda
     wanted = np.isin(lowest, [np.min(loop) for loop in loops if len(loop)])
     keyed = {tuple(sorted(map(int, found[k].loop))): k for k in np.flatnonzero(wanted).tolist()}
     return [keyed.get(tuple(sorted(map(int, loop))), -1) for loop in loops]
+
+
+def _check_loop_ids(loop, n_vertices: int) -> None:
+    """A caller's loop names vertices of the mesh by whole-number ids (else a MeshError
+    naming the ids out of range, before any edge of the loop is looked up)."""
+    ids = np.asarray(loop).ravel()
+    if ids.size and not (np.issubdtype(ids.dtype, np.integer)
+                         or (np.issubdtype(ids.dtype, np.floating)
+                             and np.all(np.isfinite(ids)) and np.all(ids == np.round(ids)))):
+        raise ValueError(f"a hole loop's vertex ids must be integers, got "
+                         f"{preview(ids.tolist())}")
+    bad = ids[(ids < 0) | (ids >= n_vertices)]
+    if bad.size:
+        named = f"{agreeing(bad.size, 'vertex', 'vertices')} {preview(bad.tolist())}"
+        raise MeshError(f"hole loop {named} out of range: the mesh has "
+                        f"{how_many(n_vertices, 'vertex', 'vertices')}",
+                        vertices=bad.astype(np.int64)[:10].tolist())
