@@ -288,3 +288,21 @@ def test_hole_problems_from_the_loops_faces_match_the_whole_neighbourhood():
                 assert got == want or (want == "lone sheet" and "lone sheet" in got)
             seen.add(None if got is None else got.split(":")[0][:20])
     assert len(seen) >= 3  # a fillable loop and at least two kinds of problems
+
+
+def test_a_repair_that_removes_every_face_is_an_error_not_an_empty_mesh(tmp_path, capsys):
+    # three faces on one edge: --repair removes them all (fuzz campaign, session 46: the API
+    # returned an empty mesh without a word, the command line named its output as empty)
+    from surfinpaint.app.cli import main
+    from surfinpaint.io import write_mesh
+
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1.0]])
+    f = np.array([[0, 1, 2], [0, 1, 3], [1, 0, 4]])
+    with pytest.raises(MeshError, match=r"repair removed every face \(3 faces on "
+                                        r"non-manifold edges .*nothing is left to fill"):
+        fill_holes(v, f, repair=True)
+    write_mesh(tmp_path / "fin.ply", v, f)
+    out = tmp_path / "out.ply"
+    assert main(["fill", str(tmp_path / "fin.ply"), "-o", str(out), "--repair"]) == 1
+    assert "fin.ply: repair removed every face" in capsys.readouterr().err
+    assert not out.exists()

@@ -15,7 +15,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from surfinpaint.errors import HoleWarning, agreeing, how_many
+from surfinpaint.errors import HoleWarning, MeshError, agreeing, how_many
 from surfinpaint.fill import parallel
 from surfinpaint.fill.attributes import ATTRIBUTE_KINDS, check_attributes, fill_result_attributes
 from surfinpaint.fill.conformal import ConformalOptions
@@ -519,6 +519,10 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside) -> 
         faces, removed, flipped = repair.faces, repair.removed, repair.flipped
         for note in repair.notes():
             warnings.warn(f"repair {note}", MeshWarning, stacklevel=4)
+        if len(faces) == 0 and len(removed):  # else an empty result, said by nothing
+            raise MeshError(f"repair removed every face ({how_many(len(removed), 'face', 'faces')}"
+                            " on non-manifold edges or at bow-tie vertices): nothing is left "
+                            "to fill", faces=removed[:10].tolist())
     triangles, repeated, rows = triangle_rows(faces)  # a face that repeats a vertex joins none
     table = EdgeTable.build(triangles, len(vertices)) if validate else None
     found = beside.submit(find_holes, vertices, triangles, table, validate=False)
