@@ -16,8 +16,8 @@ cgal_s0 = pytest.importorskip("cgal_s0")
 
 @pytest.mark.parametrize("split, studied", [
     ("tuning", True), ("holdout9", True), ("holdout18", True), ("holdout19", True),
-    ("holdout20", True), ("holdout21", True), ("holdout22", True), ("curved_scans", True), ("cad_tuning", True),
-    ("smooth_tuning", True), ("thin_shells", True),
+    ("holdout20", True), ("holdout21", True), ("holdout22", True), ("curved_scans", True),
+    ("cad_tuning", True), ("smooth_tuning", True), ("thin_shells", True),
     ("validation", False), ("holdout8", False), ("holdout", False), ("holdout23", False),
     ("holdout24", False),
 ])
