@@ -82,8 +82,10 @@ def run_batch(args: argparse.Namespace) -> int:
         n = len(rows.unknown)
         unknown = f"; {how_many(n, 'file', 'files')} of unknown type not filled (listed in " \
             "summary.json)" if n else ""
+        kept = f" (with the rows of {how_many(rows.earlier, 'file', 'files')} earlier runs " \
+            "filled into it)" if rows.earlier else ""
         out.say(f"{how_many(len(rows), 'file', 'files')}: {counts}{unknown}; wrote "
-                      f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json")
+                f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json{kept}")
     elif failed:  # -q, -qq: a log of thousands of files still ends with how many failed
         out.error(f"[red]error:[/red] {failed} of {how_many(len(rows), 'file', 'files')} "
                   f"failed (each named above; all in "
@@ -191,8 +193,11 @@ def add_batch_parser(sub) -> None:
                        description="Fill the holes of every mesh file named by INPUT "
                        "(files, folders searched recursively, glob patterns) into OUTDIR, "
                        "mirroring their layout, and write OUTDIR/summary.csv and "
-                       "summary.json (one row per file). A bad file is reported and the "
-                       "others still written (exit 1 if any failed). A rerun skips outputs "
+                       "summary.json: one row per file filled into OUTDIR, this run's and "
+                       "earlier runs' (a rerun on some of the files replaces their rows and "
+                       "keeps the others'; remove the two files to start afresh). A bad "
+                       "file is reported and the others still written (exit 1 if any "
+                       "failed). A rerun skips outputs "
                        "newer than their input and any overlay beside it, so an interrupted "
                        "run picks up where it stopped.")
     p.add_argument("inputs", nargs="+", metavar="INPUT", help="mesh file, folder or glob")

@@ -5,7 +5,8 @@ as they come in, from the listing and then from the runners of
 
 An interrupt (Ctrl-C, the command line's SIGTERM) or a callback's error while the files are
 listed and judged writes the summary as one during the fills does: the files done (skipped,
-failed) recorded, the others left to the rerun (:func:`list_jobs`).
+failed) recorded, the others left to the rerun (their rows of the earlier summary kept:
+:func:`list_jobs`).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from surfinpaint.app.batch_summary import (
     FileRow,
     FileRows,
     checked_row,
+    kept_rows,
     read_summary,
     write_summary,
 )
@@ -59,8 +61,12 @@ class RunRows:
     callback told of each, and of the holes of the files in flight."""
 
     def __init__(self, total: int, progress: ProgressCallback | None,
-                 on_result: ResultCallback | None = None) -> None:
+                 on_result: ResultCallback | None = None, out_dir: str | os.PathLike = ".",
+                 earlier: Sequence[FileRow] = ()) -> None:
         self.total, self.progress, self.on_result = total, progress, on_result
+        # the output folder and its summary's rows before this run: kept for the files
+        # this run does not record (a rerun on some of them, an interrupted run)
+        self.out_dir, self.earlier = Path(out_dir), list(earlier)
         self.by_name: dict[str, FileRow] = {}
         self.holes: dict[str, str] = {}  # the hole progress of each file in flight
 
@@ -99,13 +105,20 @@ class RunRows:
             except Empty:
                 return
 
-    def ordered(self, jobs: Inputs, unreached: Mapping[str, FileRow] | None = None
-                ) -> FileRows:
-        """The rows in the inputs' order (files not done, after an interrupt, left out);
-        a file not recorded that ``unreached`` names (an interrupted listing had not judged
-        it yet) with its row there."""
-        rows = {**(unreached or {}), **self.by_name}
-        return FileRows([rows[job.name] for job in jobs if job.name in rows], jobs.unknown)
+    def ordered(self, jobs: Inputs) -> FileRows:
+        """The rows in the inputs' order (files not done, after an interrupt, left out),
+        with the count of the earlier summary's rows that the summary keeps beside them
+        (:func:`~surfinpaint.app.batch_summary.kept_rows`)."""
+        rows = [self.by_name[job.name] for job in jobs if job.name in self.by_name]
+        return FileRows(rows, jobs.unknown,
+                        earlier=len(kept_rows(rows, self.earlier, self.out_dir)))
+
+    def write_summary(self, jobs: Inputs, options: Mapping[str, Any] | None) -> None:
+        """Write the summary of the output folder: the rows of ``jobs`` recorded so far and
+        the earlier summary's rows of the other files (:func:`~surfinpaint.app.
+        batch_summary.write_summary`)."""
+        write_summary(self.ordered(jobs), self.out_dir, options, jobs.unknown,
+                      earlier=self.earlier)
 
 
 def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
@@ -119,10 +132,10 @@ def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
 
     On an interrupt, or an error of a callback, while the files are judged, the summary is
     written (with ``options``) before it propagates, as during the fills: the rows recorded
-    so far and, for the files not yet judged, their rows of the earlier summary, which this
-    run has not looked at (so an interrupted rerun forgets none of its skipped rows' counts
-    and copied materials); the others, to fill, left out. An interrupt while the files are
-    found leaves an earlier summary as it is, else writes an empty one."""
+    so far and, for the other files, their rows of the earlier summary (so an interrupted
+    rerun forgets none of its skipped rows' counts and copied materials). An interrupt
+    while the files are found leaves an earlier summary as it is, else writes an empty
+    one."""
     paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
     out = Path(out_dir)
     try:
@@ -136,10 +149,10 @@ def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
             write_summary([], out, options)
         raise
     out.mkdir(parents=True, exist_ok=True)
-    earlier = {row.path: row for row in read_summary(out)}
-    rows = RunRows(len(todo), progress, on_result)
+    before_run = read_summary(out)
+    earlier = {row.path: row for row in before_run}
+    rows = RunRows(len(todo), progress, on_result, out, before_run)
     pending: list[FileJob] = []
-    judged = 0
     try:
         if progress is not None:
             progress(0, len(todo), how_many(len(todo), 'file', 'files'))
@@ -159,11 +172,8 @@ def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
                 rows.add(row)
             else:
                 pending.append(job)
-            judged += 1
     except BaseException:
-        unreached = {job.name: earlier[job.name] for job in todo[judged:]
-                     if job.name in earlier and earlier[job.name].output == job.output}
-        write_summary(rows.ordered(todo, unreached), out, options, todo.unknown)
+        rows.write_summary(todo, options)  # the files not judged yet keep their earlier rows
         raise
     remove_temporaries(pending)
     # the costliest files first (by the earlier run's seconds, else by size), so that the
