@@ -5,12 +5,16 @@
 from __future__ import annotations
 
 import re
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from surfinpaint import fill_holes
 from surfinpaint.app.batch import fill_files
+from surfinpaint.app.batch_command import _LoggedRows
+from surfinpaint.app.cli import main
+from surfinpaint.app.progress import QuietConsole
 from surfinpaint.data import sphere
 from surfinpaint.fill.conformal.method import STAGES, conformal_fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
@@ -72,3 +76,38 @@ def test_batch_progress_names_the_file_its_hole_and_the_stage(holed, tmp_path):
                progress=lambda done, total, message: said.append(message))
     assert (f"{tmp_path / 'in' / 'scan.ply'}: 0/1 holes (hole 0: 15 edges, λ-H fill (stage "
             f"{len(STAGES)} of {len(STAGES)}))") in said, said
+
+
+def test_a_batch_log_has_a_line_as_a_hole_starts_a_long_stage(holed, tmp_path, capsys):
+    # stderr captured: no terminal, as a log of an overnight run (the bar drawn at the end)
+    (tmp_path / "in").mkdir()
+    scan = tmp_path / "in" / "scan.ply"
+    write_mesh(scan, *holed)
+    assert main(["batch", str(tmp_path / "in"), "-o", str(tmp_path / "out"), "--jobs",
+                 "1"]) == 0
+    lines = capsys.readouterr().err.splitlines()
+    staged = [line for line in lines if "(stage " in line]
+    assert f"  {scan}: 0/1 holes (hole 0: 15 edges, λ-H fill (stage 5 of 5))" in staged, lines
+    assert f"  {scan}: 0/1 holes (hole 0: 15 edges, self-check: hidden-ring test (stage 3 " \
+        "of 5))" in staged, lines
+    # the stages every hole runs in a moment are not logged: a log of many small holes
+    # stays a line per file
+    assert not any("faired fills" in line or "plane test" in line for line in staged)
+    assert lines.index(staged[-1]) < next(i for i, line in enumerate(lines)
+                                          if line.startswith(f"1/1 {scan}: filled"))
+
+
+def test_the_log_says_each_files_long_stage_once_while_others_come_and_go(capsys):
+    class Log:  # a bar drawn on a console that is no terminal
+        console = SimpleNamespace(is_terminal=False)
+
+        def update(self, done, total, message):
+            pass
+
+    logged = _LoggedRows(QuietConsole(), Log())
+    a = "a.ply: 0/2 holes (hole 1: 212 edges, self-check: hidden-ring test (stage 3 of 5))"
+    b = "b.ply: 0/1 holes (hole 0: 9 edges, faired fills (stage 1 of 5))"
+    # a second file starts beside it, another ends (its own message), then b's next hole
+    for message in (a, f"{a} · {b}", "c.ply: filled", f"{a} · {b}", a):
+        logged.update(1, 3, message)
+    assert capsys.readouterr().err.splitlines() == [f"  {a}"]

@@ -22,6 +22,8 @@ from surfinpaint.lazy import lazy_module
 # imported at its first use (surfinpaint.lazy), as the command line's other heavy parts
 batch = lazy_module("surfinpaint.app.batch")
 batch_summary = lazy_module("surfinpaint.app.batch_summary")
+batch_listing = lazy_module("surfinpaint.app.batch_listing")
+conformal_method = lazy_module("surfinpaint.fill.conformal.method")
 
 __all__ = ["add_batch_parser", "run_batch"]
 
@@ -143,15 +145,31 @@ class _LoggedRows:
     """``fill_files``' ``progress`` and ``on_result`` for the bar ``bar``: each file's
     problems as it finishes (:func:`_say_row`), and where stderr is no terminal (a log of an
     overnight run, where rich draws the bar once, at the end) a line per file done too, so
-    the log shows how far the run is: ``3/40 scans/a.ply: filled, 2 of 2 holes, 1.2 s``."""
+    the log shows how far the run is: ``3/40 scans/a.ply: filled, 2 of 2 holes, 1.2 s``;
+    and a line as a hole of a file in flight starts one of the long stages of its fill
+    (:data:`~surfinpaint.fill.conformal.method.LONG_STAGES`), so that the log is not silent
+    while one hole takes minutes: ``  scans/nut.ply: 0/1 holes (hole 1: 374 edges, λ-H fill
+    (stage 5 of 5))`` (session 47)."""
 
     def __init__(self, out: QuietConsole, bar) -> None:
         self.out, self.bar, self.done, self.total = out, bar, 0, None
         self.log = bar.console is not None and not bar.console.is_terminal
+        self.logged: set[str] = set()  # each file's hole and stage, once
 
     def update(self, done: int, total: int, message: str) -> None:
         self.total = total
         self.bar.update(done, total, message)
+        if self.log:
+            self._log_long_stages(message)
+
+    def _log_long_stages(self, message: str) -> None:
+        from rich.markup import escape
+
+        for said in message.split(batch_listing.IN_FLIGHT_SEPARATOR):
+            if said not in self.logged and any(conformal_method.stage_words(name) in said
+                                               for name in conformal_method.LONG_STAGES):
+                self.out.say(f"  {escape(said)}")
+                self.logged.add(said)
 
     def say(self, row: batch.FileRow, out_dir: str) -> None:
         from rich.markup import escape

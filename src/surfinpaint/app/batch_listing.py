@@ -38,10 +38,13 @@ from surfinpaint.app.batch_summary import (
 )
 from surfinpaint.errors import how_many
 
-__all__ = ["ProgressCallback", "ResultCallback", "RunRows", "list_jobs", "remove_temporaries"]
+__all__ = ["IN_FLIGHT_SEPARATOR", "ProgressCallback", "ResultCallback", "RunRows", "list_jobs",
+           "remove_temporaries"]
 
 ProgressCallback = Callable[[int, int, str], None]
 ResultCallback = Callable[[FileRow], None]
+#: What joins the files in flight, each with its hole, in a progress message
+IN_FLIGHT_SEPARATOR = " · "
 
 
 def remove_temporaries(jobs: Iterable[FileJob]) -> None:
@@ -88,7 +91,8 @@ class RunRows:
         if self.progress is None or name in self.by_name:
             return  # a late word from a file already recorded
         self.holes[name] = f"{name}: {done}/{total} holes ({message})"  # "of N holes"
-        self.progress(len(self.by_name), self.total, " · ".join(self.holes.values()))
+        self.progress(len(self.by_name), self.total,
+                      IN_FLIGHT_SEPARATOR.join(self.holes.values()))
 
     def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:
         """The ``hole_progress`` of :func:`~surfinpaint.app.batch.fill_file` for ``job``

@@ -288,12 +288,12 @@ class Run:
         (the holes done still the count); None where nobody listens."""
         if not self.progress or self.method != "conformal":
             return None
-        stages = parallel.conformal_method.STAGES  # imported by the fill anyway
+        words = parallel.conformal_method.stage_words  # the fill imports it anyway
 
         def stage(name: str) -> None:
             self.progress(self.position.get(id(report), 0), self.n_holes,
-                          f"hole {report.index}: {report.n_edges} edges, {name} (stage "
-                          f"{stages.index(name) + 1} of {len(stages)})")
+                          f"hole {report.index}: {report.n_edges} edges, "
+                          f"{words(name)}")
         return stage
 
     def finished(self, report: HoleReport) -> None:
