@@ -96,3 +96,23 @@ def test_the_command_says_how_many_earlier_rows_the_summary_keeps(scans, tmp_pat
             f"{out / SUMMARY_CSV} and summary.json (with the rows of 2 files earlier runs "
             "filled into it)") in said, said
     assert _csv_outputs(out) == ["a.ply", "b.ply", "c.ply"]
+
+
+def test_a_file_given_alone_after_its_folder_is_said_to_land_beside_its_output(scans, tmp_path,
+                                                                              capsys):
+    out = tmp_path / "out"
+    (scans / "sub").mkdir()
+    (scans / "a.ply").rename(scans / "sub" / "a.ply")
+    command = ["batch", "-o", str(out), "--jobs", "1", "--method", "fair"]
+    assert main([*command, str(scans)]) == 0
+    assert "earlier run filled it" not in capsys.readouterr().err
+    # the one file again, given alone: it goes to the top of OUTDIR, not to sub/
+    assert main([*command, str(scans / "sub" / "a.ply")]) == 0
+    said = " ".join(capsys.readouterr().err.split())
+    assert (f"warning: {scans / 'sub' / 'a.ply'} was filled into {out / 'a.ply'}, but an "
+            f"earlier run filled it into {out / 'sub' / 'a.ply'}: both are kept") in said, said
+    assert [r.output for r in read_summary(out)] == ["b.ply", "c.ply", "d.ply", "sub/a.ply",
+                                                     "a.ply"]
+    # the folder again: its file in its place, skipped as up to date, without the warning
+    assert main([*command, str(scans)]) == 0
+    assert "earlier run filled it" not in capsys.readouterr().err

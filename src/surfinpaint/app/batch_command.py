@@ -78,6 +78,7 @@ def run_batch(args: argparse.Namespace) -> int:
         if client is not None:
             client.close()
     _say_other_options(out, rows, options, args.output)
+    _say_filled_elsewhere(out, rows, args.output)
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     failed = sum(r.status == "failed" for r in rows)
     if out.progress:
@@ -113,6 +114,30 @@ def _say_other_options(out: QuietConsole, rows, options: dict, out_dir: str) -> 
         f"options ({row.path + ': ' if len(other) > 1 else ''}{', '.join(changes)}): kept "
         f"as they were; --overwrite refills them with this run's "
         f"({Path(out_dir) / 'summary.json'} records each file's)"))
+
+
+def _say_filled_elsewhere(out: QuietConsole, rows, out_dir: str) -> None:
+    """One warning where a file this run wrote was filled into another output of the folder by
+    an earlier run: a file given alone goes to the top of OUTDIR, so a rerun of one file of a
+    folder given earlier (``batch scans/sub/a.ply -o out`` after ``batch scans -o out``)
+    writes ``out/a.ply`` beside ``out/sub/a.ply``, and the summary lists both (session 47)."""
+    written = [row for row in rows if row.status not in ("failed", "skipped")]
+    ours, paths = {row.output for row in written}, {row.path for row in written}
+    elsewhere: dict[str, str] = {}
+    for row in batch.read_summary(out_dir):
+        if row.output not in ours and row.path in paths:
+            elsewhere.setdefault(row.path, row.output)
+    if not elsewhere:
+        return
+    row = next(r for r in written if r.path in elsewhere)
+    more = f" (and {how_many(len(elsewhere) - 1, 'file', 'files')} more)" \
+        if len(elsewhere) > 1 else ""
+    out.warn(warning_line(
+        f"{row.path} was filled into {Path(out_dir) / row.output}, but an earlier run filled "
+        f"it into {Path(out_dir) / elsewhere[row.path]}{more}: both are kept, and listed in "
+        f"{Path(out_dir) / batch.SUMMARY_CSV}; a file given alone goes to the top of the "
+        "output folder: to refill it in its place, give the folder or glob of the earlier "
+        "run again (the files up to date are skipped)"))
 
 
 @contextlib.contextmanager
