@@ -5,12 +5,14 @@
 from __future__ import annotations
 
 import re
+from queue import Queue
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from surfinpaint import fill_holes
+from surfinpaint.app import batch_listing
 from surfinpaint.app.batch import fill_files
 from surfinpaint.app.batch_command import _LoggedRows
 from surfinpaint.app.cli import main
@@ -78,36 +80,51 @@ def test_batch_progress_names_the_file_its_hole_and_the_stage(holed, tmp_path):
             f"{len(STAGES)} of {len(STAGES)}))") in said, said
 
 
-def test_a_batch_log_has_a_line_as_a_hole_starts_a_long_stage(holed, tmp_path, capsys):
+def test_a_batch_log_of_quick_holes_is_a_line_per_file(holed, tmp_path, capsys):
     # stderr captured: no terminal, as a log of an overnight run (the bar drawn at the end)
     (tmp_path / "in").mkdir()
-    scan = tmp_path / "in" / "scan.ply"
-    write_mesh(scan, *holed)
+    for name in ("a", "b"):
+        write_mesh(tmp_path / "in" / f"{name}.ply", *holed)
     assert main(["batch", str(tmp_path / "in"), "-o", str(tmp_path / "out"), "--jobs",
-                 "1"]) == 0
+                 "2"]) == 0
     lines = capsys.readouterr().err.splitlines()
-    staged = [line for line in lines if "(stage " in line]
-    assert f"  {scan}: 0/1 holes (hole 0: 15 edges, λ-H fill (stage 5 of 5))" in staged, lines
-    assert f"  {scan}: 0/1 holes (hole 0: 15 edges, self-check: hidden-ring test (stage 3 " \
-        "of 5))" in staged, lines
-    # the stages every hole runs in a moment are not logged: a log of many small holes
-    # stays a line per file
-    assert not any("faired fills" in line or "plane test" in line for line in staged)
-    assert lines.index(staged[-1]) < next(i for i, line in enumerate(lines)
-                                          if line.startswith(f"1/1 {scan}: filled"))
+    assert not any("(stage " in line for line in lines), lines  # each stage took < 10 s
+    assert sum(": filled, 1 of 1 hole" in line for line in lines) == 2, lines
 
 
-def test_the_log_says_each_files_long_stage_once_while_others_come_and_go(capsys):
+def test_the_log_says_a_stage_that_lasts_once_while_other_files_come_and_go(capsys):
     class Log:  # a bar drawn on a console that is no terminal
         console = SimpleNamespace(is_terminal=False)
 
         def update(self, done, total, message):
             pass
 
-    logged = _LoggedRows(QuietConsole(), Log())
+    now = [0.0]
+    logged = _LoggedRows(QuietConsole(), Log(), clock=lambda: now[0])
     a = "a.ply: 0/2 holes (hole 1: 212 edges, self-check: hidden-ring test (stage 3 of 5))"
+    a5 = "a.ply: 0/2 holes (hole 1: 212 edges, λ-H fill (stage 5 of 5))"
     b = "b.ply: 0/1 holes (hole 0: 9 edges, faired fills (stage 1 of 5))"
-    # a second file starts beside it, another ends (its own message), then b's next hole
-    for message in (a, f"{a} · {b}", "c.ply: filled", f"{a} · {b}", a):
+    # (seconds, message): a's self-check lasts 12 s while b starts, c ends, b goes on
+    for seconds, message in ((0, a), (3, f"{a} · {b}"), (5, "c.ply: filled"),
+                             (9, f"{a} · {b}"), (12, f"{a} · {b}"), (13, f"{a} · {b}"),
+                             (14, a5), (23, a5), (24.5, a5), (40, a5), (41, "a.ply: filled")):
+        now[0] = seconds
         logged.update(1, 3, message)
-    assert capsys.readouterr().err.splitlines() == [f"  {a}"]
+    assert capsys.readouterr().err.splitlines() == [f"  {a}, 12 s so far", f"  {b}, 10 s so far",
+                                                    f"  {a5}, 10 s so far"]
+
+
+def test_a_file_in_flight_is_said_again_without_news(monkeypatch):
+    said = []
+    rows = batch_listing.RunRows(2, lambda done, total, message: said.append(message))
+    queue = Queue()
+    queue.put(("a.ply", 0, 1, "hole 0: 212 edges, λ-H fill (stage 5 of 5)"))
+    now = [100.0]
+    monkeypatch.setattr(batch_listing.time, "monotonic", lambda: now[0])
+    rows.read(queue)
+    rows.read(queue)  # no news, no time gone: nothing said
+    now[0] += batch_listing.SAY_AGAIN_SECONDS
+    rows.read(queue)  # no news for a while: the same again
+    assert said == ["a.ply: 0/1 holes (hole 0: 212 edges, λ-H fill (stage 5 of 5))"] * 2
+    assert batch_listing.files_in_flight(said[0]) == [said[0]]
+    assert batch_listing.files_in_flight("a.ply: filled") == []

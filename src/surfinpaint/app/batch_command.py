@@ -8,6 +8,7 @@ import argparse
 import contextlib
 import os
 import signal
+import time
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -19,11 +20,13 @@ from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar, warn
 from surfinpaint.errors import how_many
 from surfinpaint.lazy import lazy_module
 
+#: How long a hole's stage lasts before a batch's log says it (a log, not a terminal)
+LOG_AFTER_SECONDS = 10.0
+
 # imported at its first use (surfinpaint.lazy), as the command line's other heavy parts
 batch = lazy_module("surfinpaint.app.batch")
 batch_summary = lazy_module("surfinpaint.app.batch_summary")
 batch_listing = lazy_module("surfinpaint.app.batch_listing")
-conformal_method = lazy_module("surfinpaint.fill.conformal.method")
 
 __all__ = ["add_batch_parser", "run_batch"]
 
@@ -171,30 +174,38 @@ class _LoggedRows:
     problems as it finishes (:func:`_say_row`), and where stderr is no terminal (a log of an
     overnight run, where rich draws the bar once, at the end) a line per file done too, so
     the log shows how far the run is: ``3/40 scans/a.ply: filled, 2 of 2 holes, 1.2 s``;
-    and a line as a hole of a file in flight starts one of the long stages of its fill
-    (:data:`~surfinpaint.fill.conformal.method.LONG_STAGES`), so that the log is not silent
-    while one hole takes minutes: ``  scans/nut.ply: 0/1 holes (hole 1: 374 edges, λ-H fill
-    (stage 5 of 5))`` (session 47)."""
+    and a line for a hole's stage that has lasted :data:`LOG_AFTER_SECONDS`, once, so that
+    the log is not silent while one hole takes minutes: ``  scans/nut.ply: 0/1 holes (hole
+    1: 374 edges, λ-H fill (stage 5 of 5)), 10 s so far`` (session 47; the progress of the
+    files in flight is said again every second without news: on worker processes, the
+    default, not with ``--jobs 1``, whose fills run in this process)."""
 
-    def __init__(self, out: QuietConsole, bar) -> None:
+    def __init__(self, out: QuietConsole, bar, clock=time.monotonic) -> None:
         self.out, self.bar, self.done, self.total = out, bar, 0, None
         self.log = bar.console is not None and not bar.console.is_terminal
-        self.logged: set[str] = set()  # each file's hole and stage, once
+        self.clock = clock
+        self.since: dict[str, float] = {}  # when each file's hole and stage was first said
+        self.logged: set[str] = set()
 
     def update(self, done: int, total: int, message: str) -> None:
         self.total = total
         self.bar.update(done, total, message)
         if self.log:
-            self._log_long_stages(message)
+            self._log_lasting(message)
 
-    def _log_long_stages(self, message: str) -> None:
+    def _log_lasting(self, message: str) -> None:
         from rich.markup import escape
 
-        for said in message.split(batch_listing.IN_FLIGHT_SEPARATOR):
-            if said not in self.logged and any(conformal_method.stage_words(name) in said
-                                               for name in conformal_method.LONG_STAGES):
-                self.out.say(f"  {escape(said)}")
+        in_flight = batch_listing.files_in_flight(message)
+        if not in_flight:  # a file done: the others' stages go on
+            return
+        now = self.clock()
+        self.since = {said: self.since.get(said, now) for said in in_flight}
+        for said, since in self.since.items():
+            if now - since >= LOG_AFTER_SECONDS and said not in self.logged:
+                self.out.say(f"  {escape(said)}, {now - since:.0f} s so far")
                 self.logged.add(said)
+        self.logged &= set(self.since)  # what is said no more is never said again
 
     def say(self, row: batch.FileRow, out_dir: str) -> None:
         from rich.markup import escape

@@ -14,6 +14,8 @@ from __future__ import annotations
 import dataclasses
 import glob
 import os
+import re
+import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from queue import Empty
@@ -38,13 +40,26 @@ from surfinpaint.app.batch_summary import (
 )
 from surfinpaint.errors import how_many
 
-__all__ = ["IN_FLIGHT_SEPARATOR", "ProgressCallback", "ResultCallback", "RunRows", "list_jobs",
+__all__ = ["ProgressCallback", "ResultCallback", "RunRows", "files_in_flight", "list_jobs",
            "remove_temporaries"]
 
 ProgressCallback = Callable[[int, int, str], None]
 ResultCallback = Callable[[FileRow], None]
-#: What joins the files in flight, each with its hole, in a progress message
-IN_FLIGHT_SEPARATOR = " · "
+# What joins the files in flight, each with its hole, in a progress message, and how each
+# says its hole (RunRows.hole)
+_IN_FLIGHT_SEPARATOR = " · "
+_IN_FLIGHT = re.compile(r": \d+/\d+ holes \(")
+#: Seconds without news after which the progress of the files in flight is said again (the
+#: same message: a bar's clock goes on, a log can tell a stage that lasts)
+SAY_AGAIN_SECONDS = 1.0
+
+
+def files_in_flight(message: str) -> list[str]:
+    """What a ``progress`` message of a batch says of each file in flight, its hole and the
+    hole's stage (``scans/a.ply: 0/2 holes (hole 0: 212 edges, λ-H fill (stage 5 of 5))``);
+    empty for a message of a file done or of the run."""
+    said = message.split(_IN_FLIGHT_SEPARATOR)
+    return said if all(_IN_FLIGHT.search(part) for part in said) else []
 
 
 def remove_temporaries(jobs: Iterable[FileJob]) -> None:
@@ -72,6 +87,7 @@ class RunRows:
         self.out_dir, self.earlier = Path(out_dir), list(earlier)
         self.by_name: dict[str, FileRow] = {}
         self.holes: dict[str, str] = {}  # the hole progress of each file in flight
+        self.said_at = time.monotonic()  # when the progress callback was last told
 
     def add(self, row: FileRow, *, quiet: bool = False) -> None:
         """Record ``row``; unless ``quiet`` (the run is being stopped: no callback may run
@@ -83,6 +99,7 @@ class RunRows:
         if self.on_result is not None:
             self.on_result(row)
         if self.progress is not None:
+            self.said_at = time.monotonic()
             self.progress(len(self.by_name), self.total, f"{row.path}: {row.status}")
 
     def hole(self, name: str, done: int, total: int, message: str) -> None:
@@ -91,8 +108,12 @@ class RunRows:
         if self.progress is None or name in self.by_name:
             return  # a late word from a file already recorded
         self.holes[name] = f"{name}: {done}/{total} holes ({message})"  # "of N holes"
+        self._say_holes()
+
+    def _say_holes(self) -> None:
+        self.said_at = time.monotonic()
         self.progress(len(self.by_name), self.total,
-                      IN_FLIGHT_SEPARATOR.join(self.holes.values()))
+                      _IN_FLIGHT_SEPARATOR.join(self.holes.values()))
 
     def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:
         """The ``hole_progress`` of :func:`~surfinpaint.app.batch.fill_file` for ``job``
@@ -102,12 +123,16 @@ class RunRows:
         return lambda done, total, message: self.hole(job.name, done, total, message)
 
     def read(self, queue: Any) -> None:
-        """Show what the workers sent through ``queue`` so far."""
+        """Show what the workers sent through ``queue`` so far; without news for
+        :data:`SAY_AGAIN_SECONDS`, the files in flight again (a hole of minutes: the bar's
+        clock goes on, and ``batch``'s log says a stage that lasts)."""
         while True:
             try:
                 self.hole(*queue.get_nowait())
             except Empty:
-                return
+                break
+        if self.holes and time.monotonic() - self.said_at >= SAY_AGAIN_SECONDS:
+            self._say_holes()
 
     def ordered(self, jobs: Inputs) -> FileRows:
         """The rows in the inputs' order (files not done, after an interrupt, left out),

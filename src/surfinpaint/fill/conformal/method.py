@@ -62,7 +62,7 @@ from surfinpaint.geometry.mesh import edge_faces, k_ring, unique_edges, vertex_n
 from surfinpaint.geometry.rows import rows_all, rows_any
 from surfinpaint.geometry.validation import face_ids
 
-__all__ = ["LONG_STAGES", "STAGES", "conformal_fill", "stage_words"]
+__all__ = ["STAGES", "conformal_fill", "stage_words"]
 
 #: The stages of one hole's conformal fill, in their order, as its ``stage`` callback hears
 #: of each as it starts (a hole skips those it does not need: a plane, a hole without a vertex
@@ -70,8 +70,6 @@ __all__ = ["LONG_STAGES", "STAGES", "conformal_fill", "stage_words"]
 #: self-check's two tests and the hole's own λ-H fill (a 200-edge hole's can take minutes)
 STAGES = ("faired fills", "plane test", "self-check: hidden-ring test",
           "self-check: sibling test", "λ-H fill")
-#: Those that take seconds to minutes on a large hole (the others a moment on any hole)
-LONG_STAGES = STAGES[2:]
 
 
 def stage_words(name: str) -> str:
