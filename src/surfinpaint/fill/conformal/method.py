@@ -76,6 +76,7 @@ def stage_words(name: str) -> str:
     """How progress says the stage ``name`` of :data:`STAGES`: ``λ-H fill (stage 5 of 5)``."""
     return f"{name} (stage {STAGES.index(name) + 1} of {len(STAGES)})"
 
+
 # the plane test (ConformalOptions.plane_test) looks at the known vertices within
 # PLANE_RINGS rings of the loop, at the significance level PLANE_ALPHA: the level fixed
 # before any run, the rings chosen on tuning-side scans (2, 3, 4, 6 compared: 2 gave the
