@@ -170,10 +170,17 @@ class _ProductIndex:
     @classmethod
     def of(cls, system):
         """The system's, made at its first use (its vertex sets do not change)."""
-        made = getattr(system, "product_index", None)
-        if made is None:
-            made = system.product_index = cls(system)
-        return made
+        return _kept_on(system, "product_index", cls)
+
+
+def _kept_on(system, name: str, make):
+    """``make(system)``, made at the first call and kept on the system as ``name`` (what
+    depends only on a system's matrices and vertex sets, which do not change)."""
+    made = getattr(system, name, None)
+    if made is None:
+        made = make(system)
+        setattr(system, name, made)
+    return made
 
 
 def newton_step(system, points, x, r):
@@ -435,17 +442,11 @@ class _DenseJacobian:
         rest = np.setdiff1d(m, np.concatenate([f, tied]))  # on a natural border
         self.blocks = FaceBlocks.of(system, np.concatenate([f, tied, rest]))
         self.where = self.blocks.where  # a vertex's row of the normals' derivative
-        ring = np.setdiff1d(m, f)  # λ's data next to the free vertices
-        self.ring_rows = self.blocks.where_m[ring]
-        n = len(system.points)
-        in_ring = np.full(n, -1)
-        in_ring[ring] = np.arange(len(ring))
-        self.tied_in_ring = in_ring[tied]
-        self.ring = ring
-        in_fixed = np.full(n, -1)
-        in_fixed[system.fixed] = np.arange(len(system.fixed))
+        index = _ProductIndex.of(system)  # the ring: λ's data next to the free vertices
+        self.ring, self.tied_in_ring = index.ring, index.tied_in_ring
+        self.ring_rows = self.blocks.where_m[index.ring]
         # d λ_f = −Q_ff⁻¹ Q_fk d λ_k, d λ_k nonzero on the ring only
-        self.lam_map = -system.lam_lu.solve(system.Q_fk[:, in_fixed[ring]].toarray())
+        self.lam_map = -system.lam_lu.solve(index.Q_ring.toarray())
         self.L_inv = system.L_lu.solve(np.eye(len(f)))
         self.stencil_map = (system.Q_lu.solve(system.Q_fs.toarray())
                             if len(system.natural_data) else None)  # Q_ff⁻¹ Q_fs
@@ -454,10 +455,7 @@ class _DenseJacobian:
     @classmethod
     def of(cls, system):
         """The system's, made at its first Jacobian (its matrices do not change)."""
-        made = getattr(system, "dense_jacobian", None)
-        if made is None:
-            made = system.dense_jacobian = cls(system)
-        return made
+        return _kept_on(system, "dense_jacobian", cls)
 
     def derivatives(self, phi):
         """The unit normals' (3 len(m), P) derivatives at the moving vertices in the free
