@@ -849,6 +849,56 @@ def test_the_lattice_of_a_patch_s_map_lies_on_the_known_surface_s_interpolant():
     assert 0 < off < lattice.spacing ** 2
 
 
+def test_a_lattice_spacing_that_repeats_is_made_once_with_the_same_outcome(monkeypatch):
+    # where the lattice's spacing is bounded (the border, MAX_FREE) several of
+    # LATTICE_PER_EDGE give one lattice: _on_lattice makes it once (session 47 helper) and
+    # says what making it for each said (a lattice tried is skipped, a refused one's reason
+    # is given again); LatticeScale's spacing is lattice_patch's, to the bit
+    from surfinpaint.errors import FillError
+    from surfinpaint.fill.conformal import mesh_pass
+    from surfinpaint.fill.conformal.lattice import LatticeScale, lattice_patch
+
+    uv, faces, n_fill, free = _quadric_patch()
+    points = _quadric(uv)
+    scale = LatticeScale.of(faces, uv, n_fill)
+    for per_edge in (1.0, 2.0, 4.0):
+        made = lattice_patch(points, faces, uv, free, n_fill, per_edge)
+        assert made.spacing == scale.spacing(per_edge)
+        again = lattice_patch(points, faces, uv, free, n_fill, per_edge, scale=scale)
+        np.testing.assert_array_equal(again.points, made.points)
+        np.testing.assert_array_equal(again.faces, made.faces)
+    made_for = []
+
+    def counted(*args, **kwargs):
+        made_for.append(args[5])
+        return lattice_patch(*args, **kwargs)
+
+    def unsolved(*args, **kwargs):
+        raise FillError("no fixed point")
+
+    monkeypatch.setattr(mesh_pass, "lattice_patch", counted)
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", unsolved)
+    monkeypatch.setattr(mesh_pass, "LATTICE_PER_EDGE", (2.0, 2.0, 1.0))
+    with pytest.raises(FillError) as tried:
+        mesh_pass._on_lattice(points, faces, uv, free, n_fill, None, 20, 1e-3, "failed")
+    assert made_for == [2.0, 1.0]
+    assert str(tried.value) == ("failed; on a regular lattice of its map, 2 per edge: no "
+                                "fixed point; 1 per edge: no fixed point")
+
+    def refused(*args, **kwargs):
+        made_for.append(args[5])
+        raise FillError("the lattice around the hole is not a disk (2 borders)")
+
+    made_for.clear()
+    monkeypatch.setattr(mesh_pass, "lattice_patch", refused)
+    with pytest.raises(FillError) as tried:
+        mesh_pass._on_lattice(points, faces, uv, free, n_fill, None, 20, 1e-3, "failed")
+    assert made_for == [2.0, 1.0]
+    words = "the lattice around the hole is not a disk (2 borders)"
+    assert str(tried.value) == (f"failed; on a regular lattice of its map, 2 per edge: {words}; "
+                                f"2 per edge: {words}; 1 per edge: {words}")
+
+
 def test_a_lattice_fill_read_back_at_folded_map_positions_is_read_again_at_tutte_s():
     # where the start's triangles fold (a fill vertex pushed across its neighbours, in the
     # map and in 3D) the read-back at their map positions inherits the fold; read back at

@@ -506,3 +506,43 @@ def test_the_compiled_right_hand_side_of_the_dense_jacobian_is_numpy_s_bit_for_b
             got = np.empty(dn_f.shape)
             kernel(dn_f, n_f, c, u, d_s_f, alpha, d_H_f, got)
         assert np.array_equal(got.view(np.int64), want.view(np.int64))
+
+
+def test_the_products_index_and_capacitance_made_once_are_the_ones_made_each_time(large):
+    # session 47 helper: UpdateDerivative takes the ring, its rows and Q_fk's columns from
+    # an index made once a system (each Newton–Krylov step made them again), and I + K Y
+    # from the lagged solve's state (the products' LU and the dense Jacobian made it again):
+    # the same arrays, and products bit for bit those of the formulas as written before
+    import scipy.linalg as sla
+
+    from surfinpaint.representation.coupled_jacobian import _ProductIndex
+
+    system, points, phi = large
+    f, m, n = system.f, system.moving, len(points)
+    index = _ProductIndex.of(system)
+    assert _ProductIndex.of(system) is index
+    where = np.full(n, -1)
+    where[m] = np.arange(len(m))
+    ring = np.setdiff1d(m, f)
+    in_fixed, in_ring = np.full(n, -1), np.full(n, -1)
+    in_fixed[system.fixed] = np.arange(len(system.fixed))
+    in_ring[ring] = np.arange(len(ring))
+    assert np.array_equal(index.where, where) and np.array_equal(index.ring, ring)
+    assert all(np.array_equal(index.rows[k], where[ids]) for k, ids in (
+        ("ring", ring), ("tied", system.tied), ("f", f)))
+    assert np.array_equal(index.tied_in_ring, in_ring[system.tied])
+    assert (index.Q_ring != system.Q_fk[:, in_fixed[ring]]).nnz == 0
+    state = system._lagged(phi)[1]
+    K, C = state[4], state[6]
+    assert np.array_equal(C, np.eye(len(system.tied)) + K @ system.Y)
+    derivative = UpdateDerivative(system, phi)
+    y = np.random.default_rng(7).standard_normal((K.shape[1], 1))
+    lu, piv = sla.lu_factor(np.eye(len(system.tied)) + K @ system.Y)
+    assert np.array_equal(derivative._capacitance(K, C, y, False),
+                          sla.lu_solve((lu, piv), K @ y))
+    assert np.array_equal(derivative._capacitance(K, C, y, True),
+                          np.linalg.solve(np.eye(len(system.tied)) + K @ system.Y, K @ y))
+    assert np.array_equal(C, np.eye(len(system.tied)) + K @ system.Y)  # not factored in place
+    # a second derivative at the same positions: its products are the first's, bit for bit
+    V = np.random.default_rng(8).standard_normal((3 * len(f), 2))
+    assert np.array_equal(UpdateDerivative(system, phi).apply(V), derivative.apply(V))

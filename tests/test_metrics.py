@@ -126,6 +126,33 @@ def test_the_compiled_ball_search_keeps_the_kd_trees_ball(offset):
     assert len(kd_cand) > 5 * len(p)  # the balls are not empty
 
 
+@pytest.mark.parametrize("offset", [0.0, 1e4])
+def test_the_search_bounded_by_each_triangle_s_radius_gives_the_ball_s_minimum(offset):
+    """:meth:`_TriangleIndex._nearer` (session 47 helper): the triangles searched are those
+    whose centroid is within ``best`` plus their own circumscribing radius, not the largest
+    one; the distances are those of the ball of the largest radius (the search before) and
+    of every triangle, bit for bit, compiled or not, on triangles of sizes 0.01 to 1 (a large
+    one's centroid far from its nearest point), far from the origin too."""
+    rng = np.random.default_rng(11)
+    n = 600
+    size = 10.0 ** rng.uniform(-2, 0, size=n)
+    tri = offset + rng.uniform(-2, 2, size=(n, 1, 3)) + size[:, None, None] * rng.normal(
+        size=(n, 3, 3))
+    index = metrics._TriangleIndex(tri.reshape(-1, 3), np.arange(3 * n).reshape(n, 3))
+    p = offset + rng.uniform(-2, 2, size=(500, 3))
+    every = np.tile(np.arange(n), len(p))
+    exact = index._min_exact(p, every, np.arange(len(p) + 1) * n)
+    best = index._min_exact(p, rng.integers(0, n, size=len(p)), np.arange(len(p) + 1))
+    assert (best > exact).mean() > 0.9  # upper bounds, mostly not the nearest
+    ball = np.minimum(best, index._min_exact(p, *index.within(p, best + index.rho)))
+    assert np.array_equal(ball, exact)
+    assert np.array_equal(index._nearer(p, best), exact)
+    cand = index._ball(p, best, index.rho_each, float(index.rho))[0]
+    assert len(cand) < 0.7 * len(index.within(p, best + index.rho)[0])  # fewer measured
+    index.use_numba = False
+    assert np.array_equal(index._nearer(p, best), exact)
+
+
 @pytest.mark.parametrize("move", [0.0, 1e-3, 0.05, 0.5])
 def test_distances_to_meshes_of_one_triangulation_equal_one_search_each(move):
     """Meshes with the faces of the first are searched from its nearest triangles: the same

@@ -57,25 +57,22 @@ class UpdateDerivative:
         # a system (the sparse matrices' sums in another order than the whole mesh's
         # derivatives sliced, which cost most of a Newton–Krylov step's set-up: session 30)
         self.d_unit, self.d_area = FaceBlocks.of(system, m).sparse(phi)
-        self.where = np.full(len(phi), -1)
-        self.where[m] = np.arange(len(m))  # a vertex's row among the moving ones
+        # a vertex's row among the moving ones, the ring (m without f) and the rows of the
+        # ring, tied and free vertices, Q_fk's columns on the ring (d λ is zero on the other
+        # fixed vertices): no position changes them, made once a system (_ProductIndex)
+        index = _ProductIndex.of(system)
+        self.where, self.ring, self.rows = index.where, index.ring, index.rows
         # what the natural border's term takes at phi, made once, not at each product
         self.stencil_terms = (stencil_terms(system, phi, self.state[0])
                               if len(system.natural_data) else None)
-        self.ring = np.setdiff1d(m, f)  # made here, not at each product (a third of one)
-        self.rows = {"ring": self.where[self.ring], "tied": self.where[system.tied],
-                     "f": self.where[f]}
         self._woodbury = None
-        # what no direction changes, made once (session 30): Q_fk's columns on the ring
-        # (d λ is zero on the other fixed vertices), λ's scales there, and Z_t (d_n,c H_f)
+        # what no direction changes, made once (session 30): λ's scales on the ring, and
+        # Z_t (d_n,c H_f)
         ring, tied, area, lam = self.ring, system.tied, system.area, system.lam
-        normals, s, _, d_n, _, H = self.state
-        in_fixed, in_ring = np.full(len(phi), -1), np.full(len(phi), -1)
-        in_fixed[system.fixed] = np.arange(len(system.fixed))
-        in_ring[ring] = np.arange(len(ring))
+        normals, s, _, d_n, _, H, _ = self.state
         a_t = area[tied] * s[tied]
-        self.fixed_terms = (system.Q_fk[:, in_fixed[ring]], (2.0 * lam[ring] * area[ring])[:, None],
-                            in_ring[tied], a_t, (a_t**2 / area[tied])[:, None],
+        self.fixed_terms = (index.Q_ring, (2.0 * lam[ring] * area[ring])[:, None],
+                            index.tied_in_ring, a_t, (a_t**2 / area[tied])[:, None],
                             system.Z_t @ (d_n * H[:len(f), None]), (area[f] * s[f])[:, None, None])
         # and the gathers and broadcasts of the state every product took again (session 32
         # helper: the same values, made once)
@@ -95,7 +92,7 @@ class UpdateDerivative:
         the reference :func:`lagged_update_jacobian`'s faster path is tested against)."""
         system, phi = self.system, self.phi
         f, m = system.f, system.moving
-        normals, s, w_n, d_n, K, H = self.state
+        normals, s, w_n, d_n, K, H, C = self.state
         n_free = len(f)
         k = self.P if V is None else V.shape[1]
         if V is None:
@@ -128,23 +125,62 @@ class UpdateDerivative:
             d_b -= system.Q_fs @ _d_stencil_H(system, phi, normals, d_normals, d_area, V,
                                               self.stencil_terms)
         y = system.Q_lu.solve(d_b)  # (Q_ff + Q_ft K)⁻¹ by Woodbury
-        d_H = y - system.Y @ self._capacitance(K, y, V is None)
+        d_H = y - system.Y @ self._capacitance(K, C, y, V is None)
         rhs = d_dn * H_f3 + d_n3 * d_H[:n_free][:, None, :]
         return system.L_lu.solve(rhs.reshape(n_free, 3 * k)).reshape(3 * n_free, k)
 
-    def _capacitance(self, K, y, dense):
-        """``(I + K Y)⁻¹ K y``: a dense solve for the Jacobian, one LU for the products."""
-        system = self.system
+    def _capacitance(self, K, C, y, dense):
+        """``(I + K Y)⁻¹ K y`` (``C = I + K Y``, the lagged solve's): a dense solve for the
+        Jacobian, one LU for the products."""
         if dense:
-            return np.linalg.solve(np.eye(len(system.tied)) + K @ system.Y, K @ y)
+            return np.linalg.solve(C, K @ y)
         if self._woodbury is None:
-            self._woodbury = sla.lu_factor(np.eye(len(system.tied)) + K @ system.Y)
+            self._woodbury = sla.lu_factor(C)  # a copy: C is the state's
         # LAPACK's getrs as sla.lu_solve calls it, without its checks (a tenth of a product)
         lu, piv = self._woodbury
         x, info = _GETRS(lu, piv, K @ y)
         if info:
             raise ValueError(f"getrs: illegal value in argument {-info}")
         return x
+
+
+class _ProductIndex:
+    """What :class:`UpdateDerivative` takes of a system whatever the positions, made at its
+    first use (:meth:`of`): ``where`` (a vertex's row among the moving ones, -1 elsewhere),
+    ``ring`` (the moving vertices that are not free), ``rows`` (the rows of the ring, the
+    tied and the free vertices), ``tied_in_ring`` (the tied vertices' places in the ring) and
+    ``Q_ring`` (``Q_fk``'s columns on the ring).
+
+    Why: every Newton–Krylov step made them again (the ring's set difference and Q_fk's
+    columns a fifth of a step's set-up at 681 free vertices; session 47 helper)."""
+
+    def __init__(self, system):
+        n, m, f = len(system.points), system.moving, system.f
+        self.where = np.full(n, -1)
+        self.where[m] = np.arange(len(m))
+        self.ring = ring = np.setdiff1d(m, f)
+        self.rows = {"ring": self.where[ring], "tied": self.where[system.tied],
+                     "f": self.where[f]}
+        in_fixed, in_ring = np.full(n, -1), np.full(n, -1)
+        in_fixed[system.fixed] = np.arange(len(system.fixed))
+        in_ring[ring] = np.arange(len(ring))
+        self.tied_in_ring = in_ring[system.tied]
+        self.Q_ring = system.Q_fk[:, in_fixed[ring]]
+
+    @classmethod
+    def of(cls, system):
+        """The system's, made at its first use (its vertex sets do not change)."""
+        return _kept_on(system, "product_index", cls)
+
+
+def _kept_on(system, name: str, make):
+    """``make(system)``, made at the first call and kept on the system as ``name`` (what
+    depends only on a system's matrices and vertex sets, which do not change)."""
+    made = getattr(system, name, None)
+    if made is None:
+        made = make(system)
+        setattr(system, name, made)
+    return made
 
 
 def newton_step(system, points, x, r):
@@ -406,17 +442,11 @@ class _DenseJacobian:
         rest = np.setdiff1d(m, np.concatenate([f, tied]))  # on a natural border
         self.blocks = FaceBlocks.of(system, np.concatenate([f, tied, rest]))
         self.where = self.blocks.where  # a vertex's row of the normals' derivative
-        ring = np.setdiff1d(m, f)  # λ's data next to the free vertices
-        self.ring_rows = self.blocks.where_m[ring]
-        n = len(system.points)
-        in_ring = np.full(n, -1)
-        in_ring[ring] = np.arange(len(ring))
-        self.tied_in_ring = in_ring[tied]
-        self.ring = ring
-        in_fixed = np.full(n, -1)
-        in_fixed[system.fixed] = np.arange(len(system.fixed))
+        index = _ProductIndex.of(system)  # the ring: λ's data next to the free vertices
+        self.ring, self.tied_in_ring = index.ring, index.tied_in_ring
+        self.ring_rows = self.blocks.where_m[index.ring]
         # d λ_f = −Q_ff⁻¹ Q_fk d λ_k, d λ_k nonzero on the ring only
-        self.lam_map = -system.lam_lu.solve(system.Q_fk[:, in_fixed[ring]].toarray())
+        self.lam_map = -system.lam_lu.solve(index.Q_ring.toarray())
         self.L_inv = system.L_lu.solve(np.eye(len(f)))
         self.stencil_map = (system.Q_lu.solve(system.Q_fs.toarray())
                             if len(system.natural_data) else None)  # Q_ff⁻¹ Q_fs
@@ -425,10 +455,7 @@ class _DenseJacobian:
     @classmethod
     def of(cls, system):
         """The system's, made at its first Jacobian (its matrices do not change)."""
-        made = getattr(system, "dense_jacobian", None)
-        if made is None:
-            made = system.dense_jacobian = cls(system)
-        return made
+        return _kept_on(system, "dense_jacobian", cls)
 
     def derivatives(self, phi):
         """The unit normals' (3 len(m), P) derivatives at the moving vertices in the free
@@ -484,7 +511,7 @@ class _DenseJacobian:
         (:meth:`at`'s arithmetic)."""
         system = self.system
         f, tied, area = system.f, system.tied, system.area
-        normals, s, w_n, d_n, K, H = system._lagged(phi)[1]
+        normals, s, w_n, d_n, K, H, C = system._lagged(phi)[1]
         lam, kappa = system.lam, system.curvature
         n_free, n_tied, P = len(f), len(tied), self.shape[1]
         H_f = H[:n_free]
@@ -508,7 +535,6 @@ class _DenseJacobian:
         W = w_n[:, None, :] * (system.Z_t * (alpha * H_f))[:, :, None]  # (t, free, 3)
         z += W.reshape(n_tied, 3 * n_free) @ dn_f.reshape(3 * n_free, P)
         z += (system.Z_t * (w_n @ n_f.T) * (kappa * area[f] * H_f)) @ d_s_f
-        C = np.eye(n_tied) + K @ system.Y
         if self.stencil_map is None:
             d_H = -(system.Y @ np.linalg.solve(C, z))
         else:

@@ -33,7 +33,7 @@ from surfinpaint.geometry.mesh import (
 from surfinpaint.geometry.point_location import locate_points
 from surfinpaint.representation.clough_tocher import clough_tocher, vertex_gradients
 
-__all__ = ["LatticePatch", "lattice_patch", "tutte_positions"]
+__all__ = ["LatticePatch", "LatticeScale", "lattice_patch", "tutte_positions"]
 
 # lattice spacings of known surface kept around the hole (the coupled solve's stencil
 # reaches three rings out from the free vertices), and the fewest spacings between the
@@ -105,30 +105,74 @@ def tutte_positions(uv: np.ndarray, fill_faces: np.ndarray, free: np.ndarray) ->
     return out[free]
 
 
+@dataclass(frozen=True)
+class LatticeScale:
+    """What a patch's lattice spacing is made of, whatever the lattice's ``per_edge``
+    (:meth:`of`), and :meth:`spacing`, the one :func:`lattice_patch` takes.
+
+    Why apart: where the spacing is bounded (by the patch's border or ``MAX_FREE``) several
+    of the caller's ``per_edge`` give the same lattice; the caller sees that before making
+    it again (midthickness #6: two of its three lattices, 36 ms, thrown away; session 47
+    helper).
+
+    Attributes
+    ----------
+    fill_ids : (k,) int array
+        The fill's vertices.
+    h : float
+        The fill's mean map edge length.
+    to_border : float
+        The least map distance from a fill vertex to the patch's border.
+    area : float
+        The fill's map area.
+    """
+
+    fill_ids: np.ndarray
+    h: float
+    to_border: float
+    area: float
+
+    @classmethod
+    def of(cls, faces: np.ndarray, uv: np.ndarray, n_fill: int) -> LatticeScale:
+        """The scale of the patch ``faces`` (the fill's ``n_fill`` first) mapped to ``uv``."""
+        fill_ids = np.unique(faces[:n_fill])
+        edges = unique_edges(faces[:n_fill])[0]
+        h = float(np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1).mean())
+        border = np.concatenate(boundary_loops(faces))
+        to_border = float(cKDTree(uv[border]).query(uv[fill_ids])[0].min())
+        corner = uv[faces[:n_fill]]
+        d1, d2 = corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0]
+        area = 0.5 * float(np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]).sum())
+        return cls(fill_ids, h, to_border, area)
+
+    def spacing(self, per_edge: float) -> float:
+        """The lattice's spacing: ``1/per_edge`` of :attr:`h`, finer where the fill comes
+        within ``BAND + 2`` spacings of the border, coarser where it would make more than
+        ``MAX_FREE`` free vertices."""
+        return max(min(self.h / per_edge, self.to_border / (BAND + 2)),
+                   np.sqrt(self.area / MAX_FREE / (np.sqrt(3) / 2)))
+
+
 def lattice_patch(points: np.ndarray, faces: np.ndarray, uv: np.ndarray, free: np.ndarray,
-                  n_fill: int, per_edge: float) -> LatticePatch:
+                  n_fill: int, per_edge: float, scale: LatticeScale | None = None
+                  ) -> LatticePatch:
     """The patch (``faces`` over ``points``, its map ``uv``, the fill's faces first)
     resampled on an equilateral lattice of spacing ``1/per_edge`` of the fill's mean map
     edge length (finer where the fill comes within ``BAND + 2`` spacings of the patch's
     border, coarser where it would make more than ``MAX_FREE`` free vertices), kept within
     ``BAND`` spacings of the fill.
 
+    ``scale``: :meth:`LatticeScale.of` of these ``faces``, ``uv`` and ``n_fill``, where the
+    caller has it (made here when None).
+
     Raises
     ------
     FillError
         When the kept lattice is not a disk, or a free vertex lies outside it.
     """
-    fill_ids = np.unique(faces[:n_fill])
-    edges = unique_edges(faces[:n_fill])[0]
-    h = float(np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1).mean())
-    border = np.concatenate(boundary_loops(faces))
-    to_border = float(cKDTree(uv[border]).query(uv[fill_ids])[0].min())
-    corner = uv[faces[:n_fill]]
-    d1, d2 = corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0]
-    area = 0.5 * float(np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]).sum())
-    spacing = max(min(h / per_edge, to_border / (BAND + 2)),
-                  np.sqrt(area / MAX_FREE / (np.sqrt(3) / 2)))
-    reach = h + BAND * spacing
+    scale = LatticeScale.of(faces, uv, n_fill) if scale is None else scale
+    fill_ids, spacing = scale.fill_ids, scale.spacing(per_edge)
+    reach = scale.h + BAND * spacing
     lattice_uv, lattice_faces = _lattice(uv[fill_ids].min(0) - reach,
                                          uv[fill_ids].max(0) + reach, spacing)
     near = cKDTree(uv[fill_ids]).query(lattice_uv, distance_upper_bound=reach)[0] <= reach

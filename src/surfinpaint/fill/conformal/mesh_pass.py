@@ -10,7 +10,7 @@ import numpy as np
 
 from surfinpaint.errors import FillError, how_many
 from surfinpaint.fill.conformal.checks import fold_count
-from surfinpaint.fill.conformal.lattice import lattice_patch, tutte_positions
+from surfinpaint.fill.conformal.lattice import LatticeScale, lattice_patch, tutte_positions
 from surfinpaint.fill.conformal.patch import grown_patch, hole_patch, hole_patch_and_boundary
 from surfinpaint.fill.creases import cut_along
 from surfinpaint.fill.results import LeastSquaresFill, MeshLambdaH
@@ -361,11 +361,20 @@ def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failu
     if natural is not None and np.asarray(natural).any():
         raise FillError(f"{failure}; no lattice on a patch with a natural border")
     reasons, spacings = [], []
+    refused: dict[float, FillError] = {}  # a spacing whose lattice could not be made: why
+    scale = None
     for per_edge in LATTICE_PER_EDGE:
         try:
-            lattice = lattice_patch(points, local, uv, free, n_fill, per_edge)
-            if lattice.spacing in spacings:  # bounded by the border or MAX_FREE: tried
+            # a spacing bounded by the border or MAX_FREE repeats: its lattice is not made
+            # again (the same lattice, or the same reason it could not be; session 47)
+            scale = LatticeScale.of(local, uv, n_fill) if scale is None else scale
+            spacing = scale.spacing(per_edge)
+            if spacing in spacings:  # tried
                 continue
+            if spacing in refused:
+                raise refused[spacing]
+            lattice = _lattice_or_refused(points, local, uv, free, n_fill, per_edge, scale,
+                                          refused)
             spacings.append(lattice.spacing)
             fine = inpaint_on_mesh(lattice.points, lattice.faces, lattice.uv, lattice.free,
                                    iterations=iterations, tol=tol)
@@ -376,6 +385,15 @@ def _on_lattice(points, local, uv, free, n_fill, natural, iterations, tol, failu
             lattice.free.sum())
     raise FillError(f"{failure}; on a regular lattice of its map, "
                     + "; ".join(reasons))
+
+
+def _lattice_or_refused(points, local, uv, free, n_fill, per_edge, scale, refused):
+    """:func:`lattice_patch`, its FillError kept in ``refused`` under its spacing."""
+    try:
+        return lattice_patch(points, local, uv, free, n_fill, per_edge, scale=scale)
+    except FillError as exc:
+        refused[scale.spacing(per_edge)] = exc
+        raise
 
 
 def _read_back(lattice, fine, points, local, uv, free, n_fill):
