@@ -456,3 +456,54 @@ def test_signals_raise_leaves_an_ignored_signal_ignored_and_takes_the_other():
         assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
     finally:
         signal.signal(signal.SIGINT, before)
+
+
+_SIGNAL_IN_AN_IMPORT = """
+import atexit, os, signal, sys, time
+
+class SignalsDuringImport:  # sends the signal as `name` starts importing
+    def find_spec(self, name, path=None, target=None):
+        if name == sys.argv[1]:
+            sys.meta_path.remove(self)
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.5)  # a live handler raises here, inside the import
+        return None
+
+sys.meta_path.insert(0, SignalsDuringImport())
+atexit.register(lambda: print("imported:", sys.argv[1] in sys.modules, file=sys.stderr))
+from surfinpaint.app.cli import main
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.parametrize("command", ["fill", "report"])
+def test_a_signal_while_vtk_is_imported_waits_for_the_import(tmp_path, command):
+    # session 47: a SIGTERM raised inside VTK's module initialization (pyvista importing its
+    # rendering modules for --png) segfaulted in libvtkWrappingPythonCore, 2 of 50 times;
+    # the import is now finished first, then the command stops as for any signal
+    pytest.importorskip("pyvista")
+    source = _holey(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    args = (["fill", str(source), "-o", str(out / "f.ply"), "--png", str(out / "f.png")]
+            if command == "fill" else ["report", str(source), "-o", str(out / "rep")])
+    proc = subprocess.run([sys.executable, "-c", _SIGNAL_IN_AN_IMPORT, "pyvista.plotting",
+                           *args, "-q"], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 143, proc.stderr
+    assert "imported: True" in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+    # no picture, no page, nothing temporary; `fill` wrote its mesh before the picture
+    left = sorted(p.name for p in out.rglob("*") if p.is_file())
+    assert left == (["f.ply"] if command == "fill" else [])
+
+
+def test_signals_held_acts_on_the_signal_after_the_block(tmp_path, monkeypatch):
+    (tmp_path / "slow_to_import.py").write_text(
+        "import os, signal, time\nos.kill(os.getpid(), signal.SIGTERM)\ntime.sleep(0.5)\n"
+        "WHOLE = True\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, "slow_to_import", raising=False)
+    with pytest.raises(Interrupted) as raised, signals_raise():
+        interrupts.imported_whole("slow_to_import")
+        time.sleep(5)  # not reached: the signal is acted on as the import returns
+    assert raised.value.signum == signal.SIGTERM
+    assert sys.modules["slow_to_import"].WHOLE

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint.app.fill_report import outcome_words, written
+from surfinpaint.app.interrupts import imported_whole
 from surfinpaint.errors import how_many
 from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
@@ -91,8 +92,7 @@ def render_meshes(
     Each panel is a :class:`MeshView` (its edges drawn, unless it says otherwise, below 20000
     faces). The PNG is written atomically.
     """
-    import pyvista as pv
-
+    pv = imported_whole("pyvista", "pyvista.plotting")  # a signal inside VTK's: a crash
     pv.OFF_SCREEN = True
     _quiet_vtk()
     path = Path(path)
@@ -485,8 +485,7 @@ def render_views(
     -------
     list of (height, width, 3) uint8 arrays, one per view.
     """
-    import pyvista as pv
-
+    pv = imported_whole("pyvista", "pyvista.plotting")  # a signal inside VTK's: a crash
     _quiet_vtk()
     pv.OFF_SCREEN = True
     direction = np.asarray(direction, float)

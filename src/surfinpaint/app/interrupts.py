@@ -15,6 +15,7 @@ SIGINT ignored, ``nohup`` with SIGHUP, and a Ctrl-C meant for the shell must not
 from __future__ import annotations
 
 import contextlib
+import importlib
 import os
 import signal
 import sys
@@ -76,6 +77,43 @@ def interruptions_raised() -> Iterator[None]:
     except Exception as exc:
         raise_interruption(exc)
         raise
+
+
+@contextlib.contextmanager
+def signals_held() -> Iterator[None]:
+    """Within the block, SIGINT and SIGTERM are only noted; after it, the first one that
+    came is sent again, to whatever handled it before (ours: :class:`Interrupted`; Python's
+    default: :exc:`KeyboardInterrupt`, or the end of the process for SIGTERM). An ignored
+    signal stays ignored. Outside the main thread the block runs unchanged."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    came: list[int] = []
+    previous = {s: signal.getsignal(s) for s in HANDLED}
+    for s, handler in previous.items():
+        if handler is not signal.SIG_IGN:
+            signal.signal(s, lambda signum, frame: came.append(signum))
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+        if came:
+            os.kill(os.getpid(), came[0])
+
+
+def imported_whole(*names: str):
+    """The module ``names[0]``, after importing each of ``names`` with :func:`signals_held`.
+
+    A handler that raises inside an extension module's initialization can crash the
+    process: VTK's modules import their dependencies from C, and an exception there
+    segfaulted in ``libvtkWrappingPythonCore`` (session 47: ``fill --png`` SIGTERMed while
+    pyvista imported VTK's rendering modules, 2 of 50 signals in the drawing stage on a
+    fsaverage5-left surface; 1 of 9 in session 46). An import takes a second or two: the
+    signal waits that long."""
+    with signals_held():
+        modules = [importlib.import_module(name) for name in names]
+    return modules[0]
 
 
 #: Seconds after which a signal lost in a finalizer or callback is sent again (from another
