@@ -476,18 +476,22 @@ sys.exit(main(sys.argv[2:]))
 """
 
 
-@pytest.mark.parametrize("command", ["fill", "report"])
-def test_a_signal_while_vtk_is_imported_waits_for_the_import(tmp_path, command):
+@pytest.mark.parametrize(("command", "module"), [
+    ("fill", "pyvista.plotting"), ("report", "pyvista.plotting"), ("fill", "matplotlib.figure"),
+    ("report", "matplotlib.figure")])
+def test_a_signal_while_a_drawing_library_is_imported_waits_for_the_import(tmp_path, command,
+                                                                           module):
     # session 47: a SIGTERM raised inside VTK's module initialization (pyvista importing its
     # rendering modules for --png) segfaulted in libvtkWrappingPythonCore, 2 of 50 times;
-    # the import is now finished first, then the command stops as for any signal
+    # the import is now finished first, then the command stops as for any signal; likewise
+    # matplotlib's (session 46: pybind11 turned the signal into an ImportError)
     pytest.importorskip("pyvista")
     source = _holey(tmp_path)
     out = tmp_path / "out"
     out.mkdir()
     args = (["fill", str(source), "-o", str(out / "f.ply"), "--png", str(out / "f.png")]
             if command == "fill" else ["report", str(source), "-o", str(out / "rep")])
-    proc = subprocess.run([sys.executable, "-c", _SIGNAL_IN_AN_IMPORT, "pyvista.plotting",
+    proc = subprocess.run([sys.executable, "-c", _SIGNAL_IN_AN_IMPORT, module,
                            *args, "-q"], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 143, proc.stderr
     assert "imported: True" in proc.stderr and "Traceback" not in proc.stderr, proc.stderr

@@ -164,7 +164,7 @@ def before_after_figure(vertices: np.ndarray, faces: np.ndarray, result, *,
 
     ``result`` is a :class:`surfinpaint.fill.pipeline.FillResult` of ``vertices, faces``.
     """
-    from matplotlib.figure import Figure
+    Figure = imported_whole("matplotlib.figure", "matplotlib.backends.backend_agg").Figure
 
     vertices = np.asarray(vertices, float)
     first = result.n_original_faces  # the new faces come last, hole after hole
