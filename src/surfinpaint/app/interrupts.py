@@ -89,15 +89,17 @@ def signals_held() -> Iterator[None]:
         yield
         return
     came: list[int] = []
-    previous = {s: signal.getsignal(s) for s in HANDLED}
-    for s, handler in previous.items():
-        if handler is not signal.SIG_IGN:
-            signal.signal(s, lambda signum, frame: came.append(signum))
+    # not an ignored signal, nor one whose handler was not set from Python (None: it could
+    # not be put back)
+    previous = {s: h for s in HANDLED
+                if (h := signal.getsignal(s)) is not signal.SIG_IGN and h is not None}
+    for s in previous:
+        signal.signal(s, lambda signum, frame: came.append(signum))
     try:
         yield
     finally:
         for s, handler in previous.items():
-            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+            signal.signal(s, handler)
         if came:
             os.kill(os.getpid(), came[0])
 
