@@ -25,9 +25,9 @@ set 15's (session 38) in ``holdout15_meshes.py``, holdout set 16's (session 39) 
 set 18's (session 41) in ``holdout18_meshes.py``, holdout set 19's (session 42) in
 ``holdout19_meshes.py``, holdout set 20's (session 43) in ``holdout20_meshes.py``, holdout
 set 21's (session 44) in ``holdout21_meshes.py``, holdout set 22's (session 45) in
-``holdout22_meshes.py``, holdout set 23's (session 46) in ``holdout23_meshes.py``; this
-module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT23_SOURCES`` to :data:`SOURCES` at its
-end.
+``holdout22_meshes.py``, holdout set 23's (session 46) in ``holdout23_meshes.py``, holdout
+set 24's (session 47) in ``holdout24_meshes.py``; this module adds their
+``HOLDOUT8_SOURCES`` to ``HOLDOUT24_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2062,6 +2062,13 @@ SOURCES.update(HOLDOUT22_SOURCES)
 from holdout23_meshes import HOLDOUT23_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT23_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 24
+
+# Session 47's set (benchmarks/holdout24_manifest.json), as holdout 23's: its own module.
+from holdout24_meshes import HOLDOUT24_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT24_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 

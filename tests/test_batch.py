@@ -180,6 +180,13 @@ def test_find_inputs_mirrors_folders_globs_and_files(tmp_path):
     with pytest.raises(ValueError, match="both be written.*the glob in quotes"):
         find_inputs([scans / "subject1" / "deep" / "closed.off",
                      tmp_path / "other" / "closed.off"], out)
+    # at one depth, the glob that names both (session 47: a lab's lh.pial.gii per subject)
+    for subject in ("sub-01", "sub-02"):
+        (tmp_path / "subjects" / subject / "surf").mkdir(parents=True)
+        write_mesh(tmp_path / "subjects" / subject / "surf" / "lh.pial.gii", *sphere(1))
+    with pytest.raises(ValueError) as raised:
+        find_inputs(sorted((tmp_path / "subjects").glob("*/surf/lh.pial.gii")), out)
+    assert f"the glob in quotes ('{tmp_path}/subjects/*/surf/lh.pial.gii')" in str(raised.value)
     with pytest.raises(ValueError, match="no mesh files"):
         find_inputs([scans / "subject1", str(tmp_path / "nothing" / "*.ply")], out)
     with pytest.raises(ValueError, match="overwritten"):

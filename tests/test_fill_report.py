@@ -141,9 +141,9 @@ def _degenerate_for(size: int):
     apex sits on a loop vertex (zero-area triangles: the stitch refuses it, the hole fails)."""
     real = parallel.fill_local
 
-    def fill_local(vertices, faces, loop, method, options, fair_order):
+    def fill_local(vertices, faces, loop, method, options, fair_order, stage=None):
         if len(loop) != size:
-            return real(vertices, faces, loop, method, options, fair_order)
+            return real(vertices, faces, loop, method, options, fair_order, stage)
         n = len(vertices)
         fan = np.column_stack([loop, np.roll(loop, -1), np.full(len(loop), n)])
         return Fill(vertices[loop[:1]].copy(), fan[:, ::-1], "fair", fair_order=2)

@@ -50,12 +50,17 @@ def test_headline_measures_on_hand_made_rows():
     assert hl["holes_above_1.5_faired"] == 1
     # cgal's per-mesh medians: a 1.5 (default 1.75 loses), b 1.0 (default 0.8 wins)
     assert hl["default_best_of_peers"] == (1, 2)
+    # per hole, default against cgal: 0.5 < 1.0, 3.0 > 2.0, 0.4 < 0.8, 1.2 = 1.2 (a tie counts)
+    assert hl["default_best_of_peers_per_hole"] == (3, 4)
+    assert "| holes where the default is the closest of all peers | 3 / 4 (75 %) |" in \
+        validation.report(_rows(True), list(METHODS), "tuning")
 
 
 def test_a_file_without_the_peers_rows_gives_no_peer_measures():
     rows = _rows(False)
     hl = validation.headline(rows, [m for m in METHODS if m != "cgal"])
     assert hl["default_best_of_peers"] is None
+    assert hl["default_best_of_peers_per_hole"] is None
     assert np.isnan(hl["default_over_cgal_per_hole"])
     assert hl["worst_mesh_vs_fair"] == ("a", pytest.approx(1.75))
     text = validation.report(rows, [m for m in METHODS if m != "cgal"], "tuning")

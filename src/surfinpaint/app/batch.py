@@ -30,7 +30,6 @@ from collections import deque
 from collections.abc import Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -421,7 +420,10 @@ def fill_files(
         Files, folders (searched recursively for known mesh extensions) and glob patterns;
         ``out_dir`` mirrors their layout (see :func:`find_inputs`).
     out_dir : path
-        Output folder (created); it also receives ``summary.csv`` and ``summary.json``.
+        Output folder (created); it also receives ``summary.csv`` and ``summary.json``:
+        the rows of this run's files and, kept as they were, those of the files earlier
+        runs filled into it (:func:`~surfinpaint.app.batch_summary.kept_rows`; a file of
+        this run takes its earlier row's place).
     jobs : int, optional
         Worker processes on this machine (default: the cores this process may use); 1 fills
         the files one after another in this process.
@@ -469,14 +471,15 @@ def fill_files(
     -------
     FileRows
         A :class:`FileRow` per input file in the inputs' order, also written to the summary
-        (``.unknown``: the files of unknown type not filled). On ``KeyboardInterrupt`` (or
+        (``.unknown``: the files of unknown type not filled; ``.earlier``: how many rows of
+        earlier runs the summary keeps beside them). On ``KeyboardInterrupt`` (or
         the command line's SIGTERM) the files in flight are stopped, leaving no partial
         output (local workers are ended; a Dask cluster's tasks are cancelled, and one
         already running there may still write its output, whole), the summary of the files
-        done is written, and the interrupt propagates; a rerun fills the rest, the files
-        that were in flight included. Likewise while the files are listed and checked,
-        before any is filled (:func:`~surfinpaint.app.batch_listing.list_jobs`: the files
-        not judged yet keep their rows of the earlier summary); the interrupt's
+        done is written (the others keep their rows of the earlier summary), and the
+        interrupt propagates; a rerun fills the rest, the files that were in flight
+        included. Likewise while the files are listed and checked, before any is filled
+        (:func:`~surfinpaint.app.batch_listing.list_jobs`); the interrupt's
         ``while_listing`` attribute is then True.
 
     Raises
@@ -492,8 +495,7 @@ def fill_files(
     todo, pending, rows = _listed(launched, inputs, out_dir, overwrite, progress, png,
                                   overlays, on_result, fill_options)
     # the files filled: the summary is written in any case, an interrupted run's too
-    _fill_and_summarise(todo, pending, rows, Path(out_dir), fill_options, n_jobs, client,
-                        launched)
+    _fill_and_summarise(todo, pending, rows, fill_options, n_jobs, client, launched)
     return rows.ordered(todo)
 
 
@@ -507,11 +509,12 @@ def _early_pool(n_jobs: int, client: Any, progress: bool,
     return None
 
 
-def _fill_and_summarise(todo: Inputs, pending: Sequence[FileJob], rows: RunRows, out: Path,
+def _fill_and_summarise(todo: Inputs, pending: Sequence[FileJob], rows: RunRows,
                         fill_options: Mapping[str, Any], n_jobs: int, client: Any,
                         launched: _Launched | None) -> None:
     """Fill the ``pending`` files of ``todo`` (on the Dask cluster of ``client``, else here:
-    :func:`_run_local`) and write the summary of ``todo``'s rows into ``out``, also when the
+    :func:`_run_local`) and write the summary of the output folder (``todo``'s rows, and
+    the earlier summary's of the other files: :meth:`RunRows.write_summary`), also when the
     run is interrupted; the temporary files a stopped fill left are removed."""
     try:
         if client is not None:
@@ -521,6 +524,6 @@ def _fill_and_summarise(todo: Inputs, pending: Sequence[FileJob], rows: RunRows,
     finally:
         if client is None:  # no local worker is left writing: what a killed one left can go
             remove_temporaries(pending)
-        write_summary(rows.ordered(todo), out, fill_options, todo.unknown)
+        rows.write_summary(todo, fill_options)
     if client is not None:  # every task ended (an interrupted one may still be writing)
         remove_temporaries(pending)

@@ -8,6 +8,7 @@ import argparse
 import contextlib
 import os
 import signal
+import time
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -19,9 +20,13 @@ from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar, warn
 from surfinpaint.errors import how_many
 from surfinpaint.lazy import lazy_module
 
+#: How long a hole's stage lasts before a batch's log says it (a log, not a terminal)
+LOG_AFTER_SECONDS = 10.0
+
 # imported at its first use (surfinpaint.lazy), as the command line's other heavy parts
 batch = lazy_module("surfinpaint.app.batch")
 batch_summary = lazy_module("surfinpaint.app.batch_summary")
+batch_listing = lazy_module("surfinpaint.app.batch_listing")
 
 __all__ = ["add_batch_parser", "run_batch"]
 
@@ -76,14 +81,17 @@ def run_batch(args: argparse.Namespace) -> int:
         if client is not None:
             client.close()
     _say_other_options(out, rows, options, args.output)
+    _say_filled_elsewhere(out, rows, args.output)
     counts = ", ".join(f"{sum(r.status == s for r in rows)} {s}" for s in batch.STATUSES)
     failed = sum(r.status == "failed" for r in rows)
     if out.progress:
         n = len(rows.unknown)
         unknown = f"; {how_many(n, 'file', 'files')} of unknown type not filled (listed in " \
             "summary.json)" if n else ""
+        kept = f" (with the rows of {how_many(rows.earlier, 'file', 'files')} earlier runs " \
+            "filled into it)" if rows.earlier else ""
         out.say(f"{how_many(len(rows), 'file', 'files')}: {counts}{unknown}; wrote "
-                      f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json")
+                f"{Path(args.output) / batch.SUMMARY_CSV} and summary.json{kept}")
     elif failed:  # -q, -qq: a log of thousands of files still ends with how many failed
         out.error(f"[red]error:[/red] {failed} of {how_many(len(rows), 'file', 'files')} "
                   f"failed (each named above; all in "
@@ -109,6 +117,30 @@ def _say_other_options(out: QuietConsole, rows, options: dict, out_dir: str) -> 
         f"options ({row.path + ': ' if len(other) > 1 else ''}{', '.join(changes)}): kept "
         f"as they were; --overwrite refills them with this run's "
         f"({Path(out_dir) / 'summary.json'} records each file's)"))
+
+
+def _say_filled_elsewhere(out: QuietConsole, rows, out_dir: str) -> None:
+    """One warning where a file this run wrote was filled into another output of the folder by
+    an earlier run: a file given alone goes to the top of OUTDIR, so a rerun of one file of a
+    folder given earlier (``batch scans/sub/a.ply -o out`` after ``batch scans -o out``)
+    writes ``out/a.ply`` beside ``out/sub/a.ply``, and the summary lists both (session 47)."""
+    written = [row for row in rows if row.status not in ("failed", "skipped")]
+    ours, paths = {row.output for row in written}, {row.path for row in written}
+    elsewhere: dict[str, str] = {}
+    for row in batch.read_summary(out_dir):
+        if row.output not in ours and row.path in paths:
+            elsewhere.setdefault(row.path, row.output)
+    if not elsewhere:
+        return
+    row = next(r for r in written if r.path in elsewhere)
+    more = f" (and {how_many(len(elsewhere) - 1, 'file', 'files')} more)" \
+        if len(elsewhere) > 1 else ""
+    out.warn(warning_line(
+        f"{row.path} was filled into {Path(out_dir) / row.output}, but an earlier run filled "
+        f"it into {Path(out_dir) / elsewhere[row.path]}{more}: both are kept, and listed in "
+        f"{Path(out_dir) / batch.SUMMARY_CSV}; a file given alone goes to the top of the "
+        "output folder: to refill it in its place, give the folder or glob of the earlier "
+        "run again (the files up to date are skipped)"))
 
 
 @contextlib.contextmanager
@@ -141,15 +173,39 @@ class _LoggedRows:
     """``fill_files``' ``progress`` and ``on_result`` for the bar ``bar``: each file's
     problems as it finishes (:func:`_say_row`), and where stderr is no terminal (a log of an
     overnight run, where rich draws the bar once, at the end) a line per file done too, so
-    the log shows how far the run is: ``3/40 scans/a.ply: filled, 2 of 2 holes, 1.2 s``."""
+    the log shows how far the run is: ``3/40 scans/a.ply: filled, 2 of 2 holes, 1.2 s``;
+    and a line for a hole's stage that has lasted :data:`LOG_AFTER_SECONDS`, once, so that
+    the log is not silent while one hole takes minutes: ``  scans/nut.ply: 0/1 holes (hole
+    1: 374 edges, λ-H fill (stage 5 of 5)), 10 s so far`` (session 47; the progress of the
+    files in flight is said again every second without news: on worker processes, the
+    default, not with ``--jobs 1``, whose fills run in this process)."""
 
-    def __init__(self, out: QuietConsole, bar) -> None:
+    def __init__(self, out: QuietConsole, bar, clock=time.monotonic) -> None:
         self.out, self.bar, self.done, self.total = out, bar, 0, None
         self.log = bar.console is not None and not bar.console.is_terminal
+        self.clock = clock
+        self.since: dict[str, float] = {}  # when each file's hole and stage was first said
+        self.logged: set[str] = set()
 
     def update(self, done: int, total: int, message: str) -> None:
         self.total = total
         self.bar.update(done, total, message)
+        if self.log:
+            self._log_lasting(message)
+
+    def _log_lasting(self, message: str) -> None:
+        from rich.markup import escape
+
+        in_flight = batch_listing.files_in_flight(message)
+        if not in_flight:  # a file done: the others' stages go on
+            return
+        now = self.clock()
+        self.since = {said: self.since.get(said, now) for said in in_flight}
+        for said, since in self.since.items():
+            if now - since >= LOG_AFTER_SECONDS and said not in self.logged:
+                self.out.say(f"  {escape(said)}, {now - since:.0f} s so far")
+                self.logged.add(said)
+        self.logged &= set(self.since)  # what is said no more is never said again
 
     def say(self, row: batch.FileRow, out_dir: str) -> None:
         from rich.markup import escape
@@ -191,8 +247,11 @@ def add_batch_parser(sub) -> None:
                        description="Fill the holes of every mesh file named by INPUT "
                        "(files, folders searched recursively, glob patterns) into OUTDIR, "
                        "mirroring their layout, and write OUTDIR/summary.csv and "
-                       "summary.json (one row per file). A bad file is reported and the "
-                       "others still written (exit 1 if any failed). A rerun skips outputs "
+                       "summary.json: one row per file filled into OUTDIR, this run's and "
+                       "earlier runs' (a rerun on some of the files replaces their rows and "
+                       "keeps the others'; remove the two files to start afresh). A bad "
+                       "file is reported and the others still written (exit 1 if any "
+                       "failed). A rerun skips outputs "
                        "newer than their input and any overlay beside it, so an interrupted "
                        "run picks up where it stopped.")
     p.add_argument("inputs", nargs="+", metavar="INPUT", help="mesh file, folder or glob")

@@ -280,6 +280,16 @@ def _warn_unknown(item: str, unknown: Sequence[UnknownFile]) -> None:
                   UnknownFilesWarning, stacklevel=3)
 
 
+def _glob_of(first: str, second: str) -> str:
+    """The glob in quotes that names both paths, their differing folders a wildcard
+    (``'subjects/*/surf/lh.pial.gii'`` for two subjects' files: a shell expanded it into
+    file arguments); an example where they differ otherwise."""
+    a, b = Path(first).parts, Path(second).parts
+    if len(a) != len(b) or a[-1] != b[-1]:
+        return "'subjects/*/lh.pial'"
+    return repr(Path(*[x if x == y else "*" for x, y in zip(a, b, strict=True)]).as_posix())
+
+
 def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike, *,
                 png: bool = False, overlays: Sequence[str] = ()) -> Inputs:
     """The files to fill and their outputs: ``out_dir`` mirrors the inputs' layout; with
@@ -342,9 +352,10 @@ def find_inputs(inputs: Sequence[str | os.PathLike], out_dir: str | os.PathLike,
             if target in targets:
                 raise InputError(f"{targets[target]} and {found} would both be written to "
                                  f"{target}; a file argument is written under its name alone: "
-                                 "pass their folder, or the glob in quotes ('subjects/*/lh."
-                                 "pial'), and the layout below it is kept, or fill them into "
-                                 "different output folders")
+                                 "pass their folder, or the glob in quotes "
+                                 f"({_glob_of(targets[target], os.fspath(found))}), and the "
+                                 "layout below it is kept, or fill them into different output "
+                                 "folders")
             if os.path.realpath(target) == real:
                 raise InputError(f"{found} would be overwritten by its output: choose an "
                                  "output folder other than the input's (inputs are never "

@@ -5,7 +5,8 @@ as they come in, from the listing and then from the runners of
 
 An interrupt (Ctrl-C, the command line's SIGTERM) or a callback's error while the files are
 listed and judged writes the summary as one during the fills does: the files done (skipped,
-failed) recorded, the others left to the rerun (:func:`list_jobs`).
+failed) recorded, the others left to the rerun (their rows of the earlier summary kept:
+:func:`list_jobs`).
 """
 
 from __future__ import annotations
@@ -13,6 +14,8 @@ from __future__ import annotations
 import dataclasses
 import glob
 import os
+import re
+import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from queue import Empty
@@ -31,15 +34,32 @@ from surfinpaint.app.batch_summary import (
     FileRow,
     FileRows,
     checked_row,
+    kept_rows,
     read_summary,
     write_summary,
 )
 from surfinpaint.errors import how_many
 
-__all__ = ["ProgressCallback", "ResultCallback", "RunRows", "list_jobs", "remove_temporaries"]
+__all__ = ["ProgressCallback", "ResultCallback", "RunRows", "files_in_flight", "list_jobs",
+           "remove_temporaries"]
 
 ProgressCallback = Callable[[int, int, str], None]
 ResultCallback = Callable[[FileRow], None]
+# What joins the files in flight, each with its hole, in a progress message, and how each
+# says its hole (RunRows.hole)
+_IN_FLIGHT_SEPARATOR = " · "
+_IN_FLIGHT = re.compile(r": \d+/\d+ holes \(")
+#: Seconds without news after which the progress of the files in flight is said again (the
+#: same message: a bar's clock goes on, a log can tell a stage that lasts)
+SAY_AGAIN_SECONDS = 1.0
+
+
+def files_in_flight(message: str) -> list[str]:
+    """What a ``progress`` message of a batch says of each file in flight, its hole and the
+    hole's stage (``scans/a.ply: 0/2 holes (hole 0: 212 edges, λ-H fill (stage 5 of 5))``);
+    empty for a message of a file done or of the run."""
+    said = message.split(_IN_FLIGHT_SEPARATOR)
+    return said if all(_IN_FLIGHT.search(part) for part in said) else []
 
 
 def remove_temporaries(jobs: Iterable[FileJob]) -> None:
@@ -59,10 +79,15 @@ class RunRows:
     callback told of each, and of the holes of the files in flight."""
 
     def __init__(self, total: int, progress: ProgressCallback | None,
-                 on_result: ResultCallback | None = None) -> None:
+                 on_result: ResultCallback | None = None, out_dir: str | os.PathLike = ".",
+                 earlier: Sequence[FileRow] = ()) -> None:
         self.total, self.progress, self.on_result = total, progress, on_result
+        # the output folder and its summary's rows before this run: kept for the files
+        # this run does not record (a rerun on some of them, an interrupted run)
+        self.out_dir, self.earlier = Path(out_dir), list(earlier)
         self.by_name: dict[str, FileRow] = {}
         self.holes: dict[str, str] = {}  # the hole progress of each file in flight
+        self.said_at = time.monotonic()  # when the progress callback was last told
 
     def add(self, row: FileRow, *, quiet: bool = False) -> None:
         """Record ``row``; unless ``quiet`` (the run is being stopped: no callback may run
@@ -74,6 +99,7 @@ class RunRows:
         if self.on_result is not None:
             self.on_result(row)
         if self.progress is not None:
+            self.said_at = time.monotonic()
             self.progress(len(self.by_name), self.total, f"{row.path}: {row.status}")
 
     def hole(self, name: str, done: int, total: int, message: str) -> None:
@@ -82,7 +108,12 @@ class RunRows:
         if self.progress is None or name in self.by_name:
             return  # a late word from a file already recorded
         self.holes[name] = f"{name}: {done}/{total} holes ({message})"  # "of N holes"
-        self.progress(len(self.by_name), self.total, " · ".join(self.holes.values()))
+        self._say_holes()
+
+    def _say_holes(self) -> None:
+        self.said_at = time.monotonic()
+        self.progress(len(self.by_name), self.total,
+                      _IN_FLIGHT_SEPARATOR.join(self.holes.values()))
 
     def hole_progress_of(self, job: FileJob) -> ProgressCallback | None:
         """The ``hole_progress`` of :func:`~surfinpaint.app.batch.fill_file` for ``job``
@@ -92,20 +123,31 @@ class RunRows:
         return lambda done, total, message: self.hole(job.name, done, total, message)
 
     def read(self, queue: Any) -> None:
-        """Show what the workers sent through ``queue`` so far."""
+        """Show what the workers sent through ``queue`` so far; without news for
+        :data:`SAY_AGAIN_SECONDS`, the files in flight again (a hole of minutes: the bar's
+        clock goes on, and ``batch``'s log says a stage that lasts)."""
         while True:
             try:
                 self.hole(*queue.get_nowait())
             except Empty:
-                return
+                break
+        if self.holes and time.monotonic() - self.said_at >= SAY_AGAIN_SECONDS:
+            self._say_holes()
 
-    def ordered(self, jobs: Inputs, unreached: Mapping[str, FileRow] | None = None
-                ) -> FileRows:
-        """The rows in the inputs' order (files not done, after an interrupt, left out);
-        a file not recorded that ``unreached`` names (an interrupted listing had not judged
-        it yet) with its row there."""
-        rows = {**(unreached or {}), **self.by_name}
-        return FileRows([rows[job.name] for job in jobs if job.name in rows], jobs.unknown)
+    def ordered(self, jobs: Inputs) -> FileRows:
+        """The rows in the inputs' order (files not done, after an interrupt, left out),
+        with the count of the earlier summary's rows that the summary keeps beside them
+        (:func:`~surfinpaint.app.batch_summary.kept_rows`)."""
+        rows = [self.by_name[job.name] for job in jobs if job.name in self.by_name]
+        return FileRows(rows, jobs.unknown,
+                        earlier=len(kept_rows(rows, self.earlier, self.out_dir)))
+
+    def write_summary(self, jobs: Inputs, options: Mapping[str, Any] | None) -> None:
+        """Write the summary of the output folder: the rows of ``jobs`` recorded so far and
+        the earlier summary's rows of the other files (:func:`~surfinpaint.app.
+        batch_summary.write_summary`)."""
+        write_summary(self.ordered(jobs), self.out_dir, options, jobs.unknown,
+                      earlier=self.earlier)
 
 
 def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
@@ -119,10 +161,10 @@ def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
 
     On an interrupt, or an error of a callback, while the files are judged, the summary is
     written (with ``options``) before it propagates, as during the fills: the rows recorded
-    so far and, for the files not yet judged, their rows of the earlier summary, which this
-    run has not looked at (so an interrupted rerun forgets none of its skipped rows' counts
-    and copied materials); the others, to fill, left out. An interrupt while the files are
-    found leaves an earlier summary as it is, else writes an empty one."""
+    so far and, for the other files, their rows of the earlier summary (so an interrupted
+    rerun forgets none of its skipped rows' counts and copied materials). An interrupt
+    while the files are found leaves an earlier summary as it is, else writes an empty
+    one."""
     paths = [inputs] if isinstance(inputs, str | os.PathLike) else list(inputs)
     out = Path(out_dir)
     try:
@@ -136,10 +178,10 @@ def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
             write_summary([], out, options)
         raise
     out.mkdir(parents=True, exist_ok=True)
-    earlier = {row.path: row for row in read_summary(out)}
-    rows = RunRows(len(todo), progress, on_result)
+    before_run = read_summary(out)
+    earlier = {row.path: row for row in before_run}
+    rows = RunRows(len(todo), progress, on_result, out, before_run)
     pending: list[FileJob] = []
-    judged = 0
     try:
         if progress is not None:
             progress(0, len(todo), how_many(len(todo), 'file', 'files'))
@@ -159,11 +201,8 @@ def list_jobs(inputs: Sequence[str | os.PathLike] | str | os.PathLike,
                 rows.add(row)
             else:
                 pending.append(job)
-            judged += 1
     except BaseException:
-        unreached = {job.name: earlier[job.name] for job in todo[judged:]
-                     if job.name in earlier and earlier[job.name].output == job.output}
-        write_summary(rows.ordered(todo, unreached), out, options, todo.unknown)
+        rows.write_summary(todo, options)  # the files not judged yet keep their earlier rows
         raise
     remove_temporaries(pending)
     # the costliest files first (by the earlier run's seconds, else by size), so that the

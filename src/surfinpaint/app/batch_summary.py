@@ -26,8 +26,8 @@ from surfinpaint.io.brain import check_overlay
 from surfinpaint.io.formats import check_file, files_read
 
 __all__ = ["MESSAGE_SEPARATOR", "FileRow", "FileRows", "STATUSES", "SUMMARY_CSV", "SUMMARY_JSON",
-           "checked_row", "error_text", "fill_messages", "named_in_summary", "option_changes",
-           "read_summary", "read_unknown_files", "row_of", "write_summary"]
+           "checked_row", "error_text", "fill_messages", "kept_rows", "named_in_summary",
+           "option_changes", "read_summary", "read_unknown_files", "row_of", "write_summary"]
 
 Status = Literal["filled", "unfilled", "closed", "failed", "skipped"]
 #: The statuses of a :class:`FileRow`, in the order the summary counts them.
@@ -198,33 +198,77 @@ def _csv_record(row: FileRow) -> dict[str, Any]:
 class FileRows(list[FileRow]):
     """What :func:`~surfinpaint.app.batch.fill_files` returns: one :class:`FileRow` per
     input file, in the inputs' order, and ``unknown``, the files of unknown type that were
-    not filled (:attr:`.Inputs.unknown`; ``summary.json``'s ``unknown_files``)."""
+    not filled (:attr:`.Inputs.unknown`; ``summary.json``'s ``unknown_files``), and
+    ``earlier``, how many rows of files filled by earlier runs the summary keeps beside
+    them (:func:`kept_rows`)."""
 
-    def __init__(self, rows: Sequence[FileRow] = (), unknown: Sequence[UnknownFile] = ()):
+    def __init__(self, rows: Sequence[FileRow] = (), unknown: Sequence[UnknownFile] = (),
+                 earlier: int = 0):
         super().__init__(rows)
         self.unknown: tuple[UnknownFile, ...] = tuple(unknown)
+        self.earlier = earlier
+
+
+def kept_rows(rows: Sequence[FileRow], earlier: Sequence[FileRow],
+              out_dir: str | os.PathLike) -> list[FileRow]:
+    """The rows of ``earlier`` (the output folder's summary before this run,
+    :func:`read_summary`) that its summary keeps beside this run's ``rows``: those of the
+    outputs this run has no row of, whose output is still in ``out_dir`` (a failed row's
+    always: it has none), each once, in their order. So the summary lists every file filled
+    into the folder, by this run or an earlier one (a rerun on some of the files, or after
+    one failed, dropped the others' rows before session 47); an output deleted since is
+    not listed."""
+    out, listed = Path(out_dir), {row.output for row in rows}
+    kept = []
+    for row in earlier:
+        if row.output not in listed and (row.status == "failed" or
+                                         (out / row.output).is_file()):
+            kept.append(row)
+            listed.add(row.output)
+    return kept
+
+
+def _in_place(rows: Sequence[FileRow], earlier: Sequence[FileRow], kept: Sequence[FileRow]
+              ) -> list[FileRow]:
+    """The summary's order: ``earlier``'s, each row replaced by this run's row of its output
+    or left out where not ``kept``; then the rest of this run's ``rows``, in their order."""
+    ours = {row.output: row for row in rows}
+    kept_ids = {id(row) for row in kept}
+    listed = [ours.pop(row.output) if row.output in ours else row for row in earlier
+              if row.output in ours or id(row) in kept_ids]
+    return listed + list(ours.values())
 
 
 def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
                   options: Mapping[str, Any] | None = None,
-                  unknown: Sequence[UnknownFile] = ()) -> tuple[Path, Path]:
+                  unknown: Sequence[UnknownFile] = (),
+                  earlier: Sequence[FileRow] = ()) -> tuple[Path, Path]:
     """Write ``summary.csv`` and ``summary.json`` (with the fill options, the version and
     the files of ``unknown`` type that were not filled, :attr:`.Inputs.unknown`: their
-    count and paths) into ``out_dir``, each atomically; returns their paths."""
+    count and paths) into ``out_dir``, each atomically; returns their paths.
+
+    ``earlier``: the rows of the folder's summary before this run (:func:`read_summary`);
+    those of the files this run has no row of are kept (:func:`kept_rows`), with the options
+    they were filled with, in their places, each row of this run taking the place of its
+    output's earlier row, and this run's other rows after them."""
     # here, not at the top: the package imports this module before it sets __version__
     from surfinpaint import __version__
 
     out = Path(out_dir)
+    kept = kept_rows(rows, earlier, out)
+    listed = _in_place(rows, earlier, kept)
     text = io.StringIO()
     writer = csv.DictWriter(text, fieldnames=_csv_columns(), lineterminator="\n")
     writer.writeheader()
-    writer.writerows(_csv_record(row) for row in rows)
+    writer.writerows(_csv_record(row) for row in listed)
     now = plain(dict(options or {}))
-    # a skipped file keeps the options of the run that wrote it
+    # a skipped file, or one of an earlier run, keeps the options of the run that filled it
+    theirs = {id(row) for row in kept}
     document = {"surfinpaint": __version__, "options": now,
                 "files": [{**plain(dataclasses.replace(
-                    row, holes=(), options=row.options if row.status == "skipped" else now)),
-                           "holes": [h.to_json() for h in row.holes]} for row in rows],
+                    row, holes=(), options=row.options
+                    if row.status == "skipped" or id(row) in theirs else now)),
+                           "holes": [h.to_json() for h in row.holes]} for row in listed],
                 "unknown_files": {"count": len(unknown), "paths": [u.path for u in unknown]}}
     with atomic_open(out / SUMMARY_CSV, "w") as handle:
         handle.write(text.getvalue())
@@ -236,8 +280,9 @@ def write_summary(rows: Sequence[FileRow], out_dir: str | os.PathLike,
 
 def read_summary(out_dir: str | os.PathLike) -> list[FileRow]:
     """The rows of ``out_dir/summary.json``; empty when there is none (or it is unreadable:
-    it is only used to carry the counts of an earlier run into a rerun's skipped rows, and
-    its seconds into the order a rerun's files are started in)."""
+    it is only used to carry the counts of an earlier run into a rerun's skipped rows, its
+    seconds into the order a rerun's files are started in, and the rows of the files a
+    rerun does not name into its summary, :func:`kept_rows`)."""
     try:
         document = json.loads((Path(out_dir) / SUMMARY_JSON).read_text(encoding="utf-8"))
         # a summary before session 46 has the run's options only

@@ -272,14 +272,29 @@ class Run:
         return self.rings or (self.options.neighbourhood_rings(n_edges)
                               if self.method == "conformal" else FAIR_NEIGHBOURHOOD_RINGS)
 
-    def fill(self, local: Local) -> tuple[Fill | None, str | None]:
+    def fill(self, local: Local, stage: Callable[[str], None] | None = None
+             ) -> tuple[Fill | None, str | None]:
         return parallel.fill_or_failure(local.vertices, local.faces, local.local_loop, self.method,
-                               self.options, self.fair_order)
+                               self.options, self.fair_order, stage)
 
     def starting(self, report: HoleReport) -> None:
         if self.progress:
             self.progress(self.position.get(id(report), 0), self.n_holes,
                           f"hole {report.index}: {report.n_edges} edges, {self.method}")
+
+    def stages_of(self, report: HoleReport) -> Callable[[str], None] | None:
+        """The ``stage`` callback of ``report``'s conformal fill made here: each stage as it
+        starts told to ``progress``, as ``hole 3: 212 edges, λ-H fill (stage 5 of 5)``
+        (the holes done still the count); None where nobody listens."""
+        if not self.progress or self.method != "conformal":
+            return None
+        words = parallel.conformal_method.stage_words  # the fill imports it anyway
+
+        def stage(name: str) -> None:
+            self.progress(self.position.get(id(report), 0), self.n_holes,
+                          f"hole {report.index}: {report.n_edges} edges, "
+                          f"{words(name)}")
+        return stage
 
     def finished(self, report: HoleReport) -> None:
         if self.progress and not report.skipped:
@@ -325,7 +340,8 @@ def fill_hole(mesh: FilledMesh, report: HoleReport, run: Run) -> None:
     local, hole_run, why = around_zero_area(mesh, mesh.cut(report.loop, run.rings_of(report)),
                                             run)
     problem = loop_problem(local, report.index, run.explicit)
-    made, failure = (None, None) if problem else at_hole(report.index, hole_run.fill, local)
+    made, failure = (None, None) if problem else at_hole(report.index, hole_run.fill, local,
+                                                         run.stages_of(report))
     made = with_failure(made, why)
     stitched(mesh, report, local.ids, made, problem, started, failure,
              None if made is None else zero_area_reason(local.vertices, made))

@@ -24,6 +24,7 @@ import sys
 import threading
 import time
 import warnings
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
@@ -103,9 +104,11 @@ def crossing_faces(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
 
 
 def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
-               options: ConformalOptions, fair_order: int | None) -> Fill:
+               options: ConformalOptions, fair_order: int | None,
+               stage: Callable[[str], None] | None = None) -> Fill:
     """Fill one hole of a neighbourhood (local ids) with ``method``, with the count of its
-    triangles that cross the surface around it (:func:`crossing_faces`)."""
+    triangles that cross the surface around it (:func:`crossing_faces`); ``stage`` told of
+    the conformal fill's stages (:data:`~surfinpaint.fill.conformal.method.STAGES`)."""
     if method == "fair":  # the baseline, or the conformal method's fallback (its smoothing)
         order = fair_order or 2
         smoothing = smoothing_decision(vertices, faces, loop, options.fair_smoothing)
@@ -115,19 +118,20 @@ def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method
         fill = Fill(new_v, new_f, "fair", fair_order=used, smoothing=smoothing)
     else:
         fill = conformal_method.conformal_fill(vertices, faces, loop, options,
-                                               fair_order=fair_order)
+                                               fair_order=fair_order, stage=stage)
     return dataclasses.replace(fill, crossings=crossing_faces(vertices, faces, loop, fill))
 
 
 def fill_or_failure(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
-                    options: ConformalOptions, fair_order: int | None
+                    options: ConformalOptions, fair_order: int | None,
+                    stage: Callable[[str], None] | None = None
                     ) -> tuple[Fill | None, str | None]:
     """:func:`fill_local`'s fill and None, or None and why it failed: a numerical failure
     of this hole's fill (``NUMERICAL_ERRORS``: a ``FillError``, a singular system; the
     conformal method's faired fallback included) is the hole's, reported so that the other
     holes are still filled. Bad input (``MeshError``) is raised."""
     try:
-        return fill_local(vertices, faces, loop, method, options, fair_order), None
+        return fill_local(vertices, faces, loop, method, options, fair_order, stage), None
     except MeshError:
         raise
     except NUMERICAL_ERRORS as exc:

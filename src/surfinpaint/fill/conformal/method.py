@@ -14,6 +14,7 @@ instead, and the ``Fill`` says why. The original vertices never move.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -61,7 +62,20 @@ from surfinpaint.geometry.mesh import edge_faces, k_ring, unique_edges, vertex_n
 from surfinpaint.geometry.rows import rows_all, rows_any
 from surfinpaint.geometry.validation import face_ids
 
-__all__ = ["conformal_fill"]
+__all__ = ["STAGES", "conformal_fill", "stage_words"]
+
+#: The stages of one hole's conformal fill, in their order, as its ``stage`` callback hears
+#: of each as it starts (a hole skips those it does not need: a plane, a hole without a vertex
+#: inside, a verdict without the λ-H fill): the faired candidates, the plane test, the
+#: self-check's two tests and the hole's own λ-H fill (a 200-edge hole's can take minutes)
+STAGES = ("faired fills", "plane test", "self-check: hidden-ring test",
+          "self-check: sibling test", "λ-H fill")
+
+
+def stage_words(name: str) -> str:
+    """How progress says the stage ``name`` of :data:`STAGES`: ``λ-H fill (stage 5 of 5)``."""
+    return f"{name} (stage {STAGES.index(name) + 1} of {len(STAGES)})"
+
 
 # the plane test (ConformalOptions.plane_test) looks at the known vertices within
 # PLANE_RINGS rings of the loop, at the significance level PLANE_ALPHA: the level fixed
@@ -85,6 +99,7 @@ def conformal_fill(
     options: ConformalOptions | None = None,
     *,
     fair_order: int | None = None,
+    stage: Callable[[str], None] | None = None,
 ) -> Fill:
     """Fill one hole by conformal λ-H inpainting, checked against fairing.
 
@@ -104,6 +119,8 @@ def conformal_fill(
         the faired fallback is chosen per hole by the same tests between the bilaplacian and
         the trilaplacian one (better on smooth surfaces, much worse on noisy range scans;
         docs/accuracy.md).
+    stage : callable(name), optional
+        Told of each of the :data:`STAGES` as it starts (progress only: the fill is the same).
 
     Returns
     -------
@@ -129,24 +146,32 @@ def conformal_fill(
     smoothing = smoothing_decision(vertices, faces, loop, options.fair_smoothing)
     if smoothing is not None:
         options = replace(options, fair_smoothing=smoothing.length)
-    return replace(_decided_fill(vertices, faces, loop, options, fair_order),
-                   smoothing=smoothing)
+    return replace(_decided_fill(vertices, faces, loop, options, fair_order,
+                                 stage or _no_stage), smoothing=smoothing)
+
+
+def _no_stage(name: str) -> None:
+    """The ``stage`` callback of a caller who does not listen."""
 
 
 def _decided_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
-                  options: ConformalOptions, fair_order: int | None) -> Fill:
+                  options: ConformalOptions, fair_order: int | None,
+                  stage: Callable[[str], None]) -> Fill:
     """:func:`conformal_fill` once its options' smoothing is a length (or None)."""
     candidates = Candidates.for_hole(vertices, faces, loop, options, fair_order)
     faired: dict[str, Fill] = {}
     verdict = None
     try:
         if not options.select:
+            stage(STAGES[-1])
             s0 = candidates.initial(vertices, faces, loop)
             return candidates.lambda_h(vertices, faces, loop, s0, creases=candidates.creases)
         # the faired fills are cheap; the λ-H fill of the hole is made once it has won
+        stage(STAGES[0])
         faired = candidates.faired(vertices, faces, loop)
         reference = faired[f"fair{candidates.orders[0]}"]
         if options.plane_test:
+            stage(STAGES[1])
             ring = _ring(vertices, faces, loop, PLANE_RINGS)  # both tests' vertices
             plane = known_plane(vertices, faces, loop, angle=options.crease_angle, ring=ring)
             if plane.flat:
@@ -162,8 +187,9 @@ def _decided_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
             # are the same fill, and a self-check could only choose among equals (57 of
             # the 64 holes of PyMeshFix's scanned bunny, 63 % of its time)
             return replace(reference, selection=NO_INNER_VERTEX)
-        verdict = self_check(vertices, faces, loop, candidates)
+        verdict = self_check(vertices, faces, loop, candidates, stage)
         if verdict.make:
+            stage(STAGES[-1])
             s0 = candidates.initial(vertices, faces, loop, faired)
             own = candidates.lambda_h(vertices, faces, loop, s0, creases=candidates.creases)
             if verdict.keep:
@@ -176,14 +202,14 @@ def _decided_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
 
 
 def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
-               candidates: Candidates) -> Verdict:
+               candidates: Candidates, stage: Callable[[str], None] = _no_stage) -> Verdict:
     """Run the truth-free tests of the hole's candidates and :func:`choose` by their scores:
     the cheaper hidden-ring test first, the sibling test only when it can still change the
     outcome (:func:`sibling_test_plan`). Where the hidden-ring test's λ-H fill was a crease
     fill and no crease crosses the hole, the test is run again one ring shallower
     (:func:`~surfinpaint.fill.conformal.selection.hidden_rings_shallower`); where that
     scores, the deeper test's fills are not scored (:func:`hidden_ring_test`: its scores
-    would not be used)."""
+    would not be used). ``stage`` is told as each test starts (:data:`STAGES`)."""
     o = candidates.options
     reference = f"fair{candidates.orders[0]}"
     choose_faired = len(candidates.orders) > 1
@@ -192,6 +218,7 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     hidden_detail: dict | None = {} if weigh else None
     sibling_detail: list | None = [] if weigh else None
     creased: list[bool] = []
+    stage(STAGES[2])
     # the test hole filled; its fills scored only where their scores are used (below)
     deeper = hidden_ring_test(vertices, faces, loop,
                               _noting_creases(candidates.for_tests(), creased),
@@ -213,6 +240,7 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                                            choose_faired=choose_faired, shallower=shallower)
     sibling = {}
     if run:
+        stage(STAGES[3])
         sibling = sibling_scores(vertices, faces, loop,
                                  _lambda_h_until_it_fails(candidates, with_lambda_h),
                                  siblings=o.siblings, gap_rings=o.gap_rings,
