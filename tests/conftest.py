@@ -7,6 +7,7 @@ The helper functions are importable too (``from conftest import grid_mesh``).
 from __future__ import annotations
 
 import os
+import signal
 
 import numpy as np
 import pytest
@@ -15,6 +16,13 @@ import pytest
 # (and their subprocesses), never stood in for by the numpy versions while a background
 # process compiles them (surfinpaint/compiled.py; tests/test_compiled.py tests that mode)
 os.environ["SURFINPAINT_COMPILE"] = "foreground"
+
+# a test run started in a script's background (`pytest &`, nohup under a non-interactive
+# shell) inherits SIGINT ignored, and the command line keeps an inherited ignored signal
+# ignored (session 47): the tests that send SIGINT, here and to their subprocesses (which
+# start with the default once this process has a handler), take it back
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def grid_mesh(nx: int = 4, ny: int = 3) -> tuple[np.ndarray, np.ndarray]:

@@ -3,6 +3,8 @@ when they are whole numbers, never truncated (issue 19, item 5)."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -133,3 +135,48 @@ def test_how_many_agrees_with_its_count(n, expected):
     from surfinpaint.errors import how_many
 
     assert how_many(n, "face has", "faces have") == expected
+
+
+
+def _off_float64(v, dtype):
+    """``v`` in ``dtype``, every third vertex off the float64 numbers: a longdouble nudged
+    by a quarter of float64's spacing (x86's 64-bit mantissa holds it), an int64 past 2**53
+    made odd."""
+    if dtype is np.int64:
+        given = (v * 2.0**60).astype(np.int64)
+        given[::3] |= 1
+        return given
+    given = v.astype(np.longdouble)
+    given[::3] += given[::3] * np.longdouble(np.finfo(np.float64).eps / 4)
+    return given
+
+
+@pytest.mark.parametrize(("dtype", "make"), [
+    (np.float32, lambda v: v.astype(np.float32)), (np.float16, lambda v: v.astype(np.float16)),
+    (np.int32, lambda v: (v * 1000).astype(np.int32)),
+    (np.int16, lambda v: (v * 1000).astype(np.int16)),
+    (np.longdouble, lambda v: _off_float64(v, np.longdouble)),
+    (np.int64, lambda v: _off_float64(v, np.int64))])
+def test_vertices_float64_cannot_hold_are_warned_and_the_others_kept_exactly(holed, dtype,
+                                                                              make):
+    # float16/32 and small integers are float64 numbers: filled silently, originals equal;
+    # a longdouble's or a big int64's may not be: they came back rounded without a word
+    v, f = holed
+    given = make(v)
+    inexact = int(np.count_nonzero((given.astype(np.float64).astype(dtype) != given).any(1)))
+    if dtype in (np.longdouble, np.int64) and np.finfo(np.longdouble).nmant > 52:
+        assert inexact == -(-len(v) // 3)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fill_holes(given, f)
+    said = [w for w in caught if "cannot be stored as float64" in str(w.message)]
+    assert result.vertices.dtype == np.float64
+    np.testing.assert_array_equal(result.vertices[:len(v)], given.astype(np.float64))
+    if inexact == 0:
+        assert said == [] and np.array_equal(result.vertices[:len(v)], given)
+    else:
+        assert [str(w.message) for w in said] == [
+            f"{inexact} vertices of the {np.dtype(dtype)} input cannot be stored as float64, "
+            "the fill's and its result's number type: rounded to the nearest float64 (the "
+            "original vertices of the result are these rounded values)"]
+        assert said[0].filename == __file__

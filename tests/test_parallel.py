@@ -464,3 +464,61 @@ def test_workers_end_when_their_parent_is_killed():
     for p in left:
         os.kill(p, signal.SIGKILL)
     assert left == []
+
+
+_INTERRUPTED_PARENT = """
+import os, signal, sys, time
+import numpy as np
+from surfinpaint import fill_holes
+from surfinpaint.app.interrupts import Interrupted, signals_raise
+from surfinpaint.data import sphere
+from surfinpaint.fill import parallel, scheduler
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import mean_edge_length
+
+def fill_cut_here(token, position):
+    # a hole that takes for ever (a long λ-H fill); the first to start signals the parent,
+    # which is then waiting for its workers
+    os.kill(os.getppid(), int(sys.argv[1]))
+    time.sleep(3600)
+
+scheduler.fill_cut_here = fill_cut_here  # the forked workers find it in __main__
+parallel.MIN_PARALLEL_EDGES = {"conformal": 0, "fair": 0}
+v, f = sphere(3)
+cut = cut_holes(v, f, [0, 1, 2, 3], [2.5 * mean_edge_length(v, f)] * 4)
+try:
+    with signals_raise():
+        fill_holes(cut.vertices, cut.faces, jobs=2)
+except Interrupted:
+    print("interrupted", flush=True)
+import multiprocessing
+print(len(multiprocessing.active_children()), flush=True)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"),
+                    reason="the workers find the stuck fill by forking")
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_an_interrupted_parallel_fill_ends_its_workers_at_once(signum):
+    # session 47: `fill` stopped by SIGTERM waited for its workers' holes in flight (the
+    # pool's shutdown) and exited 15-70 s later; a scheduler's SIGKILL comes sooner
+    proc = subprocess.Popen([sys.executable, "-c", _INTERRUPTED_PARENT, str(int(signum))],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        out, err = proc.communicate(timeout=120)  # the holes take an hour
+    except subprocess.TimeoutExpired:
+        for child in _children(proc.pid):
+            os.kill(child, signal.SIGKILL)
+        proc.kill()
+        proc.communicate()
+        pytest.fail("the interrupted fill waited for its workers' holes")
+    assert proc.returncode == 0, err
+    assert out.split() == ["interrupted", "0"], err
+
+
+def _children(pid: int) -> list[int]:
+    try:
+        with open(f"/proc/{pid}/task/{pid}/children") as children:
+            return [int(c) for c in children.read().split()]
+    except FileNotFoundError:
+        return []

@@ -62,7 +62,7 @@ from surfinpaint.app.outputs import write_with_materials
 from surfinpaint.compiled import announce_once_across
 from surfinpaint.errors import how_many
 from surfinpaint.fill.objects import fill_mesh_data
-from surfinpaint.fill.parallel import exit_with_parent, start_context
+from surfinpaint.fill.parallel import end_workers, exit_with_parent, start_context
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.fill.warmup import warm_kernels
 from surfinpaint.io.formats import MeshData, read_mesh_data
@@ -255,20 +255,7 @@ def _stop_workers(pool: ProcessPoolExecutor) -> None:
     pool reads what its workers sent before it finds them gone. A file written in the
     instant between its last byte and its result sent is complete but not recorded: a
     rerun keeps it, as an output newer than its input."""
-    # The pool's own list of its processes, a private attribute: concurrent.futures has no
-    # public way to end a pool's workers before Python 3.14 (3.11 here). 3.14's
-    # terminate_workers() is not used: it shuts the pool down without waiting for the thread
-    # that reads what the workers sent (shutdown(wait=False)), so that the results sent
-    # before the end still reach their futures would rest on that thread's internals,
-    # untested here. multiprocessing.active_children() would end the caller's other child
-    # processes too. Without the attribute nothing ends early: shutdown waits for the files
-    # in flight.
-    processes = list((getattr(pool, "_processes", None) or {}).values())
-    for process in processes:
-        process.terminate()
-    for process in processes:
-        process.join()
-    pool.shutdown(wait=True, cancel_futures=True)
+    end_workers(pool)
 
 
 def _run_pool(jobs: Sequence[FileJob], options: Mapping[str, Any], workers: int,

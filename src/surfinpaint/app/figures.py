@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from surfinpaint.app.fill_report import outcome_words, written
+from surfinpaint.app.interrupts import imported_whole
 from surfinpaint.errors import how_many
 from surfinpaint.geometry.cutting import renumber
 from surfinpaint.geometry.mesh import connected_components, k_ring, vertex_normals
@@ -91,8 +92,7 @@ def render_meshes(
     Each panel is a :class:`MeshView` (its edges drawn, unless it says otherwise, below 20000
     faces). The PNG is written atomically.
     """
-    import pyvista as pv
-
+    pv = imported_whole("pyvista", "pyvista.plotting")  # a signal inside VTK's: a crash
     pv.OFF_SCREEN = True
     _quiet_vtk()
     path = Path(path)
@@ -164,7 +164,7 @@ def before_after_figure(vertices: np.ndarray, faces: np.ndarray, result, *,
 
     ``result`` is a :class:`surfinpaint.fill.pipeline.FillResult` of ``vertices, faces``.
     """
-    from matplotlib.figure import Figure
+    Figure = imported_whole("matplotlib.figure", "matplotlib.backends.backend_agg").Figure
 
     vertices = np.asarray(vertices, float)
     first = result.n_original_faces  # the new faces come last, hole after hole
@@ -485,8 +485,7 @@ def render_views(
     -------
     list of (height, width, 3) uint8 arrays, one per view.
     """
-    import pyvista as pv
-
+    pv = imported_whole("pyvista", "pyvista.plotting")  # a signal inside VTK's: a crash
     _quiet_vtk()
     pv.OFF_SCREEN = True
     direction = np.asarray(direction, float)

@@ -6,11 +6,16 @@ behind. Inside :func:`signals_raise`, SIGINT and SIGTERM instead raise :class:`I
 (a :class:`BaseException`, so no ``except Exception`` of the library swallows it), the stack
 unwinds, and each atomic writer removes its temporary file on the way out, as it does for any
 other exception. The command line catches it and exits with 128 + the signal number.
+
+A signal the process inherited as *ignored* stays ignored, as Python itself and most Unix
+tools leave it: a non-interactive shell's background job (``cmd &`` in a script) starts with
+SIGINT ignored, ``nohup`` with SIGHUP, and a Ctrl-C meant for the shell must not stop it.
 """
 
 from __future__ import annotations
 
 import contextlib
+import importlib
 import os
 import signal
 import sys
@@ -74,10 +79,50 @@ def interruptions_raised() -> Iterator[None]:
         raise
 
 
+@contextlib.contextmanager
+def signals_held() -> Iterator[None]:
+    """Within the block, SIGINT and SIGTERM are only noted; after it, the first one that
+    came is sent again, to whatever handled it before (ours: :class:`Interrupted`; Python's
+    default: :exc:`KeyboardInterrupt`, or the end of the process for SIGTERM). An ignored
+    signal stays ignored. Outside the main thread the block runs unchanged."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    came: list[int] = []
+    # not an ignored signal, nor one whose handler was not set from Python (None: it could
+    # not be put back)
+    previous = {s: h for s in HANDLED
+                if (h := signal.getsignal(s)) is not signal.SIG_IGN and h is not None}
+    for s in previous:
+        signal.signal(s, lambda signum, frame: came.append(signum))
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        if came:
+            os.kill(os.getpid(), came[0])
+
+
+def imported_whole(*names: str):
+    """The module ``names[0]``, after importing each of ``names`` with :func:`signals_held`.
+
+    A handler that raises inside an extension module's initialization can crash the
+    process: VTK's modules import their dependencies from C, and an exception there
+    segfaulted in ``libvtkWrappingPythonCore`` (session 47: ``fill --png`` SIGTERMed while
+    pyvista imported VTK's rendering modules, 2 of 50 signals in the drawing stage on a
+    fsaverage5-left surface; 1 of 9 in session 46). An import takes a second or two: the
+    signal waits that long."""
+    with signals_held():
+        modules = [importlib.import_module(name) for name in names]
+    return modules[0]
+
+
 #: Seconds after which a signal lost in a finalizer or callback is sent again (from another
 #: thread: by then the place it was lost in has returned)
 AGAIN_AFTER = 0.01
-_state: dict = {}  # "previous": the unraisable hook before ours; "again": the timer
+_state: dict = {}  # "previous": the unraisable hook before ours; "again": the timer;
+# "taken": the signals whose handler the block set (not those inherited as ignored)
 
 
 def _send_again(unraisable) -> None:
@@ -92,7 +137,7 @@ def _send_again(unraisable) -> None:
             threading.current_thread() is not threading.main_thread():
         _state["previous"](unraisable)
         return
-    for s in HANDLED:
+    for s in _state["taken"]:
         signal.signal(s, _raise_interrupted)
     again = _state["again"] = threading.Timer(AGAIN_AFTER, os.kill, (os.getpid(), exc.signum))
     again.daemon = True
@@ -102,7 +147,9 @@ def _send_again(unraisable) -> None:
 @contextlib.contextmanager
 def signals_raise() -> Iterator[None]:
     """Within the block, SIGINT and SIGTERM raise :class:`Interrupted` in the main thread,
-    even when they come in a finalizer or callback (:func:`_send_again`).
+    even when they come in a finalizer or callback (:func:`_send_again`); one that is
+    ignored (``SIG_IGN``) when the block starts stays ignored (session 47: a shell script's
+    ``surfinpaint fill ... &`` was stopped by a Ctrl-C meant for the script).
 
     Outside the main thread (where Python cannot install handlers) the block runs unchanged.
     """
@@ -111,9 +158,10 @@ def signals_raise() -> Iterator[None]:
         yield
         return
     previous = {s: signal.getsignal(s) for s in HANDLED}
+    _state["taken"] = [s for s, handler in previous.items() if handler is not signal.SIG_IGN]
     _state["previous"] = hook = sys.unraisablehook
     try:
-        for s in HANDLED:
+        for s in _state["taken"]:
             signal.signal(s, _raise_interrupted)
         sys.unraisablehook = _send_again
         yield

@@ -20,6 +20,7 @@ from surfinpaint.app.figures import (
     render_hole,
     save_figure,
 )
+from surfinpaint.app.interrupts import imported_whole
 from surfinpaint.app.lambda_h_images import lambda_h_images
 from surfinpaint.fill.results import LambdaHDiagnostics
 
@@ -83,7 +84,7 @@ def hole_panel(
         Replacement titles for panels ``"A"``–``"G"`` and ``"W"``.
     suptitle : str
     """
-    from matplotlib.figure import Figure
+    Figure = imported_whole("matplotlib.figure", "matplotlib.backends.backend_agg").Figure
 
 
     vertices = np.asarray(vertices, float)

@@ -212,3 +212,27 @@ def pool(workers: int) -> ProcessPoolExecutor:
     # a forkserver preloads the module of the tasks (it imports this one)
     return ProcessPoolExecutor(workers, mp_context=start_context("surfinpaint.fill.scheduler"),
                                initializer=exit_with_parent)
+
+
+def end_workers(pool: ProcessPoolExecutor) -> None:
+    """End the worker processes of ``pool`` at once, then shut it down: their work in
+    flight is dropped (a Ctrl-C or SIGTERM, a failure: a hole's λ-H fill or a batch's file
+    can take minutes, longer than a scheduler's grace before SIGKILL; session 47: ``fill``
+    acted on a SIGTERM 15-70 s late, the pool's shutdown waiting for its workers' holes).
+
+    SIGKILL, not SIGTERM: a worker forked by ``fill`` inherits the command line's handler,
+    which would raise only after the solver call under way, and then hand the worker its
+    next task. The pool's own list of its processes is a private attribute: concurrent.futures
+    has no public way to end a pool's workers before Python 3.14 (3.11 here); 3.14's
+    ``terminate_workers()`` shuts the pool down without waiting for the thread that reads
+    what the workers sent, and so whether the results sent before the end still reach their
+    futures (a batch records those files) would rest on that thread's internals.
+    ``multiprocessing.active_children()`` would end the caller's other child processes too.
+    Without the attribute nothing ends early: the shutdown waits for the work in flight."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    for process in processes:
+        process.kill()
+    for process in processes:
+        process.join()
+    pool.shutdown(wait=True, cancel_futures=True)
+

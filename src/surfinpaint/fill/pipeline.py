@@ -110,7 +110,9 @@ def fill_holes(
     vertices : (n, 3) float array, ``trimesh.Trimesh`` or ``pyvista.PolyData``
         A mesh object brings its own attributes (a Trimesh's vertex colours and
         ``vertex_attributes``, a PolyData's ``point_data``; see
-        :mod:`surfinpaint.fill.objects`); ``faces`` is then left out.
+        :mod:`surfinpaint.fill.objects`); ``faces`` is then left out. Filled and
+        returned as float64 (a float32 PolyData's too; its originals are equal), with a
+        :class:`~surfinpaint.MeshWarning` if that rounds any (longdouble, int64 past 2**53).
     faces : (f, 3) int array
         Vertex ids (a float array is taken when every id is a whole number).
     holes : None, list of int, or list of loops
@@ -512,7 +514,7 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside) -> 
     faces = face_ids(faces)  # whole-number floats taken, never truncated
     if validate:  # shapes, dtypes and ids first: the repair and the edge table index by them
         check_arrays(vertices, faces)
-    vertices = np.asarray(vertices, dtype=np.float64)
+    vertices = _float64_vertices(vertices)
     removed, flipped = np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
     if repair:
         repair = repair_faces(vertices, faces)
@@ -534,6 +536,25 @@ def _prepared(vertices, faces, repair: bool, validate: bool, beside: Beside) -> 
     flat = flat if rows is None else rows[flat]
     return _Prepared(vertices, faces, triangles, removed, flipped, table, found, incidence,
                      repeated, flat)
+
+
+def _float64_vertices(vertices) -> np.ndarray:
+    """The vertices as float64, what the fills compute in and return, with a warning naming
+    how many vertices that rounds: float16/32 and integers below 2**53 are float64 numbers
+    (their originals come back equal), a longdouble's or a big int64's may not be (session
+    47: a longdouble array's originals came back rounded, without a word)."""
+    given = np.asarray(vertices)
+    as_float = np.asarray(given, dtype=np.float64)
+    if given.dtype.kind in "fiu" and given.dtype != np.float64 and given.ndim == 2:
+        with np.errstate(invalid="ignore", over="ignore"):  # a rounding past int64's range
+            rounded = int(np.count_nonzero((as_float.astype(given.dtype) != given).any(axis=1)))
+        if rounded:
+            warnings.warn(f"{how_many(rounded, 'vertex', 'vertices')} of the {given.dtype} "
+                          "input cannot be stored as float64, the fill's and its result's "
+                          "number type: rounded to the nearest float64 (the original "
+                          "vertices of the result are these rounded values)", MeshWarning,
+                          stacklevel=5)
+    return as_float
 
 
 def _with_attributes(result: FillResult, attributes: _Attributes) -> FillResult:

@@ -276,6 +276,9 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
                 schedule.stitch_next()
             else:
                 schedule.collect()
+    except BaseException:  # Ctrl-C, SIGTERM, a hole's error: the holes in flight are moot
+        parallel.end_workers(executor)
+        raise
     finally:
         executor.shutdown(wait=True, cancel_futures=True)
         blas.restore_original_limits()

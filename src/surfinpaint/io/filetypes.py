@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -80,11 +81,15 @@ def ascii_like(source: str | os.PathLike, target: str | os.PathLike) -> bool:
     """Whether to write ``target`` as ascii to keep ``source``'s encoding: ``target`` has
     ``source``'s format, PLY or STL, and ``source`` is stored as ascii (what ``fill`` and
     ``batch`` pass to :func:`~surfinpaint.io.formats.write_mesh_data`: an ascii scan stays
-    ascii). False when ``source`` cannot be read (its reader reports that)."""
+    ascii). False when ``source`` cannot be read (its reader reports that), and when it is
+    no regular file: a named pipe read once already would be opened again, waiting for ever
+    for a second writer (session 47)."""
     fmt = format_of(Path(source))
     if fmt not in ("ply", "stl") or format_of(Path(target)) != fmt:
         return False
     try:
+        if not stat.S_ISREG(os.stat(source).st_mode):
+            return False
         with open(source, "rb") as fh:
             head = fh.read(4096)
             size = os.fstat(fh.fileno()).st_size
