@@ -309,3 +309,72 @@ def test_a_span_below_the_border_rule_never_reads_as_the_rule_itself(fraction, t
     from surfinpaint.fill.holes import percent_below
 
     assert percent_below(fraction) == text
+
+
+def _flat_ring(inner_radius, outer_points=96, inner_points=48):
+    """A flat disk of radius 1 with a round opening of ``inner_radius``: its outer loop
+    (``outer_points`` edges) longer than the inner one, as a scanned ring's or washer's."""
+    from scipy.spatial import Delaunay
+
+    t_out = np.linspace(0, 2 * np.pi, outer_points, endpoint=False)
+    t_in = np.linspace(0, 2 * np.pi, inner_points, endpoint=False)
+    grid = np.stack(np.meshgrid(np.linspace(-1, 1, 25), np.linspace(-1, 1, 25)), -1)
+    grid = grid.reshape(-1, 2)
+    r = np.linalg.norm(grid, axis=1)
+    grid = grid[(r < 0.95) & (r > inner_radius + 0.04)]
+    xy = np.vstack([np.c_[np.cos(t_out), np.sin(t_out)],
+                    inner_radius * np.c_[np.cos(t_in), np.sin(t_in)], grid])
+    tri = Delaunay(xy).simplices
+    tri = tri[np.linalg.norm(xy[tri].mean(axis=1), axis=1) > inner_radius]
+    return np.c_[xy, np.zeros(len(xy))], tri
+
+
+# (what, the opening's radius, may_be_border): the opening spans r² / (1 - r²) of the ring
+# (a disk of radius 1): the warning's 10 % falls at r ≈ 0.30
+INNER_CASES = [
+    ("a small hole inside a scan's border (1 %)", 0.1, False),
+    ("a larger hole (7 %)", 0.25, False),
+    ("a washer's opening (14 %)", 0.35, True),
+    ("a thin ring's opening (56 %): never the border", 0.6, True),
+]
+
+
+@pytest.mark.parametrize("what, inner_radius, may_be", INNER_CASES,
+                         ids=[c[0] for c in INNER_CASES])
+def test_a_loop_inside_the_border_that_spans_a_large_part_may_be_an_inner_margin(
+        what, inner_radius, may_be):
+    v, f = _flat_ring(inner_radius)
+    border, opening = find_holes(v, f)
+    assert border.is_border and not border.inside_border
+    assert opening.inside_border and not opening.is_border
+    def polygon(n):  # a regular n-gon's area in the unit circle
+        return n / 2 * np.sin(2 * np.pi / n)
+
+    spanned = inner_radius ** 2 * polygon(48)
+    assert opening.span_fraction == pytest.approx(spanned / (polygon(96) - spanned),
+                                                  rel=1e-12)
+    assert opening.may_be_border is may_be
+
+
+def test_a_closed_surface_s_holes_are_never_inside_a_border():
+    v, f = _sphere_cut_below(0.9)
+    (hole,) = find_holes(v, f)
+    assert not hole.inside_border and not hole.is_border
+
+
+def test_an_inner_margin_filled_warns_as_such_and_keep_margins_leaves_it_open():
+    from surfinpaint.app.hole_kinds import hole_kind
+    from surfinpaint.io.base import MeshWarning
+
+    v, f = _flat_ring(0.5)
+    opening = find_holes(v, f)[1]
+    assert hole_kind(opening) == \
+        "hole (spans 33% of its surface, inside its border: an inner margin?)"
+    with pytest.warns(MeshWarning, match=r"hole 1: .* spans 33% .* inside the surface's "
+                      r"outer border.* inner edge of a scanned ring or bore.* keep it open"):
+        filled = fill_holes(v, f, method="fair")
+    assert len(filled.new_faces) > 0  # filled by default: only the warning is new
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MeshWarning)
+        kept = fill_holes(v, f, method="fair", keep_margins=True)
+    assert len(kept.new_faces) == 0 and kept.reports == []

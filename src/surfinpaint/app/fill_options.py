@@ -179,10 +179,11 @@ def add_all_loops(parser) -> None:
 def add_keep_margins(parser) -> None:
     """``--keep-margins`` (``keep_margins``: the loops that may be a margin left open)."""
     parser.add_argument("--keep-margins", action="store_true",
-                        help="also leave open each piece's longest loop when it may be its "
-                        "margin ('the margin?' in `holes`: it spans 10-40%% of the piece's "
-                        "area, as a tooth crown scanned down to the gum), which is filled "
-                        "by default")
+                        help="also leave open the loops that may be a margin of the surface "
+                        "('the margin?' in `holes`): a piece's longest loop spanning 10-40%% "
+                        "of its area (a tooth crown scanned down to the gum), or a loop "
+                        "inside its outer border spanning at least 10%% (the inner edge of a "
+                        "scanned ring or bore); filled by default, with a warning")
 
 
 def add_islands(parser) -> None:

@@ -22,7 +22,9 @@ def hole_kind(hole: Hole) -> str:
     if hole.runs_along_other_loops:  # never filled either: a seam of unjoined faces
         return "runs along other loops (faces that do not join): left open"
     if hole.may_be_border:  # filled by default, with a warning
-        return f"hole (spans {percent_below(hole.span_fraction)} of its surface: the margin?)"
+        where = ", inside its border: an inner margin?" if hole.inside_border else \
+            ": the margin?"
+        return f"hole (spans {percent_below(hole.span_fraction)} of its surface{where})"
     return "hole"
 
 

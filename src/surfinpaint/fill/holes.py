@@ -68,8 +68,10 @@ class Hole:
         True when the loop looks like the surface's own outer border rather than a hole.
     span_fraction : float
         For its component's longest loop, the area the loop spans over the component's area
-        (``is_border`` from ``BORDER_SPAN_FRACTION``); NaN for the other loops and where a
-        first part of the component's area was enough to tell the loop is small.
+        (``is_border`` from ``BORDER_SPAN_FRACTION``); NaN where a first part of the
+        component's area was enough to tell the loop is small. For the other loops of a
+        component whose longest loop is its outer border, the same fraction (a scanned
+        ring's inner edge spans a large part); NaN for the other loops of other components.
     spans_no_area : bool
         Every face of its component has zero area (collinear or coincident corners, as
         :func:`~surfinpaint.geometry.validation.zero_area_faces` finds them: a stray
@@ -78,6 +80,9 @@ class Hole:
     seam_edges : (n_edges,) bool array or None
         Per loop edge (``loop[i]`` to ``loop[i + 1]``), whether it lies exactly on another
         boundary edge (:func:`seam_edges`): faces that meet there do not join.
+    inside_border : bool
+        The loop is not its component's longest, and that one is the outer border: the
+        loop lies inside an open surface (a scan's hole, or a scanned ring's inner edge).
     """
 
     loop: np.ndarray
@@ -89,6 +94,7 @@ class Hole:
     span_fraction: float = float("nan")
     spans_no_area: bool = False
     seam_edges: np.ndarray | None = None
+    inside_border: bool = False
 
     @property
     def runs_along_other_loops(self) -> bool:
@@ -101,7 +107,9 @@ class Hole:
     @property
     def may_be_border(self) -> bool:
         """A hole (not ``is_border``) that spans at least ``MAY_BE_BORDER_FRACTION`` of its
-        component: it may be an open surface's margin; filling it by default warns."""
+        component: it may be an open surface's margin (the longest loop of a tooth crown
+        scanned to the gum, or the inner edge of a scanned ring or bore inside an outer
+        border); filling it by default warns."""
         return not self.is_border and self.span_fraction >= MAY_BE_BORDER_FRACTION
 
 
@@ -256,25 +264,31 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     fractions = _span_fractions(vertices, faces, label, spans)
     flat = _zero_area_components(label, spans, owner[longest], perimeters[longest],
                                  vertices, faces)
+    is_longest = np.zeros(len(ordered), dtype=bool)
+    is_longest[longest] = True
+    bordered = {c for c, f in fractions.items() if f >= BORDER_SPAN_FRACTION}
+    inner = _inner_fractions(vertices, ordered, owner, is_longest, spans, fractions, bordered)
     # numbered over the components with faces: a vertex no face uses (left where faces were
     # cut away) is a component of its own in the labels and would skip numbers. A face's
     # three vertices share its component (the labels are of its edges), so its first
     # vertex's label is enough: a count of those in place of np.unique of every corner's
     # (651k case: 0.004 instead of 0.04 s, the same sorted ids; docs/scale.md, session 36)
     numbers = np.searchsorted(np.flatnonzero(np.bincount(label[faces[:, 0]])), owner)
-    is_longest = np.zeros(len(ordered), dtype=bool)
-    is_longest[longest] = True
+    # the longest loops' fractions decide the borders; the inner loops' may call a margin
+    span = [fractions[c] if first else inner.get(k, float("nan"))
+            for k, (c, first) in enumerate(zip(owner.tolist(), is_longest.tolist(),
+                                               strict=True))]
     # one Hole a loop, its numbers computed above for all loops at once (a triangle soup's
     # 10^5 loops: docs/scale.md, session 38)
     return [Hole(loop=loop, n_edges=n_edges, perimeter=perimeter, diameter=diameter,
-                 component=number, is_border=bool(fraction >= BORDER_SPAN_FRACTION),
-                 span_fraction=fraction, spans_no_area=component in flat, seam_edges=seams)
-            for loop, n_edges, perimeter, diameter, number, component, fraction, seams in zip(
-                ordered, lengths[rank].tolist(), perimeters.tolist(), diameters.tolist(),
-                numbers.tolist(), owner.tolist(),
-                [fractions[c] if first else float("nan")
-                 for c, first in zip(owner.tolist(), is_longest.tolist(), strict=True)],
-                seam_edges(vertices, ordered), strict=True)]
+                 component=number,
+                 is_border=bool(first and fraction >= BORDER_SPAN_FRACTION),
+                 span_fraction=fraction, spans_no_area=component in flat, seam_edges=seams,
+                 inside_border=bool(not first and component in bordered))
+            for loop, n_edges, perimeter, diameter, number, component, first, fraction, seams
+            in zip(ordered, lengths[rank].tolist(), perimeters.tolist(), diameters.tolist(),
+                   numbers.tolist(), owner.tolist(), is_longest.tolist(), span,
+                   seam_edges(vertices, ordered), strict=True)]
 
 
 # the loops measured at once are grouped by length, and a group's pairwise differences
@@ -360,6 +374,25 @@ def _span_fractions(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
     fraction = np.full(len(spans), np.nan)
     fraction[known] = spanned[known] / own[known]
     return dict(zip(spans, fraction.tolist(), strict=True))
+
+
+def _inner_fractions(vertices: np.ndarray, ordered: list[np.ndarray], owner: np.ndarray,
+                     is_longest: np.ndarray, spans: dict[int, float],
+                     fractions: dict[int, float], bordered: set[int]) -> dict[int, float]:
+    """Per loop (its position in ``ordered``) that is not the longest of its component
+    (``owner``; ``is_longest``: per loop) and whose component's longest loop is its outer
+    border (``bordered``): the area the loop spans over the component's area. That area is
+    the border's span over its fraction (both known there: the fraction is at least
+    ``BORDER_SPAN_FRACTION``), so no face is summed again; components without a border (a
+    closed surface's holes) cost nothing."""
+    area = {c: spans[c] / fractions[c] for c in bordered}
+    if not area:
+        return {}
+    at = np.flatnonzero(~is_longest & np.isin(owner, list(area))).tolist()
+    if not at:
+        return {}
+    spanned = _spanned_areas(vertices, [ordered[k] for k in at])
+    return {k: float(s / area[int(owner[k])]) for k, s in zip(at, spanned.tolist(), strict=True)}
 
 
 def _zero_area_components(label: np.ndarray, spans: dict[int, float], components: np.ndarray,

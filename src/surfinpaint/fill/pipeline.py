@@ -134,10 +134,12 @@ def fill_holes(
     include_border : bool
         Also fill the loops that look like the outer border of an open surface.
     keep_margins : bool
-        With ``holes=None``, also leave open each piece's longest loop that may be its
-        margin (:attr:`~surfinpaint.fill.holes.Hole.may_be_border`: it spans 10–40 % of the
-        piece's area, as a tooth crown scanned down to the gum; filled by default, with a
-        warning). For a batch of such scans, where ``holes`` differs from file to file.
+        With ``holes=None``, also leave open the loops that may be a margin of the surface
+        (:attr:`~surfinpaint.fill.holes.Hole.may_be_border`): a piece's longest loop that
+        spans 10–40 % of its area (a tooth crown scanned down to the gum), or a loop inside
+        a piece's outer border that spans at least 10 % of it (the inner edge of a scanned
+        ring or bore). Filled by default, with a warning. For a batch of such scans, where
+        ``holes`` differs from file to file.
     max_hole_edges : int, optional
         Holes with more boundary edges are skipped (reported, not filled).
     neighbourhood_rings : int, optional
@@ -328,11 +330,16 @@ def _warn_may_be_border(chosen: dict[int, Hole], *, stacklevel: int) -> None:
     keep it open."""
     for number, hole in chosen.items():
         if hole.may_be_border:
+            if hole.inside_border:
+                why = ("inside the surface's outer border, so it was filled; if it is an "
+                       "inner margin of the surface (the inner edge of a scanned ring or bore)")
+            else:
+                why = (f"below the {BORDER_SPAN_FRACTION:.0%} that makes it the outer border, "
+                       "so it was filled; if it is the open margin of the surface (a tooth "
+                       "crown scanned to the gum)")
             warnings.warn(
                 f"hole {number}: its loop ({hole.n_edges} edges) "
-                f"spans {percent_below(hole.span_fraction)} of its surface's area, below the "
-                f"{BORDER_SPAN_FRACTION:.0%} that makes it the outer border, so it was filled; "
-                "if it is the open margin of the surface (a tooth crown scanned to the gum), "
+                f"spans {percent_below(hole.span_fraction)} of its surface's area, {why}, "
                 "keep it open with --keep-margins, --holes or --max-hole-edges "
                 "(keep_margins=, holes=, max_hole_edges=)",
                 MeshWarning, stacklevel=stacklevel)
