@@ -235,7 +235,7 @@ def record(report: HoleReport, fill: Fill) -> None:
     report.verdict, report.crease, report.diagnostics = (fill.verdict, fill.crease,
                                                           fill.diagnostics)
     report.crease_failure = fill.crease_failure
-    report.crossings = fill.crossings
+    report.crossings, report.crossing_triangles = fill.crossings, fill.crossing_triangles
     report.plane = fill.plane
     report.smoothing = fill.smoothing
     if fill.crossings:
