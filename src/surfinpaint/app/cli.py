@@ -110,9 +110,10 @@ def _file_size(path) -> int:
 @contextlib.contextmanager
 def _progress(enabled: bool, what: str = "filling") -> Iterator:
     """The ``progress`` callback of :func:`surfinpaint.fill_holes` moving a progress bar on
-    stderr (:func:`~surfinpaint.app.progress.progress_bar`: no thread of its own, so the
-    holes' workers are forked), or None; ``what`` is its first label."""
-    with progress_bar(enabled, None, what) as bar:
+    stderr (:func:`~surfinpaint.app.progress.progress_bar`: its clock's thread runs only
+    while the holes are filled in this process, so the holes' workers are forked), or None;
+    ``what`` is its first label."""
+    with progress_bar(enabled, None, what, ticking=True) as bar:
         yield bar.update if enabled else None
 
 
