@@ -46,6 +46,7 @@ from surfinpaint.app.interrupts import (
     Interrupted,
     interruptions_raised,
     raise_interruption,
+    raise_noted,
     signals_raise,
 )
 from surfinpaint.app.outputs import (
@@ -462,6 +463,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     error, 130 after Ctrl-C, 143 after SIGTERM (temporary files removed, one line printed)."""
     with signals_raise():
         try:
+            raise_noted()  # a signal that came while the command line was imported
             parser = build_parser(_command_word(argv))
             args = parser.parse_args(argv)
             console = LazyConsole()  # made at its first line: a quiet run may print none

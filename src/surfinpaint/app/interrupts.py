@@ -118,6 +118,46 @@ def imported_whole(*names: str):
     return modules[0]
 
 
+@contextlib.contextmanager
+def signals_noted() -> Iterator[None]:
+    """The program's start (:func:`surfinpaint.app.program.program`): within the block,
+    SIGINT and SIGTERM are only noted until :func:`signals_raise` takes over, and a signal
+    noted before it is raised in its block by :func:`raise_noted`: the command's one line
+    and 130/143, not Python's default (SIGTERM: the process killed on the spot, without a
+    word; Ctrl-C: a ``KeyboardInterrupt`` traceback from inside an import) while the
+    command line's modules are imported (0.2-2 s; session 48). A signal noted and not
+    raised (none came in :func:`signals_raise`'s block) is sent again after the block to
+    the handler before. An ignored signal stays ignored; outside the main thread the block
+    runs unchanged."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    came: list[int] = []
+    previous = {s: h for s in HANDLED
+                if (h := signal.getsignal(s)) is not signal.SIG_IGN and h is not None}
+    for s in previous:
+        signal.signal(s, lambda signum, frame: came.append(signum))
+    _state["noted"] = came
+    try:
+        yield
+    finally:
+        _state.pop("noted", None)
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        if came:
+            os.kill(os.getpid(), came[0])
+
+
+def raise_noted() -> None:
+    """Raise :class:`Interrupted` for a signal :func:`signals_noted` noted before
+    :func:`signals_raise` took over (the first of them), if one was."""
+    came = _state.get("noted")
+    if came:
+        signum = came[0]
+        came.clear()
+        raise Interrupted(signum)
+
+
 #: Seconds after which a signal lost in a finalizer or callback is sent again (from another
 #: thread: by then the place it was lost in has returned)
 AGAIN_AFTER = 0.01
