@@ -4,9 +4,7 @@ warning its own (session 48; session 47's fuzz campaign saw 58 reported for 56).
 
 from __future__ import annotations
 
-import multiprocessing
 import warnings
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 import pytest
@@ -93,18 +91,10 @@ def test_a_triangle_crossing_near_and_far_is_counted_once(spiked):
 
 
 @pytest.mark.parametrize("jobs", [1, 2])
-def test_the_triangles_crossing_come_back_from_workers(spiked, monkeypatch, jobs):
-    # three holes on workers (forked: they inherit the spike), the size rule set aside
-    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
-    context = multiprocessing.get_context("fork")
-    monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
-        workers, mp_context=context))
-    on_workers = []
-    in_parallel = pipeline.fill_in_parallel
-    monkeypatch.setattr(pipeline, "fill_in_parallel",
-                        lambda *args: on_workers.append(1) or in_parallel(*args))
+def test_the_triangles_crossing_come_back_from_workers(spiked, on_forked_workers, jobs):
+    # three holes on workers (forked: they inherit the spike)
     result, said = _fill(3, jobs)
-    assert len(on_workers) == (jobs > 1)
+    assert len(on_forked_workers) == (jobs > 1)
     assert len(said) == 6
     spikes = [len(f) - 1 for f in result.hole_faces()]
     assert [r.crossings for r in result.reports] == [1, 1, 1]

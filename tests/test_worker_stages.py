@@ -5,7 +5,6 @@ a hole on a worker said its start and its end only)."""
 from __future__ import annotations
 
 import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
 
 import pytest
 
@@ -30,19 +29,10 @@ def two_holes():
 
 
 @pytest.fixture
-def on_workers(monkeypatch):
-    """Two holes are enough for workers (forked, as a one-thread process's are); the calls
-    that used them counted."""
+def on_workers(monkeypatch, on_forked_workers):
+    """Two holes are enough for (forked) workers; the calls that used them counted."""
     monkeypatch.setattr(parallel, "MIN_PARALLEL_HOLES", 2)
-    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
-    context = multiprocessing.get_context("fork")
-    monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
-        workers, mp_context=context))
-    used = []
-    in_parallel = pipeline.fill_in_parallel
-    monkeypatch.setattr(pipeline, "fill_in_parallel",
-                        lambda *args: used.append(1) or in_parallel(*args))
-    return used
+    return on_forked_workers
 
 
 def _heard(vertices, faces, jobs):

@@ -80,15 +80,16 @@ def interruptions_raised() -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def signals_held() -> Iterator[None]:
-    """Within the block, SIGINT and SIGTERM are only noted; after it, the first one that
-    came is sent again, to whatever handled it before (ours: :class:`Interrupted`; Python's
-    default: :exc:`KeyboardInterrupt`, or the end of the process for SIGTERM). An ignored
-    signal stays ignored. Outside the main thread the block runs unchanged."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
+def signals_held() -> Iterator[list[int]]:
+    """Within the block, SIGINT and SIGTERM are only noted (in the list given to the
+    block); after it, the first one that came is sent again, to whatever handled it before
+    (ours: :class:`Interrupted`; Python's default: :exc:`KeyboardInterrupt`, or the end of
+    the process for SIGTERM). An ignored signal stays ignored. Outside the main thread the
+    block runs unchanged."""
     came: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield came
+        return
     # not an ignored signal, nor one whose handler was not set from Python (None: it could
     # not be put back)
     previous = {s: h for s in HANDLED
@@ -96,7 +97,7 @@ def signals_held() -> Iterator[None]:
     for s in previous:
         signal.signal(s, lambda signum, frame: came.append(signum))
     try:
-        yield
+        yield came
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)
@@ -127,25 +128,14 @@ def signals_noted() -> Iterator[None]:
     word; Ctrl-C: a ``KeyboardInterrupt`` traceback from inside an import) while the
     command line's modules are imported (0.2-2 s; session 48). A signal noted and not
     raised (none came in :func:`signals_raise`'s block) is sent again after the block to
-    the handler before. An ignored signal stays ignored; outside the main thread the block
-    runs unchanged."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    came: list[int] = []
-    previous = {s: h for s in HANDLED
-                if (h := signal.getsignal(s)) is not signal.SIG_IGN and h is not None}
-    for s in previous:
-        signal.signal(s, lambda signum, frame: came.append(signum))
-    _state["noted"] = came
-    try:
-        yield
-    finally:
-        _state.pop("noted", None)
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        if came:
-            os.kill(os.getpid(), came[0])
+    the handler before (:func:`signals_held`). An ignored signal stays ignored; outside
+    the main thread the block runs unchanged."""
+    with signals_held() as came:
+        _state["noted"] = came
+        try:
+            yield
+        finally:
+            _state.pop("noted", None)
 
 
 def raise_noted() -> None:
