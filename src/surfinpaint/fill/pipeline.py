@@ -178,7 +178,9 @@ def fill_holes(
         left as it is, with a warning (as is an island that cannot be joined, e.g. wound
         opposite to the surface around the hole). The island is never deleted.
     progress : callable(done, total, message), optional
-        Called before and after each hole (in hole order).
+        Called before and after each hole (in hole order), and as each stage of a conformal
+        fill starts (``hole 3: 212 edges, λ-H fill (stage 5 of 5)``; on forked workers as
+        the stages' news comes, the last said again each second), always in this thread.
     jobs : int, optional
         Worker processes filling holes at once (None: all the cores this process may use;
         1: one hole after another in this process). The result is bit-identical to the
