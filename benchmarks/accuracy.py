@@ -42,6 +42,7 @@ import warnings
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -237,23 +238,38 @@ def _local(vertices, faces, loop, rings=6):
     return vertices[ids], remap[sub], remap[loop], ids
 
 
+class Timing(NamedTuple):
+    """How long one fill call took: wall seconds, and this process's CPU seconds (all its
+    threads', a BLAS pool's included): steadier than wall time on a shared machine."""
+
+    wall: float
+    cpu: float
+
+
+def _timed(call, *args, **kwargs):
+    """``call(*args, **kwargs)`` and its :class:`Timing`."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    out = call(*args, **kwargs)
+    return out, Timing(time.perf_counter() - wall, time.process_time() - cpu)
+
+
 def _run_peer(fn, vertices, faces, loop):
     lv, lf, lloop, ids = _local(vertices, faces, loop)
-    t0 = time.perf_counter()
-    nv, nf = fn(lv, lf, lloop)
-    dt = time.perf_counter() - t0
+    (nv, nf), dt = _timed(fn, lv, lf, lloop)
     n_local = len(lv)
     nf = np.where(nf < n_local, ids[np.minimum(nf, n_local - 1)],
                   len(vertices) + nf - n_local)
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
 
-def _run_ours(method, vertices, faces, loop, **kwargs):
-    t0 = time.perf_counter()
+def _quiet_fill(*args, **kwargs):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        res = fill_holes(vertices, faces, holes=[loop], method=method, **kwargs)
-    dt = time.perf_counter() - t0
+        return fill_holes(*args, **kwargs)
+
+
+def _run_ours(method, vertices, faces, loop, **kwargs):
+    res, dt = _timed(_quiet_fill, vertices, faces, holes=[loop], method=method, **kwargs)
     note = ""
     for r in res.reports:
         d = r.diagnostics
@@ -272,9 +288,7 @@ def _run_ours(method, vertices, faces, loop, **kwargs):
 def _run_conventional(vertices, faces, loop):
     from surfinpaint.fill.liepa.baseline import conventional_fill
 
-    t0 = time.perf_counter()
-    nv, nf = conventional_fill(vertices, faces, loop)
-    dt = time.perf_counter() - t0
+    (nv, nf), dt = _timed(conventional_fill, vertices, faces, loop)
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
 
@@ -282,15 +296,14 @@ def _run_faired(vertices, faces, loop, order: int, search: str = "delaunay",
                 refinement: str = "liepa", smoothing: float | str | None = None):
     from surfinpaint.fill.liepa.baseline import faired_fills
 
-    t0 = time.perf_counter()
-    nv, nf, _ = faired_fills(vertices, faces, loop, (order,), search=search,
-                             refinement=refinement, smoothing=smoothing)[order]
-    dt = time.perf_counter() - t0
+    made, dt = _timed(faired_fills, vertices, faces, loop, (order,), search=search,
+                      refinement=refinement, smoothing=smoothing)
+    nv, nf, _ = made[order]
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
 
 def run_method(method: str, vertices, faces, loop):
-    """Fill one hole: (all vertices, all faces, seconds, note)."""
+    """Fill one hole: (all vertices, all faces, its :class:`Timing`, note)."""
     if method in ("fair", "conformal"):
         return _run_ours(method, vertices, faces, loop)
     if method in CONFORMAL_VARIANTS:
@@ -332,6 +345,7 @@ class Row:
     mean_ab_pct: float = float("nan")
     mean_ba_pct: float = float("nan")
     seconds: float = float("nan")
+    cpu_seconds: float = float("nan")  # of the same call as ``seconds`` (Timing)
     new_vertices: int = 0
     new_faces: int = 0
     note: str = ""
@@ -368,7 +382,7 @@ def score(cut: CutResult, method: str, case: str, hole: int, radius_h: float,
         row.note = f"{type(exc).__name__}: {str(exc).splitlines()[0][:100] if str(exc) else ''}"
         traceback.print_exc(limit=2, file=sys.stderr)
         return row
-    row.seconds, row.note = dt, note
+    (row.seconds, row.cpu_seconds), row.note = dt, note
     if note.startswith("self-check") or note == PLANE_NOTE:  # another fill chosen: no failure
         row.status = "selected"
     elif note:

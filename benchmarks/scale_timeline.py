@@ -61,7 +61,7 @@ for owner, names in ((cli, ("read_mesh_data", "fill_mesh_data", "write_with_mate
                      (warmup, ("warm_kernels",)),
                      (pipeline, ("check_arrays", "triangle_rows", "check_topology",
                                  "find_holes", "triangle_incidence", "fill_in_parallel",
-                                 "fill_hole", "far_crossing_counts", "crossing_fill_pairs",
+                                 "fill_hole", "far_crossing_triangles", "crossing_fill_pairs",
                                  "topology_changes"))):
     for name in names:
         setattr(owner, name, timed(name, getattr(owner, name)))

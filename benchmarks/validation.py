@@ -238,7 +238,10 @@ def headline(rows: list[dict], methods: list[str]) -> dict:
                              _med([r["seconds"] for r in rows if r["method"] == meth
                                    and r["status"] in FILLED and r["boundary_edges"] <= 100]),
                              max([r["seconds"] for r in rows if r["method"] == meth
-                                  and r["status"] in FILLED], default=float("nan")))
+                                  and r["status"] in FILLED], default=float("nan")),
+                             # the fill's CPU seconds (runs before session 48 have none)
+                             _med([r["cpu_seconds"] for r in rows if r["method"] == meth
+                                   and r["status"] in FILLED and "cpu_seconds" in r]))
                       for meth in methods}
     out["failed"] = {meth: sum(r["status"] in ("failed", "open", "error") for r in rows
                                if r["method"] == meth) for meth in methods}
@@ -307,12 +310,13 @@ def report(rows: list[dict], methods: list[str], split: str) -> str:
         cells = [f"**{_f(med[m])}**" if med[m] == best else _f(med[m]) for m in methods]
         ratio = med[DEFAULT] / med["cgal"] if med.get("cgal", 0) > 1e-6 else float("nan")
         lines.append(f"| {mesh} | {kinds[mesh]} | " + " | ".join(cells) + f" | {_f(ratio)} |")
-    lines += ["", "| method | median s per hole | median s, ≤ 100 edges | max s "
-              "| failed/open/error |",
-              "|---|---|---|---|---|"]
+    lines += ["", "| method | median s per hole | median CPU s per hole | median s, ≤ 100 "
+              "edges | max s | failed/open/error |",
+              "|---|---|---|---|---|---|"]
     for meth in methods:
-        a, b2, c = hl["seconds"][meth]
-        lines.append(f"| {meth} | {_f(a)} | {_f(b2)} | {_f(c)} | {hl['failed'][meth]} |")
+        a, b2, c, cpu = hl["seconds"][meth]
+        lines.append(f"| {meth} | {_f(a)} | {_f(cpu)} | {_f(b2)} | {_f(c)} "
+                     f"| {hl['failed'][meth]} |")
     return "\n".join(lines) + "\n"
 
 

@@ -105,3 +105,24 @@ def mark_fill_starts(monkeypatch, batch, say) -> None:
         return filled(job, options, hole_progress)
 
     monkeypatch.setattr(batch, "fill_file", marked)
+
+
+@pytest.fixture
+def on_forked_workers(monkeypatch) -> list[int]:
+    """Holes filled on worker processes whatever their size (the size rule set aside), the
+    workers forked (as a one-thread process's are: they inherit the test's patches); the
+    calls of ``fill_holes`` that used them, counted (one 1 each)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from surfinpaint.fill import parallel, pipeline
+
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
+    context = multiprocessing.get_context("fork")
+    monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
+        workers, mp_context=context))
+    used: list[int] = []
+    in_parallel = pipeline.fill_in_parallel
+    monkeypatch.setattr(pipeline, "fill_in_parallel",
+                        lambda *args: used.append(1) or in_parallel(*args))
+    return used

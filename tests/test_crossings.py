@@ -8,7 +8,7 @@ import pytest
 from surfinpaint import ConformalOptions, data, fill_holes
 from surfinpaint.app.fill_report import HoleRecord, hole_lines
 from surfinpaint.errors import HoleWarning
-from surfinpaint.fill.parallel import crossing_faces
+from surfinpaint.fill.parallel import crossing_triangles
 from surfinpaint.fill.results import Fill
 from surfinpaint.geometry.cutting import cut_geodesic_disk
 
@@ -32,7 +32,7 @@ def test_a_fan_fill_of_a_flat_hole_crosses_nothing():
     vertices, faces, loop = _square_with_hole()
     fan = np.array([[loop[k], loop[(k + 1) % 8], 25] for k in range(8)])
     fill = Fill(np.array([[2.0, 2.0, 0.0]]), fan, "fair")
-    assert crossing_faces(vertices, faces, loop, fill) == 0
+    assert len(crossing_triangles(vertices, faces, loop, fill)) == 0
 
 
 def test_a_fill_triangle_through_the_surface_is_counted():
@@ -42,7 +42,7 @@ def test_a_fill_triangle_through_the_surface_is_counted():
     spike = np.array([[6, 26, 27]])
     new_v = np.array([[2.0, 2.0, 0.0], [0.3, 0.6, -1.0], [0.6, 0.3, 1.0]])
     fill = Fill(new_v, np.vstack([fan, spike]), "fair")
-    assert crossing_faces(vertices, faces, loop, fill) == 1
+    assert crossing_triangles(vertices, faces, loop, fill).tolist() == [8]  # the spike
 
 
 @pytest.mark.parametrize("method", ["fair", "conformal"])

@@ -14,7 +14,7 @@ from scipy.sparse.csgraph import dijkstra
 from surfinpaint.data import default_demo_mesh, fsaverage5, sphere
 from surfinpaint.errors import HoleWarning
 from surfinpaint.fill import pipeline
-from surfinpaint.fill.far_crossings import crossing_fill_pairs, far_crossing_counts
+from surfinpaint.fill.far_crossings import crossing_fill_pairs, far_crossing_triangles
 from surfinpaint.fill.pipeline import fill_holes
 from surfinpaint.geometry.cutting import cut_holes
 from surfinpaint.geometry.degenerate import triangle_incidence
@@ -58,8 +58,8 @@ def test_crossing_counts_of_clean_fills_and_of_a_fill_pushed_through():
         result = fill_holes(v, f, jobs=1)
     incidence = triangle_incidence(f, len(v))
     loops = [r.loop for r in result.reports]
-    assert far_crossing_counts(result.vertices, f, incidence, result.hole_faces(),
-                               loops) == [0, 0]
+    assert [len(t) for t in far_crossing_triangles(result.vertices, f, incidence,
+                                                   result.hole_faces(), loops)] == [0, 0]
     assert [r.crossings for r in result.reports] == [0, 0]
     # a sphere's hole filled, then its new vertices pushed through the far side: every
     # new face that reaches the other side crosses it; touching the loop does not count
@@ -70,18 +70,20 @@ def test_crossing_counts_of_clean_fills_and_of_a_fill_pushed_through():
         result = fill_holes(cut.vertices, cut.faces, method="fair", jobs=1)
     incidence = triangle_incidence(cut.faces, len(cut.vertices))
     loops = [r.loop for r in result.reports]
-    assert far_crossing_counts(result.vertices, cut.faces, incidence, result.hole_faces(),
-                               loops) == [0]
+    assert [len(t) for t in far_crossing_triangles(result.vertices, cut.faces, incidence,
+                                                   result.hole_faces(), loops)] == [0]
     pushed = result.vertices.copy()
     new = np.arange(result.n_original_vertices, len(pushed))
     # below the sphere: the faces from the loop down cross its far side, where the rings
     # around the loop do not reach
     pushed[new, 2] = -2.0
-    (count,) = far_crossing_counts(pushed, cut.faces, incidence, result.hole_faces(), loops)
+    (crossing,) = far_crossing_triangles(pushed, cut.faces, incidence, result.hole_faces(),
+                                         loops)
     on_loop = np.isin(result.hole_faces()[0], np.arange(result.n_original_vertices)).any(1)
-    assert np.count_nonzero(on_loop) <= count <= len(result.hole_faces()[0])
-    assert far_crossing_counts(pushed, cut.faces, incidence, [np.empty((0, 3), int)],
-                               loops) == [0]
+    assert np.count_nonzero(on_loop) <= len(crossing) <= len(result.hole_faces()[0])
+    assert np.all(np.diff(crossing) > 0) and crossing.max() < len(result.hole_faces()[0])
+    assert [len(t) for t in far_crossing_triangles(pushed, cut.faces, incidence,
+                                                   [np.empty((0, 3), int)], loops)] == [0]
 
 
 @pytest.mark.parametrize("method", ["fair", "conformal"])
@@ -176,6 +178,11 @@ PAIR_CASES = {
 }
 
 
+def _pairs(found):
+    """The pairs of fills found, each with how many triangles of each cross the other's."""
+    return [(p.first, p.second, len(p.first_triangles), len(p.second_triangles)) for p in found]
+
+
 @pytest.mark.parametrize("case", sorted(PAIR_CASES))
 def test_crossing_fill_pairs(case):
     fills, expected = PAIR_CASES[case]
@@ -185,11 +192,10 @@ def test_crossing_fill_pairs(case):
         positions += fill
         n += 3 * len(fill)
     vertices = np.vstack(positions) if positions else np.zeros((0, 3))
-    assert [tuple(p) for p in crossing_fill_pairs(vertices, faces)] == expected
+    assert _pairs(crossing_fill_pairs(vertices, faces)) == expected
     # an empty fill (a zipped seam) in front changes nothing but the positions
     shifted = [(a + 1, b + 1, na, nb) for a, b, na, nb in expected]
-    assert [tuple(p) for p in crossing_fill_pairs(
-        vertices, [np.empty((0, 3), int), *faces])] == shifted
+    assert _pairs(crossing_fill_pairs(vertices, [np.empty((0, 3), int), *faces])) == shifted
 
 
 def test_fills_that_share_a_loop_vertex_touch_there_without_crossing():
@@ -199,5 +205,5 @@ def test_fills_that_share_a_loop_vertex_touch_there_without_crossing():
     # the same second fill turned into the first's plane: it overlaps beyond the corner
     v[3] = [0.5, 0.5, 0.0]
     v[4] = [0.5, -0.2, 0.0]
-    assert [tuple(p) for p in crossing_fill_pairs(
-        v, [np.array([[0, 1, 2]]), np.array([[0, 3, 4]])])] == [(0, 1, 1, 1)]
+    assert _pairs(crossing_fill_pairs(
+        v, [np.array([[0, 1, 2]]), np.array([[0, 3, 4]])])) == [(0, 1, 1, 1)]

@@ -511,3 +511,64 @@ def test_signals_held_acts_on_the_signal_after_the_block(tmp_path, monkeypatch):
         time.sleep(5)  # not reached: the signal is acted on as the import returns
     assert raised.value.signum == signal.SIGTERM
     assert sys.modules["slow_to_import"].WHOLE
+
+
+_SIGNAL_WHILE_THE_COMMAND_LINE_IMPORTS = """
+import os, signal, sys, time
+
+SIGNUM = int(sys.argv[1])
+
+class SignalsDuringImport:  # sends the signal as the command line starts importing
+    def find_spec(self, name, path=None, target=None):
+        if name == "surfinpaint.app.cli":
+            sys.meta_path.remove(self)
+            os.kill(os.getpid(), SIGNUM)
+            time.sleep(0.5)  # Python's default handler acts here, inside the import
+        return None
+
+sys.meta_path.insert(0, SignalsDuringImport())
+from surfinpaint.app.program import program  # the console script's function
+sys.argv = ["surfinpaint", *sys.argv[2:]]
+sys.exit(program())
+"""
+
+
+@pytest.mark.parametrize(("signum", "code"), SIGNALS)
+def test_a_signal_while_the_command_line_is_imported_stops_with_one_line(tmp_path, signum,
+                                                                        code):
+    # session 48: before the command's handlers were set, SIGTERM killed the process without
+    # a word (-15) and Ctrl-C printed a KeyboardInterrupt traceback from inside an import
+    source = _holey(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    proc = subprocess.run([sys.executable, "-c", _SIGNAL_WHILE_THE_COMMAND_LINE_IMPORTS,
+                           str(int(signum)), "fill", str(source), "-o", str(out / "f.ply")],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == code, proc.stderr
+    name = "Ctrl-C (SIGINT)" if signum == signal.SIGINT else "SIGTERM"
+    assert proc.stderr.splitlines() == [
+        f"surfinpaint: interrupted by {name}; stopped, no partial output left"]
+    assert not list(out.iterdir())
+
+
+def test_signals_noted_are_raised_by_the_command_or_sent_again_after():
+    # noted, then raised where the command's handlers run
+    with interrupts.signals_noted():
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(0.1)  # noted only: nothing raised
+        with pytest.raises(Interrupted) as raised, signals_raise():
+            interrupts.raise_noted()
+        interrupts.raise_noted()  # raised once
+    assert raised.value.signum == signal.SIGTERM
+    # noted and never raised: sent again after the block, to the handler before
+    got = []
+    before = signal.signal(signal.SIGTERM, lambda signum, frame: got.append(signum))
+    try:
+        with interrupts.signals_noted():
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.1)
+            assert got == []
+        time.sleep(0.1)
+        assert got == [signal.SIGTERM]
+    finally:
+        signal.signal(signal.SIGTERM, before)

@@ -367,7 +367,7 @@ def test_an_island_that_cannot_be_joined_leaves_the_hole_filled_as_a_disk(monkey
 def test_a_fill_with_islands_that_crosses_the_surface_is_not_kept(monkeypatch):
     from surfinpaint.fill import island_steps
 
-    monkeypatch.setattr(island_steps, "crossing_faces", lambda *args: 3)
+    monkeypatch.setattr(island_steps, "crossing_triangles", lambda *args: np.arange(3))
     v, f, _ = sphere_with_island()
     with pytest.warns(MeshWarning, match=r"it could not be joined \(its fill's triangles "
                       r"cross the surface around the loops or one another: 3 at order 3, "

@@ -28,7 +28,7 @@ def test_a_small_fill_is_timed_stage_by_stage(tmp_path):
     for stage in ("import the command line", "read_mesh_data", "fill_mesh_data",
                   "check_arrays", "triangle_rows", "EdgeTable.build", "check_topology",
                   "find_holes", "triangle_incidence", "fill_hole", "FilledMesh.result",
-                  "far_crossing_counts", "write_with_materials", "cli.main"):
+                  "far_crossing_triangles", "write_with_materials", "cli.main"):
         assert stage in names, stage
     assert names.count("fill_hole") == 1
     assert {row[1] for row in rows} == {"MainThread"}

@@ -8,6 +8,7 @@ instead of stopping the table.
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
@@ -91,3 +92,49 @@ def test_the_chooser_scores_the_smoothed_bilaplacian_candidate_when_its_column_i
     text = validation.report(rows, ["fair", "fair_sfauto", "fair3", "conformal_raw",
                                     "conformal", "cgal"], "tuning")
     assert "best of fair_sfauto/fair3/conformal_raw (within 1 %) | 2 / 2 (100 %)" in text
+
+
+def _printed_tables(path: Path, capsys) -> list[str]:
+    validation.main(["--tables", str(path), "--methods", ",".join(METHODS)])
+    return capsys.readouterr().out.splitlines()
+
+
+def test_the_speed_table_has_each_methods_cpu_seconds_and_old_runs_still_print(tmp_path,
+                                                                               capsys):
+    # session 48: each row has the fill's CPU seconds beside its wall seconds
+    rows = _rows(True)
+    for k, row in enumerate(rows):
+        row["cpu_seconds"] = 0.05 + 0.01 * (row["method"] == "cgal") + 0.001 * k
+    cpu = {m: np.median([r["cpu_seconds"] for r in rows if r["method"] == m])
+           for m in METHODS}
+    saved = tmp_path / "new.json"
+    saved.write_text(json.dumps({"rows": rows}))
+    lines = _printed_tables(saved, capsys)
+    assert ("| method | median s per hole | median CPU s per hole | median s, ≤ 100 edges "
+            "| max s | failed/open/error |") in lines
+    for method in METHODS:
+        assert f"| {method} | 0.100 | {cpu[method]:.3f} | 0.100 | 0.100 | 0 |" in lines
+    # a run saved before the field (a .json or a stopped run's .partial.jsonl): "—"
+    for row in rows:
+        del row["cpu_seconds"]
+    old = tmp_path / "old.json"
+    old.write_text(json.dumps({"rows": rows}))
+    partial = tmp_path / "old.partial.jsonl"
+    partial.write_text("".join(json.dumps(row) + "\n" for row in rows))
+    for path in (old, partial):
+        lines = _printed_tables(path, capsys)
+        for method in METHODS:
+            assert f"| {method} | 0.100 | — | 0.100 | 0.100 | 0 |" in lines
+
+
+def test_a_scored_row_has_the_fills_cpu_seconds():
+    accuracy = pytest.importorskip("accuracy")
+    from surfinpaint.data import sphere
+    from surfinpaint.geometry.cutting import cut_geodesic_disk
+
+    v, f = sphere(3)
+    cut = cut_geodesic_disk(v, f, v[0], 0.4)
+    row = accuracy.score(cut, "fair", "sphere", 0, 3.0, 500)
+    assert row.status == "ok"
+    assert np.isfinite(row.cpu_seconds) and row.cpu_seconds > 0
+    assert json.loads(json.dumps(accuracy.asdict(row)))["cpu_seconds"] == row.cpu_seconds

@@ -8,6 +8,7 @@ import argparse
 import contextlib
 import os
 import signal
+import threading
 import time
 import warnings
 from collections.abc import Iterator
@@ -61,7 +62,7 @@ def run_batch(args: argparse.Namespace) -> int:
     try:
         # each file's error or warnings as it finishes, above the bar: a bad file early in
         # a run of hours is said then, not at the end
-        with progress_bar(out.progress, None, "files") as bar, out.above(bar), \
+        with progress_bar(out.progress, None, "files", ticking=True) as bar, out.above(bar), \
                 _warned_now(out):
             logged = _LoggedRows(out, bar)
             rows = batch.fill_files(args.inputs, args.output, jobs=args.jobs, client=client,
@@ -178,7 +179,8 @@ class _LoggedRows:
     the log is not silent while one hole takes minutes: ``  scans/nut.ply: 0/1 holes (hole
     1: 374 edges, λ-H fill (stage 5 of 5)), 10 s so far`` (session 47; the progress of the
     files in flight is said again every second without news: on worker processes, the
-    default, not with ``--jobs 1``, whose fills run in this process)."""
+    default; with ``--jobs 1``, whose fills run in this process, by the bar's clock, the
+    bar's ``on_tick``, from its thread: session 48)."""
 
     def __init__(self, out: QuietConsole, bar, clock=time.monotonic) -> None:
         self.out, self.bar, self.done, self.total = out, bar, 0, None
@@ -186,12 +188,22 @@ class _LoggedRows:
         self.clock = clock
         self.since: dict[str, float] = {}  # when each file's hole and stage was first said
         self.logged: set[str] = set()
+        self.last = ""  # the last message, said again at the bar's ticks
+        self.lock = threading.Lock()  # the ticks come from the bar's clock thread
+        if self.log:
+            bar.on_tick = self._tick
 
     def update(self, done: int, total: int, message: str) -> None:
         self.total = total
         self.bar.update(done, total, message)
         if self.log:
-            self._log_lasting(message)
+            with self.lock:
+                self.last = message
+                self._log_lasting(message)
+
+    def _tick(self) -> None:
+        with self.lock:
+            self._log_lasting(self.last)
 
     def _log_lasting(self, message: str) -> None:
         from rich.markup import escape

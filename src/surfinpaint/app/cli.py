@@ -46,6 +46,7 @@ from surfinpaint.app.interrupts import (
     Interrupted,
     interruptions_raised,
     raise_interruption,
+    raise_noted,
     signals_raise,
 )
 from surfinpaint.app.outputs import (
@@ -110,9 +111,10 @@ def _file_size(path) -> int:
 @contextlib.contextmanager
 def _progress(enabled: bool, what: str = "filling") -> Iterator:
     """The ``progress`` callback of :func:`surfinpaint.fill_holes` moving a progress bar on
-    stderr (:func:`~surfinpaint.app.progress.progress_bar`: no thread of its own, so the
-    holes' workers are forked), or None; ``what`` is its first label."""
-    with progress_bar(enabled, None, what) as bar:
+    stderr (:func:`~surfinpaint.app.progress.progress_bar`: its clock's thread runs only
+    while the holes are filled in this process, so the holes' workers are forked), or None;
+    ``what`` is its first label."""
+    with progress_bar(enabled, None, what, ticking=True) as bar:
         yield bar.update if enabled else None
 
 
@@ -461,6 +463,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     error, 130 after Ctrl-C, 143 after SIGTERM (temporary files removed, one line printed)."""
     with signals_raise():
         try:
+            raise_noted()  # a signal that came while the command line was imported
             parser = build_parser(_command_word(argv))
             args = parser.parse_args(argv)
             console = LazyConsole()  # made at its first line: a quiet run may print none

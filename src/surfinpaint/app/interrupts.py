@@ -80,15 +80,16 @@ def interruptions_raised() -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def signals_held() -> Iterator[None]:
-    """Within the block, SIGINT and SIGTERM are only noted; after it, the first one that
-    came is sent again, to whatever handled it before (ours: :class:`Interrupted`; Python's
-    default: :exc:`KeyboardInterrupt`, or the end of the process for SIGTERM). An ignored
-    signal stays ignored. Outside the main thread the block runs unchanged."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
+def signals_held() -> Iterator[list[int]]:
+    """Within the block, SIGINT and SIGTERM are only noted (in the list given to the
+    block); after it, the first one that came is sent again, to whatever handled it before
+    (ours: :class:`Interrupted`; Python's default: :exc:`KeyboardInterrupt`, or the end of
+    the process for SIGTERM). An ignored signal stays ignored. Outside the main thread the
+    block runs unchanged."""
     came: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield came
+        return
     # not an ignored signal, nor one whose handler was not set from Python (None: it could
     # not be put back)
     previous = {s: h for s in HANDLED
@@ -96,7 +97,7 @@ def signals_held() -> Iterator[None]:
     for s in previous:
         signal.signal(s, lambda signum, frame: came.append(signum))
     try:
-        yield
+        yield came
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)
@@ -116,6 +117,35 @@ def imported_whole(*names: str):
     with signals_held():
         modules = [importlib.import_module(name) for name in names]
     return modules[0]
+
+
+@contextlib.contextmanager
+def signals_noted() -> Iterator[None]:
+    """The program's start (:func:`surfinpaint.app.program.program`): within the block,
+    SIGINT and SIGTERM are only noted until :func:`signals_raise` takes over, and a signal
+    noted before it is raised in its block by :func:`raise_noted`: the command's one line
+    and 130/143, not Python's default (SIGTERM: the process killed on the spot, without a
+    word; Ctrl-C: a ``KeyboardInterrupt`` traceback from inside an import) while the
+    command line's modules are imported (0.2-2 s; session 48). A signal noted and not
+    raised (none came in :func:`signals_raise`'s block) is sent again after the block to
+    the handler before (:func:`signals_held`). An ignored signal stays ignored; outside
+    the main thread the block runs unchanged."""
+    with signals_held() as came:
+        _state["noted"] = came
+        try:
+            yield
+        finally:
+            _state.pop("noted", None)
+
+
+def raise_noted() -> None:
+    """Raise :class:`Interrupted` for a signal :func:`signals_noted` noted before
+    :func:`signals_raise` took over (the first of them), if one was."""
+    came = _state.get("noted")
+    if came:
+        signum = came[0]
+        came.clear()
+        raise Interrupted(signum)
 
 
 #: Seconds after which a signal lost in a finalizer or callback is sent again (from another

@@ -2,7 +2,8 @@
 process's settings, made before numpy is imported, then the command line
 (:func:`surfinpaint.app.cli.main`).
 
-This module imports nothing but the standard library at its top: numpy reads the settings
+This module imports nothing but the standard library (and the program's stdlib-only
+signal handling, :mod:`surfinpaint.app.interrupts`) at its top: numpy reads the settings
 below when it is first imported, which :func:`program` does after making them. Only the
 program does this; the library (``import surfinpaint``) leaves its caller's process as it
 is, and a variable the user set is always kept.
@@ -47,6 +48,7 @@ import importlib
 import os
 from collections.abc import Callable
 
+from surfinpaint.app.interrupts import signals_noted
 from surfinpaint.lazy import defer_modules
 
 __all__ = ["BLAS_THREAD_VARIABLES", "HUGEPAGE_VARIABLE", "UNUSED_MODULES", "command_line",
@@ -115,7 +117,12 @@ def program() -> int:
     would walk the same objects as they are made (``from surfinpaint.app import cli``
     0.324 -> 0.298 s, 5 alternated runs; session 23). Nothing is skipped: the atexit
     handlers, the streams' flush and the freeing by reference counts run as before; only
-    garbage in reference cycles among the frozen objects is left to the operating system."""
-    code = command_line()()
+    garbage in reference cycles among the frozen objects is left to the operating system.
+
+    A SIGINT or SIGTERM while the command line is imported is noted and acted on as the
+    command starts (:func:`~surfinpaint.app.interrupts.signals_noted`): its one line and
+    130/143."""
+    with signals_noted():
+        code = command_line()()
     gc.freeze()
     return code

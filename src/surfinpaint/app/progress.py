@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import contextlib
 import os
-from collections.abc import Iterator, Mapping
+import threading
+from collections.abc import Callable, Iterator, Mapping
 
 __all__ = ["QUIET_HELP", "LazyConsole", "QuietConsole", "add_quiet", "console", "named",
            "progress_bar", "stages", "warning_line"]
@@ -94,13 +95,60 @@ class LazyConsole:
         self.made().print(*args, **kwargs)
 
 
+#: How often a ticking bar (:func:`progress_bar`) is drawn again while a fill runs in the
+#: process that draws it: its clock goes on through a stage of seconds (a display's
+#: cadence, not a fill rule)
+TICK_SECONDS = 1.0
+
+
+class _Clock:
+    """A thread that calls ``tick`` every :data:`TICK_SECONDS` between :meth:`start` and
+    :meth:`stop`. It gets its turns where the fill's thread lets go of the GIL: in NumPy's,
+    SciPy's and LAPACK's calls on large arrays, and every few milliseconds of Python code
+    (docs/robustness.md, session 48)."""
+
+    def __init__(self, tick: Callable[[], None]) -> None:
+        self.tick = tick
+        self._thread: threading.Thread | None = None
+        self._stopped = threading.Event()
+
+    @property
+    def running(self) -> bool:
+        return self._thread is not None
+
+    def start(self) -> None:
+        if self._thread is None:
+            self._stopped.clear()
+            self._thread = threading.Thread(target=self._run, name="surfinpaint-bar-clock",
+                                            daemon=True)
+            self._thread.start()
+
+    def stop(self) -> None:
+        if self._thread is not None:
+            self._stopped.set()
+            self._thread.join()
+            self._thread = None
+
+    def _run(self) -> None:
+        while not self._stopped.wait(TICK_SECONDS):
+            self.tick()
+
+
 class _Bar:
     """Moves a progress bar: ``bar(message, advance=1)`` steps it, ``bar.update(done,
     total, message)`` sets it (the ``progress`` callback of :func:`surfinpaint.fill_holes`),
-    and either redraws it (a bar without rich's refresh thread)."""
+    and either redraws it (a bar without rich's refresh thread). A ticking bar is drawn
+    again every :data:`TICK_SECONDS` after an ``update`` that leaves work to do, from a
+    thread of its own (:class:`_Clock`; ``on_tick`` is then called too), where no other
+    thread runs: the fill is in this process (``fill``'s holes one after another,
+    ``batch --jobs 1``); worker processes are forked only from a process of one thread
+    (:func:`surfinpaint.fill.parallel.start_context`), and a process with workers has the
+    pool's thread, so the clock never runs beside them."""
 
-    def __init__(self, progress=None, task=None):
+    def __init__(self, progress=None, task=None, ticking: bool = False):
         self._progress, self._task = progress, task
+        self._clock = _Clock(self._tick) if ticking and progress is not None else None
+        self.on_tick: Callable[[], None] | None = None
 
     def __call__(self, message: str, advance: int = 1) -> None:
         if self._progress is not None:
@@ -111,6 +159,22 @@ class _Bar:
         if self._progress is not None:
             self._progress.update(self._task, completed=done, total=total,
                                   description=message, refresh=True)
+        if self._clock is not None:
+            others = threading.active_count() - self._clock.running
+            if total is not None and done < total and others == 1:
+                self._clock.start()
+            else:
+                self._clock.stop()
+
+    def stop_clock(self) -> None:
+        """No more ticks (the bar is ending)."""
+        if self._clock is not None:
+            self._clock.stop()
+
+    def _tick(self) -> None:
+        self._progress.refresh()
+        if self.on_tick is not None:
+            self.on_tick()
 
     @property
     def console(self):
@@ -120,8 +184,8 @@ class _Bar:
 
 
 @contextlib.contextmanager
-def progress_bar(enabled: bool, total: int | None = None, description: str = ""
-                 ) -> Iterator[_Bar]:
+def progress_bar(enabled: bool, total: int | None = None, description: str = "",
+                 ticking: bool = False) -> Iterator[_Bar]:
     """A progress bar on stderr (a no-op one when not ``enabled``) of ``total`` steps (None:
     set later by ``update``), first labelled ``description``.
 
@@ -129,7 +193,9 @@ def progress_bar(enabled: bool, total: int | None = None, description: str = ""
     files') are forked only from a process of one thread
     (:func:`surfinpaint.fill.parallel.start_context`); from two they come from a forkserver
     and each imports and loads everything again (the 651k case's ``fill``: 4.9 against 3.9 s,
-    docs/scale.md, session 22). So no command's bar can slow its fills down."""
+    docs/scale.md, session 22). So no command's bar can slow its fills down. ``ticking``:
+    also redrawn every :data:`TICK_SECONDS` while the fill runs in this process, by a
+    thread that runs only where no other does (:class:`_Bar`)."""
     if not enabled:
         yield _Bar()
         return
@@ -146,15 +212,18 @@ def progress_bar(enabled: bool, total: int | None = None, description: str = ""
                   TimeElapsedColumn(),
                   console=console(), transient=False, auto_refresh=False) as progress:
         task = progress.add_task(description, total=total)
+        bar = _Bar(progress, task, ticking)
         try:
-            yield _Bar(progress, task)
+            yield bar
         except BaseException:
+            bar.stop_clock()
             # a run that fails ends with its error, not with the bar where it stopped: the
             # bar is cleared from a terminal, and never written to a log or a pipe
             progress.live.transient = True
             progress.live.stop()
             progress.disable = True  # whose stop() would still end a log with an empty line
             raise
+        bar.stop_clock()
         if total is not None:
             progress.update(task, completed=total)
 

@@ -1,10 +1,10 @@
 """Fills that cross the surface away from their hole, found after the fill.
 
 Each fill is checked against the surface within ``CROSSING_RINGS`` rings of its loop as it
-is made (:func:`surfinpaint.fill.parallel.crossing_faces`): that is where a folded loop makes
+is made (:func:`surfinpaint.fill.parallel.crossing_triangles`): that is where a folded loop makes
 a fill cross. A fill can also reach through surface that is near in space but farther along
 the mesh: the other bank of a brain's fold, the other side of a thin part. The neighbourhood
-a hole is filled in may not even hold that surface. :func:`far_crossing_counts` checks each
+a hole is filled in may not even hold that surface. :func:`far_crossing_triangles` checks each
 fill against the rest of the original faces near it, after all fills; the pipeline warns
 where it finds any. No fill is changed by it.
 
@@ -25,7 +25,7 @@ from surfinpaint.fill.parallel import CROSSING_RINGS
 from surfinpaint.geometry.intersection import intersecting_pairs
 from surfinpaint.geometry.rows import row_norms
 
-__all__ = ["CrossingFills", "crossing_fill_pairs", "far_crossing_counts"]
+__all__ = ["CrossingFills", "crossing_fill_pairs", "far_crossing_triangles"]
 
 
 def _within_rings(faces: np.ndarray, vertex_faces: sp.csr_matrix, loop: np.ndarray,
@@ -37,10 +37,11 @@ def _within_rings(faces: np.ndarray, vertex_faces: sp.csr_matrix, loop: np.ndarr
     return near
 
 
-def far_crossing_counts(vertices: np.ndarray, faces: np.ndarray, vertex_faces: sp.csr_matrix,
-                        hole_faces: list[np.ndarray], loops: list[np.ndarray]) -> list[int]:
-    """How many of each fill's triangles cross original faces that the check made with the
-    fill (within ``CROSSING_RINGS`` rings of its loop) did not look at.
+def far_crossing_triangles(vertices: np.ndarray, faces: np.ndarray,
+                           vertex_faces: sp.csr_matrix, hole_faces: list[np.ndarray],
+                           loops: list[np.ndarray]) -> list[np.ndarray]:
+    """Each fill's triangles that cross original faces that the check made with the fill
+    (within ``CROSSING_RINGS`` rings of its loop) did not look at.
 
     Parameters
     ----------
@@ -58,8 +59,9 @@ def far_crossing_counts(vertices: np.ndarray, faces: np.ndarray, vertex_faces: s
 
     Returns
     -------
-    list of int
-        Per fill, the number of its triangles that pierce or overlap an original face with
+    list of int64 arrays
+        Per fill, its triangles (rows of its ``hole_faces``, sorted) that pierce or overlap
+        an original face with
         no corner within ``CROSSING_RINGS`` rings of the loop and a corner in the fill's
         bounding box grown by its longest edge (:func:`~surfinpaint.geometry.intersection.
         intersecting_pairs`). A face that crosses the fill with every corner outside that
@@ -76,11 +78,12 @@ def far_crossing_counts(vertices: np.ndarray, faces: np.ndarray, vertex_faces: s
     # one contiguous column per axis: each narrows the last one's survivors (cheaper than
     # gathering whole rows of a slab, which on a closed surface holds a band around it)
     axes = [np.ascontiguousarray(v[:n_original, k]) for k in range(3)]
-    counts = []
+    none = np.empty(0, dtype=np.int64)
+    crossing = []
     for fill, loop in zip(hole_faces, loops, strict=True):
         fill = np.asarray(fill, dtype=np.int64).reshape(-1, 3)
         if not len(fill):
-            counts.append(0)
+            crossing.append(none)
             continue
         corners = v[fill]
         reach = float(row_norms(corners - np.roll(corners, 1, axis=1)).max())
@@ -93,23 +96,23 @@ def far_crossing_counts(vertices: np.ndarray, faces: np.ndarray, vertex_faces: s
         checked = _within_rings(faces, vertex_faces, loop, CROSSING_RINGS)
         beyond = boxed[~np.isin(boxed, checked)]
         if not len(beyond):
-            counts.append(0)
+            crossing.append(none)
             continue
         other = faces[np.unique(vertex_faces[beyond].indices)]
         other = other[~np.isin(other, checked).any(axis=1)]
         pairs = intersecting_pairs(v, fill, other) if len(other) else ()
-        counts.append(int(len(np.unique(pairs[:, 0]))) if len(pairs) else 0)
-    return counts
+        crossing.append(np.unique(pairs[:, 0]).astype(np.int64) if len(pairs) else none)
+    return crossing
 
 
 class CrossingFills(NamedTuple):
-    """Two fills that cross each other: their positions in the list of fills, and how
-    many triangles of each cross the other's."""
+    """Two fills that cross each other: their positions in the list of fills, and the
+    triangles of each (rows of its faces, sorted) that cross the other's."""
 
     first: int
     second: int
-    first_triangles: int
-    second_triangles: int
+    first_triangles: np.ndarray
+    second_triangles: np.ndarray
 
 
 def crossing_fill_pairs(vertices: np.ndarray,
@@ -157,6 +160,6 @@ def crossing_fill_pairs(vertices: np.ndarray,
     for i, j in sorted(zip(made[a].tolist(), made[b].tolist(), strict=True)):
         pairs = intersecting_pairs(v, fills[i], fills[j])
         if len(pairs):
-            out.append(CrossingFills(i, j, len(np.unique(pairs[:, 0])),
-                                     len(np.unique(pairs[:, 1]))))
+            out.append(CrossingFills(i, j, np.unique(pairs[:, 0]).astype(np.int64),
+                                     np.unique(pairs[:, 1]).astype(np.int64)))
     return out

@@ -235,7 +235,7 @@ def record(report: HoleReport, fill: Fill) -> None:
     report.verdict, report.crease, report.diagnostics = (fill.verdict, fill.crease,
                                                           fill.diagnostics)
     report.crease_failure = fill.crease_failure
-    report.crossings = fill.crossings
+    report.crossings, report.crossing_triangles = fill.crossings, fill.crossing_triangles
     report.plane = fill.plane
     report.smoothing = fill.smoothing
     if fill.crossings:
@@ -282,18 +282,25 @@ class Run:
             self.progress(self.position.get(id(report), 0), self.n_holes,
                           f"hole {report.index}: {report.n_edges} edges, {self.method}")
 
-    def stages_of(self, report: HoleReport) -> Callable[[str], None] | None:
-        """The ``stage`` callback of ``report``'s conformal fill made here: each stage as it
-        starts told to ``progress``, as ``hole 3: 212 edges, λ-H fill (stage 5 of 5)``
-        (the holes done still the count); None where nobody listens."""
-        if not self.progress or self.method != "conformal":
+    @property
+    def tells_stages(self) -> bool:
+        """Whether the conformal fill's stages are told (someone listens to progress)."""
+        return bool(self.progress) and self.method == "conformal"
+
+    def stages_of(self, report: HoleReport, counted: HoleReport | None = None
+                  ) -> Callable[[str], None] | None:
+        """The ``stage`` callback of ``report``'s conformal fill: each stage as it starts
+        told to ``progress``, as ``hole 3: 212 edges, λ-H fill (stage 5 of 5)`` (the holes
+        done still the count: ``counted``'s place, the hole stitched next where the holes
+        are filled on workers; ``report``'s own by default); None where nobody listens."""
+        if not self.tells_stages:
             return None
         words = parallel.conformal_method.stage_words  # the fill imports it anyway
+        done = self.position.get(id(counted or report), 0)
 
         def stage(name: str) -> None:
-            self.progress(self.position.get(id(report), 0), self.n_holes,
-                          f"hole {report.index}: {report.n_edges} edges, "
-                          f"{words(name)}")
+            self.progress(done, self.n_holes,
+                          f"hole {report.index}: {report.n_edges} edges, {words(name)}")
         return stage
 
     def finished(self, report: HoleReport) -> None:

@@ -27,7 +27,7 @@ from surfinpaint.fill.hole_steps import (
 )
 from surfinpaint.fill.islands import Island
 from surfinpaint.fill.neighbourhood import FilledMesh, Local, zero_area_reason
-from surfinpaint.fill.parallel import crossing_faces
+from surfinpaint.fill.parallel import crossing_triangles
 from surfinpaint.fill.results import Fill, HoleReport
 from surfinpaint.geometry.intersection import self_intersections
 from surfinpaint.io.base import MeshWarning
@@ -92,11 +92,12 @@ def joined_islands(islands: list[Island], reports: list[HoleReport], todo: list[
 
 
 def _crossing(local: Local, loops: np.ndarray, fill: Fill) -> int:
-    """The triangles of ``fill`` that cross the surface around its loops
-    (:func:`~surfinpaint.fill.parallel.crossing_faces`) or one another."""
+    """How many triangles of ``fill`` cross the surface around its loops
+    (:func:`~surfinpaint.fill.parallel.crossing_triangles`) or one another (each once)."""
     positions = np.concatenate([local.vertices, fill.vertices])
     pairs = self_intersections(positions, fill.faces)
-    return crossing_faces(local.vertices, local.faces, loops, fill) + len(np.unique(pairs))
+    return len(np.union1d(crossing_triangles(local.vertices, local.faces, loops, fill),
+                          pairs))
 
 
 def _annulus(local: Local, loops: list[np.ndarray], order: int) -> tuple[Fill | None, str]:

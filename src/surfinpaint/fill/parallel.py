@@ -41,7 +41,7 @@ from surfinpaint.lazy import lazy_module
 # imported by warmup.warm_kernels("conformal"); docs/scale.md, session 14)
 conformal_method = lazy_module("surfinpaint.fill.conformal.method")
 
-__all__ = ["crossing_faces", "exit_with_parent", "fill_local", "fill_or_failure", "forks",
+__all__ = ["crossing_triangles", "exit_with_parent", "fill_local", "fill_or_failure", "forks",
            "independent", "pool", "reissue", "resolve_jobs", "start_context", "worth_parallel"]
 
 # fewer holes than this, or fewer boundary edges in all, and the holes are filled in this
@@ -70,10 +70,10 @@ def resolve_jobs(jobs) -> int:
 CROSSING_RINGS = 2
 
 
-def crossing_faces(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
-                   fill: Fill) -> int:
-    """How many of ``fill``'s triangles pierce or overlap the surface within
-    ``CROSSING_RINGS`` vertex rings of ``loop`` (touching it along the loop does not count).
+def crossing_triangles(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                       fill: Fill) -> np.ndarray:
+    """Which of ``fill``'s triangles pierce or overlap the surface within ``CROSSING_RINGS``
+    vertex rings of ``loop`` (touching it along the loop does not count).
 
     Parameters
     ----------
@@ -86,9 +86,10 @@ def crossing_faces(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
 
     Returns
     -------
-    int
-        0 for a clean fill. A folded boundary loop (at a sharp corner, on a folded brain
-        surface) can make any fill of it cross the surface there.
+    (c,) int64 array
+        Their rows in ``fill.faces``, sorted; empty for a clean fill. A folded boundary loop
+        (at a sharp corner, on a folded brain surface) can make any fill of it cross the
+        surface there.
     """
     near = np.zeros(len(vertices), dtype=bool)
     near[loop] = True
@@ -97,17 +98,17 @@ def crossing_faces(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     around = faces[rows_any(near[faces])]
     new_f = np.asarray(fill.faces, dtype=np.int64).reshape(-1, 3)
     if not len(new_f) or not len(around):
-        return 0
+        return np.empty(0, dtype=np.int64)
     positions = np.concatenate([vertices, np.asarray(fill.vertices, float).reshape(-1, 3)])
     pairs = patch_intersects_surroundings(positions, new_f, around)
-    return int(len(np.unique(pairs[:, 0]))) if len(pairs) else 0
+    return np.unique(pairs[:, 0]).astype(np.int64)
 
 
 def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,
                options: ConformalOptions, fair_order: int | None,
                stage: Callable[[str], None] | None = None) -> Fill:
-    """Fill one hole of a neighbourhood (local ids) with ``method``, with the count of its
-    triangles that cross the surface around it (:func:`crossing_faces`); ``stage`` told of
+    """Fill one hole of a neighbourhood (local ids) with ``method``, with those of its
+    triangles that cross the surface around it (:func:`crossing_triangles`); ``stage`` told of
     the conformal fill's stages (:data:`~surfinpaint.fill.conformal.method.STAGES`)."""
     if method == "fair":  # the baseline, or the conformal method's fallback (its smoothing)
         order = fair_order or 2
@@ -119,7 +120,8 @@ def fill_local(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method
     else:
         fill = conformal_method.conformal_fill(vertices, faces, loop, options,
                                                fair_order=fair_order, stage=stage)
-    return dataclasses.replace(fill, crossings=crossing_faces(vertices, faces, loop, fill))
+    return dataclasses.replace(fill, crossing_triangles=crossing_triangles(vertices, faces,
+                                                                            loop, fill))
 
 
 def fill_or_failure(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, method: str,

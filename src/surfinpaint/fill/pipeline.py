@@ -21,7 +21,7 @@ from surfinpaint.fill.attributes import ATTRIBUTE_KINDS, check_attributes, fill_
 from surfinpaint.fill.conformal import ConformalOptions
 from surfinpaint.fill.conformal.options import check_fair_order
 from surfinpaint.fill.face_attributes import fill_result_face_attributes
-from surfinpaint.fill.far_crossings import crossing_fill_pairs, far_crossing_counts
+from surfinpaint.fill.far_crossings import crossing_fill_pairs, far_crossing_triangles
 from surfinpaint.fill.hole_steps import Run, fill_hole, open_seams
 from surfinpaint.fill.holes import (
     BORDER_SPAN_FRACTION,
@@ -178,7 +178,9 @@ def fill_holes(
         left as it is, with a warning (as is an island that cannot be joined, e.g. wound
         opposite to the surface around the hole). The island is never deleted.
     progress : callable(done, total, message), optional
-        Called before and after each hole (in hole order).
+        Called before and after each hole (in hole order), and as each stage of a conformal
+        fill starts (``hole 3: 212 edges, λ-H fill (stage 5 of 5)``; on forked workers as
+        the stages' news comes, the last said again each second), always in this thread.
     jobs : int, optional
         Worker processes filling holes at once (None: all the cores this process may use;
         1: one hole after another in this process). The result is bit-identical to the
@@ -421,32 +423,33 @@ def _result(mesh: FilledMesh, reports: list[HoleReport], found: _FoundHoles,
 
 
 def _warn_crossings(result: FillResult, mesh: FilledMesh, reports: list[HoleReport]) -> None:
-    """Count the fills' triangles that cross the surface away from their hole, or another
-    hole's fill, in the holes' reports, each crossing also a warning (at the caller of
-    ``fill_holes``): each hole was checked only against the rings around it, as it was
-    filled."""
+    """Add the fills' triangles that cross the surface away from their hole, or another
+    hole's fill, to the holes' reports (a triangle already counted is not counted again),
+    each check's finding also a warning (at the caller of ``fill_holes``): each hole was
+    checked only against the rings around it, as it was filled."""
     hole_faces = result.hole_faces()
-    for report, far in zip(reports, far_crossing_counts(
+    for report, far in zip(reports, far_crossing_triangles(
             result.vertices, mesh.faces, mesh.vertex_faces, hole_faces,
             [r.loop for r in reports]), strict=True):
-        if far:
-            triangles = how_many(far, "triangle", "triangles")
+        if len(far):
+            triangles = how_many(len(far), "triangle", "triangles")
             warnings.warn(f"hole {report.index}: {triangles} of the fill "
-                          f"cross{agreeing(far, 'es', '')} the surface farther out than the rings "
-                          "around the hole checked as it was filled (a fold or a thin part, "
-                          "near in space): check the result", HoleWarning, stacklevel=3)
-            report.crossings += far
+                          f"cross{agreeing(len(far), 'es', '')} the surface farther out than the "
+                          "rings around the hole checked as it was filled (a fold or a thin "
+                          "part, near in space): check the result", HoleWarning, stacklevel=3)
+            report.add_crossings(far)
     for pair in crossing_fill_pairs(result.vertices, hole_faces):
         one, other = reports[pair.first], reports[pair.second]
+        first, second = len(pair.first_triangles), len(pair.second_triangles)
         # not a HoleWarning: the hole lines count these triangles, only this names both
         warnings.warn(f"holes {one.index} and {other.index}: "
-                      f"{how_many(pair.first_triangles, 'triangle', 'triangles')} of hole "
-                      f"{one.index}'s fill cross{agreeing(pair.first_triangles, 'es', '')} "
-                      f"{pair.second_triangles} of hole {other.index}'s (two holes near in "
+                      f"{how_many(first, 'triangle', 'triangles')} of hole "
+                      f"{one.index}'s fill cross{agreeing(first, 'es', '')} "
+                      f"{second} of hole {other.index}'s (two holes near in "
                       "space, each filled without the other's fill): check the result",
                       MeshWarning, stacklevel=3)
-        one.crossings += pair.first_triangles
-        other.crossings += pair.second_triangles
+        one.add_crossings(pair.first_triangles)
+        other.add_crossings(pair.second_triangles)
 
 
 def _warn_topology(result: FillResult) -> None:

@@ -242,9 +242,10 @@ class Fill:
         The crease fill failed and the hole was filled as smooth.
     diagnostics : LambdaHDiagnostics, optional
         What the λ-H pass used (the λ-H fill).
-    crossings : int
-        The fill's triangles that pierce or overlap the surface around the hole
-        (:func:`surfinpaint.fill.parallel.crossing_faces`; 0 for a clean fill).
+    crossing_triangles : (c,) int array
+        The fill's triangles (rows of ``faces``, sorted) that pierce or overlap the surface
+        around the hole (:func:`surfinpaint.fill.parallel.crossing_triangles`; empty for a
+        clean fill); :attr:`crossings` counts them.
     plane : PlaneTest or TwoPlanes, optional
         The known surface around the hole was a plane within its noise (the conformal
         method's ``plane_test``), or two planes meeting at an edge (``two_plane_test``),
@@ -266,9 +267,14 @@ class Fill:
     crease: str | None = None
     crease_failure: str | None = None
     diagnostics: LambdaHDiagnostics | None = None
-    crossings: int = 0
+    crossing_triangles: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
     plane: PlaneTest | TwoPlanes | None = None
     smoothing: Smoothing | None = None
+
+    @property
+    def crossings(self) -> int:
+        """How many of the fill's triangles cross the surface around the hole."""
+        return len(self.crossing_triangles)
 
     @property
     def notes(self) -> str | None:
@@ -338,9 +344,11 @@ class HoleReport:
     fill failed and it was filled as smooth), ``diagnostics`` what the λ-H pass used, and
     ``crossings`` how many of the written fill's triangles cross the surface around the hole
     (see :class:`Fill`), farther out, or another hole's fill
-    (:mod:`surfinpaint.fill.far_crossings`; a warning says so, naming both holes for the
-    last), ``plane`` the plane test's verdict where the faired fill was laid on the plane
-    (or two planes) of the surface around the hole (``note`` says so). ``islands``: the
+    (:mod:`surfinpaint.fill.far_crossings`; a warning says so for each, naming both holes
+    for the last), each triangle counted once, ``crossing_triangles`` which (their rows in
+    the hole's new faces, :meth:`FillResult.hole_faces`; sorted), ``plane`` the plane test's
+    verdict where the faired fill was laid on the plane (or two planes) of the surface
+    around the hole (``note`` says so). ``islands``: the
     loops (by number) of the islands the hole was filled with
     (:mod:`surfinpaint.fill.islands`: a faired fill of the annulus between the loops;
     ``note`` names their pieces). ``smoothing``: whether the hole's bilaplacian fill was
@@ -371,6 +379,15 @@ class HoleReport:
     plane: PlaneTest | TwoPlanes | None = None
     islands: tuple[int, ...] = ()
     smoothing: Smoothing | None = None
+    crossing_triangles: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+
+    def add_crossings(self, triangles: np.ndarray) -> None:
+        """Take ``triangles`` (rows of the hole's new faces) among those that cross the
+        surface or another fill; ``crossings`` counts each triangle once, whichever checks
+        found it."""
+        self.crossing_triangles = np.union1d(self.crossing_triangles,
+                                             np.asarray(triangles, dtype=np.int64))
+        self.crossings = len(self.crossing_triangles)
 
     @property
     def smoothed(self) -> bool:

@@ -23,15 +23,22 @@ How the work is shared:
 - Here, the fills are stitched in the serial order, each as soon as it and those before it
   are in: vertex numbering, reports, warnings (a worker's are recorded and issued again
   here), progress and errors (a worker's is raised at its hole) are those of the serial run.
+  A forked worker also tells the stages of its hole's conformal fill as they start, through
+  a queue, and they are said here as they come (the holes stitched the count), the last one
+  again every :data:`SAY_AGAIN_SECONDS` without news (a bar's clock goes on).
 """
 
 from __future__ import annotations
 
+import functools
 import itertools
+import multiprocessing
 import time
 import warnings
+from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -56,6 +63,12 @@ blas_threads = lazy_module("surfinpaint.representation.blas_threads")
 
 __all__ = ["Outcome", "fill_cut_here", "fill_in_parallel", "fill_sent", "reached"]
 
+#: Seconds without news from the workers after which the last stage is said again (the
+#: same message: a bar's clock goes on; a display's cadence, not a fill rule)
+SAY_AGAIN_SECONDS = 1.0
+#: Seconds between looks for the workers' news while the parent waits for their answers
+NEWS_SECONDS = 0.1
+
 
 @dataclass(frozen=True)
 class _Job:
@@ -66,6 +79,7 @@ class _Job:
     indices: list[int]
     rings: list[int]
     run: Run
+    stages: Any = None  # the queue the workers tell their holes' stages through, if any
 
 
 # the jobs of the calls running in this process, by token; a forked worker finds its own
@@ -111,12 +125,28 @@ def _recorded(call, *args) -> tuple[object, list[parallel.WarningRecord]]:
     return answer, [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
 
 
-def _checked_fill(mesh: FilledMesh, local: Local, index: int, run: Run
+def _checked_fill(mesh: FilledMesh, local: Local, index: int, run: Run,
+                  stage: Callable[[str], None] | None = None
                   ) -> tuple[Local, str | None, Fill | None, str | None]:
     local, hole_run, why = around_zero_area(mesh, local, run)
     problem = loop_problem(local, index, run.explicit)
-    made, failure = (None, None) if problem else at_hole(index, hole_run.fill, local)
+    made, failure = (None, None) if problem else at_hole(index, hole_run.fill, local, stage)
     return local, problem, with_failure(made, why), failure
+
+
+def _tell_stage(queue, position: int, name: str) -> None:
+    """In a worker: tell the parent that hole ``position``'s fill starts stage ``name``
+    (written at once, a ``SimpleQueue``: before the hole's answer, which the parent reads
+    after)."""
+    queue.put((position, name))
+
+
+def _stage_teller(job: _Job | None, position: int) -> Callable[[str], None] | None:
+    """In a forked worker: the ``stage`` callback of hole ``position``'s fill (None where
+    nobody listens, or the worker was not forked: it has no ``job``)."""
+    if job is None or job.stages is None:
+        return None
+    return functools.partial(_tell_stage, job.stages, position)
 
 
 def fill_cut_here(token: int, position: int) -> Outcome:
@@ -130,31 +160,67 @@ def fill_cut_here(token: int, position: int) -> Outcome:
     earlier = reached(local.ids, job.loops[:position])
     if len(earlier):
         return Outcome(needs=int(earlier.max()) + 1)
-    (local, problem, made, failure), records = _recorded(_checked_fill, job.mesh, local,
-                                                         job.indices[position], job.run)
+    (local, problem, made, failure), records = _recorded(
+        _checked_fill, job.mesh, local, job.indices[position], job.run,
+        _stage_teller(job, position))
     return Outcome(made, failure, problem,
                    None if made is None else zero_area_reason(local.vertices, made),
                    local.ids, records, time.perf_counter() - started)
 
 
 def fill_sent(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, index: int,
-              method: str, options: ConformalOptions, fair_order: int | None) -> Outcome:
+              method: str, options: ConformalOptions, fair_order: int | None,
+              token: int | None = None, position: int = 0) -> Outcome:
     """In a worker: fill hole ``index`` from the neighbourhood the parent cut and checked
-    (local ids)."""
+    (local ids); a forked worker tells the stages of the call ``token``'s hole
+    ``position``."""
     started = time.perf_counter()
+    stage = _stage_teller(_INHERITED.get(token), position)
     (made, failure), records = _recorded(at_hole, index, parallel.fill_or_failure, vertices,
-                                         faces, loop, method, options, fair_order)
+                                         faces, loop, method, options, fair_order, stage)
     return Outcome(made, failure,
                    unstitchable=None if made is None else zero_area_reason(vertices, made),
                    records=records, seconds=time.perf_counter() - started)
+
+
+class _StageNews:
+    """The stages the workers tell through ``queue`` (:func:`_tell_stage`), said to the
+    run's ``progress`` as they come, of the holes still in flight; the last one said again
+    after :data:`SAY_AGAIN_SECONDS` without news, while its hole is in flight."""
+
+    def __init__(self, queue, run: Run, todo: list[HoleReport],
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.queue, self.run, self.todo, self.clock = queue, run, todo, clock
+        self.last: tuple[int, str] | None = None
+        self.said_at = 0.0
+
+    def read(self, flying: set[int], stitched: int) -> None:
+        """Say the news of the holes at ``flying`` positions; ``stitched`` holes done."""
+        news = False
+        while not self.queue.empty():  # this process the one reader: a message is there
+            p, name = self.queue.get()
+            if p in flying:  # read before the answers are filed: only a dependent's is not
+                self.last, news = (p, name), True
+                self._say(stitched)
+        if self.last is not None and self.last[0] not in flying:
+            self.last = None
+        if not news and self.last and self.clock() - self.said_at >= SAY_AGAIN_SECONDS:
+            self._say(stitched)
+
+    def _say(self, stitched: int) -> None:
+        p, name = self.last
+        counted = self.todo[min(stitched, len(self.todo) - 1)]
+        self.run.stages_of(self.todo[p], counted)(name)
+        self.said_at = self.clock()
 
 
 class _Schedule:
     """The state of one parallel fill: which holes are where."""
 
     def __init__(self, mesh: FilledMesh, todo: list[HoleReport], run: Run, workers: int,
-                 token: int | None) -> None:
+                 token: int | None, news: _StageNews | None = None) -> None:
         self.mesh, self.todo, self.run, self.token = mesh, todo, run, token
+        self.news = news
         self.loops = [r.loop for r in todo]
         self.slots = workers + 1
         # longest first (a stable sort: the serial order among equal lengths)
@@ -204,7 +270,7 @@ class _Schedule:
                 local, run = self.cuts[p], self.runs[p]
                 future = executor.submit(fill_sent, local.vertices, local.faces,
                                          local.local_loop, self.todo[p].index, run.method,
-                                         run.options, run.fair_order)
+                                         run.options, run.fair_order, self.token, p)
             elif self.token is not None:
                 p = self.unstarted.pop(0)
                 future = executor.submit(fill_cut_here, self.token, p)
@@ -217,7 +283,12 @@ class _Schedule:
         """Wait for a worker's answer and file it."""
         if not self.flying:
             raise RuntimeError(f"hole {self.todo[self.stitched].index}: nothing to wait for")
-        done, _ = wait(self.flying, return_when=FIRST_COMPLETED)
+        done = None
+        while not done:
+            done, _ = wait(self.flying, return_when=FIRST_COMPLETED,
+                           timeout=None if self.news is None else NEWS_SECONDS)
+            if self.news is not None:
+                self.news.read(set(self.flying.values()), self.stitched)
         for future in done:
             p = self.flying.pop(future)
             try:
@@ -253,10 +324,15 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
     """The holes of ``todo`` filled in ``workers`` processes and stitched into ``mesh`` in
     their order, bit-identical to one after another (see the module's docstring)."""
     token = next(_TOKENS) if parallel.forks() else None
+    news = None
     if token is not None:  # before the first submit: the workers fork then
+        # the stages come back from forked workers only (a queue is shared by inheritance)
+        if run.tells_stages:
+            news = _StageNews(multiprocessing.get_context("fork").SimpleQueue(), run, todo)
         _INHERITED[token] = _Job(mesh, [r.loop for r in todo], [r.index for r in todo],
-                                 [run.rings_of(r) for r in todo], run)
-    schedule = _Schedule(mesh, todo, run, workers, token)
+                                 [run.rings_of(r) for r in todo], run,
+                                 None if news is None else news.queue)
+    schedule = _Schedule(mesh, todo, run, workers, token, news)
     # one BLAS thread here too: the cuts and checks made here share the cores with workers.
     # The process's controller (made with the conformal kernels, warmup.warm_kernels, else
     # here), made before the workers fork, is the one they use: once a process, not once a
@@ -267,11 +343,13 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
     try:
         announced = 0  # progress: the holes whose start was announced
         while schedule.stitched < len(todo):
+            schedule.release()
+            schedule.top_up(executor)
+            # said once the workers are started (with fork, all at the first submit): a
+            # ticking bar's clock thread (app/progress.py) starts only where none runs
             if announced == schedule.stitched:
                 run.starting(todo[announced])
                 announced += 1
-            schedule.release()
-            schedule.top_up(executor)
             if schedule.stitched in schedule.outcomes:
                 schedule.stitch_next()
             else:
@@ -283,3 +361,5 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
         executor.shutdown(wait=True, cancel_futures=True)
         blas.restore_original_limits()
         _INHERITED.pop(token, None)
+        if news is not None:
+            news.queue.close()

@@ -1,0 +1,132 @@
+"""The progress bar's clock while a hole is filled in the process that draws it (``fill``,
+``batch --jobs 1``): a thread draws the bar again every ``TICK_SECONDS`` while a stage runs,
+and runs only where no other thread does (session 48; session 47 left the clock standing
+through a 6-s stage). Each stage here is a fake one that waits for the clock's ticks: no
+test times a fill."""
+
+from __future__ import annotations
+
+import threading
+
+import pytest
+
+from surfinpaint.app import batch_command, progress
+from surfinpaint.app.cli import main
+from surfinpaint.data import sphere
+from surfinpaint.fill import parallel
+from surfinpaint.geometry.cutting import cut_holes
+from surfinpaint.geometry.mesh import boundary_loops
+from surfinpaint.io import write_mesh
+
+CLOCK = "surfinpaint-bar-clock"
+
+
+def _clocks() -> list[threading.Thread]:
+    return [t for t in threading.enumerate() if t.name == CLOCK]
+
+
+@pytest.fixture
+def ticks(monkeypatch):
+    """The bar's ticks, counted; a tick every 10 ms."""
+    monkeypatch.setattr(progress, "TICK_SECONDS", 0.01)
+    counted = {"ticks": 0, "event": threading.Condition()}
+    tick = progress._Bar._tick
+
+    def counting(self):
+        tick(self)
+        with counted["event"]:
+            counted["ticks"] += 1
+            counted["event"].notify_all()
+
+    monkeypatch.setattr(progress._Bar, "_tick", counting)
+    return counted
+
+
+def _wait_for_ticks(counted, n: int) -> int:
+    """Wait (at most a minute) until ``n`` more ticks came; how many came."""
+    with counted["event"]:
+        start = counted["ticks"]
+        counted["event"].wait_for(lambda: counted["ticks"] >= start + n, timeout=60)
+        return counted["ticks"] - start
+
+
+@pytest.fixture
+def slow_stage(monkeypatch, ticks):
+    """Each hole's fill says its λ-H stage, then waits for 10 of the bar's ticks (the GIL let
+    go, as in a long solve), then fills the hole; the ticks seen during each stage."""
+    fill_local = parallel.fill_local
+    seen: list[int] = []
+
+    def slow(vertices, faces, loop, method, options, fair_order, stage=None):
+        if stage is not None:
+            stage("λ-H fill")
+            seen.append(_wait_for_ticks(ticks, 10))
+        return fill_local(vertices, faces, loop, method, options, fair_order)
+
+    monkeypatch.setattr(parallel, "fill_local", slow)
+    return seen
+
+
+def test_a_ticking_bar_draws_again_while_work_runs_and_stops_after(ticks):
+    with progress.progress_bar(True, None, "filling", ticking=True) as bar:
+        bar.update(0, 1, "hole 0: 212 edges, λ-H fill (stage 5 of 5)")
+        assert _wait_for_ticks(ticks, 3) == 3  # this thread busy: the clock draws the bar
+        assert len(_clocks()) == 1
+        bar.update(1, 1, "hole 0: done in 3.1 s")  # nothing left to do: no more ticks
+        assert not _clocks()
+        bar.update(0, 2, "hole 1: 12 edges, conformal")
+        assert len(_clocks()) == 1
+    assert not _clocks()  # the bar's end stops it
+
+
+def test_no_clock_beside_another_thread_nor_unasked(ticks):
+    # another thread (a pool's, whose workers were forked from a process of one thread):
+    # the clock does not start, so it never runs beside workers
+    done = threading.Event()
+    other = threading.Thread(target=done.wait)
+    other.start()
+    try:
+        with progress.progress_bar(True, None, "filling", ticking=True) as bar:
+            bar.update(0, 1, "hole 0: 212 edges, λ-H fill (stage 5 of 5)")
+            assert not _clocks()
+    finally:
+        done.set()
+        other.join()
+    with progress.progress_bar(True, None, "experiments") as bar:  # not a ticking bar
+        bar.update(0, 1, "hole 0: 212 edges, λ-H fill (stage 5 of 5)")
+        assert not _clocks()
+    with pytest.raises(KeyError), progress.progress_bar(True, None, "x", ticking=True) as bar:
+        bar.update(0, 1, "hole 0")
+        raise KeyError("a run that fails")
+    assert not _clocks()
+
+
+@pytest.fixture(scope="module")
+def one_hole(tmp_path_factory):
+    """A sphere with one hole, as a file, and its hole's boundary edges."""
+    path = tmp_path_factory.mktemp("clock") / "holed.ply"
+    v, f = sphere(3)
+    cut = cut_holes(v, f, [0], 0.5)
+    write_mesh(path, cut.vertices, cut.faces)
+    (loop,) = boundary_loops(cut.faces)
+    return path, len(loop)
+
+
+def test_fill_draws_its_bar_while_a_stage_runs(one_hole, slow_stage, tmp_path):
+    assert main(["fill", str(one_hole[0]), "-o", str(tmp_path / "out.ply"), "--jobs", "1"]) == 0
+    assert slow_stage == [10]  # the stage waited for ticks, and they came
+    assert not _clocks()
+
+
+def test_a_batch_log_with_one_job_says_a_stage_that_lasts(one_hole, slow_stage, monkeypatch,
+                                                          tmp_path, capsys):
+    # stderr captured: a log; a stage that lasts 0.05 s is said (10 s in a real run), by the
+    # bar's clock: the fill runs in this process, which says nothing else meanwhile
+    monkeypatch.setattr(batch_command, "LOG_AFTER_SECONDS", 0.05)
+    path, n_edges = one_hole
+    assert main(["batch", str(path), "-o", str(tmp_path / "out"), "--jobs", "1"]) == 0
+    assert slow_stage == [10]
+    lines = capsys.readouterr().err.splitlines()
+    assert [line for line in lines if "so far" in line] == [
+        f"  {path}: 0/1 holes (hole 0: {n_edges} edges, λ-H fill (stage 5 of 5)), "
+        "0 s so far"]
