@@ -330,11 +330,12 @@ def _flat_ring(inner_radius, outer_points=96, inner_points=48):
 
 
 # (what, the opening's radius, may_be_border): the opening spans r² / (1 - r²) of the ring
-# (a disk of radius 1): the warning's 10 % falls at r ≈ 0.30
+# (a disk of radius 1): the warning's 20 % falls at r ≈ 0.41
 INNER_CASES = [
     ("a small hole inside a scan's border (1 %)", 0.1, False),
     ("a larger hole (7 %)", 0.25, False),
-    ("a washer's opening (14 %)", 0.35, True),
+    ("a plate's hole a third of its width (14 %)", 0.35, False),
+    ("a washer's opening (25 %)", 0.45, True),
     ("a thin ring's opening (56 %): never the border", 0.6, True),
 ]
 

@@ -40,6 +40,10 @@ from surfinpaint.app.batch_summary import (
 )
 from surfinpaint.errors import how_many
 
+# the files in flight are said again after as long without news as a hole's stage is (the
+# same message: a bar's clock goes on, a log can tell a stage that lasts)
+from surfinpaint.fill.scheduler import SAY_AGAIN_SECONDS
+
 __all__ = ["ProgressCallback", "ResultCallback", "RunRows", "files_in_flight", "list_jobs",
            "remove_temporaries"]
 
@@ -49,9 +53,6 @@ ResultCallback = Callable[[FileRow], None]
 # says its hole (RunRows.hole)
 _IN_FLIGHT_SEPARATOR = " · "
 _IN_FLIGHT = re.compile(r": \d+/\d+ holes \(")
-#: Seconds without news after which the progress of the files in flight is said again (the
-#: same message: a bar's clock goes on, a log can tell a stage that lasts)
-SAY_AGAIN_SECONDS = 1.0
 
 
 def files_in_flight(message: str) -> list[str]:
