@@ -26,8 +26,9 @@ set 18's (session 41) in ``holdout18_meshes.py``, holdout set 19's (session 42) 
 ``holdout19_meshes.py``, holdout set 20's (session 43) in ``holdout20_meshes.py``, holdout
 set 21's (session 44) in ``holdout21_meshes.py``, holdout set 22's (session 45) in
 ``holdout22_meshes.py``, holdout set 23's (session 46) in ``holdout23_meshes.py``, holdout
-set 24's (session 47) in ``holdout24_meshes.py``; this module adds their
-``HOLDOUT8_SOURCES`` to ``HOLDOUT24_SOURCES`` to :data:`SOURCES` at its end.
+set 24's (session 47) in ``holdout24_meshes.py``, holdout set 25's (session 48) in
+``holdout25_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
+``HOLDOUT25_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2069,6 +2070,13 @@ SOURCES.update(HOLDOUT23_SOURCES)
 from holdout24_meshes import HOLDOUT24_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT24_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 25
+
+# Session 48's set (benchmarks/holdout25_manifest.json), as holdout 24's: its own module.
+from holdout25_meshes import HOLDOUT25_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT25_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 
