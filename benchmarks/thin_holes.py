@@ -221,8 +221,8 @@ def class_lines(name: str, keys: list, err: dict, default: dict) -> list[str]:
                    if _better_faired(err, k) > 1e-6]
     closest = collections.Counter(
         min(("conformal", *PEERS), key=lambda m: err.get((m, *k), np.inf)) for k in keys)
-    each = {m: _med([err[(m, *k)] / err[("cgal", *k)] for k in keys
-                     if (m, *k) in err and err.get(("cgal", *k), 0) > 1e-6])
+    each = {m: [err[(m, *k)] / err[("cgal", *k)] for k in keys
+                if (m, *k) in err and err.get(("cgal", *k), 0) > 1e-6]
             for m in ("conformal", *INSTEAD[:-1], *PEERS)}
     what = collections.Counter(written(k, err, default[k]) for k in keys)
     return [f"### {name}: {len(keys)} holes",
@@ -230,8 +230,9 @@ def class_lines(name: str, keys: list, err: dict, default: dict) -> list[str]:
             f"faired fill: median {_med(over_faired):.3f}, above 1.5×: "
             f"{sum(x > 1.5 for x in over_faired)}; the default's median error "
             f"{_med([err[('conformal', *k)] for k in keys]):.3f} %",
-            "- per-hole median / CGAL: " + ", ".join(f"{m} {x:.3f}" for m, x in each.items()
-                                                   if np.isfinite(x)),
+            "- per-hole median / CGAL (over n holes where not all): " + ", ".join(
+                f"{m} {_med(x):.3f}" + (f" (n {len(x)})" if len(x) < len(over_cgal) else "")
+                for m, x in each.items() if x),
             "- closest of the default and the peers: " + ", ".join(
                 f"{m} {n}" for m, n in closest.most_common()),
             "- written: " + ", ".join(f"{w} {n}" for w, n in what.most_common())]
@@ -296,13 +297,28 @@ def wrapping(loop_files: list[str]) -> dict:
     return out
 
 
-def confusion(name: str, truth: dict, keys, flagged: set) -> list[str]:
-    """The test against a truth label, as a table."""
-    lines = [f"| {name} | test fires | test silent |", "|---|---|---|"]
-    for value, what in ((True, "yes"), (False, "no")):
-        ks = [k for k in keys if truth[k] == value]
-        lines.append(f"| {what} | {sum(k in flagged for k in ks)} | "
-                     f"{sum(k not in flagged for k in ks)} |")
+# (opposed at least, gap at most): the truth-free test's variants in the confusion table
+VARIANTS = ((1e-9, np.inf), (0.5, np.inf), (0.5, 0.3), (0.75, 0.2))
+
+
+def firing(labels: dict, opposed: float, gap: float) -> set:
+    """The holes where the truth-free test fires."""
+    return {k for k, r in labels.items() if r["opposed"] >= opposed and r["gap"] <= gap}
+
+
+def confusion(labels: dict, truths: dict) -> list[str]:
+    """Each variant of the test against each truth label: fires / silent on the holes the
+    label says yes, and on those it says no."""
+    lines = ["| test (opposed ≥, gap ≤) | label | yes: fires | yes: silent | no: fires | "
+             "no: silent |", "|---|---|---|---|---|---|"]
+    for opposed, gap in VARIANTS:
+        fires = firing(labels, opposed, gap)
+        for name, truth in truths.items():
+            yes = [k for k in labels if truth(k)]
+            no = [k for k in labels if not truth(k)]
+            lines.append(f"| {opposed:.2g}, {gap:.2g} | {name} | "
+                         f"{sum(k in fires for k in yes)} | {sum(k not in fires for k in yes)} | "
+                         f"{sum(k in fires for k in no)} | {sum(k not in fires for k in no)} |")
     return lines
 
 
@@ -311,7 +327,7 @@ def tables(label_files: list[str], row_files: list[str], opposed: float, gap: fl
     labels, err, default = joined(label_files, row_files)
     thin = [k for k in sorted(labels) if labels[k]["thin"]]
     rest = [k for k in sorted(labels) if not labels[k]["thin"]]
-    flagged = {k for k, r in labels.items() if r["opposed"] >= opposed and r["gap"] <= gap}
+    flagged = firing(labels, opposed, gap)
     depth = [labels[k]["far_depth_h"] for k in thin]
     lines = [f"{len(labels)} holes ({sum('scan' in r for r in labels.values())} range-scan "
              f"holes not cut, counted not thin), {len(thin)} across a thin part (the part "
@@ -326,17 +342,15 @@ def tables(label_files: list[str], row_files: list[str], opposed: float, gap: fl
     lost_thin = sum(any(labels[k]["thin"] for k in meshes[m]) for m in lost)
     lines += [f"holes above 1.5× the better faired fill: {len(above)}, across a thin part "
               f"{sum(labels[k]['thin'] for k in above)}; meshes lost: {len(lost)}, with a "
-              f"hole across a thin part {lost_thin}",
-              "", f"truth-free test: opposed ≥ {opposed}, gap ≤ {gap}", ""]
-    lines += confusion("across a thin part", {k: r["thin"] for k, r in labels.items()},
-                       labels, flagged)
+              f"hole across a thin part {lost_thin}", ""]
+    truths = {"across a thin part": lambda k: labels[k]["thin"]}
     if loop_files:
         wraps = wrapping(loop_files)
-        cut = [k for k in labels if k in wraps]
-        lines += ["", f"against the symmetric label ({len(cut)} holes cut; scans not cut "
-                  "count as not wrapping)", ""]
-        lines += confusion("the patch wraps over a part", {k: wraps.get(k, False)
-                                                           for k in labels}, labels, flagged)
+        truths["the patch wraps over a part"] = lambda k: wraps.get(k, False)
+        lines += [f"(the symmetric label: {sum(k in wraps for k in labels)} holes cut; scans "
+                  "not cut count as not wrapping)", ""]
+    lines += confusion(labels, truths)
+    lines += ["", f"rules below: the test with opposed ≥ {opposed}, gap ≤ {gap}", ""]
     listed = sorted(set(thin) | flagged)
     return "\n".join(lines + [""] + rule_lines(labels, err, flagged) + [""] +
                      hole_lines(listed, labels, err, default, flagged)) + "\n"
