@@ -60,7 +60,8 @@ ALL_METHODS = ("fair", "fair1", "fair3", "fair_sfauto", "conformal", "conformal_
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
                "conformal_signif", "conformal_nosignif", "conformal_sfair35", "conformal_sfair40",
-               "conformal_sfauto", "conformal_nosmooth", "conventional", "cgal", "cgal3",
+               "conformal_sfauto", "conformal_nosmooth", "conformal_rings3", "conventional",
+               "triangulation", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # a row's note where the plane test laid the faired fill on the plane (no self-check ran)
@@ -94,6 +95,9 @@ CONFORMAL_VARIANTS = {
     # (docs/candidates.md, "Session 45 (helper)")
     "conformal_sfauto": {"fair_smoothing": "auto"},  # the default since session 45
     "conformal_nosmooth": {"fair_smoothing": None},  # the default before session 45
+    # the smallest λ-H patch (3 rings of known surface, not 4): holes across thin parts,
+    # whose patch wraps round the part (session 48, docs/selfcheck.md)
+    "conformal_rings3": {"patch_rings": 3},
 }
 
 
@@ -285,10 +289,10 @@ def _run_ours(method, vertices, faces, loop, **kwargs):
     return np.asarray(res.vertices), np.asarray(res.faces), dt, note
 
 
-def _run_conventional(vertices, faces, loop):
+def _run_conventional(vertices, faces, loop, **kwargs):
     from surfinpaint.fill.liepa.baseline import conventional_fill
 
-    (nv, nf), dt = _timed(conventional_fill, vertices, faces, loop)
+    (nv, nf), dt = _timed(conventional_fill, vertices, faces, loop, **kwargs)
     return np.vstack([vertices, nv]), np.vstack([faces, nf]), dt, ""
 
 
@@ -318,6 +322,8 @@ def run_method(method: str, vertices, faces, loop):
         return _run_faired(vertices, faces, loop, 2, smoothing="auto")
     if method == "conventional":
         return _run_conventional(vertices, faces, loop)
+    if method == "triangulation":  # the loop's triangulation alone: no new vertex (session 48)
+        return _run_conventional(vertices, faces, loop, refine=False, fair=False)
     if method in ("fair_cdt", "fair3_cdt"):  # the faired candidates of conformal_cdt
         return _run_faired(vertices, faces, loop, 3 if method == "fair3_cdt" else 2, "cdt")
     if method in ("fair_cgalref", "fair3_cgalref"):  # the faired candidates of conformal_cgalref

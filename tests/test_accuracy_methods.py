@@ -45,3 +45,14 @@ def test_fair_sfauto_is_the_plain_bilaplacian_fill_unless_the_noise_gate_opens(n
         assert moved == 0.0
     else:  # the smoothing fill: measurably another fill (not a rounding difference)
         assert moved > 1e-3
+
+
+def test_triangulation_column_adds_no_vertex_and_closes_the_hole():
+    """Session 48's ``triangulation`` column: the loop's triangulation alone."""
+    cut = _sphere_hole(0.0)
+    v, f, _, _ = accuracy.run_method("triangulation", cut.vertices, cut.faces, cut.loop)
+    assert len(v) == len(cut.vertices)
+    assert len(f) == len(cut.faces) + len(cut.loop) - 2
+    _, refined_f, _, _ = accuracy.run_method("conventional", cut.vertices, cut.faces, cut.loop)
+    assert len(refined_f) > len(f)  # the conventional fill refines it
+
