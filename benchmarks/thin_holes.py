@@ -11,7 +11,7 @@ nearest such removed vertex's depth behind the centre's plane, in mean edge leng
 part's thickness where the hole crosses it), ``through_h`` (the same over every vertex of the
 mesh within 1.5 h of the centre's normal line: the part's thickness at the centre, ``null``
 where nothing faces back), and the truth-free measures of
-:func:`surfinpaint.geometry.thin_parts.loop_sheets` (``opposed``, ``gap``) and session 12's
+:func:`loop_sheets.loop_sheets` (``opposed``, ``gap``) and session 12's
 ring ``wrap`` (:func:`thin_parts.wrap`).
 
     PYTHONPATH=src python benchmarks/thin_holes.py --sets tuning,cad_tuning --out labels.jsonl
@@ -44,13 +44,9 @@ sys.path.insert(0, str(Path(__file__).parent))
 import holes_manifest  # noqa: E402
 import thin_parts  # noqa: E402
 import validation  # noqa: E402
+from loop_sheets import OPPOSED_DOT, facing_away, loop_sheets  # noqa: E402
 
 from surfinpaint.geometry.mesh import faces_near, vertex_normals  # noqa: E402
-from surfinpaint.geometry.thin_parts import (  # noqa: E402
-    OPPOSED_DOT,
-    facing_away,
-    loop_sheets,
-)
 
 HERE = Path(__file__).parent
 # the through-thickness probe: vertices within this many h of the centre's normal line

@@ -1,4 +1,5 @@
-"""Whether a hole reaches across a thin part, from its boundary loop only (truth-free).
+"""Whether a hole reaches across a thin part, from its boundary loop only (truth-free): a
+study's measure (``thin_holes.py``), not used by any fill.
 
 A hole cut wider than the part it sits on (a tentacle's tip, a flange's rim, a blade) wraps
 over the part's edge: its loop runs on both faces of the part, and the known surface at the

@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 import trimesh
 
 from surfinpaint.data import cube, sphere
 from surfinpaint.geometry.cutting import cut_geodesic_disk
-from surfinpaint.geometry.thin_parts import loop_sheets
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from loop_sheets import loop_sheets  # noqa: E402
 
 
 def _slab():
