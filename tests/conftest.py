@@ -118,6 +118,9 @@ def on_forked_workers(monkeypatch) -> list[int]:
     from surfinpaint.fill import parallel, pipeline
 
     monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
+    # forked whatever other threads an earlier test of this process left running (the
+    # scheduler asks parallel.forks() whether the workers inherit its jobs and stage queue)
+    monkeypatch.setattr(parallel, "forks", lambda: True)
     context = multiprocessing.get_context("fork")
     monkeypatch.setattr(parallel, "pool", lambda workers: ProcessPoolExecutor(
         workers, mp_context=context))

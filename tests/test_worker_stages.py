@@ -101,6 +101,8 @@ def test_batch_on_workers_says_each_files_stages(two_holes, monkeypatch, tmp_pat
                           told if stage else None)
 
     monkeypatch.setattr(parallel, "fill_local", waiting)
+    # the workers forked whatever threads an earlier test of this process left running
+    monkeypatch.setattr(parallel, "forks", lambda: True)
     said: list[str] = []
 
     def heard(done, total, message):
