@@ -19,7 +19,7 @@ from surfinpaint.representation.mesh_lambda_h import (
 _GETRS = sla.get_lapack_funcs("getrs", dtype=np.float64)
 _GETRF = sla.get_lapack_funcs("getrf", dtype=np.float64)
 
-__all__ = ["FaceBlocks", "UpdateDerivative", "lagged_update_jacobian", "newton_step",
+__all__ = ["FaceBlocks", "UpdateDerivative", "lagged_update_jacobian",
            "stencil_terms", "voronoi_area_derivative"]
 
 
@@ -181,26 +181,6 @@ def _kept_on(system, name: str, make):
         made = make(system)
         setattr(system, name, made)
     return made
-
-
-def newton_step(system, points, x, r):
-    """The Newton step ``−(J − I)⁻¹ r`` on the fixed-point residual ``r`` (in edge lengths)
-    at the free positions ``x`` (the rest of ``points`` fixed), with ``J`` the update's
-    analytic Jacobian (:func:`lagged_update_jacobian`), solved densely as
-    ``(R − L̃) dx = −L̃ r`` (:meth:`_DenseJacobian.step`), or, where that matrix is exactly
-    singular, with ``J − I`` itself (by least squares where that is singular too)."""
-    phi = points.copy()
-    phi[system.f] = x
-    dense = _DenseJacobian.of(system)
-    try:
-        return dense.step(phi, r)
-    except np.linalg.LinAlgError:
-        J = dense.at(phi)
-    J[np.diag_indices_from(J)] -= 1.0
-    try:
-        return np.linalg.solve(J, -r)
-    except np.linalg.LinAlgError:
-        return np.linalg.lstsq(J, -r, rcond=None)[0]
 
 
 def stencil_terms(system, phi, normals):
