@@ -177,7 +177,7 @@ def test_newton_s_dense_step_is_the_jacobian_s_without_its_product_with_the_inve
     assert np.array_equal(J, (dense.L_inv @ R.reshape(len(system.f), -1)).reshape(J.shape))
     L_ff = system.L.tocsr()[system.f][:, system.f].toarray()
     stiffness = np.zeros(J.size)
-    np.add.at(stiffness, *dense._stiffness())
+    np.add.at(stiffness, *dense.stiffness_entries())
     assert np.array_equal(stiffness.reshape(J.shape), np.kron(L_ff, np.eye(3)))
     # where R − L̃ is exactly singular, the step is J − I's as before
     calls = []

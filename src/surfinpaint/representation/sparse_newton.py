@@ -27,7 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from surfinpaint.representation.coupled_jacobian import _DenseJacobian, _kept_on
+from surfinpaint.representation.coupled_jacobian import dense_jacobian, kept_on
 
 __all__ = ["SPARSE_STEP_MIN_FREE", "SparseNewtonStep", "newton_step"]
 
@@ -45,7 +45,7 @@ class SparseNewtonStep:
 
     def __init__(self, system):
         self.system = system
-        dense = self.dense = _DenseJacobian.of(system)
+        dense = self.dense = dense_jacobian(system)
         n_free, n_tied = len(system.f), len(system.tied)
         P = self.P = 3 * n_free
         blocks = dense.blocks  # rows: free, tied, the rest; entries in ``flat``'s order
@@ -53,7 +53,7 @@ class SparseNewtonStep:
         self.in_f = row < P
         self.in_t = (row >= P) & (row < P + 3 * n_tied)
         # S = diag(α H_f ⊗ 1₃) dn_f − L̃ in CSC: dn_f's entries, then L̃'s
-        L_flat, L_values = dense._stiffness()
+        L_flat, L_values = dense.stiffness_entries()
         L_row, L_col = np.divmod(L_flat, P)
         keys = np.concatenate([col[self.in_f] * P + row[self.in_f], L_col * P + L_row])
         entries, slot = np.unique(keys, return_inverse=True)
@@ -86,7 +86,7 @@ class SparseNewtonStep:
     @classmethod
     def of(cls, system):
         """The system's, made at its first step (its matrices do not change)."""
-        return _kept_on(system, "sparse_newton_step", cls)
+        return kept_on(system, "sparse_newton_step", cls)
 
     def step(self, phi, r):
         """The Newton step ``−(J − I)⁻¹ r`` at ``phi`` for the residual ``r`` (P,): the
@@ -181,7 +181,7 @@ def newton_step(system, points, x, r):
         dx = SparseNewtonStep.of(system).step(phi, r)
         if dx is not None:
             return dx
-    dense = _DenseJacobian.of(system)
+    dense = dense_jacobian(system)
     try:
         return dense.step(phi, r)
     except np.linalg.LinAlgError:
