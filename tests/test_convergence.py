@@ -725,6 +725,89 @@ def test_least_squares_starts_where_the_continuation_stalled_after_raising_the_w
     assert 0.375 < taken_on[1] < 1.0  # what the rule gives up: a fold short of weight 1
 
 
+def test_a_large_patch_whose_continuation_stalled_after_raising_the_weight_is_not_subdivided(
+        monkeypatch):
+    # with ConformalOptions.skip_stalled_subdivision, on the patch of test_least_squares_
+    # starts_where_the_continuation_stalled_after_raising_the_weight counted large
+    # (SUBDIVIDED_SKIP_FREE at its free vertices): the subdivided patch's solve is not made
+    # (session 48 helper) and least squares starts where the continuation stalled, as where
+    # that solve is made and fails: the same positions; without the option, or on a patch
+    # counted small, it is made as before
+    import sys
+    from pathlib import Path
+
+    from surfinpaint.fill.conformal import mesh_pass
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from eggcrate import egg_crate
+
+    cut = egg_crate(20, 3, 7, 2.5, 0.4, 6)
+    new_v, new_f, _ = faired_fill(cut.vertices, cut.faces, cut.loop, 3)
+    vertices = np.vstack([cut.vertices, new_v])
+    _, ids, local, uv, _, _ = mesh_pass._mapped_patch(vertices, cut.faces, cut.loop, new_f, 4)
+    free, points = ids >= len(cut.vertices), vertices[ids]
+    natural = np.zeros(len(ids), dtype=bool)
+    calls = {"solves": 0, "subdivided": 0}
+    subdivide = mesh_pass._subdivided
+
+    def failing_solve(*args, **kw):
+        calls["solves"] += 1
+        raise FillError("scripted: Newton's method fails")
+
+    def counted(*args, **kw):
+        calls["subdivided"] += 1
+        return subdivide(*args, **kw)
+
+    def solved(skip_free, option=True):
+        monkeypatch.setattr(mesh_pass, "SUBDIVIDED_SKIP_FREE", skip_free)
+        calls.update(solves=0, subdivided=0)
+        out = mesh_pass._solve_or_subdivide(points, local, uv, free, len(new_f), natural,
+                                            20, 1e-3, True, option)
+        return out, dict(calls)
+
+    monkeypatch.setattr(mesh_pass, "inpaint_on_mesh", failing_solve)
+    monkeypatch.setattr(mesh_pass, "_subdivided", counted)
+    (tried, tried_stage), tried_calls = solved(int(free.sum()) + 1)
+    (skipped, skipped_stage), skipped_calls = solved(int(free.sum()))
+    (default, default_stage), default_calls = solved(int(free.sum()), option=False)
+    assert tried_calls == default_calls == {"solves": 2, "subdivided": 1}
+    assert skipped_calls == {"solves": 1, "subdivided": 0}
+    np.testing.assert_array_equal(skipped, tried)
+    np.testing.assert_array_equal(default, tried)
+    assert (skipped_stage.residual, skipped_stage.weight) == (tried_stage.residual,
+                                                              tried_stage.weight)
+    assert "subdivided patch not tried" in skipped_stage.unsolved
+    assert "subdivided patch not tried" not in default_stage.unsolved
+
+
+@pytest.mark.parametrize("weight, stalled, n_free, skipped", [
+    (0.375, True, 121, True),  # CAD channel #5: its subdivided patch (535 free) fails
+    (0.875, True, 157, True),  # holdout 18 junction_box #6 (688 free) fails
+    (0.5, True, 94, True),  # brain white #14: fails
+    (0.5, True, 82, False),  # brain white #22: its subdivided patch converges
+    (0.5, True, 53, False),  # brain white #17: converges
+    (0.375, True, 8, False),  # egg n20 s0 p6 a2.5 j0.3 r5: its subdivided patch converges
+    (0.0, True, 121, False),  # the first solve failed: tried (animal5 #4's converged)
+    (1.0, False, 121, False),  # weight 1 reached: not needed (not tried either)
+])
+def test_the_subdivided_patch_is_skipped_only_on_a_large_patch_past_weight_zero(
+        weight, stalled, n_free, skipped):
+    # subdivision_skipped's table: the tuning-side patches of session 44's study (the
+    # weights of the brain holes are not those measured: any weight in (0, 1) gives the same)
+    from surfinpaint.fill.conformal.mesh_pass import subdivision_skipped
+
+    assert subdivision_skipped(weight, stalled, n_free) == skipped
+
+
+def test_the_stalled_subdivision_option_is_off_by_default_and_checked():
+    from surfinpaint.fill.conformal import ConformalOptions
+
+    assert ConformalOptions().skip_stalled_subdivision is False
+    assert ConformalOptions(skip_stalled_subdivision=True).skip_stalled_subdivision
+    with pytest.raises(ValueError, match="skip_stalled_subdivision"):
+        ConformalOptions(skip_stalled_subdivision=1)
+
+
 def test_a_continuation_stopped_and_resumed_is_the_one_made_in_one_go():
     # curvature_continuation stopped after k solves and taken on from there ends where the
     # continuation made in one go does, to the bit: on an egg-crate patch whose continuation

@@ -157,7 +157,8 @@ def test_newton_s_dense_step_is_the_jacobian_s_without_its_product_with_the_inve
     # −(J − I)⁻¹ r to rounding, also next to a natural border; the Jacobian is L_ff⁻¹ R bit
     # for bit, and L̃ is L_ff ⊗ I₃
     from surfinpaint.representation import coupled_jacobian
-    from surfinpaint.representation.coupled_jacobian import _DenseJacobian, newton_step
+    from surfinpaint.representation.coupled_jacobian import _DenseJacobian
+    from surfinpaint.representation.sparse_newton import newton_step
 
     system, points, phi, (local, uv, free) = _system(30, 6)
     if natural:
@@ -176,7 +177,7 @@ def test_newton_s_dense_step_is_the_jacobian_s_without_its_product_with_the_inve
     assert np.array_equal(J, (dense.L_inv @ R.reshape(len(system.f), -1)).reshape(J.shape))
     L_ff = system.L.tocsr()[system.f][:, system.f].toarray()
     stiffness = np.zeros(J.size)
-    np.add.at(stiffness, *dense._stiffness())
+    np.add.at(stiffness, *dense.stiffness_entries())
     assert np.array_equal(stiffness.reshape(J.shape), np.kron(L_ff, np.eye(3)))
     # where R − L̃ is exactly singular, the step is J − I's as before
     calls = []

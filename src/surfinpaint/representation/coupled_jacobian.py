@@ -19,8 +19,13 @@ from surfinpaint.representation.mesh_lambda_h import (
 _GETRS = sla.get_lapack_funcs("getrs", dtype=np.float64)
 _GETRF = sla.get_lapack_funcs("getrf", dtype=np.float64)
 
-__all__ = ["FaceBlocks", "UpdateDerivative", "lagged_update_jacobian", "newton_step",
+__all__ = ["FaceBlocks", "UpdateDerivative", "dense_jacobian", "kept_on", "lagged_update_jacobian",
            "stencil_terms", "voronoi_area_derivative"]
+
+
+def dense_jacobian(system) -> _DenseJacobian:
+    """The system's dense Jacobian (:class:`_DenseJacobian`), made at its first use."""
+    return _DenseJacobian.of(system)
 
 
 def lagged_update_jacobian(system, phi):
@@ -170,10 +175,10 @@ class _ProductIndex:
     @classmethod
     def of(cls, system):
         """The system's, made at its first use (its vertex sets do not change)."""
-        return _kept_on(system, "product_index", cls)
+        return kept_on(system, "product_index", cls)
 
 
-def _kept_on(system, name: str, make):
+def kept_on(system, name: str, make):
     """``make(system)``, made at the first call and kept on the system as ``name`` (what
     depends only on a system's matrices and vertex sets, which do not change)."""
     made = getattr(system, name, None)
@@ -181,26 +186,6 @@ def _kept_on(system, name: str, make):
         made = make(system)
         setattr(system, name, made)
     return made
-
-
-def newton_step(system, points, x, r):
-    """The Newton step ``−(J − I)⁻¹ r`` on the fixed-point residual ``r`` (in edge lengths)
-    at the free positions ``x`` (the rest of ``points`` fixed), with ``J`` the update's
-    analytic Jacobian (:func:`lagged_update_jacobian`), solved densely as
-    ``(R − L̃) dx = −L̃ r`` (:meth:`_DenseJacobian.step`), or, where that matrix is exactly
-    singular, with ``J − I`` itself (by least squares where that is singular too)."""
-    phi = points.copy()
-    phi[system.f] = x
-    dense = _DenseJacobian.of(system)
-    try:
-        return dense.step(phi, r)
-    except np.linalg.LinAlgError:
-        J = dense.at(phi)
-    J[np.diag_indices_from(J)] -= 1.0
-    try:
-        return np.linalg.solve(J, -r)
-    except np.linalg.LinAlgError:
-        return np.linalg.lstsq(J, -r, rcond=None)[0]
 
 
 def stencil_terms(system, phi, normals):
@@ -455,7 +440,7 @@ class _DenseJacobian:
     @classmethod
     def of(cls, system):
         """The system's, made at its first Jacobian (its matrices do not change)."""
-        return _kept_on(system, "dense_jacobian", cls)
+        return kept_on(system, "dense_jacobian", cls)
 
     def derivatives(self, phi):
         """The unit normals' (3 len(m), P) derivatives at the moving vertices in the free
@@ -481,7 +466,7 @@ class _DenseJacobian:
         unchanged. (``R``'s products with the sparse derivatives taken as sparse products
         measured faster on 121 free vertices, slower on 80 and fewer: not kept.)"""
         n_free, P = len(self.system.f), self.shape[1]
-        flat, values = self._stiffness()
+        flat, values = self.stiffness_entries()
         R = np.ascontiguousarray(self.right_hand_side(phi)).reshape(3 * n_free, P)
         R.reshape(-1)[flat] -= values  # a view: R is contiguous
         # LAPACK on Rᵀ's memory (Fortran order, no copy), solved transposed
@@ -494,7 +479,7 @@ class _DenseJacobian:
             raise ValueError(f"getrs: illegal value in argument {-info}")
         return dx
 
-    def _stiffness(self):
+    def stiffness_entries(self):
         """``L_ff``'s entries as the flat entries of ``L̃ = L_ff ⊗ I₃`` in a dense (P, P)
         array (rows and columns ``3 i + c``) and their values, made at the first step."""
         made = getattr(self, "_made_stiffness", None)

@@ -46,10 +46,10 @@ from surfinpaint.representation.blas_threads import blas_controller
 from surfinpaint.representation.coupled_jacobian import (
     UpdateDerivative,
     lagged_update_jacobian,
-    newton_step,
 )
 from surfinpaint.representation.krylov import gmres_cycle
 from surfinpaint.representation.least_squares import AndersonMixing
+from surfinpaint.representation.sparse_newton import newton_step
 from surfinpaint.representation.vertex_lambda_h import border_vertices, vertex_lambda_h
 from surfinpaint.representation.vertex_sets import ThinPatchError, coupled_vertex_sets
 
@@ -400,7 +400,7 @@ def newton_solve(system, points, tol, steps, envelope=None):
     ``A ρ^k`` (no converging stage was; ``envelope`` (A, ρ), by default ``NEWTON_ENVELOPE``
     and ``NEWTON_ENVELOPE_RATE``, which add :func:`_stalled`'s and :func:`_flat`'s tests). Each
     step is solved exactly with R's analytic Jacobian on patches of at most
-    ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.coupled_jacobian.newton_step`), by one
+    ``NEWTON_ANALYTIC_MAX`` free vertices (:func:`.sparse_newton.newton_step`), by one
     GMRES cycle on its exact products on larger ones (Newton–Krylov,
     :class:`.UpdateDerivative`, :func:`.krylov.gmres_cycle`).
 

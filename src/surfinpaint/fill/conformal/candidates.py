@@ -228,7 +228,8 @@ class Candidates:
                 positions, patch, used, mesh = inpaint_patch_on_mesh(
                     all_v, faces, loop, new_f, moving, rings=rings,
                     iterations=o.solver_iterations, tol=tol, cut_edges=cut_edges,
-                    subdivide=not test, lattice_after=lattice_after)
+                    subdivide=not test, lattice_after=lattice_after,
+                    skip_stalled_subdivision=o.skip_stalled_subdivision)
                 all_v[moving] = positions
             diagnostics = LambdaHDiagnostics("mesh", used, mesh=mesh)
         else:

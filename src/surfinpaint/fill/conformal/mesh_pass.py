@@ -47,6 +47,11 @@ LEAST_SQUARES_RESIDUAL = 2.0
 # reached it after a failed first solve where the subdivided patch's converged, and writing
 # the continuation's fixed point there was 2.3 times worse (docs/convergence.md, session 38)
 CONTINUATION_FIRST = 8
+# with ConformalOptions.skip_stalled_subdivision, the subdivided patch's solve is not tried
+# on a patch of at least this many free vertices where that continuation raised the weight
+# and then stalled (subdivision_skipped; between the tuning side's largest patch where it
+# converged, 82, and its smallest where it failed, 94: sessions 44 and 48 helpers)
+SUBDIVIDED_SKIP_FREE = 90
 # where that fails too, the patch resampled on a regular lattice of its map, of these
 # spacings (per mean map edge of the fill) in turn (:func:`_on_lattice`)
 LATTICE_PER_EDGE = (2.0, 1.0, 4.0)
@@ -65,6 +70,7 @@ def inpaint_patch_on_mesh(
     cut_edges: np.ndarray | None = None,
     subdivide: bool = True,
     lattice_after: str = "",
+    skip_stalled_subdivision: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, int, MeshLambdaH]:
     """λ-H inpainting of a filled hole on its patch's own triangles
     (:func:`surfinpaint.representation.on_mesh.inpaint_on_mesh`).
@@ -108,6 +114,9 @@ def inpaint_patch_on_mesh(
         (a fold-over at every damping step: the caller's retry,
         :meth:`surfinpaint.fill.conformal.candidates.Candidates.lambda_h`). Not on the
         sides of a crease.
+    skip_stalled_subdivision : bool
+        The subdivided patch's solve left out where :func:`subdivision_skipped` says
+        (``ConformalOptions.skip_stalled_subdivision``).
 
     Returns
     -------
@@ -130,7 +139,8 @@ def inpaint_patch_on_mesh(
     if cut_edges is None:
         return _inpaint_piece(vertices, faces, loop, fill_faces, moving, rings=rings,
                               iterations=iterations, tol=tol, subdivide=subdivide,
-                              lattice_after=lattice_after)
+                              lattice_after=lattice_after,
+                              skip_stalled_subdivision=skip_stalled_subdivision)
     if lattice_after:
         raise FillError(f"{lattice_after}; no lattice on the sides of a crease")
     return _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, rings=rings,
@@ -171,7 +181,8 @@ def _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, *, rin
 
 
 def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterations, tol,
-                   natural=None, subdivide=False, lattice_after=""):
+                   natural=None, subdivide=False, lattice_after="",
+                   skip_stalled_subdivision=False):
     """:func:`inpaint_patch_on_mesh` of one patch, grown from ``seeds`` over ``faces``.
 
     Where the patch is too thin for the biharmonic stencil (its rings stopped short, e.g.
@@ -206,7 +217,7 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
             else:
                 new_points, least_squares = _solve_or_subdivide(
                     points, local, uv, free, len(fill_faces), natural_ids, iterations, tol,
-                    subdivide)
+                    subdivide, skip_stalled_subdivision)
             break
         except ThinPatchError:
             if all_natural:
@@ -218,7 +229,7 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
 
 
 def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, tol,
-                        subdivide):
+                        subdivide, skip_stalled_subdivision=False):
     """The coupled solve on the patch, and where it fails (not for want of rings), on the
     patch split once into four onto its smooth interpolant (:func:`_subdivided`), read back
     at the patch's own vertices.
@@ -276,7 +287,11 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
         # the patch's fixed point and the subdivided patch's solve is not needed (session 38)
         continued, stalled = ((None, False) if system is None
                               else _continued_first(system, points, tol))
-        if continued is None or continued[1] < 1.0:
+        if (skip_stalled_subdivision and continued is not None
+                and subdivision_skipped(continued[1], stalled, len(system.f))):
+            failure = (f"{coarse}; the subdivided patch not tried (the continuation stalled "
+                       f"at the curvature weight {continued[1]:.2g})")
+        elif continued is None or continued[1] < 1.0:
             fine = _subdivided(points, local, uv, free, n_fill, natural)
             try:
                 out = inpaint_on_mesh(fine[0], fine[1], fine[2], fine[3],
@@ -320,6 +335,25 @@ def continuation_paused(solves: int, failures: int) -> bool:
     does not run straight to weight 1, the subdivided patch's fill comes first), or after
     ``CONTINUATION_FIRST`` solves."""
     return failures > 0 or solves >= CONTINUATION_FIRST
+
+
+def subdivision_skipped(weight: float, stalled: bool, n_free: int) -> bool:
+    """Whether the subdivided patch's solve is left out (with
+    ``ConformalOptions.skip_stalled_subdivision``) on a patch of ``n_free`` free vertices
+    after the continuation made first stopped at ``weight`` (``stalled``: at a failed solve):
+    where it raised the weight and then stalled (where it is not taken on either,
+    :func:`continuation_resumed`: least squares starts where it stopped) on a patch of at
+    least ``SUBDIVIDED_SKIP_FREE`` free vertices.
+
+    Why: there the subdivided patch's solve is the failing path's costliest stage (0.05-0.27 s
+    of CPU, up to 40 % of the slowest holes' fill) and on the tuning side it never
+    converged: of the patches of at least 50 free vertices where it ran after such a stall
+    (the five tuning-side sets' 409 holes, the egg-crate, quadruped and brain families, spent
+    holdouts 18-19; docs/convergence.md, session 44 helper) it failed on the four of 94-157
+    free vertices (brain white #14, CAD channel #5, lathe_dog #6, junction_box #6) and
+    converged on two of 53 and 82 (brain white #17, #22; least squares from the stall 0.89
+    and 1.31 times its error there), which the threshold keeps out (session 48 helper)."""
+    return stalled and 0.0 < weight < 1.0 and n_free >= SUBDIVIDED_SKIP_FREE
 
 
 def continuation_resumed(weight: float, stalled: bool) -> bool:

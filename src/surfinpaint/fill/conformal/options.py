@@ -207,6 +207,16 @@ class ConformalOptions:
         (:func:`surfinpaint.fill.conformal.selection.demoted`); else the next choice down.
         Default ``SIGNIFICANCE`` = 2.326 (one-sided 1 %; docs/selfcheck.md, "Session 26: a
         noise-aware self-check on scans"). None: the scores alone decide.
+    skip_stalled_subdivision : bool
+        Where the λ-H solve fails on a patch of at least
+        ``mesh_pass.SUBDIVIDED_SKIP_FREE`` (90) free vertices and the least-squares stage's
+        continuation, made first, raised the curvature weight and then stalled, the
+        subdivided patch's solve is not tried: least squares starts from the stall, as it
+        does where that solve fails (:func:`surfinpaint.fill.conformal.mesh_pass.
+        subdivision_skipped`). Faster on the failing path's slowest holes (holdout 23's
+        tenderizer #6: 0.27 s of its 0.62); on the tuning side the solve it leaves out
+        never converged, so no tuning-side fill changes (docs/convergence.md, session 48
+        helper). Default False: the solve is tried as before.
     """
 
     start: str = "fair"
@@ -227,6 +237,7 @@ class ConformalOptions:
     fair_smoothing: float | str | None = "auto"
     plane_test: bool = True
     significance: float | None = SIGNIFICANCE
+    skip_stalled_subdivision: bool = False
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
@@ -251,7 +262,7 @@ class ConformalOptions:
         _positive_int("hide_rings", self.hide_rings)
         _positive_int("siblings", self.siblings, minimum=0)
         _positive_int("gap_rings", self.gap_rings, minimum=0)
-        for name in ("select", "creases", "plane_test"):
+        for name in ("select", "creases", "plane_test", "skip_stalled_subdivision"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
         if isinstance(self.crease_angle, bool) or not isinstance(
