@@ -27,8 +27,9 @@ set 18's (session 41) in ``holdout18_meshes.py``, holdout set 19's (session 42) 
 set 21's (session 44) in ``holdout21_meshes.py``, holdout set 22's (session 45) in
 ``holdout22_meshes.py``, holdout set 23's (session 46) in ``holdout23_meshes.py``, holdout
 set 24's (session 47) in ``holdout24_meshes.py``, holdout set 25's (session 48) in
-``holdout25_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
-``HOLDOUT25_SOURCES`` to :data:`SOURCES` at its end.
+``holdout25_meshes.py``, holdout set 26's (session 49) in ``holdout26_meshes.py``; this
+module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT26_SOURCES`` to :data:`SOURCES` at its
+end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2077,6 +2078,13 @@ SOURCES.update(HOLDOUT24_SOURCES)
 from holdout25_meshes import HOLDOUT25_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT25_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 26
+
+# Session 49's set (benchmarks/holdout26_manifest.json), as holdout 25's: its own module.
+from holdout26_meshes import HOLDOUT26_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT26_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 
