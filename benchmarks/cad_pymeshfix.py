@@ -145,8 +145,8 @@ def features(row: dict) -> str:
 def hole_table(err: dict, default: dict, rows: dict, keys: list) -> list[str]:
     """One row per hole PyMeshFix fills at least CLOSER× closer."""
     lines = ["| hole | r (h) | loop edges | features | written | default % | PyMeshFix % | "
-             "ratio | best faired % | new vertices (default, PyMeshFix) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "ratio | its triangulation alone % | best faired % | new vertices (default, "
+             "PyMeshFix) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for k in keys:
         d, p = default[k], rows[("pymeshfix", *k)]
         lines.append(
@@ -154,7 +154,7 @@ def hole_table(err: dict, default: dict, rows: dict, keys: list) -> list[str]:
             f"{features(d)} | {written(k, err, d)} | {err[('conformal', *k)]:.3g} | "
             f"{err[('pymeshfix', *k)]:.3g} | "
             f"{err[('conformal', *k)] / max(err[('pymeshfix', *k)], 1e-9):.2f} | "
-            f"{_better_faired(err, k):.3g} | {d['new_vertices']}, {p['new_vertices']} |")
+            f"{err.get(('pymeshfix_bare', *k), np.nan):.3g} | {_better_faired(err, k):.3g} | {d['new_vertices']}, {p['new_vertices']} |")
     return lines
 
 

@@ -18,6 +18,7 @@ from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.liepa.ear_cutting import ear_cut_triangulation
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores
+from surfinpaint.geometry.validation import zero_area_faces
 
 __all__ = ["EAR_CUT", "ROUNDING", "ear_cut_fill", "ear_cut_won"]
 
@@ -29,8 +30,19 @@ ROUNDING = 1e-6
 
 
 def ear_cut_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -> Fill:
-    """The loop's ear-cut triangulation as a fill (no new vertex)."""
-    return Fill(np.zeros((0, 3)), ear_cut_triangulation(vertices, faces, loop), "fair")
+    """The loop's ear-cut triangulation as a fill (no new vertex).
+
+    Raises
+    ------
+    FillError
+        Where it has a zero-area triangle (greedy cutting can leave the last ears on a
+        straight run of the loop): the fill could not be written (the pipeline skips such
+        a fill), so it is no candidate.
+    """
+    triangles = ear_cut_triangulation(vertices, faces, loop)
+    if len(zero_area_faces(vertices, triangles)):
+        raise FillError("ear cutting left a zero-area triangle")
+    return Fill(np.zeros((0, 3)), triangles, "fair")
 
 
 def ear_cut_won(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,

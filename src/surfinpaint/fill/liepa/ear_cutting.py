@@ -77,7 +77,38 @@ def ear_cut_triangulation(vertices: np.ndarray, faces: np.ndarray, loop: np.ndar
         beyond[prev] = row_cross(v[[b]] - v[[a]], v[[c]] - v[[a]])[0]
         front, beyond, pos = (np.delete(x, ear, axis=0) for x in (front, beyond, pos))
     out.append(tuple(front))
-    return np.array(out, dtype=np.int64).reshape(-1, 3)
+    return _flattened_straight_ears(v, np.array(out, dtype=np.int64).reshape(-1, 3))
+
+
+def _flattened_straight_ears(v: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """``tri`` with each zero-area triangle (a corner on its longest side, left where the
+    greedy order ends on a straight run of the loop) flipped with the new triangle across
+    that side: the two triangles made cover the same surface, neither is flat. One beside
+    the loop stays (the caller checks)."""
+    for _ in range(len(tri)):
+        p = v[tri]
+        sides = np.roll(p, -1, axis=1) - p  # side j from corner j to corner j + 1
+        length = row_norms(sides.reshape(-1, 3)).reshape(-1, 3)
+        area = row_norms(row_cross(sides[:, 0], sides[:, 1]))
+        flat = np.flatnonzero(area <= 1e-12 * length.max(axis=1) ** 2)
+        flipped = next((t for t in flat if _flip(tri, t, int(np.argmax(length[t])))), None)
+        if flipped is None:
+            return tri
+    return tri
+
+
+def _flip(tri: np.ndarray, t: int, side: int) -> bool:
+    """Flip side ``side`` of triangle ``t`` (its half-edge a → c, the third corner b) with
+    the triangle across it (half-edge c → a, third corner d), in place: (a, d, b) and
+    (d, c, b), the same orientation. False where no triangle of ``tri`` is across."""
+    a, c, b = (int(tri[t, (side + k) % 3]) for k in range(3))
+    for u in np.flatnonzero(((tri == c) | (tri == a)).sum(axis=1) == 2):
+        i = int(np.flatnonzero(tri[u] == c)[0])
+        if u != t and tri[u, (i + 1) % 3] == a:
+            d = int(tri[u, (i + 2) % 3])
+            tri[t], tri[u] = (a, d, b), (d, c, b)
+            return True
+    return False
 
 
 def _cheapest_ear(v: np.ndarray, front: np.ndarray, beyond: np.ndarray, joined: np.ndarray,
