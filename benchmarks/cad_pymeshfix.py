@@ -36,7 +36,7 @@ from surfinpaint.fill.selfcheck import hidden_ring_scores  # noqa: E402
 
 FILLED, PEERS, written = thin_holes.FILLED, thin_holes.PEERS, thin_holes.written
 _better_faired, _by_mesh, _jsonl = thin_holes._better_faired, thin_holes._by_mesh, thin_holes._jsonl
-_med, meshes_won = thin_holes._med, thin_holes.meshes_won
+_med = thin_holes._med
 HERE = Path(__file__).parent
 SPENT = 24  # the newest spent holdout
 TUNING_SIDE = ("tuning", "cad_tuning", *(f"holdout{i}" for i in range(9, SPENT + 1)))
@@ -154,7 +154,8 @@ def hole_table(err: dict, default: dict, rows: dict, keys: list) -> list[str]:
             f"{features(d)} | {written(k, err, d)} | {err[('conformal', *k)]:.3g} | "
             f"{err[('pymeshfix', *k)]:.3g} | "
             f"{err[('conformal', *k)] / max(err[('pymeshfix', *k)], 1e-9):.2f} | "
-            f"{err.get(('pymeshfix_bare', *k), np.nan):.3g} | {_better_faired(err, k):.3g} | {d['new_vertices']}, {p['new_vertices']} |")
+            f"{err.get(('pymeshfix_bare', *k), np.nan):.3g} | {_better_faired(err, k):.3g} | "
+            f"{d['new_vertices']}, {p['new_vertices']} |")
     return lines
 
 
@@ -184,27 +185,14 @@ def lost_meshes(err: dict, keys: list) -> list[str]:
 
 def rule(err: dict, keys: list, alt: str, flagged: set) -> list[str]:
     """``alt`` written on the flagged holes, the default elsewhere, per set."""
-    def method_of(k):
-        return alt if k in flagged and (alt, *k) in err else "conformal"
-    changed = [k for k in keys if method_of(k) == alt]
-    ratio = [max(err[(alt, *k)], 1e-6) / max(err[("conformal", *k)], 1e-6) for k in changed]
-    above = [sum(err[(f(k), *k)] / _better_faired(err, k) > 1.5 for k in keys
-                 if _better_faired(err, k) > 1e-6) for f in (lambda k: "conformal", method_of)]
-    meshes = _by_mesh(keys)
-    before = meshes_won(err, meshes, lambda k: "conformal")
-    after = meshes_won(err, meshes, method_of)
-    per_set = collections.defaultdict(lambda: [0, 0, 0])
-    for mesh in meshes:
-        per_set[mesh[0]][0] += mesh in before
-        per_set[mesh[0]][1] += mesh in after
-        per_set[mesh[0]][2] += 1
-    return [f"- {alt} on {len(changed)} holes: better by 10 % {sum(x < 1 / 1.1 for x in ratio)}, "
-            f"worse by 10 % {sum(x > 1.1 for x in ratio)}, median ratio {_med(ratio):.3f}; "
-            f"holes above 1.5× the better faired fill {above[0]} → {above[1]}; meshes most "
-            f"accurate of all peers {len(before)} → {len(after)} / {len(meshes)}",
+    c = thin_holes.rule_counts(err, keys, alt, flagged)
+    return [f"- {alt} on {c['changed']} holes: better by 10 % {c['better']}, worse by 10 % "
+            f"{c['worse']}, median ratio {c['median']:.3f}; holes above 1.5× the better "
+            f"faired fill {c['above'][0]} → {c['above'][1]}; meshes most accurate of all "
+            f"peers {c['won'][0]} → {c['won'][1]} / {c['won'][2]}",
             "- sets that change (won before → after / meshes): " + ("; ".join(
-                f"{s} {a} → {b} / {n}" for s, (a, b, n) in sorted(per_set.items()) if a != b)
-                or "none")]
+                f"{s} {a} → {b} / {n}" for s, (a, b, n) in sorted(c["sets"].items())
+                if a != b) or "none")]
 
 
 def flagged_by_scores(score_files: list[str], fill: str, ratio: float) -> set:
