@@ -60,9 +60,10 @@ ALL_METHODS = ("fair", "fair1", "fair3", "fair_sfauto", "conformal", "conformal_
                "fair_cdt", "fair3_cdt", "conformal_cgalref", "conformal_cgalref_raw",
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
                "conformal_signif", "conformal_nosignif", "conformal_sfair35", "conformal_sfair40",
-               "conformal_sfauto", "conformal_nosmooth", "conformal_rings3", "conventional",
+               "conformal_sfauto", "conformal_nosmooth", "conformal_rings3", "conformal_earcut50",
+               "conformal_earcut100", "conventional",
                "triangulation", "cgal", "cgal3",
-               "meshlib", "pymeshlab", "pymeshfix")
+               "meshlib", "pymeshlab", "pymeshfix", "pymeshfix_bare")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # a row's note where the plane test laid the faired fill on the plane (no self-check ran)
 PLANE_NOTE = "plane test: the faired fill laid on the known surface's plane"
@@ -98,6 +99,10 @@ CONFORMAL_VARIANTS = {
     # the smallest λ-H patch (3 rings of known surface, not 4): holes across thin parts,
     # whose patch wraps round the part (session 48, docs/selfcheck.md)
     "conformal_rings3": {"patch_rings": 3},
+    # MeshFix's ear-cut triangulation written where the hidden-ring test scores it below
+    # 0.5 or 1 × the best candidate (session 49, docs/candidates.md: CAD holes)
+    "conformal_earcut50": {"ear_cut_ratio": 0.5},
+    "conformal_earcut100": {"ear_cut_ratio": 1.0},
 }
 
 
@@ -331,6 +336,8 @@ def run_method(method: str, vertices, faces, loop):
                            refinement="cgal")
     if method in peers.PEERS:
         return _run_peer(peers.PEERS[method], vertices, faces, loop)
+    if method == "pymeshfix_bare":  # MeshFix's triangulation alone, for study (session 49)
+        return _run_peer(peers.pymeshfix_bare_fill, vertices, faces, loop)
     raise ValueError(f"unknown method {method!r}: choose from {', '.join(ALL_METHODS)}")
 
 

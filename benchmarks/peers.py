@@ -15,8 +15,8 @@ vertices (ids ``n .. n + m - 1`` after the ``n`` original ones, which never move
   edge length, curvature-smooth fill), through the ``meshlib`` package.
 - :func:`pymeshlab_fill`: MeshLab's ``meshing_close_holes`` with hole refinement, through
   ``pymeshlab``.
-- :func:`pymeshfix_fill`: MeshFix's ``fill_small_boundaries`` (triangulation, refinement and
-  fairing), through ``pymeshfix``.
+- :func:`pymeshfix_fill`: MeshFix's ``fill_small_boundaries`` (triangulation and
+  refinement; MeshFix does not fair a hole's patch), through ``pymeshfix``.
 
 The last two fill every hole up to a number of boundary edges: every other boundary loop is
 capped by a temporary fan (removed again from their output) before they are called, so they
@@ -31,8 +31,8 @@ import tempfile
 
 import numpy as np
 
-__all__ = ["PEERS", "available", "cgal3_fill", "cgal_fill", "meshlib_fill", "pymeshfix_fill",
-           "pymeshlab_fill", "versions"]
+__all__ = ["PEERS", "available", "cgal3_fill", "cgal_fill", "meshlib_fill",
+           "pymeshfix_bare_fill", "pymeshfix_fill", "pymeshlab_fill", "versions"]
 
 
 def _boundary_edge_lengths(vertices: np.ndarray, loop: np.ndarray) -> np.ndarray:
@@ -253,10 +253,11 @@ def pymeshlab_fill(vertices: np.ndarray, faces: np.ndarray,
 
 
 def pymeshfix_fill(vertices: np.ndarray, faces: np.ndarray,
-                   loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                   loop: np.ndarray, refine: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Fill the hole bounded by ``loop`` with MeshFix's ``fill_small_boundaries``
     (``nbe`` = the loop's edge count + 1, ``refine=True``; MeshFix may reorder vertices,
-    they are matched back by position).
+    they are matched back by position). ``refine=False``: MeshFix's triangulation of the
+    loop alone (its greedy ear cutting, no new vertex; session 49).
 
     Raises
     ------
@@ -269,7 +270,7 @@ def pymeshfix_fill(vertices: np.ndarray, faces: np.ndarray,
         tin = pymeshfix.PyTMesh()
         tin.set_quiet(True)
         tin.load_array(cv, cf.astype(np.int32))
-        tin.fill_small_boundaries(nbe=int(len(loop)) + 1, refine=True)
+        tin.fill_small_boundaries(nbe=int(len(loop)) + 1, refine=refine)
         out_v, out_f = tin.return_arrays()
         return np.asarray(out_v, float), np.asarray(out_f, np.int64)
 
@@ -278,6 +279,12 @@ def pymeshfix_fill(vertices: np.ndarray, faces: np.ndarray,
     if len(new_f) == 0:
         raise RuntimeError("MeshFix's fill_small_boundaries added no face")
     return new_v, new_f
+
+
+def pymeshfix_bare_fill(vertices: np.ndarray, faces: np.ndarray,
+                        loop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`pymeshfix_fill` without its refinement: MeshFix's triangulation alone."""
+    return pymeshfix_fill(vertices, faces, loop, refine=False)
 
 
 PEERS = {"cgal": cgal_fill, "cgal3": cgal3_fill, "meshlib": meshlib_fill,

@@ -234,34 +234,45 @@ def class_lines(name: str, keys: list, err: dict, default: dict) -> list[str]:
             "- written: " + ", ".join(f"{w} {n}" for w, n in what.most_common())]
 
 
+def rule_counts(err: dict, keys: list, alt: str, flagged: set) -> dict:
+    """What writing ``alt`` on the ``flagged`` holes (the default elsewhere, and where
+    ``alt`` has no row) changes: holes changed, better / worse by 10 %, the median ratio,
+    holes above 1.5× the better faired fill (default, rule), meshes won (default, rule, of
+    all) and per set ``{set: [won before, after, meshes]}``."""
+    def method_of(k):
+        return alt if k in flagged and (alt, *k) in err else "conformal"
+    meshes = _by_mesh(keys)
+    changed = [k for k in keys if method_of(k) == alt]
+    ratio = [max(err[(alt, *k)], 1e-6) / max(err[("conformal", *k)], 1e-6) for k in changed]
+    above = [sum(err[(f(k), *k)] / _better_faired(err, k) > 1.5 for k in keys
+                 if _better_faired(err, k) > 1e-6)
+             for f in (lambda k: "conformal", method_of)]
+    before = meshes_won(err, meshes, lambda k: "conformal")
+    after = meshes_won(err, meshes, method_of)
+    sets = collections.defaultdict(lambda: [0, 0, 0])
+    for mesh in meshes:
+        sets[mesh[0]][0] += mesh in before
+        sets[mesh[0]][1] += mesh in after
+        sets[mesh[0]][2] += 1
+    return {"changed": len(changed), "better": sum(x < 1 / 1.1 for x in ratio),
+            "worse": sum(x > 1.1 for x in ratio), "median": _med(ratio), "above": above,
+            "won": (len(before), len(after), len(meshes)), "sets": dict(sets)}
+
+
 def rule_lines(labels: dict, err: dict, flagged: set) -> list[str]:
     """Each fill of ``INSTEAD`` written where the test fires, against the default."""
     keys = sorted(labels)
-    meshes = _by_mesh(keys)
-    before = meshes_won(err, meshes, lambda k: "conformal")
     lines = ["| written instead where the test fires | holes changed | better by 10 % | "
              "worse by 10 % | median ratio | holes above 1.5× (default → rule) | meshes won "
              "(default → rule) | sets that change (won before → after / meshes) |",
              "|---|---|---|---|---|---|---|---|"]
     for alt in INSTEAD:
-        def method_of(k, alt=alt):
-            return alt if k in flagged and (alt, *k) in err else "conformal"
-        changed = [k for k in keys if method_of(k) == alt]
-        ratio = [max(err[(alt, *k)], 1e-6) / max(err[("conformal", *k)], 1e-6) for k in changed]
-        above = [sum(err[(f(k), *k)] / _better_faired(err, k) > 1.5 for k in keys
-                     if _better_faired(err, k) > 1e-6)
-                 for f in (lambda k: "conformal", method_of)]
-        after = meshes_won(err, meshes, method_of)
-        sets = collections.defaultdict(lambda: [0, 0, 0])
-        for mesh in meshes:
-            sets[mesh[0]][0] += mesh in before
-            sets[mesh[0]][1] += mesh in after
-            sets[mesh[0]][2] += 1
-        moved = "; ".join(f"{s} {a} → {b} / {n}" for s, (a, b, n) in sets.items() if a != b)
-        lines.append(f"| {alt} | {len(changed)} | {sum(x < 1 / 1.1 for x in ratio)} | "
-                     f"{sum(x > 1.1 for x in ratio)} | {_med(ratio):.3f} | {above[0]} → "
-                     f"{above[1]} | {len(before)} → {len(after)} / {len(meshes)} | "
-                     f"{moved or 'none'} |")
+        c = rule_counts(err, keys, alt, flagged)
+        moved = "; ".join(f"{s} {a} → {b} / {n}" for s, (a, b, n) in c["sets"].items()
+                          if a != b)
+        lines.append(f"| {alt} | {c['changed']} | {c['better']} | {c['worse']} | "
+                     f"{c['median']:.3f} | {c['above'][0]} → {c['above'][1]} | "
+                     f"{c['won'][0]} → {c['won'][1]} / {c['won'][2]} | {moved or 'none'} |")
     return lines
 
 

@@ -217,6 +217,14 @@ class ConformalOptions:
         tenderizer #6: 0.27 s of its 0.62); on the tuning side the solve it leaves out
         never converged, so no tuning-side fill changes (docs/convergence.md, session 48
         helper). Default False: the solve is tried as before.
+    ear_cut_ratio : float, optional
+        With ``select``, after the plane tests: the hidden-ring test is run with MeshFix's
+        greedy ear-cut triangulation of the loop as one more candidate
+        (:mod:`surfinpaint.fill.conformal.ear_cut`), and where its score is below this
+        many times the best of the other candidates' the triangulation is written (no new
+        vertex) and no self-check runs. On machined parts it continues the known faces'
+        planes into the hole where the faired and λ-H fills round them off (docs/candidates.md,
+        "Session 49 (helper): CAD holes PyMeshFix fills closer"). None (default): never.
     """
 
     start: str = "fair"
@@ -238,6 +246,7 @@ class ConformalOptions:
     plane_test: bool = True
     significance: float | None = SIGNIFICANCE
     skip_stalled_subdivision: bool = False
+    ear_cut_ratio: float | None = None
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
@@ -254,6 +263,8 @@ class ConformalOptions:
             _positive_number("solver_tol", self.solver_tol)
         if self.significance is not None:
             _positive_number("significance", self.significance)
+        if self.ear_cut_ratio is not None:
+            _positive_number("ear_cut_ratio", self.ear_cut_ratio)
         if isinstance(self.fair_smoothing, str) and self.fair_smoothing != "auto":
             raise ValueError("fair_smoothing must be a positive number, 'auto' or None, got "
                              f"{self.fair_smoothing!r}")
