@@ -107,3 +107,14 @@ def test_a_flat_ear_is_flipped_away_keeping_the_surface(monkeypatch):
                               axis=1).sum() / 2
 
     assert area(flipped) == pytest.approx(area(greedy), rel=1e-12)
+
+
+def test_an_ear_cut_fill_is_reported_as_a_triangulation_not_a_faired_fill():
+    from surfinpaint import fill_holes
+    from surfinpaint.app.fill_report import written
+
+    cut = _cube_hole((0.5, 0.0, 0.0))
+    report = fill_holes(cut.vertices, cut.faces,
+                        options=ConformalOptions(ear_cut_ratio=100.0)).reports[0]
+    assert report.note.startswith("ear cutting") and report.new_vertices == 0
+    assert written(report) == "the loop's triangulation, not faired"
