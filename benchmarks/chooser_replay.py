@@ -307,11 +307,13 @@ def _veto(kept: str, instead: str, where, make, p: float = 0.5):
     """The library's rule, with ``kept`` written instead as ``instead`` where a classifier
     (trained on the holes ``where`` says, the library having written ``kept``; weighted by
     how much closer) gives ``instead`` being closer a probability above ``p``."""
+    other = instead if callable(instead) else (lambda row: instead)
+
     def fit(train):
         mine = [r for r in train if written(r) == kept and where(r)]
         x = np.array([features(r) for r in mine])
-        y = np.array([r["true"][instead] < r["true"][kept] for r in mine], dtype=int)
-        w = np.array([min(abs(math.log(max(r["true"][instead], TINY) /
+        y = np.array([r["true"][other(r)] < r["true"][kept] for r in mine], dtype=int)
+        w = np.array([min(abs(math.log(max(r["true"][other(r)], TINY) /
                                        max(r["true"][kept], TINY))), 3.0) + 0.01
                       for r in mine])
         model = make()
@@ -322,6 +324,27 @@ def _veto(kept: str, instead: str, where, make, p: float = 0.5):
             w_ = written(row)
             if w_ == kept and where(row) and model.predict_proba(
                     np.array([features(row)]))[0, -1] > p:
+                return other(row)
+            return w_
+        return pick
+    return fit
+
+
+def _veto_regression(kept: str, instead: str, where, make, margin: float = 0.0):
+    """As :func:`_veto`, from a regression of log(error of ``kept`` / error of
+    ``instead``): ``instead`` written where the prediction exceeds ``margin``."""
+    def fit(train):
+        mine = [r for r in train if written(r) == kept and where(r)]
+        x = np.array([features(r) for r in mine])
+        y = np.array([float(np.clip(math.log(max(r["true"][kept], TINY) /
+                                             max(r["true"][instead], TINY)), -3, 3))
+                      for r in mine])
+        model = make().fit(x, y)
+
+        def pick(row):
+            w_ = written(row)
+            if w_ == kept and where(row) and model.predict(
+                    np.array([features(row)]))[0] > margin:
                 return instead
             return w_
         return pick
@@ -337,6 +360,11 @@ def _both(first, second):
             return c if c != written(row) else b(row)
         return pick
     return fit
+
+
+def _faired_choice(row) -> str:
+    """The faired fill the library would have written had it not kept the λ-H fill."""
+    return (row["library"]["verdict"] or {}).get("faired", "fair2")
 
 
 def _gated(row) -> bool:
@@ -360,9 +388,16 @@ def models() -> dict:
     veto_lh = {"logistic": _veto("conformal", "fair3", _any, logistic),
                "tree": _veto("conformal", "fair3", _any, tree)}
     veto_lh["logistic_p70"] = _veto("conformal", "fair3", _any, logistic, 0.7)
+    veto_lh["to_faired_logistic"] = _veto("conformal", _faired_choice, _any, logistic)
+    veto_lh["to_faired_tree"] = _veto("conformal", _faired_choice, _any, tree)
     veto_scan = {"logistic": _veto("fair2", "conformal", _gated, logistic),
                  "tree": _veto("fair2", "conformal", _gated, tree)}
+    def ridge():
+        return _scaled(Ridge(alpha=10.0))
+
     return {
+        "veto_lh_ridge": _veto_regression("conformal", "fair3", _any, ridge),
+        "veto_scan_ridge": _veto_regression("fair2", "conformal", _gated, ridge),
         "ridge_a1": _regression_choice(lambda: _scaled(Ridge(alpha=1.0))),
         "ridge_a10": _regression_choice(lambda: _scaled(Ridge(alpha=10.0))),
         "tree_reg_d3": _regression_choice(
@@ -371,6 +406,8 @@ def models() -> dict:
         "tree_best_d3": _classifier_choice(tree),
         "veto_lh_logistic": veto_lh["logistic"], "veto_lh_tree": veto_lh["tree"],
         "veto_lh_logistic_p70": veto_lh["logistic_p70"],
+        "veto_lh_to_faired_logistic": veto_lh["to_faired_logistic"],
+        "veto_lh_to_faired_tree": veto_lh["to_faired_tree"],
         "veto_scan_logistic": veto_scan["logistic"], "veto_scan_tree": veto_scan["tree"],
         "veto_both_logistic": _both(veto_lh["logistic"], veto_scan["logistic"]),
         "veto_both_tree": _both(veto_lh["tree"], veto_scan["tree"]),
@@ -427,7 +464,8 @@ def fold_table(rows, library, chosen, name) -> dict:
           "worst mesh / fair2 lib → model |")
     print("|---|---|---|---|---|---|")
     tally = {"rate_better": 0, "rate_worse": 0, "above_better": 0, "above_worse": 0,
-             "cgal_worse_2pct": [], "new_over": [], "folds": 0, "changed": 0}
+             "cgal_worse_2pct": [], "new_over": [], "folds": 0, "changed": 0,
+             "closer": 0, "farther": 0}
     for key, ix in _groups(rows).items():
         sub = [rows[i] for i in ix]
         a = measures(sub, [library[i] for i in ix])
@@ -440,6 +478,11 @@ def fold_table(rows, library, chosen, name) -> dict:
             continue
         tally["folds"] += 1
         tally["changed"] += changed
+        for i in ix:  # the changed holes: the model's fill closer or farther than the library's
+            if library[i] != chosen[i]:
+                new, old = error_of(rows[i], chosen[i]), error_of(rows[i], library[i])
+                tally["closer"] += new < old
+                tally["farther"] += new > old
         tally["rate_better"] += b["rate"] > a["rate"]
         tally["rate_worse"] += b["rate"] < a["rate"]
         tally["above_better"] += b["above"] < a["above"]
@@ -548,13 +591,15 @@ def main(argv=None) -> None:
         whole = measures(rows, chosen)
         summary.append((name, tally, whole))
     base = measures(rows, library)
-    print("\n| rule (leave-one-set-out) | holes changed | chooser rate (all) | holes > 1.5× "
+    print("\n| rule (leave-one-set-out) | holdout holes changed (closer / farther) | "
+          "chooser rate (all) | holes > 1.5× "
           "(all) | holdout folds: rate better / worse | > 1.5× fewer / more | folds "
           "> 2 % worse / CGAL | new meshes > 1.1× | passes |")
     print("|---|---|---|---|---|---|---|---|---|")
     print(f"| library | – | {base['rate']:.1%} | {base['above']} | – | – | – | – | – |")
     for name, t, whole in summary:
-        print(f"| {name} | {t['changed']} | {whole['rate']:.1%} | {whole['above']} | "
+        print(f"| {name} | {t['changed']} ({t['closer']} / {t['farther']}) | "
+              f"{whole['rate']:.1%} | {whole['above']} | "
               f"{t['rate_better']} / {t['rate_worse']} | {t['above_better']} / "
               f"{t['above_worse']} | {len(t['cgal_worse_2pct'])} | {len(t['new_over'])} | "
               f"{'yes' if passes(t) else 'no'} |")
