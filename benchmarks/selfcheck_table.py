@@ -16,6 +16,15 @@ their patches, % of the hole diameter): evidence that needs no truth and no test
 
     python benchmarks/selfcheck_table.py --split tuning --cache /tmp/scores.jsonl
     python benchmarks/selfcheck_table.py --split tuning --option siblings=4 --cache /tmp/s4.jsonl
+    python benchmarks/selfcheck_table.py --manifest benchmarks/holdout24_manifest.json \
+        --baseline /work/s48/holdout24.json --library --cache /tmp/h24.jsonl
+
+Any tuning-side manifest or spent holdout manifest (9-24) can be read (``--manifest``; the
+guard is ``cgal_s0._studied``: never the validation half nor a fresh holdout). With
+``--library`` each row also says what the library wrote and why (``library``: the
+``HoleReport``'s method, fairing order, note, the verdict's keep / faired / reference / lost
+and the scores it saw, the plane test, the noise gate's smoothing and estimate, the crease)
+and that fill's true error (session 49).
 
 Rows already in the cache are not computed again: a replay of rules is instant.
 """
@@ -23,6 +32,7 @@ Rows already in the cache are not computed again: a replay of rules is instant.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 import time
@@ -32,17 +42,20 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
+import cgal_s0  # noqa: E402 - its guard: the sets a study may look at
 import holes_manifest  # noqa: E402
 import validation  # noqa: E402
 import validation_meshes as vm  # noqa: E402
 from variant_rows import read_rows  # noqa: E402
 
+from surfinpaint import fill_holes  # noqa: E402
 from surfinpaint.errors import FillError  # noqa: E402
 from surfinpaint.fill.conformal import ConformalOptions  # noqa: E402
 from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
 from surfinpaint.fill.conformal.patch import hole_patch, is_disk  # noqa: E402
 from surfinpaint.fill.neighbourhood import FilledMesh  # noqa: E402 - fill_holes' neighbourhood
 from surfinpaint.fill.selfcheck import (  # noqa: E402
+    advantages_over,
     hidden_ring_scores,
     mean_scores,
     sibling_scores,
@@ -130,13 +143,20 @@ def hole_scores(vertices, faces, loop, truth_vertices, truth_faces, diameter,
              _patch_shape(faces, loop, fills["conformal"], o.rings_in_patch))
     tests = candidates.for_tests()
     started = time.perf_counter()
+    hidden_detail: dict = {}
+    sibling_detail: list = []
     hidden = hidden_ring_scores(vertices, faces, loop, tests, hide_rings=o.hide_rings,
-                                patch_rings=o.rings_in_patch)
+                                patch_rings=o.rings_in_patch, detail=hidden_detail)
     each = sibling_scores(vertices, faces, loop, tests, siblings=o.siblings,
-                          gap_rings=o.gap_rings, patch_rings=o.rings_in_patch, each=True)
+                          gap_rings=o.gap_rings, patch_rings=o.rings_in_patch, each=True,
+                          detail=sibling_detail)
     seconds_tests = time.perf_counter() - started
+    # each candidate's paired advantage over fair2 and its standard error, per test: what
+    # the significance cut (``selection.demoted``) weighs (session 49)
+    advantages = advantages_over(hidden_detail, sibling_detail, "fair2")
     between = _between(vertices, faces, fills, diameter, n_samples)
     return {"true": true, "hidden": hidden, "sibling": mean_scores(each), "between": between,
+            "advantages": advantages,
             "siblings_found": len(each),
             "crossed": candidates.crossed, "failure": failure, **shape,
             "seconds_lambda_h": seconds_lh, "seconds_tests": seconds_tests,
@@ -150,12 +170,62 @@ def baseline_errors(path: Path | None) -> dict:
     return validation._errors(read_rows([str(path)])) if path else {}
 
 
-def _manifest_holes(split: str | None, meshes: list[str] | None):
-    manifest = holes_manifest.read()
-    for entry in manifest["meshes"]:
+def _manifest_holes(split: str | None, meshes: list[str] | None, manifest: Path | None = None):
+    """The selected entries of ``manifest`` (the tuning/validation halves' by default);
+    refuses an entry a study must not look at where ``manifest`` is given."""
+    for entry in holes_manifest.read(manifest or holes_manifest.MANIFEST)["meshes"]:
         if (split and entry["split"] != split) or (meshes and entry["mesh"] not in meshes):
             continue
+        if manifest is not None and not cgal_s0._studied(entry):
+            raise SystemExit(f"{entry['mesh']} is in {entry['split']}: study the tuning side "
+                             "and the spent holdouts 9-24 only")
         yield entry
+
+
+def _plain(value):
+    """``value`` as JSON can hold it (dataclasses as dicts, arrays as lists)."""
+    if dataclasses.is_dataclass(value):
+        return {f.name: _plain(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (np.floating, np.integer, np.bool_)):
+        return value.item()
+    return value
+
+
+def library_row(cut, n_samples: int = 10000) -> dict:
+    """What ``fill_holes`` (the default conformal method) wrote for the hole and why, as
+    ``validation.py``'s ``conformal`` column fills it (the whole cut mesh), and the true
+    error of what it wrote (% of the hole diameter; inf where nothing was written)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fill_holes(cut.vertices, cut.faces, holes=[cut.loop], method="conformal")
+    r = res.reports[0]
+    v = r.verdict
+    written = len(res.faces) > len(cut.faces)
+    true = (100.0 * surface_distance(*hole_patch_of(np.asarray(res.vertices),
+                                                    np.asarray(res.faces), len(cut.vertices),
+                                                    cut.faces),
+                                     cut.truth_vertices, cut.truth_faces,
+                                     n_samples=n_samples).mean / cut.diameter
+            if written else INF)
+    smoothing = r.smoothing
+    return {"method": r.method, "fair_order": r.fair_order, "note": r.note,
+            "fallback": r.fallback, "plane": r.plane is not None, "crease": r.crease,
+            "crease_failure": r.crease_failure, "smoothed": r.smoothed,
+            "smoothing": None if smoothing is None else {
+                "length": smoothing.length, "why": smoothing.why,
+                "noise": _plain(smoothing.noise)},
+            "verdict": None if v is None else {
+                "keep": v.keep, "make": v.make, "faired": v.faired, "reference": v.reference,
+                "hidden": _plain(v.hidden), "sibling": _plain(v.sibling), "lost": list(v.lost)},
+            "blended_with": (r.diagnostics.blended_with if r.diagnostics is not None
+                             else None),
+            "true": true}
 
 
 def read_cache(path: Path) -> list[dict]:
@@ -165,12 +235,14 @@ def read_cache(path: Path) -> list[dict]:
 
 
 def build(cache: Path, split: str | None, meshes: list[str] | None,
-          baseline: Path | None = None, options: ConformalOptions | None = None,
-          extra=None) -> list[dict]:
+          baseline: Path | list[Path] | None = None, options: ConformalOptions | None = None,
+          extra=None, manifest: Path | None = None, library: bool = False) -> list[dict]:
     """The rows of the selected holes: from the cache, the missing ones computed and
     appended to it (a cache holds the rows of one set of ``options`` and ``extra``, see
-    :func:`hole_scores`)."""
-    base = baseline_errors(baseline)
+    :func:`hole_scores`; ``library``: with :func:`library_row` as ``row["library"]``)."""
+    base = {}
+    for path in (baseline if isinstance(baseline, list) else [baseline] if baseline else []):
+        base.update(baseline_errors(path))
     options = ConformalOptions() if options is None else options
 
     def compute(entry, k, hole, cut, local):
@@ -181,24 +253,27 @@ def build(cache: Path, split: str | None, meshes: list[str] | None,
                "near_border": hole["near_border"], "on_feature": hole["on_feature"],
                **row, "cgal": base.get(("cgal", entry["mesh"], k), float("nan")),
                "default_before": base.get(("conformal", entry["mesh"], k), float("nan"))}
+        if library:
+            row["library"] = library_row(cut)
         t = row["true"]
         print(f"{entry['mesh']} #{k}: fair2 {t['fair2']:.3g} fair3 {t['fair3']:.3g} "
               f"λ-H {t['conformal']:.3g} grown {row.get('grown')} "
               f"({row['seconds_tests']:.1f} s)", file=sys.stderr, flush=True)
         return row
 
-    return cached_rows(cache, split, meshes, options, compute)
+    return cached_rows(cache, split, meshes, options, compute, manifest)
 
 
 def cached_rows(cache: Path, split: str | None, meshes: list[str] | None,
-                options: ConformalOptions, compute) -> list[dict]:
+                options: ConformalOptions, compute, manifest: Path | None = None
+                ) -> list[dict]:
     """The rows of the selected holes of the manifest: those in ``cache`` read, the others
     made by ``compute(entry, k, hole, cut, local)`` (``local``: the hole's neighbourhood as
     :func:`surfinpaint.fill_holes` cuts it with ``options``' rings; warnings silenced) and
     appended to the cache."""
     have = {(r["mesh"], r["hole"]): r for r in read_cache(cache)}
     out = []
-    for entry in _manifest_holes(split, meshes):
+    for entry in _manifest_holes(split, meshes, manifest):
         todo = [k for k in range(len(entry["holes"])) if (entry["mesh"], k) not in have]
         mesh = vm.load_entry(entry) if todo else None
         for k, hole in enumerate(entry["holes"]):
@@ -219,12 +294,18 @@ def cached_rows(cache: Path, split: str | None, meshes: list[str] | None,
 
 def main(argv: list[str] | None = None) -> list[dict]:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--split", choices=("tuning", "validation"), default=None)
+    parser.add_argument("--split", default=None,
+                        help="the manifest's split to read (tuning, or a set's own name)")
+    parser.add_argument("--manifest", default=None,
+                        help="a tuning-side or spent holdout (9-24) manifest (default: the "
+                        "halves' benchmarks/holes_manifest.json, unguarded as before)")
+    parser.add_argument("--library", action="store_true",
+                        help="also what the library wrote for each hole and why (library_row)")
     parser.add_argument("--meshes", default=None, help="comma-separated mesh ids")
     parser.add_argument("--cache", required=True, help="JSONL file of rows (appended)")
     parser.add_argument("--baseline", default=None,
-                        help="a validation.py run (its --out .json or .jsonl) for CGAL's and "
-                        "the default's errors (else NaN)")
+                        help="validation.py runs (their --out .json or .jsonl, comma-separated) "
+                        "for CGAL's and the default's errors (else NaN)")
     parser.add_argument("--option", action="append", default=[], metavar="NAME=INT",
                         help="a ConformalOptions field of the self-check's tests, e.g. "
                         "siblings=4 (use a cache of its own)")
@@ -233,7 +314,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     options = ConformalOptions(**{k: int(v) for k, v in (o.split("=", 1)
                                                           for o in args.option)})
     return build(Path(args.cache), args.split, meshes,
-                 Path(args.baseline) if args.baseline else None, options)
+                 [Path(b) for b in args.baseline.split(",")] if args.baseline else None,
+                 options, manifest=Path(args.manifest) if args.manifest else None,
+                 library=args.library)
 
 
 if __name__ == "__main__":
