@@ -99,3 +99,38 @@ def test_the_triangles_crossing_come_back_from_workers(spiked, on_forked_workers
     spikes = [len(f) - 1 for f in result.hole_faces()]
     assert [r.crossings for r in result.reports] == [1, 1, 1]
     assert [r.crossing_triangles.tolist() for r in result.reports] == [[s] for s in spikes]
+
+
+def _spiked_with_a_slit(real):
+    """:func:`_spiked`, and a zero-area triangle along the loop's first edge (a new vertex
+    at its middle): the fill crosses the surface and cannot be stitched in."""
+    def fills(vertices, faces, loop, orders, **kwargs):
+        made = {}
+        for order, (new_v, new_f, used) in _spiked(real)(vertices, faces, loop, orders,
+                                                         **kwargs).items():
+            n = len(vertices) + len(new_v)
+            middle = (vertices[loop[0]] + vertices[loop[1]]) / 2
+            made[order] = (np.vstack([new_v, middle]),
+                           np.vstack([new_f, [[loop[1], loop[0], n]]]), used)
+        return made
+    return fills
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_fill_stitched_out_reports_no_crossing_triangles(monkeypatch, on_forked_workers,
+                                                           jobs):
+    # its near crossings are ids into faces never written: the report lists what was
+    # written (nothing), says why it was not, and warns of no crossing
+    monkeypatch.setattr(parallel, "faired_fills", _spiked_with_a_slit(parallel.faired_fills))
+    result, said = _fill(3, jobs)
+    assert len(on_forked_workers) == (jobs > 1)
+    assert [r.outcome for r in result.reports] == ["failed"] * 3
+    assert [r.crossings for r in result.reports] == [0] * 3
+    assert [r.crossing_triangles.tolist() for r in result.reports] == [[]] * 3
+    assert len(result.faces) == 3 * (24 + 2)  # nothing written
+    assert [s for s in said if "cross" in s] == []
+    assert [s.split(":")[0] for s in said if "zero-area triangle" in s] == [
+        f"hole {r.index}" for r in result.reports]
+    for r in result.reports:
+        assert "crossing" not in hole_lines(r)[0]
+        assert HoleRecord.of(r).to_json()["crossings"] == 0

@@ -379,3 +379,72 @@ def test_an_inner_margin_filled_warns_as_such_and_keep_margins_leaves_it_open():
         warnings.simplefilter("error", MeshWarning)
         kept = fill_holes(v, f, method="fair", keep_margins=True)
     assert len(kept.new_faces) == 0 and kept.reports == []
+
+
+def _polar_plate(inner_radii, outer_points, rings=6, bend=0.0, noise=0.0, seed=0):
+    """A plate around an opening: rings of ``len(inner_radii)`` points from the opening's
+    loop (radius ``inner_radii[i]`` at angle i) out to radius 0.95, then an outer loop of
+    ``outer_points`` (a divisor of the rings' count) at radius 1: the opening's loop has
+    more edges than the outer one. ``bend`` curves it (z = bend x²) and ``noise`` adds depth
+    noise, as a range scan's."""
+    m = len(inner_radii)
+    step = m // outer_points
+    assert step * outer_points == m
+    theta = 2 * np.pi * np.arange(m) / m
+    t = np.linspace(0, 1, rings)[:, None]
+    radius = (1 - t) * np.asarray(inner_radii)[None, :] + t * 0.95
+    xy = np.concatenate([(radius[..., None] * np.c_[np.cos(theta), np.sin(theta)]).reshape(
+        -1, 2), np.c_[np.cos(theta[::step]), np.sin(theta[::step])]])
+    at = np.arange(rings * m).reshape(rings, m)
+    a, b = at[:-1], np.roll(at[:-1], -1, axis=1)
+    c, d = np.roll(at[1:], -1, axis=1), at[1:]
+    faces = [np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)]
+    last, outer = at[-1], rings * m + np.arange(outer_points)
+    for s in range(step):  # each outer point fans over `step` edges of the last ring
+        faces.append(np.c_[last[s::step], last[(np.arange(s, m, step) + 1) % m], outer])
+    faces.append(np.c_[last[::step], outer, np.roll(outer, 1)])  # between two fans
+    faces = np.concatenate(faces)[:, [0, 2, 1]]  # wound as above they face down: face up
+    z = bend * xy[:, 0] ** 2 + noise * np.random.default_rng(seed).standard_normal(len(xy))
+    return np.c_[xy, z], faces
+
+
+def _star(points, radius, depth):
+    """An opening's radii: ``points`` alternately ``depth`` out and in (a jagged bore)."""
+    return radius + depth * (-1.0) ** np.arange(points)
+
+
+# (what, mesh, may_be_border): scanned rings whose opening's loop has as many or more edges
+# than the outer border; the outer loop is the border and the opening lies inside it
+# (main took the loop with the most edges for the border's candidate: then neither was)
+MORE_EDGES_INSIDE = [
+    ("a washer, 96 edges inside 48 (25 %)", lambda: _flat_ring(0.45, 48, 96), True),
+    ("a washer, 48 edges inside 48 (25 %)", lambda: _flat_ring(0.45, 48, 48), True),
+    ("a small hole, 48 edges inside 24 (1 %)", lambda: _flat_ring(0.1, 24, 48), False),
+    ("a thin ring, 96 edges inside 48 (56 %)", lambda: _flat_ring(0.6, 48, 96), True),
+    ("a curved noisy scan's opening, 96 inside 48 (24 %)",
+     lambda: _polar_plate(np.full(96, 0.45), 48, bend=0.3, noise=0.005), True),
+    ("a finer scan at a small opening, 192 inside 48 (9 %)",
+     lambda: _polar_plate(np.full(192, 0.3), 48, bend=0.3, noise=0.005), False),
+    ("a jagged bore, longer than the border (17 %)",
+     lambda: _polar_plate(_star(96, 0.45, 0.2), 48, bend=0.3, noise=0.005), False),
+]
+
+
+@pytest.mark.parametrize("what, make, may_be", MORE_EDGES_INSIDE,
+                         ids=[c[0] for c in MORE_EDGES_INSIDE])
+def test_the_outer_border_is_the_loop_spanning_the_most_area_not_the_most_edges(
+        what, make, may_be):
+    v, f = make()
+    holes = find_holes(v, f)
+    assert len(holes) == 2
+    reach = [np.linalg.norm(v[h.loop, :2], axis=1).max() for h in holes]
+    outer, opening = (holes[0], holes[1]) if reach[0] > reach[1] else (holes[1], holes[0])
+    assert opening.n_edges >= outer.n_edges  # the case: the edge count cannot tell them
+    assert outer.is_border and not outer.inside_border and not outer.may_be_border
+    assert opening.inside_border and not opening.is_border
+    assert opening.may_be_border is may_be
+    assert opening.span_fraction < outer.span_fraction
+    assert [h.n_edges for h in holes] == sorted((h.n_edges for h in holes), reverse=True)
+    assert [len(loop) for loop in select_holes(v, f)] == [opening.n_edges]
+    if "jagged" in what:  # the border is not the longer loop either: the area decides
+        assert opening.perimeter > outer.perimeter

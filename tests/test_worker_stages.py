@@ -4,6 +4,7 @@ a hole on a worker said its start and its end only)."""
 
 from __future__ import annotations
 
+import itertools
 import multiprocessing
 
 import pytest
@@ -42,6 +43,18 @@ def _heard(vertices, faces, jobs):
     return result, said
 
 
+def _assert_stages_as_serial(result, said, alone):
+    """Each hole's stages said in ``said``, in order, as in the serial fill's ``alone``
+    (a stage said again after a second without news, as one: under load a stage on a
+    worker can take that long)."""
+    for report in result.reports:
+        mine = f"hole {report.index}: "
+        stages = [m for m, _ in itertools.groupby(
+            m for _, _, m in said if m.startswith(mine) and "(stage " in m)]
+        assert stages == [m for _, _, m in alone if m.startswith(mine) and "(stage " in m]
+        assert stages[-1] == f"{mine}{report.n_edges} edges, {LAST}"
+
+
 def test_fill_on_workers_says_each_holes_stages_as_one_process_does(two_holes, on_workers):
     serial, alone = _heard(*two_holes, jobs=1)
     assert not on_workers
@@ -49,15 +62,36 @@ def test_fill_on_workers_says_each_holes_stages_as_one_process_does(two_holes, o
     assert on_workers == [1]
     assert result.vertices.tobytes() == serial.vertices.tobytes()
     assert [r.outcome for r in result.reports] == ["lambda-h", "lambda-h"]
-    for report in result.reports:  # each hole's stages, in order, as the serial fill's
-        mine = f"hole {report.index}: "
-        stages = [m for _, _, m in said if m.startswith(mine) and "(stage " in m]
-        assert stages == [m for _, _, m in alone if m.startswith(mine) and "(stage " in m]
-        assert stages[-1] == f"{mine}{report.n_edges} edges, {LAST}"
+    _assert_stages_as_serial(result, said, alone)
     # the count is the holes stitched: it never goes back, and ends with both
     counts = [done for done, _, _ in said]
     assert counts == sorted(counts) and said[-1][:2] == (2, 2)
     assert {total for _, total, _ in said} == {2}
+
+
+@pytest.mark.skipif("forkserver" not in multiprocessing.get_all_start_methods(),
+                    reason="no forkserver here")
+def test_workers_not_forked_say_each_holes_stages_too(two_holes, monkeypatch):
+    # a process running other threads (a Dask client's offload thread, say) starts its
+    # workers from a forkserver: they inherit nothing, and said each hole's start and end
+    # only (session 48)
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_EDGES", {"fair": 0, "conformal": 0})
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_HOLES", 2)
+    monkeypatch.setattr(parallel, "forks", lambda: False)
+    methods: list[str] = []
+    start_context = parallel.start_context
+    monkeypatch.setattr(parallel, "start_context", lambda preload: methods.append(
+        start_context(preload).get_start_method()) or start_context(preload))
+    serial, alone = _heard(*two_holes, jobs=1)
+    assert not methods
+    result, said = _heard(*two_holes, jobs=2)
+    assert methods == ["forkserver"]
+    assert result.vertices.tobytes() == serial.vertices.tobytes()
+    assert result.faces.tobytes() == serial.faces.tobytes()
+    assert [r.outcome for r in result.reports] == ["lambda-h", "lambda-h"]
+    _assert_stages_as_serial(result, said, alone)
+    counts = [done for done, _, _ in said]
+    assert counts == sorted(counts) and said[-1][:2] == (2, 2)
 
 
 def test_the_last_stage_is_said_again_without_news():

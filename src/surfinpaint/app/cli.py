@@ -47,6 +47,7 @@ from surfinpaint.app.interrupts import (
     interruptions_raised,
     raise_interruption,
     raise_noted,
+    raise_pending,
     signals_raise,
 )
 from surfinpaint.app.outputs import (
@@ -476,6 +477,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             if quiet < 2:  # those the command did not print itself, named as it does
                 print_warnings(console, count_warnings(caught), source=_input_name(args),
                                other_files=_other_files(args))
+            raise_pending()  # a signal lost in the last moments: raised here, not after
             return code
         except (Interrupted, KeyboardInterrupt) as exc:
             if not isinstance(exc, Interrupted):  # a Ctrl-C that came before our handler

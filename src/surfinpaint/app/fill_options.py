@@ -180,7 +180,7 @@ def add_keep_margins(parser) -> None:
     """``--keep-margins`` (``keep_margins``: the loops that may be a margin left open)."""
     parser.add_argument("--keep-margins", action="store_true",
                         help="also leave open the loops that may be a margin of the surface "
-                        "('the margin?' in `holes`): a piece's longest loop spanning 10-40%% "
+                        "('the margin?' in `holes`): a piece's largest loop spanning 10-40%% "
                         "of its area (a tooth crown scanned down to the gum), or a loop "
                         "inside its outer border spanning at least 20%% (the inner edge of a "
                         "scanned ring or bore); filled by default, with a warning")

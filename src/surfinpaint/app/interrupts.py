@@ -14,12 +14,14 @@ SIGINT ignored, ``nohup`` with SIGHUP, and a Ctrl-C meant for the shell must not
 
 from __future__ import annotations
 
+import _thread
 import contextlib
 import importlib
 import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Iterator
 
 HANDLED = (signal.SIGINT, signal.SIGTERM)
@@ -46,11 +48,23 @@ class Interrupted(BaseException):
 
 
 def _raise_interrupted(signum: int, frame) -> None:
+    if _within(frame, _send_again.__code__):  # raised in the hook it would be lost for good
+        _send_later(signum)
+        return
     # Further signals are ignored while the stack unwinds, so that a second Ctrl-C does not
     # cut short the removal of temporary files; the previous handlers come back on exit.
     for s in HANDLED:
         signal.signal(s, signal.SIG_IGN)
     raise Interrupted(signum)
+
+
+def _within(frame, code) -> bool:
+    """Whether ``frame`` or a frame it was called from runs ``code``."""
+    while frame is not None:
+        if frame.f_code is code:
+            return True
+        frame = frame.f_back
+    return False
 
 
 def raise_interruption(exc: BaseException) -> None:
@@ -151,8 +165,9 @@ def raise_noted() -> None:
 #: Seconds after which a signal lost in a finalizer or callback is sent again (from another
 #: thread: by then the place it was lost in has returned)
 AGAIN_AFTER = 0.01
-_state: dict = {}  # "previous": the unraisable hook before ours; "again": the timer;
-# "taken": the signals whose handler the block set (not those inherited as ignored)
+_state: dict = {}  # "previous": the unraisable hook before ours; "again": the signals to
+# send again (a list the senders pop; emptied to cancel them); "taken": the signals whose
+# handler the block set (not those inherited as ignored)
 
 
 def _send_again(unraisable) -> None:
@@ -160,8 +175,10 @@ def _send_again(unraisable) -> None:
     the handler where Python cannot raise it (a ``__del__``, a weakref callback, a ctypes
     callback: "Exception ignored in ...") would be lost, and every later signal ignored;
     instead the handlers are set again and the signal is sent again :data:`AGAIN_AFTER`
-    seconds later, to land outside that place (sending it from here would run the handler
-    inside this hook, where it is lost again). Anything else goes to the previous hook."""
+    seconds later, to land outside that place (:func:`_send_later`; sending it from here
+    would run the handler inside this hook, where it is lost again: a signal that comes
+    while this hook runs, the one sent again included, is sent again after it, by the
+    handler). Anything else goes to the previous hook."""
     exc = unraisable.exc_value
     if not isinstance(exc, Interrupted) or \
             threading.current_thread() is not threading.main_thread():
@@ -169,9 +186,24 @@ def _send_again(unraisable) -> None:
         return
     for s in _state["taken"]:
         signal.signal(s, _raise_interrupted)
-    again = _state["again"] = threading.Timer(AGAIN_AFTER, os.kill, (os.getpid(), exc.signum))
-    again.daemon = True
-    again.start()
+    _send_later(exc.signum)
+
+
+def _send_later(signum: int) -> None:
+    """Send ``signum`` to this process :data:`AGAIN_AFTER` seconds from now, from a thread
+    started without waiting for it: ``threading.Thread.start`` waits until the thread
+    runs, and under load the thread sent the signal while this one still waited there,
+    inside the hook, where it was lost for good: the fill went on and wrote its output
+    (session 49: 3 of 40 runs of a signal in a gc callback at load ~20). Cancelled by
+    emptying ``_state["again"]`` (:func:`_raise_pending`, the block's end)."""
+    again = _state.setdefault("again", [])
+    again.append(signum)
+
+    def send() -> None:
+        time.sleep(AGAIN_AFTER)
+        with contextlib.suppress(IndexError):  # popped (sent or cancelled) already
+            os.kill(os.getpid(), again.pop())
+    _thread.start_new_thread(send, ())
 
 
 @contextlib.contextmanager
@@ -195,19 +227,22 @@ def signals_raise() -> Iterator[None]:
             signal.signal(s, _raise_interrupted)
         sys.unraisablehook = _send_again
         yield
-        _raise_pending()
+        raise_pending()
     finally:
         if sys.unraisablehook is _send_again:
             sys.unraisablehook = hook
-        _state.pop("again", None)
+        _state.pop("again", []).clear()  # a signal sent after the block: no one's
         for s, handler in previous.items():
             signal.signal(s, handler if handler is not None else signal.SIG_DFL)
 
 
-def _raise_pending() -> None:
-    """A signal lost just before the block's end and not yet sent again: raised now (sent
-    after the block, it would meet the previous handler)."""
-    again = _state.get("again")
-    if again is not None and again.is_alive():
-        again.cancel()
-        raise Interrupted(again.args[1])
+def raise_pending() -> None:
+    """A signal lost (in a finalizer or callback) and not yet sent again: raised now, and
+    not sent. :func:`signals_raise` calls it as its block ends (sent after the block, the
+    signal would meet the previous handler); a command calls it as its work ends, inside
+    its own ``except Interrupted`` (raised at the block's end, it is outside)."""
+    again = _state.get("again", [])
+    with contextlib.suppress(IndexError):
+        signum = again.pop(0)
+        again.clear()
+        raise Interrupted(signum)

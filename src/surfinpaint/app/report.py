@@ -320,7 +320,7 @@ def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray,
         written_panel=panel_fills(made, k).written_in,
         skipped=rc.skipped if rc.outcome in ("skipped", "failed") else None,
         islands=rc.islands,
-        crossings=rc.crossings if rc.outcome in ("lambda-h", "faired") else 0,
+        crossings=rc.crossings,  # 0 where nothing was written (hole_steps.record)
         smoothed=rc.smoothed,
     )
 

@@ -227,18 +227,22 @@ def with_failure(made: Fill | None, why: str | None) -> Fill | None:
     return made if made is None or why is None else dataclasses.replace(made, failure=why)
 
 
-def record(report: HoleReport, fill: Fill) -> None:
-    """What the method did with the hole, in its report (a fallback also as a warning)."""
+def record(report: HoleReport, fill: Fill, written: bool = True) -> None:
+    """What the method did with the hole, in its report (a fallback also as a warning).
+    ``written``: False for a fill that is not stitched in (:func:`zero_area_reason`): its
+    triangles that cross the surface are then neither reported nor warned of (they would be
+    rows of faces never written; the hole is skipped, and says why)."""
     report.method = fill.kind
     report.note = fill.notes
     report.fair_order = fill.fair_order
     report.verdict, report.crease, report.diagnostics = (fill.verdict, fill.crease,
                                                           fill.diagnostics)
     report.crease_failure = fill.crease_failure
-    report.crossings, report.crossing_triangles = fill.crossings, fill.crossing_triangles
     report.plane = fill.plane
     report.smoothing = fill.smoothing
-    if fill.crossings:
+    if written:
+        report.crossings, report.crossing_triangles = fill.crossings, fill.crossing_triangles
+    if written and fill.crossings:
         triangles = how_many(fill.crossings, "triangle", "triangles")
         warn_at_caller(f"hole {report.index}: {triangles} of the "
               f"fill cross{agreeing(fill.crossings, 'es', '')} the surface around the hole (its "
@@ -328,8 +332,8 @@ def stitched(mesh: FilledMesh, report: HoleReport, ids: np.ndarray | None, made:
         report.failed = True
         problem = f"the fill failed: {failure}"
     if made is not None:
-        record(report, made)
         problem = unstitchable
+        record(report, made, written=problem is None)
         if problem is None:
             mesh.append(ids, made)
         report.failed = problem is not None  # a fill was made: it is its failure

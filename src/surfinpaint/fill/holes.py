@@ -33,12 +33,13 @@ objects = lazy_module("surfinpaint.fill.objects")
 __all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop",
            "over_size", "percent_below", "seam_edges", "warn_degenerate"]
 
-# A component's longest loop is its outer border when the area the loop spans is at least
-# this fraction of the component's own area: a scan's border spans about its whole area
-# (0.6–1), while a hole in a closed surface spans a small part of what remains (a third of a
-# sphere removed spans 0.33).
+# A component's largest loop (the one spanning the most area, not the one with the most
+# edges) is its outer border when the area the loop spans is at least this fraction of the
+# component's own area: a scan's border spans about its whole area (0.6–1), while a hole in
+# a closed surface spans a small part of what remains (a third of a sphere removed spans
+# 0.33).
 BORDER_SPAN_FRACTION = 0.4
-# A component's longest loop spanning at least this fraction (but less than the border's) is
+# A component's largest loop spanning at least this fraction (but less than the border's) is
 # filled as a hole, with a warning: it may be an open surface's margin, e.g. a tooth crown
 # scanned down to the gum (its margin spans about a third of the crown's area), which the
 # area alone cannot tell from a large hole in a closed surface (a tenth of a sphere removed
@@ -75,10 +76,11 @@ class Hole:
     is_border : bool
         True when the loop looks like the surface's own outer border rather than a hole.
     span_fraction : float
-        For its component's longest loop, the area the loop spans over the component's area
+        For its component's largest loop (the one spanning the most area), the area the
+        loop spans over the component's area
         (``is_border`` from ``BORDER_SPAN_FRACTION``); NaN where a first part of the
         component's area was enough to tell the loop is small. For the other loops of a
-        component whose longest loop is its outer border, the same fraction (a scanned
+        component whose largest loop is its outer border, the same fraction (a scanned
         ring's inner edge spans a large part); NaN for the other loops of other components.
     spans_no_area : bool
         Every face of its component has zero area (collinear or coincident corners, as
@@ -89,7 +91,7 @@ class Hole:
         Per loop edge (``loop[i]`` to ``loop[i + 1]``), whether it lies exactly on another
         boundary edge (:func:`seam_edges`): faces that meet there do not join.
     inside_border : bool
-        The loop is not its component's longest, and that one is the outer border: the
+        The loop is not its component's largest, and that one is the outer border: the
         loop lies inside an open surface (a scan's hole, or a scanned ring's inner edge).
     """
 
@@ -115,7 +117,7 @@ class Hole:
     @property
     def may_be_border(self) -> bool:
         """A hole (not ``is_border``) that may be an open surface's margin: its
-        component's longest loop spanning at least ``MAY_BE_BORDER_FRACTION`` of it (a
+        component's largest loop spanning at least ``MAY_BE_BORDER_FRACTION`` of it (a
         tooth crown scanned to the gum), or a loop inside the outer border spanning at
         least ``INNER_MARGIN_FRACTION`` (the inner edge of a scanned ring or bore);
         filling it by default warns."""
@@ -205,9 +207,10 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     Every boundary loop is returned. Faces that use a vertex twice are no triangles and are
     left out (:func:`~surfinpaint.geometry.degenerate.triangle_rows`): their two edges
     between the same two vertices would otherwise open a slit in the surface. In each
-    connected component the longest loop is flagged ``is_border`` when it spans at least
-    ``BORDER_SPAN_FRACTION`` of that component's area (an open scan's outer edge); all
-    other loops are holes. Callers choose what to fill with :func:`select_holes`.
+    connected component the largest loop (spanning the most area) is flagged ``is_border``
+    when it spans at least ``BORDER_SPAN_FRACTION`` of that component's area (an open
+    scan's outer edge); all other loops are holes. Callers choose what to fill with
+    :func:`select_holes`.
 
     Parameters
     ----------
@@ -266,27 +269,25 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
     ordered = [loops[k] for k in rank.tolist()]
     owner = firsts[rank]
     perimeters, diameters = _loop_lengths(vertices, ordered)
-    # each component's first loop in that order is its longest
-    longest = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
-    spans = dict(zip(owner[longest].tolist(),
-                     _spanned_areas(vertices, [ordered[k] for k in longest.tolist()]).tolist(),
-                     strict=True))
+    spanned = _spanned_areas(vertices, ordered)
+    largest = _largest_loops(owner, spanned)
+    spans = dict(zip(owner[largest].tolist(), spanned[largest].tolist(), strict=True))
     fractions = _span_fractions(vertices, faces, label, spans)
-    flat = _zero_area_components(label, spans, owner[longest], perimeters[longest],
+    flat = _zero_area_components(label, spans, owner[largest], perimeters[largest],
                                  vertices, faces)
-    is_longest = np.zeros(len(ordered), dtype=bool)
-    is_longest[longest] = True
+    is_largest = np.zeros(len(ordered), dtype=bool)
+    is_largest[largest] = True
     bordered = {c for c, f in fractions.items() if f >= BORDER_SPAN_FRACTION}
-    inner = _inner_fractions(vertices, ordered, owner, is_longest, spans, fractions, bordered)
+    inner = _inner_fractions(owner, is_largest, spanned, spans, fractions, bordered)
     # numbered over the components with faces: a vertex no face uses (left where faces were
     # cut away) is a component of its own in the labels and would skip numbers. A face's
     # three vertices share its component (the labels are of its edges), so its first
     # vertex's label is enough: a count of those in place of np.unique of every corner's
     # (651k case: 0.004 instead of 0.04 s, the same sorted ids; docs/scale.md, session 36)
     numbers = np.searchsorted(np.flatnonzero(np.bincount(label[faces[:, 0]])), owner)
-    # the longest loops' fractions decide the borders; the inner loops' may call a margin
+    # the largest loops' fractions decide the borders; the inner loops' may call a margin
     span = [fractions[c] if first else inner.get(k, float("nan"))
-            for k, (c, first) in enumerate(zip(owner.tolist(), is_longest.tolist(),
+            for k, (c, first) in enumerate(zip(owner.tolist(), is_largest.tolist(),
                                                strict=True))]
     # one Hole a loop, its numbers computed above for all loops at once (a triangle soup's
     # 10^5 loops: docs/scale.md, session 38)
@@ -297,7 +298,7 @@ def find_holes(vertices: np.ndarray, faces: np.ndarray | None = None,
                  inside_border=bool(not first and component in bordered))
             for loop, n_edges, perimeter, diameter, number, component, first, fraction, seams
             in zip(ordered, lengths[rank].tolist(), perimeters.tolist(), diameters.tolist(),
-                   numbers.tolist(), owner.tolist(), is_longest.tolist(), span,
+                   numbers.tolist(), owner.tolist(), is_largest.tolist(), span,
                    seam_edges(vertices, ordered), strict=True)]
 
 
@@ -354,7 +355,7 @@ _PARTIAL_AREA_MARGIN = 1e-6
 
 def _span_fractions(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
                     spans: dict[int, float]) -> dict[int, float]:
-    """Per component, the area its longest loop spans over the component's area (``spans``:
+    """Per component, the area its largest loop spans over the component's area (``spans``:
     component -> that spanned area, ``label``: component per vertex); NaN where the loop
     is small for certain (below ``MAY_BE_BORDER_FRACTION``).
 
@@ -386,23 +387,31 @@ def _span_fractions(vertices: np.ndarray, faces: np.ndarray, label: np.ndarray,
     return dict(zip(spans, fraction.tolist(), strict=True))
 
 
-def _inner_fractions(vertices: np.ndarray, ordered: list[np.ndarray], owner: np.ndarray,
-                     is_longest: np.ndarray, spans: dict[int, float],
-                     fractions: dict[int, float], bordered: set[int]) -> dict[int, float]:
-    """Per loop (its position in ``ordered``) that is not the longest of its component
-    (``owner``; ``is_longest``: per loop) and whose component's longest loop is its outer
-    border (``bordered``): the area the loop spans over the component's area. That area is
-    the border's span over its fraction (both known there: the fraction is at least
-    ``BORDER_SPAN_FRACTION``), so no face is summed again; components without a border (a
-    closed surface's holes) cost nothing."""
+def _largest_loops(owner: np.ndarray, spanned: np.ndarray) -> np.ndarray:
+    """Per component (``owner``: per loop, sorted), the position of its largest loop: the
+    one spanning the most area (``spanned``: per loop), the first of equals (the loops are
+    longest first). That loop is the outer border's candidate: the border rule asks what
+    part of the component a loop spans, and this one spans the most. Not the loop with the
+    most edges: a scanned ring's inner edge may have more than its outer one (a finer
+    scan there, or a jagged bore), and then neither was the border."""
+    order = np.lexsort((np.arange(len(owner)), -spanned, owner))
+    return order[np.r_[True, owner[order][1:] != owner[order][:-1]]]
+
+
+def _inner_fractions(owner: np.ndarray, is_largest: np.ndarray, spanned: np.ndarray,
+                     spans: dict[int, float], fractions: dict[int, float],
+                     bordered: set[int]) -> dict[int, float]:
+    """Per loop (its position: ``owner``, ``is_largest`` and ``spanned``, the area it
+    spans, are per loop) that is not the largest of its component and whose component's
+    largest loop is its outer border (``bordered``): the area the loop spans over the
+    component's area. That area is the border's span over its fraction (both known there:
+    the fraction is at least ``BORDER_SPAN_FRACTION``), so no face is summed again;
+    components without a border (a closed surface's holes) cost nothing."""
     area = {c: spans[c] / fractions[c] for c in bordered}
     if not area:
         return {}
-    at = np.flatnonzero(~is_longest & np.isin(owner, list(area))).tolist()
-    if not at:
-        return {}
-    spanned = _spanned_areas(vertices, [ordered[k] for k in at])
-    return {k: float(s / area[int(owner[k])]) for k, s in zip(at, spanned.tolist(), strict=True)}
+    at = np.flatnonzero(~is_largest & np.isin(owner, list(area))).tolist()
+    return {k: float(spanned[k] / area[int(owner[k])]) for k in at}
 
 
 def _zero_area_components(label: np.ndarray, spans: dict[int, float], components: np.ndarray,
@@ -411,7 +420,7 @@ def _zero_area_components(label: np.ndarray, spans: dict[int, float], components
     """The components (of ``label``) with loops whose faces all have zero area
     (:func:`~surfinpaint.geometry.validation.zero_area_faces`). The vector areas of a
     component's loops add up to its faces', so the loop of such a component (a stray
-    degenerate triangle's) spans no area: only the components whose longest loop
+    degenerate triangle's) spans no area: only the components whose largest loop
     (``spans``: the area it spans; ``perimeters``: its length, per component of
     ``components``) spans at most ``_NO_AREA_SPAN`` times its perimeter squared are looked
     at, their faces alone (a closed surface's holes cost nothing more)."""

@@ -42,7 +42,8 @@ from surfinpaint.lazy import lazy_module
 conformal_method = lazy_module("surfinpaint.fill.conformal.method")
 
 __all__ = ["crossing_triangles", "exit_with_parent", "fill_local", "fill_or_failure", "forks",
-           "independent", "pool", "reissue", "resolve_jobs", "start_context", "worth_parallel"]
+           "independent", "pool", "pool_telling", "reissue", "resolve_jobs", "start_context",
+           "told_queue", "worth_parallel"]
 
 # fewer holes than this, or fewer boundary edges in all, and the holes are filled in this
 # process: starting workers costs more than such holes take (a faired fill of a 60-edge
@@ -208,12 +209,44 @@ def exit_with_parent() -> None:
     threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()
 
 
+# a forkserver preloads the module of the tasks (it imports this one)
+_TASKS = "surfinpaint.fill.scheduler"
+
+
 def pool(workers: int) -> ProcessPoolExecutor:
     """Worker processes for the holes of one mesh, started as :func:`start_context` says,
     each ending with its parent (:func:`exit_with_parent`)."""
-    # a forkserver preloads the module of the tasks (it imports this one)
-    return ProcessPoolExecutor(workers, mp_context=start_context("surfinpaint.fill.scheduler"),
+    return ProcessPoolExecutor(workers, mp_context=start_context(_TASKS),
                                initializer=exit_with_parent)
+
+
+# in a worker of pool_telling: the queue it tells the parent news through
+_TOLD: list = []
+
+
+def _start_telling(queue) -> None:
+    """Worker initializer of :func:`pool_telling`: :func:`exit_with_parent`, and ``queue``
+    kept for :func:`told_queue`."""
+    _TOLD[:] = [queue]
+    exit_with_parent()
+
+
+def told_queue():
+    """In a worker of :func:`pool_telling`: the queue to tell the parent news through;
+    None in any other process."""
+    return _TOLD[0] if _TOLD else None
+
+
+def pool_telling(workers: int):
+    """:func:`pool`'s workers, and a queue (a ``SimpleQueue``: a message is in the pipe
+    once ``put`` returns) that each worker gets as it starts (:func:`told_queue` there) to
+    tell this process news through. Forked or not: a worker from a forkserver or spawned
+    (this process runs other threads, macOS) inherits no queue, and gets one only as an
+    argument of its start, made with the pool's start method."""
+    context = start_context(_TASKS)
+    queue = context.SimpleQueue()
+    return ProcessPoolExecutor(workers, mp_context=context, initializer=_start_telling,
+                               initargs=(queue,)), queue
 
 
 def end_workers(pool: ProcessPoolExecutor) -> None:

@@ -135,7 +135,7 @@ def fill_holes(
         Also fill the loops that look like the outer border of an open surface.
     keep_margins : bool
         With ``holes=None``, also leave open the loops that may be a margin of the surface
-        (:attr:`~surfinpaint.fill.holes.Hole.may_be_border`): a piece's longest loop that
+        (:attr:`~surfinpaint.fill.holes.Hole.may_be_border`): a piece's largest loop that
         spans 10–40 % of its area (a tooth crown scanned down to the gum), or a loop inside
         a piece's outer border that spans at least 20 % of it (the inner edge of a scanned
         ring or bore). Filled by default, with a warning. For a batch of such scans, where

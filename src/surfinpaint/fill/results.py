@@ -343,7 +343,8 @@ class HoleReport:
     that a crease crossing the hole was continued across it (``crease_failure``: that its crease
     fill failed and it was filled as smooth), ``diagnostics`` what the λ-H pass used, and
     ``crossings`` how many of the written fill's triangles cross the surface around the hole
-    (see :class:`Fill`), farther out, or another hole's fill
+    (0 where no fill was written, also one made and not stitched in; see :class:`Fill`),
+    farther out, or another hole's fill
     (:mod:`surfinpaint.fill.far_crossings`; a warning says so for each, naming both holes
     for the last), each triangle counted once, ``crossing_triangles`` which (their rows in
     the hole's new faces, :meth:`FillResult.hole_faces`; sorted), ``plane`` the plane test's

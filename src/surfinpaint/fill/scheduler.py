@@ -23,22 +23,22 @@ How the work is shared:
 - Here, the fills are stitched in the serial order, each as soon as it and those before it
   are in: vertex numbering, reports, warnings (a worker's are recorded and issued again
   here), progress and errors (a worker's is raised at its hole) are those of the serial run.
-  A forked worker also tells the stages of its hole's conformal fill as they start, through
-  a queue, and they are said here as they come (the holes stitched the count), the last one
-  again every :data:`SAY_AGAIN_SECONDS` without news (a bar's clock goes on).
+  Where someone listens, a worker (forked or not: it gets the queue as it starts,
+  :func:`~surfinpaint.fill.parallel.pool_telling`) also tells the stages of its hole's
+  conformal fill as they start, and they are said here as they come (the holes stitched the
+  count), the last one again every :data:`SAY_AGAIN_SECONDS` without news (a bar's clock
+  goes on).
 """
 
 from __future__ import annotations
 
 import functools
 import itertools
-import multiprocessing
 import time
 import warnings
 from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -79,7 +79,6 @@ class _Job:
     indices: list[int]
     rings: list[int]
     run: Run
-    stages: Any = None  # the queue the workers tell their holes' stages through, if any
 
 
 # the jobs of the calls running in this process, by token; a forked worker finds its own
@@ -141,12 +140,13 @@ def _tell_stage(queue, position: int, name: str) -> None:
     queue.put((position, name))
 
 
-def _stage_teller(job: _Job | None, position: int) -> Callable[[str], None] | None:
-    """In a forked worker: the ``stage`` callback of hole ``position``'s fill (None where
-    nobody listens, or the worker was not forked: it has no ``job``)."""
-    if job is None or job.stages is None:
+def _stage_teller(position: int) -> Callable[[str], None] | None:
+    """In a worker: the ``stage`` callback of hole ``position``'s fill (None where nobody
+    listens: the worker got no queue, :func:`~surfinpaint.fill.parallel.told_queue`)."""
+    queue = parallel.told_queue()
+    if queue is None:
         return None
-    return functools.partial(_tell_stage, job.stages, position)
+    return functools.partial(_tell_stage, queue, position)
 
 
 def fill_cut_here(token: int, position: int) -> Outcome:
@@ -162,7 +162,7 @@ def fill_cut_here(token: int, position: int) -> Outcome:
         return Outcome(needs=int(earlier.max()) + 1)
     (local, problem, made, failure), records = _recorded(
         _checked_fill, job.mesh, local, job.indices[position], job.run,
-        _stage_teller(job, position))
+        _stage_teller(position))
     return Outcome(made, failure, problem,
                    None if made is None else zero_area_reason(local.vertices, made),
                    local.ids, records, time.perf_counter() - started)
@@ -170,12 +170,11 @@ def fill_cut_here(token: int, position: int) -> Outcome:
 
 def fill_sent(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray, index: int,
               method: str, options: ConformalOptions, fair_order: int | None,
-              token: int | None = None, position: int = 0) -> Outcome:
+              position: int = 0) -> Outcome:
     """In a worker: fill hole ``index`` from the neighbourhood the parent cut and checked
-    (local ids); a forked worker tells the stages of the call ``token``'s hole
-    ``position``."""
+    (local ids), telling its stages as hole ``position``'s where someone listens."""
     started = time.perf_counter()
-    stage = _stage_teller(_INHERITED.get(token), position)
+    stage = _stage_teller(position)
     (made, failure), records = _recorded(at_hole, index, parallel.fill_or_failure, vertices,
                                          faces, loop, method, options, fair_order, stage)
     return Outcome(made, failure,
@@ -270,7 +269,7 @@ class _Schedule:
                 local, run = self.cuts[p], self.runs[p]
                 future = executor.submit(fill_sent, local.vertices, local.faces,
                                          local.local_loop, self.todo[p].index, run.method,
-                                         run.options, run.fair_order, self.token, p)
+                                         run.options, run.fair_order, p)
             elif self.token is not None:
                 p = self.unstarted.pop(0)
                 future = executor.submit(fill_cut_here, self.token, p)
@@ -324,22 +323,22 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
     """The holes of ``todo`` filled in ``workers`` processes and stitched into ``mesh`` in
     their order, bit-identical to one after another (see the module's docstring)."""
     token = next(_TOKENS) if parallel.forks() else None
-    news = None
     if token is not None:  # before the first submit: the workers fork then
-        # the stages come back from forked workers only (a queue is shared by inheritance)
-        if run.tells_stages:
-            news = _StageNews(multiprocessing.get_context("fork").SimpleQueue(), run, todo)
         _INHERITED[token] = _Job(mesh, [r.loop for r in todo], [r.index for r in todo],
-                                 [run.rings_of(r) for r in todo], run,
-                                 None if news is None else news.queue)
-    schedule = _Schedule(mesh, todo, run, workers, token, news)
+                                 [run.rings_of(r) for r in todo], run)
     # one BLAS thread here too: the cuts and checks made here share the cores with workers.
     # The process's controller (made with the conformal kernels, warmup.warm_kernels, else
     # here), made before the workers fork, is the one they use: once a process, not once a
     # call here and twice a worker (its own and the λ-H solves'; making one lists the loaded
     # libraries: 15-23 ms in the 651k command, 2-6 ms in a worker; docs/scale.md, session 41)
     blas = blas_threads.blas_controller().limit(limits=1)
-    executor = parallel.pool(workers)
+    news = None
+    if run.tells_stages:  # the queue made with the workers, forked or not
+        executor, queue = parallel.pool_telling(workers)
+        news = _StageNews(queue, run, todo)
+    else:
+        executor = parallel.pool(workers)
+    schedule = _Schedule(mesh, todo, run, workers, token, news)
     try:
         announced = 0  # progress: the holes whose start was announced
         while schedule.stitched < len(todo):
