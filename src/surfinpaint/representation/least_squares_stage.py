@@ -18,6 +18,7 @@ from surfinpaint.errors import FillError
 from surfinpaint.representation.blas_threads import blas_controller
 from surfinpaint.representation.least_squares import levenberg_marquardt
 from surfinpaint.representation.on_mesh import coupled_system, newton_solve
+from surfinpaint.representation.weight_steps import CONTINUATION_SMALLEST, CONTINUATION_STEP
 
 __all__ = ["continuation_ended", "curvature_continuation", "least_squares_on_mesh",
            "least_squares_steps_left_out"]
@@ -32,9 +33,8 @@ LSQ_JACOBIANS = 12
 # 200 s and 350 MB a matrix; 1500 unknowns about 2 s). Every use on the tuning-side families
 # (eggcrate, the coarse quadruped, the brain probes) had at most 282 (session 46)
 LSQ_MAX_UNKNOWNS = 1500
-# its continuation in the curvature weight (least_squares_on_mesh, stage 1)
-CONTINUATION_STEP = 0.125
-CONTINUATION_SMALLEST = 1e-3
+# its continuation in the curvature weight (least_squares_on_mesh, stage 1): its steps in
+# weight_steps (CONTINUATION_STEP, CONTINUATION_SMALLEST), at most this many solves
 CONTINUATION_SOLVES = 60
 CONTINUATION_NEWTON = 10
 # its solves' envelope (as NEWTON_ENVELOPE's): 2.1 times the 28.3 * 0.6**k below which every

@@ -16,11 +16,8 @@ from surfinpaint.fill.creases import CREASE_ANGLE
 from surfinpaint.fill.liepa.refinement import REFINEMENTS
 from surfinpaint.fill.liepa.triangulation import SEARCHES
 from surfinpaint.representation.inpainting import INPAINT_METHODS
-from surfinpaint.representation.least_squares_stage import (
-    CONTINUATION_SMALLEST,
-    CONTINUATION_STEP,
-)
 from surfinpaint.representation.reconstruction import METHODS as RECONSTRUCT_METHODS
+from surfinpaint.representation.weight_steps import CONTINUATION_SMALLEST, CONTINUATION_STEP
 
 __all__ = ["ConformalOptions", "GridOptions", "PATCH_RINGS", "S0_ORDER", "SIGNIFICANCE",
            "TEST_SOLVER_TOL", "check_fair_order"]
