@@ -18,8 +18,10 @@ from surfinpaint.errors import FillError
 from surfinpaint.representation.blas_threads import blas_controller
 from surfinpaint.representation.least_squares import levenberg_marquardt
 from surfinpaint.representation.on_mesh import coupled_system, newton_solve
+from surfinpaint.representation.weight_steps import CONTINUATION_SMALLEST, CONTINUATION_STEP
 
-__all__ = ["curvature_continuation", "least_squares_on_mesh", "least_squares_steps_left_out"]
+__all__ = ["continuation_ended", "curvature_continuation", "least_squares_on_mesh",
+           "least_squares_steps_left_out"]
 
 # the least-squares stage where Newton's method fails too (least_squares_on_mesh): Levenberg-
 # Marquardt steps of at most LSQ_TRUST edge lengths, LSQ_STEPS steps, LSQ_JACOBIANS Jacobians
@@ -31,9 +33,8 @@ LSQ_JACOBIANS = 12
 # 200 s and 350 MB a matrix; 1500 unknowns about 2 s). Every use on the tuning-side families
 # (eggcrate, the coarse quadruped, the brain probes) had at most 282 (session 46)
 LSQ_MAX_UNKNOWNS = 1500
-# its continuation in the curvature weight (least_squares_on_mesh, stage 1)
-CONTINUATION_STEP = 0.125
-CONTINUATION_SMALLEST = 1e-3
+# its continuation in the curvature weight (least_squares_on_mesh, stage 1): its steps in
+# weight_steps (CONTINUATION_STEP, CONTINUATION_SMALLEST), at most this many solves
 CONTINUATION_SOLVES = 60
 CONTINUATION_NEWTON = 10
 # its solves' envelope (as NEWTON_ENVELOPE's): 2.1 times the 28.3 * 0.6**k below which every
@@ -51,6 +52,7 @@ def least_squares_on_mesh(
     tol: float = 1e-3,
     system=None,
     continued: list | None = None,
+    smallest: float = CONTINUATION_SMALLEST,
 ) -> tuple[np.ndarray, float, float]:
     """The positions nearest to a fixed point of the coupled system of
     :func:`~surfinpaint.representation.on_mesh.inpaint_on_mesh`,
@@ -75,7 +77,8 @@ def least_squares_on_mesh(
 
     Parameters are those of ``inpaint_on_mesh``, and ``continued``: stage 1 on
     ``system`` as far as it was made before (:func:`curvature_continuation`), taken on to its
-    end here.
+    end here; ``smallest``: stage 1's smallest weight step (``CONTINUATION_SMALLEST``, or
+    larger to give a stalled continuation up sooner: :func:`curvature_continuation`).
 
     Returns
     -------
@@ -92,7 +95,7 @@ def least_squares_on_mesh(
         system = (coupled_system(points, faces, uv, free, natural) if system is None
                   else system)
         if continued is None or not continued[4]:
-            continued = _continuation(system, points, tol, continued)
+            continued = _continuation(system, points, tol, continued, smallest=smallest)
         phi, weight = continued[:2]
         f, h = system.f, system.scale
         start = phi[f].copy()
@@ -135,21 +138,36 @@ def least_squares_steps_left_out(n_moved: int) -> str:
 
 
 def curvature_continuation(system, points: np.ndarray, tol: float = 1e-3, *,
-                           solves: int | None = None, resume: list | None = None) -> list:
+                           solves: int | None = None, resume: list | None = None,
+                           smallest: float = CONTINUATION_SMALLEST) -> list:
     """Stage 1 of :func:`least_squares_on_mesh` on a patch's coupled system
     (:func:`coupled_system`) from ``points``, or on from where ``resume`` (an earlier call's
     outcome) stopped; after ``solves`` more solves at most (and stopped there, to resume) or
     to its end. Returns ``[surface, weight reached, step, solves, ended]``: a weight of 1 is a
     fixed point of the coupled solve; continued to its end, the outcome is the same (to the
-    bit) however often it was stopped and resumed."""
+    bit) however often it was stopped and resumed.
+
+    It ends where the weight step, halved after each failed solve, falls below ``smallest``
+    (``CONTINUATION_SMALLEST``; larger with ``ConformalOptions.continuation_smallest``): the
+    same path cut short, so its outcome is the default's wherever no solve the default makes
+    after that point converges (:func:`continuation_ended`)."""
     with blas_controller().limit(limits=1, user_api="blas"):
-        return _continuation(system, np.asarray(points, dtype=float), tol, resume, solves)
+        return _continuation(system, np.asarray(points, dtype=float), tol, resume, solves,
+                             smallest)
 
 
-def _continuation(system, points, tol, state=None, more=None):
+def continuation_ended(weight: float, step: float, solves: int,
+                       smallest: float = CONTINUATION_SMALLEST) -> bool:
+    """Whether the continuation is over at ``weight`` with its next step ``step`` after
+    ``solves`` solves: the full weight reached, the step below ``smallest``, or
+    ``CONTINUATION_SOLVES`` made."""
+    return weight >= 1.0 or step < smallest or solves >= CONTINUATION_SOLVES
+
+
+def _continuation(system, points, tol, state=None, more=None, smallest=CONTINUATION_SMALLEST):
     """Stage 1 of :func:`least_squares_on_mesh`, :func:`curvature_continuation`'s state from
-    the harmonic fill (or on from ``state``, at most ``more`` solves): ``system.curvature`` is 1
-    again after it."""
+    the harmonic fill (or on from ``state``, at most ``more`` solves, until ``smallest``):
+    ``system.curvature`` is 1 again after it."""
     try:
         if state is None:
             system.curvature = 0.0
@@ -158,7 +176,7 @@ def _continuation(system, points, tol, state=None, more=None):
             state = [phi, 0.0, CONTINUATION_STEP, 0, False]
         phi, weight, step, solves, _ = state
         last = CONTINUATION_SOLVES if more is None else min(solves + more, CONTINUATION_SOLVES)
-        while weight < 1.0 and step >= CONTINUATION_SMALLEST and solves < last:
+        while not continuation_ended(weight, step, solves, smallest) and solves < last:
             trial = min(1.0, weight + step)
             system.curvature = trial
             solves += 1
@@ -170,7 +188,7 @@ def _continuation(system, points, tol, state=None, more=None):
                 continue
             weight = trial
             step *= 2.0
-        ended = weight >= 1.0 or step < CONTINUATION_SMALLEST or solves >= CONTINUATION_SOLVES
+        ended = continuation_ended(weight, step, solves, smallest)
         return [phi, weight, step, solves, ended]
     finally:
         system.curvature = 1.0

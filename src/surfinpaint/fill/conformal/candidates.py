@@ -229,7 +229,8 @@ class Candidates:
                     all_v, faces, loop, new_f, moving, rings=rings,
                     iterations=o.solver_iterations, tol=tol, cut_edges=cut_edges,
                     subdivide=not test, lattice_after=lattice_after,
-                    skip_stalled_subdivision=o.skip_stalled_subdivision)
+                    skip_stalled_subdivision=o.skip_stalled_subdivision,
+                    continuation_smallest=o.continuation_smallest)
                 all_v[moving] = positions
             diagnostics = LambdaHDiagnostics("mesh", used, mesh=mesh)
         else:

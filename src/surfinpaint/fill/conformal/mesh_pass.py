@@ -24,6 +24,7 @@ from surfinpaint.geometry.mesh import (
 )
 from surfinpaint.representation.grid_represent import smooth_subdivision
 from surfinpaint.representation.least_squares_stage import (
+    CONTINUATION_SMALLEST,
     curvature_continuation,
     least_squares_on_mesh,
     least_squares_steps_left_out,
@@ -71,6 +72,7 @@ def inpaint_patch_on_mesh(
     subdivide: bool = True,
     lattice_after: str = "",
     skip_stalled_subdivision: bool = False,
+    continuation_smallest: float = CONTINUATION_SMALLEST,
 ) -> tuple[np.ndarray, np.ndarray, int, MeshLambdaH]:
     """λ-H inpainting of a filled hole on its patch's own triangles
     (:func:`surfinpaint.representation.on_mesh.inpaint_on_mesh`).
@@ -117,6 +119,9 @@ def inpaint_patch_on_mesh(
     skip_stalled_subdivision : bool
         The subdivided patch's solve left out where :func:`subdivision_skipped` says
         (``ConformalOptions.skip_stalled_subdivision``).
+    continuation_smallest : float
+        The least-squares stage's continuation ends where its weight step falls below this
+        (``ConformalOptions.continuation_smallest``).
 
     Returns
     -------
@@ -140,7 +145,8 @@ def inpaint_patch_on_mesh(
         return _inpaint_piece(vertices, faces, loop, fill_faces, moving, rings=rings,
                               iterations=iterations, tol=tol, subdivide=subdivide,
                               lattice_after=lattice_after,
-                              skip_stalled_subdivision=skip_stalled_subdivision)
+                              skip_stalled_subdivision=skip_stalled_subdivision,
+                              continuation_smallest=continuation_smallest)
     if lattice_after:
         raise FillError(f"{lattice_after}; no lattice on the sides of a crease")
     return _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, rings=rings,
@@ -182,7 +188,8 @@ def _inpaint_crease_sides(vertices, faces, fill_faces, moving, cut_edges, *, rin
 
 def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterations, tol,
                    natural=None, subdivide=False, lattice_after="",
-                   skip_stalled_subdivision=False):
+                   skip_stalled_subdivision=False,
+                   continuation_smallest=CONTINUATION_SMALLEST):
     """:func:`inpaint_patch_on_mesh` of one patch, grown from ``seeds`` over ``faces``.
 
     Where the patch is too thin for the biharmonic stencil (its rings stopped short, e.g.
@@ -217,7 +224,7 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
             else:
                 new_points, least_squares = _solve_or_subdivide(
                     points, local, uv, free, len(fill_faces), natural_ids, iterations, tol,
-                    subdivide, skip_stalled_subdivision)
+                    subdivide, skip_stalled_subdivision, continuation_smallest)
             break
         except ThinPatchError:
             if all_natural:
@@ -229,7 +236,8 @@ def _inpaint_piece(vertices, faces, seeds, fill_faces, moving, *, rings, iterati
 
 
 def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, tol,
-                        subdivide, skip_stalled_subdivision=False):
+                        subdivide, skip_stalled_subdivision=False,
+                        continuation_smallest=CONTINUATION_SMALLEST):
     """The coupled solve on the patch, and where it fails (not for want of rings), on the
     patch split once into four onto its smooth interpolant (:func:`_subdivided`), read back
     at the patch's own vertices.
@@ -262,7 +270,8 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     subdivided patch is tried as before and, where that fails too, the continuation goes on
     from where it stopped (the same surface as made in one go) and least squares from its end,
     except where it stopped at a fold after raising the weight: least squares from there
-    (:func:`continuation_resumed`; session 40).
+    (:func:`continuation_resumed`; session 40). It ends where its weight step falls below
+    ``continuation_smallest`` (session 49 helper).
 
     Returns
     -------
@@ -286,7 +295,7 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
         # the last stage's continuation first: where it reaches the full weight, its surface is
         # the patch's fixed point and the subdivided patch's solve is not needed (session 38)
         continued, stalled = ((None, False) if system is None
-                              else _continued_first(system, points, tol))
+                              else _continued_first(system, points, tol, continuation_smallest))
         if (skip_stalled_subdivision and continued is not None
                 and subdivision_skipped(continued[1], stalled, len(system.f))):
             failure = (f"{coarse}; the subdivided patch not tried (the continuation stalled "
@@ -304,7 +313,8 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
         continued = [*continued[:4], True]  # ended: least squares from where it stopped
     positions, residual, weight = least_squares_on_mesh(points, local, uv, free,
                                                         natural=natural, tol=tol, system=system,
-                                                        continued=continued)
+                                                        continued=continued,
+                                                        smallest=continuation_smallest)
     if residual <= LEAST_SQUARES_RESIDUAL:
         return positions, LeastSquaresFill(residual, weight, failure)
     left_out = least_squares_steps_left_out(int(free.sum()))
@@ -316,14 +326,15 @@ def _solve_or_subdivide(points, local, uv, free, n_fill, natural, iterations, to
     return positions, LeastSquaresFill(residual, weight, failure, lattice=lattice)
 
 
-def _continued_first(system, points, tol):
+def _continued_first(system, points, tol, smallest=CONTINUATION_SMALLEST):
     """The least-squares stage's continuation on ``system`` (:func:`curvature_continuation`),
     solve by solve, until it ends or :func:`continuation_paused` says to try the subdivided
     patch first; its state, to resume, and whether it stopped at a failed solve."""
     state, failures = None, 0
     while True:
         before = 0.0 if state is None else state[1]
-        state = curvature_continuation(system, points, tol, solves=1, resume=state)
+        state = curvature_continuation(system, points, tol, solves=1, resume=state,
+                                       smallest=smallest)
         failures += state[1] <= before  # a solve that converged raised the weight
         if state[4] or continuation_paused(state[3], failures):
             return state, failures > 0

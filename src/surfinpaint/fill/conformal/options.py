@@ -17,6 +17,7 @@ from surfinpaint.fill.liepa.refinement import REFINEMENTS
 from surfinpaint.fill.liepa.triangulation import SEARCHES
 from surfinpaint.representation.inpainting import INPAINT_METHODS
 from surfinpaint.representation.reconstruction import METHODS as RECONSTRUCT_METHODS
+from surfinpaint.representation.weight_steps import CONTINUATION_SMALLEST, CONTINUATION_STEP
 
 __all__ = ["ConformalOptions", "GridOptions", "PATCH_RINGS", "S0_ORDER", "SIGNIFICANCE",
            "TEST_SOLVER_TOL", "check_fair_order"]
@@ -225,6 +226,13 @@ class ConformalOptions:
         vertex) and no self-check runs. On machined parts it continues the known faces'
         planes into the hole where the faired and λ-H fills round them off (docs/candidates.md,
         "Session 49 (helper): CAD holes PyMeshFix fills closer"). None (default): never.
+    continuation_smallest : float
+        The least-squares stage's continuation in the curvature weight (where the λ-H solve
+        fails) halves its weight step after each solve that fails and ends where the step
+        falls below this, at most ``CONTINUATION_STEP`` (0.125, its first step): larger
+        gives a stalled continuation up sooner, on the same path (:func:`surfinpaint.
+        representation.least_squares_stage.curvature_continuation`). Default
+        ``CONTINUATION_SMALLEST`` (1e-3); docs/convergence.md, session 49 helper.
     """
 
     start: str = "fair"
@@ -247,6 +255,7 @@ class ConformalOptions:
     significance: float | None = SIGNIFICANCE
     skip_stalled_subdivision: bool = False
     ear_cut_ratio: float | None = None
+    continuation_smallest: float = CONTINUATION_SMALLEST
 
     def __post_init__(self) -> None:
         _one_of("start", self.start, ("fair", "initial"))
@@ -271,6 +280,10 @@ class ConformalOptions:
         if self.fair_smoothing is not None and not isinstance(self.fair_smoothing, str):
             _positive_number("fair_smoothing", self.fair_smoothing)
         _positive_int("hide_rings", self.hide_rings)
+        _positive_number("continuation_smallest", self.continuation_smallest)
+        if self.continuation_smallest > CONTINUATION_STEP:
+            raise ValueError(f"continuation_smallest must be at most {CONTINUATION_STEP} (the "
+                             f"continuation's first step), got {self.continuation_smallest!r}")
         _positive_int("siblings", self.siblings, minimum=0)
         _positive_int("gap_rings", self.gap_rings, minimum=0)
         for name in ("select", "creases", "plane_test", "skip_stalled_subdivision"):
