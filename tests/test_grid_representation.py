@@ -12,6 +12,7 @@ from surfinpaint.app.lambda_h_figures import plot_conformality, plot_representat
 from surfinpaint.data import bumpy_disk, sphere
 from surfinpaint.errors import MeshError
 from surfinpaint.fill.disk import disk_from_mesh
+from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.geometry.metrics import surface_distance
 from surfinpaint.representation.analytic import stereographic_sphere
 from surfinpaint.representation.grid_represent import LambdaH, represent_grid
@@ -282,6 +283,17 @@ def test_disk_from_mesh_closes_inner_holes_and_drops_islands():
     assert v2[:, 2].max() < 1.0  # the island is gone
     with pytest.raises(MeshError, match="closed"):
         disk_from_mesh(*sphere(1))
+
+
+def test_disk_from_mesh_keeps_open_the_loop_spanning_the_most_area_not_the_most_edges():
+    from test_holes import _polar_plate, _star
+
+    # a scanned plate round a jagged bore whose loop has 96 edges, its outer edge 48
+    v, f = _polar_plate(_star(96, 0.45, 0.2), 48, bend=0.3)
+    v2, f2 = disk_from_mesh(v, f)
+    (loop,) = boundary_loops(f2)
+    assert len(loop) == 48
+    np.testing.assert_allclose(np.linalg.norm(v2[loop, :2], axis=1), 1.0)  # the outer edge
 
 
 def test_save_and_load_round_trip(tmp_path):

@@ -203,7 +203,7 @@ def test_select_holes_and_hole_numbers_reuse_a_given_find_holes_answer(monkeypat
 
 def _borders_by_whole_sum(v, f):
     """The outer-border flags as one sum of every face's area per component (the rule)."""
-    from surfinpaint.fill.holes import BORDER_SPAN_FRACTION, _spanned_area
+    from surfinpaint.fill.holes import BORDER_SPAN_FRACTION, spanned_area
     from surfinpaint.geometry.edges import EdgeTable
     from surfinpaint.geometry.mesh import face_areas
 
@@ -213,7 +213,7 @@ def _borders_by_whole_sum(v, f):
     for loop in sorted(boundary_loops(f), key=lambda l: (label[l[0]], -len(l))):
         c = int(label[loop[0]])
         flags.append(c not in seen
-                     and bool(_spanned_area(v[loop]) >= BORDER_SPAN_FRACTION * area[c]))
+                     and bool(spanned_area(v[loop]) >= BORDER_SPAN_FRACTION * area[c]))
         seen.add(c)
     return flags
 

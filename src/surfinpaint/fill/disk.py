@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from surfinpaint.fill.holes import spanned_area
 from surfinpaint.fill.liepa.baseline import conventional_fill
 from surfinpaint.geometry.cutting import compact
 from surfinpaint.geometry.mesh import boundary_loops, connected_components, face_areas
@@ -20,8 +21,10 @@ def disk_from_mesh(vertices: np.ndarray, faces: np.ndarray, *, fill_holes: bool 
 
     Keeps the largest connected component, removes the faces around pinched boundary
     vertices and slivers of zero area (repeating while that creates new ones), then closes
-    every boundary loop but the longest with the conventional fill (Liepa's triangulate /
-    refine / fair, :func:`surfinpaint.fill.liepa.baseline.conventional_fill`). Unused vertices are
+    every boundary loop but the one spanning the most area (the outer border, as
+    :func:`~surfinpaint.fill.holes.find_holes` picks it: a scanned ring's opening can have
+    more edges than its outer edge) with the conventional fill (Liepa's triangulate / refine
+    / fair, :func:`surfinpaint.fill.liepa.baseline.conventional_fill`). Unused vertices are
     dropped.
 
     Parameters
@@ -60,7 +63,9 @@ def disk_from_mesh(vertices: np.ndarray, faces: np.ndarray, *, fill_holes: bool 
             break
         f = f[~bad]
     if fill_holes:
-        for loop in boundary_loops(f)[1:]:
+        loops = boundary_loops(f)
+        border = max(range(len(loops)), key=lambda k: spanned_area(v[loops[k]]), default=0)
+        for loop in loops[:border] + loops[border + 1:]:
             new_v, new_f = conventional_fill(v, f, loop)
             v = np.vstack([v, new_v])
             f = np.vstack([f, new_f])

@@ -31,7 +31,7 @@ objects = lazy_module("surfinpaint.fill.objects")
 # orient_loop lives with the other loop primitives in geometry.mesh; named here too, where
 # callers picking holes look for it
 __all__ = ["Hole", "find_holes", "hole_numbers", "loop_diameter", "select_holes", "orient_loop",
-           "over_size", "percent_below", "seam_edges", "warn_degenerate"]
+           "over_size", "percent_below", "seam_edges", "spanned_area", "warn_degenerate"]
 
 # A component's largest loop (the one spanning the most area, not the one with the most
 # edges) is its outer border when the area the loop spans is at least this fraction of the
@@ -194,7 +194,7 @@ def loop_diameter(points: np.ndarray) -> float:
     return float(np.sqrt((d * d).sum(-1)).max())
 
 
-def _spanned_area(points: np.ndarray) -> float:
+def spanned_area(points: np.ndarray) -> float:
     """Norm of the vector area of a closed polygon: the area of a surface it bounds, at least."""
     centred = points - points.mean(axis=0)
     return 0.5 * float(np.linalg.norm(np.cross(centred, np.roll(centred, -1, axis=0)).sum(0)))
@@ -339,7 +339,7 @@ def _loop_lengths(vertices: np.ndarray, loops: list[np.ndarray]
 
 
 def _spanned_areas(vertices: np.ndarray, loops: list[np.ndarray]) -> np.ndarray:
-    """:func:`_spanned_area` of each loop, the same bits, with numpy calls per loop length."""
+    """:func:`spanned_area` of each loop, the same bits, with numpy calls per loop length."""
     out = np.empty(len(loops))
     for at, points in _by_length(loops, vertices):
         centred = points - points.mean(axis=1, keepdims=True)
