@@ -522,3 +522,47 @@ def _children(pid: int) -> list[int]:
             return [int(c) for c in children.read().split()]
     except FileNotFoundError:
         return []
+
+
+_HALF_SENT = """
+import multiprocessing, os, struct, sys, time
+from concurrent.futures import ProcessPoolExecutor
+from surfinpaint.fill.parallel import end_workers
+
+marker = sys.argv[1]
+
+def send_half():
+    # what a worker killed in the middle of sending its result leaves: a message's length
+    # and part of it, in the pipe the pool's reading thread reads whole messages from
+    os.write(WRITER.fileno(), struct.pack("!i", 1000) + b"x" * 10)
+    open(marker, "w").close()
+    time.sleep(3600)
+
+pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork"))
+WRITER = pool._result_queue._writer  # the worker forks at the first submit and inherits it
+pool.submit(send_half)
+while not os.path.exists(marker):
+    time.sleep(0.01)
+time.sleep(0.2)  # the reading thread has read the length and waits for the rest
+end_workers(pool)
+print("ended", flush=True)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="forks the worker")
+def test_ending_workers_killed_while_sending_a_result_returns(tmp_path):
+    # session 50: CI's SIGTERM test hung in the pool's shutdown (1 of 58 SIGTERMs here): a
+    # worker killed mid-send left half a message, and the pool's reading thread waited for
+    # the rest from a pipe whose write end this process still held
+    proc = subprocess.Popen([sys.executable, "-c", _HALF_SENT, str(tmp_path / "sent")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        out, err = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        for child in _children(proc.pid):
+            os.kill(child, signal.SIGKILL)
+        proc.kill()
+        proc.communicate()
+        pytest.fail("ending the workers waited for the rest of a message never sent")
+    assert proc.returncode == 0, err
+    assert out.split() == ["ended"], err

@@ -263,11 +263,21 @@ def end_workers(pool: ProcessPoolExecutor) -> None:
     what the workers sent, and so whether the results sent before the end still reach their
     futures (a batch records those files) would rest on that thread's internals.
     ``multiprocessing.active_children()`` would end the caller's other child processes too.
-    Without the attribute nothing ends early: the shutdown waits for the work in flight."""
+    Without the attribute nothing ends early: the shutdown waits for the work in flight.
+
+    A worker killed while it sent a result leaves half a message in the result pipe: the
+    pool's thread that reads it waits for the rest, and the shutdown for that thread, for
+    ever, since this process holds the pipe's write end too (session 50: 1 of 58 SIGTERMs
+    at load 3; CI's ``test_signal_while_filling_stops_with_one_line``). So that end is
+    closed once the workers are dead: the read ends, the pool is marked broken, and the
+    shutdown returns."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
     for process in processes:
         process.kill()
     for process in processes:
         process.join()
+    results = getattr(pool, "_result_queue", None)
+    if processes and results is not None:  # nobody writes to it any more
+        results._writer.close()
     pool.shutdown(wait=True, cancel_futures=True)
 
