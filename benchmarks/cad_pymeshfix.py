@@ -7,7 +7,7 @@ closer").
     python benchmarks/cad_pymeshfix.py --rows run.json [more.json ...] [--instead triangulation]
 
 Only rows of ``kind == "cad"`` meshes of a tuning-side set are read (the tuning half, the
-tuning-side sets, spent holdouts 9-24); every other row is dropped unread. ``--instead M``
+tuning-side sets, spent holdouts 9-25); every other row is dropped unread. ``--instead M``
 also scores a rule: column ``M`` written wherever ``--flag`` (a JSON list of
 ``[split, case, hole]``) names the hole, the default elsewhere.
 """
@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
+import cgal_s0  # noqa: E402
 import holes_manifest  # noqa: E402
 import peers  # noqa: E402
 import thin_holes  # noqa: E402
@@ -38,7 +39,7 @@ FILLED, PEERS, written = thin_holes.FILLED, thin_holes.PEERS, thin_holes.written
 _better_faired, _by_mesh, _jsonl = thin_holes._better_faired, thin_holes._by_mesh, thin_holes._jsonl
 _med = thin_holes._med
 HERE = Path(__file__).parent
-SPENT = 24  # the newest spent holdout
+SPENT = cgal_s0.NEWEST_SPENT_HOLDOUT
 TUNING_SIDE = ("tuning", "cad_tuning", *(f"holdout{i}" for i in range(9, SPENT + 1)))
 CLOSER = 1.2  # PyMeshFix "wins" a hole when the default's error is at least this × its own
 

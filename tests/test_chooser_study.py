@@ -25,7 +25,8 @@ INF = float("inf")
 
 @pytest.mark.parametrize("split, allowed", [
     ("tuning", True), ("cad_tuning", True), ("holdout9", True), ("holdout24", True),
-    ("validation", False), ("holdout25", False), ("holdout26", False), ("holdout8", False),
+    ("holdout25", True), ("validation", False), ("holdout26", False), ("holdout27", False),
+    ("holdout8", False),
 ])
 def test_the_table_reads_only_study_sets(tmp_path, split, allowed):
     path = tmp_path / "manifest.json"
@@ -33,7 +34,7 @@ def test_the_table_reads_only_study_sets(tmp_path, split, allowed):
     if allowed:
         assert [e["mesh"] for e in table._manifest_holes(None, None, path)] == ["m"]
     else:
-        with pytest.raises(SystemExit, match="spent holdouts 9-24 only"):
+        with pytest.raises(SystemExit, match="spent holdouts 9-25 only"):
             list(table._manifest_holes(None, None, path))
 
 
