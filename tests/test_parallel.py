@@ -566,3 +566,47 @@ def test_ending_workers_killed_while_sending_a_result_returns(tmp_path):
         pytest.fail("ending the workers waited for the rest of a message never sent")
     assert proc.returncode == 0, err
     assert out.split() == ["ended"], err
+
+
+_DIED_HALF_SENT = """
+import multiprocessing, os, struct, time
+from concurrent.futures import ProcessPoolExecutor, wait
+from surfinpaint.fill import parallel
+
+parallel.STUCK_AFTER = 0.5
+
+def die_half_sent():
+    # the OOM killer's worker, ended while it sent its result
+    os.write(WRITER.fileno(), struct.pack("!i", 1000) + b"x" * 10)
+    os._exit(9)
+
+def sleep():
+    time.sleep(3600)
+
+pool = ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("fork"))
+WRITER = pool._result_queue._writer  # the workers fork at the first submit and inherit it
+# the other worker lives on (holding the pipe's write end): the pool's reading thread
+# waits for the rest of the message for ever, and the pool never finds the dead worker
+futures = [pool.submit(sleep), pool.submit(die_half_sent)]
+parallel.wait_first(pool, futures)
+wait(futures, timeout=30)
+print(*sorted(type(f.exception()).__name__ for f in futures if f.done()), flush=True)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="forks the workers")
+def test_a_worker_dead_while_sending_a_result_fails_the_futures_instead_of_hanging():
+    # session 50: what end_workers fixes for an interrupt can also come from a worker the OOM
+    # killer ends mid-send; `fill --jobs` and `batch` waited for ever on its future
+    proc = subprocess.Popen([sys.executable, "-c", _DIED_HALF_SENT],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        out, err = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        for child in _children(proc.pid):
+            os.kill(child, signal.SIGKILL)
+        proc.kill()
+        proc.communicate()
+        pytest.fail("the futures of a pool stuck on a half-sent result were waited for for ever")
+    assert proc.returncode == 0, err
+    assert out.split() == ["BrokenProcessPool", "BrokenProcessPool"], err

@@ -28,7 +28,7 @@ import uuid
 import warnings
 from collections import deque
 from collections.abc import Mapping, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
@@ -62,7 +62,7 @@ from surfinpaint.app.outputs import write_with_materials
 from surfinpaint.compiled import announce_once_across
 from surfinpaint.errors import how_many
 from surfinpaint.fill.objects import fill_mesh_data
-from surfinpaint.fill.parallel import end_workers, exit_with_parent, start_context
+from surfinpaint.fill.parallel import end_workers, exit_with_parent, start_context, wait_first
 from surfinpaint.fill.pipeline import METHODS, FillResult, fill_holes
 from surfinpaint.fill.warmup import warm_kernels
 from surfinpaint.io.formats import MeshData, read_mesh_data
@@ -224,8 +224,8 @@ def _drain(pool: ProcessPoolExecutor, queue: deque, options: Mapping[str, Any], 
                 except BrokenProcessPool:  # an idle worker died: this file never started
                     queue.appendleft(job)
                     broken = True
-            done, _ = wait(running, return_when=FIRST_COMPLETED,
-                           timeout=_PROGRESS_SECONDS if rows.progress else None)
+            # not for ever on a pool stuck on a dead worker's half-sent result
+            done, _ = wait_first(pool, running, _PROGRESS_SECONDS if rows.progress else None)
             if holes is not None:
                 rows.read(holes)
             for future in done:

@@ -24,8 +24,10 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
+import weakref
+from collections.abc import Callable, Collection
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from multiprocessing.connection import wait as ready_connections
 
 import numpy as np
 
@@ -43,7 +45,7 @@ conformal_method = lazy_module("surfinpaint.fill.conformal.method")
 
 __all__ = ["crossing_triangles", "exit_with_parent", "fill_local", "fill_or_failure", "forks",
            "independent", "pool", "pool_telling", "reissue", "resolve_jobs", "start_context",
-           "told_queue", "worth_parallel"]
+           "told_queue", "wait_first", "worth_parallel"]
 
 # fewer holes than this, or fewer boundary edges in all, and the holes are filled in this
 # process: starting workers costs more than such holes take (a faired fill of a 60-edge
@@ -281,3 +283,50 @@ def end_workers(pool: ProcessPoolExecutor) -> None:
         results._writer.close()
     pool.shutdown(wait=True, cancel_futures=True)
 
+
+
+#: Seconds a pool may take to find a dead worker and fail its futures; past them, it is taken
+#: to be stuck on half a message (:func:`end_workers`) and its workers are ended
+STUCK_AFTER = 5.0
+_DEAD_SEEN: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # pool: when first seen
+
+
+def wait_first(pool: ProcessPoolExecutor, futures: Collection[Future],
+               timeout: float | None = None) -> tuple[set[Future], set[Future]]:
+    """:func:`concurrent.futures.wait` for the first of ``futures`` (submitted to ``pool``) to
+    finish, at most ``timeout`` seconds (None: no limit); but a pool one of whose workers
+    died while it sent a result is not waited for for ever.
+
+    Such a worker (the OOM killer's, or any SIGKILL) leaves half a message in the result
+    pipe, and the pool's reading thread waits for the rest while the other workers live
+    (:func:`end_workers`): the pool never finds the dead worker, and its futures never end.
+    Where a worker has been dead for :data:`STUCK_AFTER` seconds and the pool has not
+    failed its futures, its workers are ended (:func:`end_workers`): the futures in flight
+    then fail with ``BrokenProcessPool``, as they do when a worker dies at any other
+    moment, and the caller retries or reports them."""
+    deadline = None if timeout is None else time.monotonic() + timeout
+    while True:
+        step = STUCK_AFTER if deadline is None else \
+            max(0.0, min(STUCK_AFTER, deadline - time.monotonic()))
+        done, pending = wait(futures, timeout=step, return_when=FIRST_COMPLETED)
+        if done:
+            return done, pending
+        if _stuck(pool):  # looked at on every call: a caller's short timeouts add up
+            end_workers(pool)  # the pool fails its futures as it shuts down
+            return wait(futures, return_when=FIRST_COMPLETED)
+        if deadline is not None and time.monotonic() >= deadline:
+            return done, pending
+
+
+def _stuck(pool: ProcessPoolExecutor) -> bool:
+    """Whether a worker of ``pool`` has been seen dead for :data:`STUCK_AFTER` seconds and
+    the pool is not broken. A dead worker is seen by its sentinel (not ``exitcode``, which
+    would reap it under the pool's own thread)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    dead = not getattr(pool, "_broken", False) and processes and \
+        ready_connections([p.sentinel for p in processes], timeout=0)
+    if not dead:
+        _DEAD_SEEN.pop(pool, None)
+        return False
+    first = _DEAD_SEEN.setdefault(pool, time.monotonic())
+    return time.monotonic() - first >= STUCK_AFTER

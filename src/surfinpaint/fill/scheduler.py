@@ -37,7 +37,7 @@ import itertools
 import time
 import warnings
 from collections.abc import Callable
-from concurrent.futures import FIRST_COMPLETED, Future, wait
+from concurrent.futures import Future
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -278,14 +278,14 @@ class _Schedule:
                 continue
             self.flying[future] = p
 
-    def collect(self) -> None:
-        """Wait for a worker's answer and file it."""
+    def collect(self, executor) -> None:
+        """Wait for a worker's answer (from ``executor``'s workers) and file it."""
         if not self.flying:
             raise RuntimeError(f"hole {self.todo[self.stitched].index}: nothing to wait for")
         done = None
         while not done:
-            done, _ = wait(self.flying, return_when=FIRST_COMPLETED,
-                           timeout=None if self.news is None else NEWS_SECONDS)
+            done, _ = parallel.wait_first(executor, self.flying,
+                                          None if self.news is None else NEWS_SECONDS)
             if self.news is not None:
                 self.news.read(set(self.flying.values()), self.stitched)
         for future in done:
@@ -352,7 +352,7 @@ def fill_in_parallel(mesh: FilledMesh, todo: list[HoleReport], run: Run, workers
             if schedule.stitched in schedule.outcomes:
                 schedule.stitch_next()
             else:
-                schedule.collect()
+                schedule.collect(executor)
     except BaseException:  # Ctrl-C, SIGTERM, a hole's error: the holes in flight are moot
         parallel.end_workers(executor)
         raise
