@@ -502,18 +502,10 @@ print(len(multiprocessing.active_children()), flush=True)
 def test_an_interrupted_parallel_fill_ends_its_workers_at_once(signum):
     # session 47: `fill` stopped by SIGTERM waited for its workers' holes in flight (the
     # pool's shutdown) and exited 15-70 s later; a scheduler's SIGKILL comes sooner
-    proc = subprocess.Popen([sys.executable, "-c", _INTERRUPTED_PARENT, str(int(signum))],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        out, err = proc.communicate(timeout=120)  # the holes take an hour
-    except subprocess.TimeoutExpired:
-        for child in _children(proc.pid):
-            os.kill(child, signal.SIGKILL)
-        proc.kill()
-        proc.communicate()
-        pytest.fail("the interrupted fill waited for its workers' holes")
-    assert proc.returncode == 0, err
-    assert out.split() == ["interrupted", "0"], err
+    # the holes take an hour
+    out = _script_output(120, "the interrupted fill waited for its workers' holes",
+                         _INTERRUPTED_PARENT, str(int(signum)))
+    assert out.split() == ["interrupted", "0"]
 
 
 def _children(pid: int) -> list[int]:
@@ -522,6 +514,24 @@ def _children(pid: int) -> list[int]:
             return [int(c) for c in children.read().split()]
     except FileNotFoundError:
         return []
+
+
+def _script_output(timeout: float, hung: str, script: str, *args: str) -> str:
+    """The standard output of ``python -c script args``, which must exit 0 within
+    ``timeout`` seconds; else it and its children are killed and the test fails, saying
+    ``hung``."""
+    proc = subprocess.Popen([sys.executable, "-c", script, *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        for child in _children(proc.pid):
+            os.kill(child, signal.SIGKILL)
+        proc.kill()
+        proc.communicate()
+        pytest.fail(hung)
+    assert proc.returncode == 0, err
+    return out
 
 
 _HALF_SENT = """
@@ -554,18 +564,9 @@ def test_ending_workers_killed_while_sending_a_result_returns(tmp_path):
     # session 50: CI's SIGTERM test hung in the pool's shutdown (1 of 58 SIGTERMs here): a
     # worker killed mid-send left half a message, and the pool's reading thread waited for
     # the rest from a pipe whose write end this process still held
-    proc = subprocess.Popen([sys.executable, "-c", _HALF_SENT, str(tmp_path / "sent")],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        out, err = proc.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        for child in _children(proc.pid):
-            os.kill(child, signal.SIGKILL)
-        proc.kill()
-        proc.communicate()
-        pytest.fail("ending the workers waited for the rest of a message never sent")
-    assert proc.returncode == 0, err
-    assert out.split() == ["ended"], err
+    out = _script_output(60, "ending the workers waited for the rest of a message never sent",
+                         _HALF_SENT, str(tmp_path / "sent"))
+    assert out.split() == ["ended"]
 
 
 _DIED_HALF_SENT = """
@@ -598,15 +599,6 @@ print(*sorted(type(f.exception()).__name__ for f in futures if f.done()), flush=
 def test_a_worker_dead_while_sending_a_result_fails_the_futures_instead_of_hanging():
     # session 50: what end_workers fixes for an interrupt can also come from a worker the OOM
     # killer ends mid-send; `fill --jobs` and `batch` waited for ever on its future
-    proc = subprocess.Popen([sys.executable, "-c", _DIED_HALF_SENT],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        out, err = proc.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        for child in _children(proc.pid):
-            os.kill(child, signal.SIGKILL)
-        proc.kill()
-        proc.communicate()
-        pytest.fail("the futures of a pool stuck on a half-sent result were waited for for ever")
-    assert proc.returncode == 0, err
-    assert out.split() == ["BrokenProcessPool", "BrokenProcessPool"], err
+    out = _script_output(60, "the futures of a pool stuck on a half-sent result were waited "
+                         "for for ever", _DIED_HALF_SENT)
+    assert out.split() == ["BrokenProcessPool", "BrokenProcessPool"]
