@@ -27,9 +27,9 @@ set 18's (session 41) in ``holdout18_meshes.py``, holdout set 19's (session 42) 
 set 21's (session 44) in ``holdout21_meshes.py``, holdout set 22's (session 45) in
 ``holdout22_meshes.py``, holdout set 23's (session 46) in ``holdout23_meshes.py``, holdout
 set 24's (session 47) in ``holdout24_meshes.py``, holdout set 25's (session 48) in
-``holdout25_meshes.py``, holdout set 26's (session 49) in ``holdout26_meshes.py``; this
-module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT26_SOURCES`` to :data:`SOURCES` at its
-end.
+``holdout25_meshes.py``, holdout set 26's (session 49) in ``holdout26_meshes.py``, holdout
+set 27's (session 50) in ``holdout27_meshes.py``; this module adds their
+``HOLDOUT8_SOURCES`` to ``HOLDOUT27_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2085,6 +2085,13 @@ SOURCES.update(HOLDOUT25_SOURCES)
 from holdout26_meshes import HOLDOUT26_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT26_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 27
+
+# Session 50's set (benchmarks/holdout27_manifest.json), as holdout 26's: its own module.
+from holdout27_meshes import HOLDOUT27_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT27_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 
