@@ -61,7 +61,7 @@ ALL_METHODS = ("fair", "fair1", "fair3", "fair_sfauto", "conformal", "conformal_
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
                "conformal_signif", "conformal_nosignif", "conformal_sfair35", "conformal_sfair40",
                "conformal_sfauto", "conformal_nosmooth", "conformal_rings3", "conformal_earcut50",
-               "conformal_earcut100", "conventional",
+               "conformal_earcut100", "conformal_earflat", "conventional",
                "triangulation", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix", "pymeshfix_bare")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
@@ -103,6 +103,10 @@ CONFORMAL_VARIANTS = {
     # 0.5 or 1 × the best candidate (session 49, docs/candidates.md: CAD holes)
     "conformal_earcut50": {"ear_cut_ratio": 0.5},
     "conformal_earcut100": {"ear_cut_ratio": 1.0},
+    # ... where at least 0.9 of its area continues the known faces' planes and a crease
+    # crosses the hole (session 50, docs/candidates.md: ear-cut triangulation where a crease
+    # crosses the hole)
+    "conformal_earflat": {"ear_cut_flat": 0.9},
 }
 
 

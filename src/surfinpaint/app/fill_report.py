@@ -111,7 +111,8 @@ def written(report: HoleReport) -> str:
     if outcome == "lambda-h":
         return "λ-H fill"
     if outcome == "faired" and report.fair_order is None:
-        # no fairing ran: the loop's triangulation alone (ConformalOptions.ear_cut_ratio)
+        # no fairing ran: the loop's triangulation alone (ConformalOptions.ear_cut_ratio,
+        # ear_cut_flat)
         return "the loop's triangulation, not faired"
     if outcome == "faired":
         on_plane = "" if report.plane is None else f", laid on {plane_words(report.plane)}"

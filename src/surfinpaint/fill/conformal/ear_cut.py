@@ -1,32 +1,51 @@
-"""The ear-cut triangulation as a candidate (``ConformalOptions.ear_cut_ratio``, default
-off): where the hidden-ring test scores MeshFix's greedy ear cutting
+"""The ear-cut triangulation as a candidate (both tests default off): where the
+hidden-ring test scores MeshFix's greedy ear cutting
 (:func:`surfinpaint.fill.liepa.ear_cutting.ear_cut_triangulation`) well below every
-candidate of the self-check, the loop's ear-cut triangulation is written (no new vertex).
+candidate of the self-check (``ConformalOptions.ear_cut_ratio``), or where the ear-cut
+patch is (nearly) all pieces of the known faces' planes and two of them meet at a crease
+inside the hole (``ConformalOptions.ear_cut_flat``, :func:`ear_cut_flat`), the loop's
+ear-cut triangulation is written (no new vertex).
 
 Why: on machined parts PyMeshFix is closer than the default on some holes, and what makes
 it closer is its triangulation, which continues the known faces' planes into the hole; its
 refinement makes it worse (docs/candidates.md, "Session 49 (helper): CAD holes PyMeshFix
-fills closer").
+fills closer"). The flatness rule separates the holes it rebuilds better than the
+hidden-ring test (docs/candidates.md, "Session 50 (helper): ear-cut triangulation where a
+crease crosses the hole").
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.liepa.ear_cutting import ear_cut_triangulation
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores
+from surfinpaint.geometry.edges import EdgeTable
+from surfinpaint.geometry.mesh import face_areas, face_normals
+from surfinpaint.geometry.rows import rows_any
 from surfinpaint.geometry.validation import zero_area_faces
 
-__all__ = ["EAR_CUT", "ROUNDING", "ear_cut_fill", "ear_cut_won"]
+__all__ = ["EAR_CUT", "PIECE_ANGLE", "PIECE_CREASE", "ROUNDING", "PlanePieces", "ear_cut_fill",
+           "ear_cut_flat", "ear_cut_won", "plane_pieces"]
 
 EAR_CUT = "ear_cut"
 # hidden-ring scores below this fraction of the loop's mean edge are rounding: on a hole
 # every candidate rebuilds exactly, they do not decide (holdout 10's spanner #0: the λ-H
 # fill's 3e-8 h against the ear cut's 2e-8 h, but the ear cut 1.9 % off the truth)
 ROUNDING = 1e-6
+# the flatness rule (ear_cut_flat): a patch triangle continues a known face's plane where
+# their normals differ by less than this (degrees; chosen on the 413 tuning-side CAD holes,
+# 1 to 2 degrees the same, 5 fires on curved holes too), and a crease crosses the hole where
+# two such planes meet at more than this (any of 10 to 45 the same there)
+PIECE_ANGLE = 2.0
+PIECE_CREASE = 20.0
 
 
 def ear_cut_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray) -> Fill:
@@ -78,3 +97,103 @@ def ear_cut_won(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                 selection=f"ear cutting: its hidden-ring score {ratio:.3g}× the best "
                           f"candidate's (below {o.ear_cut_ratio:g}): the loop's "
                           "triangulation written, no new vertex")
+
+
+def ear_cut_flat(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                 flat: float) -> Fill | None:
+    """The ear-cut fill, with the rule's verdict in words, where at least ``flat`` of its
+    area continues known faces' planes (:func:`plane_pieces` at :data:`PIECE_ANGLE`) and
+    two of those planes meet at more than :data:`PIECE_CREASE`; None elsewhere (and where
+    the ear cut cannot be written, :func:`ear_cut_fill`)."""
+    try:
+        fill = ear_cut_fill(vertices, faces, loop)
+    except FillError:
+        return None
+    pieces = plane_pieces(vertices, faces, fill.faces, np.radians(PIECE_ANGLE))
+    share, crease = pieces.flat_fraction(), np.degrees(pieces.crease())
+    if share < flat or not crease > PIECE_CREASE:
+        return None
+    return Fill(fill.vertices, fill.faces, "fair",
+                selection=f"ear cutting: {share:.0%} of its area continues the known faces' "
+                          f"planes (at least {flat:g}), two of them meet at {crease:.0f}°: "
+                          "the loop's triangulation written, no new vertex")
+
+
+class PlanePieces(NamedTuple):
+    """The ear-cut patch's triangles that continue a known face's plane
+    (:func:`plane_pieces`).
+
+    Attributes
+    ----------
+    plane : (m,) int array
+        For each patch triangle, the known face whose plane it continues (an index into the
+        mesh's faces), -1 where it continues none.
+    area : (m,) float array
+        The patch triangles' areas.
+    normal : (m, 3) float array
+        The unit normal of the plane each triangle continues (its known face's; zero where
+        it continues none).
+    """
+
+    plane: np.ndarray
+    area: np.ndarray
+    normal: np.ndarray
+
+    def flat_fraction(self) -> float:
+        """The fraction of the patch's area in plane-continuing triangles."""
+        return float(self.area[self.plane >= 0].sum() / max(self.area.sum(), 1e-300))
+
+    def crease(self) -> float:
+        """The largest angle (radians) between two planes the patch continues: 0 where it
+        continues one plane or none, a crease inside the patch where it is large."""
+        n = self.normal[self.plane >= 0]
+        if len(n) < 2:
+            return 0.0
+        return float(np.arccos(np.clip((n @ n.T).min(), -1.0, 1.0)))
+
+
+def plane_pieces(vertices: np.ndarray, faces: np.ndarray, triangles: np.ndarray,
+                 angle: float) -> PlanePieces:
+    """Which triangles of a hole's patch continue a known face's plane.
+
+    A patch triangle on a loop edge continues the plane of the known face across that edge
+    where their normals differ by less than ``angle``; the plane grows from there across
+    the patch's inner edges to every triangle connected to it through triangles all within
+    ``angle`` of that known face's normal (measured against the known face, not from
+    triangle to triangle, so a curved patch of small steps does not count as flat).
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    faces : (f, 3) int array
+        The mesh with the hole (the known faces).
+    triangles : (m, 3) int array
+        The patch's faces over the same vertices (e.g. :func:`ear_cut_triangulation`).
+    angle : float
+        Radians.
+    """
+    v = np.asarray(vertices, dtype=float)
+    patch = np.asarray(triangles, np.int64)
+    faces = np.asarray(faces, np.int64)
+    ids = np.flatnonzero(rows_any(np.isin(faces, patch)))  # the known faces at the loop
+    known, m = faces[ids], len(patch)
+    normals = face_normals(v, np.concatenate([patch, known]))
+    table = EdgeTable.build(np.concatenate([patch, known]))
+    pair = table.owners[table.count == 2]
+    inner = pair[(pair < m).all(axis=1)]  # patch-patch edges
+    across = pair[(pair < m).sum(axis=1) == 1]  # loop edges: a patch and a known face
+    seed, face = across.min(axis=1), across.max(axis=1)
+    cos = np.cos(angle)
+    plane = np.full(m, -1, np.int64)
+    # try the known faces in turn (at most the loop's length); each grows its piece
+    for t, f in zip(seed, face, strict=True):
+        if plane[t] >= 0 or normals[t] @ normals[f] <= cos:
+            continue
+        close = normals[:m] @ normals[f] > cos
+        keep = inner[close[inner].all(axis=1)]
+        graph = sp.coo_matrix((np.ones(len(keep)), (keep[:, 0], keep[:, 1])), shape=(m, m))
+        _, label = connected_components(graph, directed=False)
+        grown = (label == label[t]) & (plane < 0)
+        plane[grown] = f - m
+    normal = np.where((plane >= 0)[:, None], normals[m + np.maximum(plane, 0)], 0.0)
+    return PlanePieces(np.where(plane >= 0, ids[plane], -1), face_areas(v, patch), normal)

@@ -24,7 +24,7 @@ from scipy.sparse.csgraph import connected_components
 from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.conformal.checks import blended_fill
-from surfinpaint.fill.conformal.ear_cut import ear_cut_won
+from surfinpaint.fill.conformal.ear_cut import ear_cut_flat, ear_cut_won
 from surfinpaint.fill.conformal.options import ConformalOptions, check_fair_order
 from surfinpaint.fill.conformal.selection import (
     Verdict,
@@ -183,10 +183,12 @@ def _decided_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                                                                       ring=ring)
             if planes is not None and planes.flat:
                 return _on_two_planes(vertices, faces, loop, reference, planes)
-        if options.ear_cut_ratio is not None:
+        won = None if options.ear_cut_flat is None else \
+            ear_cut_flat(vertices, faces, loop, options.ear_cut_flat)
+        if won is None and options.ear_cut_ratio is not None:
             won = ear_cut_won(vertices, faces, loop, candidates)
-            if won is not None:
-                return won
+        if won is not None:
+            return won
         if len(reference.vertices) == 0 and not candidates.crossed:
             # the candidates share the triangulation and none has a vertex to place: they
             # are the same fill, and a self-check could only choose among equals (57 of

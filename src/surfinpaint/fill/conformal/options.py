@@ -226,6 +226,15 @@ class ConformalOptions:
         vertex) and no self-check runs. On machined parts it continues the known faces'
         planes into the hole where the faired and λ-H fills round them off (docs/candidates.md,
         "Session 49 (helper): CAD holes PyMeshFix fills closer"). None (default): never.
+    ear_cut_flat : float, optional
+        With ``select``, after the plane tests: where at least this fraction (0 to 1) of
+        the area of the loop's ear-cut triangulation continues the known faces' planes and
+        two of those planes meet at a crease inside the hole
+        (:func:`surfinpaint.fill.conformal.ear_cut.ear_cut_flat`), the triangulation is
+        written (no new vertex) and no self-check runs: a machined part's faces and the
+        edges between them rebuilt where the faired and λ-H fills round them off
+        (docs/candidates.md, "Session 50 (helper): ear-cut triangulation where a crease
+        crosses the hole"; 0.9 there). None (default): never.
     continuation_smallest : float
         The least-squares stage's continuation in the curvature weight (where the λ-H solve
         fails) halves its weight step after each solve that fails and ends where the step
@@ -255,6 +264,7 @@ class ConformalOptions:
     significance: float | None = SIGNIFICANCE
     skip_stalled_subdivision: bool = False
     ear_cut_ratio: float | None = None
+    ear_cut_flat: float | None = None
     continuation_smallest: float = CONTINUATION_SMALLEST
 
     def __post_init__(self) -> None:
@@ -274,6 +284,10 @@ class ConformalOptions:
             _positive_number("significance", self.significance)
         if self.ear_cut_ratio is not None:
             _positive_number("ear_cut_ratio", self.ear_cut_ratio)
+        if self.ear_cut_flat is not None:
+            _positive_number("ear_cut_flat", self.ear_cut_flat)
+            if self.ear_cut_flat > 1:
+                raise ValueError(f"ear_cut_flat must be at most 1, got {self.ear_cut_flat!r}")
         if isinstance(self.fair_smoothing, str) and self.fair_smoothing != "auto":
             raise ValueError("fair_smoothing must be a positive number, 'auto' or None, got "
                              f"{self.fair_smoothing!r}")

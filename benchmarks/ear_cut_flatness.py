@@ -1,0 +1,228 @@
+"""The ear-cut triangulation's plane-continuing pieces as a truth-free rule (session 50):
+for each hole of tuning-side sets, the loop's greedy ear-cut triangulation
+(:func:`surfinpaint.fill.liepa.ear_cutting.ear_cut_triangulation`), how much of it continues
+a known face's plane (:func:`surfinpaint.fill.conformal.ear_cut.plane_pieces`, at several
+angles), the largest angle between the planes it continues (a crease inside the patch), and
+its error against the truth (as ``validation.py`` scores a fill). docs/candidates.md
+"Session 50 (helper): ear-cut triangulation where a crease crosses the hole".
+
+    PYTHONPATH=src python benchmarks/ear_cut_flatness.py --sets cad_tuning,holdout9 \
+        --kinds cad --out features.jsonl
+    python benchmarks/ear_cut_flatness.py --table features.jsonl ... --rows run.json ... \
+        [--flat 0.95 --crease 30 --angle 2]
+
+Only tuning-side sets are read: the tuning half of ``holes_manifest.json``, the tuning-side
+sets, and the spent holdouts 9-26 (holdout 27 and the validation half are refused). The
+table joins the features with saved ``validation.py`` rows and scores the rule "write the
+ear-cut triangulation where at least ``--flat`` of its area continues a known face's plane
+(at ``--angle`` degrees) and two of those planes meet at more than ``--crease`` degrees".
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+import holes_manifest  # noqa: E402
+import thin_holes  # noqa: E402
+import validation  # noqa: E402
+
+from surfinpaint.errors import FillError  # noqa: E402
+from surfinpaint.fill.conformal.ear_cut import ear_cut_fill, plane_pieces  # noqa: E402
+from surfinpaint.fill.liepa.fairing import fair as fair_patch  # noqa: E402
+from surfinpaint.fill.liepa.refinement import refine_patch  # noqa: E402
+from surfinpaint.geometry.metrics import surface_distance  # noqa: E402
+
+HERE = Path(__file__).parent
+SPENT = 26  # the newest spent holdout
+TUNING_SIDE = ("tuning", "cad_tuning", "smooth_tuning", "curved_scans", "thin_shells",
+               *(f"holdout{i}" for i in range(9, SPENT + 1)))
+ANGLES = (1.0, 2.0, 3.0, 5.0, 10.0)  # degrees
+SAMPLES = 10000  # validation.py's default
+
+
+def entries(name: str, kinds: set[str] | None) -> list[dict]:
+    """The manifest entries of a tuning-side set (``tuning``: the tuning half only), of
+    the given kinds (all where None)."""
+    if name not in TUNING_SIDE:
+        raise SystemExit(f"{name} is not tuning-side study data")
+    if name == "tuning":
+        manifest = json.loads(Path(holes_manifest.MANIFEST).read_text())
+        found = [e for e in manifest["meshes"] if e["split"] == "tuning"
+                 and e["mesh"] in holes_manifest.SPLIT["tuning"]]
+    else:
+        found = json.loads((HERE / f"{name}_manifest.json").read_text())["meshes"]
+    return [e for e in found if kinds is None or e["kind"] in kinds]
+
+
+def _error(cut, new_vertices: np.ndarray, patch: np.ndarray) -> float:
+    """A fill's error as ``validation.py`` scores it (% of the hole's diameter)."""
+    v = np.vstack([cut.vertices, new_vertices])
+    used, back = np.unique(patch, return_inverse=True)
+    d = surface_distance(v[used], back.reshape(-1, 3), cut.truth_vertices, cut.truth_faces,
+                         n_samples=SAMPLES)
+    return d.mean * 100.0 / cut.diameter
+
+
+def faired_from_ear_cut(cut, ears: np.ndarray) -> dict:
+    """Step 2's study: the faired fills (orders 2 and 3) made on the ear-cut triangulation
+    refined as the default refines its minimum-weight one (the faired candidates'
+    connectivity and S0 then start from the kept corner); their errors."""
+    new, patch = refine_patch(cut.vertices, ears, cut.loop, faces=cut.faces)
+    out = {}
+    n = len(cut.vertices)
+    for order in (2, 3):
+        placed = new
+        if len(new):
+            placed = fair_patch(np.vstack([cut.vertices, new]), np.vstack([cut.faces, patch]),
+                                np.arange(n, n + len(new)), order=order)[n:]
+        out[f"ear_fair{order}"] = _error(cut, placed, patch)
+    return out
+
+
+def hole_features(cut, faired: bool = False) -> dict:
+    """The ear-cut patch's pieces at each angle of :data:`ANGLES`, and its error (% of the
+    hole's diameter; None where the ear cut leaves a zero-area triangle); with ``faired``
+    also :func:`faired_from_ear_cut`'s."""
+    out = {"loop_edges": len(cut.loop)}
+    try:
+        fill = ear_cut_fill(cut.vertices, cut.faces, cut.loop)
+    except FillError as exc:
+        out["ear_error"] = None
+        out["note"] = str(exc)
+        return out
+    tri = fill.faces
+    out["ear_error"] = _error(cut, np.zeros((0, 3)), tri)
+    if faired:
+        out.update(faired_from_ear_cut(cut, tri))
+    for a in ANGLES:
+        p = plane_pieces(cut.vertices, cut.faces, tri, np.radians(a))
+        out[f"flat{a:g}"] = p.flat_fraction()
+        out[f"count{a:g}"] = float((p.plane >= 0).mean())
+        out[f"crease{a:g}"] = float(np.degrees(p.crease()))
+        out[f"planes{a:g}"] = int(len(np.unique(p.plane[p.plane >= 0])))
+    return out
+
+
+def features(sets: list[str], kinds: set[str] | None, out: Path, faired: bool = False
+             ) -> None:
+    """Append one JSON line per hole of ``sets`` to ``out``."""
+    for name in sets:
+        for entry in entries(name, kinds):
+            mesh = validation.loaded_or_none(entry)
+            if mesh is None:
+                continue
+            for k, hole in enumerate(entry["holes"]):
+                cut = validation._cut(mesh, hole)
+                row = {"split": entry["split"] if name == "tuning" else name,
+                       "case": entry["mesh"], "hole": k, "kind": entry["kind"],
+                       **hole_features(cut, faired)}
+                with out.open("a") as fh:
+                    fh.write(json.dumps(row) + "\n")
+                print(f"{name} {entry['mesh']} #{k}: ear {row.get('ear_error')}",
+                      file=sys.stderr, flush=True)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--sets", help="comma-separated tuning-side set names")
+    parser.add_argument("--kinds", help="comma-separated mesh kinds (default: all)")
+    parser.add_argument("--out", type=Path)
+    parser.add_argument("--faired", action="store_true",
+                        help="also the faired fills on the ear-cut triangulation (step 2)")
+    parser.add_argument("--table", nargs="+", help="feature files to join with --rows")
+    parser.add_argument("--rows", nargs="+", default=[])
+    parser.add_argument("--flat", type=float, nargs="+", default=[0.9, 0.95, 0.99, 1.0])
+    parser.add_argument("--crease", type=float, nargs="+", default=[10.0, 20.0, 30.0, 45.0])
+    parser.add_argument("--angle", type=float, nargs="+", default=[1.0, 2.0, 5.0])
+    parser.add_argument("--list", action="store_true",
+                        help="also list the holes of the first thresholds")
+    args = parser.parse_args(argv)
+    if args.table:
+        feats, err = joined(args.table, args.rows)
+        grid = [(f, c, a) for a in args.angle for c in args.crease for f in args.flat]
+        print("\n".join(rule_table(feats, err, grid)))
+        if args.list:
+            print("\n".join(fired_lines(feats, err, *grid[0])))
+        return
+    kinds = set(args.kinds.split(",")) if args.kinds else None
+    features(args.sets.split(","), kinds, args.out, args.faired)
+
+
+
+# --------------------------------------------------------------------------- the rule's table
+
+EAR = "ear_cut"  # the ear-cut triangulation's column in the joined errors
+
+
+def joined(feature_files: list[str], row_files: list[str]) -> tuple[dict, dict]:
+    """``(features, err)``: each hole's features by ``(split, case, hole)``, and the errors
+    of every method's rows of those holes by ``(method, split, case, hole)`` (later files
+    replace earlier ones' rows), with the ear-cut triangulation's as method :data:`EAR`."""
+    feats = {}
+    for path in feature_files:
+        for line in Path(path).read_text().splitlines():
+            f = json.loads(line)
+            feats[(f["split"], f["case"], f["hole"])] = f
+    err = {}
+    for path in row_files:
+        for r in thin_holes._jsonl(path):
+            key = (r["method"], r["extra"]["split"], r["case"], r["hole"])
+            if key[1:] not in feats:
+                continue
+            err.pop(key, None)
+            if r["status"] in thin_holes.FILLED and np.isfinite(r["mean_pct"]):
+                err[key] = r["mean_pct"]
+    for key, f in feats.items():
+        if f.get("ear_error") is not None:
+            err[(EAR, *key)] = f["ear_error"]
+    return feats, err
+
+
+def fires(f: dict, flat: float, crease: float, angle: float) -> bool:
+    """The rule: at least ``flat`` of the ear-cut patch's area continues known faces' planes
+    (at ``angle`` degrees) and two of those planes meet at more than ``crease`` degrees."""
+    return (f.get("ear_error") is not None and f[f"flat{angle:g}"] >= flat
+            and f[f"crease{angle:g}"] > crease)
+
+
+def rule_table(feats: dict, err: dict, grid: list[tuple[float, float, float]]) -> list[str]:
+    """Per set of thresholds ``(flat, crease, angle)``: thin_holes' rule counts."""
+    keys = sorted(k for k in feats if ("conformal", *k) in err)
+    out = [f"{len(keys)} holes on {len(thin_holes._by_mesh(keys))} meshes with the "
+           "default's row",
+           "| flat ≥ | crease > ° | angle ° | fires | written | better / worse by 10 % | "
+           "median ratio | above 1.5× better faired (default → rule) | meshes won |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    for flat, crease, angle in grid:
+        flagged = {k for k in keys if fires(feats[k], flat, crease, angle)}
+        c = thin_holes.rule_counts(err, keys, EAR, flagged)
+        out.append(f"| {flat:g} | {crease:g} | {angle:g} | {len(flagged)} | {c['changed']} | "
+                   f"{c['better']} / {c['worse']} | {c['median']:.3f} | {c['above'][0]} → "
+                   f"{c['above'][1]} | {c['won'][0]} → {c['won'][1]} of {c['won'][2]} |")
+    return out
+
+
+def fired_lines(feats: dict, err: dict, flat: float, crease: float, angle: float
+                ) -> list[str]:
+    """The holes the rule fires on, with the default's and the ear cut's errors."""
+    out = ["| hole | loop edges | flat | crease ° | default % | ear cut % | ratio |",
+           "|---|---|---|---|---|---|---|"]
+    for k in sorted(feats):
+        f = feats[k]
+        if ("conformal", *k) not in err or not fires(f, flat, crease, angle):
+            continue
+        d, e = err[("conformal", *k)], err[(EAR, *k)]
+        out.append(f"| {k[0]} {k[1]} #{k[2]} | {f['loop_edges']} | {f[f'flat{angle:g}']:.3f} "
+                   f"| {f[f'crease{angle:g}']:.1f} | {d:.3g} | {e:.3g} | "
+                   f"{max(e, 1e-6) / max(d, 1e-6):.3g} |")
+    return out
+
+
+if __name__ == "__main__":
+    main()
