@@ -197,13 +197,17 @@ def rule_table(feats: dict, err: dict, grid: list[tuple[float, float, float]]) -
     out = [f"{len(keys)} holes on {len(thin_holes._by_mesh(keys))} meshes with the "
            "default's row",
            "| flat ≥ | crease > ° | angle ° | fires | written | better / worse by 10 % | "
-           "median ratio | above 1.5× better faired (default → rule) | meshes won |",
+           "summed error there % (default → rule) | above 1.5× better faired (default → "
+           "rule) | meshes won |",
            "|---|---|---|---|---|---|---|---|---|"]
     for flat, crease, angle in grid:
         flagged = {k for k in keys if fires(feats[k], flat, crease, angle)}
         c = thin_holes.rule_counts(err, keys, EAR, flagged)
+        written = [k for k in flagged if (EAR, *k) in err]
+        before, after = (sum(err[(m, *k)] for k in written) for m in ("conformal", EAR))
         out.append(f"| {flat:g} | {crease:g} | {angle:g} | {len(flagged)} | {c['changed']} | "
-                   f"{c['better']} / {c['worse']} | {c['median']:.3f} | {c['above'][0]} → "
+                   f"{c['better']} / {c['worse']} | {before:.1f} → {after:.1f} | "
+                   f"{c['above'][0]} → "
                    f"{c['above'][1]} | {c['won'][0]} → {c['won'][1]} of {c['won'][2]} |")
     return out
 

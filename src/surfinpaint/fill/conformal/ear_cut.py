@@ -41,9 +41,10 @@ EAR_CUT = "ear_cut"
 # fill's 3e-8 h against the ear cut's 2e-8 h, but the ear cut 1.9 % off the truth)
 ROUNDING = 1e-6
 # the flatness rule (ear_cut_flat): a patch triangle continues a known face's plane where
-# their normals differ by less than this (degrees; chosen on the 413 tuning-side CAD holes,
-# 1 to 2 degrees the same, 5 fires on curved holes too), and a crease crosses the hole where
-# two such planes meet at more than this (any of 10 to 45 the same there)
+# their normals differ by less than this (degrees; chosen on the 413 tuning-side CAD holes:
+# 1 fires on 2 fewer, one better and one worse, 5 on 7 more, 6 of them worse), and a crease
+# crosses the hole where two such planes meet at more than this (any of 0 to 45 the same
+# there: every patch that is 90 % planes and more than one plane has a crease of 60 or more)
 PIECE_ANGLE = 2.0
 PIECE_CREASE = 20.0
 
