@@ -115,9 +115,9 @@ def ear_cut_flat(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     if share < flat or not crease > PIECE_CREASE:
         return None
     return Fill(fill.vertices, fill.faces, "fair",
-                selection=f"ear cutting: {share:.0%} of its area continues the known faces' "
-                          f"planes (at least {flat:g}), two of them meet at {crease:.0f}°: "
-                          "the loop's triangulation written, no new vertex")
+                selection=f"ear cutting: {100 * share:.0f} % of its area continues the known "
+                          f"faces' planes (at least {flat:g}), two of them meet at "
+                          f"{crease:.0f}°: the loop's triangulation written, no new vertex")
 
 
 class PlanePieces(NamedTuple):
