@@ -12,7 +12,8 @@ its error against the truth (as ``validation.py`` scores a fill). docs/candidate
         [--flat 0.95 --crease 30 --angle 2]
 
 Only tuning-side sets are read: the tuning half of ``holes_manifest.json``, the tuning-side
-sets, and the spent holdouts 9-26 (holdout 27 and the validation half are refused). The
+sets, and the spent holdouts 9 to ``cgal_s0.NEWEST_SPENT_HOLDOUT`` (later ones and the
+validation half are refused). The
 table joins the features with saved ``validation.py`` rows and scores the rule "write the
 ear-cut triangulation where at least ``--flat`` of its area continues a known face's plane
 (at ``--angle`` degrees) and two of those planes meet at more than ``--crease`` degrees".
@@ -28,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
+import cgal_s0  # noqa: E402
 import holes_manifest  # noqa: E402
 import thin_holes  # noqa: E402
 import validation  # noqa: E402
@@ -39,9 +41,8 @@ from surfinpaint.fill.liepa.refinement import refine_patch  # noqa: E402
 from surfinpaint.geometry.metrics import surface_distance  # noqa: E402
 
 HERE = Path(__file__).parent
-SPENT = 26  # the newest spent holdout
-TUNING_SIDE = ("tuning", "cad_tuning", "smooth_tuning", "curved_scans", "thin_shells",
-               *(f"holdout{i}" for i in range(9, SPENT + 1)))
+TUNING_SIDE = (*cgal_s0.TUNING_SIDE_SETS,
+               *(f"holdout{i}" for i in range(9, cgal_s0.NEWEST_SPENT_HOLDOUT + 1)))
 ANGLES = (1.0, 2.0, 3.0, 5.0, 10.0)  # degrees
 SAMPLES = 10000  # validation.py's default
 
