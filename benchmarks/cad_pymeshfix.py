@@ -25,7 +25,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 import cgal_s0  # noqa: E402
-import holes_manifest  # noqa: E402
+import ear_cut_flatness  # noqa: E402
 import peers  # noqa: E402
 import thin_holes  # noqa: E402
 import validation  # noqa: E402
@@ -48,13 +48,7 @@ def cad_entries(name: str) -> list[dict]:
     """The CAD manifest entries of a tuning-side set (``tuning``: the tuning half only)."""
     if name not in TUNING_SIDE:
         raise SystemExit(f"{name} is not tuning-side study data")
-    if name == "tuning":
-        manifest = json.loads(Path(holes_manifest.MANIFEST).read_text())
-        entries = [e for e in manifest["meshes"] if e["split"] == "tuning"
-                   and e["mesh"] in holes_manifest.SPLIT["tuning"]]
-    else:
-        entries = json.loads((HERE / f"{name}_manifest.json").read_text())["meshes"]
-    return [e for e in entries if e["kind"] == "cad"]
+    return ear_cut_flatness.entries(name, {"cad"})
 
 
 class _Patch:
