@@ -1,8 +1,9 @@
 """The progress bar's clock while a hole is filled in the process that draws it (``fill``,
-``batch --jobs 1``): a thread draws the bar again every ``TICK_SECONDS`` while a stage runs,
-and runs only where no other thread does (session 48; session 47 left the clock standing
-through a 6-s stage). Each stage here is a fake one that waits for the clock's ticks: no
-test times a fill."""
+``batch --jobs 1``, ``report``, ``experiments``): a thread draws the bar again every
+``TICK_SECONDS`` while a stage runs, and runs only where no other thread does (session 48;
+session 47 left the clock standing through a 6-s stage; session 50: report's and
+experiments'). Each stage here is a fake one that waits for the clock's ticks: no test times
+a fill."""
 
 from __future__ import annotations
 
@@ -84,6 +85,22 @@ def test_a_ticking_bar_draws_again_while_work_runs_and_stops_after(ticks):
     assert not _clocks()  # the bar's end stops it
 
 
+def test_a_step_stops_the_clock_its_fills_news_started(ticks):
+    # report's and experiments' bars (session 50): a fill's hole news run the clock as at
+    # fill's; a step ends a stage, and the next one may start workers, which fork only
+    # where no other thread runs
+    with progress.progress_bar(True, 4, "filling", ticking=True) as bar:
+        news = bar.holes("conformal fills")
+        news(0, 3, "hole 0: 212 edges, λ-H fill (stage 5 of 5)")
+        assert _wait_for_ticks(ticks, 3) == 3 and len(_clocks()) == 1
+        bar("conformal fills done")
+        assert not _clocks()
+        news(3, 3, "hole 2: done in 3.1 s")  # no hole left: no clock
+        assert not _clocks()
+    with progress.progress_bar(False, 4, "filling", ticking=True) as bar:
+        assert bar.holes("conformal fills") is None  # a fill told nothing: no stage news
+
+
 def test_no_clock_beside_another_thread_nor_unasked(ticks):
     # another thread (a pool's, whose workers were forked from a process of one thread):
     # the clock does not start, so it never runs beside workers
@@ -97,7 +114,7 @@ def test_no_clock_beside_another_thread_nor_unasked(ticks):
     finally:
         done.set()
         other.join()
-    with progress.progress_bar(True, None, "experiments") as bar:  # not a ticking bar
+    with progress.progress_bar(True, None, "filling") as bar:  # not a ticking bar
         bar.update(0, 1, "hole 0: 212 edges, λ-H fill (stage 5 of 5)")
         assert not _clocks()
     with pytest.raises(KeyError), progress.progress_bar(True, None, "x", ticking=True) as bar:
@@ -144,3 +161,16 @@ def test_a_batch_log_with_one_job_says_a_stage_that_lasts(one_hole, slow_stage, 
     assert [line for line in lines if "so far" in line] == [
         f"  {path}: 0/1 holes (hole 0: {n_edges} edges, λ-H fill (stage 5 of 5)), "
         "0 s so far"]
+
+
+def test_report_draws_its_bar_while_a_stage_runs(one_hole, slow_stage, tmp_path):
+    # session 50: report's bar stood still through its fills (it told them nothing)
+    assert main(["report", str(one_hole[0]), "-o", str(tmp_path / "report")]) == 0
+    assert slow_stage == [10]
+    assert not _clocks()
+
+
+def test_experiments_draw_their_bar_while_a_stage_runs(slow_stage, tmp_path):
+    assert main(["experiments", "--quick", "--cases", "cube", "-o", str(tmp_path)]) == 0
+    assert slow_stage and set(slow_stage) == {10}
+    assert not _clocks()

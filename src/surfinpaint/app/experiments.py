@@ -51,7 +51,7 @@ from surfinpaint.app.figures import (
     save_figure,
     view_direction,
 )
-from surfinpaint.app.progress import QuietConsole, add_quiet, named, progress_bar
+from surfinpaint.app.progress import QuietConsole, add_quiet, hole_news, named, progress_bar
 from surfinpaint.app.report import (
     LEGEND,
     PANEL_SIZE,
@@ -248,6 +248,22 @@ class CaseResult:
     error: str | None = None
 
 
+class _CaseSteps:
+    """The step hook ``step`` for the case ``name``: each message said after its name
+    (``brain: hole 2: measured``), ``advance`` in place of each step's own where given, and
+    the hole news of its fills too where ``step`` takes them (:func:`hole_news`: the bar's
+    clock runs while they fill)."""
+
+    def __init__(self, step, name: str, advance: int | None = None) -> None:
+        self.step, self.name, self.advance = step, name, advance
+
+    def __call__(self, message: str, advance: int = 1) -> None:
+        self.step(f"{self.name}: {message}", advance if self.advance is None else self.advance)
+
+    def holes(self, label: str):
+        return hole_news(self.step, f"{self.name}: {label}")
+
+
 def _run_case(case: Case, scale: str, out_dir: Path, step) -> CaseResult:
     started = time.perf_counter()
     result = CaseResult(case.name, case.title, case.note)
@@ -255,12 +271,12 @@ def _run_case(case: Case, scale: str, out_dir: Path, step) -> CaseResult:
     cut = cut_holes(v, f, centres, radii)
     loops = [h.loop for h in cut.holes]
     truth = [(h.truth_vertices, h.truth_faces) for h in cut.holes]
+    # the fills' steps do not move the bar: a case's steps are its holes' panels
     comparisons, fills = compare_holes(cut.vertices, cut.faces, loops, truth=truth,
-                                       step=lambda message, advance=1: step(
-                                           f"{case.name}: {message}", 0))
+                                       step=_CaseSteps(step, case.name, advance=0))
     folder = out_dir / case.name
     panels_for(cut.vertices, cut.faces, comparisons, fills, folder, name=case.name,
-               step=lambda message, advance=1: step(f"{case.name}: {message}", advance))
+               step=_CaseSteps(step, case.name))
     for c in comparisons:
         c.picture = f"{case.name}/{c.picture}"
     before_after(cut.vertices, cut.faces, fills.conformal, folder / "overview.png")
@@ -483,7 +499,8 @@ def run_experiments(args: argparse.Namespace) -> int:
              else [c.name for c in CASES] + [r.name for r in REBUILDS])
     scale = "quick" if args.quick else "full"
     says = QuietConsole(args.quiet)
-    with progress_bar(says.progress, _expected_steps(cases), "experiments") as step:
+    with progress_bar(says.progress, _expected_steps(cases), "experiments",
+                      ticking=True) as step:
         results = run_set(args.output, scale, cases=cases, step=step)
     hole_names = {c.name for c in CASES}
     for title, (header, rows) in (

@@ -8,8 +8,8 @@ import os
 import threading
 from collections.abc import Callable, Iterator, Mapping
 
-__all__ = ["QUIET_HELP", "LazyConsole", "QuietConsole", "add_quiet", "console", "named",
-           "progress_bar", "stages", "warning_line"]
+__all__ = ["QUIET_HELP", "LazyConsole", "QuietConsole", "add_quiet", "console", "hole_news",
+           "named", "progress_bar", "stages", "warning_line"]
 
 
 def console():
@@ -151,17 +151,39 @@ class _Bar:
         self.on_tick: Callable[[], None] | None = None
 
     def __call__(self, message: str, advance: int = 1) -> None:
+        """A step of ``report``'s or ``experiments``' bar: ``advance`` steps done, now
+        labelled ``message``. The clock stops: a stage has ended, and the next may start
+        worker processes (forked only where no other thread runs)."""
         if self._progress is not None:
             self._progress.update(self._task, advance=advance, description=message,
                                   refresh=True)
+        self.stop_clock()
 
     def update(self, done: int, total: int, message: str) -> None:
         if self._progress is not None:
             self._progress.update(self._task, completed=done, total=total,
                                   description=message, refresh=True)
+        self._clock_while(total is not None and done < total)
+
+    def holes(self, label: str) -> Callable[[int, int, str], None] | None:
+        """The ``progress`` callback of :func:`surfinpaint.fill_holes` within a step of the
+        bar (``report``'s, ``experiments``'): each hole's news labels the bar (``conformal
+        fills: hole 3: 212 edges, λ-H fill (stage 5 of 5)``), its count unmoved, and the
+        clock runs as at :meth:`update` while holes are left; the step after stops it.
+        None for a no-op bar (a fill told nothing runs no stage news)."""
+        if self._progress is None:
+            return None
+
+        def told(done: int, total: int, message: str) -> None:
+            self._progress.update(self._task, description=f"{label}: {message}", refresh=True)
+            self._clock_while(done < total)
+        return told
+
+    def _clock_while(self, work_left: bool) -> None:
+        """Start the clock where work is left and no other thread runs; else stop it."""
         if self._clock is not None:
             others = threading.active_count() - self._clock.running
-            if total is not None and done < total and others == 1:
+            if work_left and others == 1:
                 self._clock.start()
             else:
                 self._clock.stop()
@@ -181,6 +203,16 @@ class _Bar:
         """The console the bar is drawn on (None for a no-op bar): a line printed on it
         while the bar is shown goes above the bar, which rich draws again below it."""
         return None if self._progress is None else self._progress.console
+
+
+def hole_news(step, label: str) -> Callable[[int, int, str], None] | None:
+    """The ``progress`` callback of :func:`surfinpaint.fill_holes` for the fills ``label``
+    that the step hook ``step`` of ``report`` or ``experiments`` takes (its
+    ``holes(label)``: a bar's, :meth:`_Bar.holes`), or None where it takes none: the bar's
+    clock then runs while the holes are filled in this process, as ``fill``'s (session
+    50)."""
+    holes = getattr(step, "holes", None)
+    return None if holes is None else holes(label)
 
 
 @contextlib.contextmanager

@@ -60,7 +60,7 @@ from surfinpaint.app.fill_report import (
     smoothing_line,
     written,
 )
-from surfinpaint.app.progress import QuietConsole, add_quiet, progress_bar
+from surfinpaint.app.progress import QuietConsole, add_quiet, hole_news, progress_bar
 from surfinpaint.app.report_page import (
     LEGEND,
     NOT_MEASURED,
@@ -102,7 +102,8 @@ __all__ = [
     "write_report",
 ]
 
-# a progress hook: step(message, advance=1)
+# a progress hook: step(message, advance=1); one with a ``holes(label)`` method (the command
+# line's bar) is also told each hole's news of the fills (progress.hole_news)
 Step = Callable[..., None]
 
 
@@ -188,6 +189,8 @@ def compare_holes(
     step : callable(message, advance=1), optional
         Progress hook, called after each stage: 2 + one per hole (and with ``advance=0``
         for each conformal fill that is computed again because the self-check rejected it).
+        One with a ``holes(label)`` method (the command line's bar) gives the fills their
+        ``progress`` callback: ``holes("conformal fills")``.
     options : ConformalOptions, optional
         The conformal method's options.
     keep_margins : bool
@@ -235,11 +238,13 @@ def _both_fills(vertices, faces, loops, holes, *, step, options, keep_margins, i
     written)."""
     fair, caught_fair = _with_warnings(fill_holes, vertices, faces, holes=holes, method="fair",
                                        keep_margins=keep_margins, validate=False,
-                                       islands=islands)
+                                       islands=islands,
+                                       progress=hole_news(step, "conventional fills"))
     step("conventional fills done")
     conformal, caught = _with_warnings(fill_holes, vertices, faces, holes=holes,
                                        method="conformal", keep_margins=keep_margins,
-                                       validate=False, options=options, islands=islands)
+                                       validate=False, options=options, islands=islands,
+                                       progress=hole_news(step, "conformal fills"))
     step("conformal fills done")
     written_fills = [(conformal.vertices, p) for p in conformal.hole_faces()]
     with warnings.catch_warnings():
@@ -294,7 +299,8 @@ def _lambda_h_fills(vertices, faces, loops, conformal, written, options, step, i
     for k in rejected:
         again = fill_holes(vertices, faces, holes=[loops[k]], method="conformal",
                            validate=False, options=replace(options, select=False),
-                           islands=islands)
+                           islands=islands,
+                           progress=hole_news(step, f"hole {k}'s λ-H fill again"))
         if not again.reports[0].fallback:
             raw[k] = (again.vertices, again.hole_faces()[0])
             diagnostics[k] = again.reports[0].diagnostics
@@ -568,7 +574,7 @@ def run_report(args: argparse.Namespace) -> int:
             says.say(f"{args.mesh}: nothing to fill "
                      f"({nothing_to_fill(faces, keep_margins=args.keep_margins)})")
         total = 2 + 2 * len(loops)  # the fills, the measurements, the panels
-        with progress_bar(says.progress, total, "filling") as step:
+        with progress_bar(says.progress, total, "filling", ticking=True) as step:
             comparisons = write_report(vertices, faces, args.output, args.holes, truth=truth,
                                        step=step, title=f"surfinpaint report: {args.mesh}",
                                        keep_margins=args.keep_margins, islands=args.islands,
