@@ -195,7 +195,17 @@ def _send_later(signum: int) -> None:
     runs, and under load the thread sent the signal while this one still waited there,
     inside the hook, where it was lost for good: the fill went on and wrote its output
     (session 49: 3 of 40 runs of a signal in a gc callback at load ~20). Cancelled by
-    emptying ``_state["again"]`` (:func:`_raise_pending`, the block's end)."""
+    emptying ``_state["again"]`` (:func:`raise_pending`, the block's end).
+
+    ``threading`` does not know this thread, so :func:`~surfinpaint.fill.parallel.forks`
+    may fork workers while it waits (session 50). That is safe: a fork copies only the
+    forking thread, and its hazard is a lock another thread holds at that instant, which
+    stays held in the child; this one holds none (it sleeps, pops a list under the GIL,
+    which the child's interpreter resets at a fork, and calls ``kill``, a system call);
+    malloc's locks are taken around a fork by the C library. The child has no copy of the
+    thread, so the signal goes to this process alone (the pid is read in the thread), which
+    ends its workers as it acts on it; the child's copy of ``_state["again"]`` is never
+    raised (only the command line's :func:`raise_pending` reads it, in this process)."""
     again = _state.setdefault("again", [])
     again.append(signum)
 
