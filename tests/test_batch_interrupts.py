@@ -99,6 +99,17 @@ if os.environ.get("SURFINPAINT_TEST_STALL"):
 '''
 
 
+def _stalling(tmp_path: Path, name: str) -> dict[str, str]:
+    """The environment of a command whose reading of the file ``name`` takes 300 s
+    (:data:`STALL`); its process writes its pid to ``tmp_path / "stalled"`` first."""
+    hook = tmp_path / "hook"
+    hook.mkdir()
+    (hook / "sitecustomize.py").write_text(STALL)
+    return {**os.environ, "SURFINPAINT_TEST_STALL": name,
+            "SURFINPAINT_TEST_MARKER": str(tmp_path / "stalled"), "PYTHONPATH": os.pathsep.join(
+                [str(hook), *filter(None, [os.environ.get("PYTHONPATH")])])}
+
+
 @pytest.mark.slow
 def test_sigterm_to_the_command_ends_its_workers_and_leaves_the_files_in_flight(tmp_path):
     # SIGTERM to the command alone (timeout, docker stop): before, it waited for every
@@ -106,16 +117,11 @@ def test_sigterm_to_the_command_ends_its_workers_and_leaves_the_files_in_flight(
     mesh = _holey(*sphere(2), 2)
     folder, out = tmp_path / "scans", tmp_path / "out"
     _copies(folder, 6, mesh)
-    hook, marker = tmp_path / "hook", tmp_path / "stalled"
-    hook.mkdir()
-    (hook / "sitecustomize.py").write_text(STALL)
-    env = {**os.environ, "SURFINPAINT_TEST_STALL": "s2.ply",
-           "SURFINPAINT_TEST_MARKER": str(marker), "PYTHONPATH": os.pathsep.join(
-               [str(hook), *filter(None, [os.environ.get("PYTHONPATH")])])}
+    marker = tmp_path / "stalled"
     proc = subprocess.Popen([sys.executable, "-m", "surfinpaint", "batch", str(folder), "-o",
                              str(out), "--jobs", "2", "--method", "fair", "-q"],
-                            stderr=subprocess.PIPE, text=True, env=env,
-                            start_new_session=True)
+                            stderr=subprocess.PIPE, text=True,
+                            env=_stalling(tmp_path, "s2.ply"), start_new_session=True)
     deadline = time.monotonic() + 120
     while not marker.exists():
         assert proc.poll() is None, proc.communicate()
@@ -150,8 +156,10 @@ def test_ctrl_c_stops_the_files_in_flight_and_the_same_command_picks_up_the_rest
     _copies(folder, 10, mesh)
     command = [sys.executable, "-m", "surfinpaint", "batch", str(folder), "-o", str(out),
                "--jobs", "2", "-q"]
+    # one file takes 300 s: the run cannot end before the signal, however late it comes
+    # (under load the test's wait after the first output could outlast the other nine)
     proc = subprocess.Popen(command, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+                            start_new_session=True, env=_stalling(tmp_path, "s9.ply"))
     deadline = time.monotonic() + 120
     while not (out.is_dir() and any(out.glob("s*.ply"))):
         assert proc.poll() is None, proc.communicate()
