@@ -26,6 +26,19 @@ def _clocks() -> list[threading.Thread]:
     return [t for t in threading.enumerate() if t.name == CLOCK]
 
 
+@pytest.fixture(autouse=True)
+def threads_of_this_test(monkeypatch):
+    """``threading.active_count()`` counts the main thread and the threads this test starts,
+    not those an earlier test left in this process for its life (a Dask client's
+    ``Dask-Offload`` thread): the clock runs only where no other thread does, and whether
+    pytest-xdist ran a Dask test in this process before is chance (session 50: these tests
+    failed after ``test_batch.py``'s Dask test in one process). No test here forks."""
+    left = [t for t in threading.enumerate() if t is not threading.main_thread()]
+    count = threading.active_count
+    monkeypatch.setattr(threading, "active_count",
+                        lambda: count() - sum(t.is_alive() for t in left))
+
+
 @pytest.fixture
 def ticks(monkeypatch):
     """The bar's ticks, counted; a tick every 10 ms."""
