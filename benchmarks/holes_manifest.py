@@ -206,6 +206,13 @@ brain kind; its four scans made with the portable scanner), holes planned the sa
 committed before any fill was run on them; to be run once by a later session after its
 changes.
 
+A thirtieth set, the twenty-eighth holdout (``benchmarks/holdout28_manifest.json``,
+``--write --holdout28``): 12 fresh meshes (``validation_meshes.HOLDOUT28_SOURCES``, made in
+``holdout28_meshes.py``; all six kinds, a synthetic cortex with chevron sulci for the brain
+kind; its four scans made with the portable scanner), holes planned the same way (seeds
+from 2900), made in session 51 after the twenty-seventh holdout had been made and committed
+before any fill was run on them; to be run once by a later session after its changes.
+
 A tuning-side set of range scans of curved shapes (``benchmarks/curved_scans_manifest.json``,
 ``--write --curved-scans``): 14 portable scans (``validation_meshes.CURVED_SCAN_SOURCES``,
 made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and the tuning
@@ -292,6 +299,8 @@ HOLDOUT25_MANIFEST = Path(__file__).parent / "holdout25_manifest.json"
 HOLDOUT26_MANIFEST = Path(__file__).parent / "holdout26_manifest.json"
 # a twenty-ninth set, fresh meshes of session 50 (HOLDOUT27_SOURCES), committed before any fill
 HOLDOUT27_MANIFEST = Path(__file__).parent / "holdout27_manifest.json"
+# a thirtieth set, fresh meshes of session 51 (HOLDOUT28_SOURCES), committed before any fill
+HOLDOUT28_MANIFEST = Path(__file__).parent / "holdout28_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
 # tuning-side thin smooth walls with saddle-shaped parts of session 41 (THIN_SHELL_SOURCES)
@@ -325,6 +334,7 @@ LATER_SETS = {
     "holdout25": (HOLDOUT25_MANIFEST, "the twenty-fifth holdout set", 2600),
     "holdout26": (HOLDOUT26_MANIFEST, "the twenty-sixth holdout set", 2700),
     "holdout27": (HOLDOUT27_MANIFEST, "the twenty-seventh holdout set", 2800),
+    "holdout28": (HOLDOUT28_MANIFEST, "the twenty-eighth holdout set", 2900),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -375,6 +385,7 @@ SPLIT = {
     "holdout25": list(vm.HOLDOUT25_SOURCES),
     "holdout26": list(vm.HOLDOUT26_SOURCES),
     "holdout27": list(vm.HOLDOUT27_SOURCES),
+    "holdout28": list(vm.HOLDOUT28_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
     "thin_shells": list(vm.THIN_SHELL_SOURCES),
 }
@@ -482,7 +493,7 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 2100, the twenty-first holdout's at 2200, the twenty-second holdout's at
     2300, the twenty-third holdout's at 2400, the twenty-fourth holdout's at 2500, the
     twenty-fifth holdout's at 2600, the twenty-sixth holdout's at 2700, the twenty-seventh
-    holdout's at 2800;
+    holdout's at 2800, the twenty-eighth holdout's at 2900;
     the smooth tuning set's at 3800, the curved scans set's at 3600, the thin shells set's
     at 4100)."""
     meshes = []

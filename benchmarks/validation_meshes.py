@@ -28,8 +28,9 @@ set 21's (session 44) in ``holdout21_meshes.py``, holdout set 22's (session 45) 
 ``holdout22_meshes.py``, holdout set 23's (session 46) in ``holdout23_meshes.py``, holdout
 set 24's (session 47) in ``holdout24_meshes.py``, holdout set 25's (session 48) in
 ``holdout25_meshes.py``, holdout set 26's (session 49) in ``holdout26_meshes.py``, holdout
-set 27's (session 50) in ``holdout27_meshes.py``; this module adds their
-``HOLDOUT8_SOURCES`` to ``HOLDOUT27_SOURCES`` to :data:`SOURCES` at its end.
+set 27's (session 50) in ``holdout27_meshes.py``, holdout set 28's (session 51) in
+``holdout28_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
+``HOLDOUT28_SOURCES`` to :data:`SOURCES` at its end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2092,6 +2093,13 @@ SOURCES.update(HOLDOUT26_SOURCES)
 from holdout27_meshes import HOLDOUT27_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT27_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 28
+
+# Session 51's set (benchmarks/holdout28_manifest.json), as holdout 27's: its own module.
+from holdout28_meshes import HOLDOUT28_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT28_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 

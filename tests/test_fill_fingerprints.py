@@ -50,7 +50,7 @@ def test_compare_sorts_the_holes_that_changed(now, geometry, report):
     assert fill_fingerprints.compare(now, reference) == (geometry, report)
 
 
-@pytest.mark.parametrize("name", ["holdout27", "holdout26", "holdout25", "holdout24",
+@pytest.mark.parametrize("name", ["holdout28", "holdout27", "holdout26", "holdout25", "holdout24",
                                   "holdout23", "holdout22", "holdout21", "holdout20",
                                   "holdout19", "validation", "holdout9"])
 def test_holdout_sets_and_the_validation_half_are_refused(name):
