@@ -1,17 +1,26 @@
 """The flatness rule on the ear-cut patch (surfinpaint.fill.conformal.ear_cut.plane_pieces,
 ear_cut_flat; ConformalOptions.ear_cut_flat): the ear-cut triangulation is written where
-(nearly) all of it continues the known faces' planes and two of them meet inside the hole."""
+(nearly) all of it continues the known faces' planes and two of them meet inside the hole,
+refined within its planes (refined_in_planes)."""
 
 import numpy as np
 import pytest
 
 from surfinpaint.data import cube, sphere, torus
 from surfinpaint.fill.conformal import conformal_fill
-from surfinpaint.fill.conformal.ear_cut import PIECE_ANGLE, ear_cut_flat, plane_pieces
+from surfinpaint.fill.conformal.ear_cut import (
+    BY_FLAT_PLANES,
+    PIECE_ANGLE,
+    ear_cut_flat,
+    plane_pieces,
+    refined_in_planes,
+)
 from surfinpaint.fill.conformal.options import ConformalOptions
+from surfinpaint.fill.creases import sharp_edges
 from surfinpaint.fill.liepa.ear_cutting import ear_cut_triangulation
+from surfinpaint.fill.liepa.refinement import boundary_scales
 from surfinpaint.geometry.cutting import cut_geodesic_disk
-from surfinpaint.geometry.mesh import face_normals, mean_edge_length
+from surfinpaint.geometry.mesh import face_normals, mean_edge_length, unique_edges
 
 
 def _hole(mesh, at, radius=6):
@@ -94,12 +103,89 @@ def test_ear_cut_written_where_the_rule_fires_and_nowhere_else():
     assert not default.selection.startswith("ear cutting")
     ruled = conformal_fill(edge.vertices, edge.faces, edge.loop,
                            ConformalOptions(ear_cut_flat=0.9))
-    assert ruled.selection.startswith("ear cutting") and len(ruled.vertices) == 0
-    np.testing.assert_array_equal(
-        ruled.faces, ear_cut_triangulation(edge.vertices, edge.faces, edge.loop))
+    assert ruled.selection.startswith("ear cutting") and ruled.ear_cut == BY_FLAT_PLANES
+    made = refined_in_planes(edge.vertices, edge.faces, edge.loop,
+                             ear_cut_triangulation(edge.vertices, edge.faces, edge.loop))
+    np.testing.assert_array_equal(ruled.vertices, made[0])
+    np.testing.assert_array_equal(ruled.faces, made[1])
     corner = _hole(cube(16), (0.0, 0.0, 0.0))
     default = conformal_fill(corner.vertices, corner.faces, corner.loop)
     ruled = conformal_fill(corner.vertices, corner.faces, corner.loop,
                            ConformalOptions(ear_cut_flat=0.9))
     assert ruled.selection == default.selection
     np.testing.assert_array_equal(ruled.vertices, default.vertices)
+
+
+def _off_the_unit_cube(p):
+    """Each point's distance to the surface of the unit cube (``cube()``'s)."""
+    outside = np.linalg.norm(p - np.clip(p, 0.0, 1.0), axis=1)
+    return np.where(outside > 0, outside, np.minimum(p, 1.0 - p).min(axis=1))
+
+
+# hole: (centre, radius in edges, crease count of the ear cut). The corner's hole reaches
+# three faces and keeps the corner vertex on its loop (the ear cut rebuilds it; CASES'
+# corner, whose hole takes the corner vertex, is chamfered and the rule does not fire)
+REFINED = {"cube edge": ((0.5, 0.0, 0.0), 6, 1), "cube corner": ((0.1875, 0.1875, 0.0), 4, 2)}
+
+
+@pytest.mark.parametrize("name", REFINED)
+def test_the_written_patch_is_the_ear_cut_refined_within_its_planes(name):
+    at, radius, n_creases = REFINED[name]
+    cut = _hole(cube(16), at, radius)
+    fill = ear_cut_flat(cut.vertices, cut.faces, cut.loop, 0.9)
+    v = np.vstack([cut.vertices, fill.vertices])
+    # exact: every new vertex on the cube, every triangle within one of its faces' planes
+    assert _off_the_unit_cube(fill.vertices).max() <= 1e-12 * cut.diameter
+    corners = v[fill.faces]
+    on_a_face = ((np.abs(corners) <= 1e-12) | (np.abs(corners - 1.0) <= 1e-12)).all(axis=1)
+    assert on_a_face.any(axis=1).all()
+    # the density of the surroundings: as many new vertices as the hole took, within a
+    # factor 1.5, every edge within [σ/4, 2σ] and their mean within 0.8-1.25 σ (σ: the
+    # mean edge length at the loop)
+    removed = len(np.unique(cube(16)[1])) - len(np.unique(cut.faces))
+    assert removed / 1.5 <= len(fill.vertices) <= 1.5 * removed
+    edges, _, _ = unique_edges(fill.faces)
+    length = np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1)
+    sigma = boundary_scales(cut.vertices, cut.faces, cut.loop).mean()
+    assert sigma / 4 <= length.min() and length.max() <= 2 * sigma
+    assert 0.8 * sigma <= length.mean() <= 1.25 * sigma
+    # the creases kept: the refined patch's sharp edges are pieces of the ear cut's
+    # crease edges, and cover them
+    ears = ear_cut_triangulation(cut.vertices, cut.faces, cut.loop)
+    creases, _ = sharp_edges(cut.vertices, ears, PIECE_ANGLE)
+    pieces, _ = sharp_edges(v, fill.faces, PIECE_ANGLE)
+    assert len(creases) == n_creases and len(pieces) > n_creases
+    a, b = cut.vertices[creases[:, 0]], cut.vertices[creases[:, 1]]
+    ends = np.stack([v[pieces[:, 0]], v[pieces[:, 1]]])  # (2, pieces, 3)
+    t = np.einsum("kpcj,cj->kpc", ends[:, :, None] - a, b - a) / ((b - a) ** 2).sum(axis=1)
+    off = np.linalg.norm(ends[:, :, None] - (a + t[..., None] * (b - a)), axis=3)
+    on = (off <= 1e-12 * cut.diameter) & (t >= -1e-12) & (t <= 1 + 1e-12)
+    assert on.all(axis=0).any(axis=1).all()  # each piece on one crease, both ends
+    piece_length = np.linalg.norm(ends[1] - ends[0], axis=1).sum()
+    assert piece_length == pytest.approx(np.linalg.norm(b - a, axis=1).sum(), rel=1e-12)
+
+
+def test_a_flat_hole_is_refined_on_its_plane():
+    # one plane, no crease: the rule leaves it to the plane test, but the refinement on
+    # its own keeps every new vertex on the plane, at the surroundings' density
+    cut = _hole(cube(16), (0.5, 0.5, 0.0))
+    ears = ear_cut_triangulation(cut.vertices, cut.faces, cut.loop)
+    new, patch = refined_in_planes(cut.vertices, cut.faces, cut.loop, ears)
+    assert len(new) > 0 and np.abs(new[:, 2]).max() == 0.0
+    removed = len(np.unique(cube(16)[1])) - len(np.unique(cut.faces))
+    assert removed / 1.5 <= len(new) <= 1.5 * removed
+    assert ear_cut_flat(cut.vertices, cut.faces, cut.loop, 0.9) is None
+
+
+def test_the_report_names_the_ear_cut_fill():
+    from surfinpaint import fill_holes
+    from surfinpaint.app.fill_report import written
+
+    edge = _hole(cube(16), (0.5, 0.0, 0.0))
+    report = fill_holes(edge.vertices, edge.faces,
+                        options=ConformalOptions(ear_cut_flat=0.9)).reports[0]
+    assert report.ear_cut == BY_FLAT_PLANES and report.new_vertices > 0
+    assert report.note.endswith("refined within its planes, not faired")
+    assert written(report) == "ear-cut fill (flat planes), not faired"
+    default = fill_holes(edge.vertices, edge.faces).reports[0]
+    assert default.ear_cut is None and written(default) == "λ-H fill"

@@ -4,7 +4,8 @@ hidden-ring test scores MeshFix's greedy ear cutting
 candidate of the self-check (``ConformalOptions.ear_cut_ratio``), or where the ear-cut
 patch is (nearly) all pieces of the known faces' planes and two of them meet at a crease
 inside the hole (``ConformalOptions.ear_cut_flat``, :func:`ear_cut_flat`), the loop's
-ear-cut triangulation is written (no new vertex).
+ear-cut triangulation is written: bare (no new vertex) by the first rule; by the second
+refined within its planes to the surroundings' density (:func:`refined_in_planes`).
 
 Why: on machined parts PyMeshFix is closer than the default on some holes, and what makes
 it closer is its triangulation, which continues the known faces' planes into the hole; its
@@ -24,7 +25,9 @@ from scipy.sparse.csgraph import connected_components
 
 from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
+from surfinpaint.fill.creases import sharp_edges
 from surfinpaint.fill.liepa.ear_cutting import ear_cut_triangulation
+from surfinpaint.fill.liepa.refinement import boundary_scales, refine_patch
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores
 from surfinpaint.geometry.edges import EdgeTable
@@ -32,10 +35,14 @@ from surfinpaint.geometry.mesh import face_areas, face_normals
 from surfinpaint.geometry.rows import rows_any
 from surfinpaint.geometry.validation import zero_area_faces
 
-__all__ = ["EAR_CUT", "PIECE_ANGLE", "PIECE_CREASE", "ROUNDING", "PlanePieces", "ear_cut_fill",
-           "ear_cut_flat", "ear_cut_won", "plane_pieces"]
+__all__ = ["BY_FLAT_PLANES", "BY_HIDDEN_RINGS", "EAR_CUT", "PIECE_ANGLE", "PIECE_CREASE",
+           "ROUNDING", "PlanePieces", "ear_cut_fill", "ear_cut_flat", "ear_cut_won",
+           "plane_pieces", "refined_in_planes"]
 
 EAR_CUT = "ear_cut"
+# which rule wrote an ear-cut fill (``Fill.ear_cut``, ``HoleReport.ear_cut``)
+BY_HIDDEN_RINGS = "hidden rings"
+BY_FLAT_PLANES = "flat planes"
 # hidden-ring scores below this fraction of the loop's mean edge are rounding: on a hole
 # every candidate rebuilds exactly, they do not decide (holdout 10's spanner #0: the λ-H
 # fill's 3e-8 h against the ear cut's 2e-8 h, but the ear cut 1.9 % off the truth)
@@ -94,7 +101,7 @@ def ear_cut_won(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     except FillError:
         return None
     ratio = mine / best if best > 0 else 0.0
-    return Fill(fill.vertices, fill.faces, "fair",
+    return Fill(fill.vertices, fill.faces, "fair", ear_cut=BY_HIDDEN_RINGS,
                 selection=f"ear cutting: its hidden-ring score {ratio:.3g}× the best "
                           f"candidate's (below {o.ear_cut_ratio:g}): the loop's "
                           "triangulation written, no new vertex")
@@ -102,10 +109,11 @@ def ear_cut_won(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
 
 def ear_cut_flat(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                  flat: float) -> Fill | None:
-    """The ear-cut fill, with the rule's verdict in words, where at least ``flat`` of its
-    area continues known faces' planes (:func:`plane_pieces` at :data:`PIECE_ANGLE`) and
-    two of those planes meet at more than :data:`PIECE_CREASE`; None elsewhere (and where
-    the ear cut cannot be written, :func:`ear_cut_fill`)."""
+    """The ear-cut fill refined within its planes (:func:`refined_in_planes`), with the
+    rule's verdict in words, where at least ``flat`` of its area continues known faces'
+    planes (:func:`plane_pieces` at :data:`PIECE_ANGLE`) and two of those planes meet at
+    more than :data:`PIECE_CREASE`; None elsewhere (and where the ear cut cannot be
+    written, :func:`ear_cut_fill`). The rule is decided on the bare ear cut."""
     try:
         fill = ear_cut_fill(vertices, faces, loop)
     except FillError:
@@ -114,10 +122,89 @@ def ear_cut_flat(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     share, crease = pieces.flat_fraction(), np.degrees(pieces.crease())
     if share < flat or not crease > PIECE_CREASE:
         return None
-    return Fill(fill.vertices, fill.faces, "fair",
+    new_vertices, patch = refined_in_planes(vertices, faces, loop, fill.faces)
+    return Fill(new_vertices, patch, "fair", ear_cut=BY_FLAT_PLANES,
                 selection=f"ear cutting: {100 * share:.0f} % of its area continues the known "
                           f"faces' planes (at least {flat:g}), two of them meet at "
-                          f"{crease:.0f}°: the loop's triangulation written, no new vertex")
+                          f"{crease:.0f}°: the loop's triangulation written, refined within "
+                          "its planes, not faired")
+
+
+def refined_in_planes(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
+                      triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """An ear-cut patch refined to the surrounding edge length without leaving its planes.
+
+    The creases the ear cut put inside the hole (edges whose two triangles turn by more
+    than :data:`PIECE_ANGLE`, :func:`~surfinpaint.fill.creases.sharp_edges`) are first cut
+    into pieces of about the surrounding edge length (:func:`_creases_split`: new vertices
+    on the crease, on both its planes); then Liepa's refinement as the faired fills use it
+    (:func:`~surfinpaint.fill.liepa.refinement.refine_patch`): each new vertex is the
+    centroid of the triangle it splits, on that triangle's plane, and nothing is faired.
+    The crease pieces never flip, so the Delaunay flips only swap diagonals between
+    triangles within that angle of each other: on a patch of exact planes the refined patch
+    is the same surface as the bare one, its creases where the ear cut put them.
+
+    Returns
+    -------
+    new_vertices : (m, 3) float array
+    patch : (p, 3) int array
+        Over the mesh's ids and ``n + j`` for new vertex ``j``.
+    """
+    v = np.asarray(vertices, dtype=float)
+    loop = np.asarray(loop, np.int64)
+    creases, _ = sharp_edges(v, triangles, PIECE_ANGLE)
+    sigma = np.zeros(len(v))
+    sigma[loop] = boundary_scales(v, faces, loop)
+    points, scales, patch, pieces = _creases_split(v, np.asarray(triangles, np.int64),
+                                                   creases, sigma)
+    ids = len(v) + np.arange(len(points))
+    # the crease points join the loop for their scales only (``loops``: the one closed
+    # loop whose edges never flip)
+    new, patch = refine_patch(np.vstack([v, points]), patch, np.concatenate([loop, ids]),
+                              faces=faces, loops=[loop], fixed_edges=pieces,
+                              scales=np.concatenate([sigma[loop], scales]))
+    return np.vstack([points, new]), patch
+
+
+def _creases_split(v: np.ndarray, triangles: np.ndarray, creases: np.ndarray,
+                   sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Each crease edge (a, b) cut into round(|ab| / σ) equal pieces, σ the mean of its
+    ends' scales ``sigma`` (its ends are loop vertices: the ear cut adds none), its two
+    triangles into fans over the pieces (oriented as they were).
+
+    Returns
+    -------
+    points : (c, 3) float array
+        The new vertices, ids ``len(v) + j``, crease by crease from a to b.
+    scales : (c,) float array
+        Their σ, interpolated between the crease's ends'.
+    triangles : (t, 3) int array
+    pieces : (e, 2) int array
+        The crease's pieces (the uncut creases whole).
+    """
+    points, scales, pieces = [np.zeros((0, 3))], [np.zeros(0)], [np.zeros((0, 2), np.int64)]
+    for a, b in creases:  # a few creases per hole
+        k = max(1, int(round(np.linalg.norm(v[b] - v[a]) / (0.5 * (sigma[a] + sigma[b])))))
+        ids = len(v) + sum(map(len, points)) + np.arange(k - 1)
+        w = np.arange(1, k) / k
+        points.append(v[a] + np.outer(w, v[b] - v[a]))
+        scales.append((1 - w) * sigma[a] + w * sigma[b])
+        chain = np.concatenate([[a], ids, [b]])
+        pieces.append(np.column_stack([chain[:-1], chain[1:]]))
+        triangles = np.vstack([_fanned(t, chain) for t in triangles])
+    return np.vstack(points), np.concatenate(scales), triangles, np.vstack(pieces)
+
+
+def _fanned(t: np.ndarray, chain: np.ndarray) -> np.ndarray:
+    """Triangle ``t`` as rows: itself, or where it has the edge from ``chain[0]`` to
+    ``chain[-1]`` (either way round) the fan from its third corner over the chain's pieces,
+    oriented as ``t``."""
+    for r in range(3):
+        s, e, o = np.roll(t, -r)
+        if {s, e} == {chain[0], chain[-1]}:
+            q = chain if s == chain[0] else chain[::-1]
+            return np.column_stack([q[:-1], q[1:], np.full(len(q) - 1, o)])
+    return t[None]
 
 
 class PlanePieces(NamedTuple):

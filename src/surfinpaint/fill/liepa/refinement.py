@@ -378,6 +378,7 @@ def refine_patch(
     relax_rounds: int = 1000,
     style: str = "liepa",
     loops: list[np.ndarray] | None = None,
+    fixed_edges: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Refine a hole's patch to the edge density of the surrounding mesh (Liepa 2003).
 
@@ -416,6 +417,10 @@ def refine_patch(
         A patch bounded by several loops (a hole with islands: :mod:`surfinpaint.fill.
         annulus`): each closed loop, whose edges never flip; ``loop`` is then their
         concatenation (for the scales). None: ``loop`` is the one closed loop.
+    fixed_edges : (e, 2) int array, optional
+        Edges of ``patch_faces`` (vertex ids) that must not flip either, e.g. creases the
+        patch must keep where they are (splits at centroids never remove an edge, so they
+        stay edges of the refined patch).
 
     Returns
     -------
@@ -446,6 +451,8 @@ def refine_patch(
     fixed = np.column_stack([lo, np.roll(lo, -1)]) if loops is None else np.concatenate(
         [np.column_stack([local[k], np.roll(local[k], -1)])
          for k in (np.asarray(k, dtype=np.int64) for k in loops)])
+    if fixed_edges is not None:
+        fixed = np.concatenate([fixed, local[np.asarray(fixed_edges, np.int64).reshape(-1, 2)]])
     forbidden = None
     if faces is not None:  # an edge outside the hole made again would be non-manifold
         forbidden = _outside_edges(np.asarray(faces, dtype=np.int64), local)
