@@ -67,6 +67,9 @@ ALL_METHODS = ("fair", "fair1", "fair3", "fair_sfauto", "conformal", "conformal_
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
 # a row's note where the plane test laid the faired fill on the plane (no self-check ran)
 PLANE_NOTE = "plane test: the faired fill laid on the known surface's plane"
+# a row's note where an ear-cut rule wrote the loop's ear-cut triangulation (no self-check
+# chose it): EAR_CUT_NOTE + " (flat planes)" or " (hidden rings)", the rule
+EAR_CUT_NOTE = "ear-cut fill"
 # the conformal method's variants: their options
 CONFORMAL_VARIANTS = {
     "conformal_raw": {"select": False},  # the λ-H fill itself, without the self-check
@@ -293,6 +296,8 @@ def _run_ours(method, vertices, faces, loop, **kwargs):
                     f"{r.note}")
         elif r.plane is not None:  # no self-check ran: not a choice among candidates
             note = PLANE_NOTE
+        elif r.ear_cut is not None:  # no self-check ran either: the rule wrote it
+            note = f"{EAR_CUT_NOTE} ({r.ear_cut})"
         elif r.method != method:
             note = f"self-check kept {r.method}"
     return np.asarray(res.vertices), np.asarray(res.faces), dt, note
@@ -400,7 +405,8 @@ def score(cut: CutResult, method: str, case: str, hole: int, radius_h: float,
         traceback.print_exc(limit=2, file=sys.stderr)
         return row
     (row.seconds, row.cpu_seconds), row.note = dt, note
-    if note.startswith("self-check") or note == PLANE_NOTE:  # another fill chosen: no failure
+    if note.startswith(("self-check", EAR_CUT_NOTE)) or note == PLANE_NOTE:
+        # another fill chosen: no failure
         row.status = "selected"
     elif note:
         row.status = "fallback"

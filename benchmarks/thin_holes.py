@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
+import accuracy  # noqa: E402
 import holes_manifest  # noqa: E402
 import thin_parts  # noqa: E402
 import validation  # noqa: E402
@@ -172,11 +173,13 @@ def joined(label_files: list[str], row_files: list[str]):
 
 
 def written(key, err: dict, row: dict) -> str:
-    """What the default wrote: λ-H kept, fair2, fair3, plane or fallback."""
+    """What the default wrote: λ-H kept, fair2, fair3, plane, ear cut or fallback."""
     if row["status"] == "fallback":
         return "fallback"
     if row["note"].startswith("plane test"):
         return "plane"
+    if row["note"].startswith(accuracy.EAR_CUT_NOTE):
+        return "ear cut"
     if row["note"].startswith("self-check kept"):
         mine = err[("conformal", *key)]
         for method, name in (("fair_sfauto", "fair2"), ("fair", "fair2"), ("fair3", "fair3")):

@@ -56,3 +56,20 @@ def test_triangulation_column_adds_no_vertex_and_closes_the_hole():
     _, refined_f, _, _ = accuracy.run_method("conventional", cut.vertices, cut.faces, cut.loop)
     assert len(refined_f) > len(f)  # the conventional fill refines it
 
+
+
+
+def test_an_ear_cut_fill_is_labelled_as_what_was_written():
+    """The validation rows name a fill the ear-cut rules wrote (no self-check chose it)."""
+    from surfinpaint.data import cube
+    from surfinpaint.fill.conformal.options import ConformalOptions
+
+    v, f = cube(16)
+    centre = int(np.argmin(np.linalg.norm(v - [0.5, 0.0, 0.0], axis=1)))
+    cut = cut_geodesic_disk(v, f, centre, 6 * mean_edge_length(v, f))
+    row = accuracy.score(cut, "conformal_earflat", "cube", 0, 6.0, 2000)
+    assert row.note == "ear-cut fill (flat planes)" and row.status == "selected"
+    assert row.mean_pct < 1e-9  # it rebuilds the cube's edge
+    *_, note = accuracy._run_ours("conformal", cut.vertices, cut.faces, cut.loop,
+                                  options=ConformalOptions(ear_cut_ratio=100.0))
+    assert note == "ear-cut fill (hidden rings)"

@@ -117,4 +117,5 @@ def test_an_ear_cut_fill_is_reported_as_a_triangulation_not_a_faired_fill():
     report = fill_holes(cut.vertices, cut.faces,
                         options=ConformalOptions(ear_cut_ratio=100.0)).reports[0]
     assert report.note.startswith("ear cutting") and report.new_vertices == 0
-    assert written(report) == "the loop's triangulation, not faired"
+    assert report.ear_cut == "hidden rings" and report.method == "fair"
+    assert written(report) == "ear-cut fill (hidden rings), not faired"

@@ -110,10 +110,10 @@ def written(report: HoleReport) -> str:
         return blend
     if outcome == "lambda-h":
         return "λ-H fill"
-    if outcome == "faired" and report.fair_order is None:
-        # no fairing ran: the loop's triangulation alone (ConformalOptions.ear_cut_ratio,
+    if outcome == "faired" and report.ear_cut is not None:
+        # no fairing ran: the loop's ear-cut triangulation (ConformalOptions.ear_cut_ratio,
         # ear_cut_flat)
-        return "the loop's triangulation, not faired"
+        return f"ear-cut fill ({report.ear_cut}), not faired"
     if outcome == "faired":
         on_plane = "" if report.plane is None else f", laid on {plane_words(report.plane)}"
         smoothed = ", smoothed" if report.smoothed else ""

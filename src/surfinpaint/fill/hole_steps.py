@@ -240,6 +240,7 @@ def record(report: HoleReport, fill: Fill, written: bool = True) -> None:
     report.crease_failure = fill.crease_failure
     report.plane = fill.plane
     report.smoothing = fill.smoothing
+    report.ear_cut = fill.ear_cut
     if written:
         report.crossings, report.crossing_triangles = fill.crossings, fill.crossing_triangles
     if written and fill.crossings:

@@ -255,6 +255,10 @@ class Fill:
         (``fair_smoothing`` "auto", the default, or a length): smoothed or not, and why.
         It is the written fill where ``kind`` is "fair" with ``fair_order`` 2 and no
         ``plane``; else a candidate the self-check compared. None: not asked for.
+    ear_cut : str, optional
+        The fill is the loop's ear-cut triangulation (:mod:`surfinpaint.fill.conformal.
+        ear_cut`), written by the rule named here: "flat planes" (``ear_cut_flat``, refined
+        within its planes) or "hidden rings" (``ear_cut_ratio``, bare).
     """
 
     vertices: np.ndarray
@@ -270,6 +274,7 @@ class Fill:
     crossing_triangles: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
     plane: PlaneTest | TwoPlanes | None = None
     smoothing: Smoothing | None = None
+    ear_cut: str | None = None
 
     @property
     def crossings(self) -> int:
@@ -354,7 +359,8 @@ class HoleReport:
     (:mod:`surfinpaint.fill.islands`: a faired fill of the annulus between the loops;
     ``note`` names their pieces). ``smoothing``: whether the hole's bilaplacian fill was
     the smoothing fill, and why (see :class:`Fill`; :attr:`smoothed` says whether the
-    written fill is it).
+    written fill is it). ``ear_cut``: the rule that wrote the loop's ear-cut triangulation,
+    if one did (see :class:`Fill`).
     """
 
     index: int
@@ -381,6 +387,7 @@ class HoleReport:
     islands: tuple[int, ...] = ()
     smoothing: Smoothing | None = None
     crossing_triangles: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    ear_cut: str | None = None
 
     def add_crossings(self, triangles: np.ndarray) -> None:
         """Take ``triangles`` (rows of the hole's new faces) among those that cross the
