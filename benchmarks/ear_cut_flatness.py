@@ -35,7 +35,11 @@ import thin_holes  # noqa: E402
 import validation  # noqa: E402
 
 from surfinpaint.errors import FillError  # noqa: E402
-from surfinpaint.fill.conformal.ear_cut import ear_cut_fill, plane_pieces  # noqa: E402
+from surfinpaint.fill.conformal.ear_cut import (  # noqa: E402
+    ear_cut_fill,
+    ear_cut_flat,
+    plane_pieces,
+)
 from surfinpaint.fill.liepa.fairing import fair as fair_patch  # noqa: E402
 from surfinpaint.fill.liepa.refinement import refine_patch  # noqa: E402
 from surfinpaint.geometry.metrics import surface_distance  # noqa: E402
@@ -45,6 +49,7 @@ TUNING_SIDE = (*cgal_s0.TUNING_SIDE_SETS,
                *(f"holdout{i}" for i in range(9, cgal_s0.NEWEST_SPENT_HOLDOUT + 1)))
 ANGLES = (1.0, 2.0, 3.0, 5.0, 10.0)  # degrees
 SAMPLES = 10000  # validation.py's default
+FLAT = 0.9  # the rule's threshold (ConformalOptions.ear_cut_flat) for --refined
 
 
 def entries(name: str, kinds: set[str] | None) -> list[dict]:
@@ -86,10 +91,21 @@ def faired_from_ear_cut(cut, ears: np.ndarray) -> dict:
     return out
 
 
-def hole_features(cut, faired: bool = False) -> dict:
+def refined_features(cut) -> dict:
+    """Session 51's study: where the rule fires (``ear_cut_flat`` at :data:`FLAT`), the
+    written fill, the ear cut refined within its planes: its error (``ear_refined_error``)
+    and new vertex count (``ear_refined_vertices``); nothing elsewhere."""
+    made = ear_cut_flat(cut.vertices, cut.faces, cut.loop, FLAT)
+    if made is None:
+        return {}
+    return {"ear_refined_error": _error(cut, made.vertices, made.faces),
+            "ear_refined_vertices": len(made.vertices)}
+
+
+def hole_features(cut, faired: bool = False, refined: bool = False) -> dict:
     """The ear-cut patch's pieces at each angle of :data:`ANGLES`, and its error (% of the
     hole's diameter; None where the ear cut leaves a zero-area triangle); with ``faired``
-    also :func:`faired_from_ear_cut`'s."""
+    also :func:`faired_from_ear_cut`'s, with ``refined`` :func:`refined_features`."""
     out = {"loop_edges": len(cut.loop)}
     try:
         fill = ear_cut_fill(cut.vertices, cut.faces, cut.loop)
@@ -101,6 +117,8 @@ def hole_features(cut, faired: bool = False) -> dict:
     out["ear_error"] = _error(cut, np.zeros((0, 3)), tri)
     if faired:
         out.update(faired_from_ear_cut(cut, tri))
+    if refined:
+        out.update(refined_features(cut))
     for a in ANGLES:
         p = plane_pieces(cut.vertices, cut.faces, tri, np.radians(a))
         out[f"flat{a:g}"] = p.flat_fraction()
@@ -110,8 +128,8 @@ def hole_features(cut, faired: bool = False) -> dict:
     return out
 
 
-def features(sets: list[str], kinds: set[str] | None, out: Path, faired: bool = False
-             ) -> None:
+def features(sets: list[str], kinds: set[str] | None, out: Path, faired: bool = False,
+             refined: bool = False) -> None:
     """Append one JSON line per hole of ``sets`` to ``out``."""
     for name in sets:
         for entry in entries(name, kinds):
@@ -122,7 +140,7 @@ def features(sets: list[str], kinds: set[str] | None, out: Path, faired: bool = 
                 cut = validation._cut(mesh, hole)
                 row = {"split": entry["split"] if name == "tuning" else name,
                        "case": entry["mesh"], "hole": k, "kind": entry["kind"],
-                       **hole_features(cut, faired)}
+                       **hole_features(cut, faired, refined)}
                 with out.open("a") as fh:
                     fh.write(json.dumps(row) + "\n")
                 print(f"{name} {entry['mesh']} #{k}: ear {row.get('ear_error')}",
@@ -136,6 +154,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path)
     parser.add_argument("--faired", action="store_true",
                         help="also the faired fills on the ear-cut triangulation (step 2)")
+    parser.add_argument("--refined", action="store_true",
+                        help="also the written fill, the ear cut refined within its planes, "
+                             "where the rule fires (session 51); with --table: score it as "
+                             "the rule's fill, and compare it with the bare ear cut")
     parser.add_argument("--table", nargs="+", help="feature files to join with --rows")
     parser.add_argument("--rows", nargs="+", default=[])
     parser.add_argument("--flat", type=float, nargs="+", default=[0.9, 0.95, 0.99, 1.0])
@@ -145,26 +167,32 @@ def main(argv: list[str] | None = None) -> None:
                         help="also list the holes of the first thresholds")
     args = parser.parse_args(argv)
     if args.table:
-        feats, err = joined(args.table, args.rows)
+        feats, err = joined(args.table, args.rows, args.refined)
+        if args.refined:
+            print("\n".join(refined_lines(feats, err)))
         grid = [(f, c, a) for a in args.angle for c in args.crease for f in args.flat]
         print("\n".join(rule_table(feats, err, grid)))
         if args.list:
             print("\n".join(fired_lines(feats, err, *grid[0])))
         return
     kinds = set(args.kinds.split(",")) if args.kinds else None
-    features(args.sets.split(","), kinds, args.out, args.faired)
+    features(args.sets.split(","), kinds, args.out, args.faired, args.refined)
 
 
 
 # --------------------------------------------------------------------------- the rule's table
 
 EAR = "ear_cut"  # the ear-cut triangulation's column in the joined errors
+BARE = "ear_cut_bare"  # the bare ear cut's, where EAR is the refined one (--refined)
 
 
-def joined(feature_files: list[str], row_files: list[str]) -> tuple[dict, dict]:
+def joined(feature_files: list[str], row_files: list[str], refined: bool = False
+           ) -> tuple[dict, dict]:
     """``(features, err)``: each hole's features by ``(split, case, hole)``, and the errors
     of every method's rows of those holes by ``(method, split, case, hole)`` (later files
-    replace earlier ones' rows), with the ear-cut triangulation's as method :data:`EAR`."""
+    replace earlier ones' rows), with the ear-cut triangulation's as method :data:`EAR`
+    (with ``refined``: the refined one's where it was made, the bare one's as
+    :data:`BARE`)."""
     feats = {}
     for path in feature_files:
         for line in Path(path).read_text().splitlines():
@@ -182,7 +210,27 @@ def joined(feature_files: list[str], row_files: list[str]) -> tuple[dict, dict]:
     for key, f in feats.items():
         if f.get("ear_error") is not None:
             err[(EAR, *key)] = f["ear_error"]
+            err[(BARE, *key)] = f["ear_error"]
+        if refined and f.get("ear_refined_error") is not None:
+            err[(EAR, *key)] = f["ear_refined_error"]
     return feats, err
+
+
+def refined_lines(feats: dict, err: dict) -> list[str]:
+    """The refined ear cut against the bare one on the holes where both were made (the
+    rule fired at :data:`FLAT`): per hole ratio, better / worse by 10 %, summed error."""
+    keys = sorted(k for k, f in feats.items() if f.get("ear_refined_error") is not None)
+    ratio = np.array([max(err[(EAR, *k)], 1e-6) / max(err[(BARE, *k)], 1e-6) for k in keys])
+    out = [f"refined against bare on the {len(keys)} holes the rule fires on: better / "
+           f"worse by 10 % {(ratio < 1 / 1.1).sum()} / {(ratio > 1.1).sum()}, median ratio "
+           f"{np.median(ratio) if len(keys) else float('nan'):.3f}, summed error bare "
+           f"{sum(err[(BARE, *k)] for k in keys):.3f} → refined "
+           f"{sum(err[(EAR, *k)] for k in keys):.3f} %, new vertices "
+           f"{sum(feats[k]['ear_refined_vertices'] for k in keys)}"]
+    out += [f"  {k[0]} {k[1]} #{k[2]}: bare {err[(BARE, *k)]:.3g} → refined "
+            f"{err[(EAR, *k)]:.3g} %" for k, r in zip(keys, ratio, strict=True)
+            if r < 1 / 1.1 or r > 1.1]
+    return out
 
 
 def fires(f: dict, flat: float, crease: float, angle: float) -> bool:
