@@ -231,10 +231,12 @@ class ConformalOptions:
         the area of the loop's ear-cut triangulation continues the known faces' planes and
         two of those planes meet at a crease inside the hole
         (:func:`surfinpaint.fill.conformal.ear_cut.ear_cut_flat`), the triangulation is
-        written (no new vertex) and no self-check runs: a machined part's faces and the
+        written, refined within its planes to the surrounding edge length (its creases
+        kept, nothing faired), and no self-check runs: a machined part's faces and the
         edges between them rebuilt where the faired and λ-H fills round them off
         (docs/candidates.md, "Session 50 (helper): ear-cut triangulation where a crease
-        crosses the hole"; 0.9 there). None (default): never.
+        crosses the hole", 0.9 there; "Session 51 (helper): the ear-cut fill refined
+        within its planes"). None (default): never.
     continuation_smallest : float
         The least-squares stage's continuation in the curvature weight (where the λ-H solve
         fails) halves its weight step after each solve that fails and ends where the step
