@@ -189,3 +189,18 @@ def test_the_report_names_the_ear_cut_fill():
     assert written(report) == "ear-cut fill (flat planes), not faired"
     default = fill_holes(edge.vertices, edge.faces).reports[0]
     assert default.ear_cut is None and written(default) == "λ-H fill"
+
+
+def test_the_panels_name_the_ear_cut_fill():
+    from surfinpaint.app.report import compare_holes, panel_fills
+    from surfinpaint.app.report_page import hole_title
+
+    edge = _hole(cube(16), (0.5, 0.0, 0.0))
+    comparisons, fills = compare_holes(edge.vertices, edge.faces, [edge.loop],
+                                       options=ConformalOptions(ear_cut_flat=0.9))
+    titles = panel_fills(fills, 0).titles
+    # (C) draws the λ-H fill, made again: no self-check rejected it; (W) the ear cut
+    assert titles["C"] == "(C) conformal fill (not written)"
+    assert titles["W"] == "(W) written: ear-cut fill (flat planes)"
+    assert comparisons[0].ear_cut == BY_FLAT_PLANES
+    assert "the ear-cut fill (flat planes) is written (W)" in hole_title(comparisons[0])

@@ -327,7 +327,7 @@ def _comparison(k: int, loop: np.ndarray, vertices: np.ndarray,
         skipped=rc.skipped if rc.outcome in ("skipped", "failed") else None,
         islands=rc.islands,
         crossings=rc.crossings,  # 0 where nothing was written (hole_steps.record)
-        smoothed=rc.smoothed,
+        smoothed=rc.smoothed, ear_cut=rc.ear_cut,
     )
 
 
@@ -417,12 +417,14 @@ def panel_fills(fills: ComparedFills, k: int) -> PanelFills:
     if fills.fair.reports[k].outcome == "skipped":
         titles["B"] = "(B) conventional fill (skipped)"
     state = ("written" if written_in == "C" else "skipped" if report.outcome == "skipped"
-             else "failed" if conformal is None else "rejected by the self-check")
+             else "failed" if conformal is None else "not written" if report.ear_cut
+             else "rejected by the self-check")
     titles["C"] = (f"(C) conformal: faired fill laid on {plane_words(report.plane)} ({state})"
                    if on_plane
                    else f"(C) conformal fill ({state})")
     if written_in == "W":
-        titles["W"] = (f"(W) written: faired fill (order {report.fair_order}"
+        titles["W"] = (f"(W) written: ear-cut fill ({report.ear_cut})" if report.ear_cut
+                       else f"(W) written: faired fill (order {report.fair_order}"
                        + (", smoothed)" if report.smoothed else ")"))
     if on_plane and fills.diagnostics[k] is not None:
         # (E)/(G) are of the λ-H fill, which (C) does not draw

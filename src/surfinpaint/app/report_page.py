@@ -87,6 +87,9 @@ class HoleComparison:
         The written fill is the bilaplacian smoothing fill
         (:attr:`~surfinpaint.fill.results.HoleReport.smoothed`): not the conventional
         fill (B), which goes through the surface's noise.
+    ear_cut : str or None
+        The ear-cut rule that wrote the loop's ear-cut fill
+        (:attr:`~surfinpaint.fill.results.HoleReport.ear_cut`; no self-check ran), if one did.
     """
 
     index: int
@@ -107,6 +110,7 @@ class HoleComparison:
     islands: tuple[int, ...] = ()
     crossings: int = 0
     smoothed: bool = False
+    ear_cut: str | None = None
 
 
 @dataclass(frozen=True)
@@ -304,6 +308,8 @@ def hole_title(c: HoleComparison, name: str = "") -> str:
         if c.on_plane:
             written = (f"the surface around it is a plane within its noise; the faired "
                        f"fill{order} laid on it is written")
+        elif c.ear_cut:  # nothing failed: a rule wrote it before any self-check
+            written = f"the ear-cut fill ({c.ear_cut}) is written"
         elif c.fallback == NO_INNER_VERTEX:  # nothing failed, nothing to choose
             written = f"{NO_INNER_VERTEX}; the triangulation is written"
         elif c.islands:  # nothing failed: the λ-H method fills disks only
