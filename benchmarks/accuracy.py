@@ -61,7 +61,7 @@ ALL_METHODS = ("fair", "fair1", "fair3", "fair_sfauto", "conformal", "conformal_
                "fair_cgalref", "fair3_cgalref", "conformal_sib1", "conformal_noplane",
                "conformal_signif", "conformal_nosignif", "conformal_sfair35", "conformal_sfair40",
                "conformal_sfauto", "conformal_nosmooth", "conformal_rings3", "conformal_earcut50",
-               "conformal_earcut100", "conformal_earflat", "conventional",
+               "conformal_earcut100", "conformal_earflat", "conformal_noearflat", "conventional",
                "triangulation", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix", "pymeshfix_bare")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
@@ -109,7 +109,8 @@ CONFORMAL_VARIANTS = {
     # ... where at least 0.9 of its area continues the known faces' planes and a crease
     # crosses the hole (session 50, docs/candidates.md: ear-cut triangulation where a crease
     # crosses the hole)
-    "conformal_earflat": {"ear_cut_flat": 0.9},
+    "conformal_earflat": {"ear_cut_flat": 0.9},  # the default since session 51
+    "conformal_noearflat": {"ear_cut_flat": None},  # the default before session 51
 }
 
 

@@ -71,5 +71,6 @@ def test_an_ear_cut_fill_is_labelled_as_what_was_written():
     assert row.note == "ear-cut fill (flat planes)" and row.status == "selected"
     assert row.mean_pct < 1e-9  # it rebuilds the cube's edge
     *_, note = accuracy._run_ours("conformal", cut.vertices, cut.faces, cut.loop,
-                                  options=ConformalOptions(ear_cut_ratio=100.0))
+                                  options=ConformalOptions(ear_cut_ratio=100.0,
+                                                           ear_cut_flat=None))
     assert note == "ear-cut fill (hidden rings)"

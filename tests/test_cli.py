@@ -562,8 +562,8 @@ def test_fill_crease_options_are_passed_on(tmp_path, capsys):
     off_cube = {}
     for flags, kwargs in (([], {}), (["--no-creases"], {"creases": False}),
                           (["--crease-angle", "95"], {"crease_angle": 95.0}),
-                          (["--no-creases", "--no-plane-test"],
-                           {"creases": False, "plane_test": False})):
+                          (["--no-creases", "--no-plane-test", "--no-ear-cut"],
+                           {"creases": False, "plane_test": False, "ear_cut_flat": None})):
         out = tmp_path / "out.ply"
         assert main(["fill", str(path), "-o", str(out), "-q", *flags]) == 0
         written = read_mesh(out)[0]
@@ -572,12 +572,12 @@ def test_fill_crease_options_are_passed_on(tmp_path, capsys):
         np.testing.assert_allclose(written, expected, rtol=0, atol=1e-6)
         new = written[len(cut.vertices):]
         off_cube[" ".join(flags)] = np.minimum(new, 1 - new).min(axis=1).max()
-    # with the crease the new vertices lie on the cube; without it (or with a threshold
-    # above the cube's 90°) the two-plane test lays the fill on the cube's two faces
-    # (session 29); without that too, the edge is rounded off
+    # by default the ear-cut fill (session 51) and with the crease the λ-H fill lie on the
+    # cube; without it (or with a threshold above the cube's 90°) the two-plane test lays
+    # the fill on the cube's two faces (session 29); without those, the edge is rounded off
     assert off_cube[""] < 1e-6
     assert off_cube["--no-creases"] < 1e-6 and off_cube["--crease-angle 95"] < 1e-6
-    assert off_cube["--no-creases --no-plane-test"] > 1e-2
+    assert off_cube["--no-creases --no-plane-test --no-ear-cut"] > 1e-2
     bad = tmp_path / "bad.ply"
     assert main(["fill", str(path), "-o", str(bad), "--crease-angle", "200"]) == 2
     assert "--crease-angle" in capsys.readouterr().err

@@ -270,12 +270,16 @@ def test_two_creases_across_a_thin_plate_side_are_rebuilt_exactly():
 
 
 def test_the_conformal_fill_of_a_hole_across_two_creases():
-    from surfinpaint.fill.conformal import conformal_fill
+    from surfinpaint.fill.conformal import ConformalOptions, conformal_fill
 
     cut = _slab_hole()
-    fill = conformal_fill(cut.vertices, cut.faces, cut.loop)
+    # the λ-H fill's crease fill (the default writes the ear-cut fill here: session 51)
+    fill = conformal_fill(cut.vertices, cut.faces, cut.loop,
+                          ConformalOptions(ear_cut_flat=None))
     assert fill.kind == "conformal" and fill.crease.startswith("2 creases (90°, 90°)")
     assert _slab_distance(fill.vertices).max() < 1e-9
+    default = conformal_fill(cut.vertices, cut.faces, cut.loop)
+    assert default.ear_cut == "flat planes" and _slab_distance(default.vertices).max() < 1e-9
 
 
 _X = np.array([1.0, 0.0, 0.0])

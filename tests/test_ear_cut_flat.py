@@ -15,7 +15,7 @@ from surfinpaint.fill.conformal.ear_cut import (
     plane_pieces,
     refined_in_planes,
 )
-from surfinpaint.fill.conformal.options import ConformalOptions
+from surfinpaint.fill.conformal.options import EAR_CUT_FLAT, ConformalOptions
 from surfinpaint.fill.creases import sharp_edges
 from surfinpaint.fill.liepa.ear_cutting import ear_cut_triangulation
 from surfinpaint.fill.liepa.refinement import boundary_scales
@@ -97,23 +97,22 @@ def test_ear_cut_flat_is_checked(bad):
 
 
 def test_ear_cut_written_where_the_rule_fires_and_nowhere_else():
-    assert ConformalOptions().ear_cut_flat is None  # off by default
+    assert ConformalOptions().ear_cut_flat == EAR_CUT_FLAT == 0.9  # the default (session 51)
+    off = ConformalOptions(ear_cut_flat=None)
     edge = _hole(cube(16), (0.5, 0.0, 0.0))
-    default = conformal_fill(edge.vertices, edge.faces, edge.loop)
-    assert not default.selection.startswith("ear cutting")
-    ruled = conformal_fill(edge.vertices, edge.faces, edge.loop,
-                           ConformalOptions(ear_cut_flat=0.9))
+    unruled = conformal_fill(edge.vertices, edge.faces, edge.loop, off)
+    assert not unruled.selection.startswith("ear cutting") and unruled.ear_cut is None
+    ruled = conformal_fill(edge.vertices, edge.faces, edge.loop)
     assert ruled.selection.startswith("ear cutting") and ruled.ear_cut == BY_FLAT_PLANES
     made = refined_in_planes(edge.vertices, edge.faces, edge.loop,
                              ear_cut_triangulation(edge.vertices, edge.faces, edge.loop))
     np.testing.assert_array_equal(ruled.vertices, made[0])
     np.testing.assert_array_equal(ruled.faces, made[1])
     corner = _hole(cube(16), (0.0, 0.0, 0.0))
-    default = conformal_fill(corner.vertices, corner.faces, corner.loop)
-    ruled = conformal_fill(corner.vertices, corner.faces, corner.loop,
-                           ConformalOptions(ear_cut_flat=0.9))
-    assert ruled.selection == default.selection
-    np.testing.assert_array_equal(ruled.vertices, default.vertices)
+    unruled = conformal_fill(corner.vertices, corner.faces, corner.loop, off)
+    ruled = conformal_fill(corner.vertices, corner.faces, corner.loop)
+    assert ruled.selection == unruled.selection and ruled.ear_cut is None
+    np.testing.assert_array_equal(ruled.vertices, unruled.vertices)
 
 
 def _off_the_unit_cube(p):
@@ -182,13 +181,13 @@ def test_the_report_names_the_ear_cut_fill():
     from surfinpaint.app.fill_report import written
 
     edge = _hole(cube(16), (0.5, 0.0, 0.0))
-    report = fill_holes(edge.vertices, edge.faces,
-                        options=ConformalOptions(ear_cut_flat=0.9)).reports[0]
+    report = fill_holes(edge.vertices, edge.faces).reports[0]  # the default's rule
     assert report.ear_cut == BY_FLAT_PLANES and report.new_vertices > 0
     assert report.note.endswith("refined within its planes, not faired")
     assert written(report) == "ear-cut fill (flat planes), not faired"
-    default = fill_holes(edge.vertices, edge.faces).reports[0]
-    assert default.ear_cut is None and written(default) == "λ-H fill"
+    off = fill_holes(edge.vertices, edge.faces,
+                     options=ConformalOptions(ear_cut_flat=None)).reports[0]
+    assert off.ear_cut is None and written(off) == "λ-H fill"
 
 
 def test_the_panels_name_the_ear_cut_fill():

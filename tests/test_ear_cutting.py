@@ -56,18 +56,20 @@ def test_ear_cut_ratio_is_checked(bad):
 def test_ear_cut_written_only_where_the_hidden_rings_prefer_it():
     cut = _cube_hole((0.5, 0.0, 0.0))
     assert ConformalOptions().ear_cut_ratio is None  # off by default
-    default = conformal_fill(cut.vertices, cut.faces, cut.loop)
+    # the flatness rule (the default since session 51) would write its ear cut first
+    flat_off = ConformalOptions(ear_cut_flat=None)
+    default = conformal_fill(cut.vertices, cut.faces, cut.loop, flat_off)
     assert not default.selection.startswith("ear cutting")
     # the λ-H fill's hidden-ring score is the best here, the ear cut's a few times it:
     # written with a generous ratio, not with 1
     generous = conformal_fill(cut.vertices, cut.faces, cut.loop,
-                              ConformalOptions(ear_cut_ratio=100.0))
+                              ConformalOptions(ear_cut_ratio=100.0, ear_cut_flat=None))
     assert generous.selection.startswith("ear cutting")
     assert len(generous.vertices) == 0
     np.testing.assert_array_equal(
         generous.faces, ear_cut_triangulation(cut.vertices, cut.faces, cut.loop))
     strict = conformal_fill(cut.vertices, cut.faces, cut.loop,
-                            ConformalOptions(ear_cut_ratio=1.0))
+                            ConformalOptions(ear_cut_ratio=1.0, ear_cut_flat=None))
     assert strict.kind == default.kind
     np.testing.assert_array_equal(strict.vertices, default.vertices)
 
@@ -115,7 +117,8 @@ def test_an_ear_cut_fill_is_reported_as_a_triangulation_not_a_faired_fill():
 
     cut = _cube_hole((0.5, 0.0, 0.0))
     report = fill_holes(cut.vertices, cut.faces,
-                        options=ConformalOptions(ear_cut_ratio=100.0)).reports[0]
+                        options=ConformalOptions(ear_cut_ratio=100.0,
+                                                 ear_cut_flat=None)).reports[0]
     assert report.note.startswith("ear cutting") and report.new_vertices == 0
     assert report.ear_cut == "hidden rings" and report.method == "fair"
     assert written(report) == "ear-cut fill (hidden rings), not faired"

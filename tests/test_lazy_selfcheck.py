@@ -111,7 +111,9 @@ def test_the_lazy_self_check_writes_the_eager_fill(monkeypatch):
         return run_passes(self, *args, **kwargs)
 
     monkeypatch.setattr(Candidates, "_passes", counting)
-    lazy = conformal_fill(v, f, loop)
+    # the self-check's path (the default writes the ear-cut fill here: session 51)
+    lambda_h = ConformalOptions(ear_cut_flat=None)
+    lazy = conformal_fill(v, f, loop, lambda_h)
     lazy_passes = len(passes)
     assert "sibling holes: λ-H inf" in lazy.selection  # both skips are on this path
     monkeypatch.setattr(Candidates, "for_tests", _eager_for_tests)
@@ -119,6 +121,6 @@ def test_the_lazy_self_check_writes_the_eager_fill(monkeypatch):
                         lambda candidates, with_lambda_h=True:
                         candidates.for_tests(with_lambda_h=with_lambda_h))
     passes.clear()
-    eager = conformal_fill(v, f, loop)
+    eager = conformal_fill(v, f, loop, lambda_h)
     assert _written(lazy) == _written(eager)
     assert lazy_passes < len(passes)

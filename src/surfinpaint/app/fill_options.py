@@ -104,7 +104,7 @@ def _conformal_options(args: argparse.Namespace):
         given = [flag for flag, value in (
             ("--discretization grid", args.discretization == "grid"),
             ("--no-creases", args.no_creases), ("--crease-angle", args.crease_angle),
-            ("--no-plane-test", args.no_plane_test),
+            ("--no-plane-test", args.no_plane_test), ("--no-ear-cut", args.no_ear_cut),
             ("--fair-smoothing", args.fair_smoothing != "auto"),
             ("--inpaint", args.inpaint), ("--reconstruct", args.reconstruct)) if value]
         if given:
@@ -112,6 +112,8 @@ def _conformal_options(args: argparse.Namespace):
         return None
     kw = {"discretization": args.discretization, "creases": not args.no_creases,
           "plane_test": not args.no_plane_test, "fair_smoothing": args.fair_smoothing}
+    if args.no_ear_cut:
+        kw["ear_cut_flat"] = None
     if args.crease_angle is not None:
         kw["crease_angle"] = args.crease_angle
     if args.discretization == "grid":
@@ -226,6 +228,12 @@ def add_fill_options(parser: argparse.ArgumentParser) -> None:
                    "it (by default, where that surface is a plane within its noise, as on "
                    "a range scan's flat face, or two planes meeting at a scanned edge, it "
                    "is, and no self-check runs)")
+    p.add_argument("--no-ear-cut", action="store_true",
+                   help="never write the ear-cut fill (by default, where the loop's ear-cut "
+                   "triangulation is nearly all pieces of the known faces' planes and two "
+                   "of them meet inside the hole, as across a machined part's edge, that "
+                   "triangulation refined within its planes is written, and no self-check "
+                   "runs)")
     add_fair_smoothing(p)
     p.add_argument("--crease-angle", type=float, metavar="DEG",
                    help="turn between neighbouring faces (degrees) above which an edge is "

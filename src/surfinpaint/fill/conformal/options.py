@@ -19,8 +19,8 @@ from surfinpaint.representation.inpainting import INPAINT_METHODS
 from surfinpaint.representation.reconstruction import METHODS as RECONSTRUCT_METHODS
 from surfinpaint.representation.weight_steps import CONTINUATION_SMALLEST, CONTINUATION_STEP
 
-__all__ = ["ConformalOptions", "GridOptions", "PATCH_RINGS", "S0_ORDER", "SIGNIFICANCE",
-           "TEST_SOLVER_TOL", "check_fair_order"]
+__all__ = ["EAR_CUT_FLAT", "ConformalOptions", "GridOptions", "PATCH_RINGS", "S0_ORDER",
+           "SIGNIFICANCE", "TEST_SOLVER_TOL", "check_fair_order"]
 
 # rings of surface in a hole's patch, per discretization (measured: docs/accuracy.md)
 PATCH_RINGS = {"mesh": 4, "grid": 10}
@@ -35,6 +35,10 @@ S0_ORDER = 3
 SOLVER_TOL = 1e-3
 # the same for a self-check test hole: their scores differ by far more
 TEST_SOLVER_TOL = 1e-2
+# the ear-cut fill where at least this fraction of the ear cut continues the known faces'
+# planes and a crease crosses the hole (ear_cut_flat; chosen on the 413 tuning-side CAD
+# holes, it fires on none of 409 others: docs/candidates.md, sessions 50 and 51)
+EAR_CUT_FLAT = 0.9
 
 
 def _positive_int(name: str, value, minimum: int = 1) -> None:
@@ -236,7 +240,7 @@ class ConformalOptions:
         edges between them rebuilt where the faired and λ-H fills round them off
         (docs/candidates.md, "Session 50 (helper): ear-cut triangulation where a crease
         crosses the hole", 0.9 there; "Session 51 (helper): the ear-cut fill refined
-        within its planes"). None (default): never.
+        within its planes"). Default 0.9 (session 51); None: never.
     continuation_smallest : float
         The least-squares stage's continuation in the curvature weight (where the λ-H solve
         fails) halves its weight step after each solve that fails and ends where the step
@@ -266,7 +270,7 @@ class ConformalOptions:
     significance: float | None = SIGNIFICANCE
     skip_stalled_subdivision: bool = False
     ear_cut_ratio: float | None = None
-    ear_cut_flat: float | None = None
+    ear_cut_flat: float | None = EAR_CUT_FLAT
     continuation_smallest: float = CONTINUATION_SMALLEST
 
     def __post_init__(self) -> None:
