@@ -22,6 +22,20 @@ solve of :mod:`surfinpaint.representation.on_mesh` with parts of it replaced by 
   baseline); ``fair2``, ``fair3``, ``λ-H``: the faired fills and the library's λ-H fill
   (S0 = fair3, ``Candidates.lambda_h``) on the fill's own triangles.
 
+Screens of the H model, on the same patch (each a coupled solve; ``lagged_solve``, no Newton
+stage, so a variant that needs one is missing):
+
+- ``H biharmonic``, ``H triharmonic``, ``H surface bih``, ``H harmonic``: H over the free
+  vertices pinned to the continuation of the truth's H on every other vertex (``L M⁻¹ L``,
+  ``L M⁻¹ L M⁻¹ L``, ``L (λ²M)⁻¹ L``, ``L``), λ inpainted: uncoupled H models, compared with
+  each other (all far worse than the coupled ``λ-H T``: the rim's discrete H is noisy and
+  the coupled solve does not take the ring next to the hole as data);
+  ``H of fair3 T``: H pinned to the trilaplacian fill's own;
+- ``κ=…``: the library's coupled solve with ``κ/ē² L`` added to H's ``L M⁻¹ L`` (ē the map's
+  mean edge): towards a harmonic continuation;
+- ``rim avg k``: the library's coupled solve with the H data (the stencil's, from the known
+  surface) averaged k times with their known neighbours first.
+
 Errors: two-sided mean distance to the removed surface in % of the hole's diameter (4000
 samples, ``lambda_h_sources.error_pct``). And the inpainted λ and H at the ``λ-H T`` fixed
 point against the truth's (relative RMS over the free vertices; ``H err d1`` over the free
@@ -32,7 +46,7 @@ map (``H err fair3 T``).
         --rows /work/s43/holdout19.json ... --caches /work/s49/chooser/tuning.jsonl ...
     python benchmarks/lambda_h_losses.py --run /tmp/cases.json --out /tmp/rows.jsonl \\
         [--kinds organic,smooth,teeth,brain]
-    python benchmarks/lambda_h_losses.py --table /tmp/rows.jsonl
+    python benchmarks/lambda_h_losses.py --table /tmp/rows.jsonl [--run /tmp/cases.json]
 
 Only tuning-side sets and the spent holdouts 9–26 are read (``--run`` refuses others).
 """
@@ -424,6 +438,13 @@ RATIOS = (("λ-H", "fair3"), ("λ-H T", "fair3 T"), ("λ-H T", "λ-H"), ("true �
           ("H err deep", "H err d1"))
 
 
+SCREENS = (*((p, "H biharmonic") for p in PREDICTIONS[1:]), ("H of fair3 T", "fair3 T"),
+           *((f"κ={k:g}", "λ-H T") for k in KAPPAS),
+           *((f"rim avg {k}", "λ-H T") for k in RIM_AVERAGES))
+KIND_RATIOS = (("λ-H", "fair3"), ("λ-H T", "fair3 T"), ("true λ", "λ-H T"), ("true H", "λ-H T"),
+               ("true λ,H", "λ-H T"))
+
+
 def _median(x) -> str:
     x = np.asarray([v for v in x if np.isfinite(v)])
     return f"{np.median(x):.2f} ({len(x)})" if len(x) else "—"
@@ -439,6 +460,25 @@ def table(rows: list[dict]) -> str:
     for c in MEASURES:
         out.append(f"| {c} | " + " | ".join(
             _median([r[c] for r in rows if r["group"] == g]) for g in groups) + " |")
+    out += ["", "Screens (each against its base, on the holes where both were made): median "
+            "ratio, holes > 10 % better / > 10 % worse:", "",
+            "| variant / base | loss | control |", "|---|---|---|"]
+    for a, b in SCREENS:
+        cells = []
+        for g in groups:
+            x = np.array([r.get(a, np.nan) / r[b] for r in rows if r["group"] == g])
+            x = x[np.isfinite(x)]
+            cells.append(f"{np.median(x):.2f} ({len(x)}), {np.sum(x < 0.9)} / {np.sum(x > 1.1)}"
+                         if len(x) else "—")
+        out.append(f"| {a} / {b} | " + " | ".join(cells) + " |")
+    kinds = sorted({r["kind"] for r in rows})
+    out += ["", "Per kind (median, holes):", "",
+            "| ratio | " + " | ".join(f"{k} {g}" for k in kinds for g in groups) + " |",
+            "|---|" + "---|" * (2 * len(kinds))]
+    for a, b in KIND_RATIOS:
+        out.append(f"| {a} / {b} | " + " | ".join(
+            _median([r[a] / r[b] for r in rows if r["group"] == g and r["kind"] == k])
+            for k in kinds for g in groups) + " |")
     out += ["", "| group | set | hole | kind | edges | written / better faired | "
             + " | ".join((*COLUMNS, *MEASURES)) + " |", "|---|---|---|---|---|---|"
             + "---|" * (len(COLUMNS) + len(MEASURES))]
@@ -476,13 +516,18 @@ def main() -> None:
                                                                           for c in mine})}
             print(f"{g}: {len(mine)} of {len(cases)} holes; by kind {kinds}")
         return
-    if args.run:
+    if args.run and not args.table:
         cases = [c for c in json.loads(args.run.read_text())
                  if c["group"] in args.groups.split(",")
                  and (args.kinds is None or c["kind"] in args.kinds.split(","))]
         run(cases, args.out)
         return
-    print(table(study.read(*args.table)))
+    rows = study.read(*args.table)
+    if args.run:  # only the rows of these cases (their group as the cases file says)
+        wanted = {(c["set"], c["mesh"], c["hole"]): c["group"]
+                  for c in json.loads(args.run.read_text())}
+        rows = [r for r in rows if wanted.get((r["set"], r["mesh"], r["hole"])) == r["group"]]
+    print(table(rows))
 
 
 if __name__ == "__main__":
