@@ -68,13 +68,16 @@ from scipy.sparse.csgraph import dijkstra
 sys.path.insert(0, str(Path(__file__).parent))
 import smooth_selfcheck_study as study  # noqa: E402
 from error_sources import truth_as_fill  # noqa: E402
-from lambda_h_sources import biharmonic, error_pct, relative_rms  # noqa: E402
+from lambda_h_sources import (  # noqa: E402
+    biharmonic,
+    error_pct,
+    faired_and_lambda_h,
+    relative_rms,
+)
 
 from surfinpaint.errors import FillError  # noqa: E402
-from surfinpaint.fill.conformal.candidates import Candidates  # noqa: E402
 from surfinpaint.fill.conformal.mesh_pass import _mapped_patch  # noqa: E402
 from surfinpaint.fill.conformal.options import SOLVER_TOL, ConformalOptions  # noqa: E402
-from surfinpaint.fill.liepa.baseline import faired_fills  # noqa: E402
 from surfinpaint.fill.liepa.fairing import fair  # noqa: E402
 from surfinpaint.geometry.linalg import definite_lu  # noqa: E402
 from surfinpaint.geometry.mesh import boundary_halfedges, vertex_adjacency  # noqa: E402
@@ -263,22 +266,11 @@ def depth_from_fixed(faces, free):
 
 def oracle_row(cut) -> dict:
     """Every column and measure of one hole (NaN where a variant fails)."""
-    vertices, faces, loop = cut.vertices, cut.faces, cut.loop
+    faces, loop = cut.faces, cut.loop
     options = ConformalOptions()
     row: dict = {c: float("nan") for c in (*COLUMNS, *MEASURES)}
-    notes = []
-    made = faired_fills(vertices, faces, loop, [2, 3])
-    for order in (2, 3):
-        new_v, new_f, _ = made[order]
-        row[f"fair{order}"] = error_pct(np.vstack([vertices, new_v]), new_f, cut)
-    try:
-        lh = Candidates.for_hole(vertices, faces, loop, options).lambda_h(
-            vertices, faces, loop, made[3][:2])
-        row["λ-H"] = error_pct(np.vstack([vertices, lh.vertices]), lh.faces, cut)
-        if lh.crease:
-            notes.append("crease")
-    except FillError as exc:
-        notes.append(f"λ-H: {str(exc)[:80]}")
+    notes: list[str] = []
+    faired_and_lambda_h(cut, options, row, notes)
     truth, truth_faces, inner = truth_as_fill(cut)
     fair3_t = fair(truth, np.vstack([faces, truth_faces]), inner, 3)
     row["fair3 T"] = error_pct(fair3_t, truth_faces, cut)

@@ -214,6 +214,27 @@ def h_of(points, local, free) -> np.ndarray:
     return vertex_lambda_h(points, local, uv)[1][free]
 
 
+def faired_and_lambda_h(cut, options: ConformalOptions, row: dict, notes: list) -> tuple:
+    """The errors of the faired fills (``row["fair2"]``, ``row["fair3"]``) and of the library's
+    λ-H fill from S0 = fair3 (``row["λ-H"]``; a crease or a failure in ``notes``); returns S0
+    (the trilaplacian fill's new vertices and faces)."""
+    vertices, faces, loop = cut.vertices, cut.faces, cut.loop
+    made = faired_fills(vertices, faces, loop, [2, 3])
+    for order in (2, 3):
+        new_v, new_f, _ = made[order]
+        row[f"fair{order}"] = error_pct(np.vstack([vertices, new_v]), new_f, cut)
+    s0 = made[3][:2]
+    try:
+        lh = Candidates.for_hole(vertices, faces, loop, options).lambda_h(vertices, faces,
+                                                                          loop, s0)
+        row["λ-H"] = error_pct(np.vstack([vertices, lh.vertices]), lh.faces, cut)
+        if lh.crease:
+            notes.append("crease")
+    except FillError as exc:
+        notes.append(f"λ-H: {str(exc)[:80]}")
+    return s0
+
+
 def hole_row(cut) -> dict:
     """Every column of one hole (NaN where a variant fails)."""
     vertices, faces, loop = cut.vertices, cut.faces, cut.loop
@@ -221,20 +242,8 @@ def hole_row(cut) -> dict:
     options = ConformalOptions()
     rings = options.rings_in_patch
     row: dict = {c: float("nan") for c in (*COLUMNS, *RATIOS)}
-    notes = []
-    made = faired_fills(vertices, faces, loop, [2, 3])
-    for order in (2, 3):
-        new_v, new_f, _ = made[order]
-        row[f"fair{order}"] = error_pct(np.vstack([vertices, new_v]), new_f, cut)
-    s0 = made[3][:2]
-    candidates = Candidates.for_hole(vertices, faces, loop, options)
-    try:
-        lh = candidates.lambda_h(vertices, faces, loop, s0)
-        row["λ-H"] = error_pct(np.vstack([vertices, lh.vertices]), lh.faces, cut)
-        if lh.crease:
-            notes.append("crease")
-    except FillError as exc:
-        notes.append(f"λ-H: {str(exc)[:80]}")
+    notes: list[str] = []
+    s0 = faired_and_lambda_h(cut, options, row, notes)
     all_v = np.vstack([vertices, s0[0]])
     moving = n + np.arange(len(s0[0]))
 
