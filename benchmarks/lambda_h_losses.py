@@ -45,8 +45,8 @@ map (``H err fair3 T``).
     python benchmarks/lambda_h_losses.py --collect /tmp/cases.json \\
         --rows /work/s43/holdout19.json ... --caches /work/s49/chooser/tuning.jsonl ...
     python benchmarks/lambda_h_losses.py --run /tmp/cases.json --out /tmp/rows.jsonl \\
-        [--kinds organic,smooth,teeth,brain]
-    python benchmarks/lambda_h_losses.py --table /tmp/rows.jsonl [--run /tmp/cases.json]
+        [--kinds organic,smooth,teeth,brain] [--same-meshes]
+    python benchmarks/lambda_h_losses.py --table /tmp/rows.jsonl [--run /tmp/cases.json ...]
 
 Only tuning-side sets and the spent holdouts 9–26 are read (``--run`` refuses others).
 """
@@ -154,6 +154,16 @@ def cases_of_cache(path: Path) -> list[dict]:
         out.append(_case(path.stem, r["mesh"], r["hole"], r["kind"], r["n_edges"],
                          r["true"]["fair2"], r["true"]["fair3"], lib["true"],
                          lib.get("method") == "conformal" and not lib.get("crease")))
+    return out
+
+
+def selected(cases: list[dict], groups, kinds=None, same_meshes: bool = False) -> list[dict]:
+    """The cases of ``groups`` and ``kinds`` (all kinds when None); with ``same_meshes``, the
+    controls only on meshes (of a set) that have a loss among them."""
+    out = [c for c in cases if c["group"] in groups and (kinds is None or c["kind"] in kinds)]
+    if same_meshes:
+        lost = {(c["set"], c["mesh"]) for c in out if c["group"] == "loss"}
+        out = [c for c in out if c["group"] == "loss" or (c["set"], c["mesh"]) in lost]
     return out
 
 
@@ -493,6 +503,8 @@ def main() -> None:
     parser.add_argument("--run", type=Path, help="the cases file")
     parser.add_argument("--kinds", help="only these kinds, comma-separated")
     parser.add_argument("--groups", default="loss,control")
+    parser.add_argument("--same-meshes", action="store_true",
+                        help="controls only on the meshes that have a loss")
     parser.add_argument("--out", type=Path)
     parser.add_argument("--table", type=Path, nargs="*")
     args = parser.parse_args()
@@ -508,16 +520,15 @@ def main() -> None:
                                                                           for c in mine})}
             print(f"{g}: {len(mine)} of {len(cases)} holes; by kind {kinds}")
         return
-    if args.run and not args.table:
-        cases = [c for c in json.loads(args.run.read_text())
-                 if c["group"] in args.groups.split(",")
-                 and (args.kinds is None or c["kind"] in args.kinds.split(","))]
+    cases = None if args.run is None else selected(
+        json.loads(args.run.read_text()), args.groups.split(","),
+        None if args.kinds is None else args.kinds.split(","), args.same_meshes)
+    if cases is not None and not args.table:
         run(cases, args.out)
         return
     rows = study.read(*args.table)
-    if args.run:  # only the rows of these cases (their group as the cases file says)
-        wanted = {(c["set"], c["mesh"], c["hole"]): c["group"]
-                  for c in json.loads(args.run.read_text())}
+    if cases is not None:  # only the rows of these cases (their group as the cases say)
+        wanted = {(c["set"], c["mesh"], c["hole"]): c["group"] for c in cases}
         rows = [r for r in rows if wanted.get((r["set"], r["mesh"], r["hole"])) == r["group"]]
     print(table(rows))
 
