@@ -72,6 +72,7 @@ from lambda_h_sources import (  # noqa: E402
     biharmonic,
     error_pct,
     faired_and_lambda_h,
+    patch_error,
     relative_rms,
 )
 
@@ -315,9 +316,7 @@ def oracle_row(cut) -> dict:
         except FillError as exc:
             notes.append(f"{name}: {str(exc)[:60]}")
             continue
-        moved = truth.copy()
-        moved[ids] = solved
-        row[name] = error_pct(moved, truth_faces, cut)
+        row[name] = patch_error(truth, ids, solved, truth_faces, cut)
         if name == "λ-H T":
             measured(row, local, uv, free, solved, lam_true, H_true, fair3_t[ids])
     row["notes"] = "; ".join(notes)

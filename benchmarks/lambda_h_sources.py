@@ -141,6 +141,15 @@ def error_pct(points: np.ndarray, fill_faces: np.ndarray, cut) -> float:
     return 100.0 * d.mean / cut.diameter
 
 
+def patch_error(truth: np.ndarray, ids: np.ndarray, positions: np.ndarray,
+                truth_faces: np.ndarray, cut) -> float:
+    """:func:`error_pct` of the truth's triangles with the patch's vertices ``ids`` moved to
+    ``positions`` (a rebuild on the truth's own patch)."""
+    moved = truth.copy()
+    moved[ids] = positions
+    return error_pct(moved, truth_faces, cut)
+
+
 def projected(points: np.ndarray, cut) -> np.ndarray:
     """``points`` moved to their closest points on the removed surface (brute force: the
     holes are small)."""
@@ -319,9 +328,7 @@ def hole_row(cut) -> dict:
         except FillError as exc:
             notes.append(f"{name}: {exc}")
             continue
-        moved = truth.copy()
-        moved[ids] = phi
-        row[name] = error_pct(moved, truth_faces, cut)
+        row[name] = patch_error(truth, ids, phi, truth_faces, cut)
     H_fair3 = h_of(fair3[ids], local, free)
     row["H err fair3 T"] = relative_rms(H_fair3, H[free])
     # the biharmonic energy plus w·|H − H_S0|² (areas M, per mean map edge⁴): the prediction

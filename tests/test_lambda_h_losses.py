@@ -10,20 +10,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_on_mesh import grid_mesh
+from test_lambda_h_sources import torus_hole as sources_torus_hole
 
 from surfinpaint.representation import on_mesh
-from surfinpaint.representation.analytic import isothermal_torus
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 sys.path.insert(0, str(BENCH))
 losses = pytest.importorskip("lambda_h_losses")
 
 
-def torus_hole(radius=0.3):
-    u, v, uv, faces = grid_mesh(25, (0.0, 1.5, -0.75, 0.75))
-    truth = isothermal_torus(u, v)[0].reshape(-1, 3)
-    free = np.linalg.norm(uv - uv.mean(axis=0), axis=1) < radius
+def torus_hole():
+    """Session 39's torus hole (``test_lambda_h_sources``) and a start far from the surface:
+    the hole's vertices squeezed to a twentieth of their spread around their centroid."""
+    truth, faces, uv, free = sources_torus_hole()
     start = truth.copy()
     start[free] = truth[free].mean(axis=0) + 0.05 * (truth[free] - truth[free].mean(axis=0))
     return truth, faces, uv, free, start
