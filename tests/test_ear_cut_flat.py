@@ -178,16 +178,21 @@ def test_a_flat_hole_is_refined_on_its_plane():
 
 def test_the_report_names_the_ear_cut_fill():
     from surfinpaint import fill_holes
-    from surfinpaint.app.fill_report import written
+    from surfinpaint.app.fill_report import HoleRecord, written
 
     edge = _hole(cube(16), (0.5, 0.0, 0.0))
     report = fill_holes(edge.vertices, edge.faces).reports[0]  # the default's rule
     assert report.ear_cut == BY_FLAT_PLANES and report.new_vertices > 0
     assert report.note.endswith("refined within its planes, not faired")
     assert written(report) == "ear-cut fill (flat planes), not faired"
+    record = HoleRecord.of(report).to_json()  # the --json report and batch's summary.json
+    assert (record["ear_cut"], record["outcome"], record["fairing"]) == (
+        "flat planes", "faired", None)
+    assert HoleRecord.from_json(record).ear_cut == "flat planes"
     off = fill_holes(edge.vertices, edge.faces,
                      options=ConformalOptions(ear_cut_flat=None)).reports[0]
     assert off.ear_cut is None and written(off) == "λ-H fill"
+    assert HoleRecord.of(off).to_json()["ear_cut"] is None
 
 
 def test_the_panels_name_the_ear_cut_fill():

@@ -359,6 +359,7 @@ class HoleRecord:
     islands: tuple[int, ...] = ()
     smoothed: bool = False
     smoothing: dict[str, Any] | None = None
+    ear_cut: str | None = None
 
     @classmethod
     def of(cls, r: HoleReport) -> HoleRecord:
@@ -381,7 +382,7 @@ class HoleRecord:
                        "past_edges": int(r.plane.past_edges),
                        "planes": 2 if isinstance(r.plane, TwoPlanes) else 1},
                    islands=tuple(int(k) for k in r.islands), smoothed=r.smoothed,
-                   smoothing=_smoothing_json(r.smoothing))
+                   smoothing=_smoothing_json(r.smoothing), ear_cut=r.ear_cut)
 
     def to_json(self) -> dict[str, Any]:
         """As JSON types: a failed candidate's score is null and named in ``failed``."""
