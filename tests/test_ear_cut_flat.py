@@ -208,3 +208,34 @@ def test_the_panels_name_the_ear_cut_fill():
     assert titles["W"] == "(W) written: ear-cut fill (flat planes)"
     assert comparisons[0].ear_cut == BY_FLAT_PLANES
     assert "the ear-cut fill (flat planes) is written (W)" in hole_title(comparisons[0])
+
+
+@pytest.mark.parametrize("name, turns", [
+    ("cube edge", True), ("cube corner", True), ("cube face", False)])
+def test_the_crease_precheck_skips_only_holes_the_rule_cannot_fire_on(name, turns, monkeypatch):
+    # the known faces on the loop's edges meet at more than PIECE_CREASE only across a
+    # crease; where they do not, the rule's answer is None without the ear cut
+    import surfinpaint.fill.conformal.ear_cut as ear_cut
+
+    mesh, at, *_ = CASES[name]
+    cut = _hole(mesh(), at)
+    assert ear_cut._loop_faces_turn(cut.vertices, cut.faces, cut.loop,
+                                    ear_cut.PIECE_CREASE) is turns
+    fired = ear_cut_flat(cut.vertices, cut.faces, cut.loop, 0.9) is not None
+    monkeypatch.setattr(ear_cut, "_loop_faces_turn", lambda *args: True)
+    assert (ear_cut_flat(cut.vertices, cut.faces, cut.loop, 0.9) is not None) == fired
+
+
+def test_the_crease_precheck_agrees_with_the_rule_on_curved_holes():
+    # holes on a fine sphere, small to large: the smaller ones are told without their ear
+    # cut (their loop's faces turn by less than the crease angle), the rule fires on none
+    import surfinpaint.fill.conformal.ear_cut as ear_cut
+
+    v, f = sphere(5)
+    told = []
+    for radius in (1.5, 3, 5, 8):
+        cut = _hole((v, f), v[0], radius)
+        told.append(not ear_cut._loop_faces_turn(cut.vertices, cut.faces, cut.loop,
+                                                 ear_cut.PIECE_CREASE))
+        assert ear_cut_flat(cut.vertices, cut.faces, cut.loop, 0.9) is None
+    assert told == [True, True, True, False]

@@ -61,22 +61,34 @@ def ear_cut_triangulation(vertices: np.ndarray, faces: np.ndarray, loop: np.ndar
     known = faces[owner]
     across = row_cross(v[known[:, 1]] - v[known[:, 0]], v[known[:, 2]] - v[known[:, 0]])
     front = oriented[::-1].copy()  # the patch's half-edges run the other way
+    k = len(front)
     # normal beyond front edge (front[i], front[i + 1]): the known face on loop edge
     # (front[i + 1], front[i]), which is oriented edge k - 2 - i
-    beyond = across[::-1][np.r_[1:len(front), 0]]
+    beyond = across[::-1][np.r_[1:k, 0]]
     joined = existing_diagonals(faces, front, len(v))
     joined = joined | joined.T
-    pos = np.arange(len(front))  # each front vertex's index in ``joined``
+    # the front as a ring of slots (its loop positions: ``joined``'s indices), cut ears
+    # unlinked and priced infinite, so argmin's first minimum is the front's in its order
+    before, after = np.roll(np.arange(k), 1), np.roll(np.arange(k), -1)
+    cost = _ear_costs(v, front, beyond, joined, before, after, np.arange(k))
     out = []
-    while len(front) > 3:
-        ear = _cheapest_ear(v, front, beyond, joined, pos)
-        prev, nxt = (ear - 1) % len(front), (ear + 1) % len(front)
+    for _ in range(k - 3):
+        if not np.isfinite(cost).any():
+            raise FillError("ear cutting: every ear would join two vertices already joined")
+        ear = int(np.argmin(cost))
+        prev, nxt = int(before[ear]), int(after[ear])
         a, b, c = front[prev], front[ear], front[nxt]
         out.append((a, b, c))
-        joined[pos[prev], pos[nxt]] = joined[pos[nxt], pos[prev]] = True
+        joined[prev, nxt] = joined[nxt, prev] = True
         beyond[prev] = row_cross(v[[b]] - v[[a]], v[[c]] - v[[a]])[0]
-        front, beyond, pos = (np.delete(x, ear, axis=0) for x in (front, beyond, pos))
-    out.append(tuple(front))
+        after[prev], before[nxt], cost[ear] = nxt, prev, np.inf
+        # only the ears at the cut's two ends changed (their neighbours, the triangle
+        # beyond); every other ear's cost is as it was
+        ends = np.array([prev, nxt])
+        cost[ends] = _ear_costs(v, front, beyond, joined, before, after, ends)
+    last = int(np.argmin(cost))  # any slot left: the three in the front's order
+    ring = [last, int(after[last]), int(after[after[last]])]
+    out.append(tuple(front[sorted(ring)]))
     return _flattened_straight_ears(v, np.array(out, dtype=np.int64).reshape(-1, 3))
 
 
@@ -111,18 +123,18 @@ def _flip(tri: np.ndarray, t: int, side: int) -> bool:
     return False
 
 
-def _cheapest_ear(v: np.ndarray, front: np.ndarray, beyond: np.ndarray, joined: np.ndarray,
-                  pos: np.ndarray) -> int:
-    """The front index of the ear to cut next: least corner angle plus dihedral angles with
-    the triangles beyond its two sides; ears that would join two joined vertices are never
-    cut."""
-    prev, nxt = np.roll(front, 1), np.roll(front, -1)
-    to_prev, to_next = v[prev] - v[front], v[nxt] - v[front]
-    corner = _angle(to_prev, to_next)
-    normal = row_cross(v[front] - v[prev], v[nxt] - v[prev])
-    cost = corner + _angle(normal, np.roll(beyond, 1, axis=0)) + _angle(normal, beyond)
-    cost = np.where(np.isclose(corner, np.pi, rtol=0, atol=1e-12), _STRAIGHT, cost)
-    cost[joined[np.roll(pos, 1), np.roll(pos, -1)]] = _FORBIDDEN
-    if not np.isfinite(cost).any():
-        raise FillError("ear cutting: every ear would join two vertices already joined")
-    return int(np.argmin(cost))
+def _ear_costs(v: np.ndarray, front: np.ndarray, beyond: np.ndarray, joined: np.ndarray,
+               before: np.ndarray, after: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """The costs of the ears at front slots ``at`` (neighbours ``before``, ``after``):
+    corner angle plus dihedral angles with the triangles beyond its two sides
+    (``beyond[i]`` is beyond front edge (i, after[i])); an ear that would join two joined
+    vertices costs infinity (never cut), a straight corner :data:`_STRAIGHT`."""
+    prev_slot, next_slot = before[at], after[at]
+    prev, here, nxt = v[front[prev_slot]], v[front[at]], v[front[next_slot]]
+    corner = _angle(prev - here, nxt - here)
+    normal = row_cross(here - prev, nxt - prev)
+    cost = corner + _angle(normal, beyond[prev_slot]) + _angle(normal, beyond[at])
+    # np.isclose(corner, π, rtol=0, atol=1e-12), without its overhead
+    cost[np.abs(corner - np.pi) <= 1e-12] = _STRAIGHT
+    cost[joined[prev_slot, next_slot]] = _FORBIDDEN
+    return cost
