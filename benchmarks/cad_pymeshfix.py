@@ -7,7 +7,7 @@ closer").
     python benchmarks/cad_pymeshfix.py --rows run.json [more.json ...] [--instead triangulation]
 
 Only rows of ``kind == "cad"`` meshes of a tuning-side set are read (the tuning half, the
-tuning-side sets, spent holdouts 9-26); every other row is dropped unread. ``--instead M``
+tuning-side sets, spent holdouts 9-27); every other row is dropped unread. ``--instead M``
 also scores a rule: column ``M`` written wherever ``--flag`` (a JSON list of
 ``[split, case, hole]``) names the hole, the default elsewhere.
 """
