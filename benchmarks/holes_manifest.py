@@ -213,6 +213,13 @@ kind; its four scans made with the portable scanner), holes planned the same way
 from 2900), made in session 51 after the twenty-seventh holdout had been made and committed
 before any fill was run on them; to be run once by a later session after its changes.
 
+A thirty-first set, the twenty-ninth holdout (``benchmarks/holdout29_manifest.json``,
+``--write --holdout29``): 12 fresh meshes (``validation_meshes.HOLDOUT29_SOURCES``, made in
+``holdout29_meshes.py``; all six kinds, a synthetic cortex with H-shaped sulci for the brain
+kind; its four scans made with the portable scanner), holes planned the same way (seeds
+from 3000), made in session 52 after the twenty-eighth holdout had been made and committed
+before any fill was run on them; to be run once by a later session after its changes.
+
 A tuning-side set of range scans of curved shapes (``benchmarks/curved_scans_manifest.json``,
 ``--write --curved-scans``): 14 portable scans (``validation_meshes.CURVED_SCAN_SOURCES``,
 made in ``curved_scans_meshes.py``) of the smooth tuning set's, animals.py's and the tuning
@@ -301,6 +308,8 @@ HOLDOUT26_MANIFEST = Path(__file__).parent / "holdout26_manifest.json"
 HOLDOUT27_MANIFEST = Path(__file__).parent / "holdout27_manifest.json"
 # a thirtieth set, fresh meshes of session 51 (HOLDOUT28_SOURCES), committed before any fill
 HOLDOUT28_MANIFEST = Path(__file__).parent / "holdout28_manifest.json"
+# a thirty-first set, fresh meshes of session 52 (HOLDOUT29_SOURCES), committed before any fill
+HOLDOUT29_MANIFEST = Path(__file__).parent / "holdout29_manifest.json"
 # tuning-side range scans of curved shapes of session 40 (CURVED_SCAN_SOURCES)
 CURVED_SCANS_MANIFEST = Path(__file__).parent / "curved_scans_manifest.json"
 # tuning-side thin smooth walls with saddle-shaped parts of session 41 (THIN_SHELL_SOURCES)
@@ -335,6 +344,7 @@ LATER_SETS = {
     "holdout26": (HOLDOUT26_MANIFEST, "the twenty-sixth holdout set", 2700),
     "holdout27": (HOLDOUT27_MANIFEST, "the twenty-seventh holdout set", 2800),
     "holdout28": (HOLDOUT28_MANIFEST, "the twenty-eighth holdout set", 2900),
+    "holdout29": (HOLDOUT29_MANIFEST, "the twenty-ninth holdout set", 3000),
     "cad_tuning": (CAD_TUNING_MANIFEST, "the tuning-side CAD parts", 400),
     "smooth_tuning": (SMOOTH_TUNING_MANIFEST, "the tuning-side smooth tubes and organic "
                       "bodies", 3800),
@@ -386,6 +396,7 @@ SPLIT = {
     "holdout26": list(vm.HOLDOUT26_SOURCES),
     "holdout27": list(vm.HOLDOUT27_SOURCES),
     "holdout28": list(vm.HOLDOUT28_SOURCES),
+    "holdout29": list(vm.HOLDOUT29_SOURCES),
     "curved_scans": list(vm.CURVED_SCAN_SOURCES),
     "thin_shells": list(vm.THIN_SHELL_SOURCES),
 }
@@ -493,7 +504,8 @@ def write(path: Path = MANIFEST, only: list[str] | None = None,
     holdout's at 2100, the twenty-first holdout's at 2200, the twenty-second holdout's at
     2300, the twenty-third holdout's at 2400, the twenty-fourth holdout's at 2500, the
     twenty-fifth holdout's at 2600, the twenty-sixth holdout's at 2700, the twenty-seventh
-    holdout's at 2800, the twenty-eighth holdout's at 2900;
+    holdout's at 2800, the twenty-eighth holdout's at 2900, the twenty-ninth holdout's at
+    3000;
     the smooth tuning set's at 3800, the curved scans set's at 3600, the thin shells set's
     at 4100)."""
     meshes = []

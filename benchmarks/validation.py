@@ -15,7 +15,7 @@ Run (one hole at a time, nothing parallel)::
     .venv/bin/python benchmarks/validation.py --quick                     # 6 holes, smoke
     .venv/bin/python benchmarks/validation.py --tables validation.json    # tables again
     .venv/bin/python benchmarks/validation.py --manifest benchmarks/holdout_manifest.json \
-        --out holdout.json        # a holdout set: holdout_manifest.json, holdout2_ ... holdout28_
+        --out holdout.json        # a holdout set: holdout_manifest.json, holdout2_ ... holdout29_
 
 Every row is also appended to ``<out>.partial.jsonl`` as it is made, so the tables of a run
 that was stopped can be printed with ``--tables <out>.partial.jsonl``.
@@ -54,14 +54,14 @@ CANDIDATES = ("fair_sfauto", "fair3", "conformal_raw")
 OLD_FAIR2 = "fair"
 FILLED = ("ok", "selected", "fallback")
 # reported in this order: the validation half first, then the holdout sets (fresh meshes,
-# benchmarks/holdout_manifest.json, holdout2_manifest.json to holdout28_manifest.json), then
+# benchmarks/holdout_manifest.json, holdout2_manifest.json to holdout29_manifest.json), then
 # the tuning half every rule was chosen on
 SPLITS = ("validation", "holdout", "holdout2", "holdout3", "holdout4", "holdout5", "holdout6",
           "holdout7", "holdout8", "holdout9", "holdout10", "holdout11", "holdout12", "holdout13",
           "holdout14", "holdout15", "holdout16", "holdout17", "holdout18", "holdout19",
           "holdout20", "holdout21", "holdout22", "holdout23", "holdout24", "holdout25",
-          "holdout26", "holdout27", "holdout28", "tuning", "cad_tuning", "smooth_tuning",
-          "curved_scans", "thin_shells")
+          "holdout26", "holdout27", "holdout28", "holdout29", "tuning", "cad_tuning",
+          "smooth_tuning", "curved_scans", "thin_shells")
 SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout3": "Holdout set 3", "holdout4": "Holdout set 4",
                "holdout5": "Holdout set 5", "holdout6": "Holdout set 6",
@@ -76,6 +76,7 @@ SPLIT_NAMES = {"holdout": "Holdout set", "holdout2": "Holdout set 2",
                "holdout23": "Holdout set 23", "holdout24": "Holdout set 24",
                "holdout25": "Holdout set 25", "holdout26": "Holdout set 26",
                "holdout27": "Holdout set 27", "holdout28": "Holdout set 28",
+               "holdout29": "Holdout set 29",
                "cad_tuning": "Tuning-side CAD parts",
                "smooth_tuning": "Tuning-side smooth tubes and organic bodies",
                "curved_scans": "Tuning-side range scans of curved shapes",
@@ -354,8 +355,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
                         "holdout21_manifest.json, holdout22_manifest.json, "
                         "holdout23_manifest.json, holdout24_manifest.json, "
                         "holdout25_manifest.json, holdout26_manifest.json, "
-                        "holdout27_manifest.json, holdout28_manifest.json: the holdout "
-                        "sets)")
+                        "holdout27_manifest.json, holdout28_manifest.json, "
+                        "holdout29_manifest.json: the holdout sets)")
     parser.add_argument("--out", default=None, help="write all rows as JSON here")
     parser.add_argument("--tables", default=None,
                         help="print the tables of a saved run (.json or .partial.jsonl)")

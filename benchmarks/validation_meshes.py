@@ -29,8 +29,9 @@ set 21's (session 44) in ``holdout21_meshes.py``, holdout set 22's (session 45) 
 set 24's (session 47) in ``holdout24_meshes.py``, holdout set 25's (session 48) in
 ``holdout25_meshes.py``, holdout set 26's (session 49) in ``holdout26_meshes.py``, holdout
 set 27's (session 50) in ``holdout27_meshes.py``, holdout set 28's (session 51) in
-``holdout28_meshes.py``; this module adds their ``HOLDOUT8_SOURCES`` to
-``HOLDOUT28_SOURCES`` to :data:`SOURCES` at its end.
+``holdout28_meshes.py``, holdout set 29's (session 52) in ``holdout29_meshes.py``; this
+module adds their ``HOLDOUT8_SOURCES`` to ``HOLDOUT29_SOURCES`` to :data:`SOURCES` at its
+end.
 
 :func:`load` returns a :class:`BenchMesh`; a source that is not installed raises
 ``FileNotFoundError`` or ``ModuleNotFoundError`` (the benchmark skips it with a note).
@@ -2100,6 +2101,13 @@ SOURCES.update(HOLDOUT27_SOURCES)
 from holdout28_meshes import HOLDOUT28_SOURCES  # noqa: E402
 
 SOURCES.update(HOLDOUT28_SOURCES)
+
+# --------------------------------------------------------------------------- holdout 29
+
+# Session 52's set (benchmarks/holdout29_manifest.json), as holdout 28's: its own module.
+from holdout29_meshes import HOLDOUT29_SOURCES  # noqa: E402
+
+SOURCES.update(HOLDOUT29_SOURCES)
 
 # --------------------------------------------------------------------------- curved scans set
 

@@ -84,7 +84,7 @@ def test_reserved_sources_are_never_used():
     assert "libcgal" not in code and "cgal-demo" not in code and "/cgal" not in code
     assert "right" not in code
     assert '"left"' in code
-    # holdouts 8 to 28's generators have their own modules (validation_meshes imports them)
+    # holdouts 8 to 29's generators have their own modules (validation_meshes imports them)
     for module in ("holdout8_meshes.py", "holdout9_meshes.py", "holdout10_meshes.py",
                    "holdout11_meshes.py", "holdout12_meshes.py", "holdout13_meshes.py",
                    "holdout14_meshes.py", "holdout15_meshes.py", "holdout16_meshes.py",
@@ -92,7 +92,8 @@ def test_reserved_sources_are_never_used():
                    "holdout20_meshes.py", "holdout21_meshes.py", "holdout22_meshes.py",
                    "holdout23_meshes.py", "holdout24_meshes.py", "holdout25_meshes.py",
                    "holdout26_meshes.py", "holdout27_meshes.py", "holdout28_meshes.py",
-                   "smooth_tuning_meshes.py", "curved_scans_meshes.py", "thin_shells_meshes.py"):
+                   "holdout29_meshes.py", "smooth_tuning_meshes.py", "curved_scans_meshes.py",
+                   "thin_shells_meshes.py"):
         code = (BENCH / module).read_text().split('"""', 2)[2].lower()
         assert "cgal" not in code and "right" not in code and "fsaverage" not in code, module
 
@@ -263,6 +264,11 @@ def holdout28():
 
 
 @pytest.fixture(scope="module")
+def holdout29():
+    return holes_manifest.read(holes_manifest.HOLDOUT29_MANIFEST)
+
+
+@pytest.fixture(scope="module")
 def curved_scans():
     return holes_manifest.read(holes_manifest.CURVED_SCANS_MANIFEST)
 
@@ -300,6 +306,7 @@ def thin_shells():
     ("holdout26", validation_meshes.HOLDOUT26_SOURCES),  # session 49, after holdout 25 was made
     ("holdout27", validation_meshes.HOLDOUT27_SOURCES),  # session 50, after holdout 26 was made
     ("holdout28", validation_meshes.HOLDOUT28_SOURCES),  # session 51, after holdout 27 was made
+    ("holdout29", validation_meshes.HOLDOUT29_SOURCES),  # session 52, after holdout 28 was made
 ])
 def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout2, holdout3,
                                                       cad_tuning, holdout4, holdout5, holdout6,
@@ -310,13 +317,13 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
                                                       holdout20, holdout21, holdout22,
                                                       holdout23, holdout24, holdout25,
                                                       holdout26, holdout27, holdout28,
-                                                      smooth_tuning, curved_scans, thin_shells,
-                                                      split, sources):
-    """The second to twenty-eighth holdout sets: their own meshes, from sources no earlier set
+                                                      holdout29, smooth_tuning, curved_scans,
+                                                      thin_shells, split, sources):
+    """The second to twenty-ninth holdout sets: their own meshes, from sources no earlier set
     uses (the two halves, the holdouts before them; from the fourth on also the tuning-side
     CAD parts, from the sixteenth on also the smooth tuning set, from the eighteenth on also
     the curved scans, from the nineteenth on also the thin shells), every kind but brain
-    surfaces (the eleventh to twenty-eighth: every kind, their brain a synthetic folded
+    surfaces (the eleventh to twenty-ninth: every kind, their brain a synthetic folded
     surface), at least 3 range scans, 7 holes a mesh."""
     sets = {"holdout2": holdout2, "holdout3": holdout3, "holdout4": holdout4,
             "holdout5": holdout5, "holdout6": holdout6, "holdout7": holdout7,
@@ -326,7 +333,8 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
             "holdout17": holdout17, "holdout18": holdout18, "holdout19": holdout19,
             "holdout20": holdout20, "holdout21": holdout21, "holdout22": holdout22,
             "holdout23": holdout23, "holdout24": holdout24, "holdout25": holdout25,
-            "holdout26": holdout26, "holdout27": holdout27, "holdout28": holdout28}
+            "holdout26": holdout26, "holdout27": holdout27, "holdout28": holdout28,
+            "holdout29": holdout29}
     this = sets[split]
     ids = [e["mesh"] for e in this["meshes"]]
     assert ids == holes_manifest.SPLIT[split] == list(sources)
@@ -339,7 +347,7 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
             holdout9, holdout10, holdout11, holdout12, holdout13, holdout14, holdout15,
             smooth_tuning, holdout16, holdout17, curved_scans, holdout18, thin_shells,
             holdout19, holdout20, holdout21, holdout22, holdout23, holdout24, holdout25,
-            holdout26, holdout27, holdout28]
+            holdout26, holdout27, holdout28, holdout29]
     for earlier_set in made[:next(i for i, m in enumerate(made) if m is this)]:
         earlier = earlier + earlier_set["meshes"]
     assert not {e["mesh"] for e in earlier} & set(ids)
@@ -359,7 +367,7 @@ def test_a_later_holdout_set_is_fresh_and_well_formed(manifest, holdout, holdout
                                              "holdout18", "holdout19", "holdout20",
                                              "holdout21", "holdout22", "holdout23",
                                              "holdout24", "holdout25", "holdout26",
-                                             "holdout27", "holdout28")
+                                             "holdout27", "holdout28", "holdout29")
                           else KINDS - {"brain"})
     assert kinds["range_scan"] >= 3
     holes = [h for e in this["meshes"] for h in e["holes"]]
@@ -376,7 +384,8 @@ def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2
                                                      holdout17, holdout18, holdout19,
                                                      holdout20, holdout21, holdout22,
                                                      holdout23, holdout24, holdout25,
-                                                     holdout26, holdout27, holdout28):
+                                                     holdout26, holdout27, holdout28,
+                                                     holdout29):
     """Session 29's machined parts (tuning side, rules may be chosen on them): their own
     meshes and sources, shared with no other set, machined parts and scans of them only."""
     cad = cad_tuning
@@ -386,7 +395,7 @@ def test_the_tuning_side_cad_parts_are_their_own_set(manifest, holdout, holdout2
                           holdout7, holdout8, holdout9, holdout10, holdout11, holdout12,
                           holdout13, holdout14, holdout15, holdout16, holdout17, holdout18,
                           holdout19, holdout20, holdout21, holdout22, holdout23, holdout24,
-                          holdout25, holdout26, holdout27, holdout28)
+                          holdout25, holdout26, holdout27, holdout28, holdout29)
               for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in cad["meshes"]}
@@ -410,7 +419,7 @@ def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdo
                                              holdout17, holdout18, holdout19, holdout20,
                                              holdout21, holdout22, holdout23, holdout24,
                                              holdout25, holdout26, holdout27, holdout28,
-                                             smooth_tuning):
+                                             holdout29, smooth_tuning):
     """Session 38's smooth tubes and organic bodies (tuning side, rules may be chosen on
     them): their own split name, meshes and sources, shared with no holdout, half or other
     tuning-side set; 4 smooth and 4 organic meshes, 7 holes each, digests recorded; their
@@ -433,7 +442,7 @@ def test_the_smooth_tuning_set_is_its_own_set(manifest, holdout, holdout2, holdo
                           holdout11, holdout12, holdout13, holdout14, holdout15, holdout16,
                           holdout17, holdout18, holdout19, holdout20, holdout21,
                           holdout22, holdout23, holdout24, holdout25, holdout26,
-                          holdout27, holdout28)
+                          holdout27, holdout28, holdout29)
               for e in m["meshes"]]
     assert not {e["mesh"] for e in others} & set(ids)
     assert not {e["source"] for e in others} & {e["source"] for e in entries}
@@ -516,9 +525,9 @@ def test_holdout11_sources_come_from_their_own_module():
                                    "holdout16", "holdout17", "holdout18", "holdout19",
                                    "holdout20", "holdout21", "holdout22", "holdout23",
                                    "holdout24", "holdout25", "holdout26", "holdout27",
-                                   "holdout28"])
+                                   "holdout28", "holdout29"])
 def test_later_holdout_manifest_counts(split):
-    """The twelfth to twenty-eighth holdouts' manifests as committed before any fill: 12 meshes
+    """The twelfth to twenty-ninth holdouts' manifests as committed before any fill: 12 meshes
     in their module's order, 84 holes, 3 near the border on each of the 4 scans, 4 on a sharp
     edge or corner on each of the 3 CAD parts, every other hole neither."""
     entries = holes_manifest.read(holes_manifest.LATER_SETS[split][0])["meshes"]
@@ -552,15 +561,16 @@ def test_later_holdout_manifest_counts(split):
     (26, "the twenty-sixth holdout set", 2700, [215, 216, 217, 218], "_triradiate_cortex"),
     (27, "the twenty-seventh holdout set", 2800, [219, 220, 221, 222], "_rose_cortex"),
     (28, "the twenty-eighth holdout set", 2900, [223, 224, 225, 226], "_chevron_cortex"),
+    (29, "the twenty-ninth holdout set", 3000, [227, 228, 229, 230], "_orbital_cortex"),
 ])
 def test_later_holdout_sources_come_from_their_own_module(number, words, first_seed, seeds,
                                                           brain):
-    """Holdouts 12 to 28's generators live in benchmarks/holdout<N>_meshes.py, as holdout
+    """Holdouts 12 to 29's generators live in benchmarks/holdout<N>_meshes.py, as holdout
     11's in theirs; validation_meshes adds them to ``SOURCES`` in the order they were made,
     after holdout 11's; their scans are the portable scanner's with seeds of their own
     (159-162, 163-166, 167-170, 171-174, 175-178, 179-182, 183-186, 187-190, 191-194,
-    195-198, 199-202, 203-206, 207-210, 211-214, 215-218, 219-222, 223-226); their brain-kind
-    mesh is a synthetic one, no real brain (no mesh is made)."""
+    195-198, 199-202, 203-206, 207-210, 211-214, 215-218, 219-222, 223-226, 227-230); their
+    brain-kind mesh is a synthetic one, no real brain (no mesh is made)."""
     import importlib
 
     module = importlib.import_module(f"holdout{number}_meshes")
@@ -573,7 +583,7 @@ def test_later_holdout_sources_come_from_their_own_module(number, words, first_s
            if i not in validation_meshes.SMOOTH_TUNING_SOURCES
            and i not in validation_meshes.CURVED_SCAN_SOURCES
            and i not in validation_meshes.THIN_SHELL_SOURCES]
-    later = [f"holdout{n}" for n in range(11, 29)]  # SOURCES' last sets, in order
+    later = [f"holdout{n}" for n in range(11, 30)]  # SOURCES' last sets, in order
     tail = ids[-12 * len(later):]
     assert tail[12 * later.index(split):][:12] == list(sources)
     assert holes_manifest.LATER_SETS[split][1:] == (words, first_seed)
@@ -664,9 +674,9 @@ def test_the_curved_scans_set_is_its_own_set():
                                                       (20, 4, 1), (21, 3, 2), (22, 4, 1),
                                                       (23, 4, 1), (24, 4, 1), (25, 4, 1),
                                                       (26, 3, 2), (27, 4, 1),
-                                                      (28, 4, 1)])
+                                                      (28, 4, 1), (29, 4, 1)])
 def test_holdout_generators_pass_the_surface_check(monkeypatch, number, level_sets, radial):
-    """Holdouts 17 to 28's generators pass PyMeshLab's surface-distance check to every
+    """Holdouts 17 to 29's generators pass PyMeshLab's surface-distance check to every
     remeshing (``surface_check=True``), not the filter's default, which is a leftover byte
     of the heap (docs/validation.md "Holdout set 17"): every level set, manifold3d part and
     radial surface of the set is asked for with it (the meshing itself is replaced: no mesh

@@ -50,9 +50,10 @@ def test_compare_sorts_the_holes_that_changed(now, geometry, report):
     assert fill_fingerprints.compare(now, reference) == (geometry, report)
 
 
-@pytest.mark.parametrize("name", ["holdout28", "holdout27", "holdout26", "holdout25", "holdout24",
-                                  "holdout23", "holdout22", "holdout21", "holdout20",
-                                  "holdout19", "validation", "holdout9"])
+@pytest.mark.parametrize("name", ["holdout29", "holdout28", "holdout27", "holdout26",
+                                  "holdout25", "holdout24", "holdout23", "holdout22",
+                                  "holdout21", "holdout20", "holdout19", "validation",
+                                  "holdout9"])
 def test_holdout_sets_and_the_validation_half_are_refused(name):
     with pytest.raises(SystemExit, match="not a tuning-side set"):
         fill_fingerprints.tuning_entries([name])
