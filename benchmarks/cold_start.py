@@ -9,7 +9,8 @@ compared byte for byte (cold against warm). Prints a markdown table.
 
     python benchmarks/cold_start.py [--pairs 3] [--workdir /tmp/surfinpaint-cold] [--big]
 
-Runs ``demo``, ``fill`` of a small holed sphere (626 vertices, conformal) and, with
+Runs ``demo``, ``fill`` of a small holed sphere (626 vertices, conformal), ``fill`` of the
+bundled mesh (the demo's snowman, without the demo's drawing) and, with
 ``--big``, of ``benchmarks/scale.py``'s 163k case (default, ``--jobs 1``, ``--method fair``).
 """
 
@@ -24,6 +25,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from importlib.resources import files
 from pathlib import Path
 
 from scale import make_case
@@ -40,8 +42,10 @@ def commands(workdir: Path, big: bool) -> dict[str, list[str]]:
         v, f = sphere(3)
         cut = cut_geodesic_disk(v, f, 0, 0.5)
         write_mesh(small, cut.vertices, cut.faces)
+    bundled = str(files("surfinpaint") / "meshes" / "snowman_holes.ply")
     runs = {"demo": ["demo", "-o", "OUT"],
-            "fill small": ["fill", str(small), "-o", "OUT.ply", "-q"]}
+            "fill small": ["fill", str(small), "-o", "OUT.ply", "-q"],
+            "fill bundled": ["fill", bundled, "-o", "OUT.ply", "-q"]}
     if big:
         case = str(make_case(workdir, "bumpy-sphere-163k", 7, 10, 12).path)
         runs["163k"] = ["fill", case, "-o", "OUT.ply", "-q"]

@@ -182,6 +182,39 @@ def test_distances_of_moved_samples_equal_one_search_each(move):
         assert np.array_equal(d, point_mesh_distance(points, v, f))
 
 
+@pytest.mark.parametrize("use_numba", [True, False])
+def test_far_moved_samples_are_bounded_by_their_nearest_centroid_here(use_numba):
+    """Samples moved far from the first set (the candidate fills of a CAD part's hole differ
+    by more than their size): their distances, the same bits as a search of their own, are
+    searched from a bound given by their own nearest centroid's triangle, not only by the
+    stale nearest centroids of the first set, so the ball searched holds few triangles
+    (session 52 helper: ~190 a point of a 430-triangle patch, ~11 with it)."""
+    v, f = data.sphere(2)
+    rng = np.random.default_rng(5)
+    p = v[rng.integers(len(v), size=400)] * rng.uniform(0.95, 1.05, size=(400, 1))
+    moved = np.roll(p, 1, axis=1) * 0.5  # other points, inside: far from p's nearest
+    index = metrics._TriangleIndex(v, f)
+    index.use_numba = use_numba
+    searched = []
+    ball = index._ball
+
+    def counting(points, reach, rho, rho_max):
+        cand, start = ball(points, reach, rho, rho_max)
+        searched.append(len(cand))
+        return cand, start
+
+    index._ball = counting
+    got = index.distances_moving([p, moved])
+    assert np.array_equal(got[1], point_mesh_distance(moved, v, f))
+    with_bound = sum(searched)
+    _, dist, near = index.nearest(p)
+    shift = np.sqrt(((moved - p) ** 2).sum(axis=1))
+    searched.clear()
+    stale = index.distance_after(moved, dist, near, shift + index.rho)
+    assert np.array_equal(stale, got[1])
+    assert with_bound < 0.25 * sum(searched)
+
+
 def test_triangles_with_a_zero_length_edge_give_the_segment_distance():
     """A fill may contain a triangle with two equal corners (seen from a peer's fill in the
     validation benchmark): the compiled kernel divided 0 by 0 there and raised."""
