@@ -2,12 +2,14 @@
 
 The holes (cut once, kept in ``--workdir``): spent holdout 18's junction_box #6 and lathe_dog
 #6, the CAD tuning part channel #5 and the built animal11 #5 (docs/convergence.md, sessions
-41-44). For each pair of runs, one fresh process per tree (order alternated, pinned to one
-core with ``--cpu``) fills the hole once to warm up and then ``--fills`` times; it reports the
-medians of the fills' user and system CPU seconds (``os.times``: the system time is the page
-faults' share, which the allocator's thresholds change, session 44 helper) and a hash of the
-written positions. Printed: each pair's totals and ratio (second tree / first), then each
-hole's median ratio and whether the positions were the same in every pair::
+41-44), and spent holdout 10's spanner #6 (a CAD hole whose candidate fills differ by more than
+their size: docs/scale.md, session 52 helper). For each pair of runs, one fresh process per
+tree (order alternated, pinned to one core with ``--cpu``) fills the hole once to warm up and
+then ``--fills`` times; it reports the medians of the fills' user and system CPU seconds
+(``os.times``: the system time is the page faults' share, which the allocator's thresholds
+change, session 44 helper) and a hash of the written positions. Printed: each pair's totals and
+ratio (second tree / first), then each hole's median ratio and whether the positions were the
+same in every pair::
 
     python benchmarks/slow_holes.py /work/main/src src --pairs 5 --fills 5 --cpu 1
     python benchmarks/slow_holes.py A/src B/src --env MALLOC_TRIM_THRESHOLD_=268435456
@@ -35,7 +37,8 @@ HERE = Path(__file__).resolve().parent
 HOLES = {"junction_box6": ("holdout18", "junction_box", 6),
          "lathe_dog6": ("holdout18", "lathe_dog", 6),
          "channel5": ("cad_tuning", "channel", 5),
-         "animal11_5": ("animals", "animal11", 5)}
+         "animal11_5": ("animals", "animal11", 5),
+         "spanner6": ("holdout10", "spanner", 6)}
 
 
 def cut(name: str):

@@ -425,7 +425,7 @@ def test_missing_output_through_the_console_script(tmp_path):
 
 
 @pytest.mark.parametrize("command", [[], ["holes"], ["fill"], ["represent"], ["rebuild"],
-                                     ["demo"]])
+                                     ["demo"], ["compile"]])
 def test_help(command, capsys):
     with pytest.raises(SystemExit) as exc:
         main([*command, "--help"])

@@ -12,6 +12,7 @@ import subprocess
 import sys
 import textwrap
 import time
+import types
 from pathlib import Path
 
 import numpy as np
@@ -199,6 +200,38 @@ def test_a_kernel_numba_cannot_cache_is_compiled_in_the_process(monkeypatch):
     assert compiled.run(fn, lambda k: k(np.int64(5)), lambda: -1) == 15
 
 
+def test_a_kernel_missing_from_the_cache_is_looked_up_again_only_after_a_pause(monkeypatch):
+    # while the background compilation runs, a kernel that missed the cache goes straight to
+    # its numpy version for RECHECK_SECONDS (a look-up that misses costs ~0.5 ms), then is
+    # looked up again and, compiled meanwhile, used
+    monkeypatch.setenv(MODE_VARIABLE, "background")
+    monkeypatch.setattr(compiled, "compile_in_background", lambda: True)
+    monkeypatch.setattr(compiled, "_missed", {})
+    monkeypatch.setattr(compiled, "_spent", {})
+    clock = [100.0]
+    monkeypatch.setattr(compiled, "time", types.SimpleNamespace(monotonic=lambda: clock[0]))
+    looked, cached = [], [False]
+
+    def call(kernel):
+        looked.append(compiled._local.cached_only)
+        if not cached[0]:
+            raise compiled.NotCompiled("stand-in")
+        return "compiled"
+
+    stand_in = object()  # a kernel numba can cache (not one of _UNCACHED)
+
+    def run():
+        return compiled.run(stand_in, call, lambda: "numpy", cost=1e-3)
+
+    assert run() == "numpy" and looked == [True]  # missed: the background compiles it
+    cached[0] = True  # ... and has now
+    clock[0] += 0.5 * compiled.RECHECK_SECONDS
+    assert run() == "numpy" and looked == [True]  # not looked up again so soon
+    clock[0] += 0.5 * compiled.RECHECK_SECONDS
+    assert run() == "compiled" and looked == [True, True]
+    assert run() == "compiled" and looked == [True, True, True]  # found: every call uses it
+
+
 class _Stopped(BaseException):
     """Stands in for the command line's ``Interrupted`` (a ``BaseException``)."""
 
@@ -375,3 +408,35 @@ def test_the_two_cold_cache_lines_say_which_process_does_what():
     # budget compiling; each says what its process does, so the two do not contradict
     assert "compiles them itself, and says so" in BACKGROUND_MESSAGE
     assert COMPILING_MESSAGE.startswith("compiling surfinpaint's numba kernels in this process")
+
+
+CACHED_PROBE = """
+from surfinpaint import compiled
+from surfinpaint.fill import warmup
+missed = []
+compiled.compile_in_background = lambda: missed.append(1) or True  # spawns nothing
+warmup.compile_kernels()  # every kernel, each stood in for where the cache lacks it
+print(len(missed))
+"""
+
+
+def test_the_compile_command_fills_the_cache_with_every_kernel(tmp_path):
+    # `surfinpaint compile` (the documented warm-up): afterwards a new process finds every
+    # kernel in the cache (no look-up misses), and the command says so; a second run finds
+    # them there
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=SRC,
+               TMPDIR=str(tmp_path), SURFINPAINT_COMPILE="background")
+
+    def probe() -> int:
+        return int(subprocess.run([sys.executable, "-c", CACHED_PROBE], env=env,
+                                  capture_output=True, text=True, timeout=300,
+                                  check=True).stdout)
+
+    assert probe() > 0  # a fresh cache: kernels missing
+    for _ in range(2):
+        done = subprocess.run([sys.executable, "-m", "surfinpaint", "compile"], env=env,
+                              capture_output=True, text=True, timeout=600)
+        assert done.returncode == 0, done.stderr
+        assert "kernels are in numba's cache" in done.stderr, done.stderr
+    assert probe() == 0
+    assert not list(tmp_path.glob("surfinpaint-kernels-*.lock"))  # nothing in the background

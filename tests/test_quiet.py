@@ -48,6 +48,7 @@ COMMANDS = {
     "report": (["report", "holed.ply", "-o", "report"], True),
     "demo": (["demo", "-o", "demo", "--method", "fair"], False),
     "experiments": (["experiments", "-o", "experiments", "--quick", "--cases", "cube"], False),
+    "compile": (["compile"], True),
 }
 
 

@@ -12,7 +12,8 @@ is replaced by its numpy version, and one detached, low-priority process
 (:data:`BUILDER`) compiles every kernel into the cache for the later runs; the run says so
 once (:data:`BACKGROUND_MESSAGE`, INFO on the ``surfinpaint`` logger). A lock file makes
 concurrent first runs, and the workers of a parallel fill, share that one process; a kernel
-that appears in the cache meanwhile is picked up at its next call. Where the numpy version
+that appears in the cache meanwhile is picked up at its first call
+:data:`RECHECK_SECONDS` after its last look-up. Where the numpy version
 would cost more than compiling (a long hole's triangulation: its dynamic program is ~100×
 slower in numpy), or once it has cost a process ``budget`` seconds, the kernel is compiled
 in the process, as when there is no disk cache at all (a kernel numba cannot cache), when the
@@ -32,14 +33,17 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import logging
+import math
 import os
 import sys
 import tempfile
 import threading
+import time
 from collections.abc import Callable, Iterator
 
 __all__ = ["BACKGROUND_MESSAGE", "BUILDER", "COMPILING_MESSAGE", "MODE_VARIABLE", "Kernel",
-           "NotCompiled", "announce_once_across", "kernel", "lock_path", "run"]
+           "NotCompiled", "RECHECK_SECONDS", "announce_once_across", "in_foreground", "kernel",
+           "lock_path", "run"]
 
 logger = logging.getLogger("surfinpaint")
 
@@ -58,6 +62,12 @@ _state: dict = {"listening": False, "told": False, "launched": None}
 _OURS: set = set()  # the Python functions handed to kernel()
 _UNCACHED: set = set()  # kernels numba has no disk cache for
 _spent: dict = {}  # kernel -> estimated seconds its numpy version has cost this process
+_missed: dict = {}  # kernel -> time.monotonic() of its last look-up that missed the cache
+# While the background compilation runs, a kernel that missed the cache is looked up again
+# at most this often: a look-up that misses costs ~0.5 ms (numba searches its disk cache),
+# and a λ-H fill calls the kernels ~350 times a hole (~0.2 s of a CAD hole's ~0.6 s,
+# session 52 helper); a kernel compiled meanwhile is picked up this much later at most.
+RECHECK_SECONDS = 1.0
 _local = threading.local()  # .cached_only: the current call may load a kernel, not compile;
 # .lost: signal handlers' exceptions lost in ctypes callbacks during the current call
 _launch_lock = threading.Lock()
@@ -173,17 +183,34 @@ def run(compiled, call: Callable, fallback: Callable, cost: float = 0.0,
     spent = _spent.get(compiled, 0.0) + cost
     if spent > budget:
         return _called(compiled, call)
-    _local.cached_only = True
-    try:
-        return _called(compiled, call)
-    except NotCompiled:
-        pass
-    finally:
-        _local.cached_only = False
-    if not compile_in_background():
-        return _called(compiled, call)
+    if time.monotonic() - _missed.get(compiled, -math.inf) >= RECHECK_SECONDS:
+        _local.cached_only = True
+        try:
+            return _called(compiled, call)
+        except NotCompiled:
+            pass
+        finally:
+            _local.cached_only = False
+        if not compile_in_background():
+            return _called(compiled, call)
+        _missed[compiled] = time.monotonic()
     _spent[compiled] = spent
     return fallback()
+
+
+@contextlib.contextmanager
+def in_foreground() -> Iterator[None]:
+    """Within the block, :func:`run` compiles a kernel missing from the cache in this
+    process (as with ``SURFINPAINT_COMPILE=foreground``): ``surfinpaint compile``."""
+    before = os.environ.get(MODE_VARIABLE)
+    os.environ[MODE_VARIABLE] = "foreground"
+    try:
+        yield
+    finally:
+        if before is None:
+            os.environ.pop(MODE_VARIABLE, None)
+        else:
+            os.environ[MODE_VARIABLE] = before
 
 
 def _called(compiled, call: Callable):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib.util
 import logging
 import signal
 import sys
@@ -20,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from surfinpaint import __version__
+from surfinpaint import __version__, compiled
 from surfinpaint.app.batch_command import add_batch_parser
 from surfinpaint.app.fill_options import UsageError as _UsageError
 from surfinpaint.app.fill_options import (
@@ -244,10 +245,27 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_compile(args: argparse.Namespace) -> int:
+    """Compile every numba kernel into numba's disk cache now, in this process (or find
+    them there), as a first run after an install otherwise does in the background."""
+    says = QuietConsole(args.quiet)
+    if importlib.util.find_spec("numba") is None:
+        says.say("numba is not installed: nothing to compile (the kernels' numpy versions "
+                 "are used, the same results)")
+        return EXIT_OK
+    start = time.perf_counter()
+    with compiled.in_foreground():
+        warmup.compile_kernels()
+    says.say(f"surfinpaint's numba kernels are in numba's cache "
+             f"({time.perf_counter() - start:.1f} s): later runs load them")
+    return EXIT_OK
+
+
 # the commands whose parsers need nothing beyond this module: with one of them named first,
 # the report's and the experiments' parsers (whose modules import the λ-H representation,
 # the figures and the page, ~0.1 s CPU) are not built (docs/scale.md, session 14)
-_LIGHT_COMMANDS = frozenset({"holes", "fill", "batch", "represent", "rebuild", "demo"})
+_LIGHT_COMMANDS = frozenset({"holes", "fill", "batch", "represent", "rebuild", "demo",
+                             "compile"})
 
 
 def _command_word(argv: Sequence[str] | None) -> str | None:
@@ -270,6 +288,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     add_batch_parser(sub)
     add_representation_parsers(sub)
     _add_demo_parser(sub)
+    _add_compile_parser(sub)
     if command not in _LIGHT_COMMANDS:
         report.add_report_parser(sub)
         experiments.add_experiments_parser(sub)
@@ -343,6 +362,19 @@ def _add_demo_parser(sub) -> None:
     p.add_argument("--method", choices=METHODS, default="conformal")
     add_quiet(p)
     p.set_defaults(func=cmd_demo)
+
+
+def _add_compile_parser(sub) -> None:
+    """``compile``: the numba kernels into numba's cache, ahead of the first fill."""
+    p = sub.add_parser("compile", help="compile the numba kernels now (optional: after an "
+                       "install, before timing or in an image)",
+                       description="Compile surfinpaint's numba kernels into numba's disk "
+                       "cache now (about 8 s of CPU), so that no later run waits for them or "
+                       "uses their numpy versions meanwhile. Without it the first run after "
+                       "an install starts their compilation in the background. Nothing to do "
+                       "when they are cached already.")
+    add_quiet(p)
+    p.set_defaults(func=cmd_compile)
 
 
 # What each command reads and writes, for the checks made before any work: the input
