@@ -32,8 +32,8 @@ of two columns over the holes, as a table; ``--out``: the rows as JSON.)
 Session 43: ``--manifest`` takes a spent holdout set (9–18) instead of the tuning half, and
 ``--holes brain`` every hole of a manifest's brain-kind meshes (tuning split only in
 ``holes_manifest.json``), ``--triangulation-only`` the two triangulations unrefined.
-Session 44: any tuning-side set and the spent holdouts (9-26 from session 51); ``--holes
-scan`` every hole of a manifest's range scans, ``--orders 2`` the bilaplacian columns only::
+Session 44: any tuning-side set and the spent holdouts (9-27 from session 52);
+``--holes scan`` every hole of a manifest's range scans, ``--orders 2`` the bilaplacian columns only::
 
     .venv/bin/python benchmarks/cgal_s0.py --manifest benchmarks/curved_scans_manifest.json \
         --holes scan --orders 2 --out s0_cscan.json
@@ -163,13 +163,13 @@ def hole_row(cut, refinement_only: bool = False, orders=(2, 3)) -> dict[str, flo
 TUNING_SIDE_SETS = ("tuning", "cad_tuning", "smooth_tuning", "curved_scans", "thin_shells")
 # the newest holdout set spent as study data: each session's fresh set is run once and stays
 # out (the README's newest column) until the next session runs the next one
-NEWEST_SPENT_HOLDOUT = 26
+NEWEST_SPENT_HOLDOUT = 27
 SELECTIONS = {"tuning": None, "brain": "brain", "scan": "range_scan"}  # --holes: kind
 
 
 def _studied(entry: dict) -> bool:
     """A manifest entry this study may look at: the tuning half or a tuning-side set, or a
-    spent holdout set 9-26 (never the validation half, nor holdout 27 and later)."""
+    spent holdout set 9-27 (never the validation half, nor holdout 28 and later)."""
     split = entry["split"]
     return split in TUNING_SIDE_SETS or (split.startswith("holdout") and split[7:].isdigit()
                                          and 9 <= int(split[7:]) <= NEWEST_SPENT_HOLDOUT)

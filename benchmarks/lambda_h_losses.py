@@ -66,6 +66,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
 sys.path.insert(0, str(Path(__file__).parent))
+import cgal_s0  # noqa: E402 - its guard: the newest spent holdout
 import smooth_selfcheck_study as study  # noqa: E402
 from error_sources import truth_as_fill  # noqa: E402
 from lambda_h_sources import (  # noqa: E402
@@ -87,8 +88,8 @@ from surfinpaint.representation import on_mesh  # noqa: E402
 from surfinpaint.representation.vertex_lambda_h import border_vertices  # noqa: E402
 
 BENCH = Path(__file__).parent
-# the spent holdouts (tuning-side study data); 27 and 28 are never read here
-SPENT = range(9, 27)
+# the spent holdouts (tuning-side study data); later ones are never read here
+SPENT = range(9, cgal_s0.NEWEST_SPENT_HOLDOUT + 1)
 LOSS, CONTROL = 1.5, 1.5
 SMOOTHING = 3
 RIM = 3
@@ -402,7 +403,7 @@ def set_manifest(which: str) -> None:
         return
     m = re.fullmatch(r"holdout(\d+)", which)
     if m is None or int(m.group(1)) not in SPENT:
-        raise SystemExit(f"{which}: not a tuning-side set or a spent holdout (9–26)")
+        raise SystemExit(f"{which}: not a tuning-side set or a spent holdout (9–{SPENT[-1]})")
     study.SETS[which] = BENCH / f"{which}_manifest.json"
 
 

@@ -19,7 +19,7 @@ their patches, % of the hole diameter): evidence that needs no truth and no test
     python benchmarks/selfcheck_table.py --manifest benchmarks/holdout24_manifest.json \
         --baseline /work/s48/holdout24.json --library --cache /tmp/h24.jsonl
 
-Any tuning-side manifest or spent holdout manifest (9-26) can be read (``--manifest``; the
+Any tuning-side manifest or spent holdout manifest (9-27) can be read (``--manifest``; the
 guard is ``cgal_s0._studied``: never the validation half nor a fresh holdout). With
 ``--library`` each row also says what the library wrote and why (``library``: the
 ``HoleReport``'s method, fairing order, note, the verdict's keep / faired / reference / lost
@@ -297,7 +297,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--split", default=None,
                         help="the manifest's split to read (tuning, or a set's own name)")
     parser.add_argument("--manifest", default=None,
-                        help="a tuning-side or spent holdout (9-26) manifest (default: the "
+                        help="a tuning-side or spent holdout (9-27) manifest (default: the "
                         "halves' benchmarks/holes_manifest.json, unguarded as before)")
     parser.add_argument("--library", action="store_true",
                         help="also what the library wrote for each hole and why (library_row)")

@@ -17,12 +17,12 @@ cgal_s0 = pytest.importorskip("cgal_s0")
 @pytest.mark.parametrize("split, studied", [
     ("tuning", True), ("holdout9", True), ("holdout18", True), ("holdout19", True),
     ("holdout20", True), ("holdout21", True), ("holdout22", True), ("holdout23", True),
-    ("holdout24", True), ("holdout25", True), ("holdout26", True),
+    ("holdout24", True), ("holdout25", True), ("holdout26", True), ("holdout27", True),
     ("curved_scans", True), ("cad_tuning", True), ("smooth_tuning", True), ("thin_shells", True),
     ("validation", False), ("holdout8", False), ("holdout", False),
-    ("holdout27", False), ("holdout28", False),
+    ("holdout28", False), ("holdout29", False),
 ])
-def test_only_the_tuning_side_and_spent_holdouts_9_to_26_are_studied(split, studied):
+def test_only_the_tuning_side_and_spent_holdouts_9_to_27_are_studied(split, studied):
     assert cgal_s0._studied({"split": split}) is studied
 
 

@@ -92,7 +92,7 @@ def test_controls_on_the_meshes_of_the_losses():
 
 
 def test_only_spent_holdouts_are_read():
-    losses.set_manifest("holdout26")
-    for refused in ("holdout27", "holdout28", "validation"):
+    losses.set_manifest("holdout27")
+    for refused in ("holdout28", "holdout29", "validation"):
         with pytest.raises(SystemExit):
             losses.set_manifest(refused)
