@@ -33,7 +33,8 @@ Session 43: ``--manifest`` takes a spent holdout set (9–18) instead of the tun
 ``--holes brain`` every hole of a manifest's brain-kind meshes (tuning split only in
 ``holes_manifest.json``), ``--triangulation-only`` the two triangulations unrefined.
 Session 44: any tuning-side set and the spent holdouts (9-27 from session 52);
-``--holes scan`` every hole of a manifest's range scans, ``--orders 2`` the bilaplacian columns only::
+``--holes scan`` every hole of a manifest's range scans, ``--orders 2`` the bilaplacian
+columns only::
 
     .venv/bin/python benchmarks/cgal_s0.py --manifest benchmarks/curved_scans_manifest.json \
         --holes scan --orders 2 --out s0_cscan.json
