@@ -59,6 +59,18 @@ def test_the_library_row_on_a_plane_says_the_plane_test_laid_it():
     assert replay.written({"library": row}) == "plane"
 
 
+@pytest.mark.parametrize("library, expected", [
+    ({"plane": False, "ear_cut": "flat planes", "note": "ear cutting: …"}, "ear_cut"),
+    ({"plane": False, "note": "ear cutting: 100 % of its area …"}, "ear_cut"),  # older rows
+    ({"plane": False, "ear_cut": None, "note": "self-check kept the λ-H fill (…)",
+      "blended_with": None, "method": "conformal", "fair_order": None}, "conformal"),
+])
+def test_an_ear_cut_fill_is_no_candidate(library, expected):
+    """The ear-cut rules write without a self-check (session 51's default): the replay must
+    not read such a hole as a fair2 choice."""
+    assert replay.written({"library": library}) == expected
+
+
 def test_the_library_row_on_a_bump_records_the_self_check():
     row = table.library_row(_cut(lambda x, y: 0.3 * np.exp(-((x - .5) ** 2 + (y - .5) ** 2)
                                                            / 0.05)), n_samples=2000)
