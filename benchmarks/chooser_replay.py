@@ -75,10 +75,15 @@ def fold_of(row: dict) -> str:
 
 def written(row: dict) -> str:
     """The candidate the library wrote ("fair2", "fair3", "conformal"), or "plane" (the
-    plane test laid it: no choice), or "blend" (a blend of a failed λ-H fill)."""
+    plane test laid it: no choice), "ear_cut" (an ear-cut rule wrote it: no choice either),
+    or "blend" (a blend of a failed λ-H fill)."""
     lib = row["library"]
     if lib["plane"]:
         return "plane"
+    # an ear-cut rule wrote it, no self-check chose (session 51's default); rows made
+    # before library_row recorded ``ear_cut`` say so in the note
+    if lib.get("ear_cut") or (lib.get("note") or "").startswith("ear cutting:"):
+        return "ear_cut"
     if lib["blended_with"]:
         return "blend"
     if lib["method"] == "conformal":

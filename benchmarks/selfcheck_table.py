@@ -215,7 +215,8 @@ def library_row(cut, n_samples: int = 10000) -> dict:
             if written else INF)
     smoothing = r.smoothing
     return {"method": r.method, "fair_order": r.fair_order, "note": r.note,
-            "fallback": r.fallback, "plane": r.plane is not None, "crease": r.crease,
+            "fallback": r.fallback, "plane": r.plane is not None, "ear_cut": r.ear_cut,
+            "crease": r.crease,
             "crease_failure": r.crease_failure, "smoothed": r.smoothed,
             "smoothing": None if smoothing is None else {
                 "length": smoothing.length, "why": smoothing.why,

@@ -30,6 +30,7 @@ from surfinpaint.fill.conformal.selection import (
     Verdict,
     choose,
     demoted,
+    fair3_over_lambda_h,
     hidden_rings_shallower,
     sibling_test_plan,
 )
@@ -258,6 +259,9 @@ def self_check(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
     if weigh:
         verdict = demoted(verdict, advantages_over(hidden_detail, sibling_detail, reference),
                           o.significance, crossed=candidates.crossed)
+    if o.lambda_h_over_fair3 is not None and choose_faired:
+        verdict = fair3_over_lambda_h(verdict, o.lambda_h_over_fair3, shallower=shallower,
+                                      crossed=candidates.crossed)
     return verdict
 
 

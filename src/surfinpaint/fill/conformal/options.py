@@ -241,6 +241,15 @@ class ConformalOptions:
         (docs/candidates.md, "Session 50 (helper): ear-cut triangulation where a crease
         crosses the hole", 0.9 there; "Session 51 (helper): the ear-cut fill refined
         within its planes"). Default 0.9 (session 51); None: never.
+    lambda_h_over_fair3 : float, optional
+        With ``select``: a λ-H fill the self-check keeps is written only where its
+        hidden-ring score is below this many times the trilaplacian fill's (fair3's); else
+        fair3 is written (:func:`surfinpaint.fill.conformal.selection.fair3_over_lambda_h`:
+        not where the hidden rings ran one ring shallower, a crease crosses the hole or a
+        fairing order is asked for). The self-check otherwise measures the λ-H fill against
+        fair2 only; on folded cortices fair3 is closer on most holes where the hidden rings
+        do not rank the λ-H fill ahead of it (docs/candidates.md, "Session 52 (helper):
+        cortex holes", 1.05 there). None (default): never.
     continuation_smallest : float
         The least-squares stage's continuation in the curvature weight (where the λ-H solve
         fails) halves its weight step after each solve that fails and ends where the step
@@ -271,6 +280,7 @@ class ConformalOptions:
     skip_stalled_subdivision: bool = False
     ear_cut_ratio: float | None = None
     ear_cut_flat: float | None = EAR_CUT_FLAT
+    lambda_h_over_fair3: float | None = None
     continuation_smallest: float = CONTINUATION_SMALLEST
 
     def __post_init__(self) -> None:
@@ -290,6 +300,8 @@ class ConformalOptions:
             _positive_number("significance", self.significance)
         if self.ear_cut_ratio is not None:
             _positive_number("ear_cut_ratio", self.ear_cut_ratio)
+        if self.lambda_h_over_fair3 is not None:
+            _positive_number("lambda_h_over_fair3", self.lambda_h_over_fair3)
         if self.ear_cut_flat is not None:
             _positive_number("ear_cut_flat", self.ear_cut_flat)
             if self.ear_cut_flat > 1:

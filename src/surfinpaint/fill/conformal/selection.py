@@ -18,8 +18,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-__all__ = ["DECISIVE", "Verdict", "choose", "demoted", "hidden_rings_shallower",
-           "sibling_test_plan"]
+__all__ = ["DECISIVE", "Verdict", "choose", "demoted", "fair3_over_lambda_h",
+           "hidden_rings_shallower", "sibling_test_plan"]
 
 # a λ-H fill this many times closer than the faired fill on the hidden rings is kept
 # without the sibling test (on the benchmark the sibling test never overturned one)
@@ -279,3 +279,52 @@ def demoted(verdict: Verdict, advantages: Mapping[str, Mapping[str, tuple[float,
     return replace(verdict, keep=keep, make=keep or failed_on_a_test, faired=faired,
                    scores=verdict.scores + f"; not significant at {z:g} standard errors, "
                    f"{'the λ-H fill' if verdict.keep and not keep else 'fair3'} not kept")
+
+
+def fair3_over_lambda_h(verdict: Verdict, ratio: float, *, shallower: bool = False,
+                        crossed: bool = False) -> Verdict:
+    """The verdict with a kept λ-H fill given up for fair3 where the hidden-ring test does
+    not rank it clearly ahead of fair3: its score there at least ``ratio`` times fair3's
+    (opt-in, ``ConformalOptions.lambda_h_over_fair3``; docs/candidates.md, "Session 52
+    (helper): cortex holes").
+
+    :func:`choose` measures the λ-H fill against fair2 only; on folded cortices fair3 is
+    the closer fill on most holes where the hidden rings score it level with the λ-H fill
+    or ahead. Left as it is: a verdict that does not keep the λ-H fill, one measured
+    against another reference than fair2 (a fairing order asked for), hidden-ring scores
+    of the shallower test (which rank no faired fill, :func:`choose`) or a test the λ-H
+    fill failed on, and a hole a crease crosses (its λ-H fill is the crease fill).
+
+    Parameters
+    ----------
+    verdict : Verdict
+        :func:`choose`'s (after :func:`demoted`).
+    ratio : float
+        The λ-H fill's hidden-ring score must stay below this many times fair3's.
+    shallower, crossed : bool
+        As for :func:`choose`.
+
+    Returns
+    -------
+    Verdict
+
+    Examples
+    --------
+    >>> kept = choose({"fair2": 2.0, "fair3": 1.0, "conformal": 0.9}, {})
+    >>> fair3_over_lambda_h(kept, 1.05).keep   # 0.9 < 1.05 x 1.0: kept
+    True
+    >>> v = fair3_over_lambda_h(kept, 0.8)     # 0.9 >= 0.8 x 1.0: fair3 written
+    >>> v.keep, v.faired
+    (False, 'fair3')
+    """
+    hidden = _said(verdict.hidden)
+    if (not verdict.keep or shallower or crossed or verdict.reference != "fair2"
+            or "fair3" not in hidden or "conformal" not in hidden
+            or not np.isfinite(hidden["fair3"])
+            or hidden["conformal"] < ratio * hidden["fair3"]):
+        return verdict
+    failed_on_a_test = any(np.isinf(s.get("conformal", 0.0)) for s in verdict.tests.values())
+    return replace(verdict, keep=False, make=failed_on_a_test, faired="fair3",
+                   scores=verdict.scores + f"; the λ-H fill not below {ratio:g} × the "
+                   "trilaplacian fill's score on the hidden rings, the trilaplacian fill "
+                   "written")
