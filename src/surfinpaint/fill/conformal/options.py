@@ -241,6 +241,15 @@ class ConformalOptions:
         (docs/candidates.md, "Session 50 (helper): ear-cut triangulation where a crease
         crosses the hole", 0.9 there; "Session 51 (helper): the ear-cut fill refined
         within its planes"). Default 0.9 (session 51); None: never.
+    ear_cut_faired : float, optional
+        With ``select``, after the plane tests: where the ear-cut triangulation's share of
+        area in the known faces' planes is at least this but below ``ear_cut_flat`` (or at
+        most 1 where that is None), and a crease crosses the hole, the triangulation is
+        written refined within its planes with its vertices off them faired (bilaplacian,
+        the plane pieces fixed: :func:`surfinpaint.fill.conformal.ear_cut.
+        faired_off_planes`), and no self-check runs (docs/candidates.md, "Session 52
+        (helper): CAD holes PyMeshFix still wins after the ear-cut default"). Must be below
+        ``ear_cut_flat``. None (default): never.
     continuation_smallest : float
         The least-squares stage's continuation in the curvature weight (where the λ-H solve
         fails) halves its weight step after each solve that fails and ends where the step
@@ -271,6 +280,7 @@ class ConformalOptions:
     skip_stalled_subdivision: bool = False
     ear_cut_ratio: float | None = None
     ear_cut_flat: float | None = EAR_CUT_FLAT
+    ear_cut_faired: float | None = None
     continuation_smallest: float = CONTINUATION_SMALLEST
 
     def __post_init__(self) -> None:
@@ -294,6 +304,13 @@ class ConformalOptions:
             _positive_number("ear_cut_flat", self.ear_cut_flat)
             if self.ear_cut_flat > 1:
                 raise ValueError(f"ear_cut_flat must be at most 1, got {self.ear_cut_flat!r}")
+        if self.ear_cut_faired is not None:
+            _positive_number("ear_cut_faired", self.ear_cut_faired)
+            below = 1.0 if self.ear_cut_flat is None else self.ear_cut_flat
+            if self.ear_cut_faired > 1 or (self.ear_cut_flat is not None
+                                           and self.ear_cut_faired >= below):
+                raise ValueError(f"ear_cut_faired must be below ear_cut_flat ({below!r}) and "
+                                 f"at most 1, got {self.ear_cut_faired!r}")
         if isinstance(self.fair_smoothing, str) and self.fair_smoothing != "auto":
             raise ValueError("fair_smoothing must be a positive number, 'auto' or None, got "
                              f"{self.fair_smoothing!r}")
