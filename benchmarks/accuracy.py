@@ -62,7 +62,7 @@ ALL_METHODS = ("fair", "fair1", "fair3", "fair_sfauto", "conformal", "conformal_
                "conformal_signif", "conformal_nosignif", "conformal_sfair35", "conformal_sfair40",
                "conformal_sfauto", "conformal_nosmooth", "conformal_rings3", "conformal_earcut50",
                "conformal_earcut100", "conformal_earflat", "conformal_noearflat",
-               "conformal_f3over", "conventional",
+               "conformal_f3over", "conformal_earfair40", "conventional",
                "triangulation", "cgal", "cgal3",
                "meshlib", "pymeshlab", "pymeshfix", "pymeshfix_bare")
 DEFAULT_METHODS = ("fair", "conformal", "cgal", "meshlib")
@@ -115,6 +115,9 @@ CONFORMAL_VARIANTS = {
     # a kept λ-H fill given up for fair3 where the hidden rings do not rank it 1.05x ahead
     # of fair3 (docs/candidates.md, "Session 52 (helper): cortex holes"; opt-in)
     "conformal_f3over": {"lambda_h_over_fair3": 1.05},
+    # ... and where 0.4 to 0.9 of it does, refined within its planes, its vertices off them
+    # faired (session 52, docs/candidates.md: CAD holes PyMeshFix still wins; not adopted)
+    "conformal_earfair40": {"ear_cut_faired": 0.4},
 }
 
 

@@ -137,8 +137,14 @@ def features(row: dict) -> str:
                                      ("border", x.get("near_border"))) if on) or "—"
 
 
-def hole_table(err: dict, default: dict, rows: dict, keys: list) -> list[str]:
-    """One row per hole PyMeshFix fills at least CLOSER× closer."""
+def hole_table(err: dict, default: dict, rows: dict, keys: list,
+               ears: dict | None = None) -> list[str]:
+    """One row per hole PyMeshFix fills at least CLOSER× closer; with ``ears`` (the
+    features of ``ear_cut_flatness.py --offplane`` by hole) the ear cut's columns instead of
+    the new vertex counts: its flat share (2°), and its error bare, refined within its planes
+    and with its vertices off the planes faired."""
+    if ears is not None:
+        return _ear_table(err, default, keys, ears)
     lines = ["| hole | r (h) | loop edges | features | written | default % | PyMeshFix % | "
              "ratio | its triangulation alone % | best faired % | new vertices (default, "
              "PyMeshFix) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -151,6 +157,25 @@ def hole_table(err: dict, default: dict, rows: dict, keys: list) -> list[str]:
             f"{err[('conformal', *k)] / max(err[('pymeshfix', *k)], 1e-9):.2f} | "
             f"{err.get(('pymeshfix_bare', *k), np.nan):.3g} | {_better_faired(err, k):.3g} | "
             f"{d['new_vertices']}, {p['new_vertices']} |")
+    return lines
+
+
+def _ear_table(err: dict, default: dict, keys: list, ears: dict) -> list[str]:
+    """:func:`hole_table` with the ear cut's columns (session 52)."""
+    def cell(x):
+        return "—" if x is None else f"{x:.3g}"
+    lines = ["| hole | loop edges | written | default % | PyMeshFix % | ratio | flat share | "
+             "crease ° | ear cut alone % | refined in planes % | faired off planes % | best "
+             "faired % |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for k in keys:
+        d, f = default[k], ears.get(k, {})
+        lines.append(
+            f"| {k[0]} {k[1]} #{k[2]} | {d['boundary_edges']} | {written(k, err, d)} | "
+            f"{err[('conformal', *k)]:.3g} | {err[('pymeshfix', *k)]:.3g} | "
+            f"{err[('conformal', *k)] / max(err[('pymeshfix', *k)], 1e-9):.2f} | "
+            f"{cell(f.get('flat2'))} | {cell(f.get('crease2'))} | {cell(f.get('ear_error'))} | "
+            f"{cell(f.get('ear_inplanes_error'))} | {cell(f.get('ear_offplane_error'))} | "
+            f"{_better_faired(err, k):.3g} |")
     return lines
 
 
@@ -215,6 +240,9 @@ def main(argv: list[str] | None = None) -> None:
                     help="--hidden's files: --instead fires where the fill's hidden-ring "
                     "score is below --ratio × the best of fair2, fair3 and the λ-H fill")
     ap.add_argument("--ratio", type=float, nargs="*", default=[1.0])
+    ap.add_argument("--ears", nargs="*", default=[],
+                    help="ear_cut_flatness.py --offplane feature files: the table's ear-cut "
+                    "columns (session 52)")
     args = ap.parse_args(argv)
     if args.hidden:
         with open(args.out, "a") as fh:
@@ -238,7 +266,11 @@ def main(argv: list[str] | None = None) -> None:
           f"{CLOSER}× closer on {sum(x <= 1 / CLOSER for x in ratio)}")
     print(counts("PyMeshFix closer", won, err, default))
     print(counts("the others", [k for k in keys if k not in won], err, default))
-    print("\n".join(hole_table(err, default, rows, won)))
+    ears = None
+    if args.ears:
+        ears = {(f["split"], f["case"], f["hole"]): f for path in args.ears
+                for f in _jsonl(path)}
+    print("\n".join(hole_table(err, default, rows, won, ears)))
     print("\nMeshes where the default's median is above PyMeshFix's:")
     print("\n".join(lost_meshes(err, keys)))
     for alt in args.instead:

@@ -36,9 +36,12 @@ import validation  # noqa: E402
 
 from surfinpaint.errors import FillError  # noqa: E402
 from surfinpaint.fill.conformal.ear_cut import (  # noqa: E402
+    PIECE_CREASE,
     ear_cut_fill,
     ear_cut_flat,
+    faired_off_planes,
     plane_pieces,
+    refined_in_planes,
 )
 from surfinpaint.fill.liepa.fairing import fair as fair_patch  # noqa: E402
 from surfinpaint.fill.liepa.refinement import refine_patch  # noqa: E402
@@ -102,10 +105,31 @@ def refined_features(cut) -> dict:
             "ear_refined_vertices": len(made.vertices)}
 
 
-def hole_features(cut, faired: bool = False, refined: bool = False) -> dict:
+def offplane_features(cut, ears: np.ndarray) -> dict:
+    """Session 52's study, on every hole (whatever its flat share): the ear cut refined
+    within its planes (:func:`refined_in_planes`; ``ear_inplanes_error``) and the same with
+    the vertices off its planes faired (:func:`faired_off_planes`; ``ear_offplane_error``,
+    ``ear_offplane_free`` the vertices moved); None where either fails."""
+    out = {"ear_inplanes_error": None, "ear_offplane_error": None, "ear_offplane_free": 0}
+    try:
+        new, patch = refined_in_planes(cut.vertices, cut.faces, cut.loop, ears)
+        out["ear_inplanes_error"] = _error(cut, new, patch)
+        placed = faired_off_planes(cut.vertices, cut.faces, new, patch)
+    except FillError as exc:
+        out["offplane_note"] = str(exc)
+        return out
+    out["ear_offplane_error"] = _error(cut, placed, patch)
+    out["ear_offplane_free"] = int((np.abs(placed - new).max(axis=1) > 0).sum()) if len(new) \
+        else 0
+    return out
+
+
+def hole_features(cut, faired: bool = False, refined: bool = False,
+                  offplane: bool = False) -> dict:
     """The ear-cut patch's pieces at each angle of :data:`ANGLES`, and its error (% of the
     hole's diameter; None where the ear cut leaves a zero-area triangle); with ``faired``
-    also :func:`faired_from_ear_cut`'s, with ``refined`` :func:`refined_features`."""
+    also :func:`faired_from_ear_cut`'s, with ``refined`` :func:`refined_features`, with
+    ``offplane`` :func:`offplane_features`."""
     out = {"loop_edges": len(cut.loop)}
     try:
         fill = ear_cut_fill(cut.vertices, cut.faces, cut.loop)
@@ -119,6 +143,8 @@ def hole_features(cut, faired: bool = False, refined: bool = False) -> dict:
         out.update(faired_from_ear_cut(cut, tri))
     if refined:
         out.update(refined_features(cut))
+    if offplane:
+        out.update(offplane_features(cut, tri))
     for a in ANGLES:
         p = plane_pieces(cut.vertices, cut.faces, tri, np.radians(a))
         out[f"flat{a:g}"] = p.flat_fraction()
@@ -129,7 +155,7 @@ def hole_features(cut, faired: bool = False, refined: bool = False) -> dict:
 
 
 def features(sets: list[str], kinds: set[str] | None, out: Path, faired: bool = False,
-             refined: bool = False) -> None:
+             refined: bool = False, offplane: bool = False) -> None:
     """Append one JSON line per hole of ``sets`` to ``out``."""
     for name in sets:
         for entry in entries(name, kinds):
@@ -140,7 +166,7 @@ def features(sets: list[str], kinds: set[str] | None, out: Path, faired: bool = 
                 cut = validation._cut(mesh, hole)
                 row = {"split": entry["split"] if name == "tuning" else name,
                        "case": entry["mesh"], "hole": k, "kind": entry["kind"],
-                       **hole_features(cut, faired, refined)}
+                       **hole_features(cut, faired, refined, offplane)}
                 with out.open("a") as fh:
                     fh.write(json.dumps(row) + "\n")
                 print(f"{name} {entry['mesh']} #{k}: ear {row.get('ear_error')}",
@@ -158,11 +184,21 @@ def main(argv: list[str] | None = None) -> None:
                         help="also the written fill, the ear cut refined within its planes, "
                              "where the rule fires (session 51); with --table: score it as "
                              "the rule's fill, and compare it with the bare ear cut")
+    parser.add_argument("--offplane", action="store_true",
+                        help="also, on every hole, the ear cut refined within its planes and "
+                             "with its vertices off the planes faired (session 52)")
     parser.add_argument("--table", nargs="+", help="feature files to join with --rows")
     parser.add_argument("--rows", nargs="+", default=[])
     parser.add_argument("--flat", type=float, nargs="+", default=[0.9, 0.95, 0.99, 1.0])
     parser.add_argument("--crease", type=float, nargs="+", default=[10.0, 20.0, 30.0, 45.0])
     parser.add_argument("--angle", type=float, nargs="+", default=[1.0, 2.0, 5.0])
+    parser.add_argument("--between", type=float, nargs="*",
+                        help="with --table: session 52's rules, the ear cut refined within its "
+                             "planes / faired off them written where these lower bounds ≤ the "
+                             "flat share < --high (needs --offplane features)")
+    parser.add_argument("--high", type=float, default=FLAT)
+    parser.add_argument("--halves", type=Path,
+                        help="with --between: a JSON {half: [mesh names]} to score each on")
     parser.add_argument("--list", action="store_true",
                         help="also list the holes of the first thresholds")
     args = parser.parse_args(argv)
@@ -170,13 +206,18 @@ def main(argv: list[str] | None = None) -> None:
         feats, err = joined(args.table, args.rows, args.refined)
         if args.refined:
             print("\n".join(refined_lines(feats, err)))
+        if args.between:
+            halves = ({k: set(v) for k, v in json.loads(args.halves.read_text()).items()}
+                      if args.halves else None)
+            print("\n".join(between_table(feats, err, args.between, args.high, halves)))
+            return
         grid = [(f, c, a) for a in args.angle for c in args.crease for f in args.flat]
         print("\n".join(rule_table(feats, err, grid)))
         if args.list:
             print("\n".join(fired_lines(feats, err, *grid[0])))
         return
     kinds = set(args.kinds.split(",")) if args.kinds else None
-    features(args.sets.split(","), kinds, args.out, args.faired, args.refined)
+    features(args.sets.split(","), kinds, args.out, args.faired, args.refined, args.offplane)
 
 
 
@@ -184,6 +225,9 @@ def main(argv: list[str] | None = None) -> None:
 
 EAR = "ear_cut"  # the ear-cut triangulation's column in the joined errors
 BARE = "ear_cut_bare"  # the bare ear cut's, where EAR is the refined one (--refined)
+# session 52 (--offplane): the ear cut refined within its planes on every hole, and with its
+# vertices off the planes faired
+INPLANES, OFFPLANE = "ear_inplanes", "ear_offplane"
 
 
 def joined(feature_files: list[str], row_files: list[str], refined: bool = False
@@ -213,6 +257,9 @@ def joined(feature_files: list[str], row_files: list[str], refined: bool = False
             err[(BARE, *key)] = f["ear_error"]
         if refined and f.get("ear_refined_error") is not None:
             err[(EAR, *key)] = f["ear_refined_error"]
+        for method in (INPLANES, OFFPLANE):
+            if f.get(f"{method}_error") is not None:
+                err[(method, *key)] = f[f"{method}_error"]
     return feats, err
 
 
@@ -251,13 +298,41 @@ def rule_table(feats: dict, err: dict, grid: list[tuple[float, float, float]]) -
            "|---|---|---|---|---|---|---|---|---|"]
     for flat, crease, angle in grid:
         flagged = {k for k in keys if fires(feats[k], flat, crease, angle)}
-        c = thin_holes.rule_counts(err, keys, EAR, flagged)
-        written = [k for k in flagged if (EAR, *k) in err]
-        before, after = (sum(err[(m, *k)] for k in written) for m in ("conformal", EAR))
-        out.append(f"| {flat:g} | {crease:g} | {angle:g} | {len(flagged)} | {c['changed']} | "
-                   f"{c['better']} / {c['worse']} | {before:.1f} → {after:.1f} | "
-                   f"{c['above'][0]} → "
-                   f"{c['above'][1]} | {c['won'][0]} → {c['won'][1]} of {c['won'][2]} |")
+        out.append(f"| {flat:g} | {crease:g} | {angle:g} | {len(flagged)} | "
+                   + _rule_cells(err, keys, EAR, flagged))
+    return out
+
+
+def _rule_cells(err: dict, keys: list, alt: str, flagged: set) -> str:
+    """A rule's table cells: holes written, better / worse by 10 %, summed error there
+    (default → rule), holes above 1.5× the better faired fill, meshes won."""
+    c = thin_holes.rule_counts(err, keys, alt, flagged)
+    written = [k for k in flagged if (alt, *k) in err]
+    before, after = (sum(err[(m, *k)] for k in written) for m in ("conformal", alt))
+    return (f"{c['changed']} | {c['better']} / {c['worse']} | {before:.2f} → {after:.2f} | "
+            f"{c['above'][0]} → {c['above'][1]} | {c['won'][0]} → {c['won'][1]} of "
+            f"{c['won'][2]} |")
+
+
+def between_table(feats: dict, err: dict, lows: list[float], high: float,
+                  halves: dict[str, set] | None = None) -> list[str]:
+    """Session 52's rules: ``alt`` (the ear cut refined within its planes, or with its
+    vertices off the planes faired) written where ``low`` ≤ the flat share (2°) < ``high``
+    and a crease > 20° crosses the patch, the default elsewhere; per half of the meshes
+    (``halves``: name → mesh names) and on all."""
+    groups = {"all": None, **(halves or {})}
+    out = ["| meshes | written | flat share | fires | better / worse by 10 % | summed error "
+           "there % (default → rule) | above 1.5× better faired (default → rule) | "
+           "meshes won |", "|---|---|---|---|---|---|---|---|"]
+    for name, names in groups.items():
+        keys = sorted(k for k in feats if ("conformal", *k) in err
+                      and (names is None or k[1] in names))
+        for alt in (INPLANES, OFFPLANE):
+            for low in lows:
+                flagged = {k for k in keys if fires(feats[k], low, PIECE_CREASE, 2.0)
+                           and feats[k]["flat2"] < high}
+                out.append(f"| {name} ({len(thin_holes._by_mesh(keys))}) | {alt} | [{low:g}, "
+                           f"{high:g}) | " + _rule_cells(err, keys, alt, flagged))
     return out
 
 

@@ -20,6 +20,7 @@ from typing import Any
 
 from surfinpaint.app.progress import named, warning_line
 from surfinpaint.errors import HoleWarning, how_many
+from surfinpaint.fill.conformal.ear_cut import BY_FAIRED_PLANES
 from surfinpaint.fill.results import FillResult, HoleReport, Smoothing, TestScores
 from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
 from surfinpaint.geometry.mesh import boundary_loops
@@ -111,9 +112,10 @@ def written(report: HoleReport) -> str:
     if outcome == "lambda-h":
         return "λ-H fill"
     if outcome == "faired" and report.ear_cut is not None:
-        # no fairing ran: the loop's ear-cut triangulation (ConformalOptions.ear_cut_ratio,
-        # ear_cut_flat)
-        return f"ear-cut fill ({report.ear_cut}), not faired"
+        # the loop's ear-cut triangulation (ConformalOptions.ear_cut_ratio, ear_cut_flat:
+        # not faired; ear_cut_faired: faired off its planes only, which its label says)
+        faired = "" if report.ear_cut == BY_FAIRED_PLANES else ", not faired"
+        return f"ear-cut fill ({report.ear_cut}){faired}"
     if outcome == "faired":
         on_plane = "" if report.plane is None else f", laid on {plane_words(report.plane)}"
         smoothed = ", smoothed" if report.smoothed else ""

@@ -27,6 +27,7 @@ from surfinpaint.errors import FillError
 from surfinpaint.fill.conformal.candidates import Candidates
 from surfinpaint.fill.creases import sharp_edges
 from surfinpaint.fill.liepa.ear_cutting import ear_cut_triangulation
+from surfinpaint.fill.liepa.fairing import fair
 from surfinpaint.fill.liepa.refinement import boundary_scales, refine_patch
 from surfinpaint.fill.results import Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores
@@ -35,14 +36,16 @@ from surfinpaint.geometry.mesh import face_areas, face_normals, halfedge_faces, 
 from surfinpaint.geometry.rows import rows_any
 from surfinpaint.geometry.validation import zero_area_faces
 
-__all__ = ["BY_FLAT_PLANES", "BY_HIDDEN_RINGS", "EAR_CUT", "FLIP_ANGLE", "PIECE_ANGLE",
-           "PIECE_CREASE", "ROUNDING", "PlanePieces", "ear_cut_fill", "ear_cut_flat", "ear_cut_won",
-           "plane_pieces", "refined_in_planes"]
+__all__ = ["BY_FAIRED_PLANES", "BY_FLAT_PLANES", "BY_HIDDEN_RINGS", "EAR_CUT", "FLIP_ANGLE",
+           "PIECE_ANGLE", "PIECE_CREASE", "ROUNDING", "PlanePieces", "ear_cut_fill",
+           "ear_cut_flat", "ear_cut_won", "faired_off_planes", "plane_pieces",
+           "refined_in_planes"]
 
 EAR_CUT = "ear_cut"
 # which rule wrote an ear-cut fill (``Fill.ear_cut``, ``HoleReport.ear_cut``)
 BY_HIDDEN_RINGS = "hidden rings"
 BY_FLAT_PLANES = "flat planes"
+BY_FAIRED_PLANES = "planes, faired between"  # ear_cut_faired: the vertices off them faired
 # hidden-ring scores below this fraction of the loop's mean edge are rounding: on a hole
 # every candidate rebuilds exactly, they do not decide (holdout 10's spanner #0: the λ-H
 # fill's 3e-8 h against the ear cut's 2e-8 h, but the ear cut 1.9 % off the truth)
@@ -114,12 +117,18 @@ def ear_cut_won(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
 
 
 def ear_cut_flat(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
-                 flat: float) -> Fill | None:
+                 flat: float | None, faired: float | None = None) -> Fill | None:
     """The ear-cut fill refined within its planes (:func:`refined_in_planes`), with the
     rule's verdict in words, where at least ``flat`` of its area continues known faces'
     planes (:func:`plane_pieces` at :data:`PIECE_ANGLE`) and two of those planes meet at
-    more than :data:`PIECE_CREASE`; None elsewhere (and where the ear cut cannot be
-    written, :func:`ear_cut_fill`). The rule is decided on the bare ear cut."""
+    more than :data:`PIECE_CREASE`; where the share is below ``flat`` but at least
+    ``faired``, the same with its vertices off the planes faired (:func:`faired_off_planes`);
+    None elsewhere (``flat`` None: never the first, ``faired`` None: never the second), and
+    where the ear cut cannot be written (:func:`ear_cut_fill`). The rule is decided on the
+    bare ear cut."""
+    least = min(x for x in (flat, faired, np.inf) if x is not None)
+    if not np.isfinite(least):
+        return None
     try:
         if not _loop_faces_turn(vertices, faces, loop, PIECE_CREASE):
             return None  # no crease possible: the rule's answer, without the ear cut
@@ -128,14 +137,25 @@ def ear_cut_flat(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
         return None
     pieces = plane_pieces(vertices, faces, fill.faces, np.radians(PIECE_ANGLE))
     share, crease = pieces.flat_fraction(), np.degrees(pieces.crease())
-    if share < flat or not crease > PIECE_CREASE:
+    if share < least or not crease > PIECE_CREASE:
         return None
     new_vertices, patch = refined_in_planes(vertices, faces, loop, fill.faces)
-    return Fill(new_vertices, patch, "fair", ear_cut=BY_FLAT_PLANES,
-                selection=f"ear cutting: {100 * share:.0f} % of its area continues the known "
-                          f"faces' planes (at least {flat:g}), two of them meet at "
-                          f"{crease:.0f}°: the loop's triangulation written, refined within "
-                          "its planes, not faired")
+    flat_enough = flat is not None and share >= flat
+
+    def said(bound: float, how: str) -> str:
+        return (f"ear cutting: {100 * share:.0f} % of its area continues the known faces' "
+                f"planes (at least {bound:g}), two of them meet at {crease:.0f}°: the loop's "
+                f"triangulation written, refined within its planes, {how}")
+
+    if flat_enough:
+        return Fill(new_vertices, patch, "fair", ear_cut=BY_FLAT_PLANES,
+                    selection=said(flat, "not faired"))
+    try:
+        new_vertices = faired_off_planes(vertices, faces, new_vertices, patch)
+    except FillError:
+        return None
+    return Fill(new_vertices, patch, "fair", ear_cut=BY_FAIRED_PLANES,
+                selection=said(faired, "its vertices off them faired"))
 
 
 def _loop_faces_turn(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
@@ -189,6 +209,41 @@ def refined_in_planes(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                               faces=faces, loops=[loop], fixed_edges=pieces,
                               scales=np.concatenate([sigma[loop], scales]))
     return np.vstack([points, new]), patch
+
+
+def faired_off_planes(vertices: np.ndarray, faces: np.ndarray, new_vertices: np.ndarray,
+                      patch: np.ndarray) -> np.ndarray:
+    """The new vertices of a refined ear-cut patch (:func:`refined_in_planes`) with those off
+    its planes faired: the vertices no plane-continuing triangle touches
+    (:func:`plane_pieces` at :data:`PIECE_ANGLE` on the refined patch) placed by the
+    bilaplacian fairing (:func:`~surfinpaint.fill.liepa.fairing.fair`, order 2) with every
+    other vertex fixed, so the plane pieces stay exactly where they were and the rest of
+    the patch bends smoothly between them instead of keeping the ear cut's flat folds.
+
+    Returns
+    -------
+    (m, 3) float array
+        ``new_vertices`` with the free ones moved.
+
+    Raises
+    ------
+    FillError
+        Where the fairing's solve gives non-finite positions.
+    """
+    v = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, np.int64)
+    patch = np.asarray(patch, np.int64)
+    everything = np.vstack([v, new_vertices])
+    pieces = plane_pieces(everything, faces, patch, np.radians(PIECE_ANGLE))
+    on_plane = np.zeros(len(everything), bool)
+    on_plane[patch[pieces.plane >= 0].ravel()] = True
+    free = len(v) + np.flatnonzero(~on_plane[len(v):])
+    if not len(free):
+        return np.asarray(new_vertices, dtype=float)
+    placed = fair(everything, np.vstack([faces, patch]), free, order=2)[len(v):]
+    if not np.isfinite(placed).all():
+        raise FillError("fairing off the planes gave non-finite positions")
+    return placed
 
 
 def _creases_split(v: np.ndarray, triangles: np.ndarray, creases: np.ndarray,

@@ -184,8 +184,8 @@ def _decided_fill(vertices: np.ndarray, faces: np.ndarray, loop: np.ndarray,
                                                                       ring=ring)
             if planes is not None and planes.flat:
                 return _on_two_planes(vertices, faces, loop, reference, planes)
-        won = None if options.ear_cut_flat is None else \
-            ear_cut_flat(vertices, faces, loop, options.ear_cut_flat)
+        won = ear_cut_flat(vertices, faces, loop, options.ear_cut_flat,
+                           options.ear_cut_faired)
         if won is None and options.ear_cut_ratio is not None:
             won = ear_cut_won(vertices, faces, loop, candidates)
         if won is not None:

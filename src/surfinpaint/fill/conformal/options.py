@@ -249,7 +249,19 @@ class ConformalOptions:
         fairing order is asked for). The self-check otherwise measures the λ-H fill against
         fair2 only; on folded cortices fair3 is closer on most holes where the hidden rings
         do not rank the λ-H fill ahead of it (docs/candidates.md, "Session 52 (helper):
-        cortex holes", 1.05 there). None (default): never.
+        cortex holes", 1.05 there: not the default, it moved some cortex and off-cortex
+        holes farther). None (default): never.
+    ear_cut_faired : float, optional
+        With ``select``, after the plane tests: where the ear-cut triangulation's share of
+        area in the known faces' planes is at least this but below ``ear_cut_flat`` (or at
+        most 1 where that is None), and a crease crosses the hole, the triangulation is
+        written refined within its planes with its vertices off them faired (bilaplacian,
+        the plane pieces fixed: :func:`surfinpaint.fill.conformal.ear_cut.
+        faired_off_planes`), and no self-check runs (docs/candidates.md, "Session 52
+        (helper): CAD holes PyMeshFix still wins after the ear-cut default": not adopted, worse
+        by 10 % on as many held-back CAD holes as it improved, and on every smooth or
+        scanned hole it fired on at 0.4). Must be below ``ear_cut_flat``. None (default):
+        never.
     continuation_smallest : float
         The least-squares stage's continuation in the curvature weight (where the λ-H solve
         fails) halves its weight step after each solve that fails and ends where the step
@@ -281,6 +293,7 @@ class ConformalOptions:
     ear_cut_ratio: float | None = None
     ear_cut_flat: float | None = EAR_CUT_FLAT
     lambda_h_over_fair3: float | None = None
+    ear_cut_faired: float | None = None
     continuation_smallest: float = CONTINUATION_SMALLEST
 
     def __post_init__(self) -> None:
@@ -306,6 +319,13 @@ class ConformalOptions:
             _positive_number("ear_cut_flat", self.ear_cut_flat)
             if self.ear_cut_flat > 1:
                 raise ValueError(f"ear_cut_flat must be at most 1, got {self.ear_cut_flat!r}")
+        if self.ear_cut_faired is not None:
+            _positive_number("ear_cut_faired", self.ear_cut_faired)
+            below = 1.0 if self.ear_cut_flat is None else self.ear_cut_flat
+            if self.ear_cut_faired > 1 or (self.ear_cut_flat is not None
+                                           and self.ear_cut_faired >= below):
+                raise ValueError(f"ear_cut_faired must be below ear_cut_flat ({below!r}) and "
+                                 f"at most 1, got {self.ear_cut_faired!r}")
         if isinstance(self.fair_smoothing, str) and self.fair_smoothing != "auto":
             raise ValueError("fair_smoothing must be a positive number, 'auto' or None, got "
                              f"{self.fair_smoothing!r}")
