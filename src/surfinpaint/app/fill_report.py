@@ -20,8 +20,13 @@ from typing import Any
 
 from surfinpaint.app.progress import named, warning_line
 from surfinpaint.errors import HoleWarning, how_many
-from surfinpaint.fill.conformal.ear_cut import BY_FAIRED_PLANES
-from surfinpaint.fill.results import FillResult, HoleReport, Smoothing, TestScores
+from surfinpaint.fill.results import (
+    BY_FAIRED_PLANES,
+    FillResult,
+    HoleReport,
+    Smoothing,
+    TestScores,
+)
 from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
 from surfinpaint.geometry.mesh import boundary_loops
 from surfinpaint.io.atomic import atomic_open

@@ -14,6 +14,13 @@ import numpy as np
 from surfinpaint.errors import how_many
 from surfinpaint.fill.objects import to_pyvista, to_trimesh
 
+# which rule wrote an ear-cut fill (``Fill.ear_cut``, ``HoleReport.ear_cut``;
+# :mod:`surfinpaint.fill.conformal.ear_cut`): here, where the report reads them without
+# importing the fill
+BY_HIDDEN_RINGS = "hidden rings"
+BY_FLAT_PLANES = "flat planes"
+BY_FAIRED_PLANES = "planes, faired between"  # ear_cut_faired: the vertices off them faired
+
 if TYPE_CHECKING:
     from surfinpaint.fill.conformal.selection import Verdict
     from surfinpaint.geometry.flatness import PlaneTest, TwoPlanes
@@ -258,7 +265,8 @@ class Fill:
     ear_cut : str, optional
         The fill is the loop's ear-cut triangulation (:mod:`surfinpaint.fill.conformal.
         ear_cut`), written by the rule named here: "flat planes" (``ear_cut_flat``, refined
-        within its planes) or "hidden rings" (``ear_cut_ratio``, bare).
+        within its planes), "planes, faired between" (``ear_cut_faired``) or "hidden rings"
+        (``ear_cut_ratio``, bare).
     """
 
     vertices: np.ndarray

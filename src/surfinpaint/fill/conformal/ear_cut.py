@@ -29,7 +29,7 @@ from surfinpaint.fill.creases import sharp_edges
 from surfinpaint.fill.liepa.ear_cutting import ear_cut_triangulation
 from surfinpaint.fill.liepa.fairing import fair
 from surfinpaint.fill.liepa.refinement import boundary_scales, refine_patch
-from surfinpaint.fill.results import Fill
+from surfinpaint.fill.results import BY_FAIRED_PLANES, BY_FLAT_PLANES, BY_HIDDEN_RINGS, Fill
 from surfinpaint.fill.selfcheck import hidden_ring_scores
 from surfinpaint.geometry.edges import EdgeTable
 from surfinpaint.geometry.mesh import face_areas, face_normals, halfedge_faces, orient_loop
@@ -42,10 +42,6 @@ __all__ = ["BY_FAIRED_PLANES", "BY_FLAT_PLANES", "BY_HIDDEN_RINGS", "EAR_CUT", "
            "refined_in_planes"]
 
 EAR_CUT = "ear_cut"
-# which rule wrote an ear-cut fill (``Fill.ear_cut``, ``HoleReport.ear_cut``)
-BY_HIDDEN_RINGS = "hidden rings"
-BY_FLAT_PLANES = "flat planes"
-BY_FAIRED_PLANES = "planes, faired between"  # ear_cut_faired: the vertices off them faired
 # hidden-ring scores below this fraction of the loop's mean edge are rounding: on a hole
 # every candidate rebuilds exactly, they do not decide (holdout 10's spanner #0: the λ-H
 # fill's 3e-8 h against the ear cut's 2e-8 h, but the ear cut 1.9 % off the truth)
